@@ -1,0 +1,144 @@
+"""Penalties of family P built from a generator θ: MET 1 (5.23) and MET 2 (5.25)."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ..errors import DomainError
+from ._base import PenaltyBase
+from ._theta import Generator
+
+__all__ = ["Met1", "Met2", "properties_from_generator"]
+
+
+def properties_from_generator(theta: Generator) -> frozenset[str]:
+    """Properties (P1)-(P5) that MET 1 / MET 2 inherit from θ's (a)-(e).
+
+    (e) gives (P1) and (P3); (b) gives (P2); (a) and (c) give (P4); (d) gives (P5).
+    """
+    s = set(theta.satisfies)
+    props = set()
+    if "e" in s:
+        props |= {"P1", "P3"}
+    if "b" in s:
+        props.add("P2")
+    if {"a", "c"} <= s:
+        props.add("P4")
+    if "d" in s:
+        props.add("P5")
+    return frozenset(props)
+
+
+@dataclass(frozen=True)
+class Met1(PenaltyBase):
+    r"""MET 1: scale a generator by the multiplier (5.23).
+
+    .. math:: p(y, \mu) = \mu\,\theta(y), \qquad y < b, \quad \mu > 0.
+
+    With θ = exp - 1 (5.21) this is the exponential multiplier method (5.24)
+    (Tseng & Bertsekas 1993); with θ = -log(1 - y) (5.22) it is Polyak's
+    modified barrier.  ``p' = μ θ'``, ``p'' = μ θ''``; the domain bound is θ's.
+
+    Parameters
+    ----------
+    theta : Generator
+        The generator θ (Definition 5.3).
+    name, doc : str, optional
+        Registry name and one-line description (derived from θ when empty).
+
+    Examples
+    --------
+    >>> from alcontact.penalties import make
+    >>> p = make("exp-met1")
+    >>> float(p.value(0.0, 2.0)), float(p.derivative(0.0, 2.0))
+    (0.0, 2.0)
+    """
+
+    theta: Generator
+    name: str = ""
+    doc: str = ""
+    properties: frozenset[str] = field(init=False)
+
+    def __post_init__(self) -> None:
+        if not self.name:
+            object.__setattr__(self, "name", f"{self.theta.name}-met1")
+        if not self.doc:
+            object.__setattr__(self, "doc", f"MET 1 (5.23) p(y, mu) = mu*theta(y) with theta = {self.theta.name}")
+        object.__setattr__(self, "properties", properties_from_generator(self.theta))
+
+    def _scaled(self, mu: NDArray[np.float64], t: NDArray[np.float64]) -> NDArray[np.float64]:
+        # mu = 0 times an overflowed θ (inf) must give 0, not NaN.
+        return np.where(mu == 0.0, 0.0, mu * t)
+
+    def _p(self, y, mu):
+        return self._scaled(mu, np.asarray(self.theta.value(y), dtype=float))
+
+    def _dp(self, y, mu):
+        return self._scaled(mu, np.asarray(self.theta.derivative(y), dtype=float))
+
+    def _d2p(self, y, mu):
+        return self._scaled(mu, np.asarray(self.theta.second_derivative(y), dtype=float))
+
+    def _upper(self, mu):
+        return np.full(np.shape(mu), float(self.theta.upper))
+
+
+@dataclass(frozen=True)
+class Met2(PenaltyBase):
+    r"""MET 2: scale the argument of a generator by the multiplier (5.25).
+
+    .. math:: p(y, \mu) = \theta(\mu y), \qquad \mu y < b, \quad \mu > 0.
+
+    With θ = -log(1 - y) (5.22) this is Matioli & Gonzaga's penalty (5.26),
+    ``p = -log(1 - μ y)`` with domain bound ``1/μ``.  ``p' = μ θ'(μ y)``,
+    ``p'' = μ² θ''(μ y)``.
+
+    A finite bound ``b`` of θ gives ``domain_upper(mu) = b / mu``
+    (``inf`` for ``mu = 0``); negative ``mu`` then has no upper bound and
+    raises :class:`~alcontact.errors.DomainError`.
+
+    Examples
+    --------
+    >>> from alcontact.penalties import make
+    >>> p = make("log-met2")
+    >>> float(p.domain_upper(4.0)), float(p.derivative(0.0, 4.0))
+    (0.25, 4.0)
+    """
+
+    theta: Generator
+    name: str = ""
+    doc: str = ""
+    properties: frozenset[str] = field(init=False)
+
+    def __post_init__(self) -> None:
+        if not self.name:
+            object.__setattr__(self, "name", f"{self.theta.name}-met2")
+        if not self.doc:
+            object.__setattr__(self, "doc", f"MET 2 (5.25) p(y, mu) = theta(mu*y) with theta = {self.theta.name}")
+        object.__setattr__(self, "properties", properties_from_generator(self.theta))
+
+    def _p(self, y, mu):
+        return np.asarray(self.theta.value(mu * y), dtype=float)
+
+    def _dp(self, y, mu):
+        return mu * np.asarray(self.theta.derivative(mu * y), dtype=float)
+
+    def _d2p(self, y, mu):
+        return mu * mu * np.asarray(self.theta.second_derivative(mu * y), dtype=float)
+
+    def _upper(self, mu):
+        b = float(self.theta.upper)
+        if math.isinf(b):
+            return np.full(np.shape(mu), math.inf)
+        if np.any(mu < 0):
+            raise DomainError(
+                f"penalty {self.name!r}: multiplier mu must be >= 0 (got min {float(np.min(mu))!r}); "
+                "a negative mu leaves theta(mu*y) without an upper domain bound -- "
+                "safeguard the update, e.g. mu = max(mu, 0)"
+            )
+        with np.errstate(divide="ignore"):
+            return np.where(mu > 0, b / np.where(mu > 0, mu, 1.0), math.inf)
