@@ -1,0 +1,45 @@
+"""Contact of linear elastic bodies with rigid obstacles (chapter 6).
+
+Frictionless contact (small deformation, linearized gap (6.15)) with
+
+- the pure penalty method (6.10),
+- Algorithm 6.1 (Simo & Laursen, Macaulay update (6.13)),
+- Algorithm 6.3 (family-P penalties, the dissertation's proposal),
+- a semi-smooth Newton / primal-dual active-set reference.
+
+All work on the problem condensed on the contact points (one factorization of
+the stiffness, see :mod:`alcontact.contact._discrete`).
+
+Examples
+--------
+>>> from alcontact.problems import hertz
+>>> sol = solve(hertz.hertz_2d(level=0), algorithm="simo-laursen")  # doctest: +SKIP
+"""
+
+from __future__ import annotations
+
+from . import obstacles
+from ._algorithms import ContactOptions, algorithm_docs, available_algorithms, contact_penalties
+from ._problem import BodyForce, ContactProblem, Pressure, Support, Traction
+from ._solution import ContactIteration, ContactResult, ContactSolution, ContactStatus
+from ._solve import DEFAULT_ALGORITHM, DEFAULT_PENALTY, solve
+
+__all__ = [
+    "obstacles",
+    "ContactProblem",
+    "Support",
+    "Traction",
+    "Pressure",
+    "BodyForce",
+    "ContactOptions",
+    "ContactStatus",
+    "ContactIteration",
+    "ContactResult",
+    "ContactSolution",
+    "solve",
+    "available_algorithms",
+    "algorithm_docs",
+    "contact_penalties",
+    "DEFAULT_ALGORITHM",
+    "DEFAULT_PENALTY",
+]

@@ -1,0 +1,357 @@
+r"""Frictionless contact algorithms on the condensed problem.
+
+Registered by name (:func:`available_algorithms`):
+
+``penalty``
+    Pure penalty (6.10), :math:`t_N = \varepsilon_N\langle g\rangle`, with the
+    penalty stiffness multiplied by ``alpha`` until the penetration tolerance is
+    met (Algorithm 5.2 applied to contact).
+``simo-laursen``
+    Algorithm 6.1: :math:`t_N = \langle\lambda_N + \varepsilon_N g\rangle` (6.12),
+    update :math:`\lambda_N \leftarrow \langle\lambda_N + \varepsilon_N g\rangle` (6.13).
+``family-p``
+    Algorithm 6.3 with any registered penalty satisfying (P1), (P3), (P4):
+    :math:`t_N = p'(g/\eta, \lambda_N)`, update :math:`\lambda_N \leftarrow p'(g/\eta, \lambda_N)`
+    (corrected 6.66). ``rockafellar`` reproduces Algorithm 6.1.
+``ssn``
+    Reference: semi-smooth Newton for :math:`\lambda - \max(0, \lambda + c\,g) = 0`, i.e. the
+    primal-dual active set method, which solves the discrete contact problem
+    exactly (no penalty) in finitely many steps.
+
+Stopping on physical measures (all must hold): max penetration
+:math:`\max g^+ / h \le` ``tol_penetration``; complementarity
+:math:`\max|\lambda g|/(p_{ref} h) \le` ``tol_complementarity``; multiplier change
+:math:`\|\Delta\lambda\|_\infty/p_{ref} \le` ``tol_multiplier``; the equilibrium residual
+of each subproblem is driven below ``newton_tol`` by Newton's method.
+"""
+
+from __future__ import annotations
+
+import logging
+from dataclasses import dataclass, replace
+from typing import Callable
+
+import numpy as np
+
+from .. import penalties as _pen
+from ..errors import InputError, UnknownNameError
+from ._laws import eta_for_stiffness, make_law
+from ._newton import solve_subproblem
+from ._solution import ContactIteration, ContactStatus
+
+__all__ = ["ContactOptions", "available_algorithms", "algorithm_docs", "contact_penalties"]
+
+logger = logging.getLogger(__name__)
+
+
+@dataclass(frozen=True)
+class ContactOptions:
+    """Options of the contact algorithms (every field has a default).
+
+    Attributes
+    ----------
+    eps_n : float or None
+        Penalty stiffness :math:`\\varepsilon_N` (pressure per length). ``None``:
+        ``penalty_scale * E' / h`` with the contact-zone element size ``h`` and
+        ``E' = E/(1-nu^2)`` (plane strain, 3D) or ``E`` (plane stress).
+    penalty_scale : float
+        Multiplier of the automatic :math:`\\varepsilon_N`.
+    tol_penetration : float
+        Max penetration over ``h``.
+    tol_complementarity : float
+        Max :math:`|\\lambda g|` over ``p_ref h`` (``p_ref`` = largest pressure).
+    tol_multiplier : float
+        Max multiplier change over ``p_ref``.
+    maxiter : int
+        Outer iterations.
+    newton_tol : float
+        Relative equilibrium residual of each subproblem.
+    maxiter_newton : int
+        Newton iterations per subproblem.
+    strategy : {"fixed", "infeasibility"}
+        Penalty update: keep :math:`\\varepsilon_N`, or multiply it by ``alpha`` when the
+        penetration did not drop by the factor ``tau``.
+    tau, alpha : float
+        Parameters of ``"infeasibility"`` (and ``alpha`` of the pure penalty).
+    eps_max : float
+        Largest :math:`\\varepsilon_N` relative to the initial one.
+    eta_scaling : {"adaptive", "fixed"}
+        Scale of family-P penalties (see :mod:`alcontact.contact._laws`).
+    initial : {"penalty", "uniform"}
+        Initial multipliers of family-P penalties: from one pure-penalty solve
+        (floored at ``multiplier_floor`` times its largest pressure), or the
+        uniform value ``eps_n * h``.
+    multiplier_floor : float
+        Relative lower bound keeping MET multipliers positive.
+    """
+
+    eps_n: float | None = None
+    penalty_scale: float = 100.0
+    tol_penetration: float = 1e-8
+    tol_complementarity: float = 1e-8
+    tol_multiplier: float = 1e-8
+    maxiter: int = 100
+    newton_tol: float = 1e-12
+    maxiter_newton: int = 60
+    strategy: str = "fixed"
+    tau: float = 0.25
+    alpha: float = 10.0
+    eps_max: float = 1e10
+    eta_scaling: str = "adaptive"
+    initial: str = "penalty"
+    multiplier_floor: float = 1e-10
+
+    def validate(self) -> "ContactOptions":
+        checks = {
+            "penalty_scale": self.penalty_scale > 0,
+            "tol_penetration": self.tol_penetration > 0,
+            "tol_complementarity": self.tol_complementarity > 0,
+            "tol_multiplier": self.tol_multiplier > 0,
+            "maxiter": int(self.maxiter) >= 1,
+            "newton_tol": self.newton_tol > 0,
+            "maxiter_newton": int(self.maxiter_newton) >= 1,
+            "tau": 0 < self.tau < 1,
+            "alpha": self.alpha > 1,
+            "eps_max": self.eps_max >= 1,
+            "multiplier_floor": 0 < self.multiplier_floor < 1,
+        }
+        for key, ok in checks.items():
+            if not ok:
+                raise InputError(f"contact option {key}={getattr(self, key)!r} is out of range.")
+        if self.eps_n is not None and not (np.isfinite(self.eps_n) and self.eps_n > 0):
+            raise InputError(f"contact option eps_n={self.eps_n!r} must be a positive number (or None for automatic).")
+        for key, allowed in (
+            ("strategy", ("fixed", "infeasibility")),
+            ("eta_scaling", ("adaptive", "fixed")),
+            ("initial", ("penalty", "uniform")),
+        ):
+            if getattr(self, key) not in allowed:
+                raise InputError(f"contact option {key}={getattr(self, key)!r}; allowed: {', '.join(allowed)}.")
+        return self
+
+
+@dataclass
+class _Run:
+    """Mutable outcome of one algorithm run on the current candidates."""
+
+    r: np.ndarray
+    lam: np.ndarray
+    g: np.ndarray
+    status: ContactStatus
+    message: str
+    outer: int
+    newton: int
+    eps: float
+    residual: float
+    history: list
+
+
+def contact_penalties() -> list[str]:
+    """Registered penalties usable by Algorithm 6.3 (those with (P1), (P3), (P4))."""
+    out = []
+    for name in _pen.available():
+        if name == "hestenes-powell":
+            continue
+        props = getattr(_pen.make(name), "properties", frozenset())
+        if {"P1", "P3", "P4"} <= set(props):
+            out.append(name)
+    return out
+
+
+def _measures(dc, lam, g, lam_old):
+    h = dc.h
+    pref = max(float(np.max(lam, initial=0.0)), 1e-300)
+    pen = float(np.max(g, initial=0.0)) / h
+    compl = float(np.max(np.abs(lam * g), initial=0.0)) / (pref * h)
+    dlam = float(np.max(np.abs(lam - lam_old), initial=0.0)) / pref
+    return pen, compl, dlam
+
+
+def _converged(opts, pen, compl, dlam):
+    return pen <= opts.tol_penetration and compl <= opts.tol_complementarity and dlam <= opts.tol_multiplier
+
+
+def _penalty_solve(dc, opts, eps, r0):
+    pen = _pen.make("rockafellar")
+    law = make_law(pen, np.full(dc.cand.size, 1.0 / eps))
+    lam0 = np.zeros(dc.cand.size)
+    return solve_subproblem(dc, law, lam0, r0, tol=opts.newton_tol, maxiter=opts.maxiter_newton)
+
+
+def run_penalty(dc, opts, eps0, penalty_name=None, warm=None) -> _Run:
+    eps = eps0
+    w = dc.weights[dc.cand]
+    r = np.zeros(dc.cand.size) if warm is None else warm.r
+    hist, newton = [], 0
+    lam_old = np.zeros(dc.cand.size)
+    for k in range(1, opts.maxiter + 1):
+        out = _penalty_solve(dc, opts, eps, r)
+        newton += out.iterations
+        r = out.r
+        lam = out.t
+        pen, compl, dlam = _measures(dc, lam, out.g, lam_old)
+        hist.append(ContactIteration(k, pen, compl, dlam, out.residual, out.iterations, eps, int(np.sum(lam > 0))))
+        if not out.converged:
+            return _Run(r, lam, out.g, ContactStatus.NEWTON_FAILED,
+                        f"Newton failed in penalty iteration {k}: {out.reason}", k, newton, eps, out.residual, hist)
+        if pen <= opts.tol_penetration:
+            return _Run(r, lam, out.g, ContactStatus.CONVERGED, "penetration tolerance met", k, newton, eps,
+                        out.residual, hist)
+        if eps * opts.alpha > opts.eps_max * eps0:
+            return _Run(r, lam, out.g, ContactStatus.PENALTY_LIMIT,
+                        f"penetration {pen:.2e} h still above tol_penetration={opts.tol_penetration:.1e} at the "
+                        f"largest penalty {eps:.3e}; use an augmented Lagrangian algorithm or loosen the tolerance",
+                        k, newton, eps, out.residual, hist)
+        eps *= opts.alpha
+        lam_old = lam
+    return _Run(r, lam, out.g, ContactStatus.MAXITER, "maximum iterations", opts.maxiter, newton, eps,
+                out.residual, hist)
+
+
+def run_al(dc, opts, eps0, penalty_name="rockafellar", warm=None) -> _Run:
+    """Algorithms 6.1 / 6.3 (outer loop; see module doc)."""
+    pen = _pen.make(penalty_name)
+    w = dc.weights[dc.cand]
+    n = dc.cand.size
+    eps = eps0
+    hist, newton, outer0 = [], 0, 0
+    # ---- initial multipliers and starting point
+    if warm is not None and warm.lam.size == n:
+        lam = np.maximum(warm.lam, 0.0)
+        r = warm.r.copy()
+    elif penalty_name == "rockafellar":
+        lam = np.zeros(n)
+        r = np.zeros(n)
+    elif opts.initial == "penalty":
+        out = _penalty_solve(dc, opts, eps, np.zeros(n))
+        newton += out.iterations
+        outer0 = 1
+        lam = out.t.copy()
+        r = out.r.copy()
+        hist.append(ContactIteration(0, float(np.max(out.g, initial=0)) / dc.h, np.nan, np.nan, out.residual,
+                                     out.iterations, eps, int(np.sum(lam > 0))))
+    else:
+        lam = np.full(n, eps * dc.h)
+        r = np.zeros(n)
+    pref = max(float(np.max(lam, initial=0.0)), eps * dc.h * 1e-6)
+    floor = opts.multiplier_floor * pref
+    needs_positive = penalty_name != "rockafellar"
+    if needs_positive:
+        lam = np.maximum(lam, floor)
+    eta = eta_for_stiffness(pen, lam, eps)
+    law = make_law(pen, eta)
+    # barrier-type penalties: the start must lie inside the domain g < eta b; pushing
+    # harder (scaling the contact forces up) closes the penetrations
+    bound = law.gap_bound(lam)
+    scale = 0.5
+    while np.any(dc.gaps(r) >= 0.99 * bound) and np.any(r) and scale < 1e6:
+        if not np.any(dc.gaps(r * (1 + scale)) >= 0.99 * bound):
+            r = r * (1 + scale)
+            break
+        scale *= 2
+    if np.any(dc.gaps(r) >= bound):
+        return _Run(r, lam, dc.gaps(r), ContactStatus.NEWTON_FAILED,
+                    f"no starting point inside the domain of penalty {penalty_name!r}; use eta_scaling='adaptive' "
+                    "or a penalty with unbounded domain (exp-met1)", 0, newton, eps, np.inf, hist)
+    pen_prev = np.inf
+    out = None
+    for k in range(1, opts.maxiter + 1):
+        out = solve_subproblem(dc, law, lam, r, tol=opts.newton_tol, maxiter=opts.maxiter_newton)
+        newton += out.iterations
+        if not np.all(np.isfinite(out.t)):
+            return _Run(r, lam, out.g, ContactStatus.NONFINITE,
+                        f"penalty {penalty_name!r} produced non-finite tractions in iteration {k}; lower "
+                        "penalty_scale or use another penalty", outer0 + k, newton, eps, out.residual, hist)
+        if not out.converged:
+            return _Run(out.r, lam, out.g, ContactStatus.NEWTON_FAILED,
+                        f"Newton failed in outer iteration {k}: {out.reason}; try penalty_scale < 1 or "
+                        "algorithm='ssn'", outer0 + k, newton, eps, out.residual, hist)
+        r = out.r
+        lam_new = out.t.copy()  # multiplier update: lambda <- p'(g/eta, lambda)
+        if needs_positive:
+            lam_new = np.maximum(lam_new, floor)
+        pen_k, compl, dlam = _measures(dc, out.t, out.g, lam)
+        hist.append(ContactIteration(outer0 + k, pen_k, compl, dlam, out.residual, out.iterations, eps,
+                                     int(np.sum(out.g > -opts.tol_penetration * dc.h))))
+        lam = lam_new
+        if _converged(opts, pen_k, compl, dlam):
+            return _Run(r, out.t, out.g, ContactStatus.CONVERGED, "converged", outer0 + k, newton, eps,
+                        out.residual, hist)
+        if (opts.strategy == "infeasibility" and pen_k > opts.tau * pen_prev and pen_k > opts.tol_penetration
+                and eps * opts.alpha <= opts.eps_max * eps0):
+            eps *= opts.alpha
+            if opts.eta_scaling == "fixed":
+                eta = eta / opts.alpha
+        pen_prev = pen_k
+        if opts.eta_scaling == "adaptive" and penalty_name != "rockafellar":
+            eta_new = eta_for_stiffness(pen, lam, eps)
+            # stay inside the domain of barrier-type penalties at the warm start
+            bnd = eta_new * np.asarray(pen.domain_upper(lam), dtype=float)
+            eta = np.where(out.g < 0.99 * bnd, eta_new, eta)
+        elif penalty_name == "rockafellar":
+            eta = np.full(n, 1.0 / eps)
+        law = make_law(pen, eta)
+    return _Run(r, out.t, out.g, ContactStatus.MAXITER,
+                f"maximum outer iterations ({opts.maxiter}) reached; raise maxiter, use strategy='infeasibility' "
+                "or a larger penalty_scale", outer0 + opts.maxiter, newton, eps, out.residual, hist)
+
+
+def run_ssn(dc, opts, eps0, penalty_name=None, warm=None) -> _Run:
+    """Primal-dual active set / semi-smooth Newton on :math:`\\lambda = \\max(0, \\lambda + c g)`."""
+    S = dc.S
+    w = dc.weights[dc.cand]
+    gfree = dc.g_free[dc.cand]
+    n = dc.cand.size
+    c = eps0
+    lam = np.zeros(n) if warm is None or warm.lam.size != n else warm.lam.copy()
+    g = gfree - S @ (w * lam)
+    active = (lam + c * g) > 0
+    hist = []
+    seen = set()
+    for k in range(1, opts.maxiter + 1):
+        r = np.zeros(n)
+        A = np.flatnonzero(active)
+        if A.size:
+            r[A] = np.linalg.solve(S[np.ix_(A, A)], gfree[A])
+        lam_new = r / w
+        g = gfree - S @ r
+        new_active = (lam_new + c * g) > 0
+        pen, compl, dlam = _measures(dc, lam_new, g, lam)
+        hist.append(ContactIteration(k, pen, compl, dlam, 0.0, 1, c, int(A.size)))
+        lam = lam_new
+        if np.array_equal(new_active, active):
+            if np.all(lam >= -1e-12 * max(lam.max(initial=0), 1e-300)) and pen <= max(opts.tol_penetration, 1e-12):
+                return _Run(r, np.maximum(lam, 0), g, ContactStatus.CONVERGED, "active set settled", k, k, c, 0.0,
+                            hist)
+        key = new_active.tobytes()
+        if key in seen:
+            return _Run(r, lam, g, ContactStatus.NEWTON_FAILED,
+                        "the active-set iteration cycles; use algorithm='simo-laursen'", k, k, c, 0.0, hist)
+        seen.add(key)
+        active = new_active
+    return _Run(r, lam, g, ContactStatus.MAXITER, "maximum active-set iterations", opts.maxiter, opts.maxiter, c,
+                0.0, hist)
+
+
+_ALGORITHMS: dict[str, tuple[Callable, str]] = {
+    "penalty": (run_penalty, "pure penalty (6.10), stiffness raised until the penetration tolerance is met"),
+    "simo-laursen": (run_al, "Algorithm 6.1: augmented Lagrangian with the Macaulay update (6.13)"),
+    "family-p": (run_al, "Algorithm 6.3: augmented Lagrangian with a family-P penalty (corrected 6.66)"),
+    "ssn": (run_ssn, "reference: semi-smooth Newton / primal-dual active set, exact (no penalty)"),
+}
+
+
+def available_algorithms() -> list[str]:
+    """Names of the frictionless contact algorithms."""
+    return sorted(_ALGORITHMS)
+
+
+def algorithm_docs() -> dict[str, str]:
+    """One line of documentation per algorithm."""
+    return {k: v[1] for k, v in sorted(_ALGORITHMS.items())}
+
+
+def get_algorithm(name: str):
+    if name not in _ALGORITHMS:
+        raise UnknownNameError("algorithm", name, list(_ALGORITHMS))
+    return _ALGORITHMS[name][0]

@@ -1,0 +1,95 @@
+r"""Newton's method for one contact subproblem, in the condensed variables.
+
+For fixed multipliers :math:`\lambda` the subproblem (S) of Algorithms 6.1 / 6.3
+is the minimization of the potential energy plus the penalty energy. On the
+manifold of equilibrium states :math:`u = u_{free} - K^{-1}B^T r` it reads
+
+.. math::
+
+    \Pi(r) = \tfrac12 r^T S r + \sum_i w_i\, \psi_i(g_i), \qquad g = g_{free} - S r,
+
+whose stationarity :math:`r = w \circ t_N(g)` is the equilibrium of the body with
+the penalized contact traction. Newton's step solves
+:math:`(I + W D S)\,\Delta r = -(r - w\circ t_N)` with :math:`D = \mathrm{diag}(dt_N/dg)`;
+it is exactly the full-space Newton step, restricted to the contact points.
+Globalized by backtracking (Armijo) on :math:`\Pi`, which is ``+inf`` outside the
+domain of barrier-type penalties, so iterates stay inside it.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.linalg as sla
+
+__all__ = ["NewtonOutcome", "solve_subproblem"]
+
+
+@dataclass(frozen=True)
+class NewtonOutcome:
+    r: np.ndarray
+    g: np.ndarray
+    t: np.ndarray
+    iterations: int
+    converged: bool
+    residual: float
+    reason: str
+
+
+def solve_subproblem(dc, law, lam, r0, *, tol=1e-12, maxiter=60) -> NewtonOutcome:
+    """Solve ``r = w t_N(g_free - S r; lam)`` by globalized Newton (see module doc)."""
+    S = dc.S
+    w = dc.weights[dc.cand]
+    gfree = dc.g_free[dc.cand]
+    r = np.array(r0, dtype=float)
+
+    def merit(r_):
+        g_ = gfree - S @ r_
+        e = law.energy(g_, lam)
+        return 0.5 * r_ @ (S @ r_) + float(np.sum(w * e)), g_
+
+    pi, g = merit(r)
+    if not np.isfinite(pi):
+        return NewtonOutcome(r, g, law.traction(g, lam), 0, False, np.inf, "start outside the penalty domain")
+    scale = None
+    for it in range(1, maxiter + 1):
+        t = law.traction(g, lam)
+        F = r - w * t
+        if scale is None:
+            scale = max(float(np.max(np.abs(w * t), initial=0.0)), float(np.max(np.abs(r), initial=0.0)))
+        fscale = max(scale, float(np.max(np.abs(r), initial=0.0)), 1e-300)
+        res = float(np.max(np.abs(F), initial=0.0)) / fscale
+        if res <= tol:
+            return NewtonOutcome(r, g, t, it - 1, True, res, "converged")
+        D = law.stiffness(g, lam)
+        J = S * (w * D)[:, None]
+        J[np.diag_indices_from(J)] += 1.0
+        try:
+            dr = sla.solve(J, -F, check_finite=True)
+        except (sla.LinAlgError, ValueError):
+            return NewtonOutcome(r, g, t, it, False, res, "singular Newton matrix")
+        if float(np.max(np.abs(dr), initial=0.0)) <= 1e-13 * fscale:
+            # the Newton correction is at round-off level: the residual cannot drop further
+            return NewtonOutcome(r, g, t, it, True, res, "converged (step at round-off level)")
+        slope = float((S @ F) @ dr)  # directional derivative of Pi: grad Pi = S F
+        alpha = 1.0
+        accepted = False
+        for _ in range(60):
+            r_try = r + alpha * dr
+            pi_try, g_try = merit(r_try)
+            if np.isfinite(pi_try) and pi_try <= pi + 1e-4 * alpha * min(slope, 0.0) + 1e-14 * abs(pi):
+                accepted = True
+                break
+            alpha *= 0.5
+        if not accepted:
+            # the merit function is flat to round-off: accept a full step if it reduces the residual
+            r_try = r + dr
+            pi_try, g_try = merit(r_try)
+            t_try = law.traction(g_try, lam)
+            if not (np.isfinite(pi_try) and np.max(np.abs(r_try - w * t_try)) < np.max(np.abs(F))):
+                return NewtonOutcome(r, g, t, it, False, res, "line search failed")
+        r, g, pi = r_try, g_try, pi_try
+    t = law.traction(g, lam)
+    res = float(np.max(np.abs(r - w * t), initial=0.0)) / max(scale or 0.0, 1e-300)
+    return NewtonOutcome(r, g, t, maxiter, res <= tol, res, "maximum Newton iterations")

@@ -1,0 +1,158 @@
+"""Entry point :func:`solve` for frictionless contact."""
+
+from __future__ import annotations
+
+import dataclasses
+import logging
+import time
+
+import numpy as np
+
+from ..errors import InputError, UnknownNameError
+from ._algorithms import ContactOptions, _Run, contact_penalties, get_algorithm
+from ._discrete import DiscreteContact
+from ._solution import ContactResult, ContactSolution, ContactStatus
+
+__all__ = ["solve", "DEFAULT_ALGORITHM", "DEFAULT_PENALTY", "penalty_stiffness"]
+
+logger = logging.getLogger(__name__)
+
+DEFAULT_ALGORITHM = "simo-laursen"
+DEFAULT_PENALTY = "exp-met1"
+
+_FIXED_PENALTY = {"simo-laursen": "rockafellar", "penalty": "exterior-quadratic", "ssn": "none"}
+
+
+def penalty_stiffness(model, h: float, scale: float = 1.0) -> float:
+    """Automatic penalty stiffness ``scale * E' / h`` (pressure per length).
+
+    ``E' = E/(1-nu^2)`` in plane strain and 3D, ``E`` in plane stress: the
+    stiffness of a layer of thickness ``h`` under uniaxial strain, so the
+    penalty spring is as stiff as the first element row under the surface.
+    """
+    mat = model.material
+    e_prime = mat.E if (model.dim == 2 and mat.plane == "stress") else mat.plane_strain_modulus
+    return scale * e_prime / h
+
+
+def _resolve_penalty(algorithm: str, penalty: str | None) -> str:
+    if algorithm in _FIXED_PENALTY:
+        fixed = _FIXED_PENALTY[algorithm]
+        if penalty not in (None, fixed):
+            raise InputError(
+                f"algorithm {algorithm!r} uses the {fixed!r} penalty; got penalty={penalty!r}. "
+                "Use algorithm='family-p' to choose a penalty."
+            )
+        return fixed
+    name = penalty or DEFAULT_PENALTY
+    if name not in contact_penalties():
+        raise UnknownNameError("contact penalty", name, contact_penalties())
+    return name
+
+
+def solve(problem, algorithm: str = DEFAULT_ALGORITHM, penalty: str | None = None,
+          options: ContactOptions | None = None, **option_overrides) -> ContactSolution:
+    """Solve a frictionless contact problem.
+
+    Parameters
+    ----------
+    problem : ContactProblem
+    algorithm : str
+        One of :func:`available_algorithms`: ``"penalty"``, ``"simo-laursen"``
+        (Algorithm 6.1), ``"family-p"`` (Algorithm 6.3), ``"ssn"``.
+    penalty : str, optional
+        Penalty of ``"family-p"`` (one of :func:`contact_penalties`; default
+        ``"exp-met1"``).
+    options : ContactOptions, optional
+    **option_overrides
+        Fields of :class:`ContactOptions` (e.g. ``penalty_scale=10``).
+
+    Returns
+    -------
+    ContactSolution
+        ``solution.result.status`` is negative when the solve failed; a warning
+        is logged saying what to try.
+    """
+    t_start = time.perf_counter()
+    run = get_algorithm(algorithm)
+    pen_name = _resolve_penalty(algorithm, penalty)
+    opts = options or ContactOptions()
+    if option_overrides:
+        known = {f.name for f in dataclasses.fields(ContactOptions)}
+        unknown = sorted(set(option_overrides) - known)
+        if unknown:
+            raise InputError(f"unknown contact option(s) {unknown}; known: {', '.join(sorted(known))}.")
+        opts = dataclasses.replace(opts, **option_overrides)
+    opts.validate()
+
+    dc = DiscreteContact(problem)
+    eps0 = opts.eps_n if opts.eps_n is not None else penalty_stiffness(problem.model, dc.h, opts.penalty_scale)
+    t_solve = time.perf_counter()
+
+    if dc.cand.size == 0:
+        i = int(np.argmax(np.where(dc.movable, dc.g_free, -np.inf)))
+        msg = (
+            f"the body never reaches the obstacle: smallest clearance {-dc.g_free[i]:.4g} at point "
+            f"{np.round(dc.points[i], 6).tolist()}; move the obstacle closer, increase the load, or check "
+            "the contact boundary name"
+        )
+        out = _Run(np.zeros(0), np.zeros(0), np.zeros(0), ContactStatus.NO_CONTACT, msg, 0, 0, eps0, 0.0, [])
+        u = dc.u_free
+    else:
+        warm = None
+        for _attempt in range(8):
+            out = run(dc, opts, eps0, pen_name, warm)
+            u = dc.displacement(out.r)
+            added = dc.extend(dc.all_gaps(u), opts.tol_penetration * dc.h)
+            if added.size == 0 or out.status < 0:
+                break
+    g_all = dc.all_gaps(u)
+    m = dc.points.shape[0]
+    pressure = np.zeros(m)
+    pressure[dc.cand] = np.maximum(out.lam, 0.0) if out.lam.size else 0.0
+    active = (pressure > 0) & (g_all > -max(1e-6, 10 * opts.tol_penetration) * dc.h)
+    force = np.sum((dc.weights * pressure)[:, None] * dc.normals, axis=0)
+    if out.status > 0 and not np.all(np.isfinite(u)):
+        out.status, out.message = ContactStatus.NONFINITE, "non-finite displacement"
+    pen_final = float(np.max(g_all, initial=0.0)) / dc.h
+    pref = max(float(pressure.max(initial=0.0)), 1e-300)
+    compl = float(np.max(np.abs(pressure * g_all), initial=0.0)) / (pref * dc.h)
+    result = ContactResult(
+        status=out.status,
+        message=out.message,
+        algorithm=algorithm,
+        penalty=pen_name,
+        outer_iterations=int(out.outer),
+        newton_iterations=int(out.newton),
+        linear_solves=int(dc.linear_solves),
+        factorizations=1,
+        penetration=pen_final,
+        complementarity=compl,
+        residual=float(out.residual),
+        eps_n=float(out.eps),
+        history=tuple(out.history),
+    )
+    if out.status < 0:
+        logger.warning("contact solve %s/%s failed (%s): %s", algorithm, pen_name, out.status.label, out.message)
+    t_end = time.perf_counter()
+    timings = {
+        "setup_s": dc.setup_seconds,
+        "factor_s": dc.factor_seconds,
+        "linear_solve_s": dc.factor_seconds + dc.solve_seconds,
+        "solve_s": t_end - t_solve,
+        "total_s": t_end - t_start,
+    }
+    return ContactSolution(
+        problem=problem,
+        u=u,
+        points=dc.points,
+        pressure=pressure,
+        gap=g_all,
+        weights=dc.weights,
+        active=active,
+        normals=dc.normals,
+        total_contact_force=force,
+        result=result,
+        timings=timings,
+        extra={"h": dc.h, "candidates": int(dc.cand.size), "dofs": int(problem.model.ndofs)},
+    )

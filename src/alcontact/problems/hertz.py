@@ -1,0 +1,144 @@
+r"""Hertz contact problems with their analytical references.
+
+2D (plane strain): a rigid cylinder of radius R pressed into an elastic block by a
+prescribed approach :math:`\delta`. For a total load P per unit thickness
+(Johnson, *Contact Mechanics*, 1985, eq. 4.45-4.47),
+
+.. math::
+
+    a = \sqrt{\frac{4PR}{\pi E^*}}, \qquad p_0 = \frac{2P}{\pi a}, \qquad
+    p(x) = p_0\sqrt{1 - x^2/a^2}, \qquad E^* = \frac{E}{1-\nu^2}.
+
+3D: a rigid sphere of radius R (Johnson eq. 4.22-4.23),
+
+.. math::
+
+    a = \left(\frac{3PR}{4E^*}\right)^{1/3}, \qquad p_0 = \frac{3P}{2\pi a^2}.
+
+The problems are displacement controlled; the "exact" width and peak pressure
+are those of the half-space under the load the finite element model carries
+(its total contact force), so they are exact for that load as long as the block
+is large compared with ``a`` (here 20 a). Symmetry: the 2D model is the half
+``x >= 0``, the 3D model the quarter ``x, y >= 0``; the reference uses the total
+load (2 resp. 4 times the model's contact force).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..contact import ContactProblem, Support
+from ..contact.obstacles import Circle, Sphere
+from ..fem import LinearElasticity, Material, meshes
+
+__all__ = ["HertzReference", "hertz_2d", "hertz_3d", "LEVELS_2D", "LEVELS_3D"]
+
+
+@dataclass(frozen=True)
+class HertzReference:
+    """Analytical Hertz solution for a rigid cylinder (2D) or sphere (3D) on a half-space."""
+
+    kind: str  # "cylinder" or "sphere"
+    radius: float
+    e_star: float
+    symmetry: float  # total load / model load
+
+    def load(self, model_force: float) -> float:
+        return self.symmetry * model_force
+
+    def half_width(self, load: float) -> float:
+        if self.kind == "cylinder":
+            return math.sqrt(4 * load * self.radius / (math.pi * self.e_star))
+        return (3 * load * self.radius / (4 * self.e_star)) ** (1 / 3)
+
+    def peak_pressure(self, load: float) -> float:
+        a = self.half_width(load)
+        if self.kind == "cylinder":
+            return 2 * load / (math.pi * a)
+        return 3 * load / (2 * math.pi * a * a)
+
+    def pressure(self, r, load: float) -> np.ndarray:
+        a, p0 = self.half_width(load), self.peak_pressure(load)
+        r = np.asarray(r, dtype=float)
+        return p0 * np.sqrt(np.clip(1 - (r / a) ** 2, 0.0, None))
+
+
+#: elements per contact half-width ``a`` on the fine zone, by refinement level
+LEVELS_2D = (8, 16, 32, 64, 128, 256)
+LEVELS_3D = (4, 6, 8, 12, 16, 24)
+
+
+def hertz_2d(level: int = 1, *, order: int = 1, E: float = 200e3, nu: float = 0.3, radius: float = 10.0,
+             a_target: float = 1.0, size: float = 20.0, n_per_a: int | None = None) -> ContactProblem:
+    """Rigid cylinder on an elastic block, plane strain, half model ``x >= 0``.
+
+    Parameters
+    ----------
+    level : int
+        Refinement level (index into :data:`LEVELS_2D`: elements per ``a``).
+    order : {1, 2}
+    E, nu : float
+        Young's modulus (e.g. MPa) and Poisson's ratio.
+    radius : float
+        Cylinder radius R (mm); ``a_target / radius`` is about 0.1.
+    a_target : float
+        Intended contact half-width; sets the approach and the fine zone.
+    size : float
+        Block width (half model) and depth in units of ``a_target``.
+    n_per_a : int, optional
+        Overrides ``level``.
+    """
+    mat = Material(E=E, nu=nu, plane="strain")
+    e_star = mat.plane_strain_modulus
+    n = n_per_a or LEVELS_2D[level]
+    a = a_target
+    L = H = size * a
+    h = a / n
+    mesh = meshes.rectangle(0.0, L, -H, 0.0, 8, 8,
+                            refine=dict(center=(0.0, 0.0), h_min=h / order, width=1.6 * a, depth=1.0 * a,
+                                        growth=1.15))
+    model = LinearElasticity(mesh, mat, order=order)
+    # approach giving a ~ a_target for this block (calibrated once, see docs/verification.md)
+    load = math.pi * a * a * e_star / (4 * radius)
+    delta = 2 * load / (math.pi * e_star) * (math.log(2 * H / a) + 0.1)
+    obstacle = Circle(center=(0.0, radius - delta), radius=radius)
+    ref = HertzReference("cylinder", radius, e_star, symmetry=2.0)
+    return ContactProblem(
+        model=model,
+        obstacle=obstacle,
+        contact_boundary="top",
+        supports=(Support("bottom"), Support("left", components=(0,))),
+        name=f"hertz-2d (R={radius:g}, {n} elements per a, P{order})",
+        reference=ref,
+        meta={"delta": delta, "h": h, "symmetry_axis": 0, "center": (0.0, 0.0)},
+    )
+
+
+def hertz_3d(level: int = 1, *, order: int = 1, E: float = 200e3, nu: float = 0.3, radius: float = 10.0,
+             a_target: float = 1.0, size: float = 12.0, n_per_a: int | None = None) -> ContactProblem:
+    """Rigid sphere on an elastic block, quarter model ``x, y >= 0``."""
+    mat = Material(E=E, nu=nu)
+    e_star = mat.plane_strain_modulus
+    n = n_per_a or LEVELS_3D[level]
+    a = a_target
+    L = H = size * a
+    h = a / n
+    mesh = meshes.box(0.0, L, 0.0, L, -H, 0.0, 4, 4, 4,
+                      refine=dict(center=(0.0, 0.0, 0.0), h_min=h / order, width=1.5 * a, depth=1.0 * a,
+                                  growth=1.3))
+    model = LinearElasticity(mesh, mat, order=order)
+    delta = a * a / radius
+    obstacle = Sphere(center=(0.0, 0.0, radius - delta), radius=radius)
+    ref = HertzReference("sphere", radius, e_star, symmetry=4.0)
+    return ContactProblem(
+        model=model,
+        obstacle=obstacle,
+        contact_boundary="top",
+        supports=(Support("bottom"), Support("left", components=(0,)), Support("front", components=(1,))),
+        name=f"hertz-3d (R={radius:g}, {n} elements per a, P{order})",
+        reference=ref,
+        meta={"delta": delta, "h": h, "symmetry_axis": 0, "center": (0.0, 0.0)},
+    )
