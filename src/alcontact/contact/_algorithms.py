@@ -258,10 +258,10 @@ def run_al(dc, opts, eps0, penalty_name="rockafellar", warm=None) -> _Run:
     for k in range(1, opts.maxiter + 1):
         out = solve_subproblem(dc, law, lam, r, tol=opts.newton_tol, maxiter=opts.maxiter_newton)
         newton += out.iterations
-        if not np.all(np.isfinite(out.t)):
+        if out.reason == "the penalty returned NaN" or not np.all(np.isfinite(out.t)):
             return _Run(r, lam, out.g, ContactStatus.NONFINITE,
-                        f"penalty {penalty_name!r} produced non-finite tractions in iteration {k}; lower "
-                        "penalty_scale or use another penalty", outer0 + k, newton, eps, out.residual, hist)
+                        f"penalty {penalty_name!r} produced non-finite (NaN/inf) tractions in iteration {k}; "
+                        "check the penalty's formulas, lower penalty_scale or use another penalty", outer0 + k, newton, eps, out.residual, hist)
         if not out.converged:
             return _Run(out.r, lam, out.g, ContactStatus.NEWTON_FAILED,
                         f"Newton failed in outer iteration {k}: {out.reason}; try penalty_scale < 1 or "

@@ -50,9 +50,12 @@ def solve_subproblem(dc, law, lam, r0, *, tol=1e-12, maxiter=60) -> NewtonOutcom
         return 0.5 * r_ @ (S @ r_) + float(np.sum(w * e)), g_
 
     pi, g = merit(r)
+    if np.isnan(pi) or np.any(np.isnan(law.traction(g, lam))):
+        return NewtonOutcome(r, g, law.traction(g, lam), 0, False, np.nan, "the penalty returned NaN")
     if not np.isfinite(pi):
         return NewtonOutcome(r, g, law.traction(g, lam), 0, False, np.inf, "start outside the penalty domain")
     scale = None
+    prev_res = np.inf
     for it in range(1, maxiter + 1):
         t = law.traction(g, lam)
         F = r - w * t
@@ -62,6 +65,10 @@ def solve_subproblem(dc, law, lam, r0, *, tol=1e-12, maxiter=60) -> NewtonOutcom
         res = float(np.max(np.abs(F), initial=0.0)) / fscale
         if res <= tol:
             return NewtonOutcome(r, g, t, it - 1, True, res, "converged")
+        if res <= 1e-8 and res > 0.5 * prev_res:
+            # stagnation at the round-off floor of the (ill-conditioned) system: cond(I + WDS) * 1e-16
+            return NewtonOutcome(r, g, t, it - 1, True, res, "converged (residual at round-off level)")
+        prev_res = res
         D = law.stiffness(g, lam)
         J = S * (w * D)[:, None]
         J[np.diag_indices_from(J)] += 1.0

@@ -1,0 +1,602 @@
+r"""Coulomb friction with incremental loading, small deformation, 2D and 3D (section 6.2).
+
+Registered algorithms (:func:`friction_algorithms`):
+
+``simo-laursen``
+    Algorithm 6.2: per load step, augmented Lagrangian iterations with the
+    normal traction :math:`\langle\lambda_N + \varepsilon_N g\rangle` (6.52), the
+    return mapping (6.47)-(6.50) (corrected (6.49)) in AL form, and the updates
+    (6.2b) :math:`\lambda_N \leftarrow \langle\lambda_N + \varepsilon_N g\rangle`,
+    (6.2c) :math:`\lambda_T \leftarrow \operatorname{proj}_{B(\mu t_N)}
+    (\lambda_T + \varepsilon_T \Delta u_T)` (:math:`\lambda_T = t_{T,n} + \Delta\lambda_T`).
+``family-p``
+    Algorithm 6.4: the same with the normal traction of a family-P penalty,
+    :math:`t_N = p'(g/\eta, \lambda_N)`, update :math:`\lambda_N \leftarrow p'(g/\eta, \lambda_N)`
+    (scaling :math:`\eta` as in :mod:`alcontact.contact._laws`).
+``ssn``
+    Reference: Alart-Curnier semi-smooth Newton on the multipliers
+    :math:`(\lambda_N, \lambda_T)` of the same discrete problem (no penalty),
+    :math:`\lambda_N - \max(0, \lambda_N + c_N g) = 0`,
+    :math:`\lambda_T - \operatorname{proj}_{B(\mu\max(0, \lambda_N + c_N g))}
+    (\lambda_T + c_T (u_T - u_{T,n})) = 0`.
+
+A converged AL step satisfies the *exact* time-discrete Coulomb law (the fixed
+point of (6.2c) has :math:`\Delta u_T = 0` at stick points and
+:math:`|\lambda_T| = \mu\lambda_N`, :math:`\Delta u_T \parallel \lambda_T` at slip
+points), so all three algorithms solve the same discrete problem and agree to
+solver tolerance.
+
+Every subproblem is solved by a semi-smooth Newton method in the condensed
+variables (see :mod:`alcontact.contact._friction_discrete`) with the consistent
+tangent of the return mapping and backtracking on the residual norm (the
+frictional problem is non-symmetric: there is no energy to descend).
+
+A step that fails is retried from the last converged state with a smaller
+increment (``cutback_factor`` times, at most ``max_cutbacks`` times per
+requested step); the converged steps are kept.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import logging
+import time
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+import scipy.linalg as sla
+
+from .. import penalties as _pen
+from ..errors import InputError, UnknownNameError
+from ._algorithms import contact_penalties
+from ._friction_discrete import FrictionalContact
+from ._friction_laws import OPEN, SLIP, STICK, Macaulay, local_law
+from ._friction_solution import FrictionSolution, FrictionStep
+from ._laws import eta_for_stiffness, make_law
+from ._loading import LoadHistory
+from ._solution import ContactStatus
+from ._solve import penalty_stiffness
+
+__all__ = ["FrictionOptions", "solve_friction", "friction_algorithms", "friction_algorithm_docs"]
+
+logger = logging.getLogger(__name__)
+
+
+@dataclass(frozen=True)
+class FrictionOptions:
+    """Options of the frictional solvers (every field has a default).
+
+    Attributes
+    ----------
+    eps_n : float or None
+        Normal penalty stiffness (pressure per length); ``None``: ``penalty_scale * E'/h``.
+    eps_t : float or None
+        Tangential penalty stiffness :math:`\\varepsilon_T`; ``None``: ``tangential_scale * eps_n``.
+    penalty_scale, tangential_scale : float
+    tol_penetration : float
+        Max penetration over ``h`` (TOL1 of Algorithm 6.2, relative).
+    tol_multiplier : float
+        Max change of :math:`(\\lambda_N, \\lambda_T)` in an outer iteration over the largest pressure.
+    tol_slip : float
+        Max :math:`|u_{T,n+1} - u_{T,n}|/h` at stick points (TOL2 of Algorithm 6.2).
+    tol_complementarity : float
+        Max :math:`|\\lambda_N g|` over ``p_ref h``.
+    maxiter : int
+        Outer (multiplier) iterations per step.
+    newton_tol : float
+        Relative residual of every Newton solve (also of the SSN reference).
+    maxiter_newton : int
+    max_cutbacks : int
+        Failed attempts allowed per requested step before giving up.
+    cutback_factor : float
+        Fraction of the failed increment tried next.
+    eta_scaling : {"adaptive", "fixed"}
+        Scale of family-P penalties (see :mod:`alcontact.contact._laws`).
+    multiplier_floor : float
+        Relative lower bound of family-P multipliers.
+    eta_floor : float
+        Family-P: the scale :math:`\\eta` is computed from
+        :math:`\\max(\\lambda_N, \\text{eta\\_floor}\\, p_{ref})`, so points that enter
+        contact with a tiny multiplier do not get an exploding law.
+    margin : float
+        Candidate points: largest free gap over the history above ``-margin`` times
+        the largest free penetration (more are added when they penetrate).
+    """
+
+    eps_n: float | None = None
+    eps_t: float | None = None
+    penalty_scale: float = 100.0
+    tangential_scale: float = 1.0
+    tol_penetration: float = 1e-8
+    tol_multiplier: float = 1e-8
+    tol_slip: float = 1e-8
+    tol_complementarity: float = 1e-8
+    maxiter: int = 100
+    newton_tol: float = 1e-11
+    maxiter_newton: int = 60
+    max_cutbacks: int = 6
+    cutback_factor: float = 0.5
+    eta_scaling: str = "adaptive"
+    multiplier_floor: float = 1e-10
+    eta_floor: float = 1e-2
+    margin: float = 0.25
+
+    def validate(self) -> "FrictionOptions":
+        checks = {
+            "penalty_scale": self.penalty_scale > 0,
+            "tangential_scale": self.tangential_scale > 0,
+            "tol_penetration": self.tol_penetration > 0,
+            "tol_multiplier": self.tol_multiplier > 0,
+            "tol_slip": self.tol_slip > 0,
+            "tol_complementarity": self.tol_complementarity > 0,
+            "maxiter": int(self.maxiter) >= 1,
+            "newton_tol": self.newton_tol > 0,
+            "maxiter_newton": int(self.maxiter_newton) >= 1,
+            "max_cutbacks": int(self.max_cutbacks) >= 0,
+            "cutback_factor": 0 < self.cutback_factor < 1,
+            "multiplier_floor": 0 < self.multiplier_floor < 1,
+            "eta_floor": 0 < self.eta_floor <= 1,
+            "margin": self.margin >= 0,
+        }
+        for key, ok in checks.items():
+            if not ok:
+                raise InputError(f"friction option {key}={getattr(self, key)!r} is out of range.")
+        for key in ("eps_n", "eps_t"):
+            v = getattr(self, key)
+            if v is not None and not (np.isfinite(v) and v > 0):
+                raise InputError(f"friction option {key}={v!r} must be a positive number (or None for automatic).")
+        if self.eta_scaling not in ("adaptive", "fixed"):
+            raise InputError(f"friction option eta_scaling={self.eta_scaling!r}; allowed: adaptive, fixed.")
+        return self
+
+
+# ---------------------------------------------------------------------------
+# generic semi-smooth Newton with residual backtracking
+# ---------------------------------------------------------------------------
+@dataclass
+class _NewtonOut:
+    x: np.ndarray
+    aux: tuple
+    iterations: int
+    converged: bool
+    residual: float
+    reason: str
+
+
+def _newton(fun, jac, x0, scale, *, tol, maxiter) -> _NewtonOut:
+    """Solve ``F(x) = 0``; ``fun(x) -> (F, aux)``, ``jac(x, aux) -> J``, ``scale(x, aux)`` > 0."""
+    x = np.array(x0, dtype=float)
+    F, aux = fun(x)
+    if not np.all(np.isfinite(F)):
+        return _NewtonOut(x, aux, 0, False, np.inf, "non-finite residual at the start")
+    res = np.inf
+    for it in range(maxiter + 1):
+        fs = max(scale(x, aux), 1e-300)
+        res = float(np.max(np.abs(F), initial=0.0)) / fs
+        if res <= tol:
+            return _NewtonOut(x, aux, it, True, res, "converged")
+        if it == maxiter:
+            break
+        J = jac(x, aux)
+        try:
+            dx = sla.solve(J, -F, check_finite=True)
+        except (sla.LinAlgError, ValueError):
+            return _NewtonOut(x, aux, it, False, res, "singular Newton matrix")
+        if float(np.max(np.abs(dx), initial=0.0)) <= 1e-14 * max(float(np.max(np.abs(x), initial=0.0)), fs):
+            return _NewtonOut(x, aux, it, res <= 1e3 * tol, res, "step at round-off level")
+        nF = float(np.linalg.norm(F))
+        alpha, accepted = 1.0, False
+        for _ in range(40):
+            x_try = x + alpha * dx
+            F_try, aux_try = fun(x_try)
+            if np.all(np.isfinite(F_try)) and np.linalg.norm(F_try) <= (1.0 - 1e-4 * alpha) * nF:
+                accepted = True
+                break
+            alpha *= 0.5
+        if not accepted:
+            return _NewtonOut(x, aux, it + 1, False, res, "line search failed")
+        x, F, aux = x_try, F_try, aux_try
+    return _NewtonOut(x, aux, maxiter, False, res, "maximum Newton iterations")
+
+
+# ---------------------------------------------------------------------------
+# one load step
+# ---------------------------------------------------------------------------
+@dataclass
+class _StepOut:
+    ok: bool
+    message: str
+    R: np.ndarray  # (c, d) local nodal forces on the candidates
+    t: np.ndarray  # (c, d) tractions
+    outer: int
+    newton: int
+    status: ContactStatus = ContactStatus.CONVERGED
+
+
+@dataclass
+class _Ctx:
+    """Everything one step needs about the candidates and the previous state."""
+
+    fc: FrictionalContact
+    yf: np.ndarray  # (c, d)
+    w: np.ndarray  # (c,)
+    A4: np.ndarray  # (c, d, c, d)
+    lamN: np.ndarray
+    lamT: np.ndarray
+    uTn: np.ndarray
+    R0: np.ndarray
+    eps_n: float
+    eps_t: float
+    mu: float
+    opts: FrictionOptions
+
+    @property
+    def c(self):
+        return self.yf.shape[0]
+
+    @property
+    def d(self):
+        return self.yf.shape[1]
+
+    def y(self, R):
+        return self.yf - (self.fc.A @ R.ravel()).reshape(self.yf.shape)
+
+
+def _al_subproblem(ctx: _Ctx, law, lamN, lamT, R0) -> _NewtonOut:
+    c, d, w = ctx.c, ctx.d, ctx.w
+    n = c * d
+
+    def fun(x):
+        R = x.reshape(c, d)
+        y = ctx.y(R)
+        t, Dy, _, st = local_law(law, lamN, lamT, y, ctx.uTn, ctx.eps_t, ctx.mu)
+        return (R - w[:, None] * t).ravel(), (y, t, Dy, st)
+
+    def jac(x, aux):
+        Dy = aux[2]
+        J = np.einsum("ikm,imjl->ikjl", w[:, None, None] * Dy, ctx.A4).reshape(n, n)
+        J[np.diag_indices(n)] += 1.0
+        return J
+
+    def scale(x, aux):
+        return max(float(np.max(np.abs(x), initial=0.0)),
+                   float(np.max(np.abs(w[:, None] * aux[1]), initial=0.0)))
+
+    return _newton(fun, jac, R0.ravel(), scale, tol=ctx.opts.newton_tol, maxiter=ctx.opts.maxiter_newton)
+
+
+def _measures(ctx: _Ctx, t, y, st, lamN_old, lamT_old):
+    h = ctx.fc.h
+    tN, tT = t[:, 0], t[:, 1:]
+    pref = max(float(np.max(tN, initial=0.0)), 1e-300)
+    pen = float(np.max(y[:, 0], initial=0.0)) / h
+    compl = float(np.max(np.abs(tN * np.minimum(y[:, 0], 0.0)), initial=0.0)) / (pref * h)
+    dlam = max(float(np.max(np.abs(tN - lamN_old), initial=0.0)),
+               float(np.max(np.abs(tT - lamT_old), initial=0.0))) / pref
+    dslip = np.linalg.norm(y[:, 1:] - ctx.uTn, axis=1)
+    stick_slip = float(np.max(dslip[st == STICK], initial=0.0)) / h
+    return pen, compl, dlam, stick_slip
+
+
+def _step_al(ctx: _Ctx, penalty_name: str) -> _StepOut:
+    """Algorithms 6.2 (``rockafellar``) / 6.4 (family-P) for one load step."""
+    opts = ctx.opts
+    lamN, lamT = ctx.lamN.copy(), ctx.lamT.copy()
+    R = ctx.R0.copy()
+    newton = 0
+    macaulay = make_law(_pen.make("rockafellar"), np.full(ctx.c, 1.0 / ctx.eps_n))
+    family_p = penalty_name != "rockafellar"
+    if family_p:
+        pen = _pen.make(penalty_name)
+        # predictor: one Simo-Laursen subproblem gives multipliers for points entering contact
+        out = _al_subproblem(ctx, macaulay, lamN, lamT, R)
+        newton += out.iterations
+        if out.converged:
+            R = out.x.reshape(ctx.c, ctx.d)
+            lamN = out.aux[1][:, 0].copy()
+        pref = max(float(np.max(lamN, initial=0.0)), ctx.eps_n * ctx.fc.h * 1e-6)
+        floor = opts.multiplier_floor * pref
+        lamN = np.maximum(lamN, floor)
+        eta = eta_for_stiffness(pen, np.maximum(lamN, opts.eta_floor * pref), ctx.eps_n)
+        law = make_law(pen, eta)
+    else:
+        law = macaulay
+    for k in range(1, opts.maxiter + 1):
+        out = _al_subproblem(ctx, law, lamN, lamT, R)
+        newton += out.iterations
+        if not out.converged:
+            return _StepOut(False, f"Newton failed in outer iteration {k}: {out.reason}", R, out.aux[1], k, newton,
+                            ContactStatus.NEWTON_FAILED)
+        R = out.x.reshape(ctx.c, ctx.d)
+        y, t, _, st = out.aux
+        if not np.all(np.isfinite(t)):
+            return _StepOut(False, f"non-finite tractions in outer iteration {k}", R, t, k, newton,
+                            ContactStatus.NONFINITE)
+        pen_k, compl, dlam, stick_slip = _measures(ctx, t, y, st, lamN, lamT)
+        # multiplier updates (6.2b)/(6.2c), resp. lambda_N <- p'(g/eta, lambda_N)
+        lamN = t[:, 0].copy()
+        lamT = t[:, 1:].copy()
+        logger.debug("friction AL outer %d: pen=%.2e compl=%.2e dlam=%.2e stick-slip=%.2e newton=%d",
+                     k, pen_k, compl, dlam, stick_slip, out.iterations)
+        if (pen_k <= opts.tol_penetration and compl <= opts.tol_complementarity and dlam <= opts.tol_multiplier
+                and stick_slip <= opts.tol_slip):
+            return _StepOut(True, "converged", R, t, k, newton)
+        if family_p:
+            pref = max(float(np.max(lamN, initial=0.0)), 1e-300)
+            lamN = np.maximum(lamN, opts.multiplier_floor * pref)
+            if opts.eta_scaling == "adaptive":
+                eta_new = eta_for_stiffness(pen, np.maximum(lamN, opts.eta_floor * pref), ctx.eps_n)
+                bnd = eta_new * np.asarray(pen.domain_upper(lamN), dtype=float)
+                eta = np.where(y[:, 0] < 0.99 * bnd, eta_new, eta)
+                law = make_law(pen, eta)
+    return _StepOut(False, f"maximum outer iterations ({opts.maxiter}) reached", R, t, opts.maxiter, newton,
+                    ContactStatus.MAXITER)
+
+
+def _step_ssn(ctx: _Ctx, penalty_name: str = "none") -> _StepOut:
+    """Alart-Curnier semi-smooth Newton for one load step (reference, no penalty)."""
+    c, d, w = ctx.c, ctx.d, ctx.w
+    n = c * d
+    law = Macaulay(ctx.eps_n)
+
+    def fun(x):
+        L = x.reshape(c, d)
+        y = ctx.y(w[:, None] * L)
+        t, Dy, Dl, st = local_law(law, L[:, 0], L[:, 1:], y, ctx.uTn, ctx.eps_t, ctx.mu, with_lam=True)
+        return (L - t).ravel(), (y, t, Dy, st, Dl)
+
+    def jac(x, aux):
+        Dy, Dl = aux[2], aux[4]
+        J = np.einsum("ikm,imjl->ikjl", Dy, ctx.A4 * w[None, None, :, None]).reshape(n, n)
+        for a in range(d):
+            for b in range(d):
+                J[np.arange(c) * d + a, np.arange(c) * d + b] -= Dl[:, a, b]
+        J[np.diag_indices(n)] += 1.0
+        return J
+
+    def scale(x, aux):
+        return max(float(np.max(np.abs(x), initial=0.0)), float(np.max(np.abs(aux[1]), initial=0.0)))
+
+    x0 = np.concatenate([ctx.lamN[:, None], ctx.lamT], axis=1).ravel()
+    out = _newton(fun, jac, x0, scale, tol=ctx.opts.newton_tol, maxiter=max(ctx.opts.maxiter_newton, 100))
+    L = out.x.reshape(c, d)
+    if not out.converged:
+        return _StepOut(False, f"semi-smooth Newton failed: {out.reason}", w[:, None] * L, out.aux[1], 1,
+                        out.iterations, ContactStatus.NEWTON_FAILED)
+    return _StepOut(True, "converged", w[:, None] * L, L.copy(), 1, out.iterations)
+
+
+_ALGORITHMS: dict[str, tuple[Callable, str]] = {
+    "simo-laursen": (_step_al, "Algorithm 6.2: AL with the Macaulay normal law (6.52) and return mapping (6.47)-(6.50)"),
+    "family-p": (_step_al, "Algorithm 6.4: Algorithm 6.2 with a family-P normal penalty"),
+    "ssn": (_step_ssn, "reference: Alart-Curnier semi-smooth Newton on (lambda_N, lambda_T), exact (no penalty)"),
+}
+_FIXED_PENALTY = {"simo-laursen": "rockafellar", "ssn": "none"}
+DEFAULT_FRICTION_PENALTY = "exp-met1"
+
+
+def friction_algorithms() -> list[str]:
+    """Names of the frictional algorithms."""
+    return sorted(_ALGORITHMS)
+
+
+def friction_algorithm_docs() -> dict[str, str]:
+    return {k: v[1] for k, v in sorted(_ALGORITHMS.items())}
+
+
+def _resolve(algorithm: str, penalty: str | None):
+    if algorithm not in _ALGORITHMS:
+        raise UnknownNameError("friction algorithm", algorithm, list(_ALGORITHMS))
+    if algorithm in _FIXED_PENALTY:
+        fixed = _FIXED_PENALTY[algorithm]
+        if penalty not in (None, fixed):
+            raise InputError(f"algorithm {algorithm!r} uses the {fixed!r} penalty; got penalty={penalty!r}. "
+                             "Use algorithm='family-p' to choose a penalty.")
+        return _ALGORITHMS[algorithm][0], fixed
+    name = penalty or DEFAULT_FRICTION_PENALTY
+    if name not in contact_penalties():
+        raise UnknownNameError("contact penalty", name, contact_penalties())
+    return _ALGORITHMS[algorithm][0], name
+
+
+# ---------------------------------------------------------------------------
+# load stepping
+# ---------------------------------------------------------------------------
+@dataclass
+class _State:
+    """Converged state over all m contact-boundary points."""
+
+    t: float
+    u: np.ndarray
+    y: np.ndarray  # (m, d) gap and u_T
+    tN: np.ndarray  # (m,)
+    tT: np.ndarray  # (m, d-1)
+    R: np.ndarray  # (m, d)
+    slip_total: np.ndarray  # (m, d)
+
+
+def _closed(fc, tN, g, opts):
+    return (tN > 0) & (g >= -max(1e-6, 10 * opts.tol_penetration) * fc.h)
+
+
+def _advance(fc: FrictionalContact, prev: _State, t: float, step_fn, pen_name, eps_n, eps_t, mu, opts):
+    """Solve one step from ``prev`` to time ``t`` (adding candidates that penetrate)."""
+    outer = newton = 0
+    for _attempt in range(8):
+        cand = fc.cand
+        c, d = cand.size, fc.dim
+        if c == 0:
+            u = fc.u_free(t)
+            y_all = fc.all_local(u)
+            R_c = np.zeros((0, d))
+            t_c = np.zeros((0, d))
+            out = _StepOut(True, "no candidate points", R_c, t_c, 0, 0)
+        else:
+            ctx = _Ctx(fc, fc.y_free(t)[cand], fc.weights[cand], fc.A.reshape(c, d, c, d), prev.tN[cand].copy(),
+                       prev.tT[cand].copy(), prev.y[cand, 1:].copy(), prev.R[cand].copy(), eps_n, eps_t, mu, opts)
+            out = step_fn(ctx, pen_name)
+            outer += out.outer
+            newton += out.newton
+            if not out.ok:
+                return None, out, outer, newton
+            u = fc.displacement(t, out.R)
+            y_all = fc.all_local(u)
+        outside = np.ones(fc.points.shape[0], bool)
+        outside[cand] = False
+        add = fc.add(np.flatnonzero(outside & (y_all[:, 0] > opts.tol_penetration * fc.h)))
+        if add.size:
+            logger.info("t=%g: adding %d contact candidates that penetrate", t, add.size)
+            continue
+        m = fc.points.shape[0]
+        tN = np.zeros(m)
+        tT = np.zeros((m, d - 1))
+        R = np.zeros((m, d))
+        tN[cand], tT[cand], R[cand] = out.t[:, 0], out.t[:, 1:], out.R
+        return (u, y_all, tN, tT, R), out, outer, newton
+    return None, _StepOut(False, "candidate set did not settle", prev.R, prev.R, 0, 0, ContactStatus.MAXITER), \
+        outer, newton
+
+
+def solve_friction(problem, history: LoadHistory, algorithm: str = "simo-laursen", penalty: str | None = None,
+                   options: FrictionOptions | None = None, *, steps=None, friction: float | None = None,
+                   **option_overrides) -> FrictionSolution:
+    r"""Quasi-static frictional contact over a load history.
+
+    Parameters
+    ----------
+    problem : ContactProblem
+        Body, obstacle, contact boundary; its own supports and loads act at full
+        value at every step; ``problem.friction`` is the Coulomb coefficient :math:`\mu`.
+    history : LoadHistory
+        Scaled supports/loads and the step times.
+    algorithm : {"simo-laursen", "family-p", "ssn"}
+        Algorithm 6.2, Algorithm 6.4, or the semi-smooth Newton reference.
+    penalty : str, optional
+        Family-P penalty of ``"family-p"`` (default ``"exp-met1"``).
+    options : FrictionOptions, optional
+    steps : int or sequence of float, optional
+        Overrides ``history.times`` (an int: that many equal steps).
+    friction : float, optional
+        Overrides ``problem.friction``.
+    **option_overrides
+        Fields of :class:`FrictionOptions`.
+
+    Returns
+    -------
+    FrictionSolution
+        Per-step states; ``status`` negative (and a logged warning) when a step
+        failed after ``max_cutbacks`` cut-backs.
+
+    Raises
+    ------
+    InputError
+        Bad options, a negative friction coefficient, a load history not
+        defined at some step, or a tangential load case that is non-zero at a
+        step that starts without contact.
+
+    Examples
+    --------
+    >>> from alcontact.problems import friction as fp
+    >>> prob, hist = fp.block_on_plane(dim=2, n=4)
+    >>> sol = solve_friction(prob, hist)  # doctest: +SKIP
+    """
+    t_start = time.perf_counter()
+    step_fn, pen_name = _resolve(algorithm, penalty)
+    opts = options or FrictionOptions()
+    if option_overrides:
+        known = {f.name for f in dataclasses.fields(FrictionOptions)}
+        unknown = sorted(set(option_overrides) - known)
+        if unknown:
+            raise InputError(f"unknown friction option(s) {unknown}; known: {', '.join(sorted(known))}.")
+        opts = dataclasses.replace(opts, **option_overrides)
+    opts.validate()
+    if not isinstance(history, LoadHistory):
+        raise InputError(f"history must be a LoadHistory; got {type(history).__name__}.")
+    if steps is not None:
+        history = history.with_times(steps)
+    mu = float(problem.friction if friction is None else friction)
+    if not np.isfinite(mu) or mu < 0:
+        raise InputError(f"friction coefficient must be >= 0; got {mu!r}. Use 0 for frictionless contact.")
+
+    fc = FrictionalContact(problem, history, margin=opts.margin)
+    eps_n = opts.eps_n if opts.eps_n is not None else penalty_stiffness(problem.model, fc.h, opts.penalty_scale)
+    eps_t = opts.eps_t if opts.eps_t is not None else opts.tangential_scale * eps_n
+    m, d = fc.points.shape
+    u0 = fc.u_free(0.0)
+    y0 = fc.all_local(u0)
+    state = _State(0.0, u0, y0, np.zeros(m), np.zeros((m, d - 1)), np.zeros((m, d)), np.zeros((m, d)))
+    tangential = [c for c in history.cases if c.tangential]
+    records: list[FrictionStep] = []
+    status, message = ContactStatus.CONVERGED, "converged"
+    n_outer = n_newton = n_cut = 0
+    t_solve = time.perf_counter()
+    for t_req in history.times:
+        queue = [t_req]
+        cuts = 0
+        while queue:
+            t = queue[-1]
+            if tangential and not np.any(_closed(fc, state.tN, state.y[:, 0], opts)):
+                active = [c.label for c in tangential if c.value(t) != 0.0]
+                if active:
+                    raise InputError(
+                        f"tangential load {', '.join(active)} is applied at t={t:g} but no point is in contact at "
+                        f"the start of that step (t={state.t:g}); apply the normal load first (start the tangential "
+                        "amplitude at 0 until contact exists).")
+            res, out, o, nw = _advance(fc, state, t, step_fn, pen_name, eps_n, eps_t, mu, opts)
+            n_outer += o
+            n_newton += nw
+            if res is None:
+                cuts += 1
+                n_cut += 1
+                logger.info("step to t=%g failed (%s); cut-back %d", t, out.message, cuts)
+                if cuts > opts.max_cutbacks:
+                    status = out.status
+                    message = (f"load step to t={t:g} failed after {opts.max_cutbacks} cut-backs: {out.message}; "
+                               "use more load steps, a smaller penalty_scale or algorithm='ssn'")
+                    break
+                queue.append(state.t + opts.cutback_factor * (t - state.t))
+                continue
+            u, y_all, tN, tT, R = res
+            closed = _closed(fc, tN, y_all[:, 0], opts)
+            duT = y_all[:, 1:] - state.y[:, 1:]
+            slip = np.where(closed[:, None], np.einsum("ijk,ik->ij", fc.tangents, duT), 0.0)
+            nT = np.linalg.norm(tT, axis=1)
+            pref = max(float(np.max(tN, initial=0.0)), 1e-300)
+            saturated = nT >= mu * tN - 1e-6 * max(mu, 1e-300) * pref
+            st = np.where(~closed, OPEN, np.where(saturated, SLIP, STICK))
+            shear = -np.einsum("ijk,ik->ij", fc.tangents, tT)
+            w = fc.weights
+            tang_force = np.sum(w[:, None] * shear, axis=0)
+            normal_force = float(np.sum(w * tN))
+            slip_total = state.slip_total + slip
+            records.append(FrictionStep(
+                t=float(t), requested=(len(queue) == 1), u=u, pressure=tN, traction_t=tT, shear=shear, slip=slip,
+                slip_total=slip_total, gap=y_all[:, 0], state=st, normal_force=normal_force,
+                tangential_force=tang_force, contact_force=tang_force + np.sum((w * tN)[:, None] * fc.normals, axis=0),
+                outer_iterations=int(out.outer), newton_iterations=int(out.newton), cutbacks=cuts,
+                penetration=float(np.max(y_all[:, 0], initial=0.0)) / fc.h,
+                coulomb=float(np.max(np.maximum(nT - mu * tN, 0.0), initial=0.0)) / pref,
+            ))
+            state = _State(float(t), u, y_all, tN, tT, R, slip_total)
+            queue.pop()
+            cuts = 0 if not queue else cuts
+        if status < 0:
+            break
+    if fc.ncand == 0 and status > 0:
+        i = int(np.argmax(np.where(fc.allfree, fc.gmax_t, -np.inf)))
+        status = ContactStatus.NO_CONTACT
+        message = (f"the body never reaches the obstacle: smallest clearance {-fc.gmax_t[i]:.4g} at point "
+                   f"{np.round(fc.points[i], 6).tolist()}; check the loads, the obstacle or the contact boundary")
+    if status < 0:
+        logger.warning("frictional contact %s failed (%s): %s", algorithm, status.label, message)
+    t_end = time.perf_counter()
+    return FrictionSolution(
+        problem=problem, history=history, algorithm=algorithm, penalty=pen_name, friction=mu, points=fc.points,
+        normals=fc.normals, tangents=fc.tangents, weights=fc.weights, steps=tuple(records), status=status,
+        message=message, outer_iterations=n_outer, newton_iterations=n_newton, cutbacks=n_cut,
+        linear_solves=fc.linear_solves, eps_n=float(eps_n), eps_t=float(eps_t), h=fc.h,
+        timings={"setup_s": fc.setup_seconds, "factor_s": fc.factor_seconds, "solve_s": t_end - t_solve,
+                 "total_s": t_end - t_start},
+        extra={"candidates": fc.ncand, "dofs": int(problem.model.ndofs)},
+    )

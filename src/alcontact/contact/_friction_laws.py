@@ -1,0 +1,121 @@
+r"""Local frictional contact law: normal traction plus the Coulomb return mapping.
+
+For one load step :math:`n \to n+1` and multipliers :math:`(\lambda_N, \lambda_T)`,
+at every candidate point
+
+.. math::
+
+    t_N &= t_N(g; \lambda_N) \quad (\langle\lambda_N + \varepsilon_N g\rangle \text{ (6.52) or }
+           p'(g/\eta, \lambda_N) \text{ (Alg. 6.4)}),\\
+    z &= \lambda_T + \varepsilon_T (u_T - u_{T,n}) \quad\text{(trial, (6.47) in AL form)},\\
+    t_T &= \operatorname{proj}_{\{|t|\le \mu t_N\}}(z)
+        = z - \varepsilon_T\Delta\xi\, \frac{z}{|z|}, \quad
+        \Delta\xi = \frac{\langle |z| - \mu t_N\rangle}{\varepsilon_T}
+        \quad\text{((6.48)-(6.50), corrected (6.49))}.
+
+:math:`\lambda_T = t_{T,n} + \Delta\lambda_T` is the total tangential multiplier of
+(6.2c). Three cases, never dividing by a zero norm: *open* (:math:`\mu t_N \le 0`):
+:math:`t_T = 0`; *stick* (:math:`|z| \le \mu t_N`): :math:`t_T = z`; *slip*
+(:math:`|z| > \mu t_N > 0`, so :math:`|z| > 0`): :math:`t_T = \mu t_N z/|z|`.
+
+Consistent tangent (derivatives with respect to :math:`y = (g, u_T)` and to the
+multipliers), with :math:`n = z/|z|`:
+
+- stick: :math:`\partial t_T/\partial u_T = \varepsilon_T I`;
+- slip: :math:`\partial t_T/\partial u_T = \varepsilon_T \frac{\mu t_N}{|z|}(I - n n^T)`,
+  :math:`\partial t_T/\partial g = \mu\, \frac{dt_N}{dg}\, n` (coupling to the normal
+  traction).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+__all__ = ["Macaulay", "local_law", "OPEN", "STICK", "SLIP"]
+
+OPEN, STICK, SLIP = 0, 1, 2
+
+
+@dataclass(frozen=True)
+class Macaulay:
+    """:math:`t_N = \\max(0, \\lambda_N + c\\, g)` with both partial derivatives (for the SSN reference)."""
+
+    c: float
+
+    def traction(self, g, lam):
+        return np.maximum(0.0, lam + self.c * g)
+
+    def stiffness(self, g, lam):
+        return np.where(lam + self.c * g > 0, self.c, 0.0)
+
+    def dlam(self, g, lam):
+        return np.where(lam + self.c * g > 0, 1.0, 0.0)
+
+
+def local_law(normal, lamN, lamT, y, uTn, eps_t, mu, *, with_lam=False):
+    """Tractions ``t`` (c, d) and their derivatives at all candidate points.
+
+    Parameters
+    ----------
+    normal : object with ``traction(g, lam)``, ``stiffness(g, lam)`` (and ``dlam`` if ``with_lam``)
+    lamN : (c,), lamT : (c, d-1)
+        Multipliers.
+    y : (c, d)
+        Local kinematics, column 0 the gap, then :math:`u_T`.
+    uTn : (c, d-1)
+        Tangential displacement at the previous step.
+    eps_t, mu : float
+
+    Returns
+    -------
+    t : (c, d)
+        ``(t_N, t_T)``.
+    Dy : (c, d, d)
+        :math:`\\partial t/\\partial y`.
+    Dl : (c, d, d) or None
+        :math:`\\partial t/\\partial(\\lambda_N, \\lambda_T)` when ``with_lam``.
+    state : (c,) int
+        OPEN / STICK / SLIP of the return mapping.
+    """
+    c, d = y.shape
+    g, uT = y[:, 0], y[:, 1:]
+    tN = np.asarray(normal.traction(g, lamN), dtype=float)
+    kN = np.asarray(normal.stiffness(g, lamN), dtype=float)
+    z = lamT + eps_t * (uT - uTn)
+    rho = mu * tN
+    nz = np.linalg.norm(z, axis=1)
+    opened = ~(rho > 0)
+    stick = ~opened & (nz <= rho)
+    slip = ~opened & ~stick
+    safe = np.where(slip, nz, 1.0)
+    nvec = z / safe[:, None]
+    tT = np.where(stick[:, None], z, 0.0) + np.where(slip[:, None], rho[:, None] * nvec, 0.0)
+    t = np.concatenate([tN[:, None], tT], axis=1)
+    eye = np.eye(d - 1)
+    proj = (rho / safe)[:, None, None] * (eye[None] - nvec[:, :, None] * nvec[:, None, :])
+    dz = np.where(stick[:, None, None], eye[None], 0.0) + np.where(slip[:, None, None], proj, 0.0)
+    Dy = np.zeros((c, d, d))
+    Dy[:, 0, 0] = kN
+    Dy[:, 1:, 1:] = eps_t * dz
+    Dy[:, 1:, 0] = np.where(slip[:, None], mu * kN[:, None] * nvec, 0.0)
+    Dl = None
+    if with_lam:
+        kl = np.asarray(normal.dlam(g, lamN), dtype=float)
+        Dl = np.zeros((c, d, d))
+        Dl[:, 0, 0] = kl
+        Dl[:, 1:, 1:] = dz
+        Dl[:, 1:, 0] = np.where(slip[:, None], mu * kl[:, None] * nvec, 0.0)
+    state = np.where(opened, OPEN, np.where(stick, STICK, SLIP))
+    return t, Dy, Dl, state
+
+
+def block_diag(D: np.ndarray) -> np.ndarray:
+    """Dense block-diagonal matrix from ``(c, d, d)`` blocks (point-major ordering)."""
+    c, d, _ = D.shape
+    out = np.zeros((c * d, c * d))
+    for k in range(d):
+        for l in range(d):
+            out[np.arange(c) * d + k, np.arange(c) * d + l] = D[:, k, l]
+    return out

@@ -1,0 +1,35 @@
+"""General augmented Lagrangian engine (chapter 5 of Sant'Ana, 2005).
+
+:func:`minimize` is shaped like :func:`scipy.optimize.minimize`: SciPy's
+``NonlinearConstraint`` / ``LinearConstraint`` / ``Bounds`` in, a frozen
+:class:`ALResult` out. Registered outer methods (:func:`available_methods`):
+
+- ``"barrier"`` -- Algorithm 5.1, logarithmic (5.2) or inverse (5.3) barrier;
+- ``"exterior-penalty"`` -- Algorithm 5.2, quadratic penalty (5.8)/(5.9);
+- ``"hestenes-powell"`` -- Algorithm 5.3, equality constraints (5.13)-(5.15);
+- ``"al"`` -- Algorithm 5.4 (corrected update ``mu <- p'(g/eta, mu)``) with any
+  AL penalty of :mod:`alcontact.penalties` for inequalities and Hestenes-Powell
+  for equalities in the same loop.
+
+Penalty-parameter strategies (:func:`available_strategies`) and inner solvers
+(:func:`available_inner_solvers`) are registries too. Throughout, ``eta -> 0``
+is the constrained limit: a smaller ``eta`` is a stronger AL penalty.
+"""
+
+from __future__ import annotations
+
+from ._inner import available_inner_solvers
+from ._minimize import Options, available_methods, minimize
+from ._result import ALResult, IterationRecord, Status
+from ._strategies import available_strategies
+
+__all__ = [
+    "minimize",
+    "ALResult",
+    "IterationRecord",
+    "Status",
+    "Options",
+    "available_methods",
+    "available_strategies",
+    "available_inner_solvers",
+]

@@ -1,0 +1,314 @@
+"""Public entry point :func:`minimize` and its options."""
+
+from __future__ import annotations
+
+import dataclasses
+import logging
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import InputError, NonFiniteError, UnknownNameError
+from ._inner import make_inner
+from ._outer import METHODS, initial_eta, run_outer
+from ._problem import NLP, NonFiniteValue
+from ._result import ALResult, Status
+from ._strategies import make_strategy
+
+__all__ = ["minimize", "available_methods", "Options"]
+
+log = logging.getLogger("alcontact.optim")
+
+
+@dataclass(frozen=True)
+class Options:
+    """Options of :func:`minimize` (pass as a dict; unknown keys are errors).
+
+    Attributes
+    ----------
+    maxiter : int
+        Outer iterations (subproblems), default 100.
+    maxiter_inner : int
+        Newton iterations per subproblem, default 100.
+    gtol : float
+        Tolerance on the scaled stationarity (C1); alias ``tol``. Default 1e-8.
+    feas_tol : float
+        Tolerance on the feasibility (C4) ``max(g+, |h|)``; alias ``ftol``. Default 1e-8.
+    ctol : float
+        Tolerance on the complementarity (C2) ``max |mu_i g_i|``. Default 1e-8.
+    eta0 : float or array or None
+        Starting penalty parameter(s) (m inequalities then p equalities); None:
+        automatic and scale-aware (see :func:`minimize`).
+    mu0 : float or array
+        Starting inequality multipliers (> 0 for family P), default 1.
+    lam0 : float or array
+        Starting equality multipliers, default 0.
+    strategy : str or None
+        Penalty-parameter strategy name (None: the method's default).
+    strategy_options : dict or None
+        Its parameters (``tau``, ``factor``, ...).
+    inner : str
+        Inner solver name, default ``"newton"``.
+    inner_options : dict or None
+        Its parameters.
+    penalty_options : dict or None
+        Extra parameters for ``alcontact.penalties.make``.
+    inner_tol0 : float
+        Tolerance of the first subproblem (scaled gradient norm); later ones use
+        ``max(gtol/10, min(inner_tol0, kkt_previous/10))``. Default 1e-2.
+    mu_min, mu_max : float
+        Multiplier safeguard: ``mu <- clip(p'(g/eta, mu), mu_min, mu_max)``.
+        ``mu_min=None`` picks 1e-12 for penalties whose zero multiplier would
+        freeze (MET 1/2, quadratic) and 0 otherwise (Rockafellar).
+    eta_min, eta_max : float
+        Bounds of the penalty parameter, default 1e-12 and 1e12.
+    unbounded_below : float
+        A subproblem value below this declares the problem unbounded, default -1e20.
+    """
+
+    maxiter: int = 100
+    maxiter_inner: int = 100
+    gtol: float = 1e-8
+    feas_tol: float = 1e-8
+    ctol: float = 1e-8
+    eta0: object = None
+    mu0: object = 1.0
+    lam0: object = 0.0
+    strategy: str | None = None
+    strategy_options: dict | None = None
+    inner: str = "newton"
+    inner_options: dict | None = None
+    penalty_options: dict | None = None
+    inner_tol0: float = 1e-2
+    mu_min: float | None = None
+    mu_max: float = 1e12
+    eta_min: float = 1e-12
+    eta_max: float = 1e12
+    unbounded_below: float = -1e20
+
+    _ALIASES = {"tol": "gtol", "ftol": "feas_tol"}
+
+    @classmethod
+    def from_dict(cls, options) -> "Options":
+        if options is None:
+            return cls()
+        if isinstance(options, Options):
+            return options
+        if not isinstance(options, dict):
+            raise InputError(f"options must be a dict, got {type(options).__name__}")
+        known = [f.name for f in dataclasses.fields(cls)]
+        kw = {}
+        for key, value in options.items():
+            name = cls._ALIASES.get(key, key)
+            if name not in known:
+                raise UnknownNameError("option", key, known + list(cls._ALIASES))
+            kw[name] = value
+        o = cls(**kw)
+        for name in ("maxiter", "maxiter_inner"):
+            v = getattr(o, name)
+            if not isinstance(v, (int, np.integer)) or isinstance(v, bool) or v < 1:
+                raise InputError(f"options[{name!r}] = {v!r} must be a positive integer")
+        for name in ("gtol", "feas_tol", "ctol", "inner_tol0", "mu_max", "eta_min", "eta_max"):
+            v = getattr(o, name)
+            if not (isinstance(v, (int, float, np.floating)) and v > 0 and math.isfinite(v)):
+                raise InputError(f"options[{name!r}] = {v!r} must be a positive finite number")
+        if o.mu_min is not None and not o.mu_min >= 0:
+            raise InputError(f"options['mu_min'] = {o.mu_min!r} must be >= 0")
+        if not o.eta_min < o.eta_max:
+            raise InputError("options: eta_min must be smaller than eta_max")
+        return o
+
+
+def available_methods() -> list[str]:
+    """Names of the registered outer methods (``"al"``, ``"barrier"``, ...)."""
+    return sorted(METHODS)
+
+
+_HINTS = {
+    Status.MAXITER: "raise options['maxiter'], try strategy='kkt' or a smaller eta0 "
+                    "(stronger penalty), or loosen gtol/feas_tol/ctol",
+    Status.INNER_FAILED: "check jac/hess against finite differences, rescale the "
+                         "problem, or try another penalty or eta0",
+    Status.NONFINITE: "guard the callback against NaN/inf (e.g. add bounds that keep x "
+                      "inside its domain)",
+    Status.PENALTY_LIMIT: "the constraints may be inconsistent (infeasible problem); "
+                          "check them or lower eta_min",
+    Status.UNBOUNDED: "the objective may be unbounded below on the feasible set, or the "
+                      "penalty too weak: decrease eta0",
+}
+
+
+def _vector(value, size, name):
+    a = np.asarray(value, dtype=float)
+    if a.ndim == 0:
+        return np.full(size, float(a))
+    if a.shape != (size,):
+        raise InputError(f"options[{name!r}] has {a.size} entries; expected a scalar or "
+                         f"{size}")
+    return a.copy()
+
+
+def minimize(fun, x0, *, jac=None, hess=None, constraints=(), bounds=None, method="al",
+             penalty=None, options=None) -> ALResult:
+    """Minimize ``f(x)`` subject to constraints by penalty or augmented Lagrangian methods.
+
+    The constrained problem is converted to the dissertation's form
+    :math:`\\min f(x)` s.t. :math:`g(x) \\le 0`, :math:`h(x) = 0` (problems (P) and
+    (P1), chapter 5). Each outer iteration minimises the subproblem (SL)
+
+    .. math::
+
+        L(x, \\mu, \\eta) = f(x) + \\sum_i \\eta_i\\, p(g_i(x)/\\eta_i, \\mu_i)
+            + \\sum_j \\left(\\lambda_j h_j + \\frac{h_j^2}{2\\eta_j}\\right)
+        \\qquad (5.28), (5.13)
+
+    with a Newton method, then updates :math:`\\mu_i \\leftarrow p'(g_i/\\eta_i, \\mu_i)`
+    (Algorithm 5.4, corrected: the printed update uses ``p``),
+    :math:`\\lambda \\leftarrow \\lambda + h/\\eta` (5.15) and ``eta`` by a strategy.
+
+    Parameters
+    ----------
+    fun : callable
+        ``fun(x) -> float``; with ``jac=True`` it returns ``(f, grad)``.
+    x0 : array_like, shape (n,)
+        Starting point.
+    jac : callable, True or None
+        Gradient ``jac(x) -> (n,)``; None (or a string) uses central differences.
+    hess : callable or None
+        Hessian ``hess(x) -> (n, n)`` dense or ``scipy.sparse``; None (or a string
+        or a ``HessianUpdateStrategy``) uses finite differences of the gradient.
+    constraints : NonlinearConstraint, LinearConstraint, dict or a sequence of them
+        SciPy's constraint objects; ``lb == ub`` becomes an equality, a finite
+        ``ub`` gives ``c - ub <= 0``, a finite ``lb`` gives ``lb - c <= 0``.
+        Jacobians may be sparse; a constraint ``hess(x, v)`` returns
+        :math:`\\sum_i v_i \\nabla^2 c_i` (finite differences when not callable).
+    bounds : scipy.optimize.Bounds or sequence of (lb, ub) or None
+        Variable bounds, handled as linear inequalities.
+    method : str
+        ``"al"`` (Algorithm 5.4, default), ``"hestenes-powell"`` (5.3),
+        ``"barrier"`` (5.1), ``"exterior-penalty"`` (5.2); see
+        :func:`available_methods`.
+    penalty : str or None
+        Inequality penalty name from :func:`alcontact.penalties.available`; None
+        picks the method's default (``"exp-met1"`` for ``"al"``,
+        ``"log-barrier"`` for ``"barrier"``). For ``"al"``, ``"rockafellar"``,
+        ``"exp-met1"``, ``"exp-met2"``, ``"log-met1"``, ``"log-met2"``,
+        ``"quad-met1"`` and ``"quad-met2"`` (the last two with the multiplier
+        safeguard) are accepted.
+    options : dict or None
+        See :class:`Options` (``maxiter``, ``gtol``/``tol``, ``feas_tol``/``ftol``,
+        ``ctol``, ``eta0``, ``mu0``, ``strategy``, ...).
+
+    Returns
+    -------
+    ALResult
+        Frozen result; ``status > 0`` means converged. A failure logs a warning;
+        ``result.raise_for_status()`` raises :class:`~alcontact.errors.ConvergenceError`.
+
+    Raises
+    ------
+    InputError
+        Inconsistent sizes, bad options, constraints the method cannot handle.
+    UnknownNameError
+        Unknown method, penalty, strategy, inner solver or option.
+    DomainError
+        ``x0`` outside the domain of a barrier (method ``"barrier"`` needs
+        ``g(x0) < 0``) or of a modified barrier for a user-given ``eta0``.
+    NonFiniteError
+        A callback returns NaN/inf at ``x0`` (later NaNs give ``Status.NONFINITE``).
+
+    Notes
+    -----
+    ``eta`` divides ``g`` in (5.28), so a *smaller* ``eta`` is a *stronger*
+    penalty (Algorithm 5.4 prints ``eta <- 2 eta``; section 6.3.1 says the
+    opposite; measurements favour decreasing it, see the module docs). The
+    default ``eta0`` is ALGENCAN-like, ``1 / (10 max(1,|f(x0)|) / max(1, |c+(x0)|^2/2))``,
+    raised where needed so that ``g_i(x0)/eta_i`` lies inside half the domain of a
+    modified barrier (and is at most 1 for the exponential).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from scipy.optimize import NonlinearConstraint
+    >>> from alcontact.optim import minimize
+    >>> con = NonlinearConstraint(lambda x: x[0] + x[1], -np.inf, -1.0)
+    >>> res = minimize(lambda x: x @ x, [1.0, 2.0], jac=lambda x: 2 * x,
+    ...                hess=lambda x: 2 * np.eye(2), constraints=con)
+    >>> bool(res.success), np.round(res.x, 6).tolist()
+    (True, [-0.5, -0.5])
+    """
+    from .. import penalties as _penalties
+
+    try:
+        spec = METHODS[method]
+    except (KeyError, TypeError):
+        raise UnknownNameError("method", method, list(METHODS)) from None
+    opts = Options.from_dict(options)
+    pen_name = spec.default_penalty if penalty is None else penalty
+    known_pen = list(_penalties.available())
+    if pen_name not in known_pen:
+        raise UnknownNameError("penalty", pen_name, known_pen)
+    allowed = spec.penalties if spec.penalties is not None else \
+        tuple(n for n in known_pen if n not in spec.excluded)
+    if pen_name not in allowed:
+        raise InputError(f"method {method!r} does not take penalty {pen_name!r}; "
+                         f"allowed: {', '.join(allowed)}")
+    strat_name = opts.strategy or spec.strategy
+    sopts = dict(spec.strategy_options) if opts.strategy is None else {}
+    sopts.update(opts.strategy_options or {})
+    if strat_name in ("infeasibility", "kkt"):
+        sopts.setdefault("feas_tol", opts.feas_tol)
+    strategy = make_strategy(strat_name, **sopts)
+    inner = make_inner(opts.inner, **(opts.inner_options or {}))
+
+    try:
+        nlp = NLP(fun, x0, jac=jac, hess=hess, constraints=constraints, bounds=bounds)
+        f0 = nlp.f(nlp.x0)
+        g0, h0 = nlp.constraints(nlp.x0)
+    except NonFiniteValue as exc:
+        raise NonFiniteError(f"{exc} at x0; the starting point must give finite values"
+                             ) from None
+    if nlp.m and not spec.inequalities:
+        raise InputError(f"method {method!r} handles equality constraints only but the "
+                         f"problem has {nlp.m} inequalities; use method='al'")
+    if nlp.p and not spec.equalities:
+        raise InputError(f"method {method!r} handles inequality constraints only but the "
+                         f"problem has {nlp.p} equalities; use method='al'")
+    pen = _penalties.make(pen_name, **(opts.penalty_options or {}))
+    hp = _penalties.make("hestenes-powell")
+    mu = _vector(opts.mu0, nlp.m, "mu0")
+    lam = _vector(opts.lam0, nlp.p, "lam0")
+    if spec.update_multipliers and nlp.m and getattr(pen, "family_p", False) \
+            and np.any(mu <= 0):
+        raise InputError(f"options['mu0'] must be > 0 for the family-P penalty {pen_name!r}")
+    if not spec.update_multipliers:
+        lam = np.zeros(nlp.p)
+    eta = initial_eta(nlp, spec, pen, opts, f0, g0, h0, mu)
+
+    out = run_outer(nlp, spec, pen, hp, strategy, inner, opts, eta, mu, lam)
+    try:
+        fx = nlp.f(out.x)
+    except NonFiniteValue:
+        fx = math.nan
+    message = out.message
+    if nlp.has_fd:
+        message += " (some derivatives by finite differences)"
+    if out.status <= 0:
+        message += f"; try: {_HINTS[out.status]}"
+        log.warning("minimize(method=%r, penalty=%r) failed: %s", method, pen_name,
+                    message)
+    per_block = nlp.block_weights(out.mu, out.lam)
+    user_blocks = [v for b, v in zip(nlp.blocks, per_block) if not b.is_bounds]
+    mb = next((v for b, v in zip(nlp.blocks, per_block) if b.is_bounds), None)
+    if mb is None and bounds is not None:
+        mb = np.zeros(nlp.n)
+    return ALResult(
+        x=out.x, fun=fx, success=bool(out.status > 0), status=Status(out.status),
+        message=message, nit=out.nit, nit_inner=out.nit_inner, nfev=nlp.nfev,
+        njev=nlp.njev, nhev=nlp.nhev, ncev=nlp.ncev, multipliers_ineq=out.mu,
+        multipliers_eq=out.lam, multipliers=tuple(user_blocks), multipliers_bounds=mb,
+        constr_ineq=out.g, constr_eq=out.h, stationarity=out.stationarity,
+        feasibility=out.feasibility, complementarity=out.complementarity, eta=out.eta,
+        method=method, penalty=pen_name, strategy=strat_name, inner=opts.inner,
+        history=tuple(out.history))

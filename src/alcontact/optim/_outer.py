@@ -1,0 +1,463 @@
+"""Outer loops of Algorithms 5.1-5.4 in one parametrised form (method registry).
+
+All methods minimise, for fixed ``(eta, mu, lam)``, the subproblem (SL)
+
+.. math::
+
+    L(x) = f(x) + \\sum_i \\eta_i\\, p\\!\\left(\\frac{g_i(x)}{s_i}, \\mu_i\\right)
+               + \\sum_j \\eta_j\\, q\\!\\left(\\frac{h_j(x)}{\\eta_j}, \\lambda_j\\right)
+
+with ``s = eta`` for the augmented Lagrangian (5.28) and the exterior penalty
+(5.10, ``t = 1/eta``), and ``s = 1`` for the barrier (5.1, ``rho = eta``);
+``q`` is Hestenes-Powell's ``lam y + y^2/2`` (5.13, ``rho = 1/eta``).
+The multiplier estimates are the weights of the constraint gradients in
+:math:`\\nabla L` (5.29)-(5.30), :math:`\\bar\\mu_i = (\\eta_i/s_i) p'(g_i/s_i, \\mu_i)`,
+and the AL update is :math:`\\mu \\leftarrow p'(g/\\eta, \\mu)` (Algorithm 5.4 as
+corrected). ``eta -> 0`` is always the constrained limit; strategies return
+the factor of ``eta <- eta / factor``.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.sparse as sp
+
+from ..errors import DomainError, InputError
+from ._inner import InnerResult
+from ._problem import NLP, NonFiniteValue
+from ._result import IterationRecord, Status
+from ._strategies import StrategyState
+
+__all__ = ["MethodSpec", "METHODS", "run_outer"]
+
+log = logging.getLogger("alcontact.optim")
+
+
+@dataclass(frozen=True)
+class MethodSpec:
+    """Declared facts of an outer method.
+
+    Attributes
+    ----------
+    name : str
+        Registry name.
+    default_penalty : str
+        Inequality penalty used when the caller gives none.
+    penalties : tuple of str or None
+        Allowed inequality penalties (None: every penalty except ``excluded``).
+    excluded : tuple of str
+        Penalties refused when ``penalties`` is None.
+    scaled : bool
+        Whether the penalty argument is ``g/eta`` (5.28) or ``g`` (5.1).
+    update_multipliers : bool
+        Whether multipliers are updated (AL methods) or fixed (pure penalties).
+    inequalities, equalities : bool
+        Which constraint kinds the method accepts.
+    strategy : str
+        Default penalty-parameter strategy.
+    strategy_options : tuple of (str, float)
+        Its default parameters.
+    summary : str
+        One line for :func:`available_methods` users.
+    """
+
+    name: str
+    default_penalty: str
+    penalties: tuple | None
+    excluded: tuple
+    scaled: bool
+    update_multipliers: bool
+    inequalities: bool
+    equalities: bool
+    strategy: str
+    strategy_options: tuple
+    summary: str
+
+
+_CLASSICAL = ("log-barrier", "inverse-barrier", "exterior-quadratic", "hestenes-powell")
+
+METHODS = {
+    "al": MethodSpec(
+        "al", "exp-met1", None, _CLASSICAL, True, True, True, True,
+        "kkt", (("tau", 0.25), ("factor", 10.0)),
+        "Algorithm 5.4 (corrected): inequalities with any AL penalty (family P, "
+        "Rockafellar, quadratic with safeguard), equalities by Hestenes-Powell"),
+    "hestenes-powell": MethodSpec(
+        "hestenes-powell", "hestenes-powell", ("hestenes-powell",), (), True, True,
+        False, True, "infeasibility", (("tau", 0.25), ("factor", 10.0)),
+        "Algorithm 5.3: method of multipliers for equality constraints (5.13)-(5.15)"),
+    "barrier": MethodSpec(
+        "barrier", "log-barrier", ("log-barrier", "inverse-barrier"), (), False, False,
+        True, False, "always", (("factor", 2.0),),
+        "Algorithm 5.1: logarithmic (5.2) or inverse (5.3) barrier, rho -> 0"),
+    "exterior-penalty": MethodSpec(
+        "exterior-penalty", "exterior-quadratic", ("exterior-quadratic",), (), True, False,
+        True, True, "always", (("factor", 2.0),),
+        "Algorithm 5.2: exterior quadratic penalty (5.8)/(5.9), t = 1/eta -> inf"),
+}
+
+
+class Subproblem:
+    """The function (SL) for fixed parameters; see the module docstring."""
+
+    def __init__(self, nlp: NLP, pen, hp, scaled, eta, mu, lam, unbounded_below):
+        self.nlp, self.pen, self.hp, self.scaled = nlp, pen, hp, scaled
+        self.m, self.p = nlp.m, nlp.p
+        self.unbounded_below = unbounded_below
+        self.last_nonfinite = None
+        self.set(eta, mu, lam)
+
+    def set(self, eta, mu, lam):
+        self.eta = np.asarray(eta, dtype=float)
+        self.eta_g, self.eta_h = self.eta[:self.m], self.eta[self.m:]
+        self.s = self.eta_g if self.scaled else np.ones(self.m)
+        self.mu, self.lam = np.asarray(mu, float), np.asarray(lam, float)
+        self.b = (_domain(self.pen, self.mu) if self.m else np.zeros(0))
+        self.bounded = bool(self.m) and bool(np.any(np.isfinite(self.b)))
+
+    # weights = multiplier estimates; curvature = second-derivative weights
+    def weights(self, g, h):
+        with np.errstate(all="ignore"):
+            y = g / self.s
+            wg = (self.eta_g / self.s) * self.pen.derivative(y, self.mu) if self.m \
+                else np.zeros(0)
+            wh = self.hp.derivative(h / self.eta_h, self.lam) if self.p else np.zeros(0)
+        return np.asarray(wg, float), np.asarray(wh, float)
+
+    def value(self, x):
+        try:
+            f = self.nlp.f(x)
+            g, h = self.nlp.constraints(x)
+        except NonFiniteValue as exc:
+            self.last_nonfinite = exc.callback
+            return math.inf
+        total = f
+        with np.errstate(all="ignore"):
+            if self.m:
+                y = g / self.s
+                if self.bounded and np.any(y >= self.b):
+                    return math.inf
+                total += float(np.sum(self.eta_g * self.pen.value(y, self.mu)))
+            if self.p:
+                total += float(np.sum(self.eta_h * self.hp.value(h / self.eta_h, self.lam)))
+        return total if math.isfinite(total) else math.inf
+
+    def gradient(self, x):
+        gf = self.nlp.grad(x)
+        g, h = self.nlp.constraints(x)
+        Jg, Jh = self.nlp.jacobians(x)
+        wg, wh = self.weights(g, h)
+        gl = gf.copy()
+        if self.m:
+            gl += np.asarray(Jg.T @ wg).ravel()
+        if self.p:
+            gl += np.asarray(Jh.T @ wh).ravel()
+        scale = max(1.0, float(np.max(np.abs(gf))))
+        return gl, scale
+
+    def hessian(self, x):
+        nlp = self.nlp
+        H = nlp.hess_f(x, sparse=nlp.sparse)
+        g, h = nlp.constraints(x)
+        Jg, Jh = nlp.jacobians(x)
+        wg, wh = self.weights(g, h)
+        Hc = nlp.constraint_hessian(x, wg, wh)
+        if Hc is not None:
+            if nlp.sparse:
+                Hc = sp.csr_matrix(Hc) if not sp.issparse(Hc) else Hc
+            elif sp.issparse(Hc):
+                Hc = Hc.toarray()
+            H = H + Hc
+        with np.errstate(all="ignore"):
+            parts = []
+            if self.m:
+                cg = (self.eta_g / self.s ** 2) * self.pen.second_derivative(g / self.s, self.mu)
+                parts.append((Jg, np.asarray(cg, float)))
+            if self.p:
+                ch = self.hp.second_derivative(h / self.eta_h, self.lam) / self.eta_h
+                parts.append((Jh, np.asarray(ch, float)))
+        for J, c in parts:
+            if nlp.sparse:
+                H = H + J.T @ sp.diags(c) @ J
+            else:
+                H = H + J.T @ (c[:, None] * J)
+        return H.tocsr() if sp.issparse(H) else H
+
+    def max_step(self, x, d):
+        """Largest step keeping the linearised ``g/s`` below 99.5 % of the way to ``b``."""
+        if not self.bounded:
+            return math.inf
+        g, _ = self.nlp.constraints(x)
+        Jg, _ = self.nlp.jacobians(x)
+        y = g / self.s
+        dy = np.asarray(Jg @ d).ravel() / self.s
+        mask = (dy > 0) & np.isfinite(self.b)
+        if not np.any(mask):
+            return math.inf
+        return float(np.min(0.995 * (self.b[mask] - y[mask]) / dy[mask]))
+
+
+def _domain(pen, mu):
+    """Vector of domain bounds ``b(mu_i)`` (per-entry fallback if not vectorised)."""
+    try:
+        b = np.broadcast_to(np.asarray(pen.domain_upper(mu), dtype=float), mu.shape)
+    except (TypeError, ValueError):
+        b = np.array([float(pen.domain_upper(float(v))) for v in mu])
+    return np.array(b, dtype=float)
+
+
+def _freezes(pen) -> bool:
+    """Whether a zero multiplier would stay zero: ``p'(y, 0) == 0`` for all y (MET 1/2)."""
+    y = np.array([-1.0, -0.1, 0.0, 0.1, 0.5])
+    with np.errstate(all="ignore"):
+        d = np.asarray(pen.derivative(y, np.zeros_like(y)), float)
+    return bool(np.all(d == 0))
+
+
+@dataclass
+class OuterOutcome:
+    """Mutable state handed back to :func:`minimize` to build the result."""
+
+    x: np.ndarray
+    status: Status
+    message: str
+    nit: int
+    nit_inner: int
+    mu: np.ndarray
+    lam: np.ndarray
+    g: np.ndarray
+    h: np.ndarray
+    stationarity: float
+    feasibility: float
+    complementarity: float
+    eta: np.ndarray
+    history: list
+
+
+def kkt_measures(nlp, x, mu, lam):
+    """(C1)-(C4) measures at ``x`` with multipliers ``mu >= 0`` and ``lam``.
+
+    Returns ``(stationarity, feasibility, complementarity, g, h)``; stationarity is
+    :math:`\\|\\nabla f + J_g^T\\mu + J_h^T\\lambda\\|_\\infty / \\max(1, \\|\\nabla f\\|_\\infty)`.
+    """
+    gf = nlp.grad(x)
+    g, h = nlp.constraints(x)
+    Jg, Jh = nlp.jacobians(x)
+    r = gf.copy()
+    if nlp.m:
+        r += np.asarray(Jg.T @ mu).ravel()
+    if nlp.p:
+        r += np.asarray(Jh.T @ lam).ravel()
+    stat = float(np.max(np.abs(r))) / max(1.0, float(np.max(np.abs(gf))))
+    feas = max(float(np.max(g, initial=0.0)), float(np.max(np.abs(h), initial=0.0)))
+    comp = float(np.max(np.abs(mu * g), initial=0.0))
+    return stat, feas, comp, g, h
+
+
+def run_outer(nlp: NLP, spec: MethodSpec, pen, hp, strategy, inner, opts, eta, mu, lam):
+    """Outer loop shared by all methods; returns an :class:`OuterOutcome`."""
+    m, p = nlp.m, nlp.p
+    sub = Subproblem(nlp, pen, hp, spec.scaled, eta, mu, lam, opts.unbounded_below)
+    freezes = m > 0 and spec.update_multipliers and _freezes(pen)
+    mu_min = opts.mu_min if opts.mu_min is not None else (1e-12 if freezes else 0.0)
+    restart = freezes and not getattr(pen, "family_p", False)
+    mu_start = np.array(mu, dtype=float)
+    x = nlp.x0.copy()
+    history: list[IterationRecord] = []
+    nit_inner = 0
+    g0, h0 = nlp.constraints(x)
+    prev_feas = max(float(np.max(g0, initial=0.0)), float(np.max(np.abs(h0), initial=0.0)))
+    prev_comp = math.inf
+    prev_kkt = math.inf
+    status, message = Status.MAXITER, f"outer iteration limit maxiter={opts.maxiter} reached"
+    inner_failures = 0
+    unbounded_retries = 0
+    at_limit = 0
+    stat = feas = comp = math.inf
+    mu_rep, lam_rep = np.zeros(m), np.zeros(p)
+    g, h = g0, h0
+    k = 0
+    for k in range(1, opts.maxiter + 1):
+        if spec.scaled and m:
+            eta = _keep_in_domain(nlp, sub, pen, x, eta, mu)
+        sub.set(eta, mu, lam)
+        tol = max(0.1 * opts.gtol, min(opts.inner_tol0, 0.1 * prev_kkt))
+        if m + p == 0:
+            tol = opts.gtol
+        x_prev = x.copy()
+        res: InnerResult = inner.solve(sub, x, tol, opts.maxiter_inner)
+        nit_inner += res.nit
+        if res.status == "nonfinite":
+            x = res.x
+            status = Status.NONFINITE
+            message = f"non-finite value from {res.nonfinite or 'a callback'}"
+            _record(history, k, nlp, x, stat, feas, comp, eta, res, tol, 1.0)
+            break
+        x = res.x
+        try:
+            g, h = nlp.constraints(x)
+            wg, wh = sub.weights(g, h)
+            mu_rep = np.maximum(wg, 0.0)
+            lam_rep = wh
+            stat, feas, comp, g, h = kkt_measures(nlp, x, mu_rep, lam_rep)
+        except NonFiniteValue as exc:
+            status, message = Status.NONFINITE, f"non-finite value from {exc.callback}"
+            break
+        if res.status == "unbounded" and unbounded_retries < 8 and \
+                np.all(eta > opts.eta_min):
+            # too weak a penalty for the scale of f: restart the subproblem stronger
+            unbounded_retries += 1
+            x = x_prev
+            eta = np.clip(eta / 100.0, opts.eta_min, opts.eta_max)
+            log.debug("subproblem unbounded below: eta decreased 100x and retried")
+            continue
+        if res.status == "unbounded":
+            status = Status.UNBOUNDED
+            message = (f"subproblem unbounded below (L < {opts.unbounded_below:g}) at "
+                       f"outer iteration {k}")
+            _record(history, k, nlp, x, stat, feas, comp, eta, res, tol, 1.0)
+            break
+        if m + p == 0:
+            _record(history, k, nlp, x, stat, feas, comp, eta, res, tol, 1.0)
+            if stat <= opts.gtol:
+                status, message = Status.UNCONSTRAINED_CONVERGED, "gradient norm below gtol"
+            else:
+                status = Status.INNER_FAILED
+                message = f"unconstrained Newton solve stopped: {res.status}"
+            break
+        converged = stat <= opts.gtol and feas <= opts.feas_tol and comp <= opts.ctol
+        if converged:
+            _record(history, k, nlp, x, stat, feas, comp, eta, res, tol, 1.0)
+            status, message = Status.CONVERGED_KKT, "KKT tolerances met"
+            break
+        inner_failures = 0 if res.ok or res.status == "maxiter" else inner_failures + 1
+        if inner_failures >= 3:
+            _record(history, k, nlp, x, stat, feas, comp, eta, res, tol, 1.0)
+            status = Status.INNER_FAILED
+            message = (f"inner solver failed {inner_failures} times in a row "
+                       f"({res.status}; scaled gradient {res.measure:.3g})")
+            break
+        # multiplier update mu <- p'(g/eta, mu) (Algorithm 5.4 corrected), safeguarded
+        if spec.update_multipliers:
+            if m:
+                mu = np.clip(np.nan_to_num(wg, nan=mu_min, posinf=opts.mu_max),
+                             mu_min, opts.mu_max)
+                if restart:
+                    # quadratic theta (5.27): a clipped multiplier kills the penalty
+                    # (curvature mu^2/eta); restart violated, frozen constraints
+                    frozen = (g > opts.feas_tol) & (mu < 1e-6 * max(1.0, float(np.max(mu))))
+                    mu[frozen] = np.maximum(mu[frozen], mu_start[frozen])
+            if p:
+                lam = np.clip(wh, -opts.mu_max, opts.mu_max)
+        factor = strategy(StrategyState(k, feas, prev_feas, comp, prev_comp))
+        new_eta = np.clip(eta / factor, opts.eta_min, opts.eta_max)
+        applied = float(np.max(eta / new_eta))
+        _record(history, k, nlp, x, stat, feas, comp, eta, res, tol, applied)
+        if factor > 1 and np.all(new_eta == eta) and feas > opts.feas_tol:
+            at_limit += 1
+            if at_limit >= 3:
+                status = Status.PENALTY_LIMIT
+                message = (f"penalty parameter at its limit eta_min={opts.eta_min:g} and "
+                           f"constraints still violated by {feas:.3g}")
+                break
+        else:
+            at_limit = 0
+        eta = new_eta
+        prev_feas, prev_comp = feas, comp
+        prev_kkt = max(feas, comp, stat)
+    return OuterOutcome(x, status, message, k, nit_inner, mu_rep, lam_rep, g, h, stat,
+                        feas, comp, np.asarray(eta, float), history)
+
+
+def _keep_in_domain(nlp, sub, pen, x, eta, mu):
+    """Weaken ``eta_i`` where ``g_i(x)/eta_i`` left the domain of a modified barrier.
+
+    After ``mu <- p'(g/eta, mu)`` the bound ``b(mu)`` of log-met2 moves, and a
+    tightened ``eta`` may push a violated constraint out; the subproblem must start
+    inside, so those entries of ``eta`` grow to ``g_i / (b_i / 2)``. For unbounded
+    domains (exponential) ``g_i/eta_i`` is kept below 10 (reset to 5) against overflow.
+    """
+    m = nlp.m
+    g, _ = nlp.constraints(x)
+    b = _domain(pen, np.asarray(mu, float))
+    eta = np.array(eta, dtype=float)
+    eg = eta[:m]
+    # unbounded domains (exponential): keep g/eta <= 10 so that exp does not overflow
+    with np.errstate(all="ignore"):
+        fast = float(np.max(pen.value(np.array([50.0]), np.ones(1)))) > 1e15
+    limit = np.where(np.isfinite(b), 0.9 * b, 10.0 if fast else np.inf)
+    target = np.where(np.isfinite(b), 0.5 * b, 5.0)
+    bad = g / eg >= limit
+    if np.any(bad):
+        eg[bad] = g[bad] / target[bad]
+        log.debug("eta weakened for %d constraint(s) to keep x inside the penalty "
+                  "domain", int(np.sum(bad)))
+    return eta
+
+
+def _record(history, k, nlp, x, stat, feas, comp, eta, res, tol, factor):
+    try:
+        f = nlp.f(x)
+    except NonFiniteValue:
+        f = math.nan
+    eta = np.asarray(eta, float)
+    history.append(IterationRecord(
+        k=k, f=f, feasibility=feas, stationarity=stat, complementarity=comp,
+        eta_min=float(np.min(eta)) if eta.size else math.nan,
+        eta_max=float(np.max(eta)) if eta.size else math.nan,
+        inner_iterations=res.nit, inner_status=res.status, inner_tol=tol, factor=factor))
+    log.debug("outer %3d: f=%.10g feas=%.2e stat=%.2e comp=%.2e eta=[%.2e, %.2e] "
+              "inner=%d (%s)", k, f, feas, stat, comp, history[-1].eta_min,
+              history[-1].eta_max, res.nit, res.status)
+
+
+def initial_eta(nlp, spec, pen, opts, f0, g0, h0, mu0):
+    """Starting penalty parameters (length m + p), scale-aware; see :func:`minimize`."""
+    m, p = nlp.m, nlp.p
+    if opts.eta0 is not None:
+        eta = np.asarray(opts.eta0, dtype=float)
+        if eta.ndim == 0:
+            eta = np.full(m + p, float(eta))
+        elif eta.shape != (m + p,):
+            raise InputError(f"options['eta0'] has {eta.size} entries; expected a scalar "
+                             f"or m + p = {m} + {p} = {m + p} (inequalities first)")
+        if np.any(~(eta > 0)):
+            raise InputError("options['eta0'] must be positive")
+        user = True
+    else:
+        viol = np.concatenate([np.maximum(g0, 0.0), np.abs(h0)])
+        if spec.scaled:
+            # ALGENCAN-like rho0 = 10 max(1,|f|) / max(1, |c|^2 / 2), eta = 1/rho
+            rho = 10.0 * max(1.0, abs(f0)) / max(1.0, 0.5 * float(viol @ viol))
+            eta = np.full(m + p, float(np.clip(1.0 / rho, 1e-8, 1e8)))
+        else:  # barrier weight rho0 of Algorithm 5.1
+            eta = np.full(m + p, 0.1 * max(1.0, abs(f0)) / max(1, m))
+        user = False
+    if m:
+        b = _domain(pen, np.asarray(mu0, float))
+        y = g0 / (eta[:m] if spec.scaled else 1.0)
+        out = np.flatnonzero(~(y < b))
+        if out.size:
+            i = int(out[0])
+            where = nlp.describe(i)
+            if not spec.scaled:
+                raise DomainError(
+                    f"x0 is outside the domain of the {pen.name} penalty: inequality {i} "
+                    f"({where}) has g = {g0[i]:.6g} but the barrier needs g < {b[i]:g}. "
+                    "Start from a strictly feasible x0 or use method='al'.")
+            if user:
+                need = g0[i] / b[i]
+                raise DomainError(
+                    f"x0 is outside the domain of the {pen.name} penalty for the given "
+                    f"eta0: inequality {i} ({where}) has g/eta = {y[i]:.6g} >= "
+                    f"b = {b[i]:g}. Use eta0 > {need:.6g} or leave eta0 unset.")
+        if spec.scaled and not user:
+            # keep g/eta inside (half) the domain and O(1) for unbounded ones (exp overflow)
+            cap = np.where(np.isfinite(b), 0.5 * b, 1.0)
+            need = np.where(g0 > 0, g0 / cap, 0.0)
+            eta[:m] = np.maximum(eta[:m], need)
+    return eta
