@@ -1,0 +1,138 @@
+"""VTU output of a contact solution (read with ParaView, meshio, PyVista).
+
+One unstructured grid on the mesh vertices (linear triangles or tetrahedra;
+for P2 models the vertex values of the quadratic fields are written, the edge
+midpoint values are dropped). Points are 3D (``z = 0`` in 2D).
+
+Point fields (:data:`POINT_FIELDS`):
+
+``displacement`` (n, 3)
+    Displacement vector (third component 0 in 2D).
+``contact_pressure`` (n,)
+    Normal contact pressure :math:`\\lambda_N \\ge 0` on the contact boundary,
+    **0 elsewhere** (no contact traction there).
+``gap`` (n,)
+    Linearized gap (6.15) on the contact boundary (<= 0 feasible, > 0 penetration),
+    **NaN elsewhere** (not defined off the contact boundary).
+``contact_active`` (n,)
+    1 where the point is in contact, 0 elsewhere.
+``von_mises`` (n,)
+    Von Mises stress of the L2-projected nodal stresses (plane strain includes ``zz``).
+
+Examples
+--------
+>>> from alcontact.problems import hertz                     # doctest: +SKIP
+>>> from alcontact.contact import solve                      # doctest: +SKIP
+>>> write_solution_vtu("solution.vtu", solve(hertz.hertz_2d(level=0)))  # doctest: +SKIP
+"""
+
+from __future__ import annotations
+
+import logging
+import os
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import InputError
+from .results import atomic_path
+
+__all__ = ["POINT_FIELDS", "solution_point_data", "write_solution_vtu"]
+
+logger = logging.getLogger(__name__)
+
+#: Names of the point fields written by :func:`write_solution_vtu`.
+POINT_FIELDS: tuple[str, ...] = ("displacement", "contact_pressure", "gap", "contact_active", "von_mises")
+
+_CELL_TYPES = {(2, 3): "triangle", (3, 4): "tetra"}
+
+
+def _contact_scalar_dofs(solution) -> np.ndarray:
+    """Scalar DOF index of each contact point of ``solution`` (same order as ``solution.points``)."""
+    problem = solution.problem
+    model = problem.model
+    pts, dofs = model.node_dofs(problem.contact_boundary)
+    if pts.shape != solution.points.shape or not np.allclose(pts, solution.points):
+        raise InputError(
+            "the solution's contact points do not match the contact boundary "
+            f"{problem.contact_boundary!r} of its problem; was the solution built from another problem?"
+        )
+    scalar_of_vector = np.empty(model.ndofs, dtype=np.int64)
+    dmap = model.dof_map
+    scalar_of_vector[dmap[:, 0]] = np.arange(dmap.shape[0])
+    return scalar_of_vector[dofs[:, 0]]
+
+
+def solution_point_data(solution) -> tuple[np.ndarray, list[tuple[str, np.ndarray]], dict[str, np.ndarray]]:
+    """Vertex coordinates, cells and point fields of a contact solution.
+
+    Parameters
+    ----------
+    solution : alcontact.contact.ContactSolution
+
+    Returns
+    -------
+    points : ndarray (n_vertices, 3)
+    cells : list of (cell type, connectivity)
+    point_data : dict
+        The fields of :data:`POINT_FIELDS`, one value (row) per vertex.
+    """
+    model = solution.problem.model
+    mesh = model.mesh
+    dim = model.dim
+    nverts = mesh.p.shape[1]
+    cell_type = _CELL_TYPES.get((dim, mesh.t.shape[0]))
+    if cell_type is None:
+        raise InputError(f"VTU output supports triangle and tetrahedron meshes; got {type(mesh).__name__}.")
+
+    # scalar DOF carrying the value at each vertex (P1: all DOFs, P2: the vertex ones)
+    vertex_dof = np.asarray(model.scalar_basis.nodal_dofs[0], dtype=np.int64)
+    vertex_of_scalar = -np.ones(model.dof_map.shape[0], dtype=np.int64)
+    vertex_of_scalar[vertex_dof] = np.arange(nverts)
+
+    points = np.zeros((nverts, 3))
+    points[:, :dim] = mesh.p.T
+
+    u = np.asarray(solution.u, dtype=float)
+    disp = np.zeros((nverts, 3))
+    disp[:, :dim] = u[model.dof_map[vertex_dof]]
+
+    pressure = np.zeros(nverts)
+    gap = np.full(nverts, np.nan)
+    active = np.zeros(nverts)
+    cv = vertex_of_scalar[_contact_scalar_dofs(solution)]
+    on_vertex = cv >= 0  # P2 edge midpoints have no vertex
+    pressure[cv[on_vertex]] = solution.pressure[on_vertex]
+    gap[cv[on_vertex]] = solution.gap[on_vertex]
+    active[cv[on_vertex]] = solution.active[on_vertex].astype(float)
+
+    von_mises = np.asarray(model.von_mises(u))[vertex_dof]
+
+    point_data = {
+        "displacement": disp,
+        "contact_pressure": pressure,
+        "gap": gap,
+        "contact_active": active,
+        "von_mises": von_mises,
+    }
+    cells = [(cell_type, np.ascontiguousarray(mesh.t.T, dtype=np.int64))]
+    return points, cells, point_data
+
+
+def write_solution_vtu(path: str | os.PathLike, solution) -> Path:
+    """Write ``solution`` as a VTU file (atomically), fields :data:`POINT_FIELDS`.
+
+    Returns
+    -------
+    Path
+        ``path``.
+    """
+    import meshio  # imported here: only output needs it
+
+    points, cells, point_data = solution_point_data(solution)
+    out = meshio.Mesh(points, cells, point_data=point_data)
+    path = Path(path)
+    with atomic_path(path) as tmp:
+        meshio.write(tmp, out, file_format="vtu")
+    logger.info("wrote %s (%d points, %d cells)", path, points.shape[0], cells[0][1].shape[0])
+    return path

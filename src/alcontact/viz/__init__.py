@@ -1,0 +1,25 @@
+"""Matplotlib figures of contact solutions (matplotlib is imported when a figure is made).
+
+- :mod:`alcontact.viz.plots` -- contact pressure profile against the analytical one,
+  convergence history of the outer iterations
+"""
+
+from __future__ import annotations
+
+from .plots import (
+    contact_coordinate,
+    convergence_figure,
+    pressure_figure,
+    save_convergence_plot,
+    save_figure,
+    save_pressure_plot,
+)
+
+__all__ = [
+    "contact_coordinate",
+    "pressure_figure",
+    "convergence_figure",
+    "save_figure",
+    "save_pressure_plot",
+    "save_convergence_plot",
+]

@@ -1,0 +1,192 @@
+"""Figures of a contact solution: pressure profile and convergence history.
+
+Built on :class:`matplotlib.figure.Figure` with the Agg renderer, without
+``pyplot``: no global backend is switched, no window opens, and the module
+works on machines without a display. matplotlib is imported when a figure is
+made, not when :mod:`alcontact` is imported.
+
+Examples
+--------
+>>> from alcontact.problems import hertz                      # doctest: +SKIP
+>>> from alcontact.contact import solve                       # doctest: +SKIP
+>>> sol = solve(hertz.hertz_2d(level=0))                      # doctest: +SKIP
+>>> save_pressure_plot(sol, "pressure.png")                   # doctest: +SKIP
+"""
+
+from __future__ import annotations
+
+import logging
+import os
+from collections.abc import Mapping
+from pathlib import Path
+
+import numpy as np
+
+from ..io.results import atomic_path
+
+__all__ = [
+    "contact_coordinate",
+    "pressure_figure",
+    "convergence_figure",
+    "save_figure",
+    "save_pressure_plot",
+    "save_convergence_plot",
+]
+
+logger = logging.getLogger(__name__)
+
+_HISTORY_SERIES = (
+    ("penetration", r"penetration $\max g^+/h$"),
+    ("complementarity", r"complementarity $\max|\lambda g|/(p_{ref}h)$"),
+    ("multiplier_change", r"multiplier change $\|\Delta\lambda\|_\infty/p_{ref}$"),
+)
+
+
+def _new_figure(size=(6.4, 4.2)):
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=size, layout="constrained")
+    FigureCanvasAgg(fig)
+    return fig
+
+
+def contact_coordinate(solution, axis: int = 0, center=None) -> tuple[np.ndarray, str]:
+    """Coordinate of the contact points for a profile plot.
+
+    2D: the signed coordinate ``x[axis] - center[axis]`` along the contact
+    boundary. 3D: the distance from ``center`` within the (flat) contact
+    plane, i.e. the radius of an axisymmetric contact.
+
+    Returns
+    -------
+    r : ndarray (m,)
+    label : str
+        Axis label.
+    """
+    pts = np.asarray(solution.points, dtype=float)
+    d = pts.shape[1]
+    c = np.zeros(d) if center is None else np.asarray(center, dtype=float)
+    if c.size < d:
+        c = np.concatenate([c, np.zeros(d - c.size)])
+    if d == 2:
+        return pts[:, axis] - c[axis], "x (along the contact boundary)"
+    flat = int(np.argmin(np.ptp(pts, axis=0)))
+    plane = [k for k in range(d) if k != flat]
+    return np.linalg.norm(pts[:, plane] - c[plane], axis=1), "r (distance from the centre in the contact plane)"
+
+
+def pressure_figure(solution, *, reference=None, load: float | None = None, center=None, axis: int = 0,
+                    title: str | None = None):
+    """Contact pressure at the contact points against the analytical profile.
+
+    Parameters
+    ----------
+    solution : ContactSolution
+    reference : object, optional
+        Analytical reference with ``half_width(P)`` and ``pressure(r, P)``
+        (e.g. :class:`~alcontact.problems.hertz.HertzReference`); default
+        ``solution.problem.reference``. ``None``: numerical values only.
+    load : float, optional
+        Total load ``P`` of the reference; default ``reference.load(solution.normal_force)``.
+    center, axis
+        See :func:`contact_coordinate`.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    problem = solution.problem
+    reference = reference if reference is not None else getattr(problem, "reference", None)
+    if center is None:
+        center = (getattr(problem, "meta", None) or {}).get("center")
+    r, xlabel = contact_coordinate(solution, axis=axis, center=center)
+    p = np.asarray(solution.pressure, dtype=float)
+    a_num = solution.contact_half_width(axis=axis, center=center)
+
+    fig = _new_figure()
+    ax = fig.add_subplot()
+    a_ref = None
+    if reference is not None:
+        P = reference.load(solution.normal_force) if load is None else float(load)
+        a_ref = float(reference.half_width(P))
+    extent = 2.0 * max(a_num, a_ref or 0.0)
+    keep = np.abs(r) <= extent if extent > 0 else np.ones(r.size, bool)
+    order = np.argsort(r[keep], kind="stable")
+    rk, pk = r[keep][order], p[keep][order]
+    if reference is not None and a_ref is not None and a_ref > 0:
+        lo = min(float(rk.min(initial=0.0)), 0.0)
+        hi = max(float(rk.max(initial=0.0)), a_ref)
+        xs = np.linspace(lo, hi, 600)
+        ax.plot(xs, reference.pressure(np.abs(xs), P), "-", color="0.35", lw=1.5,
+                label=rf"analytical $p_0\sqrt{{1-x^2/a^2}}$, $a$ = {a_ref:.4g}")
+        ax.axvline(a_ref, color="0.35", ls=":", lw=1)
+    ax.plot(rk, pk, "o", ms=3.5, color="C0", label=f"computed, $a$ = {a_num:.4g}")
+    ax.axvline(a_num, color="C0", ls="--", lw=1)
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel("contact pressure")
+    ax.set_ylim(bottom=0.0)
+    ax.grid(alpha=0.3)
+    ax.legend(loc="upper right", fontsize="small")
+    ax.set_title(title or getattr(problem, "name", "contact pressure"), fontsize="medium")
+    return fig
+
+
+def convergence_figure(result, *, tolerances: Mapping[str, float] | None = None, title: str | None = None):
+    """Convergence history of the outer iterations (log scale).
+
+    Parameters
+    ----------
+    result : ContactResult
+        ``solution.result``; its ``history`` gives one point per outer iteration.
+    tolerances : mapping, optional
+        ``{"penetration": tol, ...}``: drawn as dashed horizontal lines.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    hist = tuple(result.history)
+    fig = _new_figure()
+    ax = fig.add_subplot()
+    if not hist:
+        ax.text(0.5, 0.5, "no outer iterations recorded", ha="center", va="center", transform=ax.transAxes)
+        ax.set_axis_off()
+        return fig
+    k = np.array([it.k for it in hist], dtype=float)
+    for i, (name, label) in enumerate(_HISTORY_SERIES):
+        y = np.array([getattr(it, name) for it in hist], dtype=float)
+        y = np.where(np.isfinite(y) & (y > 0), y, np.nan)  # zeros cannot be drawn on a log axis
+        ax.semilogy(k, y, "o-", ms=4, color=f"C{i}", label=label)
+    tols = {name: float(v) for name, v in (tolerances or {}).items() if v and v > 0}
+    same = len(set(tols.values())) == 1
+    for i, (name, _label) in enumerate(_HISTORY_SERIES):
+        if name in tols:  # one grey line when all tolerances coincide
+            ax.axhline(tols[name], color="0.4" if same else f"C{i}", ls="--", lw=0.8)
+    ax.set_xlabel("outer iteration k")
+    ax.set_ylabel("measure (dashed: tolerance)" if tolerances else "measure")
+    ax.xaxis.get_major_locator().set_params(integer=True)
+    ax.grid(alpha=0.3, which="both")
+    ax.legend(fontsize="small")
+    status = getattr(result.status, "label", str(result.status))
+    ax.set_title(title or f"{result.algorithm} / {result.penalty}: {status}", fontsize="medium")
+    return fig
+
+
+def save_figure(fig, path: str | os.PathLike, *, dpi: int = 120) -> Path:
+    """Save ``fig`` as PNG atomically; return ``path``."""
+    path = Path(path)
+    with atomic_path(path) as tmp:
+        fig.savefig(tmp, format="png", dpi=dpi)
+    logger.debug("wrote %s", path)
+    return path
+
+
+def save_pressure_plot(solution, path: str | os.PathLike, **kwargs) -> Path:
+    """:func:`pressure_figure` saved as PNG at ``path``."""
+    return save_figure(pressure_figure(solution, **kwargs), path)
+
+
+def save_convergence_plot(result, path: str | os.PathLike, **kwargs) -> Path:
+    """:func:`convergence_figure` saved as PNG at ``path``."""
+    return save_figure(convergence_figure(result, **kwargs), path)
