@@ -72,7 +72,8 @@ LEVELS_3D = (4, 6, 8, 12, 16, 24)
 
 
 def hertz_2d(level: int = 1, *, order: int = 1, E: float = 200e3, nu: float = 0.3, radius: float = 10.0,
-             a_target: float = 1.0, size: float = 20.0, n_per_a: int | None = None) -> ContactProblem:
+             a_target: float = 1.0, size: float = 20.0, n_per_a: int | None = None,
+             growth: float = 1.15) -> ContactProblem:
     """Rigid cylinder on an elastic block, plane strain, half model ``x >= 0``.
 
     Parameters
@@ -90,6 +91,8 @@ def hertz_2d(level: int = 1, *, order: int = 1, E: float = 200e3, nu: float = 0.
         Block width (half model) and depth in units of ``a_target``.
     n_per_a : int, optional
         Overrides ``level``.
+    growth : float
+        Size ratio of neighbouring elements away from the fine zone (closer to 1 = more DOFs).
     """
     mat = Material(E=E, nu=nu, plane="strain")
     e_star = mat.plane_strain_modulus
@@ -99,7 +102,7 @@ def hertz_2d(level: int = 1, *, order: int = 1, E: float = 200e3, nu: float = 0.
     h = a / n
     mesh = meshes.rectangle(0.0, L, -H, 0.0, 8, 8,
                             refine=dict(center=(0.0, 0.0), h_min=h / order, width=1.6 * a, depth=1.0 * a,
-                                        growth=1.15))
+                                        growth=growth))
     model = LinearElasticity(mesh, mat, order=order)
     # approach giving a ~ a_target for this block (calibrated once, see docs/verification.md)
     load = math.pi * a * a * e_star / (4 * radius)
@@ -118,8 +121,9 @@ def hertz_2d(level: int = 1, *, order: int = 1, E: float = 200e3, nu: float = 0.
 
 
 def hertz_3d(level: int = 1, *, order: int = 1, E: float = 200e3, nu: float = 0.3, radius: float = 10.0,
-             a_target: float = 1.0, size: float = 12.0, n_per_a: int | None = None) -> ContactProblem:
-    """Rigid sphere on an elastic block, quarter model ``x, y >= 0``."""
+             a_target: float = 1.0, size: float = 12.0, n_per_a: int | None = None,
+             growth: float = 1.3) -> ContactProblem:
+    """Rigid sphere on an elastic block, quarter model ``x, y >= 0`` (parameters as :func:`hertz_2d`)."""
     mat = Material(E=E, nu=nu)
     e_star = mat.plane_strain_modulus
     n = n_per_a or LEVELS_3D[level]
@@ -128,7 +132,7 @@ def hertz_3d(level: int = 1, *, order: int = 1, E: float = 200e3, nu: float = 0.
     h = a / n
     mesh = meshes.box(0.0, L, 0.0, L, -H, 0.0, 4, 4, 4,
                       refine=dict(center=(0.0, 0.0, 0.0), h_min=h / order, width=1.5 * a, depth=1.0 * a,
-                                  growth=1.3))
+                                  growth=growth))
     model = LinearElasticity(mesh, mat, order=order)
     delta = a * a / radius
     obstacle = Sphere(center=(0.0, 0.0, radius - delta), radius=radius)
