@@ -5,7 +5,11 @@ Frictionless contact (small deformation, linearized gap (6.15)) with
 - the pure penalty method (6.10),
 - Algorithm 6.1 (Simo & Laursen, Macaulay update (6.13)),
 - Algorithm 6.3 (family-P penalties, the dissertation's proposal),
-- a semi-smooth Newton / primal-dual active-set reference.
+- a semi-smooth Newton / primal-dual active-set reference;
+
+and Coulomb friction with load stepping (:func:`solve_friction`): Algorithm 6.2
+(Macaulay normal part), Algorithm 6.4 (family-P normal part) and an Alart-Curnier
+semi-smooth Newton reference.
 
 All work on the problem condensed on the contact points (one factorization of
 the stiffness, see :mod:`alcontact.contact._discrete`).
@@ -23,6 +27,9 @@ from ._algorithms import ContactOptions, algorithm_docs, available_algorithms, c
 from ._problem import BodyForce, ContactProblem, Pressure, Support, Traction
 from ._solution import ContactIteration, ContactResult, ContactSolution, ContactStatus
 from ._solve import DEFAULT_ALGORITHM, DEFAULT_PENALTY, solve
+from ._friction import FrictionOptions, friction_algorithm_docs, friction_algorithms, solve_friction
+from ._friction_solution import FrictionSolution, FrictionStep
+from ._loading import LoadCase, LoadHistory, Ramp, problem_at
 
 __all__ = [
     "obstacles",
@@ -42,4 +49,14 @@ __all__ = [
     "contact_penalties",
     "DEFAULT_ALGORITHM",
     "DEFAULT_PENALTY",
+    "solve_friction",
+    "FrictionOptions",
+    "FrictionSolution",
+    "FrictionStep",
+    "friction_algorithms",
+    "friction_algorithm_docs",
+    "LoadHistory",
+    "LoadCase",
+    "Ramp",
+    "problem_at",
 ]

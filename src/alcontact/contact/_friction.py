@@ -51,7 +51,7 @@ from .. import penalties as _pen
 from ..errors import InputError, UnknownNameError
 from ._algorithms import contact_penalties
 from ._friction_discrete import FrictionalContact
-from ._friction_laws import OPEN, SLIP, STICK, Macaulay, local_law
+from ._friction_laws import OPEN, SLIP, STICK, Macaulay, local_law, tangential_energy
 from ._friction_solution import FrictionSolution, FrictionStep
 from ._laws import eta_for_stiffness, make_law
 from ._loading import LoadHistory
@@ -99,6 +99,11 @@ class FrictionOptions:
         Family-P: the scale :math:`\\eta` is computed from
         :math:`\\max(\\lambda_N, \\text{eta\\_floor}\\, p_{ref})`, so points that enter
         contact with a tiny multiplier do not get an exploding law.
+    radius : {"multiplier", "traction"}
+        Radius of the Coulomb disc inside an AL subproblem: :math:`\\mu\\lambda_N`
+        (fixed, as in (6.2c): the subproblem has a convex potential, robust
+        Newton) or :math:`\\mu t_N(g)` (coupled, non-symmetric tangent). Both
+        converge to the same step solution.
     margin : float
         Candidate points: largest free gap over the history above ``-margin`` times
         the largest free penetration (more are added when they penetrate).
@@ -114,13 +119,14 @@ class FrictionOptions:
     tol_complementarity: float = 1e-8
     maxiter: int = 100
     newton_tol: float = 1e-11
-    maxiter_newton: int = 60
+    maxiter_newton: int = 200
     max_cutbacks: int = 6
     cutback_factor: float = 0.5
     eta_scaling: str = "adaptive"
     multiplier_floor: float = 1e-10
     eta_floor: float = 1e-2
     margin: float = 0.25
+    radius: str = "multiplier"
 
     def validate(self) -> "FrictionOptions":
         checks = {
@@ -146,6 +152,8 @@ class FrictionOptions:
             v = getattr(self, key)
             if v is not None and not (np.isfinite(v) and v > 0):
                 raise InputError(f"friction option {key}={v!r} must be a positive number (or None for automatic).")
+        if self.radius not in ("multiplier", "traction"):
+            raise InputError(f"friction option radius={self.radius!r}; allowed: multiplier, traction.")
         if self.eta_scaling not in ("adaptive", "fixed"):
             raise InputError(f"friction option eta_scaling={self.eta_scaling!r}; allowed: adaptive, fixed.")
         return self
@@ -164,12 +172,17 @@ class _NewtonOut:
     reason: str
 
 
-def _newton(fun, jac, x0, scale, *, tol, maxiter) -> _NewtonOut:
-    """Solve ``F(x) = 0``; ``fun(x) -> (F, aux)``, ``jac(x, aux) -> J``, ``scale(x, aux)`` > 0."""
+def _newton(fun, jac, x0, scale, *, tol, maxiter, energy=None, grad=None) -> _NewtonOut:
+    """Solve ``F(x) = 0``; ``fun(x) -> (F, aux)``, ``jac(x, aux) -> J``, ``scale(x, aux)`` > 0.
+
+    Globalization: Armijo backtracking on ``energy(x)`` (with ``grad(x, F)`` its
+    gradient) when the problem has a potential, else on the residual norm.
+    """
     x = np.array(x0, dtype=float)
     F, aux = fun(x)
     if not np.all(np.isfinite(F)):
         return _NewtonOut(x, aux, 0, False, np.inf, "non-finite residual at the start")
+    pi = energy(x) if energy is not None else None
     res = np.inf
     for it in range(maxiter + 1):
         fs = max(scale(x, aux), 1e-300)
@@ -186,17 +199,33 @@ def _newton(fun, jac, x0, scale, *, tol, maxiter) -> _NewtonOut:
         if float(np.max(np.abs(dx), initial=0.0)) <= 1e-14 * max(float(np.max(np.abs(x), initial=0.0)), fs):
             return _NewtonOut(x, aux, it, res <= 1e3 * tol, res, "step at round-off level")
         nF = float(np.linalg.norm(F))
+        slope = float(grad(x, F) @ dx) if energy is not None else 0.0
         alpha, accepted = 1.0, False
-        for _ in range(40):
+        for _ in range(50):
             x_try = x + alpha * dx
-            F_try, aux_try = fun(x_try)
-            if np.all(np.isfinite(F_try)) and np.linalg.norm(F_try) <= (1.0 - 1e-4 * alpha) * nF:
-                accepted = True
-                break
+            if energy is not None:
+                pi_try = energy(x_try)
+                ok = np.isfinite(pi_try) and pi_try <= pi + 1e-4 * alpha * min(slope, 0.0) + 1e-14 * abs(pi)
+            else:
+                ok = True
+            if ok:
+                F_try, aux_try = fun(x_try)
+                ok = np.all(np.isfinite(F_try)) and (
+                    energy is not None or np.linalg.norm(F_try) <= (1.0 - 1e-4 * alpha) * nF)
+                if ok:
+                    accepted = True
+                    break
             alpha *= 0.5
         if not accepted:
-            return _NewtonOut(x, aux, it + 1, False, res, "line search failed")
+            if energy is not None:  # energy flat to round-off: take the full step if it reduces the residual
+                F_try, aux_try = fun(x + dx)
+                if np.all(np.isfinite(F_try)) and np.max(np.abs(F_try)) < np.max(np.abs(F)):
+                    x_try, pi_try, accepted = x + dx, energy(x + dx), True
+            if not accepted:
+                return _NewtonOut(x, aux, it + 1, False, res, "line search failed")
         x, F, aux = x_try, F_try, aux_try
+        if energy is not None:
+            pi = pi_try
     return _NewtonOut(x, aux, maxiter, False, res, "maximum Newton iterations")
 
 
@@ -244,14 +273,33 @@ class _Ctx:
 
 
 def _al_subproblem(ctx: _Ctx, law, lamN, lamT, R0) -> _NewtonOut:
+    """Subproblem (6.2a): ``R = w t(y_free - A R)`` for fixed multipliers.
+
+    ``radius="multiplier"``: the Coulomb disc has the fixed radius
+    :math:`\\mu\\lambda_N` (as in (6.2c)); the subproblem is then the stationarity of
+    the convex potential :math:`\\tfrac12 R^TAR + \\sum_i w_i(\\psi_N(g_i) + \\phi_T(u_{T,i}))`
+    (symmetric tangent, Armijo on the potential: globally convergent). ``"traction"``:
+    radius :math:`\\mu t_N(g)`, coupled and non-symmetric, residual backtracking.
+    """
     c, d, w = ctx.c, ctx.d, ctx.w
     n = c * d
+    rho = ctx.mu * np.maximum(lamN, 0.0) if ctx.opts.radius == "multiplier" else None
 
     def fun(x):
         R = x.reshape(c, d)
         y = ctx.y(R)
-        t, Dy, _, st = local_law(law, lamN, lamT, y, ctx.uTn, ctx.eps_t, ctx.mu)
+        t, Dy, _, st = local_law(law, lamN, lamT, y, ctx.uTn, ctx.eps_t, ctx.mu, rho=rho)
         return (R - w[:, None] * t).ravel(), (y, t, Dy, st)
+
+    energy = grad = None
+    if rho is not None:
+        def energy(x):
+            y = ctx.y(x.reshape(c, d))
+            e = law.energy(y[:, 0], lamN) + tangential_energy(lamT, y[:, 1:], ctx.uTn, ctx.eps_t, rho)
+            return 0.5 * float(x @ (ctx.fc.A @ x)) + float(np.sum(w * e))
+
+        def grad(x, F):
+            return ctx.fc.A @ F
 
     def jac(x, aux):
         Dy = aux[2]
@@ -263,7 +311,8 @@ def _al_subproblem(ctx: _Ctx, law, lamN, lamT, R0) -> _NewtonOut:
         return max(float(np.max(np.abs(x), initial=0.0)),
                    float(np.max(np.abs(w[:, None] * aux[1]), initial=0.0)))
 
-    return _newton(fun, jac, R0.ravel(), scale, tol=ctx.opts.newton_tol, maxiter=ctx.opts.maxiter_newton)
+    return _newton(fun, jac, R0.ravel(), scale, tol=ctx.opts.newton_tol, maxiter=ctx.opts.maxiter_newton,
+                   energy=energy, grad=grad)
 
 
 def _measures(ctx: _Ctx, t, y, st, lamN_old, lamT_old):
@@ -543,7 +592,8 @@ def solve_friction(problem, history: LoadHistory, algorithm: str = "simo-laursen
                         f"tangential load {', '.join(active)} is applied at t={t:g} but no point is in contact at "
                         f"the start of that step (t={state.t:g}); apply the normal load first (start the tangential "
                         "amplitude at 0 until contact exists).")
-            res, out, o, nw = _advance(fc, state, t, step_fn, pen_name, eps_n, eps_t, mu, opts)
+            res, out, o, nw = _advance(fc, state, t, step_fn, pen_name, eps_n, eps_t,
+                                       mu * history.friction_factor(t), opts)
             n_outer += o
             n_newton += nw
             if res is None:
@@ -563,7 +613,8 @@ def solve_friction(problem, history: LoadHistory, algorithm: str = "simo-laursen
             slip = np.where(closed[:, None], np.einsum("ijk,ik->ij", fc.tangents, duT), 0.0)
             nT = np.linalg.norm(tT, axis=1)
             pref = max(float(np.max(tN, initial=0.0)), 1e-300)
-            saturated = nT >= mu * tN - 1e-6 * max(mu, 1e-300) * pref
+            mu_t = mu * history.friction_factor(t)
+            saturated = nT >= mu_t * tN - 1e-6 * max(mu_t, 1e-300) * pref
             st = np.where(~closed, OPEN, np.where(saturated, SLIP, STICK))
             shear = -np.einsum("ijk,ik->ij", fc.tangents, tT)
             w = fc.weights
@@ -576,7 +627,7 @@ def solve_friction(problem, history: LoadHistory, algorithm: str = "simo-laursen
                 tangential_force=tang_force, contact_force=tang_force + np.sum((w * tN)[:, None] * fc.normals, axis=0),
                 outer_iterations=int(out.outer), newton_iterations=int(out.newton), cutbacks=cuts,
                 penetration=float(np.max(y_all[:, 0], initial=0.0)) / fc.h,
-                coulomb=float(np.max(np.maximum(nT - mu * tN, 0.0), initial=0.0)) / pref,
+                coulomb=float(np.max(np.maximum(nT - mu_t * tN, 0.0), initial=0.0)) / pref,
             ))
             state = _State(float(t), u, y_all, tN, tT, R, slip_total)
             queue.pop()

@@ -54,7 +54,7 @@ class Macaulay:
         return np.where(lam + self.c * g > 0, 1.0, 0.0)
 
 
-def local_law(normal, lamN, lamT, y, uTn, eps_t, mu, *, with_lam=False):
+def local_law(normal, lamN, lamT, y, uTn, eps_t, mu, *, with_lam=False, rho=None):
     """Tractions ``t`` (c, d) and their derivatives at all candidate points.
 
     Parameters
@@ -67,6 +67,9 @@ def local_law(normal, lamN, lamT, y, uTn, eps_t, mu, *, with_lam=False):
     uTn : (c, d-1)
         Tangential displacement at the previous step.
     eps_t, mu : float
+    rho : (c,), optional
+        Fixed radius of the Coulomb disc (e.g. :math:`\\mu\\lambda_N`); default
+        :math:`\\mu t_N(g)`, coupled to the normal traction.
 
     Returns
     -------
@@ -84,7 +87,8 @@ def local_law(normal, lamN, lamT, y, uTn, eps_t, mu, *, with_lam=False):
     tN = np.asarray(normal.traction(g, lamN), dtype=float)
     kN = np.asarray(normal.stiffness(g, lamN), dtype=float)
     z = lamT + eps_t * (uT - uTn)
-    rho = mu * tN
+    coupled = rho is None
+    rho = mu * tN if coupled else np.asarray(rho, dtype=float)
     nz = np.linalg.norm(z, axis=1)
     opened = ~(rho > 0)
     stick = ~opened & (nz <= rho)
@@ -99,16 +103,31 @@ def local_law(normal, lamN, lamT, y, uTn, eps_t, mu, *, with_lam=False):
     Dy = np.zeros((c, d, d))
     Dy[:, 0, 0] = kN
     Dy[:, 1:, 1:] = eps_t * dz
-    Dy[:, 1:, 0] = np.where(slip[:, None], mu * kN[:, None] * nvec, 0.0)
+    if coupled:
+        Dy[:, 1:, 0] = np.where(slip[:, None], mu * kN[:, None] * nvec, 0.0)
     Dl = None
     if with_lam:
         kl = np.asarray(normal.dlam(g, lamN), dtype=float)
         Dl = np.zeros((c, d, d))
         Dl[:, 0, 0] = kl
         Dl[:, 1:, 1:] = dz
-        Dl[:, 1:, 0] = np.where(slip[:, None], mu * kl[:, None] * nvec, 0.0)
+        if coupled:
+            Dl[:, 1:, 0] = np.where(slip[:, None], mu * kl[:, None] * nvec, 0.0)
     state = np.where(opened, OPEN, np.where(stick, STICK, SLIP))
     return t, Dy, Dl, state
+
+
+def tangential_energy(lamT, uT, uTn, eps_t, rho):
+    """Convex potential of the return mapping onto a *fixed* disc of radius ``rho``.
+
+    :math:`\\phi_T = |z|^2/(2\\varepsilon_T)` for :math:`|z| \\le \\rho`, else
+    :math:`(\\rho|z| - \\rho^2/2)/\\varepsilon_T`, with :math:`z = \\lambda_T + \\varepsilon_T(u_T - u_{T,n})`;
+    its gradient in :math:`u_T` is the projected traction.
+    """
+    z = lamT + eps_t * (uT - uTn)
+    nz = np.linalg.norm(z, axis=1)
+    rho = np.maximum(np.asarray(rho, dtype=float), 0.0)
+    return np.where(nz <= rho, 0.5 * nz * nz, rho * nz - 0.5 * rho * rho) / eps_t
 
 
 def block_diag(D: np.ndarray) -> np.ndarray:

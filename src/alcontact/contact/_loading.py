@@ -139,12 +139,16 @@ class LoadHistory:
     cases : sequence of LoadCase
     times : sequence of float
         Step times :math:`0 < t_1 < \\dots < t_N` (the state at :math:`t_0 = 0`
-        is the unloaded one, amplitudes taken at ``t = 0`` must give no contact
-        force, which the solver checks).
+        is the contact-free solution at ``t = 0``).
+    friction : Ramp or callable, optional
+        Factor :math:`f(t) \\ge 0` of the friction coefficient,
+        :math:`\\mu(t) = f(t)\\,\\mu` (default 1). E.g. a frictionless approach
+        followed by frictional shearing, the Cattaneo-Mindlin hypothesis.
     """
 
     cases: tuple[LoadCase, ...]
     times: tuple[float, ...]
+    friction: Any = None
 
     def __post_init__(self) -> None:
         cases = tuple(self.cases)
@@ -153,12 +157,27 @@ class LoadHistory:
                 raise InputError(f"LoadHistory cases must be LoadCase objects; got {c!r}.")
         object.__setattr__(self, "cases", cases)
         object.__setattr__(self, "times", self.check_times(self.times))
+        if self.friction is not None and not callable(self.friction):
+            raise InputError(f"LoadHistory friction must be a Ramp or a callable t -> factor; got {self.friction!r}.")
         for k, t in enumerate(self.times):  # defined at every step
             for c in cases:
                 try:
                     c.value(t)
                 except InputError as exc:
                     raise InputError(f"load history not defined at step {k + 1} (t={t:g}): {exc}") from exc
+            self.friction_factor(t)
+
+    def friction_factor(self, t: float) -> float:
+        """Factor of the friction coefficient at ``t`` (1 without a friction amplitude)."""
+        if self.friction is None:
+            return 1.0
+        try:
+            f = float(self.friction(float(t)))
+        except InputError as exc:
+            raise InputError(f"load history: friction factor: {exc}") from exc
+        if not np.isfinite(f) or f < 0:
+            raise InputError(f"load history: friction factor at t={t:g} must be finite and >= 0; got {f!r}.")
+        return f
 
     @staticmethod
     def check_times(times: Sequence[float]) -> tuple[float, ...]:
@@ -180,7 +199,7 @@ class LoadHistory:
         """The same cases on other step times (an int: that many uniform steps)."""
         if isinstance(times, (int, np.integer)):
             times = self.uniform(int(times), self.times[-1])
-        return LoadHistory(self.cases, tuple(times))
+        return LoadHistory(self.cases, tuple(times), self.friction)
 
     def amplitudes(self, t: float) -> np.ndarray:
         return np.array([c.value(t) for c in self.cases])

@@ -1,0 +1,220 @@
+r"""Frictional contact test problems with analytical references (section 6.2).
+
+``block_on_plane``
+    An elastic block (2D plane strain or 3D) resting on a rigid half-space,
+    pressed by a prescribed displacement of its top (first half of the load
+    history), then sheared by a prescribed tangential displacement of the top
+    (second half). With :math:`\nu = 0` the normal phase gives a uniform
+    pressure and no shear; in full stick the shear is nearly uniform. Full
+    sliding needs :math:`Q = \mu N` for *every* pressure distribution, which is
+    the exact check: the tangential reaction saturates at :math:`\mu N`.
+
+``cattaneo_mindlin_2d``
+    A rigid cylinder (radius R) on a full-width elastic block (plane strain,
+    :math:`\nu` close to 1/2 so that the normal and tangential problems
+    decouple), loaded by moving the block's bottom: up by :math:`\delta` (normal
+    phase, Hertz), then sideways (tangential phase). Cattaneo-Mindlin (Johnson,
+    *Contact Mechanics*, 1985, section 7.1): for :math:`Q < \mu P` the contact
+    :math:`|x| < a` has a central stick zone :math:`|x| < c`,
+
+    .. math::
+
+        \frac{c}{a} = \sqrt{1 - \frac{Q}{\mu P}}, \qquad
+        q(x) = \mu p_0\left[\sqrt{1 - x^2/a^2} - \frac{c}{a}\sqrt{1 - x^2/c^2}\right]
+        \ (|x| < c), \qquad q(x) = \mu p_0 \sqrt{1 - x^2/a^2}\ (c \le |x| < a).
+
+    P and Q are the contact resultants the finite element model carries, and
+    ``a``, ``p0`` the Hertz values for that P (see :mod:`alcontact.problems.hertz`).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..contact import ContactProblem
+from ..contact._loading import LoadCase, LoadHistory, Ramp
+from ..contact._problem import Support
+from ..contact.obstacles import Circle, HalfSpace, UserObstacle
+from ..fem import LinearElasticity, Material, meshes
+from .hertz import HertzReference
+
+__all__ = ["block_on_plane", "cattaneo_mindlin_2d", "MindlinReference"]
+
+
+def block_on_plane(dim: int = 2, *, n: int = 8, E: float = 1000.0, nu: float = 0.0, width: float = 2.0,
+                   height: float = 0.5, strain: float = 0.01, mu: float = 0.3, shear_ratio: float = 0.5,
+                   direction=None, unload: bool = False, steps: int = 8):
+    r"""Block on a rigid half-space, pressed then sheared through its top.
+
+    Parameters
+    ----------
+    dim : {2, 3}
+    n : int
+        Elements across the width (the height gets ``max(2, n*height/width)``).
+    E, nu : float
+        Material; ``nu = 0`` keeps the normal phase free of shear.
+    width, height : float
+        Block ``[-w/2, w/2]^{d-1} x [0, height]``.
+    strain : float
+        Normal approach of the top over the height: top displacement
+        :math:`-d`, :math:`d = \text{strain}\cdot\text{height}`.
+    mu : float
+        Friction coefficient stored in the problem.
+    shear_ratio : float
+        Tangential top displacement :math:`s` over :math:`s^* = \mu\, d\, E/G`,
+        the displacement that brings a uniformly sheared block to :math:`Q = \mu N`
+        (:math:`G = E/(2(1+\nu))`): below about 1 the block sticks, well above
+        it slides.
+    direction : sequence of d-1 floats, optional
+        Tangential direction in the plane (3D default ``(1, 1)/sqrt 2``).
+    unload : bool
+        Shear up over ``t`` in [0.5, 0.75] and back to 0 over [0.75, 1].
+    steps : int
+        Number of equal load steps of the history.
+
+    Returns
+    -------
+    problem : ContactProblem
+    history : LoadHistory
+    """
+    mat = Material(E=E, nu=nu, plane="strain")
+    half = 0.5 * width
+    nz = max(2, int(round(n * height / width)))
+    if dim == 2:
+        mesh = meshes.rectangle(-half, half, 0.0, height, n, nz)
+        normal = (0.0, 1.0)
+        tdir = np.array([1.0]) if direction is None else np.asarray(direction, float)
+    elif dim == 3:
+        mesh = meshes.box(-half, half, -half, half, 0.0, height, n, n, nz)
+        normal = (0.0, 0.0, 1.0)
+        tdir = np.array([1.0, 1.0]) / math.sqrt(2) if direction is None else np.asarray(direction, float)
+    else:
+        raise ValueError(f"dim must be 2 or 3; got {dim!r}")
+    tdir = tdir / np.linalg.norm(tdir)
+    model = LinearElasticity(mesh, mat)
+    obstacle = HalfSpace(point=(0.0,) * dim, normal=normal)
+    d = strain * height
+    G = E / (2 * (1 + nu))
+    s_star = mu * d * E / G  # tau = G s/H = mu p = mu E d/H (nu = 0 in plane strain)
+    s = shear_ratio * s_star
+    push = np.zeros(dim)
+    push[-1] = -d
+    shear = np.zeros(dim)
+    shear[:-1] = s * tdir
+    press = LoadCase(Support("top", components=(dim - 1,), value=tuple(push.tolist())),
+                     Ramp((0.0, 0.5), (0.0, 1.0), hold_after=True), name="normal approach")
+    if unload:
+        amp = Ramp((0.5, 0.75, 1.0), (0.0, 1.0, 0.0))
+    else:
+        amp = Ramp((0.5, 1.0), (0.0, 1.0))
+    tang = LoadCase(Support("top", components=tuple(range(dim - 1)), value=tuple(shear.tolist())), amp,
+                    tangential=True, name="tangential displacement")
+    problem = ContactProblem(
+        model=model, obstacle=obstacle, contact_boundary="bottom", supports=(), friction=mu,
+        name=f"block on plane ({dim}D, n={n}, mu={mu:g})",
+        meta={"d": d, "s": s, "s_star": s_star, "direction": tdir, "height": height, "width": width},
+    )
+    return problem, LoadHistory((press, tang), LoadHistory.uniform(steps))
+
+
+@dataclass(frozen=True)
+class MindlinReference:
+    """Cattaneo-Mindlin partial slip for a cylinder (plane strain), given P, Q and mu."""
+
+    hertz: HertzReference
+    mu: float
+
+    def half_width(self, P: float) -> float:
+        return self.hertz.half_width(P)
+
+    def stick_half_width(self, P: float, Q: float) -> float:
+        return self.half_width(P) * math.sqrt(max(0.0, 1.0 - abs(Q) / (self.mu * P)))
+
+    def shear(self, x, P: float, Q: float) -> np.ndarray:
+        """Magnitude of the shear traction :math:`q(x)` (same sign as Q on the body)."""
+        a, p0 = self.hertz.half_width(P), self.hertz.peak_pressure(P)
+        c = self.stick_half_width(P, Q)
+        x = np.asarray(x, dtype=float)
+        q = self.mu * p0 * np.sqrt(np.clip(1 - (x / a) ** 2, 0.0, None))
+        if c > 0:
+            q = q - np.where(np.abs(x) < c, self.mu * p0 * (c / a) * np.sqrt(np.clip(1 - (x / c) ** 2, 0, None)), 0.0)
+        return q
+
+
+def _parabolic_cylinder(radius: float) -> UserObstacle:
+    return UserObstacle(
+        gap=lambda x: x[:, 1] - x[:, 0] ** 2 / (2.0 * radius),
+        normal=lambda x: np.broadcast_to(np.array([0.0, -1.0]), x.shape).copy(),
+        dim=2, length_scale=radius, label=f"parabolic cylinder R={radius:g} (Hertz approximation)")
+
+
+def cattaneo_mindlin_2d(n_per_a: int = 16, *, E: float = 200e3, nu: float = 0.49, radius: float = 10.0,
+                        a_target: float = 1.0, size: float = 20.0, mu: float = 0.3, q_ratio: float = 0.5,
+                        normal_steps: int = 4, tangential_steps: int = 4, order: int = 1,
+                        geometry: str = "parabolic", frictionless_approach: bool = True):
+    r"""Rigid cylinder on a full-width block: Hertz normal load, then a tangential load Q < mu P.
+
+    The block ``[-L, L] x [-H, 0]`` (``L = H = size * a_target``) touches the
+    cylinder at the origin; its bottom moves up by :math:`\delta` over
+    ``t`` in [0, 0.5] (the same approach as :func:`alcontact.problems.hertz.hertz_2d`),
+    then sideways by :math:`s` over [0.5, 1]. :math:`s` is estimated from the
+    full-stick compliance to give :math:`Q \approx` ``q_ratio`` :math:`\mu P`; the
+    reference uses the Q and P the model actually carries.
+
+    ``frictionless_approach=True`` (default) applies the normal phase with
+    :math:`\\mu = 0` (friction factor of the history 0 until ``t = 0.5``): the
+    Cattaneo-Mindlin hypothesis that the normal load creates no shear. With
+    friction during the approach, linear triangles at :math:`\\nu = 0.49` (and also
+    P2) lock and give spurious oscillating tangential surface displacements,
+    which stick points keep as a locked-in shear of up to about 0.5 :math:`\\mu p_0`.
+
+    ``geometry="parabolic"`` (default) is Hertz's own approximation: gap
+    :math:`y - x^2/(2R)` along the fixed direction :math:`-e_y`, so the pressure
+    acts vertically as in the half-space theory. With ``"circle"`` the obstacle
+    normals tilt by :math:`x/R`; the horizontal components of the pressure
+    (of order :math:`p\,a/R`) then add a locked-in antisymmetric shear during the
+    normal phase, which the Cattaneo-Mindlin solution neglects.
+
+    Returns
+    -------
+    problem : ContactProblem
+        ``problem.reference`` is a :class:`MindlinReference`.
+    history : LoadHistory
+    """
+    mat = Material(E=E, nu=nu, plane="strain")
+    e_star = mat.plane_strain_modulus
+    a = a_target
+    L = H = size * a
+    h = a / n_per_a
+    mesh = meshes.rectangle(-L, L, -H, 0.0, 16, 8,
+                            refine=dict(center=(0.0, 0.0), h_min=h, width=1.6 * a, depth=1.0 * a,
+                                        growth=1.15))
+    model = LinearElasticity(mesh, mat, order=order)
+    P = math.pi * a * a * e_star / (4 * radius)
+    delta = 2 * P / (math.pi * e_star) * (math.log(2 * H / a) + 0.1)
+    # full-stick tangential compliance ~ normal compliance for nu -> 1/2; partial slip softens it (x1.8, calibrated)
+    s = 1.8 * q_ratio * mu * P * 2 / (math.pi * e_star) * (math.log(2 * H / a) + 0.1)
+    if geometry == "parabolic":
+        obstacle = _parabolic_cylinder(radius)
+    elif geometry == "circle":
+        obstacle = Circle(center=(0.0, radius), radius=radius)
+    else:
+        raise ValueError(f"geometry must be 'parabolic' or 'circle'; got {geometry!r}")
+    t_half = 0.5
+    times = tuple(np.linspace(0, t_half, normal_steps + 1)[1:]) + tuple(
+        np.linspace(t_half, 1.0, tangential_steps + 1)[1:])
+    press = LoadCase(Support("bottom", components=(1,), value=delta), Ramp((0.0, t_half), (0.0, 1.0),
+                                                                           hold_after=True), name="approach")
+    shear = LoadCase(Support("bottom", components=(0,), value=s), Ramp((t_half, 1.0), (0.0, 1.0)),
+                     tangential=True, name="tangential displacement")
+    ref = MindlinReference(HertzReference("cylinder", radius, e_star, symmetry=1.0), mu)
+    problem = ContactProblem(
+        model=model, obstacle=obstacle, contact_boundary="top", supports=(), friction=mu,
+        name=f"cattaneo-mindlin-2d (R={radius:g}, {n_per_a} elements per a, mu={mu:g})", reference=ref,
+        meta={"delta": delta, "s": s, "h": h},
+    )
+    fric = Ramp((t_half, t_half + 1e-9), (0.0, 1.0), hold_after=True) if frictionless_approach else None
+    return problem, LoadHistory((press, shear), times, fric)
