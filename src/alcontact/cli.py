@@ -1,7 +1,8 @@
-"""Command line interface: ``alcontact run``, ``alcontact list``.
+"""Command line interface: ``alcontact run``, ``check``, ``list``, ``bench``, ``docs``.
 
 Each command is a thin wrapper over one function of :mod:`alcontact.runner`
-(:func:`~alcontact.runner.run_problem`, :func:`~alcontact.runner.list_components`):
+(:func:`~alcontact.runner.run_problem`, :func:`~alcontact.runner.run_setup`,
+:func:`~alcontact.runner.list_components`) or :mod:`alcontact.io.config`:
 this module parses options, shows progress and prints; it is the only module
 of the package that prints.
 
@@ -72,7 +73,9 @@ def _cli_logging(err: Console, level: int) -> Iterator[None]:
 
 
 def _fail(err: Console, exc: Exception, code: int) -> typer.Exit:
-    err.print(f"[bold red]error:[/] {exc}", highlight=False)
+    msg = Text("error: ", style="bold red")
+    msg.append(str(exc))  # plain text: messages hold TOML table names like [mesh]
+    err.print(msg, highlight=False)
     return typer.Exit(code)
 
 
@@ -90,9 +93,11 @@ def _root(
 ) -> None:
     """Augmented Lagrangian methods for elastic contact with rigid obstacles.
 
-    `alcontact run` solves the built-in 2D Hertz problem and writes a results
-    folder; `alcontact list` shows the registered algorithms, penalties,
-    obstacles and problems.
+    `alcontact run` solves the built-in 2D Hertz problem (or a TOML problem
+    file) and writes a results folder; `alcontact check FILE` validates a
+    problem file; `alcontact list` shows the registered algorithms, penalties,
+    obstacles and problems; `alcontact bench` runs the benchmarks; `alcontact
+    docs` regenerates docs/problem-file.md.
     """
 
 
@@ -121,6 +126,16 @@ def _summary_table(s: dict) -> Table:
     table.add_row("peak pressure p0", _fmt(s["peak_pressure"]), _fmt(s["peak_pressure_exact"]),
                   _fmt(s.get("peak_pressure_error_pct"), "+.2f"))
     table.add_row("total contact force P", _fmt(s["total_contact_force"]), "", "")
+    if s.get("friction"):
+        table.add_row("tangential force Q (model)", _fmt(s.get("tangential_force")), f"mu N = {_fmt(s.get('coulomb_limit'))}",
+                      "")
+        table.add_row("stick / slip / open points",
+                      f"{s.get('stick_points')} / {s.get('slip_points')} / {s.get('open_points')}", "", "")
+        if s.get("stick_half_width_exact") is not None:
+            table.add_row("stick half-width c", _fmt(s.get("stick_half_width")), _fmt(s["stick_half_width_exact"]),
+                          _fmt(s.get("stick_half_width_error_pct"), "+.2f"))
+    if s.get("load_steps", 1) > 1:
+        table.add_row("load steps (converged)", f"{s.get('converged_steps')} / {s['load_steps']}", "", "")
     table.add_row("max penetration / h", _fmt(s.get("penetration"), ".2e"), "", "")
     table.add_row("wall time (s)", _fmt(s["wall_time_s"], ".3f"), "", "")
     table.add_row("linear solve time (s)", _fmt(s["linear_solve_time_s"], ".3f"), "", "")
@@ -130,7 +145,14 @@ def _summary_table(s: dict) -> Table:
 
 @app.command("run")
 def run_command(
-    out: Annotated[Path, typer.Option("--out", "-o", help="Results folder (created if missing).")] = Path("results"),
+    problem_file: Annotated[
+        Optional[Path], typer.Argument(help="TOML problem file (see examples/ and docs/problem-file.md); "
+                                            "default: the built-in --problem.", show_default=False)
+    ] = None,
+    out: Annotated[
+        Optional[Path], typer.Option("--out", "-o", help="Results folder (created if missing); default `results`, "
+                                                         "or [output] folder of the problem file.")
+    ] = None,
     problem: Annotated[str, typer.Option("--problem", help="Built-in problem (see `alcontact list`).")] = "hertz-2d",
     algorithm: Annotated[
         Optional[str], typer.Option("--algorithm", "-a", help="Contact algorithm (default simo-laursen).")
@@ -141,7 +163,9 @@ def run_command(
     level: Annotated[
         Optional[int], typer.Option("--level", "-l", min=0, help="Mesh refinement level (default: the problem's).")
     ] = None,
-    order: Annotated[int, typer.Option("--order", min=1, max=2, help="Polynomial order, 1 (P1) or 2 (P2).")] = 1,
+    order: Annotated[
+        Optional[int], typer.Option("--order", min=1, max=2, help="Polynomial order of a built-in problem, 1 or 2.")
+    ] = None,
     maxiter: Annotated[Optional[int], typer.Option("--maxiter", min=1, help="Outer iteration limit.")] = None,
     penalty_scale: Annotated[
         Optional[float], typer.Option("--penalty-scale", help="Multiplier of the automatic penalty stiffness E'/h.")
@@ -150,10 +174,16 @@ def run_command(
     quiet: Annotated[bool, typer.Option("--quiet", "-q", help="Print nothing unless something fails.")] = False,
     verbose: Annotated[bool, typer.Option("--verbose", "-v", help="Log the solver's progress.")] = False,
 ) -> None:
-    """Solve a contact problem (default: 2D Hertz) and write a results folder.
+    """Solve a contact problem and write a results folder.
 
-    Files in --out: solution.vtu (displacement, contact_pressure, gap, von_mises),
-    pressure.png, convergence.png, history.csv, summary.json.
+    Without PROBLEM_FILE: the built-in 2D Hertz problem (or --problem). With a
+    TOML file: the file is validated first (see `alcontact check`); --algorithm,
+    --penalty, --maxiter and --penalty-scale override it.
+
+    Files in --out: solution.vtu (displacement, stress, contact_pressure, gap, ...),
+    pressure.png, convergence.png, history.csv, summary.json; problem files add
+    steps.csv, report.md and, for load steps, solution.pvd, steps/ and
+    load_displacement.png.
     """
     from .runner import run_problem, what_to_try
 
@@ -161,21 +191,29 @@ def run_command(
     if quiet and verbose:
         raise _fail(err, InputError("--quiet and --verbose exclude each other; give one."), EXIT_USAGE)
     level_ = logging.INFO if verbose else logging.ERROR if quiet else logging.WARNING
-    kwargs = dict(problem=problem, out=out, algorithm=algorithm, penalty=penalty, force=force, level=level,
-                  order=order, maxiter=maxiter, penalty_scale=penalty_scale)
-    try:
-        with _cli_logging(err, level_):
-            if quiet:
-                _, summary = run_problem(**kwargs)
-            else:
-                with err.status("starting", spinner="dots") as status:
-                    _, summary = run_problem(**kwargs, progress=lambda msg: status.update(f"{msg} ..."))
-    except OutputExistsError as exc:
-        raise _fail(err, exc, EXIT_USAGE) from None
-    except InputError as exc:
-        raise _fail(err, exc, EXIT_USAGE) from None
-    except AlcontactError as exc:
-        raise _fail(err, exc, EXIT_FAILED) from None
+    if problem_file is not None:
+        if problem != "hertz-2d" or level is not None or order is not None:
+            raise _fail(err, InputError("--problem, --level and --order select a built-in problem; with a problem "
+                                        "file set the mesh in the file instead."), EXIT_USAGE)
+        summary, out = _run_file(problem_file, out, console, err, level_, quiet, force=force, algorithm=algorithm,
+                                 penalty=penalty, maxiter=maxiter, penalty_scale=penalty_scale)
+    else:
+        out = out if out is not None else Path("results")
+        kwargs = dict(problem=problem, out=out, algorithm=algorithm, penalty=penalty, force=force, level=level,
+                      order=order or 1, maxiter=maxiter, penalty_scale=penalty_scale)
+        try:
+            with _cli_logging(err, level_):
+                if quiet:
+                    _, summary = run_problem(**kwargs)
+                else:
+                    with err.status("starting", spinner="dots") as status:
+                        _, summary = run_problem(**kwargs, progress=lambda msg: status.update(f"{msg} ..."))
+        except OutputExistsError as exc:
+            raise _fail(err, exc, EXIT_USAGE) from None
+        except InputError as exc:
+            raise _fail(err, exc, EXIT_USAGE) from None
+        except AlcontactError as exc:
+            raise _fail(err, exc, EXIT_FAILED) from None
 
     if not quiet:
         console.print(_summary_table(summary))
@@ -188,14 +226,151 @@ def run_command(
         raise typer.Exit(EXIT_FAILED)
 
 
+class _StatusHandler(logging.Handler):
+    """Shows the library's latest debug/info record (iteration status) in the progress line."""
+
+    def __init__(self, update):
+        super().__init__(logging.DEBUG)
+        self._update = update
+
+    def emit(self, record: logging.LogRecord) -> None:
+        try:
+            self._update(record.getMessage())
+        except Exception:  # pragma: no cover - never let the display break a solve
+            pass
+
+
+def _run_file(problem_file: Path, out, console: Console, err: Console, level: int, quiet: bool, **kwargs):
+    """``alcontact run PROBLEM.toml``: validate, solve with a progress bar, write, print the summary."""
+    from rich.progress import BarColumn, MofNCompleteColumn, Progress, SpinnerColumn, TextColumn, \
+        TimeElapsedColumn, TimeRemainingColumn
+
+    from .io.config import load_problem
+    from .runner import run_setup
+
+    force = kwargs.pop("force")
+    algorithm = kwargs.pop("algorithm")
+    penalty = kwargs.pop("penalty")
+    try:
+        with _cli_logging(err, level):
+            setup = load_problem(problem_file)
+            out = out if out is not None else Path(setup.output["folder"])
+            if quiet:
+                result = run_setup(setup, out, force, algorithm=algorithm, penalty=penalty, **kwargs)
+            else:
+                columns = (SpinnerColumn(), TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(),
+                           TextColumn("steps"), TimeElapsedColumn(), TextColumn("ETA"), TimeRemainingColumn(),
+                           TextColumn("[dim]{task.fields[status]}"))
+                with Progress(*columns, console=err, transient=True) as bar:
+                    task = bar.add_task(setup.name, total=len(setup.times), status="")
+
+                    def on_step(done: int, total: int, t: float) -> None:
+                        bar.update(task, completed=done, total=total, description=f"{setup.name} t={t:.3g}")
+
+                    status = _StatusHandler(lambda msg: bar.update(task, status=msg[:70]))
+                    lib = logging.getLogger("alcontact.contact")
+                    old = lib.level
+                    lib.addHandler(status)
+                    lib.setLevel(logging.DEBUG)
+                    try:
+                        result = run_setup(setup, out, force, algorithm=algorithm, penalty=penalty,
+                                           progress=lambda msg: bar.update(task, status=msg[:70]),
+                                           on_step=on_step, **kwargs)
+                    finally:
+                        lib.removeHandler(status)
+                        lib.setLevel(old)
+    except (OutputExistsError, InputError) as exc:
+        raise _fail(err, exc, EXIT_USAGE) from None
+    except AlcontactError as exc:
+        raise _fail(err, exc, EXIT_FAILED) from None
+    return result.summary, out
+
+
+@app.command("check")
+def check_command(
+    problem_file: Annotated[Path, typer.Argument(help="TOML problem file to validate.", show_default=False)],
+) -> None:
+    """Validate a problem file without solving it.
+
+    Prints OK and a one-line summary, or every error found with its key path
+    (exit code 2). The mesh is built or read and every boundary name checked.
+    """
+    from .io.config import load_problem
+
+    console, err = _consoles()
+    try:
+        setup = load_problem(problem_file)
+    except InputError as exc:
+        raise _fail(err, exc, EXIT_USAGE) from None
+    console.print(Text(f"OK {setup.summary_line()}"))
+
+
+@app.command("bench")
+def bench_command(
+    out: Annotated[Path, typer.Option("--out", "-o", help="Report folder.")] = Path("benchmarks/out"),
+    suite: Annotated[
+        Optional[list[str]], typer.Option("--suite", "-s", help="hertz, nlp (repeat for both; default both).")
+    ] = None,
+    quick: Annotated[bool, typer.Option("--quick", help="Small sizes and a few variants (about a minute).")] = False,
+    cases: Annotated[
+        Optional[list[str]], typer.Option("--case", help="Hertz case, e.g. 2d-10k (repeatable).")
+    ] = None,
+    variants: Annotated[
+        Optional[list[str]], typer.Option("--variant", help="Variant of the chosen suites (repeatable).")
+    ] = None,
+    benchmarks_dir: Annotated[
+        Optional[Path], typer.Option("--benchmarks-dir", help="Folder with hertz.py and nlp_hs.py "
+                                                              "(default: the repository's benchmarks/).")
+    ] = None,
+) -> None:
+    """Run the benchmark suite and write its report (bench.md plus each suite's CSV and markdown)."""
+    from .runner import run_benchmarks
+
+    console, err = _consoles()
+    try:
+        with _cli_logging(err, logging.WARNING):
+            report = run_benchmarks(out, suites=suite, quick=quick, cases=cases, variants=variants,
+                                    benchmarks_dir=benchmarks_dir, log=lambda msg: err.print(Text(msg)))
+    except InputError as exc:
+        raise _fail(err, exc, EXIT_USAGE) from None
+    except AlcontactError as exc:
+        raise _fail(err, exc, EXIT_FAILED) from None
+    console.print(f"report written to [bold]{report}[/]", highlight=False)
+
+
+@app.command("docs")
+def docs_command(
+    out: Annotated[
+        Optional[Path], typer.Option("--out", "-o", help="Target file (default: docs/problem-file.md of the "
+                                                         "repository).")
+    ] = None,
+    check: Annotated[bool, typer.Option("--check", help="Only check that the file is up to date (exit 1 if not).")]
+    = False,
+) -> None:
+    """Regenerate docs/problem-file.md from the problem-file schema (alcontact.io.schema)."""
+    from .io import schema
+
+    console, err = _consoles()
+    target = out if out is not None else schema._repo_root() / schema.DOCS_PATH
+    if check:
+        current = target.read_text(encoding="utf-8") if target.is_file() else ""
+        if current != schema.render_markdown():
+            err.print(f"{target} is out of date; run `alcontact docs`.", highlight=False)
+            raise typer.Exit(EXIT_FAILED)
+        console.print(f"{target} is up to date", highlight=False)
+        return
+    console.print(f"wrote {schema.write_markdown(target)}", highlight=False)
+
+
 @app.command("list")
 def list_command(
     what: Annotated[
         Optional[str],
-        typer.Argument(help="Only one section: algorithms, penalties, obstacles or problems."),
+        typer.Argument(help="Only one section: algorithms, friction-algorithms, penalties, obstacles, "
+                            "problems or examples."),
     ] = None,
 ) -> None:
-    """List the registered algorithms, penalties, obstacles and built-in problems."""
+    """List the registered algorithms, penalties, obstacles, built-in problems and example files."""
     from .runner import list_components
 
     console, err = _consoles()

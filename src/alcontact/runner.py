@@ -56,6 +56,11 @@ __all__ = [
     "write_results",
     "what_to_try",
     "list_components",
+    "run_setup",
+    "run_benchmarks",
+    "BENCH_SUITES",
+    "write_setup_results",
+    "RunOutput",
 ]
 
 logger = logging.getLogger(__name__)
@@ -383,7 +388,8 @@ def list_components() -> dict[str, dict[str, str]]:
     Returns
     -------
     dict
-        ``{"algorithms": ..., "penalties": ..., "obstacles": ..., "problems": ...}``,
+        ``{"algorithms": ..., "friction-algorithms": ..., "penalties": ..., "obstacles": ...,
+        "problems": ..., "examples": ...}`` (``examples``: the problem files of the repository),
         each ``{name: one-line description}``. Penalties usable by the
         ``family-p`` algorithm are marked ``[contact]``.
     """
@@ -392,12 +398,469 @@ def list_components() -> dict[str, dict[str, str]]:
 
     usable = set(contact_penalties())
     pens = {name: (f"[contact] {doc}" if name in usable else doc) for name, doc in penalties.describe().items()}
+    from .contact._friction import friction_algorithm_docs
+    from .io.schema import _repo_root
+
+    examples = {}
+    ex_dir = _repo_root() / "examples"
+    if ex_dir.is_dir():
+        for f in sorted(ex_dir.glob("*.toml")):
+            first = next((ln.lstrip("# ").strip() for ln in f.read_text(encoding="utf-8").splitlines()
+                          if ln.startswith("#")), "")
+            examples[f"examples/{f.name}"] = first
     return {
         "algorithms": dict(algorithm_docs()),
+        "friction-algorithms": dict(friction_algorithm_docs()),
         "penalties": pens,
         "obstacles": dict(obstacles.docs()),
         "problems": {
             name: f"{spec.doc} (--level 0..{spec.levels - 1}, default {spec.default_level})"
             for name, spec in BUILTIN_PROBLEMS.items()
         },
+        "examples": examples,
     }
+
+
+# =========================================================================== problem files
+def _friction_frames(fsol) -> list:
+    """One :class:`~alcontact.contact.ContactSolution` per converged step of a frictional solve.
+
+    The frames carry the frictional fields in ``extra`` (``slip``, ``slip_increment``,
+    ``state``, ``shear``, ``tangential_force``, ``mu``, ``t``) so that the VTU
+    writer, the plots and :func:`summarize` treat both kinds of run alike.
+    """
+    from .contact import ContactResult, ContactSolution, ContactStatus
+
+    problem = fsol.problem
+    m, d = fsol.points.shape
+    steps = list(fsol.steps)
+    frames = []
+    timings = {**fsol.timings, "linear_solve_s": fsol.timings.get("factor_s", float("nan"))}
+    for k, st in enumerate(steps):
+        last = k == len(steps) - 1
+        status = fsol.status if last else ContactStatus.CONVERGED
+        result = ContactResult(
+            status=status, message=fsol.message if last else "converged", algorithm=fsol.algorithm,
+            penalty=fsol.penalty, outer_iterations=int(st.outer_iterations), newton_iterations=int(st.newton_iterations),
+            linear_solves=int(fsol.linear_solves), factorizations=int(fsol.factorizations),
+            penetration=float(st.penetration), complementarity=float("nan"), residual=float("nan"),
+            eps_n=float(fsol.eps_n), history=())
+        frames.append(ContactSolution(
+            problem=problem, u=st.u, points=fsol.points, pressure=st.pressure, gap=st.gap, weights=fsol.weights,
+            active=st.state != 0, normals=fsol.normals, total_contact_force=st.contact_force, result=result,
+            timings=timings,
+            extra={"t": float(st.t), "requested": bool(st.requested), "slip": st.slip_total,
+                   "slip_increment": st.slip, "state": st.state, "shear": st.shear,
+                   "tangential_force": np.asarray(st.tangential_force, dtype=float),
+                   "mu": float(fsol.friction) * float(fsol.history.friction_factor(st.t)),
+                   "coulomb": float(st.coulomb), "cutbacks": int(st.cutbacks), "h": fsol.h,
+                   "candidates": fsol.extra.get("candidates"), "dofs": fsol.extra.get("dofs")}))
+    if not frames:  # nothing converged: report the contact-free start
+        z = np.zeros(m)
+        result = ContactResult(status=fsol.status, message=fsol.message, algorithm=fsol.algorithm,
+                               penalty=fsol.penalty, outer_iterations=0, newton_iterations=0,
+                               linear_solves=int(fsol.linear_solves), factorizations=1, penetration=0.0,
+                               complementarity=float("nan"), residual=float("nan"), eps_n=float(fsol.eps_n))
+        frames.append(ContactSolution(
+            problem=problem, u=np.zeros(problem.model.ndofs), points=fsol.points, pressure=z, gap=z,
+            weights=fsol.weights, active=z.astype(bool), normals=fsol.normals, total_contact_force=np.zeros(d),
+            result=result, timings=timings,
+            extra={"t": 0.0, "slip": np.zeros((m, d)), "slip_increment": np.zeros((m, d)),
+                   "state": np.zeros(m, int), "shear": np.zeros((m, d)), "tangential_force": np.zeros(d),
+                   "mu": float(fsol.friction), "h": fsol.h, "dofs": problem.model.ndofs}))
+    return frames
+
+
+def _controls(setup) -> list[tuple[str, str, str, int]]:
+    """Boundaries whose mean displacement is the abscissa of the load-displacement curve.
+
+    The first ramped normal action and the first ramped tangential one:
+    ``(label, kind, boundary, component)``.
+    """
+    from .contact import Support
+
+    out = []
+    hist = setup.history
+    if hist is None:
+        return out
+    for want in ("normal", "tangential"):
+        for case in hist.cases:
+            if case.tangential != (want == "tangential") or not hasattr(case.item, "boundary"):
+                continue
+            item = case.item
+            dim = setup.problem.model.dim
+            if isinstance(item, Support) and item.components is not None:
+                comp = int(item.components[0])
+            elif isinstance(item, Support):
+                comp = int(np.argmax(np.abs(np.broadcast_to(np.asarray(item.value, float), (dim,)))))
+            else:
+                comp = dim - 1 if want == "normal" else 0
+            out.append((f"{item.boundary}_{'xyz'[comp]}", want, item.boundary, comp))
+            break
+    return out
+
+
+def _step_rows(setup, frames, controls) -> list[dict[str, Any]]:
+    model = setup.problem.model
+    meta = setup.problem.meta
+    axis = int(meta.get("symmetry_axis", 0))
+    rows = []
+    for k, fr in enumerate(frames):
+        ex = fr.extra
+        tf = np.asarray(ex.get("tangential_force", np.zeros(model.dim)), dtype=float)
+        row: dict[str, Any] = {
+            "step": k + 1, "t": float(ex.get("t", setup.times[min(k, len(setup.times) - 1)])),
+            "status": fr.result.status.label, "outer_iterations": fr.result.outer_iterations,
+            "newton_iterations": fr.result.newton_iterations, "normal_force": fr.normal_force,
+            "tangential_force": float(np.linalg.norm(tf)),
+            "peak_pressure": fr.peak_pressure,
+            "contact_half_width": fr.contact_half_width(axis=axis, center=meta.get("center")),
+            "active_points": int(np.count_nonzero(fr.active)),
+            "penetration": fr.result.penetration,
+        }
+        for c, v in zip("xyz", np.asarray(fr.total_contact_force, dtype=float)):
+            row[f"force_{c}"] = float(v)
+        if "state" in ex:
+            st = np.asarray(ex["state"])
+            row.update(stick_points=int(np.sum(st == 1)), slip_points=int(np.sum(st == 2)),
+                       coulomb=ex.get("coulomb"), cutbacks=ex.get("cutbacks", 0))
+        for label, _kind, boundary, comp in controls:
+            _, dofs = model.node_dofs(boundary)
+            row[f"u_{label}"] = float(np.mean(np.asarray(fr.u)[dofs[:, comp]]))
+        rows.append(row)
+    return rows
+
+
+def _write_rows_csv(path, rows) -> Path:
+    import csv
+    import io as _io
+
+    from .io import write_text_atomic
+
+    cols: list[str] = []
+    for r in rows:
+        cols += [c for c in r if c not in cols]
+    buf = _io.StringIO()
+    w = csv.DictWriter(buf, fieldnames=cols, lineterminator="\n")
+    w.writeheader()
+    for r in rows:
+        w.writerow({k: (repr(float(v)) if isinstance(v, (float, np.floating)) else v) for k, v in r.items()})
+    return write_text_atomic(path, buf.getvalue())
+
+
+def _stick_half_width(frame, axis: int, center) -> float | None:
+    st = np.asarray(frame.extra.get("state", []))
+    if st.size == 0 or not np.any(st == 1):
+        return None
+    r = np.abs(frame.points[:, axis] - (0.0 if center is None else center[axis]))
+    last = float(np.max(r[st == 1]))
+    beyond = r[(r > last) & (st != 1)]
+    return 0.5 * (last + float(beyond.min())) if beyond.size else last
+
+
+@dataclass
+class RunOutput:
+    """What :func:`run_setup` returns.
+
+    Attributes
+    ----------
+    frames : list of ContactSolution
+        One per load step (frictional steps are converted, see ``extra``).
+    raw : ContactSolution, list of them, or FrictionSolution
+        The solver's own result(s).
+    summary : dict
+        As written to ``summary.json``.
+    files : list of str
+        Files written into the results folder (empty without a folder).
+    """
+
+    frames: list
+    raw: Any
+    summary: dict
+    files: list
+
+
+def _override(setup, algorithm, penalty, options):
+    """``setup`` with command-line overrides of algorithm, penalty and solver options."""
+    if not (algorithm or penalty or options):
+        return setup
+    opts = {**setup.options, **options}
+    fopts = {**setup.friction_options, **{k: v for k, v in options.items() if k in setup.friction_options
+                                           or k in ("maxiter", "penalty_scale", "eps_n")}}
+    alg = algorithm or setup.algorithm
+    pen = penalty if penalty is not None else (setup.penalty if alg == "family-p" else None)
+    return dataclasses.replace(setup, algorithm=alg, penalty=pen, options=opts, friction_options=fopts)
+
+
+def run_setup(setup, out: str | os.PathLike | None = None, force: bool = False, *,
+              algorithm: str | None = None, penalty: str | None = None,
+              progress: Callable[[str], None] | None = None,
+              on_step: Callable[[int, int, float], None] | None = None, **options) -> RunOutput:
+    """Solve a problem file (:class:`alcontact.io.ProblemSetup`) and write its results folder.
+
+    Frictionless problems are solved at every step time (independently: the
+    problem is path independent); with friction, :func:`solve_friction` follows
+    the load history. ``algorithm``, ``penalty`` and ``**options`` (fields of
+    ``ContactOptions``) override the file.
+
+    Parameters
+    ----------
+    out : path-like, optional
+        Results folder; ``None`` writes nothing.
+    progress : callable, optional
+        Called with a short phase description.
+    on_step : callable, optional
+        ``on_step(done, total, t)`` when load step ``done`` (1-based) starts
+        (``done = 0``) or ends.
+
+    Returns
+    -------
+    RunOutput
+    """
+    from .contact import available_algorithms, solve
+    from .io import prepare_output_dir
+
+    options = {k: v for k, v in options.items() if v is not None}
+    if algorithm is not None and algorithm not in available_algorithms():
+        raise UnknownNameError("algorithm", algorithm, available_algorithms())
+    setup = _override(setup, algorithm, penalty, options)
+    if out is not None:
+        prepare_output_dir(out, force, create=False)
+
+    def report(msg: str) -> None:
+        logger.info(msg)
+        if progress is not None:
+            progress(msg)
+
+    prob = setup.problem
+    times = setup.times
+    n = len(times)
+    name = setup.name
+    t0 = time.perf_counter()
+    if setup.friction > 0:
+        from .contact._friction import solve_friction
+
+        report(f"solving {name}: {prob.model.ndofs} DOFs, {n} load steps, friction ({setup.algorithm})")
+        history = _reporting_history(setup.history, on_step)
+        raw = solve_friction(prob, history, algorithm=setup.algorithm, penalty=setup.penalty,
+                             **setup.friction_options)
+        frames = _friction_frames(raw)
+        if on_step is not None:
+            on_step(n, n, times[-1])
+    else:
+        from .contact._loading import problem_at
+
+        raw = []
+        for k, t in enumerate(times):
+            report(f"solving {name}: {prob.model.ndofs} DOFs, step {k + 1}/{n} (t = {t:g}, {setup.algorithm})")
+            if on_step is not None:
+                on_step(k, n, t)
+            p_t = problem_at(prob, setup.history, t) if setup.history is not None else prob
+            sol = solve(p_t, algorithm=setup.algorithm, penalty=setup.penalty, **setup.options)
+            sol.extra["t"] = float(t)
+            raw.append(sol)
+            if on_step is not None:
+                on_step(k + 1, n, t)
+            if not sol.result.success:
+                break
+        frames = raw
+    wall = time.perf_counter() - t0
+
+    final = frames[-1]
+    summary = summarize(prob, final, problem_name=name, options=options)
+    summary["problem_label"] = name
+    summary["source"] = str(setup.source) if setup.source is not None else None
+    summary["load_steps"] = n
+    summary["converged_steps"] = sum(1 for f in frames if f.result.success)
+    summary["wall_time_total_s"] = wall
+    summary["friction"] = setup.friction
+    if setup.friction > 0:
+        summary.update(outer_iterations=int(raw.outer_iterations), newton_iterations=int(raw.newton_iterations),
+                       status=raw.status.label, status_code=int(raw.status), message=raw.message,
+                       cutbacks=int(raw.cutbacks), wall_time_s=float(raw.timings.get("total_s", wall)))
+        tf = np.asarray(final.extra["tangential_force"], dtype=float)
+        st = np.asarray(final.extra["state"])
+        summary.update(tangential_force=float(np.linalg.norm(tf)), tangential_force_vector=tf.tolist(),
+                       coulomb_limit=float(setup.friction * final.normal_force),
+                       stick_points=int(np.sum(st == 1)), slip_points=int(np.sum(st == 2)),
+                       open_points=int(np.sum(st == 0)), eps_t=float(raw.eps_t))
+        meta = prob.meta
+        axis = int(meta.get("symmetry_axis", 0))
+        c_num = _stick_half_width(final, axis, meta.get("center"))
+        summary["stick_half_width"] = c_num
+        if setup.mindlin is not None and final.normal_force > 0:
+            sym = setup.mindlin.hertz.symmetry
+            c_ex = setup.mindlin.stick_half_width(sym * final.normal_force, sym * abs(float(tf[axis])))
+            summary["stick_half_width_exact"] = c_ex
+            summary["stick_half_width_error_pct"] = _error_pct(c_num, c_ex)
+    elif n > 1:
+        summary.update(outer_iterations=sum(f.result.outer_iterations for f in frames),
+                       newton_iterations=sum(f.result.newton_iterations for f in frames),
+                       linear_solves=sum(f.result.linear_solves for f in frames),
+                       wall_time_s=sum(float(f.timings.get("total_s", 0.0)) for f in frames))
+        if len(frames) < n:
+            summary["message"] = f"step {len(frames)} of {n} failed: {final.result.message}"
+    logger.info("%s: %s", name, summary["status"])
+
+    files: list[str] = []
+    if out is not None:
+        report(f"writing results to {out}")
+        folder = prepare_output_dir(out, force)
+        files = write_setup_results(folder, setup, frames, summary)
+    return RunOutput(frames=frames, raw=raw, summary=summary, files=files)
+
+
+def _reporting_history(history, on_step):
+    """The load history, reporting the start of each step to ``on_step``.
+
+    Stopgap until ``solve_friction`` takes a step callback: the solver asks the
+    history for the friction factor at the start of every step attempt, which
+    tells which step is being solved.
+    """
+    if on_step is None:
+        return history
+    from .contact._loading import LoadHistory
+
+    times = history.times
+    n = len(times)
+
+    @dataclass(frozen=True)
+    class _Reporting(LoadHistory):
+        def friction_factor(self, t: float) -> float:
+            done = int(np.searchsorted(np.asarray(times), float(t) - 1e-12 * max(1.0, abs(times[-1]))))
+            on_step(min(done, n), n, float(t))
+            return LoadHistory.friction_factor(self, t)
+
+    return _Reporting(history.cases, history.times, history.friction)
+
+
+def write_setup_results(folder: Path, setup, frames, summary: dict) -> list[str]:
+    """Write the results folder of a problem-file run; return the file names (``summary.json`` last).
+
+    Files (switched by ``[output]``): ``solution.vtu`` (final state), ``steps/solution_NNNN.vtu``
+    and ``solution.pvd`` (stepped runs), ``history.csv`` (outer iterations of
+    the last frictionless solve), ``steps.csv``, ``pressure.png``,
+    ``convergence.png``, ``load_displacement.png``, ``report.md``, ``summary.json``.
+    """
+    from .io import write_history_csv, write_json, write_pvd, write_solution_vtu
+    from .io.report import write_report
+
+    o = setup.output
+    final = frames[-1]
+    friction = setup.friction > 0
+    stepped = len(frames) > 1 or setup.stepped
+    files: list[str] = []
+    if o["vtu"]:
+        write_solution_vtu(folder / "solution.vtu", final)
+        files.append("solution.vtu")
+        if o["series"] and stepped:
+            (folder / "steps").mkdir(exist_ok=True)
+            entries = []
+            for k, fr in enumerate(frames):
+                rel = f"steps/solution_{k + 1:04d}.vtu"
+                write_solution_vtu(folder / rel, fr)
+                entries.append((fr.extra.get("t", k + 1), rel))
+            write_pvd(folder / "solution.pvd", entries)
+            files += ["solution.pvd", "steps/"]
+    controls = _controls(setup)
+    rows = _step_rows(setup, frames, controls)
+    if o["csv"]:
+        if not friction:
+            write_history_csv(folder / "history.csv", final.result.history)
+            files.append("history.csv")
+        _write_rows_csv(folder / "steps.csv", rows)
+        files.append("steps.csv")
+    if o["plots"]:
+        from .viz import save_convergence_plot, save_figure, save_pressure_plot
+        from .viz.plots import load_displacement_figure, steps_figure
+
+        meta = setup.problem.meta
+        save_pressure_plot(final, folder / "pressure.png", mindlin=setup.mindlin,
+                           axis=int(meta.get("symmetry_axis", 0)))
+        files.append("pressure.png")
+        if friction:
+            save_figure(steps_figure(rows, title=f"{setup.name}: {summary['status']}"), folder / "convergence.png")
+        else:
+            save_convergence_plot(final.result, folder / "convergence.png", tolerances=_tolerances(setup.options))
+        files.append("convergence.png")
+        if stepped:
+            save_figure(load_displacement_figure(rows, [(c[0], c[1]) for c in controls], title=setup.name),
+                        folder / "load_displacement.png")
+            files.append("load_displacement.png")
+    if o["report"]:
+        files.append("report.md")
+        write_report(folder / "report.md", summary, files + ["summary.json"],
+                     description=setup.data["problem"]["description"],
+                     source=str(setup.source) if setup.source else None)
+    files.append("summary.json")
+    write_json(folder / "summary.json", {**summary, "files": files})
+    logger.info("results written to %s", folder)
+    return files
+
+
+# =========================================================================== benchmarks
+#: Benchmark suites of ``alcontact bench``: name -> (script in benchmarks/, quick settings).
+BENCH_SUITES: dict[str, tuple[str, dict]] = {
+    "hertz": ("hertz.py", {"cases": ["2d-10k"], "variants": ["ssn", "simo-laursen", "exp-met1", "log-met2"]}),
+    "nlp": ("nlp_hs.py", {"variants": ["rockafellar", "exp-met1", "SLSQP"]}),
+}
+
+
+def run_benchmarks(out: str | os.PathLike, *, suites=None, quick: bool = False, cases=None, variants=None,
+                   benchmarks_dir: str | os.PathLike | None = None, log: Callable[[str], None] | None = None) -> Path:
+    """``alcontact bench``: run benchmark scripts of ``benchmarks/`` and write ``bench.md``.
+
+    Each suite's script is loaded with :func:`runpy.run_path` and its ``run``
+    function called (``hertz.py``: ``run(out_dir, cases, variants)``,
+    ``nlp_hs.py``: ``run(out_dir, variants)``); each writes its CSV and
+    markdown into ``out``; ``bench.md`` joins the markdown reports.
+
+    Raises
+    ------
+    InputError
+        Unknown suite, or the benchmarks folder is missing (pass ``benchmarks_dir``).
+    """
+    import runpy
+
+    from .io import write_text_atomic
+    from .io.schema import _repo_root
+
+    names = list(suites or BENCH_SUITES)
+    for s in names:
+        if s not in BENCH_SUITES:
+            raise UnknownNameError("benchmark suite", s, list(BENCH_SUITES))
+    folder = Path(benchmarks_dir) if benchmarks_dir is not None else _repo_root() / "benchmarks"
+    if not folder.is_dir():
+        raise InputError(f"benchmarks folder {str(folder)!r} not found; run from a checkout of the repository "
+                         "or pass --benchmarks-dir.")
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    parts = ["# alcontact benchmarks", "",
+             f"alcontact {__version__}, {_dt.datetime.now(_dt.timezone.utc).isoformat(timespec='seconds')}"
+             + (" (quick)" if quick else ""), ""]
+    for s in names:
+        script, quick_kw = BENCH_SUITES[s]
+        path = folder / script
+        if not path.is_file():
+            raise InputError(f"benchmark script {str(path)!r} not found; pass --benchmarks-dir.")
+        ns = runpy.run_path(str(path), run_name=f"alcontact_bench_{s}")
+        kw: dict[str, Any] = dict(quick_kw) if quick else {}
+        if variants:
+            kw["variants"] = list(variants)
+        if cases and s == "hertz":
+            kw["cases"] = list(cases)
+        if log is not None:
+            log(f"benchmark {s}: {', '.join(f'{k}={v}' for k, v in kw.items()) or 'full'}")
+        t0 = time.perf_counter()
+        if s == "hertz":
+            ns["run"](out, kw.get("cases"), kw.get("variants"), **({"log": log} if log is not None else {}))
+        else:
+            ns["run"](out, kw.get("variants"))
+        md = out / ("hertz.md" if s == "hertz" else "nlp_hs.md")
+        parts += [f"<!-- {s}: {time.perf_counter() - t0:.1f} s -->", ""]
+        if md.is_file():
+            text = md.read_text(encoding="utf-8")
+            parts += ["#" + text if text.startswith("# ") else text, ""]
+    report = out / "bench.md"
+    write_text_atomic(report, "\n".join(parts))
+    return report

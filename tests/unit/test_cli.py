@@ -143,3 +143,110 @@ def test_run_problem_in_python_without_files():
     sol, summary = run_problem(level=0)
     assert summary["status"] == "converged" and sol.result.success
     assert summary["dofs"] == sol.u.size
+
+
+# ------------------------------------------------------------------ problem files, check, bench, docs
+from pathlib import Path  # noqa: E402
+
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
+
+
+def test_run_problem_file_with_load_steps_writes_series_and_report(tmp_path):
+    out = tmp_path / "res"
+    result = runner.invoke(app, ["run", str(EXAMPLES / "sliding_block.toml"), "--out", str(out)])
+    assert result.exit_code == 0, result.output
+    names = {p.name for p in out.iterdir()}
+    assert {"solution.vtu", "solution.pvd", "steps", "steps.csv", "pressure.png", "convergence.png",
+            "load_displacement.png", "report.md", "summary.json"} <= names
+    assert not any(n.startswith(".") for n in names)  # no temporary files left
+    s = json.loads((out / "summary.json").read_text())
+    assert set(SUMMARY_KEYS) <= set(s) and s["status"] == "converged" and s["load_steps"] == 8
+    assert len(list((out / "steps").glob("solution_*.vtu"))) == 8
+    assert (out / "solution.pvd").read_text().count("<DataSet") == 8
+    import meshio
+
+    from alcontact.io import FRICTION_FIELDS
+
+    mesh = meshio.read(out / "solution.vtu")
+    assert set(POINT_FIELDS) | set(FRICTION_FIELDS) <= set(mesh.point_data)
+    assert "![Contact pressure](pressure.png)" in (out / "report.md").read_text()
+    # the results folder is not overwritten without --force
+    again = runner.invoke(app, ["run", str(EXAMPLES / "sliding_block.toml"), "--out", str(out)])
+    assert again.exit_code == 2 and "--force" in _flat(again.stderr)
+
+
+def test_run_problem_file_uses_output_folder_and_quiet(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    result = runner.invoke(app, ["run", str(EXAMPLES / "signorini_liftoff.toml"), "--quiet",
+                                 "--algorithm", "ssn"])
+    assert result.exit_code == 0, result.output
+    assert result.stdout == ""
+    s = json.loads((tmp_path / "results-signorini" / "summary.json").read_text())
+    assert s["algorithm"] == "ssn" and "solution.pvd" not in s["files"]
+
+
+def test_run_problem_file_rejects_builtin_options(tmp_path):
+    result = runner.invoke(app, ["run", str(EXAMPLES / "hertz_2d.toml"), "--level", "2", "--out", str(tmp_path / "r")])
+    assert result.exit_code == 2 and "built-in problem" in _flat(result.stderr)
+
+
+def test_check_ok_and_errors(tmp_path):
+    result = runner.invoke(app, ["check", str(EXAMPLES / "hertz_3d.toml")])
+    assert result.exit_code == 0 and result.stdout.startswith("OK hertz-3d: 3D P1")
+    bad = tmp_path / "bad.toml"
+    bad.write_text((EXAMPLES / "hertz_2d.toml").read_text().replace('boundary = "top"', 'boundary = "topp"')
+                   .replace("nu = 0.3", "nu = 0.6"))
+    result = runner.invoke(app, ["check", str(bad)])
+    msg = _flat(result.stderr)
+    assert result.exit_code == 2 and "2 errors" in msg
+    assert "contact.boundary = 'topp'" in msg and "Did you mean 'top'" in msg and "material.nu = 0.6" in msg
+    assert "Traceback" not in result.output
+
+
+def test_docs_check_and_write(tmp_path):
+    result = runner.invoke(app, ["docs", "--check"])
+    assert result.exit_code == 0, result.output
+    target = tmp_path / "pf.md"
+    result = runner.invoke(app, ["docs", "--out", str(target)])
+    assert result.exit_code == 0 and target.read_text().startswith("# Problem files")
+    target.write_text("stale")
+    assert runner.invoke(app, ["docs", "--check", "--out", str(target)]).exit_code == 1
+
+
+def test_bench_runs_scripts_and_writes_report(tmp_path):
+    bench = tmp_path / "bench"
+    bench.mkdir()
+    (bench / "hertz.py").write_text(
+        "from pathlib import Path\n"
+        "def run(out_dir=None, cases=None, variants=None, log=print):\n"
+        "    Path(out_dir, 'hertz.md').write_text(f'# Hertz benchmark\\n\\ncases={cases} variants={variants}\\n')\n"
+        "    return Path(out_dir)\n")
+    (bench / "nlp_hs.py").write_text(
+        "from pathlib import Path\n"
+        "def run(out_dir=None, variants=None):\n"
+        "    Path(out_dir, 'nlp_hs.md').write_text(f'# NLP\\n\\nvariants={variants}\\n')\n"
+        "    return Path(out_dir, 'nlp_hs.csv')\n")
+    out = tmp_path / "out"
+    result = runner.invoke(app, ["bench", "--out", str(out), "--quick", "--benchmarks-dir", str(bench)])
+    assert result.exit_code == 0, result.output
+    report = (out / "bench.md").read_text()
+    assert "## Hertz benchmark" in report and "cases=['2d-10k']" in report and "## NLP" in report
+    result = runner.invoke(app, ["bench", "--out", str(out), "--suite", "nlp", "--variant", "exp-met1",
+                                 "--benchmarks-dir", str(bench)])
+    assert result.exit_code == 0 and "variants=['exp-met1']" in (out / "bench.md").read_text()
+    result = runner.invoke(app, ["bench", "--suite", "hertzz", "--benchmarks-dir", str(bench)])
+    assert result.exit_code == 2 and "Did you mean 'hertz'" in _flat(result.stderr)
+    result = runner.invoke(app, ["bench", "--benchmarks-dir", str(tmp_path / "none")])
+    assert result.exit_code == 2 and "--benchmarks-dir" in _flat(result.stderr)
+
+
+def test_list_shows_friction_algorithms_and_examples():
+    result = runner.invoke(app, ["list"])
+    assert result.exit_code == 0
+    assert "friction-algorithms" in result.output and "examples/hertz_2d.toml" in result.output
+
+
+@pytest.mark.parametrize("cmd", ["run", "check", "list", "bench", "docs"])
+def test_help_of_every_command(cmd):
+    result = runner.invoke(app, [cmd, "--help"])
+    assert result.exit_code == 0 and "Usage" in result.output

@@ -18,6 +18,22 @@ Point fields (:data:`POINT_FIELDS`):
     1 where the point is in contact, 0 elsewhere.
 ``von_mises`` (n,)
     Von Mises stress of the L2-projected nodal stresses (plane strain includes ``zz``).
+``stress`` (n, 6)
+    L2-projected nodal stress tensor in ParaView's symmetric-tensor order
+    ``xx, yy, zz, xy, yz, xz`` (2D: ``zz`` is the out-of-plane stress, ``yz = xz = 0``).
+
+Frictional runs add (:data:`FRICTION_FIELDS`, from ``solution.extra``):
+
+``slip`` (n, 3)
+    Slip accumulated over the load steps so far (tangential, global components),
+    0 off the contact boundary.
+``slip_increment`` (n, 3)
+    Slip of the last load step.
+``contact_state`` (n,)
+    0 open, 1 stick, 2 slip on the contact boundary; -1 elsewhere.
+
+A load-stepped run writes one VTU per step and a ParaView collection
+(:func:`write_pvd`) pointing to them with the pseudo-times as time values.
 
 Examples
 --------
@@ -37,12 +53,15 @@ import numpy as np
 from ..errors import InputError
 from .results import atomic_path
 
-__all__ = ["POINT_FIELDS", "solution_point_data", "write_solution_vtu"]
+__all__ = ["POINT_FIELDS", "FRICTION_FIELDS", "solution_point_data", "write_solution_vtu", "write_pvd"]
 
 logger = logging.getLogger(__name__)
 
 #: Names of the point fields written by :func:`write_solution_vtu`.
-POINT_FIELDS: tuple[str, ...] = ("displacement", "contact_pressure", "gap", "contact_active", "von_mises")
+POINT_FIELDS: tuple[str, ...] = ("displacement", "contact_pressure", "gap", "contact_active", "von_mises", "stress")
+
+#: Extra point fields of frictional runs.
+FRICTION_FIELDS: tuple[str, ...] = ("slip", "slip_increment", "contact_state")
 
 _CELL_TYPES = {(2, 3): "triangle", (3, 4): "tetra"}
 
@@ -107,6 +126,12 @@ def solution_point_data(solution) -> tuple[np.ndarray, list[tuple[str, np.ndarra
     active[cv[on_vertex]] = solution.active[on_vertex].astype(float)
 
     von_mises = np.asarray(model.von_mises(u))[vertex_dof]
+    sig = np.asarray(model.stress(u, include_zz=True))[vertex_dof]
+    stress = np.zeros((nverts, 6))
+    if dim == 2:  # columns xx, yy, xy, zz
+        stress[:, 0], stress[:, 1], stress[:, 3], stress[:, 2] = sig.T
+    else:  # columns xx, yy, zz, yz, xz, xy
+        stress[:, [0, 1, 2, 4, 5, 3]] = sig
 
     point_data = {
         "displacement": disp,
@@ -114,7 +139,18 @@ def solution_point_data(solution) -> tuple[np.ndarray, list[tuple[str, np.ndarra
         "gap": gap,
         "contact_active": active,
         "von_mises": von_mises,
+        "stress": stress,
     }
+    extra = getattr(solution, "extra", None) or {}
+    if "state" in extra:
+        for name, key in (("slip", "slip"), ("slip_increment", "slip_increment")):
+            vec = np.zeros((nverts, 3))
+            vals = np.asarray(extra[key], dtype=float).reshape(len(cv), -1)
+            vec[cv[on_vertex], : vals.shape[1]] = vals[on_vertex]
+            point_data[name] = vec
+        state = np.full(nverts, -1.0)
+        state[cv[on_vertex]] = np.asarray(extra["state"], dtype=float)[on_vertex]
+        point_data["contact_state"] = state
     cells = [(cell_type, np.ascontiguousarray(mesh.t.T, dtype=np.int64))]
     return points, cells, point_data
 
@@ -136,3 +172,25 @@ def write_solution_vtu(path: str | os.PathLike, solution) -> Path:
         meshio.write(tmp, out, file_format="vtu")
     logger.info("wrote %s (%d points, %d cells)", path, points.shape[0], cells[0][1].shape[0])
     return path
+
+
+def write_pvd(path: str | os.PathLike, entries) -> Path:
+    """Write a ParaView collection (``.pvd``) of VTU files, atomically.
+
+    Parameters
+    ----------
+    path : path-like
+        The ``.pvd`` file.
+    entries : iterable of (time, file)
+        Pseudo-time and VTU path relative to the folder of ``path``.
+    """
+    from xml.sax.saxutils import quoteattr
+
+    from .results import write_text_atomic
+
+    lines = ['<?xml version="1.0"?>', '<VTKFile type="Collection" version="0.1" byte_order="LittleEndian">',
+             "  <Collection>"]
+    for t, name in entries:
+        lines.append(f'    <DataSet timestep="{float(t)!r}" group="" part="0" file={quoteattr(str(name))}/>')
+    lines += ["  </Collection>", "</VTKFile>", ""]
+    return write_text_atomic(path, "\n".join(lines))

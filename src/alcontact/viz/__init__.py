@@ -1,7 +1,7 @@
 """Matplotlib figures of contact solutions (matplotlib is imported when a figure is made).
 
 - :mod:`alcontact.viz.plots` -- contact pressure profile against the analytical one,
-  convergence history of the outer iterations
+  convergence history of the outer iterations, convergence per load step, load-displacement curve
 """
 
 from __future__ import annotations
@@ -9,10 +9,12 @@ from __future__ import annotations
 from .plots import (
     contact_coordinate,
     convergence_figure,
+    load_displacement_figure,
     pressure_figure,
     save_convergence_plot,
     save_figure,
     save_pressure_plot,
+    steps_figure,
 )
 
 __all__ = [
@@ -22,4 +24,6 @@ __all__ = [
     "save_figure",
     "save_pressure_plot",
     "save_convergence_plot",
+    "steps_figure",
+    "load_displacement_figure",
 ]

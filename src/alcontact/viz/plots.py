@@ -31,6 +31,8 @@ __all__ = [
     "save_figure",
     "save_pressure_plot",
     "save_convergence_plot",
+    "steps_figure",
+    "load_displacement_figure",
 ]
 
 logger = logging.getLogger(__name__)
@@ -77,7 +79,7 @@ def contact_coordinate(solution, axis: int = 0, center=None) -> tuple[np.ndarray
 
 
 def pressure_figure(solution, *, reference=None, load: float | None = None, center=None, axis: int = 0,
-                    title: str | None = None):
+                    title: str | None = None, mindlin=None):
     """Contact pressure at the contact points against the analytical profile.
 
     Parameters
@@ -91,6 +93,10 @@ def pressure_figure(solution, *, reference=None, load: float | None = None, cent
         Total load ``P`` of the reference; default ``reference.load(solution.normal_force)``.
     center, axis
         See :func:`contact_coordinate`.
+    mindlin : MindlinReference, optional
+        Frictional runs (``solution.extra["shear"]`` present) get a second panel
+        with the tangential traction and the Coulomb bound :math:`\\mu p`; with
+        ``mindlin`` also the Cattaneo-Mindlin profile for the model's P and Q.
 
     Returns
     -------
@@ -104,8 +110,10 @@ def pressure_figure(solution, *, reference=None, load: float | None = None, cent
     p = np.asarray(solution.pressure, dtype=float)
     a_num = solution.contact_half_width(axis=axis, center=center)
 
-    fig = _new_figure()
-    ax = fig.add_subplot()
+    extra = getattr(solution, "extra", None) or {}
+    friction = "shear" in extra
+    fig = _new_figure(size=(6.4, 6.4) if friction else (6.4, 4.2))
+    ax = fig.add_subplot(2, 1, 1) if friction else fig.add_subplot()
     a_ref = None
     if reference is not None:
         P = reference.load(solution.normal_force) if load is None else float(load)
@@ -129,6 +137,108 @@ def pressure_figure(solution, *, reference=None, load: float | None = None, cent
     ax.grid(alpha=0.3)
     ax.legend(loc="upper right", fontsize="small")
     ax.set_title(title or getattr(problem, "name", "contact pressure"), fontsize="medium")
+    if friction:
+        _shear_panel(fig.add_subplot(2, 1, 2, sharex=ax), solution, r, keep, order, axis, mindlin)
+    return fig
+
+
+def _shear_panel(ax, solution, r, keep, order, axis, mindlin) -> None:
+    extra = solution.extra
+    shear = np.asarray(extra["shear"], dtype=float)[:, axis]
+    mu = float(extra.get("mu", 0.0))
+    rk = r[keep][order]
+    q = shear[keep][order]
+    bound = mu * np.asarray(solution.pressure, dtype=float)[keep][order]
+    ax.plot(rk, bound, "-", color="0.6", lw=1, label=r"Coulomb bound $\mu p$")
+    ax.plot(rk, -bound, "-", color="0.6", lw=1)
+    state = np.asarray(extra.get("state", np.zeros(r.size)))[keep][order]
+    for val, name, mk in ((1, "stick", "o"), (2, "slip", "s")):
+        sel = state == val
+        if np.any(sel):
+            ax.plot(rk[sel], q[sel], mk, ms=3.5, label=f"computed ({name})")
+    if mindlin is not None:
+        P = float(solution.normal_force) * mindlin.hertz.symmetry
+        Q = float(extra.get("tangential_force", [0.0])[axis]) * mindlin.hertz.symmetry
+        if P > 0 and abs(Q) > 0:
+            xs = np.linspace(float(rk.min(initial=0.0)), float(rk.max(initial=0.0)), 800)
+            c = mindlin.stick_half_width(P, abs(Q))
+            ax.plot(xs, np.sign(Q) * mindlin.shear(xs, P, abs(Q)), "-", color="k", lw=1.2,
+                    label=f"Cattaneo-Mindlin, c = {c:.3g}")
+    ax.axhline(0.0, color="0.8", lw=0.8)
+    ax.set_xlabel("x (along the contact boundary)")
+    ax.set_ylabel(f"tangential traction ({'xyz'[axis]})")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize="small", loc="best")
+
+
+def steps_figure(rows, *, title: str | None = None):
+    """Per load step: outer and Newton iterations, penetration and Coulomb violation.
+
+    Parameters
+    ----------
+    rows : sequence of dict
+        Rows of ``steps.csv`` (keys ``t``, ``outer_iterations``, ``newton_iterations``,
+        ``penetration``, optionally ``coulomb``).
+    """
+    fig = _new_figure(size=(6.4, 5.2))
+    if not rows:
+        ax = fig.add_subplot()
+        ax.text(0.5, 0.5, "no converged load step", ha="center", va="center", transform=ax.transAxes)
+        ax.set_axis_off()
+        return fig
+    t = np.array([float(r["t"]) for r in rows])
+    ax1 = fig.add_subplot(2, 1, 1)
+    ax1.plot(t, [r["outer_iterations"] for r in rows], "o-", label="outer iterations")
+    ax1.plot(t, [r["newton_iterations"] for r in rows], "s--", label="Newton iterations")
+    ax1.set_ylabel("iterations per step")
+    ax1.grid(alpha=0.3)
+    ax1.legend(fontsize="small")
+    ax1.set_title(title or "convergence per load step", fontsize="medium")
+    ax2 = fig.add_subplot(2, 1, 2, sharex=ax1)
+    series = (("penetration", "penetration / h"), ("coulomb", r"Coulomb violation $(|t_T|-\mu t_N)^+/p_{max}$"))
+    for key, label in series:
+        y = np.array([float(r.get(key, np.nan) if r.get(key) is not None else np.nan) for r in rows])
+        y = np.where(np.isfinite(y) & (y > 0), y, np.nan)
+        if np.any(np.isfinite(y)):
+            ax2.semilogy(t, y, "o-", ms=4, label=label)
+    ax2.set_xlabel("pseudo-time t")
+    ax2.set_ylabel("final measure of the step")
+    ax2.grid(alpha=0.3, which="both")
+    if ax2.lines:
+        ax2.legend(fontsize="small")
+    return fig
+
+
+def load_displacement_figure(rows, controls, *, title: str | None = None):
+    """Contact forces against the displacement of the loaded boundaries over the load steps.
+
+    Parameters
+    ----------
+    rows : sequence of dict
+        Rows of ``steps.csv``: ``normal_force``, ``tangential_force`` and one
+        ``u_<label>`` column per control.
+    controls : sequence of (label, kind)
+        ``kind`` is ``"normal"`` (plotted against the normal force) or
+        ``"tangential"`` (against the tangential force).
+    """
+    fig = _new_figure()
+    ax = fig.add_subplot()
+    for i, (label, kind) in enumerate(controls):
+        x = np.array([float(r[f"u_{label}"]) for r in rows])
+        key = "normal_force" if kind == "normal" else "tangential_force"
+        y = np.array([float(r[key]) for r in rows])
+        ax.plot(np.concatenate([[0.0], x]), np.concatenate([[0.0], y]), "o-", ms=4, color=f"C{i}",
+                label=f"{key.replace('_', ' ')} vs mean displacement of {label}")
+    if not controls:
+        t = np.array([float(r["t"]) for r in rows])
+        ax.plot(t, [float(r["normal_force"]) for r in rows], "o-", ms=4, label="normal force")
+        ax.set_xlabel("pseudo-time t")
+    else:
+        ax.set_xlabel("mean displacement of the loaded boundary (prescribed component)")
+    ax.set_ylabel("contact force (model)")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize="small")
+    ax.set_title(title or "load-displacement curve", fontsize="medium")
     return fig
 
 

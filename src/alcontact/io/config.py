@@ -1,0 +1,744 @@
+"""Problem files: read a TOML file, validate it against :mod:`alcontact.io.schema`, build the problem.
+
+:func:`load_problem` does everything before solving: it parses the TOML, checks
+every key against the schema (unknown keys with a "did you mean", wrong types,
+values out of range), builds or reads the mesh, checks the boundary and region
+names against it, builds the material, the obstacle (parameters checked
+against the registered factory), the supports, loads and the load history,
+and checks that algorithm, penalty and friction fit together. All problems
+found are reported together in one :class:`~alcontact.errors.ConfigError`
+whose ``issues`` list holds ``(key path, message)`` pairs, e.g.::
+
+    problem.toml: 2 errors
+      solver.penalty_scale = -1.0: out of range, must be > 0.
+      contact.boundary = 'topp': the mesh has no boundary 'topp'. Did you mean 'top'? ...
+
+Examples
+--------
+>>> setup = load_problem("examples/hertz_2d.toml")          # doctest: +SKIP
+>>> setup.summary_line()                                     # doctest: +SKIP
+'hertz-2d: 2D P1, 8964 DOFs, ...'
+"""
+
+from __future__ import annotations
+
+import difflib
+import inspect
+import logging
+import math
+import os
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..errors import ConfigError, InputError, MeshError
+from .schema import Option, Table, schema
+
+__all__ = ["Issue", "ProblemSetup", "load_problem", "load_problem_text", "validate_data"]
+
+logger = logging.getLogger(__name__)
+
+_BAD = object()  # marker of a value that failed its check
+
+
+@dataclass(frozen=True)
+class Issue:
+    """One problem of a problem file: the key path and what is wrong (with the fix)."""
+
+    path: str
+    message: str
+
+    def __str__(self) -> str:
+        if not self.path:
+            return self.message
+        sep = " " if self.message.startswith("= ") else ": "  # "key = value: ..." or "key: ..."
+        return f"{self.path}{sep}{self.message}"
+
+
+def _raise(issues: list[Issue], source: str) -> None:
+    n = len(issues)
+    head = f"{source}: {n} error{'s' if n != 1 else ''} (nothing was solved)"
+    exc = ConfigError(head + "\n" + "\n".join(f"  {i}" for i in issues))
+    exc.issues = list(issues)  # type: ignore[attr-defined]
+    raise exc
+
+
+def _did_you_mean(name: str, known) -> str:
+    close = difflib.get_close_matches(str(name), [str(k) for k in known], n=1, cutoff=0.6)
+    return f" Did you mean {close[0]!r}?" if close else ""
+
+
+def _known(names) -> str:
+    names = sorted(str(n) for n in names)
+    return ", ".join(names) if names else "(none)"
+
+
+# --------------------------------------------------------------------------- schema pass
+_TYPE_TEXT = {
+    "float": "a number",
+    "int": "an integer",
+    "str": "a string",
+    "bool": "true or false",
+    "floats": "a list of numbers",
+    "ints": "a list of integers",
+    "number-or-floats": "a number or a list of numbers",
+    "knots": "a list of [t, factor] pairs",
+}
+
+
+def _is_number(v) -> bool:
+    return isinstance(v, (int, float)) and not isinstance(v, bool)
+
+
+def _in_range(opt: Option, x: float) -> bool:
+    if opt.low is not None and (x < opt.low or (opt.low_open and x == opt.low)):
+        return False
+    if opt.high is not None and (x > opt.high or (opt.high_open and x == opt.high)):
+        return False
+    return True
+
+
+def _check_value(opt: Option, value: Any, path: str, issues: list[Issue]) -> Any:
+    """The value converted to its Python type, or ``_BAD`` (an issue is recorded)."""
+    want = _TYPE_TEXT[opt.type]
+
+    def bad_type() -> Any:
+        hint = ""
+        if opt.type in ("float", "int") and isinstance(value, str):
+            hint = " Write the number without quotes."
+        elif opt.type == "bool" and isinstance(value, str):
+            hint = " Write true or false without quotes."
+        elif opt.type == "int" and isinstance(value, float):
+            hint = f" Use a whole number, e.g. {max(int(round(value)), 1)}."
+        issues.append(Issue(path, f"= {value!r}: expected {want}, got {type(value).__name__}.{hint}"))
+        return _BAD
+
+    def number(x, where=path) -> Any:
+        if opt.type in ("int", "ints"):
+            if not isinstance(x, int) or isinstance(x, bool):
+                return bad_type()
+        elif not _is_number(x):
+            return bad_type()
+        if not math.isfinite(x):
+            issues.append(Issue(where, f"= {x!r}: must be a finite number."))
+            return _BAD
+        if not _in_range(opt, x):
+            issues.append(Issue(where, f"= {x!r}: out of range, must be {opt.range_text()}."))
+            return _BAD
+        return int(x) if opt.type in ("int", "ints") else float(x)
+
+    t = opt.type
+    if t in ("float", "int"):
+        return number(value)
+    if t == "bool":
+        return value if isinstance(value, bool) else bad_type()
+    if t == "str":
+        if not isinstance(value, str):
+            return bad_type()
+        if opt.choices is not None and value not in opt.choices:
+            allowed = ", ".join(repr(c) for c in opt.choices if c)
+            issues.append(Issue(path, f"= {value!r}: not allowed.{_did_you_mean(value, opt.choices)} "
+                                      f"Allowed: {allowed}."))
+            return _BAD
+        return value
+    if t == "number-or-floats":
+        if _is_number(value):
+            return number(value)
+        if not isinstance(value, list) or not value:
+            return bad_type()
+        out = [number(x, f"{path}[{i}]") for i, x in enumerate(value)]
+        return _BAD if any(x is _BAD for x in out) else out
+    if t in ("floats", "ints"):
+        if not isinstance(value, list):
+            return bad_type()
+        if opt.lengths is not None and len(value) not in opt.lengths:
+            issues.append(Issue(path, f"= {value!r}: needs {' or '.join(map(str, opt.lengths))} entries, "
+                                      f"got {len(value)}."))
+            return _BAD
+        out = [number(x, f"{path}[{i}]") for i, x in enumerate(value)]
+        return _BAD if any(x is _BAD for x in out) else out
+    if t == "knots":
+        ok = isinstance(value, list) and value and all(
+            isinstance(k, list) and len(k) == 2 and all(_is_number(x) and math.isfinite(x) for x in k) for k in value)
+        if not ok:
+            issues.append(Issue(path, f"= {value!r}: expected {want} of finite numbers, e.g. "
+                                      "[[0.0, 0.0], [1.0, 1.0]]."))
+            return _BAD
+        ts = [float(k[0]) for k in value]
+        if any(b <= a for a, b in zip(ts, ts[1:])):
+            issues.append(Issue(path, f"= {value!r}: the times (first entries) must increase strictly."))
+            return _BAD
+        return [(float(k[0]), float(k[1])) for k in value]
+    raise AssertionError(t)  # pragma: no cover
+
+
+def _subtables(path: str) -> dict[str, Table]:
+    prefix = f"{path}." if path else ""
+    return {t.path[len(prefix):]: t for t in schema()
+            if t.path.startswith(prefix) and "." not in t.path[len(prefix):]}
+
+
+def _check_table(tab: Table, data: Any, path: str, issues: list[Issue]) -> dict | None:
+    if not isinstance(data, dict):
+        kind = f"[[{tab.path}]]" if tab.array else f"[{tab.path}]"
+        issues.append(Issue(path, f"must be a table ({kind}); got {type(data).__name__}."))
+        return None
+    subs = _subtables(tab.path)
+    out: dict[str, Any] = {}
+    extra: dict[str, Any] = {}
+    for key, value in data.items():
+        kp = f"{path}.{key}"
+        if key in subs:
+            out[key] = _check_node(subs[key], value, kp, issues)
+        elif (opt := tab.get(key)) is not None:
+            v = _check_value(opt, value, kp, issues)
+            out[key] = _BAD if v is _BAD else v
+        elif tab.open:
+            extra[key] = value
+        else:
+            known = tab.names + list(subs)
+            issues.append(Issue(kp, f"unknown key in [{tab.path}].{_did_you_mean(key, known)} "
+                                    f"Known keys: {_known(known)}."))
+    for opt in tab.options:
+        if opt.name not in out:
+            if opt.required:
+                issues.append(Issue(f"{path}.{opt.name}", f"missing (required): {opt.doc}"))
+                out[opt.name] = _BAD
+            else:
+                out[opt.name] = opt.default
+    for key, sub in subs.items():
+        if key not in out:  # absent sub-table: its defaults, or None when it has required keys
+            if sub.array:
+                out[key] = []
+            else:
+                out[key] = None if any(o.required for o in sub.options) else _check_table(sub, {}, key, issues)
+    if tab.open:
+        out["params"] = extra
+    return out
+
+
+def _check_node(tab: Table, value: Any, path: str, issues: list[Issue]):
+    if tab.array:
+        if isinstance(value, dict):
+            issues.append(Issue(path, f"write each entry as [[{tab.path}]] (an array of tables), "
+                                      f"not [{tab.path}]."))
+            return []
+        if not isinstance(value, list):
+            issues.append(Issue(path, f"must be an array of tables [[{tab.path}]]; got {type(value).__name__}."))
+            return []
+        return [_check_table(tab, v, f"{path}[{i + 1}]", issues) for i, v in enumerate(value)]
+    return _check_table(tab, value, path, issues)
+
+
+def validate_data(data: dict) -> tuple[dict, list[Issue]]:
+    """Schema pass over a parsed file: ``(normalized data with defaults, issues)``.
+
+    Entries of arrays of tables are numbered from 1 in the key paths
+    (``support[2].boundary`` is the second ``[[support]]``).
+    """
+    issues: list[Issue] = []
+    roots = _subtables("")
+    out: dict[str, Any] = {}
+    for key, value in data.items():
+        if key in roots:
+            out[key] = _check_node(roots[key], value, key, issues)
+        else:
+            issues.append(Issue(key, f"unknown table [{key}].{_did_you_mean(key, roots)} "
+                                     f"Known tables: {_known(roots)}."))
+    for key, tab in roots.items():
+        if key not in out:
+            if tab.required:
+                issues.append(Issue(key, f"missing table [{key}] (required): {tab.doc}"))
+                out[key] = None
+            elif tab.array:
+                out[key] = []
+            else:
+                out[key] = _check_table(tab, {}, key, issues)
+    return out, issues
+
+
+# --------------------------------------------------------------------------- the built problem
+@dataclass(frozen=True)
+class ProblemSetup:
+    """A validated problem file with everything built, ready to solve.
+
+    Attributes
+    ----------
+    source : Path or None
+        The file.
+    data : dict
+        Normalized contents (every option present, defaults filled in).
+    problem : ContactProblem
+        Body, obstacle, contact boundary, the un-ramped supports and loads, friction.
+    history : LoadHistory or None
+        Ramped supports/loads and step times (``None``: one step, nothing ramped).
+    times : tuple of float
+        Step times (``(1.0,)`` for a single step).
+    algorithm, penalty : str, str or None
+    options : dict
+        :class:`~alcontact.contact.ContactOptions` fields (frictionless runs).
+    friction_options : dict
+        ``FrictionOptions`` fields (frictional runs).
+    reference : HertzReference or None
+    mindlin : MindlinReference or None
+    output : dict
+        The ``[output]`` table.
+    """
+
+    source: Path | None
+    data: dict
+    problem: Any
+    history: Any
+    times: tuple[float, ...]
+    algorithm: str
+    penalty: str | None
+    options: dict
+    friction_options: dict
+    reference: Any = None
+    mindlin: Any = None
+    output: dict = field(default_factory=dict)
+
+    @property
+    def name(self) -> str:
+        return self.data["problem"]["name"]
+
+    @property
+    def friction(self) -> float:
+        return float(self.problem.friction)
+
+    @property
+    def stepped(self) -> bool:
+        return len(self.times) > 1 or self.history is not None
+
+    def summary_line(self) -> str:
+        m = self.problem.model
+        law = f"Coulomb mu={self.friction:g}" if self.friction > 0 else "frictionless"
+        alg = self.algorithm + (f"/{self.penalty}" if self.penalty else "")
+        n = len(self.times)
+        return (f"{self.name}: {m.dim}D P{m.order}, {m.ndofs} DOFs, {m.mesh.nelements} elements, "
+                f"obstacle {self.data['obstacle']['type']}, contact on {self.problem.contact_boundary!r}, "
+                f"{law}, {alg}, {n} load step{'s' if n != 1 else ''}")
+
+
+def _num(issues, path, fn, *args, **kwargs):
+    """Call a builder, turning its InputError into an issue at ``path``."""
+    try:
+        return fn(*args, **kwargs)
+    except InputError as exc:
+        issues.append(Issue(path, str(exc)))
+        return None
+
+
+def _build_mesh(d: dict, base: Path, issues: list[Issue]):
+    from ..fem import meshes
+
+    gen = d["generator"]
+    if gen == "file":
+        if not d["file"]:
+            issues.append(Issue("mesh.file", "missing: generator = 'file' needs file = 'body.msh'."))
+            return None
+        for key in ("bounds", "cells", "refine"):
+            if d[key] is not None:
+                issues.append(Issue(f"mesh.{key}", f"not used with generator = 'file'; remove it (or use "
+                                                   "generator = 'rectangle' / 'box')."))
+        p = Path(d["file"])
+        p = p if p.is_absolute() else base / p
+        import contextlib
+        import io
+
+        try:
+            # meshio prints and calls sys.exit(1) on some unreadable files: keep both from the user
+            with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):
+                return meshes.read(p)
+        except MeshError as exc:
+            issues.append(Issue("mesh.file", f"= {d['file']!r}: {exc}"))
+        except SystemExit:
+            issues.append(Issue("mesh.file", f"= {d['file']!r}: cannot read mesh file {str(p)!r} (meshio gave up). "
+                                             "Export it from Gmsh as .msh (format 2.2 or 4.1)."))
+        return None
+    dim = 2 if gen == "rectangle" else 3
+    ok = True
+    if d["file"]:
+        issues.append(Issue("mesh.file", f"not used with generator = {gen!r}; remove it or set "
+                                         "generator = 'file'."))
+        ok = False
+    for key, n, example in (("bounds", 2 * dim, "[0.0, 1.0, 0.0, 1.0]" if dim == 2 else "[0, 1, 0, 1, 0, 1]"),
+                            ("cells", dim, "[8, 8]" if dim == 2 else "[4, 4, 4]")):
+        v = d[key]
+        if v is _BAD:
+            ok = False
+        elif v is None:
+            issues.append(Issue(f"mesh.{key}", f"missing: generator = {gen!r} needs {key} = {example}."))
+            ok = False
+        elif len(v) != n:
+            issues.append(Issue(f"mesh.{key}", f"= {v!r}: generator = {gen!r} needs {n} entries, e.g. "
+                                               f"{key} = {example}."))
+            ok = False
+    if ok:
+        b = d["bounds"]
+        for k, ax in enumerate("xyz"[:dim]):
+            if not b[2 * k] < b[2 * k + 1]:
+                issues.append(Issue("mesh.bounds", f"= {b!r}: the {ax} range [{b[2 * k]:g}, {b[2 * k + 1]:g}] is "
+                                                   f"empty; give lower < upper."))
+                ok = False
+    refine = d["refine"]
+    if refine is not None:
+        if refine is _BAD or any(v is _BAD for v in refine.values()):
+            ok = False
+        elif len(refine["center"]) != dim:
+            issues.append(Issue("mesh.refine.center", f"= {refine['center']!r}: needs {dim} coordinates for a "
+                                                      f"{dim}D mesh."))
+            ok = False
+    if not ok:
+        return None
+    r = None
+    if refine is not None:
+        r = {k: v for k, v in refine.items() if v is not None}
+    fn = meshes.rectangle if dim == 2 else meshes.box
+    return _num(issues, "mesh", fn, *d["bounds"], *d["cells"], refine=r)
+
+
+def _boundary(mesh, name: str, path: str, issues: list[Issue]) -> bool:
+    known = sorted((mesh.boundaries or {}).keys())
+    if name in known:
+        return True
+    issues.append(Issue(path, f"= {name!r}: the mesh has no boundary {name!r}.{_did_you_mean(name, known)} "
+                              f"Mesh boundaries: {_known(known)}."))
+    return False
+
+
+def _ramp(knots):
+    from ..contact._loading import Ramp
+
+    return Ramp(tuple(k[0] for k in knots), tuple(k[1] for k in knots), hold_before=True, hold_after=True)
+
+
+def _support_value(s: dict, dim: int, path: str, issues: list[Issue]):
+    v = s["value"]
+    comps = s["components"]
+    if isinstance(v, float):
+        return v
+    n = len(v)
+    if n == dim:
+        return tuple(v)
+    if comps is not None and n == len(comps):
+        full = [0.0] * dim
+        for c, x in zip(comps, v):
+            full[c] = x
+        return tuple(full)
+    want = f"{dim}" if comps is None else f"{len(comps)} (one per listed component) or {dim}"
+    issues.append(Issue(f"{path}.value", f"= {v!r}: needs a number or {want} numbers, got {n}."))
+    return None
+
+
+def _obstacle(d: dict, dim: int | None, issues: list[Issue]):
+    from ..contact import obstacles
+
+    name = d["type"]
+    if name is _BAD:
+        return None
+    if name == "user":
+        issues.append(Issue("obstacle.type", "= 'user': a user obstacle needs Python functions; problem files "
+                                             "hold data only. Use a registered shape, or build the problem in "
+                                             "Python with alcontact.contact.obstacles.UserObstacle."))
+        return None
+    if name not in obstacles.available():
+        known = [n for n in obstacles.available() if n != "user"]
+        issues.append(Issue("obstacle.type", f"= {name!r}: unknown obstacle.{_did_you_mean(name, known)} "
+                                             f"Known obstacles: {_known(known)}."))
+        return None
+    params = d["params"]
+    from ..contact.obstacles import _REGISTRY  # signature of the factory: the accepted parameters
+
+    sig = inspect.signature(_REGISTRY[name].factory)
+    accepted = [p for p in sig.parameters]
+    ok = True
+    for key in params:
+        if key not in accepted:
+            issues.append(Issue(f"obstacle.{key}", f"unknown parameter of obstacle {name!r}."
+                                                   f"{_did_you_mean(key, accepted)} Accepted: {_known(accepted)}."))
+            ok = False
+    for p in sig.parameters.values():
+        if p.default is inspect.Parameter.empty and p.name not in params:
+            issues.append(Issue(f"obstacle.{p.name}", f"missing: obstacle {name!r} needs {p.name} "
+                                                      f"(parameters: {_known(accepted)})."))
+            ok = False
+    if not ok:
+        return None
+    try:
+        ob = obstacles.make(name, **params)
+    except (InputError, TypeError, ValueError) as exc:
+        issues.append(Issue("obstacle", f"{name}: {exc}. Check the parameters ({_known(accepted)})."))
+        return None
+    if dim is not None:
+        try:
+            ob.check_dim(dim)
+        except InputError as exc:
+            issues.append(Issue("obstacle.type", f"= {name!r}: {exc} (the mesh is {dim}D)."))
+            return None
+    return ob
+
+
+def _text_of(path: Path) -> str:
+    try:
+        return path.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        _raise([Issue("", f"problem file {str(path)!r} does not exist; check the path "
+                          f"(relative to {os.getcwd()!r}), or see examples/.")], str(path))
+    except (OSError, UnicodeDecodeError) as exc:
+        _raise([Issue("", f"cannot read problem file {str(path)!r}: {exc}.")], str(path))
+    raise AssertionError  # pragma: no cover
+
+
+def load_problem(path: str | os.PathLike) -> ProblemSetup:
+    """Read, validate and build the problem file ``path``.
+
+    Raises
+    ------
+    ConfigError
+        With every problem found (``exc.issues``); nothing has been solved.
+    """
+    p = Path(path)
+    return load_problem_text(_text_of(p), base_dir=p.parent, source=p)
+
+
+def load_problem_text(text: str, *, base_dir: str | os.PathLike = ".", source: str | os.PathLike | None = None
+                      ) -> ProblemSetup:
+    """:func:`load_problem` from the TOML text (mesh files relative to ``base_dir``)."""
+    label = str(source) if source is not None else "problem file"
+    try:
+        raw = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        _raise([Issue("", f"not valid TOML: {exc}. Check quotes, brackets and '=' on that line.")], label)
+    data, issues = validate_data(raw)
+    setup = _build(data, Path(base_dir), issues, source)
+    if issues:
+        _raise(issues, label)
+    assert setup is not None
+    logger.info("loaded %s", setup.summary_line())
+    return setup
+
+
+def _ok(d) -> bool:
+    return d is not None and d is not _BAD and all(v is not _BAD for v in d.values())
+
+
+def _build(data: dict, base: Path, issues: list[Issue], source) -> ProblemSetup | None:  # noqa: C901
+    from ..contact import ContactOptions, ContactProblem, Pressure, Traction, BodyForce, Support
+    from ..contact._friction import FrictionOptions, friction_algorithms
+    from ..contact._loading import LoadCase, LoadHistory
+    from ..fem import LinearElasticity, Material
+
+    # ---- mesh
+    mesh = dim = None
+    md = data.get("mesh")
+    if md is not None and md is not _BAD and md["generator"] is not _BAD:
+        mesh = _build_mesh(md, base, issues)
+        dim = None if mesh is None else int(mesh.dim())
+    if mesh is not None and dim not in (2, 3):
+        issues.append(Issue("mesh", f"the mesh is {dim}D; contact problems need a 2D or 3D mesh."))
+        mesh = dim = None
+
+    # ---- material
+    mat = None
+    mt = data.get("material")
+    if _ok({k: v for k, v in (mt or {}).items() if k != "region"}) and mt is not None:
+        mat = _num(issues, "material", Material, E=mt["E"], nu=mt["nu"], plane=mt["plane"])
+        for i, reg in enumerate(mt["region"] or []):
+            rp = f"material.region[{i + 1}]"
+            if not _ok(reg):
+                continue
+            if mesh is not None:
+                regions = sorted((getattr(mesh, "subdomains", None) or {}).keys())
+                if reg["name"] not in regions:
+                    issues.append(Issue(f"{rp}.name", f"= {reg['name']!r}: the mesh has no region {reg['name']!r}."
+                                                      f"{_did_you_mean(reg['name'], regions)} Mesh regions: "
+                                                      f"{_known(regions)} (Gmsh physical groups of cells)."))
+                    continue
+            if mat is not None and (reg["E"], reg["nu"], reg["plane"]) != (mat.E, mat.nu, mat.plane):
+                issues.append(Issue(rp, f"region {reg['name']!r} has E={reg['E']:g}, nu={reg['nu']:g}, "
+                                        f"plane={reg['plane']!r}, different from [material]: several materials "
+                                        "in one body are not supported yet (the FEM layer takes one material); "
+                                        "use one [material] for the whole body."))
+
+    # ---- boundaries, supports, loads
+    cd = data.get("contact")
+    contact_ok = _ok(cd)
+    if contact_ok and mesh is not None:
+        contact_ok = _boundary(mesh, cd["boundary"], "contact.boundary", issues)
+    fixed, loads, cases = [], [], []
+    for i, s in enumerate(data.get("support") or []):
+        sp = f"support[{i + 1}]"
+        if not _ok(s) or dim is None:
+            continue
+        good = _boundary(mesh, s["boundary"], f"{sp}.boundary", issues)
+        comps = s["components"]
+        if comps is not None:
+            bad = [c for c in comps if c >= dim]
+            if bad or len(set(comps)) != len(comps) or not comps:
+                issues.append(Issue(f"{sp}.components", f"= {comps!r}: give distinct components in 0..{dim - 1} "
+                                                        f"(0 = x, 1 = y{', 2 = z' if dim == 3 else ''}) for a "
+                                                        f"{dim}D mesh."))
+                good = False
+        value = _support_value(s, dim, sp, issues)
+        if value is None or not good:
+            continue
+        item = Support(s["boundary"], None if comps is None else tuple(comps), value)
+        if s["ramp"] is None:
+            fixed.append(item)
+        else:
+            cases.append(LoadCase(item, _ramp(s["ramp"]), tangential=s["tangential"], name=sp))
+    for i, ld in enumerate(data.get("load") or []):
+        lp = f"load[{i + 1}]"
+        if not _ok(ld) or dim is None:
+            continue
+        kind = ld["type"]
+        good = True
+        if kind in ("traction", "pressure"):
+            if not ld["boundary"]:
+                issues.append(Issue(f"{lp}.boundary", f"missing: a {kind} load needs boundary = 'NAME'."))
+                good = False
+            else:
+                good = _boundary(mesh, ld["boundary"], f"{lp}.boundary", issues)
+        elif ld["boundary"]:
+            issues.append(Issue(f"{lp}.boundary", "not used by a body-force load (it acts on the whole body); "
+                                                  "remove it."))
+            good = False
+        if kind == "pressure":
+            if ld["value"] is None:
+                issues.append(Issue(f"{lp}.value", "missing: a pressure load needs value = NUMBER."))
+                good = False
+            if ld["vector"] is not None:
+                issues.append(Issue(f"{lp}.vector", "not used by a pressure load; give value = NUMBER instead."))
+                good = False
+        else:
+            if ld["value"] is not None:
+                issues.append(Issue(f"{lp}.value", f"not used by a {kind} load; give vector = [...] instead."))
+                good = False
+            if ld["vector"] is None:
+                issues.append(Issue(f"{lp}.vector", f"missing: a {kind} load needs vector = [...] with {dim} "
+                                                    "numbers."))
+                good = False
+            elif len(ld["vector"]) != dim:
+                issues.append(Issue(f"{lp}.vector", f"= {ld['vector']!r}: needs {dim} numbers for a {dim}D mesh."))
+                good = False
+        if not good:
+            continue
+        if kind == "traction":
+            item = Traction(ld["boundary"], tuple(ld["vector"]))
+        elif kind == "pressure":
+            item = Pressure(ld["boundary"], float(ld["value"]))
+        else:
+            item = BodyForce(tuple(ld["vector"]))
+        if ld["ramp"] is None:
+            loads.append(item)
+        else:
+            cases.append(LoadCase(item, _ramp(ld["ramp"]), tangential=ld["tangential"], name=lp))
+
+    # ---- load steps
+    lo = data.get("loading")
+    times: tuple[float, ...] | None = None
+    friction_ramp = None
+    if _ok(lo):
+        if lo["times"] is not None:
+            t = lo["times"]
+            if not t or t[0] <= 0 or any(b <= a for a, b in zip(t, t[1:])):
+                issues.append(Issue("loading.times", f"= {t!r}: give positive, strictly increasing pseudo-times, "
+                                                     "e.g. [0.25, 0.5, 0.75, 1.0]."))
+            else:
+                times = tuple(float(x) for x in t)
+        else:
+            times = LoadHistory.uniform(lo["steps"], lo["t_end"])
+        if lo["friction_ramp"] is not None:
+            if any(v < 0 for _, v in lo["friction_ramp"]):
+                issues.append(Issue("loading.friction_ramp", f"= {lo['friction_ramp']!r}: factors must be >= 0."))
+            else:
+                friction_ramp = _ramp(lo["friction_ramp"])
+
+    # ---- obstacle, solver
+    ob = None
+    od = data.get("obstacle")
+    if od is not None and od is not _BAD:
+        ob = _obstacle(od, dim, issues)
+    sv = data.get("solver")
+    mu = cd["friction"] if isinstance(cd, dict) and isinstance(cd.get("friction"), float) else 0.0
+    algorithm, penalty = "simo-laursen", None
+    options: dict = {}
+    fopts: dict = {}
+    if sv is not None and _ok({k: v for k, v in sv.items() if k != "friction"}):
+        algorithm = sv["algorithm"]
+        penalty = sv["penalty"] or None
+        fixed_pen = {"simo-laursen": "rockafellar", "penalty": "exterior-quadratic", "ssn": "none"}
+        if penalty is not None and algorithm != "family-p" and penalty != fixed_pen.get(algorithm):
+            issues.append(Issue("solver.penalty", f"= {penalty!r}: algorithm {algorithm!r} uses its own penalty; "
+                                                  "set algorithm = 'family-p' to choose one, or remove penalty."))
+        if isinstance(mu, float) and mu > 0 and algorithm not in friction_algorithms():
+            issues.append(Issue("solver.algorithm", f"= {algorithm!r}: not available with friction (contact.friction"
+                                                    f" = {mu:g}); use one of {_known(friction_algorithms())}."))
+        skip = {"algorithm", "penalty", "friction"}
+        options = {k: v for k, v in sv.items() if k not in skip and v is not None}
+        try:
+            ContactOptions(**options).validate()
+        except InputError as exc:
+            issues.append(Issue("solver", str(exc)))
+        shared = {f for f in FrictionOptions.__dataclass_fields__} - {"newton_tol", "maxiter_newton"}
+        fopts = {k: v for k, v in options.items() if k in shared}
+        fr = sv.get("friction")
+        if fr is not None and _ok(fr):
+            fopts.update({k: v for k, v in fr.items() if v is not None})
+        try:
+            FrictionOptions(**fopts).validate()
+        except InputError as exc:
+            issues.append(Issue("solver.friction", str(exc)))
+
+    # ---- reference
+    ref = mindlin = None
+    rd = data.get("reference")
+    if _ok(rd) and rd["kind"] != "none":
+        if rd["radius"] is None:
+            issues.append(Issue("reference.radius", f"missing: reference kind {rd['kind']!r} needs the indenter "
+                                                    "radius, e.g. radius = 10.0."))
+        elif dim is not None and rd["center"] is not None and len(rd["center"]) != dim:
+            issues.append(Issue("reference.center", f"= {rd['center']!r}: needs {dim} coordinates."))
+        elif dim is not None and rd["axis"] >= dim:
+            issues.append(Issue("reference.axis", f"= {rd['axis']}: must be < {dim} for a {dim}D mesh."))
+        elif rd["kind"] == "cattaneo-mindlin" and (dim == 3 or not (isinstance(mu, float) and mu > 0)):
+            issues.append(Issue("reference.kind", "= 'cattaneo-mindlin': needs a 2D mesh and contact.friction > 0."))
+        elif mat is not None and dim is not None:
+            from ..problems.hertz import HertzReference
+
+            e_star = mat.E if (dim == 2 and mat.plane == "stress") else mat.plane_strain_modulus
+            ref = HertzReference("cylinder" if dim == 2 else "sphere", rd["radius"], e_star, rd["symmetry"])
+            if rd["kind"] == "cattaneo-mindlin":
+                from ..problems.friction import MindlinReference
+
+                mindlin = MindlinReference(ref, float(mu))
+
+    if issues or mesh is None or mat is None or ob is None or not contact_ok or times is None:
+        if not issues:  # pragma: no cover - every failure above records an issue
+            issues.append(Issue("", "the problem could not be built."))
+        return None
+
+    model = _num(issues, "mesh.order", LinearElasticity, mesh, mat, order=md["order"])
+    if model is None:
+        return None
+    center = tuple(rd["center"]) if rd["center"] is not None else (0.0,) * dim
+    meta = {"symmetry_axis": int(rd["axis"]), "center": center}
+    problem = _num(issues, "", ContactProblem, model=model, obstacle=ob, contact_boundary=cd["boundary"],
+                   supports=tuple(fixed), loads=tuple(loads), friction=float(mu), name=data["problem"]["name"],
+                   reference=ref, meta=meta)
+    history = None
+    if cases or friction_ramp is not None or mu > 0:
+        history = _num(issues, "loading", LoadHistory, tuple(cases), times, friction_ramp)
+    if problem is None or issues:
+        return None
+    if mu == 0 and friction_ramp is not None:
+        logger.warning("loading.friction_ramp is ignored: contact.friction = 0")
+    return ProblemSetup(
+        source=Path(source) if source is not None else None, data=data, problem=problem, history=history,
+        times=times, algorithm=algorithm, penalty=penalty, options=options, friction_options=fopts,
+        reference=ref, mindlin=mindlin, output=dict(data["output"]),
+    )

@@ -1,0 +1,94 @@
+"""``report.md``: a one-page markdown summary of a results folder.
+
+It states the problem and the solver, the outcome (status, iterations, time),
+the key numbers against the analytical reference where there is one, embeds
+the PNG plots and lists the other files with what they hold.
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+from .results import write_text_atomic
+
+__all__ = ["render_report", "write_report"]
+
+_FILE_DOCS = {
+    "summary.json": "every number of this page (stable keys, see `alcontact.io.SUMMARY_KEYS`)",
+    "solution.vtu": "final state: displacement, stress, von Mises, contact pressure, gap, contact state "
+                    "(+ slip for friction); ParaView: File > Open, Apply, colour by a field, Filters > Warp By Vector",
+    "solution.pvd": "all load steps as a ParaView time series (open this file, then use the time controls)",
+    "history.csv": "outer iterations of the (last) solve: penetration, complementarity, multiplier change",
+    "steps.csv": "one row per load step: forces, contact zone, iterations, control displacements",
+    "pressure.png": "contact pressure along the contact boundary (and tangential traction for friction)",
+    "convergence.png": "convergence history",
+    "load_displacement.png": "contact force against the displacement of the loaded boundary",
+    "steps/": "one VTU per load step (referenced by solution.pvd)",
+}
+
+
+def _f(x, spec=".5g") -> str:
+    if x is None:
+        return "-"
+    if isinstance(x, float):
+        return format(x, spec)
+    return str(x)
+
+
+def render_report(summary: dict, files: list[str], *, description: str = "", source: str | None = None) -> str:
+    """The markdown text of ``report.md``."""
+    s = summary
+    ok = s.get("status") == "converged"
+    lines = [f"# {s.get('problem_label') or s.get('problem')}", ""]
+    if description:
+        lines += [description, ""]
+    if source:
+        lines += [f"Problem file: `{source}`", ""]
+    lines += [
+        f"**Status: {s.get('status')}**" + ("" if ok else f" -- {s.get('message')}"),
+        "",
+        f"{s.get('dim')}D, P{s.get('order')}, {s.get('dofs')} DOFs; algorithm `{s.get('algorithm')}`, "
+        f"penalty `{s.get('penalty')}`"
+        + (f"; Coulomb friction mu = {s['friction']:g}" if s.get("friction") else "; frictionless")
+        + (f"; {s['load_steps']} load steps" if s.get("load_steps", 1) > 1 else "") + ".",
+        "",
+        "| quantity | computed | reference | error % |",
+        "|---|---|---|---|",
+        f"| contact half-width a | {_f(s.get('contact_half_width'))} | {_f(s.get('contact_half_width_exact'))} | "
+        f"{_f(s.get('contact_half_width_error_pct'), '+.2f')} |",
+        f"| peak pressure p0 | {_f(s.get('peak_pressure'))} | {_f(s.get('peak_pressure_exact'))} | "
+        f"{_f(s.get('peak_pressure_error_pct'), '+.2f')} |",
+        f"| total contact force | {_f(s.get('total_contact_force'))} | | |",
+    ]
+    if s.get("friction"):
+        lines.append(f"| tangential force (model) | {_f(s.get('tangential_force'))} | mu N = "
+                     f"{_f(s.get('coulomb_limit'))} | |")
+        lines.append(f"| stick / slip / open points | {s.get('stick_points')} / {s.get('slip_points')} / "
+                     f"{s.get('open_points')} | | |")
+        if s.get("stick_half_width_exact") is not None:
+            lines.append(f"| stick half-width c | {_f(s.get('stick_half_width'))} | "
+                         f"{_f(s.get('stick_half_width_exact'))} | {_f(s.get('stick_half_width_error_pct'), '+.2f')} |")
+    lines += [
+        f"| outer / Newton iterations | {s.get('outer_iterations')} / {s.get('newton_iterations')} | | |",
+        f"| linear solves | {s.get('linear_solves')} | | |",
+        f"| max penetration / h | {_f(s.get('penetration'), '.2e')} | | |",
+        f"| wall time (s) | {_f(s.get('wall_time_s'), '.3f')} | | |",
+        "",
+    ]
+    for png, caption in (("pressure.png", "Contact pressure"), ("convergence.png", "Convergence"),
+                         ("load_displacement.png", "Load-displacement curve")):
+        if png in files:
+            lines += [f"![{caption}]({png})", ""]
+    lines += ["## Files", ""]
+    for name in files:
+        if name == "report.md":
+            continue
+        lines.append(f"- `{name}`: {_FILE_DOCS.get(name, '')}".rstrip(": "))
+    lines.append("")
+    return "\n".join(lines)
+
+
+def write_report(path: str | os.PathLike, summary: dict, files: list[str], **kwargs) -> Path:
+    """Write :func:`render_report` to ``path`` atomically."""
+    return write_text_atomic(path, render_report(summary, files, **kwargs))

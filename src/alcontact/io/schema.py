@@ -1,0 +1,470 @@
+"""The problem-file schema: every TOML option with its type, default and one line of documentation.
+
+This module is the single place where the options of a problem file are
+declared. :mod:`alcontact.io.config` validates files against it and
+``docs/problem-file.md`` is generated from it (:func:`render_markdown`)::
+
+    python -m alcontact.io.schema            # rewrites docs/problem-file.md
+    alcontact docs                           # the same from the command line
+
+A table is a :class:`Table` of :class:`Option` objects; ``array=True`` marks an
+array of tables (``[[support]]``), ``open=True`` a table that also takes keys
+not listed (the obstacle's parameters, checked against the obstacle factory).
+Defaults of the contact-solver options are read from
+:class:`alcontact.contact.ContactOptions` and the frictional
+``FrictionOptions``, so the file format and the solvers cannot drift apart.
+
+Examples
+--------
+>>> opt = option("solver.penalty_scale")
+>>> opt.type, opt.default
+('float', 100.0)
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import sys
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+__all__ = [
+    "REQUIRED",
+    "Option",
+    "Table",
+    "SCHEMA",
+    "table",
+    "option",
+    "render_markdown",
+    "write_markdown",
+    "DOCS_PATH",
+]
+
+
+class _Required:
+    def __repr__(self) -> str:
+        return "REQUIRED"
+
+
+#: Default of an option that has to be given.
+REQUIRED: Any = _Required()
+
+#: Types an option may have (what :mod:`alcontact.io.config` accepts for each):
+#: ``float`` (an int is accepted), ``int``, ``str``, ``bool``, ``floats`` (list of
+#: numbers), ``ints`` (list of ints), ``number-or-floats`` (a number or a list of
+#: numbers), ``knots`` (list of ``[t, value]`` pairs with increasing ``t``).
+TYPES = ("float", "int", "str", "bool", "floats", "ints", "number-or-floats", "knots")
+
+
+@dataclass(frozen=True)
+class Option:
+    """One key of a problem file.
+
+    Parameters
+    ----------
+    name : str
+        Key inside its table.
+    type : str
+        One of :data:`TYPES`.
+    default : object
+        Value when the key is absent; :data:`REQUIRED` when it must be given;
+        ``None`` when absence means "automatic" (explained in ``doc``).
+    doc : str
+        One line.
+    choices : tuple of str, optional
+        Allowed values of a ``str`` option.
+    low, high : float, optional
+        Range of a number (or of every list entry); ``low_open``/``high_open``
+        make the bound strict.
+    lengths : tuple of int, optional
+        Allowed lengths of a list.
+    """
+
+    name: str
+    type: str
+    default: Any
+    doc: str
+    choices: tuple[str, ...] | None = None
+    low: float | None = None
+    high: float | None = None
+    low_open: bool = False
+    high_open: bool = False
+    lengths: tuple[int, ...] | None = None
+
+    def __post_init__(self) -> None:
+        if self.type not in TYPES:
+            raise ValueError(f"option {self.name!r}: unknown type {self.type!r}")
+
+    @property
+    def required(self) -> bool:
+        return self.default is REQUIRED
+
+    def range_text(self) -> str:
+        """``"> 0"``, ``"in [1, 2]"``, ``"one of a, b"`` or ``""``."""
+        if self.choices:
+            return "one of " + ", ".join(f"`{c}`" for c in self.choices)
+        lo = None if self.low is None else f"{'(' if self.low_open else '['}{self.low:g}"
+        hi = None if self.high is None else f"{self.high:g}{')' if self.high_open else ']'}"
+        if lo and hi:
+            return f"in {lo}, {hi}"
+        if lo:
+            return f"{'>' if self.low_open else '>='} {self.low:g}"
+        if hi:
+            return f"{'<' if self.high_open else '<='} {self.high:g}"
+        return ""
+
+
+@dataclass(frozen=True)
+class Table:
+    """A TOML table (``[path]``) or array of tables (``[[path]]``)."""
+
+    path: str
+    doc: str
+    options: tuple[Option, ...]
+    array: bool = False
+    open: bool = False
+    required: bool = False
+
+    def get(self, name: str) -> Option | None:
+        return next((o for o in self.options if o.name == name), None)
+
+    @property
+    def names(self) -> list[str]:
+        return [o.name for o in self.options]
+
+
+def _contact_defaults() -> dict[str, Any]:
+    from ..contact import ContactOptions
+
+    return {f.name: f.default for f in dataclasses.fields(ContactOptions)}
+
+
+def _friction_defaults() -> dict[str, Any]:
+    from ..contact._friction import FrictionOptions
+
+    return {f.name: f.default for f in dataclasses.fields(FrictionOptions)}
+
+
+def _algorithms() -> tuple[str, ...]:
+    from ..contact import available_algorithms
+
+    return tuple(available_algorithms())
+
+
+def _penalties() -> tuple[str, ...]:
+    from ..contact import contact_penalties
+
+    return tuple(contact_penalties())
+
+
+def _build_schema() -> tuple[Table, ...]:
+    c = _contact_defaults()
+    f = _friction_defaults()
+    O = Option  # noqa: E741 - short name for the table below
+    knots = "list of `[t, factor]` pairs (increasing t), held constant before the first and after the last"
+    return (
+        Table("problem", "Name and description used in reports.", (
+            O("name", "str", "contact", "Label in the summary, the plots and the report."),
+            O("description", "str", "", "Free text copied into report.md."),
+        )),
+        Table("mesh", "The body: a built-in generator or a Gmsh file.", (
+            O("generator", "str", "rectangle", "`rectangle` (2D triangles), `box` (3D tetrahedra) or `file`.",
+              choices=("rectangle", "box", "file")),
+            O("bounds", "floats", None, "Generators: `[x0, x1, y0, y1]` (rectangle) or `[x0, x1, y0, y1, z0, z1]` "
+              "(box); boundaries left/right/bottom/top (+ front/back in 3D).", lengths=(4, 6)),
+            O("cells", "ints", None, "Generators: cells per direction `[nx, ny]` / `[nx, ny, nz]` (the largest "
+              "spacing when `[mesh.refine]` is given).", low=1, lengths=(2, 3)),
+            O("file", "str", "", "`file`: a Gmsh `.msh` (or `.geo` with the gmsh module), relative to the problem "
+              "file; physical groups name the boundaries and regions."),
+            O("order", "int", 1, "Polynomial order of the elements: 1 (P1) or 2 (P2).", low=1, high=2),
+        ), required=True),
+        Table("mesh.refine", "Optional grading of a generated mesh toward a point of its top face "
+              "(the contact zone).", (
+            O("center", "floats", REQUIRED, "Point on the top face (`[x, y]` or `[x, y, z]`).", lengths=(2, 3)),
+            O("h_min", "float", REQUIRED, "Element size in the fine zone.", low=0, low_open=True),
+            O("width", "float", REQUIRED, "Half-width of the fine zone along the face.", low=0),
+            O("depth", "float", REQUIRED, "Depth of the fine zone below the face.", low=0),
+            O("growth", "float", 1.2, "Size ratio of neighbouring elements outside the fine zone.", low=1),
+            O("h_max", "float", None, "Largest element size (default: the spacing of `cells`).",
+              low=0, low_open=True),
+        )),
+        Table("material", "Isotropic linear elastic material of the whole body.", (
+            O("E", "float", REQUIRED, "Young's modulus (stress units, e.g. MPa).", low=0, low_open=True),
+            O("nu", "float", REQUIRED, "Poisson's ratio.", low=-1, high=0.5, low_open=True, high_open=True),
+            O("plane", "str", "strain", "2D assumption: `strain` or `stress` (ignored in 3D).",
+              choices=("strain", "stress")),
+        ), required=True),
+        Table("material.region", "Material of a mesh region (Gmsh physical group of cells). Names are checked "
+              "against the mesh; constants different from `[material]` are rejected until the FEM layer "
+              "supports several materials.", (
+            O("name", "str", REQUIRED, "Physical name of the region in the mesh file."),
+            O("E", "float", REQUIRED, "Young's modulus of the region.", low=0, low_open=True),
+            O("nu", "float", REQUIRED, "Poisson's ratio of the region.", low=-1, high=0.5,
+              low_open=True, high_open=True),
+            O("plane", "str", "strain", "2D assumption of the region.", choices=("strain", "stress")),
+        ), array=True),
+        Table("support", "Prescribed displacement on a named boundary (one table per support).", (
+            O("boundary", "str", REQUIRED, "Boundary name of the mesh."),
+            O("components", "ints", None, "Displacement components to prescribe, 0 = x, 1 = y, 2 = z "
+              "(default: all).", low=0, high=2),
+            O("value", "number-or-floats", 0.0, "Prescribed value: a number, one per listed component, or one per "
+              "space dimension."),
+            O("ramp", "knots", None, f"Amplitude over pseudo-time: {knots} (default: full value at every step)."),
+            O("tangential", "bool", False, "Friction: marks a tangential (shearing) action, applied only once "
+              "contact exists."),
+        ), array=True),
+        Table("load", "Surface or body load (one table per load).", (
+            O("type", "str", REQUIRED, "`traction` (vector per area), `pressure` (normal, positive into the "
+              "body) or `body-force` (vector per volume).", choices=("traction", "pressure", "body-force")),
+            O("boundary", "str", "", "Boundary name (traction, pressure)."),
+            O("vector", "floats", None, "Traction or body force vector, one number per space dimension.",
+              lengths=(2, 3)),
+            O("value", "float", None, "Pressure value."),
+            O("ramp", "knots", None, f"Amplitude over pseudo-time: {knots} (default: full value at every step)."),
+            O("tangential", "bool", False, "Friction: marks a tangential (shearing) load."),
+        ), array=True),
+        Table("loading", "Load history: the pseudo-times of the load steps (supports and loads with a `ramp` "
+              "are scaled by it).", (
+            O("steps", "int", 1, "Number of equal load steps on (0, t_end] (ignored when `times` is given).",
+              low=1),
+            O("t_end", "float", 1.0, "Last pseudo-time of equal steps.", low=0, low_open=True),
+            O("times", "floats", None, "Explicit step times, positive and strictly increasing."),
+            O("friction_ramp", "knots", None, f"Factor of the friction coefficient: {knots} (default 1)."),
+        )),
+        Table("obstacle", "Rigid obstacle from the registry (`alcontact list obstacles`); every other key is a "
+              "parameter of that obstacle, e.g. `center`, `radius`, `point`, `normal`, `vertices`.", (
+            O("type", "str", REQUIRED, "Registered obstacle name, e.g. `circle`, `sphere`, `half-space`, "
+              "`convex-polygon`."),
+        ), open=True, required=True),
+        Table("contact", "Contact boundary and friction.", (
+            O("boundary", "str", REQUIRED, "Boundary of the body that may touch the obstacle."),
+            O("friction", "float", 0.0, "Coulomb coefficient mu (0: frictionless; > 0 uses the frictional "
+              "solver over the load steps).", low=0),
+        ), required=True),
+        Table("solver", "Contact algorithm, penalty and their parameters.", (
+            O("algorithm", "str", "simo-laursen", "Contact algorithm (friction: `simo-laursen`, `family-p` or "
+              "`ssn`).", choices=_algorithms()),
+            O("penalty", "str", "", "Penalty of `family-p` (default `exp-met1`); the other algorithms fix it.",
+              choices=("",) + _penalties()),
+            O("eps_n", "float", None, "Normal penalty stiffness (default: `penalty_scale` E'/h).",
+              low=0, low_open=True),
+            O("penalty_scale", "float", c["penalty_scale"], "Multiplier of the automatic stiffness E'/h.",
+              low=0, low_open=True),
+            O("tol_penetration", "float", c["tol_penetration"], "Stop: max penetration / h.",
+              low=0, low_open=True),
+            O("tol_complementarity", "float", c["tol_complementarity"], "Stop: max |lambda g| / (p_max h).",
+              low=0, low_open=True),
+            O("tol_multiplier", "float", c["tol_multiplier"], "Stop: max multiplier change / p_max.",
+              low=0, low_open=True),
+            O("maxiter", "int", c["maxiter"], "Outer (multiplier) iterations (per load step).", low=1),
+            O("newton_tol", "float", c["newton_tol"], "Frictionless: relative residual of each Newton solve.",
+              low=0, low_open=True),
+            O("maxiter_newton", "int", c["maxiter_newton"], "Frictionless: Newton iterations per subproblem.",
+              low=1),
+            O("strategy", "str", c["strategy"], "Frictionless penalty update: `fixed` or `infeasibility`.",
+              choices=("fixed", "infeasibility")),
+            O("tau", "float", c["tau"], "`infeasibility`: required drop of the penetration per iteration.",
+              low=0, high=1, low_open=True, high_open=True),
+            O("alpha", "float", c["alpha"], "Penalty growth factor (`infeasibility`, pure penalty).",
+              low=1, low_open=True),
+            O("eps_max", "float", c["eps_max"], "Largest penalty stiffness over the initial one.", low=1),
+            O("eta_scaling", "str", c["eta_scaling"], "Scale of family-P penalties: `adaptive` or `fixed`.",
+              choices=("adaptive", "fixed")),
+            O("initial", "str", c["initial"], "Frictionless family-P initial multipliers: `penalty` or `uniform`.",
+              choices=("penalty", "uniform")),
+            O("multiplier_floor", "float", c["multiplier_floor"], "Relative floor keeping MET multipliers positive.",
+              low=0, high=1, low_open=True, high_open=True),
+        )),
+        Table("solver.friction", "Options of the frictional solver (used when `contact.friction > 0`).", (
+            O("eps_t", "float", None, "Tangential penalty stiffness (default: `tangential_scale` eps_n).",
+              low=0, low_open=True),
+            O("tangential_scale", "float", f["tangential_scale"], "eps_t / eps_n.", low=0, low_open=True),
+            O("tol_slip", "float", f["tol_slip"], "Stop: max slip change at stick points / h.", low=0, low_open=True),
+            O("newton_tol", "float", f["newton_tol"], "Relative residual of each Newton solve.",
+              low=0, low_open=True),
+            O("maxiter_newton", "int", f["maxiter_newton"], "Newton iterations per subproblem.", low=1),
+            O("max_cutbacks", "int", f["max_cutbacks"], "Failed attempts per load step before giving up.", low=0),
+            O("cutback_factor", "float", f["cutback_factor"], "Fraction of a failed increment tried next.",
+              low=0, high=1, low_open=True, high_open=True),
+            O("eta_floor", "float", f["eta_floor"], "Family-P: relative floor of the multiplier in eta.",
+              low=0, high=1, low_open=True),
+            O("margin", "float", f["margin"], "Candidate points: free gap above -margin x max penetration.",
+              low=0),
+            O("radius", "str", f["radius"], "Coulomb disc in a subproblem: `multiplier` or `traction`.",
+              choices=("multiplier", "traction")),
+        )),
+        Table("reference", "Analytical reference drawn in the plots and compared in the summary.", (
+            O("kind", "str", "none", "`none`, `hertz` (cylinder in 2D, sphere in 3D) or `cattaneo-mindlin` "
+              "(2D, friction).", choices=("none", "hertz", "cattaneo-mindlin")),
+            O("radius", "float", None, "Radius R of the indenter (hertz, cattaneo-mindlin).",
+              low=0, low_open=True),
+            O("symmetry", "float", 1.0, "Total load / model load: 2 for a half model, 4 for a quarter model.",
+              low=0, low_open=True),
+            O("center", "floats", None, "First contact point (default: the origin); contact widths are "
+              "measured from it.", lengths=(2, 3)),
+            O("axis", "int", 0, "Coordinate along which the contact width is measured.", low=0, high=2),
+        )),
+        Table("output", "What to write into the results folder.", (
+            O("folder", "str", "results", "Results folder when `--out` is not given (relative to the current "
+              "directory)."),
+            O("vtu", "bool", True, "solution.vtu: displacement, stress, contact pressure, gap (+ slip, state)."),
+            O("series", "bool", True, "Load-stepped runs: one VTU per step and solution.pvd (ParaView time "
+              "series)."),
+            O("csv", "bool", True, "history.csv (iterations) and steps.csv (load steps)."),
+            O("plots", "bool", True, "pressure.png, convergence.png and load_displacement.png (stepped runs)."),
+            O("report", "bool", True, "report.md: a one-page summary tying the files together."),
+        )),
+    )
+
+
+_SCHEMA: tuple[Table, ...] | None = None
+
+
+def schema() -> tuple[Table, ...]:
+    """The tables of a problem file (built on first use: it reads the solver registries)."""
+    global _SCHEMA
+    if _SCHEMA is None:
+        _SCHEMA = _build_schema()
+    return _SCHEMA
+
+
+def __getattr__(name: str):  # SCHEMA is built lazily (module attribute access)
+    if name == "SCHEMA":
+        return schema()
+    raise AttributeError(name)
+
+
+def table(path: str) -> Table:
+    """The table at ``path`` (e.g. ``"solver.friction"``); ``KeyError`` if unknown."""
+    for t in schema():
+        if t.path == path:
+            return t
+    raise KeyError(path)
+
+
+def option(dotted: str) -> Option:
+    """The option at ``"table.key"`` (e.g. ``"solver.penalty_scale"``)."""
+    path, _, name = dotted.rpartition(".")
+    opt = table(path).get(name)
+    if opt is None:
+        raise KeyError(dotted)
+    return opt
+
+
+def _default_text(o: Option) -> str:
+    if o.required:
+        return "**required**"
+    if o.default is None:
+        return "automatic"
+    if isinstance(o.default, bool):
+        return f"`{str(o.default).lower()}`"
+    if isinstance(o.default, str):
+        return f'`"{o.default}"`'
+    return f"`{o.default!r}`"
+
+
+_EXAMPLE = """\
+[problem]
+name = "hertz-2d"
+
+[mesh]
+generator = "rectangle"
+bounds = [0.0, 20.0, -20.0, 0.0]      # half model x >= 0
+cells = [8, 8]
+refine = { center = [0.0, 0.0], h_min = 0.0625, width = 1.6, depth = 1.0, growth = 1.15 }
+
+[material]
+E = 200e3
+nu = 0.3
+
+[[support]]
+boundary = "bottom"                    # all components fixed
+
+[[support]]
+boundary = "left"                      # symmetry: u_x = 0
+components = [0]
+
+[obstacle]
+type = "circle"
+center = [0.0, 9.9]
+radius = 10.0
+
+[contact]
+boundary = "top"
+
+[solver]
+algorithm = "simo-laursen"
+
+[reference]
+kind = "hertz"
+radius = 10.0
+symmetry = 2.0
+"""
+
+
+def render_markdown() -> str:
+    """``docs/problem-file.md``: every table and option of the schema."""
+    lines = [
+        "# Problem files",
+        "",
+        "<!-- generated by `python -m alcontact.io.schema` (or `alcontact docs`) from",
+        "     src/alcontact/io/schema.py; do not edit by hand -->",
+        "",
+        "A problem file is TOML. Run it with `alcontact run PROBLEM.toml --out DIR`; check it without",
+        "solving with `alcontact check PROBLEM.toml`. Unknown keys, wrong types, values out of range,",
+        "boundary names the mesh does not have and unreadable meshes are all reported together, each",
+        "with its key path (e.g. `solver.penalty_scale`), before anything is solved. Examples are in",
+        "`examples/`.",
+        "",
+        "```toml",
+        _EXAMPLE.rstrip(),
+        "```",
+        "",
+        "Load steps: supports and loads without a `ramp` act at full value at every step; those with a",
+        "`ramp = [[t0, f0], [t1, f1], ...]` are scaled by the piecewise-linear factor at each step time",
+        "(`[loading]`). Frictionless problems are solved independently at each step (they are path",
+        "independent); with `contact.friction > 0` the frictional solver follows the steps in order.",
+        "",
+        "Materials: one `[material]` for the whole body. `[[material.region]]` entries are validated",
+        "(the region must exist in the mesh) but a region whose constants differ from `[material]` is",
+        "rejected with an error: the FEM layer uses one material per body for now.",
+        "",
+        "TOML holds data and registry names only (no code): the `user` obstacle cannot be used from a file.",
+        "",
+    ]
+    for t in schema():
+        head = f"[[{t.path}]]" if t.array else f"[{t.path}]"
+        flags = []
+        if t.required:
+            flags.append("required")
+        if t.array:
+            flags.append("repeatable")
+        lines += [f"## `{head}`" + (f" ({', '.join(flags)})" if flags else ""), "", t.doc, ""]
+        lines += ["| key | type | default | allowed | description |", "|---|---|---|---|---|"]
+        for o in t.options:
+            lines.append(f"| `{o.name}` | {o.type} | {_default_text(o)} | {o.range_text()} | {o.doc} |")
+        lines.append("")
+    return "\n".join(lines)
+
+
+def _repo_root() -> Path:
+    return Path(__file__).resolve().parents[3]
+
+
+#: Where the generated documentation lives in the repository.
+DOCS_PATH = Path("docs") / "problem-file.md"
+
+
+def write_markdown(path: str | Path | None = None) -> Path:
+    """Write :func:`render_markdown` to ``path`` (default ``<repository>/docs/problem-file.md``)."""
+    from .results import write_text_atomic
+
+    target = Path(path) if path is not None else _repo_root() / DOCS_PATH
+    target.parent.mkdir(parents=True, exist_ok=True)
+    return write_text_atomic(target, render_markdown())
+
+
+if __name__ == "__main__":  # pragma: no cover - exercised through `alcontact docs`
+    out = write_markdown(sys.argv[1] if len(sys.argv) > 1 else None)
+    print(f"wrote {out}")

@@ -1,0 +1,91 @@
+"""Every problem file of examples/ loads, solves on its (coarse) mesh and gives the expected key numbers.
+
+Tolerances are stated per example; the meshes are the files' own (coarse, a few seconds each).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from alcontact.io.config import load_problem
+from alcontact.runner import run_setup
+
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
+NAMES = ["hertz_2d", "hertz_3d", "flat_punch", "signorini_liftoff", "sliding_block", "cattaneo_mindlin"]
+
+
+def _run(name):
+    setup = load_problem(EXAMPLES / f"{name}.toml")
+    res = run_setup(setup)
+    assert res.summary["status"] == "converged", res.summary["message"]
+    return setup, res
+
+
+def test_all_examples_are_tested():
+    assert sorted(p.stem for p in EXAMPLES.glob("*.toml")) == sorted(NAMES)
+
+
+@pytest.mark.parametrize("name", ["hertz_2d", "hertz_3d"])
+def test_hertz_width_and_peak_pressure_within_5_percent(name):
+    _, res = _run(name)
+    s = res.summary
+    assert s["contact_half_width"] == pytest.approx(s["contact_half_width_exact"], rel=0.05)
+    assert s["peak_pressure"] == pytest.approx(s["peak_pressure_exact"], rel=0.05)
+
+
+def test_flat_punch_equilibrium_and_linear_load_curve():
+    setup, res = _run("flat_punch")
+    model = setup.problem.model
+    assert len(res.frames) == 4
+    final = res.frames[-1]
+    # reaction of the pushed bottom (y components) balances the contact force: K u = f_contact + reactions
+    _, dofs = model.node_dofs("bottom")
+    reaction_y = float(np.sum((model.stiffness() @ final.u)[dofs[:, 1]]))
+    force_y = float(final.total_contact_force[1])
+    assert force_y < 0  # the punch pushes the body down
+    assert reaction_y == pytest.approx(-force_y, rel=1e-6)
+    # the contact zone is the punch face: the force grows linearly with the prescribed displacement
+    n = np.array([f.normal_force for f in res.frames])
+    t = np.array([f.extra["t"] for f in res.frames])
+    assert n / t == pytest.approx(np.full(4, n[-1] / t[-1]), rel=1e-3)
+    # the punch edge x = 1 bounds the contact zone
+    pts = final.points[final.active]
+    assert pts[:, 0].max() <= 1.0 + 1e-9 and pts[:, 0].min() == pytest.approx(0.0)
+
+
+def test_signorini_partial_contact_near_the_free_end():
+    setup, res = _run("signorini_liftoff")
+    sol = res.frames[-1]
+    x = sol.points[:, 0]
+    active = sol.active
+    assert 0 < active.sum() < active.size  # partial contact: lift-off near the clamp
+    assert active[np.argmax(x)]  # the free end touches
+    assert not np.any(active & (x < 1.0))  # no contact next to the clamp
+    x_first = x[active].min()
+    assert np.all(active[x > x_first + 1e-9])  # one contact zone reaching the free end
+    assert sol.normal_force > 0
+
+
+def test_sliding_block_tangential_reaction_is_mu_times_normal():
+    setup, res = _run("sliding_block")
+    s = res.summary
+    assert s["slip_points"] == res.frames[-1].points.shape[0] and s["stick_points"] == 0
+    assert s["tangential_force"] == pytest.approx(0.3 * s["model_contact_force"], rel=1e-6)
+    # before shearing (t = 0.5) there is no tangential force
+    half = next(f for f in res.frames if abs(f.extra["t"] - 0.5) < 1e-12)
+    assert np.linalg.norm(half.extra["tangential_force"]) <= 1e-8 * half.normal_force
+
+
+def test_cattaneo_mindlin_partial_slip():
+    """Coarse mesh (8 elements per a), circular obstacle: a within 5 %, p0 within 7 %, c within 25 %."""
+    setup, res = _run("cattaneo_mindlin")
+    s = res.summary
+    assert s["contact_half_width"] == pytest.approx(s["contact_half_width_exact"], rel=0.05)
+    assert s["peak_pressure"] == pytest.approx(s["peak_pressure_exact"], rel=0.07)
+    ratio = s["tangential_force"] / s["coulomb_limit"]
+    assert 0.3 < ratio < 0.8  # partial slip: Q < mu P
+    assert s["stick_points"] > 0 and s["slip_points"] > 0
+    assert s["stick_half_width"] == pytest.approx(s["stick_half_width_exact"], rel=0.25)
