@@ -398,7 +398,7 @@ def list_components() -> dict[str, dict[str, str]]:
 
     usable = set(contact_penalties())
     pens = {name: (f"[contact] {doc}" if name in usable else doc) for name, doc in penalties.describe().items()}
-    from .contact._friction import friction_algorithm_docs
+    from .contact import friction_algorithm_docs
     from .io.schema import _repo_root
 
     examples = {}
@@ -638,17 +638,17 @@ def run_setup(setup, out: str | os.PathLike | None = None, force: bool = False, 
     name = setup.name
     t0 = time.perf_counter()
     if setup.friction > 0:
-        from .contact._friction import solve_friction
+        from .contact import solve_friction
 
         report(f"solving {name}: {prob.model.ndofs} DOFs, {n} load steps, friction ({setup.algorithm})")
-        history = _reporting_history(setup.history, on_step)
-        raw = solve_friction(prob, history, algorithm=setup.algorithm, penalty=setup.penalty,
-                             **setup.friction_options)
+        step_cb = None if on_step is None else (lambda k, t, n_steps: on_step(k, n_steps, t))
+        raw = solve_friction(prob, setup.history, algorithm=setup.algorithm, penalty=setup.penalty,
+                             on_step=step_cb, **setup.friction_options)
         frames = _friction_frames(raw)
         if on_step is not None:
             on_step(n, n, times[-1])
     else:
-        from .contact._loading import problem_at
+        from .contact import problem_at
 
         raw = []
         for k, t in enumerate(times):
@@ -708,30 +708,6 @@ def run_setup(setup, out: str | os.PathLike | None = None, force: bool = False, 
         folder = prepare_output_dir(out, force)
         files = write_setup_results(folder, setup, frames, summary)
     return RunOutput(frames=frames, raw=raw, summary=summary, files=files)
-
-
-def _reporting_history(history, on_step):
-    """The load history, reporting the start of each step to ``on_step``.
-
-    Stopgap until ``solve_friction`` takes a step callback: the solver asks the
-    history for the friction factor at the start of every step attempt, which
-    tells which step is being solved.
-    """
-    if on_step is None:
-        return history
-    from .contact._loading import LoadHistory
-
-    times = history.times
-    n = len(times)
-
-    @dataclass(frozen=True)
-    class _Reporting(LoadHistory):
-        def friction_factor(self, t: float) -> float:
-            done = int(np.searchsorted(np.asarray(times), float(t) - 1e-12 * max(1.0, abs(times[-1]))))
-            on_step(min(done, n), n, float(t))
-            return LoadHistory.friction_factor(self, t)
-
-    return _Reporting(history.cases, history.times, history.friction)
 
 
 def write_setup_results(folder: Path, setup, frames, summary: dict) -> list[str]:

@@ -509,7 +509,7 @@ def _advance(fc: FrictionalContact, prev: _State, t: float, step_fn, pen_name, e
 
 def solve_friction(problem, history: LoadHistory, algorithm: str = "simo-laursen", penalty: str | None = None,
                    options: FrictionOptions | None = None, *, steps=None, friction: float | None = None,
-                   **option_overrides) -> FrictionSolution:
+                   on_step=None, **option_overrides) -> FrictionSolution:
     r"""Quasi-static frictional contact over a load history.
 
     Parameters
@@ -528,6 +528,9 @@ def solve_friction(problem, history: LoadHistory, algorithm: str = "simo-laursen
         Overrides ``history.times`` (an int: that many equal steps).
     friction : float, optional
         Overrides ``problem.friction``.
+    on_step : callable, optional
+        ``on_step(k, t, n)`` is called before requested step ``k`` (0-based) of ``n``,
+        at pseudo-time ``t`` (for progress bars).
     **option_overrides
         Fields of :class:`FrictionOptions`.
 
@@ -580,7 +583,9 @@ def solve_friction(problem, history: LoadHistory, algorithm: str = "simo-laursen
     status, message = ContactStatus.CONVERGED, "converged"
     n_outer = n_newton = n_cut = 0
     t_solve = time.perf_counter()
-    for t_req in history.times:
+    for k_req, t_req in enumerate(history.times):
+        if on_step is not None:
+            on_step(k_req, float(t_req), len(history.times))
         queue = [t_req]
         cuts = 0
         while queue:

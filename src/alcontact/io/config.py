@@ -411,7 +411,7 @@ def _boundary(mesh, name: str, path: str, issues: list[Issue]) -> bool:
 
 
 def _ramp(knots):
-    from ..contact._loading import Ramp
+    from ..contact import Ramp
 
     return Ramp(tuple(k[0] for k in knots), tuple(k[1] for k in knots), hold_before=True, hold_after=True)
 
@@ -528,8 +528,8 @@ def _ok(d) -> bool:
 
 def _build(data: dict, base: Path, issues: list[Issue], source) -> ProblemSetup | None:  # noqa: C901
     from ..contact import ContactOptions, ContactProblem, Pressure, Traction, BodyForce, Support
-    from ..contact._friction import FrictionOptions, friction_algorithms
-    from ..contact._loading import LoadCase, LoadHistory
+    from ..contact import FrictionOptions, friction_algorithms
+    from ..contact import LoadCase, LoadHistory
     from ..fem import LinearElasticity, Material
 
     # ---- mesh

@@ -141,7 +141,7 @@ def _contact_defaults() -> dict[str, Any]:
 
 
 def _friction_defaults() -> dict[str, Any]:
-    from ..contact._friction import FrictionOptions
+    from ..contact import FrictionOptions
 
     return {f.name: f.default for f in dataclasses.fields(FrictionOptions)}
 
