@@ -306,12 +306,17 @@ def test_barrier_start_outside_domain():
 
 
 def test_modified_barrier_user_eta0_outside_domain():
-    # g(x0) = 4; log-met1 needs g/eta < 1
+    # g(x0) = 4; the pure log-met1 needs g/eta < 1
     with pytest.raises(errors.DomainError, match="eta0 > 4"):
         minimize(sq, [1.0, 2.0], constraints=HALFPLANE, penalty="log-met1",
-                 options={"eta0": 1.0})
+                 options={"eta0": 1.0, "extrapolate": False})
     # automatic eta0 puts x0 inside the domain
-    res = minimize(sq, [1.0, 2.0], constraints=HALFPLANE, penalty="log-met1")
+    res = minimize(sq, [1.0, 2.0], constraints=HALFPLANE, penalty="log-met1",
+                   options={"extrapolate": False})
+    assert res.success
+    # with the quadratic extrapolation (default) the subproblem is defined everywhere
+    res = minimize(sq, [1.0, 2.0], constraints=HALFPLANE, penalty="log-met1",
+                   options={"eta0": 1.0})
     assert res.success
 
 

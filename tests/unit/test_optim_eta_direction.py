@@ -3,6 +3,8 @@
 eta divides g in (5.28), so growing it weakens the penalty. Measured here on a
 small QP (multiplier 3, mu0 = 1): tightening (eta <- eta/2) converges in a few outer iterations for every
 AL penalty; the printed weakening (eta <- 2 eta) does not converge within 200.
+The Newton-KKT polish is switched off: it would finish either run once the active
+set is known, and the question is about the AL iteration itself.
 """
 
 import logging
@@ -23,7 +25,7 @@ def _run(penalty, factor):
         return minimize(lambda x: x @ x, [1.0, 2.0], jac=lambda x: 2 * x,
                         hess=lambda x: 2 * np.eye(2), constraints=CON, penalty=penalty,
                         options={"strategy": "always", "strategy_options": {"factor": factor},
-                                 "maxiter": 200})
+                                 "maxiter": 200, "polish": False, "stall_iter": 200})
     finally:
         logging.getLogger("alcontact.optim").disabled = False
 

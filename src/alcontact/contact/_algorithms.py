@@ -191,6 +191,7 @@ def run_penalty(dc, opts, eps0, penalty_name=None, warm=None) -> _Run:
         lam = out.t
         pen, compl, dlam = _measures(dc, lam, out.g, lam_old)
         hist.append(ContactIteration(k, pen, compl, dlam, out.residual, out.iterations, eps, int(np.sum(lam > 0))))
+        logger.info("penalty iteration %d: eps_N %.3e, penetration %.2e h", k, eps, pen)
         if not out.converged:
             return _Run(r, lam, out.g, ContactStatus.NEWTON_FAILED,
                         f"Newton failed in penalty iteration {k}: {out.reason}", k, newton, eps, out.residual, hist)
@@ -274,6 +275,8 @@ def run_al(dc, opts, eps0, penalty_name="rockafellar", warm=None) -> _Run:
         hist.append(ContactIteration(outer0 + k, pen_k, compl, dlam, out.residual, out.iterations, eps,
                                      int(np.sum(out.g > -opts.tol_penetration * dc.h))))
         lam = lam_new
+        logger.info("outer %d: penetration %.2e h, complementarity %.2e, multiplier change %.2e, %d Newton",
+                    outer0 + k, pen_k, compl, dlam, out.iterations)
         if _converged(opts, pen_k, compl, dlam):
             return _Run(r, out.t, out.g, ContactStatus.CONVERGED, "converged", outer0 + k, newton, eps,
                         out.residual, hist)
@@ -318,6 +321,7 @@ def run_ssn(dc, opts, eps0, penalty_name=None, warm=None) -> _Run:
         new_active = (lam_new + c * g) > 0
         pen, compl, dlam = _measures(dc, lam_new, g, lam)
         hist.append(ContactIteration(k, pen, compl, dlam, 0.0, 1, c, int(A.size)))
+        logger.info("active-set iteration %d: %d active, penetration %.2e h", k, A.size, pen)
         lam = lam_new
         if np.array_equal(new_active, active):
             if np.all(lam >= -1e-12 * max(lam.max(initial=0), 1e-300)) and pen <= max(opts.tol_penetration, 1e-12):

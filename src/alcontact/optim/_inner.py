@@ -185,7 +185,201 @@ class Newton:
         return InnerResult(x, fx, maxiter, "maxiter", measure)  # pragma: no cover
 
 
-_REGISTRY = {"newton": Newton}
+def _tr_step(lam, Q, g, radius):
+    """Exact trust-region step from ``H = Q diag(lam) Q^T`` (Nocedal & Wright, Alg. 4.3).
+
+    Solves :math:`\\min_p g^Tp + \\tfrac12 p^THp` s.t. :math:`\\|p\\|_2 \\le \\Delta`
+    through the secular equation :math:`1/\\|p(\\sigma)\\| = 1/\\Delta` with
+    :math:`p(\\sigma) = -(H + \\sigma I)^{-1} g`, including the hard case (``g``
+    orthogonal to the eigenvectors of the smallest eigenvalue), where the step
+    follows the direction of most negative curvature to the boundary.
+    """
+    gt = Q.T @ g
+    lmin = float(lam[0])
+    hscale = max(1.0, float(np.max(np.abs(lam))))
+    if lmin > 1e-14 * hscale:
+        p = -(gt / lam)
+        if np.linalg.norm(p) <= radius:
+            return Q @ p
+    lo = max(0.0, -lmin)
+    tiny = 1e-12 * hscale
+    near = np.abs(lam - lmin) <= tiny
+    rest = ~near
+    gnorm = float(np.linalg.norm(gt))
+
+    def pnorm(sig):
+        return float(np.sqrt(np.sum((gt / (lam + sig)) ** 2)))
+
+    if lmin <= tiny and np.linalg.norm(gt[near]) <= 1e-10 * max(gnorm, _EPS):
+        # hard case candidate: sigma = -lmin; does the regular part fit inside?
+        pr = np.zeros_like(gt)
+        pr[rest] = -gt[rest] / (lam[rest] + lo)
+        pn = float(np.linalg.norm(pr))
+        if pn <= radius:
+            tau = math.sqrt(max(radius * radius - pn * pn, 0.0))
+            z = np.zeros_like(gt)
+            z[int(np.flatnonzero(near)[0])] = 1.0
+            p = Q @ (pr + tau * z)
+            if g @ p > 0:  # same model value either way; prefer descent
+                p = Q @ (pr - tau * z)
+            return p
+    # regular case: Newton on phi(s) = 1/|p(s)| - 1/radius from the left (monotone)
+    sig = lo + max(tiny, 1e-12 * lo)
+    if gnorm == 0.0:
+        return np.zeros_like(g)
+    hi = gnorm / radius + lo
+    for _ in range(100):
+        w = gt / (lam + sig)
+        pn = float(np.sqrt(np.sum(w * w)))
+        if abs(pn - radius) <= 1e-6 * radius:
+            break
+        if pn < radius:
+            hi = min(hi, sig)
+        dphi = float(np.sum(w * w / (lam + sig))) / pn ** 3
+        step = (1.0 / pn - 1.0 / radius) / dphi if dphi > 0 else math.inf
+        new = sig - step
+        if not (lo < new < hi) or not math.isfinite(new):
+            new = 0.5 * (max(sig, lo) + hi) if pn > radius else 0.5 * (lo + sig)
+        sig = new
+    return -(Q @ (gt / (lam + sig)))
+
+
+class TrustRegion:
+    """Newton trust-region method with the exact subproblem solve for dense Hessians.
+
+    Each step minimises the quadratic model :math:`g^Tp + \\tfrac12 p^T H p` in the
+    ball :math:`\\|p\\|_2 \\le \\Delta` from the eigendecomposition of ``H``
+    (Moré & Sorensen; Nocedal & Wright, sec. 4.3), so indefinite Hessians give steps
+    along negative curvature, and the radius controls the step length where the
+    model is poor (no jumps into far, flat regions). The radius follows the ratio
+    :math:`\\rho` of actual to predicted decrease (shrink to ``|p|/4`` when
+    :math:`\\rho < 1/4`, double when :math:`\\rho > 3/4` on the boundary); a step is
+    accepted when :math:`\\rho > \\eta_1`.
+
+    Second-order stop: a point with a small gradient is a solution only if the
+    smallest eigenvalue of ``H`` is ``>= -neg_tol * max(1, max|eig|)``; otherwise the
+    solver steps along the eigenvector of that eigenvalue (escaping saddle points
+    such as the symmetric one of HS33, where the gradient component is exactly 0).
+
+    Sparse Hessians, or ``n > max_dense``, are handled by :class:`Newton`
+    (line search, Hessian shifts).
+
+    Parameters
+    ----------
+    eta1 : float
+        Acceptance threshold on the ratio, in (0, 1/4).
+    neg_tol : float
+        Relative tolerance on negative eigenvalues at a stationary point.
+    max_dense : int
+        Largest ``n`` for the dense eigendecomposition.
+    max_rejections : int
+        Bound on consecutive radius reductions per iteration.
+    """
+
+    name = "trust-region"
+
+    def __init__(self, eta1: float = 1e-4, neg_tol: float = 1e-6, max_dense: int = 400,
+                 max_rejections: int = 60):
+        if not 0 < eta1 < 0.25:
+            raise InputError(f"inner solver 'trust-region': eta1 = {eta1!r} must lie in "
+                             "(0, 0.25)")
+        self.eta1, self.neg_tol = float(eta1), float(neg_tol)
+        self.max_dense, self.max_rejections = int(max_dense), int(max_rejections)
+        self._fallback = Newton()
+
+    def solve(self, sub, x, tol, maxiter) -> InnerResult:
+        """Minimize ``sub`` from ``x`` until the scaled gradient norm is <= ``tol``
+        and the Hessian has no significantly negative eigenvalue."""
+        x = np.array(x, dtype=float)
+        it = 0
+        radius = None
+        try:
+            fx = sub.value(x)
+            if not math.isfinite(fx):
+                return InnerResult(x, fx, 0, "nonfinite", math.inf, sub.last_nonfinite)
+            measure = math.inf
+            for it in range(maxiter + 1):
+                g, scale = sub.gradient(x)
+                measure = _norm_inf(g) / scale
+                small = measure <= tol
+                if small and x.size > self.max_dense:
+                    return InnerResult(x, fx, it, "converged", measure)
+                if it == maxiter and not small:
+                    return InnerResult(x, fx, it, "maxiter", measure)
+                H = sub.hessian(x)
+                if sp.issparse(H) or x.size > self.max_dense:
+                    return self._continue_newton(sub, x, tol, maxiter, it)
+                lam, Q = np.linalg.eigh(0.5 * (H + H.T))
+                hmax = max(1.0, float(np.max(np.abs(lam))))
+                negative = lam[0] < -self.neg_tol * hmax
+                if small and not negative:
+                    return InnerResult(x, fx, it, "converged", measure)
+                if it == maxiter:
+                    return InnerResult(x, fx, it, "maxiter", measure)
+                if radius is None:
+                    radius = self._initial_radius(lam, Q, g, x)
+                if small:
+                    # saddle: step along the most negative curvature direction
+                    q = Q[:, 0]
+                    d = -q if g @ q > 0 else q
+                    steps = (lambda r, d=d: r * d)
+                else:
+                    steps = (lambda r: _tr_step(lam, Q, g, r))
+                accepted = False
+                sub.last_nonfinite = None
+                for _ in range(self.max_rejections):
+                    p = steps(radius)
+                    bound = sub.max_step(x, p)
+                    if bound < 1.0:
+                        p = bound * p
+                    pnorm = float(np.linalg.norm(p))
+                    pred = float(g @ p + 0.5 * p @ (H @ p))
+                    if not pred < 0 or pnorm <= 4 * _EPS * max(1.0, float(np.linalg.norm(x))):
+                        break
+                    xt = x + p
+                    ft = sub.value(xt)
+                    rho = (ft - fx) / pred if math.isfinite(ft) else -math.inf
+                    if rho < 0.25:
+                        radius = 0.25 * pnorm
+                    elif rho > 0.75 and pnorm >= 0.99 * radius:
+                        radius = 2.0 * radius
+                    if rho > self.eta1:
+                        accepted = True
+                        break
+                    if math.isfinite(ft) and abs(ft - fx) <= 100 * _EPS * max(1.0, abs(fx)):
+                        gt, _ = sub.gradient(xt)
+                        if _norm_inf(gt) < _norm_inf(g):
+                            accepted = True
+                            break
+                if not accepted:
+                    if small:  # negative curvature below roundoff: a second-order point
+                        return InnerResult(x, fx, it, "converged", measure)
+                    status = "small-step" if math.isfinite(fx) else "line-search"
+                    if sub.last_nonfinite is not None or pnorm > 1e-8 * max(
+                            1.0, float(np.linalg.norm(x))):
+                        status = "line-search"
+                    return InnerResult(x, fx, it, status, measure, sub.last_nonfinite)
+                x, fx = xt, ft
+                if fx < sub.unbounded_below:
+                    return InnerResult(x, fx, it + 1, "unbounded", measure)
+        except NonFiniteValue as exc:
+            return InnerResult(x, math.nan, it, "nonfinite", math.inf, exc.callback)
+        return InnerResult(x, fx, maxiter, "maxiter", measure)  # pragma: no cover
+
+    @staticmethod
+    def _initial_radius(lam, Q, g, x):
+        """The Newton step length if ``H`` is positive definite, else ``max(1, |x|)``."""
+        if lam[0] > 0:
+            return max(float(np.linalg.norm((Q.T @ g) / lam)), 1e-8)
+        return max(1.0, float(np.linalg.norm(x)))
+
+    def _continue_newton(self, sub, x, tol, maxiter, it):
+        res = self._fallback.solve(sub, x, tol, max(maxiter - it, 1))
+        return InnerResult(res.x, res.value, res.nit + it, res.status, res.measure,
+                           res.nonfinite)
+
+
+_REGISTRY = {"newton": Newton, "trust-region": TrustRegion}
 
 
 def available_inner_solvers() -> list[str]:

@@ -14,6 +14,7 @@ from ._inner import make_inner
 from ._outer import METHODS, initial_eta, run_outer
 from ._problem import NLP, NonFiniteValue
 from ._result import ALResult, Status
+from ._safeguards import safeguard_penalty
 from ._strategies import make_strategy
 
 __all__ = ["minimize", "available_methods", "Options"]
@@ -30,7 +31,7 @@ class Options:
     maxiter : int
         Outer iterations (subproblems), default 100.
     maxiter_inner : int
-        Newton iterations per subproblem, default 100.
+        Newton iterations per subproblem, default 50.
     gtol : float
         Tolerance on the scaled stationarity (C1); alias ``tol``. Default 1e-8.
     feas_tol : float
@@ -65,10 +66,47 @@ class Options:
         Bounds of the penalty parameter, default 1e-12 and 1e12.
     unbounded_below : float
         A subproblem value below this declares the problem unbounded, default -1e20.
+    polish : bool
+        Method ``"al"``: once the active-set estimate ``{i: mu_i > -g_i}`` repeats
+        in two consecutive outer iterations, try a few Newton iterations on the KKT
+        system of ``f`` and the active constraints; the polished point is accepted
+        only if it meets every KKT tolerance (and second-order necessary conditions
+        for dense problems). Default True; False gives the pure AL iteration.
+    polish_maxiter : int
+        Newton-KKT iterations per polish attempt, default 8.
+    extrapolate : bool
+        Method ``"al"``: replace a MET penalty's generator beyond ``y = b/2`` (bounded
+        domain, e.g. the modified log barrier: Ben-Tal & Zibulevsky's quadratic
+        extrapolation) or beyond ``y = exp_cap`` (exponential) by its second-order
+        Taylor polynomial, so that the subproblem is defined everywhere and does not
+        overflow. Default True; False keeps the pure penalties (domain checks and
+        fraction-to-boundary steps apply).
+    exp_cap : float
+        Extrapolation point of fast-growing unbounded generators, default 20.
+    stall_iter : int
+        Stop (status ``MAXITER``, message "no progress") when the KKT error
+        ``max(stationarity, feasibility, complementarity)`` has not halved in this
+        many outer iterations, default 20.
+    project_x0 : bool
+        Move ``x0`` into the variable bounds first (as SciPy does); the message says
+        so (not for method ``"barrier"``). Default False: measured on the
+        Hock-Schittkowski set, clipping sends HS16 to a non-global KKT point (as it
+        does SciPy's SLSQP), while the penalised bounds from the given ``x0`` do not.
+    scale_eta0 : bool
+        Automatic ``eta0`` from ALGENCAN's rule applied to the problem scaled by
+        ``1/max(1, |grad f(x0)|)`` and ``1/max(1, |grad c_i(x0)|)`` (one value per
+        constraint); False: the unscaled rule with one value. Default True.
+    scale : bool
+        Method ``"al"``: solve the problem scaled as ALGENCAN does, ``f`` by
+        ``1/max(1, |grad f(x0)|_inf)`` and each constraint by
+        ``1/max(1, |grad c_i(x0)|_inf)`` (bounds keep scale 1). The KKT tests and
+        every reported quantity (``fun``, multipliers, constraint values,
+        stationarity, feasibility, complementarity, history) are in the user's
+        units; only ``eta`` belongs to the scaled problem. Default True.
     """
 
     maxiter: int = 100
-    maxiter_inner: int = 100
+    maxiter_inner: int = 50
     gtol: float = 1e-8
     feas_tol: float = 1e-8
     ctol: float = 1e-8
@@ -86,6 +124,14 @@ class Options:
     eta_min: float = 1e-12
     eta_max: float = 1e12
     unbounded_below: float = -1e20
+    polish: bool = True
+    polish_maxiter: int = 8
+    extrapolate: bool = True
+    exp_cap: float = 20.0
+    stall_iter: int = 20
+    project_x0: bool = False
+    scale_eta0: bool = True
+    scale: bool = True
 
     _ALIASES = {"tol": "gtol", "ftol": "feas_tol"}
 
@@ -105,11 +151,12 @@ class Options:
                 raise UnknownNameError("option", key, known + list(cls._ALIASES))
             kw[name] = value
         o = cls(**kw)
-        for name in ("maxiter", "maxiter_inner"):
+        for name in ("maxiter", "maxiter_inner", "polish_maxiter", "stall_iter"):
             v = getattr(o, name)
             if not isinstance(v, (int, np.integer)) or isinstance(v, bool) or v < 1:
                 raise InputError(f"options[{name!r}] = {v!r} must be a positive integer")
-        for name in ("gtol", "feas_tol", "ctol", "inner_tol0", "mu_max", "eta_min", "eta_max"):
+        for name in ("gtol", "feas_tol", "ctol", "inner_tol0", "mu_max", "eta_min", "eta_max",
+                     "exp_cap"):
             v = getattr(o, name)
             if not (isinstance(v, (int, float, np.floating)) and v > 0 and math.isfinite(v)):
                 raise InputError(f"options[{name!r}] = {v!r} must be a positive finite number")
@@ -264,6 +311,9 @@ def minimize(fun, x0, *, jac=None, hess=None, constraints=(), bounds=None, metho
 
     try:
         nlp = NLP(fun, x0, jac=jac, hess=hess, constraints=constraints, bounds=bounds)
+        projected = opts.project_x0 and spec.scaled and nlp.project_into_bounds()
+        if opts.scale and spec.autoscale:
+            nlp.set_scaling()
         f0 = nlp.f(nlp.x0)
         g0, h0 = nlp.constraints(nlp.x0)
     except NonFiniteValue as exc:
@@ -276,6 +326,8 @@ def minimize(fun, x0, *, jac=None, hess=None, constraints=(), bounds=None, metho
         raise InputError(f"method {method!r} handles inequality constraints only but the "
                          f"problem has {nlp.p} equalities; use method='al'")
     pen = _penalties.make(pen_name, **(opts.penalty_options or {}))
+    if spec.safeguards and spec.update_multipliers:
+        pen = safeguard_penalty(pen, extrapolate=opts.extrapolate, cap=opts.exp_cap)
     hp = _penalties.make("hestenes-powell")
     mu = _vector(opts.mu0, nlp.m, "mu0")
     lam = _vector(opts.lam0, nlp.p, "lam0")
@@ -288,17 +340,20 @@ def minimize(fun, x0, *, jac=None, hess=None, constraints=(), bounds=None, metho
 
     out = run_outer(nlp, spec, pen, hp, strategy, inner, opts, eta, mu, lam)
     try:
-        fx = nlp.f(out.x)
+        fx = nlp.f_unscaled(out.x)
     except NonFiniteValue:
         fx = math.nan
+    g_out, h_out, mu_out, lam_out = nlp.unscale(out.g, out.h, out.mu, out.lam)
     message = out.message
+    if projected:
+        message += " (x0 was moved into the bounds)"
     if nlp.has_fd:
         message += " (some derivatives by finite differences)"
     if out.status <= 0:
         message += f"; try: {_HINTS[out.status]}"
         log.warning("minimize(method=%r, penalty=%r) failed: %s", method, pen_name,
                     message)
-    per_block = nlp.block_weights(out.mu, out.lam)
+    per_block = nlp.block_weights(mu_out, lam_out)
     user_blocks = [v for b, v in zip(nlp.blocks, per_block) if not b.is_bounds]
     mb = next((v for b, v in zip(nlp.blocks, per_block) if b.is_bounds), None)
     if mb is None and bounds is not None:
@@ -306,9 +361,9 @@ def minimize(fun, x0, *, jac=None, hess=None, constraints=(), bounds=None, metho
     return ALResult(
         x=out.x, fun=fx, success=bool(out.status > 0), status=Status(out.status),
         message=message, nit=out.nit, nit_inner=out.nit_inner, nfev=nlp.nfev,
-        njev=nlp.njev, nhev=nlp.nhev, ncev=nlp.ncev, multipliers_ineq=out.mu,
-        multipliers_eq=out.lam, multipliers=tuple(user_blocks), multipliers_bounds=mb,
-        constr_ineq=out.g, constr_eq=out.h, stationarity=out.stationarity,
+        njev=nlp.njev, nhev=nlp.nhev, ncev=nlp.ncev, multipliers_ineq=mu_out,
+        multipliers_eq=lam_out, multipliers=tuple(user_blocks), multipliers_bounds=mb,
+        constr_ineq=g_out, constr_eq=h_out, stationarity=out.stationarity,
         feasibility=out.feasibility, complementarity=out.complementarity, eta=out.eta,
         method=method, penalty=pen_name, strategy=strat_name, inner=opts.inner,
         history=tuple(out.history))

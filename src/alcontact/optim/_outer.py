@@ -28,6 +28,7 @@ import scipy.sparse as sp
 
 from ..errors import DomainError, InputError
 from ._inner import InnerResult
+from ._polish import kkt_polish
 from ._problem import NLP, NonFiniteValue
 from ._result import IterationRecord, Status
 from ._strategies import StrategyState
@@ -63,6 +64,15 @@ class MethodSpec:
         Its default parameters.
     summary : str
         One line for :func:`available_methods` users.
+    polish : bool
+        Whether the Newton-KKT polish (option ``polish``) applies; the classical
+        methods of Algorithms 5.1-5.3 stay pure.
+    safeguards : bool
+        Whether the subproblem uses the safeguarded MET penalties (option
+        ``extrapolate``, Matioli's safeguard) of :mod:`._safeguards`.
+    autoscale : bool
+        Whether option ``scale`` (automatic scaling of ``f`` and the constraints,
+        :meth:`NLP.set_scaling`) applies.
     """
 
     name: str
@@ -76,6 +86,9 @@ class MethodSpec:
     strategy: str
     strategy_options: tuple
     summary: str
+    polish: bool = False
+    safeguards: bool = False
+    autoscale: bool = False
 
 
 _CLASSICAL = ("log-barrier", "inverse-barrier", "exterior-quadratic", "hestenes-powell")
@@ -83,9 +96,10 @@ _CLASSICAL = ("log-barrier", "inverse-barrier", "exterior-quadratic", "hestenes-
 METHODS = {
     "al": MethodSpec(
         "al", "exp-met1", None, _CLASSICAL, True, True, True, True,
-        "kkt", (("tau", 0.25), ("factor", 10.0)),
+        "per-constraint", (("tau", 0.5), ("factor", 10.0)),
         "Algorithm 5.4 (corrected): inequalities with any AL penalty (family P, "
-        "Rockafellar, quadratic with safeguard), equalities by Hestenes-Powell"),
+        "Rockafellar, quadratic with safeguard), equalities by Hestenes-Powell",
+        polish=True, safeguards=True, autoscale=True),
     "hestenes-powell": MethodSpec(
         "hestenes-powell", "hestenes-powell", ("hestenes-powell",), (), True, True,
         False, True, "infeasibility", (("tau", 0.25), ("factor", 10.0)),
@@ -156,7 +170,8 @@ class Subproblem:
             gl += np.asarray(Jg.T @ wg).ravel()
         if self.p:
             gl += np.asarray(Jh.T @ wh).ravel()
-        scale = max(1.0, float(np.max(np.abs(gf))))
+        # the same normalisation as the stationarity of kkt_measures (user's units)
+        scale = max(self.nlp.f_scale, float(np.max(np.abs(gf))))
         return gl, scale
 
     def hessian(self, x):
@@ -243,6 +258,10 @@ def kkt_measures(nlp, x, mu, lam):
 
     Returns ``(stationarity, feasibility, complementarity, g, h)``; stationarity is
     :math:`\\|\\nabla f + J_g^T\\mu + J_h^T\\lambda\\|_\\infty / \\max(1, \\|\\nabla f\\|_\\infty)`.
+    ``mu``, ``lam``, ``g`` and ``h`` belong to the (possibly scaled, see
+    :meth:`NLP.set_scaling`) internal problem; the three measures are those of the
+    user's problem in its own units (multipliers ``mu s_g / s_f``), so the
+    tolerances always mean the same thing.
     """
     gf = nlp.grad(x)
     g, h = nlp.constraints(x)
@@ -252,27 +271,45 @@ def kkt_measures(nlp, x, mu, lam):
         r += np.asarray(Jg.T @ mu).ravel()
     if nlp.p:
         r += np.asarray(Jh.T @ lam).ravel()
-    stat = float(np.max(np.abs(r))) / max(1.0, float(np.max(np.abs(gf))))
-    feas = max(float(np.max(g, initial=0.0)), float(np.max(np.abs(h), initial=0.0)))
-    comp = float(np.max(np.abs(mu * g), initial=0.0))
+    sf = nlp.f_scale
+    stat = float(np.max(np.abs(r))) / max(sf, float(np.max(np.abs(gf))))
+    gu, hu = g / nlp.g_scale, h / nlp.h_scale
+    feas = max(float(np.max(gu, initial=0.0)), float(np.max(np.abs(hu), initial=0.0)))
+    comp = float(np.max(np.abs(mu * g), initial=0.0)) / sf
     return stat, feas, comp, g, h
 
 
+def _merit(stat, feas, comp):
+    return max(stat, feas, comp)
+
+
 def run_outer(nlp: NLP, spec: MethodSpec, pen, hp, strategy, inner, opts, eta, mu, lam):
-    """Outer loop shared by all methods; returns an :class:`OuterOutcome`."""
+    """Outer loop shared by all methods; returns an :class:`OuterOutcome`.
+
+    For the AL methods the subproblem uses the *safeguarded* multipliers
+    ``clip(mu_est, mu_min, mu_max)`` (Birgin & Martinez), the KKT tests the
+    unsafeguarded estimates ``mu_est = p'(g/eta, mu)``. With ``spec.polish`` and
+    ``opts.polish`` a Newton-KKT polish (:mod:`._polish`) is tried whenever the
+    active-set estimate repeats.
+    """
     m, p = nlp.m, nlp.p
     sub = Subproblem(nlp, pen, hp, spec.scaled, eta, mu, lam, opts.unbounded_below)
     freezes = m > 0 and spec.update_multipliers and _freezes(pen)
     mu_min = opts.mu_min if opts.mu_min is not None else (1e-12 if freezes else 0.0)
     restart = freezes and not getattr(pen, "family_p", False)
     mu_start = np.array(mu, dtype=float)
+    polish = bool(spec.polish and opts.polish and m + p > 0)
     x = nlp.x0.copy()
     history: list[IterationRecord] = []
     nit_inner = 0
     g0, h0 = nlp.constraints(x)
-    prev_feas = max(float(np.max(g0, initial=0.0)), float(np.max(np.abs(h0), initial=0.0)))
+    prev_feas = max(float(np.max(g0 / nlp.g_scale, initial=0.0)),
+                    float(np.max(np.abs(h0 / nlp.h_scale), initial=0.0)))
     prev_comp = math.inf
     prev_kkt = math.inf
+    prev_v = None
+    prev_active = None
+    best_merit, stalled = math.inf, 0
     status, message = Status.MAXITER, f"outer iteration limit maxiter={opts.maxiter} reached"
     inner_failures = 0
     unbounded_retries = 0
@@ -301,7 +338,7 @@ def run_outer(nlp: NLP, spec: MethodSpec, pen, hp, strategy, inner, opts, eta, m
         try:
             g, h = nlp.constraints(x)
             wg, wh = sub.weights(g, h)
-            mu_rep = np.maximum(wg, 0.0)
+            mu_rep = np.maximum(np.nan_to_num(wg, nan=0.0, posinf=opts.mu_max), 0.0)
             lam_rep = wh
             stat, feas, comp, g, h = kkt_measures(nlp, x, mu_rep, lam_rep)
         except NonFiniteValue as exc:
@@ -334,6 +371,25 @@ def run_outer(nlp: NLP, spec: MethodSpec, pen, hp, strategy, inner, opts, eta, m
             _record(history, k, nlp, x, stat, feas, comp, eta, res, tol, 1.0)
             status, message = Status.CONVERGED_KKT, "KKT tolerances met"
             break
+        if polish:
+            active = mu_rep > -g
+            if prev_active is not None and np.array_equal(active, prev_active):
+                ok, xp, mup, lamp, meas, pit = kkt_polish(
+                    nlp, x, g, mu_rep, lam_rep, opts, kkt_measures, opts.polish_maxiter)
+                nit_inner += pit
+                if ok:
+                    x, mu_rep, lam_rep = xp, mup, lamp
+                    stat, feas, comp, g, h = meas
+                    _record(history, k, nlp, x, stat, feas, comp, eta, res, tol, 1.0,
+                            extra_inner=pit, tag="+kkt-polish")
+                    status = Status.CONVERGED_KKT
+                    message = (f"KKT tolerances met after {pit} Newton-KKT polish step(s) "
+                               f"on the active set ({int(np.sum(active))} of {m} "
+                               "inequalities active)")
+                    break
+                res = InnerResult(res.x, res.value, res.nit + pit, res.status, res.measure,
+                                  res.nonfinite)
+            prev_active = active
         inner_failures = 0 if res.ok or res.status == "maxiter" else inner_failures + 1
         if inner_failures >= 3:
             _record(history, k, nlp, x, stat, feas, comp, eta, res, tol, 1.0)
@@ -342,6 +398,7 @@ def run_outer(nlp: NLP, spec: MethodSpec, pen, hp, strategy, inner, opts, eta, m
                        f"({res.status}; scaled gradient {res.measure:.3g})")
             break
         # multiplier update mu <- p'(g/eta, mu) (Algorithm 5.4 corrected), safeguarded
+        # into [mu_min, mu_max] for the next subproblem (the KKT test used mu_rep)
         if spec.update_multipliers:
             if m:
                 mu = np.clip(np.nan_to_num(wg, nan=mu_min, posinf=opts.mu_max),
@@ -353,11 +410,15 @@ def run_outer(nlp: NLP, spec: MethodSpec, pen, hp, strategy, inner, opts, eta, m
                     mu[frozen] = np.maximum(mu[frozen], mu_start[frozen])
             if p:
                 lam = np.clip(wh, -opts.mu_max, opts.mu_max)
-        factor = strategy(StrategyState(k, feas, prev_feas, comp, prev_comp))
+        with np.errstate(all="ignore"):
+            v = np.concatenate([np.abs(np.maximum(g, -eta[:m] * mu_rep)), np.abs(h)])
+        factor = strategy(StrategyState(k, feas, prev_feas, comp, prev_comp, v, prev_v))
+        factor = np.broadcast_to(np.asarray(factor, dtype=float), np.shape(eta))
         new_eta = np.clip(eta / factor, opts.eta_min, opts.eta_max)
         applied = float(np.max(eta / new_eta))
         _record(history, k, nlp, x, stat, feas, comp, eta, res, tol, applied)
-        if factor > 1 and np.all(new_eta == eta) and feas > opts.feas_tol:
+        tight = factor > 1
+        if np.any(tight) and np.all(new_eta[tight] == eta[tight]) and feas > opts.feas_tol:
             at_limit += 1
             if at_limit >= 3:
                 status = Status.PENALTY_LIMIT
@@ -366,8 +427,18 @@ def run_outer(nlp: NLP, spec: MethodSpec, pen, hp, strategy, inner, opts, eta, m
                 break
         else:
             at_limit = 0
+        merit = _merit(stat, feas, comp)
+        if merit < 0.5 * best_merit:
+            best_merit, stalled = merit, 0
+        else:
+            stalled += 1
+            if stalled >= opts.stall_iter:
+                message = (f"no progress: the KKT error max(stationarity, feasibility, "
+                           f"complementarity) = {merit:.3g} did not halve in "
+                           f"{opts.stall_iter} outer iterations (stopped at {k})")
+                break
         eta = new_eta
-        prev_feas, prev_comp = feas, comp
+        prev_feas, prev_comp, prev_v = feas, comp, v
         prev_kkt = max(feas, comp, stat)
     return OuterOutcome(x, status, message, k, nit_inner, mu_rep, lam_rep, g, h, stat,
                         feas, comp, np.asarray(eta, float), history)
@@ -399,9 +470,10 @@ def _keep_in_domain(nlp, sub, pen, x, eta, mu):
     return eta
 
 
-def _record(history, k, nlp, x, stat, feas, comp, eta, res, tol, factor):
+def _record(history, k, nlp, x, stat, feas, comp, eta, res, tol, factor, extra_inner=0,
+            tag=""):
     try:
-        f = nlp.f(x)
+        f = nlp.f_unscaled(x)
     except NonFiniteValue:
         f = math.nan
     eta = np.asarray(eta, float)
@@ -409,7 +481,8 @@ def _record(history, k, nlp, x, stat, feas, comp, eta, res, tol, factor):
         k=k, f=f, feasibility=feas, stationarity=stat, complementarity=comp,
         eta_min=float(np.min(eta)) if eta.size else math.nan,
         eta_max=float(np.max(eta)) if eta.size else math.nan,
-        inner_iterations=res.nit, inner_status=res.status, inner_tol=tol, factor=factor))
+        inner_iterations=res.nit + extra_inner, inner_status=res.status + tag,
+        inner_tol=tol, factor=factor))
     log.debug("outer %3d: f=%.10g feas=%.2e stat=%.2e comp=%.2e eta=[%.2e, %.2e] "
               "inner=%d (%s)", k, f, feas, stat, comp, history[-1].eta_min,
               history[-1].eta_max, res.nit, res.status)
@@ -430,7 +503,23 @@ def initial_eta(nlp, spec, pen, opts, f0, g0, h0, mu0):
         user = True
     else:
         viol = np.concatenate([np.maximum(g0, 0.0), np.abs(h0)])
-        if spec.scaled:
+        if spec.scaled and opts.scale_eta0 and m + p:
+            # ALGENCAN's rho0 = 10 max(1,|sf f|) / max(1, |sc c+|^2 / 2) for the problem
+            # scaled by sf = 1/max(1,|grad f(x0)|), sc_i = 1/max(1,|grad c_i(x0)|)
+            # (Birgin & Martinez 2014, sec. 12.5); the equivalent unscaled quadratic
+            # penalty g_i^2 sc_i^2 / (2 eta sf) gives eta_i = sf / (rho sc_i^2)
+            sf = 1.0 / max(1.0, float(np.max(np.abs(nlp.grad(nlp.x0)))))
+            Jg, Jh = nlp.jacobians(nlp.x0)
+            rows = [Jg, Jh]
+            jn = np.concatenate([
+                np.asarray(abs(J).max(axis=1).toarray() if sp.issparse(J)
+                           else np.max(np.abs(J), axis=1, initial=0.0)).ravel()
+                for J in rows])
+            sc = 1.0 / np.maximum(1.0, jn)
+            sv = viol * sc
+            rho = 10.0 * max(1.0, abs(f0) * sf) / max(1.0, 0.5 * float(sv @ sv))
+            eta = np.clip(sf / (rho * sc ** 2), 1e-8, 1e8)
+        elif spec.scaled:
             # ALGENCAN-like rho0 = 10 max(1,|f|) / max(1, |c|^2 / 2), eta = 1/rho
             rho = 10.0 * max(1.0, abs(f0)) / max(1.0, 0.5 * float(viol @ viol))
             eta = np.full(m + p, float(np.clip(1.0 / rho, 1e-8, 1e8)))
@@ -456,8 +545,11 @@ def initial_eta(nlp, spec, pen, opts, f0, g0, h0, mu0):
                     f"eta0: inequality {i} ({where}) has g/eta = {y[i]:.6g} >= "
                     f"b = {b[i]:g}. Use eta0 > {need:.6g} or leave eta0 unset.")
         if spec.scaled and not user:
-            # keep g/eta inside (half) the domain and O(1) for unbounded ones (exp overflow)
-            cap = np.where(np.isfinite(b), 0.5 * b, 1.0)
+            # keep g/eta inside (half) the domain, and O(1) for fast-growing unbounded
+            # ones (a pure exponential would overflow; the extrapolated one does not)
+            with np.errstate(all="ignore"):
+                fast = float(np.max(pen.value(np.array([50.0]), np.ones(1)))) > 1e15
+            cap = np.where(np.isfinite(b), 0.5 * b, 1.0 if fast else np.inf)
             need = np.where(g0 > 0, g0 / cap, 0.0)
             eta[:m] = np.maximum(eta[:m], need)
     return eta

@@ -10,6 +10,14 @@ Converts ``fun``/``jac``/``hess`` and SciPy's :class:`~scipy.optimize.NonlinearC
 a finite ``lb`` gives ``lb - c <= 0``; infinite sides are skipped.
 Counts evaluations, caches the last point, replaces missing derivatives by finite
 differences and turns non-finite callback output into :class:`NonFiniteValue`.
+
+Optional automatic scaling (:meth:`NLP.set_scaling`, ALGENCAN's rule, Birgin &
+Martinez 2014, sec. 12.5): the public evaluations return
+:math:`s_f f`, :math:`s_i g_i`, :math:`s_j h_j` with
+:math:`s_f = 1/\max(1, \|\nabla f(x_0)\|_\infty)` and
+:math:`s_i = 1/\max(1, \|\nabla c_i(x_0)\|_\infty)`; ``f_unscaled`` and
+:meth:`NLP.unscale` give the original units (multipliers
+:math:`\mu_i = \mu^s_i s_i / s_f`).
 """
 
 from __future__ import annotations
@@ -119,6 +127,7 @@ class NLP:
         self._cache_c = (None, None)
         self._cache_j = (None, None)
 
+        self.f_scale = 1.0  # see set_scaling
         # f, grad and Hessian at x0: validate sizes; non-finite -> NonFiniteValue
         g0 = self.grad(x0)
         if g0.shape != (n,):
@@ -159,6 +168,52 @@ class NLP:
         for b in self.blocks:
             if b.A is not None:
                 b.A = _as_matrix(b.A, self.sparse, (b.lb.size, n))
+        self.f_scale = 1.0
+        self.g_scale = np.ones(self.m)
+        self.h_scale = np.ones(self.p)
+
+    # ---------------------------------------------------------------- scaling
+    def set_scaling(self, x=None):
+        """Scale ``f`` and every constraint by ``1/max(1, |gradient at x|_inf)``.
+
+        ``x`` defaults to ``x0``. Variable bounds have unit gradients and keep
+        scale 1. Returns ``(f_scale, g_scale, h_scale)``.
+        """
+        x = self.x0 if x is None else np.asarray(x, dtype=float)
+        self.f_scale = 1.0
+        self.g_scale, self.h_scale = np.ones(self.m), np.ones(self.p)
+        self._cache_j = (None, None)
+        gf = self._grad_raw(x)
+        Jg, Jh = self.jacobians(x)
+
+        def rows(J):
+            if J.shape[0] == 0:
+                return np.zeros(0)
+            if sp.issparse(J):
+                return np.asarray(abs(J).max(axis=1).toarray()).ravel()
+            return np.max(np.abs(J), axis=1)
+
+        self.f_scale = 1.0 / max(1.0, float(np.max(np.abs(gf))))
+        self.g_scale = 1.0 / np.maximum(1.0, rows(Jg))
+        self.h_scale = 1.0 / np.maximum(1.0, rows(Jh))
+        self._cache_j = (None, None)
+        return self.f_scale, self.g_scale, self.h_scale
+
+    @property
+    def scaled(self) -> bool:
+        """Whether :meth:`set_scaling` changed any scale factor."""
+        return bool(self.f_scale != 1.0 or np.any(self.g_scale != 1.0)
+                    or np.any(self.h_scale != 1.0))
+
+    def f_unscaled(self, x):
+        """Objective in the user's units."""
+        return self._eval_fun(x)[0]
+
+    def unscale(self, g, h, mu, lam):
+        """Constraint values and multipliers of the scaled problem in the user's units."""
+        return (np.asarray(g) / self.g_scale, np.asarray(h) / self.h_scale,
+                np.asarray(mu) * self.g_scale / self.f_scale,
+                np.asarray(lam) * self.h_scale / self.f_scale)
 
     # ------------------------------------------------------------------ setup
     def _make_block(self, c, i, x0):
@@ -277,6 +332,17 @@ class NLP:
         ie = np.flatnonzero(eq)
         return iu, il, ie
 
+    def project_into_bounds(self) -> bool:
+        """Clip ``x0`` into the variable bounds (as SciPy does); True if it moved."""
+        b = self.bounds_block
+        if b is None:
+            return False
+        x = np.clip(self.x0, b.lb, b.ub)
+        if np.array_equal(x, self.x0):
+            return False
+        self.x0 = x
+        return True
+
     # ------------------------------------------------------------- objective
     def _eval_fun(self, x):
         cx, cf, cg = self._cache_f
@@ -302,11 +368,15 @@ class NLP:
         return f, g
 
     def f(self, x):
-        """Objective value (raises :class:`NonFiniteValue` on NaN/inf)."""
-        return self._eval_fun(x)[0]
+        """Objective value, scaled (raises :class:`NonFiniteValue` on NaN/inf)."""
+        return self.f_scale * self._eval_fun(x)[0]
 
     def grad(self, x):
-        """Objective gradient, exact or by central differences."""
+        """Objective gradient (scaled), exact or by central differences."""
+        g = self._grad_raw(x)
+        return g if self.f_scale == 1.0 else self.f_scale * g
+
+    def _grad_raw(self, x):
         if self.fun_returns_grad:
             return self._eval_fun(x)[1]
         if self._jac is not None:
@@ -335,7 +405,11 @@ class NLP:
         return float(np.asarray(f).item()) if np.ndim(f) else float(f)
 
     def hess_f(self, x, sparse=False):
-        """Objective Hessian (dense or CSR; ``sparse=None`` keeps the user's type)."""
+        """Objective Hessian, scaled (dense or CSR; ``sparse=None`` keeps the user's type)."""
+        H = self._hess_raw(x, sparse)
+        return H if self.f_scale == 1.0 else self.f_scale * H
+
+    def _hess_raw(self, x, sparse):
         if self._hess is not None:
             self.nhev += 1
             H = _guard("hess", self._hess, x)
@@ -343,7 +417,7 @@ class NLP:
                 H = np.atleast_2d(np.asarray(H, dtype=float))
             _check(H, "hess")
         else:
-            H = self._fd_jacobian_of(self.grad, x, self.n, "hess (finite differences)")
+            H = self._fd_jacobian_of(self._grad_raw, x, self.n, "hess (finite differences)")
             H = 0.5 * (H + H.T)
         if sparse is None:
             return H
@@ -383,7 +457,7 @@ class NLP:
         return vals
 
     def constraints(self, x):
-        """Return ``(g, h)`` at ``x``."""
+        """Return ``(g, h)`` at ``x`` (scaled)."""
         vals = self._block_values(x)
         g = np.empty(self.m)
         h = np.empty(self.p)
@@ -392,6 +466,10 @@ class NLP:
             g[oi:oi + nu] = c[b.iu] - b.ub[b.iu]
             g[oi + nu:oi + nu + nl] = b.lb[b.il] - c[b.il]
             h[oe:oe + b.ie.size] = c[b.ie] - b.ub[b.ie]
+        if self.m:
+            g *= self.g_scale
+        if self.p:
+            h *= self.h_scale
         return g, h
 
     def _block_jac(self, b, x):
@@ -424,12 +502,18 @@ class NLP:
         empty = (sp.csr_matrix((0, self.n)) if self.sparse else np.zeros((0, self.n)))
         Jg = stack(gi).tocsr() if self.sparse and gi else (stack(gi) if gi else empty)
         Jh = stack(hi).tocsr() if self.sparse and hi else (stack(hi) if hi else empty)
+        if np.any(self.g_scale != 1.0):
+            Jg = (sp.diags(self.g_scale) @ Jg).tocsr() if self.sparse else \
+                self.g_scale[:, None] * Jg
+        if np.any(self.h_scale != 1.0):
+            Jh = (sp.diags(self.h_scale) @ Jh).tocsr() if self.sparse else \
+                self.h_scale[:, None] * Jh
         val = (Jg, Jh)
         self._cache_j = (x.copy(), val)
         return val
 
     def block_weights(self, wg, wh):
-        """Map internal weights on ``g``/``h`` to weights on each block's ``c``."""
+        """Map weights on the unscaled ``g``/``h`` to weights on each block's ``c``."""
         out = []
         for b, (oi, oe) in zip(self.blocks, self._offsets):
             v = np.zeros(b.lb.size)
@@ -441,8 +525,10 @@ class NLP:
         return out
 
     def constraint_hessian(self, x, wg, wh):
-        """:math:`\\sum_i w_i \\nabla^2 c_i(x)` over nonlinear blocks, or None."""
+        """:math:`\\sum_i w_i \\nabla^2 c_i(x)` over nonlinear blocks (scaled), or None."""
         total = None
+        wg = np.asarray(wg, float) * self.g_scale
+        wh = np.asarray(wh, float) * self.h_scale
         for b, v in zip(self.blocks, self.block_weights(wg, wh)):
             if isinstance(b.hess, str) or not np.any(v):
                 continue

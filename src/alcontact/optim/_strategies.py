@@ -13,6 +13,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import numpy as np
+
 from ..errors import InputError, UnknownNameError
 
 __all__ = ["make_strategy", "available_strategies", "StrategyState"]
@@ -31,6 +33,11 @@ class StrategyState:
         the value at ``x0`` is used instead when available).
     complementarity, prev_complementarity : float
         (C2) measure now and before.
+    violation, prev_violation : ndarray or None
+        Per-constraint complementarity-feasibility measure (m inequalities, then p
+        equalities) now and before: :math:`V_i = |\\max(g_i, -\\eta_i \\bar\\mu_i)|`
+        for inequalities (Birgin & Martinez's measure, in the units of ``g``),
+        :math:`|h_j|` for equalities; None when the method has none.
     """
 
     k: int
@@ -38,6 +45,8 @@ class StrategyState:
     prev_feasibility: float
     complementarity: float
     prev_complementarity: float
+    violation: np.ndarray | None = None
+    prev_violation: np.ndarray | None = None
 
 
 class _Fixed:
@@ -110,7 +119,40 @@ class _KKT(_Infeasibility):
                 max(s.prev_feasibility, s.prev_complementarity))
 
 
-_REGISTRY = {c.name: c for c in (_Fixed, _Always, _Infeasibility, _KKT)}
+class _PerConstraint:
+    """Per-constraint tightening on the complementarity-feasibility measure ``V``.
+
+    ALGENCAN / LANCELOT-style (Birgin & Martinez, *Practical augmented Lagrangian
+    methods*, SIAM 2014, Alg. 4.1, with one parameter per constraint as in
+    Conn, Gould & Toint): nothing changes when ``max V`` dropped by the factor
+    ``tau``; otherwise the constraints whose ``V_i`` did not drop by ``tau`` and are
+    not negligible (``V_i > tau max V`` and ``V_i > feas_tol``) get
+    ``eta_i <- eta_i / factor``. Returns a vector of factors.
+    """
+
+    name = "per-constraint"
+
+    def __init__(self, tau: float = 0.5, factor: float = 10.0, feas_tol: float = 0.0):
+        if not 0 < tau < 1:
+            raise InputError(f"strategy 'per-constraint': tau = {tau!r} must lie in (0, 1)")
+        if not factor > 1:
+            raise InputError(f"strategy 'per-constraint': factor = {factor!r} must be > 1")
+        self.tau, self.factor, self.feas_tol = float(tau), float(factor), float(feas_tol)
+
+    def __call__(self, s: StrategyState):
+        v, vp = s.violation, s.prev_violation
+        if v is None or vp is None or v.size == 0:
+            now = max(s.feasibility, s.complementarity)
+            before = max(s.prev_feasibility, s.prev_complementarity)
+            return 1.0 if now <= self.feas_tol or now <= self.tau * before else self.factor
+        vmax = float(np.max(v))
+        if vmax <= self.feas_tol or vmax <= self.tau * float(np.max(vp)):
+            return np.ones(v.size)
+        bad = (v > self.tau * vp) & (v >= self.tau * vmax) & (v > self.feas_tol)
+        return np.where(bad, self.factor, 1.0)
+
+
+_REGISTRY = {c.name: c for c in (_Fixed, _Always, _Infeasibility, _KKT, _PerConstraint)}
 
 
 def available_strategies() -> list[str]:
@@ -119,7 +161,8 @@ def available_strategies() -> list[str]:
 
 
 def make_strategy(name: str, **params):
-    """Build a strategy by registry name (``"fixed"``, ``"always"``, ``"infeasibility"``, ``"kkt"``).
+    """Build a strategy by registry name (``"fixed"``, ``"always"``, ``"infeasibility"``,
+    ``"kkt"``, ``"per-constraint"``).
 
     Raises
     ------
