@@ -1,0 +1,30 @@
+"""Finite-element layer: a thin wrapper over scikit-fem.
+
+Meshes with named boundaries (:mod:`alcontact.fem.meshes`), isotropic
+materials (:class:`Material`), small-strain linear elasticity with P1/P2
+simplices (:class:`LinearElasticity`), a reusable sparse factorization
+(:class:`Factorization`) and the chapter 4 model problems
+(:mod:`alcontact.fem.model_problems`).
+
+Examples
+--------
+>>> from alcontact.fem import Material, LinearElasticity, meshes
+>>> model = LinearElasticity(meshes.rectangle(0, 1, 0, 1, 2, 2), Material(E=1.0e3, nu=0.3), order=2)
+>>> model.ndofs
+50
+"""
+
+from alcontact.fem import meshes, model_problems
+from alcontact.fem._linalg import Factorization, nested_dissection
+from alcontact.fem._material import Material
+from alcontact.fem.elasticity import LinearElasticity, rigid_body_modes
+
+__all__ = [
+    "Factorization",
+    "LinearElasticity",
+    "Material",
+    "meshes",
+    "model_problems",
+    "nested_dissection",
+    "rigid_body_modes",
+]

@@ -1,0 +1,293 @@
+"""One sparse factorization of a condensed SPD matrix, reused for many solves."""
+
+from __future__ import annotations
+
+import logging
+import time
+
+import numpy as np
+import scipy.sparse as sp
+from scipy.sparse.linalg import splu
+
+from alcontact.errors import InputError
+
+__all__ = ["Factorization", "PIVOT_RTOL", "BACKENDS"]
+
+#: Sparse direct solvers: CHOLMOD (supernodal Cholesky, through the ``cholespy`` wheels)
+#: when available, else SciPy's SuperLU. CHOLMOD's multi-right-hand-side solves are
+#: several times faster, which is what the contact condensation needs.
+BACKENDS = ("auto", "cholmod", "superlu")
+
+
+def _cholespy():
+    try:
+        import cholespy
+    except ImportError:  # pragma: no cover - optional fast path
+        return None
+    return cholespy
+
+
+logger = logging.getLogger(__name__)
+
+#: ``check=True`` solves ``K_ff x = K_ff 1`` and flags the matrix singular if ``|x - 1| > CHECK_TOL``.
+CHECK_TOL = 1e-4
+
+
+def _ranges(starts: np.ndarray, lens: np.ndarray) -> np.ndarray:
+    """Concatenation of ``arange(s, s + l)`` for all pairs, vectorized."""
+    total = int(lens.sum())
+    if total == 0:
+        return np.empty(0, dtype=np.int64)
+    offs = np.repeat(starts - np.concatenate([[0], np.cumsum(lens)[:-1]]), lens)
+    return offs + np.arange(total)
+
+
+def nested_dissection(points: np.ndarray, adjacency, leaf_size: int = 64) -> np.ndarray:
+    """Geometric nested-dissection ordering of a mesh graph.
+
+    Recursively splits the node set at the median of its longest coordinate
+    extent; the nodes of the lower half adjacent to the upper half form the
+    separator, numbered after both halves. On 3D meshes this gives SuperLU a
+    fill several times smaller than its built-in orderings (see
+    :class:`Factorization`).
+
+    Parameters
+    ----------
+    points : numpy.ndarray, shape (n, dim)
+        Node coordinates.
+    adjacency : scipy.sparse matrix, shape (n, n)
+        Symmetric node graph (any nonzero = edge).
+    leaf_size : int
+        Sets of at most this many nodes are not split further.
+
+    Returns
+    -------
+    numpy.ndarray of int, shape (n,)
+        ``perm[new] = old``.
+    """
+    A = sp.csr_matrix(adjacency)
+    n = points.shape[0]
+    indptr, indices = A.indptr, A.indices
+    stamp = np.full(n, -1, dtype=np.int64)
+    upper = np.zeros(n, dtype=bool)
+    out: list[np.ndarray] = []
+    stack: list[tuple[np.ndarray, bool]] = [(np.arange(n), False)]
+    cid = 0
+    while stack:  # iterative post-order: children first, separator after
+        idx, expanded = stack.pop()
+        if expanded or idx.size <= leaf_size:
+            out.append(idx)
+            continue
+        c = points[idx, int(np.argmax(np.ptp(points[idx], axis=0)))]
+        k = idx.size // 2
+        low = c < np.partition(c, k)[k]
+        if not (idx.size // 8 <= low.sum() <= idx.size - idx.size // 8):  # many ties: split by rank
+            low = np.zeros(idx.size, dtype=bool)
+            low[np.argpartition(c, k)[:k]] = True
+        left, right = idx[low], idx[~low]
+        cid += 1
+        stamp[idx] = cid
+        upper[left] = False
+        upper[right] = True
+        lens = indptr[left + 1] - indptr[left]
+        cols = indices[_ranges(indptr[left], lens)]
+        hit = (stamp[cols] == cid) & upper[cols]
+        is_sep = np.zeros(left.size, dtype=bool)
+        is_sep[np.repeat(np.arange(left.size), lens)[hit]] = True
+        stack.append((left[is_sep], True))
+        stack.append((right, False))
+        stack.append((left[~is_sep], False))
+    return np.concatenate(out) if out else np.empty(0, dtype=np.int64)
+
+
+class Factorization:
+    r"""Sparse LU of :math:`K_{ff}`, the matrix restricted to the free DOFs.
+
+    With ``u_d`` prescribed on the fixed DOFs, :math:`K u = f` reduces to
+
+    .. math::
+        K_{ff} u_f = f_f - K_{fd} u_d .
+
+    The matrix is symmetric positive definite after condensation, so SuperLU is
+    run without pivoting (``diag_pivot_thresh=0``, ``SymmetricMode``). The fill
+    -reducing ordering is SuperLU's minimum degree on :math:`A^T + A`
+    (``MMD_AT_PLUS_A``, best in 2D) unless a permutation ``perm`` is given
+    (e.g. :func:`nested_dissection`, several times faster in 3D).
+
+    Parameters
+    ----------
+    matrix : scipy.sparse matrix, shape (n, n)
+        Symmetric matrix (e.g. the stiffness).
+    fixed : array_like of int
+        Indices of the prescribed DOFs (duplicates are ignored).
+    permc_spec : str
+        SuperLU column ordering when ``perm`` is None.
+    perm : array_like of int, optional
+        Symmetric ordering of the *free* DOFs (``perm[new] = position in free``).
+    check : bool
+        Raise :class:`~alcontact.errors.InputError` if the matrix is
+        numerically singular: one extra solve of :math:`K_{ff}x = K_{ff}\mathbf 1`
+        must return :math:`\mathbf 1` to ``CHECK_TOL``.
+
+    Attributes
+    ----------
+    n : int
+        Size of the full system.
+    free, fixed : numpy.ndarray of int
+        Sorted free and fixed DOF indices.
+    K_ff : scipy.sparse.csc_matrix
+        Condensed matrix (original numbering of the free DOFs).
+    K_fd : scipy.sparse.csr_matrix
+        Coupling block used by :meth:`rhs`.
+    factor_seconds : float
+        Wall time of the factorization.
+
+    Examples
+    --------
+    >>> import scipy.sparse as sp
+    >>> K = sp.diags([[-1.0] * 3, [2.0] * 4, [-1.0] * 3], [-1, 0, 1]).tocsr()
+    >>> fac = Factorization(K, [0, 3])
+    >>> u = fac.solve_full(np.zeros(4), fixed_values=[0.0, 3.0])
+    >>> bool(np.allclose(u, [0, 1, 2, 3]))
+    True
+    """
+
+    def __init__(self, matrix, fixed, *, permc_spec: str = "MMD_AT_PLUS_A", perm=None, check: bool = True,
+                 backend: str = "superlu"):
+        A = sp.csr_matrix(matrix)
+        n = A.shape[0]
+        if A.shape != (n, n):
+            raise InputError(f"matrix must be square; got shape {A.shape}.")
+        fixed = np.unique(np.asarray(fixed, dtype=np.int64).ravel())
+        if fixed.size and (fixed[0] < 0 or fixed[-1] >= n):
+            raise InputError(f"fixed DOF indices must lie in [0, {n}); got min {fixed[0]}, max {fixed[-1]}.")
+        mask = np.ones(n, dtype=bool)
+        mask[fixed] = False
+        self.n = n
+        self.fixed = fixed
+        self.free = np.flatnonzero(mask)
+        rows = A[self.free]
+        self.K_ff = rows[:, self.free].tocsc()
+        self.K_fd = rows[:, self.fixed].tocsr()
+        self._perm = None
+        self._lu = None
+        M = self.K_ff
+        if backend not in ("superlu", "cholmod"):
+            raise InputError(f"unknown linear solver backend {backend!r}; use 'superlu' or 'cholmod'.")
+        self.backend = backend
+        if backend == "cholmod":
+            t0 = time.perf_counter()
+            self._factor_cholmod()
+            self.ordering = "cholmod"
+            self.factor_seconds = time.perf_counter() - t0
+            if check:
+                self._check()
+            logger.debug("CHOLMOD factorization of %d free DOFs in %.3f s", self.free.size, self.factor_seconds)
+            return
+        if perm is not None:
+            perm = np.asarray(perm, dtype=np.int64)
+            if perm.shape != (self.free.size,) or not np.array_equal(np.sort(perm), np.arange(self.free.size)):
+                raise InputError(f"perm must be a permutation of range({self.free.size}) (the free DOFs).")
+            self._perm = perm
+            M = self.K_ff[perm][:, perm].tocsc()
+            permc_spec = "NATURAL"
+        self.ordering = "given" if perm is not None else permc_spec
+        t0 = time.perf_counter()
+        try:
+            self._lu = splu(M, permc_spec=permc_spec, diag_pivot_thresh=0.0, options={"SymmetricMode": True})
+        except RuntimeError as exc:  # "Factor is exactly singular"
+            raise InputError(
+                f"the condensed matrix ({self.free.size} free DOFs) is singular ({exc}); "
+                "add Dirichlet conditions that restrain every rigid-body motion."
+            ) from exc
+        self.factor_seconds = time.perf_counter() - t0
+        if check:
+            self._check()
+        logger.debug(
+            "factorized %d free DOFs (%d fixed, ordering %s) in %.3f s, nnz(L+U)=%d",
+            self.free.size, self.fixed.size, self.ordering, self.factor_seconds, self._lu.nnz,
+        )
+
+    def _factor_cholmod(self) -> None:
+        chol = _cholespy()
+        if chol is None:
+            raise InputError("backend='cholmod' needs the cholespy package (pip install cholespy).")
+        K = self.K_ff.tocsr()
+        K.sort_indices()
+        try:
+            self._chol = chol.CholeskySolverD(
+                K.shape[0], K.indptr.astype(np.int32), K.indices.astype(np.int32),
+                np.ascontiguousarray(K.data, dtype=np.float64), chol.MatrixType.CSR,
+            )
+        except Exception as exc:  # CHOLMOD refuses a matrix that is not positive definite
+            raise InputError(
+                f"the condensed matrix ({self.free.size} free DOFs) is not positive definite ({exc}); "
+                "add Dirichlet conditions that restrain every rigid-body motion."
+            ) from exc
+
+    def _check(self) -> None:
+        if self.free.size == 0:
+            return
+        x = self.solve(self.K_ff @ np.ones(self.free.size))
+        err = float(np.max(np.abs(x - 1.0))) if np.all(np.isfinite(x)) else np.inf
+        if not err <= CHECK_TOL:
+            raise InputError(
+                f"the condensed matrix ({self.free.size} free DOFs) is singular or not positive "
+                f"definite (test solve error {err:.1e}); add Dirichlet conditions that restrain "
+                "every rigid-body motion."
+            )
+
+    @property
+    def nnz(self) -> int:
+        """Number of nonzeros in the L and U factors."""
+        return int(self._lu.nnz) if self._lu is not None else -1
+
+    def solve(self, rhs) -> np.ndarray:
+        """Solve :math:`K_{ff} x = r`; ``rhs`` of shape ``(n_free,)`` or ``(n_free, k)``."""
+        r = np.asarray(rhs, dtype=float)
+        if r.ndim not in (1, 2) or r.shape[0] != self.free.size:
+            raise InputError(f"rhs must have shape ({self.free.size},) or ({self.free.size}, k); got {r.shape}.")
+        if self._lu is None:
+            b = np.ascontiguousarray(r, dtype=np.float64)
+            x = np.zeros_like(b)
+            if b.size:
+                self._chol.solve(b, x)
+            return x
+        if self._perm is None:
+            return self._lu.solve(np.ascontiguousarray(r) if r.ndim == 1 else np.asfortranarray(r))
+        y = self._lu.solve(np.ascontiguousarray(r[self._perm]) if r.ndim == 1 else np.asfortranarray(r[self._perm]))
+        x = np.empty_like(y)
+        x[self._perm] = y
+        return x
+
+    def condense(self, vec) -> np.ndarray:
+        """Restrict a full vector (or ``(n, k)`` array) to the free DOFs."""
+        return np.asarray(vec)[self.free]
+
+    def rhs(self, load, fixed_values=None) -> np.ndarray:
+        r"""Condensed right-hand side :math:`f_f - K_{fd} u_d`.
+
+        ``fixed_values`` aligned with :attr:`fixed` (``None`` = zeros).
+        """
+        f = np.asarray(load, dtype=float)
+        if f.shape[0] != self.n:
+            raise InputError(f"load must have length {self.n}; got shape {f.shape}.")
+        r = f[self.free]
+        if fixed_values is not None and self.fixed.size:
+            kd = self.K_fd @ np.asarray(fixed_values, dtype=float)
+            r = r - (kd[:, None] if (r.ndim == 2 and kd.ndim == 1) else kd)
+        return r
+
+    def expand(self, x_free, fixed_values=None) -> np.ndarray:
+        """Full vector from free values and the prescribed ones (``None`` = zeros)."""
+        x_free = np.asarray(x_free, dtype=float)
+        u = np.zeros((self.n,) + x_free.shape[1:])
+        u[self.free] = x_free
+        if fixed_values is not None and self.fixed.size:
+            ud = np.asarray(fixed_values, dtype=float)
+            u[self.fixed] = ud[:, None] if (x_free.ndim == 2 and ud.ndim == 1) else ud
+        return u
+
+    def solve_full(self, load, fixed_values=None) -> np.ndarray:
+        """Full solution of :math:`K u = f` with ``u[fixed] = fixed_values``."""
+        return self.expand(self.solve(self.rhs(load, fixed_values)), fixed_values)
