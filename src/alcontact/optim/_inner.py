@@ -1,5 +1,10 @@
 """Inner solvers for the unconstrained subproblems (SL) of Algorithms 5.1-5.4 (registry).
 
+``"newton"``: modified Newton with Armijo backtracking (and, for small dense
+Hessians, a second-order test with a negative-curvature step); ``"trust-region"``:
+Newton with the exact trust-region step from an eigendecomposition (dense), falling
+back to ``"newton"`` for sparse Hessians.
+
 A subproblem object provides ``value(x)`` (``+inf`` outside the domain of a
 barrier-type penalty or where a callback returns NaN), ``gradient(x)``
 (returning the gradient and the scale used to normalise its norm),
@@ -115,14 +120,48 @@ class Newton:
         Bound on the step halvings per iteration.
     shift : float
         Relative size of the first Hessian shift (times ``max(1, max|diag H|)``).
+    neg_tol : float
+        Second-order test for dense Hessians with ``n <= max_dense``: a point with a
+        small gradient is accepted only if the smallest eigenvalue of ``H`` is
+        ``>= -neg_tol * max(1, max|eig|)``; otherwise the solver takes a
+        backtracking step along the eigenvector of that eigenvalue (a direction of
+        negative curvature, More & Sorensen 1979) and goes on. This escapes saddle
+        points where the gradient vanishes by symmetry (HS33: ``x2 = 0``), which no
+        Newton direction from a positive definite modification can leave.
+    max_dense : int
+        Largest ``n`` for that eigenvalue test (0 switches it off).
     """
 
     name = "newton"
 
-    def __init__(self, c1: float = 1e-4, max_backtracks: int = 60, shift: float = 1e-8):
+    def __init__(self, c1: float = 1e-4, max_backtracks: int = 60, shift: float = 1e-8,
+                 neg_tol: float = 1e-6, max_dense: int = 400):
         if not 0 < c1 < 0.5:
             raise InputError(f"inner solver 'newton': c1 = {c1!r} must lie in (0, 0.5)")
         self.c1, self.max_backtracks, self.shift = float(c1), int(max_backtracks), float(shift)
+        self.neg_tol, self.max_dense = float(neg_tol), int(max_dense)
+
+    def _negative_curvature(self, sub, x, fx, g):
+        """A step along the most negative curvature, or None at a second-order point."""
+        if x.size > self.max_dense:
+            return None
+        H = sub.hessian(x)
+        if sp.issparse(H):
+            return None
+        lam, Q = np.linalg.eigh(0.5 * (H + H.T))
+        if not lam[0] < -self.neg_tol * max(1.0, float(np.max(np.abs(lam)))):
+            return None
+        d = Q[:, 0] if g @ Q[:, 0] <= 0 else -Q[:, 0]
+        d = d * max(1.0, float(np.linalg.norm(x)))
+        slope, curv = float(g @ d), float(d @ (H @ d))
+        alpha = min(1.0, sub.max_step(x, d))
+        for _ in range(self.max_backtracks):
+            xt = x + alpha * d
+            ft = sub.value(xt)
+            if ft < fx + self.c1 * (alpha * slope + 0.5 * alpha * alpha * curv):
+                return xt, ft
+            alpha *= 0.5
+        return None
 
     def solve(self, sub, x, tol, maxiter) -> InnerResult:
         """Minimize ``sub`` from ``x`` until the scaled gradient norm is <= ``tol``."""
@@ -137,7 +176,11 @@ class Newton:
                 g, scale = sub.gradient(x)
                 measure = _norm_inf(g) / scale
                 if measure <= tol:
-                    return InnerResult(x, fx, it, "converged", measure)
+                    step = self._negative_curvature(sub, x, fx, g) if it < maxiter else None
+                    if step is None:
+                        return InnerResult(x, fx, it, "converged", measure)
+                    x, fx = step
+                    continue
                 if it == maxiter:
                     return InnerResult(x, fx, it, "maxiter", measure)
                 H = sub.hessian(x)

@@ -14,10 +14,10 @@ differences and turns non-finite callback output into :class:`NonFiniteValue`.
 Optional automatic scaling (:meth:`NLP.set_scaling`, ALGENCAN's rule, Birgin &
 Martinez 2014, sec. 12.5): the public evaluations return
 :math:`s_f f`, :math:`s_i g_i`, :math:`s_j h_j` with
-:math:`s_f = 1/\max(1, \|\nabla f(x_0)\|_\infty)` and
-:math:`s_i = 1/\max(1, \|\nabla c_i(x_0)\|_\infty)`; ``f_unscaled`` and
+:math:`s_f = 1/\\max(1, \\|\\nabla f(x_0)\\|_\\infty)` and
+:math:`s_i = 1/\\max(1, \\|\\nabla c_i(x_0)\\|_\\infty)`; ``f_unscaled`` and
 :meth:`NLP.unscale` give the original units (multipliers
-:math:`\mu_i = \mu^s_i s_i / s_f`).
+:math:`\\mu_i = \\mu^s_i s_i / s_f`).
 """
 
 from __future__ import annotations
@@ -332,12 +332,29 @@ class NLP:
         ie = np.flatnonzero(eq)
         return iu, il, ie
 
-    def project_into_bounds(self) -> bool:
-        """Clip ``x0`` into the variable bounds (as SciPy does); True if it moved."""
+    def project_into_bounds(self, push: float = 0.0) -> bool:
+        """Move ``x0`` into the variable bounds; True if it moved.
+
+        ``push = 0`` clips (as SciPy does). ``push > 0`` moves every entry at least
+        ``min(push max(1, |bound|), push (ub - lb))`` inside its bounds, IPOPT's
+        rule with ``bound_push = bound_frac = push`` (Wachter & Biegler 2006,
+        sec. 3.6); entries already that far inside do not move.
+        """
         b = self.bounds_block
         if b is None:
             return False
-        x = np.clip(self.x0, b.lb, b.ub)
+        lo, hi = b.lb.copy(), b.ub.copy()
+        if push > 0:
+            with np.errstate(invalid="ignore"):
+                width = np.where(np.isfinite(hi - lo), hi - lo, np.inf)
+                pl = np.minimum(push * np.maximum(1.0, np.abs(lo)), push * width)
+                pu = np.minimum(push * np.maximum(1.0, np.abs(hi)), push * width)
+            fin_l, fin_u = np.isfinite(lo), np.isfinite(hi)
+            lo[fin_l] = lo[fin_l] + pl[fin_l]
+            hi[fin_u] = hi[fin_u] - pu[fin_u]
+            eq = b.lb == b.ub  # fixed variables stay at their value
+            lo[eq], hi[eq] = b.lb[eq], b.ub[eq]
+        x = np.minimum(np.maximum(self.x0, lo), hi)
         if np.array_equal(x, self.x0):
             return False
         self.x0 = x
