@@ -41,7 +41,7 @@ from ..contact.obstacles import Circle, HalfSpace, UserObstacle
 from ..fem import LinearElasticity, Material, meshes
 from .hertz import HertzReference
 
-__all__ = ["block_on_plane", "cattaneo_mindlin_2d", "MindlinReference"]
+__all__ = ["block_on_plane", "cattaneo_mindlin_2d", "sphere_shear_3d", "MindlinReference"]
 
 
 def block_on_plane(dim: int = 2, *, n: int = 8, E: float = 1000.0, nu: float = 0.0, width: float = 2.0,
@@ -217,4 +217,51 @@ def cattaneo_mindlin_2d(n_per_a: int = 16, *, E: float = 200e3, nu: float = 0.49
         meta={"delta": delta, "s": s, "h": h},
     )
     fric = Ramp((t_half, t_half + 1e-9), (0.0, 1.0), hold_after=True) if frictionless_approach else None
+    return problem, LoadHistory((press, shear), times, fric)
+
+
+def sphere_shear_3d(n_per_a: int = 4, *, E: float = 200e3, nu: float = 0.3, radius: float = 10.0,
+                    a_target: float = 1.0, size: float = 8.0, mu: float = 0.3, q_ratio: float = 0.5,
+                    normal_steps: int = 2, tangential_steps: int = 3, growth: float = 1.3):
+    r"""Rigid sphere on a block (half model ``y >= 0``): normal approach, then a tangential load along x.
+
+    The block ``[-L, L] x [0, L] x [-H, 0]`` touches the sphere (centre
+    ``(0, 0, R)``) at the origin; symmetry ``u_y = 0`` on ``y = 0``. Its bottom
+    moves up by :math:`\delta = a^2/R` (Hertz) over ``t`` in [0, 0.5], then along
+    x by :math:`s` over [0.5, 1], with friction from ``t = 0.5`` on (as in
+    :func:`cattaneo_mindlin_2d`). ``s`` is a rough estimate giving
+    :math:`Q \approx` ``q_ratio`` :math:`\mu P`; used by ``benchmarks/friction.py``.
+
+    Returns
+    -------
+    problem : ContactProblem
+    history : LoadHistory
+    """
+    from ..contact.obstacles import Sphere
+
+    mat = Material(E=E, nu=nu)
+    a = a_target
+    L = H = size * a
+    h = a / n_per_a
+    mesh = meshes.box(-L, L, 0.0, L, -H, 0.0, 8, 4, 4,
+                      refine=dict(center=(0.0, 0.0, 0.0), h_min=h, width=1.5 * a, depth=1.0 * a, growth=growth))
+    model = LinearElasticity(mesh, mat)
+    delta = a * a / radius
+    G = E / (2 * (1 + nu))
+    P = 4 * mat.plane_strain_modulus * a ** 3 / (3 * radius)
+    s = q_ratio * mu * P * (2 - nu) / (8 * G * a) * 1.5
+    t_half = 0.5
+    times = tuple(np.linspace(0, t_half, normal_steps + 1)[1:]) + tuple(
+        np.linspace(t_half, 1.0, tangential_steps + 1)[1:])
+    press = LoadCase(Support("bottom", components=(2,), value=delta), Ramp((0.0, t_half), (0.0, 1.0),
+                                                                           hold_after=True), name="approach")
+    shear = LoadCase(Support("bottom", components=(0,), value=s), Ramp((t_half, 1.0), (0.0, 1.0)),
+                     tangential=True, name="tangential displacement")
+    problem = ContactProblem(
+        model=model, obstacle=Sphere(center=(0.0, 0.0, radius), radius=radius), contact_boundary="top",
+        supports=(Support("front", components=(1,)),), friction=mu,
+        name=f"sphere-shear-3d (R={radius:g}, {n_per_a} elements per a, mu={mu:g})",
+        meta={"delta": delta, "s": s, "h": h},
+    )
+    fric = Ramp((t_half, t_half + 1e-9), (0.0, 1.0), hold_after=True)
     return problem, LoadHistory((press, shear), times, fric)
