@@ -323,10 +323,10 @@ def run_ssn(dc, opts, eps0, penalty_name=None, warm=None) -> _Run:
         hist.append(ContactIteration(k, pen, compl, dlam, 0.0, 1, c, int(A.size)))
         logger.info("active-set iteration %d: %d active, penetration %.2e h", k, A.size, pen)
         lam = lam_new
-        if np.array_equal(new_active, active):
-            if np.all(lam >= -1e-12 * max(lam.max(initial=0), 1e-300)) and pen <= max(opts.tol_penetration, 1e-12):
-                return _Run(r, np.maximum(lam, 0), g, ContactStatus.CONVERGED, "active set settled", k, k, c, 0.0,
-                            hist)
+        kkt = np.all(lam >= -1e-10 * max(lam.max(initial=0), 1e-300)) and pen <= max(opts.tol_penetration, 1e-12)
+        if kkt and (np.array_equal(new_active, active) or compl <= opts.tol_complementarity):
+            # converged: the active set repeats, or it changes only at degenerate points (lambda = g = 0)
+            return _Run(r, np.maximum(lam, 0), g, ContactStatus.CONVERGED, "active set settled", k, k, c, 0.0, hist)
         key = new_active.tobytes()
         if key in seen:
             return _Run(r, lam, g, ContactStatus.NEWTON_FAILED,
