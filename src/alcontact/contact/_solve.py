@@ -36,7 +36,7 @@ def penalty_stiffness(model, h: float, scale: float = 1.0) -> float:
 
 
 def _projected_pressure(problem, forces: np.ndarray) -> np.ndarray:
-    """Pressure field whose consistent nodal forces are ``forces`` (3D P2).
+    r"""Pressure field whose consistent nodal forces are ``forces`` (3D P2).
 
     On quadratic triangles the integral of a vertex basis function vanishes, so
     the contact points use sub-triangle weights and ``lambda = r/w`` is not the

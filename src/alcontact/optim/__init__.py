@@ -11,6 +11,11 @@
   AL penalty of :mod:`alcontact.penalties` for inequalities and Hestenes-Powell
   for equalities in the same loop.
 
+Variable bounds of ``"al"`` stay an exact box of every subproblem (ALGENCAN /
+LANCELOT style, option ``bounds_as``): the inner solver is then Bertsekas'
+projected Newton method, iterates never leave the box and the bound multipliers
+are read from the Lagrangian gradient.
+
 Penalty-parameter strategies (:func:`available_strategies`) and inner solvers
 (:func:`available_inner_solvers`) are registries too. Throughout, ``eta -> 0``
 is the constrained limit: a smaller ``eta`` is a stronger AL penalty.

@@ -3,13 +3,17 @@
 ``"newton"``: modified Newton with Armijo backtracking (and, for small dense
 Hessians, a second-order test with a negative-curvature step); ``"trust-region"``:
 Newton with the exact trust-region step from an eigendecomposition (dense), falling
-back to ``"newton"`` for sparse Hessians.
+back to ``"newton"`` for sparse Hessians. Subproblems with a box
+``lower <= x <= upper`` (``sub.lower``/``sub.upper`` not None; bounds of method
+``"al"``) are solved by Bertsekas' projected Newton method
+(:meth:`Newton.solve_box`) whichever solver is chosen.
 
 A subproblem object provides ``value(x)`` (``+inf`` outside the domain of a
 barrier-type penalty or where a callback returns NaN), ``gradient(x)``
 (returning the gradient and the scale used to normalise its norm),
 ``hessian(x)`` (dense array or SciPy sparse matrix) and ``max_step(x, d)``
-(fraction-to-boundary step bound from the linearised constraints).
+(fraction-to-boundary step bound from the linearised constraints), and
+``lower``/``upper`` (the box, or None).
 """
 
 from __future__ import annotations
@@ -130,16 +134,23 @@ class Newton:
         Newton direction from a positive definite modification can leave.
     max_dense : int
         Largest ``n`` for that eigenvalue test (0 switches it off).
+    eps_active : float
+        Box subproblems (:meth:`solve_box`): the threshold :math:`\\varepsilon` of the
+        :math:`\\varepsilon`-active set (distance to a bound, in the units of ``x``).
     """
 
     name = "newton"
 
     def __init__(self, c1: float = 1e-4, max_backtracks: int = 60, shift: float = 1e-8,
-                 neg_tol: float = 1e-6, max_dense: int = 400):
+                 neg_tol: float = 1e-6, max_dense: int = 400, eps_active: float = 1e-3):
         if not 0 < c1 < 0.5:
             raise InputError(f"inner solver 'newton': c1 = {c1!r} must lie in (0, 0.5)")
+        if not eps_active >= 0:
+            raise InputError(f"inner solver 'newton': eps_active = {eps_active!r} must be "
+                             ">= 0")
         self.c1, self.max_backtracks, self.shift = float(c1), int(max_backtracks), float(shift)
         self.neg_tol, self.max_dense = float(neg_tol), int(max_dense)
+        self.eps_active = float(eps_active)
 
     def _negative_curvature(self, sub, x, fx, g):
         """A step along the most negative curvature, or None at a second-order point."""
@@ -164,7 +175,13 @@ class Newton:
         return None
 
     def solve(self, sub, x, tol, maxiter) -> InnerResult:
-        """Minimize ``sub`` from ``x`` until the scaled gradient norm is <= ``tol``."""
+        """Minimize ``sub`` from ``x`` until the scaled gradient norm is <= ``tol``.
+
+        A subproblem with a box (``sub.lower`` not None) is solved on the box by
+        :meth:`solve_box`.
+        """
+        if getattr(sub, "lower", None) is not None:
+            return self.solve_box(sub, x, tol, maxiter)
         x = np.array(x, dtype=float)
         it = 0
         try:
@@ -221,6 +238,171 @@ class Newton:
                 if step <= 4 * _EPS * max(1.0, _norm_inf(x)):
                     g, scale = sub.gradient(x)
                     measure = _norm_inf(g) / scale
+                    status = "converged" if measure <= tol else "small-step"
+                    return InnerResult(x, fx, it + 1, status, measure)
+        except NonFiniteValue as exc:
+            return InnerResult(x, math.nan, it, "nonfinite", math.inf, exc.callback)
+        return InnerResult(x, fx, maxiter, "maxiter", measure)  # pragma: no cover
+
+    # ------------------------------------------------------------------ box
+    def _box_curvature(self, sub, x, fx, g, lo, hi):
+        """Projected step along the most negative curvature of ``H``, or None.
+
+        The eigenvector belongs to ``H`` on all variables that are not fixed
+        (``l_i < u_i``), including those on a bound: at a bound where the gradient
+        of a violated constraint vanishes (HS33: ``x3 = 0`` and ``x3^2 >= x1^2 + x2^2``)
+        the penalty's curvature is the only force that can move the variable off it.
+        The trial points are ``P(x + alpha d)`` for both signs of ``d`` (an uphill sign
+        starts beyond the zero of the quadratic model), accepted when the actual
+        decrease beats ``c1`` times the model's. None at a
+        second-order point (within ``neg_tol``), for sparse Hessians and for
+        ``n > max_dense``.
+        """
+        idx = np.flatnonzero(lo < hi)
+        if idx.size == 0 or x.size > self.max_dense:
+            return None
+        H = sub.hessian(x)
+        if sp.issparse(H):
+            return None
+        HF = H[np.ix_(idx, idx)]
+        lam, Q = np.linalg.eigh(0.5 * (HF + HF.T))
+        if not lam[0] < -self.neg_tol * max(1.0, float(np.max(np.abs(lam)))):
+            return None
+        q = Q[:, 0] if g[idx] @ Q[:, 0] <= 0 else -Q[:, 0]
+        for sign in (1.0, -1.0):
+            d = np.zeros_like(x)
+            d[idx] = sign * q * max(1.0, float(np.linalg.norm(x)))
+            # uphill start (g^T d > 0): begin beyond the zero of the model along d
+            gd, curv = float(g @ d), float(d @ (H @ d))
+            alpha = max(1.0, -4.0 * gd / curv) if gd > 0 else 1.0
+            alpha = min(alpha, sub.max_step(x, d))
+            for _ in range(self.max_backtracks):
+                xt = np.minimum(np.maximum(x + alpha * d, lo), hi)
+                s = xt - x
+                model = float(g @ s + 0.5 * s @ (H @ s))
+                if model < 0:
+                    ft = sub.value(xt)
+                    if ft < fx + self.c1 * model:
+                        return xt, ft
+                alpha *= 0.5
+        return None
+
+    def _box_search(self, sub, x, fx, g, d, slope, ia, lo, hi, scale, measure):
+        """Backtracking on the projected path ``P(x + alpha d)``; ``(None, None)`` on failure.
+
+        With ``slope`` (Newton step on the free variables ``F``, scaled gradient step
+        on the active ones ``ia``) the sufficient decrease is Bertsekas' (1982)
+        ``alpha g_F^T d_F + g_A^T (x_A(alpha) - x_A)``; with ``slope=None`` (projected
+        gradient) it is ``g^T (x(alpha) - x)``.
+        """
+        alpha = min(1.0, sub.max_step(x, d))
+        for _ in range(self.max_backtracks):
+            xt = np.minimum(np.maximum(x + alpha * d, lo), hi)
+            ft = sub.value(xt)
+            if slope is None:
+                pred = float(g @ (xt - x))
+            else:
+                pred = alpha * slope + float(g[ia] @ (xt[ia] - x[ia]))
+            if ft <= fx + self.c1 * pred and (slope is not None or pred < 0):
+                return xt, ft
+            if math.isfinite(ft) and abs(ft - fx) <= 100 * _EPS * max(1.0, abs(fx)):
+                gt, _ = sub.gradient(xt)
+                mt = _norm_inf(xt - np.minimum(np.maximum(xt - gt / scale, lo), hi))
+                if mt < measure:
+                    return xt, ft
+            alpha *= 0.5 if math.isfinite(ft) else 0.25
+        return None, None
+
+    def solve_box(self, sub, x, tol, maxiter) -> InnerResult:
+        """Minimize ``sub`` on the box ``sub.lower <= x <= sub.upper`` (projected Newton).
+
+        Bertsekas' projected Newton method (SIAM J. Control Optim. 20, 1982) as
+        used for the box-constrained AL subproblems of LANCELOT and ALGENCAN:
+        with the normalised gradient :math:`\\hat g = \\nabla L / s` the stopping
+        measure is the projected-gradient norm
+
+        .. math:: \\|x - P(x - \\hat g)\\|_\\infty \\le \\text{tol},
+
+        the :math:`\\varepsilon`-active set is :math:`\\{i: x_i \\le l_i +
+        \\varepsilon_k,\\ g_i > 0\\} \\cup \\{i: x_i \\ge u_i - \\varepsilon_k,\\ g_i < 0\\}`
+        with :math:`\\varepsilon_k = \\min(\\varepsilon, \\text{measure})`; the free
+        variables take the modified Newton step of the reduced Hessian
+        :math:`H_{FF}` (dense Cholesky or sparse LU with shifts, as :meth:`solve`),
+        the active ones the diagonally scaled gradient step
+        :math:`-g_i/\\max(H_{ii}, \\beta)`. The trial point is projected,
+        :math:`x(\\alpha) = P(x + \\alpha d)`, and accepted by Bertsekas' Armijo rule
+        :math:`L(x(\\alpha)) \\le L(x) + c_1 (\\alpha g_F^T d_F + g_A^T (x_A(\\alpha) - x_A))`.
+        Every iterate lies in the box; variables reach their bounds exactly.
+        A point with a small measure must also pass a negative-curvature test
+        (:meth:`_box_curvature`; dense, ``n <= max_dense``).
+        """
+        lo, hi = np.asarray(sub.lower, float), np.asarray(sub.upper, float)
+        x = np.minimum(np.maximum(np.array(x, dtype=float), lo), hi)
+        fixed = lo == hi
+        it = 0
+        try:
+            fx = sub.value(x)
+            if not math.isfinite(fx):
+                return InnerResult(x, fx, 0, "nonfinite", math.inf, sub.last_nonfinite)
+            measure = math.inf
+            for it in range(maxiter + 1):
+                g, scale = sub.gradient(x)
+                gs = g / scale
+                measure = _norm_inf(x - np.minimum(np.maximum(x - gs, lo), hi))
+                eps = min(self.eps_active, measure)
+                active = fixed | ((x <= lo + eps) & (g > 0)) | ((x >= hi - eps) & (g < 0))
+                free = ~active
+                if measure <= tol:
+                    step = self._box_curvature(sub, x, fx, g, lo, hi) \
+                        if it < maxiter else None
+                    if step is None:
+                        return InnerResult(x, fx, it, "converged", measure)
+                    x, fx = step
+                    continue
+                if it == maxiter:
+                    return InnerResult(x, fx, it, "maxiter", measure)
+                H = sub.hessian(x)
+                d = np.zeros_like(x)
+                idx = np.flatnonzero(free)
+                if sp.issparse(H):
+                    H = H.tocsr()
+                    hdiag = H.diagonal()
+                else:
+                    hdiag = np.diag(H)
+                beta = self.shift * max(1.0, float(np.max(np.abs(hdiag))))
+                slope = 0.0
+                if idx.size:
+                    gF = g[idx]
+                    if sp.issparse(H):
+                        HF = H[idx][:, idx]
+                        dF, _ = _sparse_direction(HF, gF, beta)
+                    else:
+                        dF, _ = _dense_direction(H[np.ix_(idx, idx)], gF, beta)
+                    slope = float(gF @ dF)
+                    if not slope < 0:
+                        dF, slope = -gF, -float(gF @ gF)
+                    d[idx] = dF
+                ia = np.flatnonzero(active & ~fixed)
+                d[ia] = -g[ia] / np.maximum(hdiag[ia], beta)
+                sub.last_nonfinite = None
+                xt, ft = self._box_search(sub, x, fx, g, d, slope, ia, lo, hi, scale,
+                                          measure)
+                if xt is None:
+                    # projected gradient path (Bertsekas 1976), when the Newton path of
+                    # a nearly singular reduced Hessian is too long for the backtracking
+                    d = np.where(fixed, 0.0, -g)
+                    xt, ft = self._box_search(sub, x, fx, g, d, None, None, lo, hi,
+                                              scale, measure)
+                if xt is None:
+                    return InnerResult(x, fx, it, "line-search", measure,
+                                       sub.last_nonfinite)
+                step = _norm_inf(xt - x)
+                x, fx = xt, ft
+                if fx < sub.unbounded_below:
+                    return InnerResult(x, fx, it + 1, "unbounded", measure)
+                if step <= 4 * _EPS * max(1.0, _norm_inf(x)):
+                    g, scale = sub.gradient(x)
+                    measure = _norm_inf(x - np.minimum(np.maximum(x - g / scale, lo), hi))
                     status = "converged" if measure <= tol else "small-step"
                     return InnerResult(x, fx, it + 1, status, measure)
         except NonFiniteValue as exc:
@@ -332,7 +514,10 @@ class TrustRegion:
 
     def solve(self, sub, x, tol, maxiter) -> InnerResult:
         """Minimize ``sub`` from ``x`` until the scaled gradient norm is <= ``tol``
-        and the Hessian has no significantly negative eigenvalue."""
+        and the Hessian has no significantly negative eigenvalue (a subproblem with
+        a box goes to :meth:`Newton.solve_box`)."""
+        if getattr(sub, "lower", None) is not None:
+            return self._fallback.solve_box(sub, x, tol, maxiter)
         x = np.array(x, dtype=float)
         it = 0
         radius = None

@@ -73,8 +73,14 @@ def _second_order_ok(W, J, y, n_ineq):
     return lmin >= -1e-8 * max(1.0, float(np.max(np.abs(np.diag(W)))))
 
 
-def kkt_polish(nlp, x, g, mu, lam, opts, kkt_measures, maxiter):
+def kkt_polish(nlp, x, g, mu, lam, opts, kkt_measures, maxiter, box_fixed=None):
     """Newton-KKT iterations on the active set ``mu > -g``.
+
+    ``box_fixed = (at_lower, at_upper)`` (boolean arrays) names the variables whose
+    bound of the box ``nlp.lower <= x <= nlp.upper`` is active: they are set to that
+    bound and kept there (the Newton-KKT system is solved for the other variables;
+    their bound multipliers are read from the gradient by ``kkt_measures``), and
+    every iterate is projected into the box, so a polished point never leaves it.
 
     Returns ``(accepted, x, mu, lam, (stat, feas, comp, g, h), iterations)``; on
     rejection the input point is returned unchanged.
@@ -82,6 +88,12 @@ def kkt_polish(nlp, x, g, mu, lam, opts, kkt_measures, maxiter):
     m, p, n = nlp.m, nlp.p, nlp.n
     A = np.flatnonzero(mu > -g)
     xk = np.array(x, dtype=float)
+    F = np.arange(n)
+    if box_fixed is not None:
+        at_lo, at_up = box_fixed
+        xk[at_lo] = nlp.lower[at_lo]
+        xk[at_up] = nlp.upper[at_up]
+        F = np.flatnonzero(~(at_lo | at_up))
     y = np.concatenate([np.maximum(mu[A], 0.0), lam])
     it = 0
     max_dense = 2000
@@ -103,7 +115,9 @@ def kkt_polish(nlp, x, g, mu, lam, opts, kkt_measures, maxiter):
                         Hc = nlp.constraint_hessian(xk, mu_full, lam_k)
                         if Hc is not None:
                             W = W + (Hc.toarray() if sp.issparse(Hc) else Hc)
-                        if not _second_order_ok(W, J, y, A.size):
+                        # fixed bound variables: second order on the free ones
+                        # (an active bound with a zero multiplier is not checked)
+                        if not _second_order_ok(W[np.ix_(F, F)], J[:, F], y, A.size):
                             return False, x, mu, lam, None, it
                     return True, xk, mu_full, lam_k, (stat, feas, comp, gk, hk), it
             if it == maxiter:
@@ -113,24 +127,30 @@ def kkt_polish(nlp, x, g, mu, lam, opts, kkt_measures, maxiter):
             Jg, Jh = nlp.jacobians(xk)
             H = nlp.hess_f(xk, sparse=nlp.sparse)
             Hc = nlp.constraint_hessian(xk, mu_full, lam_k)
+            nf = F.size
             if nlp.sparse:
                 J = sp.vstack([Jg[A], Jh]).tocsr()
                 W = H + (sp.csr_matrix(Hc) if Hc is not None else 0)
+                if nf < n:
+                    W, J = sp.csr_matrix(W)[F][:, F], J[:, F]
                 K = sp.bmat([[W, J.T], [J, None]], format="csc")
             else:
                 J = np.vstack([Jg[A], Jh])
                 W = H + (Hc.toarray() if sp.issparse(Hc) else Hc) if Hc is not None else H
+                if nf < n:
+                    W, J = W[np.ix_(F, F)], J[:, F]
                 q = J.shape[0]
                 K = np.block([[W, J.T], [J, np.zeros((q, q))]])
-            rhs = -np.concatenate([gf, gk[A], hk])
+            rhs = -np.concatenate([gf[F], gk[A], hk])
             sol = _solve(K, rhs, nlp.sparse)
             if sol is None:
                 return False, x, mu, lam, None, it + 1
-            d, y = sol[:n], sol[n:]
+            d = np.zeros(n)
+            d[F], y = sol[:nf], sol[nf:]
             if not np.all(np.isfinite(d)) or \
                     np.max(np.abs(d)) > 1e3 * max(1.0, float(np.max(np.abs(xk)))):
                 return False, x, mu, lam, None, it + 1
-            xk = xk + d
+            xk = nlp.project(xk + d)
     except (NonFiniteValue, np.linalg.LinAlgError, ValueError, FloatingPointError):
         return False, x, mu, lam, None, it + 1
     return False, x, mu, lam, None, it

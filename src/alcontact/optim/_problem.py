@@ -99,9 +99,15 @@ class NLP:
     ----------
     fun, x0, jac, hess, constraints, bounds
         As in :func:`alcontact.optim.minimize`.
+    box : bool
+        False: the bounds become the last constraint block (rows of ``g``/``h``).
+        True: they are kept apart as the box ``lower <= x <= upper`` (attributes
+        ``lower``/``upper``, ``-inf``/``inf`` where absent) for an inner solver that
+        keeps them exactly; ``g``/``h`` then hold the general constraints only.
     """
 
-    def __init__(self, fun, x0, jac=None, hess=None, constraints=(), bounds=None):
+    def __init__(self, fun, x0, jac=None, hess=None, constraints=(), bounds=None,
+                 box=False):
         x0 = np.asarray(x0, dtype=float)
         if x0.ndim != 1:
             if x0.ndim == 0:
@@ -114,8 +120,16 @@ class NLP:
             raise InputError("x0 contains NaN or infinity")
         if not callable(fun):
             raise InputError(f"fun must be callable, got {type(fun).__name__}")
-        self.x0 = x0
         self.n = n = x0.size
+        self.x0_clipped = False
+        if box and bounds is not None:
+            # the box is kept exactly: no callback is ever evaluated outside it
+            bb = self._make_bounds(bounds)
+            if bb is not None:
+                xc = np.minimum(np.maximum(x0, bb.lb), bb.ub)
+                self.x0_clipped = not np.array_equal(xc, x0)
+                x0 = xc
+        self.x0 = x0
         self._fun = fun
         self.fun_returns_grad = jac is True
         self._jac = jac if _is_callable_derivative(jac) else None
@@ -151,10 +165,15 @@ class NLP:
             block, is_sparse = self._make_block(c, i, x0)
             sparse = sparse or is_sparse
             self.blocks.append(block)
+        self.lower = self.upper = None
         if bounds is not None:
             self.bounds_block = self._make_bounds(bounds)
             if self.bounds_block is not None:
-                self.blocks.append(self.bounds_block)
+                if box:
+                    self.lower = self.bounds_block.lb.copy()
+                    self.upper = self.bounds_block.ub.copy()
+                else:
+                    self.blocks.append(self.bounds_block)
         self.sparse = bool(sparse)
 
         # offsets of each block in g and h
@@ -214,6 +233,17 @@ class NLP:
         return (np.asarray(g) / self.g_scale, np.asarray(h) / self.h_scale,
                 np.asarray(mu) * self.g_scale / self.f_scale,
                 np.asarray(lam) * self.h_scale / self.f_scale)
+
+    @property
+    def has_box(self) -> bool:
+        """Whether the bounds are kept as a box (``lower``/``upper``), not in ``g``/``h``."""
+        return self.lower is not None
+
+    def project(self, x):
+        """Projection onto the box (identity without one)."""
+        if self.lower is None:
+            return x
+        return np.minimum(np.maximum(x, self.lower), self.upper)
 
     # ------------------------------------------------------------------ setup
     def _make_block(self, c, i, x0):
