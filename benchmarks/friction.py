@@ -75,7 +75,8 @@ def run(out_dir=None, cases=None, variants=None, log=print) -> Path:
             sol = solve_friction(prob, hist, alg, pen)
             wall = sol.timings["total_s"]
             fin = sol.steps[-1] if sol.steps else None
-            q = float(np.linalg.norm(fin.tangential_force)) / (sol.friction * fin.normal_force) if fin else float("nan")
+            ok = fin is not None and fin.normal_force > 0 and sol.friction > 0
+            q = float(np.linalg.norm(fin.tangential_force)) / (sol.friction * fin.normal_force) if ok else float("nan")
             for k, st in enumerate(sol.steps):
                 step_rows.append({
                     "case": case, "variant": label, "step": k + 1, "t": round(st.t, 6),

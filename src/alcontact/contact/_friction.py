@@ -328,6 +328,24 @@ def _measures(ctx: _Ctx, t, y, st, lamN_old, lamT_old):
     return pen, compl, dlam, stick_slip
 
 
+def _inside_domain(ctx: _Ctx, law, lamN, R):
+    """Start for barrier-type penalties (log): push harder until every gap is inside ``g < eta b``.
+
+    The predictor leaves the contact points penetrating by about ``lambda/eps_N``,
+    which is the domain bound of the modified log barriers; scaling the normal
+    contact forces up closes those penetrations (as in the frictionless solver).
+    """
+    bound = law.gap_bound(lamN)
+    scale = 0.5
+    while np.any(ctx.y(R)[:, 0] >= 0.99 * bound) and np.any(R[:, 0]) and scale < 1e6:
+        trial = R.copy()
+        trial[:, 0] *= 1.0 + scale
+        if not np.any(ctx.y(trial)[:, 0] >= 0.99 * bound):
+            return trial
+        scale *= 2
+    return R
+
+
 def _step_al(ctx: _Ctx, penalty_name: str) -> _StepOut:
     """Algorithms 6.2 (``rockafellar``) / 6.4 (family-P) for one load step."""
     opts = ctx.opts
@@ -349,6 +367,7 @@ def _step_al(ctx: _Ctx, penalty_name: str) -> _StepOut:
         lamN = np.maximum(lamN, floor)
         eta = eta_for_stiffness(pen, np.maximum(lamN, opts.eta_floor * pref), ctx.eps_n)
         law = make_law(pen, eta)
+        R = _inside_domain(ctx, law, lamN, R)
     else:
         law = macaulay
     for k in range(1, opts.maxiter + 1):
