@@ -35,7 +35,7 @@ import numpy as np
 
 from .. import penalties as _pen
 from ..errors import InputError, UnknownNameError
-from ._laws import eta_for_stiffness, make_law
+from ._laws import eta_for_stiffness, freezes_at_zero, make_law
 from ._newton import solve_subproblem
 from ._solution import ContactIteration, ContactStatus
 
@@ -179,8 +179,8 @@ def _penalty_solve(dc, opts, eps, r0):
 
 
 def run_penalty(dc, opts, eps0, penalty_name=None, warm=None) -> _Run:
+    """Pure penalty (6.10), stiffness raised by ``alpha`` until the penetration tolerance is met."""
     eps = eps0
-    w = dc.weights[dc.cand]
     r = np.zeros(dc.cand.size) if warm is None else warm.r
     hist, newton = [], 0
     lam_old = np.zeros(dc.cand.size)
@@ -212,15 +212,15 @@ def run_penalty(dc, opts, eps0, penalty_name=None, warm=None) -> _Run:
 def run_al(dc, opts, eps0, penalty_name="rockafellar", warm=None) -> _Run:
     """Algorithms 6.1 / 6.3 (outer loop; see module doc)."""
     pen = _pen.make(penalty_name)
-    w = dc.weights[dc.cand]
     n = dc.cand.size
     eps = eps0
     hist, newton, outer0 = [], 0, 0
+    needs_positive = freezes_at_zero(pen)  # MET 1/2: a zero multiplier would never revive
     # ---- initial multipliers and starting point
     if warm is not None and warm.lam.size == n:
         lam = np.maximum(warm.lam, 0.0)
         r = warm.r.copy()
-    elif penalty_name == "rockafellar":
+    elif not needs_positive:  # Algorithm 6.1: start from lambda = 0
         lam = np.zeros(n)
         r = np.zeros(n)
     elif opts.initial == "penalty":
@@ -236,7 +236,6 @@ def run_al(dc, opts, eps0, penalty_name="rockafellar", warm=None) -> _Run:
         r = np.zeros(n)
     pref = max(float(np.max(lam, initial=0.0)), eps * dc.h * 1e-6)
     floor = opts.multiplier_floor * pref
-    needs_positive = penalty_name != "rockafellar"
     if needs_positive:
         lam = np.maximum(lam, floor)
     eta = eta_for_stiffness(pen, lam, eps)
@@ -262,7 +261,8 @@ def run_al(dc, opts, eps0, penalty_name="rockafellar", warm=None) -> _Run:
         if out.reason == "the penalty returned NaN" or not np.all(np.isfinite(out.t)):
             return _Run(r, lam, out.g, ContactStatus.NONFINITE,
                         f"penalty {penalty_name!r} produced non-finite (NaN/inf) tractions in iteration {k}; "
-                        "check the penalty's formulas, lower penalty_scale or use another penalty", outer0 + k, newton, eps, out.residual, hist)
+                        "check the penalty's formulas, lower penalty_scale or use another penalty",
+                        outer0 + k, newton, eps, out.residual, hist)
         if not out.converged:
             return _Run(out.r, lam, out.g, ContactStatus.NEWTON_FAILED,
                         f"Newton failed in outer iteration {k}: {out.reason}; try penalty_scale < 1 or "
@@ -286,13 +286,11 @@ def run_al(dc, opts, eps0, penalty_name="rockafellar", warm=None) -> _Run:
             if opts.eta_scaling == "fixed":
                 eta = eta / opts.alpha
         pen_prev = pen_k
-        if opts.eta_scaling == "adaptive" and penalty_name != "rockafellar":
+        if opts.eta_scaling == "adaptive":
             eta_new = eta_for_stiffness(pen, lam, eps)
             # stay inside the domain of barrier-type penalties at the warm start
             bnd = eta_new * np.asarray(pen.domain_upper(lam), dtype=float)
             eta = np.where(out.g < 0.99 * bnd, eta_new, eta)
-        elif penalty_name == "rockafellar":
-            eta = np.full(n, 1.0 / eps)
         law = make_law(pen, eta)
     return _Run(r, out.t, out.g, ContactStatus.MAXITER,
                 f"maximum outer iterations ({opts.maxiter}) reached; raise maxiter, use strategy='infeasibility' "

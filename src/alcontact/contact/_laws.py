@@ -38,15 +38,27 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["NormalLaw", "SafeguardedLaw", "eta_for_stiffness", "make_law"]
+__all__ = ["NormalLaw", "SafeguardedLaw", "eta_for_stiffness", "make_law", "freezes_at_zero"]
+
+
+def freezes_at_zero(penalty) -> bool:
+    """Whether a zero multiplier stays zero (``p'(y, 0) = 0``), as for MET 1 / MET 2.
+
+    Such penalties need strictly positive multipliers (a floor); Rockafellar's does not.
+    """
+    y = np.array([-1.0, 0.0, 0.5])
+    return bool(np.all(np.asarray(penalty.derivative(y, np.zeros(3))) == 0.0))
 
 
 def eta_for_stiffness(penalty, lam_ref: np.ndarray, eps: float) -> np.ndarray:
     """Scale :math:`\\eta = p''(0, \\lambda_{ref}) / \\varepsilon_N` per point (see module doc)."""
     lam_ref = np.asarray(lam_ref, dtype=float)
-    if penalty.name == "rockafellar":  # p'' = 1 on the active branch, whatever lambda
-        return np.full(lam_ref.shape, 1.0 / eps)
     curv = np.asarray(penalty.second_derivative(np.zeros_like(lam_ref), lam_ref), dtype=float)
+    # at a kink (Rockafellar's with lambda = 0) take the right limit: the active branch
+    kink = ~(curv > 0)
+    if np.any(kink):
+        right = np.asarray(penalty.second_derivative(np.full(lam_ref.shape, 1e-9), lam_ref), dtype=float)
+        curv = np.where(kink, right, curv)
     bad = ~np.isfinite(curv) | (curv <= 0)
     if np.any(bad):
         curv = np.where(bad, np.nanmax(np.where(bad, np.nan, curv)) if np.any(~bad) else 1.0, curv)
