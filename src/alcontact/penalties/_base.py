@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import abc
 import math
 from collections.abc import Callable
 from typing import Any, ClassVar, Protocol, runtime_checkable
@@ -45,7 +46,7 @@ class Penalty(Protocol):
 _Kernel = Callable[[NDArray[np.float64], NDArray[np.float64]], NDArray[np.float64]]
 
 
-class PenaltyBase:
+class PenaltyBase(abc.ABC):
     """Mixin giving the public, domain-safe evaluations.
 
     Subclasses (frozen dataclasses) implement the kernels ``_p``, ``_dp``,
@@ -60,14 +61,17 @@ class PenaltyBase:
     twice_differentiable: ClassVar[bool] = True
 
     # -- kernels ---------------------------------------------------------
+    @abc.abstractmethod
     def _p(self, y: NDArray[np.float64], mu: NDArray[np.float64]) -> NDArray[np.float64]:
-        raise NotImplementedError
+        """Kernel on arrays inside the domain (subclasses implement it)."""
 
+    @abc.abstractmethod
     def _dp(self, y: NDArray[np.float64], mu: NDArray[np.float64]) -> NDArray[np.float64]:
-        raise NotImplementedError
+        """Kernel on arrays inside the domain (subclasses implement it)."""
 
+    @abc.abstractmethod
     def _d2p(self, y: NDArray[np.float64], mu: NDArray[np.float64]) -> NDArray[np.float64]:
-        raise NotImplementedError
+        """Kernel on arrays inside the domain (subclasses implement it)."""
 
     def _upper(self, mu: NDArray[np.float64]) -> NDArray[np.float64]:
         return np.full(np.shape(mu), math.inf)

@@ -39,6 +39,7 @@ True
 
 from __future__ import annotations
 
+import abc
 import functools
 import math
 from collections.abc import Callable, Iterable, Sequence
@@ -62,13 +63,14 @@ SOURCE = (
 # --------------------------------------------------------------------------------------
 
 
-class _Smooth:
+class _Smooth(abc.ABC):
     """A twice differentiable scalar function of x with value, gradient and Hessian."""
 
     n: int
 
+    @abc.abstractmethod
     def vgh(self, x: np.ndarray) -> tuple[float, np.ndarray, np.ndarray]:
-        raise NotImplementedError
+        """Value, gradient and Hessian at ``x``."""
 
     # arithmetic builds expression nodes; polynomials stay polynomials (see _Poly)
     def __add__(self, other):
