@@ -83,6 +83,13 @@ class ContactOptions:
         uniform value ``eps_n * h``.
     multiplier_floor : float
         Relative lower bound keeping MET multipliers positive.
+    linear_solver : {"auto", "direct", "amg"}
+        ``"direct"``: one sparse factorization of the stiffness, problem condensed on the
+        contact points (:mod:`alcontact.contact._discrete`). ``"amg"``: no factorization;
+        full-space Newton with conjugate gradients preconditioned by smoothed-aggregation
+        AMG (PyAMG; :mod:`alcontact.contact._iterative`), for meshes whose factor does not
+        fit in memory. ``"auto"``: ``"amg"`` for 3D models with more than 100k DOFs, else
+        ``"direct"``.
     """
 
     eps_n: float | None = None
@@ -100,6 +107,7 @@ class ContactOptions:
     eta_scaling: str = "adaptive"
     initial: str = "penalty"
     multiplier_floor: float = 1e-10
+    linear_solver: str = "auto"
 
     def validate(self) -> "ContactOptions":
         checks = {
@@ -124,6 +132,7 @@ class ContactOptions:
             ("strategy", ("fixed", "infeasibility")),
             ("eta_scaling", ("adaptive", "fixed")),
             ("initial", ("penalty", "uniform")),
+            ("linear_solver", ("auto", "direct", "amg")),
         ):
             if getattr(self, key) not in allowed:
                 raise InputError(f"contact option {key}={getattr(self, key)!r}; allowed: {', '.join(allowed)}.")

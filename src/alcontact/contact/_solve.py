@@ -107,6 +107,11 @@ def solve(problem, algorithm: str = DEFAULT_ALGORITHM, penalty: str | None = Non
         opts = dataclasses.replace(opts, **option_overrides)
     opts.validate()
 
+    from ._iterative import resolve_linear_solver, solve_iterative
+
+    if resolve_linear_solver(opts.linear_solver, problem.model) == "amg":
+        return solve_iterative(problem, algorithm, pen_name, opts, t_start)
+
     dc = DiscreteContact(problem)
     eps0 = opts.eps_n if opts.eps_n is not None else penalty_stiffness(problem.model, dc.h, opts.penalty_scale)
     t_solve = time.perf_counter()

@@ -251,6 +251,9 @@ def _build_schema() -> tuple[Table, ...]:
               low=0, low_open=True),
             O("penalty_scale", "float", c["penalty_scale"], "Multiplier of the automatic stiffness E'/h.",
               low=0, low_open=True),
+            O("linear_solver", "str", c["linear_solver"],
+              "Frictionless linear solver: `direct` (one factorization), `amg` (PyAMG + CG, no factorization) "
+              "or `auto` (amg for 3D above 100k DOFs).", choices=("auto", "direct", "amg")),
             O("tol_penetration", "float", c["tol_penetration"], "Stop: max penetration / h.",
               low=0, low_open=True),
             O("tol_complementarity", "float", c["tol_complementarity"], "Stop: max |lambda g| / (p_max h).",

@@ -1,0 +1,82 @@
+"""The factorization-free path (linear_solver="amg") solves the same discrete problem as the direct one."""
+
+from __future__ import annotations
+
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+from alcontact.contact import ContactOptions, ContactStatus, solve
+from alcontact.contact._iterative import AUTO_AMG_DOFS, resolve_linear_solver
+from alcontact.errors import InputError
+from alcontact.problems import blocks, hertz
+
+pytest.importorskip("pyamg")
+
+PROBLEMS = {
+    "patch-2d": lambda: blocks.patch_block(2, n=6),
+    "signorini-2d": lambda: blocks.signorini_block(n=8),
+    "patch-3d": lambda: blocks.patch_block(3, n=4),
+    "hertz-3d": lambda: hertz.hertz_3d(0),
+}
+VARIANTS = [("simo-laursen", None), ("family-p", "exp-met1"), ("ssn", None)]
+
+
+@pytest.fixture(scope="module")
+def problems():
+    return {k: f() for k, f in PROBLEMS.items()}
+
+
+@pytest.mark.parametrize("algorithm,penalty", VARIANTS)
+@pytest.mark.parametrize("name", list(PROBLEMS))
+def test_amg_agrees_with_direct(problems, name, algorithm, penalty):
+    prob = problems[name]
+    direct = solve(prob, algorithm, penalty, linear_solver="direct")
+    amg = solve(prob, algorithm, penalty, linear_solver="amg")
+    assert direct.result.success and amg.result.success, amg.result.message
+    du = np.max(np.abs(amg.u - direct.u)) / np.max(np.abs(direct.u))
+    f_ref = np.max(np.abs(direct.total_contact_force))
+    df = np.max(np.abs(amg.total_contact_force - direct.total_contact_force)) / f_ref
+    assert du <= 1e-6
+    assert df <= 1e-6
+    assert amg.result.outer_iterations == direct.result.outer_iterations
+    # no factorization; the CG solves and their iterations are counted
+    assert amg.result.factorizations == 0
+    assert amg.result.linear_solves >= 1 and amg.extra["cg_iterations"] >= amg.result.linear_solves - 1
+    assert amg.extra["linear_solver"] == "amg" and amg.timings["linear_solve_s"] > 0
+
+
+def test_penalty_runs_on_amg_path(problems):
+    prob = problems["signorini-2d"]
+    direct = solve(prob, "penalty", linear_solver="direct")
+    amg = solve(prob, "penalty", linear_solver="amg")
+    assert amg.result.success
+    assert abs(amg.normal_force / direct.normal_force - 1) <= 1e-6
+
+
+def test_linear_solver_option_is_validated():
+    with pytest.raises(InputError, match="linear_solver"):
+        ContactOptions(linear_solver="cholesky").validate()
+    with pytest.raises(InputError, match="linear_solver"):
+        solve(blocks.patch_block(2, n=2), "simo-laursen", linear_solver="lu")
+    for name in ("auto", "direct", "amg"):
+        assert ContactOptions(linear_solver=name).validate().linear_solver == name
+
+
+def test_auto_chooses_amg_only_for_large_3d():
+    assert resolve_linear_solver("auto", SimpleNamespace(dim=3, ndofs=AUTO_AMG_DOFS + 1)) == "amg"
+    assert resolve_linear_solver("auto", SimpleNamespace(dim=3, ndofs=AUTO_AMG_DOFS)) == "direct"
+    assert resolve_linear_solver("auto", SimpleNamespace(dim=2, ndofs=10 * AUTO_AMG_DOFS)) == "direct"
+    assert resolve_linear_solver("direct", SimpleNamespace(dim=3, ndofs=10 * AUTO_AMG_DOFS)) == "direct"
+    assert resolve_linear_solver("amg", SimpleNamespace(dim=2, ndofs=10)) == "amg"
+
+
+def test_amg_failure_branches_are_reported():
+    far = blocks.signorini_block(n=4, gap=1.0)
+    sol = solve(far, "simo-laursen", linear_solver="amg")
+    assert sol.status == ContactStatus.NO_CONTACT and "never reaches" in sol.result.message
+    sol = solve(blocks.signorini_block(n=4), "simo-laursen", linear_solver="amg", maxiter=1)
+    assert sol.status == ContactStatus.MAXITER
+    sol = solve(blocks.signorini_block(n=4), "simo-laursen", linear_solver="amg", maxiter_newton=1)
+    assert sol.status == ContactStatus.NEWTON_FAILED
