@@ -36,7 +36,6 @@ import numpy as np
 from .. import penalties as _pen
 from ..errors import InputError, UnknownNameError
 from ._laws import eta_for_stiffness, freezes_at_zero, make_law
-from ._newton import solve_subproblem
 from ._solution import ContactIteration, ContactStatus
 
 __all__ = ["ContactOptions", "available_algorithms", "algorithm_docs", "contact_penalties"]
@@ -184,19 +183,19 @@ def _penalty_solve(dc, opts, eps, r0):
     pen = _pen.make("rockafellar")
     law = make_law(pen, np.full(dc.cand.size, 1.0 / eps))
     lam0 = np.zeros(dc.cand.size)
-    return solve_subproblem(dc, law, lam0, r0, tol=opts.newton_tol, maxiter=opts.maxiter_newton)
+    return dc.subproblem(law, lam0, r0, tol=opts.newton_tol, maxiter=opts.maxiter_newton)
 
 
-def run_penalty(dc, opts, eps0, penalty_name=None, warm=None) -> _Run:
+def run_penalty(dc, opts, eps0, penalty_name=None) -> _Run:
     """Pure penalty (6.10), stiffness raised by ``alpha`` until the penetration tolerance is met."""
     eps = eps0
-    r = np.zeros(dc.cand.size) if warm is None else warm.r
+    r = dc.start()
     hist, newton = [], 0
     lam_old = np.zeros(dc.cand.size)
     for k in range(1, opts.maxiter + 1):
         out = _penalty_solve(dc, opts, eps, r)
         newton += out.iterations
-        r = out.r
+        r = out.state
         lam = out.t
         pen, compl, dlam = _measures(dc, lam, out.g, lam_old)
         hist.append(ContactIteration(k, pen, compl, dlam, out.residual, out.iterations, eps, int(np.sum(lam > 0))))
@@ -218,7 +217,7 @@ def run_penalty(dc, opts, eps0, penalty_name=None, warm=None) -> _Run:
                 out.residual, hist)
 
 
-def run_al(dc, opts, eps0, penalty_name="rockafellar", warm=None) -> _Run:
+def run_al(dc, opts, eps0, penalty_name="rockafellar") -> _Run:
     """Algorithms 6.1 / 6.3 (outer loop; see module doc)."""
     pen = _pen.make(penalty_name)
     n = dc.cand.size
@@ -226,23 +225,20 @@ def run_al(dc, opts, eps0, penalty_name="rockafellar", warm=None) -> _Run:
     hist, newton, outer0 = [], 0, 0
     needs_positive = freezes_at_zero(pen)  # MET 1/2: a zero multiplier would never revive
     # ---- initial multipliers and starting point
-    if warm is not None and warm.lam.size == n:
-        lam = np.maximum(warm.lam, 0.0)
-        r = warm.r.copy()
-    elif not needs_positive:  # Algorithm 6.1: start from lambda = 0
+    if not needs_positive:  # Algorithm 6.1: start from lambda = 0
         lam = np.zeros(n)
-        r = np.zeros(n)
+        r = dc.start()
     elif opts.initial == "penalty":
-        out = _penalty_solve(dc, opts, eps, np.zeros(n))
+        out = _penalty_solve(dc, opts, eps, dc.start())
         newton += out.iterations
         outer0 = 1
         lam = out.t.copy()
-        r = out.r.copy()
+        r = out.state.copy()
         hist.append(ContactIteration(0, float(np.max(out.g, initial=0)) / dc.h, np.nan, np.nan, out.residual,
                                      out.iterations, eps, int(np.sum(lam > 0))))
     else:
         lam = np.full(n, eps * dc.h)
-        r = np.zeros(n)
+        r = dc.start()
     pref = max(float(np.max(lam, initial=0.0)), eps * dc.h * 1e-6)
     floor = opts.multiplier_floor * pref
     if needs_positive:
@@ -253,9 +249,11 @@ def run_al(dc, opts, eps0, penalty_name="rockafellar", warm=None) -> _Run:
     # harder (scaling the contact forces up) closes the penetrations
     bound = law.gap_bound(lam)
     scale = 0.5
-    while np.any(dc.gaps(r) >= 0.99 * bound) and np.any(r) and scale < 1e6:
-        if not np.any(dc.gaps(r * (1 + scale)) >= 0.99 * bound):
-            r = r * (1 + scale)
+    pushed = not np.array_equal(dc.scale_forces(r, 2.0), r)  # any contact force to scale up?
+    while np.any(dc.gaps(r) >= 0.99 * bound) and pushed and scale < 1e6:
+        trial = dc.scale_forces(r, 1 + scale)
+        if not np.any(dc.gaps(trial) >= 0.99 * bound):
+            r = trial
             break
         scale *= 2
     if np.any(dc.gaps(r) >= bound):
@@ -265,7 +263,7 @@ def run_al(dc, opts, eps0, penalty_name="rockafellar", warm=None) -> _Run:
     pen_prev = np.inf
     out = None
     for k in range(1, opts.maxiter + 1):
-        out = solve_subproblem(dc, law, lam, r, tol=opts.newton_tol, maxiter=opts.maxiter_newton)
+        out = dc.subproblem(law, lam, r, tol=opts.newton_tol, maxiter=opts.maxiter_newton)
         newton += out.iterations
         if out.reason == "the penalty returned NaN" or not np.all(np.isfinite(out.t)):
             return _Run(r, lam, out.g, ContactStatus.NONFINITE,
@@ -273,10 +271,10 @@ def run_al(dc, opts, eps0, penalty_name="rockafellar", warm=None) -> _Run:
                         "check the penalty's formulas, lower penalty_scale or use another penalty",
                         outer0 + k, newton, eps, out.residual, hist)
         if not out.converged:
-            return _Run(out.r, lam, out.g, ContactStatus.NEWTON_FAILED,
+            return _Run(out.state, lam, out.g, ContactStatus.NEWTON_FAILED,
                         f"Newton failed in outer iteration {k}: {out.reason}; try penalty_scale < 1 or "
                         "algorithm='ssn'", outer0 + k, newton, eps, out.residual, hist)
-        r = out.r
+        r = out.state
         lam_new = out.t.copy()  # multiplier update: lambda <- p'(g/eta, lambda)
         if needs_positive:
             lam_new = np.maximum(lam_new, floor)
@@ -306,14 +304,14 @@ def run_al(dc, opts, eps0, penalty_name="rockafellar", warm=None) -> _Run:
                 "or a larger penalty_scale", outer0 + opts.maxiter, newton, eps, out.residual, hist)
 
 
-def run_ssn(dc, opts, eps0, penalty_name=None, warm=None) -> _Run:
+def run_ssn(dc, opts, eps0, penalty_name=None) -> _Run:
     """Primal-dual active set / semi-smooth Newton on :math:`\\lambda = \\max(0, \\lambda + c g)`."""
     S = dc.S
     w = dc.weights[dc.cand]
     gfree = dc.g_free[dc.cand]
     n = dc.cand.size
     c = eps0
-    lam = np.zeros(n) if warm is None or warm.lam.size != n else warm.lam.copy()
+    lam = np.zeros(n)
     g = gfree - S @ (w * lam)
     active = (lam + c * g) > 0
     hist = []

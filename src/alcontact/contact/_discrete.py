@@ -37,15 +37,99 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..errors import InputError
+from ._newton import solve_subproblem
 
-__all__ = ["DiscreteContact"]
+__all__ = ["ContactPoints", "DiscreteContact"]
 
 logger = logging.getLogger(__name__)
 
 _BATCH = 64
 
 
-class DiscreteContact:
+class ContactPoints:
+    """Contact points of a problem: geometry, linearized gaps (6.15), candidates.
+
+    Shared by the condensed direct path (:class:`DiscreteContact`) and the
+    factorization-free one (:class:`~alcontact.contact._iterative.IterativeContact`).
+    Subclasses call :meth:`_setup_points` with their free DOFs, then
+    :meth:`_setup_candidates` with the contact-free displacement.
+    """
+
+    def _setup_points(self, problem, free: np.ndarray) -> None:
+        model = problem.model
+        pts, dofs = model.node_dofs(problem.contact_boundary)
+        w = model.boundary_weights(problem.contact_boundary)
+        gap0, nu = problem.obstacle.evaluate(pts)
+        self.points, self.dofs, self.weights = pts, dofs, w
+        self.normals, self.gap0 = nu, gap0
+        # position of each DOF in the free vector (-1 when fixed)
+        free_pos = -np.ones(model.ndofs, dtype=np.int64)
+        free_pos[free] = np.arange(free.size)
+        pos = free_pos[dofs]  # (m, d)
+        coef = np.where(pos >= 0, -nu, 0.0)
+        self.movable = np.linalg.norm(coef, axis=1) > 1e-12
+        m = pts.shape[0]
+        rows = np.repeat(np.arange(m), self.dim)
+        cols = pos.ravel()
+        keep = cols >= 0
+        self.B = sp.csr_matrix((coef.ravel()[keep], (rows[keep], cols[keep])), shape=(m, free.size))
+
+    def _setup_candidates(self, u_free: np.ndarray, margin: float) -> None:
+        self.g_free = self.all_gaps(u_free)
+        pinned = ~self.movable & (self.g_free > 0)
+        if np.any(pinned):
+            i = int(np.flatnonzero(pinned)[0])
+            raise InputError(
+                f"contact point {self.points[i].tolist()} is held by a Dirichlet condition in the normal "
+                f"direction but penetrates the obstacle by {self.g_free[i]:.3e}; move the obstacle "
+                "or release that support."
+            )
+        self.h = self._element_size()
+        gmax = float(np.max(self.g_free[self.movable], initial=-np.inf))
+        self.max_free_penetration = gmax
+        if gmax > 0:
+            thr = -max(margin * gmax, 1e-12 * self.h)
+            self.cand = np.flatnonzero(self.movable & (self.g_free > thr))
+        else:
+            self.cand = np.empty(0, dtype=np.int64)
+
+    def _element_size(self) -> float:
+        """Mean facet size of the contact boundary near the obstacle."""
+        f = self.model.facets(self.problem.contact_boundary)
+        mesh = self.model.mesh
+        p = mesh.p
+        v = mesh.facets[:, f]
+        if self.dim == 2:
+            size = np.linalg.norm(p[:, v[1]] - p[:, v[0]], axis=0)
+        else:
+            size = np.sqrt(
+                np.linalg.norm(np.cross((p[:, v[1]] - p[:, v[0]]).T, (p[:, v[2]] - p[:, v[0]]).T), axis=1)
+            )
+        centers = p[:, v].mean(axis=1).T
+        g = self.problem.obstacle.gap(centers)
+        # facets closest to the obstacle set the scale (graded meshes are fine there)
+        near = g >= np.quantile(g, 0.9) if g.size > 10 else np.ones(g.size, bool)
+        return float(np.median(size[near]))
+
+    def all_gaps(self, u: np.ndarray) -> np.ndarray:
+        """Linearized gaps (6.15) of every contact-boundary point for displacement ``u``."""
+        return self.gap0 - np.einsum("ij,ij->i", self.normals, u[self.dofs])
+
+    def extend(self, g_all: np.ndarray, tol: float) -> np.ndarray:
+        """Add the non-candidate points whose gap exceeds ``tol``; return the added ones."""
+        outside = np.ones(self.points.shape[0], bool)
+        outside[self.cand] = False
+        add = np.flatnonzero(outside & self.movable & (g_all > tol))
+        if add.size:
+            logger.info("adding %d contact candidates that penetrate", add.size)
+            self._add_candidates(add)
+        return add
+
+    def _add_candidates(self, new: np.ndarray) -> None:
+        self.cand = np.concatenate([self.cand, new])
+
+
+class DiscreteContact(ContactPoints):
     """Condensed frictionless contact problem built from a :class:`ContactProblem`.
 
     Attributes
@@ -90,67 +174,14 @@ class DiscreteContact:
         if not np.all(np.isfinite(self.u_free)):
             raise InputError("the contact-free solution is not finite; check loads and supports.")
 
-        pts, dofs = model.node_dofs(problem.contact_boundary)
-        w = model.boundary_weights(problem.contact_boundary)
-        gap0, nu = problem.obstacle.evaluate(pts)
-        self.points, self.dofs, self.weights = pts, dofs, w
-        self.normals, self.gap0 = nu, gap0
-
-        # position of each DOF in the free vector (-1 when fixed)
-        free_pos = -np.ones(model.ndofs, dtype=np.int64)
-        free_pos[self.factor.free] = np.arange(self.factor.free.size)
-        pos = free_pos[dofs]  # (m, d)
-        coef = np.where(pos >= 0, -nu, 0.0)
-        self.movable = np.linalg.norm(coef, axis=1) > 1e-12
-        self.g_free = gap0 - np.einsum("ij,ij->i", nu, self.u_free[dofs])
-        m = pts.shape[0]
-        rows = np.repeat(np.arange(m), self.dim)
-        cols = pos.ravel()
-        keep = cols >= 0
-        self.B = sp.csr_matrix(
-            (coef.ravel()[keep], (rows[keep], cols[keep])), shape=(m, self.factor.free.size)
-        )
-
-        pinned = ~self.movable & (self.g_free > 0)
-        if np.any(pinned):
-            i = int(np.flatnonzero(pinned)[0])
-            raise InputError(
-                f"contact point {pts[i].tolist()} is held by a Dirichlet condition in the normal "
-                f"direction but penetrates the obstacle by {self.g_free[i]:.3e}; move the obstacle "
-                "or release that support."
-            )
-
-        self.h = self._element_size()
-        gmax = float(np.max(self.g_free[self.movable], initial=-np.inf))
-        self.max_free_penetration = gmax
-        if gmax > 0:
-            thr = -max(margin * gmax, 1e-12 * self.h)
-            cand = np.flatnonzero(self.movable & (self.g_free > thr))
-        else:
-            cand = np.empty(0, dtype=np.int64)
-        self.cand = cand
+        self._setup_points(problem, self.factor.free)
+        self._setup_candidates(self.u_free, margin)
         self.S = np.zeros((0, 0))
-        self._add_columns(cand, initial=True)
+        self._add_columns(self.cand, initial=True)
         self.setup_seconds = time.perf_counter() - t0
 
-    # ------------------------------------------------------------------
-    def _element_size(self) -> float:
-        """Mean facet size of the contact boundary near the obstacle."""
-        f = self.model.facets(self.problem.contact_boundary)
-        mesh = self.model.mesh
-        p = mesh.p
-        v = mesh.facets[:, f]
-        if self.dim == 2:
-            size = np.linalg.norm(p[:, v[1]] - p[:, v[0]], axis=0)
-        else:
-            size = np.sqrt(
-                np.linalg.norm(np.cross((p[:, v[1]] - p[:, v[0]]).T, (p[:, v[2]] - p[:, v[0]]).T), axis=1)
-            )
-        centers = p[:, v].mean(axis=1).T
-        g = self.problem.obstacle.gap(centers)
-        # facets closest to the obstacle set the scale (graded meshes are fine there)
-        near = g >= np.quantile(g, 0.9) if g.size > 10 else np.ones(g.size, bool)
-        return float(np.median(size[near]))
+    def _add_candidates(self, new: np.ndarray) -> None:
+        self._add_columns(new)
 
     def _add_columns(self, new: np.ndarray, *, initial: bool = False) -> None:
         """Extend S with the candidate points ``new`` (one triangular solve each)."""
@@ -175,15 +206,32 @@ class DiscreteContact:
         S[nold:, :nold] = cols[:nold].T
         self.S = 0.5 * (S + S.T)
 
-    def extend(self, g_all: np.ndarray, tol: float) -> np.ndarray:
-        """Add the non-candidate points whose gap exceeds ``tol``; return the added ones."""
-        outside = np.ones(self.points.shape[0], bool)
-        outside[self.cand] = False
-        add = np.flatnonzero(outside & self.movable & (g_all > tol))
-        if add.size:
-            logger.info("adding %d contact candidates that penetrate", add.size)
-            self._add_columns(add)
-        return add
+    # ------------------------------------------- interface of the outer loops
+    # (shared with the factorization-free path of _iterative.py; the state is r here)
+    factorizations = 1
+
+    def start(self) -> np.ndarray:
+        """State of the contact-free solution (no contact forces)."""
+        return np.zeros(self.cand.size)
+
+    def scale_forces(self, r: np.ndarray, factor: float) -> np.ndarray:
+        """State with the contact forces multiplied by ``factor``."""
+        return r * factor
+
+    def subproblem(self, law, lam, r0, *, tol: float, maxiter: int):
+        """Solve subproblem (S) for fixed multipliers (condensed Newton, :mod:`._newton`)."""
+        return solve_subproblem(self, law, lam, r0, tol=tol, maxiter=maxiter)
+
+    def final_displacement(self, r: np.ndarray) -> np.ndarray:
+        """Full displacement of a state (one solve)."""
+        return self.displacement(r)
+
+    def timings(self) -> dict:
+        return {"setup_s": self.setup_seconds, "factor_s": self.factor_seconds,
+                "linear_solve_s": self.factor_seconds + self.solve_seconds}
+
+    def extra(self) -> dict:
+        return {"linear_solver": "direct", "backend": getattr(self.factor, "backend", "superlu")}
 
     # ------------------------------------------------------------------
     def gaps(self, r: np.ndarray) -> np.ndarray:
@@ -196,7 +244,3 @@ class DiscreteContact:
         du = self.factor.expand(self.factor.solve(rhs))
         self.linear_solves += 1
         return self.u_free - du
-
-    def all_gaps(self, u: np.ndarray) -> np.ndarray:
-        """Linearized gaps (6.15) of every contact-boundary point for displacement ``u``."""
-        return self.gap0 - np.einsum("ij,ij->i", self.normals, u[self.dofs])

@@ -72,13 +72,12 @@ from scipy.sparse.linalg import cg
 from .. import penalties as _pen
 from ..errors import InputError
 from ..fem.elasticity import rigid_body_modes
-from ._algorithms import _converged, _measures, _Run
-from ._discrete import DiscreteContact
-from ._laws import eta_for_stiffness, make_law
+from ._algorithms import _measures, _Run, run_al, run_penalty
+from ._discrete import ContactPoints
 from ._solution import ContactIteration, ContactStatus
 
-__all__ = ["IterativeContact", "full_newton", "run_penalty_iterative", "run_al_iterative", "run_ssn_iterative",
-           "ITERATIVE_ALGORITHMS", "AUTO_AMG_DOFS", "resolve_linear_solver", "solve_iterative"]
+__all__ = ["IterativeContact", "full_newton", "run_ssn_iterative", "ITERATIVE_ALGORITHMS", "AUTO_AMG_DOFS",
+           "resolve_linear_solver"]
 
 logger = logging.getLogger(__name__)
 
@@ -137,7 +136,7 @@ class _Preconditioner:
             self.stale = True
 
 
-class IterativeContact:
+class IterativeContact(ContactPoints):
     """Frictionless contact problem in the full space of the free DOFs (no factorization).
 
     Same points, weights, normals, gaps, candidates and element size ``h`` as
@@ -190,21 +189,8 @@ class IterativeContact:
         self.amg_setups = 0
         self.amg_seconds = 0.0
 
-        pts, dofs = model.node_dofs(problem.contact_boundary)
-        w = model.boundary_weights(problem.contact_boundary)
-        gap0, nu = problem.obstacle.evaluate(pts)
-        self.points, self.dofs, self.weights = pts, dofs, w
-        self.normals, self.gap0 = nu, gap0
-        free_pos = -np.ones(n, dtype=np.int64)
-        free_pos[self.free] = np.arange(self.free.size)
-        pos = free_pos[dofs]
-        coef = np.where(pos >= 0, -nu, 0.0)
-        self.movable = np.linalg.norm(coef, axis=1) > 1e-12
-        m = pts.shape[0]
-        r_ = np.repeat(np.arange(m), self.dim)
-        c_ = pos.ravel()
-        keep = c_ >= 0
-        self.B = sp.csr_matrix((coef.ravel()[keep], (r_[keep], c_[keep])), shape=(m, self.free.size))
+        self._setup_points(problem, self.free)
+        w = self.weights
         self.g_fix = self.all_gaps(self.expand(np.zeros(self.free.size)))
 
         # AMG of K and the reference linear solve: the free solution when there is a
@@ -223,25 +209,8 @@ class IterativeContact:
         self.u_free = self.expand(self.x_free)
         if not np.all(np.isfinite(self.u_free)):
             raise InputError("the contact-free solution is not finite; check loads and supports.")
-        self.g_free = self.g_fix + self.B @ self.x_free
-
-        pinned = ~self.movable & (self.g_free > 0)
-        if np.any(pinned):
-            i = int(np.flatnonzero(pinned)[0])
-            raise InputError(
-                f"contact point {pts[i].tolist()} is held by a Dirichlet condition in the normal "
-                f"direction but penetrates the obstacle by {self.g_free[i]:.3e}; move the obstacle "
-                "or release that support."
-            )
-        # same element size and candidate rule as the direct path
-        self.h = DiscreteContact._element_size(self)
-        gmax = float(np.max(self.g_free[self.movable], initial=-np.inf))
-        self.max_free_penetration = gmax
-        if gmax > 0:
-            thr = -max(margin * gmax, 1e-12 * self.h)
-            self.cand = np.flatnonzero(self.movable & (self.g_free > thr))
-        else:
-            self.cand = np.empty(0, dtype=np.int64)
+        # same gaps, element size and candidate rule as the direct path
+        self._setup_candidates(self.u_free, margin)
         self.precond = _Preconditioner(self)
         self.setup_seconds = time.perf_counter() - t0
 
@@ -271,19 +240,32 @@ class IterativeContact:
             u[self.fixed] = self.fixed_values
         return u
 
-    def all_gaps(self, u: np.ndarray) -> np.ndarray:
-        """Linearized gaps (6.15) of every contact-boundary point for displacement ``u``."""
-        return self.gap0 - np.einsum("ij,ij->i", self.normals, u[self.dofs])
+    # ------------------------------------------- interface of the outer loops
+    # (see DiscreteContact; the state here is the free displacement x)
+    factorizations = 0
 
-    def extend(self, g_all: np.ndarray, tol: float) -> np.ndarray:
-        """Add the non-candidate points whose gap exceeds ``tol``; return the added ones."""
-        outside = np.ones(self.points.shape[0], bool)
-        outside[self.cand] = False
-        add = np.flatnonzero(outside & self.movable & (g_all > tol))
-        if add.size:
-            logger.info("adding %d contact candidates that penetrate", add.size)
-            self.cand = np.concatenate([self.cand, add])
-        return add
+    def start(self) -> np.ndarray:
+        return self.x_free.copy()
+
+    def gaps(self, x: np.ndarray) -> np.ndarray:
+        return self.g_fix[self.cand] + self.B[self.cand] @ x
+
+    def scale_forces(self, x: np.ndarray, factor: float) -> np.ndarray:
+        """Contact forces scaled by ``factor``: ``x_free + factor (x - x_free)`` (linearity)."""
+        return self.x_free + factor * (x - self.x_free)
+
+    def subproblem(self, law, lam, x0, *, tol: float, maxiter: int):
+        return full_newton(self, law, lam, x0, tol=tol, maxiter=maxiter)
+
+    def final_displacement(self, x: np.ndarray) -> np.ndarray:
+        return self.expand(x)
+
+    def timings(self) -> dict:
+        return {"setup_s": self.setup_seconds, "factor_s": 0.0, "amg_setup_s": self.amg_seconds,
+                "linear_solve_s": self.reference_seconds}
+
+    def extra(self) -> dict:
+        return {"linear_solver": "amg", "cg_iterations": int(self.cg_iterations), "amg_setups": int(self.amg_setups)}
 
 
 # ----------------------------------------------------------------------
@@ -296,6 +278,10 @@ class FullNewtonOutcome:
     converged: bool
     residual: float
     reason: str
+
+    @property
+    def state(self) -> np.ndarray:
+        return self.x
 
 
 def full_newton(ic, law, lam, x0, *, tol=1e-12, maxiter=60) -> FullNewtonOutcome:
@@ -370,134 +356,7 @@ def full_newton(ic, law, lam, x0, *, tol=1e-12, maxiter=60) -> FullNewtonOutcome
     return FullNewtonOutcome(x, g, t, maxiter, res <= tol, res, "maximum Newton iterations")
 
 
-# ---------------------------------------------------------------------- outer loops
-# The _Run field ``r`` holds the free displacement x here (the state of this path).
-
-def _penalty_solve(ic, opts, eps, x0):
-    law = make_law(_pen.make("rockafellar"), np.full(ic.cand.size, 1.0 / eps))
-    return full_newton(ic, law, np.zeros(ic.cand.size), x0, tol=opts.newton_tol, maxiter=opts.maxiter_newton)
-
-
-def run_penalty_iterative(ic, opts, eps0, penalty_name=None) -> _Run:
-    """Mirror of :func:`~alcontact.contact._algorithms.run_penalty` in the full space."""
-    eps = eps0
-    x = ic.x_free.copy()
-    hist, newton = [], 0
-    lam_old = np.zeros(ic.cand.size)
-    for k in range(1, opts.maxiter + 1):
-        out = _penalty_solve(ic, opts, eps, x)
-        newton += out.iterations
-        x = out.x
-        lam = out.t
-        pen, compl, dlam = _measures(ic, lam, out.g, lam_old)
-        hist.append(ContactIteration(k, pen, compl, dlam, out.residual, out.iterations, eps, int(np.sum(lam > 0))))
-        logger.info("penalty iteration %d: eps_N %.3e, penetration %.2e h", k, eps, pen)
-        if not out.converged:
-            return _Run(x, lam, out.g, ContactStatus.NEWTON_FAILED,
-                        f"Newton failed in penalty iteration {k}: {out.reason}", k, newton, eps, out.residual, hist)
-        if pen <= opts.tol_penetration:
-            return _Run(x, lam, out.g, ContactStatus.CONVERGED, "penetration tolerance met", k, newton, eps,
-                        out.residual, hist)
-        if eps * opts.alpha > opts.eps_max * eps0:
-            return _Run(x, lam, out.g, ContactStatus.PENALTY_LIMIT,
-                        f"penetration {pen:.2e} h still above tol_penetration={opts.tol_penetration:.1e} at the "
-                        f"largest penalty {eps:.3e}; use an augmented Lagrangian algorithm or loosen the tolerance",
-                        k, newton, eps, out.residual, hist)
-        eps *= opts.alpha
-        lam_old = lam
-    return _Run(x, lam, out.g, ContactStatus.MAXITER, "maximum iterations", opts.maxiter, newton, eps,
-                out.residual, hist)
-
-
-def run_al_iterative(ic, opts, eps0, penalty_name="rockafellar") -> _Run:
-    """Mirror of :func:`~alcontact.contact._algorithms.run_al` (Algorithms 6.1 / 6.3) in the full space."""
-    pen = _pen.make(penalty_name)
-    n = ic.cand.size
-    eps = eps0
-    hist, newton, outer0 = [], 0, 0
-    x = ic.x_free.copy()
-    if penalty_name == "rockafellar":
-        lam = np.zeros(n)
-    elif opts.initial == "penalty":
-        out = _penalty_solve(ic, opts, eps, x)
-        newton += out.iterations
-        outer0 = 1
-        lam = out.t.copy()
-        x = out.x.copy()
-        hist.append(ContactIteration(0, float(np.max(out.g, initial=0)) / ic.h, np.nan, np.nan, out.residual,
-                                     out.iterations, eps, int(np.sum(lam > 0))))
-    else:
-        lam = np.full(n, eps * ic.h)
-    pref = max(float(np.max(lam, initial=0.0)), eps * ic.h * 1e-6)
-    floor = opts.multiplier_floor * pref
-    needs_positive = penalty_name != "rockafellar"
-    if needs_positive:
-        lam = np.maximum(lam, floor)
-    eta = eta_for_stiffness(pen, lam, eps)
-    law = make_law(pen, eta)
-    # barrier-type penalties: scaling the contact forces r by (1 + s) is x_free + (1 + s)(x - x_free)
-    cand = ic.cand
-
-    def gaps(x_):
-        return ic.g_fix[cand] + ic.B[cand] @ x_
-
-    bound = law.gap_bound(lam)
-    scale = 0.5
-    dx = x - ic.x_free
-    while np.any(gaps(x) >= 0.99 * bound) and np.any(dx) and scale < 1e6:
-        x_try = ic.x_free + (1 + scale) * dx
-        if not np.any(gaps(x_try) >= 0.99 * bound):
-            x = x_try
-            break
-        scale *= 2
-    if np.any(gaps(x) >= bound):
-        return _Run(x, lam, gaps(x), ContactStatus.NEWTON_FAILED,
-                    f"no starting point inside the domain of penalty {penalty_name!r}; use eta_scaling='adaptive' "
-                    "or a penalty with unbounded domain (exp-met1)", 0, newton, eps, np.inf, hist)
-    pen_prev = np.inf
-    out = None
-    for k in range(1, opts.maxiter + 1):
-        out = full_newton(ic, law, lam, x, tol=opts.newton_tol, maxiter=opts.maxiter_newton)
-        newton += out.iterations
-        if out.reason == "the penalty returned NaN" or not np.all(np.isfinite(out.t)):
-            return _Run(x, lam, out.g, ContactStatus.NONFINITE,
-                        f"penalty {penalty_name!r} produced non-finite (NaN/inf) tractions in iteration {k}; "
-                        "check the penalty's formulas, lower penalty_scale or use another penalty", outer0 + k,
-                        newton, eps, out.residual, hist)
-        if not out.converged:
-            return _Run(out.x, lam, out.g, ContactStatus.NEWTON_FAILED,
-                        f"Newton failed in outer iteration {k}: {out.reason}; try penalty_scale < 1 or "
-                        "algorithm='ssn'", outer0 + k, newton, eps, out.residual, hist)
-        x = out.x
-        lam_new = out.t.copy()
-        if needs_positive:
-            lam_new = np.maximum(lam_new, floor)
-        pen_k, compl, dlam = _measures(ic, out.t, out.g, lam)
-        hist.append(ContactIteration(outer0 + k, pen_k, compl, dlam, out.residual, out.iterations, eps,
-                                     int(np.sum(out.g > -opts.tol_penetration * ic.h))))
-        lam = lam_new
-        logger.info("outer %d: penetration %.2e h, complementarity %.2e, multiplier change %.2e, %d Newton",
-                    outer0 + k, pen_k, compl, dlam, out.iterations)
-        if _converged(opts, pen_k, compl, dlam):
-            return _Run(x, out.t, out.g, ContactStatus.CONVERGED, "converged", outer0 + k, newton, eps,
-                        out.residual, hist)
-        if (opts.strategy == "infeasibility" and pen_k > opts.tau * pen_prev and pen_k > opts.tol_penetration
-                and eps * opts.alpha <= opts.eps_max * eps0):
-            eps *= opts.alpha
-            if opts.eta_scaling == "fixed":
-                eta = eta / opts.alpha
-        pen_prev = pen_k
-        if opts.eta_scaling == "adaptive" and penalty_name != "rockafellar":
-            eta_new = eta_for_stiffness(pen, lam, eps)
-            bnd = eta_new * np.asarray(pen.domain_upper(lam), dtype=float)
-            eta = np.where(out.g < 0.99 * bnd, eta_new, eta)
-        elif penalty_name == "rockafellar":
-            eta = np.full(n, 1.0 / eps)
-        law = make_law(pen, eta)
-    return _Run(x, out.t, out.g, ContactStatus.MAXITER,
-                f"maximum outer iterations ({opts.maxiter}) reached; raise maxiter, use strategy='infeasibility' "
-                "or a larger penalty_scale", outer0 + opts.maxiter, newton, eps, out.residual, hist)
-
+# ---------------------------------------------------------------------- active-set reference
 
 def _equality_solve(ic, A, mu, c, x0, *, maxiter=60):
     r"""Solve the contact problem with :math:`g_A = 0` on the candidates ``A`` (inner AL / Uzawa).
@@ -581,11 +440,12 @@ def run_ssn_iterative(ic, opts, eps0, penalty_name=None) -> _Run:
                 0.0, hist)
 
 
-#: algorithm name -> outer loop of this path (same names as the direct registry)
+#: algorithm name -> outer loop of this path: the penalty and AL loops are the shared ones of
+#: :mod:`._algorithms` (through the interface above); the active-set reference has its own
 ITERATIVE_ALGORITHMS = {
-    "penalty": run_penalty_iterative,
-    "simo-laursen": run_al_iterative,
-    "family-p": run_al_iterative,
+    "penalty": run_penalty,
+    "simo-laursen": run_al,
+    "family-p": run_al,
     "ssn": run_ssn_iterative,
 }
 
@@ -595,85 +455,3 @@ def resolve_linear_solver(name: str, model) -> str:
     if name == "auto":
         return "amg" if (model.dim == 3 and model.ndofs > AUTO_AMG_DOFS) else "direct"
     return name
-
-
-def solve_iterative(problem, algorithm: str, pen_name: str, opts, t_start: float):
-    """:func:`alcontact.contact.solve` with ``linear_solver="amg"`` (called from there)."""
-    from ._solution import ContactResult, ContactSolution
-    from ._solve import _projected_pressure, penalty_stiffness
-
-    run = ITERATIVE_ALGORITHMS[algorithm]
-    ic = IterativeContact(problem)
-    eps0 = opts.eps_n if opts.eps_n is not None else penalty_stiffness(problem.model, ic.h, opts.penalty_scale)
-    t_solve = time.perf_counter()
-    if ic.cand.size == 0:
-        i = int(np.argmax(np.where(ic.movable, ic.g_free, -np.inf)))
-        msg = (
-            f"the body never reaches the obstacle: smallest clearance {-ic.g_free[i]:.4g} at point "
-            f"{np.round(ic.points[i], 6).tolist()}; move the obstacle closer, increase the load, or check "
-            "the contact boundary name"
-        )
-        out = _Run(ic.x_free, np.zeros(0), np.zeros(0), ContactStatus.NO_CONTACT, msg, 0, 0, eps0, 0.0, [])
-        u = ic.u_free
-    else:
-        for _attempt in range(8):
-            out = run(ic, opts, eps0, pen_name)
-            u = ic.expand(out.r)
-            added = ic.extend(ic.all_gaps(u), opts.tol_penetration * ic.h)
-            if added.size == 0 or out.status < 0:
-                break
-    g_all = ic.all_gaps(u)
-    m = ic.points.shape[0]
-    pressure = np.zeros(m)
-    pressure[ic.cand] = np.maximum(out.lam, 0.0) if out.lam.size else 0.0
-    force = np.sum((ic.weights * pressure)[:, None] * ic.normals, axis=0)
-    if problem.model.dim == 3 and problem.model.order == 2 and np.any(pressure > 0):
-        pressure = _projected_pressure(problem, ic.weights * pressure)
-    closed = g_all > -max(1e-6, 10 * opts.tol_penetration) * ic.h
-    active = closed & (pressure > 1e-12 * max(float(pressure.max(initial=0.0)), 1e-300))
-    if out.status > 0 and not np.all(np.isfinite(u)):
-        out.status, out.message = ContactStatus.NONFINITE, "non-finite displacement"
-    pen_final = float(np.max(g_all, initial=0.0)) / ic.h
-    pref = max(float(pressure.max(initial=0.0)), 1e-300)
-    compl = float(np.max(np.abs(pressure * g_all), initial=0.0)) / (pref * ic.h)
-    result = ContactResult(
-        status=out.status,
-        message=out.message,
-        algorithm=algorithm,
-        penalty=pen_name,
-        outer_iterations=int(out.outer),
-        newton_iterations=int(out.newton),
-        linear_solves=int(ic.linear_solves),
-        factorizations=0,
-        penetration=pen_final,
-        complementarity=compl,
-        residual=float(out.residual),
-        eps_n=float(out.eps),
-        history=tuple(out.history),
-    )
-    if out.status < 0:
-        logger.warning("contact solve %s/%s failed (%s): %s", algorithm, pen_name, out.status.label, out.message)
-    t_end = time.perf_counter()
-    timings = {
-        "setup_s": ic.setup_seconds,
-        "factor_s": 0.0,
-        "amg_setup_s": ic.amg_seconds,
-        "linear_solve_s": ic.reference_seconds,
-        "solve_s": t_end - t_solve,
-        "total_s": t_end - t_start,
-    }
-    return ContactSolution(
-        problem=problem,
-        u=u,
-        points=ic.points,
-        pressure=pressure,
-        gap=g_all,
-        weights=ic.weights,
-        active=active,
-        normals=ic.normals,
-        total_contact_force=force,
-        result=result,
-        timings=timings,
-        extra={"h": ic.h, "candidates": int(ic.cand.size), "dofs": int(problem.model.ndofs),
-               "linear_solver": "amg", "cg_iterations": int(ic.cg_iterations), "amg_setups": int(ic.amg_setups)},
-    )

@@ -36,6 +36,11 @@ class NewtonOutcome:
     residual: float
     reason: str
 
+    @property
+    def state(self) -> np.ndarray:
+        """The iterate of the outer loops (here the contact forces ``r``)."""
+        return self.r
+
 
 def solve_subproblem(dc, law, lam, r0, *, tol=1e-12, maxiter=60) -> NewtonOutcome:
     """Solve ``r = w t_N(g_free - S r; lam)`` by globalized Newton (see module doc)."""

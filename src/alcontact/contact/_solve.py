@@ -107,12 +107,13 @@ def solve(problem, algorithm: str = DEFAULT_ALGORITHM, penalty: str | None = Non
         opts = dataclasses.replace(opts, **option_overrides)
     opts.validate()
 
-    from ._iterative import resolve_linear_solver, solve_iterative
+    from ._iterative import ITERATIVE_ALGORITHMS, IterativeContact, resolve_linear_solver
 
     if resolve_linear_solver(opts.linear_solver, problem.model) == "amg":
-        return solve_iterative(problem, algorithm, pen_name, opts, t_start)
-
-    dc = DiscreteContact(problem)
+        dc = IterativeContact(problem)
+        run = ITERATIVE_ALGORITHMS[algorithm]
+    else:
+        dc = DiscreteContact(problem)
     eps0 = opts.eps_n if opts.eps_n is not None else penalty_stiffness(problem.model, dc.h, opts.penalty_scale)
     t_solve = time.perf_counter()
 
@@ -123,13 +124,12 @@ def solve(problem, algorithm: str = DEFAULT_ALGORITHM, penalty: str | None = Non
             f"{np.round(dc.points[i], 6).tolist()}; move the obstacle closer, increase the load, or check "
             "the contact boundary name"
         )
-        out = _Run(np.zeros(0), np.zeros(0), np.zeros(0), ContactStatus.NO_CONTACT, msg, 0, 0, eps0, 0.0, [])
+        out = _Run(dc.start(), np.zeros(0), np.zeros(0), ContactStatus.NO_CONTACT, msg, 0, 0, eps0, 0.0, [])
         u = dc.u_free
     else:
-        warm = None
         for _attempt in range(8):
-            out = run(dc, opts, eps0, pen_name, warm)
-            u = dc.displacement(out.r)
+            out = run(dc, opts, eps0, pen_name)
+            u = dc.final_displacement(out.r)
             added = dc.extend(dc.all_gaps(u), opts.tol_penetration * dc.h)
             if added.size == 0 or out.status < 0:
                 break
@@ -155,7 +155,7 @@ def solve(problem, algorithm: str = DEFAULT_ALGORITHM, penalty: str | None = Non
         outer_iterations=int(out.outer),
         newton_iterations=int(out.newton),
         linear_solves=int(dc.linear_solves),
-        factorizations=1,
+        factorizations=dc.factorizations,
         penetration=pen_final,
         complementarity=compl,
         residual=float(out.residual),
@@ -165,13 +165,7 @@ def solve(problem, algorithm: str = DEFAULT_ALGORITHM, penalty: str | None = Non
     if out.status < 0:
         logger.warning("contact solve %s/%s failed (%s): %s", algorithm, pen_name, out.status.label, out.message)
     t_end = time.perf_counter()
-    timings = {
-        "setup_s": dc.setup_seconds,
-        "factor_s": dc.factor_seconds,
-        "linear_solve_s": dc.factor_seconds + dc.solve_seconds,
-        "solve_s": t_end - t_solve,
-        "total_s": t_end - t_start,
-    }
+    timings = dict(dc.timings(), solve_s=t_end - t_solve, total_s=t_end - t_start)
     return ContactSolution(
         problem=problem,
         u=u,
@@ -184,5 +178,5 @@ def solve(problem, algorithm: str = DEFAULT_ALGORITHM, penalty: str | None = Non
         total_contact_force=force,
         result=result,
         timings=timings,
-        extra={"h": dc.h, "candidates": int(dc.cand.size), "dofs": int(problem.model.ndofs)},
+        extra={"h": dc.h, "candidates": int(dc.cand.size), "dofs": int(problem.model.ndofs), **dc.extra()},
     )
