@@ -101,3 +101,17 @@ def test_dirichlet_point_penetrating_is_an_error():
     prob = ContactProblem(model, Circle(center=(0.5, -0.9), radius=1.0), "bottom", supports=(Support("bottom"),))
     with pytest.raises(InputError, match="penetrates"):
         solve(prob)
+
+
+def test_body_not_touching_and_unsupported_says_so():
+    model = _model()
+    prob = ContactProblem(model, HalfSpace((0, -0.5), (0, 1)), "bottom", supports=(Support("left", components=(0,)),))
+    with pytest.raises(InputError, match="does not touch the obstacle"):
+        solve(prob)
+
+
+def test_contact_cannot_restrain_tangential_motion():
+    model = _model()
+    prob = ContactProblem(model, HalfSpace((0, 0), (0, 1)), "bottom")
+    with pytest.raises(InputError, match="do not restrain that motion"):
+        solve(prob)

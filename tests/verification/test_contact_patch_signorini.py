@@ -77,3 +77,25 @@ def test_stiffer_penalty_approaches_al(signorini):
         errs.append(abs(sol.normal_force - ref.normal_force) / ref.normal_force)
     assert errs[0] > errs[1] > errs[2]
     assert errs[1] / errs[2] > 5  # first order in 1/eps
+
+
+@pytest.mark.parametrize("order", [1, 2])
+@pytest.mark.parametrize("algorithm,penalty", ALGORITHMS)
+def test_block_held_only_by_the_obstacle(order, algorithm, penalty):
+    """Pressure-loaded block with no vertical support: the obstacle alone holds it.
+
+    Reference: equilibrium, the contact pressure equals the applied pressure (5.0)
+    uniformly (1e-6; 1e-5 for the pure penalty).
+    """
+    from alcontact.contact import ContactProblem, Pressure, Support
+    from alcontact.contact.obstacles import HalfSpace
+    from alcontact.fem import LinearElasticity, Material, meshes
+
+    model = LinearElasticity(meshes.rectangle(0, 1, 0, 1, 4, 4), Material(E=1000.0, nu=0.3), order=order)
+    prob = ContactProblem(model, HalfSpace((0, 0), (0, 1)), "bottom", supports=(Support("left", components=(0,)),),
+                          loads=(Pressure("top", 5.0),))
+    sol = solve(prob, algorithm, penalty)
+    assert sol.result.success, sol.result.message
+    rtol = 1e-5 if algorithm == "penalty" else 1e-6
+    assert np.all(sol.active)
+    np.testing.assert_allclose(sol.pressure, 5.0, rtol=rtol)

@@ -30,6 +30,7 @@ solve, points outside the set that penetrate are added and the solve repeated.
 
 from __future__ import annotations
 
+import dataclasses
 import logging
 import time
 
@@ -164,8 +165,15 @@ class DiscreteContact(ContactPoints):
         self.dim = model.dim
         self.fixed, self.fixed_values = problem.dirichlet()
         self.load = problem.load_vector()
+        self.spring = None  # contact-point springs of a body held only by the obstacle
         t_fac = time.perf_counter()
-        self.factor = model.factorize(self.fixed)
+        try:
+            model.check_restrained(self.fixed)
+            self.factor = model.factorize(self.fixed)
+            matrix_ok = True
+        except InputError as exc:
+            self._stabilize(problem, exc)  # raises unless the obstacle restrains the free motions
+            matrix_ok = False
         self.factor_seconds = time.perf_counter() - t_fac
         t_sol = time.perf_counter()
         self.u_free = self.factor.solve_full(self.load, self.fixed_values)
@@ -174,14 +182,57 @@ class DiscreteContact(ContactPoints):
         if not np.all(np.isfinite(self.u_free)):
             raise InputError("the contact-free solution is not finite; check loads and supports.")
 
-        self._setup_points(problem, self.factor.free)
+        if matrix_ok:
+            self._setup_points(problem, self.factor.free)
         self._setup_candidates(self.u_free, margin)
+        if self.spring is not None:  # the spring points must stay candidates
+            self.cand = np.union1d(self.cand, self.spring[0])
         self.S = np.zeros((0, 0))
         self._add_columns(self.cand, initial=True)
         self.setup_seconds = time.perf_counter() - t0
 
     def _add_candidates(self, new: np.ndarray) -> None:
         self._add_columns(new)
+
+    def _stabilize(self, problem, exc: InputError) -> None:
+        r"""Factorize :math:`\tilde K = K + \kappa B_s^T W_s B_s` for a body held only by the obstacle.
+
+        The supports leave a rigid motion free. If the contact points closest to the
+        obstacle (within half an element of the closest one) restrain it, springs
+        :math:`\kappa = E'/h` on those points make the matrix regular, and the
+        contact law is shifted by the same springs,
+        :math:`\tilde t(g) = t(g) - \kappa (g - g^0)`, which is an exact rewriting of
+        :math:`K u = f - B^T W t(g)` (see :meth:`subproblem`). Otherwise the error
+        says that neither the supports nor the obstacle restrain the body.
+        """
+        model = self.model
+        mask = np.ones(model.ndofs, dtype=bool)
+        mask[self.fixed] = False
+        self._setup_points(problem, np.flatnonzero(mask))
+        h = self._element_size()
+        g0 = np.where(self.movable, self.gap0, -np.inf)
+        near = np.flatnonzero(self.movable & (g0 >= g0.max() - 0.5 * h)) if np.any(self.movable) else []
+        if len(near) == 0 or g0.max() < -0.5 * h:
+            raise InputError(
+                f"{exc} The body does not touch the obstacle either (closest gap {-g0.max():.3g}), so nothing "
+                "restrains it: add supports or move the obstacle into contact."
+            ) from None
+        mat = model.material
+        kappa = (mat.E if (model.dim == 2 and mat.plane == "stress") else mat.plane_strain_modulus) / h
+        Bs = self.B[near]
+        stiff = model.stiffness()
+        free = np.flatnonzero(mask)
+        add = (Bs.T @ sp.diags(kappa * self.weights[near]) @ Bs).tocsr()
+        Kt = stiff + _expand_free(add, free, model.ndofs)
+        try:
+            self.factor = model.factorize(self.fixed, matrix=Kt, check=True)
+        except InputError:
+            raise InputError(
+                f"{exc} The contact points touching the obstacle do not restrain that motion either: "
+                "add supports (e.g. fix a tangential component) so that every rigid motion is stopped."
+            ) from None
+        self.spring = (np.asarray(near, dtype=np.int64), kappa)
+        logger.info("body held by the obstacle only: springs on %d contact points", len(near))
 
     def _add_columns(self, new: np.ndarray, *, initial: bool = False) -> None:
         """Extend S with the candidate points ``new`` (one triangular solve each)."""
@@ -219,8 +270,17 @@ class DiscreteContact(ContactPoints):
         return r * factor
 
     def subproblem(self, law, lam, r0, *, tol: float, maxiter: int):
-        """Solve subproblem (S) for fixed multipliers (condensed Newton, :mod:`._newton`)."""
-        return solve_subproblem(self, law, lam, r0, tol=tol, maxiter=maxiter)
+        """Solve subproblem (S) for fixed multipliers (condensed Newton, :mod:`._newton`).
+
+        With contact springs (:meth:`_stabilize`) the Newton iteration runs on the
+        shifted law and the outcome reports the physical traction :math:`t(g)`.
+        """
+        if self.spring is None:
+            return solve_subproblem(self, law, lam, r0, tol=tol, maxiter=maxiter)
+        kappa = np.where(np.isin(self.cand, self.spring[0]), self.spring[1], 0.0)
+        shifted = _SpringShiftedLaw(law, kappa, self.gap0[self.cand])
+        out = solve_subproblem(self, shifted, lam, r0, tol=tol, maxiter=maxiter)
+        return dataclasses.replace(out, t=law.traction(out.g, lam))
 
     def final_displacement(self, r: np.ndarray) -> np.ndarray:
         """Full displacement of a state (one solve)."""
@@ -244,3 +304,30 @@ class DiscreteContact(ContactPoints):
         du = self.factor.expand(self.factor.solve(rhs))
         self.linear_solves += 1
         return self.u_free - du
+
+
+def _expand_free(A_free, free: np.ndarray, n: int) -> sp.csr_matrix:
+    """Embed a matrix on the free DOFs into the full ``n x n`` numbering."""
+    A = A_free.tocoo()
+    return sp.csr_matrix((A.data, (free[A.row], free[A.col])), shape=(n, n))
+
+
+@dataclasses.dataclass(frozen=True)
+class _SpringShiftedLaw:
+    r"""Law minus the contact springs of a stabilized body: :math:`t(g) - \kappa (g - g^0)`."""
+
+    law: object
+    kappa: np.ndarray
+    g0: np.ndarray
+
+    def traction(self, g, lam):
+        return self.law.traction(g, lam) - self.kappa * (g - self.g0)
+
+    def stiffness(self, g, lam):
+        return self.law.stiffness(g, lam) - self.kappa
+
+    def energy(self, g, lam):
+        return self.law.energy(g, lam) - 0.5 * self.kappa * (g - self.g0) ** 2
+
+    def gap_bound(self, lam):
+        return self.law.gap_bound(lam)
