@@ -332,6 +332,10 @@ def minimize(fun, x0, *, jac=None, hess=None, constraints=(), bounds=None, metho
         raise UnknownNameError("method", method, list(METHODS)) from None
     opts = Options.from_dict(options)
     pen_name = spec.default_penalty if penalty is None else penalty
+    if pen_name == "inverse-barrier" and "eta_min" not in (options or {}):
+        # with the inverse barrier (5.3) the complementarity mu g behaves like sqrt(rho):
+        # reaching ctol needs rho far below the default floor 1e-12
+        opts = dataclasses.replace(opts, eta_min=1e-24)
     known_pen = list(_penalties.available())
     if pen_name not in known_pen:
         raise UnknownNameError("penalty", pen_name, known_pen)
