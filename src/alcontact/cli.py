@@ -309,11 +309,11 @@ def check_command(
 def bench_command(
     out: Annotated[Path, typer.Option("--out", "-o", help="Report folder.")] = Path("benchmarks/out"),
     suite: Annotated[
-        Optional[list[str]], typer.Option("--suite", "-s", help="hertz, nlp (repeat for both; default both).")
+        Optional[list[str]], typer.Option("--suite", "-s", help="hertz, friction, nlp (repeatable; default all).")
     ] = None,
     quick: Annotated[bool, typer.Option("--quick", help="Small sizes and a few variants (about a minute).")] = False,
     cases: Annotated[
-        Optional[list[str]], typer.Option("--case", help="Hertz case, e.g. 2d-10k (repeatable).")
+        Optional[list[str]], typer.Option("--case", help="Case of the hertz or friction suite, e.g. 2d-10k, mindlin-2d (repeatable).")
     ] = None,
     variants: Annotated[
         Optional[list[str]], typer.Option("--variant", help="Variant of the chosen suites (repeatable).")

@@ -775,10 +775,23 @@ def write_setup_results(folder: Path, setup, frames, summary: dict) -> list[str]
 
 
 # =========================================================================== benchmarks
-#: Benchmark suites of ``alcontact bench``: name -> (script in benchmarks/, quick settings).
-BENCH_SUITES: dict[str, tuple[str, dict]] = {
-    "hertz": ("hertz.py", {"cases": ["2d-10k"], "variants": ["ssn", "simo-laursen", "exp-met1", "log-met2"]}),
-    "nlp": ("nlp_hs.py", {"variants": ["rockafellar", "exp-met1", "SLSQP"]}),
+@dataclass(frozen=True)
+class BenchSuite:
+    """A benchmark script of ``benchmarks/`` with ``run(out_dir, [cases,] variants)``."""
+
+    script: str
+    report: str
+    takes_cases: bool
+    quick: dict
+
+
+#: Benchmark suites of ``alcontact bench``.
+BENCH_SUITES: dict[str, BenchSuite] = {
+    "hertz": BenchSuite("hertz.py", "hertz.md", True,
+                        {"cases": ["2d-10k"], "variants": ["ssn", "simo-laursen", "exp-met1", "log-met2"]}),
+    "friction": BenchSuite("friction.py", "friction.md", True,
+                           {"cases": ["mindlin-2d"], "variants": ["ssn", "simo-laursen", "exp-met1"]}),
+    "nlp": BenchSuite("nlp_hs.py", "nlp_hs.md", False, {"variants": ["rockafellar", "exp-met1", "SLSQP"]}),
 }
 
 
@@ -787,7 +800,7 @@ def run_benchmarks(out: str | os.PathLike, *, suites=None, quick: bool = False, 
     """``alcontact bench``: run benchmark scripts of ``benchmarks/`` and write ``bench.md``.
 
     Each suite's script is loaded with :func:`runpy.run_path` and its ``run``
-    function called (``hertz.py``: ``run(out_dir, cases, variants)``,
+    function called (``hertz.py``, ``friction.py``: ``run(out_dir, cases, variants)``,
     ``nlp_hs.py``: ``run(out_dir, variants)``); each writes its CSV and
     markdown into ``out``; ``bench.md`` joins the markdown reports.
 
@@ -815,24 +828,24 @@ def run_benchmarks(out: str | os.PathLike, *, suites=None, quick: bool = False, 
              f"alcontact {__version__}, {_dt.datetime.now(_dt.timezone.utc).isoformat(timespec='seconds')}"
              + (" (quick)" if quick else ""), ""]
     for s in names:
-        script, quick_kw = BENCH_SUITES[s]
-        path = folder / script
+        suite = BENCH_SUITES[s]
+        path = folder / suite.script
         if not path.is_file():
             raise InputError(f"benchmark script {str(path)!r} not found; pass --benchmarks-dir.")
         ns = runpy.run_path(str(path), run_name=f"alcontact_bench_{s}")
-        kw: dict[str, Any] = dict(quick_kw) if quick else {}
+        kw: dict[str, Any] = dict(suite.quick) if quick else {}
         if variants:
             kw["variants"] = list(variants)
-        if cases and s == "hertz":
+        if cases and suite.takes_cases:
             kw["cases"] = list(cases)
         if log is not None:
             log(f"benchmark {s}: {', '.join(f'{k}={v}' for k, v in kw.items()) or 'full'}")
         t0 = time.perf_counter()
-        if s == "hertz":
+        if suite.takes_cases:
             ns["run"](out, kw.get("cases"), kw.get("variants"), **({"log": log} if log is not None else {}))
         else:
             ns["run"](out, kw.get("variants"))
-        md = out / ("hertz.md" if s == "hertz" else "nlp_hs.md")
+        md = out / suite.report
         parts += [f"<!-- {s}: {time.perf_counter() - t0:.1f} s -->", ""]
         if md.is_file():
             text = md.read_text(encoding="utf-8")

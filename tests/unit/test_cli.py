@@ -221,6 +221,11 @@ def test_bench_runs_scripts_and_writes_report(tmp_path):
         "def run(out_dir=None, cases=None, variants=None, log=print):\n"
         "    Path(out_dir, 'hertz.md').write_text(f'# Hertz benchmark\\n\\ncases={cases} variants={variants}\\n')\n"
         "    return Path(out_dir)\n")
+    (bench / "friction.py").write_text(
+        "from pathlib import Path\n"
+        "def run(out_dir=None, cases=None, variants=None, log=print):\n"
+        "    Path(out_dir, 'friction.md').write_text(f'# Friction benchmark\\n\\ncases={cases}\\n')\n"
+        "    return Path(out_dir)\n")
     (bench / "nlp_hs.py").write_text(
         "from pathlib import Path\n"
         "def run(out_dir=None, variants=None):\n"
@@ -231,6 +236,7 @@ def test_bench_runs_scripts_and_writes_report(tmp_path):
     assert result.exit_code == 0, result.output
     report = (out / "bench.md").read_text()
     assert "## Hertz benchmark" in report and "cases=['2d-10k']" in report and "## NLP" in report
+    assert "## Friction benchmark" in report and "cases=['mindlin-2d']" in report
     result = runner.invoke(app, ["bench", "--out", str(out), "--suite", "nlp", "--variant", "exp-met1",
                                  "--benchmarks-dir", str(bench)])
     assert result.exit_code == 0 and "variants=['exp-met1']" in (out / "bench.md").read_text()
