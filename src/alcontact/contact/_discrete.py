@@ -56,6 +56,14 @@ class ContactPoints:
     :meth:`_setup_candidates` with the contact-free displacement.
     """
 
+    def _setup_problem(self, problem) -> None:
+        """Model, supports and load of ``problem``."""
+        self.problem = problem
+        self.model = problem.model
+        self.dim = self.model.dim
+        self.fixed, self.fixed_values = problem.dirichlet()
+        self.load = problem.load_vector()
+
     def _setup_points(self, problem, free: np.ndarray) -> None:
         model = problem.model
         pts, dofs = model.node_dofs(problem.contact_boundary)
@@ -159,17 +167,12 @@ class DiscreteContact(ContactPoints):
 
     def __init__(self, problem, *, margin: float = 0.25):
         t0 = time.perf_counter()
-        self.problem = problem
-        model = problem.model
-        self.model = model
-        self.dim = model.dim
-        self.fixed, self.fixed_values = problem.dirichlet()
-        self.load = problem.load_vector()
+        self._setup_problem(problem)
+        model = self.model
         self.spring = None  # contact-point springs of a body held only by the obstacle
         t_fac = time.perf_counter()
         try:
-            model.check_restrained(self.fixed)
-            self.factor = model.factorize(self.fixed)
+            self.factor = model.factorize(self.fixed)  # checks the rigid motions first
             matrix_ok = True
         except InputError as exc:
             self._stabilize(problem, exc)  # raises unless the obstacle restrains the free motions

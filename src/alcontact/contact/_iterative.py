@@ -63,7 +63,6 @@ from __future__ import annotations
 
 import logging
 import time
-from dataclasses import dataclass
 
 import numpy as np
 import scipy.sparse as sp
@@ -74,6 +73,7 @@ from ..errors import InputError
 from ..fem.elasticity import rigid_body_modes
 from ._algorithms import _measures, _Run, run_al, run_penalty
 from ._discrete import ContactPoints
+from ._newton import NewtonOutcome
 from ._solution import ContactIteration, ContactStatus
 
 __all__ = ["IterativeContact", "full_newton", "run_ssn_iterative", "ITERATIVE_ALGORITHMS", "AUTO_AMG_DOFS",
@@ -163,13 +163,9 @@ class IterativeContact(ContactPoints):
 
     def __init__(self, problem, *, margin: float = 0.25):
         t0 = time.perf_counter()
-        self.problem = problem
-        model = problem.model
-        self.model = model
-        self.dim = model.dim
-        self.fixed, self.fixed_values = problem.dirichlet()
+        self._setup_problem(problem)
+        model = self.model
         model.check_restrained(self.fixed)
-        self.load = problem.load_vector()
         n = model.ndofs
         mask = np.ones(n, dtype=bool)
         mask[self.fixed] = False
@@ -269,22 +265,7 @@ class IterativeContact(ContactPoints):
 
 
 # ----------------------------------------------------------------------
-@dataclass(frozen=True)
-class FullNewtonOutcome:
-    x: np.ndarray
-    g: np.ndarray
-    t: np.ndarray
-    iterations: int
-    converged: bool
-    residual: float
-    reason: str
-
-    @property
-    def state(self) -> np.ndarray:
-        return self.x
-
-
-def full_newton(ic, law, lam, x0, *, tol=1e-12, maxiter=60) -> FullNewtonOutcome:
+def full_newton(ic, law, lam, x0, *, tol=1e-12, maxiter=60) -> NewtonOutcome:
     """Solve :math:`R(x) = 0` (module doc) by inexact globalized Newton with AMG-CG."""
     tol = max(tol, _NEWTON_TOL_FLOOR)
     cand = ic.cand
@@ -303,9 +284,9 @@ def full_newton(ic, law, lam, x0, *, tol=1e-12, maxiter=60) -> FullNewtonOutcome
 
     pi, g, Kx = merit(x)
     if np.isnan(pi) or np.any(np.isnan(law.traction(g, lam))):
-        return FullNewtonOutcome(x, g, law.traction(g, lam), 0, False, np.nan, "the penalty returned NaN")
+        return NewtonOutcome(x, g, law.traction(g, lam), 0, False, np.nan, "the penalty returned NaN")
     if not np.isfinite(pi):
-        return FullNewtonOutcome(x, g, law.traction(g, lam), 0, False, np.inf, "start outside the penalty domain")
+        return NewtonOutcome(x, g, law.traction(g, lam), 0, False, np.inf, "start outside the penalty domain")
     bscale = float(np.max(np.abs(b), initial=0.0))
     scale = None
     prev_res = np.inf
@@ -317,9 +298,9 @@ def full_newton(ic, law, lam, x0, *, tol=1e-12, maxiter=60) -> FullNewtonOutcome
         fscale = max(scale, float(np.max(np.abs(w * t), initial=0.0)), 1e-300)
         res = float(np.max(np.abs(F), initial=0.0)) / fscale
         if res <= tol:
-            return FullNewtonOutcome(x, g, t, it - 1, True, res, "converged")
+            return NewtonOutcome(x, g, t, it - 1, True, res, "converged")
         if res <= 1e-8 and res > 0.5 * prev_res:
-            return FullNewtonOutcome(x, g, t, it - 1, True, res, "converged (residual at round-off level)")
+            return NewtonOutcome(x, g, t, it - 1, True, res, "converged (residual at round-off level)")
         prev_res = res
         D = law.stiffness(g, lam)
         J = ic.contact_matrix(Bc, w * D)
@@ -329,9 +310,9 @@ def full_newton(ic, law, lam, x0, *, tol=1e-12, maxiter=60) -> FullNewtonOutcome
         dx, nit = ic.pcg(J, -F, M, rtol=rtol)
         ic.precond.record(nit, rtol)
         if not np.all(np.isfinite(dx)):
-            return FullNewtonOutcome(x, g, t, it, False, res, "non-finite Newton step")
+            return NewtonOutcome(x, g, t, it, False, res, "non-finite Newton step")
         if float(np.max(np.abs(dx), initial=0.0)) <= 1e-14 * max(float(np.max(np.abs(x), initial=0.0)), 1e-300):
-            return FullNewtonOutcome(x, g, t, it, True, res, "converged (step at round-off level)")
+            return NewtonOutcome(x, g, t, it, True, res, "converged (step at round-off level)")
         slope = float(F @ dx)
         alpha = 1.0
         accepted = False
@@ -348,12 +329,12 @@ def full_newton(ic, law, lam, x0, *, tol=1e-12, maxiter=60) -> FullNewtonOutcome
             t_try = law.traction(g_try, lam)
             F_try = Kx_try - b + BcT @ (w * t_try)
             if not (np.isfinite(pi_try) and np.max(np.abs(F_try)) < np.max(np.abs(F))):
-                return FullNewtonOutcome(x, g, t, it, False, res, "line search failed")
+                return NewtonOutcome(x, g, t, it, False, res, "line search failed")
         x, g, Kx, pi = x_try, g_try, Kx_try, pi_try
     t = law.traction(g, lam)
     F = Kx - b + BcT @ (w * t)
     res = float(np.max(np.abs(F), initial=0.0)) / max(scale or 0.0, 1e-300)
-    return FullNewtonOutcome(x, g, t, maxiter, res <= tol, res, "maximum Newton iterations")
+    return NewtonOutcome(x, g, t, maxiter, res <= tol, res, "maximum Newton iterations")
 
 
 # ---------------------------------------------------------------------- active-set reference

@@ -28,18 +28,19 @@ __all__ = ["NewtonOutcome", "solve_subproblem"]
 
 @dataclass(frozen=True)
 class NewtonOutcome:
-    r: np.ndarray
+    """Outcome of one subproblem (S), for either linear-solver path.
+
+    ``state`` is the iterate of the outer loops: the contact forces ``r`` of the
+    condensed path, the free displacement ``x`` of the AMG path.
+    """
+
+    state: np.ndarray
     g: np.ndarray
     t: np.ndarray
     iterations: int
     converged: bool
     residual: float
     reason: str
-
-    @property
-    def state(self) -> np.ndarray:
-        """The iterate of the outer loops (here the contact forces ``r``)."""
-        return self.r
 
 
 def solve_subproblem(dc, law, lam, r0, *, tol=1e-12, maxiter=60) -> NewtonOutcome:
