@@ -28,7 +28,7 @@ of each subproblem is driven below ``newton_tol`` by Newton's method.
 from __future__ import annotations
 
 import logging
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from typing import Callable
 
 import numpy as np
@@ -305,41 +305,40 @@ def run_al(dc, opts, eps0, penalty_name="rockafellar") -> _Run:
 
 
 def run_ssn(dc, opts, eps0, penalty_name=None) -> _Run:
-    """Primal-dual active set / semi-smooth Newton on :math:`\\lambda = \\max(0, \\lambda + c g)`."""
-    S = dc.S
-    w = dc.weights[dc.cand]
-    gfree = dc.g_free[dc.cand]
+    r"""Primal-dual active set / semi-smooth Newton on :math:`\lambda = \max(0, \lambda + c g)`.
+
+    Each step enforces :math:`g_A = 0` on the active set and zero pressure elsewhere
+    (``dc.solve_active``: a dense solve on the Delassus operator, or an inner
+    augmented Lagrangian with AMG-CG on the factorization-free path).
+    """
     n = dc.cand.size
     c = eps0
+    state = dc.start()
     lam = np.zeros(n)
-    g = gfree - S @ (w * lam)
+    g = dc.gaps(state)
     active = (lam + c * g) > 0
     hist = []
     seen = set()
     for k in range(1, opts.maxiter + 1):
-        r = np.zeros(n)
-        A = np.flatnonzero(active)
-        if A.size:
-            r[A] = np.linalg.solve(S[np.ix_(A, A)], gfree[A])
-        lam_new = r / w
-        g = gfree - S @ r
+        state, lam_new, g = dc.solve_active(active, lam, state, c)
         new_active = (lam_new + c * g) > 0
         pen, compl, dlam = _measures(dc, lam_new, g, lam)
-        hist.append(ContactIteration(k, pen, compl, dlam, 0.0, 1, c, int(A.size)))
-        logger.info("active-set iteration %d: %d active, penetration %.2e h", k, A.size, pen)
+        hist.append(ContactIteration(k, pen, compl, dlam, 0.0, 1, c, int(active.sum())))
+        logger.info("active-set iteration %d: %d active, penetration %.2e h", k, active.sum(), pen)
         lam = lam_new
         kkt = np.all(lam >= -1e-10 * max(lam.max(initial=0), 1e-300)) and pen <= max(opts.tol_penetration, 1e-12)
         if kkt and (np.array_equal(new_active, active) or compl <= opts.tol_complementarity):
             # converged: the active set repeats, or it changes only at degenerate points (lambda = g = 0)
-            return _Run(r, np.maximum(lam, 0), g, ContactStatus.CONVERGED, "active set settled", k, k, c, 0.0, hist)
+            return _Run(state, np.maximum(lam, 0), g, ContactStatus.CONVERGED, "active set settled", k, k, c, 0.0,
+                        hist)
         key = new_active.tobytes()
         if key in seen:
-            return _Run(r, lam, g, ContactStatus.NEWTON_FAILED,
+            return _Run(state, lam, g, ContactStatus.NEWTON_FAILED,
                         "the active-set iteration cycles; use algorithm='simo-laursen'", k, k, c, 0.0, hist)
         seen.add(key)
         active = new_active
-    return _Run(r, lam, g, ContactStatus.MAXITER, "maximum active-set iterations", opts.maxiter, opts.maxiter, c,
-                0.0, hist)
+    return _Run(state, lam, g, ContactStatus.MAXITER, "maximum active-set iterations", opts.maxiter, opts.maxiter,
+                c, 0.0, hist)
 
 
 _ALGORITHMS: dict[str, tuple[Callable, str]] = {

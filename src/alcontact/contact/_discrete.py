@@ -280,10 +280,31 @@ class DiscreteContact(ContactPoints):
         """
         if self.spring is None:
             return solve_subproblem(self, law, lam, r0, tol=tol, maxiter=maxiter)
-        kappa = np.where(np.isin(self.cand, self.spring[0]), self.spring[1], 0.0)
-        shifted = _SpringShiftedLaw(law, kappa, self.gap0[self.cand])
+        shifted = _SpringShiftedLaw(law, self._spring_stiffness(), self.gap0[self.cand])
         out = solve_subproblem(self, shifted, lam, r0, tol=tol, maxiter=maxiter)
         return dataclasses.replace(out, t=law.traction(out.g, lam))
+
+    def _spring_stiffness(self) -> np.ndarray:
+        """Spring stiffness per candidate (0 without springs, see :meth:`_stabilize`)."""
+        if self.spring is None:
+            return np.zeros(self.cand.size)
+        return np.where(np.isin(self.cand, self.spring[0]), self.spring[1], 0.0)
+
+    def solve_active(self, active, lam, r, c):
+        r"""Active-set step of :func:`run_ssn`: :math:`g_A = 0`, zero pressure off ``A``.
+
+        Rows of ``A``: :math:`(S r)_i = g^{free}_i`; other rows: the physical force
+        :math:`r_i + \kappa_i w_i (g_i - g^0_i)` vanishes (just :math:`r_i = 0`
+        without contact springs). Returns the state, the pressures and the gaps.
+        """
+        S, w = self.S, self.weights[self.cand]
+        gfree, g0 = self.g_free[self.cand], self.gap0[self.cand]
+        kw = self._spring_stiffness() * w
+        M = np.where(active[:, None], S, np.eye(S.shape[0]) - kw[:, None] * S)
+        rhs = np.where(active, gfree, -kw * (gfree - g0))
+        r = np.linalg.solve(M, rhs) if r.size else r
+        g = gfree - S @ r
+        return r, (r + kw * (g - g0)) / w, g
 
     def final_displacement(self, r: np.ndarray) -> np.ndarray:
         """Full displacement of a state (one solve)."""

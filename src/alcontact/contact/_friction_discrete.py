@@ -107,7 +107,7 @@ class FrictionalContact:
         t0 = time.perf_counter()
         self.problem, self.history = problem, history
         model = self.model = problem.model
-        d = self.dim = model.dim
+        self.dim = model.dim
         self.fixed, parts = component_fields(problem, history)
         t_f = time.perf_counter()
         self.factor = model.factorize(self.fixed)

@@ -68,16 +68,13 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.linalg import cg
 
-from .. import penalties as _pen
 from ..errors import InputError
 from ..fem.elasticity import rigid_body_modes
-from ._algorithms import _measures, _Run, run_al, run_penalty
 from ._discrete import ContactPoints
 from ._newton import NewtonOutcome
-from ._solution import ContactIteration, ContactStatus
 
-__all__ = ["IterativeContact", "full_newton", "run_ssn_iterative", "ITERATIVE_ALGORITHMS", "AUTO_AMG_DOFS",
-           "resolve_linear_solver"]
+
+__all__ = ["IterativeContact", "full_newton", "AUTO_AMG_DOFS", "resolve_linear_solver"]
 
 logger = logging.getLogger(__name__)
 
@@ -253,6 +250,17 @@ class IterativeContact(ContactPoints):
     def subproblem(self, law, lam, x0, *, tol: float, maxiter: int):
         return full_newton(self, law, lam, x0, tol=tol, maxiter=maxiter)
 
+    def solve_active(self, active, lam, x, c):
+        """Active-set step of :func:`run_ssn`: :math:`g_A = 0` by an inner AL (:func:`_equality_solve`)."""
+        A = np.flatnonzero(active)
+        lam_new = np.zeros(self.cand.size)
+        if A.size:
+            x, mu, _, _ = _equality_solve(self, A, np.maximum(lam[A], 0.0), c, x)
+            lam_new[A] = mu
+        else:
+            x = self.x_free.copy()
+        return x, lam_new, self.gaps(x)
+
     def final_displacement(self, x: np.ndarray) -> np.ndarray:
         return self.expand(x)
 
@@ -379,56 +387,6 @@ def _equality_solve(ic, A, mu, c, x0, *, maxiter=60):
     logger.warning("active-set equality solve stopped after %d Uzawa updates (last relative update %.1e)",
                    maxiter, rel)
     return x, mu, g, maxiter
-
-
-def run_ssn_iterative(ic, opts, eps0, penalty_name=None) -> _Run:
-    """Mirror of :func:`~alcontact.contact._algorithms.run_ssn` (primal-dual active set) in the full space."""
-    cand = ic.cand
-    n = cand.size
-    c = eps0
-    Bc = ic.B[cand]
-    gfix = ic.g_fix[cand]
-    x = ic.x_free.copy()
-    lam = np.zeros(n)
-    g = gfix + Bc @ x
-    active = (lam + c * g) > 0
-    hist = []
-    seen = set()
-    for k in range(1, opts.maxiter + 1):
-        A = np.flatnonzero(active)
-        lam_new = np.zeros(n)
-        if A.size:
-            x, mu, _, _ = _equality_solve(ic, A, np.maximum(lam[A], 0.0), c, x)
-            lam_new[A] = mu
-        else:
-            x = ic.x_free.copy()
-        g = gfix + Bc @ x
-        new_active = (lam_new + c * g) > 0
-        pen, compl, dlam = _measures(ic, lam_new, g, lam)
-        hist.append(ContactIteration(k, pen, compl, dlam, 0.0, 1, c, int(A.size)))
-        logger.info("active-set iteration %d: %d active, penetration %.2e h", k, A.size, pen)
-        lam = lam_new
-        kkt = np.all(lam >= -1e-10 * max(lam.max(initial=0), 1e-300)) and pen <= max(opts.tol_penetration, 1e-12)
-        if kkt and (np.array_equal(new_active, active) or compl <= opts.tol_complementarity):
-            return _Run(x, np.maximum(lam, 0), g, ContactStatus.CONVERGED, "active set settled", k, k, c, 0.0, hist)
-        key = new_active.tobytes()
-        if key in seen:
-            return _Run(x, lam, g, ContactStatus.NEWTON_FAILED,
-                        "the active-set iteration cycles; use algorithm='simo-laursen'", k, k, c, 0.0, hist)
-        seen.add(key)
-        active = new_active
-    return _Run(x, lam, g, ContactStatus.MAXITER, "maximum active-set iterations", opts.maxiter, opts.maxiter, c,
-                0.0, hist)
-
-
-#: algorithm name -> outer loop of this path: the penalty and AL loops are the shared ones of
-#: :mod:`._algorithms` (through the interface above); the active-set reference has its own
-ITERATIVE_ALGORITHMS = {
-    "penalty": run_penalty,
-    "simo-laursen": run_al,
-    "family-p": run_al,
-    "ssn": run_ssn_iterative,
-}
 
 
 def resolve_linear_solver(name: str, model) -> str:

@@ -107,11 +107,11 @@ def solve(problem, algorithm: str = DEFAULT_ALGORITHM, penalty: str | None = Non
         opts = dataclasses.replace(opts, **option_overrides)
     opts.validate()
 
-    from ._iterative import ITERATIVE_ALGORITHMS, IterativeContact, resolve_linear_solver
+    from ._iterative import IterativeContact, resolve_linear_solver
 
+    # both paths offer the interface the outer loops use (start, gaps, subproblem, solve_active, ...)
     if resolve_linear_solver(opts.linear_solver, problem.model) == "amg":
         dc = IterativeContact(problem)
-        run = ITERATIVE_ALGORITHMS[algorithm]
     else:
         dc = DiscreteContact(problem)
     eps0 = opts.eps_n if opts.eps_n is not None else penalty_stiffness(problem.model, dc.h, opts.penalty_scale)
