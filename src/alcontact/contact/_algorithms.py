@@ -28,6 +28,7 @@ of each subproblem is driven below ``newton_tol`` by Newton's method.
 from __future__ import annotations
 
 import logging
+import dataclasses
 from dataclasses import dataclass
 from typing import Callable
 
@@ -152,6 +153,21 @@ class _Run:
     eps: float
     residual: float
     history: list
+
+
+def options_with(options, cls, overrides: dict, kind: str):
+    """``options`` (default ``cls()``) with the fields in ``overrides`` replaced, validated.
+
+    Unknown field names are an :class:`~alcontact.errors.InputError` listing the known ones.
+    """
+    opts = options or cls()
+    if overrides:
+        known = {f.name for f in dataclasses.fields(cls)}
+        unknown = sorted(set(overrides) - known)
+        if unknown:
+            raise InputError(f"unknown {kind} option(s) {unknown}; known: {', '.join(sorted(known))}.")
+        opts = dataclasses.replace(opts, **overrides)
+    return opts.validate()
 
 
 def contact_penalties() -> list[str]:

@@ -38,7 +38,6 @@ requested step); the converged steps are kept.
 
 from __future__ import annotations
 
-import dataclasses
 import logging
 import time
 from dataclasses import dataclass
@@ -49,7 +48,7 @@ import scipy.linalg as sla
 
 from .. import penalties as _pen
 from ..errors import InputError, UnknownNameError
-from ._algorithms import contact_penalties
+from ._algorithms import contact_penalties, options_with
 from ._friction_discrete import FrictionalContact
 from ._friction_laws import OPEN, SLIP, STICK, Macaulay, local_law, tangential_energy
 from ._friction_solution import FrictionSolution, FrictionStep
@@ -574,14 +573,7 @@ def solve_friction(problem, history: LoadHistory, algorithm: str = "simo-laursen
     """
     t_start = time.perf_counter()
     step_fn, pen_name = _resolve(algorithm, penalty)
-    opts = options or FrictionOptions()
-    if option_overrides:
-        known = {f.name for f in dataclasses.fields(FrictionOptions)}
-        unknown = sorted(set(option_overrides) - known)
-        if unknown:
-            raise InputError(f"unknown friction option(s) {unknown}; known: {', '.join(sorted(known))}.")
-        opts = dataclasses.replace(opts, **option_overrides)
-    opts.validate()
+    opts = options_with(options, FrictionOptions, option_overrides, "friction")
     if not isinstance(history, LoadHistory):
         raise InputError(f"history must be a LoadHistory; got {type(history).__name__}.")
     if steps is not None:

@@ -2,14 +2,13 @@
 
 from __future__ import annotations
 
-import dataclasses
 import logging
 import time
 
 import numpy as np
 
 from ..errors import InputError, UnknownNameError
-from ._algorithms import ContactOptions, _Run, contact_penalties, get_algorithm
+from ._algorithms import ContactOptions, _Run, contact_penalties, get_algorithm, options_with
 from ._discrete import DiscreteContact
 from ._solution import ContactResult, ContactSolution, ContactStatus
 
@@ -98,14 +97,7 @@ def solve(problem, algorithm: str = DEFAULT_ALGORITHM, penalty: str | None = Non
     t_start = time.perf_counter()
     run = get_algorithm(algorithm)
     pen_name = _resolve_penalty(algorithm, penalty)
-    opts = options or ContactOptions()
-    if option_overrides:
-        known = {f.name for f in dataclasses.fields(ContactOptions)}
-        unknown = sorted(set(option_overrides) - known)
-        if unknown:
-            raise InputError(f"unknown contact option(s) {unknown}; known: {', '.join(sorted(known))}.")
-        opts = dataclasses.replace(opts, **option_overrides)
-    opts.validate()
+    opts = options_with(options, ContactOptions, option_overrides, "contact")
 
     from ._iterative import IterativeContact, resolve_linear_solver
 
