@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import ClassVar
 
 import numpy as np
 from numpy.typing import NDArray
@@ -34,7 +35,26 @@ def properties_from_generator(theta: Generator) -> frozenset[str]:
 
 
 @dataclass(frozen=True)
-class Met1(PenaltyBase):
+class _Met(PenaltyBase):
+    """Fields shared by MET 1 and MET 2: the generator, a name and doc derived from it."""
+
+    theta: Generator
+    name: str = ""
+    doc: str = ""
+    properties: frozenset[str] = field(init=False)
+    suffix: ClassVar[str] = ""
+    formula: ClassVar[str] = ""
+
+    def __post_init__(self) -> None:
+        if not self.name:
+            object.__setattr__(self, "name", f"{self.theta.name}-{self.suffix}")
+        if not self.doc:
+            object.__setattr__(self, "doc", f"{self.formula} with theta = {self.theta.name}")
+        object.__setattr__(self, "properties", properties_from_generator(self.theta))
+
+
+@dataclass(frozen=True)
+class Met1(_Met):
     r"""MET 1: scale a generator by the multiplier (5.23).
 
     .. math:: p(y, \mu) = \mu\,\theta(y), \qquad y < b, \quad \mu > 0.
@@ -58,17 +78,8 @@ class Met1(PenaltyBase):
     (0.0, 2.0)
     """
 
-    theta: Generator
-    name: str = ""
-    doc: str = ""
-    properties: frozenset[str] = field(init=False)
-
-    def __post_init__(self) -> None:
-        if not self.name:
-            object.__setattr__(self, "name", f"{self.theta.name}-met1")
-        if not self.doc:
-            object.__setattr__(self, "doc", f"MET 1 (5.23) p(y, mu) = mu*theta(y) with theta = {self.theta.name}")
-        object.__setattr__(self, "properties", properties_from_generator(self.theta))
+    suffix: ClassVar[str] = "met1"
+    formula: ClassVar[str] = "MET 1 (5.23) p(y, mu) = mu*theta(y)"
 
     def _scaled(self, mu: NDArray[np.float64], t: NDArray[np.float64]) -> NDArray[np.float64]:
         # mu = 0 times an overflowed θ (inf) must give 0, not NaN.
@@ -88,7 +99,7 @@ class Met1(PenaltyBase):
 
 
 @dataclass(frozen=True)
-class Met2(PenaltyBase):
+class Met2(_Met):
     r"""MET 2: scale the argument of a generator by the multiplier (5.25).
 
     .. math:: p(y, \mu) = \theta(\mu y), \qquad \mu y < b, \quad \mu > 0.
@@ -109,17 +120,8 @@ class Met2(PenaltyBase):
     (0.25, 4.0)
     """
 
-    theta: Generator
-    name: str = ""
-    doc: str = ""
-    properties: frozenset[str] = field(init=False)
-
-    def __post_init__(self) -> None:
-        if not self.name:
-            object.__setattr__(self, "name", f"{self.theta.name}-met2")
-        if not self.doc:
-            object.__setattr__(self, "doc", f"MET 2 (5.25) p(y, mu) = theta(mu*y) with theta = {self.theta.name}")
-        object.__setattr__(self, "properties", properties_from_generator(self.theta))
+    suffix: ClassVar[str] = "met2"
+    formula: ClassVar[str] = "MET 2 (5.25) p(y, mu) = theta(mu*y)"
 
     def _p(self, y, mu):
         return np.asarray(self.theta.value(mu * y), dtype=float)
