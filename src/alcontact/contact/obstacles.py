@@ -475,16 +475,22 @@ def _dedupe_rows(a: FloatArray, tol: float) -> FloatArray:
     return np.array(keep)
 
 
-def _polygon_halfspaces(vertices: Any) -> tuple[FloatArray, FloatArray]:
-    """Outward face normals and offsets of a counter-clockwise convex polygon."""
+def _vertex_array(vertices: Any, dim: int) -> FloatArray:
+    """Finite ``(n, dim)`` vertex array with at least ``dim + 1`` rows, else InputError."""
     try:
         v = np.asarray(vertices, dtype=float)
     except (TypeError, ValueError) as exc:
-        raise InputError(f"vertices must be an array of shape (n, 2), got {vertices!r}") from exc
-    if v.ndim != 2 or v.shape[1] != 2 or v.shape[0] < 3:
-        raise InputError(f"vertices must have shape (n, 2) with n >= 3, got shape {v.shape}")
+        raise InputError(f"vertices must be an array of shape (n, {dim}), got {vertices!r}") from exc
+    if v.ndim != 2 or v.shape[1] != dim or v.shape[0] < dim + 1:
+        raise InputError(f"vertices must have shape (n, {dim}) with n >= {dim + 1}, got shape {v.shape}")
     if not np.all(np.isfinite(v)):
         raise InputError("vertices must be finite")
+    return v
+
+
+def _polygon_halfspaces(vertices: Any) -> tuple[FloatArray, FloatArray]:
+    """Outward face normals and offsets of a counter-clockwise convex polygon."""
+    v = _vertex_array(vertices, 2)
     edges = np.roll(v, -1, axis=0) - v
     lengths = np.linalg.norm(edges, axis=1)
     scale = float(np.max(np.ptp(v, axis=0)))
@@ -512,14 +518,7 @@ def _polygon_halfspaces(vertices: Any) -> tuple[FloatArray, FloatArray]:
 def _hull_halfspaces(vertices: Any) -> tuple[FloatArray, FloatArray]:
     from scipy.spatial import ConvexHull, QhullError
 
-    try:
-        v = np.asarray(vertices, dtype=float)
-    except (TypeError, ValueError) as exc:
-        raise InputError(f"vertices must be an array of shape (n, 3), got {vertices!r}") from exc
-    if v.ndim != 2 or v.shape[1] != 3 or v.shape[0] < 4:
-        raise InputError(f"vertices must have shape (n, 3) with n >= 4, got shape {v.shape}")
-    if not np.all(np.isfinite(v)):
-        raise InputError("vertices must be finite")
+    v = _vertex_array(vertices, 3)
     try:
         hull = ConvexHull(v)
     except QhullError as exc:
