@@ -170,6 +170,30 @@ def options_with(options, cls, overrides: dict, kind: str):
     return opts.validate()
 
 
+#: The penalty of each algorithm that does not take one (frictionless and frictional).
+FIXED_PENALTIES = {"simo-laursen": "rockafellar", "penalty": "exterior-quadratic", "ssn": "none"}
+
+
+def resolve_penalty(algorithm: str, penalty: str | None, default: str) -> str:
+    """Penalty name an algorithm runs with: its fixed one, or ``penalty`` (``default``) for family-p.
+
+    A penalty given to an algorithm with a fixed one, or one not usable by Algorithm
+    6.3 / 6.4, is an error naming the way out.
+    """
+    if algorithm in FIXED_PENALTIES:
+        fixed = FIXED_PENALTIES[algorithm]
+        if penalty not in (None, fixed):
+            raise InputError(
+                f"algorithm {algorithm!r} uses the {fixed!r} penalty; got penalty={penalty!r}. "
+                "Use algorithm='family-p' to choose a penalty."
+            )
+        return fixed
+    name = penalty or default
+    if name not in contact_penalties():
+        raise UnknownNameError("contact penalty", name, contact_penalties())
+    return name
+
+
 def contact_penalties() -> list[str]:
     """Registered penalties usable by Algorithm 6.3 (those with (P1), (P3), (P4))."""
     out = []

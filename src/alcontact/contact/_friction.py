@@ -48,7 +48,7 @@ import scipy.linalg as sla
 
 from .. import penalties as _pen
 from ..errors import InputError, UnknownNameError
-from ._algorithms import contact_penalties, options_with
+from ._algorithms import options_with, resolve_penalty
 from ._friction_discrete import FrictionalContact
 from ._friction_laws import OPEN, SLIP, STICK, Macaulay, local_law, tangential_energy
 from ._friction_solution import FrictionSolution, FrictionStep
@@ -439,7 +439,6 @@ _ALGORITHMS: dict[str, tuple[Callable, str]] = {
     "family-p": (_step_al, "Algorithm 6.4: Algorithm 6.2 with a family-P normal penalty"),
     "ssn": (_step_ssn, "reference: Alart-Curnier semi-smooth Newton on (lambda_N, lambda_T), exact (no penalty)"),
 }
-_FIXED_PENALTY = {"simo-laursen": "rockafellar", "ssn": "none"}
 DEFAULT_FRICTION_PENALTY = "exp-met1"
 
 
@@ -455,16 +454,7 @@ def friction_algorithm_docs() -> dict[str, str]:
 def _resolve(algorithm: str, penalty: str | None):
     if algorithm not in _ALGORITHMS:
         raise UnknownNameError("friction algorithm", algorithm, list(_ALGORITHMS))
-    if algorithm in _FIXED_PENALTY:
-        fixed = _FIXED_PENALTY[algorithm]
-        if penalty not in (None, fixed):
-            raise InputError(f"algorithm {algorithm!r} uses the {fixed!r} penalty; got penalty={penalty!r}. "
-                             "Use algorithm='family-p' to choose a penalty.")
-        return _ALGORITHMS[algorithm][0], fixed
-    name = penalty or DEFAULT_FRICTION_PENALTY
-    if name not in contact_penalties():
-        raise UnknownNameError("contact penalty", name, contact_penalties())
-    return _ALGORITHMS[algorithm][0], name
+    return _ALGORITHMS[algorithm][0], resolve_penalty(algorithm, penalty, DEFAULT_FRICTION_PENALTY)
 
 
 # ---------------------------------------------------------------------------

@@ -7,8 +7,7 @@ import time
 
 import numpy as np
 
-from ..errors import InputError, UnknownNameError
-from ._algorithms import ContactOptions, _Run, contact_penalties, get_algorithm, options_with
+from ._algorithms import ContactOptions, _Run, get_algorithm, options_with, resolve_penalty
 from ._discrete import DiscreteContact
 from ._solution import ContactResult, ContactSolution, ContactStatus
 
@@ -19,7 +18,6 @@ logger = logging.getLogger(__name__)
 DEFAULT_ALGORITHM = "simo-laursen"
 DEFAULT_PENALTY = "exp-met1"
 
-_FIXED_PENALTY = {"simo-laursen": "rockafellar", "penalty": "exterior-quadratic", "ssn": "none"}
 
 
 def penalty_stiffness(model, h: float, scale: float = 1.0) -> float:
@@ -56,21 +54,6 @@ def _projected_pressure(problem, forces: np.ndarray) -> np.ndarray:
     return spla.spsolve(M.tocsc(), forces)
 
 
-def _resolve_penalty(algorithm: str, penalty: str | None) -> str:
-    if algorithm in _FIXED_PENALTY:
-        fixed = _FIXED_PENALTY[algorithm]
-        if penalty not in (None, fixed):
-            raise InputError(
-                f"algorithm {algorithm!r} uses the {fixed!r} penalty; got penalty={penalty!r}. "
-                "Use algorithm='family-p' to choose a penalty."
-            )
-        return fixed
-    name = penalty or DEFAULT_PENALTY
-    if name not in contact_penalties():
-        raise UnknownNameError("contact penalty", name, contact_penalties())
-    return name
-
-
 def solve(problem, algorithm: str = DEFAULT_ALGORITHM, penalty: str | None = None,
           options: ContactOptions | None = None, **option_overrides) -> ContactSolution:
     """Solve a frictionless contact problem.
@@ -96,7 +79,7 @@ def solve(problem, algorithm: str = DEFAULT_ALGORITHM, penalty: str | None = Non
     """
     t_start = time.perf_counter()
     run = get_algorithm(algorithm)
-    pen_name = _resolve_penalty(algorithm, penalty)
+    pen_name = resolve_penalty(algorithm, penalty, DEFAULT_PENALTY)
     opts = options_with(options, ContactOptions, option_overrides, "contact")
 
     from ._iterative import IterativeContact, resolve_linear_solver

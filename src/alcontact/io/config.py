@@ -530,6 +530,7 @@ def _build(data: dict, base: Path, issues: list[Issue], source) -> ProblemSetup 
     from ..contact import ContactOptions, ContactProblem, Pressure, Traction, BodyForce, Support
     from ..contact import FrictionOptions, friction_algorithms
     from ..contact import LoadCase, LoadHistory
+    from ..contact._algorithms import FIXED_PENALTIES
     from ..fem import LinearElasticity, Material
 
     # ---- mesh
@@ -671,8 +672,7 @@ def _build(data: dict, base: Path, issues: list[Issue], source) -> ProblemSetup 
     if sv is not None and _ok({k: v for k, v in sv.items() if k != "friction"}):
         algorithm = sv["algorithm"]
         penalty = sv["penalty"] or None
-        fixed_pen = {"simo-laursen": "rockafellar", "penalty": "exterior-quadratic", "ssn": "none"}
-        if penalty is not None and algorithm != "family-p" and penalty != fixed_pen.get(algorithm):
+        if penalty is not None and algorithm != "family-p" and penalty != FIXED_PENALTIES.get(algorithm):
             issues.append(Issue("solver.penalty", f"= {penalty!r}: algorithm {algorithm!r} uses its own penalty; "
                                                   "set algorithm = 'family-p' to choose one, or remove penalty."))
         if isinstance(mu, float) and mu > 0 and algorithm not in friction_algorithms():
