@@ -32,28 +32,6 @@ def penalty_stiffness(model, h: float, scale: float = 1.0) -> float:
     return scale * e_prime / h
 
 
-def _projected_pressure(problem, forces: np.ndarray) -> np.ndarray:
-    r"""Pressure field whose consistent nodal forces are ``forces`` (3D P2).
-
-    On quadratic triangles the integral of a vertex basis function vanishes, so
-    the contact points use sub-triangle weights and ``lambda = r/w`` is not the
-    pressure (a uniform pressure gives 0 at vertices, 4/3 p at edge midpoints).
-    The pressure is recovered by the boundary mass matrix, :math:`M_\Gamma p = r`.
-    """
-    import scipy.sparse.linalg as spla
-    from skfem import BilinearForm, asm
-
-    model = problem.model
-    sdofs = model._boundary_scalar_dofs(problem.contact_boundary)
-
-    @BilinearForm
-    def mass(u, v, w):
-        return u * v
-
-    M = asm(mass, model._facet_basis(problem.contact_boundary, vector=False)).tocsr()[sdofs][:, sdofs]
-    return spla.spsolve(M.tocsc(), forces)
-
-
 def solve(problem, algorithm: str = DEFAULT_ALGORITHM, penalty: str | None = None,
           options: ContactOptions | None = None, **option_overrides) -> ContactSolution:
     """Solve a frictionless contact problem.
@@ -113,8 +91,8 @@ def solve(problem, algorithm: str = DEFAULT_ALGORITHM, penalty: str | None = Non
     pressure = np.zeros(m)
     pressure[dc.cand] = np.maximum(out.lam, 0.0) if out.lam.size else 0.0
     force = np.sum((dc.weights * pressure)[:, None] * dc.normals, axis=0)
-    if problem.model.dim == 3 and problem.model.order == 2 and np.any(pressure > 0):
-        pressure = _projected_pressure(problem, dc.weights * pressure)
+    if np.any(pressure > 0):  # pressure field of the nodal forces (differs from lambda for 3D P2)
+        pressure = problem.model.boundary_pressure(problem.contact_boundary, dc.weights * pressure)
     closed = g_all > -max(1e-6, 10 * opts.tol_penetration) * dc.h
     active = closed & (pressure > 1e-12 * max(float(pressure.max(initial=0.0)), 1e-300))
     if out.status > 0 and not np.all(np.isfinite(u)):

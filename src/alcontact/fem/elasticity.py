@@ -249,6 +249,28 @@ class LinearElasticity:
 
         return asm(one, self._facet_basis(name, vector=False))[sdofs]
 
+    def boundary_pressure(self, name: str, forces) -> np.ndarray:
+        r"""Pressure at the DOF locations of boundary ``name`` from nodal normal forces.
+
+        ``forces`` aligned with :meth:`node_dofs`. The forces of a pressure field ``p``
+        are :math:`\int_\Gamma p\,\phi_i`, so normally ``forces / boundary_weights``.
+        For 3D P2 the vertex integrals vanish and the sub-triangle weights are not
+        consistent (a uniform pressure would read 0 at vertices, 4/3 p at edge
+        midpoints), so the boundary mass matrix is solved instead, :math:`M_\Gamma p = r`.
+        """
+        forces = np.asarray(forces, dtype=float)
+        if not (self.dim == 3 and self.order == 2):
+            return forces / self.boundary_weights(name)
+        from scipy.sparse.linalg import spsolve
+
+        @BilinearForm
+        def mass(u, v, w):
+            return u * v
+
+        sdofs = self._boundary_scalar_dofs(name)
+        M = asm(mass, self._facet_basis(name, vector=False)).tocsr()[sdofs][:, sdofs]
+        return spsolve(M.tocsc(), forces)
+
     # ---------------------------------------------------------------- matrices
     def stiffness(self) -> sp.csr_matrix:
         """Global stiffness matrix (``ndofs x ndofs``, symmetric, cached)."""
