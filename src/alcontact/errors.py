@@ -16,6 +16,7 @@ __all__ = [
     "ConfigError",
     "MeshError",
     "OutputExistsError",
+    "InvertedElementError",
 ]
 
 
@@ -68,3 +69,22 @@ class MeshError(InputError):
 
 class OutputExistsError(AlcontactError, FileExistsError):
     """A results folder exists and ``--force`` was not given."""
+
+
+class InvertedElementError(AlcontactError, ArithmeticError):
+    """A deformation with :math:`J = \\det F \\le 0` in some element (finite deformation).
+
+    Raised by hyperelastic bodies instead of returning NaN; Newton solvers treat it
+    as a rejected step (line-search backtracking or load-step cut-back).
+
+    Attributes
+    ----------
+    elements : ndarray of int
+        Indices of the inverted elements.
+    """
+
+    def __init__(self, message: str, elements=()):
+        import numpy as np
+
+        self.elements = np.asarray(elements, dtype=np.int64)
+        super().__init__(message)

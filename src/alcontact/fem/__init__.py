@@ -15,11 +15,13 @@ Examples
 """
 
 from alcontact.fem import meshes, model_problems
+from alcontact.fem._body import Body
 from alcontact.fem._linalg import Factorization, nested_dissection
 from alcontact.fem._material import Material
 from alcontact.fem.elasticity import LinearElasticity, rigid_body_modes
 
 __all__ = [
+    "Body",
     "Factorization",
     "LinearElasticity",
     "Material",

@@ -566,6 +566,22 @@ class LinearElasticity:
         fac = self.factorize(dofs)
         return fac.solve_full(load, vals)
 
+    # ------------------------------------------------- Body protocol (fem._body)
+    #: the internal force is linear in u: the condensed contact path applies
+    linear = True
+
+    def internal_force(self, u) -> np.ndarray:
+        """Internal force :math:`K u` of the :class:`~alcontact.fem._body.Body` protocol."""
+        return self.stiffness() @ np.asarray(u, dtype=float)
+
+    def tangent(self, u=None) -> sp.csr_matrix:
+        """Tangent stiffness: the constant :math:`K` (``u`` is ignored)."""
+        return self.stiffness()
+
+    def energy(self, u) -> float:
+        """Stored energy :math:`\\tfrac12 u^T K u` (same as :meth:`strain_energy`)."""
+        return self.strain_energy(u)
+
     # ----------------------------------------------------------- postprocess
     def strain_energy(self, u) -> float:
         r""":math:`\tfrac12 u^T K u`."""
