@@ -245,7 +245,7 @@ def _run_file(problem_file: Path, out, console: Console, err: Console, level: in
     from rich.progress import BarColumn, MofNCompleteColumn, Progress, SpinnerColumn, TextColumn, \
         TimeElapsedColumn, TimeRemainingColumn
 
-    from .io.config import load_problem
+    from .io.preflight import check_problem
     from .runner import run_setup
 
     force = kwargs.pop("force")
@@ -253,7 +253,7 @@ def _run_file(problem_file: Path, out, console: Console, err: Console, level: in
     penalty = kwargs.pop("penalty")
     try:
         with _cli_logging(err, level):
-            setup = load_problem(problem_file)
+            setup = check_problem(problem_file).setup  # what `alcontact check` checks, before solving
             out = out if out is not None else Path(setup.output["folder"])
             if quiet:
                 result = run_setup(setup, out, force, algorithm=algorithm, penalty=penalty, **kwargs)
@@ -290,19 +290,29 @@ def _run_file(problem_file: Path, out, console: Console, err: Console, level: in
 def check_command(
     problem_file: Annotated[Path, typer.Argument(help="TOML problem file to validate.", show_default=False)],
 ) -> None:
-    """Validate a problem file without solving it.
+    """Validate a problem file without solving it: everything `run` would reject.
 
-    Prints OK and a one-line summary, or every error found with its key path
-    (exit code 2). The mesh is built or read and every boundary name checked.
+    Prints OK, a one-line summary and the size estimate, or every error found
+    with its key path and the way out (exit code 2): the schema, the mesh size
+    against this machine's memory (estimated before the mesh is built), mesh
+    quality, boundary names, conflicting supports, supports or obstacle contact
+    restraining every rigid motion on the solver's path (direct, AMG,
+    frictional), and number ranges of the material and loads.
     """
-    from .io.config import load_problem
+    from .io.preflight import check_problem
 
     console, err = _consoles()
     try:
-        setup = load_problem(problem_file)
+        with _cli_logging(err, logging.WARNING):
+            report = check_problem(problem_file)
     except InputError as exc:
         raise _fail(err, exc, EXIT_USAGE) from None
-    console.print(Text(f"OK {setup.summary_line()}"))
+    except AlcontactError as exc:
+        raise _fail(err, exc, EXIT_FAILED) from None
+    first, *rest = report.summary_lines()
+    console.print(Text(f"OK {first}"))
+    for line in rest:
+        console.print(Text(f"   {line}"))
 
 
 @app.command("bench")

@@ -13,7 +13,7 @@ import numpy as np
 
 from ..errors import InputError
 
-__all__ = ["Support", "Traction", "Pressure", "BodyForce", "ContactProblem"]
+__all__ = ["Support", "Traction", "Pressure", "BodyForce", "ContactProblem", "merge_supports"]
 
 
 @dataclass(frozen=True)
@@ -102,20 +102,23 @@ class ContactProblem:
             if hasattr(ld, "boundary"):
                 self.model.facets(ld.boundary)
         self.obstacle.check_dim(self.model.dim)
+        self.dirichlet()  # InputError on two supports prescribing different values to one DOF
 
     # ------------------------------------------------------------ assembly
     def dirichlet(self) -> tuple[np.ndarray, np.ndarray]:
-        """Fixed DOFs and their values (the last prescription of a DOF wins)."""
-        pairs = [
-            self.model.dirichlet(s.boundary, None if s.components is None else list(s.components), s.value)
-            for s in self.supports
-        ]
-        if not pairs:
-            return np.empty(0, dtype=np.int64), np.empty(0)
-        dofs = np.concatenate([p[0] for p in pairs])
-        vals = np.concatenate([p[1] for p in pairs])
-        uniq, idx = np.unique(dofs[::-1], return_index=True)
-        return uniq, vals[::-1][idx]
+        """Fixed DOFs and their values.
+
+        A DOF prescribed by several supports must get the same value from each
+        (to a relative ``1e-9``); the first value is kept.
+
+        Raises
+        ------
+        alcontact.errors.InputError
+            Two supports prescribe different values to the same component of a
+            node; the message names both boundaries, the component, the node and
+            the values.
+        """
+        return merge_supports(self.model, self.supports)
 
     def load_vector(self) -> np.ndarray:
         """Assembled external load vector."""
@@ -130,3 +133,69 @@ class ContactProblem:
             else:
                 raise InputError(f"unknown load {ld!r}; use Traction, Pressure or BodyForce.")
         return f
+
+
+_AXES = "xyz"
+
+
+def merge_supports(model, supports: Sequence[Support], labels: Sequence[str] | None = None,
+                   *, scales: Sequence[float] | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """Fixed DOFs and values of ``supports``; an error if two of them disagree on a DOF.
+
+    Parameters
+    ----------
+    model : alcontact.fem.LinearElasticity
+    supports : sequence of Support
+    labels : sequence of str, optional
+        Names of the supports in messages (default ``support on 'BOUNDARY'``),
+        e.g. the key paths of a problem file (``support[2]``).
+    scales : sequence of float, optional
+        Amplitude of each support (ramped supports at one step time); default 1.
+
+    Returns
+    -------
+    dofs : ndarray of int
+        Sorted fixed DOFs.
+    values : ndarray
+        Their prescribed values.
+
+    Raises
+    ------
+    alcontact.errors.InputError
+        Two supports prescribe different values (beyond a relative ``1e-9`` of
+        the largest prescribed value) to the same component of a node.
+    """
+    if not supports:
+        return np.empty(0, dtype=np.int64), np.empty(0)
+    labels = list(labels) if labels is not None else [f"support on {s.boundary!r}" for s in supports]
+    scales = list(scales) if scales is not None else [1.0] * len(supports)
+    dofs_l, vals_l, own_l = [], [], []
+    for k, s in enumerate(supports):
+        d, v = model.dirichlet(s.boundary, None if s.components is None else list(s.components), s.value)
+        dofs_l.append(d)
+        vals_l.append(scales[k] * v)
+        own_l.append(np.full(d.size, k))
+    dofs = np.concatenate(dofs_l)
+    vals = np.concatenate(vals_l)
+    owner = np.concatenate(own_l)
+    order = np.argsort(dofs, kind="stable")  # first prescription first among equal DOFs
+    dofs, vals, owner = dofs[order], vals[order], owner[order]
+    uniq, first = np.unique(dofs, return_index=True)
+    ref = vals[first][np.searchsorted(uniq, dofs)]
+    scale = max(float(np.max(np.abs(vals), initial=0.0)), 1e-300)
+    bad = np.flatnonzero(np.abs(vals - ref) > 1e-9 * scale)
+    if bad.size:
+        j = int(bad[0])
+        i = int(first[np.searchsorted(uniq, dofs[j])])
+        dof = int(dofs[j])
+        pts, dmap = model.all_node_dofs()
+        node, comp = np.argwhere(dmap == dof)[0]
+        a, b = supports[owner[i]], supports[owner[j]]
+        n_bad = np.unique(dofs[bad]).size
+        raise InputError(
+            f"{labels[owner[i]]} and {labels[owner[j]]} prescribe different values to component {comp} "
+            f"({_AXES[comp]}) at node {np.round(pts[node], 6).tolist()}: {vals[i]:g} on {a.boundary!r} and "
+            f"{vals[j]:g} on {b.boundary!r} ({n_bad} DOF(s) in conflict). Make the values agree, or restrict "
+            "one support to other components (components = [...]) so that the boundaries do not overlap."
+        )
+    return uniq, vals[first]

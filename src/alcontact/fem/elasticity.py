@@ -37,6 +37,7 @@ from skfem.helpers import ddot, dot, sym_grad, trace
 from alcontact.errors import InputError, MeshError
 from alcontact.fem._linalg import BACKENDS, Factorization, _cholespy, nested_dissection
 from alcontact.fem._material import Material
+from alcontact.fem.quality import check_mesh_quality
 
 __all__ = ["LinearElasticity", "rigid_body_modes"]
 
@@ -144,6 +145,7 @@ class LinearElasticity:
                 f"got {type(mesh).__name__}. Build it with alcontact.fem.meshes or read a Gmsh file "
                 "with first-order triangles/tetrahedra."
             )
+        check_mesh_quality(mesh)  # MeshError naming inverted or degenerate elements
         self.mesh = mesh
         self.material = material
         self.order = int(order)

@@ -1,0 +1,620 @@
+r"""Pre-flight checks of a problem file: everything ``alcontact run`` would reject, found before solving.
+
+:func:`check_problem` is what ``alcontact check`` runs, and what ``alcontact run``
+runs before it solves. On top of :func:`~alcontact.io.config.load_problem`
+(schema, names, builders) it checks:
+
+- **size**, *before the mesh is built*: node, element and DOF counts from
+  ``[mesh]`` (the 1D axis coordinates of the generators, or the header of a
+  Gmsh file), the fill of the direct factorization or the AMG hierarchy, and
+  the memory this needs against the machine's memory (``/proc/meminfo``);
+  problems that would not fit, or would run for hours, are refused with the
+  way out (a coarser mesh, ``linear_solver = "amg"``). The same check runs
+  again with the exact counts once the mesh is built.
+- **rigidity** on the path the solver will take: with friction and on the AMG
+  path every rigid-body motion must be stopped by the supports (these paths
+  cannot let the obstacle hold the body); on the direct frictionless path the
+  contact points touching the obstacle may stop the motions the supports leave
+  free (as :meth:`~alcontact.contact._discrete.DiscreteContact._stabilize` does).
+  The message names the free motions and a ``[[support]]`` that stops them.
+- **mesh quality** (inverted or degenerate elements, :mod:`alcontact.fem.quality`,
+  raised when the body is built) and a Gmsh file without a physical group for
+  the body (the file then holds only its boundary lines).
+- **conflicting supports**: two supports giving one DOF different values, also
+  when ramped supports meet fixed ones at some step time.
+- **number ranges** of the material and the loads that double precision can
+  carry through the solver (squares of stiffness entries must stay finite).
+
+All problems are reported in one :class:`~alcontact.errors.ConfigError` whose
+issues name the key path, the value and the way out.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import logging
+import math
+import os
+import tomllib
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..errors import ConfigError, InputError, MeshError
+from .config import Issue, _raise, _text_of, load_problem, validate_data
+
+__all__ = ["SizeEstimate", "Preflight", "check_problem", "estimate_size", "size_issues", "setup_issues",
+           "machine_memory", "MAX_DOFS", "MAX_SECONDS", "MEMORY_FRACTION", "VALUE_RANGE"]
+
+logger = logging.getLogger(__name__)
+
+#: Refused above this many DOFs: hours of solving on a workstation-class machine even with AMG.
+MAX_DOFS = 4_000_000
+#: Refused when the estimated solve time exceeds this (seconds).
+MAX_SECONDS = 4 * 3600.0
+#: Refused when the estimated peak memory exceeds this fraction of the machine's memory.
+MEMORY_FRACTION = 0.8
+#: Magnitudes of E and of load values the solver's double precision carries (squares stay finite).
+VALUE_RANGE = (1e-100, 1e100)
+
+# Calibration (SuperLU/CHOLMOD on structured meshes, 20k-80k DOFs): nonzeros of the
+# stiffness per DOF, of the factor per DOF (x log2 n in 2D, x n^(1/3) in 3D), and
+# seconds of a whole contact solve (factorization and condensation ~ 3 factorizations).
+_NNZ_K = {(2, 1): 12, (2, 2): 22, (3, 1): 36, (3, 2): 80}
+_FILL_2D = 14.0  # nnz(L+U) = c n log2 n  (measured 9.5-12.7)
+_FILL_3D = 40.0  # nnz(L+U) = c n^(4/3)   (measured 25-31)
+_T_DIRECT_2D = 3e-7  # s * n^1.5
+_T_DIRECT_3D = 6e-9  # s * n^2
+_T_AMG = 2e-4  # s per DOF
+_LOCAL = {(2, 1): 6, (2, 2): 12, (3, 1): 12, (3, 2): 30}  # DOFs per element
+_QUAD = {(2, 1): 3, (2, 2): 6, (3, 1): 4, (3, 2): 11}  # quadrature points per element of the stiffness
+_AXES = "xyz"
+
+
+# --------------------------------------------------------------------------- size
+@dataclasses.dataclass(frozen=True)
+class SizeEstimate:
+    """Estimated size of a problem and of its solve.
+
+    Attributes
+    ----------
+    dim, order : int
+    nodes, elements, ndofs : int
+        Scalar DOF locations (vertices, plus edge midpoints for P2), elements, DOFs.
+    linear_solver : str
+        ``"direct"`` or ``"amg"`` (the path the solver takes).
+    memory_bytes : float
+        Estimated peak memory of assembly, factorization/AMG and solution.
+    seconds : float
+        Rough solve time on a current workstation core.
+    exact : bool
+        ``False`` when counted before the mesh exists (from ``[mesh]`` or a file header).
+    """
+
+    dim: int
+    order: int
+    nodes: int
+    elements: int
+    ndofs: int
+    linear_solver: str
+    memory_bytes: float
+    seconds: float
+    exact: bool = False
+    key: str = "mesh"
+    value: Any = None
+
+    def describe(self) -> str:
+        about = "" if self.exact else "about "
+        return (f"{about}{self.ndofs:,} DOFs, {self.elements:,} elements, {self.linear_solver} linear solver: "
+                f"estimated peak memory {_gib(self.memory_bytes)}, solve time {_duration(self.seconds)}")
+
+
+def _gib(b: float) -> str:
+    return f"{b / 2**30:.3g} GiB" if b >= 2**27 else f"{b / 2**20:.3g} MiB"
+
+
+def _duration(s: float) -> str:
+    if s < 60:
+        return f"~{max(s, 0.1):.2g} s"
+    if s < 3600:
+        return f"~{s / 60:.2g} min"
+    return f"~{s / 3600:.3g} h"
+
+
+def machine_memory() -> tuple[float, float]:
+    """``(total, available)`` memory of this machine in bytes (``/proc/meminfo``, else ``os.sysconf``)."""
+    try:
+        info = {}
+        with open("/proc/meminfo", encoding="ascii") as fh:
+            for line in fh:
+                key, _, rest = line.partition(":")
+                info[key] = float(rest.split()[0]) * 1024.0
+        total = info["MemTotal"]
+        return total, info.get("MemAvailable", total)
+    except (OSError, KeyError, ValueError, IndexError):
+        try:
+            total = float(os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES"))
+        except (ValueError, OSError, AttributeError):  # pragma: no cover - exotic platforms
+            total = float("inf")
+        return total, total
+
+
+def _cost(dim: int, order: int, nodes: int, elements: int, solver: str, exact: bool) -> SizeEstimate:
+    n = dim * nodes
+    key = (dim, order)
+    nnz_k = _NNZ_K[key] * n
+    local = _LOCAL[key]
+    mem = (nodes * dim * 8 + elements * (dim + 1) * 8 * 6  # mesh, facets, connectivity
+           + elements * local * 2 * dim * _QUAD[key] * 8  # basis values and gradients (measured 2.4 kB/tet)
+           + 1.5 * elements * local**2 * 24  # assembly (COO values, rows, columns) and conversion
+           + 2 * nnz_k * 12  # stiffness and its condensed copy
+           + n * 8 * 40)  # solution vectors, fields, output
+    if solver == "amg":
+        mem += 3 * nnz_k * 12
+        secs = _T_AMG * n
+    elif dim == 2:
+        mem += _FILL_2D * n * math.log2(max(n, 2)) * 16
+        secs = _T_DIRECT_2D * n**1.5
+    else:
+        mem += _FILL_3D * n ** (4.0 / 3.0) * 16
+        secs = _T_DIRECT_3D * float(n) ** 2
+    return SizeEstimate(dim, order, int(nodes), int(elements), int(n), solver, float(mem), float(secs), exact)
+
+
+def _size_key(data: dict) -> tuple[str, Any]:
+    """The ``[mesh]`` key that sets the size, and its value (for messages)."""
+    md = data.get("mesh") if isinstance(data, dict) else None
+    if not isinstance(md, dict):
+        return "mesh", None
+    if md.get("generator") == "file":
+        return "mesh.file", md.get("file")
+    r = md.get("refine")
+    if isinstance(r, dict) and r.get("h_min") is not None:
+        return "mesh.refine.h_min", r["h_min"]
+    return "mesh.cells", md.get("cells")
+
+
+def _resolve_solver(data: dict, dim: int, ndofs: int) -> str:
+    from ..contact._iterative import AUTO_AMG_DOFS
+
+    cd = data.get("contact") or {}
+    mu = cd.get("friction") if isinstance(cd, dict) else 0.0
+    if isinstance(mu, float) and mu > 0:
+        return "direct"  # the frictional solver always factorizes
+    sv = data.get("solver") or {}
+    name = sv.get("linear_solver", "auto") if isinstance(sv, dict) else "auto"
+    if name == "auto":
+        return "amg" if (dim == 3 and ndofs > AUTO_AMG_DOFS) else "direct"
+    return name if name in ("direct", "amg") else "direct"
+
+
+_HUGE_AXIS = 50_000_000
+
+
+def _axis_count(a: float, b: float, n: int, r: dict | None, top: bool, ax: int) -> int:
+    """Number of coordinates along one axis, as :func:`alcontact.fem.meshes.rectangle` would make them."""
+    from ..fem.meshes import graded_axis
+
+    if r is None:
+        return int(n) + 1
+    h_min = float(r["h_min"])
+    growth = float(r.get("growth") or 1.2)
+    h_max = float(r.get("h_max") or (b - a) / n)
+    c = float(r["center"][ax])
+    lo, hi = (c - r["depth"], b) if top else (c - r["width"], c + r["width"])
+    lo_c, hi_c = max(lo, a), min(hi, b)
+    fine = math.ceil((hi_c - lo_c) / h_min) if hi_c > lo_c else 0
+    cap = max(h_max, h_min)
+    graded = (b - a) / h_min if growth <= 1.0 else (math.log(cap / h_min) / math.log(growth) + 2 + (b - a) / cap)
+    bound = fine + 2 * graded + 3
+    if bound > _HUGE_AXIS:  # do not allocate the axis: it alone is too large
+        return int(min(bound, 1e18))
+    return int(graded_axis(a, b, lo, hi, h_min, growth, h_max).size)
+
+
+def _generated_counts(md: dict, dim: int) -> tuple[int, int]:
+    b, cells, r = md["bounds"], md["cells"], md["refine"]
+    counts = [_axis_count(b[2 * k], b[2 * k + 1], cells[k], r, k == dim - 1, k) for k in range(dim)]
+    nodes = math.prod(counts)
+    boxes = math.prod(c - 1 for c in counts)
+    elements = (2 if dim == 2 else 6) * boxes
+    return nodes, elements
+
+
+def _gmsh_header_counts(path: Path) -> tuple[int, int] | None:
+    """Node and element counts from the section headers of an ASCII Gmsh file (None if not found)."""
+    nodes = elements = None
+    version = None
+    try:
+        with open(path, "rb") as fh:
+            prev = b""
+            for raw in fh:
+                line = raw.strip()
+                if prev == b"$MeshFormat":
+                    parts = line.split()
+                    version = parts[0].decode("ascii", "replace") if parts else None
+                    if len(parts) > 1 and parts[1] != b"0":
+                        return None  # binary file: the counts are not text
+                elif prev in (b"$Nodes", b"$Elements"):
+                    nums = [int(x) for x in line.split()]
+                    count = nums[0] if (version or "").startswith("2") or len(nums) == 1 else nums[1]
+                    if prev == b"$Nodes":
+                        nodes = count
+                    else:
+                        elements = count
+                    if nodes is not None and elements is not None:
+                        return nodes, elements
+                prev = line
+    except (OSError, ValueError, IndexError):
+        return None
+    return None
+
+
+def estimate_size(data: dict, base_dir: str | os.PathLike = ".") -> SizeEstimate | None:
+    """Estimate the size of a validated problem file (:func:`~alcontact.io.config.validate_data`) before meshing.
+
+    Generated meshes are counted from the 1D axis coordinates
+    (:func:`~alcontact.fem.meshes.graded_axis`, never the 2D/3D mesh); Gmsh
+    files from their ``$Nodes``/``$Elements`` headers (ASCII files). ``None``
+    when the size cannot be known before meshing (binary or ``.geo`` files, an
+    incomplete ``[mesh]``).
+    """
+    md = data.get("mesh")
+    if not isinstance(md, dict):
+        return None
+    gen, order = md.get("generator"), md.get("order")
+    if order not in (1, 2):
+        return None
+    try:
+        if gen in ("rectangle", "box"):
+            dim = 2 if gen == "rectangle" else 3
+            b, cells, r = md.get("bounds"), md.get("cells"), md.get("refine")
+            if not (isinstance(b, list) and isinstance(cells, list) and len(b) == 2 * dim and len(cells) == dim):
+                return None
+            if any(not b[2 * k] < b[2 * k + 1] for k in range(dim)):
+                return None
+            if r is not None and not (isinstance(r, dict) and isinstance(r.get("center"), list)
+                                      and len(r["center"]) == dim
+                                      and all(isinstance(r.get(k), float) for k in ("h_min", "width", "depth"))):
+                return None
+            vertices, elements = _generated_counts(md, dim)
+        elif gen == "file" and isinstance(md.get("file"), str) and md["file"]:
+            p = Path(md["file"])
+            p = p if p.is_absolute() else Path(base_dir) / p
+            counts = _gmsh_header_counts(p) if p.suffix.lower() == ".msh" and p.is_file() else None
+            if counts is None:
+                return None
+            vertices, elements = counts
+            dim = 3 if elements > 3.5 * vertices else 2  # tetrahedra: ~5-6 per vertex, triangles ~2
+        else:
+            return None
+    except (TypeError, ValueError, KeyError, OverflowError):
+        return None
+    nodes = vertices
+    if order == 2:  # edge midpoints: about V + F - 1 edges in 2D, V + T in 3D
+        nodes = vertices + (vertices + elements // (2 if dim == 2 else 1))
+    n = dim * nodes
+    key, value = _size_key(data)
+    est = _cost(dim, order, nodes, elements, _resolve_solver(data, dim, n), exact=False)
+    return dataclasses.replace(est, key=key, value=value)
+
+
+def exact_size(setup) -> SizeEstimate:
+    """:class:`SizeEstimate` of a built problem (exact counts; memory and time still estimated)."""
+    model = setup.problem.model
+    solver = _resolve_solver(setup.data, model.dim, model.ndofs)
+    if setup.friction == 0 and setup.options.get("linear_solver"):
+        from ..contact._iterative import resolve_linear_solver
+
+        solver = resolve_linear_solver(setup.options["linear_solver"], model)
+    key, value = _size_key(setup.data)
+    est = _cost(model.dim, model.order, model.ndofs // model.dim, model.mesh.nelements, solver, exact=True)
+    return dataclasses.replace(est, key=key, value=value)
+
+
+def size_issues(est: SizeEstimate | None, memory: float | None = None) -> list[Issue]:
+    """Issues when ``est`` would not fit in ``memory`` bytes (default: this machine's) or run too long."""
+    if est is None:
+        return []
+    total = machine_memory()[0] if memory is None else float(memory)
+    key = est.key
+    head = f"= {est.value!r}: " if est.value is not None else ""
+    issues = []
+    coarser = "a coarser mesh (fewer [mesh] cells, a larger mesh.refine.h_min or growth, or order = 1)"
+    reasons, ways = [], [coarser]
+    if est.ndofs > MAX_DOFS:
+        reasons.append(f"more than {MAX_DOFS:,} DOFs would run for hours on this kind of machine")
+        ways.append("grading (mesh.refine) instead of uniform cells for fine elements only where contact is")
+    elif est.seconds > MAX_SECONDS:
+        reasons.append(f"the solve would take longer than {_duration(MAX_SECONDS)}")
+    if est.memory_bytes > MEMORY_FRACTION * total:
+        reasons.append(f"it needs more than {MEMORY_FRACTION:.0%} of this machine's {_gib(total)} of memory")
+    if not reasons:
+        return []
+    if est.linear_solver == "direct" and est.dim == 3:
+        amg = _cost(est.dim, est.order, est.nodes, est.elements, "amg", est.exact)
+        ways.append(f"solver.linear_solver = 'amg' (no factorization: about {_gib(amg.memory_bytes)}, "
+                    f"{_duration(amg.seconds)})")
+    return [Issue(est.key, f"{head}{est.describe()}: {'; '.join(reasons)}. Use {' or '.join(ways)}.")]
+
+
+# --------------------------------------------------------------------------- rigidity
+def _free_motions(model, fixed: np.ndarray):
+    """Rigid motions the fixed DOFs leave free: ``(null, names, R, row_of)``.
+
+    ``null`` (k, n_modes): coefficient vectors of the free motions in the basis of
+    :func:`~alcontact.fem.elasticity.rigid_body_modes`; ``R`` the modes at every DOF.
+    """
+    from ..fem.elasticity import _rref, rigid_body_modes
+
+    pts, dmap = model.all_node_dofs()
+    modes, names = rigid_body_modes(pts)
+    R = modes.reshape(-1, modes.shape[-1])
+    row_of = np.empty(model.ndofs, dtype=np.int64)
+    row_of[dmap.ravel()] = np.arange(dmap.size)
+    nm = R.shape[1]
+    Rf = R[row_of[np.unique(fixed)]]
+    if Rf.shape[0] < nm:
+        Rf = np.vstack([Rf, np.zeros((nm - Rf.shape[0], nm))])
+    _, s, vt = np.linalg.svd(Rf, full_matrices=False)
+    null = vt[s <= 1e-9 * s[0]] if s[0] > 0 else vt
+    if null.shape[0]:
+        null = _rref(null)
+    return null, names, R, row_of
+
+
+def _motion_names(null: np.ndarray, names: list[str]) -> str:
+    out = []
+    for vec in null:
+        vec = vec / np.max(np.abs(vec))
+        out.append(" + ".join(names[i] for i in np.flatnonzero(np.abs(vec) > 1e-6)))
+    return "; ".join(out)
+
+
+def _rank(a: np.ndarray) -> int:
+    if a.size == 0:
+        return 0
+    s = np.linalg.svd(a, compute_uv=False)
+    return int(np.sum(s > 1e-9 * s[0])) if s[0] > 0 else 0
+
+
+def _suggest_support(model, null, R, row_of, contact: str) -> str:
+    """A ``[[support]]`` (boundary and component) that stops the most free motions."""
+    best = None
+    names = sorted(model.boundary_names, key=lambda b: (b == contact, b))
+    for b in names:
+        _, dofs = model.node_dofs(b)
+        for c in range(model.dim):
+            r = _rank(R[row_of[dofs[:, c]]] @ null.T)
+            if best is None or r > best[0]:
+                best = (r, b, c)
+    if best is None or best[0] == 0:
+        return "add supports so that every rigid motion is stopped"
+    _, b, c = best
+    return f"add [[support]] boundary = {b!r}, components = [{c}] (fixes {_AXES[c]} on {b!r})"
+
+
+def _contact_points_restrain(setup, fixed: np.ndarray, null: np.ndarray, R, row_of) -> tuple[bool, str]:
+    """Whether the contact points touching the obstacle stop the free motions (as ``_stabilize`` does)."""
+    prob = setup.problem
+    model = prob.model
+    pts, dofs = model.node_dofs(prob.contact_boundary)
+    gap0, nu = prob.obstacle.evaluate(pts)
+    is_fixed = np.zeros(model.ndofs, dtype=bool)
+    is_fixed[fixed] = True
+    coef = np.where(is_fixed[dofs], 0.0, -nu)
+    movable = np.linalg.norm(coef, axis=1) > 1e-12
+    if not np.any(movable):
+        return False, "no contact point can move toward the obstacle"
+    from ..contact._friction_discrete import _element_size
+
+    h = _element_size(model, prob.contact_boundary, prob.obstacle)
+    g0 = np.where(movable, gap0, -np.inf)
+    gmax = float(g0.max())
+    if gmax < -0.5 * h:
+        return False, f"the body does not touch the obstacle either (closest gap {-gmax:.3g})"
+    near = np.flatnonzero(movable & (g0 >= gmax - 0.5 * h))
+    # normal constraint rows: sum_c coef_ic * mode_k(X_i, c)
+    N = np.einsum("ic,ick->ik", coef[near], R[row_of[dofs[near]]])
+    if _rank(N @ null.T) == null.shape[0]:
+        return True, ""
+    return False, f"the {near.size} contact point(s) touching the obstacle do not stop it either"
+
+
+def _rigidity_issues(setup) -> list[Issue]:
+    from ..contact._problem import Support
+
+    prob = setup.problem
+    model = prob.model
+    fixed = prob.dirichlet()[0]
+    if setup.history is not None:
+        extra = [model.dirichlet(c.item.boundary, None if c.item.components is None else list(c.item.components),
+                                 c.item.value)[0] for c in setup.history.cases if isinstance(c.item, Support)]
+        fixed = np.unique(np.concatenate([fixed, *extra])) if extra else fixed
+    null, names, R, row_of = _free_motions(model, fixed)
+    if null.shape[0] == 0:
+        return []
+    free = _motion_names(null, names)
+    fix = _suggest_support(model, null, R, row_of, prob.contact_boundary)
+    if setup.friction > 0:
+        return [Issue("support", f"rigid-body motion(s) not stopped by the supports: {free}. With "
+                                 f"contact.friction = {setup.friction:g} the frictional solver needs supports "
+                                 "that stop every rigid motion (the obstacle alone cannot hold the body there, "
+                                 f"the stiffness would be singular): {fix}, e.g. a tangential component, or "
+                                 "solve frictionless (contact.friction = 0) where the obstacle may hold it.")]
+    solver = exact_size(setup).linear_solver
+    if solver == "amg":
+        chosen = setup.options.get("linear_solver", "auto")
+        why = "" if chosen == "amg" else f" (linear_solver = {chosen!r} picks AMG for this 3D size)"
+        return [Issue("solver.linear_solver", f"= {chosen!r}: rigid-body motion(s) not stopped by the supports: "
+                                              f"{free}. The AMG path{why} needs supports that stop every rigid "
+                                              f"motion (it cannot let the obstacle hold the body): {fix}, or set "
+                                              "solver.linear_solver = 'direct', which lets the contact points "
+                                              "hold the body.")]
+    ok, why = _contact_points_restrain(setup, fixed, null, R, row_of)
+    if ok:
+        return []
+    return [Issue("support", f"rigid-body motion(s) not stopped by the supports: {free}, and {why}: nothing "
+                             f"holds the body. {fix[0].upper()}{fix[1:]}, or move the obstacle into contact.")]
+
+
+# --------------------------------------------------------------------------- supports, ranges
+def _ramped_support_issues(setup) -> list[Issue]:
+    """Fixed and ramped supports that give one DOF different values at some step time."""
+    from ..contact._problem import Support, merge_supports
+
+    if setup.history is None:
+        return []
+    cases = [c for c in setup.history.cases if isinstance(c.item, Support)]
+    if not cases:
+        return []
+    fixed_labels = [f"support[{i + 1}]" for i, s in enumerate(setup.data.get("support") or [])
+                    if isinstance(s, dict) and s.get("ramp") is None]
+    fixed = list(setup.problem.supports)
+    if len(fixed_labels) != len(fixed):
+        fixed_labels = [f"support on {s.boundary!r}" for s in fixed]
+    items = fixed + [c.item for c in cases]
+    labels = fixed_labels + [c.name or f"ramped support on {c.item.boundary!r}" for c in cases]
+    for t in setup.times:
+        scales = [1.0] * len(fixed) + [float(c.amplitude(t)) for c in cases]
+        try:
+            merge_supports(setup.problem.model, items, labels, scales=scales)
+        except InputError as exc:
+            return [Issue("support", f"at step time t = {t:g}: {exc}")]
+    return []
+
+
+def _range_issues(setup) -> list[Issue]:
+    lo, hi = VALUE_RANGE
+    issues = []
+    mat = setup.problem.model.material
+    lam, mu = mat.lame(setup.problem.model.dim)
+    if not (lo <= mat.E <= hi) or not math.isfinite(lam + 2 * mu):
+        issues.append(Issue("material.E", f"= {mat.E:g}: outside {lo:g} .. {hi:g}, where the solver's double "
+                                          "precision stays finite (stiffness entries scale with E and the "
+                                          "solver squares them: E = 1e308 overflows to infinity). Express E in "
+                                          "other units, e.g. MPa or GPa instead of Pa (and the loads alike)."))
+    for i, ld in enumerate(setup.data.get("load") or []):
+        if not isinstance(ld, dict):
+            continue
+        vals = [ld.get("value")] if ld.get("value") is not None else list(ld.get("vector") or [])
+        big = [v for v in vals if isinstance(v, float) and v != 0 and not (lo <= abs(v) <= hi)]
+        if big:
+            key = "value" if ld.get("value") is not None else "vector"
+            issues.append(Issue(f"load[{i + 1}].{key}", f"= {ld[key]!r}: magnitudes outside {lo:g} .. {hi:g} "
+                                                         "overflow or underflow in the solver; rescale the units."))
+    return issues
+
+
+def setup_issues(setup) -> list[Issue]:
+    """Issues of a built problem: rigidity on the solver's path, ramped support conflicts, number ranges."""
+    issues = _range_issues(setup)
+    if issues:  # the rigidity test would report the overflow as a free motion
+        return issues
+    return _ramped_support_issues(setup) + _rigidity_issues(setup)
+
+
+# --------------------------------------------------------------------------- Gmsh files without a body
+def _low_dim_issue(md: dict, base: Path, issue: Issue) -> Issue:
+    """Say which physical groups a Gmsh file has and how to add one for the body."""
+    from ..fem import meshes
+
+    p = Path(md["file"])
+    p = p if p.is_absolute() else base / p
+    try:
+        mesh = meshes.read(p)
+    except (MeshError, SystemExit):
+        return issue
+    dim = int(mesh.dim())
+    groups = sorted(set((mesh.boundaries or {}).keys()) | set((mesh.subdomains or {}).keys()))
+    kind = {0: "points", 1: "curves"}.get(dim, "cells")
+    body = "Physical Surface(\"body\") = {...};  (Physical Volume in 3D)"
+    return Issue("mesh.file", f"= {md['file']!r}: the file holds only {dim}D elements ({kind}); its physical "
+                              f"groups are {', '.join(map(repr, groups)) or '(none)'}. Gmsh saves only the "
+                              "elements of physical groups once any is defined, so the body's triangles/"
+                              f"tetrahedra were left out: add a physical group for the body, e.g. {body} in "
+                              "the .geo file (or in the GUI: Modules > Geometry > Physical groups > Add > "
+                              "Surface/Volume), or save all elements (gmsh -save_all, Mesh.SaveAll = 1), "
+                              "then re-mesh.")
+
+
+# --------------------------------------------------------------------------- entry point
+@dataclasses.dataclass(frozen=True)
+class Preflight:
+    """Outcome of :func:`check_problem`.
+
+    Attributes
+    ----------
+    setup : ProblemSetup
+        The built problem, ready for :func:`alcontact.runner.run_setup`.
+    size : SizeEstimate
+        Exact counts of the built mesh and the estimated memory/time.
+    memory : float
+        The machine memory (bytes) the size was checked against.
+    """
+
+    setup: Any
+    size: SizeEstimate
+    memory: float
+
+    def summary_lines(self) -> list[str]:
+        return [self.setup.summary_line(),
+                f"size: {self.size.describe()} (machine memory {_gib(self.memory)})"]
+
+
+def check_problem(path: str | os.PathLike, *, memory: float | None = None) -> Preflight:
+    """Everything ``alcontact run`` would reject, found before solving.
+
+    Parameters
+    ----------
+    path : path-like
+        The TOML problem file.
+    memory : float, optional
+        Memory in bytes to check the size against (default: this machine's
+        total memory, :func:`machine_memory`).
+
+    Returns
+    -------
+    Preflight
+
+    Raises
+    ------
+    ConfigError
+        With every problem found (``exc.issues``: key path and message).
+    """
+    p = Path(path)
+    label = str(p)
+    text = _text_of(p)
+    total = machine_memory()[0] if memory is None else float(memory)
+    try:
+        data, issues = validate_data(tomllib.loads(text))
+    except tomllib.TOMLDecodeError:
+        data, issues = None, [Issue("", "not valid TOML")]
+    if issues:  # load_problem reports them all, with its wording
+        load_problem(p)
+        raise AssertionError("load_problem accepted a file with schema issues")  # pragma: no cover
+    est = estimate_size(data, p.parent)
+    if est is not None:
+        logger.info("size estimate before meshing: %s", est.describe())
+        _check(size_issues(est, total), label)
+    try:
+        setup = load_problem(p)
+    except ConfigError as exc:
+        issues = list(getattr(exc, "issues", []))
+        md = data.get("mesh") or {}
+        if md.get("generator") == "file" and any(i.path == "mesh" and i.message.startswith("the mesh is")
+                                                 for i in issues):
+            issues = [_low_dim_issue(md, p.parent, i) if i.path == "mesh" and i.message.startswith("the mesh is")
+                      else i for i in issues]
+            _raise(issues, label)
+        raise
+    size = exact_size(setup)
+    issues = size_issues(size, total) + setup_issues(setup)
+    _check(issues, label)
+    return Preflight(setup=setup, size=size, memory=total)
+
+
+def _check(issues: list[Issue], label: str) -> None:
+    if issues:
+        _raise(issues, label)
