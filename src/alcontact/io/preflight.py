@@ -292,8 +292,8 @@ def estimate_size(data: dict, base_dir: str | os.PathLike = ".") -> SizeEstimate
     except (TypeError, ValueError, KeyError, OverflowError):
         return None
     nodes = vertices
-    if order == 2:  # edge midpoints: about V + F - 1 edges in 2D, V + T in 3D
-        nodes = vertices + (vertices + elements // (2 if dim == 2 else 1))
+    if order == 2:  # edge midpoints (Euler): V + F - 1 edges in 2D, about V + T in 3D
+        nodes = vertices + vertices + elements - (1 if dim == 2 else 0)
     n = dim * nodes
     key, value = _size_key(data)
     est = _cost(dim, order, nodes, elements, _resolve_solver(data, dim, n), exact=False)
