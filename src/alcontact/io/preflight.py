@@ -31,7 +31,9 @@ issues name the key path, the value and the way out.
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
+import io
 import logging
 import math
 import os
@@ -522,8 +524,9 @@ def _low_dim_issue(md: dict, base: Path, issue: Issue) -> Issue:
 
     p = Path(md["file"])
     p = p if p.is_absolute() else base / p
-    try:
-        mesh = meshes.read(p)
+    try:  # meshio and scikit-fem print on some files: keep it from the user
+        with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):
+            mesh = meshes.read(p)
     except (MeshError, SystemExit):
         return issue
     dim = int(mesh.dim())
@@ -601,18 +604,26 @@ def check_problem(path: str | os.PathLike, *, memory: float | None = None) -> Pr
     try:
         setup = load_problem(p)
     except ConfigError as exc:
-        issues = list(getattr(exc, "issues", []))
-        md = data.get("mesh") or {}
-        if md.get("generator") == "file" and any(i.path == "mesh" and i.message.startswith("the mesh is")
-                                                 for i in issues):
-            issues = [_low_dim_issue(md, p.parent, i) if i.path == "mesh" and i.message.startswith("the mesh is")
-                      else i for i in issues]
+        issues = [_mesh_issue(data.get("mesh") or {}, p.parent, i) for i in getattr(exc, "issues", [])]
+        if issues:
             _raise(issues, label)
         raise
     size = exact_size(setup)
     issues = size_issues(size, total) + setup_issues(setup)
     _check(issues, label)
     return Preflight(setup=setup, size=size, memory=total)
+
+
+def _mesh_issue(md: dict, base: Path, issue: Issue) -> Issue:
+    """Rewrite the mesh issues of :func:`load_problem` for the user: the key that fixes them."""
+    if md.get("generator") == "file" and issue.path == "mesh" and issue.message.startswith("the mesh is"):
+        return _low_dim_issue(md, base, issue)
+    if issue.path == "mesh.order" and ("inverted element" in issue.message or "degenerate element" in
+                                       issue.message):  # raised by the quality check of LinearElasticity
+        if md.get("generator") == "file":
+            return Issue("mesh.file", f"= {md.get('file')!r}: {issue.message}")
+        return Issue("mesh", issue.message)
+    return issue
 
 
 def _check(issues: list[Issue], label: str) -> None:
