@@ -46,7 +46,7 @@ import numpy as np
 from ..errors import ConfigError, InputError, MeshError
 from .config import Issue, _raise, _text_of, load_problem, validate_data
 
-__all__ = ["SizeEstimate", "Preflight", "check_problem", "estimate_size", "size_issues", "setup_issues",
+__all__ = ["SizeEstimate", "Preflight", "check_problem", "estimate_size", "exact_size", "size_issues", "setup_issues",
            "machine_memory", "MAX_DOFS", "MAX_SECONDS", "MEMORY_FRACTION", "VALUE_RANGE"]
 
 logger = logging.getLogger(__name__)
@@ -142,6 +142,22 @@ def machine_memory() -> tuple[float, float]:
         return total, total
 
 
+def _direct_cost(dim: int, n: float, nnz_k: float) -> tuple[float, float]:
+    """Factor memory (bytes, 16 per nonzero of L+U) and solve time of the sparse direct path."""
+    if dim == 2:  # nested-dissection-like fill n log n, work n^1.5
+        return _FILL_2D * n * math.log2(max(n, 2.0)) * 16, _T_DIRECT_2D * n**1.5
+    return _FILL_3D * n ** (4.0 / 3.0) * 16, _T_DIRECT_3D * n**2  # 3D: fill n^(4/3), work n^2
+
+
+def _amg_cost(dim: int, n: float, nnz_k: float) -> tuple[float, float]:
+    """Hierarchy memory (about 3 stiffness matrices) and solve time (linear in n) of the AMG path."""
+    return 3 * nnz_k * 12, _T_AMG * n
+
+
+#: Memory and time model of each linear solver path (``ContactOptions.linear_solver`` after "auto").
+_SOLVER_COST = {"direct": _direct_cost, "amg": _amg_cost}
+
+
 def _cost(dim: int, order: int, nodes: int, elements: int, solver: str, exact: bool) -> SizeEstimate:
     n = dim * nodes
     key = (dim, order)
@@ -152,15 +168,8 @@ def _cost(dim: int, order: int, nodes: int, elements: int, solver: str, exact: b
            + 1.5 * elements * local**2 * 24  # assembly (COO values, rows, columns) and conversion
            + 2 * nnz_k * 12  # stiffness and its condensed copy
            + n * 8 * 40)  # solution vectors, fields, output
-    if solver == "amg":
-        mem += 3 * nnz_k * 12
-        secs = _T_AMG * n
-    elif dim == 2:
-        mem += _FILL_2D * n * math.log2(max(n, 2)) * 16
-        secs = _T_DIRECT_2D * n**1.5
-    else:
-        mem += _FILL_3D * n ** (4.0 / 3.0) * 16
-        secs = _T_DIRECT_3D * float(n) ** 2
+    solver_mem, secs = _SOLVER_COST[solver](dim, float(n), float(nnz_k))
+    mem += solver_mem
     return SizeEstimate(dim, order, int(nodes), int(elements), int(n), solver, float(mem), float(secs), exact)
 
 
