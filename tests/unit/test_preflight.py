@@ -246,3 +246,14 @@ def test_examples_pass():
     for f in sorted(EXAMPLES.glob("*.toml")):
         report = check_problem(f)
         assert report.size.exact and report.size.ndofs == report.setup.problem.model.ndofs
+
+
+def test_contact_points_held_inside_the_obstacle(tmp_path):
+    text = BLOCK.replace("point = [0.0, 0.0]", "point = [0.0, 0.02]") + '[[support]]\nboundary = "bottom"\n'
+    p = _file(tmp_path, text)
+    with pytest.raises(ConfigError) as exc:
+        check_problem(p)
+    msg = _issues(exc)["support"]
+    assert "9 contact point(s) of 'bottom'" in msg and "by 0.02" in msg and "move the obstacle" in msg
+    with pytest.raises(InputError, match="penetrates the obstacle"):  # what run does without the check
+        run_setup(load_problem(p), None)

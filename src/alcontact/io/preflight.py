@@ -518,12 +518,41 @@ def _range_issues(setup) -> list[Issue]:
     return issues
 
 
+def _pinned_issues(setup) -> list[Issue]:
+    """Contact points whose normal motion is fully prescribed but that start inside the obstacle.
+
+    The gap (6.15) of such a point is known without solving; the direct and AMG
+    paths reject it (``ContactPoints._setup_candidates``).
+    """
+    prob = setup.problem
+    if setup.friction > 0 or setup.history is not None or not prob.supports:
+        return []
+    model = prob.model
+    fixed, values = prob.dirichlet()
+    pts, dofs = model.node_dofs(prob.contact_boundary)
+    gap0, nu = prob.obstacle.evaluate(pts)
+    u = np.zeros(model.ndofs)
+    u[fixed] = values
+    is_fixed = np.zeros(model.ndofs, dtype=bool)
+    is_fixed[fixed] = True
+    pinned = np.all(is_fixed[dofs] | (np.abs(nu) <= 1e-12), axis=1)
+    g = gap0 - np.einsum("ij,ij->i", nu, u[dofs])
+    bad = np.flatnonzero(pinned & (g > 0))
+    if bad.size == 0:
+        return []
+    i = int(bad[np.argmax(g[bad])])
+    return [Issue("support", f"{bad.size} contact point(s) of {prob.contact_boundary!r} are held by supports in "
+                             f"the normal direction but start inside the obstacle (deepest: "
+                             f"{np.round(pts[i], 6).tolist()} by {g[i]:.3g}): move the obstacle out of the "
+                             "body, or release the normal component of the support on the contact boundary.")]
+
+
 def setup_issues(setup) -> list[Issue]:
     """Issues of a built problem: rigidity on the solver's path, ramped support conflicts, number ranges."""
     issues = _range_issues(setup)
     if issues:  # the rigidity test would report the overflow as a free motion
         return issues
-    return _ramped_support_issues(setup) + _rigidity_issues(setup)
+    return _ramped_support_issues(setup) + _pinned_issues(setup) + _rigidity_issues(setup)
 
 
 # --------------------------------------------------------------------------- Gmsh files without a body
