@@ -5,6 +5,23 @@ into place with :func:`os.replace` (atomic on POSIX and Windows within one
 file system), so a reader sees either the previous file or the complete new
 one, never a partial file; the temporary file is removed if writing fails.
 
+A results folder is whole or absent (:class:`ResultsFolder`): its files are
+written into a hidden staging folder beside the target
+(``.<name>.partial-XXXXXXXX``) and moved into place at the end, with
+SIGINT/SIGTERM deferred for the few renames that takes. An exception or a
+signal during the writing removes the staging folder and leaves the target
+as it was.
+
+Which files a results folder owns: the names listed under ``"files"`` in its
+``summary.json`` (the manifest every run writes), ``summary.json`` itself and
+temporary files of interrupted writes of older versions (``.<stem>.<random>.tmp<suffix>``).
+``--force`` replaces exactly the owned set: stale files of an earlier run (e.g.
+``steps/`` of a load-stepped run followed by a single solve) disappear, every
+other file is kept. A file alcontact would write but does not own (e.g. a
+``report.md`` of your own in a folder without ``summary.json``) is never
+overwritten: the run is refused with :class:`~alcontact.errors.OutputExistsError`
+before solving.
+
 The keys of ``summary.json`` listed in :data:`SUMMARY_KEYS` are a stable public
 contract (scripts and the benchmark report read them); new keys may be added,
 these are never renamed or removed.
@@ -29,14 +46,20 @@ import json
 import logging
 import math
 import os
+import re
+import secrets
+import shutil
+import signal
+import stat
 import tempfile
+import threading
 from collections.abc import Iterator, Mapping
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from ..errors import OutputExistsError
+from ..errors import OutputExistsError, OutputPathError
 
 __all__ = [
     "SUMMARY_KEYS",
@@ -46,6 +69,10 @@ __all__ = [
     "write_json",
     "write_history_csv",
     "prepare_output_dir",
+    "check_output_dir",
+    "owned_entries",
+    "ResultsFolder",
+    "RESULT_NAMES",
     "jsonable",
 ]
 
@@ -69,6 +96,12 @@ SUMMARY_KEYS: tuple[str, ...] = (
     "peak_pressure_exact",
     "total_contact_force",
 )
+
+#: Every entry alcontact may write into a results folder (``steps/`` is a folder).
+RESULT_NAMES: frozenset[str] = frozenset({
+    "solution.vtu", "solution.pvd", "steps/", "history.csv", "steps.csv", "pressure.png",
+    "convergence.png", "load_displacement.png", "report.md", "summary.json",
+})
 
 #: Columns of ``history.csv``: the fields of :class:`alcontact.contact.ContactIteration`.
 HISTORY_COLUMNS: tuple[str, ...] = (
@@ -173,14 +206,107 @@ def write_history_csv(path: str | os.PathLike, history) -> Path:
     return write_text_atomic(path, buf.getvalue())
 
 
+# --------------------------------------------------------------------------- results folder
+_TEMP_FILE = re.compile(r"^\..+\.tmp(\.[A-Za-z0-9]+)?$")  # atomic_path's temporary files
+_STAGING_TAG = ".partial-"
+
+
+def _entry_name(p: Path) -> str:
+    return p.name + "/" if p.is_dir() and not p.is_symlink() else p.name
+
+
+def owned_entries(folder: str | os.PathLike) -> tuple[list[str], list[str]]:
+    """Split the entries of an existing results folder into (owned, foreign).
+
+    Owned: ``summary.json``, the names its ``"files"`` list holds (plain names
+    of :data:`RESULT_NAMES` only, so a damaged manifest cannot point outside
+    the folder) and leftover temporary files of interrupted atomic writes.
+    Folder names end with ``/`` (``"steps/"``).
+
+    Returns
+    -------
+    owned, foreign : list of str
+        Sorted names of the entries present in ``folder``.
+    """
+    folder = Path(folder)
+    listed: set[str] = set()
+    summary = folder / "summary.json"
+    if summary.is_file():
+        listed.add("summary.json")
+        try:
+            files = json.loads(summary.read_text(encoding="utf-8")).get("files", [])
+        except (OSError, ValueError, AttributeError):
+            files = []
+        listed |= {f for f in files if isinstance(f, str) and f in RESULT_NAMES}
+    owned, foreign = [], []
+    for p in sorted(folder.iterdir()):
+        name = _entry_name(p)
+        (owned if name in listed or (p.is_file() and _TEMP_FILE.match(p.name)) else foreign).append(name)
+    return owned, foreign
+
+
+def _first_existing(path: Path) -> Path:
+    p = path
+    while not p.exists() and not p.is_symlink() and p != p.parent:
+        p = p.parent
+    return p
+
+
+def check_output_dir(path: str | os.PathLike, force: bool = False) -> Path:
+    """Check that a results folder can be written at ``path``; create nothing.
+
+    Called before a (long) solve, so that a bad ``--out`` fails at once.
+
+    Raises
+    ------
+    OutputExistsError
+        ``path`` is a file, or a folder with entries and ``force`` is false,
+        or (with ``force``) a folder holding a file alcontact would write but
+        does not own (see :func:`owned_entries`).
+    OutputPathError
+        A parent of ``path`` is a file, or the place is not writable.
+    """
+    path = Path(path)
+    if path.exists() and not path.is_dir():
+        raise OutputExistsError(f"results path '{path}' exists and is not a folder; choose another --out.")
+    base = _first_existing(path.parent)
+    if base.exists() and not base.is_dir():
+        raise OutputPathError(
+            f"--out '{path}': '{base}' is a file, not a folder, so no results folder can be created "
+            f"under it; choose an --out outside it (e.g. '{base.parent / 'results'}').")
+    if not os.access(base, os.W_OK | os.X_OK):
+        raise OutputPathError(
+            f"--out '{path}': cannot write in '{base}' (permission denied or read-only); choose an --out "
+            "in a writable folder, or make that folder writable.")
+    if path.is_dir():
+        owned, foreign = owned_entries(path)
+        if not force and any(not _TEMP_FILE.match(n) for n in owned + foreign):
+            raise OutputExistsError(
+                f"results folder '{path}' exists and is not empty; pass --force to replace the results of "
+                "the earlier run in it (other files are kept), or choose another --out.")
+        clash = [n for n in foreign if n in RESULT_NAMES]
+        if clash:
+            raise OutputExistsError(
+                f"results folder '{path}' holds {', '.join(repr(n) for n in clash)}, which alcontact would "
+                "write but did not (no summary.json lists it), so --force does not overwrite it; move it "
+                "away or choose another --out.")
+        if not os.access(path, os.W_OK | os.X_OK):
+            raise OutputPathError(
+                f"--out '{path}': cannot write in '{path}' (permission denied or read-only); choose another "
+                "--out, or make the folder writable.")
+    return path
+
+
 def prepare_output_dir(path: str | os.PathLike, force: bool = False, *, create: bool = True) -> Path:
-    """Create the results folder ``path``, refusing to reuse a non-empty one.
+    """Check the results folder ``path`` (see :func:`check_output_dir`) and create it.
+
+    Prefer :class:`ResultsFolder`, which writes the whole set of files at once.
 
     Parameters
     ----------
     path : path-like
     force : bool
-        Reuse a non-empty folder (our files in it are replaced, others kept).
+        Reuse a non-empty folder (see :func:`owned_entries`).
     create : bool
         ``False``: only check (e.g. before a long computation), create nothing.
 
@@ -191,17 +317,161 @@ def prepare_output_dir(path: str | os.PathLike, force: bool = False, *, create: 
 
     Raises
     ------
-    OutputExistsError
-        ``path`` is a non-empty folder and ``force`` is false, or ``path`` is a file.
+    OutputExistsError, OutputPathError
+        As :func:`check_output_dir`.
     """
-    path = Path(path)
-    if path.exists() and not path.is_dir():
-        raise OutputExistsError(f"results path '{path}' exists and is not a folder; choose another --out.")
-    if path.is_dir() and not force and any(path.iterdir()):
-        raise OutputExistsError(
-            f"results folder '{path}' exists and is not empty; pass --force to overwrite the result "
-            "files in it, or choose another --out."
-        )
+    path = check_output_dir(path, force)
     if create:
-        path.mkdir(parents=True, exist_ok=True)
+        try:
+            path.mkdir(parents=True, exist_ok=True)
+        except OSError as exc:
+            raise OutputPathError(f"--out '{path}': cannot create the folder ({exc.strerror}); choose another "
+                                  "--out.") from exc
     return path
+
+
+_DEFERRED_SIGNALS = tuple(getattr(signal, n) for n in ("SIGINT", "SIGTERM") if hasattr(signal, n))
+
+
+@contextlib.contextmanager
+def _signals_deferred() -> Iterator[None]:
+    """Hold SIGINT/SIGTERM back during the block, then deliver them to the previous handlers.
+
+    Used for the renames that put a results folder in place, so that an
+    interrupt never leaves half of the old and half of the new files. Only
+    in the main thread (the only one Python delivers signals to).
+    """
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    pending: list[int] = []
+    old = {s: signal.signal(s, lambda signum, frame: pending.append(signum)) for s in _DEFERRED_SIGNALS}
+    try:
+        yield
+    finally:
+        for s, handler in old.items():
+            signal.signal(s, handler if handler is not None else signal.SIG_DFL)
+        for s in dict.fromkeys(pending):
+            signal.raise_signal(s)
+
+
+class ResultsFolder:
+    """A results folder written as a whole: files go into a staging folder, moved into place at the end.
+
+    Parameters
+    ----------
+    path : path-like
+        The results folder (``--out``); its parents are created.
+    force : bool
+        Replace the files of an earlier run in ``path`` (see :func:`owned_entries`).
+
+    Attributes
+    ----------
+    target : Path
+        ``path``.
+    path : Path
+        The staging folder to write into (inside the ``with`` block).
+    committed : bool
+        True once the files are in place.
+
+    Notes
+    -----
+    On leaving the block without an exception, the staging folder replaces
+    ``target``: one rename when ``target`` is missing or empty; when it holds
+    an earlier run only, the old folder is renamed away, the new one renamed
+    in and the old one deleted; when it also holds files of others, the owned
+    entries are deleted and the new entries moved in one by one,
+    ``summary.json`` last. SIGINT/SIGTERM are deferred meanwhile. On an
+    exception (including ``KeyboardInterrupt``) the staging folder is deleted
+    and ``target`` is not touched; the exception gets the attribute
+    ``results_state = "unchanged"`` (``"written"`` when a deferred signal
+    arrives after the files were put in place).
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> out = pathlib.Path(tempfile.mkdtemp()) / "res"
+    >>> with ResultsFolder(out) as rf:
+    ...     _ = write_json(rf.path / "summary.json", {"files": ["summary.json"]})
+    >>> sorted(p.name for p in out.iterdir())
+    ['summary.json']
+    """
+
+    def __init__(self, path: str | os.PathLike, force: bool = False):
+        self.target = Path(path)
+        self.force = force
+        self.path: Path | None = None
+        self.committed = False
+
+    def __enter__(self) -> ResultsFolder:
+        check_output_dir(self.target, self.force)
+        parent = self.target.parent
+        try:
+            parent.mkdir(parents=True, exist_ok=True)
+            self.path = Path(tempfile.mkdtemp(dir=parent, prefix=f".{self.target.name}{_STAGING_TAG}"))
+            umask = os.umask(0)
+            os.umask(umask)
+            mode = stat.S_IMODE(self.target.stat().st_mode) if self.target.is_dir() else 0o777 & ~umask
+            os.chmod(self.path, mode)
+        except OSError as exc:
+            if self.path is not None:
+                shutil.rmtree(self.path, ignore_errors=True)
+            raise OutputPathError(
+                f"--out '{self.target}': cannot create a folder in '{parent}' ({exc.strerror or exc}); choose "
+                "an --out in a writable folder.") from exc
+        logger.debug("staging results in %s", self.path)
+        return self
+
+    def __exit__(self, exc_type, exc, tb) -> None:
+        if exc is not None:
+            with _signals_deferred():
+                shutil.rmtree(self.path, ignore_errors=True)
+            with contextlib.suppress(AttributeError, TypeError):
+                exc.results_state = "unchanged"
+            logger.debug("discarded the partial results in %s", self.path)
+            return
+        try:
+            with _signals_deferred():
+                try:
+                    self._commit()
+                except BaseException:
+                    shutil.rmtree(self.path, ignore_errors=True)
+                    raise
+        except BaseException as err:
+            with contextlib.suppress(AttributeError, TypeError):
+                err.results_state = "written" if self.committed else "unchanged"
+            raise
+        logger.info("results written to %s", self.target)
+
+    def _commit(self) -> None:
+        staging, target = self.path, self.target
+        new = sorted(staging.iterdir(), key=lambda p: (p.name == "summary.json", p.name))
+        if target.is_dir() and not target.is_symlink():
+            owned, foreign = owned_entries(target)
+            if not foreign:  # the earlier run only (or nothing): swap whole folders
+                old = target.parent / f".{target.name}.old-{secrets.token_hex(4)}"
+                os.rename(target, old)
+                os.rename(staging, target)
+                self.committed = True
+                shutil.rmtree(old, ignore_errors=True)
+                return
+        elif not target.exists():
+            os.rename(staging, target)
+            self.committed = True
+            return
+        else:  # a symbolic link to a folder: keep the link, replace the entries
+            owned, foreign = owned_entries(target)
+        clash = set(foreign) & {_entry_name(p) for p in new}
+        if clash:
+            raise OutputExistsError(f"results folder '{target}' holds {', '.join(sorted(clash))} of someone "
+                                    "else; move it away or choose another --out.")
+        for name in owned:
+            p = target / name.rstrip("/")
+            if p.is_dir() and not p.is_symlink():
+                shutil.rmtree(p)
+            else:
+                p.unlink()
+        for p in new:
+            os.rename(p, target / p.name)
+        self.committed = True
+        staging.rmdir()
