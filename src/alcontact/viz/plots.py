@@ -51,15 +51,16 @@ class Units:
     """Units of a problem for axis labels: a length and a stress unit, force derived.
 
     ``None`` stands for "whatever consistent unit the problem uses" (problem files
-    carry no unit declaration): labels then name the unit by its source, e.g.
-    "(unit of E)".
+    carry no unit declaration): labels then use the symbols ``L`` (length unit of
+    the mesh) and ``[E]`` (stress unit of Young's modulus), explained by
+    :attr:`note` in the figure.
 
     Examples
     --------
     >>> Units("mm", "MPa").force(2), Units("mm", "MPa").force(3)
     ('N/mm', 'N')
-    >>> Units().pressure
-    'unit of E'
+    >>> Units().pressure, Units().force(3)
+    ('[E]', '[E]·L²')
     """
 
     length_unit: str | None = None
@@ -68,12 +69,19 @@ class Units:
     @property
     def length(self) -> str:
         """Length unit (of the mesh coordinates)."""
-        return self.length_unit or "length unit of the mesh"
+        return self.length_unit or "L"
 
     @property
     def pressure(self) -> str:
         """Stress unit (of Young's modulus E)."""
-        return self.stress_unit or "unit of E"
+        return self.stress_unit or "[E]"
+
+    @property
+    def note(self) -> str:
+        """What the generic symbols mean (empty when both units are named)."""
+        if self.length_unit and self.stress_unit:
+            return ""
+        return "units: L = length unit of the mesh, [E] = stress unit of Young's modulus E"
 
     def force(self, dim: int) -> str:
         """Force unit of a contact force: per unit thickness in 2D (plane strain/stress)."""
@@ -81,11 +89,16 @@ class Units:
             return "N/mm" if dim == 2 else "N"
         if (self.length_unit, self.stress_unit) == ("m", "Pa"):
             return "N/m" if dim == 2 else "N"
-        return f"{self.pressure} × {self.length}" + ("" if dim == 2 else "²")
+        return f"{self.pressure}·{self.length}" + ("" if dim == 2 else "²")
 
 
 def _units(units) -> Units:
     return units if isinstance(units, Units) else Units()
+
+
+def _note_units(fig, u: Units) -> None:
+    if u.note:
+        fig.supxlabel(u.note, fontsize="x-small", color="0.3")
 
 
 def _new_figure(size=(6.4, 4.2)):
@@ -186,10 +199,11 @@ def pressure_figure(solution, *, reference=None, load: float | None = None, cent
     ax.set_ylabel(f"contact pressure p ({u.pressure})")
     ax.set_ylim(bottom=0.0)
     ax.grid(alpha=0.3)
-    ax.legend(loc="upper right", fontsize="small")
+    ax.legend(loc="best", fontsize="small")
     ax.set_title(title or getattr(problem, "name", "contact pressure"), fontsize="medium")
     if friction:
         _shear_panel(fig.add_subplot(2, 1, 2, sharex=ax), solution, r, keep, order, axis, mindlin, xlabel, u)
+    _note_units(fig, u)
     return fig
 
 
@@ -214,7 +228,7 @@ def _shear_panel(ax, solution, r, keep, order, axis, mindlin, xlabel, u) -> None
             xs = np.linspace(float(rk.min(initial=0.0)), float(rk.max(initial=0.0)), 800)
             c = mindlin.stick_half_width(P, abs(Q))
             ax.plot(xs, np.sign(Q) * mindlin.shear(xs, P, abs(Q)), "-", color="k", lw=1.2,
-                    label=f"Cattaneo-Mindlin, c = {c:.3g}")
+                    label=f"Cattaneo-Mindlin, c = {c:.3g} {u.length}")
     ax.axhline(0.0, color="0.8", lw=0.8)  # the axis, not data
     ax.set_xlabel(xlabel)
     ax.set_ylabel(f"tangential traction $t_{{T,{'xyz'[axis]}}}$ ({u.pressure})")
@@ -291,8 +305,9 @@ def load_displacement_figure(rows, controls, *, title: str | None = None, units:
         ax.plot(t, [float(r["normal_force"]) for r in rows], "o-", ms=4, label="normal force")
         ax.set_xlabel("pseudo-time t (load factor, dimensionless)")
     else:
-        ax.set_xlabel(f"mean displacement of the loaded boundary, prescribed component ({u.length})")
+        ax.set_xlabel(f"mean displacement of the loaded boundary ({u.length})")
     ax.set_ylabel(f"contact force of the model ({u.force(dim)})")
+    _note_units(fig, u)
     ax.grid(alpha=0.3)
     ax.legend(fontsize="small")
     ax.set_title(title or "load-displacement curve", fontsize="medium")
