@@ -173,11 +173,15 @@ def _summary_table(s: dict) -> Table:
     table.add_row("DOFs", _fmt(s["dofs"]), "", "")
     table.add_row("outer / Newton iterations", f"{s['outer_iterations']} / {s['newton_iterations']}", "", "")
     table.add_row("linear solves", _fmt(s["linear_solves"]), "", "")
-    table.add_row("contact half-width a", _fmt(s["contact_half_width"]), _fmt(s["contact_half_width_exact"]),
-                  _fmt(s.get("contact_half_width_error_pct"), "+.2f"))
-    table.add_row("peak pressure p0", _fmt(s["peak_pressure"]), _fmt(s["peak_pressure_exact"]),
+    units = s.get("units") or {}
+    length = f" ({units['length']})" if units.get("length") else ""
+    stress = f" ({units['stress']})" if units.get("stress") else ""
+    force = f" ({units['force']})" if units.get("force") else ""
+    table.add_row(f"contact half-width a{length}", _fmt(s["contact_half_width"]),
+                  _fmt(s["contact_half_width_exact"]), _fmt(s.get("contact_half_width_error_pct"), "+.2f"))
+    table.add_row(f"peak pressure p0{stress}", _fmt(s["peak_pressure"]), _fmt(s["peak_pressure_exact"]),
                   _fmt(s.get("peak_pressure_error_pct"), "+.2f"))
-    table.add_row("total contact force P", _fmt(s["total_contact_force"]), "", "")
+    table.add_row(f"total contact force P{force}", _fmt(s["total_contact_force"]), "", "")
     if s.get("friction"):
         table.add_row("tangential force Q (model)", _fmt(s.get("tangential_force")), f"mu N = {_fmt(s.get('coulomb_limit'))}",
                       "")
@@ -234,9 +238,11 @@ def run_command(
     --penalty, --maxiter and --penalty-scale override it.
 
     Files in --out: solution.vtu (displacement, stress, contact_pressure, gap, ...),
-    pressure.png, convergence.png, history.csv, summary.json; problem files add
-    steps.csv, report.md and, for load steps, solution.pvd, steps/ and
-    load_displacement.png.
+    pressure.png, convergence.png, history.csv, report.md, summary.json; problem
+    files add steps.csv and, for load steps, solution.pvd, steps/ and
+    load_displacement.png. The folder appears only when complete; --force
+    replaces the files of an earlier run (listed in its summary.json) and keeps
+    other files. Ctrl+C / SIGTERM: exit 130 / 143, the folder left as it was.
     """
     from .runner import run_problem, what_to_try
 

@@ -384,13 +384,16 @@ def run_problem(problem=None, out: str | os.PathLike | None = None, algorithm: s
     report(f"solving {name} with {prob.model.ndofs} DOFs ({algorithm})")
     solution = solve(prob, algorithm=algorithm, penalty=penalty, **options)
     summary = summarize(prob, solution, problem_name=name, level=lvl, options=options, build_time_s=build_time)
+    units = None
+    if spec is not None and spec.units:
+        from .viz import Units
+
+        units = Units(*spec.units)
+        summary["units"] = {"length": units.length, "stress": units.pressure, "force": units.force(prob.model.dim)}
     logger.info("%s: %s after %d outer iterations", name, summary["status"], summary["outer_iterations"])
 
     if out is not None:
         report(f"writing results to {out}")
-        from .viz import Units
-
-        units = Units(*spec.units) if spec is not None and spec.units else None
         doc = spec.doc if spec is not None else ""
         with ResultsFolder(out, force) as folder:
             write_results(folder.path, prob, solution, summary, tolerances=_tolerances(options), units=units,

@@ -275,6 +275,9 @@ def test_make_run_writes_report_md(tmp_path):
     for name in RESULT_FILES:
         if name != "report.md":
             assert f"- `{name}`:" in report
+    assert s["units"] == {"length": "mm", "stress": "MPa", "force": "N/mm"}
+    text = _flat(result.stdout.replace("│", " "))
+    assert "contact half-width a (mm)" in text and "peak pressure p0 (MPa)" in text and "force P (N/mm)" in text
 
 
 def test_stepped_summary_compares_the_total_time_with_one_linear_solve(tmp_path):

@@ -258,6 +258,7 @@ _SCRIPT = textwrap.dedent("""
 """)
 
 
+@pytest.mark.slow  # starts a Python process that imports the package and solves (5-10 s each)
 @pytest.mark.parametrize("signum, existing", [(signal.SIGTERM, True), (signal.SIGINT, False)])
 def test_signal_while_writing_leaves_no_temporary_files(tmp_path, signum, existing):
     """A real signal sent to ``alcontact run`` while it writes: exit 128 + signum, a message, no partial files.
