@@ -149,6 +149,39 @@ def test_non_empty_folder_still_needs_force(tmp_path):
     assert (out / "solution.vtu").read_text() == "old"
 
 
+def test_existing_folder_is_staged_inside_it_so_its_parent_may_be_read_only(tmp_path, monkeypatch):
+    """E.g. a mounted volume or ``--out .``: the folder itself is never renamed."""
+    out = tmp_path / "res"
+    _stepped_run(out)
+    inode = out.stat().st_ino
+    real = os.access
+    monkeypatch.setattr(os, "access", lambda p, mode, **kw: False if Path(p) == tmp_path else real(p, mode, **kw))
+    with ResultsFolder(out, force=True) as rf:
+        assert rf.path.parent == out and rf.path.name.startswith(".alcontact-partial-")
+        write_text_atomic(rf.path / "solution.vtu", "new")
+        write_json(rf.path / "summary.json", {"files": ["solution.vtu", "summary.json"]})
+    assert out.stat().st_ino == inode
+    assert sorted(p.name for p in out.iterdir()) == ["solution.vtu", "summary.json"]
+
+
+def test_out_dot_in_the_current_folder(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "input.toml").write_text("mine")
+    _write_run(Path("."), {"solution.vtu": "new"}, force=True)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["input.toml", "solution.vtu", "summary.json"]
+    _write_run(Path("."), {"pressure.png": "new"}, force=True)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["input.toml", "pressure.png", "summary.json"]
+
+
+def test_staging_folder_of_a_killed_run_is_cleaned_up(tmp_path):
+    out = tmp_path / "res"
+    (out / ".alcontact-partial-dead1234").mkdir(parents=True)
+    (out / ".alcontact-partial-dead1234" / "solution.vtu").write_text("partial")
+    assert check_output_dir(out, force=False) == out  # only leftovers: no --force needed
+    _write_run(out, {"solution.vtu": "new"})
+    assert sorted(p.name for p in out.iterdir()) == ["solution.vtu", "summary.json"]
+
+
 # ------------------------------------------------------------------ --out that cannot be created
 def test_out_under_a_regular_file(tmp_path):
     f = tmp_path / "data.txt"

@@ -6,9 +6,9 @@ file system), so a reader sees either the previous file or the complete new
 one, never a partial file; the temporary file is removed if writing fails.
 
 A results folder is whole or absent (:class:`ResultsFolder`): its files are
-written into a hidden staging folder beside the target
-(``.<name>.partial-XXXXXXXX``) and moved into place at the end, with
-SIGINT/SIGTERM deferred for the few renames that takes. An exception or a
+written into a hidden staging folder (beside a new target, inside an existing
+one) and moved into place at the end, with SIGINT/SIGTERM deferred for the few
+renames that takes. An exception or a
 signal during the writing removes the staging folder and leaves the target
 as it was.
 
@@ -208,7 +208,8 @@ def write_history_csv(path: str | os.PathLike, history) -> Path:
 
 # --------------------------------------------------------------------------- results folder
 _TEMP_FILE = re.compile(r"^\..+\.tmp(\.[A-Za-z0-9]+)?$")  # atomic_path's temporary files
-_STAGING_TAG = ".partial-"
+_STAGING_TAG = ".partial-"  # staging folder beside a new results folder: .<name>.partial-XXXXXXXX
+_STAGING_INSIDE = ".alcontact-partial-"  # staging folder inside an existing one
 
 
 def _entry_name(p: Path) -> str:
@@ -220,7 +221,9 @@ def owned_entries(folder: str | os.PathLike) -> tuple[list[str], list[str]]:
 
     Owned: ``summary.json``, the names its ``"files"`` list holds (plain names
     of :data:`RESULT_NAMES` only, so a damaged manifest cannot point outside
-    the folder) and leftover temporary files of interrupted atomic writes.
+    the folder) and leftovers of killed writes: temporary files of atomic
+    writes (``.<stem>.<random>.tmp<suffix>``) and staging folders
+    (``.alcontact-partial-*``).
     Folder names end with ``/`` (``"steps/"``).
 
     Returns
@@ -241,8 +244,15 @@ def owned_entries(folder: str | os.PathLike) -> tuple[list[str], list[str]]:
     owned, foreign = [], []
     for p in sorted(folder.iterdir()):
         name = _entry_name(p)
-        (owned if name in listed or (p.is_file() and _TEMP_FILE.match(p.name)) else foreign).append(name)
+        ours = name in listed or (p.is_file() and _TEMP_FILE.match(p.name)) or \
+            (p.is_dir() and p.name.startswith(_STAGING_INSIDE))
+        (owned if ours else foreign).append(name)
     return owned, foreign
+
+
+def _leftover(name: str) -> bool:
+    """A temporary file or staging folder of an interrupted (killed) write."""
+    return bool(_TEMP_FILE.match(name)) or name.startswith(_STAGING_INSIDE)
 
 
 def _first_existing(path: Path) -> Path:
@@ -274,13 +284,13 @@ def check_output_dir(path: str | os.PathLike, force: bool = False) -> Path:
         raise OutputPathError(
             f"--out '{path}': '{base}' is a file, not a folder, so no results folder can be created "
             f"under it; choose an --out outside it (e.g. '{base.parent / 'results'}').")
-    if not os.access(base, os.W_OK | os.X_OK):
+    if not path.is_dir() and not os.access(base, os.W_OK | os.X_OK):
         raise OutputPathError(
             f"--out '{path}': cannot write in '{base}' (permission denied or read-only); choose an --out "
             "in a writable folder, or make that folder writable.")
     if path.is_dir():
         owned, foreign = owned_entries(path)
-        if not force and any(not _TEMP_FILE.match(n) for n in owned + foreign):
+        if not force and any(not _leftover(n) for n in owned + foreign):
             raise OutputExistsError(
                 f"results folder '{path}' exists and is not empty; pass --force to replace the results of "
                 "the earlier run in it (other files are kept), or choose another --out.")
@@ -376,12 +386,15 @@ class ResultsFolder:
 
     Notes
     -----
-    On leaving the block without an exception, the staging folder replaces
-    ``target``: one rename when ``target`` is missing or empty; when it holds
-    an earlier run only, the old folder is renamed away, the new one renamed
-    in and the old one deleted; when it also holds files of others, the owned
-    entries are deleted and the new entries moved in one by one,
-    ``summary.json`` last. SIGINT/SIGTERM are deferred meanwhile. On an
+    A missing ``target`` is staged beside it (``.<name>.partial-XXXXXXXX``)
+    and appears with one rename. An existing folder (``--force``, an empty
+    folder, ``.``, a mount point) is staged inside it
+    (``.alcontact-partial-XXXXXXXX``), so that neither its parent nor the
+    folder itself changes: at the end the owned entries are deleted
+    (``summary.json`` first) and the new entries moved in (``summary.json``
+    last). SIGINT/SIGTERM are deferred meanwhile, so only a hard kill during
+    those milliseconds can leave a folder without ``summary.json``, whose
+    files the next run then treats as foreign (it refuses and says so). On an
     exception (including ``KeyboardInterrupt``) the staging folder is deleted
     and ``target`` is not touched; the exception gets the attribute
     ``results_state = "unchanged"`` (``"written"`` when a deferred signal
@@ -405,19 +418,20 @@ class ResultsFolder:
 
     def __enter__(self) -> ResultsFolder:
         check_output_dir(self.target, self.force)
-        parent = self.target.parent
+        inside = self.target.is_dir()
+        where = self.target if inside else self.target.parent
         try:
-            parent.mkdir(parents=True, exist_ok=True)
-            self.path = Path(tempfile.mkdtemp(dir=parent, prefix=f".{self.target.name}{_STAGING_TAG}"))
+            where.mkdir(parents=True, exist_ok=True)
+            prefix = _STAGING_INSIDE if inside else f".{self.target.name}{_STAGING_TAG}"
+            self.path = Path(tempfile.mkdtemp(dir=where, prefix=prefix))
             umask = os.umask(0)
             os.umask(umask)
-            mode = stat.S_IMODE(self.target.stat().st_mode) if self.target.is_dir() else 0o777 & ~umask
-            os.chmod(self.path, mode)
+            os.chmod(self.path, 0o777 & ~umask)
         except OSError as exc:
             if self.path is not None:
                 shutil.rmtree(self.path, ignore_errors=True)
             raise OutputPathError(
-                f"--out '{self.target}': cannot create a folder in '{parent}' ({exc.strerror or exc}); choose "
+                f"--out '{self.target}': cannot create a folder in '{where}' ({exc.strerror or exc}); choose "
                 "an --out in a writable folder.") from exc
         logger.debug("staging results in %s", self.path)
         return self
@@ -445,28 +459,26 @@ class ResultsFolder:
 
     def _commit(self) -> None:
         staging, target = self.path, self.target
-        new = sorted(staging.iterdir(), key=lambda p: (p.name == "summary.json", p.name))
-        if target.is_dir() and not target.is_symlink():
-            owned, foreign = owned_entries(target)
-            if not foreign:  # the earlier run only (or nothing): swap whole folders
-                old = target.parent / f".{target.name}.old-{secrets.token_hex(4)}"
-                os.rename(target, old)
+        if staging.parent != target:  # the target did not exist: one rename
+            try:
                 os.rename(staging, target)
-                self.committed = True
-                shutil.rmtree(old, ignore_errors=True)
-                return
-        elif not target.exists():
-            os.rename(staging, target)
+            except OSError as exc:
+                raise OutputExistsError(f"results folder '{target}' appeared during the run ({exc.strerror}); "
+                                        "choose another --out.") from exc
             self.committed = True
             return
-        else:  # a symbolic link to a folder: keep the link, replace the entries
-            owned, foreign = owned_entries(target)
+        new = sorted(staging.iterdir(), key=lambda p: (p.name == "summary.json", p.name))
+        owned, foreign = owned_entries(target)
         clash = set(foreign) & {_entry_name(p) for p in new}
         if clash:
             raise OutputExistsError(f"results folder '{target}' holds {', '.join(sorted(clash))} of someone "
                                     "else; move it away or choose another --out.")
-        for name in owned:
+        # summary.json (the manifest) goes first and comes back last: a folder is never
+        # described by a manifest of another set of files
+        for name in sorted(owned, key=lambda n: n != "summary.json"):
             p = target / name.rstrip("/")
+            if p == staging:
+                continue
             if p.is_dir() and not p.is_symlink():
                 shutil.rmtree(p)
             else:
