@@ -98,11 +98,15 @@ _SIGNALS = tuple(getattr(signal, n) for n in ("SIGINT", "SIGTERM") if hasattr(si
 
 @contextlib.contextmanager
 def _signals_raise() -> Iterator[None]:
-    """SIGINT and SIGTERM raise :class:`Interrupted` during the block (main thread only); handlers restored."""
+    """SIGINT and SIGTERM raise :class:`Interrupted` during the block (main thread only); handlers restored.
+
+    A signal the process ignores (e.g. SIGINT of a background job ``alcontact run ... &``
+    started by a script) stays ignored.
+    """
     if threading.current_thread() is not threading.main_thread():
         yield
         return
-    old = {s: signal.signal(s, _raise_interrupted) for s in _SIGNALS}
+    old = {s: signal.signal(s, _raise_interrupted) for s in _SIGNALS if signal.getsignal(s) is not signal.SIG_IGN}
     try:
         yield
     finally:

@@ -8,6 +8,7 @@ import signal
 import subprocess
 import sys
 import textwrap
+import threading
 import time
 from pathlib import Path
 
@@ -236,7 +237,17 @@ def test_read_only_folder_for_real(tmp_path):
 
 
 # ------------------------------------------------------------------ signals
-def test_signals_are_deferred_during_the_renames():
+@pytest.fixture
+def python_sigint():
+    """Python's own SIGINT handler for the test (pytest-xdist workers ignore SIGINT)."""
+    if threading.current_thread() is not threading.main_thread():
+        pytest.skip("signal handlers can only be set in the main thread")
+    old = signal.signal(signal.SIGINT, signal.default_int_handler)
+    yield
+    signal.signal(signal.SIGINT, old)
+
+
+def test_signals_are_deferred_during_the_renames(python_sigint):
     seen = []
     with pytest.raises(KeyboardInterrupt):
         with _signals_deferred():
@@ -246,7 +257,7 @@ def test_signals_are_deferred_during_the_renames():
     assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
 
 
-def test_cli_handler_turns_signals_into_interrupted():
+def test_cli_handler_turns_signals_into_interrupted(python_sigint):
     with pytest.raises(Interrupted) as info:
         _raise_interrupted(signal.SIGTERM, None)
     assert info.value.signum == signal.SIGTERM and isinstance(info.value, KeyboardInterrupt)
@@ -255,6 +266,19 @@ def test_cli_handler_turns_signals_into_interrupted():
         with _signals_raise():
             signal.raise_signal(signal.SIGTERM)
     assert signal.getsignal(signal.SIGTERM) == old
+
+
+def test_an_ignored_sigint_stays_ignored():
+    if threading.current_thread() is not threading.main_thread():
+        pytest.skip("signal handlers can only be set in the main thread")
+    old = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        with _signals_raise():
+            assert signal.getsignal(signal.SIGINT) is signal.SIG_IGN
+            assert signal.getsignal(signal.SIGTERM) is _raise_interrupted
+        assert signal.getsignal(signal.SIGINT) is signal.SIG_IGN
+    finally:
+        signal.signal(signal.SIGINT, old)
 
 
 @pytest.mark.parametrize("signum, code", [(signal.SIGINT, 130), (signal.SIGTERM, 143)])
@@ -313,7 +337,10 @@ def test_signal_while_writing_leaves_no_temporary_files(tmp_path, signum, existi
            "COLUMNS": "400", "NO_COLOR": "1"}
     cmd = [sys.executable, str(script), str(ready), "run", "--out", str(out), "--level", "0", "--quiet",
            *(["--force"] if existing else [])]
-    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env)
+    # the child gets the default SIGINT disposition (a pytest-xdist worker ignores SIGINT, and
+    # ignored signals are inherited; alcontact leaves ignored signals ignored)
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env,
+                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     try:
         deadline = time.monotonic() + 300
         while not ready.exists() and proc.poll() is None and time.monotonic() < deadline:
