@@ -20,8 +20,12 @@ install: $(VENV)/.installed
 run: $(VENV)/.installed
 	$(BIN)/alcontact run --out $(OUT) --force
 
+# one BLAS/OpenMP thread per pytest worker: 2 workers on 2 cores, no oversubscription
+# (CHOLMOD through cholespy uses a reference BLAS, single-threaded; tests/conftest.py sets the same defaults)
+TEST_ENV := OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1 MKL_NUM_THREADS=1 VECLIB_MAXIMUM_THREADS=1 NUMEXPR_NUM_THREADS=1
+
 test: $(VENV)/.installed
-	$(BIN)/python -m pytest -q -n 2 --dist loadfile
+	$(TEST_ENV) $(BIN)/python -m pytest -q -n 2 --dist loadfile
 
 bench: $(VENV)/.installed
 	$(BIN)/alcontact bench

@@ -8,8 +8,11 @@ of the package that prints.
 
 Exit codes: 0 success; 1 the solver did not converge (message and what to
 try on stderr; result files are still written) or another alcontact error;
-2 bad input: an unknown name, a value out of range, or a non-empty results
-folder without ``--force``.
+2 bad input: an unknown name, a value out of range, a non-empty results
+folder without ``--force``, an ``--out`` that cannot be created; 130 / 143
+interrupted by SIGINT (Ctrl+C) / SIGTERM: a message says whether the results
+folder was written; it is never left half written (see
+:class:`alcontact.io.ResultsFolder`).
 
 New commands are added with ``@app.command()``.
 """
@@ -18,6 +21,8 @@ from __future__ import annotations
 
 import contextlib
 import logging
+import signal
+import threading
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Annotated, Optional
@@ -72,6 +77,57 @@ def _cli_logging(err: Console, level: int) -> Iterator[None]:
         log.setLevel(old_level)
 
 
+class Interrupted(KeyboardInterrupt):
+    """Raised in the main thread by SIGINT or SIGTERM during ``alcontact run``.
+
+    A ``KeyboardInterrupt``, so that every ``with`` block on the way out (the
+    results folder above all) cleans up as for Ctrl+C.
+    """
+
+    def __init__(self, signum: int):
+        super().__init__(signal.Signals(signum).name)
+        self.signum = int(signum)
+
+
+def _raise_interrupted(signum: int, frame) -> None:
+    raise Interrupted(signum)
+
+
+_SIGNALS = tuple(getattr(signal, n) for n in ("SIGINT", "SIGTERM") if hasattr(signal, n))
+
+
+@contextlib.contextmanager
+def _signals_raise() -> Iterator[None]:
+    """SIGINT and SIGTERM raise :class:`Interrupted` during the block (main thread only); handlers restored.
+
+    A signal the process ignores (e.g. SIGINT of a background job ``alcontact run ... &``
+    started by a script) stays ignored.
+    """
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    old = {s: signal.signal(s, _raise_interrupted) for s in _SIGNALS if signal.getsignal(s) is not signal.SIG_IGN}
+    try:
+        yield
+    finally:
+        for s, handler in old.items():
+            signal.signal(s, handler if handler is not None else signal.SIG_DFL)
+
+
+def _interrupted(err: Console, exc: KeyboardInterrupt, out) -> typer.Exit:
+    """Say what an interrupt left behind; exit 128 + the signal number (130 SIGINT, 143 SIGTERM)."""
+    signum = getattr(exc, "signum", int(signal.SIGINT))
+    name = signal.Signals(signum).name
+    where = f"'{out}'" if out is not None else "the results folder"
+    if getattr(exc, "results_state", None) == "written":
+        msg = f"interrupted by {name} after the complete results were written to {where}."
+    else:
+        msg = (f"interrupted by {name}: the run stopped before its results were complete; {where} was left "
+               "as it was (no partial or temporary files).")
+    err.print(Text(msg, style="bold red"), highlight=False)
+    return typer.Exit(128 + signum)
+
+
 def _fail(err: Console, exc: Exception, code: int) -> typer.Exit:
     msg = Text("error: ", style="bold red")
     msg.append(str(exc))  # plain text: messages hold TOML table names like [mesh]
@@ -121,11 +177,15 @@ def _summary_table(s: dict) -> Table:
     table.add_row("DOFs", _fmt(s["dofs"]), "", "")
     table.add_row("outer / Newton iterations", f"{s['outer_iterations']} / {s['newton_iterations']}", "", "")
     table.add_row("linear solves", _fmt(s["linear_solves"]), "", "")
-    table.add_row("contact half-width a", _fmt(s["contact_half_width"]), _fmt(s["contact_half_width_exact"]),
-                  _fmt(s.get("contact_half_width_error_pct"), "+.2f"))
-    table.add_row("peak pressure p0", _fmt(s["peak_pressure"]), _fmt(s["peak_pressure_exact"]),
+    units = s.get("units") or {}
+    length = f" ({units['length']})" if units.get("length") else ""
+    stress = f" ({units['stress']})" if units.get("stress") else ""
+    force = f" ({units['force']})" if units.get("force") else ""
+    table.add_row(f"contact half-width a{length}", _fmt(s["contact_half_width"]),
+                  _fmt(s["contact_half_width_exact"]), _fmt(s.get("contact_half_width_error_pct"), "+.2f"))
+    table.add_row(f"peak pressure p0{stress}", _fmt(s["peak_pressure"]), _fmt(s["peak_pressure_exact"]),
                   _fmt(s.get("peak_pressure_error_pct"), "+.2f"))
-    table.add_row("total contact force P", _fmt(s["total_contact_force"]), "", "")
+    table.add_row(f"total contact force P{force}", _fmt(s["total_contact_force"]), "", "")
     if s.get("friction"):
         table.add_row("tangential force Q (model)", _fmt(s.get("tangential_force")), f"mu N = {_fmt(s.get('coulomb_limit'))}",
                       "")
@@ -134,12 +194,13 @@ def _summary_table(s: dict) -> Table:
         if s.get("stick_half_width_exact") is not None:
             table.add_row("stick half-width c", _fmt(s.get("stick_half_width")), _fmt(s["stick_half_width_exact"]),
                           _fmt(s.get("stick_half_width_error_pct"), "+.2f"))
-    if s.get("load_steps", 1) > 1:
+    stepped = s.get("load_steps", 1) > 1
+    if stepped:
         table.add_row("load steps (converged)", f"{s.get('converged_steps')} / {s['load_steps']}", "", "")
     table.add_row("max penetration / h", _fmt(s.get("penetration"), ".2e"), "", "")
-    table.add_row("wall time (s)", _fmt(s["wall_time_s"], ".3f"), "", "")
-    table.add_row("linear solve time (s)", _fmt(s["linear_solve_time_s"], ".3f"), "", "")
-    table.add_row("contact / linear time", _fmt(s.get("time_ratio_contact_to_linear"), ".2f"), "", "")
+    table.add_row("wall time, all steps (s)" if stepped else "wall time (s)", _fmt(s["wall_time_s"], ".3f"), "", "")
+    table.add_row("one linear solve (s)", _fmt(s["linear_solve_time_s"], ".3f"), "", "")
+    table.add_row("wall time / linear solve", _fmt(s.get("time_ratio_contact_to_linear"), ".2f"), "", "")
     return table
 
 
@@ -181,9 +242,11 @@ def run_command(
     --penalty, --maxiter and --penalty-scale override it.
 
     Files in --out: solution.vtu (displacement, stress, contact_pressure, gap, ...),
-    pressure.png, convergence.png, history.csv, summary.json; problem files add
-    steps.csv, report.md and, for load steps, solution.pvd, steps/ and
-    load_displacement.png.
+    pressure.png, convergence.png, history.csv, report.md, summary.json; problem
+    files add steps.csv and, for load steps, solution.pvd, steps/ and
+    load_displacement.png. The folder appears only when complete; --force
+    replaces the files of an earlier run (listed in its summary.json) and keeps
+    other files. Ctrl+C / SIGTERM: exit 130 / 143, the folder left as it was.
     """
     from .runner import run_problem, what_to_try
 
@@ -195,19 +258,26 @@ def run_command(
         if problem != "hertz-2d" or level is not None or order is not None:
             raise _fail(err, InputError("--problem, --level and --order select a built-in problem; with a problem "
                                         "file set the mesh in the file instead."), EXIT_USAGE)
-        summary, out = _run_file(problem_file, out, console, err, level_, quiet, force=force, algorithm=algorithm,
-                                 penalty=penalty, maxiter=maxiter, penalty_scale=penalty_scale)
+        try:
+            with _signals_raise():
+                summary, out = _run_file(problem_file, out, console, err, level_, quiet, force=force,
+                                         algorithm=algorithm, penalty=penalty, maxiter=maxiter,
+                                         penalty_scale=penalty_scale)
+        except KeyboardInterrupt as exc:
+            raise _interrupted(err, exc, out) from None
     else:
         out = out if out is not None else Path("results")
         kwargs = dict(problem=problem, out=out, algorithm=algorithm, penalty=penalty, force=force, level=level,
                       order=order or 1, maxiter=maxiter, penalty_scale=penalty_scale)
         try:
-            with _cli_logging(err, level_):
+            with _signals_raise(), _cli_logging(err, level_):
                 if quiet:
                     _, summary = run_problem(**kwargs)
                 else:
                     with err.status("starting", spinner="dots") as status:
                         _, summary = run_problem(**kwargs, progress=lambda msg: status.update(f"{msg} ..."))
+        except KeyboardInterrupt as exc:
+            raise _interrupted(err, exc, out) from None
         except OutputExistsError as exc:
             raise _fail(err, exc, EXIT_USAGE) from None
         except InputError as exc:

@@ -16,6 +16,7 @@ __all__ = [
     "ConfigError",
     "MeshError",
     "OutputExistsError",
+    "OutputPathError",
     "InvertedElementError",
 ]
 
@@ -69,6 +70,10 @@ class MeshError(InputError):
 
 class OutputExistsError(AlcontactError, FileExistsError):
     """A results folder exists and ``--force`` was not given."""
+
+
+class OutputPathError(InputError):
+    """A results folder that cannot be created: a parent is a file, or the place is read-only."""
 
 
 class InvertedElementError(AlcontactError, ArithmeticError):

@@ -15,9 +15,14 @@ Results folder written by :func:`write_results`:
     Contact pressure along the contact boundary against the analytical profile.
 ``convergence.png``
     Penetration, complementarity and multiplier change per outer iteration (log scale).
+``report.md``
+    One page: problem, solver, outcome, key numbers against the reference, the plots.
 ``summary.json``
-    Written last; keys :data:`alcontact.io.SUMMARY_KEYS` (stable) plus extras, see
-    :func:`summarize`.
+    Keys :data:`alcontact.io.SUMMARY_KEYS` (stable) plus extras, see
+    :func:`summarize`; its ``files`` list is the manifest of the folder.
+
+The folder is written as a whole (:class:`alcontact.io.ResultsFolder`): into a
+staging folder beside it, moved into place when every file is written.
 
 Examples
 --------
@@ -75,6 +80,7 @@ class BuiltinProblem:
     factory: Callable[..., Any]  # factory(level=..., order=...) -> ContactProblem
     default_level: int
     levels: int  # number of refinement levels (0 .. levels-1)
+    units: tuple[str, str] | None = None  # (length, stress) units of the plots and the report
 
 
 def _hertz(kind: str):
@@ -90,18 +96,19 @@ def _hertz(kind: str):
 BUILTIN_PROBLEMS: dict[str, BuiltinProblem] = {
     "hertz-2d": BuiltinProblem(
         "hertz-2d", "rigid cylinder on an elastic block, plane strain, half model (Hertz line contact)",
-        _hertz("2d"), default_level=2, levels=6,
+        _hertz("2d"), default_level=2, levels=6, units=("mm", "MPa"),
     ),
     "hertz-3d": BuiltinProblem(
         "hertz-3d", "rigid sphere on an elastic block, quarter model (Hertz point contact)",
-        _hertz("3d"), default_level=0, levels=6,
+        _hertz("3d"), default_level=0, levels=6, units=("mm", "MPa"),
     ),
 }
 
 DEFAULT_PROBLEM = "hertz-2d"
 
 #: Files :func:`write_results` writes (``summary.json`` last).
-RESULT_FILES: tuple[str, ...] = ("solution.vtu", "history.csv", "pressure.png", "convergence.png", "summary.json")
+RESULT_FILES: tuple[str, ...] = ("solution.vtu", "history.csv", "pressure.png", "convergence.png", "report.md",
+                                 "summary.json")
 
 
 def build_problem(name: str = DEFAULT_PROBLEM, level: int | None = None, order: int = 1):
@@ -254,21 +261,25 @@ def _tolerances(options: dict) -> dict[str, float]:
 
 
 def write_results(out: str | os.PathLike, problem, solution, summary: dict, *,
-                  tolerances: dict | None = None) -> dict[str, Path]:
+                  tolerances: dict | None = None, units=None, description: str = "") -> dict[str, Path]:
     """Write the result files of :data:`RESULT_FILES` into the existing folder ``out``.
 
-    Each file is written atomically; ``summary.json`` is written last, so its
-    presence means the set is complete. Returns ``{file name: path}``.
+    Each file is written atomically; ``summary.json`` is written last. To get
+    the whole set or nothing, write into :class:`alcontact.io.ResultsFolder`
+    (as :func:`run_problem` does). ``units`` (:class:`alcontact.viz.Units`)
+    label the plots. Returns ``{file name: path}``.
     """
     from .io import write_history_csv, write_json, write_solution_vtu
+    from .io.report import write_report
     from .viz import save_convergence_plot, save_pressure_plot
 
     out = Path(out)
     paths = {name: out / name for name in RESULT_FILES}
     write_solution_vtu(paths["solution.vtu"], solution)
     write_history_csv(paths["history.csv"], solution.result.history)
-    save_pressure_plot(solution, paths["pressure.png"])
+    save_pressure_plot(solution, paths["pressure.png"], units=units)
     save_convergence_plot(solution.result, paths["convergence.png"], tolerances=tolerances)
+    write_report(paths["report.md"], summary, list(RESULT_FILES), description=description, units=units)
     write_json(paths["summary.json"], {**summary, "files": list(RESULT_FILES)})
     logger.info("results written to %s", out)
     return paths
@@ -345,7 +356,7 @@ def run_problem(problem=None, out: str | os.PathLike | None = None, algorithm: s
     and the files are still written (they help to see what went wrong).
     """
     from .contact import DEFAULT_ALGORITHM, available_algorithms, solve
-    from .io import prepare_output_dir
+    from .io import ResultsFolder, check_output_dir
 
     def report(msg: str) -> None:
         logger.info(msg)
@@ -357,7 +368,7 @@ def run_problem(problem=None, out: str | os.PathLike | None = None, algorithm: s
     if algorithm not in available_algorithms():
         raise UnknownNameError("algorithm", algorithm, available_algorithms())
     if out is not None:
-        prepare_output_dir(out, force, create=False)  # fail before the (long) solve
+        check_output_dir(out, force)  # fail before the (long) solve
 
     t0 = time.perf_counter()
     if problem is None or isinstance(problem, str):
@@ -367,18 +378,26 @@ def run_problem(problem=None, out: str | os.PathLike | None = None, algorithm: s
         report(f"building {name} (level {lvl}, P{order})")
         prob = build_problem(name, lvl, order)
     else:
-        name, lvl, prob = getattr(problem, "name", "contact"), None, problem
+        name, lvl, prob, spec = getattr(problem, "name", "contact"), None, problem, None
     build_time = time.perf_counter() - t0
 
     report(f"solving {name} with {prob.model.ndofs} DOFs ({algorithm})")
     solution = solve(prob, algorithm=algorithm, penalty=penalty, **options)
     summary = summarize(prob, solution, problem_name=name, level=lvl, options=options, build_time_s=build_time)
+    units = None
+    if spec is not None and spec.units:
+        from .viz import Units
+
+        units = Units(*spec.units)
+        summary["units"] = {"length": units.length, "stress": units.pressure, "force": units.force(prob.model.dim)}
     logger.info("%s: %s after %d outer iterations", name, summary["status"], summary["outer_iterations"])
 
     if out is not None:
         report(f"writing results to {out}")
-        folder = prepare_output_dir(out, force)
-        write_results(folder, prob, solution, summary, tolerances=_tolerances(options))
+        doc = spec.doc if spec is not None else ""
+        with ResultsFolder(out, force) as folder:
+            write_results(folder.path, prob, solution, summary, tolerances=_tolerances(options), units=units,
+                          description=doc[:1].upper() + doc[1:] + "." if doc else "")
     return solution, summary
 
 
@@ -618,14 +637,14 @@ def run_setup(setup, out: str | os.PathLike | None = None, force: bool = False, 
     RunOutput
     """
     from .contact import available_algorithms, solve
-    from .io import prepare_output_dir
+    from .io import ResultsFolder, check_output_dir
 
     options = {k: v for k, v in options.items() if v is not None}
     if algorithm is not None and algorithm not in available_algorithms():
         raise UnknownNameError("algorithm", algorithm, available_algorithms())
     setup = _override(setup, algorithm, penalty, options)
     if out is not None:
-        prepare_output_dir(out, force, create=False)
+        check_output_dir(out, force)
 
     def report(msg: str) -> None:
         logger.info(msg)
@@ -698,6 +717,9 @@ def run_setup(setup, out: str | os.PathLike | None = None, force: bool = False, 
                        newton_iterations=sum(f.result.newton_iterations for f in frames),
                        linear_solves=sum(f.result.linear_solves for f in frames),
                        wall_time_s=sum(float(f.timings.get("total_s", 0.0)) for f in frames))
+        # the total time of all steps against one linear solve (summarize() took the last step's time)
+        lin = summary.get("linear_solve_time_s")
+        summary["time_ratio_contact_to_linear"] = summary["wall_time_s"] / lin if lin else None
         if len(frames) < n:
             summary["message"] = f"step {len(frames)} of {n} failed: {final.result.message}"
     logger.info("%s: %s", name, summary["status"])
@@ -705,8 +727,8 @@ def run_setup(setup, out: str | os.PathLike | None = None, force: bool = False, 
     files: list[str] = []
     if out is not None:
         report(f"writing results to {out}")
-        folder = prepare_output_dir(out, force)
-        files = write_setup_results(folder, setup, frames, summary)
+        with ResultsFolder(out, force) as folder:
+            files = write_setup_results(folder.path, setup, frames, summary)
     return RunOutput(frames=frames, raw=raw, summary=summary, files=files)
 
 
@@ -760,7 +782,8 @@ def write_setup_results(folder: Path, setup, frames, summary: dict) -> list[str]
             save_convergence_plot(final.result, folder / "convergence.png", tolerances=_tolerances(setup.options))
         files.append("convergence.png")
         if stepped:
-            save_figure(load_displacement_figure(rows, [(c[0], c[1]) for c in controls], title=setup.name),
+            save_figure(load_displacement_figure(rows, [(c[0], c[1]) for c in controls], title=setup.name,
+                                                 dim=int(setup.problem.model.dim)),
                         folder / "load_displacement.png")
             files.append("load_displacement.png")
     if o["report"]:

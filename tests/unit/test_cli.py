@@ -256,3 +256,39 @@ def test_list_shows_friction_algorithms_and_examples():
 def test_help_of_every_command(cmd):
     result = runner.invoke(app, [cmd, "--help"])
     assert result.exit_code == 0 and "Usage" in result.output
+
+
+# ------------------------------------------------------------------ make run: report.md; stepped summary table
+def test_make_run_writes_report_md(tmp_path):
+    """``make run`` is ``alcontact run --out results --force``: its folder has report.md (README step 1)."""
+    out = tmp_path / "results"
+    result = runner.invoke(app, ["run", "--out", str(out), "--force", "--level", "0"])
+    assert result.exit_code == 0, result.output
+    assert sorted(p.name for p in out.iterdir()) == sorted(RESULT_FILES)
+    report = (out / "report.md").read_text()
+    s = json.loads((out / "summary.json").read_text())
+    assert report.startswith(f"# {s['problem_label']}") and "**Status: converged**" in report
+    assert f"| peak pressure p0 (MPa) | {s['peak_pressure']:.5g} | {s['peak_pressure_exact']:.5g} |" in report
+    assert f"| contact half-width a (mm) | {s['contact_half_width']:.5g} |" in report
+    for png in ("pressure.png", "convergence.png"):
+        assert f"]({png})" in report and (out / png).is_file()
+    for name in RESULT_FILES:
+        if name != "report.md":
+            assert f"- `{name}`:" in report
+    assert s["units"] == {"length": "mm", "stress": "MPa", "force": "N/mm"}
+    text = _flat(result.stdout.replace("│", " "))
+    assert "contact half-width a (mm)" in text and "peak pressure p0 (MPa)" in text and "force P (N/mm)" in text
+
+
+def test_stepped_summary_compares_the_total_time_with_one_linear_solve(tmp_path):
+    out = tmp_path / "res"
+    result = runner.invoke(app, ["run", str(EXAMPLES / "flat_punch.toml"), "--out", str(out)])
+    assert result.exit_code == 0, result.output
+    s = json.loads((out / "summary.json").read_text())
+    assert s["load_steps"] == 4
+    assert s["time_ratio_contact_to_linear"] == pytest.approx(s["wall_time_s"] / s["linear_solve_time_s"], rel=1e-12)
+    text = _flat(result.stdout.replace("│", " "))
+    assert f"wall time, all steps (s) {s['wall_time_s']:.3f}" in text
+    assert f"wall time / linear solve {s['time_ratio_contact_to_linear']:.2f}" in text
+    report = (out / "report.md").read_text()
+    assert f"| wall time of all steps (s) | {s['wall_time_s']:.3f} |" in report

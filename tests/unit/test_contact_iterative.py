@@ -29,7 +29,8 @@ def problems():
 
 
 @pytest.mark.parametrize("algorithm,penalty", VARIANTS)
-@pytest.mark.parametrize("name", list(PROBLEMS))
+@pytest.mark.parametrize("name", [pytest.param(n, marks=pytest.mark.slow) if n == "hertz-3d" else n  # 10-30 s each
+                                  for n in PROBLEMS])
 def test_amg_agrees_with_direct(problems, name, algorithm, penalty):
     prob = problems[name]
     direct = solve(prob, algorithm, penalty, linear_solver="direct")

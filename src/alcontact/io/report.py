@@ -36,9 +36,27 @@ def _f(x, spec=".5g") -> str:
     return str(x)
 
 
-def render_report(summary: dict, files: list[str], *, description: str = "", source: str | None = None) -> str:
-    """The markdown text of ``report.md``."""
+def render_report(summary: dict, files: list[str], *, description: str = "", source: str | None = None,
+                  units=None) -> str:
+    """The markdown text of ``report.md``.
+
+    Parameters
+    ----------
+    summary : dict
+        The ``summary.json`` dictionary.
+    files : list of str
+        Names of the files in the results folder (listed with what they hold).
+    description, source : str
+        Free text and the problem file, shown under the title.
+    units : alcontact.viz.Units, optional
+        Units of the quantities (default: those of the problem, unnamed).
+    """
+    from ..viz.plots import Units
+
+    u = units if units is not None else Units()
+    L, S, F = u.length, u.pressure, u.force(int(summary.get("dim") or 2))
     s = summary
+    stepped = s.get("load_steps", 1) > 1
     ok = s.get("status") == "converged"
     lines = [f"# {s.get('problem_label') or s.get('problem')}", ""]
     if description:
@@ -55,25 +73,28 @@ def render_report(summary: dict, files: list[str], *, description: str = "", sou
         "",
         "| quantity | computed | reference | error % |",
         "|---|---|---|---|",
-        f"| contact half-width a | {_f(s.get('contact_half_width'))} | {_f(s.get('contact_half_width_exact'))} | "
-        f"{_f(s.get('contact_half_width_error_pct'), '+.2f')} |",
-        f"| peak pressure p0 | {_f(s.get('peak_pressure'))} | {_f(s.get('peak_pressure_exact'))} | "
+        f"| contact half-width a ({L}) | {_f(s.get('contact_half_width'))} | "
+        f"{_f(s.get('contact_half_width_exact'))} | {_f(s.get('contact_half_width_error_pct'), '+.2f')} |",
+        f"| peak pressure p0 ({S}) | {_f(s.get('peak_pressure'))} | {_f(s.get('peak_pressure_exact'))} | "
         f"{_f(s.get('peak_pressure_error_pct'), '+.2f')} |",
-        f"| total contact force | {_f(s.get('total_contact_force'))} | | |",
+        f"| total contact force P ({F}) | {_f(s.get('total_contact_force'))} | | |",
     ]
     if s.get("friction"):
-        lines.append(f"| tangential force (model) | {_f(s.get('tangential_force'))} | mu N = "
+        lines.append(f"| tangential force of the model ({F}) | {_f(s.get('tangential_force'))} | mu N = "
                      f"{_f(s.get('coulomb_limit'))} | |")
         lines.append(f"| stick / slip / open points | {s.get('stick_points')} / {s.get('slip_points')} / "
                      f"{s.get('open_points')} | | |")
         if s.get("stick_half_width_exact") is not None:
-            lines.append(f"| stick half-width c | {_f(s.get('stick_half_width'))} | "
+            lines.append(f"| stick half-width c ({L}) | {_f(s.get('stick_half_width'))} | "
                          f"{_f(s.get('stick_half_width_exact'))} | {_f(s.get('stick_half_width_error_pct'), '+.2f')} |")
     lines += [
-        f"| outer / Newton iterations | {s.get('outer_iterations')} / {s.get('newton_iterations')} | | |",
+        f"| outer / Newton iterations{' (all steps)' if stepped else ''} | {s.get('outer_iterations')} / "
+        f"{s.get('newton_iterations')} | | |",
         f"| linear solves | {s.get('linear_solves')} | | |",
         f"| max penetration / h | {_f(s.get('penetration'), '.2e')} | | |",
-        f"| wall time (s) | {_f(s.get('wall_time_s'), '.3f')} | | |",
+        f"| wall time{' of all steps' if stepped else ''} (s) | {_f(s.get('wall_time_s'), '.3f')} | | |",
+        f"| one linear elastic solve (s) | {_f(s.get('linear_solve_time_s'), '.3f')} | | |",
+        f"| wall time / linear solve | {_f(s.get('time_ratio_contact_to_linear'), '.2f')} | | |",
         "",
     ]
     for png, caption in (("pressure.png", "Contact pressure"), ("convergence.png", "Convergence"),

@@ -5,6 +5,23 @@ into place with :func:`os.replace` (atomic on POSIX and Windows within one
 file system), so a reader sees either the previous file or the complete new
 one, never a partial file; the temporary file is removed if writing fails.
 
+A results folder is whole or absent (:class:`ResultsFolder`): its files are
+written into a hidden staging folder (beside a new target, inside an existing
+one) and moved into place at the end, with SIGINT/SIGTERM deferred for the few
+renames that takes. An exception or a
+signal during the writing removes the staging folder and leaves the target
+as it was.
+
+Which files a results folder owns: the names listed under ``"files"`` in its
+``summary.json`` (the manifest every run writes), ``summary.json`` itself and
+temporary files of interrupted writes of older versions (``.<stem>.<random>.tmp<suffix>``).
+``--force`` replaces exactly the owned set: stale files of an earlier run (e.g.
+``steps/`` of a load-stepped run followed by a single solve) disappear, every
+other file is kept. A file alcontact would write but does not own (e.g. a
+``report.md`` of your own in a folder without ``summary.json``) is never
+overwritten: the run is refused with :class:`~alcontact.errors.OutputExistsError`
+before solving.
+
 The keys of ``summary.json`` listed in :data:`SUMMARY_KEYS` are a stable public
 contract (scripts and the benchmark report read them); new keys may be added,
 these are never renamed or removed.
@@ -29,14 +46,20 @@ import json
 import logging
 import math
 import os
+import re
+import secrets
+import shutil
+import signal
+import stat
 import tempfile
+import threading
 from collections.abc import Iterator, Mapping
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from ..errors import OutputExistsError
+from ..errors import OutputExistsError, OutputPathError
 
 __all__ = [
     "SUMMARY_KEYS",
@@ -46,6 +69,10 @@ __all__ = [
     "write_json",
     "write_history_csv",
     "prepare_output_dir",
+    "check_output_dir",
+    "owned_entries",
+    "ResultsFolder",
+    "RESULT_NAMES",
     "jsonable",
 ]
 
@@ -69,6 +96,12 @@ SUMMARY_KEYS: tuple[str, ...] = (
     "peak_pressure_exact",
     "total_contact_force",
 )
+
+#: Every entry alcontact may write into a results folder (``steps/`` is a folder).
+RESULT_NAMES: frozenset[str] = frozenset({
+    "solution.vtu", "solution.pvd", "steps/", "history.csv", "steps.csv", "pressure.png",
+    "convergence.png", "load_displacement.png", "report.md", "summary.json",
+})
 
 #: Columns of ``history.csv``: the fields of :class:`alcontact.contact.ContactIteration`.
 HISTORY_COLUMNS: tuple[str, ...] = (
@@ -173,14 +206,117 @@ def write_history_csv(path: str | os.PathLike, history) -> Path:
     return write_text_atomic(path, buf.getvalue())
 
 
+# --------------------------------------------------------------------------- results folder
+_TEMP_FILE = re.compile(r"^\..+\.tmp(\.[A-Za-z0-9]+)?$")  # atomic_path's temporary files
+_STAGING_TAG = ".partial-"  # staging folder beside a new results folder: .<name>.partial-XXXXXXXX
+_STAGING_INSIDE = ".alcontact-partial-"  # staging folder inside an existing one
+
+
+def _entry_name(p: Path) -> str:
+    return p.name + "/" if p.is_dir() and not p.is_symlink() else p.name
+
+
+def owned_entries(folder: str | os.PathLike) -> tuple[list[str], list[str]]:
+    """Split the entries of an existing results folder into (owned, foreign).
+
+    Owned: ``summary.json``, the names its ``"files"`` list holds (plain names
+    of :data:`RESULT_NAMES` only, so a damaged manifest cannot point outside
+    the folder) and leftovers of killed writes: temporary files of atomic
+    writes (``.<stem>.<random>.tmp<suffix>``) and staging folders
+    (``.alcontact-partial-*``).
+    Folder names end with ``/`` (``"steps/"``).
+
+    Returns
+    -------
+    owned, foreign : list of str
+        Sorted names of the entries present in ``folder``.
+    """
+    folder = Path(folder)
+    listed: set[str] = set()
+    summary = folder / "summary.json"
+    if summary.is_file():
+        listed.add("summary.json")
+        try:
+            files = json.loads(summary.read_text(encoding="utf-8")).get("files", [])
+        except (OSError, ValueError, AttributeError):
+            files = []
+        listed |= {f for f in files if isinstance(f, str) and f in RESULT_NAMES}
+    owned, foreign = [], []
+    for p in sorted(folder.iterdir()):
+        name = _entry_name(p)
+        ours = name in listed or (p.is_file() and _TEMP_FILE.match(p.name)) or \
+            (p.is_dir() and p.name.startswith(_STAGING_INSIDE))
+        (owned if ours else foreign).append(name)
+    return owned, foreign
+
+
+def _leftover(name: str) -> bool:
+    """A temporary file or staging folder of an interrupted (killed) write."""
+    return bool(_TEMP_FILE.match(name)) or name.startswith(_STAGING_INSIDE)
+
+
+def _first_existing(path: Path) -> Path:
+    p = path
+    while not p.exists() and not p.is_symlink() and p != p.parent:
+        p = p.parent
+    return p
+
+
+def check_output_dir(path: str | os.PathLike, force: bool = False) -> Path:
+    """Check that a results folder can be written at ``path``; create nothing.
+
+    Called before a (long) solve, so that a bad ``--out`` fails at once.
+
+    Raises
+    ------
+    OutputExistsError
+        ``path`` is a file, or a folder with entries and ``force`` is false,
+        or (with ``force``) a folder holding a file alcontact would write but
+        does not own (see :func:`owned_entries`).
+    OutputPathError
+        A parent of ``path`` is a file, or the place is not writable.
+    """
+    path = Path(path)
+    if path.exists() and not path.is_dir():
+        raise OutputExistsError(f"results path '{path}' exists and is not a folder; choose another --out.")
+    base = _first_existing(path.parent)
+    if base.exists() and not base.is_dir():
+        raise OutputPathError(
+            f"--out '{path}': '{base}' is a file, not a folder, so no results folder can be created "
+            f"under it; choose an --out outside it (e.g. '{base.parent / 'results'}').")
+    if not path.is_dir() and not os.access(base, os.W_OK | os.X_OK):
+        raise OutputPathError(
+            f"--out '{path}': cannot write in '{base}' (permission denied or read-only); choose an --out "
+            "in a writable folder, or make that folder writable.")
+    if path.is_dir():
+        owned, foreign = owned_entries(path)
+        if not force and any(not _leftover(n) for n in owned + foreign):
+            raise OutputExistsError(
+                f"results folder '{path}' exists and is not empty; pass --force to replace the results of "
+                "the earlier run in it (other files are kept), or choose another --out.")
+        clash = [n for n in foreign if n in RESULT_NAMES]
+        if clash:
+            raise OutputExistsError(
+                f"results folder '{path}' holds {', '.join(repr(n) for n in clash)}, which alcontact would "
+                "write but did not (no summary.json lists it), so --force does not overwrite it; move it "
+                "away or choose another --out.")
+        if not os.access(path, os.W_OK | os.X_OK):
+            raise OutputPathError(
+                f"--out '{path}': cannot write in '{path}' (permission denied or read-only); choose another "
+                "--out, or make the folder writable.")
+    return path
+
+
 def prepare_output_dir(path: str | os.PathLike, force: bool = False, *, create: bool = True) -> Path:
-    """Create the results folder ``path``, refusing to reuse a non-empty one.
+    """Check the results folder ``path`` (see :func:`check_output_dir`) and create it.
+
+    Prefer :class:`ResultsFolder`, which writes the whole set of files at once.
 
     Parameters
     ----------
     path : path-like
     force : bool
-        Reuse a non-empty folder (our files in it are replaced, others kept).
+        Reuse a non-empty folder (see :func:`owned_entries`).
     create : bool
         ``False``: only check (e.g. before a long computation), create nothing.
 
@@ -191,17 +327,163 @@ def prepare_output_dir(path: str | os.PathLike, force: bool = False, *, create: 
 
     Raises
     ------
-    OutputExistsError
-        ``path`` is a non-empty folder and ``force`` is false, or ``path`` is a file.
+    OutputExistsError, OutputPathError
+        As :func:`check_output_dir`.
     """
-    path = Path(path)
-    if path.exists() and not path.is_dir():
-        raise OutputExistsError(f"results path '{path}' exists and is not a folder; choose another --out.")
-    if path.is_dir() and not force and any(path.iterdir()):
-        raise OutputExistsError(
-            f"results folder '{path}' exists and is not empty; pass --force to overwrite the result "
-            "files in it, or choose another --out."
-        )
+    path = check_output_dir(path, force)
     if create:
-        path.mkdir(parents=True, exist_ok=True)
+        try:
+            path.mkdir(parents=True, exist_ok=True)
+        except OSError as exc:
+            raise OutputPathError(f"--out '{path}': cannot create the folder ({exc.strerror}); choose another "
+                                  "--out.") from exc
     return path
+
+
+_DEFERRED_SIGNALS = tuple(getattr(signal, n) for n in ("SIGINT", "SIGTERM") if hasattr(signal, n))
+
+
+@contextlib.contextmanager
+def _signals_deferred() -> Iterator[None]:
+    """Hold SIGINT/SIGTERM back during the block, then deliver them to the previous handlers.
+
+    Used for the renames that put a results folder in place, so that an
+    interrupt never leaves half of the old and half of the new files. Only
+    in the main thread (the only one Python delivers signals to).
+    """
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    pending: list[int] = []
+    old = {s: signal.signal(s, lambda signum, frame: pending.append(signum)) for s in _DEFERRED_SIGNALS}
+    try:
+        yield
+    finally:
+        for s, handler in old.items():
+            signal.signal(s, handler if handler is not None else signal.SIG_DFL)
+        for s in dict.fromkeys(pending):
+            signal.raise_signal(s)
+
+
+class ResultsFolder:
+    """A results folder written as a whole: files go into a staging folder, moved into place at the end.
+
+    Parameters
+    ----------
+    path : path-like
+        The results folder (``--out``); its parents are created.
+    force : bool
+        Replace the files of an earlier run in ``path`` (see :func:`owned_entries`).
+
+    Attributes
+    ----------
+    target : Path
+        ``path``.
+    path : Path
+        The staging folder to write into (inside the ``with`` block).
+    committed : bool
+        True once the files are in place.
+
+    Notes
+    -----
+    A missing ``target`` is staged beside it (``.<name>.partial-XXXXXXXX``)
+    and appears with one rename. An existing folder (``--force``, an empty
+    folder, ``.``, a mount point) is staged inside it
+    (``.alcontact-partial-XXXXXXXX``), so that neither its parent nor the
+    folder itself changes: at the end the owned entries are deleted
+    (``summary.json`` first) and the new entries moved in (``summary.json``
+    last). SIGINT/SIGTERM are deferred meanwhile, so only a hard kill during
+    those milliseconds can leave a folder without ``summary.json``, whose
+    files the next run then treats as foreign (it refuses and says so). On an
+    exception (including ``KeyboardInterrupt``) the staging folder is deleted
+    and ``target`` is not touched; the exception gets the attribute
+    ``results_state = "unchanged"`` (``"written"`` when a deferred signal
+    arrives after the files were put in place).
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> out = pathlib.Path(tempfile.mkdtemp()) / "res"
+    >>> with ResultsFolder(out) as rf:
+    ...     _ = write_json(rf.path / "summary.json", {"files": ["summary.json"]})
+    >>> sorted(p.name for p in out.iterdir())
+    ['summary.json']
+    """
+
+    def __init__(self, path: str | os.PathLike, force: bool = False):
+        self.target = Path(path)
+        self.force = force
+        self.path: Path | None = None
+        self.committed = False
+
+    def __enter__(self) -> ResultsFolder:
+        check_output_dir(self.target, self.force)
+        inside = self.target.is_dir()
+        where = self.target if inside else self.target.parent
+        try:
+            where.mkdir(parents=True, exist_ok=True)
+            prefix = _STAGING_INSIDE if inside else f".{self.target.name}{_STAGING_TAG}"
+            self.path = Path(tempfile.mkdtemp(dir=where, prefix=prefix))
+            umask = os.umask(0)
+            os.umask(umask)
+            os.chmod(self.path, 0o777 & ~umask)
+        except OSError as exc:
+            if self.path is not None:
+                shutil.rmtree(self.path, ignore_errors=True)
+            raise OutputPathError(
+                f"--out '{self.target}': cannot create a folder in '{where}' ({exc.strerror or exc}); choose "
+                "an --out in a writable folder.") from exc
+        logger.debug("staging results in %s", self.path)
+        return self
+
+    def __exit__(self, exc_type, exc, tb) -> None:
+        if exc is not None:
+            with _signals_deferred():
+                shutil.rmtree(self.path, ignore_errors=True)
+            with contextlib.suppress(AttributeError, TypeError):
+                exc.results_state = "unchanged"
+            logger.debug("discarded the partial results in %s", self.path)
+            return
+        try:
+            with _signals_deferred():
+                try:
+                    self._commit()
+                except BaseException:
+                    shutil.rmtree(self.path, ignore_errors=True)
+                    raise
+        except BaseException as err:
+            with contextlib.suppress(AttributeError, TypeError):
+                err.results_state = "written" if self.committed else "unchanged"
+            raise
+        logger.info("results written to %s", self.target)
+
+    def _commit(self) -> None:
+        staging, target = self.path, self.target
+        if staging.parent != target:  # the target did not exist: one rename
+            try:
+                os.rename(staging, target)
+            except OSError as exc:
+                raise OutputExistsError(f"results folder '{target}' appeared during the run ({exc.strerror}); "
+                                        "choose another --out.") from exc
+            self.committed = True
+            return
+        new = sorted(staging.iterdir(), key=lambda p: (p.name == "summary.json", p.name))
+        owned, foreign = owned_entries(target)
+        clash = set(foreign) & {_entry_name(p) for p in new}
+        if clash:
+            raise OutputExistsError(f"results folder '{target}' holds {', '.join(sorted(clash))} of someone "
+                                    "else; move it away or choose another --out.")
+        # summary.json (the manifest) goes first and comes back last: a folder is never
+        # described by a manifest of another set of files
+        for name in sorted(owned, key=lambda n: n != "summary.json"):
+            p = target / name.rstrip("/")
+            if p == staging:
+                continue
+            if p.is_dir() and not p.is_symlink():
+                shutil.rmtree(p)
+            else:
+                p.unlink()
+        for p in new:
+            os.rename(p, target / p.name)
+        self.committed = True
+        staging.rmdir()

@@ -7,6 +7,7 @@
 from __future__ import annotations
 
 from .plots import (
+    Units,
     contact_coordinate,
     convergence_figure,
     load_displacement_figure,
@@ -18,6 +19,7 @@ from .plots import (
 )
 
 __all__ = [
+    "Units",
     "contact_coordinate",
     "pressure_figure",
     "convergence_figure",

@@ -18,6 +18,7 @@ from __future__ import annotations
 import logging
 import os
 from collections.abc import Mapping
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -25,6 +26,7 @@ import numpy as np
 from ..io.results import atomic_path
 
 __all__ = [
+    "Units",
     "contact_coordinate",
     "pressure_figure",
     "convergence_figure",
@@ -42,6 +44,61 @@ _HISTORY_SERIES = (
     ("complementarity", r"complementarity $\max|\lambda g|/(p_{ref}h)$"),
     ("multiplier_change", r"multiplier change $\|\Delta\lambda\|_\infty/p_{ref}$"),
 )
+
+
+@dataclass(frozen=True)
+class Units:
+    """Units of a problem for axis labels: a length and a stress unit, force derived.
+
+    ``None`` stands for "whatever consistent unit the problem uses" (problem files
+    carry no unit declaration): labels then use the symbols ``L`` (length unit of
+    the mesh) and ``[E]`` (stress unit of Young's modulus), explained by
+    :attr:`note` in the figure.
+
+    Examples
+    --------
+    >>> Units("mm", "MPa").force(2), Units("mm", "MPa").force(3)
+    ('N/mm', 'N')
+    >>> Units().pressure, Units().force(3)
+    ('[E]', '[E]·L²')
+    """
+
+    length_unit: str | None = None
+    stress_unit: str | None = None
+
+    @property
+    def length(self) -> str:
+        """Length unit (of the mesh coordinates)."""
+        return self.length_unit or "L"
+
+    @property
+    def pressure(self) -> str:
+        """Stress unit (of Young's modulus E)."""
+        return self.stress_unit or "[E]"
+
+    @property
+    def note(self) -> str:
+        """What the generic symbols mean (empty when both units are named)."""
+        if self.length_unit and self.stress_unit:
+            return ""
+        return "units: L = length unit of the mesh, [E] = stress unit of Young's modulus E"
+
+    def force(self, dim: int) -> str:
+        """Force unit of a contact force: per unit thickness in 2D (plane strain/stress)."""
+        if (self.length_unit, self.stress_unit) == ("mm", "MPa"):
+            return "N/mm" if dim == 2 else "N"
+        if (self.length_unit, self.stress_unit) == ("m", "Pa"):
+            return "N/m" if dim == 2 else "N"
+        return f"{self.pressure}·{self.length}" + ("" if dim == 2 else "²")
+
+
+def _units(units) -> Units:
+    return units if isinstance(units, Units) else Units()
+
+
+def _note_units(fig, u: Units) -> None:
+    if u.note:
+        fig.supxlabel(u.note, fontsize="x-small", color="0.3")
 
 
 def _new_figure(size=(6.4, 4.2)):
@@ -64,7 +121,7 @@ def contact_coordinate(solution, axis: int = 0, center=None) -> tuple[np.ndarray
     -------
     r : ndarray (m,)
     label : str
-        Axis label.
+        Axis label without unit: ``"x ..."`` in 2D, ``"r ..."`` in 3D.
     """
     pts = np.asarray(solution.points, dtype=float)
     d = pts.shape[1]
@@ -79,7 +136,7 @@ def contact_coordinate(solution, axis: int = 0, center=None) -> tuple[np.ndarray
 
 
 def pressure_figure(solution, *, reference=None, load: float | None = None, center=None, axis: int = 0,
-                    title: str | None = None, mindlin=None):
+                    title: str | None = None, mindlin=None, units: Units | None = None):
     """Contact pressure at the contact points against the analytical profile.
 
     Parameters
@@ -97,6 +154,8 @@ def pressure_figure(solution, *, reference=None, load: float | None = None, cent
         Frictional runs (``solution.extra["shear"]`` present) get a second panel
         with the tangential traction and the Coulomb bound :math:`\\mu p`; with
         ``mindlin`` also the Cattaneo-Mindlin profile for the model's P and Q.
+    units : Units, optional
+        Axis units; default: the units of the problem file (unnamed).
 
     Returns
     -------
@@ -106,7 +165,10 @@ def pressure_figure(solution, *, reference=None, load: float | None = None, cent
     reference = reference if reference is not None else getattr(problem, "reference", None)
     if center is None:
         center = (getattr(problem, "meta", None) or {}).get("center")
+    u = _units(units)
     r, xlabel = contact_coordinate(solution, axis=axis, center=center)
+    var = xlabel[0]  # "x" (2D) or "r" (3D)
+    xlabel = f"{xlabel} ({u.length})"
     p = np.asarray(solution.pressure, dtype=float)
     a_num = solution.contact_half_width(axis=axis, center=center)
 
@@ -126,31 +188,34 @@ def pressure_figure(solution, *, reference=None, load: float | None = None, cent
         lo = min(float(rk.min(initial=0.0)), 0.0)
         hi = max(float(rk.max(initial=0.0)), a_ref)
         xs = np.linspace(lo, hi, 600)
+        p0 = f", $p_0$ = {float(reference.peak_pressure(P)):.5g} {u.pressure}" \
+            if hasattr(reference, "peak_pressure") else ""
         ax.plot(xs, reference.pressure(np.abs(xs), P), "-", color="0.35", lw=1.5,
-                label=rf"analytical $p_0\sqrt{{1-x^2/a^2}}$, $a$ = {a_ref:.4g}")
-        ax.axvline(a_ref, color="0.35", ls=":", lw=1)
-    ax.plot(rk, pk, "o", ms=3.5, color="C0", label=f"computed, $a$ = {a_num:.4g}")
-    ax.axvline(a_num, color="C0", ls="--", lw=1)
+                label=rf"analytical $p_0\sqrt{{1-{var}^2/a^2}}${p0}")
+        ax.axvline(a_ref, color="0.35", ls=":", lw=1, label=f"analytical $a$ = {a_ref:.4g} {u.length}")
+    ax.plot(rk, pk, "o", ms=3.5, color="C0", label="computed pressure")
+    ax.axvline(a_num, color="C0", ls="--", lw=1, label=f"computed $a$ = {a_num:.4g} {u.length}")
     ax.set_xlabel(xlabel)
-    ax.set_ylabel("contact pressure")
+    ax.set_ylabel(f"contact pressure p ({u.pressure})")
     ax.set_ylim(bottom=0.0)
     ax.grid(alpha=0.3)
-    ax.legend(loc="upper right", fontsize="small")
+    ax.legend(loc="best", fontsize="small")
     ax.set_title(title or getattr(problem, "name", "contact pressure"), fontsize="medium")
     if friction:
-        _shear_panel(fig.add_subplot(2, 1, 2, sharex=ax), solution, r, keep, order, axis, mindlin)
+        _shear_panel(fig.add_subplot(2, 1, 2, sharex=ax), solution, r, keep, order, axis, mindlin, xlabel, u)
+    _note_units(fig, u)
     return fig
 
 
-def _shear_panel(ax, solution, r, keep, order, axis, mindlin) -> None:
+def _shear_panel(ax, solution, r, keep, order, axis, mindlin, xlabel, u) -> None:
     extra = solution.extra
     shear = np.asarray(extra["shear"], dtype=float)[:, axis]
     mu = float(extra.get("mu", 0.0))
     rk = r[keep][order]
     q = shear[keep][order]
     bound = mu * np.asarray(solution.pressure, dtype=float)[keep][order]
-    ax.plot(rk, bound, "-", color="0.6", lw=1, label=r"Coulomb bound $\mu p$")
-    ax.plot(rk, -bound, "-", color="0.6", lw=1)
+    ax.plot(rk, bound, "-", color="0.6", lw=1, label=r"Coulomb bounds $\pm\mu p$")
+    ax.plot(rk, -bound, "-", color="0.6", lw=1)  # same style: covered by the entry above
     state = np.asarray(extra.get("state", np.zeros(r.size)))[keep][order]
     for val, name, mk in ((1, "stick", "o"), (2, "slip", "s")):
         sel = state == val
@@ -163,10 +228,10 @@ def _shear_panel(ax, solution, r, keep, order, axis, mindlin) -> None:
             xs = np.linspace(float(rk.min(initial=0.0)), float(rk.max(initial=0.0)), 800)
             c = mindlin.stick_half_width(P, abs(Q))
             ax.plot(xs, np.sign(Q) * mindlin.shear(xs, P, abs(Q)), "-", color="k", lw=1.2,
-                    label=f"Cattaneo-Mindlin, c = {c:.3g}")
-    ax.axhline(0.0, color="0.8", lw=0.8)
-    ax.set_xlabel("x (along the contact boundary)")
-    ax.set_ylabel(f"tangential traction ({'xyz'[axis]})")
+                    label=f"Cattaneo-Mindlin, c = {c:.3g} {u.length}")
+    ax.axhline(0.0, color="0.8", lw=0.8)  # the axis, not data
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(f"tangential traction $t_{{T,{'xyz'[axis]}}}$ ({u.pressure})")
     ax.grid(alpha=0.3)
     ax.legend(fontsize="small", loc="best")
 
@@ -190,7 +255,7 @@ def steps_figure(rows, *, title: str | None = None):
     ax1 = fig.add_subplot(2, 1, 1)
     ax1.plot(t, [r["outer_iterations"] for r in rows], "o-", label="outer iterations")
     ax1.plot(t, [r["newton_iterations"] for r in rows], "s--", label="Newton iterations")
-    ax1.set_ylabel("iterations per step")
+    ax1.set_ylabel("iterations per step (count)")
     ax1.grid(alpha=0.3)
     ax1.legend(fontsize="small")
     ax1.set_title(title or "convergence per load step", fontsize="medium")
@@ -201,15 +266,16 @@ def steps_figure(rows, *, title: str | None = None):
         y = np.where(np.isfinite(y) & (y > 0), y, np.nan)
         if np.any(np.isfinite(y)):
             ax2.semilogy(t, y, "o-", ms=4, label=label)
-    ax2.set_xlabel("pseudo-time t")
-    ax2.set_ylabel("final measure of the step")
+    ax2.set_xlabel("pseudo-time t (load factor, dimensionless)")
+    ax2.set_ylabel("final measure of the step (dimensionless)")
     ax2.grid(alpha=0.3, which="both")
     if ax2.lines:
         ax2.legend(fontsize="small")
     return fig
 
 
-def load_displacement_figure(rows, controls, *, title: str | None = None):
+def load_displacement_figure(rows, controls, *, title: str | None = None, units: Units | None = None,
+                             dim: int = 2):
     """Contact forces against the displacement of the loaded boundaries over the load steps.
 
     Parameters
@@ -220,7 +286,12 @@ def load_displacement_figure(rows, controls, *, title: str | None = None):
     controls : sequence of (label, kind)
         ``kind`` is ``"normal"`` (plotted against the normal force) or
         ``"tangential"`` (against the tangential force).
+    units : Units, optional
+        Axis units (default: the problem file's, unnamed).
+    dim : int
+        Dimension of the model (the force is per unit thickness in 2D).
     """
+    u = _units(units)
     fig = _new_figure()
     ax = fig.add_subplot()
     for i, (label, kind) in enumerate(controls):
@@ -232,10 +303,11 @@ def load_displacement_figure(rows, controls, *, title: str | None = None):
     if not controls:
         t = np.array([float(r["t"]) for r in rows])
         ax.plot(t, [float(r["normal_force"]) for r in rows], "o-", ms=4, label="normal force")
-        ax.set_xlabel("pseudo-time t")
+        ax.set_xlabel("pseudo-time t (load factor, dimensionless)")
     else:
-        ax.set_xlabel("mean displacement of the loaded boundary (prescribed component)")
-    ax.set_ylabel("contact force (model)")
+        ax.set_xlabel(f"mean displacement of the loaded boundary ({u.length})")
+    ax.set_ylabel(f"contact force of the model ({u.force(dim)})")
+    _note_units(fig, u)
     ax.grid(alpha=0.3)
     ax.legend(fontsize="small")
     ax.set_title(title or "load-displacement curve", fontsize="medium")
@@ -272,9 +344,12 @@ def convergence_figure(result, *, tolerances: Mapping[str, float] | None = None,
     same = len(set(tols.values())) == 1
     for i, (name, _label) in enumerate(_HISTORY_SERIES):
         if name in tols:  # one grey line when all tolerances coincide
-            ax.axhline(tols[name], color="0.4" if same else f"C{i}", ls="--", lw=0.8)
-    ax.set_xlabel("outer iteration k")
-    ax.set_ylabel("measure (dashed: tolerance)" if tolerances else "measure")
+            label = f"tolerance {tols[name]:.0e}" if same else f"tolerance of {name.replace('_', ' ')}"
+            ax.axhline(tols[name], color="0.4" if same else f"C{i}", ls="--", lw=0.8, label=label)
+            if same:
+                break
+    ax.set_xlabel("outer iteration k (count)")
+    ax.set_ylabel("measure (dimensionless)")
     ax.xaxis.get_major_locator().set_params(integer=True)
     ax.grid(alpha=0.3, which="both")
     ax.legend(fontsize="small")
