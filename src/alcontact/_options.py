@@ -32,7 +32,8 @@ from typing import Any
 
 from .errors import InputError
 
-__all__ = ["REQUIRED", "TYPES", "Option", "check_value", "declared", "declarations", "check_dataclass", "BAD"]
+__all__ = ["REQUIRED", "TYPES", "BAD", "MAX_STEPS", "Option", "check_value", "declared", "same_as", "declarations",
+           "check_dataclass", "as_options", "is_real", "is_integer", "show"]
 
 
 class _Required:
@@ -66,6 +67,9 @@ _TYPE_TEXT = {
     "number-or-floats": "a number or a list of numbers",
     "knots": "a list of [t, factor] pairs",
 }
+
+#: Most load steps a problem or ``solve_friction(steps=...)`` may ask for (each step is a full solve).
+MAX_STEPS = 100_000
 
 #: Longest list an option accepts (vertices of a polygon, explicit step times, ramp knots).
 MAX_LIST = 100_000
@@ -162,11 +166,13 @@ def show(value: Any, limit: int = 60) -> str:
     return text if len(text) <= limit else text[: limit - 3] + "..."
 
 
-def _is_real(v: Any) -> bool:
+def is_real(v: Any) -> bool:
+    """A real number that is not a bool (Python or NumPy)."""
     return isinstance(v, numbers.Real) and not isinstance(v, bool) and type(v).__name__ != "bool_"
 
 
-def _is_integer(v: Any) -> bool:
+def is_integer(v: Any) -> bool:
+    """An integer that is not a bool (Python or NumPy)."""
     return isinstance(v, numbers.Integral) and not isinstance(v, bool) and type(v).__name__ != "bool_"
 
 
@@ -208,7 +214,7 @@ def check_value(opt: Option, value: Any, *, api: bool = False) -> tuple[Any, lis
             hint = " Pass a number, not a string." if api else " Write the number without quotes."
         elif opt.type == "bool" and isinstance(x, str):
             hint = " Pass True or False." if api else " Write true or false without quotes."
-        elif opt.type in ("int", "ints") and _is_real(x) and math.isfinite(x):
+        elif opt.type in ("int", "ints") and is_real(x) and math.isfinite(x):
             hint = f" Use a whole number, e.g. {max(int(round(x)), 1)}."
         elif opt.type in ("int", "ints") and isinstance(x, bool):
             hint = " Booleans are not integers here; pass a whole number."
@@ -218,13 +224,13 @@ def check_value(opt: Option, value: Any, *, api: bool = False) -> tuple[Any, lis
 
     def number(x: Any, where: str = "") -> Any:
         if opt.type in ("int", "ints"):
-            if not _is_integer(x):
+            if not is_integer(x):
                 return bad_type(x, where)
             if not _in_range(opt, x):
                 issues.append((where, f"= {show(x)}: out of range, must be {opt.range_text()}.{fix}"))
                 return BAD
             return int(x)
-        if not _is_real(x):
+        if not is_real(x):
             return bad_type(x, where)
         try:
             xf = float(x)
@@ -272,7 +278,7 @@ def check_value(opt: Option, value: Any, *, api: bool = False) -> tuple[Any, lis
             return BAD, issues
         return value, issues
     if t == "number-or-floats":
-        if _is_real(value):
+        if is_real(value):
             return number(value), issues
         if not seq(value) or not value:
             return bad_type(), issues
@@ -294,7 +300,7 @@ def check_value(opt: Option, value: Any, *, api: bool = False) -> tuple[Any, lis
     if t == "knots":
         def finite(x: Any) -> bool:
             try:
-                return _is_real(x) and math.isfinite(float(x))
+                return is_real(x) and math.isfinite(float(x))
             except OverflowError:
                 return False
 

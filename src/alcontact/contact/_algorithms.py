@@ -164,6 +164,34 @@ def options_with(options, cls, overrides: dict, kind: str):
     return as_options(cls, options, overrides, kind)
 
 
+def check_solve_args(problem, algorithm, penalty, known, kind: str) -> None:
+    """Entry checks of :func:`~alcontact.contact.solve` and ``solve_friction``.
+
+    Raises
+    ------
+    InputError
+        ``problem`` is not a :class:`~alcontact.contact.ContactProblem`, or
+        ``algorithm`` / ``penalty`` are not names.
+    UnknownNameError
+        ``algorithm`` is not one of ``known`` (with the closest match).
+    """
+    from .._options import show
+    from ._problem import ContactProblem
+
+    if not isinstance(problem, ContactProblem):
+        raise InputError(f"problem = {show(problem)}: expected a ContactProblem, got {type(problem).__name__}; build "
+                         "one with alcontact.contact.ContactProblem(model, obstacle, contact_boundary, ...) or load "
+                         "a problem file with alcontact.io.load_problem(path).problem.")
+    if not isinstance(algorithm, str):
+        raise InputError(f"algorithm = {show(algorithm)}: expected a name, got {type(algorithm).__name__}; one of "
+                         f"{', '.join(sorted(known))}.")
+    if algorithm not in known:
+        raise UnknownNameError(f"{kind}algorithm", algorithm, list(known))
+    if penalty is not None and not isinstance(penalty, str):
+        raise InputError(f"penalty = {show(penalty)}: expected a name or None, got {type(penalty).__name__}; one of "
+                         f"{', '.join(contact_penalties())}.")
+
+
 #: The penalty of each algorithm that does not take one (frictionless and frictional).
 FIXED_PENALTIES = {"simo-laursen": "rockafellar", "penalty": "exterior-quadratic", "ssn": "none"}
 

@@ -47,9 +47,9 @@ import numpy as np
 import scipy.linalg as sla
 
 from .. import penalties as _pen
-from .._options import check_dataclass, declared, same_as
+from .._options import MAX_STEPS, check_dataclass, declared, is_integer, is_real, same_as, show
 from ..errors import InputError, UnknownNameError
-from ._algorithms import MAX_NEWTON, ContactOptions, options_with, resolve_penalty
+from ._algorithms import MAX_NEWTON, ContactOptions, check_solve_args, options_with, resolve_penalty
 from ._friction_discrete import FrictionalContact
 from ._friction_laws import OPEN, SLIP, STICK, Macaulay, local_law, tangential_energy
 from ._friction_solution import FrictionSolution, FrictionStep
@@ -440,6 +440,21 @@ def friction_algorithm_docs() -> dict[str, str]:
     return {k: v[1] for k, v in sorted(_ALGORITHMS.items())}
 
 
+def _checked_steps(steps):
+    """``steps`` of :func:`solve_friction`: a count in [1, MAX_STEPS] or increasing positive times."""
+    if is_integer(steps):
+        if not 1 <= steps <= MAX_STEPS:
+            raise InputError(f"steps = {show(steps)}: out of range, must be in [1, {MAX_STEPS}] (or a sequence of "
+                             "step times).")
+        return int(steps)
+    ok = isinstance(steps, (list, tuple, np.ndarray)) and 0 < len(steps) <= MAX_STEPS and all(
+        is_real(t) and np.isfinite(t) and t > 0 for t in steps)
+    if not ok or any(b <= a for a, b in zip(steps, steps[1:])):
+        raise InputError(f"steps = {show(steps)}: expected a number of steps or positive, strictly increasing step "
+                         "times, e.g. steps=[0.25, 0.5, 1.0].")
+    return tuple(float(t) for t in steps)
+
+
 def _resolve(algorithm: str, penalty: str | None):
     if algorithm not in _ALGORITHMS:
         raise UnknownNameError("friction algorithm", algorithm, list(_ALGORITHMS))
@@ -520,7 +535,8 @@ def solve_friction(problem, history: LoadHistory, algorithm: str = "simo-laursen
         Algorithm 6.2, Algorithm 6.4, or the semi-smooth Newton reference.
     penalty : str, optional
         Family-P penalty of ``"family-p"`` (default ``"exp-met1"``).
-    options : FrictionOptions, optional
+    options : FrictionOptions or dict, optional
+        Options; a dict holds :class:`FrictionOptions` fields.
     steps : int or sequence of float, optional
         Overrides ``history.times`` (an int: that many equal steps).
     friction : float, optional
@@ -551,15 +567,18 @@ def solve_friction(problem, history: LoadHistory, algorithm: str = "simo-laursen
     >>> sol = solve_friction(prob, hist)  # doctest: +SKIP
     """
     t_start = time.perf_counter()
+    check_solve_args(problem, algorithm, penalty, list(_ALGORITHMS), "friction ")
     step_fn, pen_name = _resolve(algorithm, penalty)
     opts = options_with(options, FrictionOptions, option_overrides, "friction")
     if not isinstance(history, LoadHistory):
         raise InputError(f"history must be a LoadHistory; got {type(history).__name__}.")
     if steps is not None:
-        history = history.with_times(steps)
-    mu = float(problem.friction if friction is None else friction)
-    if not np.isfinite(mu) or mu < 0:
-        raise InputError(f"friction coefficient must be >= 0; got {mu!r}. Use 0 for frictionless contact.")
+        history = history.with_times(_checked_steps(steps))
+    mu = problem.friction if friction is None else friction
+    if not (is_real(mu) and np.isfinite(mu) and mu >= 0):
+        raise InputError(f"friction = {show(mu)}: the friction coefficient must be a finite number >= 0. Use 0 for "
+                         "frictionless contact.")
+    mu = float(mu)
 
     fc = FrictionalContact(problem, history, margin=opts.margin)
     eps_n = opts.eps_n if opts.eps_n is not None else penalty_stiffness(problem.model, fc.h, opts.penalty_scale)

@@ -28,7 +28,7 @@ import sys
 from dataclasses import dataclass
 from pathlib import Path
 
-from .._options import REQUIRED, TYPES, Option, declarations
+from .._options import MAX_STEPS, REQUIRED, TYPES, Option, declarations
 
 __all__ = [
     "REQUIRED",
@@ -64,10 +64,6 @@ class Table:
     @property
     def names(self) -> list[str]:
         return [o.name for o in self.options]
-
-
-#: Most load steps a problem file may ask for (each step is a full contact solve).
-MAX_STEPS = 100_000
 
 
 def _solver_options() -> tuple[tuple[Option, ...], tuple[Option, ...]]:
