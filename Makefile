@@ -5,7 +5,7 @@ VENV   := .venv
 BIN    := $(VENV)/bin
 OUT    ?= results
 
-.PHONY: run test install bench clean
+.PHONY: run test install bench fuzz clean
 
 $(BIN)/python:
 	$(PYTHON) -m venv $(VENV)
@@ -22,6 +22,10 @@ run: $(VENV)/.installed
 
 test: $(VENV)/.installed
 	$(BIN)/python -m pytest -q -n 2 --dist loadfile
+
+# Problem-file fuzzing: 3 x 40,000 Hypothesis examples (profile "fuzz" in tests/conftest.py).
+fuzz: $(VENV)/.installed
+	ALCONTACT_FUZZ=1 $(BIN)/python -m pytest -q -n 2 tests/unit/test_config_fuzz.py
 
 bench: $(VENV)/.installed
 	$(BIN)/alcontact bench
