@@ -333,8 +333,14 @@ def declared(type: str, default: Any, doc: str, **limits: Any) -> Any:
     >>> @dataclasses.dataclass(frozen=True)
     ... class Opts:
     ...     maxiter: int = declared("int", 100, "Outer iterations.", low=1)
+    ...     def __post_init__(self):
+    ...         check_dataclass(self, "example")
     >>> declarations(Opts)[0].range_text()
     '>= 1'
+    >>> Opts(maxiter=0)
+    Traceback (most recent call last):
+    ...
+    alcontact.errors.InputError: example option maxiter = 0: out of range, must be >= 1. Default: 100.
     """
     meta = {_KEY: dict(type=type, doc=doc, **limits)}
     return dataclasses.field(default=default, metadata=meta)
@@ -365,11 +371,13 @@ def declarations(cls: type) -> tuple[Option, ...]:
 def check_dataclass(obj: Any, kind: str) -> Any:
     """Validate every field of an options dataclass against its declaration.
 
+    Meant for ``__post_init__``: the options object is checked when it is made.
+
     Returns
     -------
     object
-        ``obj`` with every value converted to its declared type (``numpy`` scalars
-        become ``float``/``int``).
+        ``obj``, every value converted to its declared type in place (``numpy``
+        scalars become ``float``/``int``).
 
     Raises
     ------
@@ -388,7 +396,9 @@ def check_dataclass(obj: Any, kind: str) -> Any:
             changes[opt.name] = new
     if issues:
         raise InputError("\n".join(issues) if len(issues) > 1 else issues[0])
-    return dataclasses.replace(obj, **changes) if changes else obj
+    for name, value in changes.items():  # frozen dataclass: convert in place (called from __post_init__)
+        object.__setattr__(obj, name, value)
+    return obj
 
 
 def as_options(cls: type, options: Any, overrides: dict, kind: str) -> Any:
@@ -417,6 +427,6 @@ def as_options(cls: type, options: Any, overrides: dict, kind: str) -> Any:
         if not isinstance(key, str) or key not in known:
             raise UnknownNameError(f"{kind} option", str(key), known)
     if changes:
-        opts = dataclasses.replace(opts, **changes)
-    return opts.validate()
+        opts = dataclasses.replace(opts, **changes)  # __post_init__ validates
+    return opts
 

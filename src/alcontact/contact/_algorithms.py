@@ -127,8 +127,11 @@ class ContactOptions:
         "str", "auto", "Frictionless linear solver: `direct` (one factorization), `amg` (PyAMG + CG, no "
         "factorization) or `auto` (amg for 3D above 100k DOFs).", choices=("auto", "direct", "amg"))
 
+    def __post_init__(self) -> None:
+        check_dataclass(self, "contact")
+
     def validate(self) -> "ContactOptions":
-        """This object with every field checked against its declaration (and converted to its type).
+        """This object: every field was checked against its declaration when it was made.
 
         Raises
         ------

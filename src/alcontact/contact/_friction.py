@@ -136,8 +136,11 @@ class FrictionOptions:
     radius: str = declared("str", "multiplier", "Coulomb disc in a subproblem: `multiplier` or `traction`.",
                            choices=("multiplier", "traction"))
 
+    def __post_init__(self) -> None:
+        check_dataclass(self, "friction")
+
     def validate(self) -> "FrictionOptions":
-        """This object with every field checked against its declaration (and converted to its type).
+        """This object: every field was checked against its declaration when it was made.
 
         Raises
         ------
