@@ -28,7 +28,6 @@ of each subproblem is driven below ``newton_tol`` by Newton's method.
 from __future__ import annotations
 
 import logging
-import dataclasses
 from dataclasses import dataclass
 from typing import Callable
 

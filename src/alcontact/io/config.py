@@ -25,14 +25,11 @@ from __future__ import annotations
 import difflib
 import inspect
 import logging
-import math
 import os
 import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
-
-import numpy as np
 
 from .._options import BAD, Option, check_value
 from ..errors import ConfigError, InputError, MeshError
