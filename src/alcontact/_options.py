@@ -157,8 +157,8 @@ def _num(x: float) -> str:
 def show(value: Any, limit: int = 60) -> str:
     """``repr(value)`` shortened to about ``limit`` characters (huge numbers, deep lists)."""
     if isinstance(value, int) and not isinstance(value, bool) and abs(value) > 10**40:
-        s = str(abs(value))
-        return f"{'-' if value < 0 else ''}{s[:6]}...({len(s)} digits)"
+        digits = int(abs(value).bit_length() * 0.30102999566398120) + 1  # str() may refuse > 4300 digits
+        return f"{'-' if value < 0 else ''}<integer of about {digits} digits>"
     try:
         text = repr(value)
     except (RecursionError, ValueError):

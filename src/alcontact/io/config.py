@@ -421,6 +421,9 @@ def load_problem_text(text: str, *, base_dir: str | os.PathLike = ".", source: s
         raw = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         _raise([Issue("", f"not valid TOML: {exc}. Check quotes, brackets and '=' on that line.")], label)
+    except ValueError as exc:  # e.g. an integer of more than 4300 digits (sys.get_int_max_str_digits)
+        _raise([Issue("", f"cannot read the TOML: {exc}. Numbers must fit a 64-bit float (about 1.8e308).")],
+               label)
     except RecursionError:
         _raise([Issue("", "arrays or tables nested too deeply to read; a problem file needs at most 3 levels "
                           "(e.g. ramp = [[0.0, 0.0], [1.0, 1.0]]). Check the brackets.")], label)
