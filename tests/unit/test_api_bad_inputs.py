@@ -21,6 +21,7 @@ from alcontact import errors
 from alcontact._options import declarations
 from alcontact.contact import ContactOptions, solve
 from alcontact.contact._friction import FrictionOptions, solve_friction
+from alcontact.fem import meshes
 from alcontact.optim import minimize
 from alcontact.problems import friction as fp
 from alcontact.problems.blocks import patch_block
@@ -200,3 +201,42 @@ def test_minimize_bad_options(options, key):
 def test_minimize_options_not_a_dict():
     with pytest.raises(errors.InputError, match="options must be a dict"):
         minimize(_sq, np.array([1.0]), jac=_sq_grad, options=[("maxiter", 3)])
+
+
+MESH_BAD_CALLS = [
+    ("cells-huge", lambda: meshes.rectangle(0, 1, 0, 1, 2**63 - 1, 4), ["cells along x", "1000000"]),
+    ("cells-nan", lambda: meshes.rectangle(0, 1, 0, 1, math.nan, 4), ["cells along x", "nan"]),
+    ("cells-bool", lambda: meshes.box(0, 1, 0, 1, 0, 1, 2, True, 2), ["cells along y", "True"]),
+    ("bounds-overflow", lambda: meshes.rectangle(-1e308, 1e308, 0, 1, 2, 2), ["x", "1e+30"]),
+    ("bounds-string", lambda: meshes.rectangle("0", 1, 0, 1, 2, 2), ["x", "'0'"]),
+    ("spacing-below-precision", lambda: meshes.rectangle(1e20, 1e20 + 1e6, 0, 1, 10**6, 1), ["x", "too small"]),
+    ("too-thin", lambda: meshes.rectangle(0, 1e25, 0, 1e-20, 2, 2), ["y", "too thin"]),
+    ("vertices", lambda: meshes.box(0, 1, 0, 1, 0, 1, 1000, 1000, 100), ["vertices", "fewer cells"]),
+    ("h_min-subnormal", lambda: meshes.rectangle(0, 1, 0, 1, 2, 2, refine=dict(center=(0, 1), h_min=5e-324,
+                                                                                width=0.1, depth=0.1)),
+     ["h_min", "5e-324"]),
+    ("h_min-many-cells", lambda: meshes.rectangle(0, 1, 0, 1, 2, 2, refine=dict(center=(0, 1), h_min=1e-9,
+                                                                                 width=0.5, depth=0.5)),
+     ["cells along", "h_min"]),
+    ("h_max-many-cells", lambda: meshes.rectangle(0, 1, 0, 1, 2, 2, refine=dict(center=(0, 1), h_min=1e-7, width=0,
+                                                                                 depth=0, h_max=1e-7)),
+     ["cells along", "h_max"]),
+    ("growth-barely-above-1", lambda: meshes.rectangle(0, 1, 0, 1, 2, 2, refine=dict(
+        center=(0, 1), h_min=1e-8, width=0, depth=0, growth=1 + 1e-15)), ["cells along", "growth"]),
+]
+
+
+@pytest.mark.parametrize("label,call,words", MESH_BAD_CALLS, ids=[c[0] for c in MESH_BAD_CALLS])
+def test_mesh_generator_limits(label, call, words):
+    """Degenerate or absurd generator input is an InputError naming the input, never an overflow or a huge mesh."""
+    with pytest.raises(errors.InputError) as info:
+        call()
+    for w in words:
+        assert w in str(info.value), (w, str(info.value))
+
+
+def test_tiny_refine_depth_is_no_sliver():
+    """depth = 4e-324 (issue 8) acts as depth 0: no cell thinner than h_min / 2 under the top face."""
+    m = meshes.rectangle(0, 1, 0, 1, 4, 4, refine=dict(center=(0.5, 1.0), h_min=0.05, width=0.1, depth=4e-324))
+    y = np.unique(m.p[1])
+    assert np.diff(y).min() >= 0.025

@@ -230,6 +230,17 @@ def _check_extent(names: str, lo: float, hi: float, n: int) -> None:
                          "the bounds toward 0.")
 
 
+def _check_aspect(bounds, ns) -> None:
+    """Every uniform spacing is distinguishable at the size of the largest coordinate or extent."""
+    scale = max(max(abs(a), abs(b), b - a) for a, b in bounds)
+    for ax, ((a, b), n) in enumerate(zip(bounds, ns)):
+        h = (b - a) / n
+        if h < MIN_RELATIVE_SPACING * scale:
+            raise InputError(f"{'xyz'[ax]}: cells of {h:.3g} are too thin for a body of size {scale:.3g} (spacing "
+                             f"at least {MIN_RELATIVE_SPACING:g} times the largest coordinate); use fewer cells along "
+                             f"{'xyz'[ax]} or a less elongated body.")
+
+
 def _check_vertices(coords: list[np.ndarray]) -> None:
     n = math.prod(c.size for c in coords)
     if n > MAX_VERTICES:
@@ -241,6 +252,7 @@ def _check_vertices(coords: list[np.ndarray]) -> None:
 def _axes(bounds, ns, refine, top_axis):
     """Coordinates per axis; the refinement depth acts on ``top_axis`` (from the top down)."""
     dim = len(bounds)
+    _check_aspect(bounds, ns)
     if refine is None:
         coords = [np.linspace(a, b, int(n) + 1) for (a, b), n in zip(bounds, ns)]
         _check_vertices(coords)
