@@ -96,7 +96,8 @@ def _grow(length: float, h0: float, growth: float, h_max: float, axis: str = "x"
         n_geo = math.log1p(length * (growth - 1.0) / h0) / lg + 2.0
         _too_many(min(k_cap, n_geo), axis, "refine (h_min, growth)")
         k_cap = max(0, int(math.ceil(min(k_cap, n_geo))))
-        steps = np.minimum(h0 * growth ** np.arange(1, k_cap + 2), h_max)
+        with np.errstate(over="ignore"):  # a huge growth overflows past the cap: min() gives h_max
+            steps = np.minimum(h0 * growth ** np.arange(1, k_cap + 2), h_max)
     else:
         steps = np.array([h0])
     total = float(steps.sum())
