@@ -5,7 +5,7 @@ VENV   := .venv
 BIN    := $(VENV)/bin
 OUT    ?= results
 
-.PHONY: run test install bench clean
+.PHONY: run test install bench fuzz clean
 
 $(BIN)/python:
 	$(PYTHON) -m venv $(VENV)
@@ -26,6 +26,10 @@ TEST_ENV := OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1 MKL_NUM_THREADS=1 VECLIB_MA
 
 test: $(VENV)/.installed
 	$(TEST_ENV) $(BIN)/python -m pytest -q -n 2 --dist loadfile
+
+# Problem-file fuzzing: 3 x 40,000 Hypothesis examples (profile "fuzz" in tests/conftest.py).
+fuzz: $(VENV)/.installed
+	ALCONTACT_FUZZ=1 $(BIN)/python -m pytest -q -n 2 tests/unit/test_config_fuzz.py
 
 bench: $(VENV)/.installed
 	$(BIN)/alcontact bench

@@ -9,6 +9,10 @@ environment says otherwise): ``make test`` runs one pytest worker per core, and
 multi-threaded BLAS in each worker oversubscribes the cores (the suite took
 several times longer on 2 cores). The xdist workers inherit these variables.
 CHOLMOD (cholespy) links a single-threaded reference BLAS.
+
+``make fuzz`` sets ``ALCONTACT_FUZZ=1``, which selects the ``fuzz`` profile: the
+problem-file fuzz tests (``tests/unit/test_config_fuzz.py``) then draw 40,000
+examples each (120,000 in all) instead of their few hundred.
 """
 
 import os
@@ -17,8 +21,12 @@ for _var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "VECL
              "NUMEXPR_NUM_THREADS"):
     os.environ.setdefault(_var, "1")
 
-from hypothesis import settings  # noqa: E402
+from hypothesis import HealthCheck, settings  # noqa: E402
 
 settings.register_profile("ci", derandomize=True, deadline=None, print_blob=True)
-if os.environ.get("CI"):
+settings.register_profile("fuzz", max_examples=40_000, deadline=None, print_blob=True,
+                          suppress_health_check=[HealthCheck.too_slow])
+if os.environ.get("ALCONTACT_FUZZ"):
+    settings.load_profile("fuzz")
+elif os.environ.get("CI"):
     settings.load_profile("ci")

@@ -28,13 +28,13 @@ of each subproblem is driven below ``newton_tol`` by Newton's method.
 from __future__ import annotations
 
 import logging
-import dataclasses
 from dataclasses import dataclass
 from typing import Callable
 
 import numpy as np
 
 from .. import penalties as _pen
+from .._options import as_options, check_dataclass, declared
 from ..errors import InputError, UnknownNameError
 from ._laws import eta_for_stiffness, freezes_at_zero, make_law
 from ._solution import ContactIteration, ContactStatus
@@ -42,6 +42,11 @@ from ._solution import ContactIteration, ContactStatus
 __all__ = ["ContactOptions", "available_algorithms", "algorithm_docs", "contact_penalties"]
 
 logger = logging.getLogger(__name__)
+
+#: Largest number of outer (multiplier) iterations an option accepts.
+MAX_ITER = 100_000
+#: Largest number of Newton iterations per subproblem an option accepts.
+MAX_NEWTON = 10_000
 
 
 @dataclass(frozen=True)
@@ -92,51 +97,47 @@ class ContactOptions:
         ``"direct"``.
     """
 
-    eps_n: float | None = None
-    penalty_scale: float = 100.0
-    tol_penetration: float = 1e-8
-    tol_complementarity: float = 1e-8
-    tol_multiplier: float = 1e-8
-    maxiter: int = 100
-    newton_tol: float = 1e-12
-    maxiter_newton: int = 60
-    strategy: str = "fixed"
-    tau: float = 0.25
-    alpha: float = 10.0
-    eps_max: float = 1e10
-    eta_scaling: str = "adaptive"
-    initial: str = "penalty"
-    multiplier_floor: float = 1e-10
-    linear_solver: str = "auto"
+    eps_n: float | None = declared(
+        "float", None, "Normal penalty stiffness (default: `penalty_scale` E'/h).", low=0, low_open=True)
+    penalty_scale: float = declared("float", 100.0, "Multiplier of the automatic stiffness E'/h.",
+                                    low=0, low_open=True)
+    tol_penetration: float = declared("float", 1e-8, "Stop: max penetration / h.", low=0, low_open=True)
+    tol_complementarity: float = declared("float", 1e-8, "Stop: max |lambda g| / (p_max h).", low=0, low_open=True)
+    tol_multiplier: float = declared("float", 1e-8, "Stop: max multiplier change / p_max.", low=0, low_open=True)
+    maxiter: int = declared("int", 100, "Outer (multiplier) iterations (per load step).", low=1, high=MAX_ITER)
+    newton_tol: float = declared("float", 1e-12, "Frictionless: relative residual of each Newton solve.",
+                                 low=0, low_open=True)
+    maxiter_newton: int = declared("int", 60, "Frictionless: Newton iterations per subproblem.",
+                                   low=1, high=MAX_NEWTON)
+    strategy: str = declared("str", "fixed", "Frictionless penalty update: `fixed` or `infeasibility`.",
+                             choices=("fixed", "infeasibility"))
+    tau: float = declared("float", 0.25, "`infeasibility`: required drop of the penetration per iteration.",
+                          low=0, high=1, low_open=True, high_open=True)
+    alpha: float = declared("float", 10.0, "Penalty growth factor (`infeasibility`, pure penalty).",
+                            low=1, low_open=True)
+    eps_max: float = declared("float", 1e10, "Largest penalty stiffness over the initial one.", low=1)
+    eta_scaling: str = declared("str", "adaptive", "Scale of family-P penalties: `adaptive` or `fixed`.",
+                                choices=("adaptive", "fixed"))
+    initial: str = declared("str", "penalty", "Frictionless family-P initial multipliers: `penalty` or `uniform`.",
+                            choices=("penalty", "uniform"))
+    multiplier_floor: float = declared("float", 1e-10, "Relative floor keeping MET multipliers positive.",
+                                       low=0, high=1, low_open=True, high_open=True)
+    linear_solver: str = declared(
+        "str", "auto", "Frictionless linear solver: `direct` (one factorization), `amg` (PyAMG + CG, no "
+        "factorization) or `auto` (amg for 3D above 100k DOFs).", choices=("auto", "direct", "amg"))
+
+    def __post_init__(self) -> None:
+        check_dataclass(self, "contact")
 
     def validate(self) -> "ContactOptions":
-        checks = {
-            "penalty_scale": self.penalty_scale > 0,
-            "tol_penetration": self.tol_penetration > 0,
-            "tol_complementarity": self.tol_complementarity > 0,
-            "tol_multiplier": self.tol_multiplier > 0,
-            "maxiter": int(self.maxiter) >= 1,
-            "newton_tol": self.newton_tol > 0,
-            "maxiter_newton": int(self.maxiter_newton) >= 1,
-            "tau": 0 < self.tau < 1,
-            "alpha": self.alpha > 1,
-            "eps_max": self.eps_max >= 1,
-            "multiplier_floor": 0 < self.multiplier_floor < 1,
-        }
-        for key, ok in checks.items():
-            if not ok:
-                raise InputError(f"contact option {key}={getattr(self, key)!r} is out of range.")
-        if self.eps_n is not None and not (np.isfinite(self.eps_n) and self.eps_n > 0):
-            raise InputError(f"contact option eps_n={self.eps_n!r} must be a positive number (or None for automatic).")
-        for key, allowed in (
-            ("strategy", ("fixed", "infeasibility")),
-            ("eta_scaling", ("adaptive", "fixed")),
-            ("initial", ("penalty", "uniform")),
-            ("linear_solver", ("auto", "direct", "amg")),
-        ):
-            if getattr(self, key) not in allowed:
-                raise InputError(f"contact option {key}={getattr(self, key)!r}; allowed: {', '.join(allowed)}.")
-        return self
+        """This object: every field was checked against its declaration when it was made.
+
+        Raises
+        ------
+        InputError
+            Naming the field, the value, the allowed range and the default.
+        """
+        return check_dataclass(self, "contact")
 
 
 @dataclass
@@ -156,18 +157,41 @@ class _Run:
 
 
 def options_with(options, cls, overrides: dict, kind: str):
-    """``options`` (default ``cls()``) with the fields in ``overrides`` replaced, validated.
+    """``options`` (``None``, a ``cls`` or a dict of its fields) with ``overrides`` applied, validated.
 
-    Unknown field names are an :class:`~alcontact.errors.InputError` listing the known ones.
+    Unknown field names are an :class:`~alcontact.errors.UnknownNameError` with the
+    closest match and the known ones; bad values an :class:`~alcontact.errors.InputError`
+    naming the key, the value, the allowed range and the default.
     """
-    opts = options or cls()
-    if overrides:
-        known = {f.name for f in dataclasses.fields(cls)}
-        unknown = sorted(set(overrides) - known)
-        if unknown:
-            raise InputError(f"unknown {kind} option(s) {unknown}; known: {', '.join(sorted(known))}.")
-        opts = dataclasses.replace(opts, **overrides)
-    return opts.validate()
+    return as_options(cls, options, overrides, kind)
+
+
+def check_solve_args(problem, algorithm, penalty, known, kind: str) -> None:
+    """Entry checks of :func:`~alcontact.contact.solve` and ``solve_friction``.
+
+    Raises
+    ------
+    InputError
+        ``problem`` is not a :class:`~alcontact.contact.ContactProblem`, or
+        ``algorithm`` / ``penalty`` are not names.
+    UnknownNameError
+        ``algorithm`` is not one of ``known`` (with the closest match).
+    """
+    from .._options import show
+    from ._problem import ContactProblem
+
+    if not isinstance(problem, ContactProblem):
+        raise InputError(f"problem = {show(problem)}: expected a ContactProblem, got {type(problem).__name__}; build "
+                         "one with alcontact.contact.ContactProblem(model, obstacle, contact_boundary, ...) or load "
+                         "a problem file with alcontact.io.load_problem(path).problem.")
+    if not isinstance(algorithm, str):
+        raise InputError(f"algorithm = {show(algorithm)}: expected a name, got {type(algorithm).__name__}; one of "
+                         f"{', '.join(sorted(known))}.")
+    if algorithm not in known:
+        raise UnknownNameError(f"{kind}algorithm", algorithm, list(known))
+    if penalty is not None and not isinstance(penalty, str):
+        raise InputError(f"penalty = {show(penalty)}: expected a name or None, got {type(penalty).__name__}; one of "
+                         f"{', '.join(contact_penalties())}.")
 
 
 #: The penalty of each algorithm that does not take one (frictionless and frictional).

@@ -47,8 +47,9 @@ import numpy as np
 import scipy.linalg as sla
 
 from .. import penalties as _pen
+from .._options import MAX_STEPS, check_dataclass, declared, is_integer, is_real, same_as, show
 from ..errors import InputError, UnknownNameError
-from ._algorithms import options_with, resolve_penalty
+from ._algorithms import MAX_NEWTON, ContactOptions, check_solve_args, options_with, resolve_penalty
 from ._friction_discrete import FrictionalContact
 from ._friction_laws import OPEN, SLIP, STICK, Macaulay, local_law, tangential_energy
 from ._friction_solution import FrictionSolution, FrictionStep
@@ -60,6 +61,9 @@ from ._solve import penalty_stiffness
 __all__ = ["FrictionOptions", "solve_friction", "friction_algorithms", "friction_algorithm_docs"]
 
 logger = logging.getLogger(__name__)
+
+#: Largest ``max_cutbacks`` an option accepts (0.5**50 of an increment is below round-off).
+MAX_CUTBACKS = 50
 
 
 @dataclass(frozen=True)
@@ -108,54 +112,42 @@ class FrictionOptions:
         the largest free penetration (more are added when they penetrate).
     """
 
-    eps_n: float | None = None
-    eps_t: float | None = None
-    penalty_scale: float = 100.0
-    tangential_scale: float = 1.0
-    tol_penetration: float = 1e-8
-    tol_multiplier: float = 1e-8
-    tol_slip: float = 1e-8
-    tol_complementarity: float = 1e-8
-    maxiter: int = 100
-    newton_tol: float = 1e-11
-    maxiter_newton: int = 200
-    max_cutbacks: int = 6
-    cutback_factor: float = 0.5
-    eta_scaling: str = "adaptive"
-    multiplier_floor: float = 1e-10
-    eta_floor: float = 1e-2
-    margin: float = 0.25
-    radius: str = "multiplier"
+    eps_n: float | None = same_as(ContactOptions, "eps_n")
+    eps_t: float | None = declared("float", None, "Tangential penalty stiffness (default: `tangential_scale` eps_n).",
+                                   low=0, low_open=True)
+    penalty_scale: float = same_as(ContactOptions, "penalty_scale")
+    tangential_scale: float = declared("float", 1.0, "eps_t / eps_n.", low=0, low_open=True)
+    tol_penetration: float = same_as(ContactOptions, "tol_penetration")
+    tol_multiplier: float = same_as(ContactOptions, "tol_multiplier")
+    tol_slip: float = declared("float", 1e-8, "Stop: max slip change at stick points / h.", low=0, low_open=True)
+    tol_complementarity: float = same_as(ContactOptions, "tol_complementarity")
+    maxiter: int = same_as(ContactOptions, "maxiter")
+    newton_tol: float = declared("float", 1e-11, "Relative residual of each Newton solve.", low=0, low_open=True)
+    maxiter_newton: int = declared("int", 200, "Newton iterations per subproblem.", low=1, high=MAX_NEWTON)
+    max_cutbacks: int = declared("int", 6, "Failed attempts per load step before giving up.", low=0,
+                                 high=MAX_CUTBACKS)
+    cutback_factor: float = declared("float", 0.5, "Fraction of a failed increment tried next.",
+                                     low=0, high=1, low_open=True, high_open=True)
+    eta_scaling: str = same_as(ContactOptions, "eta_scaling")
+    multiplier_floor: float = same_as(ContactOptions, "multiplier_floor")
+    eta_floor: float = declared("float", 1e-2, "Family-P: relative floor of the multiplier in eta.",
+                                low=0, high=1, low_open=True)
+    margin: float = declared("float", 0.25, "Candidate points: free gap above -margin x max penetration.", low=0)
+    radius: str = declared("str", "multiplier", "Coulomb disc in a subproblem: `multiplier` or `traction`.",
+                           choices=("multiplier", "traction"))
+
+    def __post_init__(self) -> None:
+        check_dataclass(self, "friction")
 
     def validate(self) -> "FrictionOptions":
-        checks = {
-            "penalty_scale": self.penalty_scale > 0,
-            "tangential_scale": self.tangential_scale > 0,
-            "tol_penetration": self.tol_penetration > 0,
-            "tol_multiplier": self.tol_multiplier > 0,
-            "tol_slip": self.tol_slip > 0,
-            "tol_complementarity": self.tol_complementarity > 0,
-            "maxiter": int(self.maxiter) >= 1,
-            "newton_tol": self.newton_tol > 0,
-            "maxiter_newton": int(self.maxiter_newton) >= 1,
-            "max_cutbacks": int(self.max_cutbacks) >= 0,
-            "cutback_factor": 0 < self.cutback_factor < 1,
-            "multiplier_floor": 0 < self.multiplier_floor < 1,
-            "eta_floor": 0 < self.eta_floor <= 1,
-            "margin": self.margin >= 0,
-        }
-        for key, ok in checks.items():
-            if not ok:
-                raise InputError(f"friction option {key}={getattr(self, key)!r} is out of range.")
-        for key in ("eps_n", "eps_t"):
-            v = getattr(self, key)
-            if v is not None and not (np.isfinite(v) and v > 0):
-                raise InputError(f"friction option {key}={v!r} must be a positive number (or None for automatic).")
-        if self.radius not in ("multiplier", "traction"):
-            raise InputError(f"friction option radius={self.radius!r}; allowed: multiplier, traction.")
-        if self.eta_scaling not in ("adaptive", "fixed"):
-            raise InputError(f"friction option eta_scaling={self.eta_scaling!r}; allowed: adaptive, fixed.")
-        return self
+        """This object: every field was checked against its declaration when it was made.
+
+        Raises
+        ------
+        InputError
+            Naming the field, the value, the allowed range and the default.
+        """
+        return check_dataclass(self, "friction")
 
 
 # ---------------------------------------------------------------------------
@@ -451,6 +443,21 @@ def friction_algorithm_docs() -> dict[str, str]:
     return {k: v[1] for k, v in sorted(_ALGORITHMS.items())}
 
 
+def _checked_steps(steps):
+    """``steps`` of :func:`solve_friction`: a count in [1, MAX_STEPS] or increasing positive times."""
+    if is_integer(steps):
+        if not 1 <= steps <= MAX_STEPS:
+            raise InputError(f"steps = {show(steps)}: out of range, must be in [1, {MAX_STEPS}] (or a sequence of "
+                             "step times).")
+        return int(steps)
+    ok = isinstance(steps, (list, tuple, np.ndarray)) and 0 < len(steps) <= MAX_STEPS and all(
+        is_real(t) and np.isfinite(t) and t > 0 for t in steps)
+    if not ok or any(b <= a for a, b in zip(steps, steps[1:])):
+        raise InputError(f"steps = {show(steps)}: expected a number of steps or positive, strictly increasing step "
+                         "times, e.g. steps=[0.25, 0.5, 1.0].")
+    return tuple(float(t) for t in steps)
+
+
 def _resolve(algorithm: str, penalty: str | None):
     if algorithm not in _ALGORITHMS:
         raise UnknownNameError("friction algorithm", algorithm, list(_ALGORITHMS))
@@ -531,7 +538,8 @@ def solve_friction(problem, history: LoadHistory, algorithm: str = "simo-laursen
         Algorithm 6.2, Algorithm 6.4, or the semi-smooth Newton reference.
     penalty : str, optional
         Family-P penalty of ``"family-p"`` (default ``"exp-met1"``).
-    options : FrictionOptions, optional
+    options : FrictionOptions or dict, optional
+        Options; a dict holds :class:`FrictionOptions` fields.
     steps : int or sequence of float, optional
         Overrides ``history.times`` (an int: that many equal steps).
     friction : float, optional
@@ -562,15 +570,18 @@ def solve_friction(problem, history: LoadHistory, algorithm: str = "simo-laursen
     >>> sol = solve_friction(prob, hist)  # doctest: +SKIP
     """
     t_start = time.perf_counter()
+    check_solve_args(problem, algorithm, penalty, list(_ALGORITHMS), "friction ")
     step_fn, pen_name = _resolve(algorithm, penalty)
     opts = options_with(options, FrictionOptions, option_overrides, "friction")
     if not isinstance(history, LoadHistory):
         raise InputError(f"history must be a LoadHistory; got {type(history).__name__}.")
     if steps is not None:
-        history = history.with_times(steps)
-    mu = float(problem.friction if friction is None else friction)
-    if not np.isfinite(mu) or mu < 0:
-        raise InputError(f"friction coefficient must be >= 0; got {mu!r}. Use 0 for frictionless contact.")
+        history = history.with_times(_checked_steps(steps))
+    mu = problem.friction if friction is None else friction
+    if not (is_real(mu) and np.isfinite(mu) and mu >= 0):
+        raise InputError(f"friction = {show(mu)}: the friction coefficient must be a finite number >= 0. Use 0 for "
+                         "frictionless contact.")
+    mu = float(mu)
 
     fc = FrictionalContact(problem, history, margin=opts.margin)
     eps_n = opts.eps_n if opts.eps_n is not None else penalty_stiffness(problem.model, fc.h, opts.penalty_scale)

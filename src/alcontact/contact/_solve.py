@@ -7,7 +7,8 @@ import time
 
 import numpy as np
 
-from ._algorithms import ContactOptions, _Run, get_algorithm, options_with, resolve_penalty
+from ._algorithms import (ContactOptions, _Run, available_algorithms, check_solve_args, get_algorithm,
+                          options_with, resolve_penalty)
 from ._discrete import DiscreteContact
 from ._solution import ContactResult, ContactSolution, ContactStatus
 
@@ -45,7 +46,8 @@ def solve(problem, algorithm: str = DEFAULT_ALGORITHM, penalty: str | None = Non
     penalty : str, optional
         Penalty of ``"family-p"`` (one of :func:`contact_penalties`; default
         ``"exp-met1"``).
-    options : ContactOptions, optional
+    options : ContactOptions or dict, optional
+        Options; a dict holds :class:`ContactOptions` fields (as ``optim.minimize`` takes them).
     **option_overrides
         Fields of :class:`ContactOptions` (e.g. ``penalty_scale=10``).
 
@@ -54,8 +56,16 @@ def solve(problem, algorithm: str = DEFAULT_ALGORITHM, penalty: str | None = Non
     ContactSolution
         ``solution.result.status`` is negative when the solve failed; a warning
         is logged saying what to try.
+
+    Raises
+    ------
+    InputError
+        ``problem`` not a :class:`ContactProblem`, unknown algorithm, penalty or
+        option (with the closest match), or an option value of the wrong type or
+        out of range (naming the key, the value, the allowed range and the default).
     """
     t_start = time.perf_counter()
+    check_solve_args(problem, algorithm, penalty, available_algorithms(), "")
     run = get_algorithm(algorithm)
     pen_name = resolve_penalty(algorithm, penalty, DEFAULT_PENALTY)
     opts = options_with(options, ContactOptions, option_overrides, "contact")

@@ -31,6 +31,7 @@ import dataclasses
 import io
 import logging
 import math
+import numbers
 import os
 import tempfile
 from collections.abc import Mapping
@@ -42,7 +43,8 @@ import skfem
 
 from alcontact.errors import InputError, MeshError
 
-__all__ = ["rectangle", "box", "interval", "read", "graded_axis"]
+__all__ = ["rectangle", "box", "interval", "read", "graded_axis", "MAX_CELLS_PER_AXIS", "MAX_VERTICES",
+           "MAX_COORDINATE", "MIN_SPACING"]
 
 logger = logging.getLogger(__name__)
 
@@ -52,23 +54,57 @@ _REFINE_KEYS = ("center", "h_min", "width", "depth", "growth", "h_max")
 # ---------------------------------------------------------------------------
 # one-dimensional coordinate generators
 # ---------------------------------------------------------------------------
-def _grow(length: float, h0: float, growth: float, h_max: float) -> np.ndarray:
+#: Most cells along one axis of a generated mesh (uniform or graded).
+MAX_CELLS_PER_AXIS = 1_000_000
+#: Most vertices of a generated mesh: a hard limit against absurd sizes, not a memory
+#: model (``alcontact check`` estimates the memory a problem needs).
+MAX_VERTICES = 20_000_000
+#: Largest absolute coordinate of a generated mesh (element measures stay far from overflow).
+MAX_COORDINATE = 1e30
+#: Smallest element spacing of a generated mesh (element measures stay far from underflow).
+MIN_SPACING = 1e-30
+#: Smallest spacing relative to the largest absolute coordinate (neighbouring vertices stay distinct).
+MIN_RELATIVE_SPACING = 1e-12
+
+
+def _too_many(count: float, axis: str, what: str) -> None:
+    if not count <= MAX_CELLS_PER_AXIS:  # also catches NaN
+        fix = ("use a larger h_min (or h_max), a larger growth, a smaller width/depth" if what.startswith("refine")
+               else "use fewer cells")
+        raise InputError(f"{what} gives about {count:.3g} cells along {axis}; at most {MAX_CELLS_PER_AXIS} are "
+                         f"allowed: {fix}.")
+
+
+def _grow(length: float, h0: float, growth: float, h_max: float, axis: str = "x") -> np.ndarray:
     """Offsets in ``(0, length]`` with steps ``h0*growth**k`` capped at ``h_max``.
 
     The last offset is exactly ``length``; a final gap shorter than half the
     step it would have had is merged into the previous one.
+
+    Raises
+    ------
+    InputError
+        More than :data:`MAX_CELLS_PER_AXIS` steps would be needed.
     """
     if length <= 0.0:
         return np.empty(0)
     h_max = max(h_max, h0)
     if growth > 1.0:
-        k_cap = max(0, int(math.ceil(math.log(h_max / h0) / math.log(growth))))
-        steps = np.minimum(h0 * growth ** np.arange(1, k_cap + 2), h_max)
+        lg = math.log(growth)
+        k_cap = math.log(h_max / h0) / lg
+        # steps needed before the geometric sum passes length (+2: the result is the same as with k_cap)
+        n_geo = math.log1p(length * (growth - 1.0) / h0) / lg + 2.0
+        _too_many(min(k_cap, n_geo), axis, "refine (h_min, growth)")
+        k_cap = max(0, int(math.ceil(min(k_cap, n_geo))))
+        with np.errstate(over="ignore"):  # a huge growth overflows past the cap: min() gives h_max
+            steps = np.minimum(h0 * growth ** np.arange(1, k_cap + 2), h_max)
     else:
         steps = np.array([h0])
     total = float(steps.sum())
     if total < length:  # fill the rest with the cap spacing
-        n_extra = int(math.ceil((length - total) / steps[-1])) + 1
+        fill = (length - total) / steps[-1]
+        _too_many(fill + steps.size, axis, "refine (h_min, h_max, growth)")
+        n_extra = int(math.ceil(fill)) + 1
         steps = np.concatenate([steps, np.full(n_extra, steps[-1])])
     offsets = np.cumsum(steps)
     keep = offsets < length
@@ -86,6 +122,7 @@ def graded_axis(
     h_min: float,
     growth: float,
     h_max: float,
+    axis: str = "x",
 ) -> np.ndarray:
     """Sorted coordinates on ``[a, b]``: uniform ``h_min`` on ``[lo, hi]``, graded outside.
 
@@ -95,27 +132,44 @@ def graded_axis(
         Axis end points, ``a < b``.
     lo, hi : float
         The fine window (clipped to ``[a, b]``); spacing there is ``h_min``
-        (rounded down so that an integer number of cells fits).
+        (rounded down so that an integer number of cells fits). A window end
+        closer than ``h_min / 2`` to an axis end is moved onto it, and a window
+        shorter than ``h_min`` shrinks to a point, so that no cell is much
+        smaller than ``h_min``.
     h_min : float
         Fine spacing, ``> 0``.
     growth : float
         Ratio of consecutive spacings outside the window, ``>= 1``.
     h_max : float
         Largest spacing.
+    axis : str
+        Name of the axis in error messages.
 
     Returns
     -------
     numpy.ndarray
         Strictly increasing coordinates with ``x[0] == a`` and ``x[-1] == b``.
+
+    Raises
+    ------
+    InputError
+        More than :data:`MAX_CELLS_PER_AXIS` cells along the axis.
     """
     lo, hi = max(lo, a), min(hi, b)
     if hi < lo:  # window outside the axis: grade from the nearest end
         lo = hi = min(max(lo, a), b)
+    if 0.0 < lo - a < 0.5 * h_min:
+        lo = a
+    if 0.0 < b - hi < 0.5 * h_min:
+        hi = b
+    if 0.0 < hi - lo < h_min:  # a window shorter than one fine cell: a point (at an axis end if it touches one)
+        lo = hi = b if hi == b else a if lo == a else 0.5 * (lo + hi)
+    _too_many((hi - lo) / h_min, axis, "refine (h_min, width, depth)")
     n_fine = max(1, int(math.ceil((hi - lo) / h_min - 1e-9))) if hi > lo else 0
     fine = np.linspace(lo, hi, n_fine + 1) if n_fine else np.array([lo])
     h0 = (hi - lo) / n_fine if n_fine else h_min
-    right = hi + _grow(b - hi, h0, growth, h_max)
-    left = lo - _grow(lo - a, h0, growth, h_max)[::-1]
+    right = hi + _grow(b - hi, h0, growth, h_max, axis)
+    left = lo - _grow(lo - a, h0, growth, h_max, axis)[::-1]
     x = np.concatenate([left, fine, right])
     x[0], x[-1] = a, b
     return x
@@ -154,19 +208,67 @@ def _check_refine(refine: Mapping[str, Any], dim: int) -> dict[str, Any]:
     return r
 
 
+def _min_spacing(lo: float, hi: float) -> float:
+    return max(MIN_SPACING, MIN_RELATIVE_SPACING * max(abs(lo), abs(hi)))
+
+
 def _check_extent(names: str, lo: float, hi: float, n: int) -> None:
+    if not all(isinstance(v, numbers.Real) and not isinstance(v, bool) for v in (lo, hi)):
+        raise InputError(f"{names}: bounds must be numbers; got ({lo!r}, {hi!r}).")
     if not (math.isfinite(lo) and math.isfinite(hi) and hi > lo):
         raise InputError(f"{names}: need finite bounds with lower < upper; got ({lo}, {hi}).")
-    if int(n) != n or n < 1:
-        raise InputError(f"number of cells along {names} must be an integer >= 1; got {n!r}.")
+    if max(abs(lo), abs(hi)) > MAX_COORDINATE:
+        raise InputError(f"{names}: bounds ({lo:g}, {hi:g}) exceed |coordinate| <= {MAX_COORDINATE:g}; "
+                         "choose other length units (e.g. mm instead of m or the reverse).")
+    if not (isinstance(n, numbers.Real) and not isinstance(n, bool) and math.isfinite(n) and int(n) == n
+            and 1 <= n <= MAX_CELLS_PER_AXIS):
+        raise InputError(f"number of cells along {names} must be an integer in [1, {MAX_CELLS_PER_AXIS}]; "
+                         f"got {n!r}.")
+    h = (hi - lo) / n
+    if h < _min_spacing(lo, hi):
+        raise InputError(f"{names}: {int(n)} cells on ({lo:g}, {hi:g}) are {h:.3g} wide, too small for the size "
+                         f"of the coordinates (at least {_min_spacing(lo, hi):.3g}); use fewer cells or shift "
+                         "the bounds toward 0.")
+
+
+def _check_aspect(bounds, ns) -> None:
+    """Every uniform spacing is distinguishable at the size of the largest coordinate or extent."""
+    scale = max(max(abs(a), abs(b), b - a) for a, b in bounds)
+    for ax, ((a, b), n) in enumerate(zip(bounds, ns)):
+        h = (b - a) / n
+        if h < MIN_RELATIVE_SPACING * scale:
+            raise InputError(f"{'xyz'[ax]}: cells of {h:.3g} are too thin for a body of size {scale:.3g} (spacing "
+                             f"at least {MIN_RELATIVE_SPACING:g} times the largest coordinate); use fewer cells along "
+                             f"{'xyz'[ax]} or a less elongated body.")
+
+
+def _check_vertices(coords: list[np.ndarray]) -> None:
+    n = math.prod(c.size for c in coords)
+    if n > MAX_VERTICES:
+        raise InputError(f"the mesh would have {n:.3g} vertices ({' x '.join(str(c.size) for c in coords)}); at "
+                         f"most {MAX_VERTICES:.3g} are allowed. Use fewer cells or a coarser refine (larger "
+                         "h_min, growth, smaller width/depth).")
 
 
 def _axes(bounds, ns, refine, top_axis):
     """Coordinates per axis; the refinement depth acts on ``top_axis`` (from the top down)."""
     dim = len(bounds)
+    _check_aspect(bounds, ns)
     if refine is None:
-        return [np.linspace(a, b, n + 1) for (a, b), n in zip(bounds, ns)]
+        coords = [np.linspace(a, b, int(n) + 1) for (a, b), n in zip(bounds, ns)]
+        _check_vertices(coords)
+        return coords
     r = _check_refine(refine, dim)
+    lo_all = min(a for a, _ in bounds)
+    hi_all = max(b for _, b in bounds)
+    floor = _min_spacing(lo_all, hi_all)
+    for key in ("h_min",) + (("h_max",) if "h_max" in r else ()):
+        if r[key] < floor:
+            raise InputError(f"refine[{key!r}] = {r[key]!r} is too small for the size of the coordinates; it must "
+                             f"be at least {floor:.3g}. Use a larger {key}.")
+    if max(abs(float(c)) for c in r["center"]) > MAX_COORDINATE:
+        raise InputError(f"refine['center'] = {r['center'].tolist()!r}: coordinates must satisfy "
+                         f"|x| <= {MAX_COORDINATE:g}; put the center on the top face of the mesh.")
     coords = []
     for ax, ((a, b), n) in enumerate(zip(bounds, ns)):
         h_max = r.get("h_max", (b - a) / n)
@@ -175,7 +277,8 @@ def _axes(bounds, ns, refine, top_axis):
             lo, hi = c - r["depth"], b
         else:
             lo, hi = c - r["width"], c + r["width"]
-        coords.append(graded_axis(a, b, lo, hi, r["h_min"], r["growth"], h_max))
+        coords.append(graded_axis(a, b, lo, hi, r["h_min"], r["growth"], h_max, axis="xyz"[ax]))
+    _check_vertices(coords)
     return coords
 
 

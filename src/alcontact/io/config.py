@@ -25,23 +25,21 @@ from __future__ import annotations
 import difflib
 import inspect
 import logging
-import math
 import os
 import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-import numpy as np
-
+from .._options import BAD, Option, check_value
 from ..errors import ConfigError, InputError, MeshError
-from .schema import Option, Table, schema
+from .schema import Table, schema
 
 __all__ = ["Issue", "ProblemSetup", "load_problem", "load_problem_text", "validate_data"]
 
 logger = logging.getLogger(__name__)
 
-_BAD = object()  # marker of a value that failed its check
+_BAD = BAD  # marker of a value that failed its check
 
 
 @dataclass(frozen=True)
@@ -77,102 +75,11 @@ def _known(names) -> str:
 
 
 # --------------------------------------------------------------------------- schema pass
-_TYPE_TEXT = {
-    "float": "a number",
-    "int": "an integer",
-    "str": "a string",
-    "bool": "true or false",
-    "floats": "a list of numbers",
-    "ints": "a list of integers",
-    "number-or-floats": "a number or a list of numbers",
-    "knots": "a list of [t, factor] pairs",
-}
-
-
-def _is_number(v) -> bool:
-    return isinstance(v, (int, float)) and not isinstance(v, bool)
-
-
-def _in_range(opt: Option, x: float) -> bool:
-    if opt.low is not None and (x < opt.low or (opt.low_open and x == opt.low)):
-        return False
-    if opt.high is not None and (x > opt.high or (opt.high_open and x == opt.high)):
-        return False
-    return True
-
-
 def _check_value(opt: Option, value: Any, path: str, issues: list[Issue]) -> Any:
     """The value converted to its Python type, or ``_BAD`` (an issue is recorded)."""
-    want = _TYPE_TEXT[opt.type]
-
-    def bad_type() -> Any:
-        hint = ""
-        if opt.type in ("float", "int") and isinstance(value, str):
-            hint = " Write the number without quotes."
-        elif opt.type == "bool" and isinstance(value, str):
-            hint = " Write true or false without quotes."
-        elif opt.type == "int" and isinstance(value, float):
-            hint = f" Use a whole number, e.g. {max(int(round(value)), 1)}."
-        issues.append(Issue(path, f"= {value!r}: expected {want}, got {type(value).__name__}.{hint}"))
-        return _BAD
-
-    def number(x, where=path) -> Any:
-        if opt.type in ("int", "ints"):
-            if not isinstance(x, int) or isinstance(x, bool):
-                return bad_type()
-        elif not _is_number(x):
-            return bad_type()
-        if not math.isfinite(x):
-            issues.append(Issue(where, f"= {x!r}: must be a finite number."))
-            return _BAD
-        if not _in_range(opt, x):
-            issues.append(Issue(where, f"= {x!r}: out of range, must be {opt.range_text()}."))
-            return _BAD
-        return int(x) if opt.type in ("int", "ints") else float(x)
-
-    t = opt.type
-    if t in ("float", "int"):
-        return number(value)
-    if t == "bool":
-        return value if isinstance(value, bool) else bad_type()
-    if t == "str":
-        if not isinstance(value, str):
-            return bad_type()
-        if opt.choices is not None and value not in opt.choices:
-            allowed = ", ".join(repr(c) for c in opt.choices if c)
-            issues.append(Issue(path, f"= {value!r}: not allowed.{_did_you_mean(value, opt.choices)} "
-                                      f"Allowed: {allowed}."))
-            return _BAD
-        return value
-    if t == "number-or-floats":
-        if _is_number(value):
-            return number(value)
-        if not isinstance(value, list) or not value:
-            return bad_type()
-        out = [number(x, f"{path}[{i}]") for i, x in enumerate(value)]
-        return _BAD if any(x is _BAD for x in out) else out
-    if t in ("floats", "ints"):
-        if not isinstance(value, list):
-            return bad_type()
-        if opt.lengths is not None and len(value) not in opt.lengths:
-            issues.append(Issue(path, f"= {value!r}: needs {' or '.join(map(str, opt.lengths))} entries, "
-                                      f"got {len(value)}."))
-            return _BAD
-        out = [number(x, f"{path}[{i}]") for i, x in enumerate(value)]
-        return _BAD if any(x is _BAD for x in out) else out
-    if t == "knots":
-        ok = isinstance(value, list) and value and all(
-            isinstance(k, list) and len(k) == 2 and all(_is_number(x) and math.isfinite(x) for x in k) for k in value)
-        if not ok:
-            issues.append(Issue(path, f"= {value!r}: expected {want} of finite numbers, e.g. "
-                                      "[[0.0, 0.0], [1.0, 1.0]]."))
-            return _BAD
-        ts = [float(k[0]) for k in value]
-        if any(b <= a for a, b in zip(ts, ts[1:])):
-            issues.append(Issue(path, f"= {value!r}: the times (first entries) must increase strictly."))
-            return _BAD
-        return [(float(k[0]), float(k[1])) for k in value]
-    raise AssertionError(t)  # pragma: no cover
+    out, found = check_value(opt, value)
+    issues.extend(Issue(path + suffix, msg) for suffix, msg in found)
+    return out
 
 
 def _subtables(path: str) -> dict[str, Table]:
@@ -470,8 +377,9 @@ def _obstacle(d: dict, dim: int | None, issues: list[Issue]):
         return None
     try:
         ob = obstacles.make(name, **params)
-    except (InputError, TypeError, ValueError) as exc:
-        issues.append(Issue("obstacle", f"{name}: {exc}. Check the parameters ({_known(accepted)})."))
+    except (InputError, TypeError, ValueError, ArithmeticError) as exc:
+        issues.append(Issue("obstacle", f"{name}: {exc or type(exc).__name__}. Check the parameters "
+                                        f"({_known(accepted)}): finite numbers of a sensible size."))
         return None
     if dim is not None:
         try:
@@ -513,6 +421,12 @@ def load_problem_text(text: str, *, base_dir: str | os.PathLike = ".", source: s
         raw = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         _raise([Issue("", f"not valid TOML: {exc}. Check quotes, brackets and '=' on that line.")], label)
+    except ValueError as exc:  # e.g. an integer of more than 4300 digits (sys.get_int_max_str_digits)
+        _raise([Issue("", f"cannot read the TOML: {exc}. Numbers must fit a 64-bit float (about 1.8e308).")],
+               label)
+    except RecursionError:
+        _raise([Issue("", "arrays or tables nested too deeply to read; a problem file needs at most 3 levels "
+                          "(e.g. ramp = [[0.0, 0.0], [1.0, 1.0]]). Check the brackets.")], label)
     data, issues = validate_data(raw)
     setup = _build(data, Path(base_dir), issues, source)
     if issues:

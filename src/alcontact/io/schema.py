@@ -10,9 +10,10 @@ declared. :mod:`alcontact.io.config` validates files against it and
 A table is a :class:`Table` of :class:`Option` objects; ``array=True`` marks an
 array of tables (``[[support]]``), ``open=True`` a table that also takes keys
 not listed (the obstacle's parameters, checked against the obstacle factory).
-Defaults of the contact-solver options are read from
-:class:`alcontact.contact.ContactOptions` and the frictional
-``FrictionOptions``, so the file format and the solvers cannot drift apart.
+The ``[solver]`` and ``[solver.friction]`` options *are* the declarations of
+:class:`alcontact.contact.ContactOptions` and ``FrictionOptions`` (type, range,
+default and doc, see :mod:`alcontact._options`), so the file format, the Python
+API and the documentation cannot drift apart.
 
 Examples
 --------
@@ -23,14 +24,15 @@ Examples
 
 from __future__ import annotations
 
-import dataclasses
 import sys
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+
+from .._options import MAX_STEPS, REQUIRED, TYPES, Option, declarations
 
 __all__ = [
     "REQUIRED",
+    "TYPES",
     "Option",
     "Table",
     "SCHEMA",
@@ -39,82 +41,12 @@ __all__ = [
     "render_markdown",
     "write_markdown",
     "DOCS_PATH",
+    "MAX_STEPS",
 ]
 
 
-class _Required:
-    def __repr__(self) -> str:
-        return "REQUIRED"
-
-
-#: Default of an option that has to be given.
-REQUIRED: Any = _Required()
-
-#: Types an option may have (what :mod:`alcontact.io.config` accepts for each):
-#: ``float`` (an int is accepted), ``int``, ``str``, ``bool``, ``floats`` (list of
-#: numbers), ``ints`` (list of ints), ``number-or-floats`` (a number or a list of
-#: numbers), ``knots`` (list of ``[t, value]`` pairs with increasing ``t``).
-TYPES = ("float", "int", "str", "bool", "floats", "ints", "number-or-floats", "knots")
-
-
-@dataclass(frozen=True)
-class Option:
-    """One key of a problem file.
-
-    Parameters
-    ----------
-    name : str
-        Key inside its table.
-    type : str
-        One of :data:`TYPES`.
-    default : object
-        Value when the key is absent; :data:`REQUIRED` when it must be given;
-        ``None`` when absence means "automatic" (explained in ``doc``).
-    doc : str
-        One line.
-    choices : tuple of str, optional
-        Allowed values of a ``str`` option.
-    low, high : float, optional
-        Range of a number (or of every list entry); ``low_open``/``high_open``
-        make the bound strict.
-    lengths : tuple of int, optional
-        Allowed lengths of a list.
-    """
-
-    name: str
-    type: str
-    default: Any
-    doc: str
-    choices: tuple[str, ...] | None = None
-    low: float | None = None
-    high: float | None = None
-    low_open: bool = False
-    high_open: bool = False
-    lengths: tuple[int, ...] | None = None
-
-    def __post_init__(self) -> None:
-        if self.type not in TYPES:
-            raise ValueError(f"option {self.name!r}: unknown type {self.type!r}")
-
-    @property
-    def required(self) -> bool:
-        return self.default is REQUIRED
-
-    def range_text(self) -> str:
-        """``"> 0"``, ``"in [1, 2]"``, ``"one of a, b"`` or ``""``."""
-        if self.choices:
-            return "one of " + ", ".join(f"`{c}`" for c in self.choices)
-        lo = None if self.low is None else f"{'(' if self.low_open else '['}{self.low:g}"
-        hi = None if self.high is None else f"{self.high:g}{')' if self.high_open else ']'}"
-        if lo and hi:
-            return f"in {lo}, {hi}"
-        if lo:
-            return f"{'>' if self.low_open else '>='} {self.low:g}"
-        if hi:
-            return f"{'<' if self.high_open else '<='} {self.high:g}"
-        return ""
-
-
+# Option, REQUIRED and TYPES live in alcontact._options: the options dataclasses of the
+# solvers declare their fields with the same Option, so each option is declared once.
 @dataclass(frozen=True)
 class Table:
     """A TOML table (``[path]``) or array of tables (``[[path]]``)."""
@@ -134,16 +66,19 @@ class Table:
         return [o.name for o in self.options]
 
 
-def _contact_defaults() -> dict[str, Any]:
-    from ..contact import ContactOptions
+def _solver_options() -> tuple[tuple[Option, ...], tuple[Option, ...]]:
+    """``[solver]`` and ``[solver.friction]`` options: the declarations of the solvers' options classes.
 
-    return {f.name: f.default for f in dataclasses.fields(ContactOptions)}
+    Every ``ContactOptions`` field is a ``[solver]`` key; a ``FrictionOptions`` field
+    declared differently (own field, or another default) is a ``[solver.friction]`` key,
+    the shared ones are read from ``[solver]``.
+    """
+    from ..contact import ContactOptions, FrictionOptions
 
-
-def _friction_defaults() -> dict[str, Any]:
-    from ..contact import FrictionOptions
-
-    return {f.name: f.default for f in dataclasses.fields(FrictionOptions)}
+    contact = declarations(ContactOptions)
+    shared = {o.name: o for o in contact}
+    friction = tuple(o for o in declarations(FrictionOptions) if shared.get(o.name) != o)
+    return contact, friction
 
 
 def _algorithms() -> tuple[str, ...]:
@@ -159,8 +94,9 @@ def _penalties() -> tuple[str, ...]:
 
 
 def _build_schema() -> tuple[Table, ...]:
-    c = _contact_defaults()
-    f = _friction_defaults()
+    from ..fem.meshes import MAX_CELLS_PER_AXIS
+
+    contact, friction = _solver_options()
     O = Option  # noqa: E741 - short name for the table below
     knots = "list of `[t, factor]` pairs (increasing t), held constant before the first and after the last"
     return (
@@ -174,7 +110,7 @@ def _build_schema() -> tuple[Table, ...]:
             O("bounds", "floats", None, "Generators: `[x0, x1, y0, y1]` (rectangle) or `[x0, x1, y0, y1, z0, z1]` "
               "(box); boundaries left/right/bottom/top (+ front/back in 3D).", lengths=(4, 6)),
             O("cells", "ints", None, "Generators: cells per direction `[nx, ny]` / `[nx, ny, nz]` (the largest "
-              "spacing when `[mesh.refine]` is given).", low=1, lengths=(2, 3)),
+              "spacing when `[mesh.refine]` is given).", low=1, high=MAX_CELLS_PER_AXIS, lengths=(2, 3)),
             O("file", "str", "", "`file`: a Gmsh `.msh` (or `.geo` with the gmsh module), relative to the problem "
               "file; physical groups name the boundaries and regions."),
             O("order", "int", 1, "Polynomial order of the elements: 1 (P1) or 2 (P2).", low=1, high=2),
@@ -227,9 +163,10 @@ def _build_schema() -> tuple[Table, ...]:
         Table("loading", "Load history: the pseudo-times of the load steps (supports and loads with a `ramp` "
               "are scaled by it).", (
             O("steps", "int", 1, "Number of equal load steps on (0, t_end] (ignored when `times` is given).",
-              low=1),
+              low=1, high=MAX_STEPS),
             O("t_end", "float", 1.0, "Last pseudo-time of equal steps.", low=0, low_open=True),
-            O("times", "floats", None, "Explicit step times, positive and strictly increasing."),
+            O("times", "floats", None, "Explicit step times, positive and strictly increasing.",
+              low=0, low_open=True),
             O("friction_ramp", "knots", None, f"Factor of the friction coefficient: {knots} (default 1)."),
         )),
         Table("obstacle", "Rigid obstacle from the registry (`alcontact list obstacles`); every other key is a "
@@ -247,56 +184,8 @@ def _build_schema() -> tuple[Table, ...]:
               "`ssn`).", choices=_algorithms()),
             O("penalty", "str", "", "Penalty of `family-p` (default `exp-met1`); the other algorithms fix it.",
               choices=("",) + _penalties()),
-            O("eps_n", "float", None, "Normal penalty stiffness (default: `penalty_scale` E'/h).",
-              low=0, low_open=True),
-            O("penalty_scale", "float", c["penalty_scale"], "Multiplier of the automatic stiffness E'/h.",
-              low=0, low_open=True),
-            O("linear_solver", "str", c["linear_solver"],
-              "Frictionless linear solver: `direct` (one factorization), `amg` (PyAMG + CG, no factorization) "
-              "or `auto` (amg for 3D above 100k DOFs).", choices=("auto", "direct", "amg")),
-            O("tol_penetration", "float", c["tol_penetration"], "Stop: max penetration / h.",
-              low=0, low_open=True),
-            O("tol_complementarity", "float", c["tol_complementarity"], "Stop: max |lambda g| / (p_max h).",
-              low=0, low_open=True),
-            O("tol_multiplier", "float", c["tol_multiplier"], "Stop: max multiplier change / p_max.",
-              low=0, low_open=True),
-            O("maxiter", "int", c["maxiter"], "Outer (multiplier) iterations (per load step).", low=1),
-            O("newton_tol", "float", c["newton_tol"], "Frictionless: relative residual of each Newton solve.",
-              low=0, low_open=True),
-            O("maxiter_newton", "int", c["maxiter_newton"], "Frictionless: Newton iterations per subproblem.",
-              low=1),
-            O("strategy", "str", c["strategy"], "Frictionless penalty update: `fixed` or `infeasibility`.",
-              choices=("fixed", "infeasibility")),
-            O("tau", "float", c["tau"], "`infeasibility`: required drop of the penetration per iteration.",
-              low=0, high=1, low_open=True, high_open=True),
-            O("alpha", "float", c["alpha"], "Penalty growth factor (`infeasibility`, pure penalty).",
-              low=1, low_open=True),
-            O("eps_max", "float", c["eps_max"], "Largest penalty stiffness over the initial one.", low=1),
-            O("eta_scaling", "str", c["eta_scaling"], "Scale of family-P penalties: `adaptive` or `fixed`.",
-              choices=("adaptive", "fixed")),
-            O("initial", "str", c["initial"], "Frictionless family-P initial multipliers: `penalty` or `uniform`.",
-              choices=("penalty", "uniform")),
-            O("multiplier_floor", "float", c["multiplier_floor"], "Relative floor keeping MET multipliers positive.",
-              low=0, high=1, low_open=True, high_open=True),
-        )),
-        Table("solver.friction", "Options of the frictional solver (used when `contact.friction > 0`).", (
-            O("eps_t", "float", None, "Tangential penalty stiffness (default: `tangential_scale` eps_n).",
-              low=0, low_open=True),
-            O("tangential_scale", "float", f["tangential_scale"], "eps_t / eps_n.", low=0, low_open=True),
-            O("tol_slip", "float", f["tol_slip"], "Stop: max slip change at stick points / h.", low=0, low_open=True),
-            O("newton_tol", "float", f["newton_tol"], "Relative residual of each Newton solve.",
-              low=0, low_open=True),
-            O("maxiter_newton", "int", f["maxiter_newton"], "Newton iterations per subproblem.", low=1),
-            O("max_cutbacks", "int", f["max_cutbacks"], "Failed attempts per load step before giving up.", low=0),
-            O("cutback_factor", "float", f["cutback_factor"], "Fraction of a failed increment tried next.",
-              low=0, high=1, low_open=True, high_open=True),
-            O("eta_floor", "float", f["eta_floor"], "Family-P: relative floor of the multiplier in eta.",
-              low=0, high=1, low_open=True),
-            O("margin", "float", f["margin"], "Candidate points: free gap above -margin x max penetration.",
-              low=0),
-            O("radius", "str", f["radius"], "Coulomb disc in a subproblem: `multiplier` or `traction`.",
-              choices=("multiplier", "traction")),
-        )),
+        ) + contact),
+        Table("solver.friction", "Options of the frictional solver (used when `contact.friction > 0`).", friction),
         Table("reference", "Analytical reference drawn in the plots and compared in the summary.", (
             O("kind", "str", "none", "`none`, `hertz` (cylinder in 2D, sphere in 3D) or `cattaneo-mindlin` "
               "(2D, friction).", choices=("none", "hertz", "cattaneo-mindlin")),

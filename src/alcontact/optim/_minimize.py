@@ -9,6 +9,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .._options import is_integer, is_real, show
 from ..errors import InputError, NonFiniteError, UnknownNameError
 from ._inner import make_inner
 from ._outer import METHODS, initial_eta, run_outer
@@ -185,21 +186,46 @@ class Options:
         o = cls(**kw)
         for name in ("maxiter", "maxiter_inner", "polish_maxiter", "stall_iter"):
             v = getattr(o, name)
-            if not isinstance(v, (int, np.integer)) or isinstance(v, bool) or v < 1:
-                raise InputError(f"options[{name!r}] = {v!r} must be a positive integer")
+            if not is_integer(v) or v < 1:
+                raise InputError(f"options[{name!r}] = {show(v)} must be a positive integer (got "
+                                 f"{type(v).__name__}); e.g. {{{name!r}: {getattr(cls, name)}}}")
         for name in ("gtol", "feas_tol", "ctol", "inner_tol0", "mu_max", "eta_min", "eta_max",
                      "exp_cap") + (("eta0_factor",) if o.eta0_factor is not None else ()):
             v = getattr(o, name)
-            if not (isinstance(v, (int, float, np.floating)) and v > 0 and math.isfinite(v)):
-                raise InputError(f"options[{name!r}] = {v!r} must be a positive finite number")
-        if o.mu_min is not None and not o.mu_min >= 0:
-            raise InputError(f"options['mu_min'] = {o.mu_min!r} must be >= 0")
-        if not (isinstance(o.bound_push, (int, float, np.floating)) and
-                0 <= o.bound_push < 0.5):
-            raise InputError(f"options['bound_push'] = {o.bound_push!r} must lie in [0, 0.5)")
-        if o.bounds_as not in ("box", "constraints"):
-            raise InputError(f"options['bounds_as'] = {o.bounds_as!r} must be 'box' or "
-                             "'constraints'")
+            if not (is_real(v) and v > 0 and math.isfinite(v)):
+                raise InputError(f"options[{name!r}] = {show(v)} must be a positive finite number (got "
+                                 f"{type(v).__name__}); e.g. {{{name!r}: {getattr(cls, name) or 1.0}}}")
+        if o.mu_min is not None and not (is_real(o.mu_min) and math.isfinite(o.mu_min) and o.mu_min >= 0):
+            raise InputError(f"options['mu_min'] = {show(o.mu_min)} must be a finite number >= 0 or None "
+                             "(automatic)")
+        if not (is_real(o.unbounded_below) and not math.isnan(o.unbounded_below)):
+            raise InputError(f"options['unbounded_below'] = {show(o.unbounded_below)} must be a number, e.g. -1e20")
+        if not (is_real(o.bound_push) and 0 <= o.bound_push < 0.5):
+            raise InputError(f"options['bound_push'] = {show(o.bound_push)} must lie in [0, 0.5)")
+        for name in ("polish", "extrapolate", "project_x0", "scale_eta0", "scale"):
+            v = getattr(o, name)
+            if not isinstance(v, (bool, np.bool_)):
+                raise InputError(f"options[{name!r}] = {show(v)} must be True or False (got {type(v).__name__})")
+        for name, allowed in (("strategy", None), ("inner", None), ("bounds_as", ("box", "constraints"))):
+            v = getattr(o, name)
+            if v is None and name == "strategy":
+                continue
+            if not isinstance(v, str) or (allowed and v not in allowed):
+                what = f"one of {', '.join(map(repr, allowed))}" if allowed else "a name (str)"
+                raise InputError(f"options[{name!r}] = {show(v)} must be {what}")
+        for name in ("eta0", "mu0", "lam0"):
+            v = getattr(o, name)
+            if v is None and name == "eta0":
+                continue
+            a = _numbers(v, name)
+            if name == "eta0" and not np.all(a > 0):
+                raise InputError(f"options['eta0'] = {show(v)} must be positive (a smaller eta0 is a stronger "
+                                 "penalty), or None for the automatic value")
+        for name in ("strategy_options", "inner_options", "penalty_options"):
+            v = getattr(o, name)
+            if v is not None and not isinstance(v, dict):
+                raise InputError(f"options[{name!r}] = {show(v)} must be a dict of parameters or None "
+                                 f"(got {type(v).__name__})")
         if not o.eta_min < o.eta_max:
             raise InputError("options: eta_min must be smaller than eta_max")
         return o
@@ -224,8 +250,22 @@ _HINTS = {
 }
 
 
+def _numbers(value, name):
+    """``value`` (a number or an array of numbers) as a float array; InputError naming the option otherwise."""
+    try:
+        if isinstance(value, (str, bytes, bool, np.bool_, dict)):
+            raise TypeError
+        a = np.asarray(value, dtype=float)
+    except (TypeError, ValueError, OverflowError):
+        raise InputError(f"options[{name!r}] = {show(value)} must be a number or an array of numbers "
+                         f"(got {type(value).__name__})") from None
+    if a.ndim > 1 or not np.all(np.isfinite(a)):
+        raise InputError(f"options[{name!r}] = {show(value)} must be a finite number or a 1-D array of them")
+    return a
+
+
 def _vector(value, size, name):
-    a = np.asarray(value, dtype=float)
+    a = _numbers(value, name)
     if a.ndim == 0:
         return np.full(size, float(a))
     if a.shape != (size,):

@@ -1,0 +1,432 @@
+"""Declared options: one declaration per option (type, range, default, one line of doc), one checker.
+
+An :class:`Option` declares a key of a problem file or a field of an options
+dataclass. The same declaration is used by
+
+* the problem-file loader (:mod:`alcontact.io.schema`, :mod:`alcontact.io.config`),
+* the Python API: :class:`~alcontact.contact.ContactOptions` and
+  ``FrictionOptions`` declare their fields with :func:`declared` and validate
+  them with :func:`check_dataclass`,
+* the generated ``docs/problem-file.md``.
+
+:func:`check_value` is the one place where a value is compared with its
+declaration; its messages name the value, what was expected (type and allowed
+range) and the way out, and the caller prefixes the key path.
+
+Examples
+--------
+>>> opt = Option("maxiter", "int", 100, "Outer iterations.", low=1, high=100_000)
+>>> check_value(opt, 7)
+(7, [])
+>>> check_value(opt, "10")[1]
+[('', "= '10': expected an integer in [1, 100000], got str. Write the number without quotes. Default: 100.")]
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import numbers
+from dataclasses import dataclass
+from typing import Any
+
+from .errors import InputError
+
+__all__ = ["REQUIRED", "TYPES", "BAD", "MAX_STEPS", "Option", "check_value", "declared", "same_as", "declarations",
+           "check_dataclass", "as_options", "is_real", "is_integer", "show"]
+
+
+class _Required:
+    def __repr__(self) -> str:
+        return "REQUIRED"
+
+
+class _Bad:
+    def __repr__(self) -> str:
+        return "BAD"
+
+
+#: Default of an option that has to be given.
+REQUIRED: Any = _Required()
+
+#: Marker returned by :func:`check_value` for a value that failed its check.
+BAD: Any = _Bad()
+
+#: Types an option may have: ``float`` (an int is accepted), ``int``, ``str``, ``bool``,
+#: ``floats`` (list of numbers), ``ints`` (list of ints), ``number-or-floats`` (a number or
+#: a list of numbers), ``knots`` (list of ``[t, value]`` pairs with increasing ``t``).
+TYPES = ("float", "int", "str", "bool", "floats", "ints", "number-or-floats", "knots")
+
+_TYPE_TEXT = {
+    "float": "a number",
+    "int": "an integer",
+    "str": "a string",
+    "bool": "true or false",
+    "floats": "a list of numbers",
+    "ints": "a list of integers",
+    "number-or-floats": "a number or a list of numbers",
+    "knots": "a list of [t, factor] pairs",
+}
+
+#: Most load steps a problem or ``solve_friction(steps=...)`` may ask for (each step is a full solve).
+MAX_STEPS = 100_000
+
+#: Longest list an option accepts (vertices of a polygon, explicit step times, ramp knots).
+MAX_LIST = 100_000
+
+
+@dataclass(frozen=True)
+class Option:
+    """One option: a key of a problem file or a field of an options dataclass.
+
+    Parameters
+    ----------
+    name : str
+        Key inside its table (field name).
+    type : str
+        One of :data:`TYPES`.
+    default : object
+        Value when the key is absent; :data:`REQUIRED` when it must be given;
+        ``None`` when absence means "automatic" (explained in ``doc``; in Python
+        ``None`` may then be passed explicitly).
+    doc : str
+        One line.
+    choices : tuple of str, optional
+        Allowed values of a ``str`` option.
+    low, high : float, optional
+        Range of a number (or of every list entry); ``low_open``/``high_open``
+        make the bound strict.
+    lengths : tuple of int, optional
+        Allowed lengths of a list.
+    """
+
+    name: str
+    type: str
+    default: Any
+    doc: str
+    choices: tuple[str, ...] | None = None
+    low: float | None = None
+    high: float | None = None
+    low_open: bool = False
+    high_open: bool = False
+    lengths: tuple[int, ...] | None = None
+
+    def __post_init__(self) -> None:
+        if self.type not in TYPES:
+            raise ValueError(f"option {self.name!r}: unknown type {self.type!r}")
+        if "\n" in self.doc:
+            raise ValueError(f"option {self.name!r}: the doc must be one line")
+
+    @property
+    def required(self) -> bool:
+        return self.default is REQUIRED
+
+    def range_text(self) -> str:
+        """``"> 0"``, ``"in [1, 2]"``, ``"one of a, b"`` or ``""``."""
+        if self.choices:
+            return "one of " + ", ".join(f"`{c}`" for c in self.choices)
+        lo = None if self.low is None else f"{'(' if self.low_open else '['}{_num(self.low)}"
+        hi = None if self.high is None else f"{_num(self.high)}{')' if self.high_open else ']'}"
+        if lo and hi:
+            return f"in {lo}, {hi}"
+        if lo:
+            return f"{'>' if self.low_open else '>='} {_num(self.low)}"
+        if hi:
+            return f"{'<' if self.high_open else '<='} {_num(self.high)}"
+        return ""
+
+    def expected(self) -> str:
+        """What the option takes, e.g. ``"an integer in [1, 100000]"``."""
+        rng = "" if self.choices else self.range_text()
+        return _TYPE_TEXT[self.type] + (f" {rng}" if rng else "")
+
+    def default_hint(self, api: bool = False) -> str:
+        """``" Default: 100.0."``, ``" Default: None (automatic)."`` (Python) or ``""``."""
+        if self.required:
+            return ""
+        if self.default is None:
+            return " Default: None (automatic)." if api else ""
+        return f" Default: {self.default!r}."
+
+
+def _num(x: float) -> str:
+    """A bound as text: whole numbers without exponent (``100000``), others as ``%g``."""
+    return str(int(x)) if float(x).is_integer() and abs(x) < 1e16 else f"{x:g}"
+
+
+def show(value: Any, limit: int = 60) -> str:
+    """``repr(value)`` shortened to about ``limit`` characters (huge numbers, deep lists)."""
+    if isinstance(value, int) and not isinstance(value, bool) and abs(value) > 10**40:
+        digits = int(abs(value).bit_length() * 0.30102999566398120) + 1  # str() may refuse > 4300 digits
+        return f"{'-' if value < 0 else ''}<integer of about {digits} digits>"
+    try:
+        text = repr(value)
+    except (RecursionError, ValueError):
+        text = f"<{type(value).__name__}>"
+    return text if len(text) <= limit else text[: limit - 3] + "..."
+
+
+def is_real(v: Any) -> bool:
+    """A real number that is not a bool (Python or NumPy)."""
+    return isinstance(v, numbers.Real) and not isinstance(v, bool) and type(v).__name__ != "bool_"
+
+
+def is_integer(v: Any) -> bool:
+    """An integer that is not a bool (Python or NumPy)."""
+    return isinstance(v, numbers.Integral) and not isinstance(v, bool) and type(v).__name__ != "bool_"
+
+
+def _in_range(opt: Option, x: float) -> bool:
+    if opt.low is not None and (x < opt.low or (opt.low_open and x == opt.low)):
+        return False
+    if opt.high is not None and (x > opt.high or (opt.high_open and x == opt.high)):
+        return False
+    return True
+
+
+def check_value(opt: Option, value: Any, *, api: bool = False) -> tuple[Any, list[tuple[str, str]]]:
+    """Check ``value`` against its declaration.
+
+    Parameters
+    ----------
+    opt : Option
+    value : object
+        A parsed TOML value, or a value passed from Python.
+    api : bool
+        Word the fixes for Python callers (``maxiter=100``) instead of problem files.
+
+    Returns
+    -------
+    value, issues
+        The value converted to its Python type (``float``, ``int``, lists, tuples of
+        knots) and ``[]``; or :data:`BAD` and a list of ``(suffix, message)`` pairs:
+        ``suffix`` is appended to the key path (``""`` or ``"[2]"`` for a list
+        entry), ``message`` starts with ``"= value: "`` and says what to do.
+    """
+    issues: list[tuple[str, str]] = []
+    want = opt.expected()
+    fix = opt.default_hint(api)
+
+    def bad_type(x: Any = value, where: str = "") -> Any:
+        hint = ""
+        scalar = opt.type in ("float", "int", "floats", "ints", "number-or-floats")
+        if scalar and isinstance(x, str):
+            hint = " Pass a number, not a string." if api else " Write the number without quotes."
+        elif opt.type == "bool" and isinstance(x, str):
+            hint = " Pass True or False." if api else " Write true or false without quotes."
+        elif opt.type in ("int", "ints") and is_real(x) and math.isfinite(x):
+            hint = f" Use a whole number, e.g. {max(int(round(x)), 1)}."
+        elif opt.type in ("int", "ints") and isinstance(x, bool):
+            hint = " Booleans are not integers here; pass a whole number."
+        what = want if x is value else _TYPE_TEXT["float" if opt.type != "ints" else "int"]
+        issues.append((where, f"= {show(x)}: expected {what}, got {type(x).__name__}.{hint}{fix}"))
+        return BAD
+
+    def number(x: Any, where: str = "") -> Any:
+        if opt.type in ("int", "ints"):
+            if not is_integer(x):
+                return bad_type(x, where)
+            if not _in_range(opt, x):
+                issues.append((where, f"= {show(x)}: out of range, must be {opt.range_text()}.{fix}"))
+                return BAD
+            return int(x)
+        if not is_real(x):
+            return bad_type(x, where)
+        try:
+            xf = float(x)
+        except (OverflowError, ValueError, TypeError):
+            issues.append((where, f"= {show(x)}: too large (the largest number is about 1.8e308); must be "
+                                  f"{opt.range_text() or 'a finite number'}.{fix}"))
+            return BAD
+        if not math.isfinite(xf):
+            rng = opt.range_text()
+            issues.append((where, f"= {show(x)}: must be a finite number{' ' + rng if rng else ''}.{fix}"))
+            return BAD
+        if not _in_range(opt, x):
+            issues.append((where, f"= {show(x)}: out of range, must be {opt.range_text()}.{fix}"))
+            return BAD
+        return xf
+
+    def seq(v: Any) -> bool:
+        return isinstance(v, (list, tuple))
+
+    def too_long(v: Any) -> bool:
+        if len(v) > MAX_LIST:
+            issues.append(("", f"= [...] ({len(v)} entries): too long, at most {MAX_LIST} entries."))
+            return True
+        return False
+
+    t = opt.type
+    if value is None and opt.default is None:
+        return None, issues
+    if t in ("float", "int"):
+        return number(value), issues
+    if t == "bool":
+        if isinstance(value, bool) or type(value).__name__ == "bool_":
+            return bool(value), issues
+        return bad_type(), issues
+    if t == "str":
+        if not isinstance(value, str):
+            return bad_type(), issues
+        if opt.choices is not None and value not in opt.choices:
+            import difflib
+
+            close = difflib.get_close_matches(value, [c for c in opt.choices if c], n=1, cutoff=0.6)
+            mean = f" Did you mean {close[0]!r}?" if close else ""
+            allowed = ", ".join(repr(c) for c in opt.choices if c)
+            issues.append(("", f"= {show(value)}: not allowed.{mean} Allowed: {allowed}.{fix}"))
+            return BAD, issues
+        return value, issues
+    if t == "number-or-floats":
+        if is_real(value):
+            return number(value), issues
+        if not seq(value) or not value:
+            return bad_type(), issues
+        if too_long(value):
+            return BAD, issues
+        out = [number(x, f"[{i}]") for i, x in enumerate(value)]
+        return (BAD if any(x is BAD for x in out) else out), issues
+    if t in ("floats", "ints"):
+        if not seq(value):
+            return bad_type(), issues
+        if opt.lengths is not None and len(value) not in opt.lengths:
+            issues.append(("", f"= {show(value)}: needs {' or '.join(map(str, opt.lengths))} entries, "
+                               f"got {len(value)}."))
+            return BAD, issues
+        if too_long(value):
+            return BAD, issues
+        out = [number(x, f"[{i}]") for i, x in enumerate(value)]
+        return (BAD if any(x is BAD for x in out) else out), issues
+    if t == "knots":
+        def finite(x: Any) -> bool:
+            try:
+                return is_real(x) and math.isfinite(float(x))
+            except OverflowError:
+                return False
+
+        ok = seq(value) and value and len(value) <= MAX_LIST and all(
+            seq(k) and len(k) == 2 and all(finite(x) for x in k) for k in value)
+        if not ok:
+            issues.append(("", f"= {show(value)}: expected {want} of finite numbers (at most {MAX_LIST}), "
+                               "e.g. [[0.0, 0.0], [1.0, 1.0]]."))
+            return BAD, issues
+        ts = [float(k[0]) for k in value]
+        if any(b <= a for a, b in zip(ts, ts[1:])):
+            issues.append(("", f"= {show(value)}: the times (first entries) must increase strictly."))
+            return BAD, issues
+        return [(float(k[0]), float(k[1])) for k in value], issues
+    raise AssertionError(t)  # pragma: no cover
+
+
+# --------------------------------------------------------------------------- options dataclasses
+_KEY = "alcontact.option"
+
+
+def declared(type: str, default: Any, doc: str, **limits: Any) -> Any:
+    """A dataclass field declared as an :class:`Option` (the field name is the option name).
+
+    ``limits`` are the keyword arguments of :class:`Option` (``low``, ``high``,
+    ``low_open``, ``high_open``, ``choices``, ``lengths``).
+
+    Examples
+    --------
+    >>> @dataclasses.dataclass(frozen=True)
+    ... class Opts:
+    ...     maxiter: int = declared("int", 100, "Outer iterations.", low=1)
+    ...     def __post_init__(self):
+    ...         check_dataclass(self, "example")
+    >>> declarations(Opts)[0].range_text()
+    '>= 1'
+    >>> Opts(maxiter=0)
+    Traceback (most recent call last):
+    ...
+    alcontact.errors.InputError: example option maxiter = 0: out of range, must be >= 1. Default: 100.
+    """
+    meta = {_KEY: dict(type=type, doc=doc, **limits)}
+    return dataclasses.field(default=default, metadata=meta)
+
+
+def same_as(cls: type, name: str) -> Any:
+    """A field declared exactly as field ``name`` of the options dataclass ``cls`` (shared option)."""
+    f = next(f for f in dataclasses.fields(cls) if f.name == name)
+    return dataclasses.field(default=f.default, metadata=f.metadata)
+
+
+_CACHE: dict[type, tuple[Option, ...]] = {}
+
+
+def declarations(cls: type) -> tuple[Option, ...]:
+    """The :class:`Option` of every field of an options dataclass, in field order."""
+    if cls not in _CACHE:
+        out = []
+        for f in dataclasses.fields(cls):
+            meta = f.metadata.get(_KEY)
+            if meta is None:
+                raise TypeError(f"{cls.__name__}.{f.name} is not declared with alcontact._options.declared")
+            out.append(Option(f.name, default=f.default, **meta))
+        _CACHE[cls] = tuple(out)
+    return _CACHE[cls]
+
+
+def check_dataclass(obj: Any, kind: str) -> Any:
+    """Validate every field of an options dataclass against its declaration.
+
+    Meant for ``__post_init__``: the options object is checked when it is made.
+
+    Returns
+    -------
+    object
+        ``obj``, every value converted to its declared type in place (``numpy``
+        scalars become ``float``/``int``).
+
+    Raises
+    ------
+    InputError
+        Naming every bad field (``"contact option maxiter = '10': expected ..."``),
+        the allowed range and the fix.
+    """
+    issues: list[str] = []
+    changes: dict[str, Any] = {}
+    for opt in declarations(type(obj)):
+        value = getattr(obj, opt.name)
+        new, found = check_value(opt, value, api=True)
+        for suffix, msg in found:
+            issues.append(f"{kind} option {opt.name}{suffix} {msg}")
+        if not found and (type(new) is not type(value) or new != value):
+            changes[opt.name] = new
+    if issues:
+        raise InputError("\n".join(issues) if len(issues) > 1 else issues[0])
+    for name, value in changes.items():  # frozen dataclass: convert in place (called from __post_init__)
+        object.__setattr__(obj, name, value)
+    return obj
+
+
+def as_options(cls: type, options: Any, overrides: dict, kind: str) -> Any:
+    """An options dataclass from ``None``, an instance of ``cls`` or a dict, plus ``overrides``, validated.
+
+    Raises
+    ------
+    InputError
+        ``options`` of another type, unknown keys (with "did you mean"), or bad values.
+    """
+    from .errors import UnknownNameError
+
+    if options is None:
+        base: dict[str, Any] = {}
+        opts = cls()
+    elif isinstance(options, cls):
+        base, opts = {}, options
+    elif isinstance(options, dict):
+        base, opts = dict(options), cls()
+    else:
+        raise InputError(f"options = {show(options)}: expected a {cls.__name__} or a dict of its fields, got "
+                         f"{type(options).__name__}; e.g. options={{'maxiter': 50}}.")
+    known = [f.name for f in dataclasses.fields(cls)]
+    changes = {**base, **(overrides or {})}
+    for key in changes:
+        if not isinstance(key, str) or key not in known:
+            raise UnknownNameError(f"{kind} option", str(key), known)
+    if changes:
+        opts = dataclasses.replace(opts, **changes)  # __post_init__ validates
+    return opts
+
