@@ -5,6 +5,7 @@ from __future__ import annotations
 import dataclasses
 import logging
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass
 
 import numpy as np
@@ -332,10 +333,6 @@ def minimize(fun, x0, *, jac=None, hess=None, constraints=(), bounds=None, metho
         raise UnknownNameError("method", method, list(METHODS)) from None
     opts = Options.from_dict(options)
     pen_name = spec.default_penalty if penalty is None else penalty
-    if pen_name == "inverse-barrier" and "eta_min" not in (options or {}):
-        # with the inverse barrier (5.3) the complementarity mu g behaves like sqrt(rho):
-        # reaching ctol needs rho far below the default floor 1e-12
-        opts = dataclasses.replace(opts, eta_min=1e-24)
     known_pen = list(_penalties.available())
     if pen_name not in known_pen:
         raise UnknownNameError("penalty", pen_name, known_pen)
@@ -373,13 +370,19 @@ def minimize(fun, x0, *, jac=None, hess=None, constraints=(), bounds=None, metho
         raise InputError(f"method {method!r} handles inequality constraints only but the "
                          f"problem has {nlp.p} equalities; use method='al'")
     pen = _penalties.make(pen_name, **(opts.penalty_options or {}))
+    known = _penalties.facts(pen)
+    explicit = ("eta_min" in options) if isinstance(options, Mapping) else \
+        (options is not None and opts.eta_min != Options.eta_min)
+    if known.eta_min is not None and not explicit:
+        # a declared floor, e.g. the inverse barrier (5.3): its complementarity mu g
+        # behaves like sqrt(rho), reaching ctol needs eta far below the default 1e-12
+        opts = dataclasses.replace(opts, eta_min=known.eta_min)
     if spec.safeguards and spec.update_multipliers:
         pen = safeguard_penalty(pen, extrapolate=opts.extrapolate, cap=opts.exp_cap)
     hp = _penalties.make("hestenes-powell")
     mu = _vector(opts.mu0, nlp.m, "mu0")
     lam = _vector(opts.lam0, nlp.p, "lam0")
-    if spec.update_multipliers and nlp.m and getattr(pen, "family_p", False) \
-            and np.any(mu <= 0):
+    if spec.update_multipliers and nlp.m and known.family_p and np.any(mu <= 0):
         raise InputError(f"options['mu0'] must be > 0 for the family-P penalty {pen_name!r}")
     if not spec.update_multipliers:
         lam = np.zeros(nlp.p)

@@ -27,6 +27,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..errors import DomainError, InputError
+from ..penalties import facts
 from ._inner import InnerResult
 from ._polish import kkt_polish
 from ._problem import NLP, NonFiniteValue
@@ -232,14 +233,6 @@ def _domain(pen, mu):
     return np.array(b, dtype=float)
 
 
-def _freezes(pen) -> bool:
-    """Whether a zero multiplier would stay zero: ``p'(y, 0) == 0`` for all y (MET 1/2)."""
-    y = np.array([-1.0, -0.1, 0.0, 0.1, 0.5])
-    with np.errstate(all="ignore"):
-        d = np.asarray(pen.derivative(y, np.zeros_like(y)), float)
-    return bool(np.all(d == 0))
-
-
 @dataclass
 class OuterOutcome:
     """Mutable state handed back to :func:`minimize` to build the result."""
@@ -357,9 +350,10 @@ def run_outer(nlp: NLP, spec: MethodSpec, pen, hp, strategy, inner, opts, eta, m
     """
     m, p = nlp.m, nlp.p
     sub = Subproblem(nlp, pen, hp, spec.scaled, eta, mu, lam, opts.unbounded_below)
-    freezes = m > 0 and spec.update_multipliers and _freezes(pen)
+    known = facts(pen)
+    freezes = m > 0 and spec.update_multipliers and known.freezes_at_zero
     mu_min = opts.mu_min if opts.mu_min is not None else (1e-12 if freezes else 0.0)
-    restart = freezes and not getattr(pen, "family_p", False)
+    restart = freezes and not known.family_p
     mu_start = np.array(mu, dtype=float)
     polish = bool(spec.polish and opts.polish and m + p > 0)
     x = nlp.project(nlp.x0.copy())
