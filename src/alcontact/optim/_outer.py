@@ -386,7 +386,7 @@ def run_outer(nlp: NLP, spec: MethodSpec, pen, hp, strategy, inner, opts, eta, m
         x_prev = x.copy()
         res: InnerResult = inner.solve(sub, x, tol, opts.maxiter_inner)
         nit_inner += res.nit
-        if res.status == "nonfinite":
+        if res.code == Status.NONFINITE:
             x = res.x
             status = Status.NONFINITE
             message = f"non-finite value from {res.nonfinite or 'a callback'}"
@@ -402,7 +402,7 @@ def run_outer(nlp: NLP, spec: MethodSpec, pen, hp, strategy, inner, opts, eta, m
         except NonFiniteValue as exc:
             status, message = Status.NONFINITE, f"non-finite value from {exc.callback}"
             break
-        if res.status == "unbounded" and unbounded_retries < 8 and \
+        if res.code == Status.UNBOUNDED and unbounded_retries < 8 and \
                 np.all(eta > opts.eta_min):
             # too weak a penalty for the scale of f: restart the subproblem stronger
             unbounded_retries += 1
@@ -410,7 +410,7 @@ def run_outer(nlp: NLP, spec: MethodSpec, pen, hp, strategy, inner, opts, eta, m
             eta = np.clip(eta / 100.0, opts.eta_min, opts.eta_max)
             log.debug("subproblem unbounded below: eta decreased 100x and retried")
             continue
-        if res.status == "unbounded":
+        if res.code == Status.UNBOUNDED:
             status = Status.UNBOUNDED
             message = (f"subproblem unbounded below (L < {opts.unbounded_below:g}) at "
                        f"outer iteration {k}")
@@ -460,7 +460,7 @@ def run_outer(nlp: NLP, spec: MethodSpec, pen, hp, strategy, inner, opts, eta, m
                 res = InnerResult(res.x, res.value, res.nit + pit, res.status, res.measure,
                                   res.nonfinite)
             prev_active = active
-        inner_failures = 0 if res.ok or res.status == "maxiter" else inner_failures + 1
+        inner_failures = 0 if res.ok or res.code == Status.MAXITER else inner_failures + 1
         if inner_failures >= 3:
             _record(history, k, nlp, x, stat, feas, comp, eta, res, tol, 1.0)
             status = Status.INNER_FAILED
