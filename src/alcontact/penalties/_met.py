@@ -207,5 +207,5 @@ class Met2(_Met):
         mu_arr = np.asarray(mu, dtype=float)
         if self._y0 is None:
             return np.full(mu_arr.shape, -math.inf)[()]
-        pos = mu_arr > 0
-        return np.where(pos, self._y0 / np.where(pos, mu_arr, 1.0), -math.inf)[()]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            return np.where(mu_arr > 0, self._y0 / mu_arr, -math.inf)[()]

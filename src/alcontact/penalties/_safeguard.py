@@ -93,21 +93,33 @@ class Safeguarded(PenaltyBase):
     def _upper(self, mu):
         return np.asarray(self.base.domain_upper(mu), dtype=float)
 
+    def domain_upper(self, mu: ArrayLike) -> Any:
+        """The base penalty's domain bound ``b(mu)`` (the safeguard changes only ``y < y*``)."""
+        return self.base.domain_upper(mu)
+
+    def _kernels(self):
+        # the base's raw kernels when it is a PenaltyBase (this wrapper masks the domain
+        # itself), else its public evaluations
+        base = self.base
+        if all(hasattr(base, k) for k in ("_p", "_dp", "_d2p")):
+            return base._p, base._dp, base._d2p
+        return base.value, base.derivative, base.second_derivative
+
     def _ys(self, y, mu):
-        ys = np.broadcast_to(np.asarray(self.minimizer(mu), dtype=float), np.shape(mu))
+        ys = np.asarray(self.minimizer(mu), dtype=float)
         return ys, np.maximum(y, ys)
 
     def _p(self, y, mu):
         _, z = self._ys(y, mu)
-        return np.asarray(self.base.value(z, mu), dtype=float)
+        return np.asarray(self._kernels()[0](z, mu), dtype=float)
 
     def _dp(self, y, mu):
         ys, z = self._ys(y, mu)
-        return np.where(y < ys, 0.0, np.maximum(np.asarray(self.base.derivative(z, mu), dtype=float), 0.0))
+        return np.where(y < ys, 0.0, np.maximum(np.asarray(self._kernels()[1](z, mu), dtype=float), 0.0))
 
     def _d2p(self, y, mu):
         ys, z = self._ys(y, mu)
-        return np.where(y < ys, 0.0, np.asarray(self.base.second_derivative(z, mu), dtype=float))
+        return np.where(y < ys, 0.0, np.asarray(self._kernels()[2](z, mu), dtype=float))
 
 
 def safeguarded(pen: Any) -> Any:
