@@ -140,10 +140,11 @@ BUILTIN_FACTS = {
     "quad-met2": {"needs_multiplier_safeguard": True, "freezes_at_zero": True},
     "exp-met1": {"freezes_at_zero": True}, "exp-met2": {"freezes_at_zero": True},
     "log-met1": {"freezes_at_zero": True}, "log-met2": {"freezes_at_zero": True},
-    "inverse-barrier": {"eta_min": 1e-24},
+    "inverse-barrier": {"eta_min": 1e-24, "uses_multiplier": False},
+    "log-barrier": {"uses_multiplier": False}, "exterior-quadratic": {"uses_multiplier": False},
 }  # fmt: skip
 DEFAULTS = {"equality_only": False, "needs_multiplier_safeguard": False, "freezes_at_zero": False,
-            "eta_min": None}
+            "eta_min": None, "uses_multiplier": True}
 
 
 @pytest.mark.parametrize("name", sorted(P.available()))
@@ -151,6 +152,35 @@ def test_builtin_facts(name):
     f = P.facts(P.make(name))
     for key, default in DEFAULTS.items():
         assert getattr(f, key) == BUILTIN_FACTS.get(name, {}).get(key, default), (name, key)
+
+
+def test_uses_multiplier_and_domain_facts(penalty):
+    """uses_multiplier <=> p(y, mu) changes with mu on the grid; bounded_domain <=> b(1) finite."""
+    f = P.facts(penalty)
+    y = grid(penalty, 4.0)  # the smallest domain of the MUS for MET 2
+    changes = any(not np.array_equal(penalty.value(y, a), penalty.value(y, b)) for a, b in [(0.3, 1.0), (1.0, 4.0)])
+    assert f.uses_multiplier == changes
+    assert f.bounded_domain == math.isfinite(float(penalty.domain_upper(1.0)))
+
+
+def test_optim_methods_take_penalties_by_their_facts(user_penalties):
+    """Algorithm 5.4 takes the multiplier penalties for inequalities, 5.1 the barriers, 5.2 the
+    exterior penalty, 5.3 Hestenes-Powell -- the former name lists, now derived from the facts
+    (so user penalties are placed by what they declare)."""
+    from alcontact.optim._minimize import _accepted
+    from alcontact.optim._outer import METHODS
+
+    expected = {
+        "al": {"exp-met1", "exp-met2", "log-met1", "log-met2", "quad-met1", "quad-met2", "rockafellar",
+               "user-shifted-quad", "user-plain-exp"},
+        "barrier": {"log-barrier", "inverse-barrier"},
+        "exterior-penalty": {"exterior-quadratic"},
+        "hestenes-powell": {"hestenes-powell"},
+    }
+    for method, names in expected.items():
+        assert set(_accepted(METHODS[method])) == names, method
+    with pytest.raises(errors.InputError, match="allowed: inverse-barrier, log-barrier"):
+        _barrier_run("exp-met1", None)
 
 
 def test_usable_for_contact_fact():

@@ -206,6 +206,21 @@ class Options:
         return o
 
 
+def _accepted(spec) -> list[str]:
+    """Registered penalties whose declared facts the method ``spec`` accepts."""
+    from .. import penalties as _penalties
+
+    out = []
+    for name in _penalties.available():
+        try:
+            ok = spec.accepts(_penalties.facts(_penalties.make(name)))
+        except (InputError, TypeError):  # a user factory that needs parameters
+            continue
+        if ok:
+            out.append(name)
+    return out
+
+
 def available_methods() -> list[str]:
     """Names of the registered outer methods (``"al"``, ``"barrier"``, ...)."""
     return sorted(METHODS)
@@ -336,11 +351,11 @@ def minimize(fun, x0, *, jac=None, hess=None, constraints=(), bounds=None, metho
     known_pen = list(_penalties.available())
     if pen_name not in known_pen:
         raise UnknownNameError("penalty", pen_name, known_pen)
-    allowed = spec.penalties if spec.penalties is not None else \
-        tuple(n for n in known_pen if n not in spec.excluded)
-    if pen_name not in allowed:
+    pen = _penalties.make(pen_name, **(opts.penalty_options or {}))
+    known = _penalties.facts(pen)
+    if not spec.accepts(known):
         raise InputError(f"method {method!r} does not take penalty {pen_name!r}; "
-                         f"allowed: {', '.join(allowed)}")
+                         f"allowed: {', '.join(_accepted(spec))}")
     strat_name = opts.strategy or spec.strategy
     sopts = dict(spec.strategy_options) if opts.strategy is None else {}
     sopts.update(opts.strategy_options or {})
@@ -369,8 +384,6 @@ def minimize(fun, x0, *, jac=None, hess=None, constraints=(), bounds=None, metho
     if nlp.p and not spec.equalities:
         raise InputError(f"method {method!r} handles inequality constraints only but the "
                          f"problem has {nlp.p} equalities; use method='al'")
-    pen = _penalties.make(pen_name, **(opts.penalty_options or {}))
-    known = _penalties.facts(pen)
     explicit = ("eta_min" in options) if isinstance(options, Mapping) else \
         (options is not None and opts.eta_min != Options.eta_min)
     if known.eta_min is not None and not explicit:

@@ -21,13 +21,14 @@ from __future__ import annotations
 
 import logging
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
 import scipy.sparse as sp
 
 from ..errors import DomainError, InputError
-from ..penalties import facts
+from ..penalties import PenaltyFacts, facts
 from ._inner import InnerResult
 from ._polish import kkt_polish
 from ._problem import NLP, NonFiniteValue
@@ -49,10 +50,9 @@ class MethodSpec:
         Registry name.
     default_penalty : str
         Inequality penalty used when the caller gives none.
-    penalties : tuple of str or None
-        Allowed inequality penalties (None: every penalty except ``excluded``).
-    excluded : tuple of str
-        Penalties refused when ``penalties`` is None.
+    accepts : callable
+        Predicate on the declared facts of a penalty
+        (:class:`alcontact.penalties.PenaltyFacts`): whether the method takes it.
     scaled : bool
         Whether the penalty argument is ``g/eta`` (5.28) or ``g`` (5.1).
     update_multipliers : bool
@@ -82,8 +82,7 @@ class MethodSpec:
 
     name: str
     default_penalty: str
-    penalties: tuple | None
-    excluded: tuple
+    accepts: Callable[[PenaltyFacts], bool]
     scaled: bool
     update_multipliers: bool
     inequalities: bool
@@ -97,25 +96,44 @@ class MethodSpec:
     box: bool = False
 
 
-_CLASSICAL = ("log-barrier", "inverse-barrier", "exterior-quadratic", "hestenes-powell")
+def _al_penalty(f: PenaltyFacts) -> bool:
+    """Algorithm 5.4: a penalty of the multipliers (not a pure barrier / exterior penalty)
+    for inequalities (not equality-only)."""
+    return f.uses_multiplier and not f.equality_only
+
+
+def _barrier(f: PenaltyFacts) -> bool:
+    """Algorithm 5.1: no multiplier, bounded domain (``p -> inf`` at ``b``)."""
+    return not f.uses_multiplier and f.bounded_domain
+
+
+def _exterior(f: PenaltyFacts) -> bool:
+    """Algorithm 5.2: no multiplier, defined on the whole line."""
+    return not f.uses_multiplier and not f.bounded_domain
+
+
+def _equality(f: PenaltyFacts) -> bool:
+    """Algorithm 5.3: a penalty of equality constraints."""
+    return f.equality_only
+
 
 METHODS = {
     "al": MethodSpec(
-        "al", "exp-met1", None, _CLASSICAL, True, True, True, True,
+        "al", "exp-met1", _al_penalty, True, True, True, True,
         "per-constraint", (("tau", 0.5), ("factor", 10.0)),
         "Algorithm 5.4 (corrected): inequalities with any AL penalty (family P, "
         "Rockafellar, quadratic with safeguard), equalities by Hestenes-Powell",
         polish=True, safeguards=True, autoscale=True, box=True),
     "hestenes-powell": MethodSpec(
-        "hestenes-powell", "hestenes-powell", ("hestenes-powell",), (), True, True,
+        "hestenes-powell", "hestenes-powell", _equality, True, True,
         False, True, "infeasibility", (("tau", 0.25), ("factor", 10.0)),
         "Algorithm 5.3: method of multipliers for equality constraints (5.13)-(5.15)"),
     "barrier": MethodSpec(
-        "barrier", "log-barrier", ("log-barrier", "inverse-barrier"), (), False, False,
+        "barrier", "log-barrier", _barrier, False, False,
         True, False, "always", (("factor", 2.0),),
         "Algorithm 5.1: logarithmic (5.2) or inverse (5.3) barrier, rho -> 0"),
     "exterior-penalty": MethodSpec(
-        "exterior-penalty", "exterior-quadratic", ("exterior-quadratic",), (), True, False,
+        "exterior-penalty", "exterior-quadratic", _exterior, True, False,
         True, True, "always", (("factor", 2.0),),
         "Algorithm 5.2: exterior quadratic penalty (5.8)/(5.9), t = 1/eta -> inf"),
 }

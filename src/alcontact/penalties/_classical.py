@@ -109,6 +109,7 @@ class ExteriorQuadratic(PenaltyBase):
     name: str = "exterior-quadratic"
     doc: str = "exterior quadratic penalty (5.9): p = max(0, y)^2, mu ignored (t = 1/eta)"
     properties: ClassVar[frozenset[str]] = frozenset({"P1", "P4", "P5"})
+    uses_multiplier: ClassVar[bool] = False
     twice_differentiable: ClassVar[bool] = False
 
     def _p(self, y, mu):
@@ -143,6 +144,7 @@ class LogBarrier(PenaltyBase):
     name: str = "log-barrier"
     doc: str = "logarithmic barrier (5.2): p = -log(-y) for y < 0, mu ignored"
     properties: ClassVar[frozenset[str]] = frozenset({"P2", "P4", "P5"})
+    uses_multiplier: ClassVar[bool] = False
 
     def _p(self, y, mu):
         return -np.log(-y)
@@ -178,6 +180,7 @@ class InverseBarrier(PenaltyBase):
     name: str = "inverse-barrier"
     doc: str = "inverse barrier (5.3): p = -1/y for y < 0, mu ignored"
     properties: ClassVar[frozenset[str]] = frozenset({"P2", "P4", "P5"})
+    uses_multiplier: ClassVar[bool] = False
     eta_min: ClassVar[float | None] = 1e-24
 
     def _p(self, y, mu):

@@ -43,6 +43,11 @@ class PenaltyFacts:
         :func:`alcontact.penalties.safeguarded`.  Default: no (P5) and not equality-only.
     twice_differentiable : bool
         ``p(., mu)`` is C^2 (no kinks, see ``p.kinks(mu)``); default ``True``.
+    uses_multiplier : bool
+        ``p`` depends on ``mu`` (an augmented Lagrangian penalty); ``False`` for the
+        barriers (5.2), (5.3) and the exterior penalty (5.9).  Default: probed.
+    bounded_domain : bool
+        ``domain_upper(1)`` is finite (barrier type: iterates must stay inside).
     eta_min : float or None
         Smallest ``eta`` the optimization outer loop must be allowed to reach
         (``None``: the method's default).
@@ -57,6 +62,8 @@ class PenaltyFacts:
     freezes_at_zero: bool
     needs_multiplier_safeguard: bool
     twice_differentiable: bool
+    uses_multiplier: bool
+    bounded_domain: bool
     eta_min: float | None
     generator: Any
 
@@ -68,6 +75,14 @@ def _probe_freezes(pen: Any) -> bool:
     with np.errstate(all="ignore"):
         d = np.asarray(pen.derivative(_PROBE, np.zeros_like(_PROBE)), dtype=float)
     return bool(np.all(d == 0.0))
+
+
+def _probe_uses_multiplier(pen: Any) -> bool:
+    y = _PROBE - 10.0  # inside the domain of any barrier with b >= 0
+    with np.errstate(all="ignore"):
+        a = np.asarray(pen.value(y, np.full_like(y, 0.5)), dtype=float)
+        b = np.asarray(pen.value(y, np.full_like(y, 2.0)), dtype=float)
+    return not bool(np.array_equal(a, b))
 
 
 def facts(pen: Any) -> PenaltyFacts:
@@ -94,6 +109,9 @@ def facts(pen: Any) -> PenaltyFacts:
     safeguard = getattr(pen, "needs_multiplier_safeguard", None)
     usable = getattr(pen, "usable_for_contact", None)
     eta_min = getattr(pen, "eta_min", None)
+    uses = getattr(pen, "uses_multiplier", None)
+    with np.errstate(all="ignore"):
+        upper = float(np.asarray(pen.domain_upper(1.0), dtype=float))
     return PenaltyFacts(
         properties=props,
         family_p=bool(getattr(pen, "family_p", set(PROPERTY_LABELS) <= props)),
@@ -104,6 +122,8 @@ def facts(pen: Any) -> PenaltyFacts:
             ("P5" not in props and not equality_only) if safeguard is None else safeguard
         ),
         twice_differentiable=bool(getattr(pen, "twice_differentiable", True)),
+        uses_multiplier=_probe_uses_multiplier(pen) if uses is None else bool(uses),
+        bounded_domain=bool(np.isfinite(upper)),
         eta_min=None if eta_min is None else float(eta_min),
         generator=getattr(pen, "generator", None),
     )

@@ -75,6 +75,10 @@ class Safeguarded(PenaltyBase):
         return bool(getattr(self.base, "equality_only", False))
 
     @property
+    def uses_multiplier(self) -> bool:  # type: ignore[override]
+        return facts(self.base).uses_multiplier
+
+    @property
     def eta_min(self) -> float | None:  # type: ignore[override]
         return getattr(self.base, "eta_min", None)
 
