@@ -139,12 +139,12 @@ BUILTIN_FACTS = {
     "quad-met1": {"needs_multiplier_safeguard": True, "freezes_at_zero": True},
     "quad-met2": {"needs_multiplier_safeguard": True, "freezes_at_zero": True},
     "exp-met1": {"freezes_at_zero": True}, "exp-met2": {"freezes_at_zero": True},
-    "log-met1": {"freezes_at_zero": True}, "log-met2": {"freezes_at_zero": True},
+    "log-met1": {"freezes_at_zero": True, "eta0_factor": 0.1}, "log-met2": {"freezes_at_zero": True},
     "inverse-barrier": {"eta_min": 1e-24, "uses_multiplier": False},
     "log-barrier": {"uses_multiplier": False}, "exterior-quadratic": {"uses_multiplier": False},
 }  # fmt: skip
 DEFAULTS = {"equality_only": False, "needs_multiplier_safeguard": False, "freezes_at_zero": False,
-            "eta_min": None, "uses_multiplier": True}
+            "eta_min": None, "uses_multiplier": True, "eta0_factor": 1.0}
 
 
 @pytest.mark.parametrize("name", sorted(P.available()))

@@ -109,9 +109,9 @@ class Options:
         constraint); False: the unscaled rule with one value. Default True. (With
         ``scale`` the problem is already scaled and both rules agree.)
     eta0_factor : float or None
-        Multiplies the automatic ``eta0``; None takes the per-penalty default of
-        ``alcontact.optim._outer.ETA0_FACTOR`` (0.1 for ``"log-met1"``: its
-        modified barrier needs a stronger start; 1 otherwise).
+        Multiplies the automatic ``eta0``; None takes the penalty's declared fact
+        ``eta0_factor`` (:func:`alcontact.penalties.facts`; 0.1 for ``"log-met1"``:
+        its modified barrier needs a stronger start; 1 otherwise).
     scale : bool
         Method ``"al"``: solve the problem scaled as ALGENCAN does, ``f`` by
         ``1/max(1, |grad f(x0)|_inf)`` and each constraint by

@@ -595,11 +595,6 @@ def _record(history, k, nlp, x, stat, feas, comp, eta, res, tol, factor, extra_i
 #: rho_i = mu_i^2/eta_i of the first subproblem instead: 47.
 QUAD_MU_FLOOR = 1e-4
 
-#: Default multiplier of the automatic eta0 per penalty (option ``eta0_factor``),
-#: measured on the Hock-Schittkowski set (benchmarks/nlp_hs.py): a 10x stronger
-#: start lifts log-met1 from 46 to 48 of 53 problems; for the other penalties
-#: factors 0.1 and 10 were no better than 1.
-ETA0_FACTOR: dict[str, float] = {"log-met1": 0.1}
 
 
 def initial_eta(nlp, spec, pen, opts, f0, g0, h0, mu0):
@@ -643,7 +638,7 @@ def initial_eta(nlp, spec, pen, opts, f0, g0, h0, mu0):
         if spec.scaled:
             factor = opts.eta0_factor
             if factor is None:
-                factor = ETA0_FACTOR.get(pen.name, 1.0)
+                factor = facts(pen).eta0_factor
             eta = eta * factor
     if m:
         b = _domain(pen, np.asarray(mu0, float))

@@ -99,6 +99,9 @@ class PenaltyBase(abc.ABC):
     #: must be allowed to reach (its option ``eta_min``), or ``None`` for the method's
     #: default.  The inverse barrier (5.3) declares ``1e-24``.
     eta_min: ClassVar[float | None] = None
+    #: Multiplier of the automatic initial ``eta`` of :func:`alcontact.optim.minimize`
+    #: (its option ``eta0_factor``); < 1 is a stronger start.
+    eta0_factor: ClassVar[float] = 1.0
     #: ``False`` when ``p`` ignores ``mu`` (barriers (5.2), (5.3), exterior penalty (5.9)):
     #: a pure penalty method, no multiplier update.
     uses_multiplier: ClassVar[bool] = True

@@ -53,6 +53,9 @@ class PenaltyFacts:
         (``None``: the method's default).
     generator : object or None
         The generator θ of MET 1 / MET 2 penalties.
+    eta0_factor : float
+        Multiplier of the automatic initial ``eta`` of :func:`alcontact.optim.minimize`
+        (default 1).
     """
 
     properties: frozenset[str]
@@ -66,6 +69,7 @@ class PenaltyFacts:
     bounded_domain: bool
     eta_min: float | None
     generator: Any
+    eta0_factor: float
 
 
 _PROBE = np.array([-5.0, -1.0, -0.1, 0.0, 0.1, 0.5])
@@ -126,4 +130,5 @@ def facts(pen: Any) -> PenaltyFacts:
         bounded_domain=bool(np.isfinite(upper)),
         eta_min=None if eta_min is None else float(eta_min),
         generator=getattr(pen, "generator", None),
+        eta0_factor=float(getattr(pen, "eta0_factor", 1.0)),
     )

@@ -73,6 +73,7 @@ class _Met(PenaltyBase):
     name: str = ""
     doc: str = ""
     properties: frozenset[str] = field(init=False)
+    eta0_factor: float = 1.0  # type: ignore[misc]
     suffix: ClassVar[str] = ""
     formula: ClassVar[str] = ""
     freezes_at_zero: ClassVar[bool] = True
@@ -121,6 +122,9 @@ class Met1(_Met):
         The generator θ (Definition 5.3).
     name, doc : str, optional
         Registry name and one-line description (derived from θ when empty).
+    eta0_factor : float, optional
+        Declared multiplier of the automatic initial ``eta`` of
+        :func:`alcontact.optim.minimize` (default 1).
 
     Examples
     --------

@@ -79,6 +79,10 @@ class Safeguarded(PenaltyBase):
         return facts(self.base).uses_multiplier
 
     @property
+    def eta0_factor(self) -> float:  # type: ignore[override]
+        return facts(self.base).eta0_factor
+
+    @property
     def eta_min(self) -> float | None:  # type: ignore[override]
         return getattr(self.base, "eta_min", None)
 
