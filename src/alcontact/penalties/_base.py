@@ -30,6 +30,12 @@ class Penalty(Protocol):
     Derivatives are taken in ``y``.  All three evaluations broadcast ``y`` and
     ``mu`` and return floats; outside the domain (``y >= domain_upper(mu)``)
     they return ``+inf`` without warnings.
+
+    A penalty may also declare the facts the algorithms read through
+    :func:`alcontact.penalties.facts` (``equality_only``, ``freezes_at_zero``,
+    ``needs_multiplier_safeguard``, ``usable_for_contact``, ``uses_multiplier``,
+    ``eta_min``, ``eta0_factor``, ``generator``, ``minimizer(mu)``, ``kinks(mu)``,
+    ``twice_differentiable``); undeclared ones get documented defaults.
     """
 
     name: str

@@ -98,7 +98,9 @@ def register(name: str, factory: Callable[..., Penalty], *, doc: str, overwrite:
         Registry name (e.g. ``"my-penalty"``).
     factory : callable
         Returns an object following :class:`Penalty`; keyword arguments of
-        :func:`make` are forwarded to it.
+        :func:`make` are forwarded to it.  The object may declare the facts read by
+        :func:`alcontact.penalties.facts` (e.g. ``freezes_at_zero``); the others get
+        their defaults.
     doc : str
         One-line description, shown by :func:`describe`.
     overwrite : bool
