@@ -219,15 +219,12 @@ def resolve_penalty(algorithm: str, penalty: str | None, default: str) -> str:
 
 
 def contact_penalties() -> list[str]:
-    """Registered penalties usable by Algorithm 6.3 (those with (P1), (P3), (P4))."""
-    out = []
-    for name in _pen.available():
-        if name == "hestenes-powell":
-            continue
-        props = getattr(_pen.make(name), "properties", frozenset())
-        if {"P1", "P3", "P4"} <= set(props):
-            out.append(name)
-    return out
+    """Registered penalties usable by Algorithm 6.3: those declaring ``usable_for_contact``.
+
+    That fact defaults to (P1), (P3), (P4) and not ``equality_only``
+    (:func:`alcontact.penalties.facts`).
+    """
+    return [name for name in _pen.available() if _pen.facts(_pen.make(name)).usable_for_contact]
 
 
 def _measures(dc, lam, g, lam_old):

@@ -53,7 +53,7 @@ from ._algorithms import MAX_NEWTON, ContactOptions, check_solve_args, options_w
 from ._friction_discrete import FrictionalContact
 from ._friction_laws import OPEN, SLIP, STICK, Macaulay, local_law, tangential_energy
 from ._friction_solution import FrictionSolution, FrictionStep
-from ._laws import eta_for_stiffness, make_law
+from ._laws import eta_for_stiffness, freezes_at_zero, make_law
 from ._loading import LoadHistory
 from ._solution import ContactStatus
 from ._solve import penalty_stiffness
@@ -344,9 +344,9 @@ def _step_al(ctx: _Ctx, penalty_name: str) -> _StepOut:
     R = ctx.R0.copy()
     newton = 0
     macaulay = make_law(_pen.make("rockafellar"), np.full(ctx.c, 1.0 / ctx.eps_n))
-    family_p = penalty_name != "rockafellar"
+    pen = _pen.make(penalty_name)
+    family_p = freezes_at_zero(pen)  # MET 1/2: positive multipliers, predictor, scaled eta
     if family_p:
-        pen = _pen.make(penalty_name)
         # predictor: one Simo-Laursen subproblem gives multipliers for points entering contact
         out = _al_subproblem(ctx, macaulay, lamN, lamT, R)
         newton += out.iterations

@@ -38,16 +38,18 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["NormalLaw", "SafeguardedLaw", "eta_for_stiffness", "make_law", "freezes_at_zero"]
+from .. import penalties as _pen
+
+__all__ = ["NormalLaw", "eta_for_stiffness", "make_law", "freezes_at_zero"]
 
 
 def freezes_at_zero(penalty) -> bool:
     """Whether a zero multiplier stays zero (``p'(y, 0) = 0``), as for MET 1 / MET 2.
 
     Such penalties need strictly positive multipliers (a floor); Rockafellar's does not.
+    Read from the penalty's declared facts (:func:`alcontact.penalties.facts`).
     """
-    y = np.array([-1.0, 0.0, 0.5])
-    return bool(np.all(np.asarray(penalty.derivative(y, np.zeros(3))) == 0.0))
+    return _pen.facts(penalty).freezes_at_zero
 
 
 def eta_for_stiffness(penalty, lam_ref: np.ndarray, eps: float) -> np.ndarray:
@@ -89,50 +91,13 @@ class NormalLaw:
         return self.eta * np.asarray(self.penalty.domain_upper(lam), dtype=float)
 
 
-def _minimizer(penalty, lam: np.ndarray) -> np.ndarray:
-    """Point y* with p'(y*, lam) = 0 (bisection; p' is increasing)."""
-    lo = -np.ones_like(lam)
-    for _ in range(200):
-        neg = np.asarray(penalty.derivative(lo, lam)) >= 0
-        if not np.any(neg):
-            break
-        lo = np.where(neg, 2.0 * lo, lo)
-    hi = np.zeros_like(lam)
-    for _ in range(80):
-        mid = 0.5 * (lo + hi)
-        pos = np.asarray(penalty.derivative(mid, lam)) > 0
-        hi = np.where(pos, mid, hi)
-        lo = np.where(pos, lo, mid)
-    return hi
-
-
-@dataclass(frozen=True)
-class SafeguardedLaw(NormalLaw):
-    """Law of a penalty without (P5) (Matioli's quadratic): extended by its minimum.
-
-    Left of the minimizer :math:`y^*` of :math:`p(\\cdot, \\lambda)` the traction would be
-    negative (tension, the defect of violating (d)); the safeguard keeps the
-    convex extension :math:`p(y) = p(y^*)` there, so the traction is
-    :math:`\\max(0, p')` and the multipliers stay non-negative.
-    """
-
-    def _ystar(self, lam):
-        return _minimizer(self.penalty, np.broadcast_to(np.asarray(lam, float), self.eta.shape).copy())
-
-    def traction(self, g, lam):
-        return np.maximum(super().traction(g, lam), 0.0)
-
-    def stiffness(self, g, lam):
-        k = super().stiffness(g, lam)
-        return np.where(g / self.eta > self._ystar(lam), k, 0.0)
-
-    def energy(self, g, lam):
-        ys = self._ystar(lam)
-        y = np.maximum(g / self.eta, ys)
-        return self.eta * np.asarray(self.penalty.value(y, lam), dtype=float)
-
-
 def make_law(penalty, eta) -> NormalLaw:
-    """The normal law of ``penalty`` (safeguarded when the penalty lacks (P5))."""
-    cls = NormalLaw if "P5" in getattr(penalty, "properties", {"P5"}) else SafeguardedLaw
-    return cls(penalty, np.asarray(eta, dtype=float))
+    """The normal law of ``penalty``, with Matioli's safeguard when its facts ask for one.
+
+    A penalty declaring ``needs_multiplier_safeguard`` (Matioli's quadratic (5.27):
+    ``p'`` turns negative, i.e. tension) is replaced by
+    :func:`alcontact.penalties.safeguarded` -- the same implementation the
+    optimization engine uses -- so the traction is :math:`\\max(0, p')` and the
+    multipliers stay non-negative.
+    """
+    return NormalLaw(_pen.safeguarded(penalty), np.asarray(eta, dtype=float))

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import enum
 import logging
 from dataclasses import dataclass, field
 from typing import Any
@@ -10,25 +9,18 @@ from typing import Any
 import numpy as np
 
 from ..errors import ConvergenceError
+from ..status import Status
 
 __all__ = ["ContactStatus", "ContactIteration", "ContactResult", "ContactSolution"]
 
 logger = logging.getLogger(__name__)
 
 
-class ContactStatus(enum.IntEnum):
-    """Termination reason; positive = converged, negative = failed (as PETSc)."""
-
-    CONVERGED = 1
-    NO_CONTACT = -1
-    MAXITER = -2
-    NEWTON_FAILED = -3
-    NONFINITE = -4
-    PENALTY_LIMIT = -5
-
-    @property
-    def label(self) -> str:
-        return "converged" if self > 0 else self.name.lower().replace("_", "-")
+#: Termination reason of a contact solve: the project's one status table
+#: :class:`alcontact.status.Status` (positive = converged, negative = failed, as PETSc),
+#: shared with :func:`alcontact.optim.minimize`.  Contact members: ``CONVERGED``,
+#: ``NO_CONTACT``, ``MAXITER``, ``NEWTON_FAILED``, ``NONFINITE``, ``PENALTY_LIMIT``.
+ContactStatus = Status
 
 
 @dataclass(frozen=True)

@@ -27,6 +27,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from ..errors import InputError, UnknownNameError
+from ..status import Status
 from ._problem import NonFiniteValue
 
 __all__ = ["InnerResult", "make_inner", "available_inner_solvers"]
@@ -39,7 +40,8 @@ class InnerResult:
     """Outcome of one subproblem solve.
 
     ``status`` is one of ``"converged"``, ``"maxiter"``, ``"line-search"``,
-    ``"small-step"``, ``"unbounded"``, ``"nonfinite"``.
+    ``"small-step"``, ``"unbounded"``, ``"nonfinite"``; :attr:`code` is its entry
+    in the project's status table (:data:`alcontact.status.INNER_REASONS`).
     """
 
     x: np.ndarray
@@ -50,8 +52,14 @@ class InnerResult:
     nonfinite: str | None = None
 
     @property
+    def code(self) -> Status:
+        """The reason as a member of :class:`alcontact.status.Status`."""
+        return Status.from_inner(self.status)
+
+    @property
     def ok(self) -> bool:
-        return self.status in ("converged", "small-step")
+        """Whether the subproblem counts as solved (a positive :attr:`code`)."""
+        return self.code > 0
 
 
 def _norm_inf(v):

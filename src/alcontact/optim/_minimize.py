@@ -5,6 +5,7 @@ from __future__ import annotations
 import dataclasses
 import logging
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass
 
 import numpy as np
@@ -109,9 +110,9 @@ class Options:
         constraint); False: the unscaled rule with one value. Default True. (With
         ``scale`` the problem is already scaled and both rules agree.)
     eta0_factor : float or None
-        Multiplies the automatic ``eta0``; None takes the per-penalty default of
-        ``alcontact.optim._outer.ETA0_FACTOR`` (0.1 for ``"log-met1"``: its
-        modified barrier needs a stronger start; 1 otherwise).
+        Multiplies the automatic ``eta0``; None takes the penalty's declared fact
+        ``eta0_factor`` (:func:`alcontact.penalties.facts`; 0.1 for ``"log-met1"``:
+        its modified barrier needs a stronger start; 1 otherwise).
     scale : bool
         Method ``"al"``: solve the problem scaled as ALGENCAN does, ``f`` by
         ``1/max(1, |grad f(x0)|_inf)`` and each constraint by
@@ -229,6 +230,21 @@ class Options:
         if not o.eta_min < o.eta_max:
             raise InputError("options: eta_min must be smaller than eta_max")
         return o
+
+
+def _accepted(spec) -> list[str]:
+    """Registered penalties whose declared facts the method ``spec`` accepts."""
+    from .. import penalties as _penalties
+
+    out = []
+    for name in _penalties.available():
+        try:
+            ok = spec.accepts(_penalties.facts(_penalties.make(name)))
+        except (InputError, TypeError):  # a user factory that needs parameters
+            continue
+        if ok:
+            out.append(name)
+    return out
 
 
 def available_methods() -> list[str]:
@@ -372,18 +388,14 @@ def minimize(fun, x0, *, jac=None, hess=None, constraints=(), bounds=None, metho
         raise UnknownNameError("method", method, list(METHODS)) from None
     opts = Options.from_dict(options)
     pen_name = spec.default_penalty if penalty is None else penalty
-    if pen_name == "inverse-barrier" and "eta_min" not in (options or {}):
-        # with the inverse barrier (5.3) the complementarity mu g behaves like sqrt(rho):
-        # reaching ctol needs rho far below the default floor 1e-12
-        opts = dataclasses.replace(opts, eta_min=1e-24)
     known_pen = list(_penalties.available())
     if pen_name not in known_pen:
         raise UnknownNameError("penalty", pen_name, known_pen)
-    allowed = spec.penalties if spec.penalties is not None else \
-        tuple(n for n in known_pen if n not in spec.excluded)
-    if pen_name not in allowed:
+    pen = _penalties.make(pen_name, **(opts.penalty_options or {}))
+    known = _penalties.facts(pen)
+    if not spec.accepts(known):
         raise InputError(f"method {method!r} does not take penalty {pen_name!r}; "
-                         f"allowed: {', '.join(allowed)}")
+                         f"allowed: {', '.join(_accepted(spec))}")
     strat_name = opts.strategy or spec.strategy
     sopts = dict(spec.strategy_options) if opts.strategy is None else {}
     sopts.update(opts.strategy_options or {})
@@ -412,14 +424,18 @@ def minimize(fun, x0, *, jac=None, hess=None, constraints=(), bounds=None, metho
     if nlp.p and not spec.equalities:
         raise InputError(f"method {method!r} handles inequality constraints only but the "
                          f"problem has {nlp.p} equalities; use method='al'")
-    pen = _penalties.make(pen_name, **(opts.penalty_options or {}))
+    explicit = ("eta_min" in options) if isinstance(options, Mapping) else \
+        (options is not None and opts.eta_min != Options.eta_min)
+    if known.eta_min is not None and not explicit:
+        # a declared floor, e.g. the inverse barrier (5.3): its complementarity mu g
+        # behaves like sqrt(rho), reaching ctol needs eta far below the default 1e-12
+        opts = dataclasses.replace(opts, eta_min=known.eta_min)
     if spec.safeguards and spec.update_multipliers:
         pen = safeguard_penalty(pen, extrapolate=opts.extrapolate, cap=opts.exp_cap)
     hp = _penalties.make("hestenes-powell")
     mu = _vector(opts.mu0, nlp.m, "mu0")
     lam = _vector(opts.lam0, nlp.p, "lam0")
-    if spec.update_multipliers and nlp.m and getattr(pen, "family_p", False) \
-            and np.any(mu <= 0):
+    if spec.update_multipliers and nlp.m and known.family_p and np.any(mu <= 0):
         raise InputError(f"options['mu0'] must be > 0 for the family-P penalty {pen_name!r}")
     if not spec.update_multipliers:
         lam = np.zeros(nlp.p)

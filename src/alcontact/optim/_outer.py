@@ -21,12 +21,14 @@ from __future__ import annotations
 
 import logging
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
 import scipy.sparse as sp
 
 from ..errors import DomainError, InputError
+from ..penalties import PenaltyFacts, facts
 from ._inner import InnerResult
 from ._polish import kkt_polish
 from ._problem import NLP, NonFiniteValue
@@ -48,10 +50,9 @@ class MethodSpec:
         Registry name.
     default_penalty : str
         Inequality penalty used when the caller gives none.
-    penalties : tuple of str or None
-        Allowed inequality penalties (None: every penalty except ``excluded``).
-    excluded : tuple of str
-        Penalties refused when ``penalties`` is None.
+    accepts : callable
+        Predicate on the declared facts of a penalty
+        (:class:`alcontact.penalties.PenaltyFacts`): whether the method takes it.
     scaled : bool
         Whether the penalty argument is ``g/eta`` (5.28) or ``g`` (5.1).
     update_multipliers : bool
@@ -81,8 +82,7 @@ class MethodSpec:
 
     name: str
     default_penalty: str
-    penalties: tuple | None
-    excluded: tuple
+    accepts: Callable[[PenaltyFacts], bool]
     scaled: bool
     update_multipliers: bool
     inequalities: bool
@@ -96,25 +96,44 @@ class MethodSpec:
     box: bool = False
 
 
-_CLASSICAL = ("log-barrier", "inverse-barrier", "exterior-quadratic", "hestenes-powell")
+def _al_penalty(f: PenaltyFacts) -> bool:
+    """Algorithm 5.4: a penalty of the multipliers (not a pure barrier / exterior penalty)
+    for inequalities (not equality-only)."""
+    return f.uses_multiplier and not f.equality_only
+
+
+def _barrier(f: PenaltyFacts) -> bool:
+    """Algorithm 5.1: no multiplier, bounded domain (``p -> inf`` at ``b``)."""
+    return not f.uses_multiplier and f.bounded_domain
+
+
+def _exterior(f: PenaltyFacts) -> bool:
+    """Algorithm 5.2: no multiplier, defined on the whole line."""
+    return not f.uses_multiplier and not f.bounded_domain
+
+
+def _equality(f: PenaltyFacts) -> bool:
+    """Algorithm 5.3: a penalty of equality constraints."""
+    return f.equality_only
+
 
 METHODS = {
     "al": MethodSpec(
-        "al", "exp-met1", None, _CLASSICAL, True, True, True, True,
+        "al", "exp-met1", _al_penalty, True, True, True, True,
         "per-constraint", (("tau", 0.5), ("factor", 10.0)),
         "Algorithm 5.4 (corrected): inequalities with any AL penalty (family P, "
         "Rockafellar, quadratic with safeguard), equalities by Hestenes-Powell",
         polish=True, safeguards=True, autoscale=True, box=True),
     "hestenes-powell": MethodSpec(
-        "hestenes-powell", "hestenes-powell", ("hestenes-powell",), (), True, True,
+        "hestenes-powell", "hestenes-powell", _equality, True, True,
         False, True, "infeasibility", (("tau", 0.25), ("factor", 10.0)),
         "Algorithm 5.3: method of multipliers for equality constraints (5.13)-(5.15)"),
     "barrier": MethodSpec(
-        "barrier", "log-barrier", ("log-barrier", "inverse-barrier"), (), False, False,
+        "barrier", "log-barrier", _barrier, False, False,
         True, False, "always", (("factor", 2.0),),
         "Algorithm 5.1: logarithmic (5.2) or inverse (5.3) barrier, rho -> 0"),
     "exterior-penalty": MethodSpec(
-        "exterior-penalty", "exterior-quadratic", ("exterior-quadratic",), (), True, False,
+        "exterior-penalty", "exterior-quadratic", _exterior, True, False,
         True, True, "always", (("factor", 2.0),),
         "Algorithm 5.2: exterior quadratic penalty (5.8)/(5.9), t = 1/eta -> inf"),
 }
@@ -230,14 +249,6 @@ def _domain(pen, mu):
     except (TypeError, ValueError):
         b = np.array([float(pen.domain_upper(float(v))) for v in mu])
     return np.array(b, dtype=float)
-
-
-def _freezes(pen) -> bool:
-    """Whether a zero multiplier would stay zero: ``p'(y, 0) == 0`` for all y (MET 1/2)."""
-    y = np.array([-1.0, -0.1, 0.0, 0.1, 0.5])
-    with np.errstate(all="ignore"):
-        d = np.asarray(pen.derivative(y, np.zeros_like(y)), float)
-    return bool(np.all(d == 0))
 
 
 @dataclass
@@ -357,9 +368,10 @@ def run_outer(nlp: NLP, spec: MethodSpec, pen, hp, strategy, inner, opts, eta, m
     """
     m, p = nlp.m, nlp.p
     sub = Subproblem(nlp, pen, hp, spec.scaled, eta, mu, lam, opts.unbounded_below)
-    freezes = m > 0 and spec.update_multipliers and _freezes(pen)
+    known = facts(pen)
+    freezes = m > 0 and spec.update_multipliers and known.freezes_at_zero
     mu_min = opts.mu_min if opts.mu_min is not None else (1e-12 if freezes else 0.0)
-    restart = freezes and not getattr(pen, "family_p", False)
+    restart = freezes and not known.family_p
     mu_start = np.array(mu, dtype=float)
     polish = bool(spec.polish and opts.polish and m + p > 0)
     x = nlp.project(nlp.x0.copy())
@@ -392,7 +404,7 @@ def run_outer(nlp: NLP, spec: MethodSpec, pen, hp, strategy, inner, opts, eta, m
         x_prev = x.copy()
         res: InnerResult = inner.solve(sub, x, tol, opts.maxiter_inner)
         nit_inner += res.nit
-        if res.status == "nonfinite":
+        if res.code == Status.NONFINITE:
             x = res.x
             status = Status.NONFINITE
             message = f"non-finite value from {res.nonfinite or 'a callback'}"
@@ -408,7 +420,7 @@ def run_outer(nlp: NLP, spec: MethodSpec, pen, hp, strategy, inner, opts, eta, m
         except NonFiniteValue as exc:
             status, message = Status.NONFINITE, f"non-finite value from {exc.callback}"
             break
-        if res.status == "unbounded" and unbounded_retries < 8 and \
+        if res.code == Status.UNBOUNDED and unbounded_retries < 8 and \
                 np.all(eta > opts.eta_min):
             # too weak a penalty for the scale of f: restart the subproblem stronger
             unbounded_retries += 1
@@ -416,7 +428,7 @@ def run_outer(nlp: NLP, spec: MethodSpec, pen, hp, strategy, inner, opts, eta, m
             eta = np.clip(eta / 100.0, opts.eta_min, opts.eta_max)
             log.debug("subproblem unbounded below: eta decreased 100x and retried")
             continue
-        if res.status == "unbounded":
+        if res.code == Status.UNBOUNDED:
             status = Status.UNBOUNDED
             message = (f"subproblem unbounded below (L < {opts.unbounded_below:g}) at "
                        f"outer iteration {k}")
@@ -466,7 +478,7 @@ def run_outer(nlp: NLP, spec: MethodSpec, pen, hp, strategy, inner, opts, eta, m
                 res = InnerResult(res.x, res.value, res.nit + pit, res.status, res.measure,
                                   res.nonfinite)
             prev_active = active
-        inner_failures = 0 if res.ok or res.status == "maxiter" else inner_failures + 1
+        inner_failures = 0 if res.ok or res.code == Status.MAXITER else inner_failures + 1
         if inner_failures >= 3:
             _record(history, k, nlp, x, stat, feas, comp, eta, res, tol, 1.0)
             status = Status.INNER_FAILED
@@ -583,11 +595,6 @@ def _record(history, k, nlp, x, stat, feas, comp, eta, res, tol, factor, extra_i
 #: rho_i = mu_i^2/eta_i of the first subproblem instead: 47.
 QUAD_MU_FLOOR = 1e-4
 
-#: Default multiplier of the automatic eta0 per penalty (option ``eta0_factor``),
-#: measured on the Hock-Schittkowski set (benchmarks/nlp_hs.py): a 10x stronger
-#: start lifts log-met1 from 46 to 48 of 53 problems; for the other penalties
-#: factors 0.1 and 10 were no better than 1.
-ETA0_FACTOR: dict[str, float] = {"log-met1": 0.1}
 
 
 def initial_eta(nlp, spec, pen, opts, f0, g0, h0, mu0):
@@ -631,7 +638,7 @@ def initial_eta(nlp, spec, pen, opts, f0, g0, h0, mu0):
         if spec.scaled:
             factor = opts.eta0_factor
             if factor is None:
-                factor = ETA0_FACTOR.get(pen.name, 1.0)
+                factor = facts(pen).eta0_factor
             eta = eta * factor
     if m:
         b = _domain(pen, np.asarray(mu0, float))

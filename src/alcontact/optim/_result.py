@@ -1,48 +1,21 @@
-"""Result objects of :func:`alcontact.optim.minimize`: status enum, history, result."""
+"""Result objects of :func:`alcontact.optim.minimize`: status enum, history, result.
+
+``Status`` is the project's one status table :class:`alcontact.status.Status`
+(shared with :class:`alcontact.contact.ContactStatus`); its optimization members
+are ``CONVERGED_KKT``, ``UNCONSTRAINED_CONVERGED``, ``MAXITER``, ``INNER_FAILED``,
+``NONFINITE``, ``PENALTY_LIMIT`` and ``UNBOUNDED``.
+"""
 
 from __future__ import annotations
 
-import enum
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from ..errors import ConvergenceError
+from ..status import Status
 
 __all__ = ["Status", "IterationRecord", "ALResult"]
-
-
-class Status(enum.IntEnum):
-    """Termination reason; positive = converged, negative = failed (as PETSc).
-
-    Attributes
-    ----------
-    CONVERGED_KKT
-        Stationarity (C1), complementarity (C2), dual (C3) and primal (C4)
-        feasibility are all below their tolerances.
-    UNCONSTRAINED_CONVERGED
-        No constraints; the gradient norm is below ``gtol``.
-    MAXITER
-        The outer iteration limit ``maxiter`` was reached.
-    INNER_FAILED
-        The inner (unconstrained) solver failed repeatedly (line search could
-        not reduce the augmented Lagrangian).
-    NONFINITE
-        A callback returned NaN or infinity at an accepted iterate.
-    PENALTY_LIMIT
-        The penalty parameter reached its bound and the constraints are still
-        violated: the problem may be (locally) infeasible.
-    UNBOUNDED
-        The subproblem appears unbounded below.
-    """
-
-    CONVERGED_KKT = 1
-    UNCONSTRAINED_CONVERGED = 2
-    MAXITER = -1
-    INNER_FAILED = -2
-    NONFINITE = -3
-    PENALTY_LIMIT = -4
-    UNBOUNDED = -5
 
 
 def _readonly(a):

@@ -8,6 +8,13 @@ of the domain ``(-inf, b)``), the declared facts ``p.properties`` (subset of
 ``p.twice_differentiable``, plus ``p.name`` and a one-line ``p.doc``.
 Outside the domain the evaluations return ``+inf`` without warnings.
 
+The algorithms never test a penalty by name or class; they read its declared
+facts through :func:`facts` (``equality_only``, ``usable_for_contact``,
+``freezes_at_zero``, ``needs_multiplier_safeguard``, ``eta_min``, ``generator``,
+with defaults for user penalties that declare none), and apply Matioli's
+safeguard through :func:`safeguarded`, one implementation for contact and
+optimization.
+
 One augmented Lagrangian (5.28) covers all of them,
 
 .. math::
@@ -30,9 +37,11 @@ inf
 
 from __future__ import annotations
 
-from ._base import PROPERTY_LABELS, Penalty, PenaltyBase
+from ._base import PROPERTY_LABELS, Penalty, PenaltyBase, minimizer_by_bisection
+from ._facts import PenaltyFacts, facts
+from ._safeguard import Safeguarded, safeguarded
 from ._classical import ExteriorQuadratic, HestenesPowell, InverseBarrier, LogBarrier, Rockafellar
-from ._met import Met1, Met2, properties_from_generator
+from ._met import Met1, Met2, generator_zero, properties_from_generator
 from ._registry import (
     available,
     describe,
@@ -61,6 +70,12 @@ __all__ = [
     "LogBarrier",
     "InverseBarrier",
     "properties_from_generator",
+    "generator_zero",
+    "minimizer_by_bisection",
+    "PenaltyFacts",
+    "facts",
+    "Safeguarded",
+    "safeguarded",
     "available",
     "describe",
     "make",

@@ -67,6 +67,7 @@ class HestenesPowell(PenaltyBase):
     so ``eta p(h/eta, lam) = lam h + h^2/(2 eta)`` is (5.13) with ``rho = 1/eta``
     and ``lam <- p'(h/eta, lam) = lam + h/eta`` is (5.15).  ``lam`` may have any
     sign.  Strictly convex (P2) but ``p' -> -inf`` as ``y -> -inf`` (no P5).
+    Declares ``equality_only``: no inequality or contact method takes it.
 
     Examples
     --------
@@ -78,6 +79,7 @@ class HestenesPowell(PenaltyBase):
     name: str = "hestenes-powell"
     doc: str = "Hestenes-Powell (5.13): p = lam*y + y^2/2 for equalities, update lam <- lam + h/eta (5.15)"
     properties: ClassVar[frozenset[str]] = frozenset({"P1", "P2", "P3", "P4"})
+    equality_only: ClassVar[bool] = True
 
     def _p(self, y, mu):
         return y * (mu + 0.5 * y)
@@ -107,6 +109,7 @@ class ExteriorQuadratic(PenaltyBase):
     name: str = "exterior-quadratic"
     doc: str = "exterior quadratic penalty (5.9): p = max(0, y)^2, mu ignored (t = 1/eta)"
     properties: ClassVar[frozenset[str]] = frozenset({"P1", "P4", "P5"})
+    uses_multiplier: ClassVar[bool] = False
     twice_differentiable: ClassVar[bool] = False
 
     def _p(self, y, mu):
@@ -141,6 +144,7 @@ class LogBarrier(PenaltyBase):
     name: str = "log-barrier"
     doc: str = "logarithmic barrier (5.2): p = -log(-y) for y < 0, mu ignored"
     properties: ClassVar[frozenset[str]] = frozenset({"P2", "P4", "P5"})
+    uses_multiplier: ClassVar[bool] = False
 
     def _p(self, y, mu):
         return -np.log(-y)
@@ -162,6 +166,9 @@ class InverseBarrier(PenaltyBase):
     .. math:: p(y, \mu) = -1/y
 
     so ``eta p(g/eta, .) = -eta^2 / g``: Algorithm 5.1 with ``rho = eta^2``.
+    Declares ``eta_min = 1e-24``: its complementarity ``mu g`` behaves like
+    ``sqrt(rho)``, so reaching ``ctol`` needs ``eta`` far below the default floor
+    ``1e-12`` of :func:`alcontact.optim.minimize`.
 
     Examples
     --------
@@ -173,6 +180,8 @@ class InverseBarrier(PenaltyBase):
     name: str = "inverse-barrier"
     doc: str = "inverse barrier (5.3): p = -1/y for y < 0, mu ignored"
     properties: ClassVar[frozenset[str]] = frozenset({"P2", "P4", "P5"})
+    uses_multiplier: ClassVar[bool] = False
+    eta_min: ClassVar[float | None] = 1e-24
 
     def _p(self, y, mu):
         return -1.0 / y

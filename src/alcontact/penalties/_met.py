@@ -2,18 +2,20 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass, field
-from typing import ClassVar
+from functools import cached_property
+from typing import Any, ClassVar
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from ..errors import DomainError
 from ._base import PenaltyBase
 from ._theta import Generator
 
-__all__ = ["Met1", "Met2", "properties_from_generator"]
+__all__ = ["Met1", "Met2", "properties_from_generator", "generator_zero"]
 
 
 def properties_from_generator(theta: Generator) -> frozenset[str]:
@@ -34,16 +36,67 @@ def properties_from_generator(theta: Generator) -> frozenset[str]:
     return frozenset(props)
 
 
+def generator_zero(theta: Generator) -> float | None:
+    """Point ``y0 < 0`` with ``θ'(y0) = 0``, or ``None`` if ``θ' > 0`` on ``(-1e8, 0]``.
+
+    Exists only for generators without (d) whose derivative changes sign, e.g.
+    Matioli's quadratic (5.27) with ``y0 = -1``.  Bisection to relative precision
+    ``1e-15``.
+    """
+    lo, hi = -1.0, 0.0
+    with np.errstate(all="ignore"):
+        while float(theta.derivative(lo)) > 0:
+            lo *= 2.0
+            if lo < -1e8:
+                return None
+        for _ in range(200):
+            mid = 0.5 * (lo + hi)
+            if float(theta.derivative(mid)) > 0:
+                hi = mid
+            else:
+                lo = mid
+            if hi - lo <= 1e-15 * max(1.0, abs(lo)):
+                break
+    return hi
+
+
 @dataclass(frozen=True)
 class _Met(PenaltyBase):
-    """Fields shared by MET 1 and MET 2: the generator, a name and doc derived from it."""
+    """Fields shared by MET 1 and MET 2: the generator, a name and doc derived from it.
+
+    Declared facts: ``freezes_at_zero`` (``p'(y, 0) = 0``), ``generator`` (θ), and
+    ``needs_multiplier_safeguard`` when θ lacks (d) and ``θ'`` has a zero ``y0``
+    (then ``p'`` is negative left of :meth:`minimizer`).
+    """
 
     theta: Generator
     name: str = ""
     doc: str = ""
     properties: frozenset[str] = field(init=False)
+    eta0_factor: float = 1.0  # type: ignore[misc]
     suffix: ClassVar[str] = ""
     formula: ClassVar[str] = ""
+    freezes_at_zero: ClassVar[bool] = True
+
+    @property
+    def generator(self) -> Generator:  # type: ignore[override]
+        """The generator θ this penalty is built from."""
+        return self.theta
+
+    @cached_property
+    def _y0(self) -> float | None:
+        if "d" in set(self.theta.satisfies):
+            return None
+        return generator_zero(self.theta)
+
+    @property
+    def needs_multiplier_safeguard(self) -> bool:
+        """Whether θ lacks (d) and ``θ'`` changes sign (multipliers can turn negative)."""
+        return self._y0 is not None
+
+    def with_generator(self, theta: Any, doc: str = "") -> "_Met":
+        """The same MET penalty (same name) on the generator ``theta``."""
+        return dataclasses.replace(self, theta=theta, name=self.name, doc=doc or self.doc)
 
     def __post_init__(self) -> None:
         if not self.name:
@@ -69,6 +122,9 @@ class Met1(_Met):
         The generator θ (Definition 5.3).
     name, doc : str, optional
         Registry name and one-line description (derived from θ when empty).
+    eta0_factor : float, optional
+        Declared multiplier of the automatic initial ``eta`` of
+        :func:`alcontact.optim.minimize` (default 1).
 
     Examples
     --------
@@ -96,6 +152,11 @@ class Met1(_Met):
 
     def _upper(self, mu):
         return np.full(np.shape(mu), float(self.theta.upper))
+
+    def minimizer(self, mu: ArrayLike) -> Any:
+        """``y* = y0``, the zero of θ' (``-inf`` if θ' > 0): independent of ``mu > 0``."""
+        y0 = -math.inf if self._y0 is None else self._y0
+        return np.full(np.shape(mu), y0)[()]
 
 
 @dataclass(frozen=True)
@@ -144,3 +205,11 @@ class Met2(_Met):
             )
         with np.errstate(divide="ignore"):
             return np.where(mu > 0, b / np.where(mu > 0, mu, 1.0), math.inf)
+
+    def minimizer(self, mu: ArrayLike) -> Any:
+        """``y* = y0 / mu`` with the zero ``y0`` of θ' (``-inf`` for ``mu <= 0`` or θ' > 0)."""
+        mu_arr = np.asarray(mu, dtype=float)
+        if self._y0 is None:
+            return np.full(mu_arr.shape, -math.inf)[()]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            return np.where(mu_arr > 0, self._y0 / mu_arr, -math.inf)[()]
