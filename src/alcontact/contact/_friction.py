@@ -258,6 +258,7 @@ class _Ctx:
     eps_t: float
     mu: float
     opts: FrictionOptions
+    tfree: np.ndarray | None = None  # (c, d-1) tangent directions not held by a support
 
     @property
     def c(self):
@@ -287,14 +288,14 @@ def _al_subproblem(ctx: _Ctx, law, lamN, lamT, R0) -> _NewtonOut:
     def fun(x):
         R = x.reshape(c, d)
         y = ctx.y(R)
-        t, Dy, _, st = local_law(law, lamN, lamT, y, ctx.uTn, ctx.eps_t, ctx.mu, rho=rho)
+        t, Dy, _, st = local_law(law, lamN, lamT, y, ctx.uTn, ctx.eps_t, ctx.mu, rho=rho, tfree=ctx.tfree)
         return (R - w[:, None] * t).ravel(), (y, t, Dy, st)
 
     energy = grad = None
     if rho is not None:
         def energy(x):
             y = ctx.y(x.reshape(c, d))
-            e = law.energy(y[:, 0], lamN) + tangential_energy(lamT, y[:, 1:], ctx.uTn, ctx.eps_t, rho)
+            e = law.energy(y[:, 0], lamN) + tangential_energy(lamT, y[:, 1:], ctx.uTn, ctx.eps_t, rho, ctx.tfree)
             return 0.5 * float(x @ (ctx.fc.A @ x)) + float(np.sum(w * e))
 
         def grad(x, F):
@@ -322,7 +323,8 @@ def _measures(ctx: _Ctx, t, y, st, lamN_old, lamT_old):
     compl = float(np.max(np.abs(tN * np.minimum(y[:, 0], 0.0)), initial=0.0)) / (pref * h)
     dlam = max(float(np.max(np.abs(tN - lamN_old), initial=0.0)),
                float(np.max(np.abs(tT - lamT_old), initial=0.0))) / pref
-    dslip = np.linalg.norm(y[:, 1:] - ctx.uTn, axis=1)
+    duT = y[:, 1:] - ctx.uTn
+    dslip = np.linalg.norm(duT if ctx.tfree is None else np.where(ctx.tfree, duT, 0.0), axis=1)
     stick_slip = float(np.max(dslip[st == STICK], initial=0.0)) / h
     return pen, compl, dlam, stick_slip
 
@@ -410,7 +412,8 @@ def _step_ssn(ctx: _Ctx, penalty_name: str = "none") -> _StepOut:
     def fun(x):
         L = x.reshape(c, d)
         y = ctx.y(w[:, None] * L)
-        t, Dy, Dl, st = local_law(law, L[:, 0], L[:, 1:], y, ctx.uTn, ctx.eps_t, ctx.mu, with_lam=True)
+        t, Dy, Dl, st = local_law(law, L[:, 0], L[:, 1:], y, ctx.uTn, ctx.eps_t, ctx.mu, with_lam=True,
+                                   tfree=ctx.tfree)
         return (L - t).ravel(), (y, t, Dy, st, Dl)
 
     def jac(x, aux):
@@ -491,7 +494,8 @@ def _advance(fc: FrictionalContact, prev: _State, t: float, step_fn, pen_name, e
             out = _StepOut(True, "no candidate points", R_c, t_c, 0, 0)
         else:
             ctx = _Ctx(fc, fc.y_free(t)[cand], fc.weights[cand], fc.A.reshape(c, d, c, d), prev.tN[cand].copy(),
-                       prev.tT[cand].copy(), prev.y[cand, 1:].copy(), prev.R[cand].copy(), eps_n, eps_t, mu, opts)
+                       prev.tT[cand].copy(), prev.y[cand, 1:].copy(), prev.R[cand].copy(), eps_n, eps_t, mu, opts,
+                       fc.tfree[cand])
             out = step_fn(ctx, pen_name)
             outer += out.outer
             newton += out.newton
@@ -641,7 +645,7 @@ def solve_friction(problem, history: LoadHistory, algorithm: str = "simo-laursen
         if status < 0:
             break
     if fc.ncand == 0 and status > 0:
-        i = int(np.argmax(np.where(fc.allfree, fc.gmax_t, -np.inf)))
+        i = int(np.argmax(np.where(fc.movable, fc.gmax_t, -np.inf)))
         status = ContactStatus.NO_CONTACT
         message = (f"the body never reaches the obstacle: smallest clearance {-fc.gmax_t[i]:.4g} at point "
                    f"{np.round(fc.points[i], 6).tolist()}; check the loads, the obstacle or the contact boundary")
