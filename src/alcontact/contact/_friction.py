@@ -56,6 +56,7 @@ from ._laws import eta_for_stiffness, make_law
 from ._loading import LoadHistory
 from ._solution import ContactStatus
 from ._solve import penalty_stiffness
+from ._verify import check_state, verified_status
 
 __all__ = ["FrictionOptions", "solve_friction", "friction_algorithms", "friction_algorithm_docs"]
 
@@ -586,6 +587,7 @@ def solve_friction(problem, history: LoadHistory, algorithm: str = "simo-laursen
     tangential = [c for c in history.cases if c.tangential]
     records: list[FrictionStep] = []
     status, message = ContactStatus.CONVERGED, "converged"
+    failed_check = None  # (t, Check) of the first recorded step that fails verification
     n_outer = n_newton = n_cut = 0
     t_solve = time.perf_counter()
     for k_req, t_req in enumerate(history.times):
@@ -631,6 +633,12 @@ def solve_friction(problem, history: LoadHistory, algorithm: str = "simo-laursen
             tang_force = np.sum(w[:, None] * shear, axis=0)
             normal_force = float(np.sum(w * tN))
             slip_total = state.slip_total + slip
+            check = check_state(y_all[:, 0], tN, fc.h, tol_penetration=opts.tol_penetration,
+                                tol_complementarity=opts.tol_complementarity, traction_t=tT,
+                                slip=np.where(closed[:, None] & fc.tfree, duT, 0.0), mu=mu_t,
+                                tol_friction=max(opts.tol_multiplier, opts.tol_slip))
+            if failed_check is None and not check.ok:
+                failed_check = (float(t), check)
             records.append(FrictionStep(
                 t=float(t), requested=(len(queue) == 1), u=u, pressure=tN, traction_t=tT, shear=shear, slip=slip,
                 slip_total=slip_total, gap=y_all[:, 0], state=st, normal_force=normal_force,
@@ -644,6 +652,9 @@ def solve_friction(problem, history: LoadHistory, algorithm: str = "simo-laursen
             cuts = 0 if not queue else cuts
         if status < 0:
             break
+    if failed_check is not None:
+        status, message = verified_status(status, message, failed_check[1],
+                                          what=f"frictional contact {algorithm} (step t={failed_check[0]:g})")
     if fc.ncand == 0 and status > 0:
         i = int(np.argmax(np.where(fc.movable, fc.gmax_t, -np.inf)))
         status = ContactStatus.NO_CONTACT

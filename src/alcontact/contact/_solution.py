@@ -25,6 +25,7 @@ class ContactStatus(enum.IntEnum):
     NEWTON_FAILED = -3
     NONFINITE = -4
     PENALTY_LIMIT = -5
+    NOT_VERIFIED = -6  # the solver stopped, but the returned state fails the tolerances (see _verify.py)
 
     @property
     def label(self) -> str:
