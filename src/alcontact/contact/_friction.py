@@ -551,7 +551,9 @@ def solve_friction(problem, history: LoadHistory, algorithm: str = "simo-laursen
     -------
     FrictionSolution
         Per-step states; ``status`` negative (and a logged warning) when a step
-        failed after ``max_cutbacks`` cut-backs.
+        failed after ``max_cutbacks`` cut-backs, or ``NOT_VERIFIED`` when a recorded
+        step fails the penetration, complementarity or Coulomb check of
+        :mod:`alcontact.contact._verify`.
 
     Raises
     ------
