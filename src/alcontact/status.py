@@ -19,6 +19,8 @@ NONFINITE                    -4  NaN or infinity in a callback, traction or stat
 PENALTY_LIMIT                -5  the penalty reached its bound, still infeasible
 UNBOUNDED                    -6  a subproblem appears unbounded below
 LINE_SEARCH_FAILED           -7  a line search found no decrease (inner solvers)
+NOT_VERIFIED                 -8  the solver stopped, but the returned state fails
+                                 the tolerances (contact: ``contact/_verify.py``)
 =========================  ====  ===============================================
 
 The contact codes are those the results folders have always recorded
@@ -69,6 +71,10 @@ class Status(enum.IntEnum):
     LINE_SEARCH_FAILED
         A line search found no decrease of the merit function (reported by inner
         solvers; the outer loops turn repeated inner failures into NEWTON_FAILED).
+    NOT_VERIFIED
+        The algorithm reported success, but the state it returns fails the
+        penetration, complementarity or Coulomb tolerances when checked where the
+        result is built (:mod:`alcontact.contact._verify`).
     """
 
     CONVERGED = 1
@@ -82,6 +88,7 @@ class Status(enum.IntEnum):
     PENALTY_LIMIT = -5
     UNBOUNDED = -6
     LINE_SEARCH_FAILED = -7
+    NOT_VERIFIED = -8
 
     @property
     def label(self) -> str:

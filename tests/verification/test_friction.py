@@ -1,7 +1,7 @@
 """Verification of Coulomb friction with incremental loading (section 6.2, Algorithms 6.2 / 6.4).
 
 - block on a rigid plane: full stick below the Coulomb limit, full slip with Q = mu N above it (2D, 3D);
-- Cattaneo-Mindlin partial slip of a cylinder (plane strain, nu = 0.49): stick half-width and shear profile;
+- Cattaneo-Mindlin partial slip of a cylinder (plane strain, nu = 0.49, P2): stick half-width and shear profile;
 - consistency: mu = 0 equals the frictionless solver; Algorithms 6.2, 6.4 and the semi-smooth Newton
   reference agree; the final state of a monotone loading does not depend on the number of steps;
   a load-unload cycle leaves residual slip.
@@ -95,7 +95,15 @@ def test_mu_zero_equals_frictionless():
 
 
 def test_cattaneo_mindlin_partial_slip():
-    prob, hist = fp.cattaneo_mindlin_2d(n_per_a=32)
+    """Cattaneo-Mindlin (Johnson 1985, section 7.1): c/a = sqrt(1 - Q/(mu P)) and the shear profile q(x).
+
+    P2 elements: at nu = 0.49 linear triangles lock, and their stick zone converges
+    only like h (c/a - exact = -0.12, -0.068, -0.034 at 16, 32, 64 elements per a),
+    while P2 converges like h^1.7 (-0.079, -0.021, -0.007 at 4, 8, 16). Tolerances at
+    8 elements per a (P2): |c - c_exact| <= 0.03 a (measured 0.021 a), weighted L2
+    error of the shear traction <= 0.15 (measured 0.128; 0.080 at 16 per a).
+    """
+    prob, hist = fp.cattaneo_mindlin_2d(n_per_a=8, order=2)
     sol = solve_friction(prob, hist)
     assert sol.success, sol.message
     f = sol.final
@@ -105,7 +113,7 @@ def test_cattaneo_mindlin_partial_slip():
     a = ref.half_width(P)
     c_exact = ref.stick_half_width(P, Q)
     c_num = _stick_half_width(sol)
-    assert abs(c_num - c_exact) <= 0.1 * a, (c_num / a, c_exact / a)
+    assert abs(c_num - c_exact) <= 0.03 * a, (c_num / a, c_exact / a)
     # shear traction: weighted L2 over the contact, relative to the exact profile
     x = sol.points[:, 0]
     q = f.shear[:, 0] * np.sign(f.shear[np.argmin(np.abs(x)), 0])
@@ -113,7 +121,7 @@ def test_cattaneo_mindlin_partial_slip():
     inside = np.abs(x) < a
     w = sol.weights[inside]
     err = np.sqrt(np.sum(w * (q - qex)[inside] ** 2) / np.sum(w * qex[inside] ** 2))
-    assert err <= 0.2
+    assert err <= 0.15
     # slip zone: the traction lies on the Coulomb circle
     slip = f.state == SLIP
     assert np.allclose(np.abs(f.traction_t[slip, 0]), prob.friction * f.pressure[slip], rtol=1e-6)

@@ -57,6 +57,7 @@ from ._laws import eta_for_stiffness, freezes_at_zero, make_law
 from ._loading import LoadHistory
 from ._solution import ContactStatus
 from ._solve import penalty_stiffness
+from ._verify import check_state, verified_status
 
 __all__ = ["FrictionOptions", "solve_friction", "friction_algorithms", "friction_algorithm_docs"]
 
@@ -250,6 +251,7 @@ class _Ctx:
     eps_t: float
     mu: float
     opts: FrictionOptions
+    tfree: np.ndarray | None = None  # (c, d-1) tangent directions not held by a support
 
     @property
     def c(self):
@@ -279,14 +281,14 @@ def _al_subproblem(ctx: _Ctx, law, lamN, lamT, R0) -> _NewtonOut:
     def fun(x):
         R = x.reshape(c, d)
         y = ctx.y(R)
-        t, Dy, _, st = local_law(law, lamN, lamT, y, ctx.uTn, ctx.eps_t, ctx.mu, rho=rho)
+        t, Dy, _, st = local_law(law, lamN, lamT, y, ctx.uTn, ctx.eps_t, ctx.mu, rho=rho, tfree=ctx.tfree)
         return (R - w[:, None] * t).ravel(), (y, t, Dy, st)
 
     energy = grad = None
     if rho is not None:
         def energy(x):
             y = ctx.y(x.reshape(c, d))
-            e = law.energy(y[:, 0], lamN) + tangential_energy(lamT, y[:, 1:], ctx.uTn, ctx.eps_t, rho)
+            e = law.energy(y[:, 0], lamN) + tangential_energy(lamT, y[:, 1:], ctx.uTn, ctx.eps_t, rho, ctx.tfree)
             return 0.5 * float(x @ (ctx.fc.A @ x)) + float(np.sum(w * e))
 
         def grad(x, F):
@@ -314,7 +316,8 @@ def _measures(ctx: _Ctx, t, y, st, lamN_old, lamT_old):
     compl = float(np.max(np.abs(tN * np.minimum(y[:, 0], 0.0)), initial=0.0)) / (pref * h)
     dlam = max(float(np.max(np.abs(tN - lamN_old), initial=0.0)),
                float(np.max(np.abs(tT - lamT_old), initial=0.0))) / pref
-    dslip = np.linalg.norm(y[:, 1:] - ctx.uTn, axis=1)
+    duT = y[:, 1:] - ctx.uTn
+    dslip = np.linalg.norm(duT if ctx.tfree is None else np.where(ctx.tfree, duT, 0.0), axis=1)
     stick_slip = float(np.max(dslip[st == STICK], initial=0.0)) / h
     return pen, compl, dlam, stick_slip
 
@@ -402,7 +405,8 @@ def _step_ssn(ctx: _Ctx, penalty_name: str = "none") -> _StepOut:
     def fun(x):
         L = x.reshape(c, d)
         y = ctx.y(w[:, None] * L)
-        t, Dy, Dl, st = local_law(law, L[:, 0], L[:, 1:], y, ctx.uTn, ctx.eps_t, ctx.mu, with_lam=True)
+        t, Dy, Dl, st = local_law(law, L[:, 0], L[:, 1:], y, ctx.uTn, ctx.eps_t, ctx.mu, with_lam=True,
+                                   tfree=ctx.tfree)
         return (L - t).ravel(), (y, t, Dy, st, Dl)
 
     def jac(x, aux):
@@ -498,7 +502,8 @@ def _advance(fc: FrictionalContact, prev: _State, t: float, step_fn, pen_name, e
             out = _StepOut(True, "no candidate points", R_c, t_c, 0, 0)
         else:
             ctx = _Ctx(fc, fc.y_free(t)[cand], fc.weights[cand], fc.A.reshape(c, d, c, d), prev.tN[cand].copy(),
-                       prev.tT[cand].copy(), prev.y[cand, 1:].copy(), prev.R[cand].copy(), eps_n, eps_t, mu, opts)
+                       prev.tT[cand].copy(), prev.y[cand, 1:].copy(), prev.R[cand].copy(), eps_n, eps_t, mu, opts,
+                       fc.tfree[cand])
             out = step_fn(ctx, pen_name)
             outer += out.outer
             newton += out.newton
@@ -554,7 +559,9 @@ def solve_friction(problem, history: LoadHistory, algorithm: str = "simo-laursen
     -------
     FrictionSolution
         Per-step states; ``status`` negative (and a logged warning) when a step
-        failed after ``max_cutbacks`` cut-backs.
+        failed after ``max_cutbacks`` cut-backs, or ``NOT_VERIFIED`` when a recorded
+        step fails the penetration, complementarity or Coulomb check of
+        :mod:`alcontact.contact._verify`.
 
     Raises
     ------
@@ -593,6 +600,7 @@ def solve_friction(problem, history: LoadHistory, algorithm: str = "simo-laursen
     tangential = [c for c in history.cases if c.tangential]
     records: list[FrictionStep] = []
     status, message = ContactStatus.CONVERGED, "converged"
+    failed_check = None  # (t, Check) of the first recorded step that fails verification
     n_outer = n_newton = n_cut = 0
     t_solve = time.perf_counter()
     for k_req, t_req in enumerate(history.times):
@@ -638,6 +646,12 @@ def solve_friction(problem, history: LoadHistory, algorithm: str = "simo-laursen
             tang_force = np.sum(w[:, None] * shear, axis=0)
             normal_force = float(np.sum(w * tN))
             slip_total = state.slip_total + slip
+            check = check_state(y_all[:, 0], tN, fc.h, tol_penetration=opts.tol_penetration,
+                                tol_complementarity=opts.tol_complementarity, traction_t=tT,
+                                slip=np.where(closed[:, None] & fc.tfree, duT, 0.0), mu=mu_t,
+                                tol_friction=max(opts.tol_multiplier, opts.tol_slip))
+            if failed_check is None and not check.ok:
+                failed_check = (float(t), check)
             records.append(FrictionStep(
                 t=float(t), requested=(len(queue) == 1), u=u, pressure=tN, traction_t=tT, shear=shear, slip=slip,
                 slip_total=slip_total, gap=y_all[:, 0], state=st, normal_force=normal_force,
@@ -651,8 +665,11 @@ def solve_friction(problem, history: LoadHistory, algorithm: str = "simo-laursen
             cuts = 0 if not queue else cuts
         if status < 0:
             break
+    if failed_check is not None:
+        status, message = verified_status(status, message, failed_check[1],
+                                          what=f"frictional contact {algorithm} (step t={failed_check[0]:g})")
     if fc.ncand == 0 and status > 0:
-        i = int(np.argmax(np.where(fc.allfree, fc.gmax_t, -np.inf)))
+        i = int(np.argmax(np.where(fc.movable, fc.gmax_t, -np.inf)))
         status = ContactStatus.NO_CONTACT
         message = (f"the body never reaches the obstacle: smallest clearance {-fc.gmax_t[i]:.4g} at point "
                    f"{np.round(fc.points[i], 6).tolist()}; check the loads, the obstacle or the contact boundary")

@@ -27,6 +27,19 @@ DOFs of the candidate points and :math:`C = P K^{-1} P^T`,
 which reduces to :math:`g = g_{free} - S r` of :mod:`alcontact.contact._discrete`
 when :math:`t_T = 0` (:math:`A_{NN} = S`). ``C`` costs one triangular solve per
 candidate DOF; the stiffness is factorized once for the whole load history.
+
+Supported components. As in the frictionless :class:`~alcontact.contact._discrete.ContactPoints`,
+a point takes part in contact when its normal motion is not fully supported
+(``movable``: :math:`\nu_i` has a component on a free DOF), whatever its other
+components: a point on a symmetry plane is an ordinary contact point. ``P``
+selects only its *free* DOFs (the rows and columns of ``C`` of supported DOFs
+are zero: a force on a supported DOF goes into the support reaction), while
+:math:`y_i` keeps the prescribed values of the supported components. A
+supported axis :math:`e_k` lying in the tangent plane (:math:`\nu_{i,k} = 0`, e.g.
+the normal of a symmetry plane) is made a tangent direction of :math:`T_i`
+(:func:`tangent_bases` with ``held``); such a *held* tangent direction has no
+compliance, its friction force is part of the support reaction, and the
+Coulomb law acts on the free tangent directions (:attr:`FrictionalContact.tfree`).
 """
 
 from __future__ import annotations
@@ -46,13 +59,19 @@ logger = logging.getLogger(__name__)
 _BATCH = 64
 
 
-def tangent_bases(normals: np.ndarray) -> np.ndarray:
+def tangent_bases(normals: np.ndarray, held: np.ndarray | None = None) -> np.ndarray:
     """Orthonormal tangent bases ``T`` of shape ``(m, d, d-1)`` for unit normals ``(m, d)``.
 
     One reference axis ``e`` (the global axis least aligned with the mean
     normal) is projected on every tangent plane, so neighbouring points of a
     curved obstacle get consistent, smoothly varying bases; points where ``e``
     is nearly normal use the next axis. 3D: ``T_2 = nu x T_1``.
+
+    ``held`` (bool ``(m, d)``, optional) marks supported global axes of each
+    point. A held axis orthogonal to the normal (to round-off) becomes the first
+    tangent of that point, so that the supported tangential motion is one
+    tangent direction exactly (in 3D, ``T_2 = nu x e_k`` is then the other held
+    axis too when both tangential axes are supported).
     """
     nu = np.asarray(normals, dtype=float)
     m, d = nu.shape
@@ -63,6 +82,11 @@ def tangent_bases(normals: np.ndarray) -> np.ndarray:
     bad = np.abs(nu[:, order[0]]) > 0.9
     e[bad] = 0.0
     e[bad, order[1]] = 1.0
+    if held is not None:
+        tangential = np.asarray(held, bool) & (np.abs(nu) <= 1e-12)
+        rows = np.flatnonzero(tangential.any(axis=1))
+        e[rows] = 0.0
+        e[rows, np.argmax(tangential[rows], axis=1)] = 1.0
     t1 = e - np.einsum("ij,ij->i", e, nu)[:, None] * nu
     t1 /= np.linalg.norm(t1, axis=1, keepdims=True)
     if d == 2:
@@ -93,8 +117,12 @@ class FrictionalContact:
     points, dofs, weights, normals, gap0 : arrays over the ``m`` contact-boundary points
     tangents : ndarray (m, d, d-1)
         Tangent bases :math:`T_i`.
+    movable : ndarray of bool (m,)
+        Points whose normal motion is not fully supported (may be candidates).
+    tfree : ndarray of bool (m, d-1)
+        Tangent directions in which the point can move (False: held by a support).
     cand : ndarray of int
-        Candidate points (all DOFs free, may touch at some step).
+        Candidate points (movable, may touch at some step).
     A : ndarray (c*d, c*d)
         Condensed compliance in local coordinates, point-major (``i*d + k``,
         ``k = 0`` normal).
@@ -121,31 +149,35 @@ class FrictionalContact:
         self.points, self.dofs = pts, dofs
         self.weights = model.boundary_weights(problem.contact_boundary)
         self.gap0, self.normals = problem.obstacle.evaluate(pts)
-        self.tangents = tangent_bases(self.normals)
-        self.E = np.concatenate([self.normals[:, :, None], -self.tangents], axis=2)  # (m, d, d)
         free_pos = -np.ones(model.ndofs, dtype=np.int64)
         free_pos[self.factor.free] = np.arange(self.factor.free.size)
         self.pos = free_pos[dofs]  # (m, d)
-        self.allfree = np.all(self.pos >= 0, axis=1)
+        held = self.pos < 0
+        self.tangents = tangent_bases(self.normals, held)
+        self.E = np.concatenate([self.normals[:, :, None], -self.tangents], axis=2)  # (m, d, d)
+        # free part of each local direction (E^T restricted to the free DOFs), as ContactPoints._setup_points
+        free_part = np.linalg.norm(np.where(held[:, :, None], 0.0, self.E), axis=1)  # (m, d)
+        self.movable = free_part[:, 0] > 1e-12
+        self.tfree = free_part[:, 1:] > 1e-12
         # local kinematics of each load component: y_k = (-nu.u_k, T^T u_k)
         self.y_parts = np.stack([self._local(u) for u in self.u_parts])  # (ncomp, m, d)
         self.h = _element_size(model, problem.contact_boundary, problem.obstacle)
 
         gmax_t = np.max(np.stack([self.y_free(t)[:, 0] for t in history.times]), axis=0)
         # points with a fixed normal DOF cannot move off the obstacle: error if they penetrate
-        normal_fixed = np.abs(np.where(self.pos >= 0, 0.0, self.normals)).max(axis=1) > 1e-12
-        bad = normal_fixed & (gmax_t > 1e-12 * self.h)
+        bad = ~self.movable & (gmax_t > 1e-12 * self.h)
         if np.any(bad):
             i = int(np.flatnonzero(bad)[0])
             raise InputError(
-                f"contact point {pts[i].tolist()} is held by a Dirichlet condition but penetrates the obstacle "
+                f"contact point {pts[i].tolist()} is held by a Dirichlet condition in the normal direction but "
+                f"penetrates the obstacle "
                 f"by {gmax_t[i]:.3e} at some load step; move the obstacle or release that support.")
-        self.max_free_penetration = float(np.max(np.where(self.allfree, gmax_t, -np.inf), initial=-np.inf))
+        self.max_free_penetration = float(np.max(np.where(self.movable, gmax_t, -np.inf), initial=-np.inf))
         self.gmax_t = gmax_t
         gmax = self.max_free_penetration
         if gmax > 0:
             thr = -max(margin * gmax, 1e-12 * self.h)
-            cand = np.flatnonzero(self.allfree & (gmax_t > thr))
+            cand = np.flatnonzero(self.movable & (gmax_t > thr))
         else:
             cand = np.empty(0, dtype=np.int64)
         self.cand = np.empty(0, dtype=np.int64)
@@ -180,7 +212,7 @@ class FrictionalContact:
     def add(self, new: np.ndarray) -> np.ndarray:
         """Add candidate points (one triangular solve per DOF); returns the added ones."""
         new = np.setdiff1d(np.asarray(new, dtype=np.int64), self.cand)
-        new = new[self.allfree[new]]
+        new = new[self.movable[new]]
         if new.size == 0:
             return new
         d = self.dim
@@ -188,14 +220,16 @@ class FrictionalContact:
         allc = np.concatenate([old, new])
         cols_pos = self.pos[new].ravel()
         all_pos = self.pos[allc].ravel()
+        rows = all_pos >= 0  # supported DOFs keep zero rows and columns of C
         nf = self.factor.free.size
-        X = np.empty((all_pos.size, cols_pos.size))
-        for s in range(0, cols_pos.size, _BATCH):
-            idx = cols_pos[s: s + _BATCH]
-            rhs = np.zeros((nf, idx.size))
-            rhs[idx, np.arange(idx.size)] = 1.0
-            X[:, s: s + idx.size] = self.factor.solve(rhs)[all_pos]
-            self.linear_solves += idx.size
+        X = np.zeros((all_pos.size, cols_pos.size))
+        cols = np.flatnonzero(cols_pos >= 0)
+        for s in range(0, cols.size, _BATCH):
+            j = cols[s: s + _BATCH]
+            rhs = np.zeros((nf, j.size))
+            rhs[cols_pos[j], np.arange(j.size)] = 1.0
+            X[np.ix_(rows, j)] = self.factor.solve(rhs)[all_pos[rows]]
+            self.linear_solves += j.size
         n_old = old.size * d
         C = np.zeros((all_pos.size, all_pos.size))
         C[:n_old, :n_old] = self.C
@@ -217,7 +251,9 @@ class FrictionalContact:
             return u
         F = np.einsum("ijk,ik->ij", self.E[self.cand], R)  # global forces on the body
         rhs = np.zeros(self.factor.free.size)
-        np.add.at(rhs, self.pos[self.cand].ravel(), F.ravel())
+        pos = self.pos[self.cand].ravel()
+        free = pos >= 0  # force components on supported DOFs go into the support reaction
+        np.add.at(rhs, pos[free], F.ravel()[free])
         u = u + self.factor.expand(self.factor.solve(rhs))
         self.linear_solves += 1
         return u

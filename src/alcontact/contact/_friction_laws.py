@@ -54,7 +54,7 @@ class Macaulay:
         return np.where(lam + self.c * g > 0, 1.0, 0.0)
 
 
-def local_law(normal, lamN, lamT, y, uTn, eps_t, mu, *, with_lam=False, rho=None):
+def local_law(normal, lamN, lamT, y, uTn, eps_t, mu, *, with_lam=False, rho=None, tfree=None):
     """Tractions ``t`` (c, d) and their derivatives at all candidate points.
 
     Parameters
@@ -70,6 +70,11 @@ def local_law(normal, lamN, lamT, y, uTn, eps_t, mu, *, with_lam=False, rho=None
     rho : (c,), optional
         Fixed radius of the Coulomb disc (e.g. :math:`\\mu\\lambda_N`); default
         :math:`\\mu t_N(g)`, coupled to the normal traction.
+    tfree : (c, d-1) bool, optional
+        Tangent directions in which the point can move (default all). A held
+        direction (supported DOF) carries no contact traction: its friction force
+        is part of the support reaction, and the Coulomb disc acts on the free
+        directions (:mod:`alcontact.contact._friction_discrete`).
 
     Returns
     -------
@@ -86,7 +91,7 @@ def local_law(normal, lamN, lamT, y, uTn, eps_t, mu, *, with_lam=False, rho=None
     g, uT = y[:, 0], y[:, 1:]
     tN = np.asarray(normal.traction(g, lamN), dtype=float)
     kN = np.asarray(normal.stiffness(g, lamN), dtype=float)
-    z = lamT + eps_t * (uT - uTn)
+    z = _trial(lamT, uT, uTn, eps_t, tfree)
     coupled = rho is None
     rho = mu * tN if coupled else np.asarray(rho, dtype=float)
     nz = np.linalg.norm(z, axis=1)
@@ -100,6 +105,9 @@ def local_law(normal, lamN, lamT, y, uTn, eps_t, mu, *, with_lam=False, rho=None
     eye = np.eye(d - 1)
     proj = (rho / safe)[:, None, None] * (eye[None] - nvec[:, :, None] * nvec[:, None, :])
     dz = np.where(stick[:, None, None], eye[None], 0.0) + np.where(slip[:, None, None], proj, 0.0)
+    if tfree is not None:
+        mask = np.asarray(tfree, dtype=float)
+        dz = dz * mask[:, :, None] * mask[:, None, :]
     Dy = np.zeros((c, d, d))
     Dy[:, 0, 0] = kN
     Dy[:, 1:, 1:] = eps_t * dz
@@ -117,14 +125,20 @@ def local_law(normal, lamN, lamT, y, uTn, eps_t, mu, *, with_lam=False, rho=None
     return t, Dy, Dl, state
 
 
-def tangential_energy(lamT, uT, uTn, eps_t, rho):
+def _trial(lamT, uT, uTn, eps_t, tfree):
+    """Trial traction :math:`z = \\lambda_T + \\varepsilon_T (u_T - u_{T,n})`, zero in held directions."""
+    z = lamT + eps_t * (uT - uTn)
+    return z if tfree is None else np.where(tfree, z, 0.0)
+
+
+def tangential_energy(lamT, uT, uTn, eps_t, rho, tfree=None):
     """Convex potential of the return mapping onto a *fixed* disc of radius ``rho``.
 
     :math:`\\phi_T = |z|^2/(2\\varepsilon_T)` for :math:`|z| \\le \\rho`, else
     :math:`(\\rho|z| - \\rho^2/2)/\\varepsilon_T`, with :math:`z = \\lambda_T + \\varepsilon_T(u_T - u_{T,n})`;
-    its gradient in :math:`u_T` is the projected traction.
+    its gradient in :math:`u_T` is the projected traction (``tfree`` as in :func:`local_law`).
     """
-    z = lamT + eps_t * (uT - uTn)
+    z = _trial(lamT, uT, uTn, eps_t, tfree)
     nz = np.linalg.norm(z, axis=1)
     rho = np.maximum(np.asarray(rho, dtype=float), 0.0)
     return np.where(nz <= rho, 0.5 * nz * nz, rho * nz - 0.5 * rho * rho) / eps_t

@@ -19,7 +19,8 @@ logger = logging.getLogger(__name__)
 #: Termination reason of a contact solve: the project's one status table
 #: :class:`alcontact.status.Status` (positive = converged, negative = failed, as PETSc),
 #: shared with :func:`alcontact.optim.minimize`.  Contact members: ``CONVERGED``,
-#: ``NO_CONTACT``, ``MAXITER``, ``NEWTON_FAILED``, ``NONFINITE``, ``PENALTY_LIMIT``.
+#: ``NO_CONTACT``, ``MAXITER``, ``NEWTON_FAILED``, ``NONFINITE``, ``PENALTY_LIMIT``,
+#: ``NOT_VERIFIED``.
 ContactStatus = Status
 
 

@@ -11,6 +11,7 @@ from ._algorithms import (ContactOptions, _Run, available_algorithms, check_solv
                           options_with, resolve_penalty)
 from ._discrete import DiscreteContact
 from ._solution import ContactResult, ContactSolution, ContactStatus
+from ._verify import check_state, verified_status
 
 __all__ = ["solve", "DEFAULT_ALGORITHM", "DEFAULT_PENALTY", "penalty_stiffness"]
 
@@ -99,14 +100,19 @@ def solve(problem, algorithm: str = DEFAULT_ALGORITHM, penalty: str | None = Non
     g_all = dc.all_gaps(u)
     m = dc.points.shape[0]
     pressure = np.zeros(m)
-    pressure[dc.cand] = np.maximum(out.lam, 0.0) if out.lam.size else 0.0
+    if out.lam.size:
+        pressure[dc.cand] = out.lam
+    if out.status > 0 and not np.all(np.isfinite(u)):
+        out.status, out.message = ContactStatus.NONFINITE, "non-finite displacement"
+    check = check_state(g_all, pressure, dc.h, tol_penetration=opts.tol_penetration,
+                        tol_complementarity=opts.tol_complementarity)
+    out.status, out.message = verified_status(out.status, out.message, check, what=f"contact solve {algorithm}")
+    pressure = np.maximum(pressure, 0.0)
     force = np.sum((dc.weights * pressure)[:, None] * dc.normals, axis=0)
     if np.any(pressure > 0):  # pressure field of the nodal forces (differs from lambda for 3D P2)
         pressure = problem.model.boundary_pressure(problem.contact_boundary, dc.weights * pressure)
     closed = g_all > -max(1e-6, 10 * opts.tol_penetration) * dc.h
     active = closed & (pressure > 1e-12 * max(float(pressure.max(initial=0.0)), 1e-300))
-    if out.status > 0 and not np.all(np.isfinite(u)):
-        out.status, out.message = ContactStatus.NONFINITE, "non-finite displacement"
     pen_final = float(np.max(g_all, initial=0.0)) / dc.h
     pref = max(float(pressure.max(initial=0.0)), 1e-300)
     compl = float(np.max(np.abs(pressure * g_all), initial=0.0)) / (pref * dc.h)

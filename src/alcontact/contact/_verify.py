@@ -1,0 +1,137 @@
+r"""Verification of a returned contact state: the last word on ``converged``.
+
+Every solver path (frictionless :func:`~alcontact.contact.solve`, direct or
+AMG, and :func:`~alcontact.contact.solve_friction`) builds its result through
+:func:`verified_status`, which recomputes the physical measures from the state
+it is about to return (the full displacement's gaps, not the solver's last
+iterate) and turns a positive status into :attr:`ContactStatus.NOT_VERIFIED`
+(with a logged warning naming the measure, its value, the tolerance and what to
+try) when one fails. The measures are dimensionless, as in the stopping tests
+of the algorithms (:mod:`alcontact.contact._algorithms`, Algorithm 6.2):
+
+``penetration``
+    :math:`\max_i g_i^+ / h` (gap (6.15), :math:`g \le 0` feasible).
+``complementarity``
+    :math:`\max_i |\lambda_i g_i| / (p_{ref} h)` and :math:`\max_i \lambda_i^- / p_{ref}`
+    (a tensile pressure is a complementarity failure too), with
+    :math:`p_{ref} = \max_i \lambda_i`.
+``coulomb``
+    Friction bound :math:`\max_i (|t_{T,i}| - \mu t_{N,i})^+ / p_{ref}`.
+``slip``
+    Coulomb complementarity and slip direction in one measure, the dissipation
+    defect :math:`\max_i (\mu t_{N,i} |\Delta u_{T,i}| - t_{T,i}\cdot\Delta u_{T,i})
+    / (p_{ref} \max(h, \max_j |\Delta u_{T,j}|))`. Given the bound, it vanishes
+    exactly when every point either sticks (:math:`\Delta u_T = 0`) or slips with
+    a saturated traction along the slip (:math:`t_T = \mu t_N \Delta u_T/|\Delta u_T|`,
+    dissertation sign: the force on the body, :math:`-t_T`, opposes the slip),
+    the time-discrete Coulomb law of (6.47)-(6.50).
+"""
+
+from __future__ import annotations
+
+import logging
+from dataclasses import dataclass
+
+import numpy as np
+
+from ._solution import ContactStatus
+
+__all__ = ["Check", "check_state", "verified_status"]
+
+logger = logging.getLogger(__name__)
+
+_ADVICE = {
+    "penetration": "tighten newton_tol, use more outer iterations (maxiter) or a larger penalty_scale, "
+                   "or try algorithm='ssn'",
+    "complementarity": "tighten tol_multiplier / newton_tol or try algorithm='ssn'",
+    "coulomb": "tighten tol_multiplier / newton_tol, use more load steps or try algorithm='ssn'",
+    "slip": "tighten tol_slip / tol_multiplier, use more load steps or try algorithm='ssn'",
+    "finite": "check loads and supports, try a smaller penalty_scale or algorithm='ssn'",
+}
+
+
+@dataclass(frozen=True)
+class Check:
+    """Measures of one state against their tolerances.
+
+    Attributes
+    ----------
+    measures : dict
+        ``name -> (value, tolerance)``.
+    """
+
+    measures: dict
+
+    @property
+    def failed(self) -> dict:
+        """The measures above their tolerance (a non-finite value fails)."""
+        return {k: v for k, v in self.measures.items() if not (np.isfinite(v[0]) and v[0] <= v[1])}
+
+    @property
+    def ok(self) -> bool:
+        return not self.failed
+
+    def describe(self) -> str:
+        parts = [f"{k} {v:.3e} > tolerance {tol:.1e}" for k, (v, tol) in self.failed.items()]
+        advice = "; ".join(dict.fromkeys(_ADVICE[k.split()[0]] for k in self.failed))
+        return ", ".join(parts) + (f" ({advice})" if advice else "")
+
+
+def check_state(gap, pressure, h: float, *, tol_penetration: float, tol_complementarity: float,
+                traction_t=None, slip=None, mu: float = 0.0, tol_friction: float | None = None) -> Check:
+    """Measure a contact state (see the module docstring).
+
+    Parameters
+    ----------
+    gap, pressure : ndarray (m,)
+        Gaps (6.15) and normal tractions :math:`\\lambda_N` of all contact points.
+    h : float
+        Contact-zone element size.
+    tol_penetration, tol_complementarity : float
+        Tolerances of ``penetration`` and ``complementarity``.
+    traction_t : ndarray (m, d-1), optional
+        Tangential tractions :math:`t_T` (dissertation sign); with it the
+        ``coulomb`` and ``slip`` measures are checked against ``tol_friction``.
+    slip : ndarray (m, d-1), optional
+        Tangential displacement increment :math:`\\Delta u_T` of the step in the same
+        local frame (held directions zero); default no slip.
+    mu : float
+        Coulomb coefficient at that state.
+    """
+    g = np.asarray(gap, dtype=float)
+    p = np.asarray(pressure, dtype=float)
+    pref = max(float(np.max(p, initial=0.0)), 1e-300)
+    both = np.concatenate([g, p])
+    if not np.all(np.isfinite(both)):
+        return Check({"finite": (np.inf, 0.0)})
+    measures = {
+        "penetration": (float(np.max(g, initial=0.0)) / h, tol_penetration),
+        "complementarity": (max(float(np.max(np.abs(p * g), initial=0.0)) / (pref * h),
+                                float(np.max(-p, initial=0.0)) / pref), tol_complementarity),
+    }
+    if traction_t is not None:
+        tT = np.asarray(traction_t, dtype=float).reshape(g.size, -1)
+        du = np.zeros_like(tT) if slip is None else np.asarray(slip, dtype=float).reshape(tT.shape)
+        if not (np.all(np.isfinite(tT)) and np.all(np.isfinite(du))):
+            return Check({"finite": (np.inf, 0.0)})
+        tol = tol_complementarity if tol_friction is None else tol_friction
+        bound = mu * np.maximum(p, 0.0)
+        nT, ndu = np.linalg.norm(tT, axis=1), np.linalg.norm(du, axis=1)
+        measures["coulomb"] = (float(np.max(nT - bound, initial=0.0)) / pref, tol)
+        defect = bound * ndu - np.einsum("ij,ij->i", tT, du)
+        scale = pref * max(h, float(np.max(ndu, initial=0.0)))
+        measures["slip"] = (float(np.max(defect, initial=0.0)) / scale, tol)
+    return Check(measures)
+
+
+def verified_status(status: ContactStatus, message: str, check: Check, *, what: str = "contact solve"):
+    """``(status, message)`` after verification: a positive status whose state fails becomes NOT_VERIFIED.
+
+    A negative status is returned unchanged (the solver already said why). On a
+    flip, a warning is logged with the failing measures and what to try.
+    """
+    if status < 0 or check.ok:
+        return status, message
+    text = f"{what} reported {message!r} but the returned state fails verification: {check.describe()}"
+    logger.warning("%s", text)
+    return ContactStatus.NOT_VERIFIED, text
