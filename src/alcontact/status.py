@@ -41,7 +41,7 @@ from __future__ import annotations
 
 import enum
 
-__all__ = ["Status", "INNER_REASONS"]
+__all__ = ["Status", "INNER_REASONS", "CONTACT_CODES", "OPTIM_CODES"]
 
 
 class Status(enum.IntEnum):
@@ -120,3 +120,18 @@ INNER_REASONS: dict[str, Status] = {
     "unbounded": Status.UNBOUNDED,
     "nonfinite": Status.NONFINITE,
 }
+
+#: The codes a contact solve (:func:`alcontact.contact.solve`, ``solve_friction``,
+#: finite deformation) can return; every failure among them is exercised by
+#: ``tests/unit/test_failure_statuses.py``.
+CONTACT_CODES: frozenset[Status] = frozenset({
+    Status.CONVERGED, Status.NO_CONTACT, Status.MAXITER, Status.NEWTON_FAILED, Status.NONFINITE,
+    Status.PENALTY_LIMIT, Status.NOT_VERIFIED,
+})
+
+#: The codes :func:`alcontact.optim.minimize` can return (inner-solver reasons such as
+#: ``LINE_SEARCH_FAILED`` are turned into ``INNER_FAILED`` by the outer loop).
+OPTIM_CODES: frozenset[Status] = frozenset({
+    Status.CONVERGED_KKT, Status.UNCONSTRAINED_CONVERGED, Status.MAXITER, Status.INNER_FAILED,
+    Status.NONFINITE, Status.PENALTY_LIMIT, Status.UNBOUNDED,
+})
