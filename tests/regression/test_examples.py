@@ -80,7 +80,7 @@ def test_sliding_block_tangential_reaction_is_mu_times_normal():
 
 
 def test_cattaneo_mindlin_partial_slip():
-    """Coarse mesh (8 elements per a), circular obstacle: a within 5 %, p0 within 7 %, c within 25 %."""
+    """Coarse mesh (16 elements per a), circular obstacle: a within 5 %, p0 within 7 %, c within 25 %."""
     setup, res = _run("cattaneo_mindlin")
     s = res.summary
     assert s["contact_half_width"] == pytest.approx(s["contact_half_width_exact"], rel=0.05)

@@ -90,9 +90,10 @@ def solve(problem, algorithm: str = DEFAULT_ALGORITHM, penalty: str | None = Non
     m = dc.points.shape[0]
     pressure = np.zeros(m)
     pressure[dc.cand] = np.maximum(out.lam, 0.0) if out.lam.size else 0.0
-    force = np.sum((dc.weights * pressure)[:, None] * dc.normals, axis=0)
+    nodal = dc.weights * pressure  # the normal nodal forces r = w lambda the solver applied
+    force = np.sum(nodal[:, None] * dc.normals, axis=0)
     if np.any(pressure > 0):  # pressure field of the nodal forces (differs from lambda for 3D P2)
-        pressure = problem.model.boundary_pressure(problem.contact_boundary, dc.weights * pressure)
+        pressure = problem.model.boundary_pressure(problem.contact_boundary, nodal)
     closed = g_all > -max(1e-6, 10 * opts.tol_penetration) * dc.h
     active = closed & (pressure > 1e-12 * max(float(pressure.max(initial=0.0)), 1e-300))
     if out.status > 0 and not np.all(np.isfinite(u)):
@@ -131,5 +132,6 @@ def solve(problem, algorithm: str = DEFAULT_ALGORITHM, penalty: str | None = Non
         total_contact_force=force,
         result=result,
         timings=timings,
+        nodal_forces=nodal,
         extra={"h": dc.h, "candidates": int(dc.cand.size), "dofs": int(problem.model.ndofs), **dc.extra()},
     )
