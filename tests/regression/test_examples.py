@@ -21,6 +21,8 @@ def _run(name):
     setup = load_problem(EXAMPLES / f"{name}.toml")
     res = run_setup(setup)
     assert res.summary["status"] == "converged", res.summary["message"]
+    # global equilibrium: contact force + applied loads + support reactions = 0 (tests/verification/test_equilibrium.py)
+    assert res.summary["equilibrium_residual"] <= 1e-8, res.summary["equilibrium_residual"]
     return setup, res
 
 
