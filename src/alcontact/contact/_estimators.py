@@ -24,10 +24,12 @@ Recovered pressure
 
 Hertz fit
     Where the analytical solution is a Hertz profile, :math:`p(r) = p_0
-    \sqrt{1 - r^2/a^2}` is fitted to the recovered pressure by weighted least
-    squares (:func:`fit_hertz`); each point weighs its tributary length/area,
-    which on the symmetry planes of a half or quarter model is the half/quarter
-    share of the full model, so no point counts twice.
+    \sqrt{1 - r^2/a^2}` is fitted to the recovered pressure field by least squares
+    in :math:`L^2(\Gamma)` (:func:`fit_hertz_field`, integrals over the model's
+    boundary), or, for a body without boundary quadrature, at the points
+    (:func:`fit_hertz`), each point weighing its tributary length/area. On the
+    symmetry planes of a half or quarter model both give the half/quarter share
+    of the full model, so nothing counts twice.
 
 Contact edge
     Elsewhere the contact size is the outermost loaded point interpolated
@@ -49,6 +51,7 @@ __all__ = [
     "nodal_force_vector",
     "radial_coordinate",
     "fit_hertz",
+    "fit_hertz_field",
     "edge_from_profile",
     "has_hertz_profile",
     "load_center",
@@ -188,6 +191,20 @@ def _hertz_misfit(a: float, r, p, w):
     return float(np.sum(w * (p - p0 * s) ** 2)), p0
 
 
+def _minimize_on(f, lo: float, hi: float, tol: float) -> float:
+    """Minimize a scalar function on ``[lo, hi]``: a 64-point scan, then Brent's bounded
+    method in the bracket around the best point (quadrature makes the misfit slightly
+    rough near the contact edge; the scan keeps Brent out of spurious local minima)."""
+    from scipy.optimize import minimize_scalar
+
+    grid = np.linspace(lo, hi, 64)
+    vals = np.array([f(a) for a in grid])
+    k = int(np.argmin(vals))
+    a0, a1 = grid[max(k - 1, 0)], grid[min(k + 1, grid.size - 1)]
+    res = minimize_scalar(f, bounds=(a0, a1), method="bounded", options={"xatol": tol})
+    return float(res.x) if res.fun <= vals[k] else float(grid[k])
+
+
 def fit_hertz(r, p, w) -> HertzFit:
     r"""Fit :math:`p(r) = p_0\sqrt{1 - r^2/a^2}` to pressures ``p`` at radii ``r``.
 
@@ -203,8 +220,6 @@ def fit_hertz(r, p, w) -> HertzFit:
     HertzFit
         ``p0 = a = 0`` when no point is loaded.
     """
-    from scipy.optimize import minimize_scalar
-
     r = np.asarray(r, dtype=float)
     p = np.asarray(p, dtype=float)
     w = np.asarray(w, dtype=float)
@@ -219,12 +234,54 @@ def fit_hertz(r, p, w) -> HertzFit:
     # a lies between the outermost loaded point's inner neighbour and twice its radius
     inner = r[(r < r_out) & (p > 0)]
     lo = 0.5 * float(inner.max()) if inner.size else 0.5 * r_out
-    res = minimize_scalar(lambda a: _hertz_misfit(a, r, p, w)[0], bounds=(lo, 2.0 * r_out),
-                          method="bounded", options={"xatol": 1e-10 * r_out})
-    a = float(res.x)
+    a = _minimize_on(lambda a: _hertz_misfit(a, r, p, w)[0], lo, 2.0 * r_out, 1e-10 * r_out)
     f, p0 = _hertz_misfit(a, r, p, w)
     rms = math.sqrt(f / max(float(np.sum(w)), 1e-300)) / max(p0, 1e-300)
     return HertzFit(p0, a, rms, int(r.size))
+
+
+def fit_hertz_field(r_q, dx, v, r_nodes, p_nodes) -> HertzFit:
+    r"""Fit :math:`p_0\sqrt{1 - r^2/a^2}` to a pressure *field* in the :math:`L^2(\Gamma)` norm.
+
+    Minimizes :math:`\int_\Gamma (p_h - p_0 s_a)^2\,ds`, :math:`s_a = \sqrt{1 - r^2/a^2}_+`,
+    with the integrals evaluated by quadrature: ``r_q`` radii of the quadrature points,
+    ``dx`` their weights, ``v`` the recovered pressure :math:`p_h` there (see
+    ``LinearElasticity.boundary_field_at_quadrature``). For fixed ``a`` the optimal
+    :math:`p_0 = \int p_h s_a / \int s_a^2`, and the misfit is
+    :math:`\int p_h^2 - (\int p_h s_a)^2 / \int s_a^2`; ``a`` comes from a bounded
+    scalar minimization between half the radius of the last-but-one loaded node
+    (``r_nodes``, ``p_nodes``) and twice the outermost one. Integrating over the model's
+    boundary weighs every part of the contact zone by its area, symmetry planes
+    included, and uses the whole field of the element's boundary space (for 3D P2 the
+    vertex and edge-midpoint values enter with their true influence).
+    """
+    r_q, dx, v = (np.asarray(x, dtype=float) for x in (r_q, dx, v))
+    r_nodes = np.asarray(r_nodes, dtype=float)
+    p_nodes = np.asarray(p_nodes, dtype=float)
+    loaded = p_nodes > 0
+    if not np.any(loaded):
+        return HertzFit(0.0, 0.0, 0.0, 0)
+    r_out = float(r_nodes[loaded].max())
+    if r_out <= 0.0:
+        return HertzFit(float(p_nodes.max()), 0.0, 0.0, int(loaded.sum()))
+    inner = r_nodes[loaded & (r_nodes < r_out)]
+    lo = 0.5 * float(inner.max()) if inner.size else 0.5 * r_out
+    v2 = float(np.sum(dx * v * v))
+
+    def parts(a):
+        s = np.sqrt(np.clip(1.0 - (r_q / a) ** 2, 0.0, None))
+        return float(np.sum(dx * v * s)), float(np.sum(dx * s * s))
+
+    def misfit(a):
+        num, den = parts(a)
+        return v2 - (num * num / den if (den > 0 and num > 0) else 0.0)
+
+    a = _minimize_on(misfit, lo, 2.0 * r_out, 1e-10 * r_out)
+    num, den = parts(a)
+    p0 = num / den if den > 0 else 0.0
+    area = float(np.sum(dx[r_q <= a])) if np.any(r_q <= a) else float(np.sum(dx))
+    rms = math.sqrt(max(misfit(a), 0.0) / max(area, 1e-300)) / max(p0, 1e-300)
+    return HertzFit(p0, a, rms, int(np.count_nonzero(loaded)))
 
 
 def edge_from_profile(r, p, loaded) -> float:

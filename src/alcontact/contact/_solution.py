@@ -177,20 +177,31 @@ class ContactSolution:
         return axis, center
 
     def hertz_fit(self, center=None, axis: int = 0):
-        """Least-squares Hertz profile of the recovered pressure (:func:`~._estimators.fit_hertz`).
+        """Least-squares Hertz profile of the recovered pressure field in :math:`L^2(\\Gamma)`
+        (:func:`~._estimators.fit_hertz_field`; at the points, :func:`~._estimators.fit_hertz`,
+        for a body without ``boundary_field_at_quadrature``).
 
         Radii are measured from ``center`` (default ``problem.meta["center"]``; a
         coordinate in which the loaded zone lies on both sides of it is replaced by
         the force centroid, :func:`~._estimators.load_center`) in the contact plane
         (2D: along ``axis``); the weights are the tributary lengths/areas.
         """
-        from ._estimators import fit_hertz, load_center, radial_coordinate
+        from ._estimators import fit_hertz, fit_hertz_field, load_center, radial_coordinate
 
         axis, center = self._geometry(axis, center)
         p = np.where(self.active, self.pressure, 0.0)
         center = load_center(self.points, np.where(self.active, self.normal_nodal_forces, 0.0), center)
-        r = radial_coordinate(self.points, center, axis if self.points.shape[1] == 2 else None)
-        return fit_hertz(r, p, self.weights)
+        ax = axis if self.points.shape[1] == 2 else None
+        r = radial_coordinate(self.points, center, ax)
+        model = getattr(self.problem, "model", None)
+        if not hasattr(model, "boundary_field_at_quadrature"):
+            return fit_hertz(r, p, self.weights)
+        loaded = p > 0
+        near = r <= 2.0 * float(r[loaded].max()) if np.any(loaded) else None
+        x, dx, v = model.boundary_field_at_quadrature(self.problem.contact_boundary, p, near=near)
+        # the same in-plane radius at the quadrature points (flat direction from the nodes)
+        r_q = _radius_like(self.points, x, center, ax)
+        return fit_hertz_field(r_q, dx, v, r, p)
 
     def _uses_hertz_fit(self) -> bool:
         from ._estimators import has_hertz_profile
@@ -242,3 +253,14 @@ class ContactSolution:
     def peak_pressure_nodal_max(self) -> float:
         """Largest nodal value of the recovered pressure (raw, no fit)."""
         return float(np.max(self.pressure, initial=0.0))
+
+
+def _radius_like(points, x, center, axis):
+    """In-plane radius of ``x`` measured as :func:`radial_coordinate` measures ``points``."""
+    from ._estimators import radial_coordinate
+
+    pts = np.asarray(points, dtype=float)
+    # append the nodes so that the flat direction is decided by the same point cloud
+    r = radial_coordinate(np.vstack([x, pts]), center, axis)
+    return r[: x.shape[0]]
+
