@@ -17,10 +17,13 @@ Observed errors (%, p0 / a) of the L2 Hertz fit, measured on this machine:
   halving 1.2 and 2.8 (p0), 1.5 and 3.3 (a).
 * 2D P2, 1/2/4 elements per a: +0.76/-0.80, +0.85/-0.76, -0.04/+0.04; overall rate over
   the two halvings 2.2 (p0) and 2.2 (a); the middle mesh is not better than the coarse one.
-* 3D P1, built-in geometry (a/R = 0.1), 4/6/8 elements per a: -0.95/-1.06, +0.42/-1.22,
-  +0.71/-1.03: within about 1 % but not converging on meshes this coarse (P1 tetrahedra;
-  the pressure moments of the nodal forces show the same, so it is the discrete solution).
-* 3D P2, built-in geometry, 1/2 elements per a (25k/80k DOFs): +2.34/+1.17, +0.85/-0.13.
+* 3D P1, small block, 2/3/4 elements per a: -7.66/-0.74, -2.83/+0.05, -0.10/-1.78; built-in
+  geometry 4/6/8 elements per a: -0.95/-1.06, +0.42/-1.22, +0.71/-1.03: p0 converges
+  into 1 %, a stays about 1 % low without converging on meshes this coarse (P1
+  tetrahedra; the pressure moments of the nodal forces show the same, so it is the
+  discrete solution, not the estimator).
+* 3D P2, built-in geometry, 1/2 elements per a (25k/80k DOFs): +2.34/+1.17, +0.85/-0.13
+  (benchmark only; the test checks a 5.6k-DOF mesh).
 """
 
 from __future__ import annotations
@@ -78,19 +81,23 @@ def test_hertz_3d_builtin_default_level():
     assert abs(s["contact_half_width_error_pct"]) <= 1.5, s["contact_half_width_error_pct"]
 
 
-@pytest.mark.slow
 def test_hertz_3d_p1_estimators():
-    """3D P1, built-in geometry (a/R = 0.1), 4/6/8 elements per a: p0 within 1 % and a
-    within 1.5 % on every mesh (measured -0.95/-1.06, +0.42/-1.22, +0.71/-1.03 %); no
-    convergence on meshes this coarse (see the module doc)."""
-    e = [_errors(hertz.hertz_3d(order=1, n_per_a=n)) for n in (4, 6, 8)]
-    assert all(abs(x[0]) <= 0.01 and abs(x[1]) <= 0.015 for x in e), e
+    """3D P1 on a small block (size 6a, grading 1.5), 2/3/4 elements per a (1.3k-4.3k DOFs):
+    the p0 error falls at every refinement (measured -7.66, -2.83, -0.10 %; rates 2.5 and
+    beyond, crossing zero) to within 1 %; a stays within 2 % (measured -0.74, +0.05,
+    -1.78 %) without converging on meshes this coarse (see the module doc)."""
+    e = [_errors(hertz.hertz_3d(order=1, n_per_a=n, size=6.0, growth=1.5)) for n in (2, 3, 4)]
+    p0 = [abs(x[0]) for x in e]
+    assert p0[0] > p0[1] > p0[2], p0
+    assert p0[2] <= 0.01, p0
+    assert all(abs(x[1]) <= 0.02 for x in e), e
 
 
-@pytest.mark.slow
 def test_hertz_3d_p2_estimators():
-    """3D P2, built-in geometry, 1/2 elements per a (25k/80k DOFs, minutes): both errors
-    fall (measured +2.34/+1.17 then +0.85/-0.13 %) and the 80k mesh is within 1 %."""
-    e = [_errors(hertz.hertz_3d(order=2, n_per_a=n)) for n in (1, 2)]
-    assert abs(e[1][0]) < abs(e[0][0]) and abs(e[1][1]) < abs(e[0][1]), e
-    assert abs(e[1][0]) <= 0.01 and abs(e[1][1]) <= 0.01, e
+    """3D P2 on a small block (size 4a, grading 1.6), 1 element per a (5.6k DOFs): p0
+    within 3 % (measured +2.38 %) and a within 1.5 % (measured -1.09 %). A three-mesh P2
+    sweep does not fit the test budget (2 elements per a is 80k DOFs, minutes): the
+    convergence 25k -> 80k DOFs (p0 +2.34 -> +0.85 %, a +1.17 -> -0.13 %) is measured by
+    ``benchmarks/estimators.py`` (``docs/benchmarks/estimators.md``)."""
+    p0, a = _errors(hertz.hertz_3d(order=2, n_per_a=1, size=4.0, growth=1.6))
+    assert abs(p0) <= 0.03 and abs(a) <= 0.015, (p0, a)
