@@ -95,7 +95,9 @@ class Equilibrium:
 
 
 def _dof_components(body) -> np.ndarray:
-    """Component (0..d-1) of every DOF of ``body``."""
+    """Component (0..d-1) of every DOF of ``body`` (interleaved numbering without ``all_node_dofs``)."""
+    if not hasattr(body, "all_node_dofs"):
+        return np.arange(body.ndofs, dtype=np.int64) % int(body.dim)
     _, dofs = body.all_node_dofs()
     comp = np.empty(body.ndofs, dtype=np.int64)
     for c in range(dofs.shape[1]):
@@ -116,8 +118,9 @@ def equilibrium(body, u, fixed, load, contact_forces) -> Equilibrium:
     Parameters
     ----------
     body : Body
-        Any body of the :class:`~alcontact.fem._body.Body` protocol with
-        ``all_node_dofs()``; its ``internal_force(u)`` is used (``K u`` for
+        Any body of the :class:`~alcontact.fem._body.Body` protocol; its
+        ``all_node_dofs()`` gives the component of each DOF where it exists
+        (otherwise the interleaved numbering ``dof % dim``); its ``internal_force(u)`` is used (``K u`` for
         small deformation, the internal force of a finite-deformation body).
     u : ndarray (ndofs,)
         Displacement.
