@@ -30,7 +30,6 @@ from __future__ import annotations
 
 import math
 
-import pytest
 
 from alcontact.contact import solve
 from alcontact.problems import hertz
