@@ -143,9 +143,20 @@ def _error_pct(num, exact) -> float | None:
     return 100.0 * (num - exact) / exact
 
 
+def equilibrium_keys(eq) -> dict[str, Any]:
+    """``summary.json`` keys of an :class:`~alcontact.contact._estimators.Equilibrium`."""
+    return {
+        "equilibrium_residual": float(eq.residual),
+        "equilibrium_free_residual": float(eq.free_residual),
+        "reaction_force_vector": [float(x) for x in eq.reaction],
+        "applied_load_vector": [float(x) for x in eq.applied_load],
+        "contact_force_from_nodal_forces": [float(x) for x in eq.contact_force],
+    }
+
+
 def summarize(problem, solution, *, problem_name: str | None = None, level: int | None = None,
               options: dict | None = None, build_time_s: float | None = None) -> dict[str, Any]:
-    """The ``summary.json`` dictionary of a solved problem.
+    r"""The ``summary.json`` dictionary of a solved problem.
 
     Stable keys (:data:`alcontact.io.SUMMARY_KEYS`):
 
@@ -167,13 +178,23 @@ def summarize(problem, solution, *, problem_name: str | None = None, level: int 
         Computed half-width ``a`` (contact radius in 3D) and the analytical one
         for the load the model carries.
     ``peak_pressure``, ``peak_pressure_exact``
-        Largest computed pressure and the analytical ``p0``.
+        Estimated peak pressure and the analytical ``p0``.
     ``total_contact_force``
         Total load ``P`` of the full (unsymmetrized) body:
         ``reference.load(normal_force)``, i.e. 2x the half model's contact force
         in 2D (per unit thickness) and 4x the quarter model's in 3D; the
-        model's own force is ``model_contact_force``. Without a reference, the
-        model's force.
+        model's own force is ``model_contact_force``, the sum of the normal nodal
+        contact forces the solver applied. Without a reference, the model's force.
+
+    Estimators (``docs/estimators.md``): for a problem whose reference is a Hertz
+    profile, ``peak_pressure`` and ``contact_half_width`` are ``p0`` and ``a`` of a
+    least-squares fit of :math:`p_0\sqrt{1-r^2/a^2}` to the recovered pressure;
+    otherwise the largest recovered pressure and the outermost loaded point
+    interpolated along the boundary. ``peak_pressure_nodal_max`` is the raw
+    largest nodal pressure, ``contact_half_width_edge`` the interpolated edge.
+    ``equilibrium_residual`` is :math:`|F_c + F_{ext} + R|/\max(|F_c|, |F_{ext}|, |R|)`
+    (contact force, applied loads, support reactions; ``contact_force_vector``,
+    ``applied_load_vector``, ``reaction_force_vector``), about 1e-12 for a converged solve.
 
     Exact values and errors are ``None`` when the problem has no analytical reference.
     Extras: ``problem``, ``problem_label``, ``level``, ``dim``, ``order``,
@@ -189,8 +210,11 @@ def summarize(problem, solution, *, problem_name: str | None = None, level: int 
     axis = int(meta.get("symmetry_axis", 0))
 
     a_num = float(solution.contact_half_width(axis=axis, center=center))
+    a_edge = float(solution.contact_half_width_edge(axis=axis, center=center))
     p_num = float(solution.peak_pressure)
+    p_max = float(solution.peak_pressure_nodal_max)
     f_model = float(solution.normal_force)
+    eq = solution.equilibrium()
     a_ex = p_ex = None
     load = f_model
     if ref is not None:
@@ -230,6 +254,11 @@ def summarize(problem, solution, *, problem_name: str | None = None, level: int 
         "peak_pressure_error_pct": _error_pct(p_num, p_ex),
         "model_contact_force": f_model,
         "contact_force_vector": np.asarray(solution.total_contact_force, dtype=float).tolist(),
+        **equilibrium_keys(eq),
+        "peak_pressure_nodal_max": p_max,
+        "peak_pressure_nodal_max_error_pct": _error_pct(p_max, p_ex),
+        "contact_half_width_edge": a_edge,
+        "contact_half_width_edge_error_pct": _error_pct(a_edge, a_ex),
         "penetration": float(res.penetration),
         "complementarity": float(res.complementarity),
         "residual": float(res.residual),
@@ -699,6 +728,8 @@ def run_setup(setup, out: str | os.PathLike | None = None, force: bool = False, 
         summary.update(outer_iterations=int(raw.outer_iterations), newton_iterations=int(raw.newton_iterations),
                        status=raw.status.label, status_code=int(raw.status), message=raw.message,
                        cutbacks=int(raw.cutbacks), wall_time_s=float(raw.timings.get("total_s", wall)))
+        if raw.steps:  # loads and supports of the history at the final step's time
+            summary.update(equilibrium_keys(raw.equilibrium()))
         tf = np.asarray(final.extra["tangential_force"], dtype=float)
         st = np.asarray(final.extra["state"])
         summary.update(tangential_force=float(np.linalg.norm(tf)), tangential_force_vector=tf.tolist(),

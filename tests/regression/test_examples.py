@@ -21,6 +21,8 @@ def _run(name):
     setup = load_problem(EXAMPLES / f"{name}.toml")
     res = run_setup(setup)
     assert res.summary["status"] == "converged", res.summary["message"]
+    # global equilibrium: contact force + applied loads + support reactions = 0 (tests/verification/test_equilibrium.py)
+    assert res.summary["equilibrium_residual"] <= 1e-8, res.summary["equilibrium_residual"]
     return setup, res
 
 
@@ -80,7 +82,7 @@ def test_sliding_block_tangential_reaction_is_mu_times_normal():
 
 
 def test_cattaneo_mindlin_partial_slip():
-    """Coarse mesh (8 elements per a), circular obstacle: a within 5 %, p0 within 7 %, c within 25 %."""
+    """Coarse mesh (16 elements per a), circular obstacle: a within 5 %, p0 within 7 %, c within 25 %."""
     setup, res = _run("cattaneo_mindlin")
     s = res.summary
     assert s["contact_half_width"] == pytest.approx(s["contact_half_width_exact"], rel=0.05)

@@ -153,3 +153,24 @@ class FrictionSolution:
     def tangential_forces(self) -> np.ndarray:
         """``(nsteps, d)`` resultants of the tangential tractions on the body."""
         return np.array([s.tangential_force for s in self.steps]).reshape(len(self.steps), -1)
+
+    def equilibrium(self, step: FrictionStep | None = None):
+        r"""Global equilibrium :math:`F_c + F_{ext} + R = 0` of a converged step (default: the final one).
+
+        The contact forces are :math:`w_i (t_{N,i}\nu_i + s_i)` with ``s`` the step's
+        ``shear``; loads and supports are those of the history at the step's time
+        (:func:`~alcontact.contact._loading.problem_at`). Returns an
+        :class:`~alcontact.contact._estimators.Equilibrium`.
+        """
+        from ._estimators import equilibrium, nodal_force_vector
+        from ._loading import problem_at
+
+        st = self.final if step is None else step
+        prob = self.problem if self.history is None else problem_at(self.problem, self.history, st.t)
+        model = prob.model
+        _, dofs = model.node_dofs(prob.contact_boundary)
+        w = np.asarray(self.weights, dtype=float)[:, None]
+        forces = w * (np.asarray(st.pressure, dtype=float)[:, None] * self.normals + np.asarray(st.shear, dtype=float))
+        fixed, _ = prob.dirichlet()
+        return equilibrium(model, st.u, fixed, prob.load_vector(), nodal_force_vector(model.ndofs, dofs, forces))
+

@@ -77,7 +77,9 @@ class ContactSolution:
     points : ndarray (m, d)
         Contact-boundary points (reference positions).
     pressure : ndarray (m,)
-        Contact pressure :math:`\\lambda_N` per point (stress units; 0 off the candidates).
+        Contact pressure recovered from the nodal forces in the element's boundary
+        space (:math:`r_i/w_i = \\lambda_i` except for 3D P2, see
+        :meth:`~alcontact.fem.LinearElasticity.boundary_pressure`; 0 off the candidates).
     gap : ndarray (m,)
         Linearized gap (6.15) per point (<= 0 feasible).
     weights : ndarray (m,)
@@ -87,10 +89,23 @@ class ContactSolution:
     normals : ndarray (m, d)
         Obstacle normals at the points.
     total_contact_force : ndarray (d,)
-        Resultant of the contact forces on the body :math:`\\sum_i w_i \\lambda_i \\nu_i`.
+        Resultant of the nodal contact forces on the body :math:`\\sum_i r_i \\nu_i`.
     result : ContactResult
     timings : dict
         ``setup_s``, ``factor_s``, ``linear_solve_s`` (one factor + solve), ``solve_s``, ``total_s``.
+    nodal_forces : ndarray (m,), optional
+        Normal nodal contact forces :math:`r_i = w_i \\lambda_i` the solver applied to
+        the body (the exact discrete forces; ``pressure`` is the field recovered from
+        them, :meth:`~alcontact.fem.LinearElasticity.boundary_pressure`). ``None``:
+        ``weights * pressure``.
+
+    Estimators (documented in :mod:`alcontact.contact._estimators` and
+    ``docs/estimators.md``): :attr:`normal_force` and :attr:`total_contact_force`
+    sum the nodal forces; :attr:`peak_pressure` and :meth:`contact_half_width`
+    come from a least-squares Hertz fit when the problem's reference is a Hertz
+    profile, otherwise from the recovered pressure (largest value; outermost
+    loaded point interpolated); :attr:`peak_pressure_nodal_max` is the raw
+    largest nodal pressure; :meth:`equilibrium` checks the global force balance.
     """
 
     problem: Any
@@ -105,29 +120,104 @@ class ContactSolution:
     result: ContactResult
     timings: dict = field(default_factory=dict)
     extra: dict = field(default_factory=dict)
+    nodal_forces: np.ndarray | None = None
 
     @property
     def status(self) -> ContactStatus:
         return self.result.status
 
+    # ------------------------------------------------------------ estimators
+    @property
+    def normal_nodal_forces(self) -> np.ndarray:
+        """Normal nodal contact forces :math:`r_i` (``(m,)``)."""
+        if self.nodal_forces is not None:
+            return np.asarray(self.nodal_forces, dtype=float)
+        return self.weights * self.pressure
+
     @property
     def normal_force(self) -> float:
-        """Total normal contact force :math:`\\sum_i w_i\\lambda_i`."""
-        return float(np.sum(self.weights * self.pressure))
+        """Total normal contact force of the model :math:`\\sum_i r_i` (the forces the solver applied)."""
+        return float(np.sum(self.normal_nodal_forces))
+
+    def contact_point_forces(self) -> np.ndarray:
+        """Contact force vectors on the body per point, ``(m, d)``: :math:`r_i\\nu_i` plus the
+        tangential forces :math:`w_i\\,t_{T,i}` of a frictional state (``extra["shear"]``)."""
+        f = self.normal_nodal_forces[:, None] * self.normals
+        shear = self.extra.get("shear")
+        if shear is not None:
+            f = f + self.weights[:, None] * np.asarray(shear, dtype=float)
+        return f
+
+    def equilibrium(self, problem=None):
+        """Global equilibrium of this state, :func:`alcontact.contact._estimators.equilibrium`.
+
+        ``problem`` defaults to :attr:`problem`; pass the problem frozen at the
+        state's load level for a stepped run (``problem_at(problem, history, t)``).
+        """
+        from ._estimators import equilibrium, nodal_force_vector
+
+        prob = self.problem if problem is None else problem
+        model = prob.model
+        _, dofs = model.node_dofs(prob.contact_boundary)
+        fixed, _ = prob.dirichlet()
+        fc = nodal_force_vector(model.ndofs, dofs, self.contact_point_forces())
+        return equilibrium(model, self.u, fixed, prob.load_vector(), fc)
+
+    def _geometry(self, axis: int, center):
+        meta = getattr(self.problem, "meta", None) or {}
+        if center is None:
+            center = meta.get("center")
+        return axis, center
+
+    def hertz_fit(self, center=None, axis: int = 0):
+        """Least-squares Hertz profile of the recovered pressure field in :math:`L^2(\\Gamma)`
+        (:func:`~._estimators.fit_hertz_field`; at the points, :func:`~._estimators.fit_hertz`,
+        for a body without ``boundary_field_at_quadrature``).
+
+        Radii are measured from ``center`` (default ``problem.meta["center"]``; a
+        coordinate in which the loaded zone lies on both sides of it is replaced by
+        the force centroid, :func:`~._estimators.load_center`) in the contact plane
+        (2D: along ``axis``); the weights are the tributary lengths/areas.
+        """
+        from ._estimators import fit_hertz, fit_hertz_field, load_center, radial_coordinate
+
+        axis, center = self._geometry(axis, center)
+        p = np.where(self.active, self.pressure, 0.0)
+        center = load_center(self.points, np.where(self.active, self.normal_nodal_forces, 0.0), center)
+        ax = axis if self.points.shape[1] == 2 else None
+        r = radial_coordinate(self.points, center, ax)
+        model = getattr(self.problem, "model", None)
+        if not hasattr(model, "boundary_field_at_quadrature"):
+            return fit_hertz(r, p, self.weights)
+        loaded = p > 0
+        near = r <= 2.0 * float(r[loaded].max()) if np.any(loaded) else None
+        x, dx, v = model.boundary_field_at_quadrature(self.problem.contact_boundary, p, near=near)
+        # the same in-plane radius at the quadrature points (flat direction from the nodes)
+        r_q = _radius_like(self.points, x, center, ax)
+        return fit_hertz_field(r_q, dx, v, r, p)
+
+    def _uses_hertz_fit(self) -> bool:
+        from ._estimators import has_hertz_profile
+
+        return has_hertz_profile(self.problem) and bool(np.any(self.active & (self.pressure > 0)))
 
     def contact_half_width(self, axis: int = 0, center=None) -> float:
-        """Half-width of the contact zone along coordinate ``axis``.
+        """Half-width of the contact zone along coordinate ``axis`` (contact radius in 3D).
 
-        2D: along the contact boundary; 3D: along the line through ``center``
-        parallel to ``axis`` in the contact plane (e.g. a symmetry line), which
-        for a circular contact is the contact radius. The edge is located
-        between the last loaded point and the next one from the square-root
-        behaviour of the pressure at a smooth contact edge,
-        :math:`p \\propto \\sqrt{a - r}`: with the last two loaded points
-        :math:`r_1 < r_2`, :math:`a = (r_2 - \\rho r_1)/(1-\\rho)`,
-        :math:`\\rho = (p_2/p_1)^2`, kept between :math:`r_2` and the first
-        unloaded point.
+        Hertz problems (reference with a Hertz profile): ``a`` of the least-squares
+        Hertz fit (:meth:`hertz_fit`). Otherwise the outermost loaded point
+        interpolated along the boundary (:func:`~._estimators.edge_from_profile`):
+        2D along the contact boundary; 3D along the line through ``center``
+        parallel to ``axis`` in the contact plane (e.g. a symmetry line).
         """
+        if self._uses_hertz_fit():
+            return float(self.hertz_fit(center=center, axis=axis).a)
+        return self.contact_half_width_edge(axis=axis, center=center)
+
+    def contact_half_width_edge(self, axis: int = 0, center=None) -> float:
+        """Outermost loaded point along ``axis`` interpolated to the contact edge (no fit)."""
+        from ._estimators import edge_from_profile
+
         pts = self.points
         d = pts.shape[1]
         c = np.zeros(d) if center is None else np.asarray(center, dtype=float)
@@ -142,24 +232,28 @@ class ContactSolution:
             lateral = [k for k in other if k != flat][0]
             on_line = np.abs(pts[:, lateral] - c[lateral]) <= 1e-9 * max(spread.max(), 1e-300)
         r = np.abs(pts[on_line, axis] - c[axis])
-        p = self.pressure[on_line]
-        loaded = self.active[on_line] & (p > 0)
-        if not np.any(loaded):
-            return 0.0
-        order = np.argsort(r, kind="stable")
-        r, p, loaded = r[order], p[order], loaded[order]
-        last = int(np.flatnonzero(loaded).max())
-        r2, p2 = r[last], p[last]
-        cap = r[last + 1] if last + 1 < r.size else r2
-        if last == 0:
-            return float(0.5 * (r2 + cap))
-        r1, p1 = r[last - 1], p[last - 1]
-        if p1 <= p2 or p1 <= 0 or r1 >= r2:
-            return float(0.5 * (r2 + cap))
-        rho = (p2 / p1) ** 2
-        a = (r2 - rho * r1) / (1.0 - rho)
-        return float(min(max(a, r2), cap))
+        return edge_from_profile(r, self.pressure[on_line], self.active[on_line])
 
     @property
     def peak_pressure(self) -> float:
+        """Peak contact pressure: ``p0`` of the Hertz fit for Hertz problems, else the
+        largest recovered pressure (:attr:`peak_pressure_nodal_max`)."""
+        if self._uses_hertz_fit():
+            return float(self.hertz_fit().p0)
+        return self.peak_pressure_nodal_max
+
+    @property
+    def peak_pressure_nodal_max(self) -> float:
+        """Largest nodal value of the recovered pressure (raw, no fit)."""
         return float(np.max(self.pressure, initial=0.0))
+
+
+def _radius_like(points, x, center, axis):
+    """In-plane radius of ``x`` measured as :func:`radial_coordinate` measures ``points``."""
+    from ._estimators import radial_coordinate
+
+    pts = np.asarray(points, dtype=float)
+    # append the nodes so that the flat direction is decided by the same point cloud
+    r = radial_coordinate(np.vstack([x, pts]), center, axis)
+    return r[: x.shape[0]]
+

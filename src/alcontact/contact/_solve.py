@@ -108,9 +108,10 @@ def solve(problem, algorithm: str = DEFAULT_ALGORITHM, penalty: str | None = Non
                         tol_complementarity=opts.tol_complementarity)
     out.status, out.message = verified_status(out.status, out.message, check, what=f"contact solve {algorithm}")
     pressure = np.maximum(pressure, 0.0)
-    force = np.sum((dc.weights * pressure)[:, None] * dc.normals, axis=0)
+    nodal = dc.weights * pressure  # the normal nodal forces r = w lambda the solver applied
+    force = np.sum(nodal[:, None] * dc.normals, axis=0)
     if np.any(pressure > 0):  # pressure field of the nodal forces (differs from lambda for 3D P2)
-        pressure = problem.model.boundary_pressure(problem.contact_boundary, dc.weights * pressure)
+        pressure = problem.model.boundary_pressure(problem.contact_boundary, nodal)
     closed = g_all > -max(1e-6, 10 * opts.tol_penetration) * dc.h
     active = closed & (pressure > 1e-12 * max(float(pressure.max(initial=0.0)), 1e-300))
     pen_final = float(np.max(g_all, initial=0.0)) / dc.h
@@ -147,5 +148,6 @@ def solve(problem, algorithm: str = DEFAULT_ALGORITHM, penalty: str | None = Non
         total_contact_force=force,
         result=result,
         timings=timings,
+        nodal_forces=nodal,
         extra={"h": dc.h, "candidates": int(dc.cand.size), "dofs": int(problem.model.ndofs), **dc.extra()},
     )

@@ -273,6 +273,45 @@ class LinearElasticity:
         M = asm(mass, self._facet_basis(name, vector=False)).tocsr()[sdofs][:, sdofs]
         return spsolve(M.tocsc(), forces)
 
+    def boundary_field_at_quadrature(self, name: str, values, *, near=None, intorder: int = 16):
+        r"""A scalar field of the boundary space at the quadrature points of boundary ``name``.
+
+        Parameters
+        ----------
+        name : str
+            Boundary name.
+        values : array_like (m,)
+            Nodal values aligned with :meth:`node_dofs` (e.g. :meth:`boundary_pressure`).
+        near : array_like of bool (m,), optional
+            Keep only the facets with at least one of these points (default: all).
+        intorder : int
+            Quadrature order (high by default: integrands such as a Hertz profile
+            :math:`\sqrt{1 - r^2/a^2}` have a square-root edge).
+
+        Returns
+        -------
+        x : ndarray (nq, dim)
+            Quadrature points.
+        dx : ndarray (nq,)
+            Quadrature weights (facet measure included): :math:`\int_\Gamma f\,ds \approx \sum_q dx_q f(x_q)`.
+        v : ndarray (nq,)
+            The field :math:`\sum_i v_i \phi_i` at the points.
+        """
+        sdofs = self._boundary_scalar_dofs(name)
+        f = self.facets(name)
+        if near is not None:
+            mark = np.zeros(self.scalar_basis.N, dtype=bool)
+            mark[sdofs[np.asarray(near, dtype=bool)]] = True
+            facet_dofs = np.asarray(self._facet_basis(name, vector=False).element_dofs)  # (nloc, nf)
+            f = f[np.any(mark[facet_dofs], axis=0)]
+        fb = FacetBasis(self.mesh, self.scalar_element, facets=f, intorder=intorder)
+        full = np.zeros(self.scalar_basis.N)
+        full[sdofs] = np.asarray(values, dtype=float)
+        val = np.asarray(fb.interpolate(full))  # (nf, nqp)
+        x = np.asarray(fb.global_coordinates()).reshape(self.dim, -1).T
+        dx = np.broadcast_to(np.asarray(fb.dx), val.shape).ravel()
+        return x, dx, val.ravel()
+
     # ---------------------------------------------------------------- matrices
     def stiffness(self) -> sp.csr_matrix:
         """Global stiffness matrix (``ndofs x ndofs``, symmetric, cached)."""

@@ -46,6 +46,9 @@ class HertzReference:
     e_star: float
     symmetry: float  # total load / model load
 
+    #: the analytical pressure is the profile p0 sqrt(1 - r^2/a^2): estimators fit it
+    hertz_profile = True
+
     def load(self, model_force: float) -> float:
         return self.symmetry * model_force
 
