@@ -177,12 +177,17 @@ def test_plane_strain_is_the_in_plane_block_of_3d(name):
 @pytest.mark.parametrize("name", LAWS)
 def test_fast_element_tangent_matches_generic_contraction(name, d):
     law, rng = make_material(name), np.random.default_rng(5)
-    nloc = d + 1 if name == "neo-hookean" else 3 * d  # P1 and a P2-sized local basis
-    F = _random_F(rng, 12, d).reshape(4, 3, d, d)
-    G = rng.standard_normal((4, 3, nloc, d))
-    fast = law.element_tangent(F, G, LAM, MU)
-    generic = HyperelasticLaw.element_tangent(law, F, G, LAM, MU)
-    np.testing.assert_allclose(fast, generic, rtol=1e-12, atol=1e-12 * np.abs(generic).max())
+    for nqp, nloc in [(1, d + 1), (3, 3 * d)]:  # P1 (one point) and a P2-sized local basis
+        F = _random_F(rng, 4 * nqp, d).reshape(4, nqp, d, d)
+        G = rng.standard_normal((4, nqp, nloc, d))
+        dx = rng.uniform(0.1, 1.0, (4, nqp))
+        fast = law.element_tangent(F, G, dx, LAM, MU)
+        # reference: the definition K_aibk = sum_q dx G_aJ A_iJkL G_bL, term by term
+        ref = np.einsum("eq,eqaJ,eqiJkL,eqbL->eaibk", dx, G, law.tangent(F, LAM, MU), G)
+        generic = HyperelasticLaw.element_tangent(law, F, G, dx, LAM, MU)
+        assert fast.shape == ref.shape == (4, nloc, d, nloc, d)
+        np.testing.assert_allclose(fast, ref, rtol=1e-12, atol=1e-12 * np.abs(ref).max())
+        np.testing.assert_allclose(generic, ref, rtol=1e-12, atol=1e-12 * np.abs(ref).max())
 
 
 # ------------------------------------------------------------ assembled body
@@ -242,7 +247,10 @@ def test_interleaved_pattern_matches_generic(dim, order):
     for x, y in zip(a, b):
         np.testing.assert_array_equal(x, y)
     # the pattern is the element graph with dense dim x dim blocks, and holds every entry of K
-    ind, idx, _ = a
+    ind, idx, _, tperm = a
+    rows = np.repeat(np.arange(body.ndofs), np.diff(ind))
+    np.testing.assert_array_equal(rows[tperm], idx)  # tperm points at the transposed entry
+    np.testing.assert_array_equal(idx[tperm], rows)
     S0 = sp.csr_matrix((np.ones(idx.size), idx, ind), shape=(body.ndofs, body.ndofs))
     expect = sp.kron(body.node_graph, np.ones((dim, dim)), format="csr")
     assert S0.nnz == expect.nnz and abs(S0 - (expect != 0)).max() == 0

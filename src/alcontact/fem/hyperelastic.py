@@ -48,14 +48,39 @@ def _scalar_gradients(basis: Basis) -> np.ndarray:
     return np.ascontiguousarray(grads.transpose(2, 3, 0, 1))
 
 
+def _transpose_positions(indptr: np.ndarray, indices: np.ndarray) -> np.ndarray:
+    """``tperm[p]``: position of the transposed entry of CSR entry ``p`` (structurally symmetric pattern)."""
+    n = indptr.size - 1
+    rows = np.repeat(np.arange(n, dtype=np.int64), np.diff(indptr))
+    return np.searchsorted(rows * n + indices, indices.astype(np.int64) * n + rows)
+
+
 def _pattern_generic(vdofs: np.ndarray, n: int):
-    """CSR pattern and entry positions from the element vector DOFs ``(nel, m)`` (any numbering)."""
+    """CSR pattern of the element DOFs ``vdofs`` ``(nel, m)`` (any numbering).
+
+    Returns
+    -------
+    indptr, indices : numpy.ndarray
+        Sorted CSR structure.
+    pos : numpy.ndarray, shape (nel, m * m)
+        CSR position of each element-matrix entry (row-major ``(r, c)``).
+    tperm : numpy.ndarray
+        Position of the transposed entry of each CSR entry.
+    """
     keys = (vdofs[:, :, None] * n + vdofs[:, None, :]).ravel()
-    uniq, pos = np.unique(keys, return_inverse=True)
+    # np.unique by hand: a stable (timsort) argsort exploits the runs of element-ordered keys
+    order = np.argsort(keys, kind="stable")
+    sk = keys[order]
+    new = np.empty(sk.size, dtype=bool)
+    new[:1] = True
+    np.not_equal(sk[1:], sk[:-1], out=new[1:])
+    uniq = sk[new]
+    pos = np.empty(keys.size, dtype=np.int64)
+    pos[order] = np.cumsum(new) - 1
     rows, indices = np.divmod(uniq, n)
     indptr = np.zeros(n + 1, dtype=np.int64)
     np.cumsum(np.bincount(rows, minlength=n), out=indptr[1:])
-    return indptr, indices, pos.reshape(vdofs.shape[0], -1)
+    return indptr, indices, pos.reshape(vdofs.shape[0], -1), _transpose_positions(indptr, indices)
 
 
 def _pattern_interleaved(sdofs: np.ndarray, ns: int, d: int):
@@ -63,32 +88,38 @@ def _pattern_interleaved(sdofs: np.ndarray, ns: int, d: int):
 
     The pattern is the scalar node graph with every entry a dense ``d x d``
     block, so only the scalar pattern (``nloc**2`` entries per element instead
-    of ``(d nloc)**2``) is sorted and the vector positions follow in closed form.
+    of ``(d nloc)**2``) is sorted and everything else follows in closed form:
+    entry ``(d k + i, d m + l)`` sits at ``d^2 sind[k] + i d deg[k] + d rank(k, m) + l``
+    with ``rank(k, m)`` the position of ``m`` in the scalar row ``k``.
     """
     nel, nloc = sdofs.shape
-    sind, sidx, spos = _pattern_generic(sdofs, ns)
+    sind, sidx, spos, stperm = _pattern_generic(sdofs, ns)
     deg = np.diff(sind)
-    # position in the vector CSR of entry (row d k + i, col d m + l):
-    # d*d*sind[k] + i*d*deg[k] + d*rank(k, m) + l
-    k = np.repeat(sdofs, nloc, axis=1)  # row node of each (a, b) entry
-    rank = spos - sind[k]
-    base = d * d * sind[k] + d * rank  # (nel, nloc*nloc) -> reshape (nel, a, b)
-    base = base.reshape(nel, nloc, 1, nloc, 1)
-    rowstep = (d * deg[sdofs]).reshape(nel, nloc, 1, 1, 1)
-    i = np.arange(d).reshape(1, 1, d, 1, 1)
-    l_ = np.arange(d).reshape(1, 1, 1, 1, d)
-    pos = base + i * rowstep + l_
-    n = ns * d
-    indptr = np.empty(n + 1, dtype=np.int64)
+    nnz_s = sidx.size
+    # vector position of block entry (p_s, i, l) of every scalar entry p_s = (k, m)
+    srow = np.repeat(np.arange(ns, dtype=np.int64), deg)
+    i = np.arange(d).reshape(1, d, 1)
+    l_ = np.arange(d).reshape(1, 1, d)
+
+    def vpos(p, row, ii, ll):
+        return (d * d * sind[row] + d * (p - sind[row]))[:, None, None] + ii * (d * deg[row])[:, None, None] + ll
+
+    ps = np.arange(nnz_s, dtype=np.int64)
+    where = vpos(ps, srow, i, l_).ravel()
+    nnz = d * d * nnz_s
+    indices = np.empty(nnz, dtype=np.int64)
+    indices[where] = np.broadcast_to(d * sidx[:, None, None] + l_, (nnz_s, d, d)).ravel()
+    tperm = np.empty(nnz, dtype=np.int64)
+    tperm[where] = vpos(stperm, sidx, np.swapaxes(i, 1, 2), np.swapaxes(l_, 1, 2)).ravel()
+    indptr = np.empty(ns * d + 1, dtype=np.int64)
     indptr[:-1] = (d * d * sind[:-1, None] + np.arange(d)[None, :] * d * deg[:, None]).ravel()
-    indptr[-1] = d * d * sind[-1]
-    nnz = int(indptr[-1])
-    vrow = np.repeat(np.arange(n), np.diff(indptr))
-    t = np.arange(nnz) - indptr[vrow]
-    kk = vrow // d
-    src = d * sind[kk] + t  # index into the per-scalar-entry expanded column list
-    cols = (d * sidx[:, None] + np.arange(d)[None, :]).ravel()
-    return indptr, cols[src], pos.reshape(nel, -1)
+    indptr[-1] = nnz
+    # element entries: (a, i, b, l) of element e
+    k = np.repeat(sdofs, nloc, axis=1)  # row node of each (a, b) entry
+    base = (d * d * sind[k] + d * (spos - sind[k])).reshape(nel, nloc, 1, nloc, 1)
+    rowstep = (d * deg[sdofs]).reshape(nel, nloc, 1, 1, 1)
+    pos = base + i.reshape(1, 1, d, 1, 1) * rowstep + l_.reshape(1, 1, 1, 1, d)
+    return indptr, indices, pos.reshape(nel, -1), tperm
 
 
 class Hyperelastic(LinearElasticity):
@@ -213,20 +244,20 @@ class Hyperelastic(LinearElasticity):
         r"""Internal force :math:`f_{int}(u) = \int_{\Omega_0} P(F) : \nabla_X \delta u\,dV`, shape ``(ndofs,)``."""
         F, _ = self._gradient(self._check_u(u), self._G, self._sdofs)
         P = self.law.stress(F, self.lam, self.mu)
-        fe = np.einsum("eqiJ,eqaJ,eq->eai", P, self._G, self._dx, optimize=True)
+        fe = (self._G @ np.swapaxes(P * self._dx[:, :, None, None], -1, -2)).sum(axis=1)  # (nel, a, i)
         return np.bincount(self._vdofs.ravel(), weights=fe.ravel(), minlength=self.ndofs)
 
     @cached_property
-    def _pattern(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    def _pattern(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         t0 = time.perf_counter()
         d = self.dim
         interleaved = np.array_equal(self.dof_map, d * np.arange(self.dof_map.shape[0])[:, None] + np.arange(d))
         if interleaved:
-            indptr, indices, pos = _pattern_interleaved(self._sdofs, self.scalar_basis.N, d)
+            indptr, indices, pos, tperm = _pattern_interleaved(self._sdofs, self.scalar_basis.N, d)
         else:
-            indptr, indices, pos = _pattern_generic(self._vdofs, self.ndofs)
+            indptr, indices, pos, tperm = _pattern_generic(self._vdofs, self.ndofs)
         idx_t = np.int32 if indptr[-1] < np.iinfo(np.int32).max else np.int64
-        out = (indptr.astype(idx_t), indices.astype(idx_t), pos.astype(idx_t).ravel())
+        out = (indptr.astype(idx_t), indices.astype(idx_t), pos.astype(np.intp, copy=False).ravel(), tperm)
         logger.debug("tangent sparsity pattern: nnz=%d in %.3f s", int(indptr[-1]), time.perf_counter() - t0)
         return out
 
@@ -234,10 +265,10 @@ class Hyperelastic(LinearElasticity):
         r"""Tangent stiffness :math:`K_T(u) = \partial f_{int}/\partial u` (symmetric CSR, material + geometric)."""
         u = self._check_u(u)
         F, _ = self._gradient(u, self._G, self._sdofs)
-        Kq = self.law.element_tangent(F, self._G, self.lam, self.mu)  # (nel, nqp, a, i, b, k)
-        Ke = np.einsum("eqaibk,eq->eaibk", Kq, self._dx, optimize=True)
-        indptr, indices, pos = self._pattern
+        Ke = self.law.element_tangent(F, self._G, self._dx, self.lam, self.mu)  # (nel, a, i, b, k)
+        indptr, indices, pos, tperm = self._pattern
         data = np.bincount(pos, weights=Ke.ravel(), minlength=int(indptr[-1]))
+        data = 0.5 * (data + data[tperm])  # remove round-off asymmetry (exactly symmetric CSR)
         K = sp.csr_matrix((data, indices, indptr), shape=(self.ndofs, self.ndofs))
         K.has_sorted_indices = True
         return K
