@@ -12,7 +12,13 @@ import pytest
 import scipy.sparse as sp
 import sympy
 
-from alcontact.errors import InputError, InvertedElementError, NonFiniteError, UnknownNameError
+from alcontact.errors import (
+    ConvergenceError,
+    InputError,
+    InvertedElementError,
+    NonFiniteError,
+    UnknownNameError,
+)
 from alcontact.fem import (
     Hyperelastic,
     HyperelasticLaw,
@@ -282,7 +288,7 @@ def test_input_errors():
     mesh = meshes.rectangle(0, 1, 0, 1, 1, 1)
     with pytest.raises(InputError, match="plane strain only"):
         Hyperelastic(mesh, Material(E=1.0, nu=0.3, plane="stress"))
-    with pytest.raises(InputError, match="nu"):
+    with pytest.raises(InputError, match=r"nu=0.5 .*use nu <= 0.49"):
         Hyperelastic(mesh, Material(E=1.0, nu=0.5))
     with pytest.raises(InputError, match="intorder"):
         Hyperelastic(mesh, Material(E=1.0, nu=0.3), intorder=0)
@@ -303,3 +309,33 @@ def test_cauchy_and_piola_output_of_a_homogeneous_stretch():
     expect = [sig[0, 0], sig[1, 1], sig[0, 1], P33 / J]
     np.testing.assert_allclose(nodal_s, np.tile(expect, (nodal_s.shape[0], 1)), atol=1e-10)
     assert body.von_mises(u).shape == (body.scalar_basis.N,)
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_symbolic_law_body_matches_builtin_body(dim):
+    """A body on SymPy-derived neo-Hookean (generic tangent contraction) equals the built-in one to 1e-11."""
+    mat = Material(E=10.0, nu=0.3)
+    fast = Hyperelastic(_mesh(dim), mat, order=2)
+    sym = Hyperelastic(_mesh(dim), mat, order=2, model=SymbolicMaterial(_neo_hookean_W, name="sym-nh"))
+    u = fast.interpolate(lambda x: 0.2 * x[::-1] * np.array([1.0, -0.5, 0.3][:dim])[:, None])
+    assert sym.energy(u) == pytest.approx(fast.energy(u), rel=1e-12)
+    np.testing.assert_allclose(sym.internal_force(u), fast.internal_force(u), rtol=0, atol=1e-12)
+    Ks, Kf = sym.tangent(u), fast.tangent(u)
+    assert abs(Ks - Kf).max() <= 1e-11 * abs(Kf).max() and abs(Ks - Ks.T).max() == 0.0
+
+
+def test_solve_failures_raise_convergence_error_with_advice(caplog):
+    body = Hyperelastic(meshes.rectangle(0, 1, 0, 1, 2, 2), Material(E=10.0, nu=0.3))
+    left = body.dirichlet("left")
+    pull = [left, body.dirichlet("right", components=[0], value=0.5)]
+    with caplog.at_level("WARNING", logger="alcontact.fem.hyperelastic"):
+        with pytest.raises(ConvergenceError, match=r"did not converge in load step 1/1.*steps=2"):
+            body.solve(np.zeros(body.ndofs), dirichlet=pull, max_iter=1)
+    assert any("did not converge" in r.message for r in caplog.records)
+    crush = [left, body.dirichlet("right", components=[0], value=-1.5)]  # x = 1 -> x = -0.5: inverted
+    with pytest.raises(ConvergenceError, match="invert elements"):
+        body.solve(np.zeros(body.ndofs), dirichlet=crush)
+    with pytest.raises(InputError, match="steps"):
+        body.solve(np.zeros(body.ndofs), dirichlet=pull, steps=0)
+    with pytest.raises(InputError, match="rigid-body"):
+        body.solve(np.zeros(body.ndofs), dirichlet=[body.dirichlet("left", components=[0])])

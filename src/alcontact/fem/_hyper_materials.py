@@ -142,12 +142,9 @@ class HyperelasticLaw(ABC):
     ----------
     name : str
         Registry name.
-    compressible : bool
-        ``True`` for laws that need :math:`\nu < 0.5`.
     """
 
     name: str = ""
-    compressible: bool = True
 
     @abstractmethod
     def energy(self, F: np.ndarray, lam: float, mu: float) -> np.ndarray:

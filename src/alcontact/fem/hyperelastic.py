@@ -170,12 +170,8 @@ class Hyperelastic(LinearElasticity):
                 "(plane stress would need F33 solved at each point); use Material(..., plane='strain') "
                 "or a 3D mesh."
             )
+        # Material already holds -1 < nu < 0.5, which every compressible law needs
         self.law = make_material(model)
-        if self.law.compressible and not material.nu < 0.5:
-            raise InputError(
-                f"material nu={material.nu!r}: the {self.law.name!r} law is compressible and needs "
-                "nu < 0.5; use nu <= 0.49 for nearly incompressible rubber."
-            )
         if intorder is None:
             intorder = max(1, 2 * (self.order - 1))
         if int(intorder) != intorder or intorder < 1:
