@@ -20,6 +20,7 @@ from alcontact.errors import (
     UnknownNameError,
 )
 from alcontact.fem import (
+    Body,
     Hyperelastic,
     HyperelasticLaw,
     LinearElasticity,
@@ -57,6 +58,8 @@ def _svk_W(F, lam, mu):
 
 
 SYMBOLIC = {"neo-hookean": _neo_hookean_W, "saint-venant-kirchhoff": _svk_W}
+#: shared so that each derivation is compiled once per test session
+SYMBOLIC_LAWS = {name: SymbolicMaterial(W, name=f"sym-{name}") for name, W in SYMBOLIC.items()}
 
 
 # ----------------------------------------------------------------- registry
@@ -154,7 +157,7 @@ def test_small_strain_limit_is_linear_elasticity(name):
 @pytest.mark.parametrize("name", LAWS)
 def test_closed_forms_match_symbolic_derivation(name, d):
     """The hand-written laws agree with SymPy's derivatives of the same W to 1e-12."""
-    law, sym = make_material(name), SymbolicMaterial(SYMBOLIC[name], name=f"sym-{name}")
+    law, sym = make_material(name), SYMBOLIC_LAWS[name]
     F = _random_F(np.random.default_rng(2), 30, d)
     for what in ("energy", "stress", "tangent"):
         a, b = getattr(law, what)(F, LAM, MU), getattr(sym, what)(F, LAM, MU)
@@ -232,6 +235,7 @@ def test_stiffness_is_the_linear_elastic_stiffness(dim, order, name):
     K0, K = body.stiffness(), LinearElasticity(_mesh(dim), mat, order=order).stiffness()
     assert abs(K0 - K).max() <= 1e-13 * abs(K).max()
     assert body.linear is False and body.energy(np.zeros(body.ndofs)) == 0.0
+    assert isinstance(body, Body)
     np.testing.assert_allclose(body.internal_force(np.zeros(body.ndofs)), 0.0, atol=1e-14)
 
 
@@ -316,7 +320,7 @@ def test_symbolic_law_body_matches_builtin_body(dim):
     """A body on SymPy-derived neo-Hookean (generic tangent contraction) equals the built-in one to 1e-11."""
     mat = Material(E=10.0, nu=0.3)
     fast = Hyperelastic(_mesh(dim), mat, order=2)
-    sym = Hyperelastic(_mesh(dim), mat, order=2, model=SymbolicMaterial(_neo_hookean_W, name="sym-nh"))
+    sym = Hyperelastic(_mesh(dim), mat, order=2, model=SYMBOLIC_LAWS["neo-hookean"])
     u = fast.interpolate(lambda x: 0.2 * x[::-1] * np.array([1.0, -0.5, 0.3][:dim])[:, None])
     assert sym.energy(u) == pytest.approx(fast.energy(u), rel=1e-12)
     np.testing.assert_allclose(sym.internal_force(u), fast.internal_force(u), rtol=0, atol=1e-12)

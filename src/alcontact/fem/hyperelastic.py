@@ -10,7 +10,10 @@ density :math:`W(F)` (:mod:`alcontact.fem._hyper_materials`), the body stores
 
 with :math:`P = \partial W/\partial F` the first Piola-Kirchhoff stress and
 :math:`\mathbb{A} = \partial P/\partial F` (material plus geometric stiffness in
-one tensor). In 2D the body is in plane strain (:math:`F_{33} = 1`).
+one tensor). :math:`f_{int}(u) = f_{ext}` is the discrete weak form of the
+equilibrium :math:`\operatorname{Div} P + f = 0`, :math:`PN = \bar t` of (3.5),
+(3.8) without contact; the contact layer adds the obstacle terms of (3.11). In
+2D the body is in plane strain (:math:`F_{33} = 1`).
 
 Everything else (named boundaries, Dirichlet data, load vectors on the reference
 configuration, factorizations, rigid-motion checks) is inherited from
@@ -195,8 +198,8 @@ class Hyperelastic(LinearElasticity):
 
     def _gradient(self, u: np.ndarray, G: np.ndarray, sdofs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """``F`` and ``J`` at the quadrature points of ``G``; raises if some ``J <= 0``."""
-        uloc = u[self.dof_map[sdofs]]  # (nel, nloc, dim)
-        F = np.einsum("eai,eqaJ->eqiJ", uloc, G)
+        uloc = np.swapaxes(u[self.dof_map[sdofs]], 1, 2)  # (nel, dim, nloc)
+        F = uloc[:, None] @ G  # F_iJ = u_ai dN_a/dX_J at every point: (nel, nqp, dim, dim)
         F += np.eye(self.dim)
         J = det(F)
         bad = ~(J > 0.0)
