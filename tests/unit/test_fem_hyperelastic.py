@@ -96,6 +96,12 @@ def test_register_user_law_by_energy():
         _REGISTRY.pop("test-user-law")
     with pytest.raises(InputError, match="HyperelasticLaw"):
         register_material("x", 3.0)
+    register_material("test-bad-factory", lambda: 3.0)
+    try:
+        with pytest.raises(InputError, match="returned 3.0, not a HyperelasticLaw"):
+            make_material("test-bad-factory")
+    finally:
+        _REGISTRY.pop("test-bad-factory")
 
 
 def test_symbolic_law_rejects_bad_energy():

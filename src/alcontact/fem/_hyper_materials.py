@@ -399,8 +399,8 @@ def available_materials() -> list[str]:
     return sorted(_REGISTRY)
 
 
-def make_material(name: str) -> HyperelasticLaw:
-    """The hyperelastic law registered as ``name``.
+def make_material(name: str | HyperelasticLaw) -> HyperelasticLaw:
+    """The hyperelastic law registered as ``name`` (a law instance is returned as is).
 
     Raises
     ------
@@ -409,23 +409,27 @@ def make_material(name: str) -> HyperelasticLaw:
     """
     if isinstance(name, HyperelasticLaw):
         return name
-    if name not in _REGISTRY:
+    if not isinstance(name, str) or name not in _REGISTRY:
         raise UnknownNameError("hyperelastic material", str(name), list(_REGISTRY))
-    return _REGISTRY[name]()
+    law = _REGISTRY[name]()
+    if not isinstance(law, HyperelasticLaw):
+        raise InputError(f"the factory registered as material {name!r} returned {law!r}, not a HyperelasticLaw; "
+                         "register a HyperelasticLaw instance or a factory that returns one.")
+    return law
 
 
 def register_material(name: str, law: HyperelasticLaw | Callable[[], HyperelasticLaw], *,
                       overwrite: bool = False) -> None:
     """Register a law (an instance, or a factory returning one) under ``name``.
 
-    Examples
-    --------
-    >>> import sympy
-    >>> register_material("demo-svk-bulk", SymbolicMaterial(
-    ...     lambda F, lam, mu: lam / 2 * (F.det() - 1) ** 2 + mu / 2 * ((F.T * F).trace() - 3)))
-    >>> "demo-svk-bulk" in available_materials()
-    True
-    >>> unregister = _REGISTRY.pop("demo-svk-bulk")
+    A law defined by its energy alone is a :class:`SymbolicMaterial`, e.g.
+    ``register_material("my-law", SymbolicMaterial(W, name="my-law"))``; then
+    ``Hyperelastic(mesh, material, model="my-law")`` uses it.
+
+    Raises
+    ------
+    alcontact.errors.InputError
+        If ``name`` is taken (pass ``overwrite=True``) or ``law`` is neither a law nor callable.
     """
     name = str(name)
     if not name:

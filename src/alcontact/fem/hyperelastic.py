@@ -151,6 +151,14 @@ class Hyperelastic(LinearElasticity):
     linear : bool
         ``False``: the tangent depends on ``u``.
 
+    Notes
+    -----
+    The inherited load vectors (:meth:`traction_load`, :meth:`pressure_load`,
+    :meth:`body_load`) are dead loads on the reference configuration: a traction
+    is a nominal traction :math:`PN` per reference area, a pressure acts along the
+    reference normal. :meth:`stress` and :meth:`von_mises` return the Cauchy
+    stress in the current configuration, :meth:`first_piola` the nominal stress.
+
     Examples
     --------
     >>> import numpy as np
