@@ -300,8 +300,10 @@ def test_input_errors():
         Hyperelastic(mesh, Material(E=1.0, nu=0.3, plane="stress"))
     with pytest.raises(InputError, match=r"nu=0.5 .*use nu <= 0.49"):
         Hyperelastic(mesh, Material(E=1.0, nu=0.5))
-    with pytest.raises(InputError, match="intorder"):
-        Hyperelastic(mesh, Material(E=1.0, nu=0.3), intorder=0)
+    for bad in (0, 1.5, "two"):
+        with pytest.raises(InputError, match="intorder"):
+            Hyperelastic(mesh, Material(E=1.0, nu=0.3), intorder=bad)
+    assert Hyperelastic(mesh, Material(E=1.0, nu=0.3), order=2, intorder=4).intorder == 4
 
 
 def test_cauchy_and_piola_output_of_a_homogeneous_stretch():

@@ -185,8 +185,8 @@ class Hyperelastic(LinearElasticity):
         self.law = make_material(model)
         if intorder is None:
             intorder = max(1, 2 * (self.order - 1))
-        if int(intorder) != intorder or intorder < 1:
-            raise InputError(f"intorder={intorder!r} must be a positive integer.")
+        if isinstance(intorder, bool) or not isinstance(intorder, (int, np.integer)) or intorder < 1:
+            raise InputError(f"intorder={intorder!r} must be a positive integer (quadrature degree).")
         self.intorder = int(intorder)
         self.quadrature_basis = Basis(mesh, self.scalar_element, intorder=self.intorder)
         self._G = _scalar_gradients(self.quadrature_basis)
@@ -316,7 +316,7 @@ class Hyperelastic(LinearElasticity):
         load = np.asarray(load, dtype=float)
         if load.shape != (self.ndofs,):
             raise InputError(f"load must have shape ({self.ndofs},); got {load.shape}.")
-        if int(steps) != steps or steps < 1:
+        if isinstance(steps, bool) or not isinstance(steps, (int, np.integer)) or steps < 1:
             raise InputError(f"steps={steps!r} must be a positive integer.")
         dofs, vals = self._collect(dirichlet)
         self.check_restrained(dofs)
