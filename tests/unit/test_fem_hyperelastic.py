@@ -148,6 +148,29 @@ def test_tangent_is_derivative_of_stress(name, d):
     np.testing.assert_allclose(A, A.transpose(0, 3, 4, 1, 2), rtol=0, atol=1e-13 * np.abs(A).max())
 
 
+def _random_rotations(rng, n, d):
+    Q, R = np.linalg.qr(rng.standard_normal((n, d, d)))
+    Q = Q * np.sign(np.diagonal(R, axis1=1, axis2=2))[:, None, :]
+    Q[np.linalg.det(Q) < 0, :, 0] *= -1.0
+    return Q
+
+
+@pytest.mark.parametrize("d", [2, 3])
+@pytest.mark.parametrize("name", LAWS)
+def test_objectivity_and_isotropy(name, d):
+    """W(QF) = W(F) = W(FQ), P(QF) = Q P(F), A(QF) = Q A(F) Q for random rotations Q (rel. 1e-12)."""
+    law, rng = make_material(name), np.random.default_rng(7)
+    F, Q = _random_F(rng, 20, d), _random_rotations(rng, 20, d)
+    W = law.energy(F, LAM, MU)
+    np.testing.assert_allclose(law.energy(Q @ F, LAM, MU), W, rtol=1e-12, atol=1e-13)
+    np.testing.assert_allclose(law.energy(F @ Q, LAM, MU), W, rtol=1e-12, atol=1e-13)
+    P = law.stress(F, LAM, MU)
+    np.testing.assert_allclose(law.stress(Q @ F, LAM, MU), Q @ P, rtol=1e-12, atol=1e-12 * np.abs(P).max())
+    A = law.tangent(F, LAM, MU)
+    QAQ = np.einsum("nia,naJbL,nkb->niJkL", Q, A, Q)
+    np.testing.assert_allclose(law.tangent(Q @ F, LAM, MU), QAQ, rtol=1e-12, atol=1e-12 * np.abs(A).max())
+
+
 @pytest.mark.parametrize("name", LAWS)
 def test_small_strain_limit_is_linear_elasticity(name):
     """At F = I: W = 0, P = 0 and A = lam d_iJ d_kL + mu (d_ik d_JL + d_iL d_Jk)."""
