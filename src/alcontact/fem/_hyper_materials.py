@@ -268,10 +268,10 @@ class SaintVenantKirchhoff(HyperelasticLaw):
         S, _ = self._pk2(F, lam, mu)
         h = G @ np.swapaxes(F, -1, -2)
         K = _assemble_terms(h, lam * dx, mu * dx, G @ S, dx, G)
-        b = F @ np.swapaxes(F, -1, -2)
-        GG = G @ np.swapaxes(G, -1, -2) * (mu * dx)[:, :, None, None]  # (nel, nqp, a, b)
-        for q in range(G.shape[1]):
-            K += GG[:, q, :, None, :, None] * b[:, q, None, :, None, :]
+        nel, nqp, nloc, d = G.shape
+        b = (F @ np.swapaxes(F, -1, -2)).reshape(nel, nqp, d * d)
+        GG = (G @ np.swapaxes(G, -1, -2)).reshape(nel, nqp, nloc * nloc)
+        K += _weighted_outer(GG, b, mu * dx).reshape(nel, nloc, nloc, d, d).transpose(0, 1, 3, 2, 4)
         return K
 
 
