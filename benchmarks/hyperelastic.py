@@ -6,6 +6,7 @@ built-in law the script times, on a moderately deformed state u (10 % stretch pl
 * ``pattern``: the one-time CSR pattern and entry map (first tangent minus a later one),
 * ``tangent``: one ``Hyperelastic.tangent(u)`` (median of ``--repeat``),
 * ``force``: one ``internal_force(u)``, ``energy``: one ``energy(u)``,
+* with ``--symbolic`` also the neo-Hookean law derived by :class:`SymbolicMaterial`,
 * ``le_stiffness``: ``LinearElasticity.stiffness()`` (scikit-fem's generic ``asm`` of the
   bilinear form, same mesh and quadrature),
 * ``solve``: one factorization of the tangent on the free DOFs plus one solve
@@ -32,7 +33,14 @@ from pathlib import Path
 
 import numpy as np
 
-from alcontact.fem import Hyperelastic, LinearElasticity, Material, available_materials, meshes
+from alcontact.fem import Hyperelastic, LinearElasticity, Material, SymbolicMaterial, available_materials, meshes
+
+
+def _neo_hookean_energy(F, lam, mu):
+    import sympy
+
+    J = F.det()
+    return mu / 2 * ((F.T * F).trace() - 3) - mu * sympy.log(J) + lam / 2 * sympy.log(J) ** 2
 
 CASES = {
     "2d-p2-64k": (lambda: meshes.rectangle(0.0, 1.0, 0.0, 1.0, 89, 89), 2),
@@ -60,7 +68,7 @@ def _solve(model, K, f):
     return time.perf_counter() - t0
 
 
-def run_case(name: str, repeat: int, solve_3d: bool) -> list[dict]:
+def run_case(name: str, repeat: int, solve_3d: bool, symbolic: bool) -> list[dict]:
     build, order = CASES[name]
     mesh = build()
     mat = Material(E=100.0, nu=0.3)
@@ -69,10 +77,14 @@ def run_case(name: str, repeat: int, solve_3d: bool) -> list[dict]:
     solve = le.dim == 2 or solve_3d
     t_le_solve = _solve(le, le.stiffness(), np.ones(le.ndofs)) if solve else float("nan")
     rows = []
-    for law in available_materials():
+    laws = list(available_materials())
+    if symbolic:  # the same neo-Hookean law derived by SymPy (generic tangent contraction)
+        laws.append(SymbolicMaterial(_neo_hookean_energy, name="sympy-neo-hookean"))
+    for law in laws:
         t0 = time.perf_counter()
         body = Hyperelastic(mesh, mat, order=order, model=law)
         t_init = time.perf_counter() - t0
+        body.law.energy(np.eye(body.dim)[None], 1.0, 1.0)  # compile a symbolic law outside the timings
         dim = body.dim
         u = body.interpolate(lambda x: np.vstack([0.1 * x[0] + 0.05 * x[1], -0.03 * x[1:]]))
         t0 = time.perf_counter()
@@ -82,7 +94,7 @@ def run_case(name: str, repeat: int, solve_3d: bool) -> list[dict]:
         t_f, f = _timed(lambda: body.internal_force(u), repeat)
         t_e, _ = _timed(lambda: body.energy(u), repeat)
         t_solve = _solve(body, K, f) if solve else float("nan")
-        rows.append(dict(case=name, law=law, dim=dim, order=order, ndofs=body.ndofs, nel=mesh.t.shape[1],
+        rows.append(dict(case=name, law=body.law.name, dim=dim, order=order, ndofs=body.ndofs, nel=mesh.t.shape[1],
                          nnz=K.nnz, init=t_init, pattern=t_first - t_tan, tangent=t_tan, force=t_f,
                          energy=t_e, le_stiffness=t_le, solve=t_solve, le_solve=t_le_solve))
     return rows
@@ -94,8 +106,9 @@ def main() -> None:
     ap.add_argument("--cases", nargs="+", default=["2d-p2-64k", "3d-p1-100k"], choices=sorted(CASES))
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--solve-3d", action="store_true", help="also time the 3D factorizations (minutes)")
+    ap.add_argument("--symbolic", action="store_true", help="also time the SymPy-derived neo-Hookean law")
     args = ap.parse_args()
-    rows = [r for c in args.cases for r in run_case(c, args.repeat, args.solve_3d)]
+    rows = [r for c in args.cases for r in run_case(c, args.repeat, args.solve_3d, args.symbolic)]
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     keys = list(rows[0])

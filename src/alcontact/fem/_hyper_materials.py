@@ -349,13 +349,14 @@ class SymbolicMaterial(HyperelasticLaw):
         A = [[[[sympy.diff(P[i][j], Fs[k, m]).subs(plane) for m in range(d)] for k in range(d)]
                for j in range(d)] for i in range(d)]
         exprs = {
-            "energy": W.subs(plane),
-            "stress": [[p.subs(plane) for p in row] for row in P],
-            "tangent": A,
+            "energy": [W.subs(plane)],
+            "stress": [p.subs(plane) for row in P for p in row],
+            "tangent": list(_flatten(A)),
         }
         if d == 2:
-            exprs["stress_zz"] = sympy.diff(W, Fs[2, 2]).subs(plane)
+            exprs["stress_zz"] = [sympy.diff(W, Fs[2, 2]).subs(plane)]
         args = [*free, lam, mu]
+        # flat lists: lambdify's common-subexpression elimination only applies to flat sequences
         out = {key: sympy.lambdify(args, e, modules="numpy", cse=True) for key, e in exprs.items()}
         self._compiled[d] = out
         return out
@@ -366,9 +367,10 @@ class SymbolicMaterial(HyperelasticLaw):
         comps = [F[..., i, j] for i in range(d) for j in range(d)]
         res = fun(*comps, float(lam), float(mu))
         shape = F.shape[:-2]
-        flat = list(_flatten(res)) if tail else [res]
-        vals = np.stack([np.broadcast_to(np.asarray(v, dtype=float), shape) for v in flat], axis=-1)
-        return vals.reshape(shape + tail)
+        out = np.empty(shape + (len(res),))
+        for k, v in enumerate(res):
+            out[..., k] = v  # broadcasts the constant entries
+        return out.reshape(shape + tail)
 
     def energy(self, F, lam, mu):
         return self._eval("energy", F, lam, mu, ())
