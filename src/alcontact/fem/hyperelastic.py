@@ -276,7 +276,9 @@ class Hyperelastic(LinearElasticity):
         indptr, indices, pos, tperm = self._pattern
         data = np.bincount(pos, weights=Ke.ravel(), minlength=int(indptr[-1]))
         data = 0.5 * (data + data[tperm])  # remove round-off asymmetry (exactly symmetric CSR)
-        K = sp.csr_matrix((data, indices, indptr), shape=(self.ndofs, self.ndofs))
+        # own copies of the structure: in-place scipy operations (eliminate_zeros, ...) on one
+        # tangent must not change the cached pattern of the next
+        K = sp.csr_matrix((data, indices.copy(), indptr.copy()), shape=(self.ndofs, self.ndofs))
         K.has_sorted_indices = True
         return K
 
