@@ -117,7 +117,9 @@ class FrictionOptions:
         multiplier iteration (Bertsekas) on the fixed point :math:`\\lambda = t(\\lambda)`
         with the exact sensitivity of the subproblem solution; it falls back to the
         first-order update for the rest of the step as soon as the multiplier
-        change stops decreasing. Same stopping test, same solution.
+        change does not halve. It also starts every step from the tangent
+        predictor :math:`\\lambda_n + (d\\lambda^*/dy_f)\\Delta y_f` of the last
+        converged step. Same stopping test, same solution.
     """
 
     eps_n: float | None = same_as(ContactOptions, "eps_n")
@@ -243,6 +245,7 @@ class _StepOut:
     outer: int
     newton: int
     status: ContactStatus = ContactStatus.CONVERGED
+    predictor: np.ndarray | None = None  # (c d, c d) d lambda* / d y_free at the converged state
 
 
 @dataclass
@@ -380,23 +383,21 @@ class _WithDlam:
         return np.where(np.isfinite(d), d, 0.0)
 
 
-def _second_order_update(ctx: _Ctx, law, lamN, lamT, y, t):
-    r"""Newton step on the multiplier fixed point :math:`G(\lambda) = \lambda - t(\lambda) = 0`.
+def _sensitivity(ctx: _Ctx, law, lamN, lamT, y, t):
+    r"""Derivatives of the multiplier map :math:`\lambda \mapsto t(\lambda)` of the subproblem (6.2a).
 
-    At the subproblem solution :math:`R(\lambda)` of (6.2a),
+    At the subproblem solution :math:`R(\lambda, y_f)`,
     :math:`F = R - W t(\lambda, y_f - A R) = 0`, so
-    :math:`dR/d\lambda = J_R^{-1} W D_\lambda t` with the subproblem matrix
+    :math:`J_R\, dR = W (D_\lambda t\, d\lambda + D_y t\, dy_f)` with the subproblem matrix
     :math:`J_R = I + W D_y t\, A`, and
-    :math:`dt/d\lambda = D_\lambda t - D_y t\, A\, dR/d\lambda`. The step solves
-    :math:`(I - dt/d\lambda)\,\Delta = t - \lambda` (the second-order multiplier
-    iteration of Bertsekas; the radius :math:`\mu\lambda_N` of (6.2c) is differentiated
-    too). The new multipliers are kept admissible: :math:`\lambda_N \ge 0` and
-    :math:`\lambda_T` projected onto the disc of radius :math:`\mu\lambda_N`.
+    :math:`dt = D_\lambda t\, d\lambda + D_y t\,(dy_f - A\, dR)` (the radius
+    :math:`\mu\lambda_N` of (6.2c) is differentiated too).
 
     Returns
     -------
-    (lamN, lamT) or None
-        ``None`` when the Newton matrix is singular or the step is not finite.
+    (M, T_y) or None
+        :math:`M = I - \partial t/\partial\lambda` and :math:`T_y = \partial t/\partial y_f`
+        (``(c d, c d)`` each); ``None`` when :math:`J_R` is singular.
     """
     c, d, w = ctx.c, ctx.d, ctx.w
     n = c * d
@@ -406,23 +407,23 @@ def _second_order_update(ctx: _Ctx, law, lamN, lamT, y, t):
     drho = ctx.mu * (lamN > 0) if fixed else None
     _, Dy, Dl, _ = local_law(_WithDlam(law, pref), lamN, lamT, y, ctx.uTn, ctx.eps_t, ctx.mu, with_lam=True,
                              rho=rho, drho=drho, tfree=ctx.tfree)
-    A = ctx.fc.A
-    DyA = np.einsum("ikm,imjl->ikjl", Dy, ctx.A4).reshape(n, n)
-    JR = w.repeat(d)[:, None] * DyA
+    W = w.repeat(d)[:, None]
+    JR = W * np.einsum("ikm,imjl->ikjl", Dy, ctx.A4).reshape(n, n)
     JR[np.diag_indices(n)] += 1.0
-    Dlf = block_diag(Dl)
+    Dlf, Dyf = block_diag(Dl), block_diag(Dy)
     try:
-        dR = sla.solve(JR, w.repeat(d)[:, None] * Dlf, check_finite=True)
-        M = np.eye(n) - Dlf + _dy_times(Dy, A @ dR, c, d)
-        lam = np.concatenate([lamN[:, None], lamT], axis=1)
-        step = sla.solve(M, (t - lam).ravel(), check_finite=True).reshape(c, d)
+        dR = sla.solve(JR, W * np.hstack([Dlf, Dyf]), check_finite=True)
     except (sla.LinAlgError, ValueError):
         return None
-    new = lam + step
-    if not np.all(np.isfinite(new)):
-        return None
-    newN = np.maximum(new[:, 0], 0.0)
-    newT = new[:, 1:]
+    DyAdR = _dy_times(Dy, ctx.fc.A @ dR, c, d)
+    M = np.eye(n) - Dlf + DyAdR[:, :n]
+    return M, Dyf - DyAdR[:, n:]
+
+
+def _admissible(ctx: _Ctx, lam):
+    r"""Multipliers ``(c, d)`` made admissible: :math:`\lambda_N \ge 0`, :math:`|\lambda_T| \le \mu\lambda_N`."""
+    newN = np.maximum(lam[:, 0], 0.0)
+    newT = lam[:, 1:]
     if ctx.tfree is not None:
         newT = np.where(ctx.tfree, newT, 0.0)
     nT = np.linalg.norm(newT, axis=1)
@@ -430,6 +431,46 @@ def _second_order_update(ctx: _Ctx, law, lamN, lamT, y, t):
     over = nT > radius
     newT = np.where(over[:, None], newT * (radius / np.where(over, nT, 1.0))[:, None], newT)
     return newN, newT
+
+
+def _second_order_update(ctx: _Ctx, law, lamN, lamT, y, t):
+    r"""Newton step on the multiplier fixed point :math:`G(\lambda) = \lambda - t(\lambda) = 0`.
+
+    Solves :math:`(I - dt/d\lambda)\,\Delta = t - \lambda` with the derivatives of
+    :func:`_sensitivity` (the second-order multiplier iteration of Bertsekas); the
+    new multipliers are made admissible (:func:`_admissible`).
+
+    Returns
+    -------
+    (lamN, lamT) or None
+        ``None`` when a Newton matrix is singular or the step is not finite.
+    """
+    sens = _sensitivity(ctx, law, lamN, lamT, y, t)
+    if sens is None:
+        return None
+    lam = np.concatenate([lamN[:, None], lamT], axis=1)
+    try:
+        step = sla.solve(sens[0], (t - lam).ravel(), check_finite=True).reshape(lam.shape)
+    except (sla.LinAlgError, ValueError):
+        return None
+    new = lam + step
+    return _admissible(ctx, new) if np.all(np.isfinite(new)) else None
+
+
+def _tangent_predictor(ctx: _Ctx, law, lamN, lamT, y, t):
+    r"""Sensitivity :math:`d\lambda^*/dy_f = (I - \partial t/\partial\lambda)^{-1}\,\partial t/\partial y_f`
+    of the converged multipliers to the free kinematics (implicit function theorem at
+    the fixed point): the next load step starts from
+    :math:`\lambda_n + (d\lambda^*/dy_f)\,\Delta y_f` (``None`` when singular).
+    """
+    sens = _sensitivity(ctx, law, lamN, lamT, y, t)
+    if sens is None:
+        return None
+    try:
+        P = sla.solve(sens[0], sens[1], check_finite=True)
+    except (sla.LinAlgError, ValueError):
+        return None
+    return P if np.all(np.isfinite(P)) else None
 
 
 def _dy_times(Dy, B, c, d):
@@ -500,7 +541,8 @@ def _step_al(ctx: _Ctx, penalty_name: str) -> _StepOut:
                      k, pen_k, compl, dlam, stick_slip, out.iterations, " (second-order)" if fallback else "")
         if (pen_k <= opts.tol_penetration and compl <= opts.tol_complementarity and dlam <= opts.tol_multiplier
                 and stick_slip <= opts.tol_slip):
-            return _StepOut(True, "converged", R, t, k + outer0, newton)
+            pred = _tangent_predictor(ctx, law, lamN, lamT, y, t) if opts.multiplier_update == "newton" else None
+            return _StepOut(True, "converged", R, t, k + outer0, newton, predictor=pred)
         if fallback is not None and not dlam <= 0.5 * dlam_prev:
             logger.debug("friction AL outer %d: second-order update did not halve the multiplier change; "
                          "first-order update from here", k)
@@ -610,6 +652,7 @@ class _State:
     tT: np.ndarray  # (m, d-1)
     R: np.ndarray  # (m, d)
     slip_total: np.ndarray  # (m, d)
+    predictor: tuple | None = None  # (candidates, d lambda*/d y_free) of the last step, for the next start
 
 
 def _closed(fc, tN, g, opts):
@@ -632,6 +675,12 @@ def _advance(fc: FrictionalContact, prev: _State, t: float, step_fn, pen_name, e
             ctx = _Ctx(fc, fc.y_free(t)[cand], fc.weights[cand], fc.A.reshape(c, d, c, d), prev.tN[cand].copy(),
                        prev.tT[cand].copy(), prev.y[cand, 1:].copy(), prev.R[cand].copy(), eps_n, eps_t, mu, opts,
                        fc.tfree[cand])
+            if prev.predictor is not None and np.array_equal(prev.predictor[0], cand):
+                # tangent predictor: lambda_n + (d lambda*/d y_free) (y_free(t) - y_free(t_n))
+                dyf = (ctx.yf - fc.y_free(prev.t)[cand]).ravel()
+                lam0 = np.concatenate([ctx.lamN[:, None], ctx.lamT], axis=1) + (prev.predictor[1] @ dyf).reshape(c, d)
+                if np.all(np.isfinite(lam0)):
+                    ctx.lamN, ctx.lamT = _admissible(ctx, lam0)
             out = step_fn(ctx, pen_name)
             outer += out.outer
             newton += out.newton
@@ -650,7 +699,8 @@ def _advance(fc: FrictionalContact, prev: _State, t: float, step_fn, pen_name, e
         tT = np.zeros((m, d - 1))
         R = np.zeros((m, d))
         tN[cand], tT[cand], R[cand] = out.t[:, 0], out.t[:, 1:], out.R
-        return (u, y_all, tN, tT, R), out, outer, newton
+        pred = (cand.copy(), out.predictor) if out.predictor is not None else None
+        return (u, y_all, tN, tT, R, pred), out, outer, newton
     return None, _StepOut(False, "candidate set did not settle", prev.R, prev.R, 0, 0, ContactStatus.MAXITER), \
         outer, newton
 
@@ -760,7 +810,7 @@ def solve_friction(problem, history: LoadHistory, algorithm: str = "simo-laursen
                     break
                 queue.append(state.t + opts.cutback_factor * (t - state.t))
                 continue
-            u, y_all, tN, tT, R = res
+            u, y_all, tN, tT, R, pred = res
             closed = _closed(fc, tN, y_all[:, 0], opts)
             duT = y_all[:, 1:] - state.y[:, 1:]
             slip = np.where(closed[:, None], np.einsum("ijk,ik->ij", fc.tangents, duT), 0.0)
@@ -788,7 +838,7 @@ def solve_friction(problem, history: LoadHistory, algorithm: str = "simo-laursen
                 penetration=float(np.max(y_all[:, 0], initial=0.0)) / fc.h,
                 coulomb=float(np.max(np.maximum(nT - mu_t * tN, 0.0), initial=0.0)) / pref,
             ))
-            state = _State(float(t), u, y_all, tN, tT, R, slip_total)
+            state = _State(float(t), u, y_all, tN, tT, R, slip_total, pred)
             queue.pop()
             cuts = 0 if not queue else cuts
         if status < 0:
