@@ -167,7 +167,8 @@ def run(out_dir=None, cases=None, variants=None, log=print) -> Path:
                "| variant | " + " | ".join(str(k) for k in range(1, nstep + 1)) + " |",
                "|---|" + "---|" * nstep]
         for r in sub:
-            cells = {x["step"]: f"{x['outer_iterations']} / {x['ratio']}" for x in steps if x["variant"] == r["variant"]}
+            cells = {x["step"]: f"{x['outer_iterations']} / {x['ratio']}"
+                     for x in steps if x["variant"] == r["variant"]}
             md.append(f"| {r['variant']} | " + " | ".join(cells.get(k, "") for k in range(1, nstep + 1)) + " |")
         md.append("")
     write_text_atomic(out / "friction.md", "\n".join(md) + "\n")
