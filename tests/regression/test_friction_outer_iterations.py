@@ -67,3 +67,27 @@ def test_sliding_block_outer_iterations_and_first_order_fallback():
     assert second.outer_iterations <= 2 * ref.outer_iterations < first.outer_iterations
     _same_solution(second, ref)
     _same_solution(first, ref)
+
+
+def test_bad_second_order_update_falls_back_to_first_order(monkeypatch):
+    """A second-order update that does not halve the multiplier change is dropped for (6.2b)/(6.2c).
+
+    The update is sabotaged (multipliers tripled, so the next change grows); the step
+    must still converge by the first-order fallback to the SSN tractions
+    (TRACTION_TOL = 1e-7 of the largest pressure), with more outer iterations.
+    """
+    from alcontact.contact import _friction
+
+    good = _friction._second_order_update
+
+    def tripled(*args):
+        upd = good(*args)
+        return None if upd is None else (3.0 * upd[0], 3.0 * upd[1])
+
+    prob, hist = fp.block_on_plane(dim=2, n=8, shear_ratio=1.5)
+    ref = solve_friction(prob, hist, "ssn")
+    monkeypatch.setattr(_friction, "_second_order_update", tripled)
+    sol = solve_friction(prob, hist, "simo-laursen")
+    assert sol.status > 0, sol.message
+    assert sol.outer_iterations > 2 * ref.outer_iterations
+    _same_solution(sol, ref)
