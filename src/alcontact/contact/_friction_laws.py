@@ -54,7 +54,7 @@ class Macaulay:
         return np.where(lam + self.c * g > 0, 1.0, 0.0)
 
 
-def local_law(normal, lamN, lamT, y, uTn, eps_t, mu, *, with_lam=False, rho=None, tfree=None):
+def local_law(normal, lamN, lamT, y, uTn, eps_t, mu, *, with_lam=False, rho=None, tfree=None, drho=None):
     """Tractions ``t`` (c, d) and their derivatives at all candidate points.
 
     Parameters
@@ -75,6 +75,9 @@ def local_law(normal, lamN, lamT, y, uTn, eps_t, mu, *, with_lam=False, rho=None
         direction (supported DOF) carries no contact traction: its friction force
         is part of the support reaction, and the Coulomb disc acts on the free
         directions (:mod:`alcontact.contact._friction_discrete`).
+    drho : (c,), optional
+        :math:`\\partial\\rho/\\partial\\lambda_N` of a fixed radius (e.g. :math:`\\mu` for
+        :math:`\\rho = \\mu\\lambda_N`); enters ``Dl`` at slip points (default 0).
 
     Returns
     -------
@@ -121,6 +124,8 @@ def local_law(normal, lamN, lamT, y, uTn, eps_t, mu, *, with_lam=False, rho=None
         Dl[:, 1:, 1:] = dz
         if coupled:
             Dl[:, 1:, 0] = np.where(slip[:, None], mu * kl[:, None] * nvec, 0.0)
+        elif drho is not None:
+            Dl[:, 1:, 0] = np.where(slip[:, None], np.asarray(drho, dtype=float)[:, None] * nvec, 0.0)
     state = np.where(opened, OPEN, np.where(stick, STICK, SLIP))
     return t, Dy, Dl, state
 
