@@ -54,7 +54,18 @@ def solve(problem, algorithm: str = DEFAULT_ALGORITHM, penalty: str | None = Non
     ContactSolution
         ``solution.result.status`` is negative when the solve failed; a warning
         is logged saying what to try.
+
+    Notes
+    -----
+    A problem with ``kinematics="finite"`` is solved by
+    :func:`~alcontact.contact.solve_finite` (10 uniform load steps unless
+    ``steps=...`` is given, also ``obstacle_path``, ``history``, ``max_cutbacks``);
+    the solution of its last step is returned, with the per-step records in
+    ``solution.extra["load_steps"]``.
     """
+    kinematics = getattr(problem, "kinematics", "small")
+    if kinematics in _KINEMATICS_SOLVERS:
+        return _KINEMATICS_SOLVERS[kinematics](problem, algorithm, penalty, options, **option_overrides)
     t_start = time.perf_counter()
     run = get_algorithm(algorithm)
     pen_name = resolve_penalty(algorithm, penalty, DEFAULT_PENALTY)
@@ -133,3 +144,15 @@ def solve(problem, algorithm: str = DEFAULT_ALGORITHM, penalty: str | None = Non
         timings=timings,
         extra={"h": dc.h, "candidates": int(dc.cand.size), "dofs": int(problem.model.ndofs), **dc.extra()},
     )
+
+
+def _solve_finite(problem, algorithm, penalty, options, **kwargs) -> ContactSolution:
+    from ._stepping import solve_finite
+
+    fs = solve_finite(problem, algorithm, penalty, options, **kwargs)
+    fs.solution.extra["load_steps"] = fs.steps
+    return fs.solution
+
+
+#: solvers of the kinematics other than the default ``"small"`` (the body of :func:`solve`)
+_KINEMATICS_SOLVERS = {"finite": _solve_finite}

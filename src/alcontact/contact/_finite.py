@@ -1,0 +1,454 @@
+r"""Frictionless contact at finite deformation: one full-space Newton for every algorithm.
+
+Kinematics (current configuration). Contact point ``i`` is a DOF location of the
+candidate boundary with reference position :math:`X_i` and reference tributary
+weight :math:`w_i` (a nodal collocation of the reference-configuration contact
+integral, as on the small-deformation path). Its current position is
+:math:`x_i = X_i + u_i`, its gap the obstacle's signed distance there,
+
+.. math::
+
+    g_i(u) = \operatorname{gap}(X_i + u_i) \le 0, \qquad
+    \frac{\partial g_i}{\partial u_i} = -\nu_i(x_i), \qquad
+    \frac{\partial^2 g_i}{\partial u_i^2} = H(x_i),
+
+with :math:`\nu` the obstacle normal at the projection of :math:`x_i` and :math:`H` the
+Hessian of the signed distance (the curvature of the obstacle surface, zero for a
+plane); the small-deformation gap (6.15) is its linearization at :math:`u = 0`. Large
+sliding needs nothing more: the projection is recomputed at every evaluation.
+
+Subproblem (S) of Algorithms 6.1 / 6.3 and the pure penalty (same laws
+:math:`t_N = p'(g/\eta, \lambda)` as :mod:`alcontact.contact._laws`): with the free
+DOFs :math:`x` and :math:`u = u(x)` (prescribed values on the fixed DOFs),
+
+.. math::
+
+    \Pi(x) = \Pi_{int}(u) - f_{ext}\cdot u + \sum_i w_i\,\psi_i(g_i(u)), \\
+    R(x) = f_{int}(u) - f_{ext} + B(u)^T (w \circ t_N(g(u))) = 0, \\
+    J(x) = K_T(u) + B^T \operatorname{diag}(w \circ dt_N/dg)\, B
+           + \sum_i w_i\, t_{N,i}\, H(x_i),
+
+``B(u)`` the rows :math:`-\nu_i^T` on the free DOFs of the points. The last term of
+``J`` is the geometric (curvature) part of the consistent linearization; without it
+Newton's convergence on a curved obstacle is only linear. Newton's method is
+globalized by backtracking on :math:`\Pi` (Armijo), or on :math:`\tfrac12|R|^2` when the
+body has no stored energy; a trial step that inverts an element
+(:class:`~alcontact.errors.InvertedElementError`) is rejected like one that raises
+:math:`\Pi` (the step is halved).
+
+The semi-smooth Newton reference (:func:`~alcontact.contact._algorithms.run_ssn`) enforces
+:math:`g_A(u) = 0` on its active set by Newton's method on the saddle-point system
+
+.. math::
+
+    \begin{pmatrix} K_T + \sum_{i\in A} r_i H_i & B_A^T \\ B_A & 0 \end{pmatrix}
+    \begin{pmatrix} \Delta x \\ \Delta r \end{pmatrix}
+    = -\begin{pmatrix} f_{int} - f_{ext} + B_A^T r \\ g_A \end{pmatrix},
+
+:math:`r = w \circ \lambda` the contact forces of the active points (a direct sparse
+solve), which converges quadratically.
+
+:class:`FiniteContact` offers the interface of the outer loops of
+:mod:`alcontact.contact._algorithms` (``cand``, ``h``, ``start``, ``gaps``,
+``scale_forces``, ``subproblem``, ``solve_active``, ``extend``, ``all_gaps``,
+``final_displacement``, ``timings``, ``extra``), so penalty, Algorithm 6.1, Algorithm
+6.3 with every contact penalty and the reference run unchanged; the state is the
+free displacement. :meth:`FiniteContact.configure` sets the data of one load step
+(prescribed values, loads, obstacle position, starting state): see
+:mod:`alcontact.contact._stepping`.
+"""
+
+from __future__ import annotations
+
+import logging
+import time
+
+import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+from ..errors import InputError, InvertedElementError
+from ._discrete import ContactPoints
+from ._newton import NewtonOutcome
+
+__all__ = ["FiniteContact", "linear_solve"]
+
+logger = logging.getLogger(__name__)
+
+#: Armijo constant of the line search
+_ARMIJO = 1e-4
+#: halvings of a Newton step before the line search gives up
+_MAX_HALVINGS = 40
+
+
+def linear_solve(A: sp.spmatrix, rhs: np.ndarray) -> np.ndarray:
+    """Solve one Newton system ``A x = rhs`` by a sparse LU factorization (SuperLU).
+
+    The single place where the finite-deformation path factorizes, so that another
+    direct solver can be swapped in. Raises :class:`numpy.linalg.LinAlgError` for a
+    singular matrix.
+    """
+    try:
+        lu = spla.splu(sp.csc_matrix(A), permc_spec="MMD_AT_PLUS_A")
+    except RuntimeError as exc:  # SuperLU: "Factor is exactly singular"
+        raise np.linalg.LinAlgError(str(exc)) from exc
+    return lu.solve(np.asarray(rhs, dtype=float))
+
+
+class FiniteContact(ContactPoints):
+    """Frictionless contact of a (nonlinear) body with a rigid obstacle at finite deformation.
+
+    Parameters
+    ----------
+    problem : ContactProblem
+        Body (the :class:`~alcontact.fem._body.Body` protocol), supports, loads,
+        obstacle and contact boundary. The supports and loads of ``problem`` give
+        the fixed DOFs; their values per load step are set by :meth:`configure`.
+    fixed : ndarray of int, optional
+        Fixed DOFs (default those of the problem's supports).
+    margin : float
+        Candidates of a step are the points whose gap at the step's starting state
+        exceeds ``-max(margin * h, 2 * max_penetration)``; points that penetrate
+        after a solve are added (:meth:`extend`).
+
+    Attributes
+    ----------
+    points, dofs, weights : ndarray
+        Reference positions, DOFs and reference tributary weights of all contact-boundary points.
+    normals : ndarray (m, d)
+        Obstacle normals at the current positions (updated by :meth:`all_gaps`).
+    cand : ndarray of int
+        Current candidates.
+    residual_log : list of list of float
+        Relative residuals of every Newton solve (subproblem or active-set step), in order.
+    linear_solves, newton_iterations : int
+        Counters over the life of the object.
+    """
+
+    factorizations = 0
+
+    def __init__(self, problem, *, margin: float = 2.0, fixed=None):
+        t0 = time.perf_counter()
+        self._setup_problem(problem)
+        if fixed is not None:  # fixed DOFs of a load history (values set by configure)
+            self.fixed = np.asarray(fixed, dtype=np.int64)
+            self.fixed_values = np.zeros(self.fixed.size)
+        self.body = self.model
+        model = self.model
+        n = model.ndofs
+        mask = np.ones(n, dtype=bool)
+        mask[self.fixed] = False
+        self.free = np.flatnonzero(mask)
+        self.margin = float(margin)
+        model.check_restrained(self.fixed)
+        pts, dofs = model.node_dofs(problem.contact_boundary)
+        self.points, self.dofs = pts, dofs
+        self.weights = np.asarray(model.boundary_weights(problem.contact_boundary), dtype=float)
+        free_pos = -np.ones(n, dtype=np.int64)
+        free_pos[self.free] = np.arange(self.free.size)
+        self.pos = free_pos[dofs]  # (m, d), -1 on fixed DOFs
+        self.movable = np.any(self.pos >= 0, axis=1)
+        self.obstacle = problem.obstacle
+        self.h = self._element_size()
+        self.linear_solves = 0
+        self.newton_iterations = 0
+        self.residual_log: list[list[float]] = []
+        self.assembly_seconds = 0.0
+        self.solve_seconds = 0.0
+        self.fixed_values = np.asarray(self.fixed_values, dtype=float)
+        self.load = np.asarray(self.load, dtype=float)
+        self.x0 = np.zeros(self.free.size)
+        self.normals = np.zeros_like(pts)
+        self.gap0 = self.all_gaps(np.zeros(n))
+        self.cand = np.empty(0, dtype=np.int64)
+        self.configure(self.fixed_values, self.load, self.obstacle, self.x0)
+        self.setup_seconds = time.perf_counter() - t0
+
+    # ------------------------------------------------------------------ step data
+    def configure(self, fixed_values, load, obstacle, x_start) -> None:
+        """Set the data of one load step and its starting state; choose the candidates.
+
+        Parameters
+        ----------
+        fixed_values : ndarray
+            Values of the fixed DOFs (aligned with ``self.fixed``).
+        load : ndarray (ndofs,)
+            External (dead) load vector.
+        obstacle : Obstacle
+            Obstacle at this step (e.g. :func:`~alcontact.contact.obstacles.translate` of the original).
+        x_start : ndarray
+            Starting free displacement (warm start: the last converged state).
+        """
+        self.fixed_values = np.asarray(fixed_values, dtype=float)
+        self.load = np.asarray(load, dtype=float)
+        self.obstacle = obstacle
+        self.x0 = np.array(x_start, dtype=float)
+        self.u_free = self.expand(self.x0)
+        self.g_free = self.all_gaps(self.u_free)
+        gmax = float(np.max(self.g_free[self.movable], initial=-np.inf))
+        self.max_free_penetration = gmax
+        thr = -max(self.margin * self.h, 2.0 * max(gmax, 0.0))
+        self.cand = np.flatnonzero(self.movable & (self.g_free > thr))
+
+    def expand(self, x: np.ndarray) -> np.ndarray:
+        """Full displacement from the free DOFs and the prescribed values."""
+        u = np.zeros(self.model.ndofs)
+        u[self.free] = x
+        if self.fixed.size:
+            u[self.fixed] = self.fixed_values
+        return u
+
+    # ------------------------------------------------------------------ kinematics
+    def _current(self, u: np.ndarray, idx: np.ndarray) -> np.ndarray:
+        return self.points[idx] + u[self.dofs[idx]]
+
+    def all_gaps(self, u: np.ndarray) -> np.ndarray:
+        """Gaps :math:`\\operatorname{gap}(X_i + u_i)` of every contact-boundary point (normals updated)."""
+        g, nu = self.obstacle.evaluate(self.points + u[self.dofs])
+        self.normals = nu
+        return g
+
+    def gaps(self, x: np.ndarray) -> np.ndarray:
+        """Gaps of the candidates for the free displacement ``x``."""
+        return self.obstacle.gap(self._current(self.expand(x), self.cand))
+
+    def _kinematics(self, u: np.ndarray, idx: np.ndarray, hessian: bool):
+        xc = self._current(u, idx)
+        g, nu = self.obstacle.evaluate(xc)
+        H = self.obstacle.gap_hessian(xc) if hessian else None
+        return g, nu, H
+
+    def _B(self, nu: np.ndarray, idx: np.ndarray) -> sp.csr_matrix:
+        """Rows :math:`-\\nu_i^T` on the free DOFs of the points ``idx``."""
+        pos = self.pos[idx]
+        k = idx.size
+        rows = np.repeat(np.arange(k), self.dim)
+        cols = pos.ravel()
+        keep = cols >= 0
+        return sp.csr_matrix(((-nu).ravel()[keep], (rows[keep], cols[keep])), shape=(k, self.free.size))
+
+    def _point_blocks(self, idx: np.ndarray, blocks: np.ndarray) -> sp.csr_matrix:
+        """Sparse sum of the ``d x d`` blocks of the points ``idx`` on their free DOFs."""
+        d = self.dim
+        pos = self.pos[idx]  # (k, d)
+        r = np.repeat(pos, d, axis=1).ravel()
+        c = np.tile(pos, (1, d)).ravel()
+        v = blocks.reshape(idx.size, d * d).ravel()
+        keep = (r >= 0) & (c >= 0) & (v != 0)
+        nf = self.free.size
+        return sp.csr_matrix((v[keep], (r[keep], c[keep])), shape=(nf, nf))
+
+    # ------------------------------------------------------------------ body
+    def _body_state(self, u: np.ndarray, energy: bool):
+        """``(f_int - f_ext, Pi_body)``; raises InvertedElementError for J <= 0."""
+        fint = np.asarray(self.body.internal_force(u), dtype=float)
+        if not np.all(np.isfinite(fint)):
+            raise InvertedElementError("non-finite internal force (an element is inverted or degenerate)")
+        e = float(self.body.energy(u)) - float(self.load @ u) if energy else np.nan
+        return fint - self.load, e
+
+    def _tangent_free(self, u: np.ndarray) -> sp.csr_matrix:
+        K = self.body.tangent(u).tocsr()
+        return K[self.free][:, self.free]
+
+    # ------------------------------------------- interface of the outer loops
+    def start(self) -> np.ndarray:
+        return self.x0.copy()
+
+    def scale_forces(self, x: np.ndarray, factor: float) -> np.ndarray:
+        """Push harder: ``x0 + factor (x - x0)`` (a first-order guess; used for barrier starting points)."""
+        return self.x0 + factor * (x - self.x0)
+
+    def final_displacement(self, x: np.ndarray) -> np.ndarray:
+        return self.expand(x)
+
+    def timings(self) -> dict:
+        return {"setup_s": self.setup_seconds, "factor_s": 0.0, "assembly_s": self.assembly_seconds,
+                "linear_solve_s": self.solve_seconds}
+
+    def extra(self) -> dict:
+        return {"linear_solver": "direct", "kinematics": "finite", "newton_total": int(self.newton_iterations)}
+
+    def force_scale(self, u: np.ndarray, contact: np.ndarray) -> float:
+        """Force unit of the relative residuals: largest external, internal (reaction) or contact force."""
+        fint = np.asarray(self.body.internal_force(u), dtype=float)
+        return max(float(np.max(np.abs(self.load), initial=0.0)), float(np.max(np.abs(fint), initial=0.0)),
+                   float(np.max(np.abs(contact), initial=0.0)), 1e-300)
+
+    # ------------------------------------------------------------------ subproblem (S)
+    def subproblem(self, law, lam, x0, *, tol: float, maxiter: int) -> NewtonOutcome:
+        """Newton's method for :math:`R(x) = 0` of subproblem (S) (module doc)."""
+        cand = self.cand
+        w = self.weights[cand]
+        lam = np.asarray(lam, dtype=float)
+        log: list[float] = []
+        self.residual_log.append(log)
+
+        def evaluate(x_, need_energy=True):
+            u_ = self.expand(x_)
+            r_body, e_body = self._body_state(u_, need_energy)
+            g_, nu_, _ = self._kinematics(u_, cand, False)
+            t_ = law.traction(g_, lam)
+            Bm = self._B(nu_, cand)
+            R_ = r_body[self.free] + Bm.T @ (w * t_)
+            pi_ = e_body + float(np.sum(w * law.energy(g_, lam))) if need_energy else np.nan
+            return u_, g_, t_, R_, pi_
+
+        x = np.array(x0, dtype=float)
+        try:
+            u, g, t, R, pi = evaluate(x)
+        except InvertedElementError as exc:
+            return NewtonOutcome(x, self.gaps(x), np.zeros(cand.size), 0, False, np.inf,
+                                 f"inverted element at the starting state ({exc})")
+        e_pen = law.energy(g, lam)
+        if np.any(np.isnan(t)) or np.any(np.isnan(e_pen)):
+            return NewtonOutcome(x, g, t, 0, False, np.nan, "the penalty returned NaN")
+        if not np.all(np.isfinite(e_pen)):
+            return NewtonOutcome(x, g, t, 0, False, np.inf, "start outside the penalty domain")
+        # globalize on the total energy where the body has one, else on the residual norm
+        use_energy = bool(np.isfinite(pi))
+        scale = self.force_scale(u, w * t)
+        prev = np.inf
+        for it in range(1, maxiter + 1):
+            res = float(np.max(np.abs(R), initial=0.0)) / scale
+            log.append(res)
+            if res <= tol:
+                return NewtonOutcome(x, g, t, it - 1, True, res, "converged")
+            if res <= 1e-8 and res > 0.5 * prev:
+                return NewtonOutcome(x, g, t, it - 1, True, res, "converged (residual at round-off level)")
+            prev = res
+            ta = time.perf_counter()
+            D = law.stiffness(g, lam)
+            _, nu, H = self._kinematics(u, cand, True)
+            Bm = self._B(nu, cand)
+            J = (self._tangent_free(u) + Bm.T @ sp.diags(w * D) @ Bm
+                 + self._point_blocks(cand, (w * t)[:, None, None] * H))
+            tb = time.perf_counter()
+            self.assembly_seconds += tb - ta
+            try:
+                dx = linear_solve(J, -R)
+            except np.linalg.LinAlgError:
+                return NewtonOutcome(x, g, t, it, False, res, "singular Newton matrix")
+            self.solve_seconds += time.perf_counter() - tb
+            self.linear_solves += 1
+            self.newton_iterations += 1
+            if not np.all(np.isfinite(dx)):
+                return NewtonOutcome(x, g, t, it, False, res, "non-finite Newton step")
+            slope = float(R @ dx)
+            merit0 = pi if use_energy else 0.5 * float(R @ R)
+            slope_m = slope if use_energy else -float(R @ R)
+            alpha, accepted = 1.0, False
+            trial = None
+            for _ in range(_MAX_HALVINGS):
+                try:
+                    trial = evaluate(x + alpha * dx, use_energy)
+                except InvertedElementError:
+                    alpha *= 0.5
+                    continue
+                _, _, t_try, R_try, pi_try = trial
+                m_try = pi_try if use_energy else 0.5 * float(R_try @ R_try)
+                if np.isfinite(m_try) and m_try <= merit0 + _ARMIJO * alpha * min(slope_m, 0.0) + 1e-14 * abs(merit0):
+                    accepted = True
+                    break
+                alpha *= 0.5
+            if not accepted:
+                # merit flat to round-off: accept the full step if it reduces the residual
+                try:
+                    trial = evaluate(x + dx, use_energy)
+                except InvertedElementError:
+                    return NewtonOutcome(x, g, t, it, False, res, "line search failed (inverted elements)")
+                if not (np.isfinite(trial[4]) or not use_energy) or \
+                        np.max(np.abs(trial[3])) >= np.max(np.abs(R)):
+                    return NewtonOutcome(x, g, t, it, False, res, "line search failed")
+                alpha = 1.0
+            x = x + alpha * dx
+            u, g, t, R, pi = trial
+            scale = max(scale, float(np.max(np.abs(w * t), initial=0.0)))
+        res = float(np.max(np.abs(R), initial=0.0)) / scale
+        log.append(res)
+        return NewtonOutcome(x, g, t, maxiter, res <= tol, res, "maximum Newton iterations")
+
+    # ------------------------------------------------------------------ reference (active set)
+    def solve_active(self, active, lam, x, c, *, tol: float = 1e-12, maxiter: int = 50):
+        """Active-set step of :func:`run_ssn`: Newton on the saddle-point system of :math:`g_A(u) = 0`.
+
+        Returns ``(x, lam_new, g)`` with the pressures ``lam_new`` (zero off ``active``)
+        and the gaps of all candidates. A Newton failure is logged; the outer loop then
+        sees the remaining penetration.
+        """
+        cand = self.cand
+        A = cand[np.flatnonzero(active)]
+        nA = A.size
+        wA = self.weights[A]
+        r = np.maximum(np.asarray(lam, dtype=float)[np.flatnonzero(active)], 0.0) * wA
+        nf = self.free.size
+        x = np.array(x, dtype=float)
+        log: list[float] = []
+        self.residual_log.append(log)
+
+        def evaluate(x_, r_):
+            u_ = self.expand(x_)
+            rb, _ = self._body_state(u_, False)
+            g_, nu_, _ = self._kinematics(u_, A, False)
+            Bm = self._B(nu_, A)
+            return u_, g_, Bm, rb[self.free] + Bm.T @ r_
+
+        scale_run = [0.0]  # running force unit: a free rigid motion has no forces left to scale by
+
+        def measure(u_, R_, g_, r_):
+            scale = max(scale_run[0], self.force_scale(u_, r_))
+            scale_run[0] = scale
+            return max(float(np.max(np.abs(R_), initial=0.0)) / scale,
+                       float(np.max(np.abs(g_), initial=0.0)) / self.h)
+
+        try:
+            u, gA, Bm, R = evaluate(x, r)
+        except InvertedElementError as exc:
+            logger.warning("active-set step: inverted element at the start (%s)", exc)
+            return x, np.zeros(cand.size), self.gaps(x)
+        res = measure(u, R, gA, r)
+        ok = False
+        for _it in range(maxiter):
+            log.append(res)
+            if res <= tol or (len(log) > 2 and res <= 1e-8 and res > 0.5 * log[-2]):
+                ok = True
+                break
+            ta = time.perf_counter()
+            _, _, H = self._kinematics(u, A, True)
+            Kt = self._tangent_free(u) + self._point_blocks(A, r[:, None, None] * H)
+            J = sp.bmat([[Kt, Bm.T], [Bm, None]], format="csc")
+            tb = time.perf_counter()
+            self.assembly_seconds += tb - ta
+            try:
+                step = linear_solve(J, -np.concatenate([R, gA]))
+            except np.linalg.LinAlgError:
+                logger.warning("active-set step: singular saddle-point matrix with %d active points", nA)
+                break
+            self.solve_seconds += time.perf_counter() - tb
+            self.linear_solves += 1
+            self.newton_iterations += 1
+            dx, dr = step[:nf], step[nf:]
+            alpha = 1.0
+            for _ in range(_MAX_HALVINGS):
+                try:
+                    trial = evaluate(x + alpha * dx, r + alpha * dr)
+                except InvertedElementError:
+                    alpha *= 0.5
+                    continue
+                res_try = measure(trial[0], trial[3], trial[1], r + alpha * dr)
+                if res_try < (1 - _ARMIJO * alpha) * res or alpha < 2.0 ** -20:
+                    break
+                alpha *= 0.5
+            else:
+                logger.warning("active-set step: every trial step inverts an element")
+                break
+            x, r = x + alpha * dx, r + alpha * dr
+            u, gA, Bm, R = trial
+            res = res_try
+        if not ok:
+            logger.warning("active-set Newton stopped at relative residual %.2e; the active-set loop continues",
+                           res)
+        lam_new = np.zeros(cand.size)
+        lam_new[np.flatnonzero(active)] = r / wA
+        return x, lam_new, self.gaps(x)
+
