@@ -77,6 +77,7 @@ logger = logging.getLogger(__name__)
 
 #: Armijo constant of the line search
 _ARMIJO = 1e-4
+_EPS = float(np.finfo(float).eps)
 #: halvings of a Newton step before the line search gives up
 _MAX_HALVINGS = 40
 
@@ -161,6 +162,7 @@ class FiniteContact(ContactPoints):
         self.normals = np.zeros_like(pts)
         self.gap0 = self.all_gaps(np.zeros(n))
         self.cand = np.empty(0, dtype=np.int64)
+        self.last_pressure = np.zeros(pts.shape[0])
         self.configure(self.fixed_values, self.load, self.obstacle, self.x0)
         self.setup_seconds = time.perf_counter() - t0
 
@@ -255,6 +257,14 @@ class FiniteContact(ContactPoints):
     def start(self) -> np.ndarray:
         return self.x0.copy()
 
+    def initial_multipliers(self) -> np.ndarray:
+        """Pressures of the last accepted load step on the current candidates (warm start)."""
+        return self.last_pressure[self.cand].copy()
+
+    def accept(self, pressure: np.ndarray) -> None:
+        """Record the pressures (all points) of an accepted load step for the next warm start."""
+        self.last_pressure = np.asarray(pressure, dtype=float).copy()
+
     def scale_forces(self, x: np.ndarray, factor: float) -> np.ndarray:
         """Push harder: ``x0 + factor (x - x0)`` (a first-order guess; used for barrier starting points)."""
         return self.x0 + factor * (x - self.x0)
@@ -308,17 +318,21 @@ class FiniteContact(ContactPoints):
         # globalize on the total energy where the body has one, else on the residual norm
         use_energy = bool(np.isfinite(pi))
         scale = self.force_scale(u, w * t)
+        coord = float(np.max(np.abs(self._current(u, cand)), initial=1.0))
+        floor = 0.0
         prev = np.inf
         for it in range(1, maxiter + 1):
             res = float(np.max(np.abs(R), initial=0.0)) / scale
             log.append(res)
             if res <= tol:
                 return NewtonOutcome(x, g, t, it - 1, True, res, "converged")
-            if res <= 1e-8 and res > 0.5 * prev:
+            if res <= max(1e-8, floor) and res > 0.5 * prev:
                 return NewtonOutcome(x, g, t, it - 1, True, res, "converged (residual at round-off level)")
             prev = res
             ta = time.perf_counter()
             D = law.stiffness(g, lam)
+            # round-off floor of the residual: gaps from absolute coordinates, times the contact stiffness
+            floor = 1e3 * _EPS * coord * float(np.max(w * np.abs(D), initial=0.0)) / scale
             _, nu, H = self._kinematics(u, cand, True)
             Bm = self._B(nu, cand)
             J = (self._tangent_free(u) + Bm.T @ sp.diags(w * D) @ Bm

@@ -232,7 +232,8 @@ def solve_finite(problem, algorithm: str = "simo-laursen", penalty: str | None =
             break
         dt_max = dt if cut else None
         x = out.r.copy()
-        force = _force(dc, out, u)
+        force, pressure = _force(dc, out, u)
+        dc.accept(pressure)
         records.append(FiniteStep(t, out.status, dc.newton_iterations - newton0, int(out.outer),
                                   dc.linear_solves - solves0, force, cut, time.perf_counter() - t0, out.message))
         logger.info("load step t=%.6g: %d Newton, %d outer, force %s", t, records[-1].newton_iterations,
@@ -289,7 +290,7 @@ def _force(dc, out, u) -> np.ndarray:
     if out.lam.size:
         p[dc.cand] = np.maximum(out.lam, 0.0)
     del g_all
-    return np.sum((dc.weights * p)[:, None] * dc.normals, axis=0)
+    return np.sum((dc.weights * p)[:, None] * dc.normals, axis=0), p
 
 
 def _solution(problem, dc, out, u, algorithm, pen_name, opts, status, message, records, t_start):
