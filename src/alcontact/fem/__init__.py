@@ -2,7 +2,9 @@
 
 Meshes with named boundaries (:mod:`alcontact.fem.meshes`), isotropic
 materials (:class:`Material`), small-strain linear elasticity with P1/P2
-simplices (:class:`LinearElasticity`), a reusable sparse factorization
+simplices (:class:`LinearElasticity`), total Lagrangian hyperelastic bodies
+(:class:`Hyperelastic`, laws by name from :func:`make_material` or by strain
+energy with :class:`SymbolicMaterial`), a reusable sparse factorization
 (:class:`Factorization`) and the chapter 4 model problems
 (:mod:`alcontact.fem.model_problems`).
 
@@ -16,15 +18,33 @@ Examples
 
 from alcontact.fem import meshes, model_problems
 from alcontact.fem._body import Body
+from alcontact.fem._hyper_materials import (
+    HyperelasticLaw,
+    NeoHookean,
+    SaintVenantKirchhoff,
+    SymbolicMaterial,
+    available_materials,
+    make_material,
+    register_material,
+)
 from alcontact.fem._linalg import Factorization, nested_dissection
 from alcontact.fem._material import Material
 from alcontact.fem.elasticity import LinearElasticity, rigid_body_modes
+from alcontact.fem.hyperelastic import Hyperelastic
 
 __all__ = [
     "Body",
     "Factorization",
+    "Hyperelastic",
+    "HyperelasticLaw",
     "LinearElasticity",
     "Material",
+    "NeoHookean",
+    "SaintVenantKirchhoff",
+    "SymbolicMaterial",
+    "available_materials",
+    "make_material",
+    "register_material",
     "meshes",
     "model_problems",
     "nested_dissection",

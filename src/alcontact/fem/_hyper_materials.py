@@ -1,0 +1,420 @@
+r"""Hyperelastic material laws :math:`W(F)` and their registry.
+
+A law gives, at many quadrature points at once, the strain energy density
+:math:`W(F)`, the first Piola-Kirchhoff stress :math:`P = \partial W/\partial F`
+and the material tangent :math:`\mathbb{A} = \partial P/\partial F`
+(:math:`\mathbb{A}_{iJkL} = \partial P_{iJ}/\partial F_{kL}`), for deformation
+gradients of shape ``(..., d, d)`` with ``d = 3`` (3D) or ``d = 2`` (plane
+strain, :math:`F_{33} = 1`, :math:`F_{\alpha 3} = F_{3\alpha} = 0`: the in-plane
+block of the 3D law). Every law is evaluated with the Lamé constants
+:math:`(\lambda, \mu)` of an :class:`~alcontact.fem.Material`.
+
+Built-in laws (hand-written closed forms, vectorized over NumPy arrays):
+
+``"neo-hookean"`` (compressible)
+    .. math::
+        W = \tfrac{\mu}{2}(\operatorname{tr} C - 3) - \mu \ln J + \tfrac{\lambda}{2}(\ln J)^2,
+        \qquad P = \mu (F - F^{-T}) + \lambda \ln J\, F^{-T},
+
+        \mathbb{A}_{iJkL} = \mu\,\delta_{ik}\delta_{JL} + (\mu - \lambda\ln J)\,F^{-1}_{Li}F^{-1}_{Jk}
+        + \lambda\,F^{-1}_{Ji}F^{-1}_{Lk}.
+
+``"saint-venant-kirchhoff"``
+    .. math::
+        W = \mu\, E:E + \tfrac{\lambda}{2}(\operatorname{tr} E)^2, \quad E = \tfrac12(F^TF - I),
+        \quad S = \lambda \operatorname{tr}E\, I + 2\mu E, \quad P = F S,
+
+        \mathbb{A}_{iJkL} = \delta_{ik} S_{JL} + \lambda F_{iJ}F_{kL}
+        + \mu\,(\delta_{JL}(FF^T)_{ik} + F_{iL}F_{kJ}).
+
+A user law is given by its energy alone: :class:`SymbolicMaterial` takes
+``W(F, lam, mu)`` written with SymPy operations on a symbolic 3x3 matrix and
+derives :math:`P` and :math:`\mathbb{A}` by symbolic differentiation, compiled to
+vectorized NumPy with :func:`sympy.lambdify` (common subexpressions shared).
+Register it with :func:`register_material` to use it by name.
+
+Both laws reduce to linear elasticity for small strains: at :math:`F = I`,
+:math:`\mathbb{A}_{iJkL} = \lambda\delta_{iJ}\delta_{kL} + \mu(\delta_{ik}\delta_{JL}
++ \delta_{iL}\delta_{Jk})`.
+
+Examples
+--------
+>>> import numpy as np
+>>> law = make_material("neo-hookean")
+>>> F = np.eye(3)[None]
+>>> float(law.energy(F, 1.0, 1.0)[0]), float(np.abs(law.stress(F, 1.0, 1.0)).max())
+(0.0, 0.0)
+>>> sorted(available_materials())
+['neo-hookean', 'saint-venant-kirchhoff']
+"""
+
+from __future__ import annotations
+
+from abc import ABC, abstractmethod
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+
+from alcontact.errors import InputError, UnknownNameError
+
+__all__ = [
+    "HyperelasticLaw",
+    "NeoHookean",
+    "SaintVenantKirchhoff",
+    "SymbolicMaterial",
+    "available_materials",
+    "make_material",
+    "register_material",
+    "det",
+    "inv",
+]
+
+
+# ---------------------------------------------------------------- small-matrix helpers
+def det(F: np.ndarray) -> np.ndarray:
+    """Determinant of a stack of 2x2 or 3x3 matrices ``(..., d, d)`` (closed form)."""
+    if F.shape[-1] == 2:
+        return F[..., 0, 0] * F[..., 1, 1] - F[..., 0, 1] * F[..., 1, 0]
+    return (F[..., 0, 0] * (F[..., 1, 1] * F[..., 2, 2] - F[..., 1, 2] * F[..., 2, 1])
+            - F[..., 0, 1] * (F[..., 1, 0] * F[..., 2, 2] - F[..., 1, 2] * F[..., 2, 0])
+            + F[..., 0, 2] * (F[..., 1, 0] * F[..., 2, 1] - F[..., 1, 1] * F[..., 2, 0]))
+
+
+def inv(F: np.ndarray, J: np.ndarray | None = None) -> np.ndarray:
+    """Inverse of a stack of 2x2 or 3x3 matrices by the adjugate (``J = det F`` if known)."""
+    J = det(F) if J is None else J
+    out = np.empty_like(F)
+    if F.shape[-1] == 2:
+        out[..., 0, 0] = F[..., 1, 1]
+        out[..., 1, 1] = F[..., 0, 0]
+        out[..., 0, 1] = -F[..., 0, 1]
+        out[..., 1, 0] = -F[..., 1, 0]
+    else:
+        for i in range(3):
+            i1, i2 = (i + 1) % 3, (i + 2) % 3
+            for j in range(3):
+                j1, j2 = (j + 1) % 3, (j + 2) % 3
+                # adj(F)[j, i] = cofactor(F)[i, j]
+                out[..., j, i] = F[..., i1, j1] * F[..., i2, j2] - F[..., i1, j2] * F[..., i2, j1]
+    return out / J[..., None, None]
+
+
+# ------------------------------------------------------------------------- protocol
+class HyperelasticLaw(ABC):
+    r"""Base class of a hyperelastic law :math:`W(F)` (see module doc).
+
+    Subclasses implement :meth:`energy`, :meth:`stress`, :meth:`tangent` and
+    :meth:`stress_zz`; :meth:`element_tangent` has a generic implementation
+    through :meth:`tangent` that a law may replace by a faster contraction.
+    All arrays are evaluated where :math:`J = \det F > 0` (the body checks).
+
+    Attributes
+    ----------
+    name : str
+        Registry name.
+    compressible : bool
+        ``True`` for laws that need :math:`\nu < 0.5`.
+    """
+
+    name: str = ""
+    compressible: bool = True
+
+    @abstractmethod
+    def energy(self, F: np.ndarray, lam: float, mu: float) -> np.ndarray:
+        """Strain energy density :math:`W(F)`, shape ``F.shape[:-2]``."""
+
+    @abstractmethod
+    def stress(self, F: np.ndarray, lam: float, mu: float) -> np.ndarray:
+        r"""First Piola-Kirchhoff stress :math:`P = \partial W/\partial F`, shape of ``F``."""
+
+    @abstractmethod
+    def tangent(self, F: np.ndarray, lam: float, mu: float) -> np.ndarray:
+        r""":math:`\mathbb{A}_{iJkL} = \partial P_{iJ}/\partial F_{kL}`, shape ``F.shape[:-2] + (d, d, d, d)``."""
+
+    @abstractmethod
+    def stress_zz(self, F: np.ndarray, lam: float, mu: float) -> np.ndarray:
+        r"""Plane strain only (``d = 2``): the out-of-plane stress :math:`P_{33} = \sigma_{33} J`."""
+
+    def element_tangent(self, F: np.ndarray, G: np.ndarray, lam: float, mu: float) -> np.ndarray:
+        r"""Per-quadrature-point element tangent :math:`G_{aJ}\,\mathbb{A}_{iJkL}\,G_{bL}`.
+
+        Parameters
+        ----------
+        F : numpy.ndarray, shape (nel, nqp, d, d)
+        G : numpy.ndarray, shape (nel, nqp, nloc, d)
+            Reference gradients :math:`\partial N_a/\partial X_J` of the scalar shape functions.
+
+        Returns
+        -------
+        numpy.ndarray, shape (nel, nqp, nloc, d, nloc, d)
+            Index order ``(a, i, b, k)``.
+        """
+        A = self.tangent(F, lam, mu)
+        T = np.einsum("eqiJkL,eqbL->eqiJkb", A, G, optimize=True)
+        return np.einsum("eqaJ,eqiJkb->eqaibk", G, T, optimize=True)
+
+    def __repr__(self) -> str:
+        return f"{type(self).__name__}(name={self.name!r})"
+
+
+class NeoHookean(HyperelasticLaw):
+    r"""Compressible neo-Hookean law (module doc): :math:`W = \frac{\mu}{2}(\operatorname{tr}C - 3) - \mu\ln J + \frac{\lambda}{2}\ln^2 J`."""
+
+    name = "neo-hookean"
+
+    def energy(self, F, lam, mu):
+        d = F.shape[-1]
+        lnJ = np.log(det(F))
+        trC = np.einsum("...iJ,...iJ->...", F, F)
+        return 0.5 * mu * (trC - d) - mu * lnJ + 0.5 * lam * lnJ**2
+
+    def stress(self, F, lam, mu):
+        J = det(F)
+        FiT = np.swapaxes(inv(F, J), -1, -2)
+        return mu * F + (lam * np.log(J) - mu)[..., None, None] * FiT
+
+    def tangent(self, F, lam, mu):
+        d = F.shape[-1]
+        J = det(F)
+        Fi = inv(F, J)
+        c1 = (mu - lam * np.log(J))[..., None, None, None, None]
+        eye = np.eye(d)
+        A = mu * np.einsum("ik,JL->iJkL", eye, eye) + c1 * np.einsum("...Li,...Jk->...iJkL", Fi, Fi)
+        A = A + lam * np.einsum("...Ji,...Lk->...iJkL", Fi, Fi)
+        return A
+
+    def stress_zz(self, F, lam, mu):
+        return lam * np.log(det(F))
+
+    def element_tangent(self, F, G, lam, mu):
+        # with the spatial gradients g_a = G_a F^{-1}:
+        # K_aibk = mu (G_a . G_b) d_ik + (mu - lam lnJ) g_ak g_bi + lam g_ai g_bk
+        J = det(F)
+        g = np.einsum("eqaJ,eqJk->eqak", G, inv(F, J))
+        d = F.shape[-1]
+        GG = np.einsum("eqaJ,eqbJ->eqab", G, G)
+        c1 = (mu - lam * np.log(J))[:, :, None, None, None, None]
+        K = c1 * np.einsum("eqak,eqbi->eqaibk", g, g)
+        K += lam * np.einsum("eqai,eqbk->eqaibk", g, g)
+        K += mu * np.einsum("eqab,ik->eqaibk", GG, np.eye(d))
+        return K
+
+
+class SaintVenantKirchhoff(HyperelasticLaw):
+    r"""St Venant-Kirchhoff law (module doc): :math:`W = \mu E:E + \frac{\lambda}{2}(\operatorname{tr}E)^2`."""
+
+    name = "saint-venant-kirchhoff"
+
+    @staticmethod
+    def _green(F):
+        d = F.shape[-1]
+        return 0.5 * (np.einsum("...kI,...kJ->...IJ", F, F) - np.eye(d))
+
+    def _pk2(self, F, lam, mu):
+        E = self._green(F)
+        trE = np.trace(E, axis1=-2, axis2=-1)
+        return lam * trE[..., None, None] * np.eye(F.shape[-1]) + 2.0 * mu * E, trE
+
+    def energy(self, F, lam, mu):
+        E = self._green(F)
+        trE = np.trace(E, axis1=-2, axis2=-1)
+        return mu * np.einsum("...IJ,...IJ->...", E, E) + 0.5 * lam * trE**2
+
+    def stress(self, F, lam, mu):
+        S, _ = self._pk2(F, lam, mu)
+        return F @ S
+
+    def tangent(self, F, lam, mu):
+        d = F.shape[-1]
+        S, _ = self._pk2(F, lam, mu)
+        eye = np.eye(d)
+        b = F @ np.swapaxes(F, -1, -2)
+        A = np.einsum("ik,...JL->...iJkL", eye, S)
+        A = A + lam * np.einsum("...iJ,...kL->...iJkL", F, F)
+        A = A + mu * (np.einsum("JL,...ik->...iJkL", eye, b) + np.einsum("...iL,...kJ->...iJkL", F, F))
+        return A
+
+    def stress_zz(self, F, lam, mu):
+        return lam * np.trace(self._green(F), axis1=-2, axis2=-1)
+
+    def element_tangent(self, F, G, lam, mu):
+        # h_a = F G_a: K_aibk = (G_a S G_b) d_ik + lam h_ai h_bk + mu (b_ik G_a.G_b + h_bi h_ak)
+        d = F.shape[-1]
+        S, _ = self._pk2(F, lam, mu)
+        h = np.einsum("eqiJ,eqaJ->eqai", F, G)
+        b = F @ np.swapaxes(F, -1, -2)
+        GSG = np.einsum("eqaJ,eqJL,eqbL->eqab", G, S, G, optimize=True)
+        GSG = 0.5 * (GSG + np.swapaxes(GSG, -1, -2))  # exact symmetry of the assembled tangent
+        GG = np.einsum("eqaJ,eqbJ->eqab", G, G)
+        K = lam * np.einsum("eqai,eqbk->eqaibk", h, h)
+        K += mu * np.einsum("eqbi,eqak->eqaibk", h, h)
+        K += mu * np.einsum("eqab,eqik->eqaibk", GG, b)
+        K += np.einsum("eqab,ik->eqaibk", GSG, np.eye(d))
+        return K
+
+
+# ------------------------------------------------------------------ symbolic laws
+def _flatten(nested):
+    """Leaves of the nested lists ``lambdify`` returns, row-major."""
+    if isinstance(nested, (list, tuple)):
+        for item in nested:
+            yield from _flatten(item)
+    else:
+        yield nested
+
+
+class SymbolicMaterial(HyperelasticLaw):
+    r"""A law defined by its strain energy alone; stress and tangent by SymPy.
+
+    Parameters
+    ----------
+    W : callable
+        ``W(F, lam, mu) -> sympy expression``, with ``F`` a symbolic 3x3
+        :class:`sympy.Matrix` and ``lam, mu`` SymPy symbols. Use SymPy
+        functions (``sympy.log``, ``F.det()``, ``(F.T * F).trace()``, ...).
+    name : str
+        Name used in messages and for :func:`register_material`.
+
+    Notes
+    -----
+    :math:`P = \partial W/\partial F` and :math:`\mathbb{A} = \partial^2 W/\partial F^2`
+    are differentiated symbolically, once per dimension (3D, and plane strain
+    with :math:`F_{33} = 1` substituted after differentiation), and compiled by
+    :func:`sympy.lambdify` to NumPy with common-subexpression elimination.
+
+    Examples
+    --------
+    >>> import numpy as np, sympy
+    >>> def W(F, lam, mu):
+    ...     J = F.det()
+    ...     return mu / 2 * ((F.T * F).trace() - 3) - mu * sympy.log(J) + lam / 2 * sympy.log(J) ** 2
+    >>> law = SymbolicMaterial(W, name="my-neo-hookean")
+    >>> F = np.array([[[1.1, 0.2], [0.0, 0.9]]])
+    >>> bool(np.allclose(law.stress(F, 2.0, 1.0), NeoHookean().stress(F, 2.0, 1.0)))
+    True
+    """
+
+    def __init__(self, W: Callable[..., Any], name: str = "symbolic"):
+        if not callable(W):
+            raise InputError(f"W must be a callable W(F, lam, mu) returning a SymPy expression; got {W!r}.")
+        self.W = W
+        self.name = str(name)
+        self._compiled: dict[int, dict[str, Callable]] = {}
+
+    def _compile(self, d: int) -> dict[str, Callable]:
+        if d in self._compiled:
+            return self._compiled[d]
+        import sympy
+
+        Fs = sympy.Matrix(3, 3, lambda i, j: sympy.Symbol(f"F{i}{j}", real=True))
+        lam, mu = sympy.symbols("lam mu", positive=True)
+        try:
+            W = sympy.sympify(self.W(Fs, lam, mu))
+        except Exception as exc:  # a user callable: report what failed and how to write it
+            raise InputError(
+                f"material {self.name!r}: W(F, lam, mu) failed on a symbolic 3x3 matrix ({exc}); "
+                "write W with SymPy operations (F.det(), (F.T * F).trace(), sympy.log, ...)."
+            ) from exc
+        if not isinstance(W, sympy.Expr) or not W.free_symbols <= set(Fs) | {lam, mu}:
+            raise InputError(
+                f"material {self.name!r}: W must be a scalar SymPy expression of F, lam and mu; got {W!r}."
+            )
+        plane = {}
+        if d == 2:
+            plane = {Fs[2, 2]: 1, Fs[0, 2]: 0, Fs[1, 2]: 0, Fs[2, 0]: 0, Fs[2, 1]: 0}
+        free = [Fs[i, j] for i in range(d) for j in range(d)]
+        P = [[sympy.diff(W, Fs[i, j]) for j in range(d)] for i in range(d)]
+        A = [[[[sympy.diff(P[i][j], Fs[k, m]).subs(plane) for m in range(d)] for k in range(d)]
+               for j in range(d)] for i in range(d)]
+        exprs = {
+            "energy": W.subs(plane),
+            "stress": [[p.subs(plane) for p in row] for row in P],
+            "tangent": A,
+        }
+        if d == 2:
+            exprs["stress_zz"] = sympy.diff(W, Fs[2, 2]).subs(plane)
+        args = [*free, lam, mu]
+        out = {key: sympy.lambdify(args, e, modules="numpy", cse=True) for key, e in exprs.items()}
+        self._compiled[d] = out
+        return out
+
+    def _eval(self, key: str, F: np.ndarray, lam: float, mu: float, tail: tuple[int, ...]) -> np.ndarray:
+        d = F.shape[-1]
+        fun = self._compile(d)[key]
+        comps = [F[..., i, j] for i in range(d) for j in range(d)]
+        res = fun(*comps, float(lam), float(mu))
+        shape = F.shape[:-2]
+        flat = list(_flatten(res)) if tail else [res]
+        vals = np.stack([np.broadcast_to(np.asarray(v, dtype=float), shape) for v in flat], axis=-1)
+        return vals.reshape(shape + tail)
+
+    def energy(self, F, lam, mu):
+        return self._eval("energy", F, lam, mu, ())
+
+    def stress(self, F, lam, mu):
+        d = F.shape[-1]
+        return self._eval("stress", F, lam, mu, (d, d))
+
+    def tangent(self, F, lam, mu):
+        d = F.shape[-1]
+        return self._eval("tangent", F, lam, mu, (d, d, d, d))
+
+    def stress_zz(self, F, lam, mu):
+        if F.shape[-1] != 2:
+            raise InputError("stress_zz is the plane-strain out-of-plane stress; F must be 2x2.")
+        return self._eval("stress_zz", F, lam, mu, ())
+
+
+# ------------------------------------------------------------------------ registry
+_REGISTRY: dict[str, Callable[[], HyperelasticLaw]] = {
+    "neo-hookean": NeoHookean,
+    "saint-venant-kirchhoff": SaintVenantKirchhoff,
+}
+
+
+def available_materials() -> list[str]:
+    """Names of the registered hyperelastic laws."""
+    return sorted(_REGISTRY)
+
+
+def make_material(name: str) -> HyperelasticLaw:
+    """The hyperelastic law registered as ``name``.
+
+    Raises
+    ------
+    alcontact.errors.UnknownNameError
+        If no law has that name (the message lists the known ones).
+    """
+    if isinstance(name, HyperelasticLaw):
+        return name
+    if name not in _REGISTRY:
+        raise UnknownNameError("hyperelastic material", str(name), list(_REGISTRY))
+    return _REGISTRY[name]()
+
+
+def register_material(name: str, law: HyperelasticLaw | Callable[[], HyperelasticLaw], *,
+                      overwrite: bool = False) -> None:
+    """Register a law (an instance, or a factory returning one) under ``name``.
+
+    Examples
+    --------
+    >>> import sympy
+    >>> register_material("demo-svk-bulk", SymbolicMaterial(
+    ...     lambda F, lam, mu: lam / 2 * (F.det() - 1) ** 2 + mu / 2 * ((F.T * F).trace() - 3)))
+    >>> "demo-svk-bulk" in available_materials()
+    True
+    >>> unregister = _REGISTRY.pop("demo-svk-bulk")
+    """
+    name = str(name)
+    if not name:
+        raise InputError("material name must be a non-empty string.")
+    if name in _REGISTRY and not overwrite:
+        raise InputError(f"material {name!r} is already registered; pass overwrite=True to replace it.")
+    if isinstance(law, HyperelasticLaw):
+        instance = law
+        _REGISTRY[name] = lambda: instance
+    elif callable(law):
+        _REGISTRY[name] = law
+    else:
+        raise InputError(f"law must be a HyperelasticLaw or a factory returning one; got {law!r}.")

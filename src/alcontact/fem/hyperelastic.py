@@ -1,0 +1,386 @@
+r"""Hyperelastic bodies in total Lagrangian form (finite deformation, chapter 3).
+
+With the deformation gradient :math:`F = I + \nabla_X u` and a strain energy
+density :math:`W(F)` (:mod:`alcontact.fem._hyper_materials`), the body stores
+
+.. math::
+    \Pi_{int}(u) = \int_{\Omega_0} W(F)\,dV, \qquad
+    f_{int}(u) = \int_{\Omega_0} P(F) : \nabla_X \delta u\,dV, \qquad
+    K_T(u) = \int_{\Omega_0} \nabla_X \delta u : \mathbb{A}(F) : \nabla_X \Delta u\,dV,
+
+with :math:`P = \partial W/\partial F` the first Piola-Kirchhoff stress and
+:math:`\mathbb{A} = \partial P/\partial F` (material plus geometric stiffness in
+one tensor). In 2D the body is in plane strain (:math:`F_{33} = 1`).
+
+Everything else (named boundaries, Dirichlet data, load vectors on the reference
+configuration, factorizations, rigid-motion checks) is inherited from
+:class:`~alcontact.fem.LinearElasticity`; :meth:`Hyperelastic.stiffness` is the
+tangent at :math:`u = 0`, which equals the linear elastic stiffness.
+
+Assembly is vectorized: quadrature-point tensors with :func:`numpy.einsum`, and
+the CSR sparsity pattern plus the position of every element-matrix entry in it
+are computed once per body, so each tangent is one :func:`numpy.bincount`.
+"""
+
+from __future__ import annotations
+
+import logging
+import time
+from functools import cached_property
+
+import numpy as np
+import scipy.sparse as sp
+from skfem import Basis
+
+from alcontact.errors import ConvergenceError, InputError, InvertedElementError, NonFiniteError
+from alcontact.fem._hyper_materials import HyperelasticLaw, det, inv, make_material
+from alcontact.fem._material import Material
+from alcontact.fem.elasticity import LinearElasticity
+
+__all__ = ["Hyperelastic"]
+
+logger = logging.getLogger(__name__)
+
+
+def _scalar_gradients(basis: Basis) -> np.ndarray:
+    """Reference gradients of the local scalar shape functions, ``(nel, nqp, nloc, dim)``."""
+    grads = np.stack([np.asarray(phi[0].grad) for phi in basis.basis])  # (nloc, dim, nel, nqp)
+    return np.ascontiguousarray(grads.transpose(2, 3, 0, 1))
+
+
+def _pattern_generic(vdofs: np.ndarray, n: int):
+    """CSR pattern and entry positions from the element vector DOFs ``(nel, m)`` (any numbering)."""
+    keys = (vdofs[:, :, None] * n + vdofs[:, None, :]).ravel()
+    uniq, pos = np.unique(keys, return_inverse=True)
+    rows, indices = np.divmod(uniq, n)
+    indptr = np.zeros(n + 1, dtype=np.int64)
+    np.cumsum(np.bincount(rows, minlength=n), out=indptr[1:])
+    return indptr, indices, pos.reshape(vdofs.shape[0], -1)
+
+
+def _pattern_interleaved(sdofs: np.ndarray, ns: int, d: int):
+    """Same as :func:`_pattern_generic` for the interleaved numbering ``dof = d * k + c``.
+
+    The pattern is the scalar node graph with every entry a dense ``d x d``
+    block, so only the scalar pattern (``nloc**2`` entries per element instead
+    of ``(d nloc)**2``) is sorted and the vector positions follow in closed form.
+    """
+    nel, nloc = sdofs.shape
+    sind, sidx, spos = _pattern_generic(sdofs, ns)
+    deg = np.diff(sind)
+    # position in the vector CSR of entry (row d k + i, col d m + l):
+    # d*d*sind[k] + i*d*deg[k] + d*rank(k, m) + l
+    k = np.repeat(sdofs, nloc, axis=1)  # row node of each (a, b) entry
+    rank = spos - sind[k]
+    base = d * d * sind[k] + d * rank  # (nel, nloc*nloc) -> reshape (nel, a, b)
+    base = base.reshape(nel, nloc, 1, nloc, 1)
+    rowstep = (d * deg[sdofs]).reshape(nel, nloc, 1, 1, 1)
+    i = np.arange(d).reshape(1, 1, d, 1, 1)
+    l_ = np.arange(d).reshape(1, 1, 1, 1, d)
+    pos = base + i * rowstep + l_
+    n = ns * d
+    indptr = np.empty(n + 1, dtype=np.int64)
+    indptr[:-1] = (d * d * sind[:-1, None] + np.arange(d)[None, :] * d * deg[:, None]).ravel()
+    indptr[-1] = d * d * sind[-1]
+    nnz = int(indptr[-1])
+    vrow = np.repeat(np.arange(n), np.diff(indptr))
+    t = np.arange(nnz) - indptr[vrow]
+    kk = vrow // d
+    src = d * sind[kk] + t  # index into the per-scalar-entry expanded column list
+    cols = (d * sidx[:, None] + np.arange(d)[None, :]).ravel()
+    return indptr, cols[src], pos.reshape(nel, -1)
+
+
+class Hyperelastic(LinearElasticity):
+    r"""Total Lagrangian hyperelastic body with vector P1 or P2 Lagrange elements.
+
+    Parameters
+    ----------
+    mesh : skfem.MeshTri or skfem.MeshTet
+        Mesh with named boundaries, e.g. from :mod:`alcontact.fem.meshes`.
+    material : Material
+        Elastic constants; the law uses the Lamé constants :math:`(\lambda, \mu)`
+        (3D values; in 2D ``plane`` must be ``"strain"``).
+    order : {1, 2}
+        Polynomial degree.
+    model : str or HyperelasticLaw
+        Registered law name (:func:`~alcontact.fem.available_materials`:
+        ``"neo-hookean"``, ``"saint-venant-kirchhoff"``) or a law instance such
+        as a :class:`~alcontact.fem.SymbolicMaterial`.
+    intorder : int, optional
+        Quadrature degree; default ``2 (order - 1)`` (at least 1), exact for the
+        linearized stiffness, so that ``stiffness()`` equals the linear elastic one.
+
+    Attributes
+    ----------
+    law : HyperelasticLaw
+    linear : bool
+        ``False``: the tangent depends on ``u``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from alcontact.fem import Hyperelastic, Material, meshes
+    >>> body = Hyperelastic(meshes.rectangle(0, 1, 0, 1, 2, 2), Material(E=1.0, nu=0.3))
+    >>> u = body.interpolate(lambda x: np.stack([0.1 * x[0], 0 * x[1]]))  # 10 % stretch in x
+    >>> bool(body.energy(u) > 0), body.tangent(u).shape
+    (True, (18, 18))
+    """
+
+    #: the internal force is nonlinear in u: Newton on the full tangent
+    linear = False
+
+    def __init__(self, mesh, material: Material, order: int = 1, model: str | HyperelasticLaw = "neo-hookean",
+                 intorder: int | None = None):
+        super().__init__(mesh, material, order)
+        if self.dim == 2 and material.plane != "strain":
+            raise InputError(
+                f"material.plane={material.plane!r}: hyperelastic bodies in 2D are plane strain only "
+                "(plane stress would need F33 solved at each point); use Material(..., plane='strain') "
+                "or a 3D mesh."
+            )
+        self.law = make_material(model)
+        if self.law.compressible and not material.nu < 0.5:
+            raise InputError(
+                f"material nu={material.nu!r}: the {self.law.name!r} law is compressible and needs "
+                "nu < 0.5; use nu <= 0.49 for nearly incompressible rubber."
+            )
+        if intorder is None:
+            intorder = max(1, 2 * (self.order - 1))
+        if int(intorder) != intorder or intorder < 1:
+            raise InputError(f"intorder={intorder!r} must be a positive integer.")
+        self.intorder = int(intorder)
+        self.quadrature_basis = Basis(mesh, self.scalar_element, intorder=self.intorder)
+        self._G = _scalar_gradients(self.quadrature_basis)
+        self._dx = np.ascontiguousarray(self.quadrature_basis.dx)
+        sdofs = np.ascontiguousarray(self.quadrature_basis.element_dofs.T)  # (nel, nloc)
+        self._sdofs = sdofs
+        self._vdofs = self.dof_map[sdofs].reshape(sdofs.shape[0], -1)  # (nel, nloc*dim), a-major
+
+    # ------------------------------------------------------------- kinematics
+    def _check_u(self, u) -> np.ndarray:
+        u = np.asarray(u, dtype=float)
+        if u.shape != (self.ndofs,):
+            raise InputError(f"u must have shape ({self.ndofs},); got {u.shape}.")
+        if not np.all(np.isfinite(u)):
+            raise NonFiniteError("displacement u contains NaN or infinity; the previous step diverged.")
+        return u
+
+    def _gradient(self, u: np.ndarray, G: np.ndarray, sdofs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """``F`` and ``J`` at the quadrature points of ``G``; raises if some ``J <= 0``."""
+        uloc = u[self.dof_map[sdofs]]  # (nel, nloc, dim)
+        F = np.einsum("eai,eqaJ->eqiJ", uloc, G)
+        F += np.eye(self.dim)
+        J = det(F)
+        bad = ~(J > 0.0)
+        if bad.any():
+            elements = np.flatnonzero(bad.any(axis=1))
+            shown = ", ".join(map(str, elements[:20])) + (", ..." if elements.size > 20 else "")
+            raise InvertedElementError(
+                f"{elements.size} of {F.shape[0]} elements inverted (J = det F <= 0 at a quadrature "
+                f"point, min J = {float(np.nanmin(J)):.3g}): elements {shown}. The displacement is too "
+                "large for this mesh: reject the Newton step (line search) or cut the load step.",
+                elements=elements,
+            )
+        return F, J
+
+    def deformation_gradient(self, u) -> np.ndarray:
+        r"""Deformation gradient :math:`F = I + \nabla_X u` at the quadrature points.
+
+        Returns
+        -------
+        numpy.ndarray, shape (nel, nqp, dim, dim)
+
+        Raises
+        ------
+        alcontact.errors.InvertedElementError
+            If :math:`J = \det F \le 0` at some quadrature point (``.elements`` lists them).
+        """
+        return self._gradient(self._check_u(u), self._G, self._sdofs)[0]
+
+    # ------------------------------------------------- Body protocol (fem._body)
+    def energy(self, u) -> float:
+        r"""Stored energy :math:`\Pi_{int}(u) = \int_{\Omega_0} W(F)\,dV`."""
+        F, _ = self._gradient(self._check_u(u), self._G, self._sdofs)
+        lam, mu = self.lam, self.mu
+        return float(np.sum(self.law.energy(F, lam, mu) * self._dx))
+
+    def strain_energy(self, u) -> float:
+        """Same as :meth:`energy` (the linear body's name for it)."""
+        return self.energy(u)
+
+    def internal_force(self, u) -> np.ndarray:
+        r"""Internal force :math:`f_{int}(u) = \int_{\Omega_0} P(F) : \nabla_X \delta u\,dV`, shape ``(ndofs,)``."""
+        F, _ = self._gradient(self._check_u(u), self._G, self._sdofs)
+        P = self.law.stress(F, self.lam, self.mu)
+        fe = np.einsum("eqiJ,eqaJ,eq->eai", P, self._G, self._dx, optimize=True)
+        return np.bincount(self._vdofs.ravel(), weights=fe.ravel(), minlength=self.ndofs)
+
+    @cached_property
+    def _pattern(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        t0 = time.perf_counter()
+        d = self.dim
+        interleaved = np.array_equal(self.dof_map, d * np.arange(self.dof_map.shape[0])[:, None] + np.arange(d))
+        if interleaved:
+            indptr, indices, pos = _pattern_interleaved(self._sdofs, self.scalar_basis.N, d)
+        else:
+            indptr, indices, pos = _pattern_generic(self._vdofs, self.ndofs)
+        idx_t = np.int32 if indptr[-1] < np.iinfo(np.int32).max else np.int64
+        out = (indptr.astype(idx_t), indices.astype(idx_t), pos.astype(idx_t).ravel())
+        logger.debug("tangent sparsity pattern: nnz=%d in %.3f s", int(indptr[-1]), time.perf_counter() - t0)
+        return out
+
+    def tangent(self, u) -> sp.csr_matrix:
+        r"""Tangent stiffness :math:`K_T(u) = \partial f_{int}/\partial u` (symmetric CSR, material + geometric)."""
+        u = self._check_u(u)
+        F, _ = self._gradient(u, self._G, self._sdofs)
+        Kq = self.law.element_tangent(F, self._G, self.lam, self.mu)  # (nel, nqp, a, i, b, k)
+        Ke = np.einsum("eqaibk,eq->eaibk", Kq, self._dx, optimize=True)
+        indptr, indices, pos = self._pattern
+        data = np.bincount(pos, weights=Ke.ravel(), minlength=int(indptr[-1]))
+        K = sp.csr_matrix((data, indices, indptr), shape=(self.ndofs, self.ndofs))
+        K.has_sorted_indices = True
+        return K
+
+    def stiffness(self) -> sp.csr_matrix:
+        """Tangent at ``u = 0`` (equals the linear elastic stiffness; cached)."""
+        if self._stiffness is None:
+            self._stiffness = self.tangent(np.zeros(self.ndofs))
+        return self._stiffness
+
+    # ----------------------------------------------------------------- solving
+    def solve(self, load, dirichlet=(), *, steps: int = 1, rtol: float = 1e-10, max_iter: int = 25) -> np.ndarray:
+        r"""Solve :math:`f_{int}(u) = f_{ext}` by Newton's method with load steps.
+
+        The load and the Dirichlet values are applied in ``steps`` equal increments;
+        each increment runs Newton from the previous solution, halving the update
+        while it inverts an element or raises the residual.
+
+        Parameters
+        ----------
+        load : numpy.ndarray, shape (ndofs,)
+            Dead load on the reference configuration.
+        dirichlet : list of (dofs, values)
+            As returned by :meth:`dirichlet`.
+        steps : int
+            Number of load increments.
+        rtol : float
+            Convergence when the free residual is below ``rtol`` times the larger
+            of the load and the first residual of the step.
+        max_iter : int
+            Newton iterations per increment.
+
+        Raises
+        ------
+        alcontact.errors.ConvergenceError
+            If an increment does not converge (the message says what to try).
+        """
+        load = np.asarray(load, dtype=float)
+        if load.shape != (self.ndofs,):
+            raise InputError(f"load must have shape ({self.ndofs},); got {load.shape}.")
+        if int(steps) != steps or steps < 1:
+            raise InputError(f"steps={steps!r} must be a positive integer.")
+        dofs, vals = self._collect(dirichlet)
+        self.check_restrained(dofs)
+        free = np.ones(self.ndofs, dtype=bool)
+        free[dofs] = False
+        u = np.zeros(self.ndofs)
+        for step in range(1, int(steps) + 1):
+            s = step / steps
+            u[dofs] = s * vals
+            fext = s * load
+            u = self._newton(u, fext, dofs, free, rtol, max_iter, step, steps)
+        return u
+
+    def _newton(self, u, fext, dofs, free, rtol, max_iter, step, steps) -> np.ndarray:
+        def residual(v):
+            r = self.internal_force(v) - fext
+            return r, float(np.linalg.norm(r[free]))
+
+        try:
+            r, norm = residual(u)
+        except InvertedElementError as exc:
+            raise ConvergenceError(
+                f"load step {step}/{steps}: the prescribed displacements invert elements "
+                f"({exc.elements.size}); use more load steps (steps={2 * steps})."
+            ) from exc
+        scale = max(float(np.linalg.norm(fext[free])), norm, 1e-300)
+        for it in range(max_iter + 1):
+            logger.debug("newton step %d/%d it %d: |R| = %.3e", step, steps, it, norm)
+            if norm <= rtol * scale:
+                return u
+            if it == max_iter:
+                break
+            fac = self.factorize(dofs, matrix=self.tangent(u), check=False)
+            du = np.zeros(self.ndofs)
+            du[free] = fac.solve(-r[free])
+            t = 1.0
+            while t > 1e-4:
+                try:
+                    r_new, norm_new = residual(u + t * du)
+                except InvertedElementError:
+                    t *= 0.5
+                    continue
+                if norm_new < norm or t < 2e-4:
+                    break
+                t *= 0.5
+            else:
+                break
+            u = u + t * du
+            r, norm = r_new, norm_new
+        msg = (f"hyperelastic Newton did not converge in load step {step}/{steps} "
+               f"(|R| = {norm:.3e} > {rtol:.1e} * {scale:.3e}); use more load steps "
+               f"(steps={2 * steps}) or a larger max_iter.")
+        logger.warning(msg)
+        raise ConvergenceError(msg)
+
+    # ----------------------------------------------------------- postprocess
+    @cached_property
+    def _output_geometry(self) -> tuple[np.ndarray, np.ndarray]:
+        sb = self.scalar_basis
+        return _scalar_gradients(sb), np.ascontiguousarray(sb.element_dofs.T)
+
+    def _quadrature_tensors(self, u) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray | None]:
+        """``F, J, P`` and (2D) ``P33`` at the quadrature points of the output basis."""
+        G, sdofs = self._output_geometry
+        F, J = self._gradient(self._check_u(u), G, sdofs)
+        P = self.law.stress(F, self.lam, self.mu)
+        P33 = self.law.stress_zz(F, self.lam, self.mu) if self.dim == 2 else None
+        return F, J, P, P33
+
+    def _quadrature_stress(self, u) -> list[np.ndarray]:
+        r"""Cauchy stress :math:`\sigma = J^{-1} P F^T` at quadrature points (Voigt order, plus zz in 2D)."""
+        F, J, P, P33 = self._quadrature_tensors(u)
+        s = np.einsum("eqiJ,eqkJ->eqik", P, F) / J[..., None, None]
+        if self.dim == 2:
+            return [s[..., 0, 0], s[..., 1, 1], 0.5 * (s[..., 0, 1] + s[..., 1, 0]), P33 / J]
+        return [s[..., 0, 0], s[..., 1, 1], s[..., 2, 2], 0.5 * (s[..., 1, 2] + s[..., 2, 1]),
+                0.5 * (s[..., 0, 2] + s[..., 2, 0]), 0.5 * (s[..., 0, 1] + s[..., 1, 0])]
+
+    def stress(self, u, *, include_zz: bool = False) -> np.ndarray:
+        """Nodal Cauchy stress (current configuration) by L2 projection; columns as
+        :meth:`LinearElasticity.stress` (``xx, yy, xy`` [+ ``zz``] or ``xx, yy, zz, yz, xz, xy``).
+
+        Raises
+        ------
+        alcontact.errors.InvertedElementError
+            If ``u`` inverts an element.
+        """
+        return super().stress(u, include_zz=include_zz)
+
+    def first_piola(self, u, *, include_zz: bool = False) -> np.ndarray:
+        r"""Nodal first Piola-Kirchhoff (nominal) stress :math:`P` by L2 projection.
+
+        Returns
+        -------
+        numpy.ndarray, shape (n_scalar, dim * dim [+ 1])
+            Rows aligned with :meth:`all_node_dofs`; columns :math:`P_{iJ}` row-major
+            (``xx, xy, yx, yy`` in 2D, plus :math:`P_{33}` if ``include_zz``; nine in 3D).
+            :math:`P` is not symmetric: :math:`P_{iJ}` is the force in direction ``i``
+            per reference area normal to ``J``.
+        """
+        _, _, P, P33 = self._quadrature_tensors(u)
+        comps = [P[..., i, j] for i in range(self.dim) for j in range(self.dim)]
+        if self.dim == 2 and include_zz:
+            comps.append(P33)
+        return self._project(comps)
