@@ -164,10 +164,11 @@ class FiniteContact(ContactPoints):
         self.cand = np.empty(0, dtype=np.int64)
         self.last_pressure = np.zeros(pts.shape[0])
         self.configure(self.fixed_values, self.load, self.obstacle, self.x0)
+        self.accept(self.last_pressure)
         self.setup_seconds = time.perf_counter() - t0
 
     # ------------------------------------------------------------------ step data
-    def configure(self, fixed_values, load, obstacle, x_start) -> None:
+    def configure(self, fixed_values, load, obstacle, x_start, *, predictor_stiffness: float | None = None) -> None:
         """Set the data of one load step and its starting state; choose the candidates.
 
         Parameters
@@ -179,18 +180,64 @@ class FiniteContact(ContactPoints):
         obstacle : Obstacle
             Obstacle at this step (e.g. :func:`~alcontact.contact.obstacles.translate` of the original).
         x_start : ndarray
-            Starting free displacement (warm start: the last converged state).
+            Last converged free displacement (for the data set before this call).
+        predictor_stiffness : float, optional
+            Penalty stiffness :math:`\varepsilon_N` of the tangent predictor: the starting
+            state is ``x_start`` plus one linearized step for the changes of the prescribed
+            values, loads and obstacle position, with the points that carried pressure
+            (:meth:`accept`) held by springs :math:`w_i \varepsilon_N`; without it (or when the
+            predicted state inverts an element) the step starts from ``x_start``.
         """
-        self.fixed_values = np.asarray(fixed_values, dtype=float)
-        self.load = np.asarray(load, dtype=float)
+        fixed_values = np.asarray(fixed_values, dtype=float)
+        load = np.asarray(load, dtype=float)
+        x_start = np.array(x_start, dtype=float)
+        if predictor_stiffness is not None:
+            x_start = self._predict(x_start, fixed_values, load, obstacle, float(predictor_stiffness))
+        self.fixed_values = fixed_values
+        self.load = load
         self.obstacle = obstacle
-        self.x0 = np.array(x_start, dtype=float)
+        self.x0 = x_start
         self.u_free = self.expand(self.x0)
         self.g_free = self.all_gaps(self.u_free)
         gmax = float(np.max(self.g_free[self.movable], initial=-np.inf))
         self.max_free_penetration = gmax
         thr = -max(self.margin * self.h, 2.0 * max(gmax, 0.0))
         self.cand = np.flatnonzero(self.movable & (self.g_free > thr))
+
+    def _predict(self, x, fixed_values, load, obstacle, eps) -> np.ndarray:
+        """Tangent predictor of :meth:`configure` (linearized at the last converged state)."""
+        fv_old, load_old, ob_old = self._accepted
+        du_d = fixed_values - fv_old
+        df = load - load_old
+        pressed = np.flatnonzero(self.last_pressure > 0)
+        u = np.zeros(self.model.ndofs)
+        u[self.free] = x
+        u[self.fixed] = fv_old
+        xc = self._current(u, pressed)
+        dg = obstacle.gap(xc) - ob_old.gap(xc)  # gap change from the obstacle motion alone
+        if not (np.any(du_d) or np.any(df) or np.any(dg)):
+            return x
+        try:
+            K = self.body.tangent(u).tocsr()
+            Kf = K[self.free]
+            _, nu = ob_old.evaluate(xc)
+            Bm = self._B(nu, pressed)
+            k = eps * self.weights[pressed]
+            J = Kf[:, self.free] + Bm.T @ sp.diags(k) @ Bm
+            rhs = df[self.free] - Kf[:, self.fixed] @ du_d - Bm.T @ (k * dg)
+            dx = linear_solve(J, rhs)
+            self.linear_solves += 1
+            trial = x + dx
+            u_new = u.copy()
+            u_new[self.free] = trial
+            u_new[self.fixed] = fixed_values
+            fint = self.body.internal_force(u_new)  # raises for inverted elements
+            if np.all(np.isfinite(fint)) and np.all(np.isfinite(trial)):
+                return trial
+        except (InvertedElementError, np.linalg.LinAlgError):
+            pass
+        logger.debug("tangent predictor rejected; the step starts from the last converged state")
+        return x
 
     def expand(self, x: np.ndarray) -> np.ndarray:
         """Full displacement from the free DOFs and the prescribed values."""
@@ -262,12 +309,28 @@ class FiniteContact(ContactPoints):
         return self.last_pressure[self.cand].copy()
 
     def accept(self, pressure: np.ndarray) -> None:
-        """Record the pressures (all points) of an accepted load step for the next warm start."""
+        """Record the data and pressures (all points) of an accepted load step (next warm start)."""
         self.last_pressure = np.asarray(pressure, dtype=float).copy()
+        self._accepted = (self.fixed_values, self.load, self.obstacle)
 
     def scale_forces(self, x: np.ndarray, factor: float) -> np.ndarray:
-        """Push harder: ``x0 + factor (x - x0)`` (a first-order guess; used for barrier starting points)."""
-        return self.x0 + factor * (x - self.x0)
+        r"""Contact forces scaled by ``factor``, to first order (used for barrier starting points).
+
+        At an equilibrium ``x`` the contact forces balance the body, :math:`B^T r = -(f_{int} -
+        f_{ext})`, so scaling them changes the state by
+        :math:`\Delta x = (\text{factor} - 1)\, K_T^{-1} (f_{int} - f_{ext})` (exact for a linear body).
+        """
+        try:
+            u = self.expand(x)
+            rb, _ = self._body_state(u, False)
+            rhs = rb[self.free]
+            if not np.any(rhs):
+                return np.array(x, dtype=float)
+            dx = linear_solve(self._tangent_free(u), (factor - 1.0) * rhs)
+            self.linear_solves += 1
+            return np.asarray(x, dtype=float) + dx
+        except (InvertedElementError, np.linalg.LinAlgError):
+            return np.array(x, dtype=float)
 
     def final_displacement(self, x: np.ndarray) -> np.ndarray:
         return self.expand(x)
@@ -415,11 +478,7 @@ class FiniteContact(ContactPoints):
             return max(float(np.max(np.abs(R_), initial=0.0)) / scale,
                        float(np.max(np.abs(g_), initial=0.0)) / self.h)
 
-        try:
-            u, gA, Bm, R = evaluate(x, r)
-        except InvertedElementError as exc:
-            logger.warning("active-set step: inverted element at the start (%s)", exc)
-            return x, np.zeros(cand.size), self.gaps(x)
+        u, gA, Bm, R = evaluate(x, r)  # InvertedElementError: the load step is cut back
         res = measure(u, R, gA, r)
         ok = False
         for _it in range(maxiter):

@@ -201,6 +201,8 @@ def solve_finite(problem, algorithm: str = "simo-laursen", penalty: str | None =
     dc = FiniteContact(problem, fixed=data.fixed)
     eps0 = opts.eps_n if opts.eps_n is not None else penalty_stiffness(problem.model, dc.h, opts.penalty_scale)
     x = np.zeros(dc.free.size)
+    dc.configure(*data(0.0), x)  # the undeformed state belongs to t = 0
+    dc.accept(np.zeros(dc.points.shape[0]))
     t_prev = 0.0
     records: list[FiniteStep] = []
     status, message = ContactStatus.CONVERGED, "all load steps converged"
@@ -255,7 +257,7 @@ def _attempt(dc, data, run, opts, eps0, pen_name, x, t):
     """One try of the step to ``t`` from ``x``: ``(run, u, exception or None)``."""
     try:
         fv, load, ob = data(t)
-        dc.configure(fv, load, ob, x)
+        dc.configure(fv, load, ob, x, predictor_stiffness=eps0)
         if dc.cand.size == 0:
             u = dc.expand(x)
             # no point near the obstacle: the step is a contact-free Newton solve
