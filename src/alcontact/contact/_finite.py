@@ -412,6 +412,7 @@ class FiniteContact(ContactPoints):
             if not np.all(np.isfinite(dx)):
                 return NewtonOutcome(x, g, t, it, False, res, "non-finite Newton step")
             slope = float(R @ dx)
+            norm_R = float(np.linalg.norm(R))
             merit0 = pi if use_energy else 0.5 * float(R @ R)
             slope_m = slope if use_energy else -float(R @ R)
             alpha, accepted = 1.0, False
@@ -425,6 +426,11 @@ class FiniteContact(ContactPoints):
                 _, _, t_try, R_try, pi_try = trial
                 m_try = pi_try if use_energy else 0.5 * float(R_try @ R_try)
                 if np.isfinite(m_try) and m_try <= merit0 + _ARMIJO * alpha * min(slope_m, 0.0) + 1e-14 * abs(merit0):
+                    accepted = True
+                    break
+                # near the solution the energy decrease drowns in its round-off: a sufficient
+                # decrease of the residual norm accepts the step as well
+                if np.isfinite(m_try) and float(np.linalg.norm(R_try)) <= (1 - _ARMIJO * alpha) * norm_R:
                     accepted = True
                     break
                 alpha *= 0.5

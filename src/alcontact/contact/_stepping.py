@@ -88,6 +88,9 @@ class FiniteSolution:
     status : ContactStatus
         ``CONVERGED`` when every step was reached, else the status of the failed step.
     message : str
+    extra : dict
+        ``h``, ``dofs`` and ``residual_log`` (relative residuals of every Newton solve,
+        :attr:`FiniteContact.residual_log <alcontact.contact._finite.FiniteContact>`).
     """
 
     solution: ContactSolution
@@ -250,7 +253,7 @@ def solve_finite(problem, algorithm: str = "simo-laursen", penalty: str | None =
         out, u = last
     sol = _solution(problem, dc, out, u, algorithm, pen_name, opts, status, message, records, t_start)
     return FiniteSolution(sol, tuple(records), status, message,
-                          extra={"h": dc.h, "dofs": int(problem.model.ndofs)})
+                          extra={"h": dc.h, "dofs": int(problem.model.ndofs), "residual_log": dc.residual_log})
 
 
 def _attempt(dc, data, run, opts, eps0, pen_name, x, t):
