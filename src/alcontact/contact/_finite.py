@@ -342,10 +342,13 @@ class FiniteContact(ContactPoints):
     def extra(self) -> dict:
         return {"linear_solver": "direct", "kinematics": "finite", "newton_total": int(self.newton_iterations)}
 
-    def force_scale(self, u: np.ndarray, contact: np.ndarray) -> float:
-        """Force unit of the relative residuals: largest external, internal (reaction) or contact force."""
-        fint = np.asarray(self.body.internal_force(u), dtype=float)
-        return max(float(np.max(np.abs(self.load), initial=0.0)), float(np.max(np.abs(fint), initial=0.0)),
+    def force_scale(self, r_body: np.ndarray, contact: np.ndarray) -> float:
+        """Force unit of the relative residuals: largest external, internal (reaction) or contact force.
+
+        ``r_body`` is :math:`f_{int} - f_{ext}` on all DOFs, ``contact`` the contact forces.
+        """
+        fmax = float(np.max(np.abs(self.load), initial=0.0))
+        return max(fmax, float(np.max(np.abs(r_body + self.load), initial=0.0)),
                    float(np.max(np.abs(contact), initial=0.0)), 1e-300)
 
     # ------------------------------------------------------------------ subproblem (S)
@@ -357,6 +360,8 @@ class FiniteContact(ContactPoints):
         log: list[float] = []
         self.residual_log.append(log)
 
+        last_body = [None]  # f_int - f_ext of the last evaluation
+
         def evaluate(x_, need_energy=True):
             u_ = self.expand(x_)
             r_body, e_body = self._body_state(u_, need_energy)
@@ -365,6 +370,7 @@ class FiniteContact(ContactPoints):
             Bm = self._B(nu_, cand)
             R_ = r_body[self.free] + Bm.T @ (w * t_)
             pi_ = e_body + float(np.sum(w * law.energy(g_, lam))) if need_energy else np.nan
+            last_body[0] = r_body
             return u_, g_, t_, R_, pi_
 
         x = np.array(x0, dtype=float)
@@ -380,7 +386,7 @@ class FiniteContact(ContactPoints):
             return NewtonOutcome(x, g, t, 0, False, np.inf, "start outside the penalty domain")
         # globalize on the total energy where the body has one, else on the residual norm
         use_energy = bool(np.isfinite(pi))
-        scale = self.force_scale(u, w * t)
+        scale = self.force_scale(last_body[0], w * t)
         coord = float(np.max(np.abs(self._current(u, cand)), initial=1.0))
         floor = 0.0
         prev = np.inf
@@ -474,12 +480,14 @@ class FiniteContact(ContactPoints):
             rb, _ = self._body_state(u_, False)
             g_, nu_, _ = self._kinematics(u_, A, False)
             Bm = self._B(nu_, A)
+            last_body[0] = rb
             return u_, g_, Bm, rb[self.free] + Bm.T @ r_
 
+        last_body = [None]
         scale_run = [0.0]  # running force unit: a free rigid motion has no forces left to scale by
 
         def measure(u_, R_, g_, r_):
-            scale = max(scale_run[0], self.force_scale(u_, r_))
+            scale = max(scale_run[0], self.force_scale(last_body[0], r_))
             scale_run[0] = scale
             return max(float(np.max(np.abs(R_), initial=0.0)) / scale,
                        float(np.max(np.abs(g_), initial=0.0)) / self.h)
