@@ -352,6 +352,29 @@ class FiniteContact(ContactPoints):
                    float(np.max(np.abs(contact), initial=0.0)), 1e-300)
 
     # ------------------------------------------------------------------ subproblem (S)
+    def residual(self, law, lam, x: np.ndarray) -> np.ndarray:
+        r""":math:`R(x) = f_{int}(u) - f_{ext} + B(u)^T (w \circ t_N(g(u)))` on the free DOFs (module doc)."""
+        u = self.expand(x)
+        rb, _ = self._body_state(u, False)
+        g, nu, _ = self._kinematics(u, self.cand, False)
+        t = law.traction(g, lam)
+        return rb[self.free] + self._B(nu, self.cand).T @ (self.weights[self.cand] * t)
+
+    def jacobian(self, law, lam, x: np.ndarray) -> sp.csr_matrix:
+        r"""Consistent tangent :math:`J(x) = \partial R/\partial x` with the curvature term (module doc)."""
+        u = self.expand(x)
+        g = self.obstacle.gap(self._current(u, self.cand))
+        return self._newton_matrix(u, law.traction(g, lam), law.stiffness(g, lam))
+
+    def _newton_matrix(self, u, t, D) -> sp.csr_matrix:
+        r""":math:`K_T + B^T \operatorname{diag}(w D) B + \sum_i w_i t_i H_i` at ``u`` (candidates)."""
+        cand = self.cand
+        w = self.weights[cand]
+        _, nu, H = self._kinematics(u, cand, True)
+        Bm = self._B(nu, cand)
+        return (self._tangent_free(u) + Bm.T @ sp.diags(w * D) @ Bm
+                + self._point_blocks(cand, (w * t)[:, None, None] * H)).tocsr()
+
     def subproblem(self, law, lam, x0, *, tol: float, maxiter: int) -> NewtonOutcome:
         """Newton's method for :math:`R(x) = 0` of subproblem (S) (module doc)."""
         cand = self.cand
@@ -402,10 +425,7 @@ class FiniteContact(ContactPoints):
             D = law.stiffness(g, lam)
             # round-off floor of the residual: gaps from absolute coordinates, times the contact stiffness
             floor = 1e3 * _EPS * coord * float(np.max(w * np.abs(D), initial=0.0)) / scale
-            _, nu, H = self._kinematics(u, cand, True)
-            Bm = self._B(nu, cand)
-            J = (self._tangent_free(u) + Bm.T @ sp.diags(w * D) @ Bm
-                 + self._point_blocks(cand, (w * t)[:, None, None] * H))
+            J = self._newton_matrix(u, t, D)
             tb = time.perf_counter()
             self.assembly_seconds += tb - ta
             try:
