@@ -51,14 +51,14 @@ def _quadratic_pairs(log):
     """Pairs (e_k, e_k+1) near the solution.
 
     The final monotone run of the residuals (after the last increase, i.e. once the
-    active set has settled), with e_k <= 1e-3 and e_k+1 above the round-off floor 1e-10.
+    active set has settled), with e_k <= 1e-2 and e_k+1 above the round-off floor 1e-10.
     """
     start = 0
     for k in range(1, len(log)):
         if log[k] > log[k - 1]:
             start = k
     tail = log[start:]
-    return [(a, b) for a, b in zip(tail[:-1], tail[1:]) if a <= 1e-3 and b >= 1e-10]
+    return [(a, b) for a, b in zip(tail[:-1], tail[1:]) if a <= 1e-2 and b >= 1e-10]
 
 
 @pytest.mark.parametrize("algorithm", ["ssn", "simo-laursen"])
@@ -67,10 +67,11 @@ def test_newton_converges_quadratically(algorithm):
 
     Near the solution, quadratic convergence means :math:`e_{k+1} \le C e_k^2` with a
     moderate constant; linear or superlinear convergence would give
-    :math:`e_{k+1}/e_k^2 \to \infty`. Asserted: :math:`e_{k+1}/e_k^2 \le 10^3` for every pair
-    with :math:`e_k \le 10^{-3}` in the final monotone run above the round-off floor, and
-    at least 2 such pairs
-    (curved obstacle: the curvature term of the tangent is needed for this).
+    :math:`e_{k+1}/e_k^2 \to \infty` and an order estimate :math:`\log e_{k+1}/\log e_k`
+    near 1. Asserted for every pair with :math:`e_k \le 10^{-2}` in the final monotone run
+    above the round-off floor: :math:`e_{k+1}/e_k^2 \le 10^3` and
+    :math:`\log e_{k+1}/\log e_k \ge 1.5`, with at least 2 such pairs (curved obstacle:
+    without the curvature term of the tangent this fails).
     """
     problem = _finite(hertz.hertz_2d(n_per_a=4, growth=1.3))
     fs = solve_finite(problem, algorithm, steps=2, obstacle_path=_press(problem.meta["delta"]))
@@ -79,6 +80,8 @@ def test_newton_converges_quadratically(algorithm):
     assert len(pairs) >= 2
     ratios = [b / a**2 for a, b in pairs]
     assert max(ratios) <= 1e3, ratios
+    orders = [np.log(b) / np.log(a) for a, b in pairs]
+    assert min(orders) >= 1.5, orders
 
 
 @pytest.mark.parametrize("algorithm", ["ssn", "simo-laursen"])

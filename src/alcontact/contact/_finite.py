@@ -479,19 +479,48 @@ class FiniteContact(ContactPoints):
 
     # ------------------------------------------------------------------ reference (active set)
     def solve_active(self, active, lam, x, c, *, tol: float = 1e-12, maxiter: int = 50):
-        """Active-set step of :func:`run_ssn`: Newton on the saddle-point system of :math:`g_A(u) = 0`.
+        r"""Active-set step of :func:`run_ssn`, as a semi-smooth Newton method (Alart-Curnier type).
 
-        Returns ``(x, lam_new, g)`` with the pressures ``lam_new`` (zero off ``active``)
-        and the gaps of all candidates. A Newton failure is logged; the outer loop then
-        sees the remaining penetration.
+        Newton's method on the saddle-point system of :math:`g_A(u) = 0` (module doc),
+        with the active set re-predicted after every Newton step from
+        :math:`\lambda_i + c\,g_i > 0` on all candidates and switched as soon as it changes
+        (a Newton step of :math:`\lambda - \max(0, \lambda + c g) = 0`), so the outer
+        active-set loop mostly finds its set settled. Returns ``(x, lam_new, g)`` with the
+        pressures ``lam_new`` (zero off the final active set) and the gaps of all candidates.
+        A Newton failure is logged; the outer loop then sees the remaining penetration.
+        """
+        active = np.asarray(active, dtype=bool).copy()
+        lam_all = np.where(active, np.maximum(np.asarray(lam, dtype=float), 0.0), 0.0)
+        x = np.array(x, dtype=float)
+        budget = int(maxiter)
+        converged_sets = set()
+        while budget > 0:
+            x, lam_all, ok, used = self._equality_newton(active, lam_all, x, c, tol, budget)
+            budget -= used
+            new_active = (lam_all + c * self.gaps(x)) > 0
+            if ok:
+                key = active.tobytes()
+                if np.array_equal(new_active, active) or key in converged_sets:
+                    break
+                converged_sets.add(key)
+            elif np.array_equal(new_active, active):
+                break  # the equality Newton failed on a settled set (logged there)
+            lam_all = np.where(new_active, lam_all, 0.0)
+            active = new_active
+        return x, np.where(active, lam_all, 0.0), self.gaps(x)
+
+    def _equality_newton(self, active, lam_all, x, c, tol, maxiter):
+        """Newton on :math:`g_A = 0` (saddle point); stops early when the predicted active set changes.
+
+        Returns ``(x, lam_all, converged, newton_steps)``.
         """
         cand = self.cand
-        A = cand[np.flatnonzero(active)]
+        idx = np.flatnonzero(active)
+        A = cand[idx]
         nA = A.size
         wA = self.weights[A]
-        r = np.maximum(np.asarray(lam, dtype=float)[np.flatnonzero(active)], 0.0) * wA
+        r = np.maximum(lam_all[idx], 0.0) * wA
         nf = self.free.size
-        x = np.array(x, dtype=float)
         log: list[float] = []
         self.residual_log.append(log)
 
@@ -512,14 +541,18 @@ class FiniteContact(ContactPoints):
             return max(float(np.max(np.abs(R_), initial=0.0)) / scale,
                        float(np.max(np.abs(g_), initial=0.0)) / self.h)
 
+        def lam_of(r_):
+            out = np.zeros(cand.size)
+            out[idx] = r_ / wA
+            return out
+
         u, gA, Bm, R = evaluate(x, r)  # InvertedElementError: the load step is cut back
         res = measure(u, R, gA, r)
-        ok = False
+        steps = 0
         for _it in range(maxiter):
             log.append(res)
             if res <= tol or (len(log) > 2 and res <= 1e-8 and res > 0.5 * log[-2]):
-                ok = True
-                break
+                return x, lam_of(r), True, steps
             ta = time.perf_counter()
             _, _, H = self._kinematics(u, A, True)
             Kt = self._tangent_free(u) + self._point_blocks(A, r[:, None, None] * H)
@@ -530,10 +563,11 @@ class FiniteContact(ContactPoints):
                 step = linear_solve(J, -np.concatenate([R, gA]))
             except np.linalg.LinAlgError:
                 logger.warning("active-set step: singular saddle-point matrix with %d active points", nA)
-                break
+                return x, lam_of(r), False, steps + 1
             self.solve_seconds += time.perf_counter() - tb
             self.linear_solves += 1
             self.newton_iterations += 1
+            steps += 1
             dx, dr = step[:nf], step[nf:]
             alpha = 1.0
             for _ in range(_MAX_HALVINGS):
@@ -548,14 +582,14 @@ class FiniteContact(ContactPoints):
                 alpha *= 0.5
             else:
                 logger.warning("active-set step: every trial step inverts an element")
-                break
+                return x, lam_of(r), False, steps
             x, r = x + alpha * dx, r + alpha * dr
             u, gA, Bm, R = trial
             res = res_try
-        if not ok:
-            logger.warning("active-set Newton stopped at relative residual %.2e; the active-set loop continues",
-                           res)
-        lam_new = np.zeros(cand.size)
-        lam_new[np.flatnonzero(active)] = r / wA
-        return x, lam_new, self.gaps(x)
-
+            if alpha == 1.0 and res > tol:
+                # semi-smooth Newton: switch as soon as the predicted active set changes
+                predicted = (lam_of(r) + c * self.gaps(x)) > 0
+                if not np.array_equal(predicted, active):
+                    return x, lam_of(r), False, steps
+        logger.warning("active-set Newton stopped at relative residual %.2e after %d steps", res, steps)
+        return x, lam_of(r), False, steps
