@@ -60,7 +60,7 @@ class FiniteStep:
     cutbacks : int
         Halvings of the increment needed before this step was accepted.
     seconds : float
-        Wall time of the step.
+        Wall time of the step (failed attempts included).
     message : str
     """
 
@@ -183,7 +183,8 @@ def solve_finite(problem, algorithm: str = "simo-laursen", penalty: str | None =
     obstacle_path : callable ``t -> (d,)``, optional
         Translation of the obstacle at pseudo-time ``t``.
     max_cutbacks : int
-        Halvings of a failing increment before the run stops with a negative status.
+        Halvings of a step's increment allowed (at most ``2**max_cutbacks`` sub-steps per
+        step); a failure at the smallest increment stops the run with a negative status.
 
     Returns
     -------
@@ -211,31 +212,35 @@ def solve_finite(problem, algorithm: str = "simo-laursen", penalty: str | None =
     status, message = ContactStatus.CONVERGED, "all load steps converged"
     last = None
     queue = list(times)
-    dt_max = None
+    level = 0  # halvings of the nominal increment of the current step interval
+    nominal = None
     while queue:
         t_target = queue[0]
+        if nominal is None:
+            nominal = t_target - t_prev
         cut = 0
-        dt = t_target - t_prev if dt_max is None else min(t_target - t_prev, dt_max)
+        dt = min(t_target - t_prev, nominal * 0.5**level)
         newton0, solves0 = dc.newton_iterations, dc.linear_solves
+        t0 = time.perf_counter()
         while True:
             t = t_prev + dt if t_prev + dt < t_target - 1e-14 * max(1.0, t_target) else t_target
-            t0 = time.perf_counter()
             out, u, exc = _attempt(dc, data, run, opts, eps0, pen_name, x, t)
             if exc is None and out.status > 0:
                 break
             reason = str(exc) if exc is not None else f"{out.status.label}: {out.message}"
-            if cut >= max_cutbacks:
+            if level >= max_cutbacks:
                 status = out.status if (exc is None and out.status < 0) else ContactStatus.NEWTON_FAILED
-                message = (f"load step to t={t:.6g} failed after {cut} cut-backs ({reason}); use more load "
+                message = (f"load step to t={t:.6g} failed at the smallest increment {dt:.3g} ({max_cutbacks} "
+                           f"halvings; {reason}); use more load "
                            "steps, a smaller penalty_scale or algorithm='ssn'")
                 logger.warning("finite-deformation contact: %s", message)
                 break
             cut += 1
-            dt *= 0.5
+            level += 1
+            dt = min(t_target - t_prev, nominal * 0.5**level)
             logger.info("load step to t=%.6g failed (%s); cutting back to dt=%.3g", t, reason, dt)
         if status < 0:
             break
-        dt_max = dt if cut else None
         x = out.r.copy()
         force, pressure = _force(dc, out, u)
         dc.accept(pressure)
@@ -247,6 +252,7 @@ def solve_finite(problem, algorithm: str = "simo-laursen", penalty: str | None =
         t_prev = t
         if t >= t_target - 1e-14 * max(1.0, t_target):
             queue.pop(0)
+            level, nominal = 0, None  # the next step interval starts at its full increment
     if last is None:
         out, u = _Run(x, np.zeros(dc.cand.size), dc.gaps(x), status, message, 0, 0, eps0, np.inf, []), dc.expand(x)
     else:
@@ -262,7 +268,6 @@ def _attempt(dc, data, run, opts, eps0, pen_name, x, t):
         fv, load, ob = data(t)
         dc.configure(fv, load, ob, x, predictor_stiffness=eps0)
         if dc.cand.size == 0:
-            u = dc.expand(x)
             # no point near the obstacle: the step is a contact-free Newton solve
             out = _free_solve(dc, opts)
             return out, dc.expand(out.r), None
@@ -289,12 +294,12 @@ def _free_solve(dc, opts) -> _Run:
                 0, out.iterations, 0.0, out.residual, [])
 
 
-def _force(dc, out, u) -> np.ndarray:
-    g_all = dc.all_gaps(u)  # updates the normals at the current configuration
+def _force(dc, out, u) -> tuple[np.ndarray, np.ndarray]:
+    """Resultant contact force and pressures (all points) of a converged step."""
+    dc.all_gaps(u)  # the normals at the current configuration
     p = np.zeros(dc.points.shape[0])
     if out.lam.size:
         p[dc.cand] = np.maximum(out.lam, 0.0)
-    del g_all
     return np.sum((dc.weights * p)[:, None] * dc.normals, axis=0), p
 
 
