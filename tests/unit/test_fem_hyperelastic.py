@@ -12,8 +12,15 @@ import pytest
 import scipy.sparse as sp
 import sympy
 
-from alcontact.errors import InputError, InvertedElementError, NonFiniteError, UnknownNameError
+from alcontact.errors import (
+    ConvergenceError,
+    InputError,
+    InvertedElementError,
+    NonFiniteError,
+    UnknownNameError,
+)
 from alcontact.fem import (
+    Body,
     Hyperelastic,
     HyperelasticLaw,
     LinearElasticity,
@@ -51,6 +58,8 @@ def _svk_W(F, lam, mu):
 
 
 SYMBOLIC = {"neo-hookean": _neo_hookean_W, "saint-venant-kirchhoff": _svk_W}
+#: shared so that each derivation is compiled once per test session
+SYMBOLIC_LAWS = {name: SymbolicMaterial(W, name=f"sym-{name}") for name, W in SYMBOLIC.items()}
 
 
 # ----------------------------------------------------------------- registry
@@ -87,6 +96,12 @@ def test_register_user_law_by_energy():
         _REGISTRY.pop("test-user-law")
     with pytest.raises(InputError, match="HyperelasticLaw"):
         register_material("x", 3.0)
+    register_material("test-bad-factory", lambda: 3.0)
+    try:
+        with pytest.raises(InputError, match="returned 3.0, not a HyperelasticLaw"):
+            make_material("test-bad-factory")
+    finally:
+        _REGISTRY.pop("test-bad-factory")
 
 
 def test_symbolic_law_rejects_bad_energy():
@@ -133,6 +148,29 @@ def test_tangent_is_derivative_of_stress(name, d):
     np.testing.assert_allclose(A, A.transpose(0, 3, 4, 1, 2), rtol=0, atol=1e-13 * np.abs(A).max())
 
 
+def _random_rotations(rng, n, d):
+    Q, R = np.linalg.qr(rng.standard_normal((n, d, d)))
+    Q = Q * np.sign(np.diagonal(R, axis1=1, axis2=2))[:, None, :]
+    Q[np.linalg.det(Q) < 0, :, 0] *= -1.0
+    return Q
+
+
+@pytest.mark.parametrize("d", [2, 3])
+@pytest.mark.parametrize("name", LAWS)
+def test_objectivity_and_isotropy(name, d):
+    """W(QF) = W(F) = W(FQ), P(QF) = Q P(F), A(QF) = Q A(F) Q for random rotations Q (rel. 1e-12)."""
+    law, rng = make_material(name), np.random.default_rng(7)
+    F, Q = _random_F(rng, 20, d), _random_rotations(rng, 20, d)
+    W = law.energy(F, LAM, MU)
+    np.testing.assert_allclose(law.energy(Q @ F, LAM, MU), W, rtol=1e-12, atol=1e-13)
+    np.testing.assert_allclose(law.energy(F @ Q, LAM, MU), W, rtol=1e-12, atol=1e-13)
+    P = law.stress(F, LAM, MU)
+    np.testing.assert_allclose(law.stress(Q @ F, LAM, MU), Q @ P, rtol=1e-12, atol=1e-12 * np.abs(P).max())
+    A = law.tangent(F, LAM, MU)
+    QAQ = np.einsum("nia,naJbL,nkb->niJkL", Q, A, Q)
+    np.testing.assert_allclose(law.tangent(Q @ F, LAM, MU), QAQ, rtol=1e-12, atol=1e-12 * np.abs(A).max())
+
+
 @pytest.mark.parametrize("name", LAWS)
 def test_small_strain_limit_is_linear_elasticity(name):
     """At F = I: W = 0, P = 0 and A = lam d_iJ d_kL + mu (d_ik d_JL + d_iL d_Jk)."""
@@ -148,7 +186,7 @@ def test_small_strain_limit_is_linear_elasticity(name):
 @pytest.mark.parametrize("name", LAWS)
 def test_closed_forms_match_symbolic_derivation(name, d):
     """The hand-written laws agree with SymPy's derivatives of the same W to 1e-12."""
-    law, sym = make_material(name), SymbolicMaterial(SYMBOLIC[name], name=f"sym-{name}")
+    law, sym = make_material(name), SYMBOLIC_LAWS[name]
     F = _random_F(np.random.default_rng(2), 30, d)
     for what in ("energy", "stress", "tangent"):
         a, b = getattr(law, what)(F, LAM, MU), getattr(sym, what)(F, LAM, MU)
@@ -177,12 +215,17 @@ def test_plane_strain_is_the_in_plane_block_of_3d(name):
 @pytest.mark.parametrize("name", LAWS)
 def test_fast_element_tangent_matches_generic_contraction(name, d):
     law, rng = make_material(name), np.random.default_rng(5)
-    nloc = d + 1 if name == "neo-hookean" else 3 * d  # P1 and a P2-sized local basis
-    F = _random_F(rng, 12, d).reshape(4, 3, d, d)
-    G = rng.standard_normal((4, 3, nloc, d))
-    fast = law.element_tangent(F, G, LAM, MU)
-    generic = HyperelasticLaw.element_tangent(law, F, G, LAM, MU)
-    np.testing.assert_allclose(fast, generic, rtol=1e-12, atol=1e-12 * np.abs(generic).max())
+    for nqp, nloc in [(1, d + 1), (3, 3 * d)]:  # P1 (one point) and a P2-sized local basis
+        F = _random_F(rng, 4 * nqp, d).reshape(4, nqp, d, d)
+        G = rng.standard_normal((4, nqp, nloc, d))
+        dx = rng.uniform(0.1, 1.0, (4, nqp))
+        fast = law.element_tangent(F, G, dx, LAM, MU)
+        # reference: the definition K_aibk = sum_q dx G_aJ A_iJkL G_bL, term by term
+        ref = np.einsum("eq,eqaJ,eqiJkL,eqbL->eaibk", dx, G, law.tangent(F, LAM, MU), G)
+        generic = HyperelasticLaw.element_tangent(law, F, G, dx, LAM, MU)
+        assert fast.shape == ref.shape == (4, nloc, d, nloc, d)
+        np.testing.assert_allclose(fast, ref, rtol=1e-12, atol=1e-12 * np.abs(ref).max())
+        np.testing.assert_allclose(generic, ref, rtol=1e-12, atol=1e-12 * np.abs(ref).max())
 
 
 # ------------------------------------------------------------ assembled body
@@ -205,6 +248,9 @@ def test_assembled_force_and_tangent_against_finite_differences(dim, order, name
     f, K = body.internal_force(u), body.tangent(u)
     assert isinstance(K, sp.csr_matrix) and K.shape == (body.ndofs, body.ndofs)
     assert abs(K - K.T).max() == 0.0  # exactly symmetric
+    K0 = body.tangent(np.zeros(body.ndofs))
+    K0.eliminate_zeros()  # in-place structure change of one tangent leaves the next intact
+    assert (body.tangent(u) != K).nnz == 0
     for _ in range(3):
         v = rng.standard_normal(body.ndofs)
         dE = (body.energy(u + h * v) - body.energy(u - h * v)) / (2 * h)
@@ -221,6 +267,7 @@ def test_stiffness_is_the_linear_elastic_stiffness(dim, order, name):
     K0, K = body.stiffness(), LinearElasticity(_mesh(dim), mat, order=order).stiffness()
     assert abs(K0 - K).max() <= 1e-13 * abs(K).max()
     assert body.linear is False and body.energy(np.zeros(body.ndofs)) == 0.0
+    assert isinstance(body, Body)
     np.testing.assert_allclose(body.internal_force(np.zeros(body.ndofs)), 0.0, atol=1e-14)
 
 
@@ -242,7 +289,10 @@ def test_interleaved_pattern_matches_generic(dim, order):
     for x, y in zip(a, b):
         np.testing.assert_array_equal(x, y)
     # the pattern is the element graph with dense dim x dim blocks, and holds every entry of K
-    ind, idx, _ = a
+    ind, idx, _, tperm = a
+    rows = np.repeat(np.arange(body.ndofs), np.diff(ind))
+    np.testing.assert_array_equal(rows[tperm], idx)  # tperm points at the transposed entry
+    np.testing.assert_array_equal(idx[tperm], rows)
     S0 = sp.csr_matrix((np.ones(idx.size), idx, ind), shape=(body.ndofs, body.ndofs))
     expect = sp.kron(body.node_graph, np.ones((dim, dim)), format="csr")
     assert S0.nnz == expect.nnz and abs(S0 - (expect != 0)).max() == 0
@@ -274,10 +324,12 @@ def test_input_errors():
     mesh = meshes.rectangle(0, 1, 0, 1, 1, 1)
     with pytest.raises(InputError, match="plane strain only"):
         Hyperelastic(mesh, Material(E=1.0, nu=0.3, plane="stress"))
-    with pytest.raises(InputError, match="nu"):
+    with pytest.raises(InputError, match=r"nu=0.5 .*use nu <= 0.49"):
         Hyperelastic(mesh, Material(E=1.0, nu=0.5))
-    with pytest.raises(InputError, match="intorder"):
-        Hyperelastic(mesh, Material(E=1.0, nu=0.3), intorder=0)
+    for bad in (0, 1.5, "two"):
+        with pytest.raises(InputError, match="intorder"):
+            Hyperelastic(mesh, Material(E=1.0, nu=0.3), intorder=bad)
+    assert Hyperelastic(mesh, Material(E=1.0, nu=0.3), order=2, intorder=4).intorder == 4
 
 
 def test_cauchy_and_piola_output_of_a_homogeneous_stretch():
@@ -295,3 +347,33 @@ def test_cauchy_and_piola_output_of_a_homogeneous_stretch():
     expect = [sig[0, 0], sig[1, 1], sig[0, 1], P33 / J]
     np.testing.assert_allclose(nodal_s, np.tile(expect, (nodal_s.shape[0], 1)), atol=1e-10)
     assert body.von_mises(u).shape == (body.scalar_basis.N,)
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_symbolic_law_body_matches_builtin_body(dim):
+    """A body on SymPy-derived neo-Hookean (generic tangent contraction) equals the built-in one to 1e-11."""
+    mat = Material(E=10.0, nu=0.3)
+    fast = Hyperelastic(_mesh(dim), mat, order=2)
+    sym = Hyperelastic(_mesh(dim), mat, order=2, model=SYMBOLIC_LAWS["neo-hookean"])
+    u = fast.interpolate(lambda x: 0.2 * x[::-1] * np.array([1.0, -0.5, 0.3][:dim])[:, None])
+    assert sym.energy(u) == pytest.approx(fast.energy(u), rel=1e-12)
+    np.testing.assert_allclose(sym.internal_force(u), fast.internal_force(u), rtol=0, atol=1e-12)
+    Ks, Kf = sym.tangent(u), fast.tangent(u)
+    assert abs(Ks - Kf).max() <= 1e-11 * abs(Kf).max() and abs(Ks - Ks.T).max() == 0.0
+
+
+def test_solve_failures_raise_convergence_error_with_advice(caplog):
+    body = Hyperelastic(meshes.rectangle(0, 1, 0, 1, 2, 2), Material(E=10.0, nu=0.3))
+    left = body.dirichlet("left")
+    pull = [left, body.dirichlet("right", components=[0], value=0.5)]
+    with caplog.at_level("WARNING", logger="alcontact.fem.hyperelastic"):
+        with pytest.raises(ConvergenceError, match=r"did not converge in load step 1/1.*steps=2"):
+            body.solve(np.zeros(body.ndofs), dirichlet=pull, max_iter=1)
+    assert any("did not converge" in r.message for r in caplog.records)
+    crush = [left, body.dirichlet("right", components=[0], value=-1.5)]  # x = 1 -> x = -0.5: inverted
+    with pytest.raises(ConvergenceError, match="invert elements"):
+        body.solve(np.zeros(body.ndofs), dirichlet=crush)
+    with pytest.raises(InputError, match="steps"):
+        body.solve(np.zeros(body.ndofs), dirichlet=pull, steps=0)
+    with pytest.raises(InputError, match="rigid-body"):
+        body.solve(np.zeros(body.ndofs), dirichlet=[body.dirichlet("left", components=[0])])

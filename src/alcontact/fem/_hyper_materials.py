@@ -100,6 +100,35 @@ def inv(F: np.ndarray, J: np.ndarray | None = None) -> np.ndarray:
     return out / J[..., None, None]
 
 
+def _weighted_outer(x: np.ndarray, y: np.ndarray, w: np.ndarray) -> np.ndarray:
+    """``sum_q w[e, q] x[e, q, :] y[e, q, :]^T`` for ``x, y`` of shape ``(nel, nqp, n)``."""
+    if x.shape[1] == 1:  # one point: a broadcast product beats a batched matmul
+        return (x[:, 0, :] * w[:, 0, None])[:, :, None] * y[:, 0, None, :]
+    return np.matmul(np.swapaxes(x * w[:, :, None], 1, 2), y)
+
+
+def _assemble_terms(g, w1, w2, G, w3, G2=None) -> np.ndarray:
+    r"""Integrated element tangent of the common isotropic form
+
+    .. math::
+        K_{aibk} = \sum_q w_1\, g_{ai} g_{bk} + w_2\, g_{ak} g_{bi} + w_3\, (G_a \cdot G'_b)\,\delta_{ik}
+
+    with ``g``, ``G`` and ``G' = G2`` (default ``G``) of shape ``(nel, nqp, nloc, d)`` and
+    weights of shape ``(nel, nqp)``; returns ``(nel, nloc, d, nloc, d)``.
+    """
+    nel, nqp, nloc, d = g.shape
+    G2 = G if G2 is None else G2
+    gf = g.reshape(nel, nqp, nloc * d)
+    K = _weighted_outer(gf, gf, w1).reshape(nel, nloc, d, nloc, d)
+    K += _weighted_outer(gf, gf, w2).reshape(nel, nloc, d, nloc, d).transpose(0, 1, 4, 3, 2)
+    GG = _weighted_outer(G[..., 0], G2[..., 0], w3)
+    for J in range(1, d):
+        GG += _weighted_outer(G[..., J], G2[..., J], w3)
+    for i in range(d):
+        K[:, :, i, :, i] += GG
+    return K
+
+
 # ------------------------------------------------------------------------- protocol
 class HyperelasticLaw(ABC):
     r"""Base class of a hyperelastic law :math:`W(F)` (see module doc).
@@ -113,12 +142,9 @@ class HyperelasticLaw(ABC):
     ----------
     name : str
         Registry name.
-    compressible : bool
-        ``True`` for laws that need :math:`\nu < 0.5`.
     """
 
     name: str = ""
-    compressible: bool = True
 
     @abstractmethod
     def energy(self, F: np.ndarray, lam: float, mu: float) -> np.ndarray:
@@ -136,23 +162,28 @@ class HyperelasticLaw(ABC):
     def stress_zz(self, F: np.ndarray, lam: float, mu: float) -> np.ndarray:
         r"""Plane strain only (``d = 2``): the out-of-plane stress :math:`P_{33} = \sigma_{33} J`."""
 
-    def element_tangent(self, F: np.ndarray, G: np.ndarray, lam: float, mu: float) -> np.ndarray:
-        r"""Per-quadrature-point element tangent :math:`G_{aJ}\,\mathbb{A}_{iJkL}\,G_{bL}`.
+    def element_tangent(self, F: np.ndarray, G: np.ndarray, dx: np.ndarray, lam: float, mu: float) -> np.ndarray:
+        r"""Integrated element tangents :math:`K^e_{aibk} = \sum_q w_q\, G_{aJ}\,\mathbb{A}_{iJkL}\,G_{bL}`.
 
         Parameters
         ----------
         F : numpy.ndarray, shape (nel, nqp, d, d)
         G : numpy.ndarray, shape (nel, nqp, nloc, d)
             Reference gradients :math:`\partial N_a/\partial X_J` of the scalar shape functions.
+        dx : numpy.ndarray, shape (nel, nqp)
+            Quadrature weights times the reference Jacobian.
 
         Returns
         -------
-        numpy.ndarray, shape (nel, nqp, nloc, d, nloc, d)
-            Index order ``(a, i, b, k)``.
+        numpy.ndarray, shape (nel, nloc, d, nloc, d)
+            Index order ``(a, i, b, k)``: node ``a`` component ``i``, node ``b`` component ``k``.
         """
-        A = self.tangent(F, lam, mu)
-        T = np.einsum("eqiJkL,eqbL->eqiJkb", A, G, optimize=True)
-        return np.einsum("eqaJ,eqiJkb->eqaibk", G, T, optimize=True)
+        nel, nqp, nloc, d = G.shape
+        A = self.tangent(F, lam, mu) * dx[:, :, None, None, None, None]
+        # X[a, i, k, L] = G_aJ A_iJkL, then K[a, i, k, b] = X[a, i, k, L] G_bL, summed over q
+        X = np.stack([G @ A[:, :, i].reshape(nel, nqp, d, d * d) for i in range(d)], axis=3)
+        X = X.reshape(nel, nqp, nloc * d * d, d) @ np.swapaxes(G, -1, -2)
+        return X.sum(axis=1).reshape(nel, nloc, d, d, nloc).transpose(0, 1, 2, 4, 3)
 
     def __repr__(self) -> str:
         return f"{type(self).__name__}(name={self.name!r})"
@@ -187,18 +218,12 @@ class NeoHookean(HyperelasticLaw):
     def stress_zz(self, F, lam, mu):
         return lam * np.log(det(F))
 
-    def element_tangent(self, F, G, lam, mu):
+    def element_tangent(self, F, G, dx, lam, mu):
         # with the spatial gradients g_a = G_a F^{-1}:
-        # K_aibk = mu (G_a . G_b) d_ik + (mu - lam lnJ) g_ak g_bi + lam g_ai g_bk
+        # K_aibk = sum_q dx [mu (G_a . G_b) d_ik + (mu - lam lnJ) g_ak g_bi + lam g_ai g_bk]
         J = det(F)
-        g = np.einsum("eqaJ,eqJk->eqak", G, inv(F, J))
-        d = F.shape[-1]
-        GG = np.einsum("eqaJ,eqbJ->eqab", G, G)
-        c1 = (mu - lam * np.log(J))[:, :, None, None, None, None]
-        K = c1 * np.einsum("eqak,eqbi->eqaibk", g, g)
-        K += lam * np.einsum("eqai,eqbk->eqaibk", g, g)
-        K += mu * np.einsum("eqab,ik->eqaibk", GG, np.eye(d))
-        return K
+        g = G @ inv(F, J)
+        return _assemble_terms(g, lam * dx, (mu - lam * np.log(J)) * dx, G, mu * dx)
 
 
 class SaintVenantKirchhoff(HyperelasticLaw):
@@ -238,19 +263,15 @@ class SaintVenantKirchhoff(HyperelasticLaw):
     def stress_zz(self, F, lam, mu):
         return lam * np.trace(self._green(F), axis1=-2, axis2=-1)
 
-    def element_tangent(self, F, G, lam, mu):
-        # h_a = F G_a: K_aibk = (G_a S G_b) d_ik + lam h_ai h_bk + mu (b_ik G_a.G_b + h_bi h_ak)
-        d = F.shape[-1]
+    def element_tangent(self, F, G, dx, lam, mu):
+        # h_a = F G_a: K_aibk = sum_q dx [(G_a S G_b) d_ik + lam h_ai h_bk + mu (h_ak h_bi + b_ik G_a.G_b)]
         S, _ = self._pk2(F, lam, mu)
-        h = np.einsum("eqiJ,eqaJ->eqai", F, G)
-        b = F @ np.swapaxes(F, -1, -2)
-        GSG = np.einsum("eqaJ,eqJL,eqbL->eqab", G, S, G, optimize=True)
-        GSG = 0.5 * (GSG + np.swapaxes(GSG, -1, -2))  # exact symmetry of the assembled tangent
-        GG = np.einsum("eqaJ,eqbJ->eqab", G, G)
-        K = lam * np.einsum("eqai,eqbk->eqaibk", h, h)
-        K += mu * np.einsum("eqbi,eqak->eqaibk", h, h)
-        K += mu * np.einsum("eqab,eqik->eqaibk", GG, b)
-        K += np.einsum("eqab,ik->eqaibk", GSG, np.eye(d))
+        h = G @ np.swapaxes(F, -1, -2)
+        K = _assemble_terms(h, lam * dx, mu * dx, G @ S, dx, G)
+        nel, nqp, nloc, d = G.shape
+        b = (F @ np.swapaxes(F, -1, -2)).reshape(nel, nqp, d * d)
+        GG = (G @ np.swapaxes(G, -1, -2)).reshape(nel, nqp, nloc * nloc)
+        K += _weighted_outer(GG, b, mu * dx).reshape(nel, nloc, nloc, d, d).transpose(0, 1, 3, 2, 4)
         return K
 
 
@@ -328,13 +349,14 @@ class SymbolicMaterial(HyperelasticLaw):
         A = [[[[sympy.diff(P[i][j], Fs[k, m]).subs(plane) for m in range(d)] for k in range(d)]
                for j in range(d)] for i in range(d)]
         exprs = {
-            "energy": W.subs(plane),
-            "stress": [[p.subs(plane) for p in row] for row in P],
-            "tangent": A,
+            "energy": [W.subs(plane)],
+            "stress": [p.subs(plane) for row in P for p in row],
+            "tangent": list(_flatten(A)),
         }
         if d == 2:
-            exprs["stress_zz"] = sympy.diff(W, Fs[2, 2]).subs(plane)
+            exprs["stress_zz"] = [sympy.diff(W, Fs[2, 2]).subs(plane)]
         args = [*free, lam, mu]
+        # flat lists: lambdify's common-subexpression elimination only applies to flat sequences
         out = {key: sympy.lambdify(args, e, modules="numpy", cse=True) for key, e in exprs.items()}
         self._compiled[d] = out
         return out
@@ -345,9 +367,10 @@ class SymbolicMaterial(HyperelasticLaw):
         comps = [F[..., i, j] for i in range(d) for j in range(d)]
         res = fun(*comps, float(lam), float(mu))
         shape = F.shape[:-2]
-        flat = list(_flatten(res)) if tail else [res]
-        vals = np.stack([np.broadcast_to(np.asarray(v, dtype=float), shape) for v in flat], axis=-1)
-        return vals.reshape(shape + tail)
+        out = np.empty(shape + (len(res),))
+        for k, v in enumerate(res):
+            out[..., k] = v  # broadcasts the constant entries
+        return out.reshape(shape + tail)
 
     def energy(self, F, lam, mu):
         return self._eval("energy", F, lam, mu, ())
@@ -378,8 +401,8 @@ def available_materials() -> list[str]:
     return sorted(_REGISTRY)
 
 
-def make_material(name: str) -> HyperelasticLaw:
-    """The hyperelastic law registered as ``name``.
+def make_material(name: str | HyperelasticLaw) -> HyperelasticLaw:
+    """The hyperelastic law registered as ``name`` (a law instance is returned as is).
 
     Raises
     ------
@@ -388,23 +411,27 @@ def make_material(name: str) -> HyperelasticLaw:
     """
     if isinstance(name, HyperelasticLaw):
         return name
-    if name not in _REGISTRY:
+    if not isinstance(name, str) or name not in _REGISTRY:
         raise UnknownNameError("hyperelastic material", str(name), list(_REGISTRY))
-    return _REGISTRY[name]()
+    law = _REGISTRY[name]()
+    if not isinstance(law, HyperelasticLaw):
+        raise InputError(f"the factory registered as material {name!r} returned {law!r}, not a HyperelasticLaw; "
+                         "register a HyperelasticLaw instance or a factory that returns one.")
+    return law
 
 
 def register_material(name: str, law: HyperelasticLaw | Callable[[], HyperelasticLaw], *,
                       overwrite: bool = False) -> None:
     """Register a law (an instance, or a factory returning one) under ``name``.
 
-    Examples
-    --------
-    >>> import sympy
-    >>> register_material("demo-svk-bulk", SymbolicMaterial(
-    ...     lambda F, lam, mu: lam / 2 * (F.det() - 1) ** 2 + mu / 2 * ((F.T * F).trace() - 3)))
-    >>> "demo-svk-bulk" in available_materials()
-    True
-    >>> unregister = _REGISTRY.pop("demo-svk-bulk")
+    A law defined by its energy alone is a :class:`SymbolicMaterial`, e.g.
+    ``register_material("my-law", SymbolicMaterial(W, name="my-law"))``; then
+    ``Hyperelastic(mesh, material, model="my-law")`` uses it.
+
+    Raises
+    ------
+    alcontact.errors.InputError
+        If ``name`` is taken (pass ``overwrite=True``) or ``law`` is neither a law nor callable.
     """
     name = str(name)
     if not name:

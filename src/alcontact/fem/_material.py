@@ -52,7 +52,8 @@ class Material:
         if not (math.isfinite(nu) and -1.0 < nu < 0.5):
             raise InputError(
                 f"Poisson's ratio nu={self.nu!r} is out of range; it must satisfy -1 < nu < 0.5 "
-                "(nu = 0.5, incompressible, is not supported)."
+                "(nu = 0.5, incompressible, is not supported: use nu <= 0.49 for a nearly "
+                "incompressible solid such as rubber)."
             )
         if self.plane not in _PLANES:
             raise InputError(f"plane={self.plane!r} is not allowed; use one of {', '.join(map(repr, _PLANES))}.")

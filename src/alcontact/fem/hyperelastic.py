@@ -10,7 +10,10 @@ density :math:`W(F)` (:mod:`alcontact.fem._hyper_materials`), the body stores
 
 with :math:`P = \partial W/\partial F` the first Piola-Kirchhoff stress and
 :math:`\mathbb{A} = \partial P/\partial F` (material plus geometric stiffness in
-one tensor). In 2D the body is in plane strain (:math:`F_{33} = 1`).
+one tensor). :math:`f_{int}(u) = f_{ext}` is the discrete weak form of the
+equilibrium :math:`\operatorname{Div} P + f = 0`, :math:`PN = \bar t` of (3.5),
+(3.8) without contact; the contact layer adds the obstacle terms of (3.11). In
+2D the body is in plane strain (:math:`F_{33} = 1`).
 
 Everything else (named boundaries, Dirichlet data, load vectors on the reference
 configuration, factorizations, rigid-motion checks) is inherited from
@@ -48,14 +51,39 @@ def _scalar_gradients(basis: Basis) -> np.ndarray:
     return np.ascontiguousarray(grads.transpose(2, 3, 0, 1))
 
 
+def _transpose_positions(indptr: np.ndarray, indices: np.ndarray) -> np.ndarray:
+    """``tperm[p]``: position of the transposed entry of CSR entry ``p`` (structurally symmetric pattern)."""
+    n = indptr.size - 1
+    rows = np.repeat(np.arange(n, dtype=np.int64), np.diff(indptr))
+    return np.searchsorted(rows * n + indices, indices.astype(np.int64) * n + rows)
+
+
 def _pattern_generic(vdofs: np.ndarray, n: int):
-    """CSR pattern and entry positions from the element vector DOFs ``(nel, m)`` (any numbering)."""
+    """CSR pattern of the element DOFs ``vdofs`` ``(nel, m)`` (any numbering).
+
+    Returns
+    -------
+    indptr, indices : numpy.ndarray
+        Sorted CSR structure.
+    pos : numpy.ndarray, shape (nel, m * m)
+        CSR position of each element-matrix entry (row-major ``(r, c)``).
+    tperm : numpy.ndarray
+        Position of the transposed entry of each CSR entry.
+    """
     keys = (vdofs[:, :, None] * n + vdofs[:, None, :]).ravel()
-    uniq, pos = np.unique(keys, return_inverse=True)
+    # np.unique by hand: a stable (timsort) argsort exploits the runs of element-ordered keys
+    order = np.argsort(keys, kind="stable")
+    sk = keys[order]
+    new = np.empty(sk.size, dtype=bool)
+    new[:1] = True
+    np.not_equal(sk[1:], sk[:-1], out=new[1:])
+    uniq = sk[new]
+    pos = np.empty(keys.size, dtype=np.int64)
+    pos[order] = np.cumsum(new) - 1
     rows, indices = np.divmod(uniq, n)
     indptr = np.zeros(n + 1, dtype=np.int64)
     np.cumsum(np.bincount(rows, minlength=n), out=indptr[1:])
-    return indptr, indices, pos.reshape(vdofs.shape[0], -1)
+    return indptr, indices, pos.reshape(vdofs.shape[0], -1), _transpose_positions(indptr, indices)
 
 
 def _pattern_interleaved(sdofs: np.ndarray, ns: int, d: int):
@@ -63,32 +91,38 @@ def _pattern_interleaved(sdofs: np.ndarray, ns: int, d: int):
 
     The pattern is the scalar node graph with every entry a dense ``d x d``
     block, so only the scalar pattern (``nloc**2`` entries per element instead
-    of ``(d nloc)**2``) is sorted and the vector positions follow in closed form.
+    of ``(d nloc)**2``) is sorted and everything else follows in closed form:
+    entry ``(d k + i, d m + l)`` sits at ``d^2 sind[k] + i d deg[k] + d rank(k, m) + l``
+    with ``rank(k, m)`` the position of ``m`` in the scalar row ``k``.
     """
     nel, nloc = sdofs.shape
-    sind, sidx, spos = _pattern_generic(sdofs, ns)
+    sind, sidx, spos, stperm = _pattern_generic(sdofs, ns)
     deg = np.diff(sind)
-    # position in the vector CSR of entry (row d k + i, col d m + l):
-    # d*d*sind[k] + i*d*deg[k] + d*rank(k, m) + l
-    k = np.repeat(sdofs, nloc, axis=1)  # row node of each (a, b) entry
-    rank = spos - sind[k]
-    base = d * d * sind[k] + d * rank  # (nel, nloc*nloc) -> reshape (nel, a, b)
-    base = base.reshape(nel, nloc, 1, nloc, 1)
-    rowstep = (d * deg[sdofs]).reshape(nel, nloc, 1, 1, 1)
-    i = np.arange(d).reshape(1, 1, d, 1, 1)
-    l_ = np.arange(d).reshape(1, 1, 1, 1, d)
-    pos = base + i * rowstep + l_
-    n = ns * d
-    indptr = np.empty(n + 1, dtype=np.int64)
+    nnz_s = sidx.size
+    # vector position of block entry (p_s, i, l) of every scalar entry p_s = (k, m)
+    srow = np.repeat(np.arange(ns, dtype=np.int64), deg)
+    i = np.arange(d).reshape(1, d, 1)
+    l_ = np.arange(d).reshape(1, 1, d)
+
+    def vpos(p, row, ii, ll):
+        return (d * d * sind[row] + d * (p - sind[row]))[:, None, None] + ii * (d * deg[row])[:, None, None] + ll
+
+    ps = np.arange(nnz_s, dtype=np.int64)
+    where = vpos(ps, srow, i, l_).ravel()
+    nnz = d * d * nnz_s
+    indices = np.empty(nnz, dtype=np.int64)
+    indices[where] = np.broadcast_to(d * sidx[:, None, None] + l_, (nnz_s, d, d)).ravel()
+    tperm = np.empty(nnz, dtype=np.int64)
+    tperm[where] = vpos(stperm, sidx, np.swapaxes(i, 1, 2), np.swapaxes(l_, 1, 2)).ravel()
+    indptr = np.empty(ns * d + 1, dtype=np.int64)
     indptr[:-1] = (d * d * sind[:-1, None] + np.arange(d)[None, :] * d * deg[:, None]).ravel()
-    indptr[-1] = d * d * sind[-1]
-    nnz = int(indptr[-1])
-    vrow = np.repeat(np.arange(n), np.diff(indptr))
-    t = np.arange(nnz) - indptr[vrow]
-    kk = vrow // d
-    src = d * sind[kk] + t  # index into the per-scalar-entry expanded column list
-    cols = (d * sidx[:, None] + np.arange(d)[None, :]).ravel()
-    return indptr, cols[src], pos.reshape(nel, -1)
+    indptr[-1] = nnz
+    # element entries: (a, i, b, l) of element e
+    k = np.repeat(sdofs, nloc, axis=1)  # row node of each (a, b) entry
+    base = (d * d * sind[k] + d * (spos - sind[k])).reshape(nel, nloc, 1, nloc, 1)
+    rowstep = (d * deg[sdofs]).reshape(nel, nloc, 1, 1, 1)
+    pos = base + i.reshape(1, 1, d, 1, 1) * rowstep + l_.reshape(1, 1, 1, 1, d)
+    return indptr, indices, pos.reshape(nel, -1), tperm
 
 
 class Hyperelastic(LinearElasticity):
@@ -117,6 +151,14 @@ class Hyperelastic(LinearElasticity):
     linear : bool
         ``False``: the tangent depends on ``u``.
 
+    Notes
+    -----
+    The inherited load vectors (:meth:`traction_load`, :meth:`pressure_load`,
+    :meth:`body_load`) are dead loads on the reference configuration: a traction
+    is a nominal traction :math:`PN` per reference area, a pressure acts along the
+    reference normal. :meth:`stress` and :meth:`von_mises` return the Cauchy
+    stress in the current configuration, :meth:`first_piola` the nominal stress.
+
     Examples
     --------
     >>> import numpy as np
@@ -139,16 +181,12 @@ class Hyperelastic(LinearElasticity):
                 "(plane stress would need F33 solved at each point); use Material(..., plane='strain') "
                 "or a 3D mesh."
             )
+        # Material already holds -1 < nu < 0.5, which every compressible law needs
         self.law = make_material(model)
-        if self.law.compressible and not material.nu < 0.5:
-            raise InputError(
-                f"material nu={material.nu!r}: the {self.law.name!r} law is compressible and needs "
-                "nu < 0.5; use nu <= 0.49 for nearly incompressible rubber."
-            )
         if intorder is None:
             intorder = max(1, 2 * (self.order - 1))
-        if int(intorder) != intorder or intorder < 1:
-            raise InputError(f"intorder={intorder!r} must be a positive integer.")
+        if isinstance(intorder, bool) or not isinstance(intorder, (int, np.integer)) or intorder < 1:
+            raise InputError(f"intorder={intorder!r} must be a positive integer (quadrature degree).")
         self.intorder = int(intorder)
         self.quadrature_basis = Basis(mesh, self.scalar_element, intorder=self.intorder)
         self._G = _scalar_gradients(self.quadrature_basis)
@@ -168,8 +206,8 @@ class Hyperelastic(LinearElasticity):
 
     def _gradient(self, u: np.ndarray, G: np.ndarray, sdofs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """``F`` and ``J`` at the quadrature points of ``G``; raises if some ``J <= 0``."""
-        uloc = u[self.dof_map[sdofs]]  # (nel, nloc, dim)
-        F = np.einsum("eai,eqaJ->eqiJ", uloc, G)
+        uloc = np.swapaxes(u[self.dof_map[sdofs]], 1, 2)  # (nel, dim, nloc)
+        F = uloc[:, None] @ G  # F_iJ = u_ai dN_a/dX_J at every point: (nel, nqp, dim, dim)
         F += np.eye(self.dim)
         J = det(F)
         bad = ~(J > 0.0)
@@ -213,20 +251,20 @@ class Hyperelastic(LinearElasticity):
         r"""Internal force :math:`f_{int}(u) = \int_{\Omega_0} P(F) : \nabla_X \delta u\,dV`, shape ``(ndofs,)``."""
         F, _ = self._gradient(self._check_u(u), self._G, self._sdofs)
         P = self.law.stress(F, self.lam, self.mu)
-        fe = np.einsum("eqiJ,eqaJ,eq->eai", P, self._G, self._dx, optimize=True)
+        fe = (self._G @ np.swapaxes(P * self._dx[:, :, None, None], -1, -2)).sum(axis=1)  # (nel, a, i)
         return np.bincount(self._vdofs.ravel(), weights=fe.ravel(), minlength=self.ndofs)
 
     @cached_property
-    def _pattern(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    def _pattern(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         t0 = time.perf_counter()
         d = self.dim
         interleaved = np.array_equal(self.dof_map, d * np.arange(self.dof_map.shape[0])[:, None] + np.arange(d))
         if interleaved:
-            indptr, indices, pos = _pattern_interleaved(self._sdofs, self.scalar_basis.N, d)
+            indptr, indices, pos, tperm = _pattern_interleaved(self._sdofs, self.scalar_basis.N, d)
         else:
-            indptr, indices, pos = _pattern_generic(self._vdofs, self.ndofs)
+            indptr, indices, pos, tperm = _pattern_generic(self._vdofs, self.ndofs)
         idx_t = np.int32 if indptr[-1] < np.iinfo(np.int32).max else np.int64
-        out = (indptr.astype(idx_t), indices.astype(idx_t), pos.astype(idx_t).ravel())
+        out = (indptr.astype(idx_t), indices.astype(idx_t), pos.astype(np.intp, copy=False).ravel(), tperm)
         logger.debug("tangent sparsity pattern: nnz=%d in %.3f s", int(indptr[-1]), time.perf_counter() - t0)
         return out
 
@@ -234,11 +272,13 @@ class Hyperelastic(LinearElasticity):
         r"""Tangent stiffness :math:`K_T(u) = \partial f_{int}/\partial u` (symmetric CSR, material + geometric)."""
         u = self._check_u(u)
         F, _ = self._gradient(u, self._G, self._sdofs)
-        Kq = self.law.element_tangent(F, self._G, self.lam, self.mu)  # (nel, nqp, a, i, b, k)
-        Ke = np.einsum("eqaibk,eq->eaibk", Kq, self._dx, optimize=True)
-        indptr, indices, pos = self._pattern
+        Ke = self.law.element_tangent(F, self._G, self._dx, self.lam, self.mu)  # (nel, a, i, b, k)
+        indptr, indices, pos, tperm = self._pattern
         data = np.bincount(pos, weights=Ke.ravel(), minlength=int(indptr[-1]))
-        K = sp.csr_matrix((data, indices, indptr), shape=(self.ndofs, self.ndofs))
+        data = 0.5 * (data + data[tperm])  # remove round-off asymmetry (exactly symmetric CSR)
+        # own copies of the structure: in-place scipy operations (eliminate_zeros, ...) on one
+        # tangent must not change the cached pattern of the next
+        K = sp.csr_matrix((data, indices.copy(), indptr.copy()), shape=(self.ndofs, self.ndofs))
         K.has_sorted_indices = True
         return K
 
@@ -278,7 +318,7 @@ class Hyperelastic(LinearElasticity):
         load = np.asarray(load, dtype=float)
         if load.shape != (self.ndofs,):
             raise InputError(f"load must have shape ({self.ndofs},); got {load.shape}.")
-        if int(steps) != steps or steps < 1:
+        if isinstance(steps, bool) or not isinstance(steps, (int, np.integer)) or steps < 1:
             raise InputError(f"steps={steps!r} must be a positive integer.")
         dofs, vals = self._collect(dirichlet)
         self.check_restrained(dofs)
