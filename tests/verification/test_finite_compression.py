@@ -127,3 +127,23 @@ def test_cutback_recovers_a_failed_step():
     # too few cut-backs allowed: a negative status and the message says what to try
     bad = solve_finite(problem, "simo-laursen", steps=1, maxiter_newton=4, max_cutbacks=0)
     assert bad.status < 0 and "load steps" in bad.message
+
+
+def test_load_history_drives_the_steps():
+    """A LoadHistory ramping the top displacement gives the proportional-loading forces (1e-10 relative).
+
+    Reference: :func:`solve_finite` without a history (every support scaled by t), whose
+    forces equal the homogeneous solution (tested above); the symmetry support is held
+    by the problem, the top displacement by a :class:`LoadCase` with a linear ramp.
+    """
+    from alcontact.contact import LoadCase, LoadHistory, Ramp
+
+    problem, _ = _block(2)
+    fs = solve_finite(problem, "ssn", steps=4)
+    base = ContactProblem(problem.model, problem.obstacle, "bottom", supports=(Support("left", (0,), 0.0),),
+                          kinematics="finite")
+    hist = LoadHistory((LoadCase(Support("top", (1,), -STRAIN), Ramp((0.0, 1.0), (0.0, 1.0))),),
+                       times=LoadHistory.uniform(4))
+    fh = solve_finite(base, "ssn", steps=4, history=hist)
+    assert fs.success and fh.success
+    assert np.allclose(fh.forces, fs.forces, rtol=1e-10, atol=0.0)

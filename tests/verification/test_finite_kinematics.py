@@ -60,3 +60,20 @@ def test_translated_obstacle_is_the_shifted_original():
     assert isinstance(moved, obstacles.Translated) and moved.base is base
     with pytest.raises(Exception, match="offset"):
         obstacles.translate(base, [1.0, 2.0, 3.0])
+
+
+def test_bad_step_input_names_the_way_out():
+    """Wrong obstacle path, step times or cut-back count: InputError naming the parameter."""
+    from alcontact.contact import solve_finite
+    from alcontact.errors import InputError
+
+    mesh = meshes.rectangle(0.0, 1.0, 0.0, 1.0, 2, 2)
+    body = Hyperelastic(mesh, Material(E=100.0, nu=0.3, plane="strain"))
+    problem = ContactProblem(body, obstacles.HalfSpace([0.0, 0.0], [0.0, 1.0]), "bottom",
+                             supports=(Support("left", (0,), 0.0), Support("top", (1,), -0.1)), kinematics="finite")
+    with pytest.raises(InputError, match="obstacle_path"):
+        solve_finite(problem, "ssn", steps=2, obstacle_path=lambda t: [0.0, 0.0, 1.0])
+    with pytest.raises(InputError, match="step times"):
+        solve_finite(problem, "ssn", steps=[0.5, 0.25])
+    with pytest.raises(InputError, match="max_cutbacks"):
+        solve_finite(problem, "ssn", steps=2, max_cutbacks=-1)
