@@ -7,6 +7,9 @@ Frictionless contact (small deformation, linearized gap (6.15)) with
 - Algorithm 6.3 (family-P penalties, the dissertation's proposal),
 - a semi-smooth Newton / primal-dual active-set reference;
 
+finite-deformation frictionless contact (gap at the current configuration, load
+steps, one full-space Newton for every algorithm: :func:`solve_finite`, or
+``ContactProblem(..., kinematics="finite")``);
 and Coulomb friction with load stepping (:func:`solve_friction`): Algorithm 6.2
 (Macaulay normal part), Algorithm 6.4 (family-P normal part) and an Alart-Curnier
 semi-smooth Newton reference.
@@ -30,6 +33,8 @@ from ._solve import DEFAULT_ALGORITHM, DEFAULT_PENALTY, solve
 from ._friction import FrictionOptions, friction_algorithm_docs, friction_algorithms, solve_friction
 from ._friction_solution import FrictionSolution, FrictionStep
 from ._loading import LoadCase, LoadHistory, Ramp, problem_at
+from ._problem import KINEMATICS
+from ._stepping import FiniteSolution, FiniteStep, solve_finite
 
 __all__ = [
     "obstacles",
@@ -59,4 +64,8 @@ __all__ = [
     "LoadCase",
     "Ramp",
     "problem_at",
+    "KINEMATICS",
+    "solve_finite",
+    "FiniteSolution",
+    "FiniteStep",
 ]

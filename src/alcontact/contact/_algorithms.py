@@ -240,6 +240,12 @@ def _converged(opts, pen, compl, dlam):
     return pen <= opts.tol_penetration and compl <= opts.tol_complementarity and dlam <= opts.tol_multiplier
 
 
+def _initial_multipliers(dc) -> np.ndarray:
+    """Starting multipliers: zero, or the warm start a load-stepped problem offers (``dc.initial_multipliers``)."""
+    warm = getattr(dc, "initial_multipliers", None)
+    return np.zeros(dc.cand.size) if warm is None else np.asarray(warm(), dtype=float)
+
+
 def _penalty_solve(dc, opts, eps, r0):
     pen = _pen.make("rockafellar")
     law = make_law(pen, np.full(dc.cand.size, 1.0 / eps))
@@ -286,8 +292,8 @@ def run_al(dc, opts, eps0, penalty_name="rockafellar") -> _Run:
     hist, newton, outer0 = [], 0, 0
     needs_positive = freezes_at_zero(pen)  # MET 1/2: a zero multiplier would never revive
     # ---- initial multipliers and starting point
-    if not needs_positive:  # Algorithm 6.1: start from lambda = 0
-        lam = np.zeros(n)
+    if not needs_positive:  # Algorithm 6.1: start from lambda = 0 (or the last load step's pressures)
+        lam = _initial_multipliers(dc)
         r = dc.start()
     elif opts.initial == "penalty":
         out = _penalty_solve(dc, opts, eps, dc.start())
@@ -375,7 +381,7 @@ def run_ssn(dc, opts, eps0, penalty_name=None) -> _Run:
     n = dc.cand.size
     c = eps0
     state = dc.start()
-    lam = np.zeros(n)
+    lam = _initial_multipliers(dc)
     g = dc.gaps(state)
     active = (lam + c * g) > 0
     hist = []

@@ -11,9 +11,15 @@ from typing import Any, Callable, Sequence
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, UnknownNameError
 
-__all__ = ["Support", "Traction", "Pressure", "BodyForce", "ContactProblem", "merge_supports"]
+__all__ = ["Support", "Traction", "Pressure", "BodyForce", "ContactProblem", "merge_supports", "KINEMATICS"]
+
+#: Contact kinematics a problem can ask for (see :class:`ContactProblem`)
+KINEMATICS = {
+    "small": "small deformation: linearized gap (6.15) at the reference configuration, condensed solve",
+    "finite": "finite deformation: gap at x = X + u, load steps, full-space Newton (needs a nonlinear body)",
+}
 
 
 @dataclass(frozen=True)
@@ -60,7 +66,7 @@ class BodyForce:
 
 @dataclass(frozen=True)
 class ContactProblem:
-    """Linear elastic body against a rigid obstacle (small deformation, ch. 6.2).
+    """Elastic body against a rigid obstacle (small deformation, ch. 6.2, or finite deformation).
 
     Parameters
     ----------
@@ -78,6 +84,10 @@ class ContactProblem:
         Label used in reports.
     reference : object, optional
         Analytical reference (e.g. :class:`alcontact.problems.hertz.HertzReference`).
+    kinematics : {"small", "finite"}
+        ``"small"`` (default): linearized gap (6.15). ``"finite"``: gap at the current
+        position, solved in load steps by :func:`alcontact.contact.solve_finite`; needs a
+        geometrically nonlinear body (a hyperelastic one), a linear body is refused.
     """
 
     model: Any
@@ -89,8 +99,17 @@ class ContactProblem:
     name: str = "contact"
     reference: Any = None
     meta: dict = field(default_factory=dict)
+    kinematics: str = "small"
 
     def __post_init__(self) -> None:
+        if self.kinematics not in KINEMATICS:
+            raise UnknownNameError("kinematics", self.kinematics, list(KINEMATICS))
+        if self.kinematics == "finite" and getattr(self.model, "linear", False):
+            raise InputError(
+                f"kinematics='finite' needs a geometrically nonlinear body; got {type(self.model).__name__} "
+                "(linear, small strains: a finite-deformation gap with it is not finite deformation). "
+                "Use a hyperelastic body (alcontact.fem.hyperelastic) or kinematics='small'."
+            )
         if not np.isfinite(self.friction) or self.friction < 0:
             raise InputError(
                 f"friction coefficient must be >= 0; got {self.friction!r}. Use 0 for frictionless contact."

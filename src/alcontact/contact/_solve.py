@@ -64,9 +64,20 @@ def solve(problem, algorithm: str = DEFAULT_ALGORITHM, penalty: str | None = Non
         ``problem`` not a :class:`ContactProblem`, unknown algorithm, penalty or
         option (with the closest match), or an option value of the wrong type or
         out of range (naming the key, the value, the allowed range and the default).
+
+    Notes
+    -----
+    A problem with ``kinematics="finite"`` is solved by
+    :func:`~alcontact.contact.solve_finite` (10 uniform load steps unless
+    ``steps=...`` is given, also ``obstacle_path``, ``history``, ``max_cutbacks``);
+    the solution of its last step is returned, with the per-step records in
+    ``solution.extra["load_steps"]``.
     """
-    t_start = time.perf_counter()
     check_solve_args(problem, algorithm, penalty, available_algorithms(), "")
+    kinematics = getattr(problem, "kinematics", "small")
+    if kinematics in _KINEMATICS_SOLVERS:
+        return _KINEMATICS_SOLVERS[kinematics](problem, algorithm, penalty, options, **option_overrides)
+    t_start = time.perf_counter()
     run = get_algorithm(algorithm)
     pen_name = resolve_penalty(algorithm, penalty, DEFAULT_PENALTY)
     opts = options_with(options, ContactOptions, option_overrides, "contact")
@@ -151,3 +162,15 @@ def solve(problem, algorithm: str = DEFAULT_ALGORITHM, penalty: str | None = Non
         nodal_forces=nodal,
         extra={"h": dc.h, "candidates": int(dc.cand.size), "dofs": int(problem.model.ndofs), **dc.extra()},
     )
+
+
+def _solve_finite(problem, algorithm, penalty, options, **kwargs) -> ContactSolution:
+    from ._stepping import solve_finite
+
+    fs = solve_finite(problem, algorithm, penalty, options, **kwargs)
+    fs.solution.extra["load_steps"] = fs.steps
+    return fs.solution
+
+
+#: solvers of the kinematics other than the default ``"small"`` (the body of :func:`solve`)
+_KINEMATICS_SOLVERS = {"finite": _solve_finite}

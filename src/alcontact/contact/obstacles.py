@@ -65,6 +65,8 @@ __all__ = [
     "Cylinder",
     "ConvexPolytope",
     "UserObstacle",
+    "Translated",
+    "translate",
     "available",
     "docs",
     "make",
@@ -900,6 +902,65 @@ class UserObstacle(_ObstacleBase):
             for p, (j, k) in enumerate(pairs):
                 hess[:, j, k] = hess[:, k, j] = vals[:, p]
         return 0.5 * (hess + np.swapaxes(hess, 1, 2))
+
+
+# --------------------------------------------------------------------------- moving obstacles
+
+
+@dataclass(frozen=True, eq=False)
+class Translated(_ObstacleBase):
+    r"""An obstacle moved rigidly by ``offset``: the occupied set is :math:`\{y + c : y \in O\}`.
+
+    .. math::
+
+        \operatorname{gap}(x) = \operatorname{gap}_O(x - c), \quad
+        n(x) = n_O(x - c), \quad H(x) = H_O(x - c), \quad
+        \bar x = \bar x_O(x - c) + c .
+
+    Used by finite-deformation load stepping (:func:`alcontact.contact.solve_finite`)
+    for an obstacle moving along a prescribed path; build it with :func:`translate`.
+
+    Examples
+    --------
+    >>> ob = translate(Circle(center=[0.0, 1.0], radius=0.5), [2.0, 0.0])
+    >>> ob.gap([[2.0, 0.0]])
+    array([-0.5])
+    """
+
+    base: Any
+    offset: FloatArray
+
+    def __post_init__(self) -> None:
+        dims = (self.base.dim,) if self.base.dim is not None else (2, 3)
+        object.__setattr__(self, "offset", _readonly(_vector(self.offset, "offset", dims)))
+
+    @property
+    def dim(self) -> int | None:
+        return self.base.dim
+
+    @property
+    def name(self) -> str:
+        return self.base.name
+
+    def describe(self) -> str:
+        return f"{self.base.describe()}, translated by {_fmt(self.offset)}"
+
+    def _gap_normal(self, x: FloatArray) -> tuple[FloatArray, FloatArray]:
+        return self.base.evaluate(x - self.offset)
+
+    def project(self, x: ArrayLike) -> FloatArray:
+        pts = _points(x, self.dim)
+        return self.base.project(pts - self.offset) + self.offset
+
+    def _hessian(self, x: FloatArray) -> FloatArray:
+        return self.base.gap_hessian(x - self.offset)
+
+
+def translate(obstacle: Obstacle, offset: ArrayLike) -> Obstacle:
+    """``obstacle`` moved rigidly by ``offset`` (offsets of a :class:`Translated` add up)."""
+    if isinstance(obstacle, Translated):
+        return Translated(obstacle.base, obstacle.offset + _vector(offset, "offset", (obstacle.offset.size,)))
+    return Translated(obstacle, offset)
 
 
 # --------------------------------------------------------------------------- registry

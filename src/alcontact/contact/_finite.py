@@ -1,0 +1,595 @@
+r"""Frictionless contact at finite deformation: one full-space Newton for every algorithm.
+
+Kinematics (current configuration). Contact point ``i`` is a DOF location of the
+candidate boundary with reference position :math:`X_i` and reference tributary
+weight :math:`w_i` (a nodal collocation of the reference-configuration contact
+integral, as on the small-deformation path). Its current position is
+:math:`x_i = X_i + u_i`, its gap the obstacle's signed distance there,
+
+.. math::
+
+    g_i(u) = \operatorname{gap}(X_i + u_i) \le 0, \qquad
+    \frac{\partial g_i}{\partial u_i} = -\nu_i(x_i), \qquad
+    \frac{\partial^2 g_i}{\partial u_i^2} = H(x_i),
+
+with :math:`\nu` the obstacle normal at the projection of :math:`x_i` and :math:`H` the
+Hessian of the signed distance (the curvature of the obstacle surface, zero for a
+plane); the small-deformation gap (6.15) is its linearization at :math:`u = 0`. Large
+sliding needs nothing more: the projection is recomputed at every evaluation.
+
+Subproblem (S) of Algorithms 6.1 / 6.3 and the pure penalty (same laws
+:math:`t_N = p'(g/\eta, \lambda)` as :mod:`alcontact.contact._laws`): with the free
+DOFs :math:`x` and :math:`u = u(x)` (prescribed values on the fixed DOFs),
+
+.. math::
+
+    \Pi(x) = \Pi_{int}(u) - f_{ext}\cdot u + \sum_i w_i\,\psi_i(g_i(u)), \\
+    R(x) = f_{int}(u) - f_{ext} + B(u)^T (w \circ t_N(g(u))) = 0, \\
+    J(x) = K_T(u) + B^T \operatorname{diag}(w \circ dt_N/dg)\, B
+           + \sum_i w_i\, t_{N,i}\, H(x_i),
+
+``B(u)`` the rows :math:`-\nu_i^T` on the free DOFs of the points. The last term of
+``J`` is the geometric (curvature) part of the consistent linearization; without it
+Newton's convergence on a curved obstacle is only linear. Newton's method is
+globalized by backtracking on :math:`\Pi` (Armijo), or on :math:`\tfrac12|R|^2` when the
+body has no stored energy; a trial step that inverts an element
+(:class:`~alcontact.errors.InvertedElementError`) is rejected like one that raises
+:math:`\Pi` (the step is halved).
+
+The semi-smooth Newton reference (:func:`~alcontact.contact._algorithms.run_ssn`) enforces
+:math:`g_A(u) = 0` on its active set by Newton's method on the saddle-point system
+
+.. math::
+
+    \begin{pmatrix} K_T + \sum_{i\in A} r_i H_i & B_A^T \\ B_A & 0 \end{pmatrix}
+    \begin{pmatrix} \Delta x \\ \Delta r \end{pmatrix}
+    = -\begin{pmatrix} f_{int} - f_{ext} + B_A^T r \\ g_A \end{pmatrix},
+
+:math:`r = w \circ \lambda` the contact forces of the active points (a direct sparse
+solve), which converges quadratically.
+
+:class:`FiniteContact` offers the interface of the outer loops of
+:mod:`alcontact.contact._algorithms` (``cand``, ``h``, ``start``, ``gaps``,
+``scale_forces``, ``subproblem``, ``solve_active``, ``extend``, ``all_gaps``,
+``final_displacement``, ``timings``, ``extra``), so penalty, Algorithm 6.1, Algorithm
+6.3 with every contact penalty and the reference run unchanged; the state is the
+free displacement. :meth:`FiniteContact.configure` sets the data of one load step
+(prescribed values, loads, obstacle position, starting state): see
+:mod:`alcontact.contact._stepping`.
+"""
+
+from __future__ import annotations
+
+import logging
+import time
+
+import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+from ..errors import InputError, InvertedElementError
+from ._discrete import ContactPoints
+from ._newton import NewtonOutcome
+
+__all__ = ["FiniteContact", "linear_solve"]
+
+logger = logging.getLogger(__name__)
+
+#: Armijo constant of the line search
+_ARMIJO = 1e-4
+_EPS = float(np.finfo(float).eps)
+#: halvings of a Newton step before the line search gives up
+_MAX_HALVINGS = 40
+
+
+def linear_solve(A: sp.spmatrix, rhs: np.ndarray) -> np.ndarray:
+    """Solve one Newton system ``A x = rhs`` by a sparse LU factorization (SuperLU).
+
+    The single place where the finite-deformation path factorizes, so that another
+    direct solver can be swapped in. Raises :class:`numpy.linalg.LinAlgError` for a
+    singular matrix.
+    """
+    try:
+        lu = spla.splu(sp.csc_matrix(A), permc_spec="MMD_AT_PLUS_A")
+    except RuntimeError as exc:  # SuperLU: "Factor is exactly singular"
+        raise np.linalg.LinAlgError(str(exc)) from exc
+    return lu.solve(np.asarray(rhs, dtype=float))
+
+
+class FiniteContact(ContactPoints):
+    """Frictionless contact of a (nonlinear) body with a rigid obstacle at finite deformation.
+
+    Parameters
+    ----------
+    problem : ContactProblem
+        Body (the :class:`~alcontact.fem._body.Body` protocol), supports, loads,
+        obstacle and contact boundary. The supports and loads of ``problem`` give
+        the fixed DOFs; their values per load step are set by :meth:`configure`.
+    fixed : ndarray of int, optional
+        Fixed DOFs (default those of the problem's supports).
+    margin : float
+        Candidates of a step are the points whose gap at the step's starting state
+        exceeds ``-max(margin * h, 2 * max_penetration)``; points that penetrate
+        after a solve are added (:meth:`extend`).
+
+    Attributes
+    ----------
+    points, dofs, weights : ndarray
+        Reference positions, DOFs and reference tributary weights of all contact-boundary points.
+    normals : ndarray (m, d)
+        Obstacle normals at the current positions (updated by :meth:`all_gaps`).
+    cand : ndarray of int
+        Current candidates.
+    residual_log : list of list of float
+        Relative residuals of every Newton solve (subproblem or active-set step), in order.
+    linear_solves, newton_iterations : int
+        Counters over the life of the object.
+    """
+
+    factorizations = 0
+
+    def __init__(self, problem, *, margin: float = 2.0, fixed=None):
+        t0 = time.perf_counter()
+        self._setup_problem(problem)
+        if fixed is not None:  # fixed DOFs of a load history (values set by configure)
+            self.fixed = np.asarray(fixed, dtype=np.int64)
+            self.fixed_values = np.zeros(self.fixed.size)
+        self.body = self.model
+        model = self.model
+        n = model.ndofs
+        mask = np.ones(n, dtype=bool)
+        mask[self.fixed] = False
+        self.free = np.flatnonzero(mask)
+        self.margin = float(margin)
+        model.check_restrained(self.fixed)
+        pts, dofs = model.node_dofs(problem.contact_boundary)
+        self.points, self.dofs = pts, dofs
+        self.weights = np.asarray(model.boundary_weights(problem.contact_boundary), dtype=float)
+        free_pos = -np.ones(n, dtype=np.int64)
+        free_pos[self.free] = np.arange(self.free.size)
+        self.pos = free_pos[dofs]  # (m, d), -1 on fixed DOFs
+        self.movable = np.any(self.pos >= 0, axis=1)
+        self.obstacle = problem.obstacle
+        self.h = self._element_size()
+        self.linear_solves = 0
+        self.newton_iterations = 0
+        self.residual_log: list[list[float]] = []
+        self.assembly_seconds = 0.0
+        self.solve_seconds = 0.0
+        self.fixed_values = np.asarray(self.fixed_values, dtype=float)
+        self.load = np.asarray(self.load, dtype=float)
+        self.x0 = np.zeros(self.free.size)
+        self.normals = np.zeros_like(pts)
+        self.gap0 = self.all_gaps(np.zeros(n))
+        self.cand = np.empty(0, dtype=np.int64)
+        self.last_pressure = np.zeros(pts.shape[0])
+        self.configure(self.fixed_values, self.load, self.obstacle, self.x0)
+        self.accept(self.last_pressure)
+        self.setup_seconds = time.perf_counter() - t0
+
+    # ------------------------------------------------------------------ step data
+    def configure(self, fixed_values, load, obstacle, x_start, *, predictor_stiffness: float | None = None) -> None:
+        """Set the data of one load step and its starting state; choose the candidates.
+
+        Parameters
+        ----------
+        fixed_values : ndarray
+            Values of the fixed DOFs (aligned with ``self.fixed``).
+        load : ndarray (ndofs,)
+            External (dead) load vector.
+        obstacle : Obstacle
+            Obstacle at this step (e.g. :func:`~alcontact.contact.obstacles.translate` of the original).
+        x_start : ndarray
+            Last converged free displacement (for the data set before this call).
+        predictor_stiffness : float, optional
+            Penalty stiffness :math:`\varepsilon_N` of the tangent predictor: the starting
+            state is ``x_start`` plus one linearized step for the changes of the prescribed
+            values, loads and obstacle position, with the points that carried pressure
+            (:meth:`accept`) held by springs :math:`w_i \varepsilon_N`; without it (or when the
+            predicted state inverts an element) the step starts from ``x_start``.
+        """
+        fixed_values = np.asarray(fixed_values, dtype=float)
+        load = np.asarray(load, dtype=float)
+        x_start = np.array(x_start, dtype=float)
+        if predictor_stiffness is not None:
+            x_start = self._predict(x_start, fixed_values, load, obstacle, float(predictor_stiffness))
+        self.fixed_values = fixed_values
+        self.load = load
+        self.obstacle = obstacle
+        self.x0 = x_start
+        self.u_free = self.expand(self.x0)
+        self.g_free = self.all_gaps(self.u_free)
+        gmax = float(np.max(self.g_free[self.movable], initial=-np.inf))
+        self.max_free_penetration = gmax
+        thr = -max(self.margin * self.h, 2.0 * max(gmax, 0.0))
+        self.cand = np.flatnonzero(self.movable & (self.g_free > thr))
+
+    def _predict(self, x, fixed_values, load, obstacle, eps) -> np.ndarray:
+        """Tangent predictor of :meth:`configure` (linearized at the last converged state)."""
+        fv_old, load_old, ob_old = self._accepted
+        du_d = fixed_values - fv_old
+        df = load - load_old
+        pressed = np.flatnonzero(self.last_pressure > 0)
+        u = np.zeros(self.model.ndofs)
+        u[self.free] = x
+        u[self.fixed] = fv_old
+        xc = self._current(u, pressed)
+        dg = obstacle.gap(xc) - ob_old.gap(xc)  # gap change from the obstacle motion alone
+        if not (np.any(du_d) or np.any(df) or np.any(dg)):
+            return x
+        try:
+            K = self.body.tangent(u).tocsr()
+            Kf = K[self.free]
+            _, nu = ob_old.evaluate(xc)
+            Bm = self._B(nu, pressed)
+            k = eps * self.weights[pressed]
+            J = Kf[:, self.free] + Bm.T @ sp.diags(k) @ Bm
+            rhs = df[self.free] - Kf[:, self.fixed] @ du_d - Bm.T @ (k * dg)
+            dx = linear_solve(J, rhs)
+            self.linear_solves += 1
+            trial = x + dx
+            u_new = u.copy()
+            u_new[self.free] = trial
+            u_new[self.fixed] = fixed_values
+            fint = self.body.internal_force(u_new)  # raises for inverted elements
+            if np.all(np.isfinite(fint)) and np.all(np.isfinite(trial)):
+                return trial
+        except (InvertedElementError, np.linalg.LinAlgError):
+            pass
+        logger.debug("tangent predictor rejected; the step starts from the last converged state")
+        return x
+
+    def expand(self, x: np.ndarray) -> np.ndarray:
+        """Full displacement from the free DOFs and the prescribed values."""
+        u = np.zeros(self.model.ndofs)
+        u[self.free] = x
+        if self.fixed.size:
+            u[self.fixed] = self.fixed_values
+        return u
+
+    # ------------------------------------------------------------------ kinematics
+    def _current(self, u: np.ndarray, idx: np.ndarray) -> np.ndarray:
+        return self.points[idx] + u[self.dofs[idx]]
+
+    def all_gaps(self, u: np.ndarray) -> np.ndarray:
+        """Gaps :math:`\\operatorname{gap}(X_i + u_i)` of every contact-boundary point (normals updated)."""
+        g, nu = self.obstacle.evaluate(self.points + u[self.dofs])
+        self.normals = nu
+        return g
+
+    def gaps(self, x: np.ndarray) -> np.ndarray:
+        """Gaps of the candidates for the free displacement ``x``."""
+        return self.obstacle.gap(self._current(self.expand(x), self.cand))
+
+    def _kinematics(self, u: np.ndarray, idx: np.ndarray, hessian: bool):
+        xc = self._current(u, idx)
+        g, nu = self.obstacle.evaluate(xc)
+        H = self.obstacle.gap_hessian(xc) if hessian else None
+        return g, nu, H
+
+    def _B(self, nu: np.ndarray, idx: np.ndarray) -> sp.csr_matrix:
+        """Rows :math:`-\\nu_i^T` on the free DOFs of the points ``idx``."""
+        pos = self.pos[idx]
+        k = idx.size
+        rows = np.repeat(np.arange(k), self.dim)
+        cols = pos.ravel()
+        keep = cols >= 0
+        return sp.csr_matrix(((-nu).ravel()[keep], (rows[keep], cols[keep])), shape=(k, self.free.size))
+
+    def _point_blocks(self, idx: np.ndarray, blocks: np.ndarray) -> sp.csr_matrix:
+        """Sparse sum of the ``d x d`` blocks of the points ``idx`` on their free DOFs."""
+        d = self.dim
+        pos = self.pos[idx]  # (k, d)
+        r = np.repeat(pos, d, axis=1).ravel()
+        c = np.tile(pos, (1, d)).ravel()
+        v = blocks.reshape(idx.size, d * d).ravel()
+        keep = (r >= 0) & (c >= 0) & (v != 0)
+        nf = self.free.size
+        return sp.csr_matrix((v[keep], (r[keep], c[keep])), shape=(nf, nf))
+
+    # ------------------------------------------------------------------ body
+    def _body_state(self, u: np.ndarray, energy: bool):
+        """``(f_int - f_ext, Pi_body)``; raises InvertedElementError for J <= 0."""
+        fint = np.asarray(self.body.internal_force(u), dtype=float)
+        if not np.all(np.isfinite(fint)):
+            raise InvertedElementError("non-finite internal force (an element is inverted or degenerate)")
+        e = float(self.body.energy(u)) - float(self.load @ u) if energy else np.nan
+        return fint - self.load, e
+
+    def _tangent_free(self, u: np.ndarray) -> sp.csr_matrix:
+        K = self.body.tangent(u).tocsr()
+        return K[self.free][:, self.free]
+
+    # ------------------------------------------- interface of the outer loops
+    def start(self) -> np.ndarray:
+        return self.x0.copy()
+
+    def initial_multipliers(self) -> np.ndarray:
+        """Pressures of the last accepted load step on the current candidates (warm start)."""
+        return self.last_pressure[self.cand].copy()
+
+    def accept(self, pressure: np.ndarray) -> None:
+        """Record the data and pressures (all points) of an accepted load step (next warm start)."""
+        self.last_pressure = np.asarray(pressure, dtype=float).copy()
+        self._accepted = (self.fixed_values, self.load, self.obstacle)
+
+    def scale_forces(self, x: np.ndarray, factor: float) -> np.ndarray:
+        r"""Contact forces scaled by ``factor``, to first order (used for barrier starting points).
+
+        At an equilibrium ``x`` the contact forces balance the body, :math:`B^T r = -(f_{int} -
+        f_{ext})`, so scaling them changes the state by
+        :math:`\Delta x = (\text{factor} - 1)\, K_T^{-1} (f_{int} - f_{ext})` (exact for a linear body).
+        """
+        try:
+            u = self.expand(x)
+            rb, _ = self._body_state(u, False)
+            rhs = rb[self.free]
+            if not np.any(rhs):
+                return np.array(x, dtype=float)
+            dx = linear_solve(self._tangent_free(u), (factor - 1.0) * rhs)
+            self.linear_solves += 1
+            return np.asarray(x, dtype=float) + dx
+        except (InvertedElementError, np.linalg.LinAlgError):
+            return np.array(x, dtype=float)
+
+    def final_displacement(self, x: np.ndarray) -> np.ndarray:
+        return self.expand(x)
+
+    def timings(self) -> dict:
+        return {"setup_s": self.setup_seconds, "factor_s": 0.0, "assembly_s": self.assembly_seconds,
+                "linear_solve_s": self.solve_seconds}
+
+    def extra(self) -> dict:
+        return {"linear_solver": "direct", "kinematics": "finite", "newton_total": int(self.newton_iterations)}
+
+    def force_scale(self, r_body: np.ndarray, contact: np.ndarray) -> float:
+        """Force unit of the relative residuals: largest external, internal (reaction) or contact force.
+
+        ``r_body`` is :math:`f_{int} - f_{ext}` on all DOFs, ``contact`` the contact forces.
+        """
+        fmax = float(np.max(np.abs(self.load), initial=0.0))
+        return max(fmax, float(np.max(np.abs(r_body + self.load), initial=0.0)),
+                   float(np.max(np.abs(contact), initial=0.0)), 1e-300)
+
+    # ------------------------------------------------------------------ subproblem (S)
+    def residual(self, law, lam, x: np.ndarray) -> np.ndarray:
+        r""":math:`R(x) = f_{int}(u) - f_{ext} + B(u)^T (w \circ t_N(g(u)))` on the free DOFs (module doc)."""
+        u = self.expand(x)
+        rb, _ = self._body_state(u, False)
+        g, nu, _ = self._kinematics(u, self.cand, False)
+        t = law.traction(g, lam)
+        return rb[self.free] + self._B(nu, self.cand).T @ (self.weights[self.cand] * t)
+
+    def jacobian(self, law, lam, x: np.ndarray) -> sp.csr_matrix:
+        r"""Consistent tangent :math:`J(x) = \partial R/\partial x` with the curvature term (module doc)."""
+        u = self.expand(x)
+        g = self.obstacle.gap(self._current(u, self.cand))
+        return self._newton_matrix(u, law.traction(g, lam), law.stiffness(g, lam))
+
+    def _newton_matrix(self, u, t, D) -> sp.csr_matrix:
+        r""":math:`K_T + B^T \operatorname{diag}(w D) B + \sum_i w_i t_i H_i` at ``u`` (candidates)."""
+        cand = self.cand
+        w = self.weights[cand]
+        _, nu, H = self._kinematics(u, cand, True)
+        Bm = self._B(nu, cand)
+        return (self._tangent_free(u) + Bm.T @ sp.diags(w * D) @ Bm
+                + self._point_blocks(cand, (w * t)[:, None, None] * H)).tocsr()
+
+    def subproblem(self, law, lam, x0, *, tol: float, maxiter: int) -> NewtonOutcome:
+        """Newton's method for :math:`R(x) = 0` of subproblem (S) (module doc)."""
+        cand = self.cand
+        w = self.weights[cand]
+        lam = np.asarray(lam, dtype=float)
+        log: list[float] = []
+        self.residual_log.append(log)
+
+        last_body = [None]  # f_int - f_ext of the last evaluation
+
+        def evaluate(x_, need_energy=True):
+            u_ = self.expand(x_)
+            r_body, e_body = self._body_state(u_, need_energy)
+            g_, nu_, _ = self._kinematics(u_, cand, False)
+            t_ = law.traction(g_, lam)
+            Bm = self._B(nu_, cand)
+            R_ = r_body[self.free] + Bm.T @ (w * t_)
+            pi_ = e_body + float(np.sum(w * law.energy(g_, lam))) if need_energy else np.nan
+            last_body[0] = r_body
+            return u_, g_, t_, R_, pi_
+
+        x = np.array(x0, dtype=float)
+        try:
+            u, g, t, R, pi = evaluate(x)
+        except InvertedElementError as exc:
+            return NewtonOutcome(x, self.gaps(x), np.zeros(cand.size), 0, False, np.inf,
+                                 f"inverted element at the starting state ({exc})")
+        e_pen = law.energy(g, lam)
+        if np.any(np.isnan(t)) or np.any(np.isnan(e_pen)):
+            return NewtonOutcome(x, g, t, 0, False, np.nan, "the penalty returned NaN")
+        if not np.all(np.isfinite(e_pen)):
+            return NewtonOutcome(x, g, t, 0, False, np.inf, "start outside the penalty domain")
+        # globalize on the total energy where the body has one, else on the residual norm
+        use_energy = bool(np.isfinite(pi))
+        scale = self.force_scale(last_body[0], w * t)
+        coord = float(np.max(np.abs(self._current(u, cand)), initial=1.0))
+        floor = 0.0
+        prev = np.inf
+        for it in range(1, maxiter + 1):
+            res = float(np.max(np.abs(R), initial=0.0)) / scale
+            log.append(res)
+            if res <= tol:
+                return NewtonOutcome(x, g, t, it - 1, True, res, "converged")
+            if res <= max(1e-8, floor) and res > 0.5 * prev:
+                return NewtonOutcome(x, g, t, it - 1, True, res, "converged (residual at round-off level)")
+            prev = res
+            ta = time.perf_counter()
+            D = law.stiffness(g, lam)
+            # round-off floor of the residual: gaps from absolute coordinates, times the contact stiffness
+            floor = 1e3 * _EPS * coord * float(np.max(w * np.abs(D), initial=0.0)) / scale
+            J = self._newton_matrix(u, t, D)
+            tb = time.perf_counter()
+            self.assembly_seconds += tb - ta
+            try:
+                dx = linear_solve(J, -R)
+            except np.linalg.LinAlgError:
+                return NewtonOutcome(x, g, t, it, False, res, "singular Newton matrix")
+            self.solve_seconds += time.perf_counter() - tb
+            self.linear_solves += 1
+            self.newton_iterations += 1
+            if not np.all(np.isfinite(dx)):
+                return NewtonOutcome(x, g, t, it, False, res, "non-finite Newton step")
+            slope = float(R @ dx)
+            norm_R = float(np.linalg.norm(R))
+            merit0 = pi if use_energy else 0.5 * float(R @ R)
+            slope_m = slope if use_energy else -float(R @ R)
+            alpha, accepted = 1.0, False
+            trial = None
+            for _ in range(_MAX_HALVINGS):
+                try:
+                    trial = evaluate(x + alpha * dx, use_energy)
+                except InvertedElementError:
+                    alpha *= 0.5
+                    continue
+                _, _, t_try, R_try, pi_try = trial
+                m_try = pi_try if use_energy else 0.5 * float(R_try @ R_try)
+                if np.isfinite(m_try) and m_try <= merit0 + _ARMIJO * alpha * min(slope_m, 0.0) + 1e-14 * abs(merit0):
+                    accepted = True
+                    break
+                # near the solution the energy decrease drowns in its round-off: a sufficient
+                # decrease of the residual norm accepts the step as well
+                if np.isfinite(m_try) and float(np.linalg.norm(R_try)) <= (1 - _ARMIJO * alpha) * norm_R:
+                    accepted = True
+                    break
+                alpha *= 0.5
+            if not accepted:
+                # merit flat to round-off: accept the full step if it reduces the residual
+                try:
+                    trial = evaluate(x + dx, use_energy)
+                except InvertedElementError:
+                    return NewtonOutcome(x, g, t, it, False, res, "line search failed (inverted elements)")
+                if not (np.isfinite(trial[4]) or not use_energy) or \
+                        np.max(np.abs(trial[3])) >= np.max(np.abs(R)):
+                    return NewtonOutcome(x, g, t, it, False, res, "line search failed")
+                alpha = 1.0
+            x = x + alpha * dx
+            u, g, t, R, pi = trial
+            scale = max(scale, float(np.max(np.abs(w * t), initial=0.0)))
+        res = float(np.max(np.abs(R), initial=0.0)) / scale
+        log.append(res)
+        return NewtonOutcome(x, g, t, maxiter, res <= tol, res, "maximum Newton iterations")
+
+    # ------------------------------------------------------------------ reference (active set)
+    def solve_active(self, active, lam, x, c, *, tol: float = 1e-12, maxiter: int = 50):
+        r"""Active-set step of :func:`run_ssn`, as a semi-smooth Newton method (Alart-Curnier type).
+
+        Newton's method on the saddle-point system of :math:`g_A(u) = 0` (module doc),
+        with the active set re-predicted after every Newton step from
+        :math:`\lambda_i + c\,g_i > 0` on all candidates and switched as soon as it changes
+        (a Newton step of :math:`\lambda - \max(0, \lambda + c g) = 0`), so the outer
+        active-set loop mostly finds its set settled. Returns ``(x, lam_new, g)`` with the
+        pressures ``lam_new`` (zero off the final active set) and the gaps of all candidates.
+        A Newton failure is logged; the outer loop then sees the remaining penetration.
+        """
+        active = np.asarray(active, dtype=bool).copy()
+        lam_all = np.where(active, np.maximum(np.asarray(lam, dtype=float), 0.0), 0.0)
+        x = np.array(x, dtype=float)
+        budget = int(maxiter)
+        converged_sets = set()
+        while budget > 0:
+            x, lam_all, ok, used = self._equality_newton(active, lam_all, x, c, tol, budget)
+            budget -= used
+            new_active = (lam_all + c * self.gaps(x)) > 0
+            if ok:
+                key = active.tobytes()
+                if np.array_equal(new_active, active) or key in converged_sets:
+                    break
+                converged_sets.add(key)
+            elif np.array_equal(new_active, active):
+                break  # the equality Newton failed on a settled set (logged there)
+            lam_all = np.where(new_active, lam_all, 0.0)
+            active = new_active
+        return x, np.where(active, lam_all, 0.0), self.gaps(x)
+
+    def _equality_newton(self, active, lam_all, x, c, tol, maxiter):
+        """Newton on :math:`g_A = 0` (saddle point); stops early when the predicted active set changes.
+
+        Returns ``(x, lam_all, converged, newton_steps)``.
+        """
+        cand = self.cand
+        idx = np.flatnonzero(active)
+        A = cand[idx]
+        nA = A.size
+        wA = self.weights[A]
+        r = np.maximum(lam_all[idx], 0.0) * wA
+        nf = self.free.size
+        log: list[float] = []
+        self.residual_log.append(log)
+
+        def evaluate(x_, r_):
+            u_ = self.expand(x_)
+            rb, _ = self._body_state(u_, False)
+            g_, nu_, _ = self._kinematics(u_, A, False)
+            Bm = self._B(nu_, A)
+            last_body[0] = rb
+            return u_, g_, Bm, rb[self.free] + Bm.T @ r_
+
+        last_body = [None]
+        scale_run = [0.0]  # running force unit: a free rigid motion has no forces left to scale by
+
+        def measure(u_, R_, g_, r_):
+            scale = max(scale_run[0], self.force_scale(last_body[0], r_))
+            scale_run[0] = scale
+            return max(float(np.max(np.abs(R_), initial=0.0)) / scale,
+                       float(np.max(np.abs(g_), initial=0.0)) / self.h)
+
+        def lam_of(r_):
+            out = np.zeros(cand.size)
+            out[idx] = r_ / wA
+            return out
+
+        u, gA, Bm, R = evaluate(x, r)  # InvertedElementError: the load step is cut back
+        res = measure(u, R, gA, r)
+        steps = 0
+        for _it in range(maxiter):
+            log.append(res)
+            if res <= tol or (len(log) > 2 and res <= 1e-8 and res > 0.5 * log[-2]):
+                return x, lam_of(r), True, steps
+            ta = time.perf_counter()
+            _, _, H = self._kinematics(u, A, True)
+            Kt = self._tangent_free(u) + self._point_blocks(A, r[:, None, None] * H)
+            J = sp.bmat([[Kt, Bm.T], [Bm, None]], format="csc")
+            tb = time.perf_counter()
+            self.assembly_seconds += tb - ta
+            try:
+                step = linear_solve(J, -np.concatenate([R, gA]))
+            except np.linalg.LinAlgError:
+                logger.warning("active-set step: singular saddle-point matrix with %d active points", nA)
+                return x, lam_of(r), False, steps + 1
+            self.solve_seconds += time.perf_counter() - tb
+            self.linear_solves += 1
+            self.newton_iterations += 1
+            steps += 1
+            dx, dr = step[:nf], step[nf:]
+            alpha = 1.0
+            for _ in range(_MAX_HALVINGS):
+                try:
+                    trial = evaluate(x + alpha * dx, r + alpha * dr)
+                except InvertedElementError:
+                    alpha *= 0.5
+                    continue
+                res_try = measure(trial[0], trial[3], trial[1], r + alpha * dr)
+                if res_try < (1 - _ARMIJO * alpha) * res or alpha < 2.0 ** -20:
+                    break
+                alpha *= 0.5
+            else:
+                logger.warning("active-set step: every trial step inverts an element")
+                return x, lam_of(r), False, steps
+            x, r = x + alpha * dx, r + alpha * dr
+            u, gA, Bm, R = trial
+            res = res_try
+            if alpha == 1.0 and res > tol:
+                # semi-smooth Newton: switch as soon as the predicted active set changes
+                predicted = (lam_of(r) + c * self.gaps(x)) > 0
+                if not np.array_equal(predicted, active):
+                    return x, lam_of(r), False, steps
+        logger.warning("active-set Newton stopped at relative residual %.2e after %d steps", res, steps)
+        return x, lam_of(r), False, steps

@@ -1,0 +1,69 @@
+r"""A neo-Hookean half-cylinder pressed onto a rigid plane (finite deformation, plane strain).
+
+The half-cylinder of radius :math:`R` lies with its flat face on top (:math:`y = R`) and
+its curved face on the plane :math:`y = 0`, touching it at the origin; the half model
+:math:`x \le 0` (symmetry face ``"symmetry"``, :math:`u_x = 0`) is meshed by the
+elliptical-grid map of the unit square onto the quarter disc,
+
+.. math::
+
+    (\xi, \eta) \mapsto R\,\bigl(\xi\sqrt{1 - \eta^2/2},\; \eta\sqrt{1 - \xi^2/2}\bigr),
+
+rotated by 180 degrees and shifted up by :math:`R`. The flat face (``"top"``) is pushed
+down by :math:`\delta` (``u_y = -\delta``, lateral motion free): with
+:func:`alcontact.contact.solve_finite` the approach is ramped over the load steps.
+The contact boundary is ``"curved"``.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+
+from ..contact import ContactProblem, Support
+from ..contact.obstacles import HalfSpace
+from ..fem import Material, meshes
+from ..fem.hyperelastic import Hyperelastic
+
+__all__ = ["half_cylinder"]
+
+
+def half_cylinder(n: int = 8, *, order: int = 1, radius: float = 1.0, delta: float = 0.4,
+                  E: float = 1000.0, nu: float = 0.3, model: str = "neo-hookean") -> ContactProblem:
+    """Half-cylinder on a rigid plane, pressed down by ``delta`` (module doc).
+
+    Parameters
+    ----------
+    n : int
+        Elements per side of the mapped square (``2 n^2`` triangles).
+    order : {1, 2}
+    radius, delta : float
+        Radius :math:`R` and final approach :math:`\\delta` of the flat face.
+    E, nu : float
+        Elastic constants (plane strain).
+    model : str
+        Hyperelastic law (:func:`alcontact.fem.available_materials`).
+    """
+    sq = meshes.rectangle(0.0, 1.0, 0.0, 1.0, n, n)
+    xi, eta = sq.doflocs
+    X = radius * xi * np.sqrt(1.0 - eta**2 / 2.0)
+    Y = radius * eta * np.sqrt(1.0 - xi**2 / 2.0)
+    p = np.vstack([-X, radius - Y])  # rotation by 180 degrees keeps the orientation
+    mesh = dataclasses.replace(sq, doflocs=p, _boundaries=None)
+    tol = 1e-9 * radius
+    mesh = mesh.with_boundaries({
+        "top": lambda x: x[1] > radius - tol,
+        "symmetry": lambda x: x[0] > -tol,
+        "curved": lambda x: (x[1] < radius - tol) & (x[0] < -tol),
+    })
+    body = Hyperelastic(mesh, Material(E=E, nu=nu, plane="strain"), order=order, model=model)
+    return ContactProblem(
+        model=body,
+        obstacle=HalfSpace([0.0, 0.0], [0.0, 1.0]),
+        contact_boundary="curved",
+        supports=(Support("symmetry", components=(0,)), Support("top", components=(1,), value=-delta)),
+        name=f"half-cylinder (R={radius:g}, delta/R={delta / radius:g}, n={n}, P{order}, {model})",
+        kinematics="finite",
+        meta={"radius": radius, "delta": delta, "n": n},
+    )
