@@ -75,6 +75,9 @@ def test_homogeneous_compression_force(dim, algorithm, penalty, extra):
     steps = sol.extra["load_steps"]
     assert len(steps) >= 4 and all(s.status > 0 for s in steps)
     assert np.isclose(steps[-1].t, 1.0)
+    # global equilibrium (issue 12): contact force = reactions + loads, with the internal force f_int(u)
+    eq = sol.equilibrium()
+    assert eq.residual <= 1e-8 and eq.free_residual <= 1e-8, eq
 
 
 def test_load_steps_are_monotone_and_analytical():

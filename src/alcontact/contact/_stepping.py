@@ -33,6 +33,7 @@ from ._algorithms import ContactOptions, _Run, get_algorithm, options_with, reso
 from ._finite import FiniteContact
 from ._loading import LoadHistory, component_fields
 from ._solution import ContactResult, ContactSolution, ContactStatus
+from ._verify import check_state, verified_status
 
 __all__ = ["FiniteStep", "FiniteSolution", "solve_finite"]
 
@@ -308,15 +309,22 @@ def _solution(problem, dc, out, u, algorithm, pen_name, opts, status, message, r
     m = dc.points.shape[0]
     pressure = np.zeros(m)
     if out.lam.size:
-        pressure[dc.cand] = np.maximum(out.lam, 0.0)
-    force = np.sum((dc.weights * pressure)[:, None] * dc.normals, axis=0)
+        pressure[dc.cand] = out.lam
+    # the one place a finite-deformation result is built: a "converged" state must pass the tolerances
+    check = check_state(g_all, pressure, dc.h, tol_penetration=opts.tol_penetration,
+                        tol_complementarity=opts.tol_complementarity)
+    status, message = verified_status(status if status < 0 else out.status, message, check,
+                                      what=f"finite-deformation contact solve {algorithm}")
+    pressure = np.maximum(pressure, 0.0)
+    nodal = dc.weights * pressure
+    force = np.sum(nodal[:, None] * dc.normals, axis=0)
     closed = g_all > -max(1e-6, 10 * opts.tol_penetration) * dc.h
     active = closed & (pressure > 1e-12 * max(float(pressure.max(initial=0.0)), 1e-300))
     pen_final = float(np.max(g_all, initial=0.0)) / dc.h
     pref = max(float(pressure.max(initial=0.0)), 1e-300)
     compl = float(np.max(np.abs(pressure * g_all), initial=0.0)) / (pref * dc.h)
     result = ContactResult(
-        status=status if status < 0 else out.status,
+        status=status,
         message=message,
         algorithm=algorithm,
         penalty=pen_name,
@@ -333,7 +341,7 @@ def _solution(problem, dc, out, u, algorithm, pen_name, opts, status, message, r
     t_end = time.perf_counter()
     return ContactSolution(
         problem=problem, u=u, points=dc.points, pressure=pressure, gap=g_all, weights=dc.weights,
-        active=active, normals=dc.normals.copy(), total_contact_force=force, result=result,
+        active=active, normals=dc.normals.copy(), total_contact_force=force, result=result, nodal_forces=nodal,
         timings=dict(dc.timings(), total_s=t_end - t_start),
         extra={"h": dc.h, "candidates": int(dc.cand.size), "dofs": int(problem.model.ndofs),
                "steps": len(records), **dc.extra()},
