@@ -36,6 +36,7 @@ import numpy as np
 
 from .. import penalties as _pen
 from ..errors import InputError, UnknownNameError
+from ..linalg import registered_solvers
 from ._laws import eta_for_stiffness, freezes_at_zero, make_law
 from ._solution import ContactIteration, ContactStatus
 
@@ -83,13 +84,15 @@ class ContactOptions:
         uniform value ``eps_n * h``.
     multiplier_floor : float
         Relative lower bound keeping MET multipliers positive.
-    linear_solver : {"auto", "direct", "amg"}
-        ``"direct"``: one sparse factorization of the stiffness, problem condensed on the
-        contact points (:mod:`alcontact.contact._discrete`). ``"amg"``: no factorization;
+    linear_solver : {"auto", "direct", "amg", "mkl-pardiso", "cholmod", "superlu", ...}
+        ``"direct"``: one sparse factorization of the stiffness (the fastest installed
+        direct solver), problem condensed on the contact points
+        (:mod:`alcontact.contact._discrete`). ``"amg"``: no factorization;
         full-space Newton with conjugate gradients preconditioned by smoothed-aggregation
         AMG (PyAMG; :mod:`alcontact.contact._iterative`), for meshes whose factor does not
-        fit in memory. ``"auto"``: ``"amg"`` for 3D models with more than 100k DOFs, else
-        ``"direct"``.
+        fit in memory. A direct solver's registry name (:func:`alcontact.linalg.registered_solvers`)
+        picks that solver for the factorization. ``"auto"``: :func:`alcontact.linalg.choose_solver`
+        (``"amg"`` for 3D models with more than 100k DOFs, else ``"direct"``).
     """
 
     eps_n: float | None = None
@@ -132,7 +135,7 @@ class ContactOptions:
             ("strategy", ("fixed", "infeasibility")),
             ("eta_scaling", ("adaptive", "fixed")),
             ("initial", ("penalty", "uniform")),
-            ("linear_solver", ("auto", "direct", "amg")),
+            ("linear_solver", ("auto", "direct", *registered_solvers())),
         ):
             if getattr(self, key) not in allowed:
                 raise InputError(f"contact option {key}={getattr(self, key)!r}; allowed: {', '.join(allowed)}.")

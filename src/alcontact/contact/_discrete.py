@@ -165,14 +165,15 @@ class DiscreteContact(ContactPoints):
         Triangular solve pairs with the stiffness factor so far.
     """
 
-    def __init__(self, problem, *, margin: float = 0.25):
+    def __init__(self, problem, *, margin: float = 0.25, linear_solver: str = "auto"):
         t0 = time.perf_counter()
         self._setup_problem(problem)
         model = self.model
         self.spring = None  # contact-point springs of a body held only by the obstacle
+        self.linear_solver = linear_solver  # registry name (alcontact.linalg) or "auto"
         t_fac = time.perf_counter()
         try:
-            self.factor = model.factorize(self.fixed)  # checks the rigid motions first
+            self.factor = model.factorize(self.fixed, backend=linear_solver)  # checks the rigid motions first
             matrix_ok = True
         except InputError as exc:
             self._stabilize(problem, exc)  # raises unless the obstacle restrains the free motions
@@ -228,7 +229,7 @@ class DiscreteContact(ContactPoints):
         add = (Bs.T @ sp.diags(kappa * self.weights[near]) @ Bs).tocsr()
         Kt = stiff + _expand_free(add, free, model.ndofs)
         try:
-            self.factor = model.factorize(self.fixed, matrix=Kt, check=True)
+            self.factor = model.factorize(self.fixed, matrix=Kt, check=True, backend=self.linear_solver)
         except InputError:
             raise InputError(
                 f"{exc} The contact points touching the obstacle do not restrain that motion either: "
