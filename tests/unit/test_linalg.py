@@ -179,6 +179,7 @@ def test_stepped_frictionless_run_factorizes_once():
     n0 = model.factorization_count
     sols = [solve(problem_at(unloaded, hist, t), "simo-laursen") for t in hist.times]
     assert model.factorization_count == n0 + 1
+    assert [s.result.factorizations for s in sols] == [1, 0]
     assert all(s.result.success for s in sols)
     fresh = blocks.signorini_block(n=4, pressure=1.0)
     ref = solve(fresh, "simo-laursen")

@@ -172,12 +172,15 @@ class DiscreteContact(ContactPoints):
         self.spring = None  # contact-point springs of a body held only by the obstacle
         self.linear_solver = linear_solver  # registry name (alcontact.linalg) or "auto"
         t_fac = time.perf_counter()
+        n_fac = getattr(model, "factorization_count", None)
         try:
             self.factor = model.factorize(self.fixed, backend=linear_solver)  # checks the rigid motions first
             matrix_ok = True
         except InputError as exc:
             self._stabilize(problem, exc)  # raises unless the obstacle restrains the free motions
             matrix_ok = False
+        if n_fac is not None:  # 0 when the model reused its factorization (same supports, e.g. load steps)
+            self.factorizations = model.factorization_count - n_fac
         self.factor_seconds = time.perf_counter() - t_fac
         t_sol = time.perf_counter()
         self.u_free = self.factor.solve_full(self.load, self.fixed_values)
