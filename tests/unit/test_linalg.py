@@ -189,3 +189,17 @@ def test_stepped_frictionless_run_factorizes_once():
                                supports=base.supports + (Support("right", components=(0,)),))
     solve(more, "simo-laursen")
     assert model.factorization_count == n0 + 2
+
+
+@pytest.mark.parametrize("name", linalg.available_solvers())
+def test_model_factorize_with_every_solver_gives_the_same_displacement(name):
+    """Reference: SuperLU on the same condensed system; direct solvers agree to 1e-10 of max|u|,
+    ``amg`` (CG to a relative residual of 1e-10, condition number ~1e4 here) to 1e-6."""
+    model = LinearElasticity(meshes.rectangle(0, 2, 0, 1, 8, 4), Material(E=100.0, nu=0.3), order=2)
+    left, _ = model.dirichlet("left")
+    f = model.traction_load("right", [0.0, -1.0])
+    ref = model.factorize(left, backend="superlu", reuse=False).solve_full(f)
+    fac = model.factorize(left, backend=name, reuse=False)
+    assert fac.backend == name
+    tol = 1e-10 if linalg.solver_kind(name) == "direct" else 1e-6
+    assert np.max(np.abs(fac.solve_full(f) - ref)) <= tol * np.max(np.abs(ref))
