@@ -237,6 +237,11 @@ def _fit(xs, ys):
     return sum((p[0] - mx) * (p[1] - my) for p in pts) / sxx
 
 
+def _lin(r) -> float:
+    """CPU seconds of factorization + one solve (wall seconds for records without CPU times)."""
+    return r.get("linear_cpu_s") or r["linear_s"]
+
+
 def _s(x) -> str:
     return "-" if x is None else f"{x:.2f}"
 
@@ -264,17 +269,18 @@ def report(args) -> None:
     for case in CASES:
         for solver in sorted({r["solver"] for r in recs}):
             rs = [r for r in recs if r["case"] == case and r["solver"] == solver]
-            ft = _fit([r["nfree"] for r in rs], [r["linear_s"] for r in rs])
+            ft = _fit([r["nfree"] for r in rs], [_lin(r) for r in rs])
             rm = [r for r in rs if r.get("factor_peak_mb")]
             fm = _fit([r["nfree"] for r in rm], [r["factor_peak_mb"] for r in rm])
             if ft is not None:
                 fits[(case, solver)] = (ft, fm, len(rs))
-    lines.append("| case | solver | DOFs (free) | factor s | 1 solve s | 32 solves s | factor nnz | "
-                 "factor MB (library) | peak RSS of factor + solves MB | residual |")
-    lines.append("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|")
+    lines.append("| case | solver | DOFs (free) | factor CPU s | 1 solve CPU s | factor wall s | 1 solve wall s | "
+                 "32 solves wall s | factor nnz | factor MB (library) | peak RSS of factor + solves MB | residual |")
+    lines.append("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
     for r in recs:
         lines.append(
-            f"| {r['case']} | {r['solver']} | {r['nfree']:,} | {r['factor_s']:.2f} | {r['solve_s']:.3f} | "
+            f"| {r['case']} | {r['solver']} | {r['nfree']:,} | {_s(r.get('factor_cpu_s'))} | "
+            f"{_s(r.get('solve_cpu_s'))} | {r['factor_s']:.2f} | {r['solve_s']:.3f} | "
             f"{_s(r.get('solve32_s'))} | {r['nnz_factor']:,} | {_mb(r.get('factor_mb'))} | "
             f"{_mb(r.get('factor_peak_mb'))} | {r['residual']:.1e} |")
     fit_lines = ["| case | solver | runs | time exponent | memory exponent |", "|---|---|---:|---:|---:|"]
@@ -295,14 +301,14 @@ def report(args) -> None:
         nd = next(iter(rs.values()))["ndofs"]
         cells = []
         for s in sorted({r["solver"] for r in recs}):
-            cells.append(f"{rs[s]['linear_s']:.2f}" if s in rs else
+            cells.append(f"{_lin(rs[s]):.2f}" if s in rs else
                          ("timeout" if any(e["solver"] == s and same(e, case, n, g) for e in errs) else "-"))
         peer_lines.append(f"| {case} | {nd:,} | {dofs:,} | {peer_t} | {before} | " + " | ".join(cells) + " |")
     err_lines = [f"- {e['case']} n_per_a={e['n_per_a']} {e['solver']}: {e['error'].strip().splitlines()[-1]}"
                  for e in errs if e.get("error")]
     text = (out / "linear_solvers.md").read_text() if (out / "linear_solvers.md").exists() else ""
     head = text.split("<!-- tables -->")[0] if "<!-- tables -->" in text else "# Linear solvers\n\n"
-    body = ["<!-- tables -->", "", "## Peer comparison (one linear solve = factorization + one solve)", "",
+    body = ["<!-- tables -->", "", "## Peer comparison (one linear solve = factorization + one solve, CPU s)", "",
             *peer_lines, "", "## All runs", "", *lines, "", "## Fitted exponents (time and memory ~ DOFs^k)", "",
             *fit_lines, "", "![time and memory against DOFs](linear_solvers.png)", ""]
     if err_lines:
@@ -327,12 +333,12 @@ def _plot(recs, path: Path) -> None:
             if not rs:
                 continue
             x = [r["nfree"] for r in rs]
-            axes[0].loglog(x, [r["linear_s"] for r in rs], marker=markers[case], color=c, label=f"{case} {solver}")
+            axes[0].loglog(x, [_lin(r) for r in rs], marker=markers[case], color=c, label=f"{case} {solver}")
             rm = [r for r in rs if r.get("factor_peak_mb")]
             if rm:
                 axes[1].loglog([r["nfree"] for r in rm], [max(r["factor_peak_mb"], 1.0) for r in rm],
                                marker=markers[case], color=c, label=f"{case} {solver}")
-    axes[0].set(xlabel="free DOFs", ylabel="factorization + one solve [s]", title="time (1 thread)")
+    axes[0].set(xlabel="free DOFs", ylabel="factorization + one solve [CPU s]", title="time (1 thread)")
     axes[1].set(xlabel="free DOFs", ylabel="peak RSS of factorization + solves [MB]", title="memory")
     for ax in axes:
         ax.grid(True, which="both", alpha=0.3)

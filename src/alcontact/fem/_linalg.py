@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import logging
 import time
 
@@ -112,9 +113,11 @@ class Factorization:
     fixed : array_like of int
         Indices of the prescribed DOFs (duplicates are ignored).
     permc_spec : str
-        SuperLU column ordering when ``perm`` is None.
+        Built-in ordering (SuperLU's column ordering) when ``perm`` is None; solvers
+        without a choice of orderings ignore it.
     perm : array_like of int, optional
-        Symmetric ordering of the *free* DOFs (``perm[new] = position in free``), SuperLU only.
+        Symmetric ordering of the *free* DOFs (``perm[new] = position in free``) for the
+        solvers that take one (SuperLU); the others order the matrix themselves.
     check : bool
         Raise :class:`~alcontact.errors.InputError` if the matrix is
         numerically singular: one extra solve of :math:`K_{ff}x = K_{ff}\mathbf 1`
@@ -169,19 +172,18 @@ class Factorization:
         rows = A[self.free]
         self.K_ff = rows[:, self.free].tocsc()
         self.K_fd = rows[:, self.fixed].tocsr()
-        options = {"permc_spec": permc_spec} if backend == "superlu" else {}
-        solver = make_solver(backend, **options)
+        solver = make_solver(backend)
         self.backend = backend
+        if perm is not None:
+            perm = np.asarray(perm, dtype=np.int64)
+            if perm.shape != (self.free.size,) or not np.array_equal(np.sort(perm), np.arange(self.free.size)):
+                raise InputError(f"perm must be a permutation of range({self.free.size}) (the free DOFs).")
+        hints = dataclasses.replace(hints or MatrixHints(), ordering_name=permc_spec,
+                                    **({"ordering": lambda: perm} if perm is not None else {}))
         t0 = time.perf_counter()
-        if self.free.size == 0:
-            self.factor = None
-            self.ordering = "none"
-        elif backend == "superlu":
-            self.factor = solver.factorize(self.K_ff, hints, perm=perm)
-            self.ordering = self.factor.ordering
-        else:
-            self.factor = solver.factorize(self.K_ff, hints)
-            self.ordering = backend
+        self.factor = solver.factorize(self.K_ff, hints) if self.free.size else None
+        #: the ordering used (solvers that order the matrix themselves report their name)
+        self.ordering = getattr(self.factor, "ordering", backend)
         self.factor_seconds = time.perf_counter() - t0
         if check:
             self._check()

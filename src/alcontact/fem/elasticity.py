@@ -549,7 +549,7 @@ class LinearElasticity:
         fixed = np.unique(np.asarray(dirichlet_dofs, dtype=np.int64).ravel())
         if ordering == "auto":
             ordering = "nd" if self.dim == 3 else "MMD_AT_PLUS_A"
-        key = (backend, ordering if backend == "superlu" else None, bool(check), fixed.tobytes())
+        key = (backend, ordering, bool(check), fixed.tobytes())
         cached = self._factor_cache
         if reuse and cached is not None and cached[0] is matrix and cached[1] == key:
             logger.debug("reusing the factorization of %d free DOFs (%s)", cached[2].free.size, backend)
@@ -558,14 +558,12 @@ class LinearElasticity:
         mask = np.ones(self.ndofs, dtype=bool)
         mask[fixed] = False
         free = np.flatnonzero(mask)
-        hints = MatrixHints(dim=self.dim, ordering=lambda: self.ordering(free),
+        # the nested dissection and the rigid modes are computed only if the solver asks for them
+        nd = ordering == "nd"
+        hints = MatrixHints(dim=self.dim, ordering=(lambda: self.ordering(free)) if nd else None,
                             near_null=lambda: self._free_rigid_modes(free))
-        if backend == "superlu" and ordering == "nd":
-            fac = Factorization(matrix, fixed, perm=self.ordering(free), check=check)
-        elif backend == "superlu":
-            fac = Factorization(matrix, fixed, permc_spec=ordering, check=check)
-        else:
-            fac = Factorization(matrix, fixed, check=check, backend=backend, hints=hints)
+        fac = Factorization(matrix, fixed, permc_spec="MMD_AT_PLUS_A" if nd else ordering, check=check,
+                            backend=backend, hints=hints)
         self.factorization_count += 1
         if reuse:
             self._factor_cache = (matrix, key, fac)

@@ -26,11 +26,15 @@ class MatrixHints:
     near_null : callable or None
         ``near_null() -> B`` of shape ``(n, k)``: the near-null space of the
         operator (rigid-body modes for elasticity); used by algebraic multigrid.
+    ordering_name : str or None
+        Name of a built-in ordering for solvers that offer several (SuperLU's
+        ``permc_spec``), used when ``ordering`` is None.
     """
 
     dim: int | None = None
     ordering: Callable[[], np.ndarray] | None = None
     near_null: Callable[[], np.ndarray] | None = None
+    ordering_name: str | None = None
 
 
 @runtime_checkable

@@ -75,7 +75,7 @@ class SuperLUSolver:
     ----------
     permc_spec : str
         SuperLU column ordering used when no ordering is given (``MMD_AT_PLUS_A``,
-        SuperLU's best on these matrices in 2D).
+        SuperLU's best on these matrices in 2D); ``hints.ordering_name`` overrides it.
     use_ordering : bool
         Use ``hints.ordering`` (the mesh's nested dissection) when given: several
         times less fill than SuperLU's own orderings in 3D.
@@ -88,12 +88,13 @@ class SuperLUSolver:
         self.permc_spec = permc_spec
         self.use_ordering = use_ordering
 
-    def factorize(self, matrix, hints: MatrixHints | None = None, *, perm=None) -> _SuperLUFactor:
+    def factorize(self, matrix, hints: MatrixHints | None = None) -> _SuperLUFactor:
         A = sp.csc_matrix(matrix)
         n = A.shape[0]
-        if perm is None and self.use_ordering and hints is not None and hints.ordering is not None:
+        perm = None
+        if self.use_ordering and hints is not None and hints.ordering is not None:
             perm = hints.ordering()
-        permc = self.permc_spec
+        permc = (hints.ordering_name if hints is not None else None) or self.permc_spec
         if perm is not None:
             perm = np.asarray(perm, dtype=np.int64)
             if perm.shape != (n,) or not np.array_equal(np.sort(perm), np.arange(n)):
