@@ -187,7 +187,7 @@ def run(args) -> None:
     solvers = args.solvers or available_solvers()
     failed: dict[tuple[str, str], float] = {}  # (case, solver) -> smallest size that failed: skip larger ones
     for case, n, growth in _sizes(args.cases):
-        if _estimate_dofs(case, n) > args.max_dofs:
+        if _estimate_dofs(case, n) > args.max_dofs or (args.sizes and n not in args.sizes):
             continue
         for solver in solvers:
             if _estimate_dofs(case, n) >= failed.get((case, solver), math.inf):
@@ -354,6 +354,7 @@ def main(argv=None) -> None:
     r.add_argument("--cases", nargs="+", default=["peer", "2d-p2", "3d-p1", "3d-p2"])
     r.add_argument("--solvers", nargs="+")
     r.add_argument("--max-dofs", type=float, default=1.2e6)
+    r.add_argument("--sizes", nargs="+", type=float, help="only these n_per_a values")
     r.add_argument("--slow-3d-max", type=float, default=6e4)
     r.add_argument("--limit", type=float, default=300.0)
     r.add_argument("--out", default="docs/benchmarks")

@@ -168,15 +168,20 @@ def choose_solver(dim: int, ndofs: int, *, installed: list[str] | None = None,
                   allow_iterative: bool = True) -> str:
     """The default linear solver for a stiffness matrix: the ONE place that decides.
 
-    Rules (measurements in ``docs/benchmarks/linear_solvers.md``, one thread, stiffness
-    matrices of the Hertz problems):
+    Rules (measurements in ``docs/benchmarks/linear_solvers.md``: one thread, CPU seconds
+    of factorization + one solve of the Hertz stiffness matrices):
 
-    * 3D above :data:`AUTO_AMG_DOFS` DOFs: ``"amg"`` (no factorization; the direct
-      factors grow like :math:`n^{4/3}` in memory and :math:`n^2` in time in 3D);
-    * otherwise the first installed of :data:`DIRECT_PREFERENCE`: MKL PARDISO
-      (fastest factorization and solves in 2D and 3D), then CHOLMOD (the
-      ``cholespy`` wheel, reference BLAS), then SuperLU (always there; with the
-      mesh's nested dissection in 3D).
+    * 3D above :data:`AUTO_AMG_DOFS` DOFs: ``"amg"`` (no factorization). The direct
+      factors grow like :math:`n^{4/3}` in memory and about :math:`n^2` in time in 3D,
+      and the condensed contact path needs one solve per contact candidate; the
+      threshold comes from the contact benchmark (3D Hertz, 111k DOFs: AMG path 10 s,
+      condensed path with SuperLU 31 s).
+    * otherwise the first installed of :data:`DIRECT_PREFERENCE`: MKL PARDISO, then
+      CHOLMOD (the ``cholespy`` wheel links a reference BLAS), then SuperLU (always
+      there; with the mesh's nested dissection in 3D). PARDISO against CHOLMOD /
+      SuperLU: 2D P2 219k DOFs 2.7 s / 8.4 s / 5.4 s; 3D P2 36.5k DOFs 2.0 s /
+      24 s / 5.9 s; 3D P2 77.8k DOFs 6.8 s (SuperLU: 271 s wall in an earlier
+      measurement; AMG + CG to 1e-10: 9.3 s).
 
     Parameters
     ----------
