@@ -307,7 +307,7 @@ def report(args) -> None:
     err_lines = [f"- {e['case']} n_per_a={e['n_per_a']} {e['solver']}: {e['error'].strip().splitlines()[-1]}"
                  for e in errs if e.get("error")]
     text = (out / "linear_solvers.md").read_text() if (out / "linear_solvers.md").exists() else ""
-    head = text.split("<!-- tables -->")[0] if "<!-- tables -->" in text else "# Linear solvers\n\n"
+    head = text.split("<!-- tables -->")[0] if "<!-- tables -->" in text else (text or "# Linear solvers\n\n")
     body = ["<!-- tables -->", "", "## Peer comparison (one linear solve = factorization + one solve, CPU s)", "",
             *peer_lines, "", "## All runs", "", *lines, "", "## Fitted exponents (time and memory ~ DOFs^k)", "",
             *fit_lines, "", "![time and memory against DOFs](linear_solvers.png)", ""]
