@@ -244,7 +244,10 @@ class _PardisoFactor:
                 pass
 
     def __del__(self):
-        self._release()
+        try:
+            self._release()
+        except Exception:  # pragma: no cover - interpreter shutdown: the process frees it anyway
+            pass
 
 
 class PardisoSolver:
