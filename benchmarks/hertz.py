@@ -115,6 +115,7 @@ def run(out_dir=None, cases=None, variants=None, log=print) -> Path:
         prob = builder(**kw)
         log(f"{case}: {prob.model.ndofs} DOFs (mesh {time.perf_counter() - t0:.1f} s)")
         for label, alg, pen, opts in chosen:
+            prob.model.clear_factorization()  # every variant pays its factorization (no reuse across variants)
             sol = solve(prob, alg, pen, **{**CASE_OPTIONS.get(case, {}), **opts})
             row = _row(case, label, prob, sol)
             rows.append(row)

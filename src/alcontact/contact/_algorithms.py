@@ -36,6 +36,7 @@ import numpy as np
 from .. import penalties as _pen
 from .._options import as_options, check_dataclass, declared
 from ..errors import InputError, UnknownNameError
+from ..linalg import registered_solvers
 from ._laws import eta_for_stiffness, freezes_at_zero, make_law
 from ._solution import ContactIteration, ContactStatus
 
@@ -88,13 +89,15 @@ class ContactOptions:
         uniform value ``eps_n * h``.
     multiplier_floor : float
         Relative lower bound keeping MET multipliers positive.
-    linear_solver : {"auto", "direct", "amg"}
-        ``"direct"``: one sparse factorization of the stiffness, problem condensed on the
-        contact points (:mod:`alcontact.contact._discrete`). ``"amg"``: no factorization;
+    linear_solver : {"auto", "direct", "amg", "mkl-pardiso", "cholmod", "superlu", ...}
+        ``"direct"``: one sparse factorization of the stiffness (the fastest installed
+        direct solver), problem condensed on the contact points
+        (:mod:`alcontact.contact._discrete`). ``"amg"``: no factorization;
         full-space Newton with conjugate gradients preconditioned by smoothed-aggregation
         AMG (PyAMG; :mod:`alcontact.contact._iterative`), for meshes whose factor does not
-        fit in memory. ``"auto"``: ``"amg"`` for 3D models with more than 100k DOFs, else
-        ``"direct"``.
+        fit in memory. A direct solver's registry name (:func:`alcontact.linalg.registered_solvers`)
+        picks that solver for the factorization. ``"auto"``: :func:`alcontact.linalg.choose_solver`
+        (``"amg"`` for 3D models with more than 100k DOFs, else ``"direct"``).
     """
 
     eps_n: float | None = declared(
@@ -123,8 +126,9 @@ class ContactOptions:
     multiplier_floor: float = declared("float", 1e-10, "Relative floor keeping MET multipliers positive.",
                                        low=0, high=1, low_open=True, high_open=True)
     linear_solver: str = declared(
-        "str", "auto", "Frictionless linear solver: `direct` (one factorization), `amg` (PyAMG + CG, no "
-        "factorization) or `auto` (amg for 3D above 100k DOFs).", choices=("auto", "direct", "amg"))
+        "str", "auto", "Frictionless linear solver: `direct` (one factorization by the fastest installed "
+        "solver), `amg` (PyAMG + CG, no factorization), `auto` (amg for 3D above 100k DOFs), or a registered "
+        "direct solver by name.", choices=tuple(dict.fromkeys(("auto", "direct", "amg", *registered_solvers()))))
 
     def __post_init__(self) -> None:
         check_dataclass(self, "contact")

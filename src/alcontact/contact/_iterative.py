@@ -68,6 +68,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.linalg import cg
 
+from .. import linalg as _linalg
 from ..errors import InputError
 from ..fem.elasticity import rigid_body_modes
 from ._discrete import ContactPoints
@@ -78,9 +79,9 @@ __all__ = ["IterativeContact", "full_newton", "AUTO_AMG_DOFS", "resolve_linear_s
 
 logger = logging.getLogger(__name__)
 
-#: ``linear_solver="auto"`` switches to AMG for 3D problems above this many DOFs (measured on
-#: the 3D Hertz case at 111k DOFs: AMG 10.0 s, direct factorization 30.8 s, same solution to 3e-14)
-AUTO_AMG_DOFS = 100_000
+#: ``linear_solver="auto"`` switches to AMG for 3D problems above this many DOFs; the rule
+#: lives in :func:`alcontact.linalg.choose_solver`
+AUTO_AMG_DOFS = _linalg.AUTO_AMG_DOFS
 #: relative CG tolerance of the reference linear elastic solve (and of the free solution)
 _REF_RTOL = 1e-10
 #: largest forcing term of the inexact Newton steps (CG relative tolerance)
@@ -389,8 +390,29 @@ def _equality_solve(ic, A, mu, c, x0, *, maxiter=60):
     return x, mu, g, maxiter
 
 
-def resolve_linear_solver(name: str, model) -> str:
-    """``"direct"`` or ``"amg"``; ``"auto"`` is AMG for 3D models above :data:`AUTO_AMG_DOFS` DOFs."""
+def linear_solver_name(name: str, model) -> str:
+    """Registry name of the solver for the ``linear_solver`` option ``name`` on ``model``.
+
+    ``"auto"`` asks :func:`alcontact.linalg.choose_solver` (AMG for 3D models above
+    :data:`AUTO_AMG_DOFS` DOFs, else the fastest installed direct solver); ``"direct"``
+    asks it for a direct solver; a registry name is returned as is (checked).
+    """
     if name == "auto":
-        return "amg" if (model.dim == 3 and model.ndofs > AUTO_AMG_DOFS) else "direct"
+        return _linalg.choose_solver(model.dim, model.ndofs)
+    if name == "direct":
+        return _linalg.choose_solver(model.dim, model.ndofs, allow_iterative=False)
+    if name not in _linalg.registered_solvers():
+        raise InputError(f"contact option linear_solver={name!r}; allowed: auto, direct, "
+                         f"{', '.join(_linalg.registered_solvers())}.")
     return name
+
+
+def resolve_linear_solver(name: str, model) -> str:
+    """The solution path of the ``linear_solver`` option: ``"direct"`` or ``"amg"``.
+
+    ``"amg"`` (the factorization-free path of this module) when the solver of
+    :func:`linear_solver_name` is iterative, else ``"direct"`` (the condensed path of
+    :mod:`alcontact.contact._discrete`, with that solver's factorization).
+    """
+    kind = _linalg.solver_kind(linear_solver_name(name, model))
+    return "amg" if kind == "iterative" else "direct"

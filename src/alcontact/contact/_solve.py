@@ -82,13 +82,13 @@ def solve(problem, algorithm: str = DEFAULT_ALGORITHM, penalty: str | None = Non
     pen_name = resolve_penalty(algorithm, penalty, DEFAULT_PENALTY)
     opts = options_with(options, ContactOptions, option_overrides, "contact")
 
-    from ._iterative import IterativeContact, resolve_linear_solver
+    from ._iterative import IterativeContact, linear_solver_name, resolve_linear_solver
 
     # both paths offer the interface the outer loops use (start, gaps, subproblem, solve_active, ...)
     if resolve_linear_solver(opts.linear_solver, problem.model) == "amg":
         dc = IterativeContact(problem)
     else:
-        dc = DiscreteContact(problem)
+        dc = DiscreteContact(problem, linear_solver=linear_solver_name(opts.linear_solver, problem.model))
     eps0 = opts.eps_n if opts.eps_n is not None else penalty_stiffness(problem.model, dc.h, opts.penalty_scale)
     t_solve = time.perf_counter()
 

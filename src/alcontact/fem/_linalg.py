@@ -2,29 +2,21 @@
 
 from __future__ import annotations
 
+import dataclasses
 import logging
 import time
 
 import numpy as np
 import scipy.sparse as sp
-from scipy.sparse.linalg import splu
 
 from alcontact.errors import InputError
+from alcontact.linalg import MatrixHints, make_solver, registered_solvers
 
-__all__ = ["Factorization", "PIVOT_RTOL", "BACKENDS"]
+__all__ = ["Factorization", "BACKENDS", "nested_dissection"]
 
-#: Sparse direct solvers: CHOLMOD (supernodal Cholesky, through the ``cholespy`` wheels)
-#: when available, else SciPy's SuperLU. CHOLMOD's multi-right-hand-side solves are
-#: several times faster, which is what the contact condensation needs.
-BACKENDS = ("auto", "cholmod", "superlu")
-
-
-def _cholespy():
-    try:
-        import cholespy
-    except ImportError:  # pragma: no cover - optional fast path
-        return None
-    return cholespy
+#: names accepted as ``backend``: ``"auto"`` and the solvers registered at import
+#: (see :mod:`alcontact.linalg`; solvers registered later are accepted too)
+BACKENDS = ("auto", *registered_solvers())
 
 
 logger = logging.getLogger(__name__)
@@ -101,18 +93,18 @@ def nested_dissection(points: np.ndarray, adjacency, leaf_size: int = 64) -> np.
 
 
 class Factorization:
-    r"""Sparse LU of :math:`K_{ff}`, the matrix restricted to the free DOFs.
+    r"""Factor of :math:`K_{ff}`, the matrix restricted to the free DOFs, reused for many solves.
 
     With ``u_d`` prescribed on the fixed DOFs, :math:`K u = f` reduces to
 
     .. math::
         K_{ff} u_f = f_f - K_{fd} u_d .
 
-    The matrix is symmetric positive definite after condensation, so SuperLU is
-    run without pivoting (``diag_pivot_thresh=0``, ``SymmetricMode``). The fill
-    -reducing ordering is SuperLU's minimum degree on :math:`A^T + A`
-    (``MMD_AT_PLUS_A``, best in 2D) unless a permutation ``perm`` is given
-    (e.g. :func:`nested_dissection`, several times faster in 3D).
+    The matrix is symmetric positive definite after condensation; the factor comes
+    from the linear solver registered as ``backend`` (:mod:`alcontact.linalg`).
+    With SuperLU (no pivoting, ``SymmetricMode``) the fill-reducing ordering is
+    ``permc_spec`` unless a permutation ``perm`` is given (e.g.
+    :func:`nested_dissection`, several times less fill in 3D).
 
     Parameters
     ----------
@@ -121,13 +113,20 @@ class Factorization:
     fixed : array_like of int
         Indices of the prescribed DOFs (duplicates are ignored).
     permc_spec : str
-        SuperLU column ordering when ``perm`` is None.
+        Built-in ordering (SuperLU's column ordering) when ``perm`` is None; solvers
+        without a choice of orderings ignore it.
     perm : array_like of int, optional
-        Symmetric ordering of the *free* DOFs (``perm[new] = position in free``).
+        Symmetric ordering of the *free* DOFs (``perm[new] = position in free``) for the
+        solvers that take one (SuperLU); the others order the matrix themselves.
     check : bool
         Raise :class:`~alcontact.errors.InputError` if the matrix is
         numerically singular: one extra solve of :math:`K_{ff}x = K_{ff}\mathbf 1`
         must return :math:`\mathbf 1` to ``CHECK_TOL``.
+    backend : str
+        A registry name of :func:`alcontact.linalg.registered_solvers` (default
+        ``"superlu"``).
+    hints : alcontact.linalg.MatrixHints, optional
+        Ordering / near-null space of the condensed matrix for the solvers that use them.
 
     Attributes
     ----------
@@ -139,6 +138,10 @@ class Factorization:
         Condensed matrix (original numbering of the free DOFs).
     K_fd : scipy.sparse.csr_matrix
         Coupling block used by :meth:`rhs`.
+    factor : alcontact.linalg.Factor
+        The solver's factor.
+    backend : str
+        Registry name of the solver.
     factor_seconds : float
         Wall time of the factorization.
 
@@ -153,7 +156,7 @@ class Factorization:
     """
 
     def __init__(self, matrix, fixed, *, permc_spec: str = "MMD_AT_PLUS_A", perm=None, check: bool = True,
-                 backend: str = "superlu"):
+                 backend: str = "superlu", hints: MatrixHints | None = None):
         A = sp.csr_matrix(matrix)
         n = A.shape[0]
         if A.shape != (n, n):
@@ -169,61 +172,25 @@ class Factorization:
         rows = A[self.free]
         self.K_ff = rows[:, self.free].tocsc()
         self.K_fd = rows[:, self.fixed].tocsr()
-        self._perm = None
-        self._lu = None
-        M = self.K_ff
-        if backend not in ("superlu", "cholmod"):
-            raise InputError(f"unknown linear solver backend {backend!r}; use 'superlu' or 'cholmod'.")
+        solver = make_solver(backend)
         self.backend = backend
-        if backend == "cholmod":
-            t0 = time.perf_counter()
-            self._factor_cholmod()
-            self.ordering = "cholmod"
-            self.factor_seconds = time.perf_counter() - t0
-            if check:
-                self._check()
-            logger.debug("CHOLMOD factorization of %d free DOFs in %.3f s", self.free.size, self.factor_seconds)
-            return
         if perm is not None:
             perm = np.asarray(perm, dtype=np.int64)
             if perm.shape != (self.free.size,) or not np.array_equal(np.sort(perm), np.arange(self.free.size)):
                 raise InputError(f"perm must be a permutation of range({self.free.size}) (the free DOFs).")
-            self._perm = perm
-            M = self.K_ff[perm][:, perm].tocsc()
-            permc_spec = "NATURAL"
-        self.ordering = "given" if perm is not None else permc_spec
+        hints = dataclasses.replace(hints or MatrixHints(), ordering_name=permc_spec,
+                                    **({"ordering": lambda: perm} if perm is not None else {}))
         t0 = time.perf_counter()
-        try:
-            self._lu = splu(M, permc_spec=permc_spec, diag_pivot_thresh=0.0, options={"SymmetricMode": True})
-        except RuntimeError as exc:  # "Factor is exactly singular"
-            raise InputError(
-                f"the condensed matrix ({self.free.size} free DOFs) is singular ({exc}); "
-                "add Dirichlet conditions that restrain every rigid-body motion."
-            ) from exc
+        self.factor = solver.factorize(self.K_ff, hints) if self.free.size else None
+        #: the ordering used (solvers that order the matrix themselves report their name)
+        self.ordering = getattr(self.factor, "ordering", backend)
         self.factor_seconds = time.perf_counter() - t0
         if check:
             self._check()
         logger.debug(
-            "factorized %d free DOFs (%d fixed, ordering %s) in %.3f s, nnz(L+U)=%d",
-            self.free.size, self.fixed.size, self.ordering, self.factor_seconds, self._lu.nnz,
+            "factorized %d free DOFs (%d fixed, %s, ordering %s) in %.3f s, factor nnz=%d",
+            self.free.size, self.fixed.size, self.backend, self.ordering, self.factor_seconds, self.nnz,
         )
-
-    def _factor_cholmod(self) -> None:
-        chol = _cholespy()
-        if chol is None:
-            raise InputError("backend='cholmod' needs the cholespy package (pip install cholespy).")
-        K = self.K_ff.tocsr()
-        K.sort_indices()
-        try:
-            self._chol = chol.CholeskySolverD(
-                K.shape[0], K.indptr.astype(np.int32), K.indices.astype(np.int32),
-                np.ascontiguousarray(K.data, dtype=np.float64), chol.MatrixType.CSR,
-            )
-        except Exception as exc:  # CHOLMOD refuses a matrix that is not positive definite
-            raise InputError(
-                f"the condensed matrix ({self.free.size} free DOFs) is not positive definite ({exc}); "
-                "add Dirichlet conditions that restrain every rigid-body motion."
-            ) from exc
 
     def _check(self) -> None:
         if self.free.size == 0:
@@ -239,26 +206,22 @@ class Factorization:
 
     @property
     def nnz(self) -> int:
-        """Number of nonzeros in the L and U factors."""
-        return int(self._lu.nnz) if self._lu is not None else -1
+        """Number of nonzeros of the factor (-1 when the solver does not report it)."""
+        return int(self.factor.nnz) if self.factor is not None else 0
+
+    @property
+    def memory_bytes(self) -> int | None:
+        """Memory of the factor as reported by the solver (None if unknown)."""
+        return self.factor.memory_bytes if self.factor is not None else 0
 
     def solve(self, rhs) -> np.ndarray:
         """Solve :math:`K_{ff} x = r`; ``rhs`` of shape ``(n_free,)`` or ``(n_free, k)``."""
         r = np.asarray(rhs, dtype=float)
         if r.ndim not in (1, 2) or r.shape[0] != self.free.size:
             raise InputError(f"rhs must have shape ({self.free.size},) or ({self.free.size}, k); got {r.shape}.")
-        if self._lu is None:
-            b = np.ascontiguousarray(r, dtype=np.float64)
-            x = np.zeros_like(b)
-            if b.size:
-                self._chol.solve(b, x)
-            return x
-        if self._perm is None:
-            return self._lu.solve(np.ascontiguousarray(r) if r.ndim == 1 else np.asfortranarray(r))
-        y = self._lu.solve(np.ascontiguousarray(r[self._perm]) if r.ndim == 1 else np.asfortranarray(r[self._perm]))
-        x = np.empty_like(y)
-        x[self._perm] = y
-        return x
+        if self.factor is None:
+            return np.zeros_like(r)
+        return self.factor.solve(r)
 
     def condense(self, vec) -> np.ndarray:
         """Restrict a full vector (or ``(n, k)`` array) to the free DOFs."""

@@ -35,7 +35,8 @@ from skfem import Basis, BilinearForm, ElementVector, FacetBasis, LinearForm, as
 from skfem.helpers import ddot, dot, sym_grad, trace
 
 from alcontact.errors import InputError, MeshError
-from alcontact.fem._linalg import BACKENDS, Factorization, _cholespy, nested_dissection
+from alcontact.fem._linalg import Factorization, nested_dissection
+from alcontact.linalg import MatrixHints
 from alcontact.fem._material import Material
 from alcontact.fem.quality import check_mesh_quality
 
@@ -528,9 +529,20 @@ class LinearElasticity:
         p = pos[dofs[nodes].ravel()]
         return p[p >= 0]
 
+    #: factorizations computed by :meth:`factorize` (reused ones are not counted)
+    factorization_count = 0
+    _factor_cache: tuple | None = None
+
     def factorize(self, dirichlet_dofs, *, matrix=None, ordering: str = "auto", check: bool = True,
-                  backend: str = "auto") -> Factorization:
+                  backend: str = "auto", reuse: bool = True) -> Factorization:
         """Factorize the stiffness condensed on the free DOFs (one factorization, many solves).
+
+        The last factorization is kept on the model and returned again when the same
+        matrix object (by identity: the cached :meth:`stiffness` by default) is condensed
+        on the same set of fixed DOFs with the same solver options: load steps of a
+        frictionless run (:func:`~alcontact.contact.problem_at` keeps the model) then
+        factorize once. Prescribed *values* may change; they only enter the right-hand
+        side (:meth:`Factorization.rhs`).
 
         Parameters
         ----------
@@ -539,27 +551,29 @@ class LinearElasticity:
         matrix : scipy.sparse matrix, optional
             Use this matrix (same DOF numbering and sparsity within the element
             graph, e.g. stiffness plus a penalty term) instead of :meth:`stiffness`;
-            the rigid-motion check is then skipped.
+            the rigid-motion check is then skipped. Do not modify it in place after
+            factorizing (the cache compares the object, not its values).
         ordering : {"auto", "nd", "MMD_AT_PLUS_A", "COLAMD", "MMD_ATA", "NATURAL"}
-            Fill-reducing ordering: ``"nd"`` is :func:`nested_dissection` on the
-            mesh graph; ``"auto"`` uses it in 3D and SuperLU's ``MMD_AT_PLUS_A`` in
-            2D (the faster choice in measurements at ~100k DOFs).
+            Fill-reducing ordering of the ``"superlu"`` backend: ``"nd"`` is
+            :func:`nested_dissection` on the mesh graph; ``"auto"`` uses it in 3D and
+            SuperLU's ``MMD_AT_PLUS_A`` in 2D. The other solvers order the matrix themselves.
         check : bool
             Check that rigid motions are restrained and that the factor is not singular.
-        backend : {"auto", "cholmod", "superlu"}
-            ``"cholmod"``: supernodal Cholesky from the ``cholespy`` wheels (its own
-            ordering; ``ordering`` is ignored). ``"auto"``: CHOLMOD in 2D, where it
-            factorizes as fast as SuperLU and its blocked multi-right-hand-side solves
-            are about 7 times faster (what the contact condensation needs); SuperLU
-            with nested dissection in 3D, where the wheel's reference BLAS makes
-            CHOLMOD's factorization about 5 times slower (measured at 110k DOFs:
-            120 s against 25 s).
+        backend : str
+            ``"auto"`` (:func:`alcontact.linalg.choose_solver` among the direct solvers:
+            MKL PARDISO when installed, else CHOLMOD, else SuperLU) or a name of
+            :func:`alcontact.linalg.registered_solvers` (``"amg"`` gives an approximate
+            factor whose solves run preconditioned CG).
+        reuse : bool
+            Return the cached factorization when it matches (see above).
 
         Returns
         -------
         Factorization
             ``.solve(r)`` solves ``K_ff x = r``; see :class:`Factorization`.
         """
+        from alcontact.linalg import choose_solver, registered_solvers
+
         if matrix is None:
             if check:
                 self.check_restrained(dirichlet_dofs)
@@ -567,20 +581,46 @@ class LinearElasticity:
         known = ("auto", "nd", "MMD_AT_PLUS_A", "COLAMD", "MMD_ATA", "NATURAL")
         if ordering not in known:
             raise InputError(f"ordering={ordering!r} is not known; use one of {', '.join(known)}.")
-        if backend not in BACKENDS:
-            raise InputError(f"backend={backend!r} is not known; use one of {', '.join(BACKENDS)}.")
+        names = registered_solvers()
+        if backend != "auto" and backend not in names:
+            raise InputError(f"backend={backend!r} is not a registered linear solver; use 'auto' or one of "
+                             f"{', '.join(names)} (alcontact.linalg.register_solver adds others).")
         if backend == "auto":
-            backend = "cholmod" if (self.dim == 2 and _cholespy() is not None) else "superlu"
-        if backend == "cholmod":
-            return Factorization(matrix, dirichlet_dofs, check=check, backend="cholmod")
+            backend = choose_solver(self.dim, self.ndofs, allow_iterative=False)
+        fixed = np.unique(np.asarray(dirichlet_dofs, dtype=np.int64).ravel())
         if ordering == "auto":
             ordering = "nd" if self.dim == 3 else "MMD_AT_PLUS_A"
-        if ordering == "nd":
-            mask = np.ones(self.ndofs, dtype=bool)
-            mask[np.asarray(dirichlet_dofs, dtype=np.int64).ravel()] = False
-            perm = self.ordering(np.flatnonzero(mask))
-            return Factorization(matrix, dirichlet_dofs, perm=perm, check=check)
-        return Factorization(matrix, dirichlet_dofs, permc_spec=ordering, check=check)
+        key = (backend, ordering, bool(check), fixed.tobytes())
+        cached = self._factor_cache
+        if reuse and cached is not None and cached[0] is matrix and cached[1] == key:
+            logger.debug("reusing the factorization of %d free DOFs (%s)", cached[2].free.size, backend)
+            return cached[2]
+        self._factor_cache = None  # free the old factor before building the new one
+        mask = np.ones(self.ndofs, dtype=bool)
+        mask[fixed] = False
+        free = np.flatnonzero(mask)
+        # the nested dissection and the rigid modes are computed only if the solver asks for them
+        nd = ordering == "nd"
+        hints = MatrixHints(dim=self.dim, ordering=(lambda: self.ordering(free)) if nd else None,
+                            near_null=lambda: self._free_rigid_modes(free))
+        fac = Factorization(matrix, fixed, permc_spec="MMD_AT_PLUS_A" if nd else ordering, check=check,
+                            backend=backend, hints=hints)
+        self.factorization_count += 1
+        if reuse:
+            self._factor_cache = (matrix, key, fac)
+        return fac
+
+    def clear_factorization(self) -> None:
+        """Drop the cached factorization of :meth:`factorize` (frees its memory)."""
+        self._factor_cache = None
+
+    def _free_rigid_modes(self, free: np.ndarray) -> np.ndarray:
+        """Rigid-body modes restricted to the DOFs ``free`` (near-null space for AMG)."""
+        pts, dofs = self.all_node_dofs()
+        modes, _ = rigid_body_modes(pts)
+        R = np.zeros((self.ndofs, modes.shape[-1]))
+        R[dofs.ravel()] = modes.reshape(-1, modes.shape[-1])
+        return np.ascontiguousarray(R[free])
 
     def solve(self, load, dirichlet=()) -> np.ndarray:
         """Solve ``K u = load`` with Dirichlet conditions.

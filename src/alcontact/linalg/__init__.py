@@ -1,0 +1,58 @@
+"""Sparse linear solvers behind one protocol, a registry, and one default rule.
+
+A :class:`LinearSolver` factorizes a symmetric positive definite matrix and returns
+a :class:`Factor` whose ``solve`` accepts one or many right-hand sides. Solvers are
+looked up by name (:func:`make_solver`); :func:`choose_solver` is the single place
+where the default is decided (from the dimension and size of the problem and from
+what is installed). The registry names are also the values of the ``linear_solver``
+option, besides ``"auto"`` and ``"direct"``.
+
+Built-in names: ``"mkl-pardiso"`` (Intel MKL PARDISO via ``pypardiso``),
+``"cholmod"`` (SuiteSparse via ``cholespy``), ``"superlu"`` (SciPy), ``"amg"``
+(PyAMG smoothed aggregation + CG; approximate).
+
+Examples
+--------
+>>> import scipy.sparse as sp, numpy as np
+>>> A = sp.diags([[-1.0] * 3, [2.0] * 4, [-1.0] * 3], [-1, 0, 1]).tocsr()
+>>> x = make_solver("superlu").factorize(A).solve(np.ones(4))
+>>> bool(np.allclose(A @ x, 1.0))
+True
+"""
+
+from ._base import Factor, LinearSolver, MatrixHints
+from ._registry import (
+    AUTO_AMG_DOFS,
+    DIRECT_PREFERENCE,
+    available_solvers,
+    choose_solver,
+    describe_solvers,
+    is_installed,
+    make_solver,
+    register_solver,
+    registered_solvers,
+    solver_kind,
+    unregister_solver,
+)
+from ._solvers import AMGSolver, CholmodSolver, PardisoSolver, SuperLUSolver
+
+__all__ = [
+    "AUTO_AMG_DOFS",
+    "AMGSolver",
+    "CholmodSolver",
+    "DIRECT_PREFERENCE",
+    "Factor",
+    "LinearSolver",
+    "MatrixHints",
+    "PardisoSolver",
+    "SuperLUSolver",
+    "available_solvers",
+    "choose_solver",
+    "describe_solvers",
+    "is_installed",
+    "make_solver",
+    "register_solver",
+    "registered_solvers",
+    "solver_kind",
+    "unregister_solver",
+]

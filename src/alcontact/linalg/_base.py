@@ -1,0 +1,99 @@
+"""Protocols of the linear-solver layer: a solver factorizes, its factor solves."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Protocol, runtime_checkable
+
+import numpy as np
+
+__all__ = ["Factor", "LinearSolver", "MatrixHints"]
+
+
+@dataclass(frozen=True)
+class MatrixHints:
+    """Optional knowledge about a matrix that some solvers use (each computed on demand).
+
+    Attributes
+    ----------
+    dim : int or None
+        Space dimension of the mesh the matrix comes from.
+    ordering : callable or None
+        ``ordering() -> perm``: a fill-reducing symmetric permutation of the matrix
+        (``perm[new] = old``), e.g. the geometric nested dissection of the mesh;
+        used by solvers whose own orderings are poor (SuperLU in 3D).
+    near_null : callable or None
+        ``near_null() -> B`` of shape ``(n, k)``: the near-null space of the
+        operator (rigid-body modes for elasticity); used by algebraic multigrid.
+    ordering_name : str or None
+        Name of a built-in ordering for solvers that offer several (SuperLU's
+        ``permc_spec``), used when ``ordering`` is None.
+    """
+
+    dim: int | None = None
+    ordering: Callable[[], np.ndarray] | None = None
+    near_null: Callable[[], np.ndarray] | None = None
+    ordering_name: str | None = None
+
+
+@runtime_checkable
+class Factor(Protocol):
+    """A factorized (or, for iterative solvers, preconditioned) SPD matrix.
+
+    Attributes
+    ----------
+    name : str
+        Registry name of the solver that made it.
+    n : int
+        Size of the matrix.
+    nnz : int
+        Nonzeros of the factor (``-1`` when the library does not report it).
+    memory_bytes : int or None
+        Memory held by the factor as reported by the library (None if unknown).
+    factor_seconds : float
+        Wall time of the factorization (or preconditioner setup).
+    exact : bool
+        False for iterative solvers, whose :meth:`solve` reaches a tolerance only.
+    """
+
+    name: str
+    n: int
+    factor_seconds: float
+    exact: bool
+
+    @property
+    def nnz(self) -> int: ...
+
+    @property
+    def memory_bytes(self) -> int | None: ...
+
+    def solve(self, rhs: np.ndarray) -> np.ndarray:
+        """Solve ``A x = rhs`` for ``rhs`` of shape ``(n,)`` or ``(n, k)``."""
+        ...
+
+
+@runtime_checkable
+class LinearSolver(Protocol):
+    """A sparse solver for symmetric positive definite matrices.
+
+    Attributes
+    ----------
+    name : str
+        Registry name.
+    kind : {"direct", "iterative"}
+        ``"iterative"`` solvers give approximate solves (to a tolerance).
+    """
+
+    name: str
+    kind: str
+
+    def factorize(self, matrix, hints: MatrixHints | None = None) -> Factor:
+        """Factorize the SPD ``matrix`` (scipy sparse, ``n x n``).
+
+        Raises
+        ------
+        alcontact.errors.InputError
+            If the matrix is singular or not positive definite.
+        """
+        ...

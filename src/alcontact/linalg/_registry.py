@@ -1,0 +1,223 @@
+"""Registry of linear solvers and the one place that chooses the default."""
+
+from __future__ import annotations
+
+import importlib
+import logging
+from collections.abc import Callable
+from dataclasses import dataclass
+from functools import lru_cache
+
+from ..errors import InputError, UnknownNameError
+from ._base import LinearSolver
+from ._solvers import AMGSolver, CholmodSolver, PardisoSolver, SuperLUSolver
+
+__all__ = [
+    "AUTO_AMG_DOFS",
+    "available_solvers",
+    "choose_solver",
+    "describe_solvers",
+    "is_installed",
+    "make_solver",
+    "register_solver",
+    "registered_solvers",
+    "solver_kind",
+    "unregister_solver",
+]
+
+logger = logging.getLogger(__name__)
+
+#: 3D problems above this many DOFs are solved without a factorization (AMG + CG) by
+#: ``"auto"``: see :func:`choose_solver` for the measurements.
+AUTO_AMG_DOFS = 100_000
+
+
+@dataclass(frozen=True)
+class _Entry:
+    factory: Callable[..., LinearSolver]
+    kind: str
+    requires: str | None  # module that must import
+    install: str | None  # how to get it
+    doc: str
+
+
+_SOLVERS: dict[str, _Entry] = {}
+
+
+def register_solver(name: str, factory: Callable[..., LinearSolver], *, kind: str = "direct",
+                    requires: str | None = None, install: str | None = None, doc: str = "",
+                    overwrite: bool = False) -> None:
+    """Register a linear solver under ``name``.
+
+    Parameters
+    ----------
+    name : str
+        Registry name (also accepted by the ``linear_solver`` option and by
+        ``model.factorize(backend=...)``).
+    factory : callable
+        ``factory(**options)`` returns a :class:`~alcontact.linalg.LinearSolver`.
+    kind : {"direct", "iterative"}
+    requires : str, optional
+        Python module the solver needs; when it does not import, the solver stays
+        registered but :func:`make_solver` says how to install it.
+    install : str, optional
+        Install hint shown when ``requires`` is missing (e.g. ``"pip install pypardiso"``).
+    doc : str
+        One-line description.
+    overwrite : bool
+        Replace an existing entry instead of raising.
+    """
+    if kind not in ("direct", "iterative"):
+        raise InputError(f"linear solver kind={kind!r}; allowed: direct, iterative.")
+    if name in _SOLVERS and not overwrite:
+        raise InputError(f"linear solver {name!r} is already registered; pass overwrite=True to replace it.")
+    if name in ("auto", "direct"):
+        raise InputError(f"{name!r} is reserved for the automatic choice; register the solver under another name.")
+    _SOLVERS[name] = _Entry(factory, kind, requires, install, doc)
+    is_installed.cache_clear()
+
+
+def unregister_solver(name: str) -> None:
+    """Remove a registered solver (:class:`UnknownNameError` if absent)."""
+    if name not in _SOLVERS:
+        raise UnknownNameError("linear solver", name, list(_SOLVERS))
+    del _SOLVERS[name]
+    is_installed.cache_clear()
+
+
+def registered_solvers() -> list[str]:
+    """Sorted names of all registered solvers, installed or not."""
+    return sorted(_SOLVERS)
+
+
+@lru_cache(maxsize=None)
+def is_installed(name: str) -> bool:
+    """Whether the package the solver ``name`` needs imports (cached)."""
+    entry = _SOLVERS.get(name)
+    if entry is None:
+        raise UnknownNameError("linear solver", name, list(_SOLVERS))
+    if entry.requires is None:
+        return True
+    try:
+        importlib.import_module(entry.requires)
+    except Exception:  # ImportError, or a binary module that fails to load
+        return False
+    return True
+
+
+def available_solvers() -> list[str]:
+    """Sorted names of the registered solvers whose packages are installed.
+
+    Examples
+    --------
+    >>> "superlu" in available_solvers()
+    True
+    """
+    return [n for n in registered_solvers() if is_installed(n)]
+
+
+def describe_solvers() -> dict[str, dict]:
+    """Name -> ``{"kind", "installed", "install", "doc"}`` for every registered solver."""
+    return {n: {"kind": e.kind, "installed": is_installed(n), "install": e.install, "doc": e.doc}
+            for n, e in sorted(_SOLVERS.items())}
+
+
+def solver_kind(name: str) -> str:
+    """``"direct"`` or ``"iterative"`` for a registered name."""
+    entry = _SOLVERS.get(name)
+    if entry is None:
+        raise UnknownNameError("linear solver", name, list(_SOLVERS))
+    return entry.kind
+
+
+def make_solver(name: str, **options) -> LinearSolver:
+    """Build the solver registered as ``name``.
+
+    Raises
+    ------
+    UnknownNameError
+        ``name`` is not registered (the message lists the registered names).
+    InputError
+        The solver's package is not installed (the message says what to install), or
+        ``options`` do not fit it.
+
+    Examples
+    --------
+    >>> make_solver("superlu").kind
+    'direct'
+    """
+    entry = _SOLVERS.get(name)
+    if entry is None:
+        raise UnknownNameError("linear solver", name, list(_SOLVERS))
+    if not is_installed(name):
+        raise InputError(
+            f"linear solver {name!r} is not installed: {entry.install or 'install ' + str(entry.requires)}; "
+            f"installed solvers: {', '.join(available_solvers())}."
+        )
+    try:
+        return entry.factory(**options)
+    except TypeError as exc:
+        raise InputError(f"linear solver {name!r} does not take options {sorted(options)}: {exc}") from exc
+
+
+#: preference of the direct solvers, fastest first (see :func:`choose_solver`)
+DIRECT_PREFERENCE = ("mkl-pardiso", "cholmod", "superlu")
+
+
+def choose_solver(dim: int, ndofs: int, *, installed: list[str] | None = None,
+                  allow_iterative: bool = True) -> str:
+    """The default linear solver for a stiffness matrix: the ONE place that decides.
+
+    Rules (measurements in ``docs/benchmarks/linear_solvers.md``: one thread, CPU seconds
+    of factorization + one solve of the Hertz stiffness matrices):
+
+    * 3D above :data:`AUTO_AMG_DOFS` DOFs: ``"amg"`` (no factorization). The direct
+      factors grow like :math:`n^{4/3}` in memory and about :math:`n^2` in time in 3D,
+      and the condensed contact path needs one solve per contact candidate; the
+      threshold comes from the contact benchmark (3D Hertz, 111k DOFs: AMG path 10 s,
+      condensed path with SuperLU 31 s).
+    * otherwise the first installed of :data:`DIRECT_PREFERENCE`: MKL PARDISO, then
+      CHOLMOD (the ``cholespy`` wheel links a reference BLAS), then SuperLU (always
+      there; with the mesh's nested dissection in 3D). PARDISO against CHOLMOD /
+      SuperLU: 2D P2 219k DOFs 2.7 s / 8.4 s / 5.4 s; 3D P2 36.5k DOFs 2.0 s /
+      24 s / 5.9 s; 3D P2 77.8k DOFs 6.8 s (SuperLU: 271 s wall in an earlier
+      measurement; AMG + CG to 1e-10: 9.3 s).
+
+    Parameters
+    ----------
+    dim : int
+        Space dimension.
+    ndofs : int
+        Number of DOFs of the model.
+    installed : list of str, optional
+        Names to choose from (default: :func:`available_solvers`).
+    allow_iterative : bool
+        False when the caller needs an exact factor (the condensed contact path).
+
+    Returns
+    -------
+    str
+        A registry name.
+    """
+    names = available_solvers() if installed is None else list(installed)
+    if allow_iterative and dim == 3 and ndofs > AUTO_AMG_DOFS and "amg" in names:
+        return "amg"
+    for name in DIRECT_PREFERENCE:
+        if name in names:
+            return name
+    return "superlu"
+
+
+def _register_builtins() -> None:
+    register_solver("superlu", SuperLUSolver, requires=None,
+                    doc="SciPy SuperLU without pivoting; mesh nested-dissection ordering in 3D")
+    register_solver("cholmod", CholmodSolver, requires="cholespy", install="pip install cholespy",
+                    doc="SuiteSparse CHOLMOD supernodal Cholesky (cholespy wheels)")
+    register_solver("mkl-pardiso", PardisoSolver, requires="pypardiso",
+                    install="pip install pypardiso (Intel MKL; x86-64 only)",
+                    doc="Intel MKL PARDISO supernodal Cholesky, METIS ordering (pypardiso wheels)")
+    register_solver("amg", AMGSolver, kind="iterative", requires="pyamg", install="pip install pyamg",
+                    doc="PyAMG smoothed aggregation (rigid-body modes) + CG to a relative tolerance")
+
+
+_register_builtins()
