@@ -29,7 +29,12 @@ Hertz fit
     boundary), or, for a body without boundary quadrature, at the points
     (:func:`fit_hertz`), each point weighing its tributary length/area. On the
     symmetry planes of a half or quarter model both give the half/quarter share
-    of the full model, so nothing counts twice.
+    of the full model, so nothing counts twice. The peak pressure is ``p0`` of the
+    free fit (``p0`` and ``a``); the contact size is ``a`` of the *load-matched* fit,
+    whose profile carries the load of the field (:math:`\int p_0 s_a = \int p_h`,
+    the sum of the nodal forces), which removes the trade-off between ``p0`` and
+    ``a`` that lets the free fit pull ``a`` inwards where the element's field
+    resolves the square-root edge poorly (P1 tetrahedra).
 
 Contact edge
     Elsewhere the contact size is the outermost loaded point interpolated

@@ -192,7 +192,19 @@ class ContactSolution:
         return self._fits[key]
 
     def _hertz_fit(self, center, axis: int, amplitude: str):
-        from ._estimators import fit_hertz, fit_hertz_field, load_center, radial_coordinate
+        from ._estimators import fit_hertz, fit_hertz_field
+
+        data = self._fit_data(center, axis)
+        if data[0] == "points":
+            return fit_hertz(*data[1:])
+        return fit_hertz_field(*data[1:], amplitude=amplitude)
+
+    def _fit_data(self, center, axis: int):
+        """Radii and pressure field the Hertz fits use (cached: shared by both fits)."""
+        key = ("data", None if center is None else tuple(np.ravel(center).tolist()), int(axis))
+        if key in self._fits:
+            return self._fits[key]
+        from ._estimators import load_center, radial_coordinate
 
         p = np.where(self.active, self.pressure, 0.0)
         center = load_center(self.points, np.where(self.active, self.normal_nodal_forces, 0.0), center)
@@ -200,13 +212,15 @@ class ContactSolution:
         r = radial_coordinate(self.points, center, ax)
         model = getattr(self.problem, "model", None)
         if not hasattr(model, "boundary_field_at_quadrature"):
-            return fit_hertz(r, p, self.weights)
-        loaded = p > 0
-        near = r <= 2.0 * float(r[loaded].max()) if np.any(loaded) else None
-        x, dx, v = model.boundary_field_at_quadrature(self.problem.contact_boundary, p, near=near)
-        # the same in-plane radius at the quadrature points (flat direction from the nodes)
-        r_q = _radius_like(self.points, x, center, ax)
-        return fit_hertz_field(r_q, dx, v, r, p, amplitude=amplitude)
+            data = ("points", r, p, self.weights)
+        else:
+            loaded = p > 0
+            near = r <= 2.0 * float(r[loaded].max()) if np.any(loaded) else None
+            x, dx, v = model.boundary_field_at_quadrature(self.problem.contact_boundary, p, near=near)
+            # the same in-plane radius at the quadrature points (flat direction from the nodes)
+            data = ("field", _radius_like(self.points, x, center, ax), dx, v, r, p)
+        self._fits[key] = data
+        return data
 
     def _uses_hertz_fit(self) -> bool:
         from ._estimators import has_hertz_profile
