@@ -19,14 +19,16 @@ Observed errors (%, p0 / a), measured on this machine:
 
 * 2D P1, 4/8/16 elements per a: +0.53/-1.68, +0.24/-0.61, -0.03/+0.06; rates per
   halving 1.2 and 2.8 (p0), 1.5 and 3.4 (a).
-* 2D P2, 1/2/4 elements per a: +0.76/-0.80, +0.85/-0.80, -0.04/+0.04; overall rate over
+* 2D P2, 1/2/4 elements per a: +0.76/-0.80, +0.85/-0.80, -0.04/+0.03; overall rate over
   the two halvings 2.2 (p0) and 2.3 (a); the middle mesh is not better than the coarse one.
 * 3D P1, small block (R = 10), 2/3/4 elements per a: p0 -7.66, -2.83, -0.10 (rates 2.5
   and 11); a +1.62, +0.87, -0.91 (pre-asymptotic, within 2 %).
 * 3D P1, small block, R = 100, 4/6/8 elements per a: a -1.16, -0.73, -0.52 (rates 1.14,
   1.19); p0 -0.25, +0.23, +0.52 (within the +-0.6 % scatter of the P1 nodal pressures).
 * 3D P1, built-in hertz-3d (4/6/8 elements per a): p0 -0.95, +0.42, +0.71; a -0.82,
-  -0.48 (8: see ``docs/benchmarks/estimators.md``).
+  -0.48, -0.75 (about the model's own a/R = 0.1 solution, ``docs/estimators.md``).
+* 3D P2, built-in geometry, 25k/78k DOFs (benchmark only): p0 +2.34, +0.85; a +1.18,
+  -0.03 (``docs/benchmarks/estimators.md``).
 * 3D P2, small block (R = 10), 1/1.5/2 elements per a (5.6k/13k/18k DOFs): p0 +2.38,
   +2.05, +1.40 (rates 0.37, 1.32; toward the model's own a/R = 0.1 solution, about
   +0.85 % above Hertz at 78k DOFs); a -1.05, +0.05, -0.04. With R = 100 the same meshes
