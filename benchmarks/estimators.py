@@ -61,7 +61,8 @@ DEFAULT_CASES = ["2d-p1", "2d-p2", "2d-p1-R100", "2d-p2-R100", "3d-p1", "3d-p1-R
                  "3d-p2-80k"]
 
 FIELDS = ["case", "dim", "order", "n_per_a", "radius", "dofs", "status", "wall_s", "p0_fit_pct", "a_fit_pct",
-          "a_free_pct", "p0_load_pct", "a_mom_pct", "p0_pts_pct", "a_pts_pct", "p0_max_pct", "a_edge_pct", "sym_pct", "interior_pct", "equilibrium", "fit_rms"]
+          "a_free_pct", "p0_load_pct", "a_mom_pct", "p0_pts_pct", "a_pts_pct", "p0_max_pct", "a_edge_pct", "sym_pct",
+          "interior_pct", "equilibrium", "fit_rms"]
 
 
 def _pct(x, ref):
@@ -126,7 +127,8 @@ def write_outputs(rows: list[dict], out: Path) -> None:
         w.writerow(r)
     write_text_atomic(out / "estimators.csv", buf.getvalue())
     write_text_atomic(out / "estimators.json", json.dumps(rows, indent=1))
-    head = ["case", "n/a", "R", "DOFs", "p0 fit %", "a fit %", "a free %", "p0 load %", "a mom %", "p0 pts %", "a pts %", "p0 max %", "a edge %", "sym. planes %",
+    head = ["case", "n/a", "R", "DOFs", "p0 fit %", "a fit %", "a free %", "p0 load %", "a mom %", "p0 pts %", "a pts %",
+            "p0 max %", "a edge %", "sym. planes %",
             "interior %", "equilibrium", "wall s"]
     lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
     for r in rows:

@@ -103,9 +103,10 @@ class ContactSolution:
     ``docs/estimators.md``): :attr:`normal_force` and :attr:`total_contact_force`
     sum the nodal forces; :attr:`peak_pressure` and :meth:`contact_half_width`
     come from least-squares Hertz fits when the problem's reference is a Hertz
-    profile (``p0`` of the free fit, ``a`` of the load-matched fit), otherwise from the recovered pressure (largest value; outermost
-    loaded point interpolated); :attr:`peak_pressure_nodal_max` is the raw
-    largest nodal pressure; :meth:`equilibrium` checks the global force balance.
+    profile (``p0`` of the free fit, ``a`` of the load-matched fit), otherwise from
+    the recovered pressure (largest value; outermost loaded point interpolated);
+    :attr:`peak_pressure_nodal_max` is the raw largest nodal pressure;
+    :meth:`equilibrium` checks the global force balance.
     """
 
     problem: Any
