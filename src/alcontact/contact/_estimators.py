@@ -29,7 +29,12 @@ Hertz fit
     boundary), or, for a body without boundary quadrature, at the points
     (:func:`fit_hertz`), each point weighing its tributary length/area. On the
     symmetry planes of a half or quarter model both give the half/quarter share
-    of the full model, so nothing counts twice.
+    of the full model, so nothing counts twice. The peak pressure is ``p0`` of the
+    free fit (``p0`` and ``a``); the contact size is ``a`` of the *load-matched* fit,
+    whose profile carries the load of the field (:math:`\int p_0 s_a = \int p_h`,
+    the sum of the nodal forces), which removes the trade-off between ``p0`` and
+    ``a`` that lets the free fit pull ``a`` inwards where the element's field
+    resolves the square-root edge poorly (P1 tetrahedra).
 
 Contact edge
     Elsewhere the contact size is the outermost loaded point interpolated
@@ -52,6 +57,7 @@ __all__ = [
     "radial_coordinate",
     "fit_hertz",
     "fit_hertz_field",
+    "AMPLITUDES",
     "edge_from_profile",
     "has_hertz_profile",
     "load_center",
@@ -243,21 +249,50 @@ def fit_hertz(r, p, w) -> HertzFit:
     return HertzFit(p0, a, rms, int(r.size))
 
 
-def fit_hertz_field(r_q, dx, v, r_nodes, p_nodes) -> HertzFit:
+def _amplitude_free(num: float, den: float, load: float, norm: float) -> float:
+    """Best amplitude in L2: :math:`p_0 = \\int p_h s_a / \\int s_a^2`."""
+    return num / den if den > 0 else 0.0
+
+
+def _amplitude_load(num: float, den: float, load: float, norm: float) -> float:
+    """Amplitude whose profile carries the field's load: :math:`p_0 = \\int p_h / \\int s_a`."""
+    return load / norm if norm > 0 else 0.0
+
+
+#: How :func:`fit_hertz_field` sets the amplitude ``p0`` for a trial ``a`` (by name).
+AMPLITUDES = {"free": _amplitude_free, "load": _amplitude_load}
+
+
+def fit_hertz_field(r_q, dx, v, r_nodes, p_nodes, *, amplitude: str = "free") -> HertzFit:
     r"""Fit :math:`p_0\sqrt{1 - r^2/a^2}` to a pressure *field* in the :math:`L^2(\Gamma)` norm.
 
     Minimizes :math:`\int_\Gamma (p_h - p_0 s_a)^2\,ds`, :math:`s_a = \sqrt{1 - r^2/a^2}_+`,
     with the integrals evaluated by quadrature: ``r_q`` radii of the quadrature points,
     ``dx`` their weights, ``v`` the recovered pressure :math:`p_h` there (see
-    ``LinearElasticity.boundary_field_at_quadrature``). For fixed ``a`` the optimal
-    :math:`p_0 = \int p_h s_a / \int s_a^2`, and the misfit is
-    :math:`\int p_h^2 - (\int p_h s_a)^2 / \int s_a^2`; ``a`` comes from a bounded
+    ``LinearElasticity.boundary_field_at_quadrature``). ``a`` comes from a bounded
     scalar minimization between half the radius of the last-but-one loaded node
     (``r_nodes``, ``p_nodes``) and twice the outermost one. Integrating over the model's
     boundary weighs every part of the contact zone by its area, symmetry planes
     included, and uses the whole field of the element's boundary space (for 3D P2 the
     vertex and edge-midpoint values enter with their true influence).
+
+    Parameters
+    ----------
+    amplitude : {"free", "load"}
+        ``"free"``: :math:`p_0` is the best amplitude for each trial ``a``,
+        :math:`p_0 = \int p_h s_a / \int s_a^2` (a two-parameter fit; its ``p0`` is
+        the reported peak pressure). ``"load"`` (*load-matched*): the profile carries the
+        load of the field, :math:`p_0 = \int p_h / \int s_a`, so only ``a`` is fitted
+        (its ``a`` is the reported contact size; the load is the sum of the nodal
+        forces the solver applied, exact for the discrete problem, see
+        ``docs/estimators.md``).
     """
+    try:
+        amp = AMPLITUDES[amplitude]
+    except KeyError:
+        from ..errors import InputError
+
+        raise InputError(f"amplitude = {amplitude!r} is not known; use one of {sorted(AMPLITUDES)}") from None
     r_q, dx, v = (np.asarray(x, dtype=float) for x in (r_q, dx, v))
     r_nodes = np.asarray(r_nodes, dtype=float)
     p_nodes = np.asarray(p_nodes, dtype=float)
@@ -270,20 +305,22 @@ def fit_hertz_field(r_q, dx, v, r_nodes, p_nodes) -> HertzFit:
     inner = r_nodes[loaded & (r_nodes < r_out)]
     lo = 0.5 * float(inner.max()) if inner.size else 0.5 * r_out
     v2 = float(np.sum(dx * v * v))
+    load = float(np.sum(dx * v))
+    # only the quadrature points that a trial profile can reach matter below
+    reach = r_q < 2.0 * r_out
+    rr, dd, vv = r_q[reach], dx[reach], v[reach]
 
-    def parts(a):
-        s = np.sqrt(np.clip(1.0 - (r_q / a) ** 2, 0.0, None))
-        return float(np.sum(dx * v * s)), float(np.sum(dx * s * s))
+    def p0_and_misfit(a):
+        s = np.sqrt(np.clip(1.0 - (rr / a) ** 2, 0.0, None))
+        num, den, norm = float(np.sum(dd * vv * s)), float(np.sum(dd * s * s)), float(np.sum(dd * s))
+        p0 = amp(num, den, load, norm)
+        # int (p_h - p0 s)^2 = int p_h^2 - 2 p0 int p_h s + p0^2 int s^2
+        return p0, v2 - 2.0 * p0 * num + p0 * p0 * den
 
-    def misfit(a):
-        num, den = parts(a)
-        return v2 - (num * num / den if (den > 0 and num > 0) else 0.0)
-
-    a = _minimize_on(misfit, lo, 2.0 * r_out, 1e-10 * r_out)
-    num, den = parts(a)
-    p0 = num / den if den > 0 else 0.0
+    a = _minimize_on(lambda a: p0_and_misfit(a)[1], lo, 2.0 * r_out, 1e-10 * r_out)
+    p0, f = p0_and_misfit(a)
     area = float(np.sum(dx[r_q <= a])) if np.any(r_q <= a) else float(np.sum(dx))
-    rms = math.sqrt(max(misfit(a), 0.0) / max(area, 1e-300)) / max(p0, 1e-300)
+    rms = math.sqrt(max(f, 0.0) / max(area, 1e-300)) / max(p0, 1e-300)
     return HertzFit(p0, a, rms, int(np.count_nonzero(loaded)))
 
 

@@ -102,10 +102,11 @@ class ContactSolution:
     Estimators (documented in :mod:`alcontact.contact._estimators` and
     ``docs/estimators.md``): :attr:`normal_force` and :attr:`total_contact_force`
     sum the nodal forces; :attr:`peak_pressure` and :meth:`contact_half_width`
-    come from a least-squares Hertz fit when the problem's reference is a Hertz
-    profile, otherwise from the recovered pressure (largest value; outermost
-    loaded point interpolated); :attr:`peak_pressure_nodal_max` is the raw
-    largest nodal pressure; :meth:`equilibrium` checks the global force balance.
+    come from least-squares Hertz fits when the problem's reference is a Hertz
+    profile (``p0`` of the free fit, ``a`` of the load-matched fit), otherwise from
+    the recovered pressure (largest value; outermost loaded point interpolated);
+    :attr:`peak_pressure_nodal_max` is the raw largest nodal pressure;
+    :meth:`equilibrium` checks the global force balance.
     """
 
     problem: Any
@@ -121,6 +122,9 @@ class ContactSolution:
     timings: dict = field(default_factory=dict)
     extra: dict = field(default_factory=dict)
     nodal_forces: np.ndarray | None = None
+    #: fitted Hertz profiles by (amplitude, center, axis): the fit costs a boundary
+    #: quadrature and a scalar minimization, and a summary asks for p0 and a of each frame
+    _fits: dict = field(default_factory=dict, init=False, repr=False, compare=False)
 
     @property
     def status(self) -> ContactStatus:
@@ -169,7 +173,7 @@ class ContactSolution:
             center = meta.get("center")
         return axis, center
 
-    def hertz_fit(self, center=None, axis: int = 0):
+    def hertz_fit(self, center=None, axis: int = 0, *, amplitude: str = "free"):
         """Least-squares Hertz profile of the recovered pressure field in :math:`L^2(\\Gamma)`
         (:func:`~._estimators.fit_hertz_field`; at the points, :func:`~._estimators.fit_hertz`,
         for a body without ``boundary_field_at_quadrature``).
@@ -178,23 +182,46 @@ class ContactSolution:
         coordinate in which the loaded zone lies on both sides of it is replaced by
         the force centroid, :func:`~._estimators.load_center`) in the contact plane
         (2D: along ``axis``); the weights are the tributary lengths/areas.
+        ``amplitude="free"`` fits ``p0`` and ``a`` (its ``p0`` is :attr:`peak_pressure`);
+        ``"load"`` fits ``a`` of the profile that carries the field's load (its ``a`` is
+        :meth:`contact_half_width`). The fit is computed once per arguments and cached.
         """
-        from ._estimators import fit_hertz, fit_hertz_field, load_center, radial_coordinate
-
         axis, center = self._geometry(axis, center)
+        key = (amplitude, None if center is None else tuple(np.ravel(center).tolist()), int(axis))
+        if key not in self._fits:
+            self._fits[key] = self._hertz_fit(center, axis, amplitude)
+        return self._fits[key]
+
+    def _hertz_fit(self, center, axis: int, amplitude: str):
+        from ._estimators import fit_hertz, fit_hertz_field
+
+        data = self._fit_data(center, axis)
+        if data[0] == "points":
+            return fit_hertz(*data[1:])
+        return fit_hertz_field(*data[1:], amplitude=amplitude)
+
+    def _fit_data(self, center, axis: int):
+        """Radii and pressure field the Hertz fits use (cached: shared by both fits)."""
+        key = ("data", None if center is None else tuple(np.ravel(center).tolist()), int(axis))
+        if key in self._fits:
+            return self._fits[key]
+        from ._estimators import load_center, radial_coordinate
+
         p = np.where(self.active, self.pressure, 0.0)
         center = load_center(self.points, np.where(self.active, self.normal_nodal_forces, 0.0), center)
         ax = axis if self.points.shape[1] == 2 else None
         r = radial_coordinate(self.points, center, ax)
         model = getattr(self.problem, "model", None)
         if not hasattr(model, "boundary_field_at_quadrature"):
-            return fit_hertz(r, p, self.weights)
-        loaded = p > 0
-        near = r <= 2.0 * float(r[loaded].max()) if np.any(loaded) else None
-        x, dx, v = model.boundary_field_at_quadrature(self.problem.contact_boundary, p, near=near)
-        # the same in-plane radius at the quadrature points (flat direction from the nodes)
-        r_q = _radius_like(self.points, x, center, ax)
-        return fit_hertz_field(r_q, dx, v, r, p)
+            data = ("points", r, p, self.weights)
+        else:
+            loaded = p > 0
+            near = r <= 2.0 * float(r[loaded].max()) if np.any(loaded) else None
+            x, dx, v = model.boundary_field_at_quadrature(self.problem.contact_boundary, p, near=near)
+            # the same in-plane radius at the quadrature points (flat direction from the nodes)
+            data = ("field", _radius_like(self.points, x, center, ax), dx, v, r, p)
+        self._fits[key] = data
+        return data
 
     def _uses_hertz_fit(self) -> bool:
         from ._estimators import has_hertz_profile
@@ -204,14 +231,15 @@ class ContactSolution:
     def contact_half_width(self, axis: int = 0, center=None) -> float:
         """Half-width of the contact zone along coordinate ``axis`` (contact radius in 3D).
 
-        Hertz problems (reference with a Hertz profile): ``a`` of the least-squares
-        Hertz fit (:meth:`hertz_fit`). Otherwise the outermost loaded point
+        Hertz problems (reference with a Hertz profile): ``a`` of the load-matched
+        least-squares Hertz fit (:meth:`hertz_fit` with ``amplitude="load"``: the profile
+        carries the load of the recovered field, the sum of the nodal forces). Otherwise the outermost loaded point
         interpolated along the boundary (:func:`~._estimators.edge_from_profile`):
         2D along the contact boundary; 3D along the line through ``center``
         parallel to ``axis`` in the contact plane (e.g. a symmetry line).
         """
         if self._uses_hertz_fit():
-            return float(self.hertz_fit(center=center, axis=axis).a)
+            return float(self.hertz_fit(center=center, axis=axis, amplitude="load").a)
         return self.contact_half_width_edge(axis=axis, center=center)
 
     def contact_half_width_edge(self, axis: int = 0, center=None) -> float:
@@ -236,7 +264,7 @@ class ContactSolution:
 
     @property
     def peak_pressure(self) -> float:
-        """Peak contact pressure: ``p0`` of the Hertz fit for Hertz problems, else the
+        """Peak contact pressure: ``p0`` of the (free) Hertz fit for Hertz problems, else the
         largest recovered pressure (:attr:`peak_pressure_nodal_max`)."""
         if self._uses_hertz_fit():
             return float(self.hertz_fit().p0)

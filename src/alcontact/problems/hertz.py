@@ -124,9 +124,10 @@ def hertz_2d(level: int = 1, *, order: int = 1, E: float = 200e3, nu: float = 0.
 
 
 def hertz_3d(level: int = 1, *, order: int = 1, E: float = 200e3, nu: float = 0.3, radius: float = 10.0,
-             a_target: float = 1.0, size: float = 12.0, n_per_a: int | None = None,
+             a_target: float = 1.0, size: float = 12.0, n_per_a: float | None = None,
              growth: float = 1.3) -> ContactProblem:
-    """Rigid sphere on an elastic block, quarter model ``x, y >= 0`` (parameters as :func:`hertz_2d`)."""
+    """Rigid sphere on an elastic block, quarter model ``x, y >= 0`` (parameters as :func:`hertz_2d`;
+    ``n_per_a`` may be fractional, e.g. 1.5 for a P2 sweep between 1 and 2 elements per ``a``)."""
     mat = Material(E=E, nu=nu)
     e_star = mat.plane_strain_modulus
     n = n_per_a or LEVELS_3D[level]
