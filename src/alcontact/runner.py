@@ -187,8 +187,9 @@ def summarize(problem, solution, *, problem_name: str | None = None, level: int 
         contact forces the solver applied. Without a reference, the model's force.
 
     Estimators (``docs/estimators.md``): for a problem whose reference is a Hertz
-    profile, ``peak_pressure`` and ``contact_half_width`` are ``p0`` and ``a`` of a
-    least-squares fit of :math:`p_0\sqrt{1-r^2/a^2}` to the recovered pressure;
+    profile, ``peak_pressure`` is ``p0`` of the L2 least-squares fit of
+    :math:`p_0\sqrt{1-r^2/a^2}` to the recovered pressure and ``contact_half_width``
+    is ``a`` of the load-matched fit (the profile carries the model's contact load);
     otherwise the largest recovered pressure and the outermost loaded point
     interpolated along the boundary. ``peak_pressure_nodal_max`` is the raw
     largest nodal pressure, ``contact_half_width_edge`` the interpolated edge.
