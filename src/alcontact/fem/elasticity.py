@@ -91,6 +91,14 @@ def rigid_body_modes(points: np.ndarray) -> tuple[np.ndarray, list[str]]:
     return np.stack(cols, axis=-1), names
 
 
+def _rank(a: np.ndarray) -> int:
+    """Numerical rank (relative tolerance 1e-9) of a small dense matrix."""
+    if a.size == 0:
+        return 0
+    s = np.linalg.svd(a, compute_uv=False)
+    return int(np.sum(s > 1e-9 * s[0])) if s[0] > 0 else 0
+
+
 def _rref(a: np.ndarray, tol: float = 1e-9) -> np.ndarray:
     """Reduced row echelon form of a small full-row-rank matrix (for readable messages)."""
     a = np.array(a, dtype=float)
@@ -465,11 +473,31 @@ class LinearElasticity:
         uniq, idx = np.unique(dofs_all[::-1], return_index=True)
         return uniq, vals_all[::-1][idx]
 
-    def check_restrained(self, dirichlet_dofs) -> None:
+    def check_restrained(self, dirichlet_dofs, *, path: str | None = None, alternative: str | None = None,
+                         contact: str | None = None) -> None:
         """Raise :class:`InputError` if the fixed DOFs leave a rigid-body motion free.
 
         The check is exact for connected meshes: a rigid motion ``r`` is free iff
         ``r`` vanishes on every fixed DOF.
+
+        Parameters
+        ----------
+        dirichlet_dofs : array_like of int
+            Fixed DOFs.
+        path : str, optional
+            The solver path that needs the supports (e.g. ``"The AMG path"``); the
+            message then says that this path cannot let the obstacle hold the body.
+        alternative : str, optional
+            A path that would work, appended to the way out.
+        contact : str, optional
+            The contact boundary (suggested last for a support).
+
+        Raises
+        ------
+        InputError
+            Naming the free motions and supports that stop them, both as
+            ``Support(boundary, components=[c])`` (Python) and as ``[[support]]``
+            (problem file).
         """
         fixed = np.unique(np.asarray(dirichlet_dofs, dtype=np.int64).ravel())
         pts, _ = self.all_node_dofs()
@@ -486,26 +514,72 @@ class LinearElasticity:
         null = vt[s <= 1e-9 * s[0]] if s[0] > 0 else vt
         if null.shape[0] == 0:
             return
+        null = _rref(null)  # echelon form: each free motion led by one named mode
         free_motions = []
-        for vec in _rref(null):  # echelon form: each free motion led by one named mode
+        for vec in null:
             vec = vec / np.max(np.abs(vec))
             parts = [names[i] for i in np.flatnonzero(np.abs(vec) > 1e-6)]
             free_motions.append(" + ".join(parts))
-        hint = self._support_hint()
-        raise InputError(
-            "the stiffness matrix is singular with these Dirichlet conditions: rigid-body "
-            f"motion(s) not restrained: {'; '.join(free_motions)}. {hint}"
-        )
+        free = "; ".join(free_motions)
+        hint = self._support_hint(null, R, row_of, contact)
+        if path is None:
+            msg = (f"the stiffness matrix is singular with these supports: rigid-body motion(s) not stopped: "
+                   f"{free}. {hint}.")
+        else:
+            msg = (f"rigid-body motion(s) not stopped by the supports: {free}. {path} needs supports that stop "
+                   "every rigid motion: it cannot let the obstacle hold the body (the stiffness matrix would be "
+                   f"singular). {hint}")
+            msg += f"; or {alternative}." if alternative else "."
+        raise InputError(msg)
 
-    def _support_hint(self) -> str:
-        names = self.boundary_names
-        if not names:
-            return "Fix enough displacement components (model.dirichlet(...)) to stop every rigid motion."
-        ex = names[0]
-        return (
-            f"Add supports, e.g. model.dirichlet({ex!r}) to clamp a boundary, or fix the normal "
-            f"component on {self.dim} mutually non-parallel plane boundaries (boundaries: {', '.join(names)})."
-        )
+    def _support_hint(self, null: np.ndarray | None = None, R: np.ndarray | None = None,
+                      row_of: np.ndarray | None = None, contact: str | None = None) -> str:
+        """Supports that stop the free motions ``null`` (rows: coefficients of the rigid modes ``R``).
+
+        Chooses greedily, boundary by boundary and component by component, the
+        support that stops the most free motions not yet stopped (the contact
+        boundary last), and writes it for Python and for problem files.
+        """
+        names = sorted(self.boundary_names, key=lambda b: (b == contact, b))
+        generic = ("Fix displacement components on some boundary (Python: Support(boundary, components=[c]) in "
+                   "ContactProblem(supports=...), or model.dirichlet(boundary, components=[c]); problem file: "
+                   "[[support]] boundary = ..., components = [c]) until every rigid motion is stopped")
+        if not names or null is None or R is None or row_of is None:
+            return generic
+        k = null.shape[0]
+        blocks = {}
+        for b in names:
+            _, dofs = self.node_dofs(b)
+            for c in range(self.dim):
+                blocks[(b, c)] = R[row_of[dofs[:, c]]] @ null.T  # motions seen by component c on b
+        chosen: list[tuple[str, int]] = []
+        rows = np.zeros((0, k))
+        rank = 0
+        while rank < k:
+            best = None
+            for key, blk in blocks.items():
+                if key in chosen:
+                    continue
+                r = _rank(np.vstack([rows, blk]))
+                if best is None or r > best[0]:
+                    best = (r, key)
+            if best is None or best[0] <= rank:
+                break
+            rank = best[0]
+            chosen.append(best[1])
+            rows = np.vstack([rows, blocks[best[1]]])
+        if rank < k:
+            return generic
+        per: dict[str, list[int]] = {}
+        for b, c in chosen:
+            per.setdefault(b, []).append(c)
+        per = {b: sorted(cs) for b, cs in per.items()}
+        py = ", ".join(f"Support({b!r}, components={cs})" for b, cs in per.items())
+        toml = " and ".join(f"[[support]] boundary = {b!r}, components = {cs}" for b, cs in per.items())
+        what = "; ".join(f"{', '.join(_AXES[c] for c in cs)} on {b!r}" for b, cs in per.items())
+        return (f"Add {'a support' if len(per) == 1 else 'supports'} that {'stops' if k == 1 else 'stop'} "
+                f"{'it' if k == 1 else 'them'} (fixes {what}): in Python {py} in ContactProblem(supports=...), "
+                f"in a problem file {toml}")
 
     # ----------------------------------------------------------------- solving
     @cached_property
