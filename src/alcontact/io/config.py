@@ -454,7 +454,12 @@ def _build(data: dict, base: Path, issues: list[Issue], source) -> ProblemSetup 
         mesh = _build_mesh(md, base, issues)
         dim = None if mesh is None else int(mesh.dim())
     if mesh is not None and dim not in (2, 3):
-        issues.append(Issue("mesh", f"the mesh is {dim}D; contact problems need a 2D or 3D mesh."))
+        issue = Issue("mesh", f"the mesh is {dim}D; contact problems need a 2D or 3D mesh.")
+        if md.get("generator") == "file":  # a Gmsh file without a body group: say which groups it has
+            from .preflight import _low_dim_issue
+
+            issue = _low_dim_issue(md, base, issue)
+        issues.append(issue)
         mesh = dim = None
 
     # ---- material
