@@ -446,6 +446,7 @@ def _build(data: dict, base: Path, issues: list[Issue], source) -> ProblemSetup 
     from ..contact import LoadCase, LoadHistory
     from ..contact._algorithms import FIXED_PENALTIES
     from ..fem import LinearElasticity, Material
+    from ..fem._material import material_issues
 
     # ---- mesh
     mesh = dim = None
@@ -466,7 +467,10 @@ def _build(data: dict, base: Path, issues: list[Issue], source) -> ProblemSetup 
     mat = None
     mt = data.get("material")
     if _ok({k: v for k, v in (mt or {}).items() if k != "region"}) and mt is not None:
-        mat = _num(issues, "material", Material, E=mt["E"], nu=mt["nu"], plane=mt["plane"])
+        bad = material_issues(mt["E"], mt["nu"], mt["plane"])  # the ranges of Material, keyed like the file
+        issues.extend(Issue(f"material.{key}", msg) for key, msg in bad)
+        if not bad:
+            mat = _num(issues, "material", Material, E=mt["E"], nu=mt["nu"], plane=mt["plane"])
         for i, reg in enumerate(mt["region"] or []):
             rp = f"material.region[{i + 1}]"
             if not _ok(reg):
