@@ -46,7 +46,7 @@ def material_issues(E, nu, plane: str = "strain") -> list[tuple[str, str]]:
     if not is_real(E):
         hint = " Pass a number, not a string." if isinstance(E, str) else ""
         out.append(("E", f"= {show(E)}: expected a number in [{lo:g}, {hi:g}] (Young's modulus, stress units, e.g. "
-                         f"MPa), got {type(E).__name__}.{hint}"))
+                         f"MPa), got {type(E).__name__}; material constants must be numbers.{hint}"))
     elif not (math.isfinite(E) and E > 0):
         out.append(("E", f"= {show(E0)}: out of range; Young's modulus must be finite and > 0 (in [{lo:g}, {hi:g}]), "
                          "e.g. E=210e3 (steel in MPa)."))
@@ -58,7 +58,7 @@ def material_issues(E, nu, plane: str = "strain") -> list[tuple[str, str]]:
     if not is_real(nu):
         hint = " Pass a number, not a string." if isinstance(nu, str) else ""
         out.append(("nu", f"= {show(nu)}: expected a number in (-1, 0.5) (Poisson's ratio), got "
-                          f"{type(nu).__name__}.{hint}"))
+                          f"{type(nu).__name__}; material constants must be numbers.{hint}"))
     elif not (math.isfinite(nu) and -1.0 < nu < 0.5):
         out.append(("nu", f"= {show(nu0)}: out of range; Poisson's ratio must satisfy -1 < nu < 0.5 (nu = 0.5, "
                           "incompressible, is not supported; use e.g. nu=0.49 for a nearly incompressible body)."))
@@ -98,7 +98,7 @@ class Material:
     def __post_init__(self) -> None:
         issues = material_issues(self.E, self.nu, self.plane)
         if issues:
-            raise InputError(" ".join(f"Material {key} {msg}" for key, msg in issues))
+            raise InputError(" ".join(f"Material {key}={msg[2:]}" for key, msg in issues))  # "E=0.0: ..."
         object.__setattr__(self, "E", float(self.E))
         object.__setattr__(self, "nu", float(self.nu))
 

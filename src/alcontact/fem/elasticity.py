@@ -34,6 +34,7 @@ from scipy.sparse.linalg import cg
 from skfem import Basis, BilinearForm, ElementVector, FacetBasis, LinearForm, asm
 from skfem.helpers import ddot, dot, sym_grad, trace
 
+from alcontact._options import VALUE_RANGE, show
 from alcontact.errors import InputError, MeshError
 from alcontact.fem._linalg import BACKENDS, Factorization, _cholespy, nested_dissection
 from alcontact.fem._material import Material
@@ -89,6 +90,23 @@ def rigid_body_modes(points: np.ndarray) -> tuple[np.ndarray, list[str]]:
         cols.append(rot)
         names.append(f"rotation about {_AXES[ax]}")
     return np.stack(cols, axis=-1), names
+
+
+def _floats(value, what: str) -> np.ndarray:
+    """``value`` as a float array; :class:`InputError` naming ``what`` for strings, None, huge ints, ragged lists."""
+    if isinstance(value, (str, bytes, bool, np.bool_)) or value is None:
+        raise InputError(f"{what} must be numbers; got {show(value)}. Pass numbers (not strings, None or bools).")
+    try:
+        arr = np.asarray(value, dtype=float)
+    except (TypeError, ValueError, OverflowError) as exc:
+        raise InputError(f"{what} must be finite numbers; got {show(value)} ({exc}).") from None
+    lo, hi = VALUE_RANGE
+    mag = np.abs(arr[np.isfinite(arr)])
+    if np.any((mag > hi) | ((mag > 0) & (mag < lo))):
+        raise InputError(f"{what} = {show(value)}: magnitudes outside {lo:g} .. {hi:g} overflow or underflow in "
+                         "the solver (energies square them); express the loads and E in other units (e.g. MPa "
+                         "instead of Pa), or use 0 for no load.")
+    return arr
 
 
 def _rank(a: np.ndarray) -> int:
@@ -357,7 +375,7 @@ class LinearElasticity:
             if out.shape[0] != self.dim:
                 raise InputError(f"{what} callable must return an array of shape ({self.dim}, ...); got {out.shape}.")
             return np.broadcast_to(out, x.shape)
-        vec = np.asarray(value, dtype=float).ravel()
+        vec = _floats(value, what).ravel()
         if vec.shape != (self.dim,) or not np.all(np.isfinite(vec)):
             raise InputError(f"{what} must be {self.dim} finite numbers or a callable; got {value!r}.")
         return np.broadcast_to(vec.reshape((self.dim,) + (1,) * (x.ndim - 1)), x.shape)
@@ -393,9 +411,10 @@ class LinearElasticity:
         if callable(p):
             pv = np.broadcast_to(np.asarray(p(x), dtype=float), x.shape[1:])
         else:
-            if not np.isfinite(float(p)):
-                raise InputError(f"pressure must be finite; got {p!r}.")
-            pv = np.full(x.shape[1:], float(p))
+            pf = _floats(p, "pressure")
+            if pf.ndim != 0 or not np.isfinite(pf):
+                raise InputError(f"pressure must be a finite number or a callable; got {show(p)}.")
+            pv = np.full(x.shape[1:], float(pf))
 
         @LinearForm
         def form(v, w):
@@ -446,7 +465,7 @@ class LinearElasticity:
                 raise InputError(f"Dirichlet value callable must return shape ({self.dim}, {m}); got {vals.shape}.")
             vals = vals.T
         else:
-            arr = np.asarray(value, dtype=float)
+            arr = _floats(value, "Dirichlet value")
             if arr.ndim == 0:
                 vals = np.full((m, self.dim), float(arr))
             elif arr.shape == (self.dim,):
