@@ -226,3 +226,34 @@ def test_random_problems_solve_or_raise_a_project_error(data):
         return
     assert isinstance(sol, ContactSolution)
     assert isinstance(sol.result.status, int)
+
+
+# ------------------------------------------------------------------ built-in problems: the preflight size check
+def test_builtin_problem_too_large_is_refused_before_meshing(tmp_path):
+    """``run --problem hertz-3d --level 5 --order 2`` (about 13 M DOFs) is refused with exit 2, nothing written."""
+    from typer.testing import CliRunner
+
+    from alcontact.cli import app
+
+    out = tmp_path / "res"
+    result = CliRunner(env={"COLUMNS": "400", "NO_COLOR": "1"}).invoke(
+        app, ["run", "--problem", "hertz-3d", "--level", "5", "--order", "2", "--out", str(out)])
+    assert result.exit_code == 2, result.output
+    text = " ".join(result.output.split())
+    for w in ("--problem hertz-3d --level 5 --order 2", "DOFs", "more than 4,000,000 DOFs", "--level (0 .. 4)",
+              "--order 1"):
+        assert w in text, (w, text)
+    assert not out.exists()
+
+
+@pytest.mark.parametrize("dim,level", [(2, 0), (3, 0)])
+def test_builtin_mesh_spec_counts_are_exact(dim, level):
+    """The counts the check uses (hertz.mesh_spec + preflight) equal the built problem's nodes and elements."""
+    from alcontact.io import preflight
+    from alcontact.problems import hertz
+
+    levels = hertz.LEVELS_2D if dim == 2 else hertz.LEVELS_3D
+    md = hertz.mesh_spec(dim, levels[level], 1)
+    est = preflight.estimate_size({"mesh": {**md, "generator": "rectangle" if dim == 2 else "box", "order": 1}})
+    prob = (hertz.hertz_2d if dim == 2 else hertz.hertz_3d)(level=level)
+    assert est.ndofs == prob.model.ndofs and est.elements == prob.model.mesh.nelements
