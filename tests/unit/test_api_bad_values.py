@@ -225,7 +225,11 @@ def test_random_problems_solve_or_raise_a_project_error(data):
     except errors.AlcontactError:
         return
     assert isinstance(sol, ContactSolution)
-    assert isinstance(sol.result.status, int)
+    status = sol.result.status
+    assert isinstance(status, int) and status != 0 and sol.result.message
+    if status > 0:  # a solution reported converged is a finite field with the right shapes
+        assert np.all(np.isfinite(sol.u)) and sol.u.shape == (prob.model.ndofs,)
+        assert sol.pressure.shape == sol.gap.shape == (sol.points.shape[0],)
 
 
 # ------------------------------------------------------------------ built-in problems: the preflight size check
