@@ -61,8 +61,8 @@ _BATCH = 64
 
 #: How the rigid-motion check names this path, and the path that works without supports.
 _FRICTION_PATH = "The frictional solver (solve_friction; problem file: contact.friction > 0)"
-_FRICTION_WAY_OUT = ("solve frictionless (solve(problem); problem file: contact.friction = 0), whose direct "
-                     "path lets the contact points touching the obstacle hold the body")
+_FRICTION_WAY_OUT = ("where the contact points touching the obstacle stop these motions, solve frictionless "
+                     "(solve(problem); problem file: contact.friction = 0): its direct path lets them hold the body")
 
 
 def tangent_bases(normals: np.ndarray, held: np.ndarray | None = None) -> np.ndarray:

@@ -135,8 +135,9 @@ class _Preconditioner:
 
 #: How the rigid-motion check names this path, and the path that works without supports.
 _AMG_PATH = "The AMG path (linear_solver = 'amg', which 'auto' picks for large 3D models)"
-_AMG_WAY_OUT = ("solve with linear_solver='direct' (problem file: solver.linear_solver = 'direct'), whose "
-                "frictionless path lets the contact points touching the obstacle hold the body")
+_AMG_WAY_OUT = ("where the contact points touching the obstacle stop these motions, solve with "
+                "linear_solver='direct' (problem file: solver.linear_solver = 'direct'): that path lets them hold "
+                "the body")
 
 
 class IterativeContact(ContactPoints):

@@ -596,7 +596,7 @@ class LinearElasticity:
         py = ", ".join(f"Support({b!r}, components={cs})" for b, cs in per.items())
         toml = " and ".join(f"[[support]] boundary = {b!r}, components = {cs}" for b, cs in per.items())
         what = "; ".join(f"{', '.join(_AXES[c] for c in cs)} on {b!r}" for b, cs in per.items())
-        return (f"Add {'a support' if len(per) == 1 else 'supports'} that {'stops' if k == 1 else 'stop'} "
+        return (f"Add {'a support that stops' if len(per) == 1 else 'supports that stop'} "
                 f"{'it' if k == 1 else 'them'} (fixes {what}): in Python {py} in ContactProblem(supports=...), "
                 f"in a problem file {toml}")
 
