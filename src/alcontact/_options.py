@@ -32,8 +32,8 @@ from typing import Any
 
 from .errors import InputError
 
-__all__ = ["REQUIRED", "TYPES", "BAD", "MAX_STEPS", "Option", "check_value", "declared", "same_as", "declarations",
-           "check_dataclass", "as_options", "is_real", "is_integer", "show"]
+__all__ = ["REQUIRED", "TYPES", "BAD", "MAX_STEPS", "VALUE_RANGE", "Option", "check_value", "declared", "same_as",
+           "declarations", "check_dataclass", "as_options", "is_real", "is_integer", "show"]
 
 
 class _Required:
@@ -70,6 +70,10 @@ _TYPE_TEXT = {
 
 #: Most load steps a problem or ``solve_friction(steps=...)`` may ask for (each step is a full solve).
 MAX_STEPS = 100_000
+
+#: Magnitudes of Young's modulus and of load values the solver's double precision carries (squares stay
+#: finite): checked by :class:`~alcontact.fem.Material` and by ``alcontact check`` (:mod:`alcontact.io.preflight`).
+VALUE_RANGE = (1e-100, 1e100)
 
 #: Longest list an option accepts (vertices of a polygon, explicit step times, ramp knots).
 MAX_LIST = 100_000

@@ -271,6 +271,7 @@ def run_command(
                       order=order or 1, maxiter=maxiter, penalty_scale=penalty_scale)
         try:
             with _signals_raise(), _cli_logging(err, level_):
+                _check_builtin_size(problem, level, order or 1)  # what `alcontact check` checks in a file
                 if quiet:
                     _, summary = run_problem(**kwargs)
                 else:
@@ -294,6 +295,51 @@ def run_command(
         if out is not None:
             err.print(f"the result files in {out} show the last iterate.", highlight=False)
         raise typer.Exit(EXIT_FAILED)
+
+
+def _builtin_meshes() -> dict:
+    """Mesh of each built-in problem by name: (dimension, elements per contact half-width by level)."""
+    from .problems import hertz
+
+    return {"hertz-2d": (2, hertz.LEVELS_2D), "hertz-3d": (3, hertz.LEVELS_3D)}
+
+
+def _check_builtin_size(name: str, level: int | None, order: int) -> None:
+    """Refuse a built-in problem too large for this machine, before meshing, as ``alcontact check`` refuses a file.
+
+    The mesh is counted from its axes (:func:`alcontact.problems.hertz.mesh_spec`,
+    :func:`alcontact.io.preflight.estimate_size`) and judged by
+    :func:`alcontact.io.preflight.size_issues` (DOF, time and memory limits).
+
+    Raises
+    ------
+    InputError
+        Naming ``--problem``, ``--level`` and ``--order``, the size, the reason
+        and the lower levels to use.
+    """
+    from .io import preflight
+    from .problems import hertz
+    from .runner import BUILTIN_PROBLEMS
+
+    spec, mesh = BUILTIN_PROBLEMS.get(name), _builtin_meshes().get(name)
+    if spec is None or mesh is None or order not in (1, 2):
+        return  # run_problem names the unknown problem or order
+    lvl = spec.default_level if level is None else level
+    dim, per_a = mesh
+    if not 0 <= lvl < min(spec.levels, len(per_a)):
+        return  # build_problem says which levels exist
+    md = hertz.mesh_spec(dim, per_a[lvl], order)
+    est = preflight.estimate_size({"mesh": {**md, "generator": "rectangle" if dim == 2 else "box", "order": order}})
+    issues = preflight.size_issues(est)
+    if not issues:
+        return
+    body = issues[0].message
+    body = body[body.index(": ") + 2:] if body.startswith("= ") else body
+    cut = body.rfind(". Use ")
+    body = body[:cut] if cut > 0 else body.rstrip(".")
+    lower = f"a lower --level (0 .. {lvl - 1})" if lvl > 0 else ""
+    ways = " or ".join(w for w in (lower, "--order 1" if order == 2 else "") if w) or "a smaller problem file"
+    raise InputError(f"--problem {name} --level {lvl} --order {order}: {body}. Use {ways}.")
 
 
 class _StatusHandler(logging.Handler):

@@ -235,7 +235,8 @@ def _measures(dc, lam, g, lam_old):
     h = dc.h
     pref = max(float(np.max(lam, initial=0.0)), 1e-300)
     pen = float(np.max(g, initial=0.0)) / h
-    compl = float(np.max(np.abs(lam * g), initial=0.0)) / (pref * h)
+    with np.errstate(over="ignore"):  # huge loads: an infinite measure is "not complementary"
+        compl = float(np.max(np.abs(lam * g), initial=0.0)) / (pref * h)
     dlam = float(np.max(np.abs(lam - lam_old), initial=0.0)) / pref
     return pen, compl, dlam
 
@@ -391,7 +392,12 @@ def run_ssn(dc, opts, eps0, penalty_name=None) -> _Run:
     hist = []
     seen = set()
     for k in range(1, opts.maxiter + 1):
-        state, lam_new, g = dc.solve_active(active, lam, state, c)
+        try:
+            state, lam_new, g = dc.solve_active(active, lam, state, c)
+        except np.linalg.LinAlgError:  # the active set's rows of the Delassus operator are dependent
+            return _Run(state, lam, g, ContactStatus.NEWTON_FAILED,
+                        f"singular active-set system at iteration {k} ({int(active.sum())} active points); use "
+                        "algorithm='simo-laursen'", k, k, c, 0.0, hist)
         new_active = (lam_new + c * g) > 0
         pen, compl, dlam = _measures(dc, lam_new, g, lam)
         hist.append(ContactIteration(k, pen, compl, dlam, 0.0, 1, c, int(active.sum())))

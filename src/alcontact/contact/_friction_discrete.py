@@ -59,6 +59,12 @@ logger = logging.getLogger(__name__)
 _BATCH = 64
 
 
+#: How the rigid-motion check names this path, and the path that works without supports.
+_FRICTION_PATH = "The frictional solver (solve_friction; problem file: contact.friction > 0)"
+_FRICTION_WAY_OUT = ("where the contact points touching the obstacle stop these motions, solve frictionless "
+                     "(solve(problem); problem file: contact.friction = 0): its direct path lets them hold the body")
+
+
 def tangent_bases(normals: np.ndarray, held: np.ndarray | None = None) -> np.ndarray:
     """Orthonormal tangent bases ``T`` of shape ``(m, d, d-1)`` for unit normals ``(m, d)``.
 
@@ -138,6 +144,8 @@ class FrictionalContact:
         self.dim = model.dim
         self.fixed, parts = component_fields(problem, history)
         t_f = time.perf_counter()
+        model.check_restrained(self.fixed, path=_FRICTION_PATH, alternative=_FRICTION_WAY_OUT,
+                               contact=problem.contact_boundary)
         self.factor = model.factorize(self.fixed)
         self.factor_seconds = time.perf_counter() - t_f
         self.u_parts = np.stack([self.factor.solve_full(load, fv) for fv, load in parts])  # (ncomp, ndofs)

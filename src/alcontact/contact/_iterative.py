@@ -134,6 +134,13 @@ class _Preconditioner:
             self.stale = True
 
 
+#: How the rigid-motion check names this path, and the path that works without supports.
+_AMG_PATH = "The AMG path (linear_solver = 'amg', which 'auto' picks for large 3D models)"
+_AMG_WAY_OUT = ("where the contact points touching the obstacle stop these motions, solve with "
+                "linear_solver='direct' (problem file: solver.linear_solver = 'direct'): that path lets them hold "
+                "the body")
+
+
 class IterativeContact(ContactPoints):
     """Frictionless contact problem in the full space of the free DOFs (no factorization).
 
@@ -163,7 +170,8 @@ class IterativeContact(ContactPoints):
         t0 = time.perf_counter()
         self._setup_problem(problem)
         model = self.model
-        model.check_restrained(self.fixed)
+        model.check_restrained(self.fixed, path=_AMG_PATH, alternative=_AMG_WAY_OUT,
+                               contact=problem.contact_boundary)
         n = model.ndofs
         mask = np.ones(n, dtype=bool)
         mask[self.fixed] = False

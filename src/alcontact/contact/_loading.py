@@ -29,11 +29,13 @@ Examples
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Any, Callable, Sequence
 
 import numpy as np
 
+from .._options import MAX_STEPS, is_integer, is_real, show
 from ..errors import InputError
 from ._problem import BodyForce, Pressure, Support, Traction
 
@@ -181,7 +183,20 @@ class LoadHistory:
 
     @staticmethod
     def check_times(times: Sequence[float]) -> tuple[float, ...]:
-        t = np.asarray(tuple(times), dtype=float).ravel()
+        """Step times as a tuple of floats; :class:`InputError` unless finite, positive, increasing, at most
+        :data:`~alcontact._options.MAX_STEPS` of them."""
+        try:
+            n = len(times)
+        except TypeError:
+            raise InputError(f"load step times = {show(times)}: expected a sequence of numbers, e.g. "
+                             "times=(0.5, 1.0), or LoadHistory.uniform(n).") from None
+        if n > MAX_STEPS:
+            raise InputError(f"load step times: {n:,} steps, more than {MAX_STEPS:,} (each step is a full solve); "
+                             "use fewer steps.")
+        try:
+            t = np.asarray(tuple(times), dtype=float).ravel()
+        except (TypeError, ValueError, OverflowError):
+            raise InputError(f"load step times = {show(times)}: expected numbers, e.g. times=(0.5, 1.0).") from None
         if t.size == 0:
             raise InputError("a load history needs at least one step time.")
         if not np.all(np.isfinite(t)) or t[0] <= 0 or np.any(np.diff(t) <= 0):
@@ -190,15 +205,25 @@ class LoadHistory:
 
     @staticmethod
     def uniform(n: int, t_end: float = 1.0) -> tuple[float, ...]:
-        """``n`` equal steps on ``(0, t_end]``."""
-        if int(n) < 1:
-            raise InputError(f"number of load steps must be >= 1; got {n!r}.")
-        return tuple(float(x) for x in np.linspace(0.0, t_end, int(n) + 1)[1:])
+        """``n`` equal steps on ``(0, t_end]``, ``1 <= n <=`` :data:`~alcontact._options.MAX_STEPS`.
+
+        Raises
+        ------
+        InputError
+            ``n`` is not an integer in range, or ``t_end`` is not a finite positive number.
+        """
+        if not is_integer(n) or not 1 <= n <= MAX_STEPS:
+            raise InputError(f"number of load steps n = {show(n)}: expected an integer in [1, {MAX_STEPS}] (each "
+                             "step is a full solve); pass fewer steps, or explicit step times.")
+        if not (is_real(t_end) and math.isfinite(t_end) and t_end > 0):
+            raise InputError(f"t_end = {show(t_end)}: expected a finite number > 0 (the last pseudo-time), e.g. "
+                             "t_end=1.0.")
+        return tuple(float(x) for x in np.linspace(0.0, float(t_end), int(n) + 1)[1:])
 
     def with_times(self, times: Sequence[float] | int) -> "LoadHistory":
         """The same cases on other step times (an int: that many uniform steps)."""
-        if isinstance(times, (int, np.integer)):
-            times = self.uniform(int(times), self.times[-1])
+        if isinstance(times, (int, np.integer)) or type(times).__name__ == "bool_":
+            times = self.uniform(times, self.times[-1])
         return LoadHistory(self.cases, tuple(times), self.friction)
 
     def amplitudes(self, t: float) -> np.ndarray:

@@ -105,14 +105,16 @@ def solve(problem, algorithm: str = DEFAULT_ALGORITHM, penalty: str | None = Non
         for _attempt in range(8):
             out = run(dc, opts, eps0, pen_name)
             u = dc.final_displacement(out.r)
+            if out.status < 0:  # a failed run: its multipliers belong to the candidates it had
+                break
             added = dc.extend(dc.all_gaps(u), opts.tol_penetration * dc.h)
-            if added.size == 0 or out.status < 0:
+            if added.size == 0:
                 break
     g_all = dc.all_gaps(u)
     m = dc.points.shape[0]
     pressure = np.zeros(m)
     if out.lam.size:
-        pressure[dc.cand] = out.lam
+        pressure[dc.cand[: out.lam.size]] = out.lam  # candidates added after the last run carry none
     if out.status > 0 and not np.all(np.isfinite(u)):
         out.status, out.message = ContactStatus.NONFINITE, "non-finite displacement"
     check = check_state(g_all, pressure, dc.h, tol_penetration=opts.tol_penetration,
@@ -127,7 +129,8 @@ def solve(problem, algorithm: str = DEFAULT_ALGORITHM, penalty: str | None = Non
     active = closed & (pressure > 1e-12 * max(float(pressure.max(initial=0.0)), 1e-300))
     pen_final = float(np.max(g_all, initial=0.0)) / dc.h
     pref = max(float(pressure.max(initial=0.0)), 1e-300)
-    compl = float(np.max(np.abs(pressure * g_all), initial=0.0)) / (pref * dc.h)
+    with np.errstate(over="ignore"):  # huge loads: an infinite measure, reported as such
+        compl = float(np.max(np.abs(pressure * g_all), initial=0.0)) / (pref * dc.h)
     result = ContactResult(
         status=out.status,
         message=out.message,

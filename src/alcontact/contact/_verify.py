@@ -104,11 +104,12 @@ def check_state(gap, pressure, h: float, *, tol_penetration: float, tol_compleme
     both = np.concatenate([g, p])
     if not np.all(np.isfinite(both)):
         return Check({"finite": (np.inf, 0.0)})
-    measures = {
-        "penetration": (float(np.max(g, initial=0.0)) / h, tol_penetration),
-        "complementarity": (max(float(np.max(np.abs(p * g), initial=0.0)) / (pref * h),
-                                float(np.max(-p, initial=0.0)) / pref), tol_complementarity),
-    }
+    with np.errstate(over="ignore"):  # an overflowing product is an infinite (failed) measure
+        measures = {
+            "penetration": (float(np.max(g, initial=0.0)) / h, tol_penetration),
+            "complementarity": (max(float(np.max(np.abs(p * g), initial=0.0)) / (pref * h),
+                                    float(np.max(-p, initial=0.0)) / pref), tol_complementarity),
+        }
     if traction_t is not None:
         tT = np.asarray(traction_t, dtype=float).reshape(g.size, -1)
         du = np.zeros_like(tT) if slip is None else np.asarray(slip, dtype=float).reshape(tT.shape)

@@ -55,6 +55,7 @@ from typing import Any, ClassVar, Protocol, runtime_checkable
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from alcontact._options import VALUE_RANGE, show
 from alcontact.errors import InputError, NonFiniteError, UnknownNameError
 
 __all__ = [
@@ -122,35 +123,54 @@ def _readonly(a: NDArray[Any]) -> NDArray[Any]:
     return a
 
 
-def _vector(value: Any, name: str, dims: tuple[int, ...] = (2, 3)) -> FloatArray:
-    """A finite 1-D parameter vector whose length is one of ``dims``."""
+#: Largest coordinate or radius magnitude, and smallest radius, an obstacle accepts: gaps and
+#: distances square them, which must stay finite in double precision (:data:`~alcontact._options.VALUE_RANGE`).
+_SMALLEST, _LARGEST = VALUE_RANGE
+
+_UNITS = "express the lengths in other units (e.g. m instead of mm), the mesh alike"
+
+
+def _vector(value: Any, name: str, dims: tuple[int, ...] = (2, 3), *, bounded: bool = True) -> FloatArray:
+    """A finite 1-D parameter vector whose length is one of ``dims`` (entries at most ``_LARGEST`` if ``bounded``)."""
     try:
         arr = np.asarray(value, dtype=float)
-    except (TypeError, ValueError) as exc:
-        raise InputError(f"{name} must be a vector of numbers, got {value!r}") from exc
+    except (TypeError, ValueError, OverflowError) as exc:
+        raise InputError(f"{name} must be a vector of numbers (one per axis), got {show(value)}") from exc
     if arr.ndim != 1 or arr.shape[0] not in dims:
         want = " or ".join(f"({d},)" for d in dims)
-        raise InputError(f"{name} must have shape {want}, got shape {arr.shape}")
+        raise InputError(f"{name} must have shape {want} (one entry per axis), got shape {arr.shape}: {show(value)}")
     if not np.all(np.isfinite(arr)):
-        raise InputError(f"{name} must be finite, got {_fmt(arr)}")
+        raise InputError(f"{name} must be finite, got {_fmt(arr)}; give every entry as a number")
+    if bounded and arr.size and float(np.max(np.abs(arr))) > _LARGEST:
+        raise InputError(f"{name} = {_fmt(arr)}: entries larger than {_LARGEST:g} in magnitude overflow when the "
+                         f"gaps are computed (distances are squared); {_UNITS}")
     return _readonly(arr)
 
 
 def _unit(value: Any, name: str, dims: tuple[int, ...] = (2, 3)) -> FloatArray:
-    arr = _vector(value, name, dims)
-    nrm = float(np.linalg.norm(arr))
-    if not nrm > 0.0:
-        raise InputError(f"{name} must be a non-zero vector, got {_fmt(arr)}")
-    return _readonly(arr / nrm)
+    """``value / |value|``, computed without overflow or underflow for any finite non-zero vector."""
+    arr = _vector(value, name, dims, bounded=False)
+    big = float(np.max(np.abs(arr))) if arr.size else 0.0
+    if not big > 0.0:
+        example = "[0.0, 0.0, 1.0]" if dims == (3,) else "[0.0, 1.0]"
+        raise InputError(f"{name} must be a non-zero vector (it gives a direction), got {_fmt(arr)}; e.g. "
+                         f"{name}={example}")
+    scaled = arr / big  # entries in [-1, 1]: the norm cannot overflow
+    return _readonly(scaled / float(np.linalg.norm(scaled)))
 
 
 def _positive(value: Any, name: str) -> float:
+    if isinstance(value, (bool, np.bool_)):
+        raise InputError(f"{name} = {show(value)}: must be a positive number, not a bool")
     try:
         v = float(value)
-    except (TypeError, ValueError) as exc:
-        raise InputError(f"{name} must be a positive number, got {value!r}") from exc
+    except (TypeError, ValueError, OverflowError) as exc:
+        raise InputError(f"{name} = {show(value)}: must be a finite positive number, e.g. {name}=1.0") from exc
     if not (math.isfinite(v) and v > 0.0):
-        raise InputError(f"{name} must be finite and > 0, got {value!r}")
+        raise InputError(f"{name} = {show(value)}: must be finite and > 0, e.g. {name}=1.0")
+    if not _SMALLEST <= v <= _LARGEST:
+        raise InputError(f"{name} = {v:g}: outside {_SMALLEST:g} .. {_LARGEST:g}, where gaps, normals and "
+                         f"curvatures stay finite in double precision; {_UNITS}")
     return v
 
 
@@ -481,12 +501,17 @@ def _vertex_array(vertices: Any, dim: int) -> FloatArray:
     """Finite ``(n, dim)`` vertex array with at least ``dim + 1`` rows, else InputError."""
     try:
         v = np.asarray(vertices, dtype=float)
-    except (TypeError, ValueError) as exc:
+    except (TypeError, ValueError, OverflowError) as exc:
         raise InputError(f"vertices must be an array of shape (n, {dim}), got {vertices!r}") from exc
     if v.ndim != 2 or v.shape[1] != dim or v.shape[0] < dim + 1:
         raise InputError(f"vertices must have shape (n, {dim}) with n >= {dim + 1}, got shape {v.shape}")
     if not np.all(np.isfinite(v)):
-        raise InputError("vertices must be finite")
+        k = int(np.flatnonzero(~np.all(np.isfinite(v), axis=1))[0])
+        raise InputError(f"vertices must be finite; vertex {k} is {_fmt(v[k])}")
+    if float(np.max(np.abs(v))) > _LARGEST:
+        k = int(np.argmax(np.max(np.abs(v), axis=1)))
+        raise InputError(f"vertices: vertex {k} = {_fmt(v[k])} has coordinates larger than {_LARGEST:g} in "
+                         f"magnitude, which overflow when gaps are computed; {_UNITS}")
     return v
 
 
@@ -569,8 +594,8 @@ class ConvexPolytope(_ObstacleBase):
         try:
             a = np.asarray(self.A, dtype=float)
             b = np.asarray(self.b, dtype=float)
-        except (TypeError, ValueError) as exc:
-            raise InputError("A and b must be numeric arrays") from exc
+        except (TypeError, ValueError, OverflowError) as exc:
+            raise InputError(f"A and b must be numeric arrays; got A={self.A!r}, b={self.b!r}") from exc
         if a.ndim != 2 or a.shape[1] not in (2, 3):
             raise InputError(f"A must have shape (k, 2) or (k, 3), got shape {a.shape}")
         d = a.shape[1]
@@ -578,10 +603,19 @@ class ConvexPolytope(_ObstacleBase):
             raise InputError(f"b must have shape ({a.shape[0]},) to match A, got shape {b.shape}")
         if not (np.all(np.isfinite(a)) and np.all(np.isfinite(b))):
             raise InputError("A and b must be finite")
+        big = np.max(np.abs(a), axis=1)
+        if np.any(big == 0.0):
+            raise InputError(f"row {int(np.argmin(big))} of A is zero; every face needs a normal")
+        a_in, a = a, a / big[:, None]  # rows scaled to max |entry| = 1: their norms cannot overflow
         norms = np.linalg.norm(a, axis=1)
-        if np.any(norms == 0.0):
-            raise InputError(f"row {int(np.argmin(norms))} of A is zero; every face needs a normal")
-        ab = np.column_stack([a / norms[:, None], b / norms])
+        with np.errstate(over="ignore"):
+            offsets = (b / big) / norms  # distance of each face plane from the origin
+        if not np.all(np.abs(offsets) <= _LARGEST):
+            k = int(np.argmax(~(np.abs(offsets) <= _LARGEST)))
+            raise InputError(f"face {k} of A x <= b (A[{k}] = {_fmt(a_in[k])}, b[{k}] = {float(b[k]):g}) lies "
+                             f"farther than {_LARGEST:g} from the origin, which overflows when gaps are computed; "
+                             f"{_UNITS}")
+        ab = np.column_stack([a / norms[:, None], offsets])
         ab = _dedupe_rows(ab, 1e-12 * max(1.0, float(np.max(np.abs(ab)))))
         a, b = ab[:, :d], ab[:, d]
         if a.shape[0] < d + 1:

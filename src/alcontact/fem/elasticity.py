@@ -34,6 +34,7 @@ from scipy.sparse.linalg import cg
 from skfem import Basis, BilinearForm, ElementVector, FacetBasis, LinearForm, asm
 from skfem.helpers import ddot, dot, sym_grad, trace
 
+from alcontact._options import VALUE_RANGE, show
 from alcontact.errors import InputError, MeshError
 from alcontact.fem._linalg import Factorization, nested_dissection
 from alcontact.linalg import MatrixHints
@@ -90,6 +91,31 @@ def rigid_body_modes(points: np.ndarray) -> tuple[np.ndarray, list[str]]:
         cols.append(rot)
         names.append(f"rotation about {_AXES[ax]}")
     return np.stack(cols, axis=-1), names
+
+
+def _floats(value, what: str) -> np.ndarray:
+    """``value`` as a float array; :class:`InputError` naming ``what`` for strings, None, huge ints, ragged lists."""
+    if isinstance(value, (str, bytes, bool, np.bool_)) or value is None:
+        raise InputError(f"{what} must be numbers; got {show(value)}. Pass numbers (not strings, None or bools).")
+    try:
+        arr = np.asarray(value, dtype=float)
+    except (TypeError, ValueError, OverflowError) as exc:
+        raise InputError(f"{what} must be finite numbers; got {show(value)} ({exc}).") from None
+    lo, hi = VALUE_RANGE
+    mag = np.abs(arr[np.isfinite(arr)])
+    if np.any((mag > hi) | ((mag > 0) & (mag < lo))):
+        raise InputError(f"{what} = {show(value)}: magnitudes outside {lo:g} .. {hi:g} overflow or underflow in "
+                         "the solver (energies square them); express the loads and E in other units (e.g. MPa "
+                         "instead of Pa), or use 0 for no load.")
+    return arr
+
+
+def _rank(a: np.ndarray) -> int:
+    """Numerical rank (relative tolerance 1e-9) of a small dense matrix."""
+    if a.size == 0:
+        return 0
+    s = np.linalg.svd(a, compute_uv=False)
+    return int(np.sum(s > 1e-9 * s[0])) if s[0] > 0 else 0
 
 
 def _rref(a: np.ndarray, tol: float = 1e-9) -> np.ndarray:
@@ -350,7 +376,7 @@ class LinearElasticity:
             if out.shape[0] != self.dim:
                 raise InputError(f"{what} callable must return an array of shape ({self.dim}, ...); got {out.shape}.")
             return np.broadcast_to(out, x.shape)
-        vec = np.asarray(value, dtype=float).ravel()
+        vec = _floats(value, what).ravel()
         if vec.shape != (self.dim,) or not np.all(np.isfinite(vec)):
             raise InputError(f"{what} must be {self.dim} finite numbers or a callable; got {value!r}.")
         return np.broadcast_to(vec.reshape((self.dim,) + (1,) * (x.ndim - 1)), x.shape)
@@ -386,9 +412,10 @@ class LinearElasticity:
         if callable(p):
             pv = np.broadcast_to(np.asarray(p(x), dtype=float), x.shape[1:])
         else:
-            if not np.isfinite(float(p)):
-                raise InputError(f"pressure must be finite; got {p!r}.")
-            pv = np.full(x.shape[1:], float(p))
+            pf = _floats(p, "pressure")
+            if pf.ndim != 0 or not np.isfinite(pf):
+                raise InputError(f"pressure must be a finite number or a callable; got {show(p)}.")
+            pv = np.full(x.shape[1:], float(pf))
 
         @LinearForm
         def form(v, w):
@@ -439,7 +466,7 @@ class LinearElasticity:
                 raise InputError(f"Dirichlet value callable must return shape ({self.dim}, {m}); got {vals.shape}.")
             vals = vals.T
         else:
-            arr = np.asarray(value, dtype=float)
+            arr = _floats(value, "Dirichlet value")
             if arr.ndim == 0:
                 vals = np.full((m, self.dim), float(arr))
             elif arr.shape == (self.dim,):
@@ -466,11 +493,31 @@ class LinearElasticity:
         uniq, idx = np.unique(dofs_all[::-1], return_index=True)
         return uniq, vals_all[::-1][idx]
 
-    def check_restrained(self, dirichlet_dofs) -> None:
+    def check_restrained(self, dirichlet_dofs, *, path: str | None = None, alternative: str | None = None,
+                         contact: str | None = None) -> None:
         """Raise :class:`InputError` if the fixed DOFs leave a rigid-body motion free.
 
         The check is exact for connected meshes: a rigid motion ``r`` is free iff
         ``r`` vanishes on every fixed DOF.
+
+        Parameters
+        ----------
+        dirichlet_dofs : array_like of int
+            Fixed DOFs.
+        path : str, optional
+            The solver path that needs the supports (e.g. ``"The AMG path"``); the
+            message then says that this path cannot let the obstacle hold the body.
+        alternative : str, optional
+            A path that would work, appended to the way out.
+        contact : str, optional
+            The contact boundary (suggested last for a support).
+
+        Raises
+        ------
+        InputError
+            Naming the free motions and supports that stop them, both as
+            ``Support(boundary, components=[c])`` (Python) and as ``[[support]]``
+            (problem file).
         """
         fixed = np.unique(np.asarray(dirichlet_dofs, dtype=np.int64).ravel())
         pts, _ = self.all_node_dofs()
@@ -487,26 +534,72 @@ class LinearElasticity:
         null = vt[s <= 1e-9 * s[0]] if s[0] > 0 else vt
         if null.shape[0] == 0:
             return
+        null = _rref(null)  # echelon form: each free motion led by one named mode
         free_motions = []
-        for vec in _rref(null):  # echelon form: each free motion led by one named mode
+        for vec in null:
             vec = vec / np.max(np.abs(vec))
             parts = [names[i] for i in np.flatnonzero(np.abs(vec) > 1e-6)]
             free_motions.append(" + ".join(parts))
-        hint = self._support_hint()
-        raise InputError(
-            "the stiffness matrix is singular with these Dirichlet conditions: rigid-body "
-            f"motion(s) not restrained: {'; '.join(free_motions)}. {hint}"
-        )
+        free = "; ".join(free_motions)
+        hint = self._support_hint(null, R, row_of, contact)
+        if path is None:
+            msg = (f"the stiffness matrix is singular with these supports: rigid-body motion(s) not stopped: "
+                   f"{free}. {hint}.")
+        else:
+            msg = (f"rigid-body motion(s) not stopped by the supports: {free}. {path} needs supports that stop "
+                   "every rigid motion: it cannot let the obstacle hold the body (the stiffness matrix would be "
+                   f"singular). {hint}")
+            msg += f"; or {alternative}." if alternative else "."
+        raise InputError(msg)
 
-    def _support_hint(self) -> str:
-        names = self.boundary_names
-        if not names:
-            return "Fix enough displacement components (model.dirichlet(...)) to stop every rigid motion."
-        ex = names[0]
-        return (
-            f"Add supports, e.g. model.dirichlet({ex!r}) to clamp a boundary, or fix the normal "
-            f"component on {self.dim} mutually non-parallel plane boundaries (boundaries: {', '.join(names)})."
-        )
+    def _support_hint(self, null: np.ndarray | None = None, R: np.ndarray | None = None,
+                      row_of: np.ndarray | None = None, contact: str | None = None) -> str:
+        """Supports that stop the free motions ``null`` (rows: coefficients of the rigid modes ``R``).
+
+        Chooses greedily, boundary by boundary and component by component, the
+        support that stops the most free motions not yet stopped (the contact
+        boundary last), and writes it for Python and for problem files.
+        """
+        names = sorted(self.boundary_names, key=lambda b: (b == contact, b))
+        generic = ("Fix displacement components on some boundary (Python: Support(boundary, components=[c]) in "
+                   "ContactProblem(supports=...), or model.dirichlet(boundary, components=[c]); problem file: "
+                   "[[support]] boundary = ..., components = [c]) until every rigid motion is stopped")
+        if not names or null is None or R is None or row_of is None:
+            return generic
+        k = null.shape[0]
+        blocks = {}
+        for b in names:
+            _, dofs = self.node_dofs(b)
+            for c in range(self.dim):
+                blocks[(b, c)] = R[row_of[dofs[:, c]]] @ null.T  # motions seen by component c on b
+        chosen: list[tuple[str, int]] = []
+        rows = np.zeros((0, k))
+        rank = 0
+        while rank < k:
+            best = None
+            for key, blk in blocks.items():
+                if key in chosen:
+                    continue
+                r = _rank(np.vstack([rows, blk]))
+                if best is None or r > best[0]:
+                    best = (r, key)
+            if best is None or best[0] <= rank:
+                break
+            rank = best[0]
+            chosen.append(best[1])
+            rows = np.vstack([rows, blocks[best[1]]])
+        if rank < k:
+            return generic
+        per: dict[str, list[int]] = {}
+        for b, c in chosen:
+            per.setdefault(b, []).append(c)
+        per = {b: sorted(cs) for b, cs in per.items()}
+        py = ", ".join(f"Support({b!r}, components={cs})" for b, cs in per.items())
+        toml = " and ".join(f"[[support]] boundary = {b!r}, components = {cs}" for b, cs in per.items())
+        what = "; ".join(f"{', '.join(_AXES[c] for c in cs)} on {b!r}" for b, cs in per.items())
+        return (f"Add {'a support that stops' if len(per) == 1 else 'supports that stop'} "
+                f"{'it' if k == 1 else 'them'} (fixes {what}): in Python {py} in ContactProblem(supports=...), "
+                f"in a problem file {toml}")
 
     # ----------------------------------------------------------------- solving
     @cached_property

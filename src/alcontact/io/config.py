@@ -446,6 +446,7 @@ def _build(data: dict, base: Path, issues: list[Issue], source) -> ProblemSetup 
     from ..contact import LoadCase, LoadHistory
     from ..contact._algorithms import FIXED_PENALTIES
     from ..fem import LinearElasticity, Material
+    from ..fem._material import material_issues
 
     # ---- mesh
     mesh = dim = None
@@ -454,14 +455,22 @@ def _build(data: dict, base: Path, issues: list[Issue], source) -> ProblemSetup 
         mesh = _build_mesh(md, base, issues)
         dim = None if mesh is None else int(mesh.dim())
     if mesh is not None and dim not in (2, 3):
-        issues.append(Issue("mesh", f"the mesh is {dim}D; contact problems need a 2D or 3D mesh."))
+        issue = Issue("mesh", f"the mesh is {dim}D; contact problems need a 2D or 3D mesh.")
+        if md.get("generator") == "file":  # a Gmsh file without a body group: say which groups it has
+            from .preflight import _low_dim_issue
+
+            issue = _low_dim_issue(md, base, issue)
+        issues.append(issue)
         mesh = dim = None
 
     # ---- material
     mat = None
     mt = data.get("material")
     if _ok({k: v for k, v in (mt or {}).items() if k != "region"}) and mt is not None:
-        mat = _num(issues, "material", Material, E=mt["E"], nu=mt["nu"], plane=mt["plane"])
+        bad = material_issues(mt["E"], mt["nu"], mt["plane"])  # the ranges of Material, keyed like the file
+        issues.extend(Issue(f"material.{key}", msg) for key, msg in bad)
+        if not bad:
+            mat = _num(issues, "material", Material, E=mt["E"], nu=mt["nu"], plane=mt["plane"])
         for i, reg in enumerate(mt["region"] or []):
             rp = f"material.region[{i + 1}]"
             if not _ok(reg):

@@ -43,6 +43,7 @@ from typing import Any
 
 import numpy as np
 
+from .._options import VALUE_RANGE
 from ..errors import ConfigError, InputError, MeshError
 from .config import Issue, _raise, _text_of, load_problem, validate_data
 
@@ -57,8 +58,6 @@ MAX_DOFS = 4_000_000
 MAX_SECONDS = 4 * 3600.0
 #: Refused when the estimated peak memory exceeds this fraction of the machine's memory.
 MEMORY_FRACTION = 0.8
-#: Magnitudes of E and of load values the solver's double precision carries (squares stay finite).
-VALUE_RANGE = (1e-100, 1e100)
 
 # Calibration (SuperLU/CHOLMOD on structured meshes, 20k-80k DOFs): nonzeros of the
 # stiffness per DOF, of the factor per DOF (x log2 n in 2D, x n^(1/3) in 3D), and

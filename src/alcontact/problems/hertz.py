@@ -34,7 +34,7 @@ from ..contact import ContactProblem, Support
 from ..contact.obstacles import Circle, Sphere
 from ..fem import LinearElasticity, Material, meshes
 
-__all__ = ["HertzReference", "hertz_2d", "hertz_3d", "LEVELS_2D", "LEVELS_3D"]
+__all__ = ["HertzReference", "hertz_2d", "hertz_3d", "LEVELS_2D", "LEVELS_3D", "mesh_spec"]
 
 
 @dataclass(frozen=True)
@@ -74,6 +74,26 @@ LEVELS_2D = (8, 16, 32, 64, 128, 256)
 LEVELS_3D = (4, 6, 8, 12, 16, 24)
 
 
+def mesh_spec(dim: int, n_per_a: int, order: int = 1, *, a_target: float = 1.0, size: float | None = None,
+              growth: float | None = None) -> dict:
+    """Arguments of the graded block mesh of :func:`hertz_2d` (``dim=2``) or :func:`hertz_3d` (``dim=3``).
+
+    A ``[mesh]`` table (``bounds``, ``cells``, ``refine``) as a problem file
+    writes it, so that :mod:`alcontact.io.preflight` can count the nodes before
+    anything is meshed (``alcontact run --problem NAME --level L``).
+    """
+    a = a_target
+    if dim == 2:
+        L = H = (20.0 if size is None else size) * a
+        return dict(bounds=[0.0, L, -H, 0.0], cells=[8, 8],
+                    refine=dict(center=[0.0, 0.0], h_min=a / n_per_a / order, width=1.6 * a, depth=1.0 * a,
+                                growth=1.15 if growth is None else growth))
+    L = H = (12.0 if size is None else size) * a
+    return dict(bounds=[0.0, L, 0.0, L, -H, 0.0], cells=[4, 4, 4],
+                refine=dict(center=[0.0, 0.0, 0.0], h_min=a / n_per_a / order, width=1.5 * a, depth=1.0 * a,
+                            growth=1.3 if growth is None else growth))
+
+
 def hertz_2d(level: int = 1, *, order: int = 1, E: float = 200e3, nu: float = 0.3, radius: float = 10.0,
              a_target: float = 1.0, size: float = 20.0, n_per_a: int | None = None,
              growth: float = 1.15) -> ContactProblem:
@@ -103,9 +123,8 @@ def hertz_2d(level: int = 1, *, order: int = 1, E: float = 200e3, nu: float = 0.
     a = a_target
     L = H = size * a
     h = a / n
-    mesh = meshes.rectangle(0.0, L, -H, 0.0, 8, 8,
-                            refine=dict(center=(0.0, 0.0), h_min=h / order, width=1.6 * a, depth=1.0 * a,
-                                        growth=growth))
+    md = mesh_spec(2, n, order, a_target=a, size=size, growth=growth)
+    mesh = meshes.rectangle(*md["bounds"], *md["cells"], refine=md["refine"])
     model = LinearElasticity(mesh, mat, order=order)
     # approach giving a ~ a_target for this block (calibrated once, see docs/verification.md)
     load = math.pi * a * a * e_star / (4 * radius)
@@ -134,9 +153,8 @@ def hertz_3d(level: int = 1, *, order: int = 1, E: float = 200e3, nu: float = 0.
     a = a_target
     L = H = size * a
     h = a / n
-    mesh = meshes.box(0.0, L, 0.0, L, -H, 0.0, 4, 4, 4,
-                      refine=dict(center=(0.0, 0.0, 0.0), h_min=h / order, width=1.5 * a, depth=1.0 * a,
-                                  growth=growth))
+    md = mesh_spec(3, n, order, a_target=a, size=size, growth=growth)
+    mesh = meshes.box(*md["bounds"], *md["cells"], refine=md["refine"])
     model = LinearElasticity(mesh, mat, order=order)
     delta = a * a / radius
     obstacle = Sphere(center=(0.0, 0.0, radius - delta), radius=radius)
