@@ -28,7 +28,7 @@ import dataclasses
 import math
 import numbers
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, Callable
 
 from .errors import InputError
 
@@ -95,8 +95,9 @@ class Option:
         ``None`` may then be passed explicitly).
     doc : str
         One line.
-    choices : tuple of str, optional
-        Allowed values of a ``str`` option.
+    choices : tuple of str or callable, optional
+        Allowed values of a ``str`` option, or a function returning them when
+        the set can grow at run time (a registry's names).
     low, high : float, optional
         Range of a number (or of every list entry); ``low_open``/``high_open``
         make the bound strict.
@@ -108,7 +109,7 @@ class Option:
     type: str
     default: Any
     doc: str
-    choices: tuple[str, ...] | None = None
+    choices: tuple[str, ...] | Callable[[], tuple[str, ...]] | None = None
     low: float | None = None
     high: float | None = None
     low_open: bool = False
@@ -125,10 +126,15 @@ class Option:
     def required(self) -> bool:
         return self.default is REQUIRED
 
+    @property
+    def allowed(self) -> tuple[str, ...] | None:
+        """The allowed values of a ``str`` option now (``choices``, called if it is a function)."""
+        return tuple(self.choices()) if callable(self.choices) else self.choices
+
     def range_text(self) -> str:
         """``"> 0"``, ``"in [1, 2]"``, ``"one of a, b"`` or ``""``."""
-        if self.choices:
-            return "one of " + ", ".join(f"`{c}`" for c in self.choices)
+        if self.allowed:
+            return "one of " + ", ".join(f"`{c}`" for c in self.allowed)
         lo = None if self.low is None else f"{'(' if self.low_open else '['}{_num(self.low)}"
         hi = None if self.high is None else f"{_num(self.high)}{')' if self.high_open else ']'}"
         if lo and hi:
@@ -141,7 +147,7 @@ class Option:
 
     def expected(self) -> str:
         """What the option takes, e.g. ``"an integer in [1, 100000]"``."""
-        rng = "" if self.choices else self.range_text()
+        rng = "" if self.allowed else self.range_text()
         return _TYPE_TEXT[self.type] + (f" {rng}" if rng else "")
 
     def default_hint(self, api: bool = False) -> str:
@@ -272,12 +278,13 @@ def check_value(opt: Option, value: Any, *, api: bool = False) -> tuple[Any, lis
     if t == "str":
         if not isinstance(value, str):
             return bad_type(), issues
-        if opt.choices is not None and value not in opt.choices:
+        choices = opt.allowed
+        if choices is not None and value not in choices:
             import difflib
 
-            close = difflib.get_close_matches(value, [c for c in opt.choices if c], n=1, cutoff=0.6)
+            close = difflib.get_close_matches(value, [c for c in choices if c], n=1, cutoff=0.6)
             mean = f" Did you mean {close[0]!r}?" if close else ""
-            allowed = ", ".join(repr(c) for c in opt.choices if c)
+            allowed = ", ".join(repr(c) for c in choices if c)
             issues.append(("", f"= {show(value)}: not allowed.{mean} Allowed: {allowed}.{fix}"))
             return BAD, issues
         return value, issues

@@ -46,7 +46,7 @@ def _bad_values(opt):
             above = opt.high if opt.high_open else opt.high + 1
             out.append(("above-range", int(above) if opt.type == "int" else float(above)))
     elif opt.type == "str":
-        out += [("number", 3), ("none", None), ("unknown-choice", opt.choices[0] + "x")]
+        out += [("number", 3), ("none", None), ("unknown-choice", opt.allowed[0] + "x")]
     return out
 
 

@@ -63,7 +63,7 @@ EXAMPLE_DATA = {name: tomllib.loads(text) for name, text in EXAMPLE_TEXTS.items(
 
 KEYS = sorted({o.name for t in schema.schema() for o in t.options} | {t.path.split(".")[-1] for t in schema.schema()}
               | {"center", "radius", "point", "normal", "vertices", "axis", "height", "half_width"})
-NAMES = sorted({c for t in schema.schema() for o in t.options for c in (o.choices or ())}
+NAMES = sorted({c for t in schema.schema() for o in t.options for c in (o.allowed or ())}
                | {"top", "bottom", "left", "right", "front", "back", "circle", "sphere", "half-space",
                   "convex-polygon", "user", "body.msh", "traction", "pressure", "body-force", ""})
 EDGE_INTS = [0, 1, -1, 2, 3, 7, 2**31, 2**53 + 1, 2**63 - 1, -(2**63), 10**400, 1_000_000_000, 100_000, 100_001]

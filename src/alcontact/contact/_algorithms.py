@@ -50,6 +50,11 @@ MAX_ITER = 100_000
 MAX_NEWTON = 10_000
 
 
+def _solver_names() -> tuple[str, ...]:
+    """Allowed ``linear_solver`` values: the rules plus every registered solver (at check time)."""
+    return tuple(dict.fromkeys(("auto", "direct", "amg", *registered_solvers())))
+
+
 @dataclass(frozen=True)
 class ContactOptions:
     """Options of the contact algorithms (every field has a default).
@@ -128,7 +133,7 @@ class ContactOptions:
     linear_solver: str = declared(
         "str", "auto", "Frictionless linear solver: `direct` (one factorization by the fastest installed "
         "solver), `amg` (PyAMG + CG, no factorization), `auto` (amg for 3D above 100k DOFs), or a registered "
-        "direct solver by name.", choices=tuple(dict.fromkeys(("auto", "direct", "amg", *registered_solvers()))))
+        "direct solver by name.", choices=_solver_names)
 
     def __post_init__(self) -> None:
         check_dataclass(self, "contact")

@@ -61,7 +61,8 @@ def material_issues(E, nu, plane: str = "strain") -> list[tuple[str, str]]:
                           f"{type(nu).__name__}; material constants must be numbers.{hint}"))
     elif not (math.isfinite(nu) and -1.0 < nu < 0.5):
         out.append(("nu", f"= {show(nu0)}: out of range; Poisson's ratio must satisfy -1 < nu < 0.5 (nu = 0.5, "
-                          "incompressible, is not supported; use e.g. nu=0.49 for a nearly incompressible body)."))
+                          "incompressible, is not supported for a compressible law: use nu <= 0.49 (e.g. nu=0.49) "
+                          "for a nearly incompressible solid such as rubber)."))
     if not isinstance(plane, str) or plane not in _PLANES:
         out.append(("plane", f"= {show(plane)}: not allowed; use one of {', '.join(map(repr, _PLANES))} (the 2D "
                              "assumption; ignored in 3D)."))
