@@ -95,6 +95,11 @@ def run(out_dir: Path, cases: list[str], variants: list[str] | None = None, name
                 ratio = amg.result.outer_iterations / max(d.result.outer_iterations, 1)
                 rows[-1]["outer_ratio_amg_direct"] = round(ratio, 2)
                 rows[-1]["force_rel_diff"] = f"{diff:.1e}"
+            _write(out_dir, name, rows)  # after every variant: a run stopped by a time limit keeps its rows
+    return rows
+
+
+def _write(out_dir: Path, name: str, rows: list[dict]) -> None:
     out_dir.mkdir(parents=True, exist_ok=True)
     buf = io.StringIO()
     w = csv.DictWriter(buf, fieldnames=FIELDS, lineterminator="\n")
@@ -103,7 +108,6 @@ def run(out_dir: Path, cases: list[str], variants: list[str] | None = None, name
     write_text_atomic(out_dir / f"{name}.csv", buf.getvalue())
     write_text_atomic(out_dir / f"{name}.json", json.dumps(rows, indent=1) + "\n")
     write_text_atomic(out_dir / f"{name}_table.md", _markdown(rows))
-    return rows
 
 
 def _markdown(rows: list[dict]) -> str:
