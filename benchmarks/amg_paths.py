@@ -1,0 +1,134 @@
+"""Direct vs factorization-free (AMG) path: outer iterations of every frictionless algorithm, 3D P2 Hertz.
+
+For each case (3D sphere on a P2 tetrahedral quarter block) and each algorithm/penalty the
+script solves with ``linear_solver="direct"`` (where the case lists it) and ``"amg"``, and
+records outer iterations, Newton iterations, CG iterations, AMG setups, wall time as a
+ratio to one AMG-CG linear elastic solve of the same mesh (AMG setup + one CG solve to
+1e-10, ``timings["linear_solve_s"]`` of the AMG run), the outer-iteration ratio AMG /
+direct and the relative difference of the total contact force between the paths.
+Writes ``<out>/<name>.csv``, ``<out>/<name>.json`` and the table ``<out>/<name>_table.md``
+(``--name``, default ``amg_paths``).
+
+Usage::
+
+    python benchmarks/amg_paths.py [--out DIR] [--cases 3d-p2-9k 3d-p2-22k 3d-p2-78k] [--name STEM] [--variants ssn simo-laursen ...]
+
+Timings are ratios within one run; machines are shared and noisy.
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import io
+import json
+import logging
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+from alcontact.contact import solve
+from alcontact.io.results import write_text_atomic
+from alcontact.problems import hertz
+
+#: name -> (keyword arguments of hertz_3d with order=2, linear solvers run)
+CASES = {
+    "3d-p2-9k": (dict(n_per_a=1, growth=1.6, size=6.0), ("direct", "amg")),
+    "3d-p2-22k": (dict(n_per_a=2, growth=2.0, size=6.0), ("direct", "amg")),
+    "3d-p2-78k": (dict(n_per_a=2), ("amg",)),
+}
+DEFAULT_CASES = ["3d-p2-9k"]
+
+#: (label, algorithm, penalty)
+VARIANTS = [
+    ("penalty", "penalty", None),
+    ("simo-laursen", "simo-laursen", None),
+    ("exp-met1", "family-p", "exp-met1"),
+    ("log-met1", "family-p", "log-met1"),
+    ("log-met2", "family-p", "log-met2"),
+    ("quad-met2", "family-p", "quad-met2"),
+    ("rockafellar", "family-p", "rockafellar"),
+    ("ssn", "ssn", None),
+]
+
+FIELDS = ["case", "dofs", "variant", "algorithm", "penalty", "linear_solver", "status", "outer_iterations",
+          "newton_iterations", "linear_solves", "cg_iterations", "amg_setups", "wall_s", "amg_linear_solve_s",
+          "ratio", "outer_ratio_amg_direct", "force_rel_diff", "normal_force"]
+
+
+def run(out_dir: Path, cases: list[str], variants: list[str] | None = None, name: str = "amg_paths") -> list[dict]:
+    chosen = [v for v in VARIANTS if variants is None or v[0] in variants]
+    rows = []
+    for case in cases:
+        kwargs, paths = CASES[case]
+        prob = hertz.hertz_3d(order=2, **kwargs)
+        for label, alg, pen in chosen:
+            sols = {}
+            for path in paths:
+                t0 = time.perf_counter()
+                sol = solve(prob, alg, pen, linear_solver=path)
+                wall = time.perf_counter() - t0
+                sols[path] = sol
+                res = sol.result
+                rows.append({
+                    "case": case, "dofs": int(prob.model.ndofs), "variant": label, "algorithm": alg,
+                    "penalty": res.penalty, "linear_solver": path, "status": res.status.label,
+                    "outer_iterations": res.outer_iterations, "newton_iterations": res.newton_iterations,
+                    "linear_solves": res.linear_solves, "cg_iterations": sol.extra.get("cg_iterations", ""),
+                    "amg_setups": sol.extra.get("amg_setups", ""), "wall_s": round(wall, 2),
+                    "amg_linear_solve_s": "", "ratio": "", "outer_ratio_amg_direct": "", "force_rel_diff": "",
+                    "normal_force": float(abs(sol.normal_force)),
+                })
+                print(f"{case} {label} {path}: {res.status.label}, {res.outer_iterations} outer, "
+                      f"{res.newton_iterations} Newton, {wall:.1f} s", file=sys.stderr, flush=True)
+            amg = sols["amg"]
+            ref = amg.timings["linear_solve_s"]
+            for row in rows[-len(paths):]:
+                row["amg_linear_solve_s"] = round(ref, 3)
+                row["ratio"] = round(row["wall_s"] / ref, 1)
+            if "direct" in sols:
+                d = sols["direct"]
+                f_ref = float(np.max(np.abs(d.total_contact_force)))
+                diff = float(np.max(np.abs(amg.total_contact_force - d.total_contact_force))) / f_ref
+                ratio = amg.result.outer_iterations / max(d.result.outer_iterations, 1)
+                rows[-1]["outer_ratio_amg_direct"] = round(ratio, 2)
+                rows[-1]["force_rel_diff"] = f"{diff:.1e}"
+            _write(out_dir, name, rows)  # after every variant: a run stopped by a time limit keeps its rows
+    return rows
+
+
+def _write(out_dir: Path, name: str, rows: list[dict]) -> None:
+    out_dir.mkdir(parents=True, exist_ok=True)
+    buf = io.StringIO()
+    w = csv.DictWriter(buf, fieldnames=FIELDS, lineterminator="\n")
+    w.writeheader()
+    w.writerows(rows)
+    write_text_atomic(out_dir / f"{name}.csv", buf.getvalue())
+    write_text_atomic(out_dir / f"{name}.json", json.dumps(rows, indent=1) + "\n")
+    write_text_atomic(out_dir / f"{name}_table.md", _markdown(rows))
+
+
+def _markdown(rows: list[dict]) -> str:
+    cols = ["case", "dofs", "variant", "linear_solver", "status", "outer_iterations", "newton_iterations",
+            "cg_iterations", "amg_setups", "ratio", "outer_ratio_amg_direct", "force_rel_diff"]
+    lines = ["| " + " | ".join(cols) + " |", "|" + "---|" * len(cols)]
+    lines += ["| " + " | ".join(str(r[c]) for c in cols) + " |" for r in rows]
+    return "\n".join(lines) + "\n"
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--out", type=Path, default=Path("docs/benchmarks"))
+    ap.add_argument("--cases", nargs="+", default=DEFAULT_CASES, choices=list(CASES))
+    ap.add_argument("--variants", nargs="+", default=None, choices=[v[0] for v in VARIANTS])
+    ap.add_argument("--name", default="amg_paths", help="stem of the output files")
+    args = ap.parse_args(argv)
+    logging.basicConfig(level=logging.WARNING)
+    run(args.out, args.cases, args.variants, args.name)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
