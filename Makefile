@@ -5,7 +5,7 @@ VENV   := .venv
 BIN    := $(VENV)/bin
 OUT    ?= results
 
-.PHONY: run test install bench fuzz clean
+.PHONY: run test test-slow install bench fuzz clean
 
 $(BIN)/python:
 	$(PYTHON) -m venv $(VENV)
@@ -24,8 +24,12 @@ run: $(VENV)/.installed
 # (CHOLMOD through cholespy uses a reference BLAS, single-threaded; tests/conftest.py sets the same defaults)
 TEST_ENV := OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1 MKL_NUM_THREADS=1 VECLIB_MAXIMUM_THREADS=1 NUMEXPR_NUM_THREADS=1
 
+# `make test`: everything but the tests marked slow (each > ~10 s); CI (.ci/run) runs both targets
 test: $(VENV)/.installed
-	$(TEST_ENV) $(BIN)/python -m pytest -q -n 2 --dist loadfile
+	$(TEST_ENV) $(BIN)/python -m pytest -q -n 2 --dist loadfile -m "not slow"
+
+test-slow: $(VENV)/.installed
+	$(TEST_ENV) $(BIN)/python -m pytest -q -n 2 --dist loadfile -m slow
 
 # Problem-file fuzzing: 3 x 40,000 Hypothesis examples (profile "fuzz" in tests/conftest.py).
 fuzz: $(VENV)/.installed
