@@ -286,6 +286,13 @@ class _Ctx:
     def y(self, R):
         return self.yf - (self.fc.A @ R.ravel()).reshape(self.yf.shape)
 
+    def shifted(self, y, t, Dy):
+        r"""Law shifted by the contact springs of a body held by the obstacle (exact rewriting,
+        :meth:`FrictionalContact._stabilize`): :math:`t - \kappa(y - y^0)` and its tangent (``t``, ``Dy`` without springs)."""
+        if self.fc.spring is None:
+            return t, Dy
+        return t - self.fc.spring_traction(y), Dy - self.fc.spring_tangent()
+
 
 def _al_subproblem(ctx: _Ctx, law, lamN, lamT, R0) -> _NewtonOut:
     """Subproblem (6.2a): ``R = w t(y_free - A R)`` for fixed multipliers.
@@ -304,13 +311,15 @@ def _al_subproblem(ctx: _Ctx, law, lamN, lamT, R0) -> _NewtonOut:
         R = x.reshape(c, d)
         y = ctx.y(R)
         t, Dy, _, st = local_law(law, lamN, lamT, y, ctx.uTn, ctx.eps_t, ctx.mu, rho=rho, tfree=ctx.tfree)
-        return (R - w[:, None] * t).ravel(), (y, t, Dy, st)
+        ts, Dys = ctx.shifted(y, t, Dy)
+        return (R - w[:, None] * ts).ravel(), (y, t, Dys, st)
 
     energy = grad = None
     if rho is not None:
         def energy(x):
             y = ctx.y(x.reshape(c, d))
             e = law.energy(y[:, 0], lamN) + tangential_energy(lamT, y[:, 1:], ctx.uTn, ctx.eps_t, rho, ctx.tfree)
+            e = e - ctx.fc.spring_energy(y)
             return 0.5 * float(x @ (ctx.fc.A @ x)) + float(np.sum(w * e))
 
         def grad(x, F):
@@ -417,11 +426,12 @@ def _sensitivity(ctx: _Ctx, law, lamN, lamT, y, t):
     _, Dy, Dl, _ = local_law(_WithDlam(law, pref), lamN, lamT, y, ctx.uTn, ctx.eps_t, ctx.mu, with_lam=True,
                              rho=rho, drho=drho, tfree=ctx.tfree)
     W = w.repeat(d)[:, None]
-    JR = W * np.einsum("ikm,imjl->ikjl", Dy, ctx.A4).reshape(n, n)
+    Dys = ctx.shifted(y, t, Dy)[1]  # the subproblem is solved for the spring-shifted law
+    JR = W * np.einsum("ikm,imjl->ikjl", Dys, ctx.A4).reshape(n, n)
     JR[np.diag_indices(n)] += 1.0
     Dlf, Dyf = block_diag(Dl), block_diag(Dy)
     try:
-        dR = sla.solve(JR, W * np.hstack([Dlf, Dyf]), check_finite=True)
+        dR = sla.solve(JR, W * np.hstack([Dlf, block_diag(Dys)]), check_finite=True)
     except (sla.LinAlgError, ValueError):
         return None
     DyAdR = _dy_times(Dy, ctx.fc.A @ dR, c, d)
@@ -581,32 +591,35 @@ def _step_ssn(ctx: _Ctx, penalty_name: str = "none") -> _StepOut:
     n = c * d
     law = Macaulay(ctx.eps_n)
 
+    # unknowns: the condensed forces R = w (L - kappa (y - y0)) (R = w L without contact springs), so that
+    # y = y_free - A R is explicit and L = R / w + kappa (y - y0)
+    S = block_diag(ctx.fc.spring_tangent())
+    A = ctx.fc.A
+
     def fun(x):
-        L = x.reshape(c, d)
-        y = ctx.y(w[:, None] * L)
+        R = x.reshape(c, d)
+        y = ctx.y(R)
+        L = R / w[:, None] + ctx.fc.spring_traction(y)
         t, Dy, Dl, st = local_law(law, L[:, 0], L[:, 1:], y, ctx.uTn, ctx.eps_t, ctx.mu, with_lam=True,
                                    tfree=ctx.tfree)
-        return (L - t).ravel(), (y, t, Dy, st, Dl)
+        return (L - t).ravel(), (y, t, Dy, st, Dl, L)
 
     def jac(x, aux):
+        # dF/dR = (I - Dl) dL/dR + Dy A,  dL/dR = W^-1 - S A
         Dy, Dl = aux[2], aux[4]
-        J = np.einsum("ikm,imjl->ikjl", Dy, ctx.A4 * w[None, None, :, None]).reshape(n, n)
-        for a in range(d):
-            for b in range(d):
-                J[np.arange(c) * d + a, np.arange(c) * d + b] -= Dl[:, a, b]
-        J[np.diag_indices(n)] += 1.0
-        return J
+        dL = np.diag(1.0 / w.repeat(d)) - S @ A
+        return (np.eye(n) - block_diag(Dl)) @ dL + _dy_times(Dy, A, c, d)
 
     def scale(x, aux):
-        return max(float(np.max(np.abs(x), initial=0.0)), float(np.max(np.abs(aux[1]), initial=0.0)))
+        return max(float(np.max(np.abs(aux[5]), initial=0.0)), float(np.max(np.abs(aux[1]), initial=0.0)))
 
-    x0 = np.concatenate([ctx.lamN[:, None], ctx.lamT], axis=1).ravel()
-    out = _newton(fun, jac, x0, scale, tol=ctx.opts.newton_tol, maxiter=max(ctx.opts.maxiter_newton, 100))
-    L = out.x.reshape(c, d)
+    out = _newton(fun, jac, ctx.R0.ravel(), scale, tol=ctx.opts.newton_tol,
+                  maxiter=max(ctx.opts.maxiter_newton, 100))
+    R = out.x.reshape(c, d)
     if not out.converged:
-        return _StepOut(False, f"semi-smooth Newton failed: {out.reason}", w[:, None] * L, out.aux[1], 1,
+        return _StepOut(False, f"semi-smooth Newton failed: {out.reason}", R, out.aux[1], 1,
                         out.iterations, ContactStatus.NEWTON_FAILED)
-    return _StepOut(True, "converged", w[:, None] * L, L.copy(), 1, out.iterations)
+    return _StepOut(True, "converged", R, out.aux[5].copy(), 1, out.iterations)
 
 
 _ALGORITHMS: dict[str, tuple[Callable, str]] = {
@@ -684,6 +697,11 @@ def _advance(fc: FrictionalContact, prev: _State, t: float, step_fn, pen_name, e
             ctx = _Ctx(fc, fc.y_free(t)[cand], fc.weights[cand], fc.A.reshape(c, d, c, d), prev.tN[cand].copy(),
                        prev.tT[cand].copy(), prev.y[cand, 1:].copy(), prev.R[cand].copy(), eps_n, eps_t, mu, opts,
                        fc.tfree[cand])
+            R0 = fc.frozen_start(prev.t, t, ctx.R0)  # body held by the obstacle: start from sticking
+            if R0 is not None:
+                ctx.R0 = R0
+                LN = R0[:, 0] / ctx.w + fc.spring_traction(ctx.y(R0))[:, 0]  # normal tractions of that start
+                ctx.lamN = np.where(ctx.lamN > 0, ctx.lamN, np.maximum(LN, 0.0))  # a disc for the AL start
             if prev.predictor is not None and np.array_equal(prev.predictor[0], cand):
                 # tangent predictor: lambda_n + (d lambda*/d y_free) (y_free(t) - y_free(t_n))
                 dyf = (ctx.yf - fc.y_free(prev.t)[cand]).ravel()
@@ -804,6 +822,10 @@ def solve_friction(problem, history: LoadHistory, algorithm: str = "simo-laursen
                         f"tangential load {', '.join(active)} is applied at t={t:g} but no point is in contact at "
                         f"the start of that step (t={state.t:g}); apply the normal load first (start the tangential "
                         "amplitude at 0 until contact exists).")
+            away = fc.slides_away(t, mu * history.friction_factor(t))  # body held by the obstacle only
+            if away is not None:
+                status, message = ContactStatus.UNBOUNDED, away
+                break
             res, out, o, nw = _advance(fc, state, t, step_fn, pen_name, eps_n, eps_t,
                                        mu * history.friction_factor(t), opts)
             n_outer += o
@@ -816,6 +838,10 @@ def solve_friction(problem, history: LoadHistory, algorithm: str = "simo-laursen
                     status = out.status
                     message = (f"load step to t={t:g} failed after {opts.max_cutbacks} cut-backs: {out.message}; "
                                "use more load steps, a smaller penalty_scale or algorithm='ssn'")
+                    if fc.spring is not None:
+                        message += ("; the body is held by the obstacle only: if contact and friction cannot "
+                                    "balance the loads it slides or turns away (no static equilibrium), so "
+                                    "prescribe that motion as a displacement or add a support")
                     break
                 queue.append(state.t + opts.cutback_factor * (t - state.t))
                 continue
