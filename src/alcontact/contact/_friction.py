@@ -72,6 +72,9 @@ __all__ = ["FrictionOptions", "solve_friction", "friction_algorithms", "friction
 
 logger = logging.getLogger(__name__)
 
+#: Largest relative equilibrium residual of a step of a body held only by the obstacle.
+_EQUILIBRIUM_TOL = 1e-7
+
 #: Largest ``max_cutbacks`` an option accepts (0.5**50 of an increment is below round-off).
 MAX_CUTBACKS = 50
 
@@ -697,7 +700,7 @@ def _advance(fc: FrictionalContact, prev: _State, t: float, step_fn, pen_name, e
             ctx = _Ctx(fc, fc.y_free(t)[cand], fc.weights[cand], fc.A.reshape(c, d, c, d), prev.tN[cand].copy(),
                        prev.tT[cand].copy(), prev.y[cand, 1:].copy(), prev.R[cand].copy(), eps_n, eps_t, mu, opts,
                        fc.tfree[cand])
-            R0 = fc.frozen_start(prev.t, t, ctx.R0)  # body held by the obstacle: start from sticking
+            R0 = fc.frozen_start(prev.t, t, ctx.R0, prev.tN[cand] > 0)  # held by the obstacle: start sticking
             if R0 is not None:
                 ctx.R0 = R0
                 LN = R0[:, 0] / ctx.w + fc.spring_traction(ctx.y(R0))[:, 0]  # normal tractions of that start
@@ -726,6 +729,14 @@ def _advance(fc: FrictionalContact, prev: _State, t: float, step_fn, pen_name, e
         tT = np.zeros((m, d - 1))
         R = np.zeros((m, d))
         tN[cand], tT[cand], R[cand] = out.t[:, 0], out.t[:, 1:], out.R
+        if fc.spring is not None:  # held by the obstacle: accept only a step in equilibrium
+            R_phys = np.zeros((m, d))
+            R_phys[cand] = fc.weights[cand, None] * out.t
+            defect = fc.equilibrium_defect(t, u, R_phys)
+            if not defect <= _EQUILIBRIUM_TOL:
+                return None, _StepOut(False, f"no equilibrium found (relative residual {defect:.2e}): the obstacle "
+                                             "and friction do not hold the body there", prev.R, prev.R, outer,
+                                      newton, ContactStatus.NEWTON_FAILED), outer, newton
         pred = (cand.copy(), out.predictor) if out.predictor is not None else None
         return (u, y_all, tN, tT, R, pred), out, outer, newton
     return None, _StepOut(False, "candidate set did not settle", prev.R, prev.R, 0, 0, ContactStatus.MAXITER), \

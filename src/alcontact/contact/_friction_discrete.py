@@ -227,6 +227,7 @@ class FrictionalContact:
         import scipy.sparse as sp
 
         model = self.model
+        self._K = model.stiffness()
         free = np.ones(model.ndofs, dtype=bool)
         free[self.fixed] = False
         movable = np.linalg.norm(np.where(free[self.dofs], self.normals, 0.0), axis=1) > 1e-12
@@ -244,7 +245,7 @@ class FrictionalContact:
         diag = np.zeros(model.ndofs)
         np.add.at(diag, dofs[keep], np.repeat(kappa * self.weights[near], model.dim)[keep])
         try:
-            factor = model.factorize(self.fixed, matrix=model.stiffness() + sp.diags(diag), check=True)
+            factor = model.factorize(self.fixed, matrix=self._K + sp.diags(diag), check=True)
         except InputError:
             raise InputError(
                 f"{exc} The contact points touching the obstacle do not restrain that motion either: add supports "
@@ -282,27 +283,52 @@ class FrictionalContact:
         k = np.where(self.kappa[self.cand] > 0, self.kappa[self.cand], 1.0)
         return 0.5 * np.sum(f * f, axis=1) / k
 
-    def frozen_start(self, t_prev: float, t: float, R_prev: np.ndarray) -> np.ndarray | None:
-        r"""Start of a step of a body held by the obstacle: the forces that keep the candidates where they were.
+    def frozen_start(self, t_prev: float, t: float, R_prev: np.ndarray, closed: np.ndarray) -> np.ndarray | None:
+        r"""Start of a step of a body held by the obstacle: the forces that keep the closed points where they were.
 
-        :math:`R^0 = R_n + A^{-1}(y_{free}(t) - y_{free}(t_n))` gives
-        :math:`y(R^0) = y_n` (no slip increment, every closed point sticks), on the
-        components with compliance (held directions keep ``R_prev``). Started
-        from :math:`R_n`, the tangential rigid motion that the springs allow
-        under a new tangential load would make every point slip in the first
-        iterate, where the Newton matrix is singular (nothing but friction holds
-        the body). ``None`` without springs or when the block is singular.
+        On the closed candidates (``closed``, bool over the candidates: those in
+        contact at :math:`t_n`, or the spring points at the first contact),
+        :math:`R^0_c = R_{n,c} + A_{cc}^{-1}(y_{free}(t) - y_{free}(t_n))_c` gives
+        :math:`y_c(R^0) = y_{n,c}` (no slip increment, every closed point sticks),
+        on the components with compliance (held directions and the other
+        candidates keep ``R_prev``). Started from :math:`R_n`, the tangential rigid
+        motion that the springs allow under a new tangential load would make every
+        point slip in the first iterate, where the Newton matrix is singular
+        (nothing but friction holds the body). ``None`` without springs or when
+        the block is singular.
         """
         if self.spring is None or self.ncand == 0:
             return None
+        if not np.any(closed):
+            closed = np.isin(self.cand, self.spring)
         dy = (self.y_free(t) - self.y_free(t_prev))[self.cand].ravel()
-        act = np.diag(self.A) > 0
+        act = (np.diag(self.A) > 0) & np.repeat(closed, self.dim)
         R0 = np.array(R_prev, dtype=float).ravel()
         try:
             R0[act] += np.linalg.solve(self.A[np.ix_(act, act)], dy[act])
         except np.linalg.LinAlgError:
             return None
         return R0.reshape(R_prev.shape) if np.all(np.isfinite(R0)) else None
+
+    def equilibrium_defect(self, t: float, u: np.ndarray, R: np.ndarray) -> float:
+        r"""Relative equilibrium residual :math:`\max|K u - f(t) - P^T E R|` on the free DOFs.
+
+        ``R`` (m, d): physical local nodal contact forces :math:`w\,t`. The
+        spring-shifted problem (:meth:`_stabilize`) is an exact rewriting only where
+        it has a solution: near a lost equilibrium (the body sliding, lifting or
+        turning away) the shifted Newton iteration can stop on a far-away iterate
+        whose residual is small relative to its own size, so a step of a
+        stabilized body is accepted only when this is small. Scale: the largest
+        of the load and the contact force entries.
+        """
+        f = self.amplitudes(t) @ self.loads
+        fc = np.zeros(self.model.ndofs)
+        np.add.at(fc, self.dofs.ravel(), np.einsum("ijk,ik->ij", self.E, R).ravel())
+        res = self._K @ u - f - fc
+        free = np.ones(self.model.ndofs, dtype=bool)
+        free[self.fixed] = False
+        scale = max(float(np.max(np.abs(f), initial=0.0)), float(np.max(np.abs(fc), initial=0.0)), 1e-300)
+        return float(np.max(np.abs(res[free]), initial=0.0)) / scale
 
     def slides_away(self, t: float, mu: float) -> str | None:
         r"""Why a body held only by the obstacle has no static equilibrium at ``t`` (``None``: it may have one).
