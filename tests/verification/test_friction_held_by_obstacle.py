@@ -163,3 +163,38 @@ def test_problem_file_friction_holds_the_free_translation(tmp_path):
     msg = " ".join(result.output.split())
     assert result.exit_code == 2 and "translation x" in msg and "nothing holds the body" in msg, result.output
     assert "[[support]]" in msg and "components = [0]" in msg
+
+
+def _cylinder_pressed_by_forces(ratio: float):
+    """The Cattaneo-Mindlin block of ``test_friction`` (coarse, 4 elements per a), but loaded by forces on its
+    bottom, P (t in [0, 0.5]) then Q = ratio mu P (t in [0.5, 1]), with no support: a curved contact zone
+    (a few points touch at first) holds the body."""
+    import math
+
+    from alcontact.problems import friction as fp
+
+    prob, hist = fp.cattaneo_mindlin_2d(n_per_a=4, frictionless_approach=False, normal_steps=2, tangential_steps=2)
+    length = 20.0  # the block is [-L, L] x [-L, 0], L = size * a_target
+    P_total = math.pi * prob.model.material.plane_strain_modulus / (4 * 10.0)
+    press = LoadCase(Traction("bottom", (0.0, P_total / (2 * length))), Ramp((0.0, 0.5), (0.0, 1.0), hold_after=True))
+    shear = LoadCase(Traction("bottom", (ratio * MU * P_total / (2 * length), 0.0)), Ramp((0.5, 1.0), (0.0, 1.0)),
+                     tangential=True)
+    held = ContactProblem(model=prob.model, obstacle=prob.obstacle, contact_boundary="top", supports=(),
+                          friction=MU)
+    return held, LoadHistory((press, shear), hist.times), P_total
+
+
+@pytest.mark.parametrize("alg", [
+    "ssn", "family-p", pytest.param("simo-laursen", marks=pytest.mark.slow)])  # simo-laursen: ~6 s, cut-backs
+def test_curved_contact_held_by_the_obstacle(alg):
+    """Curved contact, no support, Q = mu P / 2: converged; the obstacle carries N = P and the tangential force
+    Q (relative 1e-9) with stick and slip zones (Cattaneo-Mindlin), equilibrium residual <= 1e-8."""
+    prob, hist, P_total = _cylinder_pressed_by_forces(0.5)
+    sol = solve_friction(prob, hist, algorithm=alg)
+    assert sol.status == ContactStatus.CONVERGED, sol.message
+    f = sol.final
+    assert f.t == 1.0
+    assert abs(f.normal_force - P_total) <= 1e-9 * P_total
+    assert abs(f.tangential_force[0] + 0.5 * MU * P_total) <= 1e-9 * P_total and f.tangential_force[1] == 0.0
+    assert np.any(f.state == STICK)
+    assert sol.equilibrium().residual <= 1e-8

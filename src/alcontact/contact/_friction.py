@@ -49,6 +49,7 @@ from __future__ import annotations
 
 import logging
 import time
+import warnings
 from dataclasses import dataclass
 from typing import Callable
 
@@ -188,6 +189,31 @@ class _NewtonOut:
     reason: str
 
 
+def _solve(J, b):
+    """``J^{-1} b`` (LinAlgError/ValueError when singular or not finite).
+
+    An ill-conditioned ``J`` (a body held only by the obstacle whose iterate lets
+    every touching point slip: the rigid motion is then free) is not an error
+    here: the callers check what the step does (line search, residual), so
+    SciPy's ``LinAlgWarning`` is logged at debug level instead of raised to the user.
+    """
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", sla.LinAlgWarning)
+        x = sla.solve(J, b, check_finite=True)
+    for w in caught:
+        if issubclass(w.category, sla.LinAlgWarning):
+            logger.debug("friction: %s", w.message)
+        else:
+            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+    return x
+
+
+def _norm(v) -> float:
+    """Euclidean norm; a far-away trial iterate may overflow to ``inf`` (then rejected by the line search)."""
+    with np.errstate(over="ignore"):
+        return float(np.linalg.norm(v))
+
+
 def _newton(fun, jac, x0, scale, *, tol, maxiter, energy=None, grad=None) -> _NewtonOut:
     """Solve ``F(x) = 0``; ``fun(x) -> (F, aux)``, ``jac(x, aux) -> J``, ``scale(x, aux)`` > 0.
 
@@ -209,12 +235,12 @@ def _newton(fun, jac, x0, scale, *, tol, maxiter, energy=None, grad=None) -> _Ne
             break
         J = jac(x, aux)
         try:
-            dx = sla.solve(J, -F, check_finite=True)
+            dx = _solve(J, -F)
         except (sla.LinAlgError, ValueError):
             return _NewtonOut(x, aux, it, False, res, "singular Newton matrix")
         if float(np.max(np.abs(dx), initial=0.0)) <= 1e-14 * max(float(np.max(np.abs(x), initial=0.0)), fs):
             return _NewtonOut(x, aux, it, res <= 1e3 * tol, res, "step at round-off level")
-        nF = float(np.linalg.norm(F))
+        nF = _norm(F)
         slope = float(grad(x, F) @ dx) if energy is not None else 0.0
         alpha, accepted = 1.0, False
         for _ in range(50):
@@ -227,7 +253,7 @@ def _newton(fun, jac, x0, scale, *, tol, maxiter, energy=None, grad=None) -> _Ne
             if ok:
                 F_try, aux_try = fun(x_try)
                 ok = np.all(np.isfinite(F_try)) and (
-                    energy is not None or np.linalg.norm(F_try) <= (1.0 - 1e-4 * alpha) * nF)
+                    energy is not None or _norm(F_try) <= (1.0 - 1e-4 * alpha) * nF)
                 if ok:
                     accepted = True
                     break
@@ -318,7 +344,9 @@ def _al_subproblem(ctx: _Ctx, law, lamN, lamT, R0) -> _NewtonOut:
         return (R - w[:, None] * ts).ravel(), (y, t, Dys, st)
 
     energy = grad = None
-    if rho is not None:
+    # held by the obstacle: the spring-shifted potential cancels large terms along the rigid motions
+    # (round-off defeats Armijo there); backtrack on the residual instead
+    if rho is not None and ctx.fc.spring is None:
         def energy(x):
             y = ctx.y(x.reshape(c, d))
             e = law.energy(y[:, 0], lamN) + tangential_energy(lamT, y[:, 1:], ctx.uTn, ctx.eps_t, rho, ctx.tfree)
@@ -335,8 +363,10 @@ def _al_subproblem(ctx: _Ctx, law, lamN, lamT, R0) -> _NewtonOut:
         return J
 
     def scale(x, aux):
-        return max(float(np.max(np.abs(x), initial=0.0)),
-                   float(np.max(np.abs(w[:, None] * aux[1]), initial=0.0)))
+        # held by the obstacle: x holds the spring forces kappa w (y - y0) of the rigid motion, which are no
+        # measure of the physical forces w t (a far-away iterate would pass relative to itself)
+        xs = 0.0 if ctx.fc.spring is not None else float(np.max(np.abs(x), initial=0.0))
+        return max(xs, float(np.max(np.abs(w[:, None] * aux[1]), initial=0.0)))
 
     return _newton(fun, jac, R0.ravel(), scale, tol=ctx.opts.newton_tol, maxiter=ctx.opts.maxiter_newton,
                    energy=energy, grad=grad)
@@ -434,7 +464,7 @@ def _sensitivity(ctx: _Ctx, law, lamN, lamT, y, t):
     JR[np.diag_indices(n)] += 1.0
     Dlf, Dyf = block_diag(Dl), block_diag(Dy)
     try:
-        dR = sla.solve(JR, W * np.hstack([Dlf, block_diag(Dys)]), check_finite=True)
+        dR = _solve(JR, W * np.hstack([Dlf, block_diag(Dys)]))
     except (sla.LinAlgError, ValueError):
         return None
     DyAdR = _dy_times(Dy, ctx.fc.A @ dR, c, d)
@@ -472,7 +502,7 @@ def _second_order_update(ctx: _Ctx, law, lamN, lamT, y, t):
         return None
     lam = np.concatenate([lamN[:, None], lamT], axis=1)
     try:
-        step = sla.solve(sens[0], (t - lam).ravel(), check_finite=True).reshape(lam.shape)
+        step = _solve(sens[0], (t - lam).ravel()).reshape(lam.shape)
     except (sla.LinAlgError, ValueError):
         return None
     new = lam + step
@@ -489,7 +519,7 @@ def _tangent_predictor(ctx: _Ctx, law, lamN, lamT, y, t):
     if sens is None:
         return None
     try:
-        P = sla.solve(sens[0], sens[1], check_finite=True)
+        P = _solve(sens[0], sens[1])
     except (sla.LinAlgError, ValueError):
         return None
     return P if np.all(np.isfinite(P)) else None
@@ -700,11 +730,19 @@ def _advance(fc: FrictionalContact, prev: _State, t: float, step_fn, pen_name, e
             ctx = _Ctx(fc, fc.y_free(t)[cand], fc.weights[cand], fc.A.reshape(c, d, c, d), prev.tN[cand].copy(),
                        prev.tT[cand].copy(), prev.y[cand, 1:].copy(), prev.R[cand].copy(), eps_n, eps_t, mu, opts,
                        fc.tfree[cand])
-            R0 = fc.frozen_start(prev.t, t, ctx.R0, prev.tN[cand] > 0)  # held by the obstacle: start sticking
-            if R0 is not None:
-                ctx.R0 = R0
-                LN = R0[:, 0] / ctx.w + fc.spring_traction(ctx.y(R0))[:, 0]  # normal tractions of that start
-                ctx.lamN = np.where(ctx.lamN > 0, ctx.lamN, np.maximum(LN, 0.0))  # a disc for the AL start
+            if fc.spring is not None:  # held by the obstacle only
+                closed = prev.tN[cand] > 0
+                if np.any(closed):  # start sticking (FrictionalContact.frozen_start)
+                    R0 = fc.frozen_start(prev.t, t, ctx.R0, closed)
+                    ctx.R0 = ctx.R0 if R0 is None else R0
+                elif step_fn is not _step_ssn:
+                    # first contact: with zero multipliers the Coulomb discs of the AL subproblem have radius 0
+                    # and nothing holds the tangential rigid motion; start from the semi-smooth Newton solution
+                    # of the same discrete problem (a predictor: the AL stopping test decides)
+                    pre = _step_ssn(ctx)
+                    newton += pre.newton
+                    if pre.ok:
+                        ctx.R0, ctx.lamN, ctx.lamT = pre.R, pre.t[:, 0].copy(), pre.t[:, 1:].copy()
             if prev.predictor is not None and np.array_equal(prev.predictor[0], cand):
                 # tangent predictor: lambda_n + (d lambda*/d y_free) (y_free(t) - y_free(t_n))
                 dyf = (ctx.yf - fc.y_free(prev.t)[cand]).ravel()

@@ -287,7 +287,7 @@ class FrictionalContact:
         r"""Start of a step of a body held by the obstacle: the forces that keep the closed points where they were.
 
         On the closed candidates (``closed``, bool over the candidates: those in
-        contact at :math:`t_n`, or the spring points at the first contact),
+        contact at :math:`t_n`; ``None`` when there is none),
         :math:`R^0_c = R_{n,c} + A_{cc}^{-1}(y_{free}(t) - y_{free}(t_n))_c` gives
         :math:`y_c(R^0) = y_{n,c}` (no slip increment, every closed point sticks),
         on the components with compliance (held directions and the other
@@ -300,7 +300,7 @@ class FrictionalContact:
         if self.spring is None or self.ncand == 0:
             return None
         if not np.any(closed):
-            closed = np.isin(self.cand, self.spring)
+            return None
         dy = (self.y_free(t) - self.y_free(t_prev))[self.cand].ravel()
         act = (np.diag(self.A) > 0) & np.repeat(closed, self.dim)
         R0 = np.array(R_prev, dtype=float).ravel()
