@@ -815,7 +815,10 @@ def solve_friction(problem, history: LoadHistory, algorithm: str = "simo-laursen
         Per-step states; ``status`` negative (and a logged warning) when a step
         failed after ``max_cutbacks`` cut-backs, or ``NOT_VERIFIED`` when a recorded
         step fails the penetration, complementarity or Coulomb check of
-        :mod:`alcontact.contact._verify`.
+        :mod:`alcontact.contact._verify`. ``UNBOUNDED`` when a body held only by
+        the obstacle has no static equilibrium at a step (the free tangential load
+        exceeds :math:`\mu N`, or the loads pull it off a flat obstacle,
+        :meth:`FrictionalContact.slides_away`); the steps before it are kept.
 
     Raises
     ------
@@ -823,6 +826,17 @@ def solve_friction(problem, history: LoadHistory, algorithm: str = "simo-laursen
         Bad options, a negative friction coefficient, a load history not
         defined at some step, or a tangential load case that is non-zero at a
         step that starts without contact.
+
+    Notes
+    -----
+    Supports may leave rigid motions free when the obstacle holds the body:
+    springs on all components of the touching points make the stiffness regular
+    and the frictional law is shifted by the same springs, an exact rewriting
+    (:meth:`FrictionalContact._stabilize`). Each step of such a body starts from
+    sticking (:meth:`FrictionalContact.frozen_start`; at first contact the AL
+    algorithms start from the semi-smooth Newton solution, since zero
+    multipliers give Coulomb discs of radius 0) and is accepted only in global
+    equilibrium (relative residual ``1e-7``).
 
     Examples
     --------
