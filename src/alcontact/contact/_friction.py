@@ -317,7 +317,8 @@ class _Ctx:
 
     def shifted(self, y, t, Dy):
         r"""Law shifted by the contact springs of a body held by the obstacle (exact rewriting,
-        :meth:`FrictionalContact._stabilize`): :math:`t - \kappa(y - y^0)` and its tangent (``t``, ``Dy`` without springs)."""
+        :meth:`FrictionalContact._stabilize`): :math:`t - \kappa(y - y^0)` and its tangent
+        (``t``, ``Dy`` unchanged without springs)."""
         if self.fc.spring is None:
             return t, Dy
         return t - self.fc.spring_traction(y), Dy - self.fc.spring_tangent()
