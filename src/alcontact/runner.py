@@ -326,6 +326,8 @@ _ADVICE = {
                      "Lagrangian algorithm (simo-laursen, family-p) instead of the pure penalty.",
     "no-contact": "the body does not reach the obstacle: move the obstacle closer, increase the "
                   "load or check the contact boundary name.",
+    "unbounded": "no static equilibrium: the loads exceed what the supports, the obstacle and friction can "
+                 "hold (see the message); prescribe that motion as a displacement, or add a support.",
     "not-verified": "the returned state fails a tolerance (see the message): tighten newton_tol, raise "
                     "--maxiter, or try --algorithm ssn; report it if the reference fails too.",
 }

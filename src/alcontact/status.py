@@ -17,7 +17,8 @@ MAXITER                      -2  outer iteration limit reached
 NEWTON_FAILED (INNER_FAILED) -3  the inner (Newton) solver of a subproblem failed
 NONFINITE                    -4  NaN or infinity in a callback, traction or state
 PENALTY_LIMIT                -5  the penalty reached its bound, still infeasible
-UNBOUNDED                    -6  a subproblem appears unbounded below
+UNBOUNDED                    -6  a subproblem appears unbounded below (contact: a
+                                 body held by friction only slides away)
 LINE_SEARCH_FAILED           -7  a line search found no decrease (inner solvers)
 NOT_VERIFIED                 -8  the solver stopped, but the returned state fails
                                  the tolerances (contact: ``contact/_verify.py``)
@@ -126,7 +127,7 @@ INNER_REASONS: dict[str, Status] = {
 #: ``tests/unit/test_failure_statuses.py``.
 CONTACT_CODES: frozenset[Status] = frozenset({
     Status.CONVERGED, Status.NO_CONTACT, Status.MAXITER, Status.NEWTON_FAILED, Status.NONFINITE,
-    Status.PENALTY_LIMIT, Status.NOT_VERIFIED,
+    Status.PENALTY_LIMIT, Status.NOT_VERIFIED, Status.UNBOUNDED,
 })
 
 #: The codes :func:`alcontact.optim.minimize` can return (inner-solver reasons such as

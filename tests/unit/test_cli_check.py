@@ -37,8 +37,9 @@ CASES = {
               ["mesh.refine.h_min = 1e-05", "coarser mesh"]),
     "cells": (lambda tmp: BLOCK.replace("cells = [8, 2]", "cells = [3000, 3000]"),
               ["mesh.cells = [3000, 3000]", "DOFs"]),
-    "friction": (lambda tmp: BLOCK.replace('boundary = "bottom"', 'boundary = "bottom"\nfriction = 0.3'),
-                 ["support:", "translation y", "contact.friction = 0.3", "[[support]]"]),
+    "friction": (lambda tmp: BLOCK.replace('boundary = "bottom"', 'boundary = "bottom"\nfriction = 0.3').replace(
+                     "point = [0.0, 0.0]", "point = [0.0, -1.0]"),
+                 ["support:", "translation y", "nothing holds the body", "[[support]]"]),
     "amg": (lambda tmp: BLOCK + '[solver]\nlinear_solver = "amg"\n',
             ["solver.linear_solver = 'amg'", "translation y", "linear_solver = 'direct'"]),
     "free": (lambda tmp: BLOCK.replace("components = [0]", "components = [1]"),

@@ -16,7 +16,8 @@ import numpy as np
 import pytest
 
 from alcontact import penalties
-from alcontact.contact import ContactProblem, ContactStatus, Support, solve
+from alcontact.contact import ContactProblem, ContactStatus, LoadCase, LoadHistory, Ramp, Support, solve, solve_friction
+from alcontact.contact._problem import Pressure, Traction
 from alcontact.contact.obstacles import HalfSpace
 from alcontact.errors import ConvergenceError
 from alcontact.fem import LinearElasticity, Material, meshes
@@ -58,7 +59,24 @@ def _contact_cases():
         ContactStatus.NONFINITE: lambda pen: solve(patch_block(2, 1, n=2), "family-p", pen),
         ContactStatus.PENALTY_LIMIT: lambda pen: solve(patch_block(2, 1, n=2), "penalty", eps_max=1.0),
         ContactStatus.NOT_VERIFIED: lambda pen: solve(patch_block(2, 1, n=2), "claims-converged"),
+        ContactStatus.UNBOUNDED: lambda pen: _FrictionResult(solve_friction(*_sliding_away())),
     }
+
+
+def _sliding_away():
+    """A block held only by friction on a plane, pushed sideways by 1.5 mu N: no static equilibrium."""
+    model = LinearElasticity(meshes.rectangle(0, 1, 0, 0.5, 4, 2), Material(E=100.0, nu=0.0))
+    prob = ContactProblem(model, HalfSpace((0, 0.0), (0, 1)), "bottom", friction=0.3)
+    hist = LoadHistory((LoadCase(Pressure("top", 1.0), Ramp((0, 0.5), (0, 1), hold_after=True)),
+                        LoadCase(Traction("top", (0.45, 0.0)), Ramp((0.5, 1.0), (0, 1)))), (0.5, 1.0))
+    return prob, hist
+
+
+@dataclasses.dataclass
+class _FrictionResult:
+    """The frictional solution seen through the ``.result`` of a frictionless one."""
+
+    result: object
 
 
 def _claims_converged(dc, opts, eps0, penalty_name):

@@ -147,12 +147,13 @@ def test_body_held_by_the_obstacle_passes_on_the_direct_path_and_solves(tmp_path
 
 @pytest.mark.parametrize("extra, key, way", [
     ("[solver]\nlinear_solver = \"amg\"\n", "solver.linear_solver", "linear_solver = 'direct'"),
-    ("", "support", "components = [1]"),  # friction: see the replace below
+    ("", "support", "components = [1]"),  # friction, obstacle out of reach: see the replace below
 ])
 def test_paths_that_cannot_use_the_obstacle(tmp_path, extra, key, way):
     text = BLOCK + extra
-    if not extra:
-        text = text.replace('boundary = "bottom"', 'boundary = "bottom"\nfriction = 0.3')
+    if not extra:  # friction: the obstacle holds the body (see test_friction_held_by_obstacle) only when touching
+        text = text.replace('boundary = "bottom"', 'boundary = "bottom"\nfriction = 0.3').replace(
+            "point = [0.0, 0.0]", "point = [0.0, -1.0]")
     p = _file(tmp_path, text)
     with pytest.raises(ConfigError) as exc:
         check_problem(p)

@@ -49,6 +49,7 @@ from __future__ import annotations
 
 import logging
 import time
+import warnings
 from dataclasses import dataclass
 from typing import Callable
 
@@ -71,6 +72,9 @@ from ._verify import check_state, verified_status
 __all__ = ["FrictionOptions", "solve_friction", "friction_algorithms", "friction_algorithm_docs"]
 
 logger = logging.getLogger(__name__)
+
+#: Largest relative equilibrium residual of a step of a body held only by the obstacle.
+_EQUILIBRIUM_TOL = 1e-7
 
 #: Largest ``max_cutbacks`` an option accepts (0.5**50 of an increment is below round-off).
 MAX_CUTBACKS = 50
@@ -185,6 +189,31 @@ class _NewtonOut:
     reason: str
 
 
+def _solve(J, b):
+    """``J^{-1} b`` (LinAlgError/ValueError when singular or not finite).
+
+    An ill-conditioned ``J`` (a body held only by the obstacle whose iterate lets
+    every touching point slip: the rigid motion is then free) is not an error
+    here: the callers check what the step does (line search, residual), so
+    SciPy's ``LinAlgWarning`` is logged at debug level instead of raised to the user.
+    """
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", sla.LinAlgWarning)
+        x = sla.solve(J, b, check_finite=True)
+    for w in caught:
+        if issubclass(w.category, sla.LinAlgWarning):
+            logger.debug("friction: %s", w.message)
+        else:
+            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+    return x
+
+
+def _norm(v) -> float:
+    """Euclidean norm; a far-away trial iterate may overflow to ``inf`` (then rejected by the line search)."""
+    with np.errstate(over="ignore"):
+        return float(np.linalg.norm(v))
+
+
 def _newton(fun, jac, x0, scale, *, tol, maxiter, energy=None, grad=None) -> _NewtonOut:
     """Solve ``F(x) = 0``; ``fun(x) -> (F, aux)``, ``jac(x, aux) -> J``, ``scale(x, aux)`` > 0.
 
@@ -206,12 +235,12 @@ def _newton(fun, jac, x0, scale, *, tol, maxiter, energy=None, grad=None) -> _Ne
             break
         J = jac(x, aux)
         try:
-            dx = sla.solve(J, -F, check_finite=True)
+            dx = _solve(J, -F)
         except (sla.LinAlgError, ValueError):
             return _NewtonOut(x, aux, it, False, res, "singular Newton matrix")
         if float(np.max(np.abs(dx), initial=0.0)) <= 1e-14 * max(float(np.max(np.abs(x), initial=0.0)), fs):
             return _NewtonOut(x, aux, it, res <= 1e3 * tol, res, "step at round-off level")
-        nF = float(np.linalg.norm(F))
+        nF = _norm(F)
         slope = float(grad(x, F) @ dx) if energy is not None else 0.0
         alpha, accepted = 1.0, False
         for _ in range(50):
@@ -224,7 +253,7 @@ def _newton(fun, jac, x0, scale, *, tol, maxiter, energy=None, grad=None) -> _Ne
             if ok:
                 F_try, aux_try = fun(x_try)
                 ok = np.all(np.isfinite(F_try)) and (
-                    energy is not None or np.linalg.norm(F_try) <= (1.0 - 1e-4 * alpha) * nF)
+                    energy is not None or _norm(F_try) <= (1.0 - 1e-4 * alpha) * nF)
                 if ok:
                     accepted = True
                     break
@@ -286,6 +315,14 @@ class _Ctx:
     def y(self, R):
         return self.yf - (self.fc.A @ R.ravel()).reshape(self.yf.shape)
 
+    def shifted(self, y, t, Dy):
+        r"""Law shifted by the contact springs of a body held by the obstacle (exact rewriting,
+        :meth:`FrictionalContact._stabilize`): :math:`t - \kappa(y - y^0)` and its tangent
+        (``t``, ``Dy`` unchanged without springs)."""
+        if self.fc.spring is None:
+            return t, Dy
+        return t - self.fc.spring_traction(y), Dy - self.fc.spring_tangent()
+
 
 def _al_subproblem(ctx: _Ctx, law, lamN, lamT, R0) -> _NewtonOut:
     """Subproblem (6.2a): ``R = w t(y_free - A R)`` for fixed multipliers.
@@ -304,13 +341,17 @@ def _al_subproblem(ctx: _Ctx, law, lamN, lamT, R0) -> _NewtonOut:
         R = x.reshape(c, d)
         y = ctx.y(R)
         t, Dy, _, st = local_law(law, lamN, lamT, y, ctx.uTn, ctx.eps_t, ctx.mu, rho=rho, tfree=ctx.tfree)
-        return (R - w[:, None] * t).ravel(), (y, t, Dy, st)
+        ts, Dys = ctx.shifted(y, t, Dy)
+        return (R - w[:, None] * ts).ravel(), (y, t, Dys, st)
 
     energy = grad = None
-    if rho is not None:
+    # held by the obstacle: the spring-shifted potential cancels large terms along the rigid motions
+    # (round-off defeats Armijo there); backtrack on the residual instead
+    if rho is not None and ctx.fc.spring is None:
         def energy(x):
             y = ctx.y(x.reshape(c, d))
             e = law.energy(y[:, 0], lamN) + tangential_energy(lamT, y[:, 1:], ctx.uTn, ctx.eps_t, rho, ctx.tfree)
+            e = e - ctx.fc.spring_energy(y)
             return 0.5 * float(x @ (ctx.fc.A @ x)) + float(np.sum(w * e))
 
         def grad(x, F):
@@ -323,8 +364,10 @@ def _al_subproblem(ctx: _Ctx, law, lamN, lamT, R0) -> _NewtonOut:
         return J
 
     def scale(x, aux):
-        return max(float(np.max(np.abs(x), initial=0.0)),
-                   float(np.max(np.abs(w[:, None] * aux[1]), initial=0.0)))
+        # held by the obstacle: x holds the spring forces kappa w (y - y0) of the rigid motion, which are no
+        # measure of the physical forces w t (a far-away iterate would pass relative to itself)
+        xs = 0.0 if ctx.fc.spring is not None else float(np.max(np.abs(x), initial=0.0))
+        return max(xs, float(np.max(np.abs(w[:, None] * aux[1]), initial=0.0)))
 
     return _newton(fun, jac, R0.ravel(), scale, tol=ctx.opts.newton_tol, maxiter=ctx.opts.maxiter_newton,
                    energy=energy, grad=grad)
@@ -417,11 +460,12 @@ def _sensitivity(ctx: _Ctx, law, lamN, lamT, y, t):
     _, Dy, Dl, _ = local_law(_WithDlam(law, pref), lamN, lamT, y, ctx.uTn, ctx.eps_t, ctx.mu, with_lam=True,
                              rho=rho, drho=drho, tfree=ctx.tfree)
     W = w.repeat(d)[:, None]
-    JR = W * np.einsum("ikm,imjl->ikjl", Dy, ctx.A4).reshape(n, n)
+    Dys = ctx.shifted(y, t, Dy)[1]  # the subproblem is solved for the spring-shifted law
+    JR = W * np.einsum("ikm,imjl->ikjl", Dys, ctx.A4).reshape(n, n)
     JR[np.diag_indices(n)] += 1.0
     Dlf, Dyf = block_diag(Dl), block_diag(Dy)
     try:
-        dR = sla.solve(JR, W * np.hstack([Dlf, Dyf]), check_finite=True)
+        dR = _solve(JR, W * np.hstack([Dlf, block_diag(Dys)]))
     except (sla.LinAlgError, ValueError):
         return None
     DyAdR = _dy_times(Dy, ctx.fc.A @ dR, c, d)
@@ -459,7 +503,7 @@ def _second_order_update(ctx: _Ctx, law, lamN, lamT, y, t):
         return None
     lam = np.concatenate([lamN[:, None], lamT], axis=1)
     try:
-        step = sla.solve(sens[0], (t - lam).ravel(), check_finite=True).reshape(lam.shape)
+        step = _solve(sens[0], (t - lam).ravel()).reshape(lam.shape)
     except (sla.LinAlgError, ValueError):
         return None
     new = lam + step
@@ -476,7 +520,7 @@ def _tangent_predictor(ctx: _Ctx, law, lamN, lamT, y, t):
     if sens is None:
         return None
     try:
-        P = sla.solve(sens[0], sens[1], check_finite=True)
+        P = _solve(sens[0], sens[1])
     except (sla.LinAlgError, ValueError):
         return None
     return P if np.all(np.isfinite(P)) else None
@@ -581,32 +625,35 @@ def _step_ssn(ctx: _Ctx, penalty_name: str = "none") -> _StepOut:
     n = c * d
     law = Macaulay(ctx.eps_n)
 
+    # unknowns: the condensed forces R = w (L - kappa (y - y0)) (R = w L without contact springs), so that
+    # y = y_free - A R is explicit and L = R / w + kappa (y - y0)
+    S = block_diag(ctx.fc.spring_tangent())
+    A = ctx.fc.A
+
     def fun(x):
-        L = x.reshape(c, d)
-        y = ctx.y(w[:, None] * L)
+        R = x.reshape(c, d)
+        y = ctx.y(R)
+        L = R / w[:, None] + ctx.fc.spring_traction(y)
         t, Dy, Dl, st = local_law(law, L[:, 0], L[:, 1:], y, ctx.uTn, ctx.eps_t, ctx.mu, with_lam=True,
                                    tfree=ctx.tfree)
-        return (L - t).ravel(), (y, t, Dy, st, Dl)
+        return (L - t).ravel(), (y, t, Dy, st, Dl, L)
 
     def jac(x, aux):
+        # dF/dR = (I - Dl) dL/dR + Dy A,  dL/dR = W^-1 - S A
         Dy, Dl = aux[2], aux[4]
-        J = np.einsum("ikm,imjl->ikjl", Dy, ctx.A4 * w[None, None, :, None]).reshape(n, n)
-        for a in range(d):
-            for b in range(d):
-                J[np.arange(c) * d + a, np.arange(c) * d + b] -= Dl[:, a, b]
-        J[np.diag_indices(n)] += 1.0
-        return J
+        dL = np.diag(1.0 / w.repeat(d)) - S @ A
+        return (np.eye(n) - block_diag(Dl)) @ dL + _dy_times(Dy, A, c, d)
 
     def scale(x, aux):
-        return max(float(np.max(np.abs(x), initial=0.0)), float(np.max(np.abs(aux[1]), initial=0.0)))
+        return max(float(np.max(np.abs(aux[5]), initial=0.0)), float(np.max(np.abs(aux[1]), initial=0.0)))
 
-    x0 = np.concatenate([ctx.lamN[:, None], ctx.lamT], axis=1).ravel()
-    out = _newton(fun, jac, x0, scale, tol=ctx.opts.newton_tol, maxiter=max(ctx.opts.maxiter_newton, 100))
-    L = out.x.reshape(c, d)
+    out = _newton(fun, jac, ctx.R0.ravel(), scale, tol=ctx.opts.newton_tol,
+                  maxiter=max(ctx.opts.maxiter_newton, 100))
+    R = out.x.reshape(c, d)
     if not out.converged:
-        return _StepOut(False, f"semi-smooth Newton failed: {out.reason}", w[:, None] * L, out.aux[1], 1,
+        return _StepOut(False, f"semi-smooth Newton failed: {out.reason}", R, out.aux[1], 1,
                         out.iterations, ContactStatus.NEWTON_FAILED)
-    return _StepOut(True, "converged", w[:, None] * L, L.copy(), 1, out.iterations)
+    return _StepOut(True, "converged", R, out.aux[5].copy(), 1, out.iterations)
 
 
 _ALGORITHMS: dict[str, tuple[Callable, str]] = {
@@ -684,6 +731,19 @@ def _advance(fc: FrictionalContact, prev: _State, t: float, step_fn, pen_name, e
             ctx = _Ctx(fc, fc.y_free(t)[cand], fc.weights[cand], fc.A.reshape(c, d, c, d), prev.tN[cand].copy(),
                        prev.tT[cand].copy(), prev.y[cand, 1:].copy(), prev.R[cand].copy(), eps_n, eps_t, mu, opts,
                        fc.tfree[cand])
+            if fc.spring is not None:  # held by the obstacle only
+                closed = prev.tN[cand] > 0
+                if np.any(closed):  # start sticking (FrictionalContact.frozen_start)
+                    R0 = fc.frozen_start(prev.t, t, ctx.R0, closed)
+                    ctx.R0 = ctx.R0 if R0 is None else R0
+                elif step_fn is not _step_ssn:
+                    # first contact: with zero multipliers the Coulomb discs of the AL subproblem have radius 0
+                    # and nothing holds the tangential rigid motion; start from the semi-smooth Newton solution
+                    # of the same discrete problem (a predictor: the AL stopping test decides)
+                    pre = _step_ssn(ctx)
+                    newton += pre.newton
+                    if pre.ok:
+                        ctx.R0, ctx.lamN, ctx.lamT = pre.R, pre.t[:, 0].copy(), pre.t[:, 1:].copy()
             if prev.predictor is not None and np.array_equal(prev.predictor[0], cand):
                 # tangent predictor: lambda_n + (d lambda*/d y_free) (y_free(t) - y_free(t_n))
                 dyf = (ctx.yf - fc.y_free(prev.t)[cand]).ravel()
@@ -708,6 +768,14 @@ def _advance(fc: FrictionalContact, prev: _State, t: float, step_fn, pen_name, e
         tT = np.zeros((m, d - 1))
         R = np.zeros((m, d))
         tN[cand], tT[cand], R[cand] = out.t[:, 0], out.t[:, 1:], out.R
+        if fc.spring is not None:  # held by the obstacle: accept only a step in equilibrium
+            R_phys = np.zeros((m, d))
+            R_phys[cand] = fc.weights[cand, None] * out.t
+            defect = fc.equilibrium_defect(t, u, R_phys)
+            if not defect <= _EQUILIBRIUM_TOL:
+                return None, _StepOut(False, f"no equilibrium found (relative residual {defect:.2e}): the obstacle "
+                                             "and friction do not hold the body there", prev.R, prev.R, outer,
+                                      newton, ContactStatus.NEWTON_FAILED), outer, newton
         pred = (cand.copy(), out.predictor) if out.predictor is not None else None
         return (u, y_all, tN, tT, R, pred), out, outer, newton
     return None, _StepOut(False, "candidate set did not settle", prev.R, prev.R, 0, 0, ContactStatus.MAXITER), \
@@ -748,7 +816,10 @@ def solve_friction(problem, history: LoadHistory, algorithm: str = "simo-laursen
         Per-step states; ``status`` negative (and a logged warning) when a step
         failed after ``max_cutbacks`` cut-backs, or ``NOT_VERIFIED`` when a recorded
         step fails the penetration, complementarity or Coulomb check of
-        :mod:`alcontact.contact._verify`.
+        :mod:`alcontact.contact._verify`. ``UNBOUNDED`` when a body held only by
+        the obstacle has no static equilibrium at a step (the free tangential load
+        exceeds :math:`\mu N`, or the loads pull it off a flat obstacle,
+        :meth:`FrictionalContact.slides_away`); the steps before it are kept.
 
     Raises
     ------
@@ -756,6 +827,17 @@ def solve_friction(problem, history: LoadHistory, algorithm: str = "simo-laursen
         Bad options, a negative friction coefficient, a load history not
         defined at some step, or a tangential load case that is non-zero at a
         step that starts without contact.
+
+    Notes
+    -----
+    Supports may leave rigid motions free when the obstacle holds the body:
+    springs on all components of the touching points make the stiffness regular
+    and the frictional law is shifted by the same springs, an exact rewriting
+    (:meth:`FrictionalContact._stabilize`). Each step of such a body starts from
+    sticking (:meth:`FrictionalContact.frozen_start`; at first contact the AL
+    algorithms start from the semi-smooth Newton solution, since zero
+    multipliers give Coulomb discs of radius 0) and is accepted only in global
+    equilibrium (relative residual ``1e-7``).
 
     Examples
     --------
@@ -804,6 +886,10 @@ def solve_friction(problem, history: LoadHistory, algorithm: str = "simo-laursen
                         f"tangential load {', '.join(active)} is applied at t={t:g} but no point is in contact at "
                         f"the start of that step (t={state.t:g}); apply the normal load first (start the tangential "
                         "amplitude at 0 until contact exists).")
+            away = fc.slides_away(t, mu * history.friction_factor(t))  # body held by the obstacle only
+            if away is not None:
+                status, message = ContactStatus.UNBOUNDED, away
+                break
             res, out, o, nw = _advance(fc, state, t, step_fn, pen_name, eps_n, eps_t,
                                        mu * history.friction_factor(t), opts)
             n_outer += o
@@ -816,6 +902,10 @@ def solve_friction(problem, history: LoadHistory, algorithm: str = "simo-laursen
                     status = out.status
                     message = (f"load step to t={t:g} failed after {opts.max_cutbacks} cut-backs: {out.message}; "
                                "use more load steps, a smaller penalty_scale or algorithm='ssn'")
+                    if fc.spring is not None:
+                        message += ("; the body is held by the obstacle only: if contact and friction cannot "
+                                    "balance the loads it slides or turns away (no static equilibrium), so "
+                                    "prescribe that motion as a displacement or add a support")
                     break
                 queue.append(state.t + opts.cutback_factor * (t - state.t))
                 continue

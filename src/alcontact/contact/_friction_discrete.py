@@ -59,12 +59,6 @@ logger = logging.getLogger(__name__)
 _BATCH = 64
 
 
-#: How the rigid-motion check names this path, and the path that works without supports.
-_FRICTION_PATH = "The frictional solver (solve_friction; problem file: contact.friction > 0)"
-_FRICTION_WAY_OUT = ("where the contact points touching the obstacle stop these motions, solve frictionless "
-                     "(solve(problem); problem file: contact.friction = 0): its direct path lets them hold the body")
-
-
 def tangent_bases(normals: np.ndarray, held: np.ndarray | None = None) -> np.ndarray:
     """Orthonormal tangent bases ``T`` of shape ``(m, d, d-1)`` for unit normals ``(m, d)``.
 
@@ -143,20 +137,25 @@ class FrictionalContact:
         model = self.model = problem.model
         self.dim = model.dim
         self.fixed, parts = component_fields(problem, history)
+        self.loads = np.stack([load for _, load in parts])  # (ncomp, ndofs), for the sliding-away test
+        pts, dofs = model.node_dofs(problem.contact_boundary)
+        self.points, self.dofs = pts, dofs
+        self.weights = model.boundary_weights(problem.contact_boundary)
+        self.gap0, self.normals = problem.obstacle.evaluate(pts)
+        self.h = _element_size(model, problem.contact_boundary, problem.obstacle)
+        self.kappa = np.zeros(pts.shape[0])  # contact springs of a body held by the obstacle (_stabilize)
+        self.spring = None
         t_f = time.perf_counter()
-        model.check_restrained(self.fixed, path=_FRICTION_PATH, alternative=_FRICTION_WAY_OUT,
-                               contact=problem.contact_boundary)
-        self.factor = model.factorize(self.fixed)
+        try:
+            self.factor = model.factorize(self.fixed)  # checks the rigid motions first
+        except InputError as exc:
+            self.factor = self._stabilize(exc)  # raises unless the obstacle restrains the free motions
         self.factor_seconds = time.perf_counter() - t_f
         self.u_parts = np.stack([self.factor.solve_full(load, fv) for fv, load in parts])  # (ncomp, ndofs)
         self.linear_solves = len(parts)
         if not np.all(np.isfinite(self.u_parts)):
             raise InputError("the contact-free solution is not finite; check loads and supports.")
 
-        pts, dofs = model.node_dofs(problem.contact_boundary)
-        self.points, self.dofs = pts, dofs
-        self.weights = model.boundary_weights(problem.contact_boundary)
-        self.gap0, self.normals = problem.obstacle.evaluate(pts)
         free_pos = -np.ones(model.ndofs, dtype=np.int64)
         free_pos[self.factor.free] = np.arange(self.factor.free.size)
         self.pos = free_pos[dofs]  # (m, d)
@@ -169,7 +168,6 @@ class FrictionalContact:
         self.tfree = free_part[:, 1:] > 1e-12
         # local kinematics of each load component: y_k = (-nu.u_k, T^T u_k)
         self.y_parts = np.stack([self._local(u) for u in self.u_parts])  # (ncomp, m, d)
-        self.h = _element_size(model, problem.contact_boundary, problem.obstacle)
 
         gmax_t = np.max(np.stack([self.y_free(t)[:, 0] for t in history.times]), axis=0)
         # points with a fixed normal DOF cannot move off the obstacle: error if they penetrate
@@ -188,11 +186,193 @@ class FrictionalContact:
             cand = np.flatnonzero(self.movable & (gmax_t > thr))
         else:
             cand = np.empty(0, dtype=np.int64)
+        if self.spring is not None:  # the spring points must stay candidates (shifted law on them)
+            cand = np.union1d(cand, self.spring)
         self.cand = np.empty(0, dtype=np.int64)
         self.C = np.zeros((0, 0))
         self.A = np.zeros((0, 0))
         self.add(cand)
         self.setup_seconds = time.perf_counter() - t0
+
+    # ------------------------------------------------------------------ body held by the obstacle
+    def _stabilize(self, exc: InputError):
+        r"""Factorize :math:`\tilde K = K + \sum_{i\in S} \kappa w_i P_i^T P_i` for a body held only by the obstacle.
+
+        The supports leave a rigid motion free (``exc`` says which). If the
+        contact points closest to the obstacle (set :math:`S`, within half an
+        element of the closest one) can restrain it, springs :math:`\kappa = E'/h`
+        on *all* free components of those points make the matrix regular. The
+        frictional law on them is shifted by the same springs,
+        :math:`\tilde t = t - \kappa\,(y - y^0)`, :math:`y^0 = (g^0, 0)`
+        (:meth:`spring_traction`): since :math:`E_i = [\nu_i, -T_i]` is orthogonal,
+        :math:`\kappa w P^T u = P^T E\, \kappa w E^T u` and
+        :math:`E^T u_i = -(y_i - y^0_i)`, so :math:`K u = f + P^T E R` is exactly
+        :math:`\tilde K u = f + P^T E \tilde R`, :math:`\tilde R = w\tilde t`. The
+        condensed operators (``A``, ``y_free``) are those of :math:`\tilde K`; the
+        reported tractions are the physical :math:`t`. Whether the obstacle and
+        friction can hold the loads is a property of the solution: see
+        :meth:`slides_away`.
+
+        Returns
+        -------
+        Factorization
+            Of :math:`\tilde K`.
+
+        Raises
+        ------
+        InputError
+            When no contact point touches the obstacle, or the touching points do
+            not restrain the free motions either.
+        """
+        import scipy.sparse as sp
+
+        model = self.model
+        self._K = model.stiffness()
+        free = np.ones(model.ndofs, dtype=bool)
+        free[self.fixed] = False
+        movable = np.linalg.norm(np.where(free[self.dofs], self.normals, 0.0), axis=1) > 1e-12
+        g0 = np.where(movable, self.gap0, -np.inf)
+        gmax = float(g0.max(initial=-np.inf))
+        if not np.any(movable) or gmax < -0.5 * self.h:
+            raise InputError(
+                f"{exc} The body does not touch the obstacle either (closest gap {-gmax:.3g}), so nothing "
+                "restrains it: add supports or move the obstacle into contact.") from None
+        near = np.flatnonzero(movable & (g0 >= gmax - 0.5 * self.h))
+        mat = model.material
+        kappa = (mat.E if (model.dim == 2 and mat.plane == "stress") else mat.plane_strain_modulus) / self.h
+        dofs = self.dofs[near].ravel()
+        keep = free[dofs]
+        diag = np.zeros(model.ndofs)
+        np.add.at(diag, dofs[keep], np.repeat(kappa * self.weights[near], model.dim)[keep])
+        try:
+            factor = model.factorize(self.fixed, matrix=self._K + sp.diags(diag), check=True)
+        except InputError:
+            raise InputError(
+                f"{exc} The contact points touching the obstacle do not restrain that motion either: add supports "
+                "(e.g. fix a tangential component) so that every rigid motion is stopped.") from None
+        self.spring = near.astype(np.int64)
+        self.kappa[near] = kappa
+        logger.info("body held by the obstacle only: springs (normal and tangential) on %d contact points",
+                    near.size)
+        return factor
+
+    def spring_traction(self, y: np.ndarray) -> np.ndarray:
+        r"""Spring part :math:`\kappa (y - y^0)` ``(c, d)`` of the shifted law on the candidates (0 off springs)."""
+        if self.spring is None:
+            return np.zeros_like(y)
+        k = self.kappa[self.cand]
+        dy = y.copy()
+        dy[:, 0] -= self.gap0[self.cand]
+        dy[:, 1:] = np.where(self.tfree[self.cand], dy[:, 1:], 0.0)  # held directions carry no contact force
+        return k[:, None] * dy
+
+    def spring_tangent(self) -> np.ndarray:
+        r""":math:`\partial(\kappa (y - y^0))/\partial y` ``(c, d, d)`` on the candidates (diagonal)."""
+        c, d = self.ncand, self.dim
+        D = np.zeros((c, d, d))
+        if self.spring is not None:
+            mask = np.concatenate([np.ones((c, 1)), self.tfree[self.cand]], axis=1)
+            D[:, np.arange(d), np.arange(d)] = self.kappa[self.cand][:, None] * mask
+        return D
+
+    def spring_energy(self, y: np.ndarray) -> np.ndarray:
+        r""":math:`\tfrac12\kappa |y - y^0|^2` ``(c,)`` (its gradient is :meth:`spring_traction`)."""
+        if self.spring is None:
+            return np.zeros(y.shape[0])
+        f = self.spring_traction(y)
+        k = np.where(self.kappa[self.cand] > 0, self.kappa[self.cand], 1.0)
+        return 0.5 * np.sum(f * f, axis=1) / k
+
+    def frozen_start(self, t_prev: float, t: float, R_prev: np.ndarray, closed: np.ndarray) -> np.ndarray | None:
+        r"""Start of a step of a body held by the obstacle: the forces that keep the closed points where they were.
+
+        On the closed candidates (``closed``, bool over the candidates: those in
+        contact at :math:`t_n`; ``None`` when there is none),
+        :math:`R^0_c = R_{n,c} + A_{cc}^{-1}(y_{free}(t) - y_{free}(t_n))_c` gives
+        :math:`y_c(R^0) = y_{n,c}` (no slip increment, every closed point sticks),
+        on the components with compliance (held directions and the other
+        candidates keep ``R_prev``). Started from :math:`R_n`, the tangential rigid
+        motion that the springs allow under a new tangential load would make every
+        point slip in the first iterate, where the Newton matrix is singular
+        (nothing but friction holds the body). ``None`` without springs or when
+        the block is singular.
+        """
+        if self.spring is None or self.ncand == 0:
+            return None
+        if not np.any(closed):
+            return None
+        dy = (self.y_free(t) - self.y_free(t_prev))[self.cand].ravel()
+        act = (np.diag(self.A) > 0) & np.repeat(closed, self.dim)
+        R0 = np.array(R_prev, dtype=float).ravel()
+        try:
+            R0[act] += np.linalg.solve(self.A[np.ix_(act, act)], dy[act])
+        except np.linalg.LinAlgError:
+            return None
+        return R0.reshape(R_prev.shape) if np.all(np.isfinite(R0)) else None
+
+    def equilibrium_defect(self, t: float, u: np.ndarray, R: np.ndarray) -> float:
+        r"""Relative equilibrium residual :math:`\max|K u - f(t) - P^T E R|` on the free DOFs.
+
+        ``R`` (m, d): physical local nodal contact forces :math:`w\,t`. The
+        spring-shifted problem (:meth:`_stabilize`) is an exact rewriting only where
+        it has a solution: near a lost equilibrium (the body sliding, lifting or
+        turning away) the shifted Newton iteration can stop on a far-away iterate
+        whose residual is small relative to its own size, so a step of a
+        stabilized body is accepted only when this is small. Scale: the largest
+        of the load and the contact force entries.
+        """
+        f = self.amplitudes(t) @ self.loads
+        fc = np.zeros(self.model.ndofs)
+        np.add.at(fc, self.dofs.ravel(), np.einsum("ijk,ik->ij", self.E, R).ravel())
+        res = self._K @ u - f - fc
+        free = np.ones(self.model.ndofs, dtype=bool)
+        free[self.fixed] = False
+        scale = max(float(np.max(np.abs(f), initial=0.0)), float(np.max(np.abs(fc), initial=0.0)), 1e-300)
+        return float(np.max(np.abs(res[free]), initial=0.0)) / scale
+
+    def slides_away(self, t: float, mu: float) -> str | None:
+        r"""Why a body held only by the obstacle has no static equilibrium at ``t`` (``None``: it may have one).
+
+        Necessary condition on the rigid translations left free by the supports
+        (axes with no prescribed DOF), for a flat contact zone (one normal
+        :math:`\nu` at all spring points): the load resultant :math:`F` must press
+        the body on the obstacle, :math:`N = -F\cdot\nu \ge 0`, when the normal
+        translation is free, and its free tangential part :math:`Q` must not
+        exceed the largest friction force :math:`\mu N` (Coulomb:
+        :math:`\sum_i w_i |t_{T,i}| \le \mu \sum_i w_i t_{N,i}`). Otherwise the
+        body slides (or lifts) away: a static problem has no solution.
+        """
+        if self.spring is None:
+            return None
+        nu = self.normals[self.spring]
+        nbar = nu.mean(axis=0)
+        if np.max(np.abs(nu - nbar)) > 1e-9:
+            return None
+        nbar = nbar / np.linalg.norm(nbar)
+        d = self.dim
+        comp = np.empty(self.model.ndofs, dtype=np.int64)
+        _, all_dofs = self.model.all_node_dofs()
+        for k in range(d):
+            comp[all_dofs[:, k]] = k
+        fixed_axes = set(np.unique(comp[self.fixed]).tolist())
+        V = np.eye(d)[:, [k for k in range(d) if k not in fixed_axes]]  # free translations (d, r)
+        if V.shape[1] == 0 or np.linalg.norm(V @ (V.T @ nbar) - nbar) > 1e-9:
+            return None  # the normal translation is held by a support: N is not known from the loads
+        f = self.amplitudes(t) @ self.loads
+        F = np.array([f[comp == k].sum() for k in range(d)])
+        N = -float(F @ nbar)
+        Q = V @ (V.T @ F) + N * nbar
+        q = float(np.linalg.norm(Q))
+        scale = max(float(np.linalg.norm(F)), 1e-300)
+        if N < -1e-9 * scale:
+            return (f"at t={t:g} the loads pull the body off the obstacle (resultant {-N:.4g} away from it) and no "
+                    "support holds it: there is no static equilibrium; add a support or reverse the load")
+        if q > mu * N + 1e-9 * scale:
+            return (f"at t={t:g} the body slides away: the tangential load {q:.4g} exceeds the largest friction "
+                    f"force mu N = {mu:g} x {N:.4g} = {mu * N:.4g} and no support stops the sliding, so there is no "
+                    "static equilibrium; prescribe the sliding displacement instead of the force (a ramped support "
+                    "in the sliding direction), or add a support that stops the sliding")
+        return None
 
     # ------------------------------------------------------------------
     def _local(self, u: np.ndarray) -> np.ndarray:

@@ -11,11 +11,14 @@ runs before it solves. On top of :func:`~alcontact.io.config.load_problem`
   problems that would not fit, or would run for hours, are refused with the
   way out (a coarser mesh, ``linear_solver = "amg"``). The same check runs
   again with the exact counts once the mesh is built.
-- **rigidity** on the path the solver will take: with friction and on the AMG
-  path every rigid-body motion must be stopped by the supports (these paths
-  cannot let the obstacle hold the body); on the direct frictionless path the
-  contact points touching the obstacle may stop the motions the supports leave
-  free (as :meth:`~alcontact.contact._discrete.DiscreteContact._stabilize` does).
+- **rigidity** on the path the solver will take: on the AMG path every
+  rigid-body motion must be stopped by the supports (it cannot let the obstacle
+  hold the body); on the direct frictionless path the contact points touching
+  the obstacle may stop the motions the supports leave free through their
+  normal motion (as :meth:`~alcontact.contact._discrete.DiscreteContact._stabilize`
+  does), with friction through all their components (normal contact plus
+  friction, as :meth:`~alcontact.contact._friction_discrete.FrictionalContact._stabilize`;
+  a load beyond the friction limit is then reported by ``run`` as sliding away).
   The message names the free motions and a ``[[support]]`` that stops them.
 - **mesh quality** (inverted or degenerate elements, :mod:`alcontact.fem.quality`,
   raised when the body is built) and a Gmsh file without a physical group for
@@ -405,8 +408,14 @@ def _suggest_support(model, null, R, row_of, contact: str) -> str:
     return f"add [[support]] boundary = {b!r}, components = [{c}] (fixes {_AXES[c]} on {b!r})"
 
 
-def _contact_points_restrain(setup, fixed: np.ndarray, null: np.ndarray, R, row_of) -> tuple[bool, str]:
-    """Whether the contact points touching the obstacle stop the free motions (as ``_stabilize`` does)."""
+def _contact_points_restrain(setup, fixed: np.ndarray, null: np.ndarray, R, row_of, *,
+                             all_components: bool = False) -> tuple[bool, str]:
+    """Whether the contact points touching the obstacle stop the free motions (as ``_stabilize`` does).
+
+    Frictionless (``_discrete.DiscreteContact._stabilize``) only their normal motion
+    counts; with friction (``all_components``, ``_friction_discrete.FrictionalContact._stabilize``)
+    the pressed points also hold their tangential motion, so every free component counts.
+    """
     prob = setup.problem
     model = prob.model
     pts, dofs = model.node_dofs(prob.contact_boundary)
@@ -425,8 +434,10 @@ def _contact_points_restrain(setup, fixed: np.ndarray, null: np.ndarray, R, row_
     if gmax < -0.5 * h:
         return False, f"the body does not touch the obstacle either (closest gap {-gmax:.3g})"
     near = np.flatnonzero(movable & (g0 >= gmax - 0.5 * h))
-    # normal constraint rows: sum_c coef_ic * mode_k(X_i, c)
-    N = np.einsum("ic,ick->ik", coef[near], R[row_of[dofs[near]]])
+    if all_components:  # every free component of the touching points: mode_k(X_i, c)
+        N = R[row_of[dofs[near]]][~is_fixed[dofs[near]]]
+    else:  # normal constraint rows: sum_c coef_ic * mode_k(X_i, c)
+        N = np.einsum("ic,ick->ik", coef[near], R[row_of[dofs[near]]])
     if _rank(N @ null.T) == null.shape[0]:
         return True, ""
     return False, f"the {near.size} contact point(s) touching the obstacle do not stop it either"
@@ -447,12 +458,12 @@ def _rigidity_issues(setup) -> list[Issue]:
         return []
     free = _motion_names(null, names)
     fix = _suggest_support(model, null, R, row_of, prob.contact_boundary)
-    if setup.friction > 0:
-        return [Issue("support", f"rigid-body motion(s) not stopped by the supports: {free}. With "
-                                 f"contact.friction = {setup.friction:g} the frictional solver needs supports "
-                                 "that stop every rigid motion (the obstacle alone cannot hold the body there, "
-                                 f"the stiffness would be singular): {fix}, e.g. a tangential component, or "
-                                 "solve frictionless (contact.friction = 0) where the obstacle may hold it.")]
+    if setup.friction > 0:  # the frictional solver factorizes; normal contact and friction may hold the body
+        ok, why = _contact_points_restrain(setup, fixed, null, R, row_of, all_components=True)
+        if ok:
+            return []
+        return [Issue("support", f"rigid-body motion(s) not stopped by the supports: {free}, and {why}: nothing "
+                                 f"holds the body. {fix[0].upper()}{fix[1:]}, or move the obstacle into contact.")]
     solver = exact_size(setup).linear_solver
     if solver == "amg":
         chosen = setup.options.get("linear_solver", "auto")
