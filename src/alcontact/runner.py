@@ -521,6 +521,103 @@ def _friction_frames(fsol) -> list:
     return frames
 
 
+def _solve_finite_setup(setup, on_step=None):
+    """Finite-deformation run of a problem file: ``(FiniteSolution, frames)``.
+
+    One :class:`~alcontact.contact.ContactSolution` per accepted step (from the
+    ``on_step`` hook of :func:`~alcontact.contact.solve_finite`); the last frame is
+    the verified solution of the run. Each frame's problem carries the loads of
+    its step time (``problem_at``), so ``frame.equilibrium()`` is that step's balance.
+    """
+    from .contact import ContactSolution, problem_at, solve_finite
+    from .contact.obstacles import translate
+
+    prob = setup.problem
+    model = prob.model
+    _, dofs = model.node_dofs(prob.contact_boundary)
+    states: list[tuple[Any, np.ndarray, np.ndarray]] = []
+    total = len(setup.times)
+
+    def collect(step, u, pressure):
+        states.append((step, u, pressure))
+        if on_step is not None:
+            done = sum(1 for t in setup.times if t <= step.t + 1e-12 * max(1.0, abs(step.t)))
+            on_step(done, total, float(step.t))
+
+    def at(t: float):
+        return problem_at(prob, setup.history, t) if setup.history is not None else prob
+
+    path = None
+    if setup.obstacle_path is not None:
+        path = setup.obstacle_offset
+    if on_step is not None:
+        on_step(0, total, setup.times[0])
+    fs = solve_finite(prob, setup.algorithm, setup.penalty, steps=list(setup.times), history=setup.history,
+                      obstacle_path=path, max_cutbacks=setup.max_cutbacks, on_step=collect, **setup.options)
+    base = fs.solution
+    frames = []
+    for k, (step, u, pressure) in enumerate(states[:-1] if fs.steps else []):
+        ob = prob.obstacle if path is None else translate(prob.obstacle, path(step.t))
+        gap, normals = ob.evaluate(base.points + u[dofs])
+        nodal = base.weights * pressure
+        res = dataclasses.replace(base.result, status=step.status, message=step.message,
+                                  outer_iterations=int(step.outer_iterations),
+                                  newton_iterations=int(step.newton_iterations),
+                                  linear_solves=int(step.linear_solves), history=(),
+                                  penetration=float(max(np.max(gap, initial=0.0), 0.0)) / float(base.extra["h"]))
+        frames.append(ContactSolution(
+            problem=at(step.t), u=u, points=base.points, pressure=pressure, gap=np.asarray(gap, dtype=float),
+            weights=base.weights, active=pressure > 0, normals=np.asarray(normals, dtype=float),
+            total_contact_force=np.asarray(step.force, dtype=float), result=res, nodal_forces=nodal,
+            timings={"total_s": float(step.seconds)},
+            extra={**base.extra, "t": float(step.t), "cutbacks": int(step.cutbacks), "seconds": float(step.seconds)}))
+    if fs.steps:
+        last = fs.steps[-1]
+        frames.append(dataclasses.replace(base, problem=at(last.t), extra={
+            **base.extra, "t": float(last.t), "cutbacks": int(last.cutbacks), "seconds": float(last.seconds),
+            "step_newton_iterations": int(last.newton_iterations), "step_outer_iterations": int(last.outer_iterations)}))
+        for fr, st in zip(frames[:-1], fs.steps[:-1]):
+            fr.extra.update(step_newton_iterations=int(st.newton_iterations),
+                            step_outer_iterations=int(st.outer_iterations))
+    else:  # no step was accepted: the undeformed start with the failure status
+        frames.append(dataclasses.replace(base, extra={**base.extra, "t": 0.0, "cutbacks": 0}))
+    return fs, frames
+
+
+def _finite_summary(setup, fs, frames, wall: float) -> dict[str, Any]:
+    """``summary.json`` keys of a finite-deformation run (the per-step lists have one entry per accepted step)."""
+    final = frames[-1]
+    steps = fs.steps
+    res = final.result
+    out: dict[str, Any] = {
+        "kinematics": "finite",
+        "material_model": getattr(setup.problem.model.law, "name", None),
+        "status": res.status.label, "status_code": int(res.status), "message": res.message,
+        "converged_steps": len(steps),
+        "outer_iterations": int(sum(s.outer_iterations for s in steps)),
+        "newton_iterations": int(sum(s.newton_iterations for s in steps)),
+        "linear_solves": int(sum(s.linear_solves for s in steps)),
+        "wall_time_s": float(final.timings.get("total_s", wall)),
+        "step_times": [float(s.t) for s in steps],
+        "step_newton_iterations": [int(s.newton_iterations) for s in steps],
+        "step_outer_iterations": [int(s.outer_iterations) for s in steps],
+        "step_cutbacks": [int(s.cutbacks) for s in steps],
+        "step_seconds": [float(s.seconds) for s in steps],
+        "step_contact_force": [[float(x) for x in s.force] for s in steps],
+        "cutbacks": int(sum(s.cutbacks for s in steps)),
+        "final_contact_force": [float(x) for x in final.total_contact_force],
+        "max_cutbacks": int(setup.max_cutbacks),
+        "obstacle_path": list(setup.obstacle_path) if setup.obstacle_path is not None else None,
+    }
+    if steps:
+        out.update(equilibrium_keys(final.equilibrium()))
+    lin = final.timings.get("linear_solve_s")
+    out["time_ratio_contact_to_linear"] = out["wall_time_s"] / lin if lin else None
+    if not fs.success:
+        out["message"] = f"{len(steps)} of {len(setup.times)} load steps reached: {fs.message}"
+    return out
+
+
 def _controls(setup) -> list[tuple[str, str, str, int]]:
     """Boundaries whose mean displacement is the abscissa of the load-displacement curve.
 
@@ -560,8 +657,10 @@ def _step_rows(setup, frames, controls) -> list[dict[str, Any]]:
         tf = np.asarray(ex.get("tangential_force", np.zeros(model.dim)), dtype=float)
         row: dict[str, Any] = {
             "step": k + 1, "t": float(ex.get("t", setup.times[min(k, len(setup.times) - 1)])),
-            "status": fr.result.status.label, "outer_iterations": fr.result.outer_iterations,
-            "newton_iterations": fr.result.newton_iterations, "normal_force": fr.normal_force,
+            "status": fr.result.status.label,
+            "outer_iterations": ex.get("step_outer_iterations", fr.result.outer_iterations),
+            "newton_iterations": ex.get("step_newton_iterations", fr.result.newton_iterations),
+            "normal_force": fr.normal_force,
             "tangential_force": float(np.linalg.norm(tf)),
             "peak_pressure": fr.peak_pressure,
             "contact_half_width": fr.contact_half_width(axis=axis, center=meta.get("center")),
@@ -574,6 +673,8 @@ def _step_rows(setup, frames, controls) -> list[dict[str, Any]]:
             st = np.asarray(ex["state"])
             row.update(stick_points=int(np.sum(st == 1)), slip_points=int(np.sum(st == 2)),
                        coulomb=ex.get("coulomb"), cutbacks=ex.get("cutbacks", 0))
+        elif "seconds" in ex:  # finite deformation
+            row.update(cutbacks=int(ex.get("cutbacks", 0)), seconds=float(ex["seconds"]))
         for label, _kind, boundary, comp in controls:
             _, dofs = model.node_dofs(boundary)
             row[f"u_{label}"] = float(np.mean(np.asarray(fr.u)[dofs[:, comp]]))
@@ -687,7 +788,10 @@ def run_setup(setup, out: str | os.PathLike | None = None, force: bool = False, 
     n = len(times)
     name = setup.name
     t0 = time.perf_counter()
-    if setup.friction > 0:
+    if setup.finite:
+        report(f"solving {name}: {prob.model.ndofs} DOFs, {n} load steps, finite deformation ({setup.algorithm})")
+        raw, frames = _solve_finite_setup(setup, on_step)
+    elif setup.friction > 0:
         from .contact import solve_friction
 
         report(f"solving {name}: {prob.model.ndofs} DOFs, {n} load steps, friction ({setup.algorithm})")
@@ -724,7 +828,9 @@ def run_setup(setup, out: str | os.PathLike | None = None, force: bool = False, 
     summary["converged_steps"] = sum(1 for f in frames if f.result.success)
     summary["wall_time_total_s"] = wall
     summary["friction"] = setup.friction
-    if setup.friction > 0:
+    if setup.finite:
+        summary.update(_finite_summary(setup, raw, frames, wall))
+    elif setup.friction > 0:
         summary.update(outer_iterations=int(raw.outer_iterations), newton_iterations=int(raw.newton_iterations),
                        status=raw.status.label, status_code=int(raw.status), message=raw.message,
                        cutbacks=int(raw.cutbacks), wall_time_s=float(raw.timings.get("total_s", wall)))
