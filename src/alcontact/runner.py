@@ -673,13 +673,21 @@ def _step_rows(setup, frames, controls) -> list[dict[str, Any]]:
             st = np.asarray(ex["state"])
             row.update(stick_points=int(np.sum(st == 1)), slip_points=int(np.sum(st == 2)),
                        coulomb=ex.get("coulomb"), cutbacks=ex.get("cutbacks", 0))
-        elif "seconds" in ex:  # finite deformation
+        elif "seconds" in ex:  # finite deformation: the support reactions of the step (f_int - f_ext - f_c)
             row.update(cutbacks=int(ex.get("cutbacks", 0)), seconds=float(ex["seconds"]))
+            for c, v in zip("xyz", fr.equilibrium().reaction):
+                row[f"reaction_{c}"] = float(v)
         for label, _kind, boundary, comp in controls:
             _, dofs = model.node_dofs(boundary)
             row[f"u_{label}"] = float(np.mean(np.asarray(fr.u)[dofs[:, comp]]))
         rows.append(row)
     return rows
+
+
+def _reaction_rows(rows, controls) -> list[dict[str, Any]]:
+    """Columns of ``reaction_force.csv``: step, t, the driving displacements, reactions and contact forces."""
+    keep = ("step", "t") + tuple(f"u_{c[0]}" for c in controls)
+    return [{k: v for k, v in r.items() if k in keep or k.startswith(("reaction_", "force_"))} for r in rows]
 
 
 def _write_rows_csv(path, rows) -> Path:
@@ -878,6 +886,9 @@ def write_setup_results(folder: Path, setup, frames, summary: dict) -> list[str]
     and ``solution.pvd`` (stepped runs), ``history.csv`` (outer iterations of
     the last frictionless solve), ``steps.csv``, ``pressure.png``,
     ``convergence.png``, ``load_displacement.png``, ``report.md``, ``summary.json``.
+    Finite-deformation runs write the VTU files in the deformed configuration and
+    add ``reaction_force.csv`` and ``reaction_force.png`` (support reaction and
+    contact force against the prescribed displacement, per step).
     """
     from .io import write_history_csv, write_json, write_pvd, write_solution_vtu
     from .io.report import write_report
@@ -907,6 +918,9 @@ def write_setup_results(folder: Path, setup, frames, summary: dict) -> list[str]
             files.append("history.csv")
         _write_rows_csv(folder / "steps.csv", rows)
         files.append("steps.csv")
+        if setup.finite:
+            _write_rows_csv(folder / "reaction_force.csv", _reaction_rows(rows, controls))
+            files.append("reaction_force.csv")
     if o["plots"]:
         from .viz import save_convergence_plot, save_figure, save_pressure_plot
         from .viz.plots import load_displacement_figure, steps_figure
@@ -925,6 +939,13 @@ def write_setup_results(folder: Path, setup, frames, summary: dict) -> list[str]
                                                  dim=int(setup.problem.model.dim)),
                         folder / "load_displacement.png")
             files.append("load_displacement.png")
+        if setup.finite:
+            from .viz.plots import reaction_force_figure
+
+            control = next((c[0] for c in controls if c[1] == "normal"), None)
+            save_figure(reaction_force_figure(rows, control, title=f"{setup.name}: reaction-force curve",
+                                              dim=int(setup.problem.model.dim)), folder / "reaction_force.png")
+            files.append("reaction_force.png")
     if o["report"]:
         files.append("report.md")
         write_report(folder / "report.md", summary, files + ["summary.json"],
