@@ -725,7 +725,8 @@ def _build(data: dict, base: Path, issues: list[Issue], source) -> ProblemSetup 
     if law == LINEAR_MODEL:
         model = _num(issues, "mesh.order", LinearElasticity, mesh, mat, order=md["order"])
     else:
-        model = _num(issues, "material.model", Hyperelastic, mesh, mat, order=md["order"], model=law)
+        # the path of LinearElasticity: its mesh-quality errors are rewritten by alcontact.io.preflight
+        model = _num(issues, "mesh.order", Hyperelastic, mesh, mat, order=md["order"], model=law)
     if model is None:
         return None
     center = tuple(rd["center"]) if rd["center"] is not None else (0.0,) * dim
