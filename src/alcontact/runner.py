@@ -614,7 +614,9 @@ def _finite_summary(setup, fs, frames, wall: float) -> dict[str, Any]:
     lin = final.timings.get("linear_solve_s")
     out["time_ratio_contact_to_linear"] = out["wall_time_s"] / lin if lin else None
     if not fs.success:
-        out["message"] = f"{len(steps)} of {len(setup.times)} load steps reached: {fs.message}"
+        reached = float(steps[-1].t) if steps else 0.0
+        out["message"] = (f"stopped at t={reached:g} of t={setup.times[-1]:g} ({len(steps)} accepted steps, "
+                          f"{out['cutbacks']} cut-backs): {fs.message}")
     return out
 
 
