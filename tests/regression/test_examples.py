@@ -15,7 +15,7 @@ from alcontact.runner import run_setup
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 NAMES = ["hertz_2d", "hertz_3d", "flat_punch", "signorini_liftoff", "sliding_block", "cattaneo_mindlin",
-         "finite_half_cylinder"]
+         "finite_half_cylinder", "finite_ironing"]
 
 
 def _run(name):
@@ -114,3 +114,24 @@ def test_finite_half_cylinder_equals_the_python_api():
     f = api.forces[:, 1]
     assert f[-1] > 4 * f[0]  # the force grows faster than the approach: Hertz-like stiffening
     assert s["cutbacks"] == 0 and len(res.frames) == 4
+
+
+def test_finite_ironing_contact_follows_the_moving_cylinder():
+    """Ironing (frictionless, finite deformation): once the strip is pushed up (t >= 0.25) the cylinder
+    slides along a translation-invariant strip, so the normal force is the steady ironing force: within
+    2 % of its value at t = 0.25 at every later step; the force along the motion is positive (the cylinder
+    pushes the bulge ahead of it); the loaded zone's force centroid (deformed positions) is at the
+    cylinder's x = 0.8 + 2 t to within one element (h = 0.25)."""
+    setup, res = _run("finite_ironing")
+    s = res.summary
+    assert s["step_times"] == pytest.approx([0.125 * k for k in range(1, 9)], abs=1e-12)
+    f = np.array(s["step_contact_force"])
+    steady = np.array(s["step_times"]) >= 0.25 - 1e-12
+    assert f[steady, 1] == pytest.approx(np.full(steady.sum(), f[1, 1]), rel=0.02)
+    assert np.all(f[steady, 0] > 0)
+    _, dofs = setup.problem.model.node_dofs("top")
+    for fr in res.frames:
+        x = fr.points[:, 0] + fr.u[dofs[:, 0]]
+        w = fr.weights * fr.pressure
+        assert w.sum() > 0
+        assert float(np.sum(w * x) / w.sum()) == pytest.approx(0.8 + 2.0 * fr.extra["t"], abs=0.25)
