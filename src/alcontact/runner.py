@@ -762,7 +762,9 @@ def run_setup(setup, out: str | os.PathLike | None = None, force: bool = False, 
 
     Frictionless problems are solved at every step time (independently: the
     problem is path independent); with friction, :func:`solve_friction` follows
-    the load history. ``algorithm``, ``penalty`` and ``**options`` (fields of
+    the load history; finite-deformation problems (``kinematics = "finite"``) are
+    solved by :func:`~alcontact.contact.solve_finite` over the step times, each step
+    from the last, with cut-backs (frames: one per accepted step). ``algorithm``, ``penalty`` and ``**options`` (fields of
     ``ContactOptions``) override the file.
 
     Parameters
