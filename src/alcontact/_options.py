@@ -177,6 +177,14 @@ def is_integer(v: Any) -> bool:
     return isinstance(v, numbers.Integral) and not isinstance(v, bool) and type(v).__name__ != "bool_"
 
 
+def _finite_real(x: Any) -> bool:
+    """A finite real number (a huge integer that no float holds is not)."""
+    try:
+        return math.isfinite(x)
+    except OverflowError:
+        return False
+
+
 def _in_range(opt: Option, x: float) -> bool:
     if opt.low is not None and (x < opt.low or (opt.low_open and x == opt.low)):
         return False
@@ -215,7 +223,7 @@ def check_value(opt: Option, value: Any, *, api: bool = False) -> tuple[Any, lis
             hint = " Pass a number, not a string." if api else " Write the number without quotes."
         elif opt.type == "bool" and isinstance(x, str):
             hint = " Pass True or False." if api else " Write true or false without quotes."
-        elif opt.type in ("int", "ints") and is_real(x) and math.isfinite(x):
+        elif opt.type in ("int", "ints") and is_real(x) and _finite_real(x):
             hint = f" Use a whole number, e.g. {max(int(round(x)), 1)}."
         elif opt.type in ("int", "ints") and isinstance(x, bool):
             hint = " Booleans are not integers here; pass a whole number."

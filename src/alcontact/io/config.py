@@ -268,6 +268,8 @@ def _build_mesh(d: dict, base: Path, issues: list[Issue]):
 
     gen = d["generator"]
     if gen == "file":
+        if d["file"] is _BAD:  # the schema pass recorded the issue
+            return None
         if not d["file"]:
             issues.append(Issue("mesh.file", "missing: generator = 'file' needs file = 'body.msh'."))
             return None
