@@ -33,7 +33,8 @@ from typing import Any, Callable
 from .errors import InputError
 
 __all__ = ["REQUIRED", "TYPES", "BAD", "MAX_STEPS", "VALUE_RANGE", "Option", "check_value", "declared", "same_as",
-           "declarations", "check_dataclass", "as_options", "is_real", "is_integer", "show"]
+           "declarations", "check_dataclass", "as_options", "is_real", "is_integer", "show", "LINEAR_MODEL",
+           "kinematics_option", "material_model_option", "OBSTACLE_PATH", "MAX_CUTBACKS"]
 
 
 class _Required:
@@ -186,6 +187,14 @@ def is_integer(v: Any) -> bool:
     return isinstance(v, numbers.Integral) and not isinstance(v, bool) and type(v).__name__ != "bool_"
 
 
+def _finite_real(x: Any) -> bool:
+    """A finite real number (a huge integer that no float holds is not)."""
+    try:
+        return math.isfinite(x)
+    except OverflowError:
+        return False
+
+
 def _in_range(opt: Option, x: float) -> bool:
     if opt.low is not None and (x < opt.low or (opt.low_open and x == opt.low)):
         return False
@@ -224,7 +233,7 @@ def check_value(opt: Option, value: Any, *, api: bool = False) -> tuple[Any, lis
             hint = " Pass a number, not a string." if api else " Write the number without quotes."
         elif opt.type == "bool" and isinstance(x, str):
             hint = " Pass True or False." if api else " Write true or false without quotes."
-        elif opt.type in ("int", "ints") and is_real(x) and math.isfinite(x):
+        elif opt.type in ("int", "ints") and is_real(x) and _finite_real(x):
             hint = f" Use a whole number, e.g. {max(int(round(x)), 1)}."
         elif opt.type in ("int", "ints") and isinstance(x, bool):
             hint = " Booleans are not integers here; pass a whole number."
@@ -441,3 +450,37 @@ def as_options(cls: type, options: Any, overrides: dict, kind: str) -> Any:
         opts = dataclasses.replace(opts, **changes)  # __post_init__ validates
     return opts
 
+
+
+# --------------------------------------------------------------------------- finite deformation
+#: ``material.model`` of a linear elastic body (small strains); every other value is a hyperelastic law.
+LINEAR_MODEL = "linear"
+
+
+def kinematics_option() -> Option:
+    """``[contact] kinematics``: the contact kinematics (registry :data:`alcontact.contact._problem.KINEMATICS`)."""
+    from .contact._problem import KINEMATICS
+
+    return Option("kinematics", "str", "small", "`small` (linearized gap, one solve per step) or `finite` (gap at "
+                  "the deformed position, Newton in load steps with cut-backs; needs a hyperelastic "
+                  "`material.model`).", choices=tuple(KINEMATICS))
+
+
+def material_model_option() -> Option:
+    """``[material] model``: ``linear`` or a registered hyperelastic law (:func:`alcontact.fem.available_materials`)."""
+    from .fem._hyper_materials import available_materials
+
+    return Option("model", "str", None, "Constitutive law: `linear` (small strains) or a hyperelastic law for "
+                  "`kinematics = \"finite\"` (default: `linear` for small, `neo-hookean` for finite kinematics).",
+                  choices=(LINEAR_MODEL,) + tuple(available_materials()))
+
+
+#: ``[obstacle] path``: rigid translation of the obstacle per unit pseudo-time (finite kinematics).
+OBSTACLE_PATH = Option("path", "floats", None, "Finite kinematics: translation of the obstacle per unit "
+                       "pseudo-time, `[dx, dy]` / `[dx, dy, dz]` (the obstacle is at `t * path` at step time "
+                       "t; default: it does not move).", lengths=(2, 3))
+
+#: ``[loading] max_cutbacks``: halvings of a failed finite-deformation step.
+MAX_CUTBACKS = Option("max_cutbacks", "int", 6, "Finite kinematics: halvings of a load step's increment allowed "
+                      "when its Newton solve fails or an element inverts (at most 2^n sub-steps per step).",
+                      low=0, high=20)

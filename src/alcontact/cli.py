@@ -194,6 +194,14 @@ def _summary_table(s: dict) -> Table:
         if s.get("stick_half_width_exact") is not None:
             table.add_row("stick half-width c", _fmt(s.get("stick_half_width")), _fmt(s["stick_half_width_exact"]),
                           _fmt(s.get("stick_half_width_error_pct"), "+.2f"))
+    if s.get("kinematics") == "finite":
+        table.add_row("kinematics / material", f"finite / {s.get('material_model')}", "", "")
+        table.add_row("Newton iterations per step", Text(" ".join(map(str, s.get("step_newton_iterations", [])))
+                                                         or "-"), "", "")
+        table.add_row("cut-backs", _fmt(s.get("cutbacks")), "", "")
+        table.add_row(f"final contact force{force}", Text(", ".join(_fmt(x) for x in s.get("final_contact_force", []))),
+                      "", "")
+        table.add_row("equilibrium residual", _fmt(s.get("equilibrium_residual"), ".2e"), "", "")
     stepped = s.get("load_steps", 1) > 1
     if stepped:
         table.add_row("load steps (converged)", f"{s.get('converged_steps')} / {s['load_steps']}", "", "")
@@ -244,7 +252,9 @@ def run_command(
     Files in --out: solution.vtu (displacement, stress, contact_pressure, gap, ...),
     pressure.png, convergence.png, history.csv, report.md, summary.json; problem
     files add steps.csv and, for load steps, solution.pvd, steps/ and
-    load_displacement.png. The folder appears only when complete; --force
+    load_displacement.png; finite-deformation files (kinematics = "finite") write
+    the VTU files in the deformed configuration and add reaction_force.csv and
+    reaction_force.png. The folder appears only when complete; --force
     replaces the files of an earlier run (listed in its summary.json) and keeps
     other files. Ctrl+C / SIGTERM: exit 130 / 143, the folder left as it was.
     """

@@ -524,6 +524,106 @@ def _friction_frames(fsol) -> list:
     return frames
 
 
+def _solve_finite_setup(setup, on_step=None):
+    """Finite-deformation run of a problem file: ``(FiniteSolution, frames)``.
+
+    One :class:`~alcontact.contact.ContactSolution` per accepted step (from the
+    ``on_step`` hook of :func:`~alcontact.contact.solve_finite`); the last frame is
+    the verified solution of the run. Each frame's problem carries the loads of
+    its step time (``problem_at``), so ``frame.equilibrium()`` is that step's balance.
+    """
+    from .contact import ContactSolution, problem_at, solve_finite
+    from .contact.obstacles import translate
+
+    prob = setup.problem
+    model = prob.model
+    _, dofs = model.node_dofs(prob.contact_boundary)
+    states: list[tuple[Any, np.ndarray, np.ndarray]] = []
+    total = len(setup.times)
+
+    def collect(step, u, pressure):
+        states.append((step, u, pressure))
+        if on_step is not None:
+            done = sum(1 for t in setup.times if t <= step.t + 1e-12 * max(1.0, abs(step.t)))
+            on_step(done, total, float(step.t))
+
+    def at(t: float):
+        return problem_at(prob, setup.history, t) if setup.history is not None else prob
+
+    path = None
+    if setup.obstacle_path is not None:
+        path = setup.obstacle_offset
+    if on_step is not None:
+        on_step(0, total, setup.times[0])
+    fs = solve_finite(prob, setup.algorithm, setup.penalty, steps=list(setup.times), history=setup.history,
+                      obstacle_path=path, max_cutbacks=setup.max_cutbacks, on_step=collect, **setup.options)
+    base = fs.solution
+    frames = []
+    for k, (step, u, pressure) in enumerate(states[:-1] if fs.steps else []):
+        ob = prob.obstacle if path is None else translate(prob.obstacle, path(step.t))
+        gap, normals = ob.evaluate(base.points + u[dofs])
+        nodal = base.weights * pressure
+        res = dataclasses.replace(base.result, status=step.status, message=step.message,
+                                  outer_iterations=int(step.outer_iterations),
+                                  newton_iterations=int(step.newton_iterations),
+                                  linear_solves=int(step.linear_solves), history=(),
+                                  penetration=float(max(np.max(gap, initial=0.0), 0.0)) / float(base.extra["h"]))
+        frames.append(ContactSolution(
+            problem=at(step.t), u=u, points=base.points, pressure=pressure, gap=np.asarray(gap, dtype=float),
+            weights=base.weights, active=pressure > 0, normals=np.asarray(normals, dtype=float),
+            total_contact_force=np.asarray(step.force, dtype=float), result=res, nodal_forces=nodal,
+            timings={"total_s": float(step.seconds)},
+            extra={**base.extra, "t": float(step.t), "cutbacks": int(step.cutbacks), "seconds": float(step.seconds)}))
+    if fs.steps:
+        last = fs.steps[-1]
+        frames.append(dataclasses.replace(base, problem=at(last.t), extra={
+            **base.extra, "t": float(last.t), "cutbacks": int(last.cutbacks), "seconds": float(last.seconds),
+            "step_newton_iterations": int(last.newton_iterations), "step_outer_iterations": int(last.outer_iterations)}))
+        for fr, st in zip(frames[:-1], fs.steps[:-1]):
+            fr.extra.update(step_newton_iterations=int(st.newton_iterations),
+                            step_outer_iterations=int(st.outer_iterations))
+    else:  # no step was accepted: the undeformed start with the failure status
+        frames.append(dataclasses.replace(base, extra={**base.extra, "t": 0.0, "cutbacks": 0}))
+    return fs, frames
+
+
+def _finite_summary(setup, fs, frames, wall: float) -> dict[str, Any]:
+    """``summary.json`` keys of a finite-deformation run (the per-step lists have one entry per accepted step)."""
+    final = frames[-1]
+    steps = fs.steps
+    res = final.result
+    out: dict[str, Any] = {
+        "kinematics": "finite",
+        "material_model": getattr(setup.problem.model.law, "name", None),
+        "status": res.status.label, "status_code": int(res.status), "message": res.message,
+        "converged_steps": sum(1 for t in setup.times if steps and t <= steps[-1].t + 1e-12 * max(1.0, abs(t))),
+        "accepted_steps": len(steps),
+        "outer_iterations": int(sum(s.outer_iterations for s in steps)),
+        "newton_iterations": int(sum(s.newton_iterations for s in steps)),
+        "linear_solves": int(sum(s.linear_solves for s in steps)),
+        "wall_time_s": float(final.timings.get("total_s", wall)),
+        "step_times": [float(s.t) for s in steps],
+        "step_newton_iterations": [int(s.newton_iterations) for s in steps],
+        "step_outer_iterations": [int(s.outer_iterations) for s in steps],
+        "step_cutbacks": [int(s.cutbacks) for s in steps],
+        "step_seconds": [float(s.seconds) for s in steps],
+        "step_contact_force": [[float(x) for x in s.force] for s in steps],
+        "cutbacks": int(sum(s.cutbacks for s in steps)),
+        "final_contact_force": [float(x) for x in final.total_contact_force],
+        "max_cutbacks": int(setup.max_cutbacks),
+        "obstacle_path": list(setup.obstacle_path) if setup.obstacle_path is not None else None,
+    }
+    if steps:
+        out.update(equilibrium_keys(final.equilibrium()))
+    lin = final.timings.get("linear_solve_s")
+    out["time_ratio_contact_to_linear"] = out["wall_time_s"] / lin if lin else None
+    if not fs.success:
+        reached = float(steps[-1].t) if steps else 0.0
+        out["message"] = (f"stopped at t={reached:g} of t={setup.times[-1]:g} ({len(steps)} accepted steps, "
+                          f"{out['cutbacks']} cut-backs): {fs.message}")
+    return out
+
+
 def _controls(setup) -> list[tuple[str, str, str, int]]:
     """Boundaries whose mean displacement is the abscissa of the load-displacement curve.
 
@@ -563,8 +663,10 @@ def _step_rows(setup, frames, controls) -> list[dict[str, Any]]:
         tf = np.asarray(ex.get("tangential_force", np.zeros(model.dim)), dtype=float)
         row: dict[str, Any] = {
             "step": k + 1, "t": float(ex.get("t", setup.times[min(k, len(setup.times) - 1)])),
-            "status": fr.result.status.label, "outer_iterations": fr.result.outer_iterations,
-            "newton_iterations": fr.result.newton_iterations, "normal_force": fr.normal_force,
+            "status": fr.result.status.label,
+            "outer_iterations": ex.get("step_outer_iterations", fr.result.outer_iterations),
+            "newton_iterations": ex.get("step_newton_iterations", fr.result.newton_iterations),
+            "normal_force": fr.normal_force,
             "tangential_force": float(np.linalg.norm(tf)),
             "peak_pressure": fr.peak_pressure,
             "contact_half_width": fr.contact_half_width(axis=axis, center=meta.get("center")),
@@ -577,11 +679,21 @@ def _step_rows(setup, frames, controls) -> list[dict[str, Any]]:
             st = np.asarray(ex["state"])
             row.update(stick_points=int(np.sum(st == 1)), slip_points=int(np.sum(st == 2)),
                        coulomb=ex.get("coulomb"), cutbacks=ex.get("cutbacks", 0))
+        elif "seconds" in ex:  # finite deformation: the support reactions of the step (f_int - f_ext - f_c)
+            row.update(cutbacks=int(ex.get("cutbacks", 0)), seconds=float(ex["seconds"]))
+            for c, v in zip("xyz", fr.equilibrium().reaction):
+                row[f"reaction_{c}"] = float(v)
         for label, _kind, boundary, comp in controls:
             _, dofs = model.node_dofs(boundary)
             row[f"u_{label}"] = float(np.mean(np.asarray(fr.u)[dofs[:, comp]]))
         rows.append(row)
     return rows
+
+
+def _reaction_rows(rows, controls) -> list[dict[str, Any]]:
+    """Columns of ``reaction_force.csv``: step, t, the driving displacements, reactions and contact forces."""
+    keep = ("step", "t") + tuple(f"u_{c[0]}" for c in controls)
+    return [{k: v for k, v in r.items() if k in keep or k.startswith(("reaction_", "force_"))} for r in rows]
 
 
 def _write_rows_csv(path, rows) -> Path:
@@ -653,7 +765,9 @@ def run_setup(setup, out: str | os.PathLike | None = None, force: bool = False, 
 
     Frictionless problems are solved at every step time (independently: the
     problem is path independent); with friction, :func:`solve_friction` follows
-    the load history. ``algorithm``, ``penalty`` and ``**options`` (fields of
+    the load history; finite-deformation problems (``kinematics = "finite"``) are
+    solved by :func:`~alcontact.contact.solve_finite` over the step times, each step
+    from the last, with cut-backs (frames: one per accepted step). ``algorithm``, ``penalty`` and ``**options`` (fields of
     ``ContactOptions``) override the file.
 
     Parameters
@@ -690,7 +804,10 @@ def run_setup(setup, out: str | os.PathLike | None = None, force: bool = False, 
     n = len(times)
     name = setup.name
     t0 = time.perf_counter()
-    if setup.friction > 0:
+    if setup.finite:
+        report(f"solving {name}: {prob.model.ndofs} DOFs, {n} load steps, finite deformation ({setup.algorithm})")
+        raw, frames = _solve_finite_setup(setup, on_step)
+    elif setup.friction > 0:
         from .contact import solve_friction
 
         report(f"solving {name}: {prob.model.ndofs} DOFs, {n} load steps, friction ({setup.algorithm})")
@@ -727,7 +844,9 @@ def run_setup(setup, out: str | os.PathLike | None = None, force: bool = False, 
     summary["converged_steps"] = sum(1 for f in frames if f.result.success)
     summary["wall_time_total_s"] = wall
     summary["friction"] = setup.friction
-    if setup.friction > 0:
+    if setup.finite:
+        summary.update(_finite_summary(setup, raw, frames, wall))
+    elif setup.friction > 0:
         summary.update(outer_iterations=int(raw.outer_iterations), newton_iterations=int(raw.newton_iterations),
                        status=raw.status.label, status_code=int(raw.status), message=raw.message,
                        cutbacks=int(raw.cutbacks), wall_time_s=float(raw.timings.get("total_s", wall)))
@@ -775,6 +894,9 @@ def write_setup_results(folder: Path, setup, frames, summary: dict) -> list[str]
     and ``solution.pvd`` (stepped runs), ``history.csv`` (outer iterations of
     the last frictionless solve), ``steps.csv``, ``pressure.png``,
     ``convergence.png``, ``load_displacement.png``, ``report.md``, ``summary.json``.
+    Finite-deformation runs write the VTU files in the deformed configuration and
+    add ``reaction_force.csv`` and ``reaction_force.png`` (support reaction and
+    contact force against the prescribed displacement, per step).
     """
     from .io import write_history_csv, write_json, write_pvd, write_solution_vtu
     from .io.report import write_report
@@ -804,6 +926,9 @@ def write_setup_results(folder: Path, setup, frames, summary: dict) -> list[str]
             files.append("history.csv")
         _write_rows_csv(folder / "steps.csv", rows)
         files.append("steps.csv")
+        if setup.finite:
+            _write_rows_csv(folder / "reaction_force.csv", _reaction_rows(rows, controls))
+            files.append("reaction_force.csv")
     if o["plots"]:
         from .viz import save_convergence_plot, save_figure, save_pressure_plot
         from .viz.plots import load_displacement_figure, steps_figure
@@ -822,6 +947,13 @@ def write_setup_results(folder: Path, setup, frames, summary: dict) -> list[str]
                                                  dim=int(setup.problem.model.dim)),
                         folder / "load_displacement.png")
             files.append("load_displacement.png")
+        if setup.finite:
+            from .viz.plots import reaction_force_figure
+
+            control = next((c[0] for c in controls if c[1] == "normal"), None)
+            save_figure(reaction_force_figure(rows, control, title=f"{setup.name}: reaction-force curve",
+                                              dim=int(setup.problem.model.dim)), folder / "reaction_force.png")
+            files.append("reaction_force.png")
     if o["report"]:
         files.append("report.md")
         write_report(folder / "report.md", summary, files + ["summary.json"],

@@ -14,7 +14,8 @@ from alcontact.io.config import load_problem
 from alcontact.runner import run_setup
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
-NAMES = ["hertz_2d", "hertz_3d", "flat_punch", "signorini_liftoff", "sliding_block", "cattaneo_mindlin"]
+NAMES = ["hertz_2d", "hertz_3d", "flat_punch", "signorini_liftoff", "sliding_block", "cattaneo_mindlin",
+         "finite_half_cylinder", "finite_ironing"]
 
 
 def _run(name):
@@ -91,3 +92,46 @@ def test_cattaneo_mindlin_partial_slip():
     assert 0.3 < ratio < 0.8  # partial slip: Q < mu P
     assert s["stick_points"] > 0 and s["slip_points"] > 0
     assert s["stick_half_width"] == pytest.approx(s["stick_half_width_exact"], rel=0.25)
+
+
+def test_finite_half_cylinder_equals_the_python_api():
+    """The problem file runs exactly the Python API's problem: ``half_cylinder(n=6, delta=0.2)`` solved by
+    ``solve_finite`` in 4 steps. Same step times, Newton iterations and contact force per step (to 1e-9
+    relative: the same arithmetic on a mesh read back from 17-digit text), and the neo-Hookean force at
+    delta/R = 0.2 exceeds the small-strain one-step-linear extrapolation of the first step (stiffening by
+    the growing contact width)."""
+    from alcontact.contact import solve_finite
+    from alcontact.problems.half_cylinder import half_cylinder
+
+    setup, res = _run("finite_half_cylinder")
+    s = res.summary
+    api = solve_finite(half_cylinder(n=6, delta=0.2), steps=4)
+    assert api.success
+    assert s["step_times"] == pytest.approx(list(api.times), abs=1e-15)
+    assert s["step_newton_iterations"] == [st.newton_iterations for st in api.steps]
+    np.testing.assert_allclose(s["step_contact_force"], api.forces, rtol=1e-9, atol=1e-9 * abs(api.forces).max())
+    np.testing.assert_allclose(res.frames[-1].u, api.u, rtol=0, atol=1e-9)
+    f = api.forces[:, 1]
+    assert f[-1] > 4 * f[0]  # the force grows faster than the approach: Hertz-like stiffening
+    assert s["cutbacks"] == 0 and len(res.frames) == 4
+
+
+def test_finite_ironing_contact_follows_the_moving_cylinder():
+    """Ironing (frictionless, finite deformation): once the strip is pushed up (t >= 0.25) the cylinder
+    slides along a translation-invariant strip, so the normal force is the steady ironing force: within
+    2 % of its value at t = 0.25 at every later step; the force along the motion is positive (the cylinder
+    pushes the bulge ahead of it); the loaded zone's force centroid (deformed positions) is at the
+    cylinder's x = 0.8 + 2 t to within one element (h = 0.25)."""
+    setup, res = _run("finite_ironing")
+    s = res.summary
+    assert s["step_times"] == pytest.approx([0.125 * k for k in range(1, 9)], abs=1e-12)
+    f = np.array(s["step_contact_force"])
+    steady = np.array(s["step_times"]) >= 0.25 - 1e-12
+    assert f[steady, 1] == pytest.approx(np.full(steady.sum(), f[1, 1]), rel=0.02)
+    assert np.all(f[steady, 0] > 0)
+    _, dofs = setup.problem.model.node_dofs("top")
+    for fr in res.frames:
+        x = fr.points[:, 0] + fr.u[dofs[:, 0]]
+        w = fr.weights * fr.pressure
+        assert w.sum() > 0
+        assert float(np.sum(w * x) / w.sum()) == pytest.approx(0.8 + 2.0 * fr.extra["t"], abs=0.25)

@@ -29,6 +29,7 @@ import json
 import math
 import os
 import re
+import shutil
 import tomllib
 from pathlib import Path
 
@@ -240,6 +241,9 @@ def text_mutations(draw):
 
 
 def _load(text: str, tmp: Path):
+    for msh in (ROOT / "examples").glob("*.msh"):  # mesh files of the examples, relative to the problem file
+        if not (tmp / msh.name).exists():
+            shutil.copy(msh, tmp / msh.name)
     try:
         setup = load_problem_text(text, base_dir=tmp)
     except AlcontactError:

@@ -166,7 +166,8 @@ def _step_times(steps) -> tuple[float, ...]:
 def solve_finite(problem, algorithm: str = "simo-laursen", penalty: str | None = None,
                  options: ContactOptions | None = None, *, steps: int | Sequence[float] = 10,
                  history: LoadHistory | None = None, obstacle_path: Callable[[float], Any] | None = None,
-                 max_cutbacks: int = 6, **option_overrides) -> FiniteSolution:
+                 max_cutbacks: int = 6, on_step: Callable[[FiniteStep, np.ndarray, np.ndarray], None] | None = None,
+                 **option_overrides) -> FiniteSolution:
     """Solve a frictionless contact problem at finite deformation in load steps.
 
     Parameters
@@ -186,6 +187,10 @@ def solve_finite(problem, algorithm: str = "simo-laursen", penalty: str | None =
     max_cutbacks : int
         Halvings of a step's increment allowed (at most ``2**max_cutbacks`` sub-steps per
         step); a failure at the smallest increment stops the run with a negative status.
+    on_step : callable ``(step, u, pressure) -> None``, optional
+        Called after every accepted step with its :class:`FiniteStep`, the full
+        displacement and the contact pressure of every contact-boundary point
+        (e.g. to write the deformed configuration of each step).
 
     Returns
     -------
@@ -249,6 +254,8 @@ def solve_finite(problem, algorithm: str = "simo-laursen", penalty: str | None =
                                   dc.linear_solves - solves0, force, cut, time.perf_counter() - t0, out.message))
         logger.info("load step t=%.6g: %d Newton, %d outer, force %s", t, records[-1].newton_iterations,
                     out.outer, np.array2string(force, precision=6))
+        if on_step is not None:
+            on_step(records[-1], u.copy(), pressure.copy())
         last = (out, u)
         t_prev = t
         if t >= t_target - 1e-14 * max(1.0, t_target):

@@ -22,6 +22,7 @@ Examples
 
 from __future__ import annotations
 
+import dataclasses
 import difflib
 import inspect
 import logging
@@ -31,7 +32,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from .._options import BAD, Option, check_value
+from .._options import BAD, LINEAR_MODEL, Option, check_value
 from ..errors import ConfigError, InputError, MeshError
 from .schema import Table, schema
 
@@ -193,6 +194,12 @@ class ProblemSetup:
     mindlin : MindlinReference or None
     output : dict
         The ``[output]`` table.
+    kinematics : str
+        ``"small"`` or ``"finite"`` (``[contact] kinematics``).
+    obstacle_path : tuple of float or None
+        Finite kinematics: translation of the obstacle per unit pseudo-time (``[obstacle] path``).
+    max_cutbacks : int
+        Finite kinematics: halvings of a failed step (``[loading] max_cutbacks``).
     """
 
     source: Path | None
@@ -207,6 +214,22 @@ class ProblemSetup:
     reference: Any = None
     mindlin: Any = None
     output: dict = field(default_factory=dict)
+    kinematics: str = "small"
+    obstacle_path: tuple[float, ...] | None = None
+    max_cutbacks: int = 6
+
+    @property
+    def finite(self) -> bool:
+        """Finite-deformation run (:func:`alcontact.contact.solve_finite`)."""
+        return self.kinematics == "finite"
+
+    def obstacle_offset(self, t: float):
+        """Translation of the obstacle at pseudo-time ``t`` (``t * path``), or ``None`` if it does not move."""
+        if self.obstacle_path is None:
+            return None
+        import numpy as np
+
+        return float(t) * np.asarray(self.obstacle_path, dtype=float)
 
     @property
     def name(self) -> str:
@@ -225,7 +248,8 @@ class ProblemSetup:
         law = f"Coulomb mu={self.friction:g}" if self.friction > 0 else "frictionless"
         alg = self.algorithm + (f"/{self.penalty}" if self.penalty else "")
         n = len(self.times)
-        return (f"{self.name}: {m.dim}D P{m.order}, {m.ndofs} DOFs, {m.mesh.nelements} elements, "
+        kin = f", finite deformation ({m.law.name})" if self.finite else ""
+        return (f"{self.name}: {m.dim}D P{m.order}{kin}, {m.ndofs} DOFs, {m.mesh.nelements} elements, "
                 f"obstacle {self.data['obstacle']['type']}, contact on {self.problem.contact_boundary!r}, "
                 f"{law}, {alg}, {n} load step{'s' if n != 1 else ''}")
 
@@ -244,6 +268,8 @@ def _build_mesh(d: dict, base: Path, issues: list[Issue]):
 
     gen = d["generator"]
     if gen == "file":
+        if d["file"] is _BAD:  # the schema pass recorded the issue
+            return None
         if not d["file"]:
             issues.append(Issue("mesh.file", "missing: generator = 'file' needs file = 'body.msh'."))
             return None
@@ -440,6 +466,64 @@ def _ok(d) -> bool:
     return d is not None and d is not _BAD and all(v is not _BAD for v in d.values())
 
 
+def _proportional(fixed: list, loads: list) -> tuple[list, list]:
+    """Finite kinematics without any ``ramp``: every nonzero support value and every load as a
+    :class:`~alcontact.contact.LoadCase` ramped from 0 at ``t = 0`` to full at ``t = 1``
+    (proportional loading; zero supports stay fixed)."""
+    import numpy as np
+
+    from ..contact import LoadCase
+
+    ramp = _ramp([(0.0, 0.0), (1.0, 1.0)])
+    still = [s for s in fixed if not np.any(np.asarray(s.value, dtype=float) != 0.0)]
+    moving = [s for s in fixed if np.any(np.asarray(s.value, dtype=float) != 0.0)]
+    cases = [LoadCase(item, ramp, name=f"{type(item).__name__.lower()} {i + 1}")
+             for i, item in enumerate(moving + list(loads))]
+    return still, cases
+
+
+def _kinematics(mt, cd, dim, data: dict, issues: list[Issue]) -> tuple[str, str]:
+    """``(kinematics, material model)`` of the file, with an issue for each combination that cannot run.
+
+    Finite kinematics needs a hyperelastic law (plane strain in 2D), no friction; a
+    hyperelastic law needs finite kinematics; ``[obstacle] path`` needs finite kinematics
+    and one entry per space dimension.
+    """
+    kin = cd.get("kinematics") if isinstance(cd, dict) else "small"
+    kin = "small" if kin is _BAD or kin is None else kin
+    model = mt.get("model") if isinstance(mt, dict) else None
+    if model is _BAD:
+        model = None
+    if model is None:
+        model = "neo-hookean" if kin == "finite" else LINEAR_MODEL
+    finite = kin == "finite"
+    if finite and model == LINEAR_MODEL:
+        issues.append(Issue("material.model", "= 'linear': kinematics = 'finite' needs a hyperelastic law; set "
+                                              "model = 'neo-hookean' (or 'saint-venant-kirchhoff'), or use "
+                                              "contact.kinematics = 'small'."))
+    if not finite and model != LINEAR_MODEL:
+        issues.append(Issue("contact.kinematics", f"= 'small': the hyperelastic material.model = {model!r} needs "
+                                                  "kinematics = 'finite'; set it, or use material.model = 'linear'."))
+    if finite:
+        mu = cd.get("friction") if isinstance(cd, dict) else 0.0
+        if isinstance(mu, float) and mu > 0:
+            issues.append(Issue("contact.friction", f"= {mu:g}: finite-deformation contact is frictionless; set "
+                                                    "friction = 0, or kinematics = 'small' for frictional contact."))
+        if dim == 2 and isinstance(mt, dict) and mt.get("plane") == "stress":
+            issues.append(Issue("material.plane", "= 'stress': hyperelastic bodies in 2D are plane strain only; "
+                                                  "set plane = 'strain' or use a 3D mesh."))
+    od = data.get("obstacle")
+    path = od.get("path") if isinstance(od, dict) else None
+    if path is not None and path is not _BAD:
+        if not finite:
+            issues.append(Issue("obstacle.path", "a moving obstacle needs contact.kinematics = 'finite'; remove "
+                                                 "path (small kinematics: move the body with a ramped support)."))
+        elif dim is not None and len(path) != dim:
+            issues.append(Issue("obstacle.path", f"= {path!r}: needs {dim} numbers (a translation per unit "
+                                                 f"pseudo-time) for a {dim}D mesh."))
+    return kin, model
+
+
 def _build(data: dict, base: Path, issues: list[Issue], source) -> ProblemSetup | None:  # noqa: C901
     from ..contact import ContactOptions, ContactProblem, Pressure, Traction, BodyForce, Support
     from ..contact import FrictionOptions, friction_algorithms
@@ -447,6 +531,7 @@ def _build(data: dict, base: Path, issues: list[Issue], source) -> ProblemSetup 
     from ..contact._algorithms import FIXED_PENALTIES
     from ..fem import LinearElasticity, Material
     from ..fem._material import material_issues
+    from ..fem.hyperelastic import Hyperelastic
 
     # ---- mesh
     mesh = dim = None
@@ -488,8 +573,11 @@ def _build(data: dict, base: Path, issues: list[Issue], source) -> ProblemSetup 
                                         "in one body are not supported yet (the FEM layer takes one material); "
                                         "use one [material] for the whole body."))
 
-    # ---- boundaries, supports, loads
+    # ---- kinematics and constitutive law
     cd = data.get("contact")
+    kinematics, law = _kinematics(mt, cd, dim, data, issues)
+
+    # ---- boundaries, supports, loads
     contact_ok = _ok(cd)
     if contact_ok and mesh is not None:
         contact_ok = _boundary(mesh, cd["boundary"], "contact.boundary", issues)
@@ -645,15 +733,23 @@ def _build(data: dict, base: Path, issues: list[Issue], source) -> ProblemSetup 
             issues.append(Issue("", "the problem could not be built."))
         return None
 
-    model = _num(issues, "mesh.order", LinearElasticity, mesh, mat, order=md["order"])
+    if law == LINEAR_MODEL:
+        model = _num(issues, "mesh.order", LinearElasticity, mesh, mat, order=md["order"])
+    else:
+        # the path of LinearElasticity: its mesh-quality errors are rewritten by alcontact.io.preflight
+        model = _num(issues, "mesh.order", Hyperelastic, mesh, mat, order=md["order"], model=law)
     if model is None:
         return None
     center = tuple(rd["center"]) if rd["center"] is not None else (0.0,) * dim
     meta = {"symmetry_axis": int(rd["axis"]), "center": center}
     problem = _num(issues, "", ContactProblem, model=model, obstacle=ob, contact_boundary=cd["boundary"],
                    supports=tuple(fixed), loads=tuple(loads), friction=float(mu), name=data["problem"]["name"],
-                   reference=ref, meta=meta)
+                   reference=ref, meta=meta, kinematics=kinematics)
     history = None
+    if kinematics == "finite" and not cases and problem is not None:
+        fixed, cases = _proportional(fixed, loads)
+        loads = []
+        problem = dataclasses.replace(problem, supports=tuple(fixed), loads=())
     if cases or friction_ramp is not None or mu > 0:
         history = _num(issues, "loading", LoadHistory, tuple(cases), times, friction_ramp)
     if problem is None or issues:
@@ -663,5 +759,7 @@ def _build(data: dict, base: Path, issues: list[Issue], source) -> ProblemSetup 
     return ProblemSetup(
         source=Path(source) if source is not None else None, data=data, problem=problem, history=history,
         times=times, algorithm=algorithm, penalty=penalty, options=options, friction_options=fopts,
-        reference=ref, mindlin=mindlin, output=dict(data["output"]),
+        reference=ref, mindlin=mindlin, output=dict(data["output"]), kinematics=kinematics,
+        obstacle_path=tuple(od["path"]) if od.get("path") is not None else None,
+        max_cutbacks=int(lo["max_cutbacks"]),
     )

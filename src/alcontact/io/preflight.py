@@ -107,11 +107,41 @@ class SizeEstimate:
     exact: bool = False
     key: str = "mesh"
     value: Any = None
+    note: str = ""
 
     def describe(self) -> str:
         about = "" if self.exact else "about "
+        note = f" ({self.note})" if self.note else ""
         return (f"{about}{self.ndofs:,} DOFs, {self.elements:,} elements, {self.linear_solver} linear solver: "
-                f"estimated peak memory {_gib(self.memory_bytes)}, solve time {_duration(self.seconds)}")
+                f"estimated peak memory {_gib(self.memory_bytes)}, solve time {_duration(self.seconds)}{note}")
+
+
+#: Newton iterations of one finite-deformation load step (measured 8-12 on the half-cylinder, all subproblems).
+NEWTON_PER_STEP = 10
+#: Seconds per element and quadrature point of one tangent + internal-force assembly (vectorized einsum/bincount).
+_T_TANGENT = 1e-6
+
+
+def _finite_cost(est: SizeEstimate, data: dict) -> SizeEstimate:
+    """``est`` of a finite-deformation run: steps x Newton iterations x (tangent assembly + factorization).
+
+    A small-deformation solve factorizes the stiffness once (``est.seconds`` counts about
+    3 factorizations); a finite one assembles and factorizes the tangent at every Newton
+    iteration of every load step (:data:`NEWTON_PER_STEP`). Memory is that of one
+    tangent and its factor, as before.
+    """
+    cd, lo = data.get("contact"), data.get("loading")
+    if not (isinstance(cd, dict) and cd.get("kinematics") == "finite"):
+        return est
+    steps = 1
+    if isinstance(lo, dict):
+        times, n = lo.get("times"), lo.get("steps")
+        steps = len(times) if isinstance(times, list) else n if isinstance(n, int) else 1
+    per_newton = est.seconds / 3.0 + _T_TANGENT * est.elements * _QUAD[(est.dim, est.order)]
+    newton = steps * NEWTON_PER_STEP
+    return dataclasses.replace(est, seconds=newton * per_newton,
+                               note=f"finite deformation: {steps} load steps x ~{NEWTON_PER_STEP} Newton "
+                                    f"iterations, each a tangent assembly and solve")
 
 
 def _gib(b: float) -> str:
@@ -310,7 +340,7 @@ def estimate_size(data: dict, base_dir: str | os.PathLike = ".") -> SizeEstimate
     n = dim * nodes
     key, value = _size_key(data)
     est = _cost(dim, order, nodes, elements, _resolve_solver(data, dim, n), exact=False)
-    return dataclasses.replace(est, key=key, value=value)
+    return _finite_cost(dataclasses.replace(est, key=key, value=value), data)
 
 
 def exact_size(setup) -> SizeEstimate:
@@ -323,7 +353,7 @@ def exact_size(setup) -> SizeEstimate:
         solver = resolve_linear_solver(setup.options["linear_solver"], model)
     key, value = _size_key(setup.data)
     est = _cost(model.dim, model.order, model.ndofs // model.dim, model.mesh.nelements, solver, exact=True)
-    return dataclasses.replace(est, key=key, value=value)
+    return _finite_cost(dataclasses.replace(est, key=key, value=value), setup.data)
 
 
 def size_issues(est: SizeEstimate | None, memory: float | None = None) -> list[Issue]:

@@ -25,6 +25,9 @@ _FILE_DOCS = {
     "convergence.png": "convergence history",
     "load_displacement.png": "contact force against the displacement of the loaded boundary",
     "steps/": "one VTU per load step (referenced by solution.pvd)",
+    "reaction_force.csv": "finite deformation: support reaction and contact force per step against the "
+                          "prescribed displacement",
+    "reaction_force.png": "reaction-force curve (finite deformation)",
 }
 
 
@@ -79,6 +82,11 @@ def render_report(summary: dict, files: list[str], *, description: str = "", sou
         f"{_f(s.get('peak_pressure_error_pct'), '+.2f')} |",
         f"| total contact force P ({F}) | {_f(s.get('total_contact_force'))} | | |",
     ]
+    if s.get("kinematics") == "finite":
+        lines.append(f"| finite deformation ({s.get('material_model')}): Newton iterations per step | "
+                     f"{' '.join(map(str, s.get('step_newton_iterations', [])))} | | |")
+        lines.append(f"| cut-backs / equilibrium residual | {s.get('cutbacks')} / "
+                     f"{_f(s.get('equilibrium_residual'), '.2e')} | | |")
     if s.get("friction"):
         lines.append(f"| tangential force of the model ({F}) | {_f(s.get('tangential_force'))} | mu N = "
                      f"{_f(s.get('coulomb_limit'))} | |")
@@ -98,7 +106,8 @@ def render_report(summary: dict, files: list[str], *, description: str = "", sou
         "",
     ]
     for png, caption in (("pressure.png", "Contact pressure"), ("convergence.png", "Convergence"),
-                         ("load_displacement.png", "Load-displacement curve")):
+                         ("load_displacement.png", "Load-displacement curve"),
+                         ("reaction_force.png", "Reaction-force curve")):
         if png in files:
             lines += [f"![{caption}]({png})", ""]
     lines += ["## Files", ""]

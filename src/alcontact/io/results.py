@@ -101,6 +101,7 @@ SUMMARY_KEYS: tuple[str, ...] = (
 RESULT_NAMES: frozenset[str] = frozenset({
     "solution.vtu", "solution.pvd", "steps/", "history.csv", "steps.csv", "pressure.png",
     "convergence.png", "load_displacement.png", "report.md", "summary.json",
+    "reaction_force.csv", "reaction_force.png",  # finite-deformation runs
 })
 
 #: Columns of ``history.csv``: the fields of :class:`alcontact.contact.ContactIteration`.

@@ -28,7 +28,8 @@ import sys
 from dataclasses import dataclass
 from pathlib import Path
 
-from .._options import MAX_STEPS, REQUIRED, TYPES, Option, declarations
+from .._options import (MAX_CUTBACKS, MAX_STEPS, OBSTACLE_PATH, REQUIRED, TYPES, Option, declarations,
+                        kinematics_option, material_model_option)
 
 __all__ = [
     "REQUIRED",
@@ -125,11 +126,14 @@ def _build_schema() -> tuple[Table, ...]:
             O("h_max", "float", None, "Largest element size (default: the spacing of `cells`).",
               low=0, low_open=True),
         )),
-        Table("material", "Isotropic linear elastic material of the whole body.", (
+        Table("material", "Isotropic elastic material of the whole body: linear elastic, or hyperelastic "
+              "(`model`) for finite kinematics.", (
             O("E", "float", REQUIRED, "Young's modulus (stress units, e.g. MPa).", low=0, low_open=True),
-            O("nu", "float", REQUIRED, "Poisson's ratio.", low=-1, high=0.5, low_open=True, high_open=True),
-            O("plane", "str", "strain", "2D assumption: `strain` or `stress` (ignored in 3D).",
-              choices=("strain", "stress")),
+            O("nu", "float", REQUIRED, "Poisson's ratio (< 0.5: every law is compressible).", low=-1, high=0.5,
+              low_open=True, high_open=True),
+            O("plane", "str", "strain", "2D assumption: `strain` or `stress` (ignored in 3D; hyperelastic: "
+              "`strain` only).", choices=("strain", "stress")),
+            material_model_option(),
         ), required=True),
         Table("material.region", "Material of a mesh region (Gmsh physical group of cells). Names are checked "
               "against the mesh; constants different from `[material]` are rejected until the FEM layer "
@@ -168,16 +172,19 @@ def _build_schema() -> tuple[Table, ...]:
             O("times", "floats", None, "Explicit step times, positive and strictly increasing.",
               low=0, low_open=True),
             O("friction_ramp", "knots", None, f"Factor of the friction coefficient: {knots} (default 1)."),
+            MAX_CUTBACKS,
         )),
         Table("obstacle", "Rigid obstacle from the registry (`alcontact list obstacles`); every other key is a "
               "parameter of that obstacle, e.g. `center`, `radius`, `point`, `normal`, `vertices`.", (
             O("type", "str", REQUIRED, "Registered obstacle name, e.g. `circle`, `sphere`, `half-space`, "
               "`convex-polygon`."),
+            OBSTACLE_PATH,
         ), open=True, required=True),
         Table("contact", "Contact boundary and friction.", (
             O("boundary", "str", REQUIRED, "Boundary of the body that may touch the obstacle."),
             O("friction", "float", 0.0, "Coulomb coefficient mu (0: frictionless; > 0 uses the frictional "
               "solver over the load steps).", low=0),
+            kinematics_option(),
         ), required=True),
         Table("solver", "Contact algorithm, penalty and their parameters.", (
             O("algorithm", "str", "simo-laursen", "Contact algorithm (friction: `simo-laursen`, `family-p` or "
@@ -323,6 +330,15 @@ def render_markdown() -> str:
         "rejected with an error: the FEM layer uses one material per body for now.",
         "",
         "TOML holds data and registry names only (no code): the `user` obstacle cannot be used from a file.",
+        "",
+        "Finite deformation: `[contact] kinematics = \"finite\"` with a hyperelastic `[material] model`",
+        "(`neo-hookean`, `saint-venant-kirchhoff`) solves the frictionless problem in the load steps of",
+        "`[loading]`, each from the last one, with Newton on the deformed configuration; a step that",
+        "fails is cut back (`loading.max_cutbacks` halvings). Supports and loads with a `ramp` follow it;",
+        "when nothing has a ramp, every support value and load grows in proportion to t. `[obstacle] path`",
+        "moves the obstacle rigidly by `t * path`. The results hold the deformed configuration of every",
+        "step (`solution.pvd`), the reaction-force curve (`steps.csv`, `reaction_force.png`) and the",
+        "Newton iterations of every step (`summary.json`: `step_newton_iterations`).",
         "",
     ]
     for t in schema():

@@ -4,6 +4,13 @@ One unstructured grid on the mesh vertices (linear triangles or tetrahedra;
 for P2 models the vertex values of the quadratic fields are written, the edge
 midpoint values are dropped). Points are 3D (``z = 0`` in 2D).
 
+Configuration: small-deformation runs are written on the reference mesh (use
+ParaView's "Warp By Vector" with ``displacement`` to see the deformed shape).
+Finite-deformation runs (``problem.kinematics == "finite"``) are written in the
+**deformed configuration**: the points are :math:`x = X + u` and the field
+``reference_position`` holds :math:`X` (so do not warp them again); ``gap`` is the
+gap at the current position, ``stress`` the Cauchy stress.
+
 Point fields (:data:`POINT_FIELDS`):
 
 ``displacement`` (n, 3)
@@ -12,7 +19,7 @@ Point fields (:data:`POINT_FIELDS`):
     Normal contact pressure :math:`\\lambda_N \\ge 0` on the contact boundary,
     **0 elsewhere** (no contact traction there).
 ``gap`` (n,)
-    Linearized gap (6.15) on the contact boundary (<= 0 feasible, > 0 penetration),
+    Gap (linearized (6.15) at small deformation, at x = X + u at finite) on the contact boundary (<= 0 feasible, > 0 penetration),
     **NaN elsewhere** (not defined off the contact boundary).
 ``contact_active`` (n,)
     1 where the point is in contact, 0 elsewhere.
@@ -82,12 +89,16 @@ def _contact_scalar_dofs(solution) -> np.ndarray:
     return scalar_of_vector[dofs[:, 0]]
 
 
-def solution_point_data(solution) -> tuple[np.ndarray, list[tuple[str, np.ndarray]], dict[str, np.ndarray]]:
+def solution_point_data(solution, deformed: bool | None = None
+                        ) -> tuple[np.ndarray, list[tuple[str, np.ndarray]], dict[str, np.ndarray]]:
     """Vertex coordinates, cells and point fields of a contact solution.
 
     Parameters
     ----------
     solution : alcontact.contact.ContactSolution
+    deformed : bool, optional
+        Write the deformed points :math:`X + u` and a ``reference_position`` field;
+        default: for finite-deformation problems only (module doc).
 
     Returns
     -------
@@ -133,7 +144,13 @@ def solution_point_data(solution) -> tuple[np.ndarray, list[tuple[str, np.ndarra
     else:  # columns xx, yy, zz, yz, xz, xy
         stress[:, [0, 1, 2, 4, 5, 3]] = sig
 
-    point_data = {
+    if deformed is None:
+        deformed = getattr(solution.problem, "kinematics", "small") == "finite"
+    point_data = {}
+    if deformed:
+        point_data["reference_position"] = points.copy()
+        points = points + disp
+    point_data |= {
         "displacement": disp,
         "contact_pressure": pressure,
         "gap": gap,
@@ -155,8 +172,11 @@ def solution_point_data(solution) -> tuple[np.ndarray, list[tuple[str, np.ndarra
     return points, cells, point_data
 
 
-def write_solution_vtu(path: str | os.PathLike, solution) -> Path:
+def write_solution_vtu(path: str | os.PathLike, solution, *, deformed: bool | None = None) -> Path:
     """Write ``solution`` as a VTU file (atomically), fields :data:`POINT_FIELDS`.
+
+    ``deformed``: points in the deformed configuration (default: finite-deformation
+    problems only, see :func:`solution_point_data`).
 
     Returns
     -------
@@ -165,7 +185,7 @@ def write_solution_vtu(path: str | os.PathLike, solution) -> Path:
     """
     import meshio  # imported here: only output needs it
 
-    points, cells, point_data = solution_point_data(solution)
+    points, cells, point_data = solution_point_data(solution, deformed)
     out = meshio.Mesh(points, cells, point_data=point_data)
     path = Path(path)
     with atomic_path(path) as tmp:

@@ -34,6 +34,7 @@ __all__ = [
     "save_pressure_plot",
     "save_convergence_plot",
     "steps_figure",
+    "reaction_force_figure",
     "load_displacement_figure",
 ]
 
@@ -311,6 +312,55 @@ def load_displacement_figure(rows, controls, *, title: str | None = None, units:
     ax.grid(alpha=0.3)
     ax.legend(fontsize="small")
     ax.set_title(title or "load-displacement curve", fontsize="medium")
+    return fig
+
+
+def reaction_force_figure(rows, control: str | None = None, *, title: str | None = None,
+                          units: Units | None = None, dim: int = 2):
+    """Reaction force and contact force against the prescribed displacement (or the load factor) per step.
+
+    Parameters
+    ----------
+    rows : sequence of dict
+        Rows of ``reaction_force.csv`` / ``steps.csv``: ``t``, ``reaction_<c>`` and
+        ``force_<c>`` for each coordinate ``c``, and ``u_<control>`` when given.
+    control : str, optional
+        Label of the driving support (``"top_y"``): its mean displacement is the
+        abscissa and its component (the last letter) the plotted one; default: the
+        pseudo-time (load factor) and the largest final component.
+    units : Units, optional
+        Axis units (default: the problem file's, unnamed).
+    dim : int
+        Dimension of the model (the force is per unit thickness in 2D).
+    """
+    u = _units(units)
+    fig = _new_figure()
+    ax = fig.add_subplot()
+    axes = "xyz"[:dim]
+    if not rows:
+        ax.text(0.5, 0.5, "no converged load step", ha="center", va="center", transform=ax.transAxes)
+        ax.set_axis_off()
+        return fig
+    if control is not None and control[-1:] in axes:
+        comp = control[-1]
+        x = np.array([float(r[f"u_{control}"]) for r in rows])
+        ax.set_xlabel(f"prescribed displacement: mean u_{comp} of {control[:-2]} ({u.length})")
+    else:
+        last = rows[-1]
+        comp = max(axes, key=lambda c: abs(float(last.get(f"reaction_{c}", 0.0))))
+        x = np.array([float(r["t"]) for r in rows])
+        ax.set_xlabel("pseudo-time t (load factor, dimensionless)")
+    x = np.concatenate([[0.0], x])
+    for key, style, label in ((f"reaction_{comp}", "o-", f"support reaction R_{comp} (all supports)"),
+                              (f"force_{comp}", "s--", f"contact force F_{comp} on the body")):
+        y = np.concatenate([[0.0], [float(r.get(key, np.nan)) for r in rows]])
+        ax.plot(x, y, style, ms=4, label=label)
+    ax.axhline(0.0, color="0.6", lw=0.8)
+    ax.set_ylabel(f"force of the model ({u.force(dim)})")
+    _note_units(fig, u)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize="small")
+    ax.set_title(title or "reaction-force curve", fontsize="medium")
     return fig
 
 
