@@ -310,7 +310,8 @@ class FiniteFrictionSolution:
         Tangential tractions (dissertation sign, tangent to the obstacle).
     normals : ndarray (m, d)
     extra : dict
-        ``h``, ``eps_n``, ``eps_t``, ``mu``, ``algorithm``, ``penalty``, ``residual_log``.
+        ``h``, ``weights`` (reference tributary weights of the contact points), ``eps_n``, ``eps_t``,
+        ``mu``, ``algorithm``, ``penalty``, ``residual_log``.
     """
 
     u: np.ndarray
@@ -559,7 +560,7 @@ def solve_finite_friction(problem, mu: float, algorithm: str = "simo-laursen", p
     return FiniteFrictionSolution(
         u=last["u"], steps=tuple(records), status=status, message=message, pressure=last["pressure"],
         gap=last["gap"], traction_t=last["traction_t"], normals=last["normals"],
-        extra={"h": dc.h, "eps_n": float(eps_n), "eps_t": float(eps_t), "mu": float(mu), "algorithm": algorithm,
+        extra={"h": dc.h, "weights": dc.weights.copy(), "eps_n": float(eps_n), "eps_t": float(eps_t), "mu": float(mu), "algorithm": algorithm,
                "penalty": pen_name, "dofs": int(problem.model.ndofs), "residual_log": dc.residual_log,
                "newton_total": int(dc.newton_iterations), "total_s": time.perf_counter() - t_start})
 
