@@ -8,7 +8,9 @@ Three references (plane strain, neo-Hookean bodies, E = 1000, nu = 0.3):
    reaction. The AL stopping test bounds the multiplier change by ``tol_multiplier`` p_max,
    and a slipping point carries |t_T| = mu lambda_N, so
    | |T| - mu N | <= mu tol_multiplier p_max sum(w) (round-off on top: factor 1.01).
-   Before the limit (small sideways motion) every point sticks and |T| < mu N.
+   Before the limit (small sideways motion) every point sticks and |T| < mu N. The same
+   for Algorithm 6.2, Algorithm 6.4 and the Alart-Curnier semi-smooth Newton reference
+   (whose bound is tighter: it solves the complementarity exactly).
 2. *mu -> 0*: with mu = 1e-9 the frictional solution is the frictionless finite-deformation
    one (:func:`alcontact.contact.solve_finite`): both solvers stop at relative tolerances
    1e-8 and friction changes the state by O(mu), so displacements and contact forces agree
@@ -49,7 +51,7 @@ def _block_path():
     return times, (lambda t: np.array([slide(t), press(t)]))
 
 
-@pytest.mark.parametrize("algorithm", ["simo-laursen", "family-p"])
+@pytest.mark.parametrize("algorithm", ["simo-laursen", "family-p", "ssn"])
 def test_block_slides_with_mu_times_normal_force(algorithm):
     """Reference 1 (module doc): |T| = mu N within mu tol_multiplier p_max sum(w) once all points slip."""
     mu = 0.3

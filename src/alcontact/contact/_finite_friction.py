@@ -420,12 +420,160 @@ def _step_al(dc: FiniteFrictionContact, lamN, lamT, x, eps_n, pen_name, opts) ->
                        x, lamN, lamT, loc, outer + opts.maxiter)
 
 
+def _step_ssn(dc: FiniteFrictionContact, lamN, lamT, x, eps_n, pen_name, opts) -> _StepResult:
+    r"""Alart-Curnier semi-smooth Newton reference for one load step (no penalty, exact).
+
+    Unknowns :math:`(x, \lambda_N, \lambda_T)`, equations (with :math:`c = \varepsilon_N`,
+    :math:`\hat t_N = \langle\lambda_N + c g\rangle`,
+    :math:`\hat t_T = \operatorname{proj}_{|t| \le \mu\hat t_N} P(\lambda_T + c(s - s_n))`)
+
+    .. math::
+
+        f_{int} - f_{ext} - \sum_i w_i(\lambda_{N,i}\nu_i - \lambda_{T,i}) = 0, \qquad
+        w_i(\lambda_{N,i} - \hat t_{N,i}) = 0, \qquad w_i(\lambda_{T,i} - \hat t_{T,i}) = 0,
+
+    solved by Newton's method with the generalized Jacobian (the return-mapping
+    derivatives of the module doc with the coupled radius) and backtracking on the residual norm.
+    """
+    cand = dc.cand
+    k, d = cand.size, dc.dim
+    w = dc.weights[cand]
+    c = float(eps_n)
+    mu = dc.mu
+    nf = dc.free.size
+    macaulay = make_law(_pen.make("rockafellar"), np.full(k, 1.0 / c))
+    saved = dc.eps_t, dc.coupled
+    dc.eps_t, dc.coupled = c, True
+    L = np.concatenate([np.maximum(lamN, 0.0)[:, None], lamT], axis=1)
+    log: list[float] = []
+    dc.residual_log.append(log)
+
+    def evaluate(x_, L_):
+        u_ = dc.expand(x_)
+        rb, _ = dc._body_state(u_, False)
+        g, nu, tN, tT, slip, state, _ = dc._local(macaulay, L_[:, 0], L_[:, 1:], u_, cand, blocks=False)
+        Rx = rb[dc.free] + dc._assemble_points(cand, w[:, None] * (L_[:, 1:] - L_[:, :1] * nu))
+        RL = w[:, None] * (L_ - np.concatenate([tN[:, None], tT], axis=1))
+        return u_, g, nu, tN, tT, slip, state, rb, Rx, RL
+
+    def jacobian(u_, L_, nu):
+        lN, lT = L_[:, 0], L_[:, 1:]
+        xc = dc._current(u_, cand)
+        g = dc.obstacle.gap(xc)
+        H = dc.obstacle.gap_hessian(xc)
+        P = np.eye(d)[None] - nu[:, :, None] * nu[:, None, :]
+        a = lT + c * (xc - dc.offset - dc.s_prev[cand])
+        z = np.einsum("ijk,ik->ij", P, a)
+        act = (lN + c * g) > 0
+        tN = np.where(act, lN + c * g, 0.0)
+        rho = mu * tN
+        nz = np.linalg.norm(z, axis=1)
+        opened = ~(rho > 0)
+        stick = ~opened & (nz <= rho)
+        slipping = ~opened & ~stick
+        safe = np.where(slipping, nz, 1.0)
+        n = z / safe[:, None]
+        dtN_dx = -np.where(act, c, 0.0)[:, None] * nu  # (k, d)
+        dtN_dl = act.astype(float)
+        dz_dx = c * P + np.einsum("i,ijk->ijk", np.einsum("ij,ij->i", nu, a), H) \
+            + nu[:, :, None] * np.einsum("ijk,ik->ij", H, a)[:, None, :]
+        eye = np.eye(d)[None]
+        proj = (rho / safe)[:, None, None] * (eye - n[:, :, None] * n[:, None, :])
+        M = np.where(stick[:, None, None], eye, 0.0) + np.where(slipping[:, None, None], proj, 0.0)
+        dtT_dx = M @ dz_dx + np.where(slipping[:, None, None], mu * n[:, :, None] * dtN_dx[:, None, :], 0.0)
+        dtT_dlT = M @ P
+        dtT_dlN = np.where(slipping[:, None], mu * dtN_dl[:, None] * n, 0.0)
+        # x-x block, x-L block, L-x block, L-L block
+        Kxx = dc._tangent_free(u_) + dc._point_blocks(cand, (w * lN)[:, None, None] * H)
+        nl = d + 1
+        pos = dc.pos[cand]  # (k, d)
+        rows, cols, vals = [], [], []
+        lrow = nf + np.arange(k)[:, None] * nl  # first L index of each point
+        for j in range(d):  # dRx/dL: -w nu (lambda_N), +w I (lambda_T)
+            keep = pos[:, j] >= 0
+            rows += [pos[keep, j], pos[keep, j]]
+            cols += [lrow[keep, 0], lrow[keep, 0] + 1 + j]
+            vals += [-w[keep] * nu[keep, j], w[keep]]
+        Dx = np.concatenate([dtN_dx[:, None, :], dtT_dx], axis=1)  # (k, nl, d)
+        for r in range(nl):  # dRL/dx = -w dt/dx
+            for j in range(d):
+                keep = pos[:, j] >= 0
+                rows.append(lrow[keep, 0] + r)
+                cols.append(pos[keep, j])
+                vals.append(-w[keep] * Dx[keep, r, j])
+        DL = np.zeros((k, nl, nl))
+        DL[:, 0, 0] = dtN_dl
+        DL[:, 1:, 0] = dtT_dlN
+        DL[:, 1:, 1:] = dtT_dlT
+        DL = w[:, None, None] * (np.eye(nl)[None] - DL)
+        for r in range(nl):
+            for q in range(nl):
+                rows.append(lrow[:, 0] + r)
+                cols.append(lrow[:, 0] + q)
+                vals.append(DL[:, r, q])
+        ntot = nf + k * nl
+        rest = sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
+                             shape=(ntot, ntot))
+        return (sp.block_diag([Kxx, sp.csr_matrix((k * nl, k * nl))]) + rest).tocsc()
+
+    try:
+        try:
+            ev = evaluate(x, L)
+        except InvertedElementError as exc:
+            return _StepResult(False, ContactStatus.NEWTON_FAILED, f"inverted element at the start ({exc})",
+                               x, lamN, lamT, None, 1)
+        for it in range(1, max(opts.maxiter_newton, 100) + 1):
+            u, g, nu, tN, tT, slip, state, rb, Rx, RL = ev
+            pref = max(float(np.max(L[:, 0], initial=0.0)), 1e-300)
+            scale = dc.force_scale(rb, w * L[:, 0])
+            res = max(float(np.max(np.abs(Rx), initial=0.0)) / scale,
+                      float(np.max(np.abs(RL) / w[:, None], initial=0.0)) / pref)
+            log.append(res)
+            if res <= opts.newton_tol or (res <= 1e-9 and len(log) > 2 and res > 0.5 * log[-2]):
+                loc = _Local(u, g, nu, L[:, 0].copy(), L[:, 1:].copy(), slip, np.where(L[:, 0] > 0, state, OPEN),
+                             Rx, rb)
+                return _StepResult(True, ContactStatus.CONVERGED, "converged", x, L[:, 0].copy(), L[:, 1:].copy(),
+                                   loc, 1)
+            J = jacobian(u, L, nu)
+            F = np.concatenate([Rx, RL.ravel()])
+            try:
+                step = linear_solve(J, -F)
+            except np.linalg.LinAlgError:
+                return _StepResult(False, ContactStatus.NEWTON_FAILED, "singular semi-smooth Newton matrix",
+                                   x, L[:, 0], L[:, 1:], None, 1)
+            dc.linear_solves += 1
+            dc.newton_iterations += 1
+            dx, dL = step[:nf], step[nf:].reshape(k, d + 1)
+            norm0 = float(np.linalg.norm(F))
+            alpha, trial = 1.0, None
+            for _ in range(_MAX_HALVINGS):
+                try:
+                    cand_ev = evaluate(x + alpha * dx, L + alpha * dL)
+                except InvertedElementError:
+                    alpha *= 0.5
+                    continue
+                if float(np.linalg.norm(np.concatenate([cand_ev[8], cand_ev[9].ravel()]))) \
+                        <= (1 - _ARMIJO * alpha) * norm0:
+                    trial = cand_ev
+                    break
+                alpha *= 0.5
+            if trial is None:
+                return _StepResult(False, ContactStatus.NEWTON_FAILED, f"line search failed (residual {res:.2e})",
+                                   x, L[:, 0], L[:, 1:], None, 1)
+            x, L, ev = x + alpha * dx, L + alpha * dL, trial
+        return _StepResult(False, ContactStatus.NEWTON_FAILED, "maximum semi-smooth Newton iterations",
+                           x, L[:, 0], L[:, 1:], None, 1)
+    finally:
+        dc.eps_t, dc.coupled = saved
+
+
 _ALGORITHMS: dict[str, tuple[Callable, str]] = {
     "simo-laursen": (_step_al, "Algorithm 6.2 at finite deformation: AL, Macaulay normal law (6.52), "
                                "return mapping onto the Coulomb cone in the current configuration"),
     "family-p": (_step_al, "Algorithm 6.4 at finite deformation: Algorithm 6.2 with a family-P normal penalty"),
+    "ssn": (_step_ssn, "reference: Alart-Curnier semi-smooth Newton on (u, lambda_N, lambda_T), exact (no penalty)"),
 }
-_FIXED = {"simo-laursen": "rockafellar"}
+_FIXED = {"simo-laursen": "rockafellar", "ssn": "none"}
 
 
 def finite_friction_algorithms() -> list[str]:
