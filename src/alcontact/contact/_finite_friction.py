@@ -24,7 +24,8 @@ obstacle):
 
     t_N &= t_N(g; \lambda_N) \quad (\langle\lambda_N + \varepsilon_N g\rangle \text{ (6.52), Algorithm 6.2; }
           p'(g/\eta, \lambda_N) \text{, Algorithm 6.4}),\\
-    z &= P\,(\lambda_T + \varepsilon_T (s - s_n)) \quad (\lambda_T \text{ transported onto the current tangent plane}),\\
+    z &= P\,(\lambda_T + \varepsilon_T (s - s_n))
+         \quad (\lambda_T \text{ transported onto the current tangent plane}),\\
     t_T &= \operatorname{proj}_{\{|t| \le \rho\}}(z), \qquad \rho = \mu\lambda_N \text{ (radius ``multiplier'')
           or } \mu t_N \text{ (``traction'')},
 
@@ -55,6 +56,8 @@ Outer loop (Algorithm 6.2, resp. 6.4 with a family-P penalty, as in
 \leftarrow t_T` ((6.2b), (6.2c)) until the penetration, complementarity, multiplier
 change and the slip of the sticking points are below their tolerances. A step starts
 from :math:`\lambda_T = t_{T,n}` (projected onto the current tangent plane by :math:`P`).
+The reference ``"ssn"`` (:func:`_step_ssn`) solves the Alart-Curnier equations of the same
+time-discrete law exactly, in :math:`(u, \lambda_N, \lambda_T)`, by a semi-smooth Newton method.
 Every accepted step is verified by :func:`~alcontact.contact._verify.check_state`
 (penetration, complementarity, Coulomb bound and slip direction) before it is
 reported converged.
@@ -708,7 +711,8 @@ def solve_finite_friction(problem, mu: float, algorithm: str = "simo-laursen", p
     return FiniteFrictionSolution(
         u=last["u"], steps=tuple(records), status=status, message=message, pressure=last["pressure"],
         gap=last["gap"], traction_t=last["traction_t"], normals=last["normals"],
-        extra={"h": dc.h, "weights": dc.weights.copy(), "eps_n": float(eps_n), "eps_t": float(eps_t), "mu": float(mu), "algorithm": algorithm,
+        extra={"h": dc.h, "weights": dc.weights.copy(), "eps_n": float(eps_n), "eps_t": float(eps_t),
+               "mu": float(mu), "algorithm": algorithm,
                "penalty": pen_name, "dofs": int(problem.model.ndofs), "residual_log": dc.residual_log,
                "newton_total": int(dc.newton_iterations), "total_s": time.perf_counter() - t_start})
 
