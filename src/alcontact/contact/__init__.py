@@ -35,6 +35,8 @@ from ._friction_solution import FrictionSolution, FrictionStep
 from ._loading import LoadCase, LoadHistory, Ramp, problem_at
 from ._problem import KINEMATICS
 from ._stepping import FiniteSolution, FiniteStep, solve_finite
+from ._finite_friction import (FiniteFrictionSolution, FiniteFrictionStep, finite_friction_algorithms,
+                               solve_finite_friction)
 
 __all__ = [
     "obstacles",
@@ -68,4 +70,8 @@ __all__ = [
     "solve_finite",
     "FiniteSolution",
     "FiniteStep",
+    "solve_finite_friction",
+    "FiniteFrictionSolution",
+    "FiniteFrictionStep",
+    "finite_friction_algorithms",
 ]

@@ -1,0 +1,773 @@
+r"""Coulomb friction at finite deformation: Algorithms 6.2 and 6.4 in the current configuration.
+
+Kinematics (current configuration, nodal collocation as in
+:mod:`alcontact.contact._finite`). Contact point ``i`` has the current position
+:math:`x_i = X_i + u_i`, the gap :math:`g_i = \operatorname{gap}(x_i)` and the obstacle
+normal :math:`\nu_i` at its projection. The obstacle moves rigidly by the translation
+:math:`c(t)` (``obstacle_path``), so the position of the point *relative to the
+obstacle* is :math:`s_i = x_i - c`. The slip of a load step :math:`n \to n+1` is the
+tangential part, with respect to the current normal, of the relative motion,
+
+.. math::
+
+    \Delta s_{T,i} = P_i\,(s_i - s_{i,n}), \qquad P_i = I - \nu_i\nu_i^T,
+
+(the discrete slip on the obstacle's surface; for a plane it is exact, for a curved
+obstacle it is the first-order approximation of the arc on the surface).
+
+Local law of one AL subproblem with multipliers :math:`(\lambda_N, \lambda_T)` (the
+dissertation's (6.46)-(6.50) with the corrected (6.49), see
+:mod:`alcontact.contact._friction_laws`; vectors in the ambient space, tangent to the
+obstacle):
+
+.. math::
+
+    t_N &= t_N(g; \lambda_N) \quad (\langle\lambda_N + \varepsilon_N g\rangle \text{ (6.52), Algorithm 6.2; }
+          p'(g/\eta, \lambda_N) \text{, Algorithm 6.4}),\\
+    z &= P\,(\lambda_T + \varepsilon_T (s - s_n))
+         \quad (\lambda_T \text{ transported onto the current tangent plane}),\\
+    t_T &= \operatorname{proj}_{\{|t| \le \rho\}}(z), \qquad \rho = \mu\lambda_N \text{ (radius ``multiplier'')
+          or } \mu t_N \text{ (``traction'')},
+
+with the dissertation's sign: :math:`t_T` points along the slip, the friction force on
+the body is :math:`-w_i t_{T,i}`. The force of the obstacle on the body at point ``i`` is
+:math:`w_i (t_{N,i}\nu_i - t_{T,i})`, and the subproblem is
+
+.. math::
+
+    R(x) = f_{int}(u) - f_{ext} - \sum_i w_i\,(t_{N,i}\nu_i - t_{T,i}) = 0,
+
+solved by Newton's method with the consistent (non-symmetric) point blocks
+
+.. math::
+
+    \frac{\partial}{\partial x_i} w_i(t_T - t_N\nu) = w_i\Big(k_N \nu\nu^T + t_N H + \frac{\partial t_T}{\partial z}
+      \big(\varepsilon_T P + (\nu\cdot a) H + \nu (H a)^T\big) + n\,\frac{\partial\rho}{\partial x}\Big),
+
+:math:`a = \lambda_T + \varepsilon_T(s - s_n)`, :math:`H` the Hessian of the gap
+(:math:`\partial\nu/\partial x = -H`), :math:`\partial t_T/\partial z` the derivative of the
+return mapping (identity at stick, :math:`\rho/|z|\,(I - nn^T)` at slip, :math:`n = z/|z|`),
+:math:`\partial\rho/\partial x = -\mu k_N \nu^T` for the coupled radius at slip. The
+line search backtracks on the residual norm (a frictional step has no potential) and
+halves a step that inverts an element.
+
+Outer loop (Algorithm 6.2, resp. 6.4 with a family-P penalty, as in
+:mod:`alcontact.contact._friction`): :math:`\lambda_N \leftarrow t_N`, :math:`\lambda_T
+\leftarrow t_T` ((6.2b), (6.2c)) until the penetration, complementarity, multiplier
+change and the slip of the sticking points are below their tolerances. A step starts
+from :math:`\lambda_T = t_{T,n}` (projected onto the current tangent plane by :math:`P`).
+The reference ``"ssn"`` (:func:`_step_ssn`) solves the Alart-Curnier equations of the same
+time-discrete law exactly, in :math:`(u, \lambda_N, \lambda_T)`, by a semi-smooth Newton method.
+Every accepted step is verified by :func:`~alcontact.contact._verify.check_state`
+(penetration, complementarity, Coulomb bound and slip direction) before it is
+reported converged.
+"""
+
+from __future__ import annotations
+
+import logging
+import time
+from dataclasses import dataclass, field
+from typing import Any, Callable, Sequence
+
+import numpy as np
+import scipy.sparse as sp
+
+from .. import penalties as _pen
+from .._options import is_real, show
+from ..errors import InputError, InvertedElementError, UnknownNameError
+from ._algorithms import options_with, resolve_penalty
+from ._finite import FiniteContact, linear_solve
+from ._friction import DEFAULT_FRICTION_PENALTY, FrictionOptions
+from ._friction_laws import OPEN, SLIP, STICK
+from ._laws import eta_for_stiffness, freezes_at_zero, make_law
+from ._loading import LoadHistory
+from ._solution import ContactStatus
+from ._solve import penalty_stiffness
+from ._stepping import _StepData, _step_times
+from ._verify import check_state, verified_status
+
+__all__ = ["FiniteFrictionContact", "FiniteFrictionStep", "FiniteFrictionSolution", "solve_finite_friction",
+           "finite_friction_algorithms"]
+
+logger = logging.getLogger(__name__)
+
+_ARMIJO = 1e-4
+_MAX_HALVINGS = 40
+
+
+@dataclass
+class _Local:
+    """Local kinematics and tractions of the candidates at one state."""
+
+    u: np.ndarray
+    g: np.ndarray
+    nu: np.ndarray
+    tN: np.ndarray
+    tT: np.ndarray  # (c, d), tangent to the obstacle
+    slip: np.ndarray  # (c, d), P (s - s_n)
+    state: np.ndarray
+    R: np.ndarray
+    r_body: np.ndarray
+
+
+class FiniteFrictionContact(FiniteContact):
+    """:class:`~alcontact.contact._finite.FiniteContact` with Coulomb friction (module doc).
+
+    The frictional history of a step is set by :meth:`set_history`: the positions of all
+    contact points relative to the obstacle at the last converged step, the obstacle
+    translation of the current step, :math:`\\mu` and :math:`\\varepsilon_T`.
+    """
+
+    def set_history(self, s_prev: np.ndarray, offset: np.ndarray, mu: float, eps_t: float, radius: str) -> None:
+        self.s_prev = np.asarray(s_prev, dtype=float)
+        self.offset = np.asarray(offset, dtype=float)
+        self.mu = float(mu)
+        self.eps_t = float(eps_t)
+        self.coupled = radius == "traction"
+
+    def relative_positions(self, u: np.ndarray) -> np.ndarray:
+        """:math:`s_i = X_i + u_i - c` of all contact points (positions relative to the moving obstacle)."""
+        return self.points + u[self.dofs] - self.offset
+
+    # ------------------------------------------------------------------ local law
+    def _local(self, law, lamN, lamT, u, idx, *, blocks: bool):
+        d = self.dim
+        xc = self._current(u, idx)
+        g, nu = self.obstacle.evaluate(xc)
+        tN = np.asarray(law.traction(g, lamN), dtype=float)
+        kN = np.asarray(law.stiffness(g, lamN), dtype=float)
+        P = np.eye(d)[None] - nu[:, :, None] * nu[:, None, :]
+        a = lamT + self.eps_t * (xc - self.offset - self.s_prev[idx])
+        z = np.einsum("ijk,ik->ij", P, a)
+        slip = np.einsum("ijk,ik->ij", P, xc - self.offset - self.s_prev[idx])
+        rho = self.mu * (tN if self.coupled else np.maximum(lamN, 0.0))
+        nz = np.linalg.norm(z, axis=1)
+        opened = ~(rho > 0)
+        stick = ~opened & (nz <= rho)
+        slipping = ~opened & ~stick
+        safe = np.where(slipping, nz, 1.0)
+        n = z / safe[:, None]
+        tT = np.where(stick[:, None], z, 0.0) + np.where(slipping[:, None], rho[:, None] * n, 0.0)
+        state = np.where(opened, OPEN, np.where(stick, STICK, SLIP))
+        if not blocks:
+            return g, nu, tN, tT, slip, state, None
+        H = self.obstacle.gap_hessian(xc)
+        Ha = np.einsum("ijk,ik->ij", H, a)
+        nua = np.einsum("ij,ij->i", nu, a)
+        dz = self.eps_t * P + nua[:, None, None] * H + nu[:, :, None] * Ha[:, None, :]
+        eye = np.eye(d)[None]
+        proj = (rho / safe)[:, None, None] * (eye - n[:, :, None] * n[:, None, :])
+        dT = np.where(stick[:, None, None], dz, 0.0) + np.where(slipping[:, None, None], proj @ dz, 0.0)
+        if self.coupled:
+            dT = dT - np.where(slipping[:, None, None], self.mu * kN[:, None, None] * n[:, :, None] * nu[:, None, :],
+                               0.0)
+        K = kN[:, None, None] * nu[:, :, None] * nu[:, None, :] + tN[:, None, None] * H + dT
+        return g, nu, tN, tT, slip, state, K
+
+    def _assemble_points(self, idx, vec: np.ndarray) -> np.ndarray:
+        """Sum of the point vectors ``vec`` (k, d) onto the free DOFs."""
+        out = np.zeros(self.free.size)
+        pos = self.pos[idx].ravel()
+        keep = pos >= 0
+        np.add.at(out, pos[keep], vec.ravel()[keep])
+        return out
+
+    def evaluate(self, law, lamN, lamT, x) -> _Local:
+        """Residual (module doc) and local state of the candidates at the free displacement ``x``."""
+        cand = self.cand
+        w = self.weights[cand]
+        u = self.expand(x)
+        rb, _ = self._body_state(u, False)
+        g, nu, tN, tT, slip, state, _ = self._local(law, lamN, lamT, u, cand, blocks=False)
+        R = rb[self.free] + self._assemble_points(cand, w[:, None] * (tT - tN[:, None] * nu))
+        return _Local(u, g, nu, tN, tT, slip, state, R, rb)
+
+    def friction_jacobian(self, law, lamN, lamT, u) -> sp.csr_matrix:
+        """Consistent, non-symmetric Newton matrix of the frictional subproblem (module doc)."""
+        cand = self.cand
+        w = self.weights[cand]
+        *_, K = self._local(law, lamN, lamT, u, cand, blocks=True)
+        return (self._tangent_free(u) + self._point_blocks(cand, w[:, None, None] * K)).tocsr()
+
+    def friction_subproblem(self, law, lamN, lamT, x0, *, tol: float, maxiter: int):
+        """Newton's method for :math:`R(x) = 0` (module doc). Returns ``(x, local, converged, iterations, reason)``."""
+        x = np.array(x0, dtype=float)
+        log: list[float] = []
+        self.residual_log.append(log)
+        try:
+            loc = self.evaluate(law, lamN, lamT, x)
+        except InvertedElementError as exc:
+            return x, None, False, 0, f"inverted element at the starting state ({exc})"
+        w = self.weights[self.cand]
+
+        def scale_of(lc):
+            return self.force_scale(lc.r_body, w * np.hypot(lc.tN, np.linalg.norm(lc.tT, axis=1)))
+
+        scale = scale_of(loc)
+        prev = np.inf
+        for it in range(1, maxiter + 1):
+            res = float(np.max(np.abs(loc.R), initial=0.0)) / scale
+            log.append(res)
+            if res <= tol:
+                return x, loc, True, it - 1, "converged"
+            if res <= 1e-9 and res > 0.5 * prev:
+                return x, loc, True, it - 1, "converged (residual at round-off level)"
+            prev = res
+            ta = time.perf_counter()
+            J = self.friction_jacobian(law, lamN, lamT, loc.u)
+            tb = time.perf_counter()
+            self.assembly_seconds += tb - ta
+            try:
+                dx = linear_solve(J, -loc.R)
+            except np.linalg.LinAlgError:
+                return x, loc, False, it, "singular Newton matrix"
+            self.solve_seconds += time.perf_counter() - tb
+            self.linear_solves += 1
+            self.newton_iterations += 1
+            if not np.all(np.isfinite(dx)):
+                return x, loc, False, it, "non-finite Newton step"
+            norm0 = float(np.linalg.norm(loc.R))
+            alpha, trial = 1.0, None
+            for _ in range(_MAX_HALVINGS):
+                try:
+                    cand_loc = self.evaluate(law, lamN, lamT, x + alpha * dx)
+                except InvertedElementError:
+                    alpha *= 0.5
+                    continue
+                if float(np.linalg.norm(cand_loc.R)) <= (1 - _ARMIJO * alpha) * norm0:
+                    trial = cand_loc
+                    break
+                alpha *= 0.5
+            if trial is None:
+                return x, loc, False, it, "line search failed"
+            x = x + alpha * dx
+            loc = trial
+            scale = max(scale, scale_of(loc))
+        res = float(np.max(np.abs(loc.R), initial=0.0)) / scale
+        log.append(res)
+        return x, loc, res <= tol, maxiter, "maximum Newton iterations"
+
+
+# ---------------------------------------------------------------------------
+# results
+# ---------------------------------------------------------------------------
+@dataclass(frozen=True)
+class FiniteFrictionStep:
+    """One accepted load step of :func:`solve_finite_friction`.
+
+    Attributes
+    ----------
+    t : float
+    status : ContactStatus
+    newton_iterations, outer_iterations, cutbacks : int
+    force : ndarray (d,)
+        Resultant contact force on the body :math:`\\sum_i w_i (t_{N,i}\\nu_i - t_{T,i})`.
+    normal_force : float
+        :math:`\\sum_i w_i t_{N,i}`.
+    tangential_force : ndarray (d,)
+        Resultant friction force on the body :math:`-\\sum_i w_i t_{T,i}`.
+    states : ndarray (m,) of int
+        OPEN / STICK / SLIP (:mod:`alcontact.contact._friction_laws`) of every contact point.
+    dissipation : float
+        Frictional dissipation of the step :math:`\\sum_i w_i\\, t_{T,i}\\cdot\\Delta s_{T,i}` (>= 0).
+    stored_energy : float
+        :math:`\\Pi_{int}(u)` of the body at the end of the step.
+    offset : ndarray (d,)
+        Obstacle translation :math:`c(t)`.
+    seconds : float
+    message : str
+    """
+
+    t: float
+    status: ContactStatus
+    newton_iterations: int
+    outer_iterations: int
+    cutbacks: int
+    force: np.ndarray
+    normal_force: float
+    tangential_force: np.ndarray
+    states: np.ndarray
+    dissipation: float
+    stored_energy: float
+    offset: np.ndarray
+    seconds: float
+    message: str
+
+
+@dataclass(frozen=True)
+class FiniteFrictionSolution:
+    """Outcome of :func:`solve_finite_friction`.
+
+    Attributes
+    ----------
+    u : ndarray
+        Displacement of the last accepted step.
+    steps : tuple of FiniteFrictionStep
+    status : ContactStatus
+        ``CONVERGED`` when every step was reached and verified, else the status of the failed step.
+    message : str
+    pressure, gap : ndarray (m,)
+        Normal tractions and gaps of all contact points at the last step.
+    traction_t : ndarray (m, d)
+        Tangential tractions (dissertation sign, tangent to the obstacle).
+    normals : ndarray (m, d)
+    extra : dict
+        ``h``, ``weights`` (reference tributary weights of the contact points), ``eps_n``, ``eps_t``,
+        ``mu``, ``algorithm``, ``penalty``, ``residual_log``.
+    """
+
+    u: np.ndarray
+    steps: tuple[FiniteFrictionStep, ...]
+    status: ContactStatus
+    message: str
+    pressure: np.ndarray
+    gap: np.ndarray
+    traction_t: np.ndarray
+    normals: np.ndarray
+    extra: dict = field(default_factory=dict)
+
+    @property
+    def success(self) -> bool:
+        return self.status > 0
+
+    @property
+    def times(self) -> np.ndarray:
+        return np.array([s.t for s in self.steps])
+
+    @property
+    def forces(self) -> np.ndarray:
+        """Resultant contact force on the body per step, shape ``(steps, d)``."""
+        return np.array([s.force for s in self.steps])
+
+    @property
+    def dissipation(self) -> np.ndarray:
+        """Cumulative frictional dissipation after each step."""
+        return np.cumsum([s.dissipation for s in self.steps])
+
+
+# ---------------------------------------------------------------------------
+# one load step: Algorithms 6.2 / 6.4
+# ---------------------------------------------------------------------------
+@dataclass
+class _StepResult:
+    ok: bool
+    status: ContactStatus
+    message: str
+    x: np.ndarray
+    lamN: np.ndarray
+    lamT: np.ndarray
+    loc: Any
+    outer: int
+
+
+def _measures(dc, loc, lamN, lamT):
+    h = dc.h
+    pref = max(float(np.max(loc.tN, initial=0.0)), 1e-300)
+    pen = float(np.max(loc.g, initial=0.0)) / h
+    compl = float(np.max(np.abs(loc.tN * np.minimum(loc.g, 0.0)), initial=0.0)) / (pref * h)
+    dlam = max(float(np.max(np.abs(loc.tN - lamN), initial=0.0)),
+               float(np.max(np.abs(loc.tT - lamT), initial=0.0))) / pref
+    stick_slip = float(np.max(np.linalg.norm(loc.slip, axis=1)[loc.state == STICK], initial=0.0)) / h
+    return pen, compl, dlam, stick_slip
+
+
+def _step_al(dc: FiniteFrictionContact, lamN, lamT, x, eps_n, pen_name, opts) -> _StepResult:
+    """Algorithm 6.2 (``rockafellar``: Macaulay law) / 6.4 (family-P) for one load step."""
+    c = dc.cand.size
+    macaulay = make_law(_pen.make("rockafellar"), np.full(c, 1.0 / eps_n))
+    pen = _pen.make(pen_name)
+    family_p = freezes_at_zero(pen)
+    outer = 0
+    law = macaulay
+    if family_p:
+        # predictor: one Simo-Laursen subproblem gives multipliers for the points entering contact
+        x1, loc, ok, _, _ = dc.friction_subproblem(macaulay, lamN, lamT, x, tol=opts.newton_tol,
+                                                   maxiter=opts.maxiter_newton)
+        outer = 1
+        if ok:
+            x, lamN, lamT = x1, loc.tN.copy(), loc.tT.copy()
+        pref = max(float(np.max(lamN, initial=0.0)), eps_n * dc.h * 1e-6)
+        lamN = np.maximum(lamN, opts.multiplier_floor * pref)
+        eta = eta_for_stiffness(pen, np.maximum(lamN, opts.eta_floor * pref), eps_n)
+        law = make_law(pen, eta)
+    loc = None
+    for k in range(1, opts.maxiter + 1):
+        x_new, loc_new, ok, _, reason = dc.friction_subproblem(law, lamN, lamT, x, tol=opts.newton_tol,
+                                                               maxiter=opts.maxiter_newton)
+        if not ok:
+            return _StepResult(False, ContactStatus.NEWTON_FAILED, f"Newton failed in outer iteration {k}: {reason}",
+                               x, lamN, lamT, loc, outer + k)
+        x, loc = x_new, loc_new
+        if not (np.all(np.isfinite(loc.tN)) and np.all(np.isfinite(loc.tT))):
+            return _StepResult(False, ContactStatus.NONFINITE, f"non-finite tractions in outer iteration {k}",
+                               x, lamN, lamT, loc, outer + k)
+        pen_k, compl, dlam, stick_slip = _measures(dc, loc, lamN, lamT)
+        logger.debug("finite friction AL outer %d: pen=%.2e compl=%.2e dlam=%.2e stick-slip=%.2e",
+                     k, pen_k, compl, dlam, stick_slip)
+        if (pen_k <= opts.tol_penetration and compl <= opts.tol_complementarity and dlam <= opts.tol_multiplier
+                and stick_slip <= opts.tol_slip):
+            return _StepResult(True, ContactStatus.CONVERGED, "converged", x, loc.tN.copy(), loc.tT.copy(), loc,
+                               outer + k)
+        # multiplier updates (6.2b)/(6.2c), resp. lambda_N <- p'(g/eta, lambda_N)
+        lamN, lamT = loc.tN.copy(), loc.tT.copy()
+        if family_p:
+            pref = max(float(np.max(lamN, initial=0.0)), 1e-300)
+            lamN = np.maximum(lamN, opts.multiplier_floor * pref)
+            if opts.eta_scaling == "adaptive":
+                eta_new = eta_for_stiffness(pen, np.maximum(lamN, opts.eta_floor * pref), eps_n)
+                bnd = eta_new * np.asarray(pen.domain_upper(lamN), dtype=float)
+                eta = np.where(loc.g < 0.99 * bnd, eta_new, law.eta)
+                law = make_law(pen, eta)
+    return _StepResult(False, ContactStatus.MAXITER, f"maximum outer iterations ({opts.maxiter}) reached",
+                       x, lamN, lamT, loc, outer + opts.maxiter)
+
+
+def _step_ssn(dc: FiniteFrictionContact, lamN, lamT, x, eps_n, pen_name, opts) -> _StepResult:
+    r"""Alart-Curnier semi-smooth Newton reference for one load step (no penalty, exact).
+
+    Unknowns :math:`(x, \lambda_N, \lambda_T)`, equations (with :math:`c = \varepsilon_N`,
+    :math:`\hat t_N = \langle\lambda_N + c g\rangle`,
+    :math:`\hat t_T = \operatorname{proj}_{|t| \le \mu\hat t_N} P(\lambda_T + c(s - s_n))`)
+
+    .. math::
+
+        f_{int} - f_{ext} - \sum_i w_i(\lambda_{N,i}\nu_i - \lambda_{T,i}) = 0, \qquad
+        w_i(\lambda_{N,i} - \hat t_{N,i}) = 0, \qquad w_i(\lambda_{T,i} - \hat t_{T,i}) = 0,
+
+    solved by Newton's method with the generalized Jacobian (the return-mapping
+    derivatives of the module doc with the coupled radius) and backtracking on the residual norm.
+    """
+    cand = dc.cand
+    k, d = cand.size, dc.dim
+    w = dc.weights[cand]
+    c = float(eps_n)
+    mu = dc.mu
+    nf = dc.free.size
+    macaulay = make_law(_pen.make("rockafellar"), np.full(k, 1.0 / c))
+    saved = dc.eps_t, dc.coupled
+    dc.eps_t, dc.coupled = c, True
+    L = np.concatenate([np.maximum(lamN, 0.0)[:, None], lamT], axis=1)
+    log: list[float] = []
+    dc.residual_log.append(log)
+
+    def evaluate(x_, L_):
+        u_ = dc.expand(x_)
+        rb, _ = dc._body_state(u_, False)
+        g, nu, tN, tT, slip, state, _ = dc._local(macaulay, L_[:, 0], L_[:, 1:], u_, cand, blocks=False)
+        Rx = rb[dc.free] + dc._assemble_points(cand, w[:, None] * (L_[:, 1:] - L_[:, :1] * nu))
+        RL = w[:, None] * (L_ - np.concatenate([tN[:, None], tT], axis=1))
+        return u_, g, nu, tN, tT, slip, state, rb, Rx, RL
+
+    def jacobian(u_, L_, nu):
+        lN, lT = L_[:, 0], L_[:, 1:]
+        xc = dc._current(u_, cand)
+        g = dc.obstacle.gap(xc)
+        H = dc.obstacle.gap_hessian(xc)
+        P = np.eye(d)[None] - nu[:, :, None] * nu[:, None, :]
+        a = lT + c * (xc - dc.offset - dc.s_prev[cand])
+        z = np.einsum("ijk,ik->ij", P, a)
+        act = (lN + c * g) > 0
+        tN = np.where(act, lN + c * g, 0.0)
+        rho = mu * tN
+        nz = np.linalg.norm(z, axis=1)
+        opened = ~(rho > 0)
+        stick = ~opened & (nz <= rho)
+        slipping = ~opened & ~stick
+        safe = np.where(slipping, nz, 1.0)
+        n = z / safe[:, None]
+        dtN_dx = -np.where(act, c, 0.0)[:, None] * nu  # (k, d)
+        dtN_dl = act.astype(float)
+        dz_dx = c * P + np.einsum("i,ijk->ijk", np.einsum("ij,ij->i", nu, a), H) \
+            + nu[:, :, None] * np.einsum("ijk,ik->ij", H, a)[:, None, :]
+        eye = np.eye(d)[None]
+        proj = (rho / safe)[:, None, None] * (eye - n[:, :, None] * n[:, None, :])
+        M = np.where(stick[:, None, None], eye, 0.0) + np.where(slipping[:, None, None], proj, 0.0)
+        dtT_dx = M @ dz_dx + np.where(slipping[:, None, None], mu * n[:, :, None] * dtN_dx[:, None, :], 0.0)
+        dtT_dlT = M @ P
+        dtT_dlN = np.where(slipping[:, None], mu * dtN_dl[:, None] * n, 0.0)
+        # x-x block, x-L block, L-x block, L-L block
+        Kxx = dc._tangent_free(u_) + dc._point_blocks(cand, (w * lN)[:, None, None] * H)
+        nl = d + 1
+        pos = dc.pos[cand]  # (k, d)
+        rows, cols, vals = [], [], []
+        lrow = nf + np.arange(k)[:, None] * nl  # first L index of each point
+        for j in range(d):  # dRx/dL: -w nu (lambda_N), +w I (lambda_T)
+            keep = pos[:, j] >= 0
+            rows += [pos[keep, j], pos[keep, j]]
+            cols += [lrow[keep, 0], lrow[keep, 0] + 1 + j]
+            vals += [-w[keep] * nu[keep, j], w[keep]]
+        Dx = np.concatenate([dtN_dx[:, None, :], dtT_dx], axis=1)  # (k, nl, d)
+        for r in range(nl):  # dRL/dx = -w dt/dx
+            for j in range(d):
+                keep = pos[:, j] >= 0
+                rows.append(lrow[keep, 0] + r)
+                cols.append(pos[keep, j])
+                vals.append(-w[keep] * Dx[keep, r, j])
+        DL = np.zeros((k, nl, nl))
+        DL[:, 0, 0] = dtN_dl
+        DL[:, 1:, 0] = dtT_dlN
+        DL[:, 1:, 1:] = dtT_dlT
+        DL = w[:, None, None] * (np.eye(nl)[None] - DL)
+        for r in range(nl):
+            for q in range(nl):
+                rows.append(lrow[:, 0] + r)
+                cols.append(lrow[:, 0] + q)
+                vals.append(DL[:, r, q])
+        ntot = nf + k * nl
+        rest = sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
+                             shape=(ntot, ntot))
+        return (sp.block_diag([Kxx, sp.csr_matrix((k * nl, k * nl))]) + rest).tocsc()
+
+    try:
+        try:
+            ev = evaluate(x, L)
+        except InvertedElementError as exc:
+            return _StepResult(False, ContactStatus.NEWTON_FAILED, f"inverted element at the start ({exc})",
+                               x, lamN, lamT, None, 1)
+        for it in range(1, max(opts.maxiter_newton, 100) + 1):
+            u, g, nu, tN, tT, slip, state, rb, Rx, RL = ev
+            pref = max(float(np.max(L[:, 0], initial=0.0)), 1e-300)
+            scale = dc.force_scale(rb, w * L[:, 0])
+            res = max(float(np.max(np.abs(Rx), initial=0.0)) / scale,
+                      float(np.max(np.abs(RL) / w[:, None], initial=0.0)) / pref)
+            log.append(res)
+            if res <= opts.newton_tol or (res <= 1e-9 and len(log) > 2 and res > 0.5 * log[-2]):
+                loc = _Local(u, g, nu, L[:, 0].copy(), L[:, 1:].copy(), slip, np.where(L[:, 0] > 0, state, OPEN),
+                             Rx, rb)
+                return _StepResult(True, ContactStatus.CONVERGED, "converged", x, L[:, 0].copy(), L[:, 1:].copy(),
+                                   loc, 1)
+            J = jacobian(u, L, nu)
+            F = np.concatenate([Rx, RL.ravel()])
+            try:
+                step = linear_solve(J, -F)
+            except np.linalg.LinAlgError:
+                return _StepResult(False, ContactStatus.NEWTON_FAILED, "singular semi-smooth Newton matrix",
+                                   x, L[:, 0], L[:, 1:], None, 1)
+            dc.linear_solves += 1
+            dc.newton_iterations += 1
+            dx, dL = step[:nf], step[nf:].reshape(k, d + 1)
+            norm0 = float(np.linalg.norm(F))
+            alpha, trial = 1.0, None
+            for _ in range(_MAX_HALVINGS):
+                try:
+                    cand_ev = evaluate(x + alpha * dx, L + alpha * dL)
+                except InvertedElementError:
+                    alpha *= 0.5
+                    continue
+                if float(np.linalg.norm(np.concatenate([cand_ev[8], cand_ev[9].ravel()]))) \
+                        <= (1 - _ARMIJO * alpha) * norm0:
+                    trial = cand_ev
+                    break
+                alpha *= 0.5
+            if trial is None:
+                return _StepResult(False, ContactStatus.NEWTON_FAILED, f"line search failed (residual {res:.2e})",
+                                   x, L[:, 0], L[:, 1:], None, 1)
+            x, L, ev = x + alpha * dx, L + alpha * dL, trial
+        return _StepResult(False, ContactStatus.NEWTON_FAILED, "maximum semi-smooth Newton iterations",
+                           x, L[:, 0], L[:, 1:], None, 1)
+    finally:
+        dc.eps_t, dc.coupled = saved
+
+
+_ALGORITHMS: dict[str, tuple[Callable, str]] = {
+    "simo-laursen": (_step_al, "Algorithm 6.2 at finite deformation: AL, Macaulay normal law (6.52), "
+                               "return mapping onto the Coulomb cone in the current configuration"),
+    "family-p": (_step_al, "Algorithm 6.4 at finite deformation: Algorithm 6.2 with a family-P normal penalty"),
+    "ssn": (_step_ssn, "reference: Alart-Curnier semi-smooth Newton on (u, lambda_N, lambda_T), exact (no penalty)"),
+}
+_FIXED = {"simo-laursen": "rockafellar", "ssn": "none"}
+
+
+def finite_friction_algorithms() -> list[str]:
+    """Names of the finite-deformation frictional algorithms."""
+    return sorted(_ALGORITHMS)
+
+
+# ---------------------------------------------------------------------------
+# load stepping
+# ---------------------------------------------------------------------------
+def solve_finite_friction(problem, mu: float, algorithm: str = "simo-laursen", penalty: str | None = None,
+                          options: FrictionOptions | dict | None = None, *, steps: int | Sequence[float] = 10,
+                          history: LoadHistory | None = None,
+                          obstacle_path: Callable[[float], Any] | None = None,
+                          **option_overrides) -> FiniteFrictionSolution:
+    """Coulomb friction at finite deformation, in load steps (module doc).
+
+    Parameters
+    ----------
+    problem : ContactProblem
+        Body (e.g. :class:`~alcontact.fem.hyperelastic.Hyperelastic`), supports, loads,
+        obstacle and contact boundary.
+    mu : float
+        Coulomb coefficient (>= 0).
+    algorithm : {"simo-laursen", "family-p"}
+        Algorithm 6.2 (Macaulay normal law) or 6.4 (family-P normal law ``penalty``).
+    penalty : str, optional
+        Family-P penalty of Algorithm 6.4 (default ``exp-met1``).
+    options : FrictionOptions or dict, optional
+        Tolerances and penalties (``eps_n``, ``eps_t``, ``penalty_scale``, ``tangential_scale``,
+        ``tol_*``, ``maxiter``, ``newton_tol``, ``max_cutbacks``, ``cutback_factor``, ``radius``).
+    steps : int or sequence of float
+        Number of uniform load steps or the increasing step times in (0, 1].
+    history : LoadHistory, optional
+        Amplitudes of the load cases (as :func:`~alcontact.contact.solve_finite`); without it
+        every support value and load is scaled by the pseudo-time.
+    obstacle_path : callable ``t -> (d,)``, optional
+        Translation of the obstacle at pseudo-time ``t`` (default none).
+
+    Returns
+    -------
+    FiniteFrictionSolution
+        A negative status (with a logged warning) when a step fails after ``max_cutbacks``
+        reductions or its state fails the verification.
+    """
+    t_start = time.perf_counter()
+    if not (is_real(mu) and np.isfinite(mu) and mu >= 0):
+        raise InputError(f"mu = {show(mu)}: the Coulomb coefficient must be a finite number >= 0.")
+    if algorithm not in _ALGORITHMS:
+        raise UnknownNameError("finite-deformation friction algorithm", algorithm, list(_ALGORITHMS))
+    if algorithm in _FIXED:
+        if penalty not in (None, _FIXED[algorithm]):
+            raise InputError(f"algorithm {algorithm!r} uses the {_FIXED[algorithm]!r} penalty; got "
+                             f"penalty={penalty!r}. Use algorithm='family-p' to choose a penalty.")
+        pen_name = _FIXED[algorithm]
+    else:
+        pen_name = resolve_penalty(algorithm, penalty, DEFAULT_FRICTION_PENALTY)
+    opts = options_with(options, FrictionOptions, option_overrides, "friction options")
+    times = _step_times(steps)
+    step_fn = _ALGORITHMS[algorithm][0]
+    data = _StepData(problem, history, obstacle_path)
+    dc = FiniteFrictionContact(problem, fixed=data.fixed)
+    d = dc.dim
+    m = dc.points.shape[0]
+    eps_n = opts.eps_n if opts.eps_n is not None else penalty_stiffness(problem.model, dc.h, opts.penalty_scale)
+    eps_t = opts.eps_t if opts.eps_t is not None else opts.tangential_scale * eps_n
+
+    def offset_at(t):
+        return np.zeros(d) if obstacle_path is None else np.asarray(obstacle_path(float(t)), dtype=float)
+
+    x = np.zeros(dc.free.size)
+    dc.configure(*data(0.0), x)
+    dc.accept(np.zeros(m))
+    c_prev = offset_at(0.0)
+    dc.offset = c_prev
+    s_prev = dc.relative_positions(dc.expand(x))
+    lamN_all, lamT_all = np.zeros(m), np.zeros((m, d))
+    records: list[FiniteFrictionStep] = []
+    status, message = ContactStatus.CONVERGED, "all load steps converged and verified"
+    last = None
+    t_prev = 0.0
+    queue = list(times)
+    dt_nominal = None
+    while queue:
+        t_target = queue[0]
+        if dt_nominal is None:
+            dt_nominal = t_target - t_prev
+        dt = t_target - t_prev
+        cut = 0
+        newton0 = dc.newton_iterations
+        t0 = time.perf_counter()
+        while True:
+            t = t_prev + dt if t_prev + dt < t_target - 1e-14 * max(1.0, t_target) else t_target
+            res, exc = _attempt(dc, data, step_fn, x, t, offset_at(t), s_prev, lamN_all, lamT_all, mu, eps_n, eps_t,
+                                pen_name, opts)
+            if exc is None and res.ok:
+                break
+            reason = str(exc) if exc is not None else f"{res.status.label}: {res.message}"
+            if cut >= opts.max_cutbacks:
+                status = res.status if exc is None else ContactStatus.NEWTON_FAILED
+                message = (f"load step to t={t:.6g} failed after {cut} cut-backs ({reason}); use more load steps, "
+                           "a smaller penalty_scale or a smaller tangential_scale")
+                logger.warning("finite-deformation friction: %s", message)
+                break
+            cut += 1
+            dt *= opts.cutback_factor
+            logger.info("finite friction step to t=%.6g failed (%s); cutting back to dt=%.3g", t, reason, dt)
+        if status < 0:
+            break
+        rec, full = _record(dc, res, t, mu, opts, cut, dc.newton_iterations - newton0, time.perf_counter() - t0)
+        if rec.status < 0:
+            status, message = rec.status, rec.message
+            records.append(rec)
+            last = full
+            break
+        records.append(rec)
+        last = full
+        x = res.x
+        u = dc.expand(x)
+        s_prev = dc.relative_positions(u)
+        lamN_all, lamT_all = full["pressure"].copy(), full["traction_t"].copy()
+        dc.accept(lamN_all)
+        t_prev = t
+        if t >= t_target - 1e-14 * max(1.0, t_target):
+            queue.pop(0)
+            dt_nominal = None
+    if last is None:
+        u = dc.expand(x)
+        g_all = dc.all_gaps(u)
+        last = {"u": u, "pressure": np.zeros(m), "gap": g_all, "traction_t": np.zeros((m, d)),
+                "normals": dc.normals.copy()}
+    return FiniteFrictionSolution(
+        u=last["u"], steps=tuple(records), status=status, message=message, pressure=last["pressure"],
+        gap=last["gap"], traction_t=last["traction_t"], normals=last["normals"],
+        extra={"h": dc.h, "weights": dc.weights.copy(), "eps_n": float(eps_n), "eps_t": float(eps_t),
+               "mu": float(mu), "algorithm": algorithm,
+               "penalty": pen_name, "dofs": int(problem.model.ndofs), "residual_log": dc.residual_log,
+               "newton_total": int(dc.newton_iterations), "total_s": time.perf_counter() - t_start})
+
+
+def _attempt(dc, data, step_fn, x, t, offset, s_prev, lamN_all, lamT_all, mu, eps_n, eps_t, pen_name, opts):
+    """One try of the step to ``t`` from ``x``: ``(step result, exception or None)``."""
+    try:
+        fv, load, ob = data(t)
+        dc.configure(fv, load, ob, x, predictor_stiffness=eps_n)
+        dc.set_history(s_prev, offset, mu, eps_t, opts.radius)
+        res = None
+        for _ in range(8):
+            cand = dc.cand
+            res = step_fn(dc, lamN_all[cand].copy(), lamT_all[cand].copy(), dc.x0, eps_n, pen_name, opts)
+            if not res.ok:
+                break
+            added = dc.extend(dc.all_gaps(dc.expand(res.x)), opts.tol_penetration * dc.h)
+            if added.size == 0:
+                break
+            dc.x0 = res.x
+        return res, None
+    except InvertedElementError as exc:
+        return None, exc
+
+
+def _record(dc, res, t, mu, opts, cut, newton, seconds):
+    """Verified step record and the full-size fields of an accepted step."""
+    m, d = dc.points.shape
+    cand = dc.cand
+    loc = res.loc
+    u = dc.expand(res.x)
+    g_all = dc.all_gaps(u)
+    pressure = np.zeros(m)
+    traction_t = np.zeros((m, d))
+    slip = np.zeros((m, d))
+    states = np.full(m, OPEN)
+    pressure[cand] = loc.tN
+    traction_t[cand] = loc.tT
+    slip[cand] = loc.slip
+    states[cand] = loc.state
+    w = dc.weights
+    closed = pressure > 0
+    check = check_state(g_all, pressure, dc.h, tol_penetration=opts.tol_penetration,
+                        tol_complementarity=opts.tol_complementarity, traction_t=traction_t,
+                        slip=np.where(closed[:, None], slip, 0.0), mu=mu,
+                        tol_friction=max(opts.tol_multiplier, opts.tol_slip))
+    status, message = verified_status(res.status, res.message, check,
+                                      what=f"finite-deformation friction step to t={t:.6g}")
+    tang = -np.sum(w[:, None] * traction_t, axis=0)
+    force = np.sum((w * pressure)[:, None] * dc.normals, axis=0) + tang
+    dissipation = float(np.sum(w * np.einsum("ij,ij->i", traction_t, slip)))
+    rec = FiniteFrictionStep(
+        t=float(t), status=status, newton_iterations=int(newton), outer_iterations=int(res.outer), cutbacks=cut,
+        force=force, normal_force=float(np.sum(w * pressure)), tangential_force=tang, states=states,
+        dissipation=dissipation, stored_energy=float(dc.body.energy(u)), offset=dc.offset.copy(), seconds=seconds,
+        message=message)
+    full = {"u": u, "pressure": pressure, "gap": g_all, "traction_t": traction_t, "normals": dc.normals.copy()}
+    return rec, full
