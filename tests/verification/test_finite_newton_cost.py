@@ -96,8 +96,9 @@ def test_exact_subproblems_and_first_order_updates_cost_more(problem, algorithm_
         assert np.max(np.abs(fs.forces[:, 1] - other.forces[:, 1]) / other.forces[:, 1]) <= 1e-9
 
 
+@pytest.mark.parametrize("use_pardiso", [True, False])
 @pytest.mark.parametrize("saddle", [False, True])
-def test_newton_solver_matches_a_direct_solve(saddle):
+def test_newton_solver_matches_a_direct_solve(saddle, use_pardiso):
     """Residual of NewtonSolver <= 1e-10 relative on SPD and saddle-point systems; one analysis per pattern."""
     rng = np.random.default_rng(3)
     n = 300
@@ -106,7 +107,7 @@ def test_newton_solver_matches_a_direct_solve(saddle):
     if saddle:
         B = sp.random(12, n, 0.05, random_state=5) + sp.eye(12, n)
         A = sp.bmat([[A, B.T], [B, None]], format="csc")
-    solver = NewtonSolver()
+    solver = NewtonSolver(use_pardiso=use_pardiso)
     for scale in (1.0, 2.0, 0.5):
         M = A * scale
         b = rng.standard_normal(M.shape[0])
@@ -114,6 +115,8 @@ def test_newton_solver_matches_a_direct_solve(saddle):
         assert np.max(np.abs(M @ x - b)) <= 1e-10 * np.max(np.abs(b))
     if solver.backend == "mkl-pardiso":
         assert solver.analyses == 1 and solver.factorizations == 3
+    else:
+        assert solver.analyses == 0 and solver.factorizations == 0
 
 
 def test_newton_solver_reports_a_singular_matrix():
