@@ -294,8 +294,23 @@ def run_penalty(dc, opts, eps0, penalty_name=None) -> _Run:
                 out.residual, hist)
 
 
+#: inexact subproblems: Newton tolerance of (S) = min(forcing * dlam, dlam**2), dlam the last
+#: relative multiplier change (the quadratic term tightens the solves where Newton is quadratic)
+_INEXACT_FORCING = 1e-3
+#: inexact subproblems: Newton tolerance of the first subproblem of a solve
+_INEXACT_FIRST = 1e-2
+
+
 def run_al(dc, opts, eps0, penalty_name="rockafellar") -> _Run:
-    """Algorithms 6.1 / 6.3 (outer loop; see module doc)."""
+    """Algorithms 6.1 / 6.3 (outer loop; see module doc).
+
+    A model may ask for inexact subproblems (``dc.inexact_subproblems``: the Newton
+    tolerance of (S) follows the last multiplier change, and the loop stops only after a
+    subproblem solved to ``newton_tol``) and offer a second-order multiplier update for
+    penalties that do not freeze at zero (``dc.multiplier_step(law, lam, out)``, a Newton
+    step on the dual with the same fixed point; ``None`` keeps the first-order update).
+    The stopping tests are unchanged: they measure the first-order update's change.
+    """
     pen = _pen.make(penalty_name)
     n = dc.cand.size
     eps = eps0
@@ -326,8 +341,9 @@ def run_al(dc, opts, eps0, penalty_name="rockafellar") -> _Run:
     # harder (scaling the contact forces up) closes the penetrations
     bound = law.gap_bound(lam)
     scale = 0.5
-    pushed = not np.array_equal(dc.scale_forces(r, 2.0), r)  # any contact force to scale up?
-    while np.any(dc.gaps(r) >= 0.99 * bound) and pushed and scale < 1e6:
+    outside = np.any(dc.gaps(r) >= 0.99 * bound)  # a Macaulay law (Algorithm 6.1) has no bound: no solve
+    pushed = outside and not np.array_equal(dc.scale_forces(r, 2.0), r)  # any contact force to scale up?
+    while outside and np.any(dc.gaps(r) >= 0.99 * bound) and pushed and scale < 1e6:
         trial = dc.scale_forces(r, 1 + scale)
         if not np.any(dc.gaps(trial) >= 0.99 * bound):
             r = trial
@@ -339,8 +355,14 @@ def run_al(dc, opts, eps0, penalty_name="rockafellar") -> _Run:
                     "or a penalty with unbounded domain (exp-met1)", 0, newton, eps, np.inf, hist)
     pen_prev = np.inf
     out = None
+    # inexact subproblems (a model that asks for them, e.g. finite deformation): the Newton
+    # tolerance of (S) follows the last multiplier change (forcing term _INEXACT_FORCING); the
+    # loop stops only after a subproblem solved to newton_tol
+    inexact = bool(getattr(dc, "inexact_subproblems", False))
+    second_order = getattr(dc, "multiplier_step", None)
+    inner_tol = max(opts.newton_tol, _INEXACT_FIRST) if inexact else opts.newton_tol
     for k in range(1, opts.maxiter + 1):
-        out = dc.subproblem(law, lam, r, tol=opts.newton_tol, maxiter=opts.maxiter_newton)
+        out = dc.subproblem(law, lam, r, tol=inner_tol, maxiter=opts.maxiter_newton)
         newton += out.iterations
         if out.reason == "the penalty returned NaN" or not np.all(np.isfinite(out.t)):
             return _Run(r, lam, out.g, ContactStatus.NONFINITE,
@@ -355,15 +377,23 @@ def run_al(dc, opts, eps0, penalty_name="rockafellar") -> _Run:
         lam_new = out.t.copy()  # multiplier update: lambda <- p'(g/eta, lambda)
         if needs_positive:
             lam_new = np.maximum(lam_new, floor)
+        elif second_order is not None:  # a model may offer a Newton step on the dual (same fixed point)
+            better = second_order(law, lam, out)
+            if better is not None:
+                lam_new = better
         pen_k, compl, dlam = _measures(dc, out.t, out.g, lam)
         hist.append(ContactIteration(outer0 + k, pen_k, compl, dlam, out.residual, out.iterations, eps,
                                      int(np.sum(out.g > -opts.tol_penetration * dc.h))))
         lam = lam_new
         logger.info("outer %d: penetration %.2e h, complementarity %.2e, multiplier change %.2e, %d Newton",
                     outer0 + k, pen_k, compl, dlam, out.iterations)
-        if _converged(opts, pen_k, compl, dlam):
+        if _converged(opts, pen_k, compl, dlam) and inner_tol <= opts.newton_tol:
             return _Run(r, out.t, out.g, ContactStatus.CONVERGED, "converged", outer0 + k, newton, eps,
                         out.residual, hist)
+        if inexact:
+            inner_tol = max(opts.newton_tol, min(_INEXACT_FORCING * dlam, dlam**2))
+            if _converged(opts, pen_k, compl, dlam):
+                inner_tol = opts.newton_tol
         if (opts.strategy == "infeasibility" and pen_k > opts.tau * pen_prev and pen_k > opts.tol_penetration
                 and eps * opts.alpha <= opts.eps_max * eps0):
             eps *= opts.alpha

@@ -48,6 +48,13 @@ The semi-smooth Newton reference (:func:`~alcontact.contact._algorithms.run_ssn`
 :math:`r = w \circ \lambda` the contact forces of the active points (a direct sparse
 solve), which converges quadratically.
 
+Cost of a Newton iteration: one assembly of :math:`J` and one factorization by
+:class:`NewtonSolver` (MKL PARDISO with the symbolic analysis kept between iterations,
+SuperLU without it). The outer loop of Algorithm 6.1 solves its subproblems inexactly
+(``inexact_subproblems``) and updates the multipliers by a Newton step on the dual
+(:meth:`FiniteContact.multiplier_step`, a few back-substitutions with the factor of the
+last iteration); the tangent predictor of a load step also predicts the pressures.
+
 :class:`FiniteContact` offers the interface of the outer loops of
 :mod:`alcontact.contact._algorithms` (``cand``, ``h``, ``start``, ``gaps``,
 ``scale_forces``, ``subproblem``, ``solve_active``, ``extend``, ``all_gaps``,
@@ -60,6 +67,7 @@ free displacement. :meth:`FiniteContact.configure` sets the data of one load ste
 
 from __future__ import annotations
 
+import ctypes
 import logging
 import time
 
@@ -71,7 +79,7 @@ from ..errors import InputError, InvertedElementError
 from ._discrete import ContactPoints
 from ._newton import NewtonOutcome
 
-__all__ = ["FiniteContact", "linear_solve"]
+__all__ = ["FiniteContact", "NewtonSolver", "linear_solve"]
 
 logger = logging.getLogger(__name__)
 
@@ -82,18 +90,207 @@ _EPS = float(np.finfo(float).eps)
 _MAX_HALVINGS = 40
 
 
-def linear_solve(A: sp.spmatrix, rhs: np.ndarray) -> np.ndarray:
-    """Solve one Newton system ``A x = rhs`` by a sparse LU factorization (SuperLU).
-
-    The single place where the finite-deformation path factorizes, so that another
-    direct solver can be swapped in. Raises :class:`numpy.linalg.LinAlgError` for a
-    singular matrix.
-    """
+def _superlu(A: sp.spmatrix):
     try:
-        lu = spla.splu(sp.csc_matrix(A), permc_spec="MMD_AT_PLUS_A")
+        return spla.splu(sp.csc_matrix(A), permc_spec="MMD_AT_PLUS_A")
     except RuntimeError as exc:  # SuperLU: "Factor is exactly singular"
         raise np.linalg.LinAlgError(str(exc)) from exc
-    return lu.solve(np.asarray(rhs, dtype=float))
+
+
+_PARDISO: list = []  # the MKL ``pardiso`` function once looked up (None: not available)
+
+
+def _pardiso_function():
+    """MKL's ``pardiso`` through ``pypardiso``'s library lookup (done once per process)."""
+    if not _PARDISO:
+        try:
+            import pypardiso
+
+            _PARDISO.append(pypardiso.PyPardisoSolver()._mkl_pardiso)
+        except (ImportError, OSError, AttributeError):  # no MKL runtime: SuperLU
+            _PARDISO.append(None)
+    return _PARDISO[0]
+
+
+class _PardisoHandle:
+    """One PARDISO instance (``pt``) with the sparsity pattern it has analysed."""
+
+    def __init__(self, lib, iparm, n, ia, ja):
+        self.lib, self.iparm, self.n, self.ia, self.ja = lib, iparm, n, ia, ja
+        self.pt = np.zeros(64, dtype=np.int64)
+        self.alive = False
+
+    def matches(self, n, ia, ja) -> bool:
+        return self.n == n and np.array_equal(self.ia, ia) and np.array_equal(self.ja, ja)
+
+    def call(self, phase: int, data, b: np.ndarray, x: np.ndarray) -> int:
+        err = ctypes.c_int32(0)
+        i32 = ctypes.POINTER(ctypes.c_int32)
+        f64 = ctypes.POINTER(ctypes.c_double)
+        self.lib(self.pt.ctypes.data_as(ctypes.POINTER(ctypes.c_int64)),
+                 ctypes.byref(ctypes.c_int32(1)), ctypes.byref(ctypes.c_int32(1)),
+                 ctypes.byref(ctypes.c_int32(-2)), ctypes.byref(ctypes.c_int32(phase)),
+                 ctypes.byref(ctypes.c_int32(self.n)), data.ctypes.data_as(f64),
+                 self.ia.ctypes.data_as(i32), self.ja.ctypes.data_as(i32),
+                 np.zeros(0, dtype=np.int32).ctypes.data_as(i32),
+                 ctypes.byref(ctypes.c_int32(1)), self.iparm.ctypes.data_as(i32),
+                 ctypes.byref(ctypes.c_int32(0)), b.ctypes.data_as(f64), x.ctypes.data_as(f64),
+                 ctypes.byref(err))
+        return int(err.value)
+
+    def release(self) -> None:
+        if self.alive:
+            self.alive = False
+            z = np.zeros(1)
+            self.call(-1, z, z, z.copy())
+
+
+class NewtonSolver:
+    r"""Direct solver of the symmetric Newton systems that keeps its analyses between calls.
+
+    Every Newton matrix of :class:`FiniteContact` is symmetric (the tangent, the contact
+    terms, the saddle-point matrix of the reference), and few sparsity patterns occur
+    (:meth:`Hyperelastic.tangent <alcontact.fem.hyperelastic.Hyperelastic.tangent>` keeps
+    one pattern; the saddle-point matrix keeps one per candidate set,
+    :meth:`FiniteContact._saddle_matrix`). With Intel MKL PARDISO (``pypardiso``
+    installed) the upper triangle is factorized as a real symmetric indefinite matrix
+    (``mtype=-2``: Bunch-Kaufman pivoting, 1e-8 pivot perturbation, iterative
+    refinement); the ordering and symbolic factorization (phase 11) are kept for the
+    ``keep`` most recent patterns, so a call with a known pattern costs one numerical
+    factorization (phase 22) and one solve (phase 33). A solution whose residual is not
+    at round-off level (a singular or badly perturbed matrix), a PARDISO error, or a
+    missing MKL runtime sends the system to SuperLU, which raises
+    :class:`numpy.linalg.LinAlgError` for a singular matrix.
+
+    Attributes
+    ----------
+    analyses, factorizations : int
+        Symbolic analyses and numerical factorizations made with PARDISO.
+    backend : str
+        ``"mkl-pardiso"`` or ``"superlu"``.
+    """
+
+    def __init__(self, use_pardiso: bool = True, keep: int = 3):
+        self.analyses = 0
+        self.factorizations = 0
+        self.keep = int(keep)
+        self._last = None
+        self._handles: list[_PardisoHandle] = []
+        self._lib = _pardiso_function() if use_pardiso else None
+        self.backend = "mkl-pardiso" if self._lib is not None else "superlu"
+        self._iparm = np.zeros(64, dtype=np.int32)
+        self._iparm[0] = 1    # no solver defaults: set below
+        self._iparm[1] = 2    # METIS nested dissection ordering
+        self._iparm[7] = 0    # iterative refinement: automatic (two steps after perturbed pivots)
+        self._iparm[9] = 8    # pivot perturbation 1e-8
+        self._iparm[34] = 0   # one-based indices
+
+    def release(self) -> None:
+        """Free PARDISO's memory (the next call analyses again)."""
+        for h in self._handles:
+            h.release()
+        self._handles = []
+
+    def __del__(self):
+        try:
+            self.release()
+        except Exception:  # interpreter shutdown: nothing left to free
+            pass
+
+    @staticmethod
+    def _upper(A: sp.spmatrix) -> sp.csr_matrix:
+        """Upper triangle with every diagonal entry stored (PARDISO's symmetric input)."""
+        C = sp.coo_matrix(A)
+        n = C.shape[0]
+        keep = C.row <= C.col
+        diag = np.arange(n)
+        U = sp.csr_matrix((np.concatenate([C.data[keep], np.zeros(n)]),
+                           (np.concatenate([C.row[keep], diag]), np.concatenate([C.col[keep], diag]))),
+                          shape=(n, n))
+        U.sum_duplicates()
+        return U
+
+    def _handle(self, n, ia, ja, data, b, x) -> _PardisoHandle | None:
+        for k, h in enumerate(self._handles):
+            if h.matches(n, ia, ja):
+                self._handles.insert(0, self._handles.pop(k))
+                return h
+        h = _PardisoHandle(self._lib, self._iparm.copy(), n, ia, ja)
+        err = h.call(11, data, b, x)
+        h.alive = True
+        if err:
+            h.release()
+            logger.debug("PARDISO analysis failed (error %d)", err)
+            return None
+        self.analyses += 1
+        self._handles.insert(0, h)
+        while len(self._handles) > self.keep:
+            self._handles.pop().release()
+        return h
+
+    def solve(self, A: sp.spmatrix, rhs: np.ndarray) -> np.ndarray:
+        """Solve ``A x = rhs`` for a symmetric ``A``; :class:`numpy.linalg.LinAlgError` when singular."""
+        rhs = np.asarray(rhs, dtype=float)
+        self._last = None
+        if self._lib is None or A.shape[0] == 0:
+            return self._superlu_solve(A, rhs)
+        U = self._upper(A)
+        n = U.shape[0]
+        ia = (U.indptr + 1).astype(np.int32)
+        ja = (U.indices + 1).astype(np.int32)
+        data = np.ascontiguousarray(U.data, dtype=np.float64)
+        b = np.ascontiguousarray(rhs)
+        x = np.zeros_like(b)
+        h = self._handle(n, ia, ja, data, b, x)
+        err = -1 if h is None else (h.call(22, data, b, x) or h.call(33, data, b, x))
+        if err == 0:
+            self.factorizations += 1
+            # a singular matrix factorizes with perturbed pivots: check the residual
+            r = A @ x - b
+            amax = float(abs(A).max()) if A.nnz else 0.0
+            bound = 1e-8 * (amax * float(np.max(np.abs(x), initial=0.0)) + float(np.max(np.abs(b), initial=0.0)))
+            if np.all(np.isfinite(x)) and float(np.max(np.abs(r), initial=0.0)) <= bound:
+                self._last = (h, data)
+                return x
+        logger.debug("PARDISO solve not accepted (error %d); SuperLU solves this system", err)
+        return self._superlu_solve(A, rhs)
+
+    def _superlu_solve(self, A, rhs):
+        lu = _superlu(A)
+        self._last = lu
+        return lu.solve(rhs)
+
+    def resolve(self, rhs: np.ndarray) -> np.ndarray | None:
+        """Solve with the factor of the last :meth:`solve` (no factorization); ``None`` when there is none."""
+        last = getattr(self, "_last", None)
+        if last is None:
+            return None
+        b = np.ascontiguousarray(rhs, dtype=float)
+        if isinstance(last, tuple):
+            h, data = last
+            if not h.alive or h.n != b.size:
+                return None
+            x = np.zeros_like(b)
+            return x if h.call(33, data, b, x) == 0 else None
+        return last.solve(b) if last.shape[0] == b.size else None
+
+
+_DEFAULT_SOLVER: NewtonSolver | None = None
+
+
+def linear_solve(A: sp.spmatrix, rhs: np.ndarray, solver: NewtonSolver | None = None) -> np.ndarray:
+    """Solve one symmetric Newton system ``A x = rhs`` (:class:`NewtonSolver`).
+
+    The single place where the finite-deformation path factorizes. ``solver`` keeps its
+    analysis between calls (a :class:`FiniteContact` owns one); without it a shared
+    module solver is used. Raises :class:`numpy.linalg.LinAlgError` for a singular matrix.
+    """
+    global _DEFAULT_SOLVER
+    if solver is None:
+        if _DEFAULT_SOLVER is None:
+            _DEFAULT_SOLVER = NewtonSolver()
+        solver = _DEFAULT_SOLVER
+    return solver.solve(A, rhs)
 
 
 class FiniteContact(ContactPoints):
@@ -127,6 +324,9 @@ class FiniteContact(ContactPoints):
     """
 
     factorizations = 0
+    #: the outer loop of Algorithms 6.1 / 6.3 solves its subproblems inexactly
+    #: (:func:`~alcontact.contact._algorithms.run_al`): each Newton iteration costs an assembly and a factorization
+    inexact_subproblems = True
 
     def __init__(self, problem, *, margin: float = 2.0, fixed=None):
         t0 = time.perf_counter()
@@ -153,6 +353,7 @@ class FiniteContact(ContactPoints):
         self.h = self._element_size()
         self.linear_solves = 0
         self.newton_iterations = 0
+        self.solver = NewtonSolver()
         self.residual_log: list[list[float]] = []
         self.assembly_seconds = 0.0
         self.solve_seconds = 0.0
@@ -163,6 +364,7 @@ class FiniteContact(ContactPoints):
         self.gap0 = self.all_gaps(np.zeros(n))
         self.cand = np.empty(0, dtype=np.int64)
         self.last_pressure = np.zeros(pts.shape[0])
+        self.start_pressure = self.last_pressure
         self.configure(self.fixed_values, self.load, self.obstacle, self.x0)
         self.accept(self.last_pressure)
         self.setup_seconds = time.perf_counter() - t0
@@ -185,12 +387,15 @@ class FiniteContact(ContactPoints):
             Penalty stiffness :math:`\varepsilon_N` of the tangent predictor: the starting
             state is ``x_start`` plus one linearized step for the changes of the prescribed
             values, loads and obstacle position, with the points that carried pressure
-            (:meth:`accept`) held by springs :math:`w_i \varepsilon_N`; without it (or when the
-            predicted state inverts an element) the step starts from ``x_start``.
+            (:meth:`accept`) held by springs :math:`w_i \varepsilon_N`, whose forces predict the
+            starting pressures (:meth:`initial_multipliers`); without it (or when the
+            predicted state inverts an element) the step starts from ``x_start`` and the last
+            accepted pressures.
         """
         fixed_values = np.asarray(fixed_values, dtype=float)
         load = np.asarray(load, dtype=float)
         x_start = np.array(x_start, dtype=float)
+        self.start_pressure = self.last_pressure.copy()
         if predictor_stiffness is not None:
             x_start = self._predict(x_start, fixed_values, load, obstacle, float(predictor_stiffness))
         self.fixed_values = fixed_values
@@ -225,7 +430,7 @@ class FiniteContact(ContactPoints):
             k = eps * self.weights[pressed]
             J = Kf[:, self.free] + Bm.T @ sp.diags(k) @ Bm
             rhs = df[self.free] - Kf[:, self.fixed] @ du_d - Bm.T @ (k * dg)
-            dx = linear_solve(J, rhs)
+            dx = linear_solve(J, rhs, self.solver)
             self.linear_solves += 1
             trial = x + dx
             u_new = u.copy()
@@ -233,6 +438,10 @@ class FiniteContact(ContactPoints):
             u_new[self.fixed] = fixed_values
             fint = self.body.internal_force(u_new)  # raises for inverted elements
             if np.all(np.isfinite(fint)) and np.all(np.isfinite(trial)):
+                # predicted pressures: the springs' force change eps_N (dg + B dx) on the pressed points
+                p = self.last_pressure.copy()
+                p[pressed] = np.maximum(p[pressed] + eps * (dg + Bm @ dx), 0.0)
+                self.start_pressure = p
                 return trial
         except (InvertedElementError, np.linalg.LinAlgError):
             pass
@@ -305,8 +514,12 @@ class FiniteContact(ContactPoints):
         return self.x0.copy()
 
     def initial_multipliers(self) -> np.ndarray:
-        """Pressures of the last accepted load step on the current candidates (warm start)."""
-        return self.last_pressure[self.cand].copy()
+        """Starting pressures of the step on the current candidates (warm start).
+
+        Those of the last accepted load step, updated by the tangent predictor where it ran
+        (:meth:`configure`): the pressed points' spring forces of the linearized step.
+        """
+        return self.start_pressure[self.cand].copy()
 
     def accept(self, pressure: np.ndarray) -> None:
         """Record the data and pressures (all points) of an accepted load step (next warm start)."""
@@ -326,7 +539,7 @@ class FiniteContact(ContactPoints):
             rhs = rb[self.free]
             if not np.any(rhs):
                 return np.array(x, dtype=float)
-            dx = linear_solve(self._tangent_free(u), (factor - 1.0) * rhs)
+            dx = linear_solve(self._tangent_free(u), (factor - 1.0) * rhs, self.solver)
             self.linear_solves += 1
             return np.asarray(x, dtype=float) + dx
         except (InvertedElementError, np.linalg.LinAlgError):
@@ -340,7 +553,8 @@ class FiniteContact(ContactPoints):
                 "linear_solve_s": self.solve_seconds}
 
     def extra(self) -> dict:
-        return {"linear_solver": "direct", "kinematics": "finite", "newton_total": int(self.newton_iterations)}
+        return {"linear_solver": "direct", "direct_solver": self.solver.backend, "kinematics": "finite",
+                "newton_total": int(self.newton_iterations), "analyses": int(self.solver.analyses)}
 
     def force_scale(self, r_body: np.ndarray, contact: np.ndarray) -> float:
         """Force unit of the relative residuals: largest external, internal (reaction) or contact force.
@@ -429,7 +643,7 @@ class FiniteContact(ContactPoints):
             tb = time.perf_counter()
             self.assembly_seconds += tb - ta
             try:
-                dx = linear_solve(J, -R)
+                dx = linear_solve(J, -R, self.solver)
             except np.linalg.LinAlgError:
                 return NewtonOutcome(x, g, t, it, False, res, "singular Newton matrix")
             self.solve_seconds += time.perf_counter() - tb
@@ -477,6 +691,68 @@ class FiniteContact(ContactPoints):
         log.append(res)
         return NewtonOutcome(x, g, t, maxiter, res <= tol, res, "maximum Newton iterations")
 
+    def multiplier_step(self, law, lam, out, *, rtol: float = 1e-8, maxiter: int = 10) -> np.ndarray | None:
+        r"""Second-order multiplier update of Algorithm 6.1 (a Newton step on the dual), or ``None``.
+
+        At the subproblem's solution :math:`x(\lambda)` the points with
+        :math:`t_{N,i} > 0` form the active set :math:`A`; with :math:`S = B_A J^{-1} B_A^T`
+        (:math:`J` the Newton matrix of (S), whose factor the last Newton iteration left in
+        :attr:`solver`) the linearized gaps vanish, :math:`g_A - S\,W_A\Delta\lambda_A = 0`,
+        for the update solved here by conjugate gradients preconditioned with the
+        first-order step :math:`(\varepsilon_N W_A)^{-1}` (the Macaulay update (6.13) is one
+        Richardson step of this system; its contraction :math:`1/(1 + \varepsilon_N \sigma)`
+        per outer iteration becomes a few back-substitutions). Returns the new multipliers
+        on the candidates (zero off :math:`A`, clipped at zero), or ``None`` when no factor of
+        the current candidates is at hand (the caller keeps the first-order update).
+        """
+        t = np.asarray(out.t, dtype=float)
+        act = np.flatnonzero(t > 0)
+        if act.size == 0:
+            return None
+        pts = self.cand[act]
+        _, nu, _ = self._kinematics(self.expand(out.state), pts, False)
+        Bm = self._B(nu, pts)
+        w = self.weights[pts]
+        eps = np.asarray(law.stiffness(np.asarray(out.g, dtype=float), np.asarray(lam, dtype=float)), dtype=float)[act]
+        if not np.all(eps > 0):
+            return None
+
+        def S(v):
+            z = self.solver.resolve(Bm.T @ v)
+            if z is None:
+                raise np.linalg.LinAlgError("no factor")
+            return Bm @ z
+
+        g = np.asarray(out.g, dtype=float)[act]
+        try:  # preconditioned CG on S y = g_A, y = W_A dlam (forces); M^-1 = eps W
+            y = np.zeros(act.size)
+            r = g.copy()
+            z = eps * w * r
+            p = z.copy()
+            rz = float(r @ z)
+            r0 = np.sqrt(abs(rz))
+            for _ in range(maxiter):
+                Sp = S(p)
+                pSp = float(p @ Sp)
+                if not pSp > 0:
+                    break
+                a = rz / pSp
+                y += a * p
+                r -= a * Sp
+                z = eps * w * r
+                rz_new = float(r @ z)
+                if np.sqrt(abs(rz_new)) <= rtol * r0:
+                    break
+                p = z + (rz_new / rz) * p
+                rz = rz_new
+        except np.linalg.LinAlgError:
+            return None
+        if not np.all(np.isfinite(y)):
+            return None
+        new = np.zeros_like(t)
+        new[act] = np.maximum(np.asarray(lam, dtype=float)[act] + y / w, 0.0)
+        return new
+
     # ------------------------------------------------------------------ reference (active set)
     def solve_active(self, active, lam, x, c, *, tol: float = 1e-12, maxiter: int = 50):
         r"""Active-set step of :func:`run_ssn`, as a semi-smooth Newton method (Alart-Curnier type).
@@ -508,6 +784,20 @@ class FiniteContact(ContactPoints):
             lam_all = np.where(new_active, lam_all, 0.0)
             active = new_active
         return x, np.where(active, lam_all, 0.0), self.gaps(x)
+
+    def _saddle_matrix(self, u, Kt, active) -> sp.csc_matrix:
+        r"""Saddle-point matrix of :meth:`_equality_newton` over all candidates (fixed sparsity pattern).
+
+        Rows of the inactive candidates read :math:`\Delta r_i = 0` (a unit diagonal, their
+        constraint row stored as explicit zeros), so the pattern depends on the candidates
+        only and :class:`NewtonSolver` keeps its analysis while the active set changes.
+        """
+        cand = self.cand
+        _, nu, _ = self._kinematics(u, cand, False)
+        Bc = self._B(nu * active[:, None], cand)
+        nc = cand.size
+        D = sp.csr_matrix(((~active).astype(float), np.arange(nc), np.arange(nc + 1)), shape=(nc, nc))
+        return sp.bmat([[Kt, Bc.T], [Bc, D]], format="csc")
 
     def _equality_newton(self, active, lam_all, x, c, tol, maxiter):
         """Newton on :math:`g_A = 0` (saddle point); stops early when the predicted active set changes.
@@ -556,11 +846,13 @@ class FiniteContact(ContactPoints):
             ta = time.perf_counter()
             _, _, H = self._kinematics(u, A, True)
             Kt = self._tangent_free(u) + self._point_blocks(A, r[:, None, None] * H)
-            J = sp.bmat([[Kt, Bm.T], [Bm, None]], format="csc")
+            J = self._saddle_matrix(u, Kt, active)
             tb = time.perf_counter()
             self.assembly_seconds += tb - ta
+            rhs_g = np.zeros(cand.size)
+            rhs_g[idx] = gA
             try:
-                step = linear_solve(J, -np.concatenate([R, gA]))
+                step = linear_solve(J, -np.concatenate([R, rhs_g]), self.solver)
             except np.linalg.LinAlgError:
                 logger.warning("active-set step: singular saddle-point matrix with %d active points", nA)
                 return x, lam_of(r), False, steps + 1
@@ -568,7 +860,7 @@ class FiniteContact(ContactPoints):
             self.linear_solves += 1
             self.newton_iterations += 1
             steps += 1
-            dx, dr = step[:nf], step[nf:]
+            dx, dr = step[:nf], step[nf:][idx]
             alpha = 1.0
             for _ in range(_MAX_HALVINGS):
                 try:
