@@ -17,7 +17,7 @@ CASES = {
     "2d-p1": lambda: hertz.hertz_2d(order=1, n_per_a=6, growth=1.3),
     "2d-p2": lambda: hertz.hertz_2d(order=2, n_per_a=4, growth=1.3),
     "3d-p1": lambda: hertz.hertz_3d(order=1, n_per_a=2, growth=1.5),
-    "3d-p2": lambda: hertz.hertz_3d(order=2, n_per_a=2, growth=1.6),
+    "3d-p2": lambda: hertz.hertz_3d(order=2, n_per_a=1, growth=2.0, size=6.0),
 }
 
 
