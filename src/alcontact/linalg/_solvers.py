@@ -158,6 +158,22 @@ _PARDISO_ERRORS = {
 }
 
 
+_MKL_PARDISO = []
+
+
+def _mkl_pardiso():
+    """The ``pardiso`` entry of ``mkl_rt``, looked up once per process.
+
+    :class:`pypardiso.PyPardisoSolver` finds the library by globbing the environment's
+    folders, which costs most of a factorization of a 10k-DOF matrix when repeated.
+    """
+    if not _MKL_PARDISO:
+        import pypardiso
+
+        _MKL_PARDISO.append(pypardiso.PyPardisoSolver())  # kept: it holds the library handle
+    return _MKL_PARDISO[0]._mkl_pardiso
+
+
 class _PardisoFactor:
     """MKL PARDISO factor of the upper triangle (``mtype=2``, real SPD), called through ctypes.
 
@@ -183,8 +199,6 @@ class _PardisoFactor:
     exact = True
 
     def __init__(self, matrix, schur=None):
-        import pypardiso
-
         self.name = "mkl-pardiso"
         U = sp.triu(sp.csr_matrix(matrix), format="csr")
         U.sort_indices()
@@ -194,8 +208,7 @@ class _PardisoFactor:
         self._ja = (U.indices + 1).astype(np.int32)
         if np.any(np.diff(self._ia) == 0):
             raise _singular(self.n, "empty row")
-        self._lib = pypardiso.PyPardisoSolver()  # finds mkl_rt
-        self._call = self._lib._mkl_pardiso
+        self._call = _mkl_pardiso()
         self._pt = np.zeros(64, dtype=np.int64)
         self._iparm = np.zeros(64, dtype=np.int32)
         self._iparm[0] = 1   # no solver defaults: set below
