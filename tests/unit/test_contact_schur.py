@@ -83,3 +83,23 @@ def test_schur_and_triangular_paths_give_the_same_contact_solution():
     assert a.result.status.label == b.result.status.label == "converged"
     assert a.peak_pressure == pytest.approx(b.peak_pressure, rel=1e-8)
     assert a.normal_force == pytest.approx(b.normal_force, rel=1e-8)
+
+
+def test_candidates_outside_a_capped_schur_block_fall_back_to_triangular_solves(monkeypatch):
+    """A Schur block smaller than the candidate set: S still equals B K^{-1} B^T.
+
+    With ``SCHUR_MAX_DOFS`` capped to 3 points, the candidates outside the block are built
+    with triangular solves (one per candidate), the block keeps the points closest to the
+    obstacle. Reference: the SuperLU triangular-solve build; tolerance relative 1e-9.
+    """
+    import alcontact.contact._discrete as discrete
+
+    prob = CASES["2d-p1"]()
+    monkeypatch.setattr(discrete, "SCHUR_MAX_DOFS", 3 * prob.model.dim)
+    capped = DiscreteContact(prob, linear_solver="mkl-pardiso")
+    assert capped._schur is not None and int(np.sum(capped._schur[2])) == 3
+    assert capped.linear_solves == 1 + capped.cand.size  # fell back
+    prob.model.clear_factorization()
+    tri = DiscreteContact(prob, linear_solver="superlu")
+    np.testing.assert_array_equal(capped.cand, tri.cand)
+    assert np.max(np.abs(capped.S - tri.S)) < 1e-9 * np.max(np.abs(tri.S))
