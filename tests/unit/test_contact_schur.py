@@ -21,6 +21,14 @@ CASES = {
 }
 
 
+@pytest.fixture(autouse=True)
+def _schur_for_small_problems(monkeypatch):
+    """These meshes are smaller than the default SCHUR_MIN_DOFS: lift the limit."""
+    import alcontact.contact._discrete as discrete
+
+    monkeypatch.setattr(discrete, "SCHUR_MIN_DOFS", 0)
+
+
 @pytest.mark.parametrize("case", list(CASES))
 def test_schur_delassus_equals_triangular_solves(case):
     """S = B_c S_c^{-1} B_c^T (Schur complement) equals B K^{-1} B^T (triangular solves).
@@ -81,8 +89,23 @@ def test_schur_and_triangular_paths_give_the_same_contact_solution():
     prob.model.clear_factorization()
     b = solve(prob, "ssn", None, linear_solver="superlu")
     assert a.result.status.label == b.result.status.label == "converged"
+    assert a.result.linear_solves == 2 < b.result.linear_solves  # the Schur path ran
     assert a.peak_pressure == pytest.approx(b.peak_pressure, rel=1e-8)
     assert a.normal_force == pytest.approx(b.normal_force, rel=1e-8)
+
+
+def test_small_models_are_factorized_without_schur_block(monkeypatch):
+    """Below SCHUR_MIN_DOFS no Schur block is asked: triangular solves, one per candidate.
+
+    Reference: one solve per candidate plus the contact-free solve (exact count).
+    """
+    import alcontact.contact._discrete as discrete
+
+    prob = CASES["2d-p1"]()
+    monkeypatch.setattr(discrete, "SCHUR_MIN_DOFS", prob.model.ndofs + 1)
+    dc = DiscreteContact(prob, linear_solver="mkl-pardiso")
+    assert dc._schur is None and dc.factor.factor.schur_complement is None
+    assert dc.linear_solves == 1 + dc.cand.size
 
 
 def test_candidates_outside_a_capped_schur_block_fall_back_to_triangular_solves(monkeypatch):

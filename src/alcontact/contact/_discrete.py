@@ -57,6 +57,9 @@ _BATCH = 64
 #: largest Schur block (DOFs) asked of the factorization: the dense block costs 8 n^2 bytes
 #: and an n^3/3 Cholesky; beyond it the contact-boundary points closest to the obstacle are kept
 SCHUR_MAX_DOFS = 3000
+#: smaller models are factorized without a Schur block (factorization and the one batch of
+#: candidate solves are cheap there; the force balance keeps the round-off of the plain factor)
+SCHUR_MIN_DOFS = 10_000
 
 
 class ContactPoints:
@@ -259,11 +262,12 @@ class DiscreteContact(ContactPoints):
     def _schur_request(self, problem) -> dict:
         """``schur=`` keyword for ``model.factorize``: the free DOFs of the contact boundary.
 
-        Empty when the model's ``factorize`` takes no Schur block. Above
-        :data:`SCHUR_MAX_DOFS` the points with the largest reference gap are kept.
+        Empty when the model's ``factorize`` takes no Schur block or the model has fewer
+        than :data:`SCHUR_MIN_DOFS` DOFs. Above :data:`SCHUR_MAX_DOFS` the points with the
+        largest reference gap are kept.
         """
         model = self.model
-        if "schur" not in inspect.signature(model.factorize).parameters:
+        if model.ndofs < SCHUR_MIN_DOFS or "schur" not in inspect.signature(model.factorize).parameters:
             return {}
         pts, dofs = model.node_dofs(problem.contact_boundary)
         keep = ~np.isin(dofs, self.fixed)
