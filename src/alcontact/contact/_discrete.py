@@ -20,9 +20,16 @@ pressures :math:`\lambda \ge 0`, and equilibrium :math:`K u = f - B^T r`,
 
 ``S`` (the Delassus operator, symmetric positive definite) couples only the
 candidate points, so every algorithm works on vectors of the size of the contact
-zone: the stiffness is factorized once, ``S`` costs one triangular solve per
-candidate point, and the displacement one more solve at the end. This is the
-same discrete problem as the full one, not an approximation.
+zone: the stiffness is factorized once and the displacement costs one more solve
+at the end. This is the same discrete problem as the full one, not an approximation.
+
+``S`` comes from the Schur complement when the solver has one (MKL PARDISO): the
+factorization eliminates the DOFs ``c`` of the contact boundary last and returns
+:math:`S_c = K_{cc} - K_{ci} K_{ii}^{-1} K_{ic}`, and since :math:`B` lives on those
+DOFs, :math:`S = B_c (K^{-1})_{cc} B_c^T = B_c S_c^{-1} B_c^T` costs one dense Cholesky
+of :math:`S_c` instead of one triangular solve pair per candidate. Other solvers (and
+candidates outside the Schur block) build the columns :math:`B K^{-1} B_j^T` with
+batched triangular solves.
 
 Candidates are the points whose free-solution gap exceeds ``-margin``; after a
 solve, points outside the set that penetrate are added and the solve repeated.
@@ -31,10 +38,12 @@ solve, points outside the set that penetrate are added and the solve repeated.
 from __future__ import annotations
 
 import dataclasses
+import inspect
 import logging
 import time
 
 import numpy as np
+import scipy.linalg as sla
 import scipy.sparse as sp
 
 from ..errors import InputError
@@ -45,6 +54,12 @@ __all__ = ["ContactPoints", "DiscreteContact"]
 logger = logging.getLogger(__name__)
 
 _BATCH = 64
+#: largest Schur block (DOFs) asked of the factorization: the dense block costs 8 n^2 bytes
+#: and an n^3/3 Cholesky; beyond it the contact-boundary points closest to the obstacle are kept
+SCHUR_MAX_DOFS = 3000
+#: smaller models are factorized without a Schur block (factorization and the one batch of
+#: candidate solves are cheap there; the force balance keeps the round-off of the plain factor)
+SCHUR_MIN_DOFS = 10_000
 
 
 class ContactPoints:
@@ -173,8 +188,9 @@ class DiscreteContact(ContactPoints):
         self.linear_solver = linear_solver  # registry name (alcontact.linalg) or "auto"
         t_fac = time.perf_counter()
         n_fac = getattr(model, "factorization_count", None)
-        try:
-            self.factor = model.factorize(self.fixed, backend=linear_solver)  # checks the rigid motions first
+        self._schur_kw = self._schur_request(problem)
+        try:  # checks the rigid motions first
+            self.factor = model.factorize(self.fixed, backend=linear_solver, **self._schur_kw)
             matrix_ok = True
         except InputError as exc:
             self._stabilize(problem, exc)  # raises unless the obstacle restrains the free motions
@@ -194,6 +210,7 @@ class DiscreteContact(ContactPoints):
         self._setup_candidates(self.u_free, margin)
         if self.spring is not None:  # the spring points must stay candidates
             self.cand = np.union1d(self.cand, self.spring[0])
+        self._setup_schur()
         self.S = np.zeros((0, 0))
         self._add_columns(self.cand, initial=True)
         self.setup_seconds = time.perf_counter() - t0
@@ -232,7 +249,8 @@ class DiscreteContact(ContactPoints):
         add = (Bs.T @ sp.diags(kappa * self.weights[near]) @ Bs).tocsr()
         Kt = stiff + _expand_free(add, free, model.ndofs)
         try:
-            self.factor = model.factorize(self.fixed, matrix=Kt, check=True, backend=self.linear_solver)
+            self.factor = model.factorize(self.fixed, matrix=Kt, check=True, backend=self.linear_solver,
+                                          **self._schur_kw)
         except InputError:
             raise InputError(
                 f"{exc} The contact points touching the obstacle do not restrain that motion either: "
@@ -241,8 +259,54 @@ class DiscreteContact(ContactPoints):
         self.spring = (np.asarray(near, dtype=np.int64), kappa)
         logger.info("body held by the obstacle only: springs on %d contact points", len(near))
 
+    def _schur_request(self, problem) -> dict:
+        """``schur=`` keyword for ``model.factorize``: the free DOFs of the contact boundary.
+
+        Empty when the model's ``factorize`` takes no Schur block or the model has fewer
+        than :data:`SCHUR_MIN_DOFS` DOFs. Above :data:`SCHUR_MAX_DOFS` the points with the
+        largest reference gap are kept.
+        """
+        model = self.model
+        if model.ndofs < SCHUR_MIN_DOFS or "schur" not in inspect.signature(model.factorize).parameters:
+            return {}
+        pts, dofs = model.node_dofs(problem.contact_boundary)
+        keep = ~np.isin(dofs, self.fixed)
+        npts = SCHUR_MAX_DOFS // self.dim
+        if pts.shape[0] > npts:
+            order = np.argsort(-problem.obstacle.evaluate(pts)[0], kind="stable")[:npts]
+            dofs, keep = dofs[order], keep[order]
+        return {"schur": np.unique(dofs[keep])}
+
+    def _setup_schur(self) -> None:
+        r"""Cholesky factor of the Schur complement :math:`S_c` when the factorization returned one.
+
+        Sets ``self._schur`` to ``(L, Bs, inside)``: ``L`` the Cholesky factor of
+        :math:`S_c`, ``Bs`` the rows of ``B`` on the Schur DOFs, ``inside[i]`` whether
+        point ``i`` has all its free DOFs in the block; None without a Schur complement.
+        """
+        self._schur = None
+        inner = getattr(self.factor, "factor", None)
+        Sc = getattr(inner, "schur_complement", None)
+        if Sc is None or not self._schur_kw:
+            return
+        idx = inner.schur_indices  # positions in the free numbering, as B's columns
+        try:
+            L = sla.cho_factor(Sc, lower=True, check_finite=False)
+        except np.linalg.LinAlgError:
+            logger.warning("the Schur complement of the contact DOFs is not positive definite; building the "
+                           "Delassus operator with triangular solves instead")
+            return
+        Bs = self.B[:, idx].tocsr()
+        inside = Bs.getnnz(axis=1) == self.B.getnnz(axis=1)
+        self._schur = (L, Bs, inside)
+
     def _add_columns(self, new: np.ndarray, *, initial: bool = False) -> None:
-        """Extend S with the candidate points ``new`` (one triangular solve each)."""
+        """Extend S with the candidate points ``new``.
+
+        From the Schur complement when every candidate lies in the Schur block
+        (:math:`S_{:,new} = B_c S_c^{-1} B_{c,new}^T`, no triangular solve), else one
+        triangular solve pair per new point (batched).
+        """
         new = np.asarray(new, dtype=np.int64)
         if not initial:
             new = np.setdiff1d(new, self.cand)
@@ -251,12 +315,18 @@ class DiscreteContact(ContactPoints):
             return
         B = self.B
         allc = self.cand
-        cols = np.empty((allc.size, new.size))
-        for s in range(0, new.size, _BATCH):
-            idx = new[s : s + _BATCH]
-            X = self.factor.solve(B[idx].T.toarray())
-            cols[:, s : s + idx.size] = B[allc] @ X
-            self.linear_solves += idx.size
+        schur = getattr(self, "_schur", None)
+        if schur is not None and np.all(schur[2][allc]):
+            L, Bs, _ = schur
+            Z = sla.cho_solve(L, Bs[new].T.toarray(), check_finite=False)
+            cols = np.asarray(Bs[allc] @ Z)
+        else:
+            cols = np.empty((allc.size, new.size))
+            for s in range(0, new.size, _BATCH):
+                idx = new[s : s + _BATCH]
+                X = self.factor.solve(B[idx].T.toarray())
+                cols[:, s : s + idx.size] = B[allc] @ X
+                self.linear_solves += idx.size
         nold = allc.size - new.size
         S = np.zeros((allc.size, allc.size))
         S[:nold, :nold] = self.S

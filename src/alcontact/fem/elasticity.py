@@ -627,7 +627,7 @@ class LinearElasticity:
     _factor_cache: tuple | None = None
 
     def factorize(self, dirichlet_dofs, *, matrix=None, ordering: str = "auto", check: bool = True,
-                  backend: str = "auto", reuse: bool = True) -> Factorization:
+                  backend: str = "auto", reuse: bool = True, schur=None) -> Factorization:
         """Factorize the stiffness condensed on the free DOFs (one factorization, many solves).
 
         The last factorization is kept on the model and returned again when the same
@@ -659,6 +659,10 @@ class LinearElasticity:
             factor whose solves run preconditioned CG).
         reuse : bool
             Return the cached factorization when it matches (see above).
+        schur : array_like of int, optional
+            Free DOFs (global numbering) to eliminate last: a solver with a Schur
+            facility returns their Schur complement on the factor (see
+            :class:`alcontact.linalg.MatrixHints`); the others ignore it.
 
         Returns
         -------
@@ -683,7 +687,8 @@ class LinearElasticity:
         fixed = np.unique(np.asarray(dirichlet_dofs, dtype=np.int64).ravel())
         if ordering == "auto":
             ordering = "nd" if self.dim == 3 else "MMD_AT_PLUS_A"
-        key = (backend, ordering, bool(check), fixed.tobytes())
+        schur = None if schur is None else np.unique(np.asarray(schur, dtype=np.int64).ravel())
+        key = (backend, ordering, bool(check), fixed.tobytes(), None if schur is None else schur.tobytes())
         cached = self._factor_cache
         if reuse and cached is not None and cached[0] is matrix and cached[1] == key:
             logger.debug("reusing the factorization of %d free DOFs (%s)", cached[2].free.size, backend)
@@ -694,8 +699,10 @@ class LinearElasticity:
         free = np.flatnonzero(mask)
         # the nested dissection and the rigid modes are computed only if the solver asks for them
         nd = ordering == "nd"
+        if schur is not None:  # positions in the free numbering (fixed DOFs dropped)
+            schur = np.searchsorted(free, schur[~np.isin(schur, fixed)])
         hints = MatrixHints(dim=self.dim, ordering=(lambda: self.ordering(free)) if nd else None,
-                            near_null=lambda: self._free_rigid_modes(free))
+                            near_null=lambda: self._free_rigid_modes(free), schur=schur)
         fac = Factorization(matrix, fixed, permc_spec="MMD_AT_PLUS_A" if nd else ordering, check=check,
                             backend=backend, hints=hints)
         self.factorization_count += 1

@@ -29,12 +29,17 @@ class MatrixHints:
     ordering_name : str or None
         Name of a built-in ordering for solvers that offer several (SuperLU's
         ``permc_spec``), used when ``ordering`` is None.
+    schur : numpy.ndarray of int or None
+        Rows/columns of the matrix to eliminate last. A solver with a Schur facility
+        (MKL PARDISO) then exposes the dense Schur complement of that block on its factor
+        as ``schur_complement`` (with ``schur_indices``); the others ignore it.
     """
 
     dim: int | None = None
     ordering: Callable[[], np.ndarray] | None = None
     near_null: Callable[[], np.ndarray] | None = None
     ordering_name: str | None = None
+    schur: np.ndarray | None = None
 
 
 @runtime_checkable

@@ -158,19 +158,47 @@ _PARDISO_ERRORS = {
 }
 
 
+_MKL_PARDISO = []
+
+
+def _mkl_pardiso():
+    """The ``pardiso`` entry of ``mkl_rt``, looked up once per process.
+
+    :class:`pypardiso.PyPardisoSolver` finds the library by globbing the environment's
+    folders, which costs most of a factorization of a 10k-DOF matrix when repeated.
+    """
+    if not _MKL_PARDISO:
+        import pypardiso
+
+        _MKL_PARDISO.append(pypardiso.PyPardisoSolver())  # kept: it holds the library handle
+    return _MKL_PARDISO[0]._mkl_pardiso
+
+
 class _PardisoFactor:
     """MKL PARDISO factor of the upper triangle (``mtype=2``, real SPD), called through ctypes.
 
     Uses the ``mkl_rt`` handle that :class:`pypardiso.PyPardisoSolver` locates, but calls the
     phases itself: pypardiso's ``solve`` hashes the whole matrix on every call to find out
     whether it is factorized, which costs more than a triangular solve pair here.
+
+    With ``schur`` (indices of the matrix) those rows/columns are eliminated last and
+    PARDISO returns the dense Schur complement :math:`S_c = K_{cc} - K_{ci} K_{ii}^{-1} K_{ic}`
+    of the block (``iparm[35] = 2``: Schur complement and the factorization of the whole
+    matrix, so :meth:`solve` stays a full solve), kept as :attr:`schur_complement`; then
+    :math:`(K^{-1})_{cc} = S_c^{-1}` costs a dense factorization of size ``len(schur)``
+    instead of ``len(schur)`` triangular solve pairs.
+
+    Attributes
+    ----------
+    schur_indices : numpy.ndarray of int or None
+        Sorted indices of the Schur block (None without ``schur``).
+    schur_complement : numpy.ndarray or None
+        Dense Schur complement on :attr:`schur_indices` (symmetric positive definite).
     """
 
     exact = True
 
-    def __init__(self, matrix):
-        import pypardiso
-
+    def __init__(self, matrix, schur=None):
         self.name = "mkl-pardiso"
         U = sp.triu(sp.csr_matrix(matrix), format="csr")
         U.sort_indices()
@@ -180,8 +208,7 @@ class _PardisoFactor:
         self._ja = (U.indices + 1).astype(np.int32)
         if np.any(np.diff(self._ia) == 0):
             raise _singular(self.n, "empty row")
-        self._lib = pypardiso.PyPardisoSolver()  # finds mkl_rt
-        self._call = self._lib._mkl_pardiso
+        self._call = _mkl_pardiso()
         self._pt = np.zeros(64, dtype=np.int64)
         self._iparm = np.zeros(64, dtype=np.int32)
         self._iparm[0] = 1   # no solver defaults: set below
@@ -191,11 +218,27 @@ class _PardisoFactor:
         self._iparm[17] = -1  # report nnz of the factor
         self._iparm[34] = 0  # one-based indices
         self._perm = np.zeros(0, dtype=np.int32)
+        self.schur_indices = self.schur_complement = None
+        out = np.zeros((self.n, 1))
+        if schur is not None:
+            idx = np.unique(np.asarray(schur, dtype=np.int64).ravel())
+            if idx.size and (idx[0] < 0 or idx[-1] >= self.n):
+                raise InputError(f"schur indices must lie in [0, {self.n}); got min {idx[0]}, max {idx[-1]}.")
+            if 0 < idx.size < self.n:  # PARDISO needs a nonempty interior block
+                self._perm = np.zeros(self.n, dtype=np.int32)
+                self._perm[idx] = 1
+                self._iparm[35] = 2  # Schur complement + factorization of the whole matrix
+                self.schur_indices = idx
+                out = np.zeros((max(self.n, idx.size * idx.size), 1))
         self._alive = False
         t0 = time.perf_counter()
-        self._run(12, np.zeros((self.n, 1)), np.zeros((self.n, 1)))
+        self._run(12, np.zeros((self.n, 1)), out)
         self._alive = True
         self.factor_seconds = time.perf_counter() - t0
+        if self.schur_indices is not None:  # row-major dense block (symmetric)
+            ns = self.schur_indices.size
+            S = out[: ns * ns, 0].reshape(ns, ns)
+            self.schur_complement = 0.5 * (S + S.T)  # solves (phase 33) still use the whole factor
 
     def _run(self, phase: int, b: np.ndarray, x: np.ndarray) -> None:
         err = ctypes.c_int32(0)
@@ -253,14 +296,15 @@ class _PardisoFactor:
 class PardisoSolver:
     """Intel MKL PARDISO (supernodal Cholesky, METIS ordering) through the ``pypardiso`` wheels.
 
-    The MKL threads follow ``MKL_NUM_THREADS``.
+    The MKL threads follow ``MKL_NUM_THREADS``. ``hints.schur`` asks for the dense Schur
+    complement of those rows (see :class:`_PardisoFactor`).
     """
 
     name = "mkl-pardiso"
     kind = "direct"
 
     def factorize(self, matrix, hints: MatrixHints | None = None) -> _PardisoFactor:
-        return _PardisoFactor(matrix)
+        return _PardisoFactor(matrix, schur=hints.schur if hints is not None else None)
 
 
 # ---------------------------------------------------------------------- AMG + CG
