@@ -209,7 +209,7 @@ def write_history_csv(path: str | os.PathLike, history) -> Path:
 
 # --------------------------------------------------------------------------- results folder
 _TEMP_FILE = re.compile(r"^\..+\.tmp(\.[A-Za-z0-9]+)?$")  # atomic_path's temporary files
-_STAGING_TAG = ".partial-"  # staging folder beside a new results folder: .<name>.partial-XXXXXXXX
+_STAGING_TAG = ".partial-"  # staging folder beside a new results folder: .<name>.partial-<random>
 _STAGING_INSIDE = ".alcontact-partial-"  # staging folder inside an existing one
 
 
@@ -387,10 +387,10 @@ class ResultsFolder:
 
     Notes
     -----
-    A missing ``target`` is staged beside it (``.<name>.partial-XXXXXXXX``)
+    A missing ``target`` is staged beside it (``.<name>.partial-<random>``)
     and appears with one rename. An existing folder (``--force``, an empty
     folder, ``.``, a mount point) is staged inside it
-    (``.alcontact-partial-XXXXXXXX``), so that neither its parent nor the
+    (``.alcontact-partial-<random>``), so that neither its parent nor the
     folder itself changes: at the end the owned entries are deleted
     (``summary.json`` first) and the new entries moved in (``summary.json``
     last). SIGINT/SIGTERM are deferred meanwhile, so only a hard kill during
