@@ -49,8 +49,10 @@ def test_schur_delassus_equals_triangular_solves(case):
     assert schur.cand.size >= 3
     err = np.max(np.abs(schur.S - tri.S)) / np.max(np.abs(tri.S))
     assert err < 1e-9, err
-    # added candidates (extend) come from the Schur complement too, cross terms included
-    outside = np.setdiff1d(np.flatnonzero(schur.movable), schur.cand)[:4]
+    # added candidates (extend) inside the block come from the Schur complement too, cross terms included
+    block = schur._schur[2]
+    outside = np.setdiff1d(np.flatnonzero(schur.movable & block), schur.cand)[:4]
+    assert outside.size >= 2
     schur._add_columns(outside)
     tri._add_columns(outside)
     assert schur.linear_solves == 1
@@ -112,8 +114,8 @@ def test_candidates_outside_a_capped_schur_block_fall_back_to_triangular_solves(
     """A Schur block smaller than the candidate set: S still equals B K^{-1} B^T.
 
     With ``SCHUR_MAX_DOFS`` capped to 3 points, the candidates outside the block are built
-    with triangular solves (one per candidate), the block keeps the points closest to the
-    obstacle. Reference: the SuperLU triangular-solve build; tolerance relative 1e-9.
+    with triangular solves (one per candidate, hybrid build), the block keeps the points
+    closest to the obstacle. Reference: the SuperLU triangular-solve build; tolerance relative 1e-9.
     """
     import alcontact.contact._discrete as discrete
 
@@ -121,8 +123,45 @@ def test_candidates_outside_a_capped_schur_block_fall_back_to_triangular_solves(
     monkeypatch.setattr(discrete, "SCHUR_MAX_DOFS", 3 * prob.model.dim)
     capped = DiscreteContact(prob, linear_solver="mkl-pardiso")
     assert capped._schur is not None and int(np.sum(capped._schur[2])) == 3
-    assert capped.linear_solves == 1 + capped.cand.size  # fell back
+    assert capped.linear_solves == 1 + capped.cand.size - 3  # solves only outside the block
     prob.model.clear_factorization()
     tri = DiscreteContact(prob, linear_solver="superlu")
     np.testing.assert_array_equal(capped.cand, tri.cand)
     assert np.max(np.abs(capped.S - tri.S)) < 1e-9 * np.max(np.abs(tri.S))
+
+
+@pytest.mark.parametrize("case", ["2d-p1", "3d-p1"])
+def test_hybrid_build_with_points_inside_and_outside_the_block(case, monkeypatch):
+    """Hybrid S (block entries from S_c, the rest from kept solves) equals B K^{-1} B^T.
+
+    The block holds every other initial candidate plus 3 non-candidates; the initial S mixes
+    both kinds, then block points and outside points are added (``extend``), each time with
+    one triangular solve per outside point only. Reference: the SuperLU triangular-solve
+    build of the same candidate sequence; tolerance relative 1e-9 in the max norm.
+    """
+    prob = CASES[case]()
+    tri = DiscreteContact(prob, linear_solver="superlu")
+    prob.model.clear_factorization()
+    rest = np.setdiff1d(np.flatnonzero(tri.movable), tri.cand)
+    rest = rest[np.argsort(-tri.gap0[rest], kind="stable")]  # closest first
+    block_pts = np.concatenate([tri.cand[::2], rest[:3]])
+    free = np.ones(prob.model.ndofs, dtype=bool)
+    free[tri.fixed] = False
+    block_dofs = tri.dofs[block_pts].ravel()
+    monkeypatch.setattr(DiscreteContact, "_schur_request",
+                        lambda self, problem, margin: {"schur": np.unique(block_dofs[free[block_dofs]])})
+    hyb = DiscreteContact(prob, linear_solver="mkl-pardiso")
+    np.testing.assert_array_equal(hyb.cand, tri.cand)
+    inside = hyb._schur[2]
+    assert np.all(inside[block_pts]) and int(np.sum(inside)) == block_pts.size
+    n_out = int(np.sum(~inside[hyb.cand]))
+    assert 0 < n_out < hyb.cand.size
+    assert hyb.linear_solves == 1 + n_out
+    assert np.max(np.abs(hyb.S - tri.S)) < 1e-9 * np.max(np.abs(tri.S))
+    for add, solves in ((rest[:3], 0), (rest[3:5], 2), (rest[5:6], 1)):  # block, outside, outside
+        before = hyb.linear_solves
+        hyb._add_columns(add)
+        tri._add_columns(add)
+        assert hyb.linear_solves == before + solves
+        np.testing.assert_array_equal(hyb.cand, tri.cand)
+        assert np.max(np.abs(hyb.S - tri.S)) < 1e-9 * np.max(np.abs(tri.S))

@@ -24,12 +24,15 @@ zone: the stiffness is factorized once and the displacement costs one more solve
 at the end. This is the same discrete problem as the full one, not an approximation.
 
 ``S`` comes from the Schur complement when the solver has one (MKL PARDISO): the
-factorization eliminates the DOFs ``c`` of the contact boundary last and returns
+factorization eliminates last the DOFs ``c`` of the contact-boundary points that can
+become candidates (reference gap within a few element sizes of the candidate
+threshold, chosen before the factorization) and returns
 :math:`S_c = K_{cc} - K_{ci} K_{ii}^{-1} K_{ic}`, and since :math:`B` lives on those
 DOFs, :math:`S = B_c (K^{-1})_{cc} B_c^T = B_c S_c^{-1} B_c^T` costs one dense Cholesky
-of :math:`S_c` instead of one triangular solve pair per candidate. Other solvers (and
-candidates outside the Schur block) build the columns :math:`B K^{-1} B_j^T` with
-batched triangular solves.
+of :math:`S_c` instead of one triangular solve pair per candidate. Other solvers build
+the columns :math:`B K^{-1} B_j^T` with batched triangular solves; with a Schur block
+the build is hybrid: solves only for candidates outside the block, whose rows on ``c``
+also give their entries with the block points.
 
 Candidates are the points whose free-solution gap exceeds ``-margin``; after a
 solve, points outside the set that penetrate are added and the solve repeated.
@@ -60,6 +63,9 @@ SCHUR_MAX_DOFS = 3000
 #: smaller models are factorized without a Schur block (factorization and the one batch of
 #: candidate solves are cheap there; the force balance keeps the round-off of the plain factor)
 SCHUR_MIN_DOFS = 10_000
+#: width of the Schur block beyond the candidate threshold, in element sizes of the contact zone
+#: (reference gaps): the whole 3D contact boundary made the factorization ~55 % dearer than a plain one
+SCHUR_WINDOW = 2.0
 
 
 class ContactPoints:
@@ -188,7 +194,7 @@ class DiscreteContact(ContactPoints):
         self.linear_solver = linear_solver  # registry name (alcontact.linalg) or "auto"
         t_fac = time.perf_counter()
         n_fac = getattr(model, "factorization_count", None)
-        self._schur_kw = self._schur_request(problem)
+        self._schur_kw = self._schur_request(problem, margin)
         try:  # checks the rigid motions first
             self.factor = model.factorize(self.fixed, backend=linear_solver, **self._schur_kw)
             matrix_ok = True
@@ -259,23 +265,40 @@ class DiscreteContact(ContactPoints):
         self.spring = (np.asarray(near, dtype=np.int64), kappa)
         logger.info("body held by the obstacle only: springs on %d contact points", len(near))
 
-    def _schur_request(self, problem) -> dict:
-        """``schur=`` keyword for ``model.factorize``: the free DOFs of the contact boundary.
+    def _schur_request(self, problem, margin: float) -> dict:
+        r"""``schur=`` keyword for ``model.factorize``: the free DOFs of the points that can become candidates.
 
-        Empty when the model's ``factorize`` takes no Schur block or the model has fewer
-        than :data:`SCHUR_MIN_DOFS` DOFs. Above :data:`SCHUR_MAX_DOFS` the points with the
-        largest reference gap are kept.
+        Known before the factorization, from the reference gaps :math:`g^0` (the gaps of the
+        contact-free solution without loads): with :math:`g^0_{max}` the largest one, the
+        block holds the points with
+
+        .. math::
+
+            g^0_i \ge \min(g^0_{max}, 0) - \text{margin}\,\max(g^0_{max}, 0) - c\,h,
+
+        ``h`` the element size at the contact zone and :math:`c` = :data:`SCHUR_WINDOW`, i.e.
+        the candidate threshold of :meth:`_setup_candidates` widened by a few element sizes
+        for what the loads add. Candidates found later outside the block get triangular
+        solves (:meth:`_add_columns`). At most :data:`SCHUR_MAX_DOFS` DOFs (the points
+        closest to the obstacle). Empty when the model's ``factorize`` takes no Schur block
+        or the model has fewer than :data:`SCHUR_MIN_DOFS` DOFs.
         """
         model = self.model
         if model.ndofs < SCHUR_MIN_DOFS or "schur" not in inspect.signature(model.factorize).parameters:
             return {}
         pts, dofs = model.node_dofs(problem.contact_boundary)
         keep = ~np.isin(dofs, self.fixed)
+        g0 = problem.obstacle.evaluate(pts)[0]
+        movable = keep.any(axis=1)
+        if not np.any(movable):
+            return {}
+        gtop = float(np.max(g0[movable]))
+        thr = min(gtop, 0.0) - margin * max(gtop, 0.0) - SCHUR_WINDOW * self._element_size()
+        near = np.flatnonzero(movable & (g0 >= thr))
         npts = SCHUR_MAX_DOFS // self.dim
-        if pts.shape[0] > npts:
-            order = np.argsort(-problem.obstacle.evaluate(pts)[0], kind="stable")[:npts]
-            dofs, keep = dofs[order], keep[order]
-        return {"schur": np.unique(dofs[keep])}
+        if near.size > npts:
+            near = near[np.argsort(-g0[near], kind="stable")[:npts]]
+        return {"schur": np.unique(dofs[near][keep[near]])}
 
     def _setup_schur(self) -> None:
         r"""Cholesky factor of the Schur complement :math:`S_c` when the factorization returned one.
@@ -299,13 +322,18 @@ class DiscreteContact(ContactPoints):
         Bs = self.B[:, idx].tocsr()
         inside = Bs.getnnz(axis=1) == self.B.getnnz(axis=1)
         self._schur = (L, Bs, inside)
+        self._xc_points = np.empty(0, dtype=np.int64)  # outside-block candidates with kept solves
+        self._xc = np.empty((idx.size, 0))
 
     def _add_columns(self, new: np.ndarray, *, initial: bool = False) -> None:
-        """Extend S with the candidate points ``new``.
+        r"""Extend S with the candidate points ``new`` (hybrid build).
 
-        From the Schur complement when every candidate lies in the Schur block
-        (:math:`S_{:,new} = B_c S_c^{-1} B_{c,new}^T`, no triangular solve), else one
-        triangular solve pair per new point (batched).
+        Points inside the Schur block: :math:`S_{ij} = B_i S_c^{-1} B_j^T` between two of
+        them (no triangular solve). Points outside: one triangular solve pair each
+        (batched), :math:`X_j = K^{-1} B_j^T`, giving their whole column
+        :math:`S_{:,j} = B X_j`; the rows of :math:`X_j` on the Schur DOFs are kept, so a
+        block point added later gets its entries with the outside points as
+        :math:`X_{j,c}^T B_{c,i}^T` without another solve.
         """
         new = np.asarray(new, dtype=np.int64)
         if not initial:
@@ -316,17 +344,28 @@ class DiscreteContact(ContactPoints):
         B = self.B
         allc = self.cand
         schur = getattr(self, "_schur", None)
-        if schur is not None and np.all(schur[2][allc]):
+        inside = schur[2] if schur is not None else np.zeros(B.shape[0], dtype=bool)
+        cols = np.empty((allc.size, new.size))
+        jout = np.flatnonzero(~inside[new])
+        for s in range(0, jout.size, _BATCH):
+            j = jout[s : s + _BATCH]
+            X = self.factor.solve(B[new[j]].T.toarray())
+            cols[:, j] = B[allc] @ X
+            self.linear_solves += j.size
+            if schur is not None:  # rows on the Schur DOFs, for block points added later
+                self._xc_points = np.concatenate([self._xc_points, new[j]])
+                self._xc = np.hstack([self._xc, X[self.factor.factor.schur_indices]])
+        jin = np.flatnonzero(inside[new])
+        if jin.size:
             L, Bs, _ = schur
-            Z = sla.cho_solve(L, Bs[new].T.toarray(), check_finite=False)
-            cols = np.asarray(Bs[allc] @ Z)
-        else:
-            cols = np.empty((allc.size, new.size))
-            for s in range(0, new.size, _BATCH):
-                idx = new[s : s + _BATCH]
-                X = self.factor.solve(B[idx].T.toarray())
-                cols[:, s : s + idx.size] = B[allc] @ X
-                self.linear_solves += idx.size
+            BsT = Bs[new[jin]].T.toarray()
+            Z = sla.cho_solve(L, BsT, check_finite=False)
+            ain = inside[allc]
+            cols[np.ix_(ain, jin)] = Bs[allc[ain]] @ Z
+            if not np.all(ain):  # entries with the points outside the block, from their kept solves
+                where = {p: k for k, p in enumerate(self._xc_points)}
+                k = np.array([where[p] for p in allc[~ain]], dtype=np.int64)
+                cols[np.ix_(~ain, jin)] = self._xc[:, k].T @ BsT
         nold = allc.size - new.size
         S = np.zeros((allc.size, allc.size))
         S[:nold, :nold] = self.S
