@@ -77,7 +77,7 @@ from .. import penalties as _pen
 from .._options import is_real, show
 from ..errors import InputError, InvertedElementError, UnknownNameError
 from ._algorithms import options_with, resolve_penalty
-from ._finite import FiniteContact, linear_solve
+from ._finite import FiniteContact
 from ._friction import DEFAULT_FRICTION_PENALTY, FrictionOptions
 from ._friction_laws import OPEN, SLIP, STICK
 from ._laws import eta_for_stiffness, freezes_at_zero, make_law
@@ -219,7 +219,7 @@ class FiniteFrictionContact(FiniteContact):
             tb = time.perf_counter()
             self.assembly_seconds += tb - ta
             try:
-                dx = linear_solve(J, -loc.R)
+                dx = self.solver.solve(J, -loc.R)
             except np.linalg.LinAlgError:
                 return x, loc, False, it, "singular Newton matrix"
             self.solve_seconds += time.perf_counter() - tb
@@ -540,7 +540,7 @@ def _step_ssn(dc: FiniteFrictionContact, lamN, lamT, x, eps_n, pen_name, opts) -
             J = jacobian(u, L, nu)
             F = np.concatenate([Rx, RL.ravel()])
             try:
-                step = linear_solve(J, -F)
+                step = dc.solver.solve(J, -F)
             except np.linalg.LinAlgError:
                 return _StepResult(False, ContactStatus.NEWTON_FAILED, "singular semi-smooth Newton matrix",
                                    x, L[:, 0], L[:, 1:], None, 1)
