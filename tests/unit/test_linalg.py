@@ -281,3 +281,21 @@ def test_sequence_solver_keeps_analyses_by_pattern_and_falls_back(name):
         s.solve(sp.csr_matrix((5, 5)), np.ones(5))
     with pytest.raises(InputError, match="matrix_type"):
         linalg.SequenceSolver(name, matrix_type="hermitian")
+
+
+@pytest.mark.parametrize("name", [None, "superlu"])
+def test_sequence_solver_solves_unsymmetric_matrices(name):
+    """Non-symmetric Newton matrices (friction): relative residual <= 1e-10 with the whole matrix
+    factorized (a symmetric factor of the upper triangle would miss it by O(1)); the second matrix of
+    the same pattern reuses the analysis with PARDISO."""
+    M = _saddle().tolil()
+    M[0, 1] += 3.0  # break the symmetry, same pattern
+    M = M.tocsr()
+    assert abs(M - M.T).max() > 1.0
+    s = linalg.SequenceSolver(name, matrix_type="unsymmetric")
+    b = np.random.default_rng(5).standard_normal(M.shape[0])
+    for scale in (1.0, 2.0):
+        x = s.solve(scale * M, b)
+        assert np.max(np.abs(scale * M @ x - b)) <= 1e-10 * np.max(np.abs(b))
+    if s.backend == "mkl-pardiso":
+        assert (s.analyses, s.factorizations) == (1, 2)

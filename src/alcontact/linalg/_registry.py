@@ -70,7 +70,7 @@ def register_solver(name: str, factory: Callable[..., LinearSolver], *, kind: st
         Replace an existing entry instead of raising.
     matrix_types : tuple of str
         Values of :attr:`MatrixHints.matrix_type <alcontact.linalg.MatrixHints>` the solver
-        factorizes (``"spd"``, ``"symmetric-indefinite"``).
+        factorizes (``"spd"``, ``"symmetric-indefinite"``, ``"unsymmetric"``).
     """
     if kind not in ("direct", "iterative"):
         raise InputError(f"linear solver kind={kind!r}; allowed: direct, iterative.")
@@ -175,7 +175,7 @@ DIRECT_PREFERENCE = ("mkl-pardiso", "cholmod", "superlu")
 
 
 def solver_matrix_types(name: str) -> tuple[str, ...]:
-    """Matrix types (``"spd"``, ``"symmetric-indefinite"``) the solver ``name`` factorizes."""
+    """Matrix types (``"spd"``, ``"symmetric-indefinite"``, ``"unsymmetric"``) the solver ``name`` factorizes."""
     entry = _SOLVERS.get(name)
     if entry is None:
         raise UnknownNameError("linear solver", name, list(_SOLVERS))
@@ -211,7 +211,7 @@ def choose_solver(dim: int, ndofs: int, *, installed: list[str] | None = None,
         Names to choose from (default: :func:`available_solvers`).
     allow_iterative : bool
         False when the caller needs an exact factor (the condensed contact path).
-    matrix_type : {"spd", "symmetric-indefinite"}
+    matrix_type : {"spd", "symmetric-indefinite", "unsymmetric"}
         Only solvers registered for this matrix type are chosen (the Newton matrices of
         the finite-deformation path are symmetric indefinite: PARDISO, then SuperLU).
 
@@ -231,7 +231,7 @@ def choose_solver(dim: int, ndofs: int, *, installed: list[str] | None = None,
 
 
 def _register_builtins() -> None:
-    both = ("spd", "symmetric-indefinite")
+    both = ("spd", "symmetric-indefinite", "unsymmetric")
     register_solver("superlu", SuperLUSolver, requires=None, matrix_types=both,
                     doc="SciPy SuperLU without pivoting; mesh nested-dissection ordering in 3D")
     register_solver("cholmod", CholmodSolver, requires="cholespy", install="pip install cholespy",

@@ -30,17 +30,17 @@ __all__ = ["MATRIX_TYPES", "PardisoSymmetricFactor", "SequenceSolver"]
 logger = logging.getLogger(__name__)
 
 #: matrix types of :attr:`MatrixHints.matrix_type <alcontact.linalg.MatrixHints>`
-MATRIX_TYPES = ("spd", "symmetric-indefinite")
+MATRIX_TYPES = ("spd", "symmetric-indefinite", "unsymmetric")
 
-#: PARDISO's ``mtype`` per matrix type (real symmetric positive definite / indefinite)
-_PARDISO_MTYPE = {"spd": 2, "symmetric-indefinite": -2}
+#: PARDISO's ``mtype`` per matrix type (real symmetric positive definite / indefinite, real unsymmetric)
+_PARDISO_MTYPE = {"spd": 2, "symmetric-indefinite": -2, "unsymmetric": 11}
 
 
-def _upper_with_diagonal(A) -> sp.csr_matrix:
-    """Upper triangle with every diagonal entry stored (PARDISO's symmetric input)."""
+def _upper_with_diagonal(A, upper: bool = True) -> sp.csr_matrix:
+    """Upper triangle (``upper``; else the whole matrix) with every diagonal entry stored (PARDISO's input)."""
     C = sp.coo_matrix(A)
     n = C.shape[0]
-    keep = C.row <= C.col
+    keep = C.row <= C.col if upper else np.ones(C.nnz, dtype=bool)
     diag = np.arange(n)
     U = sp.csr_matrix((np.concatenate([C.data[keep], np.zeros(n)]),
                        (np.concatenate([C.row[keep], diag]), np.concatenate([C.col[keep], diag]))),
@@ -50,13 +50,14 @@ def _upper_with_diagonal(A) -> sp.csr_matrix:
 
 
 class PardisoSymmetricFactor:
-    """MKL PARDISO factor of a real symmetric matrix whose symbolic analysis is kept.
+    """MKL PARDISO factor of a real (symmetric or unsymmetric) matrix whose symbolic analysis is kept.
 
     The ordering (METIS) and symbolic factorization (phase 11) are done once; the
     numerical factorization (phase 22) runs again for every matrix of the same pattern
     given to :meth:`refactorize`. ``matrix_type="symmetric-indefinite"`` uses Bunch-Kaufman
     pivoting with 1e-8 pivot perturbation and automatic iterative refinement
-    (``mtype=-2``); ``"spd"`` a Cholesky factorization (``mtype=2``).
+    (``mtype=-2``); ``"spd"`` a Cholesky factorization (``mtype=2``); ``"unsymmetric"`` an
+    LU factorization of the whole matrix with 1e-13 pivot perturbation (``mtype=11``).
 
     Raises
     ------
@@ -74,7 +75,8 @@ class PardisoSymmetricFactor:
         self.name = "mkl-pardiso"
         self.matrix_type = matrix_type
         self._mtype = _PARDISO_MTYPE[matrix_type]
-        U = _upper_with_diagonal(matrix)
+        self._upper = matrix_type != "unsymmetric"
+        U = _upper_with_diagonal(matrix, self._upper)
         self.n = U.shape[0]
         self._ia = (U.indptr + 1).astype(np.int32)
         self._ja = (U.indices + 1).astype(np.int32)
@@ -85,7 +87,9 @@ class PardisoSymmetricFactor:
         self._iparm[0] = 1    # no solver defaults: set below
         self._iparm[1] = 2    # METIS nested dissection ordering
         self._iparm[7] = 0    # iterative refinement: automatic (two steps after perturbed pivots)
-        self._iparm[9] = 8    # pivot perturbation 1e-8
+        self._iparm[9] = 8 if self._upper else 13  # pivot perturbation 1e-8 (symmetric), 1e-13 (LU)
+        self._iparm[10] = 0 if self._upper else 1   # LU: scaling and weighted matching
+        self._iparm[12] = 0 if self._upper else 1
         self._iparm[17] = -1  # report nnz of the factor
         self._iparm[34] = 0   # one-based indices
         self._alive = False
@@ -132,14 +136,14 @@ class PardisoSymmetricFactor:
         return 1024 * int(max(ip[14], ip[15] + ip[16]))
 
     def same_pattern(self, matrix) -> bool:
-        """Whether ``matrix`` has the sparsity pattern this factor analysed (upper triangle)."""
-        U = _upper_with_diagonal(matrix)
+        """Whether ``matrix`` has the sparsity pattern this factor analysed."""
+        U = _upper_with_diagonal(matrix, self._upper)
         return (U.shape[0] == self.n and np.array_equal(U.indptr + 1, self._ia)
                 and np.array_equal(U.indices + 1, self._ja))
 
     def refactorize(self, matrix) -> PardisoSymmetricFactor:
         """Numerical factorization of ``matrix`` (same pattern) on the kept analysis; returns self."""
-        U = _upper_with_diagonal(matrix)
+        U = _upper_with_diagonal(matrix, self._upper)
         if U.shape[0] != self.n or not (np.array_equal(U.indptr + 1, self._ia)
                                         and np.array_equal(U.indices + 1, self._ja)):
             raise InputError("refactorize needs a matrix with the analysed sparsity pattern; factorize it instead.")
@@ -182,7 +186,7 @@ def _pattern(A: sp.csr_matrix) -> tuple:
 
 
 class SequenceSolver:
-    r"""Solve a sequence of symmetric systems with a registry solver, keeping analyses by pattern.
+    r"""Solve a sequence of linear systems with a registry solver, keeping analyses by pattern.
 
     Parameters
     ----------
@@ -190,7 +194,7 @@ class SequenceSolver:
         Registry name of the solver (:func:`~alcontact.linalg.make_solver`); ``None``,
         ``"auto"`` or ``"direct"``: :func:`~alcontact.linalg.choose_solver` for exact
         solvers of ``matrix_type``.
-    matrix_type : {"spd", "symmetric-indefinite"}
+    matrix_type : {"spd", "symmetric-indefinite", "unsymmetric"}
         What the matrices are; handed to the solver as :attr:`MatrixHints.matrix_type`.
     keep : int
         Factors of this many most recent sparsity patterns are kept; a factor with a

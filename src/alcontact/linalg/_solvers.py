@@ -71,8 +71,8 @@ class _SuperLUFactor:
 class SuperLUSolver:
     """SciPy's SuperLU run as a symmetric solver (no pivoting, ``SymmetricMode``).
 
-    With ``hints.matrix_type="symmetric-indefinite"`` it pivots (partial pivoting, the
-    general LU), which saddle-point matrices need.
+    With ``hints.matrix_type`` ``"symmetric-indefinite"`` or ``"unsymmetric"`` it pivots
+    (partial pivoting, the general LU).
 
     Parameters
     ----------
@@ -107,7 +107,7 @@ class SuperLUSolver:
         pivoting = hints is not None and hints.matrix_type != "spd"
         t0 = time.perf_counter()
         try:
-            if pivoting:  # symmetric indefinite: partial pivoting (no symmetric mode)
+            if pivoting:  # symmetric indefinite or unsymmetric: partial pivoting (no symmetric mode)
                 lu = splu(A, permc_spec=permc)
             else:
                 lu = splu(A, permc_spec=permc, diag_pivot_thresh=0.0, options={"SymmetricMode": True})
@@ -304,8 +304,8 @@ class PardisoSolver:
     """Intel MKL PARDISO (supernodal Cholesky, METIS ordering) through the ``pypardiso`` wheels.
 
     The MKL threads follow ``MKL_NUM_THREADS``. ``hints.schur`` asks for the dense Schur
-    complement of those rows (see :class:`_PardisoFactor`). ``hints.matrix_type=
-    "symmetric-indefinite"`` gives a pivoting factor whose analysis is kept for
+    complement of those rows (see :class:`_PardisoFactor`). ``hints.matrix_type``
+    ``"symmetric-indefinite"`` or ``"unsymmetric"`` gives a pivoting factor whose analysis is kept for
     ``refactorize`` (:class:`~alcontact.linalg.PardisoSymmetricFactor`).
     """
 
