@@ -261,8 +261,9 @@ class SequenceSolver:
         rhs = np.asarray(rhs, dtype=float)
         self._last = None
         A = sp.csr_matrix(A)
-        A.sum_duplicates()
-        A.sort_indices()
+        if not A.has_canonical_format:  # a copy: the caller's matrix stays as given
+            A = A.copy()
+            A.sum_duplicates()
         if A.shape[0]:
             try:
                 f = self._factor(A)
