@@ -203,3 +203,99 @@ def test_model_factorize_with_every_solver_gives_the_same_displacement(name):
     assert fac.backend == name
     tol = 1e-10 if linalg.solver_kind(name) == "direct" else 1e-6
     assert np.max(np.abs(fac.solve_full(f) - ref)) <= tol * np.max(np.abs(ref))
+
+
+# ---------------------------------------------------------------------- symmetric indefinite sequences
+def _saddle(n: int = 200, m: int = 10, seed: int = 4) -> sp.csr_matrix:
+    """Symmetric indefinite saddle-point matrix [[A, B^T], [B, 0]] with A SPD and B of full rank."""
+    A = sp.random(n, n, 0.03, random_state=seed)
+    A = A + A.T + 8.0 * sp.eye(n)
+    B = sp.random(m, n, 0.05, random_state=seed + 1) + sp.eye(m, n)
+    return sp.bmat([[A, B.T], [B, None]], format="csr")
+
+
+def test_choose_solver_respects_the_matrix_type():
+    """Indefinite matrices go to solvers registered for them: never CHOLMOD or AMG."""
+    assert linalg.choose_solver(3, 10**6, installed=["amg", "cholmod", "superlu"],
+                                matrix_type="symmetric-indefinite") == "superlu"
+    assert linalg.choose_solver(2, 10, installed=["cholmod", "mkl-pardiso"],
+                                matrix_type="symmetric-indefinite") == "mkl-pardiso"
+    assert linalg.choose_solver(2, 10, installed=["cholmod", "superlu"]) == "cholmod"
+    assert "symmetric-indefinite" not in linalg.solver_matrix_types("cholmod")
+    with pytest.raises(InputError, match="matrix_types"):
+        linalg.register_solver("bad-type", linalg.SuperLUSolver, matrix_types=("hermitian",))
+
+
+@pytest.mark.parametrize("name", [n for n in linalg.available_solvers()
+                                  if "symmetric-indefinite" in linalg.solver_matrix_types(n)])
+def test_indefinite_hint_solves_a_saddle_point_matrix(name):
+    """Reference: the residual; relative residual <= 1e-10 for the saddle-point matrix.
+
+    With the hint both pivot (PARDISO's SPD factor refuses this matrix: its zero block
+    leaves empty rows in the upper triangle).
+    """
+    M = _saddle()
+    b = np.random.default_rng(1).standard_normal(M.shape[0])
+    f = linalg.make_solver(name).factorize(M, linalg.MatrixHints(matrix_type="symmetric-indefinite"))
+    x = f.solve(b)
+    assert np.max(np.abs(M @ x - b)) <= 1e-10 * np.max(np.abs(b))
+
+
+@pytest.mark.skipif(not linalg.is_installed("mkl-pardiso"), reason="needs pypardiso")
+def test_pardiso_symmetric_factor_refactorizes_on_its_analysis():
+    """refactorize of a same-pattern matrix: residual <= 1e-10 relative, one analysis, two factorizations;
+    another pattern is refused with an InputError."""
+    M = _saddle()
+    f = linalg.PardisoSymmetricFactor(M)
+    b = np.ones(M.shape[0])
+    assert f.refactorize(3.0 * M) is f
+    x = f.solve(b)
+    assert np.max(np.abs(3.0 * M @ x - b)) <= 1e-10
+    assert (f.analyses, f.factorizations) == (1, 2)
+    with pytest.raises(InputError, match="pattern"):
+        f.refactorize(_saddle(seed=9))
+    f.release()
+    assert not f.alive
+
+
+@pytest.mark.parametrize("name", [None, "superlu"])
+def test_sequence_solver_keeps_analyses_by_pattern_and_falls_back(name):
+    """Three patterns in turn, twice: residual <= 1e-10 relative each time; with PARDISO three
+    analyses and six factorizations (keep=3), SuperLU keeps nothing; resolve reuses the last
+    factor; a zero matrix raises numpy.linalg.LinAlgError."""
+    s = linalg.SequenceSolver(name, keep=3)
+    mats = [_saddle(seed=k) for k in (4, 6, 8)]
+    rng = np.random.default_rng(2)
+    for _ in range(2):
+        for M in mats:
+            b = rng.standard_normal(M.shape[0])
+            x = s.solve(M, b)
+            assert np.max(np.abs(M @ x - b)) <= 1e-10 * np.max(np.abs(b))
+    b2 = rng.standard_normal(mats[-1].shape[0])
+    assert np.max(np.abs(mats[-1] @ s.resolve(b2) - b2)) <= 1e-10 * np.max(np.abs(b2))
+    if s.backend == "mkl-pardiso":
+        assert (s.analyses, s.factorizations) == (3, 6)
+    else:
+        assert (s.analyses, s.factorizations) == (0, 0)
+    with pytest.raises(np.linalg.LinAlgError):
+        s.solve(sp.csr_matrix((5, 5)), np.ones(5))
+    with pytest.raises(InputError, match="matrix_type"):
+        linalg.SequenceSolver(name, matrix_type="hermitian")
+
+
+@pytest.mark.parametrize("name", [None, "superlu"])
+def test_sequence_solver_solves_unsymmetric_matrices(name):
+    """Non-symmetric Newton matrices (friction): relative residual <= 1e-10 with the whole matrix
+    factorized (a symmetric factor of the upper triangle would miss it by O(1)); the second matrix of
+    the same pattern reuses the analysis with PARDISO."""
+    M = _saddle().tolil()
+    M[0, 1] += 3.0  # break the symmetry, same pattern
+    M = M.tocsr()
+    assert abs(M - M.T).max() > 1.0
+    s = linalg.SequenceSolver(name, matrix_type="unsymmetric")
+    b = np.random.default_rng(5).standard_normal(M.shape[0])
+    for scale in (1.0, 2.0):
+        x = s.solve(scale * M, b)
+        assert np.max(np.abs(scale * M @ x - b)) <= 1e-10 * np.max(np.abs(b))
+    if s.backend == "mkl-pardiso":
+        assert (s.analyses, s.factorizations) == (1, 2)

@@ -67,15 +67,14 @@ free displacement. :meth:`FiniteContact.configure` sets the data of one load ste
 
 from __future__ import annotations
 
-import ctypes
 import logging
 import time
 
 import numpy as np
 import scipy.sparse as sp
-import scipy.sparse.linalg as spla
 
 from ..errors import InputError, InvertedElementError
+from ..linalg import SequenceSolver
 from ._discrete import ContactPoints
 from ._newton import NewtonOutcome
 
@@ -90,200 +89,39 @@ _EPS = float(np.finfo(float).eps)
 _MAX_HALVINGS = 40
 
 
-def _superlu(A: sp.spmatrix):
-    try:
-        return spla.splu(sp.csc_matrix(A), permc_spec="MMD_AT_PLUS_A")
-    except RuntimeError as exc:  # SuperLU: "Factor is exactly singular"
-        raise np.linalg.LinAlgError(str(exc)) from exc
-
-
-_PARDISO: list = []  # the MKL ``pardiso`` function once looked up (None: not available)
-
-
-def _pardiso_function():
-    """MKL's ``pardiso`` through ``pypardiso``'s library lookup (done once per process)."""
-    if not _PARDISO:
-        try:
-            import pypardiso
-
-            _PARDISO.append(pypardiso.PyPardisoSolver()._mkl_pardiso)
-        except (ImportError, OSError, AttributeError):  # no MKL runtime: SuperLU
-            _PARDISO.append(None)
-    return _PARDISO[0]
-
-
-class _PardisoHandle:
-    """One PARDISO instance (``pt``) with the sparsity pattern it has analysed."""
-
-    def __init__(self, lib, iparm, n, ia, ja):
-        self.lib, self.iparm, self.n, self.ia, self.ja = lib, iparm, n, ia, ja
-        self.pt = np.zeros(64, dtype=np.int64)
-        self.alive = False
-
-    def matches(self, n, ia, ja) -> bool:
-        return self.n == n and np.array_equal(self.ia, ia) and np.array_equal(self.ja, ja)
-
-    def call(self, phase: int, data, b: np.ndarray, x: np.ndarray) -> int:
-        err = ctypes.c_int32(0)
-        i32 = ctypes.POINTER(ctypes.c_int32)
-        f64 = ctypes.POINTER(ctypes.c_double)
-        self.lib(self.pt.ctypes.data_as(ctypes.POINTER(ctypes.c_int64)),
-                 ctypes.byref(ctypes.c_int32(1)), ctypes.byref(ctypes.c_int32(1)),
-                 ctypes.byref(ctypes.c_int32(-2)), ctypes.byref(ctypes.c_int32(phase)),
-                 ctypes.byref(ctypes.c_int32(self.n)), data.ctypes.data_as(f64),
-                 self.ia.ctypes.data_as(i32), self.ja.ctypes.data_as(i32),
-                 np.zeros(0, dtype=np.int32).ctypes.data_as(i32),
-                 ctypes.byref(ctypes.c_int32(1)), self.iparm.ctypes.data_as(i32),
-                 ctypes.byref(ctypes.c_int32(0)), b.ctypes.data_as(f64), x.ctypes.data_as(f64),
-                 ctypes.byref(err))
-        return int(err.value)
-
-    def release(self) -> None:
-        if self.alive:
-            self.alive = False
-            z = np.zeros(1)
-            self.call(-1, z, z, z.copy())
-
-
-class NewtonSolver:
-    r"""Direct solver of the symmetric Newton systems that keeps its analyses between calls.
+class NewtonSolver(SequenceSolver):
+    r"""The solver of the symmetric Newton systems of :class:`FiniteContact` (a registry solver).
 
     Every Newton matrix of :class:`FiniteContact` is symmetric (the tangent, the contact
-    terms, the saddle-point matrix of the reference), and few sparsity patterns occur
-    (:meth:`Hyperelastic.tangent <alcontact.fem.hyperelastic.Hyperelastic.tangent>` keeps
-    one pattern; the saddle-point matrix keeps one per candidate set,
-    :meth:`FiniteContact._saddle_matrix`). With Intel MKL PARDISO (``pypardiso``
-    installed) the upper triangle is factorized as a real symmetric indefinite matrix
-    (``mtype=-2``: Bunch-Kaufman pivoting, 1e-8 pivot perturbation, iterative
-    refinement); the ordering and symbolic factorization (phase 11) are kept for the
-    ``keep`` most recent patterns, so a call with a known pattern costs one numerical
-    factorization (phase 22) and one solve (phase 33). A solution whose residual is not
-    at round-off level (a singular or badly perturbed matrix), a PARDISO error, or a
-    missing MKL runtime sends the system to SuperLU, which raises
-    :class:`numpy.linalg.LinAlgError` for a singular matrix.
+    terms, the saddle-point matrix of the reference) and possibly indefinite, and few
+    sparsity patterns occur (:meth:`Hyperelastic.tangent
+    <alcontact.fem.hyperelastic.Hyperelastic.tangent>` keeps one pattern; the saddle-point
+    matrix keeps one per candidate set, :meth:`FiniteContact._saddle_matrix`). A
+    :class:`~alcontact.linalg.SequenceSolver` for ``"symmetric-indefinite"`` matrices: the
+    registry's choice (MKL PARDISO when installed, analyses of the ``keep`` most recent
+    patterns kept, else SuperLU), with the residual check and the SuperLU fallback there.
 
-    Attributes
+    Parameters
     ----------
-    analyses, factorizations : int
-        Symbolic analyses and numerical factorizations made with PARDISO.
-    backend : str
-        ``"mkl-pardiso"`` or ``"superlu"``.
+    use_pardiso : bool
+        False: SuperLU only (no analysis kept).
+    keep : int
+        Sparsity patterns whose analyses are kept.
     """
 
     def __init__(self, use_pardiso: bool = True, keep: int = 3):
-        self.analyses = 0
-        self.factorizations = 0
-        self.keep = int(keep)
-        self._last = None
-        self._handles: list[_PardisoHandle] = []
-        self._lib = _pardiso_function() if use_pardiso else None
-        self.backend = "mkl-pardiso" if self._lib is not None else "superlu"
-        self._iparm = np.zeros(64, dtype=np.int32)
-        self._iparm[0] = 1    # no solver defaults: set below
-        self._iparm[1] = 2    # METIS nested dissection ordering
-        self._iparm[7] = 0    # iterative refinement: automatic (two steps after perturbed pivots)
-        self._iparm[9] = 8    # pivot perturbation 1e-8
-        self._iparm[34] = 0   # one-based indices
-
-    def release(self) -> None:
-        """Free PARDISO's memory (the next call analyses again)."""
-        for h in self._handles:
-            h.release()
-        self._handles = []
-
-    def __del__(self):
-        try:
-            self.release()
-        except Exception:  # interpreter shutdown: nothing left to free
-            pass
-
-    @staticmethod
-    def _upper(A: sp.spmatrix) -> sp.csr_matrix:
-        """Upper triangle with every diagonal entry stored (PARDISO's symmetric input)."""
-        C = sp.coo_matrix(A)
-        n = C.shape[0]
-        keep = C.row <= C.col
-        diag = np.arange(n)
-        U = sp.csr_matrix((np.concatenate([C.data[keep], np.zeros(n)]),
-                           (np.concatenate([C.row[keep], diag]), np.concatenate([C.col[keep], diag]))),
-                          shape=(n, n))
-        U.sum_duplicates()
-        return U
-
-    def _handle(self, n, ia, ja, data, b, x) -> _PardisoHandle | None:
-        for k, h in enumerate(self._handles):
-            if h.matches(n, ia, ja):
-                self._handles.insert(0, self._handles.pop(k))
-                return h
-        h = _PardisoHandle(self._lib, self._iparm.copy(), n, ia, ja)
-        err = h.call(11, data, b, x)
-        h.alive = True
-        if err:
-            h.release()
-            logger.debug("PARDISO analysis failed (error %d)", err)
-            return None
-        self.analyses += 1
-        self._handles.insert(0, h)
-        while len(self._handles) > self.keep:
-            self._handles.pop().release()
-        return h
-
-    def solve(self, A: sp.spmatrix, rhs: np.ndarray) -> np.ndarray:
-        """Solve ``A x = rhs`` for a symmetric ``A``; :class:`numpy.linalg.LinAlgError` when singular."""
-        rhs = np.asarray(rhs, dtype=float)
-        self._last = None
-        if self._lib is None or A.shape[0] == 0:
-            return self._superlu_solve(A, rhs)
-        U = self._upper(A)
-        n = U.shape[0]
-        ia = (U.indptr + 1).astype(np.int32)
-        ja = (U.indices + 1).astype(np.int32)
-        data = np.ascontiguousarray(U.data, dtype=np.float64)
-        b = np.ascontiguousarray(rhs)
-        x = np.zeros_like(b)
-        h = self._handle(n, ia, ja, data, b, x)
-        err = -1 if h is None else (h.call(22, data, b, x) or h.call(33, data, b, x))
-        if err == 0:
-            self.factorizations += 1
-            # a singular matrix factorizes with perturbed pivots: check the residual
-            r = A @ x - b
-            amax = float(abs(A).max()) if A.nnz else 0.0
-            bound = 1e-8 * (amax * float(np.max(np.abs(x), initial=0.0)) + float(np.max(np.abs(b), initial=0.0)))
-            if np.all(np.isfinite(x)) and float(np.max(np.abs(r), initial=0.0)) <= bound:
-                self._last = (h, data)
-                return x
-        logger.debug("PARDISO solve not accepted (error %d); SuperLU solves this system", err)
-        return self._superlu_solve(A, rhs)
-
-    def _superlu_solve(self, A, rhs):
-        lu = _superlu(A)
-        self._last = lu
-        return lu.solve(rhs)
-
-    def resolve(self, rhs: np.ndarray) -> np.ndarray | None:
-        """Solve with the factor of the last :meth:`solve` (no factorization); ``None`` when there is none."""
-        last = getattr(self, "_last", None)
-        if last is None:
-            return None
-        b = np.ascontiguousarray(rhs, dtype=float)
-        if isinstance(last, tuple):
-            h, data = last
-            if not h.alive or h.n != b.size:
-                return None
-            x = np.zeros_like(b)
-            return x if h.call(33, data, b, x) == 0 else None
-        return last.solve(b) if last.shape[0] == b.size else None
+        super().__init__(None if use_pardiso else "superlu", matrix_type="symmetric-indefinite", keep=keep)
 
 
 _DEFAULT_SOLVER: NewtonSolver | None = None
 
 
-def linear_solve(A: sp.spmatrix, rhs: np.ndarray, solver: NewtonSolver | None = None) -> np.ndarray:
+def linear_solve(A: sp.spmatrix, rhs: np.ndarray, solver: SequenceSolver | None = None) -> np.ndarray:
     """Solve one symmetric Newton system ``A x = rhs`` (:class:`NewtonSolver`).
 
-    The single place where the finite-deformation path factorizes. ``solver`` keeps its
-    analysis between calls (a :class:`FiniteContact` owns one); without it a shared
-    module solver is used. Raises :class:`numpy.linalg.LinAlgError` for a singular matrix.
+    ``solver`` keeps its analyses between calls (a :class:`FiniteContact` owns one);
+    without it a shared module solver is used. Raises :class:`numpy.linalg.LinAlgError`
+    for a singular matrix.
     """
     global _DEFAULT_SOLVER
     if solver is None:

@@ -76,8 +76,9 @@ import scipy.sparse as sp
 from .. import penalties as _pen
 from .._options import is_real, show
 from ..errors import InputError, InvertedElementError, UnknownNameError
+from ..linalg import SequenceSolver
 from ._algorithms import options_with, resolve_penalty
-from ._finite import FiniteContact, linear_solve
+from ._finite import FiniteContact
 from ._friction import DEFAULT_FRICTION_PENALTY, FrictionOptions
 from ._friction_laws import OPEN, SLIP, STICK
 from ._laws import eta_for_stiffness, freezes_at_zero, make_law
@@ -118,6 +119,14 @@ class FiniteFrictionContact(FiniteContact):
     contact points relative to the obstacle at the last converged step, the obstacle
     translation of the current step, :math:`\\mu` and :math:`\\varepsilon_T`.
     """
+
+    @property
+    def friction_solver(self) -> SequenceSolver:
+        """Solver of the non-symmetric Newton matrices of friction (registry's choice, analyses kept by pattern)."""
+        solver = getattr(self, "_friction_solver", None)
+        if solver is None:
+            solver = self._friction_solver = SequenceSolver(matrix_type="unsymmetric")
+        return solver
 
     def set_history(self, s_prev: np.ndarray, offset: np.ndarray, mu: float, eps_t: float, radius: str) -> None:
         self.s_prev = np.asarray(s_prev, dtype=float)
@@ -219,7 +228,7 @@ class FiniteFrictionContact(FiniteContact):
             tb = time.perf_counter()
             self.assembly_seconds += tb - ta
             try:
-                dx = linear_solve(J, -loc.R)
+                dx = self.friction_solver.solve(J, -loc.R)
             except np.linalg.LinAlgError:
                 return x, loc, False, it, "singular Newton matrix"
             self.solve_seconds += time.perf_counter() - tb
@@ -540,7 +549,7 @@ def _step_ssn(dc: FiniteFrictionContact, lamN, lamT, x, eps_n, pen_name, opts) -
             J = jacobian(u, L, nu)
             F = np.concatenate([Rx, RL.ravel()])
             try:
-                step = linear_solve(J, -F)
+                step = dc.friction_solver.solve(J, -F)
             except np.linalg.LinAlgError:
                 return _StepResult(False, ContactStatus.NEWTON_FAILED, "singular semi-smooth Newton matrix",
                                    x, L[:, 0], L[:, 1:], None, 1)

@@ -9,7 +9,9 @@ option, besides ``"auto"`` and ``"direct"``.
 
 Built-in names: ``"mkl-pardiso"`` (Intel MKL PARDISO via ``pypardiso``),
 ``"cholmod"`` (SuiteSparse via ``cholespy``), ``"superlu"`` (SciPy), ``"amg"``
-(PyAMG smoothed aggregation + CG; approximate).
+(PyAMG smoothed aggregation + CG; approximate). :class:`SequenceSolver` solves a
+sequence of symmetric (possibly indefinite) systems with one of them, keeping the
+analysis of each recent sparsity pattern (the Newton solves of the finite path).
 
 Examples
 --------
@@ -32,8 +34,10 @@ from ._registry import (
     register_solver,
     registered_solvers,
     solver_kind,
+    solver_matrix_types,
     unregister_solver,
 )
+from ._sequence import MATRIX_TYPES, PardisoSymmetricFactor, SequenceSolver
 from ._solvers import AMGSolver, CholmodSolver, PardisoSolver, SuperLUSolver
 
 __all__ = [
@@ -43,8 +47,11 @@ __all__ = [
     "DIRECT_PREFERENCE",
     "Factor",
     "LinearSolver",
+    "MATRIX_TYPES",
     "MatrixHints",
     "PardisoSolver",
+    "PardisoSymmetricFactor",
+    "SequenceSolver",
     "SuperLUSolver",
     "available_solvers",
     "choose_solver",
@@ -54,5 +61,6 @@ __all__ = [
     "register_solver",
     "registered_solvers",
     "solver_kind",
+    "solver_matrix_types",
     "unregister_solver",
 ]

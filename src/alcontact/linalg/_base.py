@@ -33,6 +33,12 @@ class MatrixHints:
         Rows/columns of the matrix to eliminate last. A solver with a Schur facility
         (MKL PARDISO) then exposes the dense Schur complement of that block on its factor
         as ``schur_complement`` (with ``schur_indices``); the others ignore it.
+    matrix_type : {"spd", "symmetric-indefinite", "unsymmetric"}
+        What the matrix is. ``"symmetric-indefinite"`` (saddle-point and Newton matrices
+        that may lose definiteness) makes MKL PARDISO pivot (Bunch-Kaufman, ``mtype=-2``)
+        and SuperLU use partial pivoting; ``"unsymmetric"`` (the consistent Newton matrices
+        of friction) makes PARDISO factorize the whole matrix (LU, ``mtype=11``); solvers registered for SPD matrices only
+        (CHOLMOD, AMG) are not chosen for it (:func:`~alcontact.linalg.choose_solver`).
     """
 
     dim: int | None = None
@@ -40,6 +46,7 @@ class MatrixHints:
     near_null: Callable[[], np.ndarray] | None = None
     ordering_name: str | None = None
     schur: np.ndarray | None = None
+    matrix_type: str = "spd"
 
 
 @runtime_checkable

@@ -22,6 +22,7 @@ __all__ = [
     "register_solver",
     "registered_solvers",
     "solver_kind",
+    "solver_matrix_types",
     "unregister_solver",
 ]
 
@@ -36,6 +37,7 @@ AUTO_AMG_DOFS = 100_000
 class _Entry:
     factory: Callable[..., LinearSolver]
     kind: str
+    matrix_types: tuple[str, ...]  # matrix types it factorizes (MatrixHints.matrix_type)
     requires: str | None  # module that must import
     install: str | None  # how to get it
     doc: str
@@ -46,7 +48,7 @@ _SOLVERS: dict[str, _Entry] = {}
 
 def register_solver(name: str, factory: Callable[..., LinearSolver], *, kind: str = "direct",
                     requires: str | None = None, install: str | None = None, doc: str = "",
-                    overwrite: bool = False) -> None:
+                    overwrite: bool = False, matrix_types: tuple[str, ...] = ("spd",)) -> None:
     """Register a linear solver under ``name``.
 
     Parameters
@@ -66,6 +68,9 @@ def register_solver(name: str, factory: Callable[..., LinearSolver], *, kind: st
         One-line description.
     overwrite : bool
         Replace an existing entry instead of raising.
+    matrix_types : tuple of str
+        Values of :attr:`MatrixHints.matrix_type <alcontact.linalg.MatrixHints>` the solver
+        factorizes (``"spd"``, ``"symmetric-indefinite"``, ``"unsymmetric"``).
     """
     if kind not in ("direct", "iterative"):
         raise InputError(f"linear solver kind={kind!r}; allowed: direct, iterative.")
@@ -73,7 +78,12 @@ def register_solver(name: str, factory: Callable[..., LinearSolver], *, kind: st
         raise InputError(f"linear solver {name!r} is already registered; pass overwrite=True to replace it.")
     if name in ("auto", "direct"):
         raise InputError(f"{name!r} is reserved for the automatic choice; register the solver under another name.")
-    _SOLVERS[name] = _Entry(factory, kind, requires, install, doc)
+    from ._sequence import MATRIX_TYPES
+
+    bad = [t for t in matrix_types if t not in MATRIX_TYPES]
+    if bad or not matrix_types:
+        raise InputError(f"matrix_types={tuple(matrix_types)!r}; allowed: {', '.join(MATRIX_TYPES)}.")
+    _SOLVERS[name] = _Entry(factory, kind, tuple(matrix_types), requires, install, doc)
     is_installed.cache_clear()
 
 
@@ -164,8 +174,16 @@ def make_solver(name: str, **options) -> LinearSolver:
 DIRECT_PREFERENCE = ("mkl-pardiso", "cholmod", "superlu")
 
 
+def solver_matrix_types(name: str) -> tuple[str, ...]:
+    """Matrix types (``"spd"``, ``"symmetric-indefinite"``, ``"unsymmetric"``) the solver ``name`` factorizes."""
+    entry = _SOLVERS.get(name)
+    if entry is None:
+        raise UnknownNameError("linear solver", name, list(_SOLVERS))
+    return entry.matrix_types
+
+
 def choose_solver(dim: int, ndofs: int, *, installed: list[str] | None = None,
-                  allow_iterative: bool = True) -> str:
+                  allow_iterative: bool = True, matrix_type: str = "spd") -> str:
     """The default linear solver for a stiffness matrix: the ONE place that decides.
 
     Rules (measurements in ``docs/benchmarks/linear_solvers.md``: one thread, CPU seconds
@@ -193,6 +211,9 @@ def choose_solver(dim: int, ndofs: int, *, installed: list[str] | None = None,
         Names to choose from (default: :func:`available_solvers`).
     allow_iterative : bool
         False when the caller needs an exact factor (the condensed contact path).
+    matrix_type : {"spd", "symmetric-indefinite", "unsymmetric"}
+        Only solvers registered for this matrix type are chosen (the Newton matrices of
+        the finite-deformation path are symmetric indefinite: PARDISO, then SuperLU).
 
     Returns
     -------
@@ -200,6 +221,7 @@ def choose_solver(dim: int, ndofs: int, *, installed: list[str] | None = None,
         A registry name.
     """
     names = available_solvers() if installed is None else list(installed)
+    names = [n for n in names if n not in _SOLVERS or matrix_type in _SOLVERS[n].matrix_types]
     if allow_iterative and dim == 3 and ndofs > AUTO_AMG_DOFS and "amg" in names:
         return "amg"
     for name in DIRECT_PREFERENCE:
@@ -209,11 +231,12 @@ def choose_solver(dim: int, ndofs: int, *, installed: list[str] | None = None,
 
 
 def _register_builtins() -> None:
-    register_solver("superlu", SuperLUSolver, requires=None,
+    both = ("spd", "symmetric-indefinite", "unsymmetric")
+    register_solver("superlu", SuperLUSolver, requires=None, matrix_types=both,
                     doc="SciPy SuperLU without pivoting; mesh nested-dissection ordering in 3D")
     register_solver("cholmod", CholmodSolver, requires="cholespy", install="pip install cholespy",
                     doc="SuiteSparse CHOLMOD supernodal Cholesky (cholespy wheels)")
-    register_solver("mkl-pardiso", PardisoSolver, requires="pypardiso",
+    register_solver("mkl-pardiso", PardisoSolver, requires="pypardiso", matrix_types=both,
                     install="pip install pypardiso (Intel MKL; x86-64 only)",
                     doc="Intel MKL PARDISO supernodal Cholesky, METIS ordering (pypardiso wheels)")
     register_solver("amg", AMGSolver, kind="iterative", requires="pyamg", install="pip install pyamg",

@@ -71,6 +71,9 @@ class _SuperLUFactor:
 class SuperLUSolver:
     """SciPy's SuperLU run as a symmetric solver (no pivoting, ``SymmetricMode``).
 
+    With ``hints.matrix_type`` ``"symmetric-indefinite"`` or ``"unsymmetric"`` it pivots
+    (partial pivoting, the general LU).
+
     Parameters
     ----------
     permc_spec : str
@@ -101,9 +104,13 @@ class SuperLUSolver:
                 raise InputError(f"perm must be a permutation of range({n}) (the free DOFs).")
             A = A[perm][:, perm].tocsc()
             permc = "NATURAL"
+        pivoting = hints is not None and hints.matrix_type != "spd"
         t0 = time.perf_counter()
         try:
-            lu = splu(A, permc_spec=permc, diag_pivot_thresh=0.0, options={"SymmetricMode": True})
+            if pivoting:  # symmetric indefinite or unsymmetric: partial pivoting (no symmetric mode)
+                lu = splu(A, permc_spec=permc)
+            else:
+                lu = splu(A, permc_spec=permc, diag_pivot_thresh=0.0, options={"SymmetricMode": True})
         except RuntimeError as exc:  # "Factor is exactly singular"
             raise _singular(n, str(exc)) from exc
         return _SuperLUFactor(lu, perm, n, time.perf_counter() - t0, "given" if perm is not None else permc)
@@ -297,13 +304,19 @@ class PardisoSolver:
     """Intel MKL PARDISO (supernodal Cholesky, METIS ordering) through the ``pypardiso`` wheels.
 
     The MKL threads follow ``MKL_NUM_THREADS``. ``hints.schur`` asks for the dense Schur
-    complement of those rows (see :class:`_PardisoFactor`).
+    complement of those rows (see :class:`_PardisoFactor`). ``hints.matrix_type``
+    ``"symmetric-indefinite"`` or ``"unsymmetric"`` gives a pivoting factor whose analysis is kept for
+    ``refactorize`` (:class:`~alcontact.linalg.PardisoSymmetricFactor`).
     """
 
     name = "mkl-pardiso"
     kind = "direct"
 
     def factorize(self, matrix, hints: MatrixHints | None = None) -> _PardisoFactor:
+        if hints is not None and hints.matrix_type != "spd":  # pivoting factor with a refactorize
+            from ._sequence import PardisoSymmetricFactor
+
+            return PardisoSymmetricFactor(matrix, hints.matrix_type)
         return _PardisoFactor(matrix, schur=hints.schur if hints is not None else None)
 
 
