@@ -155,14 +155,9 @@ class PardisoSymmetricFactor:
         return self
 
     def solve(self, rhs) -> np.ndarray:
-        from ._solvers import _check_rhs
+        from ._solvers import pardiso_solve
 
-        r = _check_rhs(rhs, self.n)
-        b = np.asfortranarray(r, dtype=np.float64)
-        x = np.zeros_like(b, order="F")
-        if b.size:
-            self._run(33, b, x)
-        return np.ascontiguousarray(x)
+        return pardiso_solve(self._run, self.n, rhs)
 
     def release(self) -> None:
         """Free PARDISO's memory (the factor is unusable afterwards)."""

@@ -181,6 +181,16 @@ def _mkl_pardiso():
     return _MKL_PARDISO[0]._mkl_pardiso
 
 
+def pardiso_solve(run, n: int, rhs) -> np.ndarray:
+    """Solve phase (33) of a PARDISO handle: ``run(33, b, x)`` on Fortran-ordered copies of ``rhs``."""
+    r = _check_rhs(rhs, n)
+    b = np.asfortranarray(r, dtype=np.float64)
+    x = np.zeros_like(b, order="F")
+    if b.size:
+        run(33, b, x)
+    return np.ascontiguousarray(x)
+
+
 class _PardisoFactor:
     """MKL PARDISO factor of the upper triangle (``mtype=2``, real SPD), called through ctypes.
 
@@ -278,12 +288,7 @@ class _PardisoFactor:
         return 1024 * int(max(ip[14], ip[15] + ip[16]))
 
     def solve(self, rhs) -> np.ndarray:
-        r = _check_rhs(rhs, self.n)
-        b = np.asfortranarray(r, dtype=np.float64)
-        x = np.zeros_like(b, order="F")
-        if b.size:
-            self._run(33, b, x)
-        return np.ascontiguousarray(x)
+        return pardiso_solve(self._run, self.n, rhs)
 
     def _release(self) -> None:
         if self._alive:
