@@ -85,7 +85,7 @@ from ._laws import eta_for_stiffness, freezes_at_zero, make_law
 from ._loading import LoadHistory
 from ._solution import ContactStatus
 from ._solve import penalty_stiffness
-from ._stepping import _StepData, _step_times
+from ._stepping import StepRecords, _StepData, _step_times
 from ._verify import check_state, verified_status
 
 __all__ = ["FiniteFrictionContact", "FiniteFrictionStep", "FiniteFrictionSolution", "solve_finite_friction",
@@ -305,7 +305,7 @@ class FiniteFrictionStep:
 
 
 @dataclass(frozen=True)
-class FiniteFrictionSolution:
+class FiniteFrictionSolution(StepRecords):
     """Outcome of :func:`solve_finite_friction`.
 
     Attributes
@@ -335,19 +335,6 @@ class FiniteFrictionSolution:
     traction_t: np.ndarray
     normals: np.ndarray
     extra: dict = field(default_factory=dict)
-
-    @property
-    def success(self) -> bool:
-        return self.status > 0
-
-    @property
-    def times(self) -> np.ndarray:
-        return np.array([s.t for s in self.steps])
-
-    @property
-    def forces(self) -> np.ndarray:
-        """Resultant contact force on the body per step, shape ``(steps, d)``."""
-        return np.array([s.force for s in self.steps])
 
     @property
     def dissipation(self) -> np.ndarray:

@@ -76,8 +76,26 @@ class FiniteStep:
     message: str
 
 
+class StepRecords:
+    """Views on the per-step records ``steps`` (each with ``t`` and ``force``) and ``status``
+    of a load-stepped solution (frictionless and frictional finite deformation)."""
+
+    @property
+    def success(self) -> bool:
+        return self.status > 0
+
+    @property
+    def times(self) -> np.ndarray:
+        return np.array([s.t for s in self.steps])
+
+    @property
+    def forces(self) -> np.ndarray:
+        """Resultant contact force on the body per step, shape ``(steps, d)``."""
+        return np.array([s.force for s in self.steps])
+
+
 @dataclass(frozen=True)
-class FiniteSolution:
+class FiniteSolution(StepRecords):
     """Outcome of a load-stepped finite-deformation contact solve.
 
     Attributes
@@ -99,19 +117,6 @@ class FiniteSolution:
     status: ContactStatus
     message: str
     extra: dict = field(default_factory=dict)
-
-    @property
-    def success(self) -> bool:
-        return self.status > 0
-
-    @property
-    def times(self) -> np.ndarray:
-        return np.array([s.t for s in self.steps])
-
-    @property
-    def forces(self) -> np.ndarray:
-        """Resultant contact force per step, shape ``(steps, d)``."""
-        return np.array([s.force for s in self.steps])
 
     @property
     def u(self) -> np.ndarray:
