@@ -80,7 +80,7 @@ from ..linalg import SequenceSolver
 from ._algorithms import options_with, resolve_penalty
 from ._finite import FiniteContact
 from ._friction import DEFAULT_FRICTION_PENALTY, FrictionOptions
-from ._friction_laws import OPEN, SLIP, STICK
+from ._friction_laws import OPEN, SLIP, STICK, return_mapping
 from ._laws import eta_for_stiffness, freezes_at_zero, make_law
 from ._loading import LoadHistory
 from ._solution import ContactStatus
@@ -151,13 +151,7 @@ class FiniteFrictionContact(FiniteContact):
         z = np.einsum("ijk,ik->ij", P, a)
         slip = np.einsum("ijk,ik->ij", P, xc - self.offset - self.s_prev[idx])
         rho = self.mu * (tN if self.coupled else np.maximum(lamN, 0.0))
-        nz = np.linalg.norm(z, axis=1)
-        opened = ~(rho > 0)
-        stick = ~opened & (nz <= rho)
-        slipping = ~opened & ~stick
-        safe = np.where(slipping, nz, 1.0)
-        n = z / safe[:, None]
-        tT = np.where(stick[:, None], z, 0.0) + np.where(slipping[:, None], rho[:, None] * n, 0.0)
+        tT, opened, stick, slipping, n, dproj = return_mapping(z, rho)
         state = np.where(opened, OPEN, np.where(stick, STICK, SLIP))
         if not blocks:
             return g, nu, tN, tT, slip, state, None
@@ -165,9 +159,7 @@ class FiniteFrictionContact(FiniteContact):
         Ha = np.einsum("ijk,ik->ij", H, a)
         nua = np.einsum("ij,ij->i", nu, a)
         dz = self.eps_t * P + nua[:, None, None] * H + nu[:, :, None] * Ha[:, None, :]
-        eye = np.eye(d)[None]
-        proj = (rho / safe)[:, None, None] * (eye - n[:, :, None] * n[:, None, :])
-        dT = np.where(stick[:, None, None], dz, 0.0) + np.where(slipping[:, None, None], proj @ dz, 0.0)
+        dT = dproj @ dz
         if self.coupled:
             dT = dT - np.where(slipping[:, None, None], self.mu * kN[:, None, None] * n[:, :, None] * nu[:, None, :],
                                0.0)
@@ -466,19 +458,11 @@ def _step_ssn(dc: FiniteFrictionContact, lamN, lamT, x, eps_n, pen_name, opts) -
         act = (lN + c * g) > 0
         tN = np.where(act, lN + c * g, 0.0)
         rho = mu * tN
-        nz = np.linalg.norm(z, axis=1)
-        opened = ~(rho > 0)
-        stick = ~opened & (nz <= rho)
-        slipping = ~opened & ~stick
-        safe = np.where(slipping, nz, 1.0)
-        n = z / safe[:, None]
+        _, _, _, slipping, n, M = return_mapping(z, rho)
         dtN_dx = -np.where(act, c, 0.0)[:, None] * nu  # (k, d)
         dtN_dl = act.astype(float)
         dz_dx = c * P + np.einsum("i,ijk->ijk", np.einsum("ij,ij->i", nu, a), H) \
             + nu[:, :, None] * np.einsum("ijk,ik->ij", H, a)[:, None, :]
-        eye = np.eye(d)[None]
-        proj = (rho / safe)[:, None, None] * (eye - n[:, :, None] * n[:, None, :])
-        M = np.where(stick[:, None, None], eye, 0.0) + np.where(slipping[:, None, None], proj, 0.0)
         dtT_dx = M @ dz_dx + np.where(slipping[:, None, None], mu * n[:, :, None] * dtN_dx[:, None, :], 0.0)
         dtT_dlT = M @ P
         dtT_dlN = np.where(slipping[:, None], mu * dtN_dl[:, None] * n, 0.0)

@@ -54,6 +54,43 @@ class Macaulay:
         return np.where(lam + self.c * g > 0, 1.0, 0.0)
 
 
+def return_mapping(z: np.ndarray, rho: np.ndarray):
+    r"""Return mapping (6.47)-(6.50), corrected (6.49), of trial tractions onto the Coulomb discs.
+
+    :math:`t_T = z` where :math:`|z| \le \rho` (stick), else :math:`\rho\, z/|z|` (slip);
+    a point with :math:`\rho \le 0` is open (:math:`t_T = 0`).
+
+    Parameters
+    ----------
+    z : ndarray (c, k)
+        Trial tangential tractions (``k`` tangent components, or ambient vectors in the
+        tangent plane at finite deformation).
+    rho : ndarray (c,)
+        Disc radii (:math:`\mu \lambda_N` or :math:`\mu t_N`).
+
+    Returns
+    -------
+    tT : ndarray (c, k)
+    opened, stick, slip : ndarray (c,) of bool
+    n : ndarray (c, k)
+        Unit trial direction at slipping points (``z`` elsewhere).
+    dproj : ndarray (c, k, k)
+        :math:`\partial t_T/\partial z` at fixed radius: identity at stick points,
+        :math:`(\rho/|z|)(I - n n^T)` at slip points, zero at open points.
+    """
+    nz = np.linalg.norm(z, axis=1)
+    opened = ~(rho > 0)
+    stick = ~opened & (nz <= rho)
+    slip = ~opened & ~stick
+    safe = np.where(slip, nz, 1.0)
+    n = z / safe[:, None]
+    tT = np.where(stick[:, None], z, 0.0) + np.where(slip[:, None], rho[:, None] * n, 0.0)
+    eye = np.eye(z.shape[1])[None]
+    proj = (rho / safe)[:, None, None] * (eye - n[:, :, None] * n[:, None, :])
+    dproj = np.where(stick[:, None, None], eye, 0.0) + np.where(slip[:, None, None], proj, 0.0)
+    return tT, opened, stick, slip, n, dproj
+
+
 def local_law(normal, lamN, lamT, y, uTn, eps_t, mu, *, with_lam=False, rho=None, tfree=None, drho=None):
     """Tractions ``t`` (c, d) and their derivatives at all candidate points.
 
@@ -97,17 +134,8 @@ def local_law(normal, lamN, lamT, y, uTn, eps_t, mu, *, with_lam=False, rho=None
     z = _trial(lamT, uT, uTn, eps_t, tfree)
     coupled = rho is None
     rho = mu * tN if coupled else np.asarray(rho, dtype=float)
-    nz = np.linalg.norm(z, axis=1)
-    opened = ~(rho > 0)
-    stick = ~opened & (nz <= rho)
-    slip = ~opened & ~stick
-    safe = np.where(slip, nz, 1.0)
-    nvec = z / safe[:, None]
-    tT = np.where(stick[:, None], z, 0.0) + np.where(slip[:, None], rho[:, None] * nvec, 0.0)
+    tT, opened, stick, slip, nvec, dz = return_mapping(z, rho)
     t = np.concatenate([tN[:, None], tT], axis=1)
-    eye = np.eye(d - 1)
-    proj = (rho / safe)[:, None, None] * (eye[None] - nvec[:, :, None] * nvec[:, None, :])
-    dz = np.where(stick[:, None, None], eye[None], 0.0) + np.where(slip[:, None, None], proj, 0.0)
     if tfree is not None:
         mask = np.asarray(tfree, dtype=float)
         dz = dz * mask[:, :, None] * mask[:, None, :]
