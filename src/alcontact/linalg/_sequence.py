@@ -24,6 +24,7 @@ import scipy.sparse as sp
 
 from ..errors import InputError
 from ._base import MatrixHints
+from ._solvers import PardisoHandle
 
 __all__ = ["MATRIX_TYPES", "PardisoSymmetricFactor", "SequenceSolver"]
 
@@ -49,7 +50,7 @@ def _upper_with_diagonal(A, upper: bool = True) -> sp.csr_matrix:
     return U
 
 
-class PardisoSymmetricFactor:
+class PardisoSymmetricFactor(PardisoHandle):
     """MKL PARDISO factor of a real (symmetric or unsymmetric) matrix whose symbolic analysis is kept.
 
     The ordering (METIS) and symbolic factorization (phase 11) are done once; the
@@ -125,16 +126,6 @@ class PardisoSymmetricFactor:
                              f"error {err.value} ({_PARDISO_ERRORS.get(err.value, 'see the MKL documentation')}); "
                              "use another linear solver (e.g. 'superlu').")
 
-    @property
-    def nnz(self) -> int:
-        return int(self._iparm[17])
-
-    @property
-    def memory_bytes(self) -> int:
-        """Peak of PARDISO's analysis and factorization memory (``iparm(15..17)``, KiB)."""
-        ip = self._iparm
-        return 1024 * int(max(ip[14], ip[15] + ip[16]))
-
     def same_pattern(self, matrix) -> bool:
         """Whether ``matrix`` has the sparsity pattern this factor analysed."""
         U = _upper_with_diagonal(matrix, self._upper)
@@ -153,11 +144,6 @@ class PardisoSymmetricFactor:
         self.factorizations += 1
         self.factor_seconds = time.perf_counter() - t0
         return self
-
-    def solve(self, rhs) -> np.ndarray:
-        from ._solvers import pardiso_solve
-
-        return pardiso_solve(self._run, self.n, rhs)
 
     def release(self) -> None:
         """Free PARDISO's memory (the factor is unusable afterwards)."""

@@ -181,17 +181,30 @@ def _mkl_pardiso():
     return _MKL_PARDISO[0]._mkl_pardiso
 
 
-def pardiso_solve(run, n: int, rhs) -> np.ndarray:
-    """Solve phase (33) of a PARDISO handle: ``run(33, b, x)`` on Fortran-ordered copies of ``rhs``."""
-    r = _check_rhs(rhs, n)
-    b = np.asfortranarray(r, dtype=np.float64)
-    x = np.zeros_like(b, order="F")
-    if b.size:
-        run(33, b, x)
-    return np.ascontiguousarray(x)
+class PardisoHandle:
+    """What every MKL PARDISO factor offers on top of its ``_run(phase, b, x)`` call:
+    the solve phase (33) and the sizes PARDISO reports in ``_iparm``."""
+
+    @property
+    def nnz(self) -> int:
+        return int(self._iparm[17])
+
+    @property
+    def memory_bytes(self) -> int:
+        """Peak of PARDISO's analysis and factorization memory (``iparm(15..17)``, KiB)."""
+        ip = self._iparm
+        return 1024 * int(max(ip[14], ip[15] + ip[16]))
+
+    def solve(self, rhs) -> np.ndarray:
+        r = _check_rhs(rhs, self.n)
+        b = np.asfortranarray(r, dtype=np.float64)
+        x = np.zeros_like(b, order="F")
+        if b.size:
+            self._run(33, b, x)
+        return np.ascontiguousarray(x)
 
 
-class _PardisoFactor:
+class _PardisoFactor(PardisoHandle):
     """MKL PARDISO factor of the upper triangle (``mtype=2``, real SPD), called through ctypes.
 
     Uses the ``mkl_rt`` handle that :class:`pypardiso.PyPardisoSolver` locates, but calls the
@@ -276,19 +289,6 @@ class _PardisoFactor:
             if phase != -1:
                 self._release()
             raise _singular(self.n, f"PARDISO error {err.value}: {_PARDISO_ERRORS.get(err.value, 'see MKL docs')}")
-
-    @property
-    def nnz(self) -> int:
-        return int(self._iparm[17])
-
-    @property
-    def memory_bytes(self) -> int:
-        """Peak of PARDISO's analysis and factorization memory (``iparm(15..17)``, KiB)."""
-        ip = self._iparm
-        return 1024 * int(max(ip[14], ip[15] + ip[16]))
-
-    def solve(self, rhs) -> np.ndarray:
-        return pardiso_solve(self._run, self.n, rhs)
 
     def _release(self) -> None:
         if self._alive:
