@@ -85,7 +85,7 @@ from ._laws import eta_for_stiffness, freezes_at_zero, make_law
 from ._loading import LoadHistory
 from ._solution import ContactStatus
 from ._solve import penalty_stiffness
-from ._stepping import StepRecords, _StepData, _step_times
+from ._stepping import Attempt, StepRecord, StepRecords, _StepData, _step_times, step_through
 from ._verify import check_state, verified_status
 
 __all__ = ["FiniteFrictionContact", "FiniteFrictionStep", "FiniteFrictionSolution", "solve_finite_friction",
@@ -278,6 +278,14 @@ class FiniteFrictionStep:
         Obstacle translation :math:`c(t)`.
     seconds : float
     message : str
+    u : ndarray (ndofs,)
+        Displacement at the end of the step.
+    pressure, gap : ndarray (m,)
+        Normal traction :math:`t_N` and gap (current configuration) of every contact point.
+    traction_t : ndarray (m, d)
+        Tangential traction (dissertation sign: along the slip; the force on the body is :math:`-w\\,t_T`).
+    slip : ndarray (m, d)
+        Slip increment :math:`\\Delta s_T` of the step (zero at open points).
     """
 
     t: float
@@ -294,6 +302,16 @@ class FiniteFrictionStep:
     offset: np.ndarray
     seconds: float
     message: str
+    u: np.ndarray | None = None
+    pressure: np.ndarray | None = None
+    gap: np.ndarray | None = None
+    traction_t: np.ndarray | None = None
+    slip: np.ndarray | None = None
+
+    @property
+    def state(self) -> np.ndarray:
+        """``states`` (the name of :class:`~alcontact.contact._stepping.Frame`)."""
+        return self.states
 
 
 @dataclass(frozen=True)
@@ -571,6 +589,7 @@ def solve_finite_friction(problem, mu: float, algorithm: str = "simo-laursen", p
                           options: FrictionOptions | dict | None = None, *, steps: int | Sequence[float] = 10,
                           history: LoadHistory | None = None,
                           obstacle_path: Callable[[float], Any] | None = None,
+                          on_step: Callable[[FiniteFrictionStep], None] | None = None,
                           **option_overrides) -> FiniteFrictionSolution:
     """Coulomb friction at finite deformation, in load steps (module doc).
 
@@ -595,12 +614,16 @@ def solve_finite_friction(problem, mu: float, algorithm: str = "simo-laursen", p
         every support value and load is scaled by the pseudo-time.
     obstacle_path : callable ``t -> (d,)``, optional
         Translation of the obstacle at pseudo-time ``t`` (default none).
+    on_step : callable ``step -> None``, optional
+        Called with every accepted :class:`FiniteFrictionStep` (it carries the step's
+        displacement, pressures, gaps, tangential tractions, slip and stick/slip states).
 
     Returns
     -------
     FiniteFrictionSolution
-        A negative status (with a logged warning) when a step fails after ``max_cutbacks``
-        reductions or its state fails the verification.
+        A negative status (with a logged warning) when a step fails at the smallest increment
+        (``max_cutbacks`` reductions by ``cutback_factor``, :func:`~alcontact.contact._stepping.step_through`)
+        or its state fails the verification.
     """
     t_start = time.perf_counter()
     if not (is_real(mu) and np.isfinite(mu) and mu >= 0):
@@ -627,62 +650,41 @@ def solve_finite_friction(problem, mu: float, algorithm: str = "simo-laursen", p
     def offset_at(t):
         return np.zeros(d) if obstacle_path is None else np.asarray(obstacle_path(float(t)), dtype=float)
 
-    x = np.zeros(dc.free.size)
-    dc.configure(*data(0.0), x)
+    x0 = np.zeros(dc.free.size)
+    dc.configure(*data(0.0), x0)
     dc.accept(np.zeros(m))
-    c_prev = offset_at(0.0)
-    dc.offset = c_prev
-    s_prev = dc.relative_positions(dc.expand(x))
-    lamN_all, lamT_all = np.zeros(m), np.zeros((m, d))
+    dc.offset = offset_at(0.0)
+    # the committed state every try starts from
+    state = {"x": x0, "s_prev": dc.relative_positions(dc.expand(x0)), "lamN": np.zeros(m),
+             "lamT": np.zeros((m, d)), "last": None}
     records: list[FiniteFrictionStep] = []
-    status, message = ContactStatus.CONVERGED, "all load steps converged and verified"
-    last = None
-    t_prev = 0.0
-    queue = list(times)
-    dt_nominal = None
-    while queue:
-        t_target = queue[0]
-        if dt_nominal is None:
-            dt_nominal = t_target - t_prev
-        dt = t_target - t_prev
-        cut = 0
-        newton0 = dc.newton_iterations
-        t0 = time.perf_counter()
-        while True:
-            t = t_prev + dt if t_prev + dt < t_target - 1e-14 * max(1.0, t_target) else t_target
-            res, exc = _attempt(dc, data, step_fn, x, t, offset_at(t), s_prev, lamN_all, lamT_all, mu, eps_n, eps_t,
-                                pen_name, opts)
-            if exc is None and res.ok:
-                break
-            reason = str(exc) if exc is not None else f"{res.status.label}: {res.message}"
-            if cut >= opts.max_cutbacks:
-                status = res.status if exc is None else ContactStatus.NEWTON_FAILED
-                message = (f"load step to t={t:.6g} failed after {cut} cut-backs ({reason}); use more load steps, "
-                           "a smaller penalty_scale or a smaller tangential_scale")
-                logger.warning("finite-deformation friction: %s", message)
-                break
-            cut += 1
-            dt *= opts.cutback_factor
-            logger.info("finite friction step to t=%.6g failed (%s); cutting back to dt=%.3g", t, reason, dt)
-        if status < 0:
-            break
-        rec, full = _record(dc, res, t, mu, opts, cut, dc.newton_iterations - newton0, time.perf_counter() - t0)
-        if rec.status < 0:
-            status, message = rec.status, rec.message
-            records.append(rec)
-            last = full
-            break
-        records.append(rec)
-        last = full
-        x = res.x
-        u = dc.expand(x)
-        s_prev = dc.relative_positions(u)
-        lamN_all, lamT_all = full["pressure"].copy(), full["traction_t"].copy()
-        dc.accept(lamN_all)
-        t_prev = t
-        if t >= t_target - 1e-14 * max(1.0, t_target):
-            queue.pop(0)
-            dt_nominal = None
+
+    def attempt(t: float) -> Attempt:
+        newton0, solves0 = dc.newton_iterations, dc.linear_solves
+        res, exc = _attempt(dc, data, step_fn, state["x"], t, offset_at(t), state["s_prev"], state["lamN"],
+                            state["lamT"], mu, eps_n, eps_t, pen_name, opts)
+        counts = dict(newton=dc.newton_iterations - newton0, linear_solves=dc.linear_solves - solves0)
+        if exc is not None:
+            return Attempt(False, ContactStatus.NEWTON_FAILED, str(exc), **counts)
+        return Attempt(bool(res.ok), res.status, res.message, outer=int(res.outer), value=res, **counts)
+
+    def commit(t: float, att: Attempt, rec: StepRecord) -> FiniteFrictionStep:
+        res = att.value
+        step, full = _record(dc, res, t, mu, opts, rec.cutbacks, rec.newton_iterations, rec.seconds)
+        records.append(step)
+        state["last"] = full
+        if step.status > 0:
+            state["x"] = res.x
+            state["s_prev"] = dc.relative_positions(dc.expand(res.x))
+            state["lamN"], state["lamT"] = full["pressure"].copy(), full["traction_t"].copy()
+            dc.accept(state["lamN"])
+        return step
+
+    run = step_through(times, attempt, commit, max_cutbacks=opts.max_cutbacks, factor=opts.cutback_factor,
+                       on_step=on_step, what="finite-deformation friction",
+                       advice="use more load steps, a smaller penalty_scale or a smaller tangential_scale",
+                       done_message="all load steps converged and verified")
+    status, message, last, x = run.status, run.message, state["last"], state["x"]
     if last is None:
         u = dc.expand(x)
         g_all = dc.all_gaps(u)
@@ -748,6 +750,7 @@ def _record(dc, res, t, mu, opts, cut, newton, seconds):
         t=float(t), status=status, newton_iterations=int(newton), outer_iterations=int(res.outer), cutbacks=cut,
         force=force, normal_force=float(np.sum(w * pressure)), tangential_force=tang, states=states,
         dissipation=dissipation, stored_energy=float(dc.body.energy(u)), offset=dc.offset.copy(), seconds=seconds,
-        message=message)
+        message=message, u=u, pressure=pressure, gap=g_all, traction_t=traction_t,
+        slip=np.where(closed[:, None], slip, 0.0))
     full = {"u": u, "pressure": pressure, "gap": g_all, "traction_t": traction_t, "normals": dc.normals.copy()}
     return rec, full

@@ -67,6 +67,7 @@ from ._laws import eta_for_stiffness, freezes_at_zero, make_law
 from ._loading import LoadHistory
 from ._solution import ContactStatus
 from ._solve import penalty_stiffness
+from ._stepping import Attempt, StepRecord, step_through
 from ._verify import check_state, verified_status
 
 __all__ = ["FrictionOptions", "solve_friction", "friction_algorithms", "friction_algorithm_docs"]
@@ -868,80 +869,76 @@ def solve_friction(problem, history: LoadHistory, algorithm: str = "simo-laursen
     state = _State(0.0, u0, y0, np.zeros(m), np.zeros((m, d - 1)), np.zeros((m, d)), np.zeros((m, d)))
     tangential = [c for c in history.cases if c.tangential]
     records: list[FrictionStep] = []
-    status, message = ContactStatus.CONVERGED, "converged"
-    failed_check = None  # (t, Check) of the first recorded step that fails verification
-    n_outer = n_newton = n_cut = 0
+    failed_check = []  # (t, Check) of the first recorded step that fails verification
+    cur = {"state": state}
     t_solve = time.perf_counter()
-    for k_req, t_req in enumerate(history.times):
-        if on_step is not None:
-            on_step(k_req, float(t_req), len(history.times))
-        queue = [t_req]
-        cuts = 0
-        while queue:
-            t = queue[-1]
-            if tangential and not np.any(_closed(fc, state.tN, state.y[:, 0], opts)):
-                active = [c.label for c in tangential if c.value(t) != 0.0]
-                if active:
-                    raise InputError(
-                        f"tangential load {', '.join(active)} is applied at t={t:g} but no point is in contact at "
-                        f"the start of that step (t={state.t:g}); apply the normal load first (start the tangential "
-                        "amplitude at 0 until contact exists).")
-            away = fc.slides_away(t, mu * history.friction_factor(t))  # body held by the obstacle only
-            if away is not None:
-                status, message = ContactStatus.UNBOUNDED, away
-                break
-            res, out, o, nw = _advance(fc, state, t, step_fn, pen_name, eps_n, eps_t,
-                                       mu * history.friction_factor(t), opts)
-            n_outer += o
-            n_newton += nw
-            if res is None:
-                cuts += 1
-                n_cut += 1
-                logger.info("step to t=%g failed (%s); cut-back %d", t, out.message, cuts)
-                if cuts > opts.max_cutbacks:
-                    status = out.status
-                    message = (f"load step to t={t:g} failed after {opts.max_cutbacks} cut-backs: {out.message}; "
-                               "use more load steps, a smaller penalty_scale or algorithm='ssn'")
-                    if fc.spring is not None:
-                        message += ("; the body is held by the obstacle only: if contact and friction cannot "
-                                    "balance the loads it slides or turns away (no static equilibrium), so "
-                                    "prescribe that motion as a displacement or add a support")
-                    break
-                queue.append(state.t + opts.cutback_factor * (t - state.t))
-                continue
-            u, y_all, tN, tT, R, pred = res
-            closed = _closed(fc, tN, y_all[:, 0], opts)
-            duT = y_all[:, 1:] - state.y[:, 1:]
-            slip = np.where(closed[:, None], np.einsum("ijk,ik->ij", fc.tangents, duT), 0.0)
-            nT = np.linalg.norm(tT, axis=1)
-            pref = max(float(np.max(tN, initial=0.0)), 1e-300)
-            mu_t = mu * history.friction_factor(t)
-            saturated = nT >= mu_t * tN - 1e-6 * max(mu_t, 1e-300) * pref
-            st = np.where(~closed, OPEN, np.where(saturated, SLIP, STICK))
-            shear = -np.einsum("ijk,ik->ij", fc.tangents, tT)
-            w = fc.weights
-            tang_force = np.sum(w[:, None] * shear, axis=0)
-            normal_force = float(np.sum(w * tN))
-            slip_total = state.slip_total + slip
-            check = check_state(y_all[:, 0], tN, fc.h, tol_penetration=opts.tol_penetration,
-                                tol_complementarity=opts.tol_complementarity, traction_t=tT,
-                                slip=np.where(closed[:, None] & fc.tfree, duT, 0.0), mu=mu_t,
-                                tol_friction=max(opts.tol_multiplier, opts.tol_slip))
-            if failed_check is None and not check.ok:
-                failed_check = (float(t), check)
-            records.append(FrictionStep(
-                t=float(t), requested=(len(queue) == 1), u=u, pressure=tN, traction_t=tT, shear=shear, slip=slip,
-                slip_total=slip_total, gap=y_all[:, 0], state=st, normal_force=normal_force,
-                tangential_force=tang_force, contact_force=tang_force + np.sum((w * tN)[:, None] * fc.normals, axis=0),
-                outer_iterations=int(out.outer), newton_iterations=int(out.newton), cutbacks=cuts,
-                penetration=float(np.max(y_all[:, 0], initial=0.0)) / fc.h,
-                coulomb=float(np.max(np.maximum(nT - mu_t * tN, 0.0), initial=0.0)) / pref,
-            ))
-            state = _State(float(t), u, y_all, tN, tT, R, slip_total, pred)
-            queue.pop()
-            cuts = 0 if not queue else cuts
-        if status < 0:
-            break
+
+    def attempt(t: float) -> Attempt:
+        prev = cur["state"]
+        if tangential and not np.any(_closed(fc, prev.tN, prev.y[:, 0], opts)):
+            active = [c.label for c in tangential if c.value(t) != 0.0]
+            if active:
+                raise InputError(
+                    f"tangential load {', '.join(active)} is applied at t={t:g} but no point is in contact at "
+                    f"the start of that step (t={prev.t:g}); apply the normal load first (start the tangential "
+                    "amplitude at 0 until contact exists).")
+        away = fc.slides_away(t, mu * history.friction_factor(t))  # body held by the obstacle only
+        if away is not None:
+            return Attempt(False, ContactStatus.UNBOUNDED, away, final=True)
+        solves0 = fc.linear_solves
+        res, out, o, nw = _advance(fc, prev, t, step_fn, pen_name, eps_n, eps_t, mu * history.friction_factor(t),
+                                   opts)
+        return Attempt(res is not None, out.status, out.message, newton=nw, outer=o,
+                       linear_solves=fc.linear_solves - solves0, value=(res, out))
+
+    def commit(t: float, att: Attempt, rec: StepRecord) -> FrictionStep:
+        prev = cur["state"]
+        (u, y_all, tN, tT, R, pred), out = att.value
+        closed = _closed(fc, tN, y_all[:, 0], opts)
+        duT = y_all[:, 1:] - prev.y[:, 1:]
+        slip = np.where(closed[:, None], np.einsum("ijk,ik->ij", fc.tangents, duT), 0.0)
+        nT = np.linalg.norm(tT, axis=1)
+        pref = max(float(np.max(tN, initial=0.0)), 1e-300)
+        mu_t = mu * history.friction_factor(t)
+        saturated = nT >= mu_t * tN - 1e-6 * max(mu_t, 1e-300) * pref
+        st = np.where(~closed, OPEN, np.where(saturated, SLIP, STICK))
+        shear = -np.einsum("ijk,ik->ij", fc.tangents, tT)
+        w = fc.weights
+        tang_force = np.sum(w[:, None] * shear, axis=0)
+        normal_force = float(np.sum(w * tN))
+        slip_total = prev.slip_total + slip
+        check = check_state(y_all[:, 0], tN, fc.h, tol_penetration=opts.tol_penetration,
+                            tol_complementarity=opts.tol_complementarity, traction_t=tT,
+                            slip=np.where(closed[:, None] & fc.tfree, duT, 0.0), mu=mu_t,
+                            tol_friction=max(opts.tol_multiplier, opts.tol_slip))
+        if not failed_check and not check.ok:
+            failed_check.append((float(t), check))
+        step = FrictionStep(
+            t=float(t), requested=rec.requested, u=u, pressure=tN, traction_t=tT, shear=shear, slip=slip,
+            slip_total=slip_total, gap=y_all[:, 0], state=st, normal_force=normal_force,
+            tangential_force=tang_force, contact_force=tang_force + np.sum((w * tN)[:, None] * fc.normals, axis=0),
+            outer_iterations=int(out.outer), newton_iterations=int(out.newton), cutbacks=rec.step_cutbacks,
+            penetration=float(np.max(y_all[:, 0], initial=0.0)) / fc.h,
+            coulomb=float(np.max(np.maximum(nT - mu_t * tN, 0.0), initial=0.0)) / pref, seconds=rec.seconds,
+        )
+        records.append(step)
+        cur["state"] = _State(float(t), u, y_all, tN, tT, R, slip_total, pred)
+        return step
+
+    def advice() -> str:
+        tip = "use more load steps, a smaller penalty_scale or algorithm='ssn'"
+        if fc.spring is not None:
+            tip += ("; the body is held by the obstacle only: if contact and friction cannot balance the loads it "
+                    "slides or turns away (no static equilibrium), so prescribe that motion as a displacement or "
+                    "add a support")
+        return tip
+
+    run = step_through(history.times, attempt, commit, max_cutbacks=opts.max_cutbacks, factor=opts.cutback_factor,
+                       before_step=on_step, recoverable=(), what=f"frictional contact {algorithm}", advice=advice,
+                       done_message="converged")
+    status, message = run.status, run.message
+    n_outer, n_newton, n_cut = run.outer_iterations, run.newton_iterations, run.cutbacks
+    failed_check = failed_check[0] if failed_check else None
     if failed_check is not None:
         status, message = verified_status(status, message, failed_check[1],
                                           what=f"frictional contact {algorithm} (step t={failed_check[0]:g})")
@@ -950,7 +947,7 @@ def solve_friction(problem, history: LoadHistory, algorithm: str = "simo-laursen
         status = ContactStatus.NO_CONTACT
         message = (f"the body never reaches the obstacle: smallest clearance {-fc.gmax_t[i]:.4g} at point "
                    f"{np.round(fc.points[i], 6).tolist()}; check the loads, the obstacle or the contact boundary")
-    if status < 0:
+    if status < 0 and status != run.status:  # a step failure was logged by step_through
         logger.warning("frictional contact %s failed (%s): %s", algorithm, status.label, message)
     t_end = time.perf_counter()
     return FrictionSolution(

@@ -11,6 +11,7 @@ import numpy as np
 from ..errors import ConvergenceError
 from ._friction_laws import OPEN, SLIP, STICK
 from ._solution import ContactStatus
+from ._stepping import StepRecords
 
 __all__ = ["FrictionStep", "FrictionSolution", "OPEN", "STICK", "SLIP"]
 
@@ -56,6 +57,8 @@ class FrictionStep:
         Max gap over ``h``.
     coulomb : float
         Max violation :math:`(|t_T| - \\mu t_N)^+` over the largest pressure.
+    seconds : float
+        Wall time of the tries since the last accepted step (failed ones included).
     """
 
     t: float
@@ -76,6 +79,12 @@ class FrictionStep:
     cutbacks: int
     penetration: float
     coulomb: float
+    seconds: float = float("nan")
+
+    @property
+    def force(self) -> np.ndarray:
+        """``contact_force`` (the name of :class:`~alcontact.contact._stepping.Frame`)."""
+        return self.contact_force
 
     @property
     def n_stick(self) -> int:
@@ -91,12 +100,14 @@ class FrictionStep:
 
 
 @dataclass(frozen=True)
-class FrictionSolution:
+class FrictionSolution(StepRecords):
     """Outcome of :func:`alcontact.contact.solve_friction`.
 
     ``steps`` holds every converged step (requested ones and those inserted by
     cut-backs); after a failure it holds the steps converged before it and
-    ``status`` is negative. ``final`` is the last converged step.
+    ``status`` is negative. ``final`` is the last converged step. The per-step views
+    (``times``, ``forces``, ``normal_forces``, ``tangential_forces``, ``frames``) are
+    those of every stepped solution (:class:`~alcontact.contact._stepping.StepRecords`).
     """
 
     problem: Any
@@ -122,10 +133,6 @@ class FrictionSolution:
     timings: dict = field(default_factory=dict)
     extra: dict = field(default_factory=dict)
 
-    @property
-    def success(self) -> bool:
-        return self.status > 0
-
     def raise_for_status(self) -> None:
         """Raise :class:`~alcontact.errors.ConvergenceError` unless converged."""
         if not self.success:
@@ -140,19 +147,6 @@ class FrictionSolution:
     @property
     def requested_steps(self) -> tuple[FrictionStep, ...]:
         return tuple(s for s in self.steps if s.requested)
-
-    @property
-    def times(self) -> np.ndarray:
-        return np.array([s.t for s in self.steps])
-
-    @property
-    def normal_forces(self) -> np.ndarray:
-        return np.array([s.normal_force for s in self.steps])
-
-    @property
-    def tangential_forces(self) -> np.ndarray:
-        """``(nsteps, d)`` resultants of the tangential tractions on the body."""
-        return np.array([s.tangential_force for s in self.steps]).reshape(len(self.steps), -1)
 
     def equilibrium(self, step: FrictionStep | None = None):
         r"""Global equilibrium :math:`F_c + F_{ext} + R = 0` of a converged step (default: the final one).

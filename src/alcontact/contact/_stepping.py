@@ -28,14 +28,17 @@ from typing import Any, Callable, Sequence
 
 import numpy as np
 
+from .._options import is_integer, is_real
 from ..errors import InputError, InvertedElementError
+from ..status import Status
 from ._algorithms import ContactOptions, _Run, get_algorithm, options_with, resolve_penalty
 from ._finite import FiniteContact
 from ._loading import LoadHistory, component_fields
 from ._solution import ContactResult, ContactSolution, ContactStatus
 from ._verify import check_state, verified_status
 
-__all__ = ["FiniteStep", "FiniteSolution", "solve_finite"]
+__all__ = ["FiniteStep", "FiniteSolution", "solve_finite", "Frame", "StepRecords", "Attempt", "StepRecord",
+           "SteppingResult", "step_through"]
 
 logger = logging.getLogger(__name__)
 
@@ -63,6 +66,12 @@ class FiniteStep:
     seconds : float
         Wall time of the step (failed attempts included).
     message : str
+    u : ndarray (ndofs,)
+        Displacement at the end of the step.
+    pressure, gap : ndarray (m,)
+        Contact pressure and gap (current configuration) of every contact-boundary point.
+    normal_force : float
+        :math:`\\sum_i w_i t_{N,i}`.
     """
 
     t: float
@@ -74,11 +83,75 @@ class FiniteStep:
     cutbacks: int
     seconds: float
     message: str
+    u: np.ndarray | None = None
+    pressure: np.ndarray | None = None
+    gap: np.ndarray | None = None
+    normal_force: float = float("nan")
+
+
+@dataclass(frozen=True)
+class Frame:
+    r"""State of one accepted load step, the same shape for every stepped solve.
+
+    Attributes
+    ----------
+    t : float
+        Pseudo-time.
+    u : ndarray (ndofs,)
+        Displacement.
+    pressure, gap : ndarray (m,)
+        Normal traction :math:`t_N \ge 0` and gap (:math:`g \le 0`: no penetration) of every
+        contact-boundary point.
+    force : ndarray (d,)
+        Resultant contact force on the body (normal and tangential parts).
+    normal_force : float
+        :math:`\sum_i w_i t_{N,i}`.
+    tangential_force : ndarray (d,)
+        Resultant friction force on the body (zeros without friction).
+    newton_iterations, outer_iterations, cutbacks : int
+        Counters of the step as its solver records them.
+    seconds : float
+        Wall time of the step (NaN where the solver does not time steps).
+    slip : ndarray (m, d) or None
+        Slip increment of the step (frictional solves).
+    state : ndarray of int (m,) or None
+        ``OPEN`` / ``STICK`` / ``SLIP`` (frictional solves, :mod:`alcontact.contact._friction_laws`).
+    """
+
+    t: float
+    u: np.ndarray
+    pressure: np.ndarray
+    gap: np.ndarray
+    force: np.ndarray
+    normal_force: float
+    tangential_force: np.ndarray
+    newton_iterations: int
+    outer_iterations: int
+    cutbacks: int
+    seconds: float
+    slip: np.ndarray | None = None
+    state: np.ndarray | None = None
+
+
+def frame_of(step) -> Frame:
+    """The :class:`Frame` of a step record (:class:`FiniteStep`, ``FrictionStep``, ``FiniteFrictionStep``)."""
+    force = np.asarray(step.force, dtype=float)
+    tang = getattr(step, "tangential_force", None)
+    return Frame(t=float(step.t), u=step.u, pressure=step.pressure, gap=step.gap, force=force,
+                 normal_force=float(step.normal_force),
+                 tangential_force=np.zeros_like(force) if tang is None else np.asarray(tang, dtype=float),
+                 newton_iterations=int(step.newton_iterations), outer_iterations=int(step.outer_iterations),
+                 cutbacks=int(step.cutbacks), seconds=float(getattr(step, "seconds", float("nan"))),
+                 slip=getattr(step, "slip", None), state=getattr(step, "state", None))
 
 
 class StepRecords:
-    """Views on the per-step records ``steps`` (each with ``t`` and ``force``) and ``status``
-    of a load-stepped solution (frictionless and frictional finite deformation)."""
+    """Views on the per-step records ``steps`` and ``status`` of a load-stepped solution.
+
+    Shared by :class:`FiniteSolution`, ``FiniteFrictionSolution`` and ``FrictionSolution``:
+    every step record has ``t``, ``u``, ``pressure``, ``gap``, ``force``, ``normal_force``
+    and the counters, so :attr:`frames` gives one :class:`Frame` per accepted step.
+    """
 
     @property
     def success(self) -> bool:
@@ -92,6 +165,28 @@ class StepRecords:
     def forces(self) -> np.ndarray:
         """Resultant contact force on the body per step, shape ``(steps, d)``."""
         return np.array([s.force for s in self.steps])
+
+    @property
+    def normal_forces(self) -> np.ndarray:
+        """:math:`\\sum_i w_i t_{N,i}` per step."""
+        return np.array([s.normal_force for s in self.steps])
+
+    @property
+    def tangential_forces(self) -> np.ndarray:
+        """``(steps, d)`` resultants of the friction forces on the body (zeros without friction)."""
+        out = [getattr(s, "tangential_force", None) for s in self.steps]
+        out = [np.zeros_like(np.asarray(s.force, dtype=float)) if f is None else f for s, f in zip(self.steps, out)]
+        return np.array(out, dtype=float).reshape(len(self.steps), -1)
+
+    @property
+    def step_newton_iterations(self) -> list[int]:
+        """Newton iterations of every accepted step."""
+        return [int(s.newton_iterations) for s in self.steps]
+
+    @property
+    def frames(self) -> tuple[Frame, ...]:
+        """One :class:`Frame` per accepted step."""
+        return tuple(frame_of(s) for s in self.steps)
 
 
 @dataclass(frozen=True)
@@ -168,6 +263,227 @@ def _step_times(steps) -> tuple[float, ...]:
     return LoadHistory.check_times(steps)
 
 
+# ---------------------------------------------------------------------------
+# the load-stepping driver (every stepped solve: solve_finite, solve_friction, solve_finite_friction)
+# ---------------------------------------------------------------------------
+@dataclass(frozen=True)
+class Attempt:
+    """Outcome of one try of a load step (what the ``attempt`` callable of :func:`step_through` returns).
+
+    Attributes
+    ----------
+    ok : bool
+        The step converged; :func:`step_through` then commits it.
+    status : Status
+        Negative when the try failed.
+    message : str
+        Why it failed (or the solver's message).
+    newton, outer, linear_solves : int
+        Counters of this try.
+    value : object
+        Whatever the ``commit`` callable needs (the solver's own state).
+    final : bool
+        A failure no smaller increment can cure (e.g. no static equilibrium): the run
+        stops at once with ``status`` and ``message``, without cut-backs.
+    """
+
+    ok: bool
+    status: Status = Status.CONVERGED
+    message: str = ""
+    newton: int = 0
+    outer: int = 0
+    linear_solves: int = 0
+    value: Any = None
+    final: bool = False
+
+
+@dataclass(frozen=True)
+class StepRecord:
+    """What :func:`step_through` records of one accepted step.
+
+    Attributes
+    ----------
+    t : float
+        Pseudo-time reached.
+    index : int
+        0-based index of the requested step this step belongs to.
+    requested : bool
+        ``t`` is a requested step time (False for a sub-step inserted by a cut-back).
+    newton_iterations, linear_solves : int
+        Of every try since the last accepted step (failed tries included).
+    outer_iterations : int
+        Of the accepted try.
+    cutbacks : int
+        Failed tries since the last accepted step.
+    step_cutbacks : int
+        Failed tries of the requested step so far.
+    seconds : float
+        Wall time of the tries since the last accepted step.
+    """
+
+    t: float
+    index: int
+    requested: bool
+    newton_iterations: int
+    outer_iterations: int
+    linear_solves: int
+    cutbacks: int
+    step_cutbacks: int
+    seconds: float
+
+
+@dataclass(frozen=True)
+class SteppingResult:
+    """Outcome of :func:`step_through`.
+
+    Attributes
+    ----------
+    records : tuple of StepRecord
+        Every accepted step, in order.
+    status : Status
+        ``CONVERGED`` when every requested step was reached, else the failure's (negative) status.
+    message : str
+        On failure: which step failed, why, and what to try.
+    cutbacks : int
+        Failed tries over the run (the one that ended it included).
+    newton_iterations, outer_iterations, linear_solves : int
+        Totals over every try.
+    """
+
+    records: tuple[StepRecord, ...]
+    status: Status
+    message: str
+    cutbacks: int
+    newton_iterations: int
+    outer_iterations: int
+    linear_solves: int
+
+    @property
+    def success(self) -> bool:
+        return self.status > 0
+
+
+def step_through(times: Sequence[float], attempt: Callable[[float], Attempt],
+                 commit: Callable[[float, Attempt, StepRecord], Any], *, t0: float = 0.0, max_cutbacks: int = 6,
+                 factor: float = 0.5, on_step: Callable[[Any], None] | None = None,
+                 before_step: Callable[[int, float, int], None] | None = None,
+                 recoverable: tuple[type[BaseException], ...] = (InvertedElementError,),
+                 what: str = "load stepping", advice: str | Callable[[], str] = "use more load steps",
+                 done_message: str = "all load steps converged") -> SteppingResult:
+    r"""Walk the pseudo-times ``times`` from ``t0``, cutting failed steps back.
+
+    Each step tries ``attempt(t)`` from the last committed state. A converged try is
+    passed to ``commit(t, attempt, record)`` (which stores the state the next try
+    starts from) and its return value to ``on_step``. A failed try is cut back: the
+    increment from the last accepted time :math:`s` is reduced, :math:`t \leftarrow s +
+    \text{factor}\,(t - s)`, and the failed time is tried again once the smaller step
+    is accepted (a stack of targets). A failure at an increment of at most
+    :math:`\text{factor}^{\text{max\_cutbacks}}` times the requested one ends the run
+    with the try's negative status, a logged warning and a message naming the step,
+    the reason and ``advice``.
+
+    Parameters
+    ----------
+    times : sequence of float
+        Increasing requested step times, all above ``t0``.
+    attempt : callable ``t -> Attempt``
+        One try of the step to ``t`` (predictors, candidate updates and the solve live here).
+        Exceptions of the ``recoverable`` types count as a failed try (``NEWTON_FAILED``).
+    commit : callable ``(t, attempt, record) -> step``
+        Accepts the converged try. A returned object with a negative ``status`` (e.g. a
+        step that fails its verification) ends the run with that status and its ``message``.
+    t0 : float
+        Pseudo-time of the starting state.
+    max_cutbacks : int
+        Reductions of a requested increment allowed (at most ``factor**-max_cutbacks``
+        sub-steps per requested step).
+    factor : float
+        Fraction of the failed increment tried next (0.5: halving).
+    on_step : callable ``step -> None``, optional
+        Called with ``commit``'s return value after every accepted step.
+    before_step : callable ``(k, t, n) -> None``, optional
+        Called before requested step ``k`` (0-based) of ``n`` at time ``t`` (progress).
+    what : str
+        Name of the solve in the logged messages.
+    advice : str or callable ``() -> str``
+        What to try when a step fails at the smallest increment.
+    done_message : str
+        Message of a run whose every step converged.
+
+    Returns
+    -------
+    SteppingResult
+    """
+    if not (is_integer(max_cutbacks) or (is_real(max_cutbacks) and float(max_cutbacks).is_integer())) \
+            or max_cutbacks < 0:
+        raise InputError(f"max_cutbacks={max_cutbacks!r} must be an integer >= 0 (halvings of a failed step's "
+                         "increment); use e.g. max_cutbacks=6.")
+    if not (is_real(factor) and 0.0 < factor < 1.0):
+        raise InputError(f"cutback_factor={factor!r} must be in (0, 1); use 0.5 (halving).")
+    records: list[StepRecord] = []
+    status, message = Status.CONVERGED, done_message
+    n_cut = n_newton = n_outer = n_solves = 0
+    t_prev = float(t0)
+    times = [float(t) for t in times]
+    for k, t_req in enumerate(times):
+        if before_step is not None:
+            before_step(k, t_req, len(times))
+        smallest = (t_req - t_prev) * float(factor) ** int(max_cutbacks) * (1.0 + 1e-9)
+        queue = [t_req]
+        step_cuts = cuts = newton = solves = 0
+        t_start = time.perf_counter()
+        while queue:
+            t = queue[-1]
+            try:
+                att = attempt(t)
+            except recoverable as exc:
+                att = Attempt(False, Status.NEWTON_FAILED, str(exc))
+            newton += att.newton
+            solves += att.linear_solves
+            n_newton += att.newton
+            n_outer += att.outer
+            n_solves += att.linear_solves
+            if att.ok:
+                rec = StepRecord(float(t), k, len(queue) == 1, newton, int(att.outer), solves, cuts, step_cuts,
+                                 time.perf_counter() - t_start)
+                records.append(rec)
+                step = commit(t, att, rec)
+                logger.info("%s: step t=%.6g accepted (%d Newton, %d outer, %d cut-backs)", what, t, newton,
+                            att.outer, cuts)
+                if on_step is not None:
+                    on_step(step)
+                st = getattr(step, "status", None)
+                if st is not None and st < 0:
+                    status, message = st, step.message
+                    break
+                queue.pop()
+                t_prev = float(t)
+                cuts = newton = solves = 0
+                t_start = time.perf_counter()
+                continue
+            st = att.status if att.status < 0 else Status.NEWTON_FAILED
+            if att.final:
+                status, message = st, att.message
+                break
+            n_cut += 1
+            cuts += 1
+            step_cuts += 1
+            dt = t - t_prev
+            reason = f"{st.label}: {att.message}" if att.message else st.label
+            if dt <= smallest:
+                tip = advice() if callable(advice) else advice
+                status = st
+                message = (f"load step to t={t:.6g} failed at the smallest increment {dt:.3g} ({int(max_cutbacks)} "
+                           f"cut-backs allowed; {reason}); {tip}")
+                break
+            queue.append(t_prev + float(factor) * dt)
+            logger.info("%s: step to t=%.6g failed (%s); cutting back to t=%.6g", what, t, reason, queue[-1])
+        if status < 0:
+            logger.warning("%s failed (%s): %s", what, status.label, message)
+            break
+    return SteppingResult(tuple(records), status, message, n_cut, n_newton, n_outer, n_solves)
+
+
 def solve_finite(problem, algorithm: str = "simo-laursen", penalty: str | None = None,
                  options: ContactOptions | None = None, *, steps: int | Sequence[float] = 10,
                  history: LoadHistory | None = None, obstacle_path: Callable[[float], Any] | None = None,
@@ -211,61 +527,42 @@ def solve_finite(problem, algorithm: str = "simo-laursen", penalty: str | None =
     opts = options_with(options, ContactOptions, option_overrides, "contact")
     if int(max_cutbacks) < 0:
         raise InputError(f"max_cutbacks={max_cutbacks!r} must be >= 0.")
+    max_cutbacks = int(max_cutbacks)
     times = _step_times(steps)
     data = _StepData(problem, history, obstacle_path)
     dc = FiniteContact(problem, fixed=data.fixed)
     eps0 = opts.eps_n if opts.eps_n is not None else penalty_stiffness(problem.model, dc.h, opts.penalty_scale)
-    x = np.zeros(dc.free.size)
-    dc.configure(*data(0.0), x)  # the undeformed state belongs to t = 0
+    state = {"x": np.zeros(dc.free.size), "last": None}
+    dc.configure(*data(0.0), state["x"])  # the undeformed state belongs to t = 0
     dc.accept(np.zeros(dc.points.shape[0]))
-    t_prev = 0.0
     records: list[FiniteStep] = []
-    status, message = ContactStatus.CONVERGED, "all load steps converged"
-    last = None
-    queue = list(times)
-    level = 0  # halvings of the nominal increment of the current step interval
-    nominal = None
-    while queue:
-        t_target = queue[0]
-        if nominal is None:
-            nominal = t_target - t_prev
-        cut = 0
-        dt = min(t_target - t_prev, nominal * 0.5**level)
+
+    def attempt(t: float) -> Attempt:
         newton0, solves0 = dc.newton_iterations, dc.linear_solves
-        t0 = time.perf_counter()
-        while True:
-            t = t_prev + dt if t_prev + dt < t_target - 1e-14 * max(1.0, t_target) else t_target
-            out, u, exc = _attempt(dc, data, run, opts, eps0, pen_name, x, t)
-            if exc is None and out.status > 0:
-                break
-            reason = str(exc) if exc is not None else f"{out.status.label}: {out.message}"
-            if level >= max_cutbacks:
-                status = out.status if (exc is None and out.status < 0) else ContactStatus.NEWTON_FAILED
-                message = (f"load step to t={t:.6g} failed at the smallest increment {dt:.3g} ({max_cutbacks} "
-                           f"halvings; {reason}); use more load "
-                           "steps, a smaller penalty_scale or algorithm='ssn'")
-                logger.warning("finite-deformation contact: %s", message)
-                break
-            cut += 1
-            level += 1
-            dt = min(t_target - t_prev, nominal * 0.5**level)
-            logger.info("load step to t=%.6g failed (%s); cutting back to dt=%.3g", t, reason, dt)
-        if status < 0:
-            break
-        x = out.r.copy()
+        out, u, exc = _attempt(dc, data, run, opts, eps0, pen_name, state["x"], t)
+        counts = dict(newton=dc.newton_iterations - newton0, linear_solves=dc.linear_solves - solves0)
+        if exc is not None:
+            return Attempt(False, ContactStatus.NEWTON_FAILED, str(exc), **counts)
+        return Attempt(out.status > 0, out.status, out.message, outer=int(out.outer), value=(out, u), **counts)
+
+    def commit(t: float, att: Attempt, rec: StepRecord) -> FiniteStep:
+        out, u = att.value
+        state["x"] = out.r.copy()
+        gap = dc.all_gaps(u).copy()
         force, pressure = _force(dc, out, u)
         dc.accept(pressure)
-        records.append(FiniteStep(t, out.status, dc.newton_iterations - newton0, int(out.outer),
-                                  dc.linear_solves - solves0, force, cut, time.perf_counter() - t0, out.message))
-        logger.info("load step t=%.6g: %d Newton, %d outer, force %s", t, records[-1].newton_iterations,
-                    out.outer, np.array2string(force, precision=6))
-        if on_step is not None:
-            on_step(records[-1], u.copy(), pressure.copy())
-        last = (out, u)
-        t_prev = t
-        if t >= t_target - 1e-14 * max(1.0, t_target):
-            queue.pop(0)
-            level, nominal = 0, None  # the next step interval starts at its full increment
+        step = FiniteStep(t, out.status, rec.newton_iterations, int(out.outer), rec.linear_solves, force,
+                          rec.cutbacks, rec.seconds, out.message, u=u.copy(), pressure=pressure.copy(),
+                          gap=gap, normal_force=float(np.sum(dc.weights * pressure)))
+        records.append(step)
+        state["last"] = (out, u)
+        return step
+
+    hook = None if on_step is None else (lambda st: on_step(st, st.u.copy(), st.pressure.copy()))
+    run_ = step_through(times, attempt, commit, max_cutbacks=max_cutbacks, on_step=hook,
+                        what="finite-deformation contact",
+                        advice="use more load steps, a smaller penalty_scale or algorithm='ssn'")
+    status, message, last, x = run_.status, run_.message, state["last"], state["x"]
     if last is None:
         out, u = _Run(x, np.zeros(dc.cand.size), dc.gaps(x), status, message, 0, 0, eps0, np.inf, []), dc.expand(x)
     else:
