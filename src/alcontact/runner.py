@@ -587,6 +587,100 @@ def _solve_finite_setup(setup, on_step=None):
     return fs, frames
 
 
+def _solve_finite_friction_setup(setup, on_step=None):
+    """Finite-deformation run with Coulomb friction: ``(FiniteFrictionSolution, frames)``.
+
+    :func:`~alcontact.contact.solve_friction` dispatches the ``kinematics = "finite"``
+    problem to :func:`~alcontact.contact.solve_finite_friction`. One
+    :class:`~alcontact.contact.ContactSolution` per accepted step, as for frictionless
+    finite runs (deformed configuration, the step's loads in ``problem``), with the
+    frictional fields in ``extra`` (``slip``, ``slip_increment``, ``state``, ``shear``,
+    ``tangential_force``, ``dissipation``) so the VTU writer, the rows and the plots
+    treat it like the other stepped runs.
+    """
+    from .contact import ContactResult, ContactSolution, ContactStatus, problem_at, solve_friction
+
+    prob = setup.problem
+    total = len(setup.times)
+    path = setup.obstacle_offset if setup.obstacle_path is not None else None
+    fopts = dict(setup.friction_options)
+    fopts.setdefault("max_cutbacks", setup.max_cutbacks)
+
+    def progress(k: int, t: float, n: int) -> None:
+        if on_step is not None:
+            on_step(k, n, t)
+
+    fs = solve_friction(prob, setup.history, setup.algorithm, setup.penalty, steps=list(setup.times),
+                        obstacle_path=path, on_step=progress, **fopts)
+    if on_step is not None:
+        on_step(total, total, float(fs.steps[-1].t) if fs.steps else 0.0)
+    ex = fs.extra
+    points, weights, h = ex["points"], ex["weights"], float(ex["h"])
+    m, d = points.shape
+
+    def at(t: float):
+        return problem_at(prob, setup.history, t) if setup.history is not None else prob
+
+    frames = []
+    slip_total = np.zeros((m, d))
+    for k, st in enumerate(fs.steps):
+        last = k == len(fs.steps) - 1
+        slip_total = slip_total + st.slip
+        result = ContactResult(
+            status=fs.status if last else st.status, message=fs.message if last else st.message,
+            algorithm=str(ex["algorithm"]), penalty=str(ex["penalty"]), outer_iterations=int(st.outer_iterations),
+            newton_iterations=int(st.newton_iterations), linear_solves=int(st.linear_solves),
+            factorizations=int(st.linear_solves), penetration=float(max(np.max(st.gap, initial=0.0), 0.0)) / h,
+            complementarity=float("nan"), residual=float("nan"), eps_n=float(ex["eps_n"]))
+        frames.append(ContactSolution(
+            problem=at(st.t), u=st.u, points=points, pressure=st.pressure, gap=st.gap, weights=weights,
+            active=st.states != 0, normals=st.normals, total_contact_force=np.asarray(st.force, dtype=float),
+            result=result, nodal_forces=weights * st.pressure,
+            timings={"total_s": float(ex["total_s"]) if last else float(st.seconds)},
+            extra={"t": float(st.t), "cutbacks": int(st.cutbacks), "seconds": float(st.seconds),
+                   "step_newton_iterations": int(st.newton_iterations),
+                   "step_outer_iterations": int(st.outer_iterations), "slip": slip_total.copy(),
+                   "slip_increment": st.slip, "state": st.states, "shear": -np.asarray(st.traction_t, dtype=float),
+                   "tangential_force": np.asarray(st.tangential_force, dtype=float), "mu": float(ex["mu"]),
+                   "dissipation": float(st.dissipation), "h": h, "dofs": int(ex["dofs"])}))
+    if not frames:  # nothing converged: the undeformed start with the failure status
+        z = np.zeros(m)
+        result = ContactResult(status=fs.status, message=fs.message, algorithm=str(ex["algorithm"]),
+                               penalty=str(ex["penalty"]), outer_iterations=0, newton_iterations=0,
+                               linear_solves=int(ex["linear_solves"]), factorizations=int(ex["linear_solves"]),
+                               penetration=0.0, complementarity=float("nan"), residual=float("nan"),
+                               eps_n=float(ex["eps_n"]))
+        frames.append(ContactSolution(
+            problem=prob, u=np.asarray(fs.u, dtype=float), points=points, pressure=z, gap=np.asarray(fs.gap),
+            weights=weights, active=z.astype(bool), normals=fs.normals, total_contact_force=np.zeros(d),
+            result=result, timings={"total_s": float(ex["total_s"])},
+            extra={"t": 0.0, "cutbacks": 0, "seconds": 0.0, "slip": np.zeros((m, d)),
+                   "slip_increment": np.zeros((m, d)), "state": np.zeros(m, int), "shear": np.zeros((m, d)),
+                   "tangential_force": np.zeros(d), "mu": float(ex["mu"]), "dissipation": 0.0, "h": h,
+                   "dofs": int(ex["dofs"])}))
+    return fs, frames
+
+
+def _finite_friction_summary(setup, fs, frames) -> dict[str, Any]:
+    """``summary.json`` keys of the friction of a finite-deformation run (per accepted step, and the totals)."""
+    final = frames[-1]
+    steps = fs.steps
+    tf = np.asarray(final.extra["tangential_force"], dtype=float)
+    st = np.asarray(final.extra["state"])
+    return {
+        "step_dissipation": [float(s.dissipation) for s in steps],
+        "dissipation": float(sum(s.dissipation for s in steps)),
+        "step_normal_force": [float(s.normal_force) for s in steps],
+        "step_tangential_force": [[float(x) for x in s.tangential_force] for s in steps],
+        "step_stored_energy": [float(s.stored_energy) for s in steps],
+        "step_obstacle_offset": [[float(x) for x in s.offset] for s in steps],
+        "tangential_force": float(np.linalg.norm(tf)), "tangential_force_vector": tf.tolist(),
+        "coulomb_limit": float(setup.friction * final.normal_force),
+        "stick_points": int(np.sum(st == 1)), "slip_points": int(np.sum(st == 2)), "open_points": int(np.sum(st == 0)),
+        "eps_t": float(fs.extra["eps_t"]),
+    }
+
+
 def _finite_summary(setup, fs, frames, wall: float) -> dict[str, Any]:
     """``summary.json`` keys of a finite-deformation run (the per-step lists have one entry per accepted step)."""
     final = frames[-1]
@@ -679,7 +773,9 @@ def _step_rows(setup, frames, controls) -> list[dict[str, Any]]:
             st = np.asarray(ex["state"])
             row.update(stick_points=int(np.sum(st == 1)), slip_points=int(np.sum(st == 2)),
                        coulomb=ex.get("coulomb"), cutbacks=ex.get("cutbacks", 0))
-        elif "seconds" in ex:  # finite deformation: the support reactions of the step (f_int - f_ext - f_c)
+            if "dissipation" in ex:  # finite deformation: the frictional dissipation of the step
+                row["dissipation"] = float(ex["dissipation"])
+        if "seconds" in ex:  # finite deformation: the support reactions of the step (f_int - f_ext - f_c)
             row.update(cutbacks=int(ex.get("cutbacks", 0)), seconds=float(ex["seconds"]))
             for c, v in zip("xyz", fr.equilibrium().reaction):
                 row[f"reaction_{c}"] = float(v)
@@ -688,6 +784,31 @@ def _step_rows(setup, frames, controls) -> list[dict[str, Any]]:
             row[f"u_{label}"] = float(np.mean(np.asarray(fr.u)[dofs[:, comp]]))
         rows.append(row)
     return rows
+
+
+def _add_tangential_curves(fig, rows, control: str | None, dim: int) -> None:
+    """Add the components of the reaction and contact force that :func:`reaction_force_figure` does not
+    plot (with friction: the tangential ones) to its axes, against the same abscissa."""
+    if not rows or not fig.axes:
+        return
+    ax = fig.axes[0]
+    axes = "xyz"[:dim]
+    if control is not None and control[-1:] in axes:
+        shown = control[-1]
+        x = np.array([float(r[f"u_{control}"]) for r in rows])
+    else:
+        last = rows[-1]
+        shown = max(axes, key=lambda c: abs(float(last.get(f"reaction_{c}", 0.0))))
+        x = np.array([float(r["t"]) for r in rows])
+    x = np.concatenate([[0.0], x])
+    for c in axes:
+        if c == shown:
+            continue
+        for key, style, label in ((f"reaction_{c}", "^-", f"support reaction R_{c} (tangential)"),
+                                  (f"force_{c}", "v--", f"contact force F_{c} on the body (friction)")):
+            y = np.concatenate([[0.0], [float(r.get(key, np.nan)) for r in rows]])
+            ax.plot(x, y, style, ms=4, label=label)
+    ax.legend(fontsize="small")
 
 
 def _reaction_rows(rows, controls) -> list[dict[str, Any]]:
@@ -805,8 +926,13 @@ def run_setup(setup, out: str | os.PathLike | None = None, force: bool = False, 
     name = setup.name
     t0 = time.perf_counter()
     if setup.finite:
-        report(f"solving {name}: {prob.model.ndofs} DOFs, {n} load steps, finite deformation ({setup.algorithm})")
-        raw, frames = _solve_finite_setup(setup, on_step)
+        law = f", Coulomb mu={setup.friction:g}" if setup.friction > 0 else ""
+        report(f"solving {name}: {prob.model.ndofs} DOFs, {n} load steps, finite deformation{law} "
+               f"({setup.algorithm})")
+        if setup.friction > 0:
+            raw, frames = _solve_finite_friction_setup(setup, on_step)
+        else:
+            raw, frames = _solve_finite_setup(setup, on_step)
     elif setup.friction > 0:
         from .contact import solve_friction
 
@@ -846,6 +972,8 @@ def run_setup(setup, out: str | os.PathLike | None = None, force: bool = False, 
     summary["friction"] = setup.friction
     if setup.finite:
         summary.update(_finite_summary(setup, raw, frames, wall))
+        if setup.friction > 0:
+            summary.update(_finite_friction_summary(setup, raw, frames))
     elif setup.friction > 0:
         summary.update(outer_iterations=int(raw.outer_iterations), newton_iterations=int(raw.newton_iterations),
                        status=raw.status.label, status_code=int(raw.status), message=raw.message,
@@ -951,8 +1079,11 @@ def write_setup_results(folder: Path, setup, frames, summary: dict) -> list[str]
             from .viz.plots import reaction_force_figure
 
             control = next((c[0] for c in controls if c[1] == "normal"), None)
-            save_figure(reaction_force_figure(rows, control, title=f"{setup.name}: reaction-force curve",
-                                              dim=int(setup.problem.model.dim)), folder / "reaction_force.png")
+            fig = reaction_force_figure(rows, control, title=f"{setup.name}: reaction-force curve",
+                                        dim=int(setup.problem.model.dim))
+            if friction:
+                _add_tangential_curves(fig, rows, control, int(setup.problem.model.dim))
+            save_figure(fig, folder / "reaction_force.png")
             files.append("reaction_force.png")
     if o["report"]:
         files.append("report.md")

@@ -15,7 +15,7 @@ from alcontact.runner import run_setup
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 NAMES = ["hertz_2d", "hertz_3d", "flat_punch", "signorini_liftoff", "sliding_block", "cattaneo_mindlin",
-         "finite_half_cylinder", "finite_ironing"]
+         "finite_half_cylinder", "finite_ironing", "finite_ironing_friction"]
 
 
 def _run(name):
@@ -135,3 +135,58 @@ def test_finite_ironing_contact_follows_the_moving_cylinder():
         w = fr.weights * fr.pressure
         assert w.sum() > 0
         assert float(np.sum(w * x) / w.sum()) == pytest.approx(0.8 + 2.0 * fr.extra["t"], abs=0.25)
+
+
+def test_finite_ironing_with_friction_slides_at_the_coulomb_limit_and_balances_energy():
+    """Ironing with Coulomb friction (mu = 0.3, finite deformation, 16 steps, 12 of them sliding by half an
+    element). References, in the steady sliding phase (t > 0.25):
+
+    - Coulomb's law at slip: every pressed point slips, so sum_i w_i |t_T,i| = mu sum_i w_i t_N,i within
+      mu tol_multiplier p_max sum(w) (the AL stopping test: |t_T| = mu lambda_N and |t_N - lambda_N| <=
+      tol_multiplier p_max; factor 1.01 for round-off), as tests/verification/test_finite_friction.py;
+    - the friction force on the strip points along the motion (+x) with the Coulomb magnitude: its x
+      component is between 0.9 mu N (the contact normals at the pressed points lean at most ~25 degrees
+      from the vertical) and mu N;
+    - energy balance: work of the indenter's horizontal force on the strip (trapezoidal rule over the
+      steps) = frictional dissipation + change of the stored energy within 5 % of the work (the
+      trapezoidal error of 12 sliding steps of h/2 on this coarse mesh: 3.3 %; it converges with the step,
+      see test_finite_friction.py::test_ironing_energy_balance), with dissipation > 0.9 x work;
+    - the results folder of a finite frictionless run plus the friction: per-step Newton iterations,
+      dissipation, stick/slip counts, the tangential reaction in reaction_force.csv.
+    """
+    from alcontact.contact import FrictionOptions
+    from alcontact.contact._friction_laws import SLIP
+
+    setup, res = _run("finite_ironing_friction")
+    s = res.summary
+    fs = res.raw
+    mu = 0.3
+    assert s["step_times"] == pytest.approx([0.0625 * k for k in range(1, 17)], abs=1e-12)
+    assert len(s["step_newton_iterations"]) == 16 and min(s["step_newton_iterations"]) > 0
+    w = fs.extra["weights"]
+    tol = FrictionOptions().tol_multiplier
+    steady = [st for st in fs.steps if st.t > 0.25 + 1e-12]
+    assert len(steady) == 12
+    for st in steady:
+        pressed = st.pressure > 0
+        assert pressed.sum() >= 2 and np.all(st.states[pressed] == SLIP)
+        friction = float(np.sum(w * np.linalg.norm(st.traction_t, axis=1)))
+        bound = mu * tol * float(np.max(st.pressure)) * float(np.sum(w))
+        assert abs(friction - mu * st.normal_force) <= 1.01 * bound
+        assert 0.9 * mu * st.normal_force <= st.tangential_force[0] <= mu * st.normal_force * (1 + 1e-9)
+    # energy balance of the sliding phase
+    t = np.array(s["step_times"])
+    F = np.array(s["step_contact_force"])
+    c = np.array(s["step_obstacle_offset"])
+    k0 = int(np.flatnonzero(np.isclose(t, 0.25))[0])
+    work = sum(0.5 * (F[k, 0] + F[k + 1, 0]) * (c[k + 1, 0] - c[k, 0]) for k in range(k0, len(t) - 1))
+    stored = s["step_stored_energy"][-1] - s["step_stored_energy"][k0]
+    dissipation = sum(s["step_dissipation"][k0 + 1:])
+    assert dissipation > 0.9 * work > 0
+    assert abs(work - dissipation - stored) <= 0.05 * work
+    assert s["dissipation"] == pytest.approx(sum(s["step_dissipation"]), rel=1e-12)
+    assert s["slip_points"] >= 2 and s["stick_points"] == 0
+    # the support reaction balances the contact force, tangential component included
+    final = res.frames[-1]
+    assert final.equilibrium().reaction[0] == pytest.approx(-F[-1, 0], rel=1e-8)
+

@@ -286,6 +286,10 @@ class FiniteFrictionStep:
         Tangential traction (dissertation sign: along the slip; the force on the body is :math:`-w\\,t_T`).
     slip : ndarray (m, d)
         Slip increment :math:`\\Delta s_T` of the step (zero at open points).
+    normals : ndarray (m, d)
+        Obstacle normals at the projections of the contact points.
+    linear_solves : int
+        Newton systems solved in this step (failed tries included).
     """
 
     t: float
@@ -307,6 +311,8 @@ class FiniteFrictionStep:
     gap: np.ndarray | None = None
     traction_t: np.ndarray | None = None
     slip: np.ndarray | None = None
+    normals: np.ndarray | None = None
+    linear_solves: int = 0
 
     @property
     def state(self) -> np.ndarray:
@@ -332,7 +338,8 @@ class FiniteFrictionSolution(StepRecords):
         Tangential tractions (dissertation sign, tangent to the obstacle).
     normals : ndarray (m, d)
     extra : dict
-        ``h``, ``weights`` (reference tributary weights of the contact points), ``eps_n``, ``eps_t``,
+        ``h``, ``weights`` (reference tributary weights of the contact points), ``points`` (their
+        reference positions), ``eps_n``, ``eps_t``,
         ``mu``, ``algorithm``, ``penalty``, ``residual_log``.
     """
 
@@ -590,6 +597,7 @@ def solve_finite_friction(problem, mu: float, algorithm: str = "simo-laursen", p
                           history: LoadHistory | None = None,
                           obstacle_path: Callable[[float], Any] | None = None,
                           on_step: Callable[[FiniteFrictionStep], None] | None = None,
+                          progress: Callable[[int, float, int], None] | None = None,
                           **option_overrides) -> FiniteFrictionSolution:
     """Coulomb friction at finite deformation, in load steps (module doc).
 
@@ -617,6 +625,9 @@ def solve_finite_friction(problem, mu: float, algorithm: str = "simo-laursen", p
     on_step : callable ``step -> None``, optional
         Called with every accepted :class:`FiniteFrictionStep` (it carries the step's
         displacement, pressures, gaps, tangential tractions, slip and stick/slip states).
+    progress : callable ``(k, t, n) -> None``, optional
+        Called before requested step ``k`` (0-based) of ``n`` at pseudo-time ``t``
+        (the ``on_step`` of :func:`~alcontact.contact.solve_friction`).
 
     Returns
     -------
@@ -670,7 +681,8 @@ def solve_finite_friction(problem, mu: float, algorithm: str = "simo-laursen", p
 
     def commit(t: float, att: Attempt, rec: StepRecord) -> FiniteFrictionStep:
         res = att.value
-        step, full = _record(dc, res, t, mu, opts, rec.cutbacks, rec.newton_iterations, rec.seconds)
+        step, full = _record(dc, res, t, mu, opts, rec.cutbacks, rec.newton_iterations, rec.seconds,
+                             rec.linear_solves)
         records.append(step)
         state["last"] = full
         if step.status > 0:
@@ -681,7 +693,7 @@ def solve_finite_friction(problem, mu: float, algorithm: str = "simo-laursen", p
         return step
 
     run = step_through(times, attempt, commit, max_cutbacks=opts.max_cutbacks, factor=opts.cutback_factor,
-                       on_step=on_step, what="finite-deformation friction",
+                       on_step=on_step, before_step=progress, what="finite-deformation friction",
                        advice="use more load steps, a smaller penalty_scale or a smaller tangential_scale",
                        done_message="all load steps converged and verified")
     status, message, last, x = run.status, run.message, state["last"], state["x"]
@@ -693,10 +705,11 @@ def solve_finite_friction(problem, mu: float, algorithm: str = "simo-laursen", p
     return FiniteFrictionSolution(
         u=last["u"], steps=tuple(records), status=status, message=message, pressure=last["pressure"],
         gap=last["gap"], traction_t=last["traction_t"], normals=last["normals"],
-        extra={"h": dc.h, "weights": dc.weights.copy(), "eps_n": float(eps_n), "eps_t": float(eps_t),
-               "mu": float(mu), "algorithm": algorithm,
-               "penalty": pen_name, "dofs": int(problem.model.ndofs), "residual_log": dc.residual_log,
-               "newton_total": int(dc.newton_iterations), "total_s": time.perf_counter() - t_start})
+        extra={"h": dc.h, "weights": dc.weights.copy(), "points": dc.points.copy(), "eps_n": float(eps_n),
+               "eps_t": float(eps_t), "mu": float(mu), "algorithm": algorithm, "penalty": pen_name,
+               "dofs": int(problem.model.ndofs), "residual_log": dc.residual_log,
+               "newton_total": int(dc.newton_iterations), "linear_solves": int(dc.linear_solves),
+               "cutbacks": int(run.cutbacks), "total_s": time.perf_counter() - t_start})
 
 
 def _attempt(dc, data, step_fn, x, t, offset, s_prev, lamN_all, lamT_all, mu, eps_n, eps_t, pen_name, opts):
@@ -720,7 +733,7 @@ def _attempt(dc, data, step_fn, x, t, offset, s_prev, lamN_all, lamT_all, mu, ep
         return None, exc
 
 
-def _record(dc, res, t, mu, opts, cut, newton, seconds):
+def _record(dc, res, t, mu, opts, cut, newton, seconds, solves=0):
     """Verified step record and the full-size fields of an accepted step."""
     m, d = dc.points.shape
     cand = dc.cand
@@ -751,6 +764,6 @@ def _record(dc, res, t, mu, opts, cut, newton, seconds):
         force=force, normal_force=float(np.sum(w * pressure)), tangential_force=tang, states=states,
         dissipation=dissipation, stored_energy=float(dc.body.energy(u)), offset=dc.offset.copy(), seconds=seconds,
         message=message, u=u, pressure=pressure, gap=g_all, traction_t=traction_t,
-        slip=np.where(closed[:, None], slip, 0.0))
+        slip=np.where(closed[:, None], slip, 0.0), normals=dc.normals.copy(), linear_solves=int(solves))
     full = {"u": u, "pressure": pressure, "gap": g_all, "traction_t": traction_t, "normals": dc.normals.copy()}
     return rec, full

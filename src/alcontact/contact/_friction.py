@@ -783,9 +783,9 @@ def _advance(fc: FrictionalContact, prev: _State, t: float, step_fn, pen_name, e
         outer, newton
 
 
-def solve_friction(problem, history: LoadHistory, algorithm: str = "simo-laursen", penalty: str | None = None,
+def solve_friction(problem, history: LoadHistory | None, algorithm: str = "simo-laursen", penalty: str | None = None,
                    options: FrictionOptions | None = None, *, steps=None, friction: float | None = None,
-                   on_step=None, **option_overrides) -> FrictionSolution:
+                   on_step=None, obstacle_path=None, **option_overrides) -> FrictionSolution:
     r"""Quasi-static frictional contact over a load history.
 
     Parameters
@@ -808,12 +808,23 @@ def solve_friction(problem, history: LoadHistory, algorithm: str = "simo-laursen
     on_step : callable, optional
         ``on_step(k, t, n)`` is called before requested step ``k`` (0-based) of ``n``,
         at pseudo-time ``t`` (for progress bars).
+    obstacle_path : callable ``t -> (d,)``, optional
+        Finite kinematics only: translation of the obstacle at pseudo-time ``t``.
     **option_overrides
         Fields of :class:`FrictionOptions`.
 
     Returns
     -------
-    FrictionSolution
+    FrictionSolution or FiniteFrictionSolution
+        A problem with ``kinematics="finite"`` is solved by
+        :func:`~alcontact.contact.solve_finite_friction` (Algorithms 6.2 / 6.4 in the
+        current configuration) over ``steps`` (default: the history's times, or 10
+        uniform steps without a history, every support and load then scaled by the
+        pseudo-time); both solutions share the per-step views
+        (:class:`~alcontact.contact._stepping.StepRecords`: ``times``, ``forces``,
+        ``frames``, ...).
+
+        Small kinematics:
         Per-step states; ``status`` negative (and a logged warning) when a step
         failed after ``max_cutbacks`` cut-backs, or ``NOT_VERIFIED`` when a recorded
         step fails the penetration, complementarity or Coulomb check of
@@ -849,9 +860,16 @@ def solve_friction(problem, history: LoadHistory, algorithm: str = "simo-laursen
     t_start = time.perf_counter()
     check_solve_args(problem, algorithm, penalty, list(_ALGORITHMS), "friction ")
     step_fn, pen_name = _resolve(algorithm, penalty)
+    if getattr(problem, "kinematics", "small") == "finite":
+        return _solve_finite(problem, history, algorithm, penalty, options, steps=steps, friction=friction,
+                             on_step=on_step, obstacle_path=obstacle_path, **option_overrides)
     opts = options_with(options, FrictionOptions, option_overrides, "friction")
     if not isinstance(history, LoadHistory):
         raise InputError(f"history must be a LoadHistory; got {type(history).__name__}.")
+    if obstacle_path is not None:
+        raise InputError("obstacle_path: a moving obstacle needs kinematics='finite' (ContactProblem(..., "
+                         "kinematics='finite') with a hyperelastic body); at small kinematics move the body with "
+                         "a ramped support instead.")
     if steps is not None:
         history = history.with_times(_checked_steps(steps))
     mu = problem.friction if friction is None else friction
@@ -959,3 +977,20 @@ def solve_friction(problem, history: LoadHistory, algorithm: str = "simo-laursen
                  "total_s": t_end - t_start},
         extra={"candidates": fc.ncand, "dofs": int(problem.model.ndofs)},
     )
+
+
+def _solve_finite(problem, history, algorithm, penalty, options, *, steps, friction, on_step, obstacle_path,
+                  **option_overrides):
+    """:func:`solve_friction` of a ``kinematics="finite"`` problem: :func:`solve_finite_friction`."""
+    from ._finite_friction import solve_finite_friction
+
+    if history is not None and not isinstance(history, LoadHistory):
+        raise InputError(f"history must be a LoadHistory or None; got {type(history).__name__}.")
+    if history is not None and history.friction is not None:
+        raise InputError("history: a friction amplitude (friction_ramp) is not available at finite kinematics; "
+                         "remove it (the coefficient is constant) or use kinematics='small'.")
+    if steps is None:
+        steps = history.times if history is not None else 10
+    mu = problem.friction if friction is None else friction
+    return solve_finite_friction(problem, mu, algorithm, penalty, options, steps=steps, history=history,
+                                 obstacle_path=obstacle_path, progress=on_step, **option_overrides)

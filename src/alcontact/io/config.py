@@ -485,7 +485,9 @@ def _proportional(fixed: list, loads: list) -> tuple[list, list]:
 def _kinematics(mt, cd, dim, data: dict, issues: list[Issue]) -> tuple[str, str]:
     """``(kinematics, material model)`` of the file, with an issue for each combination that cannot run.
 
-    Finite kinematics needs a hyperelastic law (plane strain in 2D), no friction; a
+    Finite kinematics needs a hyperelastic law (plane strain in 2D) and, with friction
+    (Coulomb at finite deformation, :func:`~alcontact.contact.solve_finite_friction`), no
+    ``friction_ramp``; a
     hyperelastic law needs finite kinematics; ``[obstacle] path`` needs finite kinematics
     and one entry per space dimension.
     """
@@ -506,9 +508,13 @@ def _kinematics(mt, cd, dim, data: dict, issues: list[Issue]) -> tuple[str, str]
                                                   "kinematics = 'finite'; set it, or use material.model = 'linear'."))
     if finite:
         mu = cd.get("friction") if isinstance(cd, dict) else 0.0
-        if isinstance(mu, float) and mu > 0:
-            issues.append(Issue("contact.friction", f"= {mu:g}: finite-deformation contact is frictionless; set "
-                                                    "friction = 0, or kinematics = 'small' for frictional contact."))
+        lo = data.get("loading")
+        ramp = lo.get("friction_ramp") if isinstance(lo, dict) else None
+        if isinstance(mu, float) and mu > 0 and ramp is not None and ramp is not _BAD:
+            issues.append(Issue("loading.friction_ramp", "a friction amplitude is not available with "
+                                                         "contact.kinematics = 'finite' (the coefficient is "
+                                                         "constant); remove friction_ramp, or use kinematics = "
+                                                         "'small'."))
         if dim == 2 and isinstance(mt, dict) and mt.get("plane") == "stress":
             issues.append(Issue("material.plane", "= 'stress': hyperelastic bodies in 2D are plane strain only; "
                                                   "set plane = 'strain' or use a 3D mesh."))
