@@ -63,8 +63,10 @@ CASES = {
     "hyper-small": (lambda tmp: EXAMPLE.replace(KIN, '\nkinematics = "small"\n'),
                     ["contact.kinematics = 'small'", "'neo-hookean' needs kinematics = 'finite'",
                      "material.model = 'linear'"]),
-    "friction": (lambda tmp: EXAMPLE.replace(KIN, KIN + 'friction = 0.2\n'),
-                 ["contact.friction = 0.2", "frictionless", "friction = 0"]),
+    "friction-ramp": (lambda tmp: EXAMPLE.replace(KIN, KIN + 'friction = 0.2\n')
+                      .replace("steps = 4", "steps = 4\nfriction_ramp = [[0.0, 0.0], [1.0, 1.0]]"),
+                      ["loading.friction_ramp", "not available with contact.kinematics = 'finite'",
+                       "remove friction_ramp"]),
     "plane": (lambda tmp: EXAMPLE.replace("nu = 0.3", 'nu = 0.3\nplane = "stress"'),
               ["material.plane = 'stress'", "plane strain only", "plane = 'strain'"]),
     "path-small": (lambda tmp: EXAMPLE.replace('model = "neo-hookean"', 'model = "linear"')
@@ -173,3 +175,46 @@ def test_without_a_ramp_every_load_grows_in_proportion_to_t(tmp_path):
                                         base_dir=EXAMPLES)).summary
     assert plain["status"] == "converged"
     np.testing.assert_allclose(plain["step_contact_force"], ramped["step_contact_force"], rtol=1e-10, atol=1e-10)
+
+
+IRONING = (EXAMPLES / "finite_ironing_friction.toml").read_text(encoding="utf-8")
+
+
+def test_frictional_finite_run_writes_slip_states_and_the_tangential_reaction(tmp_path):
+    """``friction = 0.3`` with ``kinematics = "finite"`` runs (the ironing example on 8 x 2 elements, 4
+    steps): the folder of a finite run (deformed configuration x = X + u to 1e-12 in every step's VTU, with
+    the slip and stick/slip state fields), the per-step Newton iterations and dissipation (>= 0, summed in
+    ``dissipation`` to 1e-12), and the tangential component in ``reaction_force.csv``: support reaction =
+    -contact force to 1e-8 relative in both components at every step (global equilibrium)."""
+    text = IRONING.replace("cells = [16, 4]", "cells = [8, 2]").replace("steps = 16", "steps = 4")
+    p = tmp_path / "p.toml"
+    p.write_text(text, encoding="utf-8")
+    out = tmp_path / "results"
+    result = runner.invoke(app, ["run", str(p), "--out", str(out)])
+    assert result.exit_code == 0, result.output
+    s = json.loads((out / "summary.json").read_text())
+    for f in ("solution.pvd", "reaction_force.csv", "reaction_force.png", "steps.csv", "summary.json"):
+        assert f in s["files"] and (out / f).is_file()
+    assert s["kinematics"] == "finite" and s["friction"] == 0.3 and s["status"] == "converged"
+    assert s["step_times"] == [0.25, 0.5, 0.75, 1.0]
+    assert len(s["step_newton_iterations"]) == 4 and all(k >= 1 for k in s["step_newton_iterations"])
+    assert s["newton_iterations"] == sum(s["step_newton_iterations"])
+    assert all(d >= 0 for d in s["step_dissipation"]) and s["dissipation"] > 0
+    assert s["dissipation"] == pytest.approx(sum(s["step_dissipation"]), rel=1e-12)
+    assert s["slip_points"] >= 1
+    assert (out / "solution.pvd").read_text().count("<DataSet") == 4
+    for k in range(4):
+        m = meshio.read(out / "steps" / f"solution_{k + 1:04d}.vtu")
+        X, u = m.point_data["reference_position"], m.point_data["displacement"]
+        np.testing.assert_allclose(m.points, X + u, rtol=0, atol=1e-12)
+        state = m.point_data["contact_state"]
+        assert set(np.unique(state)) <= {-1.0, 0.0, 1.0, 2.0} and np.any(state > 0)
+        assert m.point_data["slip"].shape[1] == 3
+    rows = (out / "reaction_force.csv").read_text().splitlines()
+    head = rows[0].split(",")
+    vals = np.array([[float(x) for x in r.split(",")] for r in rows[1:]])
+    for c in ("x", "y"):
+        r, f = vals[:, head.index(f"reaction_{c}")], vals[:, head.index(f"force_{c}")]
+        np.testing.assert_allclose(r, -f, rtol=1e-8, atol=1e-8 * np.abs(f).max())
+    assert np.all(vals[1:, head.index("force_x")] > 0)  # the cylinder drags the strip along +x
+
