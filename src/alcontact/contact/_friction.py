@@ -40,9 +40,12 @@ variables (see :mod:`alcontact.contact._friction_discrete`) with the consistent
 tangent of the return mapping and backtracking on the residual norm (the
 frictional problem is non-symmetric: there is no energy to descend).
 
-A step that fails is retried from the last converged state with a smaller
-increment (``cutback_factor`` times, at most ``max_cutbacks`` times per
-requested step); the converged steps are kept.
+The steps are walked by :func:`~alcontact.contact._stepping.step_through`: a step
+that fails is retried from the last converged state with the increment times
+``cutback_factor``, down to ``cutback_factor**max_cutbacks`` times the requested
+one; the converged steps are kept. A problem with ``kinematics="finite"`` goes to
+:func:`~alcontact.contact.solve_finite_friction` (same algorithms in the current
+configuration).
 """
 
 from __future__ import annotations

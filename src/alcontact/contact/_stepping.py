@@ -1,7 +1,18 @@
-r"""Load stepping for finite-deformation contact (:func:`solve_finite`).
+r"""Load stepping: one driver (:func:`step_through`) and the finite-deformation solve :func:`solve_finite`.
 
-The loads are applied over a pseudo-time :math:`t \in (0, 1]` in steps
-:math:`t_1 < \dots < t_N`. At step time :math:`t`
+Every stepped solve (:func:`solve_finite`, :func:`~alcontact.contact.solve_friction`,
+:func:`~alcontact.contact.solve_finite_friction`) walks its step times with
+:func:`step_through`: the solver gives an *attempt* callable (one try of the step to
+``t`` from the last accepted state: predictor, candidate updates, the solve) and a
+*commit* callable (accept the converged try, record the step). A failed try is cut
+back: the increment is multiplied by ``factor`` (halved by default) and the failed
+time is tried again once the smaller step is accepted; a failure at an increment of
+``factor**max_cutbacks`` times the requested one ends the run with a negative
+status, a logged warning and a message saying what to try. The accepted steps of all
+three solves share one shape (:class:`StepRecords`, :class:`Frame`).
+
+The loads of :func:`solve_finite` are applied over a pseudo-time :math:`t \in (0, 1]` in
+steps :math:`t_1 < \dots < t_N`. At step time :math:`t`
 
 - without a :class:`~alcontact.contact.LoadHistory`, every support value and load of
   the problem is scaled by :math:`t` (proportional loading);
@@ -13,10 +24,8 @@ The loads are applied over a pseudo-time :math:`t \in (0, 1]` in steps
 Each step starts from the last converged displacement (warm start) and runs one of
 the frictionless algorithms of :mod:`alcontact.contact._algorithms` on the
 finite-deformation problem :class:`~alcontact.contact._finite.FiniteContact`. A step
-whose solve fails (negative status, an inverted element) is cut back: the increment
-is halved, up to ``max_cutbacks`` times in a row, and the remaining interval is then
-walked with the smaller increments. Every accepted step is recorded
-(:class:`FiniteStep`).
+whose solve fails (negative status, an inverted element) is cut back as above. Every
+accepted step is recorded (:class:`FiniteStep`).
 """
 
 from __future__ import annotations

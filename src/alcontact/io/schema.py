@@ -338,7 +338,11 @@ def render_markdown() -> str:
         "when nothing has a ramp, every support value and load grows in proportion to t. `[obstacle] path`",
         "moves the obstacle rigidly by `t * path`. The results hold the deformed configuration of every",
         "step (`solution.pvd`), the reaction-force curve (`steps.csv`, `reaction_force.png`) and the",
-        "Newton iterations of every step (`summary.json`: `step_newton_iterations`).",
+        "Newton iterations of every step (`summary.json`: `step_newton_iterations`). With",
+        "`[contact] friction > 0` the same steps solve Coulomb friction in the deformed configuration",
+        "(Algorithms 6.2 / 6.4, `[solver.friction]` options; no `friction_ramp`): the results add the",
+        "slip and stick/slip state of every step, the tangential reaction and the frictional",
+        "dissipation (`summary.json`: `step_dissipation`).",
         "",
     ]
     for t in schema():
