@@ -827,8 +827,7 @@ def solve_friction(problem, history: LoadHistory | None, algorithm: str = "simo-
         (:class:`~alcontact.contact._stepping.StepRecords`: ``times``, ``forces``,
         ``frames``, ...).
 
-        Small kinematics:
-        Per-step states; ``status`` negative (and a logged warning) when a step
+        Small kinematics: per-step states; ``status`` negative (and a logged warning) when a step
         failed after ``max_cutbacks`` cut-backs, or ``NOT_VERIFIED`` when a recorded
         step fails the penetration, complementarity or Coulomb check of
         :mod:`alcontact.contact._verify`. ``UNBOUNDED`` when a body held only by
