@@ -15,7 +15,7 @@ import pytest
 from alcontact.contact import (ContactProblem, FiniteFrictionSolution, LoadHistory, Ramp, Support, obstacles,
                                solve_finite, solve_finite_friction, solve_friction)
 from alcontact.contact._stepping import Attempt, Frame, step_through
-from alcontact.errors import InputError, InvertedElementError
+from alcontact.errors import ConvergenceError, InputError, InvertedElementError
 from alcontact.fem import Material, meshes
 from alcontact.fem.hyperelastic import Hyperelastic
 from alcontact.problems import friction as fp
@@ -193,3 +193,13 @@ def test_solve_friction_refuses_what_the_kinematics_cannot_do():
     ramped = LoadHistory((), (0.5, 1.0), Ramp((0.0, 1.0), (0.0, 1.0)))
     with pytest.raises(InputError, match="friction amplitude"):
         solve_friction(_block(friction=0.3), ramped)
+
+
+def test_a_failed_finite_friction_run_raises_on_request():
+    """Every try limited to one outer (multiplier) iteration, no cut-back allowed: a negative status, and
+    ``raise_for_status`` raises with the message (the steps reached so far are kept: none)."""
+    ff = solve_finite_friction(_block(), 0.3, "simo-laursen", steps=(1.0,), obstacle_path=_path, maxiter=1,
+                               max_cutbacks=0)
+    assert ff.status < 0 and not ff.steps and "smallest increment" in ff.message
+    with pytest.raises(ConvergenceError, match="use more load steps"):
+        ff.raise_for_status()

@@ -38,7 +38,7 @@ from typing import Any, Callable, Sequence
 import numpy as np
 
 from .._options import is_integer, is_real
-from ..errors import InputError, InvertedElementError
+from ..errors import ConvergenceError, InputError, InvertedElementError
 from ..status import Status
 from ._algorithms import ContactOptions, _Run, get_algorithm, options_with, resolve_penalty
 from ._finite import FiniteContact
@@ -165,6 +165,11 @@ class StepRecords:
     @property
     def success(self) -> bool:
         return self.status > 0
+
+    def raise_for_status(self) -> None:
+        """Raise :class:`~alcontact.errors.ConvergenceError` unless every step converged."""
+        if not self.success:
+            raise ConvergenceError(f"load-stepped contact solve failed ({self.status.label}): {self.message}")
 
     @property
     def times(self) -> np.ndarray:
