@@ -447,11 +447,11 @@ def list_components() -> dict[str, dict[str, str]]:
         ``family-p`` algorithm are marked ``[contact]``.
     """
     from . import penalties
-    from .contact import algorithm_docs, contact_penalties, obstacles
+    from .contact import contact_penalties, obstacles
+    from .contact._algorithms import describe_algorithms
 
     usable = set(contact_penalties())
     pens = {name: (f"[contact] {doc}" if name in usable else doc) for name, doc in penalties.describe().items()}
-    from .contact import friction_algorithm_docs
     from .io.schema import _repo_root
 
     examples = {}
@@ -462,8 +462,8 @@ def list_components() -> dict[str, dict[str, str]]:
                           if ln.startswith("#")), "")
             examples[f"examples/{f.name}"] = first
     return {
-        "algorithms": dict(algorithm_docs()),
-        "friction-algorithms": dict(friction_algorithm_docs()),
+        "algorithms": describe_algorithms(friction=False),  # one registry, with what each entry supports
+        "friction-algorithms": describe_algorithms(friction=True),
         "penalties": pens,
         "obstacles": dict(obstacles.docs()),
         "problems": {
