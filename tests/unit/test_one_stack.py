@@ -46,7 +46,8 @@ def test_friction_only_fields_are_declared_as_such():
 
 
 @pytest.mark.parametrize("friction,kinematics,tol,iters", [
-    (False, "small", 1e-12, 60), (False, "finite", 1e-12, 60), (True, "small", 1e-11, 200), (True, "finite", 1e-11, 200),
+    (False, "small", 1e-12, 60), (False, "finite", 1e-12, 60),
+    (True, "small", 1e-11, 200), (True, "finite", 1e-11, 200),
 ])
 def test_automatic_newton_options_take_the_entry_defaults(friction, kinematics, tol, iters):
     """The former defaults of ContactOptions (frictionless) and FrictionOptions (frictional), exactly."""
@@ -105,6 +106,20 @@ def test_a_linear_solver_path_an_entry_lacks_is_refused():
     prob, hist = fp.block_on_plane(dim=2, n=2)
     with pytest.raises(InputError, match="linear_solver = 'amg'.*'simo-laursen' has no AMG path.*'direct'"):
         solve_friction(prob, hist, linear_solver="amg")
+
+
+def test_direct_only_algorithms_take_a_direct_backend():
+    """``linear_solver`` reaches the frictional factorization (same result with any direct backend).
+
+    Reference: the run with the default backend; tolerance relative 1e-10 on the normal force
+    (two direct factorizations of the same matrix).
+    """
+    prob, hist = fp.block_on_plane(dim=2, n=2)
+    a = solve_friction(prob, hist, linear_solver="superlu")
+    b = solve_friction(prob, hist)
+    assert a.success and b.success
+    assert A.direct_backend("direct") == "auto" and A.direct_backend("superlu") == "superlu"
+    assert abs(a.steps[-1].normal_force - b.steps[-1].normal_force) <= 1e-10 * abs(b.steps[-1].normal_force)
 
 
 def test_list_reads_the_registry():

@@ -110,14 +110,16 @@ class ContactOptions:
     multiplier_floor : float
         Relative lower bound keeping MET multipliers positive.
     linear_solver : {"auto", "direct", "amg", "mkl-pardiso", "cholmod", "superlu", ...}
-        Frictionless. ``"direct"``: one sparse factorization of the stiffness (the fastest
+        ``"direct"``: one sparse factorization of the stiffness (the fastest
         installed direct solver), problem condensed on the contact points
         (:mod:`alcontact.contact._discrete`). ``"amg"``: no factorization;
         full-space Newton with conjugate gradients preconditioned by smoothed-aggregation
         AMG (PyAMG; :mod:`alcontact.contact._iterative`), for meshes whose factor does not
         fit in memory. A direct solver's registry name (:func:`alcontact.linalg.registered_solvers`)
         picks that solver for the factorization. ``"auto"``: :func:`alcontact.linalg.choose_solver`
-        (``"amg"`` for 3D models with more than 100k DOFs, else ``"direct"``).
+        (``"amg"`` for 3D models with more than 100k DOFs, else ``"direct"``). Only the algorithms
+        whose registry entry lists the ``amg`` path (:attr:`Algorithm.linear_solvers`) take
+        ``"amg"``; the others run on a direct factorization (``"auto"``: the fastest installed one).
     eps_t : float or None
         Friction: tangential penalty stiffness :math:`\\varepsilon_T`; ``None``: ``tangential_scale * eps_n``.
     tangential_scale : float
@@ -182,9 +184,9 @@ class ContactOptions:
     multiplier_floor: float = declared("float", 1e-10, "Relative floor keeping MET multipliers positive.",
                                        low=0, high=1, low_open=True, high_open=True)
     linear_solver: str = declared(
-        "str", "auto", "Frictionless linear solver: `direct` (one factorization by the fastest installed "
-        "solver), `amg` (PyAMG + CG, no factorization), `auto` (amg for 3D above 100k DOFs), or a registered "
-        "direct solver by name.", choices=_solver_names)
+        "str", "auto", "Linear solver: `direct` (one factorization by the fastest installed solver), `amg` "
+        "(PyAMG + CG, no factorization; frictionless small kinematics), `auto` (amg where available for 3D above "
+        "100k DOFs, else direct), or a registered direct solver by name.", choices=_solver_names)
     # ---- read by the frictional solvers only
     eps_t: float | None = declared("float", None, "Friction: tangential penalty stiffness (default: "
                                    "`tangential_scale` eps_n).", low=0, low_open=True, only="friction")
@@ -289,6 +291,15 @@ def check_solve_args(problem, algorithm, penalty, known, kind: str) -> None:
     if penalty is not None and not isinstance(penalty, str):
         raise InputError(f"penalty = {show(penalty)}: expected a name or None, got {type(penalty).__name__}; one of "
                          f"{', '.join(contact_penalties())}.")
+
+
+def direct_backend(linear_solver: str) -> str:
+    """``backend`` of ``model.factorize`` for the ``linear_solver`` option of a direct-only algorithm.
+
+    ``"auto"`` and ``"direct"`` give ``"auto"`` (the fastest installed direct solver); a
+    registry name is passed on (``"amg"`` was refused by :meth:`Algorithm.check_options`).
+    """
+    return "auto" if linear_solver in ("auto", "direct") else linear_solver
 
 
 def resolve_penalty(algorithm, penalty: str | None, default: str | None = None) -> str:

@@ -61,7 +61,7 @@ from .. import penalties as _pen
 from .._options import MAX_STEPS, is_integer, is_real, show
 from ..errors import InputError
 from ._algorithms import (DEFAULT_PENALTY, FRICTION_DEFAULTS, Algorithm, ContactOptions, algorithm_names, algorithms,
-                          check_solve_args, find_algorithm, options_with, register)
+                          check_solve_args, direct_backend, find_algorithm, options_with, register)
 from ._friction_discrete import FrictionalContact
 from ._friction_laws import OPEN, SLIP, STICK, Macaulay, block_diag, local_law, tangential_energy
 from ._friction_solution import FrictionSolution, FrictionStep
@@ -785,7 +785,7 @@ def solve_friction(problem, history: LoadHistory, algorithm: str = "simo-laursen
                          "frictionless contact.")
     mu = float(mu)
 
-    fc = FrictionalContact(problem, history, margin=opts.margin)
+    fc = FrictionalContact(problem, history, margin=opts.margin, linear_solver=direct_backend(opts.linear_solver))
     eps_n = opts.eps_n if opts.eps_n is not None else penalty_stiffness(problem.model, fc.h, opts.penalty_scale)
     eps_t = opts.eps_t if opts.eps_t is not None else opts.tangential_scale * eps_n
     m, d = fc.points.shape
