@@ -696,9 +696,17 @@ def available_algorithms() -> list[str]:
     return algorithm_names(friction=False, kinematics="small")
 
 
-def algorithm_docs() -> dict[str, str]:
-    """One line of documentation per frictionless algorithm."""
-    return {e.name: e.doc for e in algorithms(friction=False, kinematics="small")}
+def algorithm_docs(*, friction: bool = False, kinematics: str = "small") -> dict[str, str]:
+    """One line of documentation per algorithm (default: the frictionless ones at small deformation)."""
+    return {e.name: e.doc for e in algorithms(friction=friction, kinematics=kinematics)}
+
+
+def register_family(rows, *, friction: bool, kinematics: str, linear_solvers: tuple[str, ...],
+                    defaults: Mapping[str, Any]) -> None:
+    """Register ``(name, run, fixed penalty or None, doc)`` rows of one family (:class:`Algorithm`)."""
+    for name, run, penalty, doc in rows:
+        register(Algorithm(name, run, doc, friction=friction, kinematics=kinematics, linear_solvers=linear_solvers,
+                           penalty=penalty, default_penalty=None if penalty else DEFAULT_PENALTY, defaults=defaults))
 
 
 def get_algorithm(name: str):
@@ -709,14 +717,14 @@ def get_algorithm(name: str):
 #: Penalty of family-P algorithms when none is given (frictionless and frictional).
 DEFAULT_PENALTY = "exp-met1"
 
-for _kin, _paths in (("small", ("direct", "amg")), ("finite", ("direct",))):
-    for _name, _run, _pen_name, _doc in (
-        ("penalty", run_penalty, "exterior-quadratic",
-         "pure penalty (6.10), stiffness raised until the penetration tolerance is met"),
-        ("simo-laursen", run_al, "rockafellar", "Algorithm 6.1: augmented Lagrangian with the Macaulay update (6.13)"),
-        ("family-p", run_al, None, "Algorithm 6.3: augmented Lagrangian with a family-P penalty (corrected 6.66)"),
-        ("ssn", run_ssn, "none", "reference: semi-smooth Newton / primal-dual active set, exact (no penalty)"),
-    ):
-        register(Algorithm(_name, _run, _doc, kinematics=_kin, linear_solvers=_paths, penalty=_pen_name,
-                           default_penalty=None if _pen_name else DEFAULT_PENALTY, defaults=FRICTIONLESS_DEFAULTS))
-del _kin, _paths, _name, _run, _pen_name, _doc
+_FRICTIONLESS = (
+    ("penalty", run_penalty, "exterior-quadratic",
+     "pure penalty (6.10), stiffness raised until the penetration tolerance is met"),
+    ("simo-laursen", run_al, "rockafellar", "Algorithm 6.1: augmented Lagrangian with the Macaulay update (6.13)"),
+    ("family-p", run_al, None, "Algorithm 6.3: augmented Lagrangian with a family-P penalty (corrected 6.66)"),
+    ("ssn", run_ssn, "none", "reference: semi-smooth Newton / primal-dual active set, exact (no penalty)"),
+)
+register_family(_FRICTIONLESS, friction=False, kinematics="small", linear_solvers=("direct", "amg"),
+                defaults=FRICTIONLESS_DEFAULTS)
+register_family(_FRICTIONLESS, friction=False, kinematics="finite", linear_solvers=("direct",),
+                defaults=FRICTIONLESS_DEFAULTS)

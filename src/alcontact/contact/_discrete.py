@@ -356,6 +356,14 @@ class CondensedContact(ContactPoints):
         self._xc_rows = np.empty(0, dtype=np.int64)  # rows of outside-block candidates with kept solves
         self._xc = np.empty((idx.size, 0))
 
+    def _start_candidates(self, cand: np.ndarray) -> None:
+        """The Schur block, then the candidates ``cand`` and the spring points added (:meth:`_add_candidates`)."""
+        if self.spring is not None:  # the spring points must stay candidates (shifted law on them)
+            cand = np.union1d(cand, self.spring[0])
+        self._setup_schur()
+        self.cand = np.empty(0, dtype=np.int64)
+        self._add_candidates(cand)
+
     def _condensed(self, M: np.ndarray, new: np.ndarray) -> np.ndarray:
         r""":math:`G K^{-1} G^T` on the candidates' rows: ``M`` (the old candidates') extended by the points ``new``.
 
@@ -442,13 +450,8 @@ class DiscreteContact(CondensedContact):
             raise InputError("the contact-free solution is not finite; check loads and supports.")
 
         self._setup_candidates(self.u_free, margin)
-        cand = self.cand
-        if self.spring is not None:  # the spring points must stay candidates
-            cand = np.union1d(cand, self.spring[0])
-        self._setup_schur()
-        self.cand = np.empty(0, dtype=np.int64)
         self.S = np.zeros((0, 0))
-        self._add_columns(cand)
+        self._start_candidates(self.cand)
         self.setup_seconds = time.perf_counter() - t0
 
     def _add_candidates(self, new: np.ndarray) -> None:

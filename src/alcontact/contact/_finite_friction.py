@@ -77,8 +77,7 @@ from .. import penalties as _pen
 from .._options import is_real, show
 from ..errors import InputError, InvertedElementError
 from ..linalg import SequenceSolver
-from ._algorithms import DEFAULT_PENALTY, FRICTION_DEFAULTS, Algorithm, algorithm_names, find_algorithm, options_with, \
-    register
+from ._algorithms import FRICTION_DEFAULTS, algorithm_names, find_algorithm, options_with, register_family
 from ._finite import FiniteContact
 from ._friction import FrictionOptions
 from ._friction_laws import OPEN, SLIP, STICK, return_mapping
@@ -551,17 +550,13 @@ def _step_ssn(dc: FiniteFrictionContact, lamN, lamT, x, eps_n, pen_name, opts) -
         dc.eps_t, dc.coupled = saved
 
 
-for _name, _run, _pen_name, _doc in (
+register_family((
     ("simo-laursen", _step_al, "rockafellar", "Algorithm 6.2 at finite deformation: AL, Macaulay normal law (6.52), "
                                               "return mapping onto the Coulomb cone in the current configuration"),
     ("family-p", _step_al, None, "Algorithm 6.4 at finite deformation: Algorithm 6.2 with a family-P normal penalty"),
     ("ssn", _step_ssn, "none",
      "reference: Alart-Curnier semi-smooth Newton on (u, lambda_N, lambda_T), exact (no penalty)"),
-):
-    register(Algorithm(_name, _run, _doc, friction=True, kinematics="finite", linear_solvers=("direct",),
-                       penalty=_pen_name, default_penalty=None if _pen_name else DEFAULT_PENALTY,
-                       defaults=FRICTION_DEFAULTS))
-del _name, _run, _pen_name, _doc
+), friction=True, kinematics="finite", linear_solvers=("direct",), defaults=FRICTION_DEFAULTS)
 
 
 def finite_friction_algorithms() -> list[str]:

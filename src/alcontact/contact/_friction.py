@@ -60,8 +60,8 @@ import scipy.linalg as sla
 from .. import penalties as _pen
 from .._options import MAX_STEPS, is_integer, is_real, show
 from ..errors import InputError
-from ._algorithms import (DEFAULT_PENALTY, FRICTION_DEFAULTS, Algorithm, ContactOptions, algorithm_names, algorithms,
-                          check_solve_args, direct_backend, find_algorithm, options_with, register)
+from ._algorithms import (DEFAULT_PENALTY, FRICTION_DEFAULTS, ContactOptions, algorithm_docs, algorithm_names,
+                          check_solve_args, direct_backend, find_algorithm, options_with, register_family)
 from ._friction_discrete import FrictionalContact
 from ._friction_laws import OPEN, SLIP, STICK, Macaulay, block_diag, local_law, tangential_energy
 from ._friction_solution import FrictionSolution, FrictionStep
@@ -573,17 +573,13 @@ def _step_ssn(ctx: _Ctx, penalty_name: str = "none") -> _StepOut:
     return _StepOut(True, "converged", R, out.aux[5].copy(), 1, out.iterations)
 
 
-for _name, _run, _pen_name, _doc in (
+register_family((
     ("simo-laursen", _step_al, "rockafellar",
      "Algorithm 6.2: AL with the Macaulay normal law (6.52) and return mapping (6.47)-(6.50)"),
     ("family-p", _step_al, None, "Algorithm 6.4: Algorithm 6.2 with a family-P normal penalty"),
     ("ssn", _step_ssn, "none",
      "reference: Alart-Curnier semi-smooth Newton on (lambda_N, lambda_T), exact (no penalty)"),
-):
-    register(Algorithm(_name, _run, _doc, friction=True, kinematics="small", linear_solvers=("direct",),
-                       penalty=_pen_name, default_penalty=None if _pen_name else DEFAULT_PENALTY,
-                       defaults=FRICTION_DEFAULTS))
-del _name, _run, _pen_name, _doc
+), friction=True, kinematics="small", linear_solvers=("direct",), defaults=FRICTION_DEFAULTS)
 #: Family-P penalty of the frictional algorithms when none is given.
 DEFAULT_FRICTION_PENALTY = DEFAULT_PENALTY
 
@@ -595,7 +591,7 @@ def friction_algorithms() -> list[str]:
 
 def friction_algorithm_docs() -> dict[str, str]:
     """One line of documentation per frictional algorithm (small deformation)."""
-    return {e.name: e.doc for e in algorithms(friction=True, kinematics="small")}
+    return algorithm_docs(friction=True)
 
 
 def _checked_steps(steps):

@@ -161,13 +161,9 @@ class FrictionalContact(CondensedContact):
         # points with a fixed normal DOF cannot move off the obstacle: error if they penetrate at some step
         self.gmax_t = np.max(np.stack([self.y_free(t)[:, 0] for t in history.times]), axis=0)
         cand = self._select_candidates(self.gmax_t, margin, pinned_tol=1e-12 * self.h, when=" at some load step")
-        if self.spring is not None:  # the spring points must stay candidates (shifted law on them)
-            cand = np.union1d(cand, self.spring[0])
-        self._setup_schur()
-        self.cand = np.empty(0, dtype=np.int64)
         self.C = np.zeros((0, 0))
         self.A = np.zeros((0, 0))
-        self.add(cand)
+        self._start_candidates(cand)  # CondensedContact: Schur block, spring points, add()
         self.setup_seconds = time.perf_counter() - t0
 
     @property
@@ -361,6 +357,9 @@ class FrictionalContact(CondensedContact):
     @property
     def ncand(self) -> int:
         return int(self.cand.size)
+
+    def _add_candidates(self, new: np.ndarray) -> None:
+        self.add(new)
 
     def add(self, new: np.ndarray) -> np.ndarray:
         """Add candidate points (one triangular solve per free DOF outside the Schur block); returns the added ones."""
