@@ -747,13 +747,15 @@ class RunOutput:
 
 def _override(setup, algorithm, penalty, options):
     """``setup`` with command-line overrides of algorithm, penalty and solver options."""
+    from .contact._algorithms import find_algorithm
+
     if not (algorithm or penalty or options):
         return setup
     opts = {**setup.options, **options}
-    fopts = {**setup.friction_options, **{k: v for k, v in options.items() if k in setup.friction_options
-                                           or k in ("maxiter", "penalty_scale", "eps_n")}}
+    fopts = {**setup.friction_options, **options}  # one options type (ContactOptions) for both runs
     alg = algorithm or setup.algorithm
-    pen = penalty if penalty is not None else (setup.penalty if alg == "family-p" else None)
+    takes_penalty = find_algorithm(alg).penalty is None  # the registry entry has no fixed penalty (family-P)
+    pen = penalty if penalty is not None else (setup.penalty if takes_penalty else None)
     return dataclasses.replace(setup, algorithm=alg, penalty=pen, options=opts, friction_options=fopts)
 
 

@@ -80,10 +80,11 @@ def _solver_options() -> tuple[tuple[Option, ...], tuple[Option, ...]]:
     return contact, tuple(o for o in contact if o.only == "friction")
 
 
-def _algorithms() -> tuple[str, ...]:
-    from ..contact import available_algorithms
+def _algorithms(friction: bool = False) -> tuple[str, ...]:
+    """Names of the registered algorithms (frictionless or frictional, small deformation)."""
+    from ..contact._algorithms import algorithm_names
 
-    return tuple(available_algorithms())
+    return tuple(algorithm_names(friction=friction))
 
 
 def _penalties() -> tuple[str, ...]:
@@ -185,8 +186,9 @@ def _build_schema() -> tuple[Table, ...]:
             kinematics_option(),
         ), required=True),
         Table("solver", "Contact algorithm, penalty and their parameters.", (
-            O("algorithm", "str", "simo-laursen", "Contact algorithm (friction: `simo-laursen`, `family-p` or "
-              "`ssn`).", choices=_algorithms()),
+            O("algorithm", "str", "simo-laursen", "Contact algorithm (friction: "
+              f"{', '.join(f'`{a}`' for a in _algorithms(friction=True))}; `alcontact list` shows what each "
+              "supports).", choices=_algorithms()),
             O("penalty", "str", "", "Penalty of `family-p` (default `exp-met1`); the other algorithms fix it.",
               choices=("",) + _penalties()),
         ) + contact),
