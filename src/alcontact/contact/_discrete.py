@@ -254,7 +254,7 @@ class CondensedContact(ContactPoints):
         on their normal motion without friction, on all their free components with
         it) make the matrix regular, and the contact law is shifted by the same
         springs, an exact rewriting of the equilibrium (:meth:`DiscreteContact.subproblem`,
-        :meth:`FrictionalContact._stabilize <alcontact.contact._friction_discrete.FrictionalContact>`).
+        :meth:`alcontact.contact._friction_discrete.FrictionalContact._stabilize`).
         Sets ``spring = (points, kappa)``. Otherwise the error says that neither the
         supports nor the obstacle restrain the body.
         """
