@@ -4,9 +4,9 @@ An :class:`Option` declares a key of a problem file or a field of an options
 dataclass. The same declaration is used by
 
 * the problem-file loader (:mod:`alcontact.io.schema`, :mod:`alcontact.io.config`),
-* the Python API: :class:`~alcontact.contact.ContactOptions` and
-  ``FrictionOptions`` declare their fields with :func:`declared` and validate
-  them with :func:`check_dataclass`,
+* the Python API: :class:`~alcontact.contact.ContactOptions` (the one options
+  type of every contact solver) declares its fields with :func:`declared` and
+  validates them with :func:`check_dataclass`,
 * the generated ``docs/problem-file.md``.
 
 :func:`check_value` is the one place where a value is compared with its
@@ -32,7 +32,7 @@ from typing import Any, Callable
 
 from .errors import InputError
 
-__all__ = ["REQUIRED", "TYPES", "BAD", "MAX_STEPS", "VALUE_RANGE", "Option", "check_value", "declared", "same_as",
+__all__ = ["REQUIRED", "TYPES", "BAD", "MAX_STEPS", "VALUE_RANGE", "Option", "check_value", "declared",
            "declarations", "check_dataclass", "as_options", "is_real", "is_integer", "show", "LINEAR_MODEL",
            "kinematics_option", "material_model_option", "OBSTACLE_PATH", "MAX_CUTBACKS"]
 
@@ -104,6 +104,9 @@ class Option:
         make the bound strict.
     lengths : tuple of int, optional
         Allowed lengths of a list.
+    only : str, optional
+        ``"friction"``: a field of :class:`~alcontact.contact.ContactOptions` that only
+        the frictional solvers read (``None``: every solver that has the notion reads it).
     """
 
     name: str
@@ -116,6 +119,7 @@ class Option:
     low_open: bool = False
     high_open: bool = False
     lengths: tuple[int, ...] | None = None
+    only: str | None = None
 
     def __post_init__(self) -> None:
         if self.type not in TYPES:
@@ -346,7 +350,7 @@ def declared(type: str, default: Any, doc: str, **limits: Any) -> Any:
     """A dataclass field declared as an :class:`Option` (the field name is the option name).
 
     ``limits`` are the keyword arguments of :class:`Option` (``low``, ``high``,
-    ``low_open``, ``high_open``, ``choices``, ``lengths``).
+    ``low_open``, ``high_open``, ``choices``, ``lengths``, ``only``).
 
     Examples
     --------
@@ -364,12 +368,6 @@ def declared(type: str, default: Any, doc: str, **limits: Any) -> Any:
     """
     meta = {_KEY: dict(type=type, doc=doc, **limits)}
     return dataclasses.field(default=default, metadata=meta)
-
-
-def same_as(cls: type, name: str) -> Any:
-    """A field declared exactly as field ``name`` of the options dataclass ``cls`` (shared option)."""
-    f = next(f for f in dataclasses.fields(cls) if f.name == name)
-    return dataclasses.field(default=f.default, metadata=f.metadata)
 
 
 _CACHE: dict[type, tuple[Option, ...]] = {}
@@ -421,8 +419,15 @@ def check_dataclass(obj: Any, kind: str) -> Any:
     return obj
 
 
+def _names(cls_or_obj: Any) -> list[str]:
+    return [f.name for f in dataclasses.fields(cls_or_obj)]
+
+
 def as_options(cls: type, options: Any, overrides: dict, kind: str) -> Any:
     """An options dataclass from ``None``, an instance of ``cls`` or a dict, plus ``overrides``, validated.
+
+    An instance of a dataclass that ``cls`` derives from without new fields (``ContactOptions``
+    where its alias ``FrictionOptions`` is asked for) is accepted as it is.
 
     Raises
     ------
@@ -434,14 +439,15 @@ def as_options(cls: type, options: Any, overrides: dict, kind: str) -> Any:
     if options is None:
         base: dict[str, Any] = {}
         opts = cls()
-    elif isinstance(options, cls):
+    elif isinstance(options, cls) or (dataclasses.is_dataclass(options) and issubclass(cls, type(options))
+                                      and _names(options) == _names(cls)):
         base, opts = {}, options
     elif isinstance(options, dict):
         base, opts = dict(options), cls()
     else:
         raise InputError(f"options = {show(options)}: expected a {cls.__name__} or a dict of its fields, got "
                          f"{type(options).__name__}; e.g. options={{'maxiter': 50}}.")
-    known = [f.name for f in dataclasses.fields(cls)]
+    known = _names(cls)
     changes = {**base, **(overrides or {})}
     for key in changes:
         if not isinstance(key, str) or key not in known:

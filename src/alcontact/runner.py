@@ -447,11 +447,11 @@ def list_components() -> dict[str, dict[str, str]]:
         ``family-p`` algorithm are marked ``[contact]``.
     """
     from . import penalties
-    from .contact import algorithm_docs, contact_penalties, obstacles
+    from .contact import contact_penalties, obstacles
+    from .contact._algorithms import describe_algorithms
 
     usable = set(contact_penalties())
     pens = {name: (f"[contact] {doc}" if name in usable else doc) for name, doc in penalties.describe().items()}
-    from .contact import friction_algorithm_docs
     from .io.schema import _repo_root
 
     examples = {}
@@ -462,8 +462,8 @@ def list_components() -> dict[str, dict[str, str]]:
                           if ln.startswith("#")), "")
             examples[f"examples/{f.name}"] = first
     return {
-        "algorithms": dict(algorithm_docs()),
-        "friction-algorithms": dict(friction_algorithm_docs()),
+        "algorithms": describe_algorithms(friction=False),  # one registry, with what each entry supports
+        "friction-algorithms": describe_algorithms(friction=True),
         "penalties": pens,
         "obstacles": dict(obstacles.docs()),
         "problems": {
@@ -868,13 +868,15 @@ class RunOutput:
 
 def _override(setup, algorithm, penalty, options):
     """``setup`` with command-line overrides of algorithm, penalty and solver options."""
+    from .contact._algorithms import find_algorithm
+
     if not (algorithm or penalty or options):
         return setup
     opts = {**setup.options, **options}
-    fopts = {**setup.friction_options, **{k: v for k, v in options.items() if k in setup.friction_options
-                                           or k in ("maxiter", "penalty_scale", "eps_n")}}
+    fopts = {**setup.friction_options, **options}  # one options type (ContactOptions) for both runs
     alg = algorithm or setup.algorithm
-    pen = penalty if penalty is not None else (setup.penalty if alg == "family-p" else None)
+    takes_penalty = find_algorithm(alg).penalty is None  # the registry entry has no fixed penalty (family-P)
+    pen = penalty if penalty is not None else (setup.penalty if takes_penalty else None)
     return dataclasses.replace(setup, algorithm=alg, penalty=pen, options=opts, friction_options=fopts)
 
 

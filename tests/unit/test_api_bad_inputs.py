@@ -19,7 +19,7 @@ import pytest
 
 from alcontact import errors
 from alcontact._options import declarations
-from alcontact.contact import ContactOptions, solve
+from alcontact.contact import ContactOptions, Support, solve
 from alcontact.contact._friction import FrictionOptions, solve_friction
 from alcontact.fem import meshes
 from alcontact.optim import minimize
@@ -140,7 +140,7 @@ BAD_CALLS = [
     ("options-dict-unknown", lambda p, f: solve(p, options={"maxiterr": 3}), ["maxiterr", "maxiter"]),
     ("options-dict-nonstr-key", lambda p, f: solve(p, options={1: 3}), ["1", "contact option"]),
     ("options-wrong-type", lambda p, f: solve(p, options=[("maxiter", 3)]), ["options", "ContactOptions", "dict"]),
-    ("options-wrong-class", lambda p, f: solve(p, options=FrictionOptions()), ["options", "ContactOptions"]),
+    ("options-wrong-class", lambda p, f: solve(p, options=Support("top")), ["options", "ContactOptions"]),
     ("friction-options-unknown", lambda p, f: solve_friction(*f, options={"tol_slp": 1.0}), ["tol_slp", "tol_slip"]),
     ("friction-algorithm", lambda p, f: solve_friction(*f, algorithm="penalty"), ["penalty", "friction algorithm"]),
     ("friction-coefficient-str", lambda p, f: solve_friction(*f, friction="0.3"), ["friction = '0.3'", ">= 0"]),

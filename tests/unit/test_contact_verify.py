@@ -80,7 +80,8 @@ def _fake_frictionless(dc, opts, eps0, penalty_name):
 
 
 def test_solve_does_not_report_a_wrong_state_as_converged(monkeypatch, caplog):
-    monkeypatch.setitem(_algorithms._ALGORITHMS, "fake", (_fake_frictionless, "wrong on purpose"))
+    fake = _algorithms.Algorithm("fake", _fake_frictionless, "wrong on purpose")
+    monkeypatch.setitem(_algorithms._REGISTRY, fake.key, fake)
     with caplog.at_level(logging.WARNING):
         sol = solve(hertz.hertz_2d(0, n_per_a=4), "fake")
     assert sol.status == ContactStatus.NOT_VERIFIED
@@ -95,7 +96,8 @@ def _fake_step(ctx, penalty_name):
 
 
 def test_solve_friction_does_not_report_a_wrong_state_as_converged(monkeypatch):
-    monkeypatch.setitem(_friction._ALGORITHMS, "fake", (_fake_step, "wrong on purpose"))
+    fake = _algorithms.Algorithm("fake", _fake_step, "wrong on purpose", friction=True, penalty="rockafellar")
+    monkeypatch.setitem(_algorithms._REGISTRY, fake.key, fake)
     prob, hist = fp.block_on_plane(dim=2, n=4)
     sol = solve_friction(prob, hist.with_times((0.25, 0.5)), "fake")
     assert sol.status == ContactStatus.NOT_VERIFIED and not sol.success

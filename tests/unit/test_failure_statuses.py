@@ -88,7 +88,8 @@ def _claims_converged(dc, opts, eps0, penalty_name):
 
 @pytest.fixture(autouse=True)
 def _wrong_algorithm(monkeypatch):
-    monkeypatch.setitem(_algorithms._ALGORITHMS, "claims-converged", (_claims_converged, "wrong on purpose"))
+    fake = _algorithms.Algorithm("claims-converged", _claims_converged, "wrong on purpose")
+    monkeypatch.setitem(_algorithms._REGISTRY, fake.key, fake)
 
 
 @pytest.mark.parametrize("status", sorted(s for s in CONTACT_CODES if s < 0), ids=lambda s: s.name)

@@ -2,10 +2,13 @@
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pytest
 
 from alcontact.contact import Support
+from alcontact.contact._algorithms import _REGISTRY, find_algorithm
 from alcontact.contact._friction import FrictionOptions, friction_algorithms, solve_friction
 from alcontact.contact._friction_discrete import tangent_bases
 from alcontact.contact._friction_laws import OPEN, SLIP, STICK, Macaulay, local_law, tangential_energy
@@ -132,7 +135,8 @@ def test_failed_step_is_cut_back_then_reported():
 def test_cut_back_recovers_and_keeps_steps(monkeypatch):
     import alcontact.contact._friction as F
 
-    real, doc = F._ALGORITHMS["simo-laursen"]
+    entry = find_algorithm("simo-laursen", friction=True)
+    real = entry.run
     calls = {"n": 0}
 
     def flaky(ctx, pen):  # the first two attempts of the shearing phase fail
@@ -141,7 +145,7 @@ def test_cut_back_recovers_and_keeps_steps(monkeypatch):
             return F._StepOut(False, "injected failure", ctx.R0, ctx.R0, 1, 0, F.ContactStatus.NEWTON_FAILED)
         return real(ctx, pen)
 
-    monkeypatch.setitem(F._ALGORITHMS, "simo-laursen", (flaky, doc))
+    monkeypatch.setitem(_REGISTRY, entry.key, dataclasses.replace(entry, run=flaky))
     prob, hist = fp.block_on_plane(dim=2, n=4, shear_ratio=3.0)
     sol = solve_friction(prob, hist, steps=(0.5, 1.0), max_cutbacks=4)
     assert sol.success, sol.message

@@ -27,20 +27,22 @@ of each subproblem is driven below ``newton_tol`` by Newton's method.
 
 from __future__ import annotations
 
+import dataclasses
 import logging
-from dataclasses import dataclass
-from typing import Callable
+from dataclasses import dataclass, field
+from typing import Any, Callable, ClassVar, Mapping
 
 import numpy as np
 
 from .. import penalties as _pen
-from .._options import as_options, check_dataclass, declared
+from .._options import as_options, check_dataclass, declarations, declared
 from ..errors import InputError, UnknownNameError
 from ..linalg import registered_solvers
 from ._laws import eta_for_stiffness, freezes_at_zero, make_law
 from ._solution import ContactIteration, ContactStatus
 
-__all__ = ["ContactOptions", "available_algorithms", "algorithm_docs", "contact_penalties"]
+__all__ = ["ContactOptions", "Algorithm", "register", "algorithms", "find_algorithm", "available_algorithms",
+           "algorithm_docs", "contact_penalties"]
 
 logger = logging.getLogger(__name__)
 
@@ -55,9 +57,19 @@ def _solver_names() -> tuple[str, ...]:
     return tuple(dict.fromkeys(("auto", "direct", "amg", *registered_solvers())))
 
 
+#: Largest ``max_cutbacks`` an option accepts (0.5**50 of an increment is below round-off).
+MAX_CUTBACKS = 50
+
+
 @dataclass(frozen=True)
 class ContactOptions:
-    """Options of the contact algorithms (every field has a default).
+    """Options of every contact solver, frictionless and frictional (every field has a default).
+
+    One options type for :func:`~alcontact.contact.solve`, :func:`~alcontact.contact.solve_friction`,
+    :func:`~alcontact.contact.solve_finite` and :func:`~alcontact.contact.solve_finite_friction`.
+    A solver ignores the fields it has no use for: those marked *frictionless* below are
+    read by the frictionless algorithms only, those marked *friction* (declared with
+    ``only="friction"``) by the frictional ones only.
 
     Attributes
     ----------
@@ -68,20 +80,23 @@ class ContactOptions:
     penalty_scale : float
         Multiplier of the automatic :math:`\\varepsilon_N`.
     tol_penetration : float
-        Max penetration over ``h``.
+        Max penetration over ``h`` (TOL1 of Algorithm 6.2, relative).
     tol_complementarity : float
         Max :math:`|\\lambda g|` over ``p_ref h`` (``p_ref`` = largest pressure).
     tol_multiplier : float
-        Max multiplier change over ``p_ref``.
+        Max multiplier change over ``p_ref`` (with friction: of :math:`(\\lambda_N, \\lambda_T)`).
     maxiter : int
-        Outer iterations.
-    newton_tol : float
-        Relative equilibrium residual of each subproblem.
-    maxiter_newton : int
-        Newton iterations per subproblem.
+        Outer iterations (per load step).
+    newton_tol : float or None
+        Relative residual of each Newton solve (also of the semi-smooth Newton references).
+        ``None``: the default of the algorithm's registry entry (:class:`Algorithm`):
+        ``1e-12`` frictionless, ``1e-11`` with friction.
+    maxiter_newton : int or None
+        Newton iterations per subproblem; ``None``: the algorithm's default, ``60``
+        frictionless, ``200`` with friction.
     strategy : {"fixed", "infeasibility"}
-        Penalty update: keep :math:`\\varepsilon_N`, or multiply it by ``alpha`` when the
-        penetration did not drop by the factor ``tau``.
+        Frictionless penalty update: keep :math:`\\varepsilon_N`, or multiply it by ``alpha`` when
+        the penetration did not drop by the factor ``tau``.
     tau, alpha : float
         Parameters of ``"infeasibility"`` (and ``alpha`` of the pure penalty).
     eps_max : float
@@ -89,21 +104,57 @@ class ContactOptions:
     eta_scaling : {"adaptive", "fixed"}
         Scale of family-P penalties (see :mod:`alcontact.contact._laws`).
     initial : {"penalty", "uniform"}
-        Initial multipliers of family-P penalties: from one pure-penalty solve
-        (floored at ``multiplier_floor`` times its largest pressure), or the
+        Frictionless: initial multipliers of family-P penalties: from one pure-penalty
+        solve (floored at ``multiplier_floor`` times its largest pressure), or the
         uniform value ``eps_n * h``.
     multiplier_floor : float
         Relative lower bound keeping MET multipliers positive.
     linear_solver : {"auto", "direct", "amg", "mkl-pardiso", "cholmod", "superlu", ...}
-        ``"direct"``: one sparse factorization of the stiffness (the fastest installed
-        direct solver), problem condensed on the contact points
+        ``"direct"``: one sparse factorization of the stiffness (the fastest
+        installed direct solver), problem condensed on the contact points
         (:mod:`alcontact.contact._discrete`). ``"amg"``: no factorization;
         full-space Newton with conjugate gradients preconditioned by smoothed-aggregation
         AMG (PyAMG; :mod:`alcontact.contact._iterative`), for meshes whose factor does not
         fit in memory. A direct solver's registry name (:func:`alcontact.linalg.registered_solvers`)
         picks that solver for the factorization. ``"auto"``: :func:`alcontact.linalg.choose_solver`
-        (``"amg"`` for 3D models with more than 100k DOFs, else ``"direct"``).
+        (``"amg"`` for 3D models with more than 100k DOFs, else ``"direct"``). Only the algorithms
+        whose registry entry lists the ``amg`` path (:attr:`Algorithm.linear_solvers`) take
+        ``"amg"``; the others run on a direct factorization (``"auto"``: the fastest installed one).
+    eps_t : float or None
+        Friction: tangential penalty stiffness :math:`\\varepsilon_T`; ``None``: ``tangential_scale * eps_n``.
+    tangential_scale : float
+        Friction: :math:`\\varepsilon_T / \\varepsilon_N` of the automatic ``eps_t``.
+    tol_slip : float
+        Friction: max :math:`|u_{T,n+1} - u_{T,n}|/h` at stick points (TOL2 of Algorithm 6.2).
+    max_cutbacks : int
+        Friction: failed attempts allowed per requested load step before giving up.
+    cutback_factor : float
+        Friction: fraction of the failed increment tried next.
+    eta_floor : float
+        Friction, family-P: the scale :math:`\\eta` is computed from
+        :math:`\\max(\\lambda_N, \\text{eta\\_floor}\\, p_{ref})`, so points that enter
+        contact with a tiny multiplier do not get an exploding law.
+    margin : float
+        Friction: candidate points: largest free gap over the history above ``-margin`` times
+        the largest free penetration (more are added when they penetrate).
+    radius : {"multiplier", "traction"}
+        Friction: radius of the Coulomb disc inside an AL subproblem: :math:`\\mu\\lambda_N`
+        (fixed, as in (6.2c): the subproblem has a convex potential, robust
+        Newton) or :math:`\\mu t_N(g)` (coupled, non-symmetric tangent). Both
+        converge to the same step solution.
+    multiplier_update : {"newton", "first-order"}
+        Friction: outer update of Algorithms 6.2 / 6.4. ``"first-order"``: (6.2b)/(6.2c),
+        :math:`\\lambda \\leftarrow t(\\lambda)`. ``"newton"``: a second-order
+        multiplier iteration (Bertsekas) on the fixed point :math:`\\lambda = t(\\lambda)`
+        with the exact sensitivity of the subproblem solution; it falls back to the
+        first-order update for the rest of the step as soon as the multiplier
+        change does not halve. It also starts every step from the tangent
+        predictor :math:`\\lambda_n + (d\\lambda^*/dy_f)\\Delta y_f` of the last
+        converged step. Same stopping test, same solution.
     """
+
+    #: word naming this class's fields in messages (``"contact option maxiter = ..."``)
+    _KIND: ClassVar[str] = "contact"
 
     eps_n: float | None = declared(
         "float", None, "Normal penalty stiffness (default: `penalty_scale` E'/h).", low=0, low_open=True)
@@ -113,10 +164,12 @@ class ContactOptions:
     tol_complementarity: float = declared("float", 1e-8, "Stop: max |lambda g| / (p_max h).", low=0, low_open=True)
     tol_multiplier: float = declared("float", 1e-8, "Stop: max multiplier change / p_max.", low=0, low_open=True)
     maxiter: int = declared("int", 100, "Outer (multiplier) iterations (per load step).", low=1, high=MAX_ITER)
-    newton_tol: float = declared("float", 1e-12, "Frictionless: relative residual of each Newton solve.",
-                                 low=0, low_open=True)
-    maxiter_newton: int = declared("int", 60, "Frictionless: Newton iterations per subproblem.",
-                                   low=1, high=MAX_NEWTON)
+    newton_tol: float | None = declared(
+        "float", None, "Relative residual of each Newton solve (default: the algorithm's, 1e-12 frictionless, "
+        "1e-11 with friction).", low=0, low_open=True)
+    maxiter_newton: int | None = declared(
+        "int", None, "Newton iterations per subproblem (default: the algorithm's, 60 frictionless, 200 with "
+        "friction).", low=1, high=MAX_NEWTON)
     strategy: str = declared("str", "fixed", "Frictionless penalty update: `fixed` or `infeasibility`.",
                              choices=("fixed", "infeasibility"))
     tau: float = declared("float", 0.25, "`infeasibility`: required drop of the penetration per iteration.",
@@ -131,12 +184,32 @@ class ContactOptions:
     multiplier_floor: float = declared("float", 1e-10, "Relative floor keeping MET multipliers positive.",
                                        low=0, high=1, low_open=True, high_open=True)
     linear_solver: str = declared(
-        "str", "auto", "Frictionless linear solver: `direct` (one factorization by the fastest installed "
-        "solver), `amg` (PyAMG + CG, no factorization), `auto` (amg for 3D above 100k DOFs), or a registered "
-        "direct solver by name.", choices=_solver_names)
+        "str", "auto", "Linear solver: `direct` (one factorization by the fastest installed solver), `amg` "
+        "(PyAMG + CG, no factorization; frictionless small kinematics), `auto` (amg where available for 3D above "
+        "100k DOFs, else direct), or a registered direct solver by name.", choices=_solver_names)
+    # ---- read by the frictional solvers only
+    eps_t: float | None = declared("float", None, "Friction: tangential penalty stiffness (default: "
+                                   "`tangential_scale` eps_n).", low=0, low_open=True, only="friction")
+    tangential_scale: float = declared("float", 1.0, "Friction: eps_t / eps_n.", low=0, low_open=True,
+                                       only="friction")
+    tol_slip: float = declared("float", 1e-8, "Friction: stop: max slip change at stick points / h.", low=0,
+                               low_open=True, only="friction")
+    max_cutbacks: int = declared("int", 6, "Friction: failed attempts per load step before giving up.", low=0,
+                                 high=MAX_CUTBACKS, only="friction")
+    cutback_factor: float = declared("float", 0.5, "Friction: fraction of a failed increment tried next.",
+                                     low=0, high=1, low_open=True, high_open=True, only="friction")
+    eta_floor: float = declared("float", 1e-2, "Friction, family-P: relative floor of the multiplier in eta.",
+                                low=0, high=1, low_open=True, only="friction")
+    margin: float = declared("float", 0.25, "Friction: candidate points: free gap above -margin x max "
+                             "penetration.", low=0, only="friction")
+    radius: str = declared("str", "multiplier", "Friction: Coulomb disc in a subproblem: `multiplier` or "
+                           "`traction`.", choices=("multiplier", "traction"), only="friction")
+    multiplier_update: str = declared(
+        "str", "newton", "Friction: AL multiplier update: `newton` (second-order, falls back to first-order) or "
+        "`first-order`.", choices=("newton", "first-order"), only="friction")
 
     def __post_init__(self) -> None:
-        check_dataclass(self, "contact")
+        check_dataclass(self, self._KIND)
 
     def validate(self) -> "ContactOptions":
         """This object: every field was checked against its declaration when it was made.
@@ -146,7 +219,17 @@ class ContactOptions:
         InputError
             Naming the field, the value, the allowed range and the default.
         """
-        return check_dataclass(self, "contact")
+        return check_dataclass(self, self._KIND)
+
+    def resolved(self, algorithm: "Algorithm") -> "ContactOptions":
+        """These options with every automatic (``None``) field of ``algorithm.defaults`` filled in."""
+        fill = {k: v for k, v in algorithm.defaults.items() if getattr(self, k) is None}
+        return dataclasses.replace(self, **fill) if fill else self
+
+
+def friction_only_options() -> tuple[str, ...]:
+    """Names of the :class:`ContactOptions` fields that only the frictional solvers read."""
+    return tuple(o.name for o in declarations(ContactOptions) if o.only == "friction")
 
 
 @dataclass
@@ -165,14 +248,21 @@ class _Run:
     history: list
 
 
-def options_with(options, cls, overrides: dict, kind: str):
+def options_with(options, cls, overrides: dict, kind: str, algorithm: "Algorithm | None" = None):
     """``options`` (``None``, a ``cls`` or a dict of its fields) with ``overrides`` applied, validated.
 
     Unknown field names are an :class:`~alcontact.errors.UnknownNameError` with the
     closest match and the known ones; bad values an :class:`~alcontact.errors.InputError`
-    naming the key, the value, the allowed range and the default.
+    naming the key, the value, the allowed range and the default. With ``algorithm``
+    (a registry entry, :class:`Algorithm`) the automatic (``None``) options get the
+    entry's defaults (:meth:`ContactOptions.resolved`) and the options are checked
+    against what the entry supports (:meth:`Algorithm.check_options`).
     """
-    return as_options(cls, options, overrides, kind)
+    opts = as_options(cls, options, overrides, kind)
+    if algorithm is not None:
+        algorithm.check_options(opts)
+        opts = opts.resolved(algorithm)
+    return opts
 
 
 def check_solve_args(problem, algorithm, penalty, known, kind: str) -> None:
@@ -203,28 +293,24 @@ def check_solve_args(problem, algorithm, penalty, known, kind: str) -> None:
                          f"{', '.join(contact_penalties())}.")
 
 
-#: The penalty of each algorithm that does not take one (frictionless and frictional).
-FIXED_PENALTIES = {"simo-laursen": "rockafellar", "penalty": "exterior-quadratic", "ssn": "none"}
+def direct_backend(linear_solver: str) -> str:
+    """``backend`` of ``model.factorize`` for the ``linear_solver`` option of a direct-only algorithm.
 
-
-def resolve_penalty(algorithm: str, penalty: str | None, default: str) -> str:
-    """Penalty name an algorithm runs with: its fixed one, or ``penalty`` (``default``) for family-p.
-
-    A penalty given to an algorithm with a fixed one, or one not usable by Algorithm
-    6.3 / 6.4, is an error naming the way out.
+    ``"auto"`` and ``"direct"`` give ``"auto"`` (the fastest installed direct solver); a
+    registry name is passed on (``"amg"`` was refused by :meth:`Algorithm.check_options`).
     """
-    if algorithm in FIXED_PENALTIES:
-        fixed = FIXED_PENALTIES[algorithm]
-        if penalty not in (None, fixed):
-            raise InputError(
-                f"algorithm {algorithm!r} uses the {fixed!r} penalty; got penalty={penalty!r}. "
-                "Use algorithm='family-p' to choose a penalty."
-            )
-        return fixed
-    name = penalty or default
-    if name not in contact_penalties():
-        raise UnknownNameError("contact penalty", name, contact_penalties())
-    return name
+    return "auto" if linear_solver in ("auto", "direct") else linear_solver
+
+
+def resolve_penalty(algorithm, penalty: str | None, default: str | None = None) -> str:
+    """Penalty name an algorithm runs with: its fixed one, or ``penalty`` (its default) for family-p.
+
+    ``algorithm`` is a registry entry (:class:`Algorithm`) or the name of a frictionless
+    one. A penalty given to an algorithm with a fixed one, or one not usable by
+    Algorithm 6.3 / 6.4, is an error naming the way out.
+    """
+    entry = algorithm if isinstance(algorithm, Algorithm) else find_algorithm(algorithm)
+    return entry.penalty_for(penalty, default)
 
 
 def contact_penalties() -> list[str]:
@@ -453,25 +539,192 @@ def run_ssn(dc, opts, eps0, penalty_name=None) -> _Run:
                 c, 0.0, hist)
 
 
-_ALGORITHMS: dict[str, tuple[Callable, str]] = {
-    "penalty": (run_penalty, "pure penalty (6.10), stiffness raised until the penetration tolerance is met"),
-    "simo-laursen": (run_al, "Algorithm 6.1: augmented Lagrangian with the Macaulay update (6.13)"),
-    "family-p": (run_al, "Algorithm 6.3: augmented Lagrangian with a family-P penalty (corrected 6.66)"),
-    "ssn": (run_ssn, "reference: semi-smooth Newton / primal-dual active set, exact (no penalty)"),
-}
+# --------------------------------------------------------------------------- the algorithm registry
+#: Defaults of the automatic Newton options of the frictionless algorithms (:meth:`ContactOptions.resolved`).
+FRICTIONLESS_DEFAULTS = {"newton_tol": 1e-12, "maxiter_newton": 60}
+#: Defaults of the automatic Newton options of the frictional algorithms.
+FRICTION_DEFAULTS = {"newton_tol": 1e-11, "maxiter_newton": 200}
+#: Linear-solver paths an entry may declare: ``direct`` (sparse factorization; at small deformation the
+#: problem is condensed on the contact points), ``amg`` (factorization-free, PyAMG + CG).
+LINEAR_SOLVER_PATHS = ("direct", "amg")
+
+
+@dataclass(frozen=True)
+class Algorithm:
+    """A registered contact algorithm and what it supports.
+
+    One registry holds the frictionless, frictional and finite-deformation algorithms
+    (:func:`register`, :func:`find_algorithm`, :func:`algorithms`); the solvers, the
+    problem-file checks and ``alcontact list`` read it. A name may have one entry per
+    combination of ``friction`` and ``kinematics``.
+
+    Parameters
+    ----------
+    name : str
+        Registry name (``"simo-laursen"``).
+    run : callable
+        The algorithm: ``run(dc, opts, eps0, penalty)`` (frictionless, outer loop of
+        :mod:`alcontact.contact._algorithms`) or the step function of the frictional
+        solvers (:mod:`alcontact.contact._friction`, :mod:`alcontact.contact._finite_friction`).
+    doc : str
+        One line, with the dissertation's algorithm or equation number.
+    friction : bool
+        Coulomb friction (:func:`~alcontact.contact.solve_friction`) or frictionless.
+    kinematics : {"small", "finite"}
+        Linearized gap (6.15) or gap at the deformed position.
+    linear_solvers : tuple of str
+        Linear-solver paths it runs on (:data:`LINEAR_SOLVER_PATHS`); ``linear_solver="amg"``
+        is refused by an entry without ``"amg"``.
+    penalty : str or None
+        Its fixed penalty, or ``None`` when it takes one (family-P, ``default_penalty``).
+    default_penalty : str or None
+        Penalty of an entry that takes one, when none is given.
+    defaults : mapping
+        Values of the automatic (``None``) options, e.g. :data:`FRICTION_DEFAULTS`.
+    """
+
+    name: str
+    run: Callable
+    doc: str
+    friction: bool = False
+    kinematics: str = "small"
+    linear_solvers: tuple[str, ...] = ("direct",)
+    penalty: str | None = None
+    default_penalty: str | None = None
+    defaults: Mapping[str, Any] = field(default_factory=dict)
+
+    @property
+    def key(self) -> tuple[str, bool, str]:
+        """Its registry key ``(name, friction, kinematics)``."""
+        return (self.name, self.friction, self.kinematics)
+
+    @property
+    def family(self) -> str:
+        """``"algorithm"``, ``"friction algorithm"`` or ``"finite-deformation friction algorithm"`` (messages)."""
+        return _FAMILY[(self.friction, self.kinematics)]
+
+    def penalty_for(self, penalty: str | None, default: str | None = None) -> str:
+        """The penalty this entry runs with when ``penalty`` is asked for (see :func:`resolve_penalty`)."""
+        if self.penalty is not None:
+            if penalty not in (None, self.penalty):
+                raise InputError(
+                    f"algorithm {self.name!r} uses the {self.penalty!r} penalty; got penalty={penalty!r}. "
+                    "Use algorithm='family-p' to choose a penalty."
+                )
+            return self.penalty
+        name = penalty or default or self.default_penalty or DEFAULT_PENALTY
+        if name not in contact_penalties():
+            raise UnknownNameError("contact penalty", name, contact_penalties())
+        return name
+
+    def check_options(self, opts: ContactOptions) -> None:
+        """Refuse options this entry cannot honour (``linear_solver="amg"`` without an AMG path)."""
+        if opts.linear_solver == "amg" and "amg" not in self.linear_solvers:
+            kin = "" if self.kinematics == "small" else f"{self.kinematics}-deformation "
+            raise InputError(
+                f"{type(opts)._KIND} option linear_solver = 'amg': the {kin}{'frictional' if self.friction else ''}"
+                f"{' ' if self.friction else ''}algorithm {self.name!r} has no AMG path (it runs on: "
+                f"{', '.join(self.linear_solvers)}); use linear_solver='auto' or 'direct'.")
+
+    def supports(self) -> str:
+        """``"small: direct, amg"``: its kinematics and linear-solver paths (for ``alcontact list``)."""
+        return f"{self.kinematics}: {', '.join(self.linear_solvers)}"
+
+
+_FAMILY = {(False, "small"): "algorithm", (False, "finite"): "algorithm",
+           (True, "small"): "friction algorithm", (True, "finite"): "finite-deformation friction algorithm"}
+
+#: Every registered algorithm, keyed by ``(name, friction, kinematics)``.
+_REGISTRY: dict[tuple[str, bool, str], Algorithm] = {}
+
+
+def register(entry: Algorithm) -> Algorithm:
+    """Add (or replace) a registry entry; returns it.
+
+    Raises
+    ------
+    ValueError
+        Unknown kinematics or linear-solver path.
+    """
+    from ._problem import KINEMATICS
+
+    if entry.kinematics not in KINEMATICS:
+        raise ValueError(f"algorithm {entry.name!r}: unknown kinematics {entry.kinematics!r}")
+    bad = set(entry.linear_solvers) - set(LINEAR_SOLVER_PATHS)
+    if bad or not entry.linear_solvers:
+        raise ValueError(f"algorithm {entry.name!r}: linear-solver paths must be some of {LINEAR_SOLVER_PATHS}")
+    _REGISTRY[entry.key] = entry
+    return entry
+
+
+def algorithms(*, friction: bool | None = None, kinematics: str | None = None) -> tuple[Algorithm, ...]:
+    """Registry entries, by name; ``friction`` / ``kinematics`` select (``None``: all)."""
+    return tuple(e for _, e in sorted(_REGISTRY.items()) if (friction is None or e.friction == friction)
+                 and (kinematics is None or e.kinematics == kinematics))
+
+
+def algorithm_names(*, friction: bool = False, kinematics: str = "small") -> list[str]:
+    """Names of the algorithms for ``friction`` and ``kinematics``."""
+    return [e.name for e in algorithms(friction=friction, kinematics=kinematics)]
+
+
+def find_algorithm(name: str, *, friction: bool = False, kinematics: str = "small") -> Algorithm:
+    """The entry of ``name`` for ``friction`` and ``kinematics``.
+
+    Raises
+    ------
+    UnknownNameError
+        With the closest match and the names registered for that combination.
+    """
+    entry = _REGISTRY.get((name, friction, kinematics)) if isinstance(name, str) else None
+    if entry is None:
+        raise UnknownNameError(_FAMILY[(friction, kinematics)], str(name),
+                               algorithm_names(friction=friction, kinematics=kinematics))
+    return entry
+
+
+def describe_algorithms(*, friction: bool) -> dict[str, str]:
+    """``{name: "doc [kinematics: linear solvers; ...]"}``, e.g. ``"... [small: direct, amg; finite: direct]"``."""
+    out: dict[str, list[Algorithm]] = {}
+    for e in sorted(algorithms(friction=friction), key=lambda e: (e.name, e.kinematics != "small")):
+        out.setdefault(e.name, []).append(e)
+    return {name: f"{es[0].doc} [{'; '.join(e.supports() for e in es)}]" for name, es in out.items()}
 
 
 def available_algorithms() -> list[str]:
     """Names of the frictionless contact algorithms."""
-    return sorted(_ALGORITHMS)
+    return algorithm_names(friction=False, kinematics="small")
 
 
-def algorithm_docs() -> dict[str, str]:
-    """One line of documentation per algorithm."""
-    return {k: v[1] for k, v in sorted(_ALGORITHMS.items())}
+def algorithm_docs(*, friction: bool = False, kinematics: str = "small") -> dict[str, str]:
+    """One line of documentation per algorithm (default: the frictionless ones at small deformation)."""
+    return {e.name: e.doc for e in algorithms(friction=friction, kinematics=kinematics)}
+
+
+def register_family(rows, *, friction: bool, kinematics: str, linear_solvers: tuple[str, ...],
+                    defaults: Mapping[str, Any]) -> None:
+    """Register ``(name, run, fixed penalty or None, doc)`` rows of one family (:class:`Algorithm`)."""
+    for name, run, penalty, doc in rows:
+        register(Algorithm(name, run, doc, friction=friction, kinematics=kinematics, linear_solvers=linear_solvers,
+                           penalty=penalty, default_penalty=None if penalty else DEFAULT_PENALTY, defaults=defaults))
 
 
 def get_algorithm(name: str):
-    if name not in _ALGORITHMS:
-        raise UnknownNameError("algorithm", name, list(_ALGORITHMS))
-    return _ALGORITHMS[name][0]
+    """The outer loop of the frictionless algorithm ``name``."""
+    return find_algorithm(name).run
+
+
+#: Penalty of family-P algorithms when none is given (frictionless and frictional).
+DEFAULT_PENALTY = "exp-met1"
+
+_FRICTIONLESS = (
+    ("penalty", run_penalty, "exterior-quadratic",
+     "pure penalty (6.10), stiffness raised until the penetration tolerance is met"),
+    ("simo-laursen", run_al, "rockafellar", "Algorithm 6.1: augmented Lagrangian with the Macaulay update (6.13)"),
+    ("family-p", run_al, None, "Algorithm 6.3: augmented Lagrangian with a family-P penalty (corrected 6.66)"),
+    ("ssn", run_ssn, "none", "reference: semi-smooth Newton / primal-dual active set, exact (no penalty)"),
+)
+register_family(_FRICTIONLESS, friction=False, kinematics="small", linear_solvers=("direct", "amg"),
+                defaults=FRICTIONLESS_DEFAULTS)
+register_family(_FRICTIONLESS, friction=False, kinematics="finite", linear_solvers=("direct",),
+                defaults=FRICTIONLESS_DEFAULTS)

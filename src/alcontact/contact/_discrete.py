@@ -36,6 +36,14 @@ also give their entries with the block points.
 
 Candidates are the points whose free-solution gap exceeds ``-margin``; after a
 solve, points outside the set that penetrate are added and the solve repeated.
+
+The factorization, the springs of a body held only by the obstacle and the build of
+the condensed operator live in :class:`CondensedContact`, for any row operator
+:math:`G` with ``k`` rows per contact point: :math:`G = B` (``k = 1``) gives ``S`` here,
+and the frictional :class:`~alcontact.contact._friction_discrete.FrictionalContact`
+uses the same class with :math:`G = P` (``k = d``, every free component of a point),
+:math:`C = P K^{-1} P^T`, so both paths share the points, the candidates, the backend
+choice and the Schur block.
 """
 
 from __future__ import annotations
@@ -52,7 +60,7 @@ import scipy.sparse as sp
 from ..errors import InputError
 from ._newton import solve_subproblem
 
-__all__ = ["ContactPoints", "DiscreteContact"]
+__all__ = ["ContactPoints", "CondensedContact", "DiscreteContact"]
 
 logger = logging.getLogger(__name__)
 
@@ -68,24 +76,56 @@ SCHUR_MIN_DOFS = 10_000
 SCHUR_WINDOW = 2.0
 
 
+def _element_size(model, boundary: str, obstacle) -> float:
+    """Median facet size of the contact boundary near the obstacle (the facets closest to it set the scale)."""
+    f = model.facets(boundary)
+    p = model.mesh.p
+    v = model.mesh.facets[:, f]
+    if model.dim == 2:
+        size = np.linalg.norm(p[:, v[1]] - p[:, v[0]], axis=0)
+    else:
+        size = np.sqrt(np.linalg.norm(np.cross((p[:, v[1]] - p[:, v[0]]).T, (p[:, v[2]] - p[:, v[0]]).T), axis=1))
+    g = obstacle.gap(p[:, v].mean(axis=1).T)
+    # facets closest to the obstacle set the scale (graded meshes are fine there)
+    near = g >= np.quantile(g, 0.9) if g.size > 10 else np.ones(g.size, bool)
+    return float(np.median(size[near]))
+
+
+def _point_rows(points: np.ndarray, k: int) -> np.ndarray:
+    """Rows ``i*k .. i*k + k - 1`` of every point ``i`` (point-major)."""
+    return (np.asarray(points, dtype=np.int64)[:, None] * k + np.arange(k)).ravel()
+
+
 class ContactPoints:
     """Contact points of a problem: geometry, linearized gaps (6.15), candidates.
 
-    Shared by the condensed direct path (:class:`DiscreteContact`) and the
-    factorization-free one (:class:`~alcontact.contact._iterative.IterativeContact`).
-    Subclasses call :meth:`_setup_points` with their free DOFs, then
-    :meth:`_setup_candidates` with the contact-free displacement.
+    Shared by the condensed direct paths (:class:`CondensedContact`: frictionless
+    :class:`DiscreteContact`, frictional
+    :class:`~alcontact.contact._friction_discrete.FrictionalContact`), the
+    factorization-free one (:class:`~alcontact.contact._iterative.IterativeContact`)
+    and finite deformation. Subclasses call :meth:`_setup_points` with their free
+    DOFs, then :meth:`_setup_candidates` (or :meth:`_select_candidates`).
     """
 
     def _setup_problem(self, problem) -> None:
         """Model, supports and load of ``problem``."""
+        self._setup_model(problem, *problem.dirichlet())
+        self.load = problem.load_vector()
+
+    def _setup_model(self, problem, fixed: np.ndarray, fixed_values: np.ndarray | None = None) -> None:
+        """Problem, model, dimension and the supported DOFs ``fixed`` (with their values)."""
         self.problem = problem
         self.model = problem.model
         self.dim = self.model.dim
-        self.fixed, self.fixed_values = problem.dirichlet()
-        self.load = problem.load_vector()
+        self.fixed, self.fixed_values = fixed, fixed_values
 
     def _setup_points(self, problem, free: np.ndarray) -> None:
+        """Points, DOFs, weights, obstacle normals and gaps; ``pos``, ``B`` and ``movable`` for the DOFs ``free``.
+
+        ``pos`` (m, d): position of each point DOF in the free numbering (-1 when
+        supported); ``B``: rows :math:`-\\nu_i^T` on the free DOFs; ``movable``: the
+        normal motion is not fully supported (the point may be a candidate).
+        """
         model = problem.model
         pts, dofs = model.node_dofs(problem.contact_boundary)
         w = model.boundary_weights(problem.contact_boundary)
@@ -96,6 +136,7 @@ class ContactPoints:
         free_pos = -np.ones(model.ndofs, dtype=np.int64)
         free_pos[free] = np.arange(free.size)
         pos = free_pos[dofs]  # (m, d)
+        self.pos = pos
         coef = np.where(pos >= 0, -nu, 0.0)
         self.movable = np.linalg.norm(coef, axis=1) > 1e-12
         m = pts.shape[0]
@@ -106,40 +147,40 @@ class ContactPoints:
 
     def _setup_candidates(self, u_free: np.ndarray, margin: float) -> None:
         self.g_free = self.all_gaps(u_free)
-        pinned = ~self.movable & (self.g_free > 0)
+        self.h = self._element_size()
+        self.cand = self._select_candidates(self.g_free, margin)
+
+    def _select_candidates(self, g: np.ndarray, margin: float, *, pinned_tol: float = 0.0,
+                           when: str = "") -> np.ndarray:
+        """Candidate points: movable, with ``g`` above ``-margin`` times the largest free penetration.
+
+        ``g`` are the gaps of the contact-free solution (their maximum over the load
+        steps with a history); sets ``max_free_penetration``.
+
+        Raises
+        ------
+        InputError
+            A point whose normal motion is supported penetrates (``g > pinned_tol``);
+            ``when`` completes the message (``" at some load step"``).
+        """
+        pinned = ~self.movable & (g > pinned_tol)
         if np.any(pinned):
             i = int(np.flatnonzero(pinned)[0])
             raise InputError(
                 f"contact point {self.points[i].tolist()} is held by a Dirichlet condition in the normal "
-                f"direction but penetrates the obstacle by {self.g_free[i]:.3e}; move the obstacle "
+                f"direction but penetrates the obstacle by {g[i]:.3e}{when}; move the obstacle "
                 "or release that support."
             )
-        self.h = self._element_size()
-        gmax = float(np.max(self.g_free[self.movable], initial=-np.inf))
+        gmax = float(np.max(g[self.movable], initial=-np.inf))
         self.max_free_penetration = gmax
         if gmax > 0:
             thr = -max(margin * gmax, 1e-12 * self.h)
-            self.cand = np.flatnonzero(self.movable & (self.g_free > thr))
-        else:
-            self.cand = np.empty(0, dtype=np.int64)
+            return np.flatnonzero(self.movable & (g > thr))
+        return np.empty(0, dtype=np.int64)
 
     def _element_size(self) -> float:
         """Mean facet size of the contact boundary near the obstacle."""
-        f = self.model.facets(self.problem.contact_boundary)
-        mesh = self.model.mesh
-        p = mesh.p
-        v = mesh.facets[:, f]
-        if self.dim == 2:
-            size = np.linalg.norm(p[:, v[1]] - p[:, v[0]], axis=0)
-        else:
-            size = np.sqrt(
-                np.linalg.norm(np.cross((p[:, v[1]] - p[:, v[0]]).T, (p[:, v[2]] - p[:, v[0]]).T), axis=1)
-            )
-        centers = p[:, v].mean(axis=1).T
-        g = self.problem.obstacle.gap(centers)
-        # facets closest to the obstacle set the scale (graded meshes are fine there)
-        near = g >= np.quantile(g, 0.9) if g.size > 10 else np.ones(g.size, bool)
-        return float(np.median(size[near]))
+        return _element_size(self.model, self.problem.contact_boundary, self.problem.obstacle)
 
     def all_gaps(self, u: np.ndarray) -> np.ndarray:
         """Linearized gaps (6.15) of every contact-boundary point for displacement ``u``."""
@@ -158,8 +199,219 @@ class ContactPoints:
     def _add_candidates(self, new: np.ndarray) -> None:
         self.cand = np.concatenate([self.cand, new])
 
+    def _new_points(self, new: np.ndarray) -> np.ndarray:
+        """The movable points of ``new`` that are not candidates yet (sorted)."""
+        new = np.setdiff1d(np.asarray(new, dtype=np.int64), self.cand)
+        return new[self.movable[new]]
 
-class DiscreteContact(ContactPoints):
+
+class CondensedContact(ContactPoints):
+    r"""Contact points on one factorization of the stiffness: the setup of every condensed problem.
+
+    Shared by the frictionless :class:`DiscreteContact` (:math:`S = B K^{-1} B^T`) and the
+    frictional :class:`~alcontact.contact._friction_discrete.FrictionalContact`
+    (:math:`C = P K^{-1} P^T` on all free components of the candidates): the
+    factorization (backend, Schur block, the cache of ``model.factorize``), the springs
+    of a body held only by the obstacle (:meth:`_stabilize`) and the condensed operator
+    :math:`G K^{-1} G^T` of a row operator :math:`G` with :attr:`rows_per_point` rows per
+    point (:meth:`_row_operator`), built by :meth:`_condensed` from the Schur complement
+    and triangular solves (module doc).
+    """
+
+    #: rows of the row operator G per contact point
+    rows_per_point = 1
+
+    def _factorize(self, problem, margin: float, linear_solver: str) -> None:
+        """Points, then the factorization of the stiffness (with springs when the supports leave it singular).
+
+        Sets ``factor``, ``spring``, ``factorizations``, ``factor_seconds``; ``_schur_kw``
+        (the Schur block asked for) and ``linear_solver``.
+        """
+        model = self.model
+        self.spring = None  # contact-point springs of a body held only by the obstacle
+        self.linear_solver = linear_solver  # registry name (alcontact.linalg) or "auto"
+        mask = np.ones(model.ndofs, dtype=bool)
+        mask[self.fixed] = False
+        self._free = np.flatnonzero(mask)  # the free numbering of model.factorize
+        self._setup_points(problem, self._free)
+        t_fac = time.perf_counter()
+        n_fac = getattr(model, "factorization_count", None)
+        self._schur_kw = self._schur_request(problem, margin)
+        try:  # checks the rigid motions first
+            self.factor = model.factorize(self.fixed, backend=linear_solver, **self._schur_kw)
+        except InputError as exc:
+            self._stabilize(exc)  # raises unless the obstacle restrains the free motions
+        if n_fac is not None:  # 0 when the model reused its factorization (same supports, e.g. load steps)
+            self.factorizations = model.factorization_count - n_fac
+        self.factor_seconds = time.perf_counter() - t_fac
+
+    def _stabilize(self, exc: InputError) -> None:
+        r"""Factorize :math:`\tilde K = K + \kappa\, G_s^T W_s G_s` for a body held only by the obstacle.
+
+        The supports leave a rigid motion free (``exc`` says which). If the contact
+        points closest to the obstacle (within half an element of the closest one)
+        restrain it, springs :math:`\kappa = E'/h` on those points (:meth:`_spring_matrix`:
+        on their normal motion without friction, on all their free components with
+        it) make the matrix regular, and the contact law is shifted by the same
+        springs, an exact rewriting of the equilibrium (:meth:`DiscreteContact.subproblem`,
+        :meth:`alcontact.contact._friction_discrete.FrictionalContact._stabilize`).
+        Sets ``spring = (points, kappa)``. Otherwise the error says that neither the
+        supports nor the obstacle restrain the body.
+        """
+        model = self.model
+        h = self._element_size()
+        g0 = np.where(self.movable, self.gap0, -np.inf)
+        near = np.flatnonzero(self.movable & (g0 >= g0.max() - 0.5 * h)) if np.any(self.movable) else []
+        if len(near) == 0 or g0.max() < -0.5 * h:
+            raise InputError(
+                f"{exc} The body does not touch the obstacle either (closest gap {-g0.max():.3g}), so nothing "
+                "restrains it: add supports or move the obstacle into contact."
+            ) from None
+        mat = model.material
+        kappa = (mat.E if (model.dim == 2 and mat.plane == "stress") else mat.plane_strain_modulus) / h
+        near = np.asarray(near, dtype=np.int64)
+        self._K = model.stiffness()
+        try:
+            self.factor = model.factorize(self.fixed, matrix=self._K + self._spring_matrix(near, kappa),
+                                          check=True, backend=self.linear_solver, **self._schur_kw)
+        except InputError:
+            raise InputError(
+                f"{exc} The contact points touching the obstacle do not restrain that motion either: "
+                "add supports (e.g. fix a tangential component) so that every rigid motion is stopped."
+            ) from None
+        self.spring = (near, kappa)
+        logger.info("body held by the obstacle only: springs on %d contact points", len(near))
+
+    def _spring_matrix(self, near: np.ndarray, kappa: float) -> sp.csr_matrix:
+        r"""Springs :math:`\kappa w_i \nu_i\nu_i^T` on the normal motion of the points ``near`` (full numbering)."""
+        Bs = self.B[near]
+        add = (Bs.T @ sp.diags(kappa * self.weights[near]) @ Bs).tocsr()
+        return _expand_free(add, self._free, self.model.ndofs)
+
+    def _row_operator(self) -> sp.csr_matrix:
+        """The row operator ``G`` (``rows_per_point`` rows per point, point-major, on the free DOFs)."""
+        return self.B
+
+    def _schur_request(self, problem, margin: float) -> dict:
+        r"""``schur=`` keyword for ``model.factorize``: the free DOFs of the points that can become candidates.
+
+        Known before the factorization, from the reference gaps :math:`g^0` (the gaps of the
+        contact-free solution without loads): with :math:`g^0_{max}` the largest one, the
+        block holds the points with
+
+        .. math::
+
+            g^0_i \ge \min(g^0_{max}, 0) - \text{margin}\,\max(g^0_{max}, 0) - c\,h,
+
+        ``h`` the element size at the contact zone and :math:`c` = :data:`SCHUR_WINDOW`, i.e.
+        the candidate threshold of :meth:`_select_candidates` widened by a few element sizes
+        for what the loads add. Candidates found later outside the block get triangular
+        solves (:meth:`_condensed`). At most :data:`SCHUR_MAX_DOFS` DOFs (the points
+        closest to the obstacle). Empty when the model's ``factorize`` takes no Schur block
+        or the model has fewer than :data:`SCHUR_MIN_DOFS` DOFs.
+        """
+        model = self.model
+        if model.ndofs < SCHUR_MIN_DOFS or "schur" not in inspect.signature(model.factorize).parameters:
+            return {}
+        pts, dofs = model.node_dofs(problem.contact_boundary)
+        keep = ~np.isin(dofs, self.fixed)
+        g0 = problem.obstacle.evaluate(pts)[0]
+        movable = keep.any(axis=1)
+        if not np.any(movable):
+            return {}
+        gtop = float(np.max(g0[movable]))
+        thr = min(gtop, 0.0) - margin * max(gtop, 0.0) - SCHUR_WINDOW * self._element_size()
+        near = np.flatnonzero(movable & (g0 >= thr))
+        npts = SCHUR_MAX_DOFS // self.dim
+        if near.size > npts:
+            near = near[np.argsort(-g0[near], kind="stable")[:npts]]
+        return {"schur": np.unique(dofs[near][keep[near]])}
+
+    def _setup_schur(self) -> None:
+        r"""The row operator and the Cholesky factor of the Schur complement :math:`S_c` when there is one.
+
+        Sets ``self._G`` (:meth:`_row_operator`) and ``self._schur`` to ``(L, Gs, inside)``:
+        ``L`` the Cholesky factor of :math:`S_c`, ``Gs`` the columns of ``G`` on the Schur
+        DOFs, ``inside[r]`` whether the point of row ``r`` has all its free DOFs in the
+        block; None without a Schur complement.
+        """
+        self._G = self._row_operator()
+        self._schur = None
+        inner = getattr(self.factor, "factor", None)
+        Sc = getattr(inner, "schur_complement", None)
+        if Sc is None or not self._schur_kw:
+            return
+        idx = inner.schur_indices  # positions in the free numbering, as G's columns
+        try:
+            L = sla.cho_factor(Sc, lower=True, check_finite=False)
+        except np.linalg.LinAlgError:
+            logger.warning("the Schur complement of the contact DOFs is not positive definite; building the "
+                           "condensed operator with triangular solves instead")
+            return
+        G, k = self._G, self.rows_per_point
+        Gs = G[:, idx].tocsr()
+        rows_inside = Gs.getnnz(axis=1) == G.getnnz(axis=1)
+        inside = np.repeat(rows_inside.reshape(-1, k).all(axis=1), k)
+        self._schur = (L, Gs, inside)
+        self._xc_rows = np.empty(0, dtype=np.int64)  # rows of outside-block candidates with kept solves
+        self._xc = np.empty((idx.size, 0))
+
+    def _start_candidates(self, cand: np.ndarray) -> None:
+        """The Schur block, then the candidates ``cand`` and the spring points added (:meth:`_add_candidates`)."""
+        if self.spring is not None:  # the spring points must stay candidates (shifted law on them)
+            cand = np.union1d(cand, self.spring[0])
+        self._setup_schur()
+        self.cand = np.empty(0, dtype=np.int64)
+        self._add_candidates(cand)
+
+    def _condensed(self, M: np.ndarray, new: np.ndarray) -> np.ndarray:
+        r""":math:`G K^{-1} G^T` on the candidates' rows: ``M`` (the old candidates') extended by the points ``new``.
+
+        ``new`` are the last entries of ``self.cand`` (hybrid build). Rows of points inside
+        the Schur block: :math:`G_i S_c^{-1} G_j^T` between two of them (no triangular
+        solve). Rows of points outside: one triangular solve pair each (batched),
+        :math:`X_j = K^{-1} G_j^T`, giving their whole column :math:`G X_j`; the rows of
+        :math:`X_j` on the Schur DOFs are kept, so a block point added later gets its
+        entries with the outside points as :math:`X_{j,c}^T G_{c,i}^T` without another solve.
+        Zero rows (a supported DOF of :math:`P`) get no solve and zero entries.
+        """
+        G, k = self._G, self.rows_per_point
+        rows_all = _point_rows(self.cand, k)
+        rows_new = _point_rows(new, k)
+        schur = self._schur
+        inside = schur[2] if schur is not None else np.zeros(G.shape[0], dtype=bool)
+        cols = np.zeros((rows_all.size, rows_new.size))
+        jout = np.flatnonzero(~inside[rows_new] & (G.getnnz(axis=1)[rows_new] > 0))
+        for s in range(0, jout.size, _BATCH):
+            j = jout[s : s + _BATCH]
+            X = self.factor.solve(G[rows_new[j]].T.toarray())
+            cols[:, j] = G[rows_all] @ X
+            self.linear_solves += j.size
+            if schur is not None:  # rows on the Schur DOFs, for block points added later
+                self._xc_rows = np.concatenate([self._xc_rows, rows_new[j]])
+                self._xc = np.hstack([self._xc, X[self.factor.factor.schur_indices]])
+        jin = np.flatnonzero(inside[rows_new])
+        if jin.size:
+            L, Gs, _ = schur
+            GsT = Gs[rows_new[jin]].T.toarray()
+            Z = sla.cho_solve(L, GsT, check_finite=False)
+            ain = inside[rows_all]
+            cols[np.ix_(ain, jin)] = Gs[rows_all[ain]] @ Z
+            if not np.all(ain):  # entries with the rows outside the block, from their kept solves
+                where = {r: i for i, r in enumerate(self._xc_rows)}
+                out = rows_all[~ain]
+                kept = np.array([r in where for r in out])
+                block = self._xc[:, [where.get(r, 0) for r in out]].T @ GsT
+                cols[np.ix_(~ain, jin)] = np.where(kept[:, None], block, 0.0)  # zero rows: no solve, no entry
+        nold = rows_all.size - rows_new.size
+        out = np.zeros((rows_all.size, rows_all.size))
+        out[:nold, :nold] = M
+        out[:, nold:] = cols
+        out[nold:, :nold] = cols[:nold].T
+        return 0.5 * (out + out.T)
+
+
+class DiscreteContact(CondensedContact):
     """Condensed frictionless contact problem built from a :class:`ContactProblem`.
 
     Attributes
@@ -189,21 +441,7 @@ class DiscreteContact(ContactPoints):
     def __init__(self, problem, *, margin: float = 0.25, linear_solver: str = "auto"):
         t0 = time.perf_counter()
         self._setup_problem(problem)
-        model = self.model
-        self.spring = None  # contact-point springs of a body held only by the obstacle
-        self.linear_solver = linear_solver  # registry name (alcontact.linalg) or "auto"
-        t_fac = time.perf_counter()
-        n_fac = getattr(model, "factorization_count", None)
-        self._schur_kw = self._schur_request(problem, margin)
-        try:  # checks the rigid motions first
-            self.factor = model.factorize(self.fixed, backend=linear_solver, **self._schur_kw)
-            matrix_ok = True
-        except InputError as exc:
-            self._stabilize(problem, exc)  # raises unless the obstacle restrains the free motions
-            matrix_ok = False
-        if n_fac is not None:  # 0 when the model reused its factorization (same supports, e.g. load steps)
-            self.factorizations = model.factorization_count - n_fac
-        self.factor_seconds = time.perf_counter() - t_fac
+        self._factorize(problem, margin, linear_solver)
         t_sol = time.perf_counter()
         self.u_free = self.factor.solve_full(self.load, self.fixed_values)
         self.solve_seconds = time.perf_counter() - t_sol
@@ -211,167 +449,21 @@ class DiscreteContact(ContactPoints):
         if not np.all(np.isfinite(self.u_free)):
             raise InputError("the contact-free solution is not finite; check loads and supports.")
 
-        if matrix_ok:
-            self._setup_points(problem, self.factor.free)
         self._setup_candidates(self.u_free, margin)
-        if self.spring is not None:  # the spring points must stay candidates
-            self.cand = np.union1d(self.cand, self.spring[0])
-        self._setup_schur()
         self.S = np.zeros((0, 0))
-        self._add_columns(self.cand, initial=True)
+        self._start_candidates(self.cand)
         self.setup_seconds = time.perf_counter() - t0
 
     def _add_candidates(self, new: np.ndarray) -> None:
         self._add_columns(new)
 
-    def _stabilize(self, problem, exc: InputError) -> None:
-        r"""Factorize :math:`\tilde K = K + \kappa B_s^T W_s B_s` for a body held only by the obstacle.
-
-        The supports leave a rigid motion free. If the contact points closest to the
-        obstacle (within half an element of the closest one) restrain it, springs
-        :math:`\kappa = E'/h` on those points make the matrix regular, and the
-        contact law is shifted by the same springs,
-        :math:`\tilde t(g) = t(g) - \kappa (g - g^0)`, which is an exact rewriting of
-        :math:`K u = f - B^T W t(g)` (see :meth:`subproblem`). Otherwise the error
-        says that neither the supports nor the obstacle restrain the body.
-        """
-        model = self.model
-        mask = np.ones(model.ndofs, dtype=bool)
-        mask[self.fixed] = False
-        self._setup_points(problem, np.flatnonzero(mask))
-        h = self._element_size()
-        g0 = np.where(self.movable, self.gap0, -np.inf)
-        near = np.flatnonzero(self.movable & (g0 >= g0.max() - 0.5 * h)) if np.any(self.movable) else []
-        if len(near) == 0 or g0.max() < -0.5 * h:
-            raise InputError(
-                f"{exc} The body does not touch the obstacle either (closest gap {-g0.max():.3g}), so nothing "
-                "restrains it: add supports or move the obstacle into contact."
-            ) from None
-        mat = model.material
-        kappa = (mat.E if (model.dim == 2 and mat.plane == "stress") else mat.plane_strain_modulus) / h
-        Bs = self.B[near]
-        stiff = model.stiffness()
-        free = np.flatnonzero(mask)
-        add = (Bs.T @ sp.diags(kappa * self.weights[near]) @ Bs).tocsr()
-        Kt = stiff + _expand_free(add, free, model.ndofs)
-        try:
-            self.factor = model.factorize(self.fixed, matrix=Kt, check=True, backend=self.linear_solver,
-                                          **self._schur_kw)
-        except InputError:
-            raise InputError(
-                f"{exc} The contact points touching the obstacle do not restrain that motion either: "
-                "add supports (e.g. fix a tangential component) so that every rigid motion is stopped."
-            ) from None
-        self.spring = (np.asarray(near, dtype=np.int64), kappa)
-        logger.info("body held by the obstacle only: springs on %d contact points", len(near))
-
-    def _schur_request(self, problem, margin: float) -> dict:
-        r"""``schur=`` keyword for ``model.factorize``: the free DOFs of the points that can become candidates.
-
-        Known before the factorization, from the reference gaps :math:`g^0` (the gaps of the
-        contact-free solution without loads): with :math:`g^0_{max}` the largest one, the
-        block holds the points with
-
-        .. math::
-
-            g^0_i \ge \min(g^0_{max}, 0) - \text{margin}\,\max(g^0_{max}, 0) - c\,h,
-
-        ``h`` the element size at the contact zone and :math:`c` = :data:`SCHUR_WINDOW`, i.e.
-        the candidate threshold of :meth:`_setup_candidates` widened by a few element sizes
-        for what the loads add. Candidates found later outside the block get triangular
-        solves (:meth:`_add_columns`). At most :data:`SCHUR_MAX_DOFS` DOFs (the points
-        closest to the obstacle). Empty when the model's ``factorize`` takes no Schur block
-        or the model has fewer than :data:`SCHUR_MIN_DOFS` DOFs.
-        """
-        model = self.model
-        if model.ndofs < SCHUR_MIN_DOFS or "schur" not in inspect.signature(model.factorize).parameters:
-            return {}
-        pts, dofs = model.node_dofs(problem.contact_boundary)
-        keep = ~np.isin(dofs, self.fixed)
-        g0 = problem.obstacle.evaluate(pts)[0]
-        movable = keep.any(axis=1)
-        if not np.any(movable):
-            return {}
-        gtop = float(np.max(g0[movable]))
-        thr = min(gtop, 0.0) - margin * max(gtop, 0.0) - SCHUR_WINDOW * self._element_size()
-        near = np.flatnonzero(movable & (g0 >= thr))
-        npts = SCHUR_MAX_DOFS // self.dim
-        if near.size > npts:
-            near = near[np.argsort(-g0[near], kind="stable")[:npts]]
-        return {"schur": np.unique(dofs[near][keep[near]])}
-
-    def _setup_schur(self) -> None:
-        r"""Cholesky factor of the Schur complement :math:`S_c` when the factorization returned one.
-
-        Sets ``self._schur`` to ``(L, Bs, inside)``: ``L`` the Cholesky factor of
-        :math:`S_c`, ``Bs`` the rows of ``B`` on the Schur DOFs, ``inside[i]`` whether
-        point ``i`` has all its free DOFs in the block; None without a Schur complement.
-        """
-        self._schur = None
-        inner = getattr(self.factor, "factor", None)
-        Sc = getattr(inner, "schur_complement", None)
-        if Sc is None or not self._schur_kw:
-            return
-        idx = inner.schur_indices  # positions in the free numbering, as B's columns
-        try:
-            L = sla.cho_factor(Sc, lower=True, check_finite=False)
-        except np.linalg.LinAlgError:
-            logger.warning("the Schur complement of the contact DOFs is not positive definite; building the "
-                           "Delassus operator with triangular solves instead")
-            return
-        Bs = self.B[:, idx].tocsr()
-        inside = Bs.getnnz(axis=1) == self.B.getnnz(axis=1)
-        self._schur = (L, Bs, inside)
-        self._xc_points = np.empty(0, dtype=np.int64)  # outside-block candidates with kept solves
-        self._xc = np.empty((idx.size, 0))
-
-    def _add_columns(self, new: np.ndarray, *, initial: bool = False) -> None:
-        r"""Extend S with the candidate points ``new`` (hybrid build).
-
-        Points inside the Schur block: :math:`S_{ij} = B_i S_c^{-1} B_j^T` between two of
-        them (no triangular solve). Points outside: one triangular solve pair each
-        (batched), :math:`X_j = K^{-1} B_j^T`, giving their whole column
-        :math:`S_{:,j} = B X_j`; the rows of :math:`X_j` on the Schur DOFs are kept, so a
-        block point added later gets its entries with the outside points as
-        :math:`X_{j,c}^T B_{c,i}^T` without another solve.
-        """
-        new = np.asarray(new, dtype=np.int64)
-        if not initial:
-            new = np.setdiff1d(new, self.cand)
-            self.cand = np.concatenate([self.cand, new])
+    def _add_columns(self, new: np.ndarray) -> None:
+        """Extend ``cand`` and the Delassus operator ``S`` with the points ``new`` (:meth:`_condensed`)."""
+        new = self._new_points(new)
         if new.size == 0:
             return
-        B = self.B
-        allc = self.cand
-        schur = getattr(self, "_schur", None)
-        inside = schur[2] if schur is not None else np.zeros(B.shape[0], dtype=bool)
-        cols = np.empty((allc.size, new.size))
-        jout = np.flatnonzero(~inside[new])
-        for s in range(0, jout.size, _BATCH):
-            j = jout[s : s + _BATCH]
-            X = self.factor.solve(B[new[j]].T.toarray())
-            cols[:, j] = B[allc] @ X
-            self.linear_solves += j.size
-            if schur is not None:  # rows on the Schur DOFs, for block points added later
-                self._xc_points = np.concatenate([self._xc_points, new[j]])
-                self._xc = np.hstack([self._xc, X[self.factor.factor.schur_indices]])
-        jin = np.flatnonzero(inside[new])
-        if jin.size:
-            L, Bs, _ = schur
-            BsT = Bs[new[jin]].T.toarray()
-            Z = sla.cho_solve(L, BsT, check_finite=False)
-            ain = inside[allc]
-            cols[np.ix_(ain, jin)] = Bs[allc[ain]] @ Z
-            if not np.all(ain):  # entries with the points outside the block, from their kept solves
-                where = {p: k for k, p in enumerate(self._xc_points)}
-                k = np.array([where[p] for p in allc[~ain]], dtype=np.int64)
-                cols[np.ix_(~ain, jin)] = self._xc[:, k].T @ BsT
-        nold = allc.size - new.size
-        S = np.zeros((allc.size, allc.size))
-        S[:nold, :nold] = self.S
-        S[:, nold:] = cols
-        S[nold:, :nold] = cols[:nold].T
-        self.S = 0.5 * (S + S.T)
+        self.cand = np.concatenate([self.cand, new])
+        self.S = self._condensed(self.S, new)
 
     # ------------------------------------------- interface of the outer loops
     # (shared with the factorization-free path of _iterative.py; the state is r here)

@@ -75,11 +75,11 @@ import scipy.sparse as sp
 
 from .. import penalties as _pen
 from .._options import is_real, show
-from ..errors import InputError, InvertedElementError, UnknownNameError
+from ..errors import InputError, InvertedElementError
 from ..linalg import SequenceSolver
-from ._algorithms import options_with, resolve_penalty
+from ._algorithms import FRICTION_DEFAULTS, algorithm_names, find_algorithm, options_with, register_family
 from ._finite import FiniteContact
-from ._friction import DEFAULT_FRICTION_PENALTY, FrictionOptions
+from ._friction import FrictionOptions
 from ._friction_laws import OPEN, SLIP, STICK, return_mapping
 from ._laws import eta_for_stiffness, freezes_at_zero, make_law
 from ._loading import LoadHistory
@@ -575,18 +575,18 @@ def _step_ssn(dc: FiniteFrictionContact, lamN, lamT, x, eps_n, pen_name, opts) -
         dc.eps_t, dc.coupled = saved
 
 
-_ALGORITHMS: dict[str, tuple[Callable, str]] = {
-    "simo-laursen": (_step_al, "Algorithm 6.2 at finite deformation: AL, Macaulay normal law (6.52), "
-                               "return mapping onto the Coulomb cone in the current configuration"),
-    "family-p": (_step_al, "Algorithm 6.4 at finite deformation: Algorithm 6.2 with a family-P normal penalty"),
-    "ssn": (_step_ssn, "reference: Alart-Curnier semi-smooth Newton on (u, lambda_N, lambda_T), exact (no penalty)"),
-}
-_FIXED = {"simo-laursen": "rockafellar", "ssn": "none"}
+register_family((
+    ("simo-laursen", _step_al, "rockafellar", "Algorithm 6.2 at finite deformation: AL, Macaulay normal law (6.52), "
+                                              "return mapping onto the Coulomb cone in the current configuration"),
+    ("family-p", _step_al, None, "Algorithm 6.4 at finite deformation: Algorithm 6.2 with a family-P normal penalty"),
+    ("ssn", _step_ssn, "none",
+     "reference: Alart-Curnier semi-smooth Newton on (u, lambda_N, lambda_T), exact (no penalty)"),
+), friction=True, kinematics="finite", linear_solvers=("direct",), defaults=FRICTION_DEFAULTS)
 
 
 def finite_friction_algorithms() -> list[str]:
     """Names of the finite-deformation frictional algorithms."""
-    return sorted(_ALGORITHMS)
+    return algorithm_names(friction=True, kinematics="finite")
 
 
 # ---------------------------------------------------------------------------
@@ -639,18 +639,11 @@ def solve_finite_friction(problem, mu: float, algorithm: str = "simo-laursen", p
     t_start = time.perf_counter()
     if not (is_real(mu) and np.isfinite(mu) and mu >= 0):
         raise InputError(f"mu = {show(mu)}: the Coulomb coefficient must be a finite number >= 0.")
-    if algorithm not in _ALGORITHMS:
-        raise UnknownNameError("finite-deformation friction algorithm", algorithm, list(_ALGORITHMS))
-    if algorithm in _FIXED:
-        if penalty not in (None, _FIXED[algorithm]):
-            raise InputError(f"algorithm {algorithm!r} uses the {_FIXED[algorithm]!r} penalty; got "
-                             f"penalty={penalty!r}. Use algorithm='family-p' to choose a penalty.")
-        pen_name = _FIXED[algorithm]
-    else:
-        pen_name = resolve_penalty(algorithm, penalty, DEFAULT_FRICTION_PENALTY)
-    opts = options_with(options, FrictionOptions, option_overrides, "friction options")
+    entry = find_algorithm(algorithm, friction=True, kinematics="finite")
+    pen_name = entry.penalty_for(penalty)
+    opts = options_with(options, FrictionOptions, option_overrides, "friction options", entry)
     times = _step_times(steps)
-    step_fn = _ALGORITHMS[algorithm][0]
+    step_fn = entry.run
     data = _StepData(problem, history, obstacle_path)
     dc = FiniteFrictionContact(problem, fixed=data.fixed)
     d = dc.dim

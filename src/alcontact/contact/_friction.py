@@ -1,6 +1,7 @@
 r"""Coulomb friction with incremental loading, small deformation, 2D and 3D (section 6.2).
 
-Registered algorithms (:func:`friction_algorithms`):
+Registered algorithms (entries of the registry of :mod:`alcontact.contact._algorithms` with
+``friction=True``, :func:`friction_algorithms`):
 
 ``simo-laursen``
     Algorithm 6.2: per load step, augmented Lagrangian iterations with the
@@ -54,15 +55,16 @@ import logging
 import time
 import warnings
 from dataclasses import dataclass
-from typing import Callable
+from typing import ClassVar
 
 import numpy as np
 import scipy.linalg as sla
 
 from .. import penalties as _pen
-from .._options import MAX_STEPS, check_dataclass, declared, is_integer, is_real, same_as, show
-from ..errors import InputError, UnknownNameError
-from ._algorithms import MAX_NEWTON, ContactOptions, check_solve_args, options_with, resolve_penalty
+from .._options import MAX_STEPS, is_integer, is_real, show
+from ..errors import InputError
+from ._algorithms import (DEFAULT_PENALTY, FRICTION_DEFAULTS, ContactOptions, algorithm_docs, algorithm_names,
+                          check_solve_args, direct_backend, find_algorithm, options_with, register_family)
 from ._friction_discrete import FrictionalContact
 from ._friction_laws import OPEN, SLIP, STICK, Macaulay, block_diag, local_law, tangential_energy
 from ._friction_solution import FrictionSolution, FrictionStep
@@ -80,104 +82,19 @@ logger = logging.getLogger(__name__)
 #: Largest relative equilibrium residual of a step of a body held only by the obstacle.
 _EQUILIBRIUM_TOL = 1e-7
 
-#: Largest ``max_cutbacks`` an option accepts (0.5**50 of an increment is below round-off).
-MAX_CUTBACKS = 50
-
-
 @dataclass(frozen=True)
-class FrictionOptions:
-    """Options of the frictional solvers (every field has a default).
+class FrictionOptions(ContactOptions):
+    """:class:`~alcontact.contact.ContactOptions` under the name the frictional solvers used before issue 9.
 
-    Attributes
-    ----------
-    eps_n : float or None
-        Normal penalty stiffness (pressure per length); ``None``: ``penalty_scale * E'/h``.
-    eps_t : float or None
-        Tangential penalty stiffness :math:`\\varepsilon_T`; ``None``: ``tangential_scale * eps_n``.
-    penalty_scale, tangential_scale : float
-    tol_penetration : float
-        Max penetration over ``h`` (TOL1 of Algorithm 6.2, relative).
-    tol_multiplier : float
-        Max change of :math:`(\\lambda_N, \\lambda_T)` in an outer iteration over the largest pressure.
-    tol_slip : float
-        Max :math:`|u_{T,n+1} - u_{T,n}|/h` at stick points (TOL2 of Algorithm 6.2).
-    tol_complementarity : float
-        Max :math:`|\\lambda_N g|` over ``p_ref h``.
-    maxiter : int
-        Outer (multiplier) iterations per step.
-    newton_tol : float
-        Relative residual of every Newton solve (also of the SSN reference).
-    maxiter_newton : int
-    max_cutbacks : int
-        Failed attempts allowed per requested step before giving up.
-    cutback_factor : float
-        Fraction of the failed increment tried next.
-    eta_scaling : {"adaptive", "fixed"}
-        Scale of family-P penalties (see :mod:`alcontact.contact._laws`).
-    multiplier_floor : float
-        Relative lower bound of family-P multipliers.
-    eta_floor : float
-        Family-P: the scale :math:`\\eta` is computed from
-        :math:`\\max(\\lambda_N, \\text{eta\\_floor}\\, p_{ref})`, so points that enter
-        contact with a tiny multiplier do not get an exploding law.
-    radius : {"multiplier", "traction"}
-        Radius of the Coulomb disc inside an AL subproblem: :math:`\\mu\\lambda_N`
-        (fixed, as in (6.2c): the subproblem has a convex potential, robust
-        Newton) or :math:`\\mu t_N(g)` (coupled, non-symmetric tangent). Both
-        converge to the same step solution.
-    margin : float
-        Candidate points: largest free gap over the history above ``-margin`` times
-        the largest free penetration (more are added when they penetrate).
-    multiplier_update : {"newton", "first-order"}
-        Outer update of Algorithms 6.2 / 6.4. ``"first-order"``: (6.2b)/(6.2c),
-        :math:`\\lambda \\leftarrow t(\\lambda)`. ``"newton"``: a second-order
-        multiplier iteration (Bertsekas) on the fixed point :math:`\\lambda = t(\\lambda)`
-        with the exact sensitivity of the subproblem solution; it falls back to the
-        first-order update for the rest of the step as soon as the multiplier
-        change does not halve. It also starts every step from the tangent
-        predictor :math:`\\lambda_n + (d\\lambda^*/dy_f)\\Delta y_f` of the last
-        converged step. Same stopping test, same solution.
+    The same fields, declarations and defaults (one options type: the frictional
+    options are the fields of ``ContactOptions`` marked *friction*, and the Newton
+    options ``newton_tol`` / ``maxiter_newton`` default to the frictional algorithms'
+    values through their registry entries); only its messages say
+    ``"friction option ..."``. Kept for code that imports it; pass a ``ContactOptions``
+    in new code. Every solver accepts either.
     """
 
-    eps_n: float | None = same_as(ContactOptions, "eps_n")
-    eps_t: float | None = declared("float", None, "Tangential penalty stiffness (default: `tangential_scale` eps_n).",
-                                   low=0, low_open=True)
-    penalty_scale: float = same_as(ContactOptions, "penalty_scale")
-    tangential_scale: float = declared("float", 1.0, "eps_t / eps_n.", low=0, low_open=True)
-    tol_penetration: float = same_as(ContactOptions, "tol_penetration")
-    tol_multiplier: float = same_as(ContactOptions, "tol_multiplier")
-    tol_slip: float = declared("float", 1e-8, "Stop: max slip change at stick points / h.", low=0, low_open=True)
-    tol_complementarity: float = same_as(ContactOptions, "tol_complementarity")
-    maxiter: int = same_as(ContactOptions, "maxiter")
-    newton_tol: float = declared("float", 1e-11, "Relative residual of each Newton solve.", low=0, low_open=True)
-    maxiter_newton: int = declared("int", 200, "Newton iterations per subproblem.", low=1, high=MAX_NEWTON)
-    max_cutbacks: int = declared("int", 6, "Failed attempts per load step before giving up.", low=0,
-                                 high=MAX_CUTBACKS)
-    cutback_factor: float = declared("float", 0.5, "Fraction of a failed increment tried next.",
-                                     low=0, high=1, low_open=True, high_open=True)
-    eta_scaling: str = same_as(ContactOptions, "eta_scaling")
-    multiplier_floor: float = same_as(ContactOptions, "multiplier_floor")
-    eta_floor: float = declared("float", 1e-2, "Family-P: relative floor of the multiplier in eta.",
-                                low=0, high=1, low_open=True)
-    margin: float = declared("float", 0.25, "Candidate points: free gap above -margin x max penetration.", low=0)
-    radius: str = declared("str", "multiplier", "Coulomb disc in a subproblem: `multiplier` or `traction`.",
-                           choices=("multiplier", "traction"))
-    multiplier_update: str = declared(
-        "str", "newton", "AL multiplier update: `newton` (second-order, falls back to first-order) or `first-order`.",
-        choices=("newton", "first-order"))
-
-    def __post_init__(self) -> None:
-        check_dataclass(self, "friction")
-
-    def validate(self) -> "FrictionOptions":
-        """This object: every field was checked against its declaration when it was made.
-
-        Raises
-        ------
-        InputError
-            Naming the field, the value, the allowed range and the default.
-        """
-        return check_dataclass(self, "friction")
+    _KIND: ClassVar[str] = "friction"
 
 
 # ---------------------------------------------------------------------------
@@ -660,21 +577,25 @@ def _step_ssn(ctx: _Ctx, penalty_name: str = "none") -> _StepOut:
     return _StepOut(True, "converged", R, out.aux[5].copy(), 1, out.iterations)
 
 
-_ALGORITHMS: dict[str, tuple[Callable, str]] = {
-    "simo-laursen": (_step_al, "Algorithm 6.2: AL with the Macaulay normal law (6.52) and return mapping (6.47)-(6.50)"),
-    "family-p": (_step_al, "Algorithm 6.4: Algorithm 6.2 with a family-P normal penalty"),
-    "ssn": (_step_ssn, "reference: Alart-Curnier semi-smooth Newton on (lambda_N, lambda_T), exact (no penalty)"),
-}
-DEFAULT_FRICTION_PENALTY = "exp-met1"
+register_family((
+    ("simo-laursen", _step_al, "rockafellar",
+     "Algorithm 6.2: AL with the Macaulay normal law (6.52) and return mapping (6.47)-(6.50)"),
+    ("family-p", _step_al, None, "Algorithm 6.4: Algorithm 6.2 with a family-P normal penalty"),
+    ("ssn", _step_ssn, "none",
+     "reference: Alart-Curnier semi-smooth Newton on (lambda_N, lambda_T), exact (no penalty)"),
+), friction=True, kinematics="small", linear_solvers=("direct",), defaults=FRICTION_DEFAULTS)
+#: Family-P penalty of the frictional algorithms when none is given.
+DEFAULT_FRICTION_PENALTY = DEFAULT_PENALTY
 
 
 def friction_algorithms() -> list[str]:
-    """Names of the frictional algorithms."""
-    return sorted(_ALGORITHMS)
+    """Names of the frictional algorithms (small deformation)."""
+    return algorithm_names(friction=True, kinematics="small")
 
 
 def friction_algorithm_docs() -> dict[str, str]:
-    return {k: v[1] for k, v in sorted(_ALGORITHMS.items())}
+    """One line of documentation per frictional algorithm (small deformation)."""
+    return algorithm_docs(friction=True)
 
 
 def _checked_steps(steps):
@@ -693,9 +614,9 @@ def _checked_steps(steps):
 
 
 def _resolve(algorithm: str, penalty: str | None):
-    if algorithm not in _ALGORITHMS:
-        raise UnknownNameError("friction algorithm", algorithm, list(_ALGORITHMS))
-    return _ALGORITHMS[algorithm][0], resolve_penalty(algorithm, penalty, DEFAULT_FRICTION_PENALTY)
+    """Step function and penalty of the frictional ``algorithm`` (registry entry)."""
+    entry = find_algorithm(algorithm, friction=True)
+    return entry.run, entry.penalty_for(penalty)
 
 
 # ---------------------------------------------------------------------------
@@ -860,12 +781,13 @@ def solve_friction(problem, history: LoadHistory | None, algorithm: str = "simo-
     >>> sol = solve_friction(prob, hist)  # doctest: +SKIP
     """
     t_start = time.perf_counter()
-    check_solve_args(problem, algorithm, penalty, list(_ALGORITHMS), "friction ")
+    check_solve_args(problem, algorithm, penalty, friction_algorithms(), "friction ")
     step_fn, pen_name = _resolve(algorithm, penalty)
     if getattr(problem, "kinematics", "small") == "finite":
         return _solve_finite(problem, history, algorithm, penalty, options, steps=steps, friction=friction,
                              on_step=on_step, obstacle_path=obstacle_path, **option_overrides)
-    opts = options_with(options, FrictionOptions, option_overrides, "friction")
+    opts = options_with(options, FrictionOptions, option_overrides, "friction",
+                        find_algorithm(algorithm, friction=True))
     if not isinstance(history, LoadHistory):
         raise InputError(f"history must be a LoadHistory; got {type(history).__name__}.")
     if obstacle_path is not None:
@@ -880,7 +802,7 @@ def solve_friction(problem, history: LoadHistory | None, algorithm: str = "simo-
                          "frictionless contact.")
     mu = float(mu)
 
-    fc = FrictionalContact(problem, history, margin=opts.margin)
+    fc = FrictionalContact(problem, history, margin=opts.margin, linear_solver=direct_backend(opts.linear_solver))
     eps_n = opts.eps_n if opts.eps_n is not None else penalty_stiffness(problem.model, fc.h, opts.penalty_scale)
     eps_t = opts.eps_t if opts.eps_t is not None else opts.tangential_scale * eps_n
     m, d = fc.points.shape

@@ -25,8 +25,12 @@ DOFs of the candidate points and :math:`C = P K^{-1} P^T`,
     A = E^T C E \quad(\text{symmetric, } dc \times dc),
 
 which reduces to :math:`g = g_{free} - S r` of :mod:`alcontact.contact._discrete`
-when :math:`t_T = 0` (:math:`A_{NN} = S`). ``C`` costs one triangular solve per
-candidate DOF; the stiffness is factorized once for the whole load history.
+when :math:`t_T = 0` (:math:`A_{NN} = S`). The setup is the frictionless one
+(:class:`~alcontact.contact._discrete.CondensedContact`: points, candidates, the one
+factorization of the stiffness for the whole load history with its backend and Schur
+block, the springs of a body held by the obstacle); ``C`` is its condensed operator for
+the row operator :math:`P`: entries between points inside the Schur block come from the
+Schur complement, the others cost one triangular solve per free candidate DOF.
 
 Supported components. As in the frictionless :class:`~alcontact.contact._discrete.ContactPoints`,
 a point takes part in contact when its normal motion is not fully supported
@@ -48,15 +52,16 @@ import logging
 import time
 
 import numpy as np
+import scipy.sparse as sp
 
 from ..errors import InputError
+from ._discrete import CondensedContact
+from ._discrete import _element_size  # noqa: F401 - re-exported for alcontact.io.preflight
 from ._loading import LoadHistory, component_fields
 
 __all__ = ["FrictionalContact", "tangent_bases"]
 
 logger = logging.getLogger(__name__)
-
-_BATCH = 64
 
 
 def tangent_bases(normals: np.ndarray, held: np.ndarray | None = None) -> np.ndarray:
@@ -95,22 +100,16 @@ def tangent_bases(normals: np.ndarray, held: np.ndarray | None = None) -> np.nda
     return np.stack([t1, t2], axis=2)
 
 
-def _element_size(model, boundary, obstacle) -> float:
-    """Median facet size of the contact boundary near the obstacle."""
-    f = model.facets(boundary)
-    p = model.mesh.p
-    v = model.mesh.facets[:, f]
-    if model.dim == 2:
-        size = np.linalg.norm(p[:, v[1]] - p[:, v[0]], axis=0)
-    else:
-        size = np.sqrt(np.linalg.norm(np.cross((p[:, v[1]] - p[:, v[0]]).T, (p[:, v[2]] - p[:, v[0]]).T), axis=1))
-    g = obstacle.gap(p[:, v].mean(axis=1).T)
-    near = g >= np.quantile(g, 0.9) if g.size > 10 else np.ones(g.size, bool)
-    return float(np.median(size[near]))
-
-
-class FrictionalContact:
+class FrictionalContact(CondensedContact):
     """The condensed frictional problem of a :class:`ContactProblem` under a :class:`LoadHistory`.
+
+    The frictionless setup extended (:class:`~alcontact.contact._discrete.CondensedContact`:
+    the same points, weights, normals, movable points, candidate selection, factorization
+    with its cache and Schur block, springs of a body held by the obstacle, and the
+    condensed operator build); what friction adds: the tangent bases, the held tangent
+    directions, the load components of the history and the compliance on all free
+    components, :math:`C = P K^{-1} P^T` (the row operator :math:`P` selects the free DOFs
+    of a point, :attr:`rows_per_point` = ``d``), rotated to :math:`A = E^T C E`.
 
     Attributes
     ----------
@@ -126,83 +125,71 @@ class FrictionalContact:
     A : ndarray (c*d, c*d)
         Condensed compliance in local coordinates, point-major (``i*d + k``,
         ``k = 0`` normal).
+    spring : tuple (points, kappa) or None
+        Contact springs of a body held only by the obstacle (:meth:`_stabilize`);
+        ``kappa`` (m,) holds their stiffness per point (0 elsewhere).
     h : float
         Contact-zone element size.
     linear_solves : int
     """
 
-    def __init__(self, problem, history: LoadHistory, *, margin: float = 0.25):
+    def __init__(self, problem, history: LoadHistory, *, margin: float = 0.25, linear_solver: str = "auto"):
         t0 = time.perf_counter()
-        self.problem, self.history = problem, history
-        model = self.model = problem.model
-        self.dim = model.dim
-        self.fixed, parts = component_fields(problem, history)
+        self.history = history
+        fixed, parts = component_fields(problem, history)
+        self._setup_model(problem, fixed)
         self.loads = np.stack([load for _, load in parts])  # (ncomp, ndofs), for the sliding-away test
-        pts, dofs = model.node_dofs(problem.contact_boundary)
-        self.points, self.dofs = pts, dofs
-        self.weights = model.boundary_weights(problem.contact_boundary)
-        self.gap0, self.normals = problem.obstacle.evaluate(pts)
-        self.h = _element_size(model, problem.contact_boundary, problem.obstacle)
-        self.kappa = np.zeros(pts.shape[0])  # contact springs of a body held by the obstacle (_stabilize)
-        self.spring = None
-        t_f = time.perf_counter()
-        try:
-            self.factor = model.factorize(self.fixed)  # checks the rigid motions first
-        except InputError as exc:
-            self.factor = self._stabilize(exc)  # raises unless the obstacle restrains the free motions
-        self.factor_seconds = time.perf_counter() - t_f
+        self._factorize(problem, margin, linear_solver)  # points, factorization, springs (CondensedContact)
+        self.h = self._element_size()
+        self.kappa = np.zeros(self.points.shape[0])  # contact springs of a body held by the obstacle (_stabilize)
+        if self.spring is not None:
+            self.kappa[self.spring[0]] = self.spring[1]
         self.u_parts = np.stack([self.factor.solve_full(load, fv) for fv, load in parts])  # (ncomp, ndofs)
         self.linear_solves = len(parts)
         if not np.all(np.isfinite(self.u_parts)):
             raise InputError("the contact-free solution is not finite; check loads and supports.")
 
-        free_pos = -np.ones(model.ndofs, dtype=np.int64)
-        free_pos[self.factor.free] = np.arange(self.factor.free.size)
-        self.pos = free_pos[dofs]  # (m, d)
         held = self.pos < 0
         self.tangents = tangent_bases(self.normals, held)
         self.E = np.concatenate([self.normals[:, :, None], -self.tangents], axis=2)  # (m, d, d)
-        # free part of each local direction (E^T restricted to the free DOFs), as ContactPoints._setup_points
+        # free part of each tangent direction (E^T restricted to the free DOFs; column 0 gives ``movable``)
         free_part = np.linalg.norm(np.where(held[:, :, None], 0.0, self.E), axis=1)  # (m, d)
-        self.movable = free_part[:, 0] > 1e-12
         self.tfree = free_part[:, 1:] > 1e-12
         # local kinematics of each load component: y_k = (-nu.u_k, T^T u_k)
         self.y_parts = np.stack([self._local(u) for u in self.u_parts])  # (ncomp, m, d)
 
-        gmax_t = np.max(np.stack([self.y_free(t)[:, 0] for t in history.times]), axis=0)
-        # points with a fixed normal DOF cannot move off the obstacle: error if they penetrate
-        bad = ~self.movable & (gmax_t > 1e-12 * self.h)
-        if np.any(bad):
-            i = int(np.flatnonzero(bad)[0])
-            raise InputError(
-                f"contact point {pts[i].tolist()} is held by a Dirichlet condition in the normal direction but "
-                f"penetrates the obstacle "
-                f"by {gmax_t[i]:.3e} at some load step; move the obstacle or release that support.")
-        self.max_free_penetration = float(np.max(np.where(self.movable, gmax_t, -np.inf), initial=-np.inf))
-        self.gmax_t = gmax_t
-        gmax = self.max_free_penetration
-        if gmax > 0:
-            thr = -max(margin * gmax, 1e-12 * self.h)
-            cand = np.flatnonzero(self.movable & (gmax_t > thr))
-        else:
-            cand = np.empty(0, dtype=np.int64)
-        if self.spring is not None:  # the spring points must stay candidates (shifted law on them)
-            cand = np.union1d(cand, self.spring)
-        self.cand = np.empty(0, dtype=np.int64)
+        # points with a fixed normal DOF cannot move off the obstacle: error if they penetrate at some step
+        self.gmax_t = np.max(np.stack([self.y_free(t)[:, 0] for t in history.times]), axis=0)
+        cand = self._select_candidates(self.gmax_t, margin, pinned_tol=1e-12 * self.h, when=" at some load step")
         self.C = np.zeros((0, 0))
         self.A = np.zeros((0, 0))
-        self.add(cand)
+        self._start_candidates(cand)  # CondensedContact: Schur block, spring points, add()
         self.setup_seconds = time.perf_counter() - t0
 
+    @property
+    def rows_per_point(self) -> int:
+        """``d``: the row operator :math:`P` has one row per displacement component of a point."""
+        return self.dim
+
+    def _row_operator(self) -> sp.csr_matrix:
+        """:math:`P`: row ``i*d + k`` selects free DOF ``k`` of point ``i`` (a zero row when it is supported)."""
+        m, d = self.pos.shape
+        pos = self.pos.ravel()
+        keep = pos >= 0
+        rows = np.arange(m * d)
+        return sp.csr_matrix((np.ones(int(keep.sum())), (rows[keep], pos[keep])), shape=(m * d, self._free.size))
+
     # ------------------------------------------------------------------ body held by the obstacle
-    def _stabilize(self, exc: InputError):
+    def _stabilize(self, exc: InputError) -> None:
         r"""Factorize :math:`\tilde K = K + \sum_{i\in S} \kappa w_i P_i^T P_i` for a body held only by the obstacle.
 
         The supports leave a rigid motion free (``exc`` says which). If the
         contact points closest to the obstacle (set :math:`S`, within half an
         element of the closest one) can restrain it, springs :math:`\kappa = E'/h`
-        on *all* free components of those points make the matrix regular. The
-        frictional law on them is shifted by the same springs,
+        on *all* free components of those points (:meth:`_spring_matrix`) make the
+        matrix regular (:meth:`CondensedContact._stabilize
+        <alcontact.contact._discrete.CondensedContact._stabilize>` chooses the points).
+        The frictional law on them is shifted by the same springs,
         :math:`\tilde t = t - \kappa\,(y - y^0)`, :math:`y^0 = (g^0, 0)`
         (:meth:`spring_traction`): since :math:`E_i = [\nu_i, -T_i]` is orthogonal,
         :math:`\kappa w P^T u = P^T E\, \kappa w E^T u` and
@@ -213,48 +200,22 @@ class FrictionalContact:
         friction can hold the loads is a property of the solution: see
         :meth:`slides_away`.
 
-        Returns
-        -------
-        Factorization
-            Of :math:`\tilde K`.
-
         Raises
         ------
         InputError
             When no contact point touches the obstacle, or the touching points do
             not restrain the free motions either.
         """
-        import scipy.sparse as sp
+        super()._stabilize(exc)
 
-        model = self.model
-        self._K = model.stiffness()
-        free = np.ones(model.ndofs, dtype=bool)
-        free[self.fixed] = False
-        movable = np.linalg.norm(np.where(free[self.dofs], self.normals, 0.0), axis=1) > 1e-12
-        g0 = np.where(movable, self.gap0, -np.inf)
-        gmax = float(g0.max(initial=-np.inf))
-        if not np.any(movable) or gmax < -0.5 * self.h:
-            raise InputError(
-                f"{exc} The body does not touch the obstacle either (closest gap {-gmax:.3g}), so nothing "
-                "restrains it: add supports or move the obstacle into contact.") from None
-        near = np.flatnonzero(movable & (g0 >= gmax - 0.5 * self.h))
-        mat = model.material
-        kappa = (mat.E if (model.dim == 2 and mat.plane == "stress") else mat.plane_strain_modulus) / self.h
+    def _spring_matrix(self, near: np.ndarray, kappa: float) -> sp.csr_matrix:
+        r"""Springs :math:`\kappa w_i` on every free component of the points ``near`` (full numbering)."""
+        ndofs = self.model.ndofs
         dofs = self.dofs[near].ravel()
-        keep = free[dofs]
-        diag = np.zeros(model.ndofs)
-        np.add.at(diag, dofs[keep], np.repeat(kappa * self.weights[near], model.dim)[keep])
-        try:
-            factor = model.factorize(self.fixed, matrix=self._K + sp.diags(diag), check=True)
-        except InputError:
-            raise InputError(
-                f"{exc} The contact points touching the obstacle do not restrain that motion either: add supports "
-                "(e.g. fix a tangential component) so that every rigid motion is stopped.") from None
-        self.spring = near.astype(np.int64)
-        self.kappa[near] = kappa
-        logger.info("body held by the obstacle only: springs (normal and tangential) on %d contact points",
-                    near.size)
-        return factor
+        keep = self.pos[near].ravel() >= 0
+        diag = np.zeros(ndofs)
+        np.add.at(diag, dofs[keep], np.repeat(kappa * self.weights[near], self.dim)[keep])
+        return sp.diags(diag)
 
     def spring_traction(self, y: np.ndarray) -> np.ndarray:
         r"""Spring part :math:`\kappa (y - y^0)` ``(c, d)`` of the shifted law on the candidates (0 off springs)."""
@@ -344,7 +305,7 @@ class FrictionalContact:
         """
         if self.spring is None:
             return None
-        nu = self.normals[self.spring]
+        nu = self.normals[self.spring[0]]
         nbar = nu.mean(axis=0)
         if np.max(np.abs(nu - nbar)) > 1e-9:
             return None
@@ -397,36 +358,18 @@ class FrictionalContact:
     def ncand(self) -> int:
         return int(self.cand.size)
 
+    def _add_candidates(self, new: np.ndarray) -> None:
+        self.add(new)
+
     def add(self, new: np.ndarray) -> np.ndarray:
-        """Add candidate points (one triangular solve per DOF); returns the added ones."""
-        new = np.setdiff1d(np.asarray(new, dtype=np.int64), self.cand)
-        new = new[self.movable[new]]
+        """Add candidate points (one triangular solve per free DOF outside the Schur block); returns the added ones."""
+        new = self._new_points(new)
         if new.size == 0:
             return new
-        d = self.dim
-        old = self.cand
-        allc = np.concatenate([old, new])
-        cols_pos = self.pos[new].ravel()
-        all_pos = self.pos[allc].ravel()
-        rows = all_pos >= 0  # supported DOFs keep zero rows and columns of C
-        nf = self.factor.free.size
-        X = np.zeros((all_pos.size, cols_pos.size))
-        cols = np.flatnonzero(cols_pos >= 0)
-        for s in range(0, cols.size, _BATCH):
-            j = cols[s: s + _BATCH]
-            rhs = np.zeros((nf, j.size))
-            rhs[cols_pos[j], np.arange(j.size)] = 1.0
-            X[np.ix_(rows, j)] = self.factor.solve(rhs)[all_pos[rows]]
-            self.linear_solves += j.size
-        n_old = old.size * d
-        C = np.zeros((all_pos.size, all_pos.size))
-        C[:n_old, :n_old] = self.C
-        C[:, n_old:] = X
-        C[n_old:, :n_old] = X[:n_old].T
-        self.C = 0.5 * (C + C.T)
-        self.cand = allc
-        c = allc.size
-        E = self.E[allc]
+        self.cand = np.concatenate([self.cand, new])
+        self.C = self._condensed(self.C, new)  # P K^-1 P^T (CondensedContact)
+        c, d = self.cand.size, self.dim
+        E = self.E[self.cand]
         C4 = self.C.reshape(c, d, c, d)
         A = np.einsum("iak,iajb,jbl->ikjl", E, C4, E).reshape(c * d, c * d)
         self.A = 0.5 * (A + A.T)

@@ -7,8 +7,8 @@ import time
 
 import numpy as np
 
-from ._algorithms import (ContactOptions, _Run, available_algorithms, check_solve_args, get_algorithm,
-                          options_with, resolve_penalty)
+from ._algorithms import DEFAULT_PENALTY, ContactOptions, _Run, available_algorithms, check_solve_args, \
+    find_algorithm, options_with
 from ._discrete import DiscreteContact
 from ._solution import ContactResult, ContactSolution, ContactStatus
 from ._verify import check_state, verified_status
@@ -18,7 +18,6 @@ __all__ = ["solve", "DEFAULT_ALGORITHM", "DEFAULT_PENALTY", "penalty_stiffness"]
 logger = logging.getLogger(__name__)
 
 DEFAULT_ALGORITHM = "simo-laursen"
-DEFAULT_PENALTY = "exp-met1"
 
 
 
@@ -78,9 +77,10 @@ def solve(problem, algorithm: str = DEFAULT_ALGORITHM, penalty: str | None = Non
     if kinematics in _KINEMATICS_SOLVERS:
         return _KINEMATICS_SOLVERS[kinematics](problem, algorithm, penalty, options, **option_overrides)
     t_start = time.perf_counter()
-    run = get_algorithm(algorithm)
-    pen_name = resolve_penalty(algorithm, penalty, DEFAULT_PENALTY)
-    opts = options_with(options, ContactOptions, option_overrides, "contact")
+    entry = find_algorithm(algorithm)
+    run = entry.run
+    pen_name = entry.penalty_for(penalty)
+    opts = options_with(options, ContactOptions, option_overrides, "contact", entry)
 
     from ._iterative import IterativeContact, linear_solver_name, resolve_linear_solver
 

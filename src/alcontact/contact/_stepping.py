@@ -40,7 +40,7 @@ import numpy as np
 from .._options import is_integer, is_real
 from ..errors import ConvergenceError, InputError, InvertedElementError
 from ..status import Status
-from ._algorithms import ContactOptions, _Run, get_algorithm, options_with, resolve_penalty
+from ._algorithms import ContactOptions, _Run, find_algorithm, options_with
 from ._finite import FiniteContact
 from ._loading import LoadHistory, component_fields
 from ._solution import ContactResult, ContactSolution, ContactStatus
@@ -533,12 +533,13 @@ def solve_finite(problem, algorithm: str = "simo-laursen", penalty: str | None =
         A failed step is logged as a warning (what to try) and ends the run with its
         negative status; the steps reached so far are kept.
     """
-    from ._solve import DEFAULT_PENALTY, penalty_stiffness
+    from ._solve import penalty_stiffness
 
     t_start = time.perf_counter()
-    run = get_algorithm(algorithm)
-    pen_name = resolve_penalty(algorithm, penalty, DEFAULT_PENALTY)
-    opts = options_with(options, ContactOptions, option_overrides, "contact")
+    entry = find_algorithm(algorithm, kinematics="finite")
+    run = entry.run
+    pen_name = entry.penalty_for(penalty)
+    opts = options_with(options, ContactOptions, option_overrides, "contact", entry)
     if int(max_cutbacks) < 0:
         raise InputError(f"max_cutbacks={max_cutbacks!r} must be >= 0.")
     max_cutbacks = int(max_cutbacks)

@@ -32,7 +32,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from .._options import BAD, LINEAR_MODEL, Option, check_value
+from .._options import BAD, LINEAR_MODEL, Option, check_value, declarations
 from ..errors import ConfigError, InputError, MeshError
 from .schema import Table, schema
 
@@ -187,9 +187,9 @@ class ProblemSetup:
         Step times (``(1.0,)`` for a single step).
     algorithm, penalty : str, str or None
     options : dict
-        :class:`~alcontact.contact.ContactOptions` fields (frictionless runs).
+        :class:`~alcontact.contact.ContactOptions` fields of frictionless runs (the friction-only ones left out).
     friction_options : dict
-        ``FrictionOptions`` fields (frictional runs).
+        :class:`~alcontact.contact.ContactOptions` fields of frictional runs (``[solver]`` and ``[solver.friction]``).
     reference : HertzReference or None
     mindlin : MindlinReference or None
     output : dict
@@ -534,7 +534,7 @@ def _build(data: dict, base: Path, issues: list[Issue], source) -> ProblemSetup 
     from ..contact import ContactOptions, ContactProblem, Pressure, Traction, BodyForce, Support
     from ..contact import FrictionOptions, friction_algorithms
     from ..contact import LoadCase, LoadHistory
-    from ..contact._algorithms import FIXED_PENALTIES
+    from ..contact._algorithms import find_algorithm, friction_only_options
     from ..fem import LinearElasticity, Material
     from ..fem._material import material_issues
     from ..fem.hyperelastic import Hyperelastic
@@ -689,23 +689,34 @@ def _build(data: dict, base: Path, issues: list[Issue], source) -> ProblemSetup 
     if sv is not None and _ok({k: v for k, v in sv.items() if k != "friction"}):
         algorithm = sv["algorithm"]
         penalty = sv["penalty"] or None
-        if penalty is not None and algorithm != "family-p" and penalty != FIXED_PENALTIES.get(algorithm):
+        own_penalty = find_algorithm(algorithm).penalty
+        if penalty is not None and own_penalty is not None and penalty != own_penalty:
             issues.append(Issue("solver.penalty", f"= {penalty!r}: algorithm {algorithm!r} uses its own penalty; "
                                                   "set algorithm = 'family-p' to choose one, or remove penalty."))
         if isinstance(mu, float) and mu > 0 and algorithm not in friction_algorithms():
             issues.append(Issue("solver.algorithm", f"= {algorithm!r}: not available with friction (contact.friction"
                                                     f" = {mu:g}); use one of {_known(friction_algorithms())}."))
         skip = {"algorithm", "penalty", "friction"}
-        options = {k: v for k, v in sv.items() if k not in skip and v is not None}
+        given = {k: v for k, v in sv.items() if k not in skip and v is not None}
         try:
-            ContactOptions(**options).validate()
+            ContactOptions(**given).validate()
         except InputError as exc:
             issues.append(Issue("solver", str(exc)))
-        shared = {f for f in FrictionOptions.__dataclass_fields__} - {"newton_tol", "maxiter_newton"}
-        fopts = {k: v for k, v in options.items() if k in shared}
+        # one options type: the frictional runs read every [solver] key; the friction-only ones may also be
+        # set in [solver.friction] (a value other than the default there wins; both set: they must agree)
+        fopts = dict(given)
         fr = sv.get("friction")
+        defaults = {o.name: o.default for o in declarations(ContactOptions)}
         if fr is not None and _ok(fr):
-            fopts.update({k: v for k, v in fr.items() if v is not None})
+            for k, v in fr.items():
+                if v is None or v == defaults[k]:
+                    continue
+                if given.get(k, defaults[k]) not in (defaults[k], v):
+                    issues.append(Issue(f"solver.friction.{k}", f"= {v!r}: solver.{k} = {given[k]!r} says "
+                                                                "otherwise; set it once, in [solver]."))
+                fopts[k] = v
+        friction_only = set(friction_only_options())
+        options = {k: v for k, v in given.items() if k not in friction_only}  # the frictionless runs' options
         try:
             FrictionOptions(**fopts).validate()
         except InputError as exc:

@@ -10,10 +10,10 @@ declared. :mod:`alcontact.io.config` validates files against it and
 A table is a :class:`Table` of :class:`Option` objects; ``array=True`` marks an
 array of tables (``[[support]]``), ``open=True`` a table that also takes keys
 not listed (the obstacle's parameters, checked against the obstacle factory).
-The ``[solver]`` and ``[solver.friction]`` options *are* the declarations of
-:class:`alcontact.contact.ContactOptions` and ``FrictionOptions`` (type, range,
-default and doc, see :mod:`alcontact._options`), so the file format, the Python
-API and the documentation cannot drift apart.
+The ``[solver]`` options *are* the declarations of :class:`alcontact.contact.ContactOptions`,
+the one options type of every solver (type, range, default and doc, see
+:mod:`alcontact._options`); ``[solver.friction]`` repeats its friction-only ones. So the
+file format, the Python API and the documentation cannot drift apart.
 
 Examples
 --------
@@ -68,24 +68,23 @@ class Table:
 
 
 def _solver_options() -> tuple[tuple[Option, ...], tuple[Option, ...]]:
-    """``[solver]`` and ``[solver.friction]`` options: the declarations of the solvers' options classes.
+    """``[solver]`` and ``[solver.friction]`` options: the declarations of :class:`~alcontact.contact.ContactOptions`.
 
-    Every ``ContactOptions`` field is a ``[solver]`` key; a ``FrictionOptions`` field
-    declared differently (own field, or another default) is a ``[solver.friction]`` key,
-    the shared ones are read from ``[solver]``.
+    Every field of the one options type is a ``[solver]`` key; the friction-only ones
+    (declared ``only="friction"``) are also ``[solver.friction]`` keys, where problem files
+    written before issue 9 set them.
     """
-    from ..contact import ContactOptions, FrictionOptions
+    from ..contact import ContactOptions
 
     contact = declarations(ContactOptions)
-    shared = {o.name: o for o in contact}
-    friction = tuple(o for o in declarations(FrictionOptions) if shared.get(o.name) != o)
-    return contact, friction
+    return contact, tuple(o for o in contact if o.only == "friction")
 
 
-def _algorithms() -> tuple[str, ...]:
-    from ..contact import available_algorithms
+def _algorithms(friction: bool = False) -> tuple[str, ...]:
+    """Names of the registered algorithms (frictionless or frictional, small deformation)."""
+    from ..contact._algorithms import algorithm_names
 
-    return tuple(available_algorithms())
+    return tuple(algorithm_names(friction=friction))
 
 
 def _penalties() -> tuple[str, ...]:
@@ -187,12 +186,14 @@ def _build_schema() -> tuple[Table, ...]:
             kinematics_option(),
         ), required=True),
         Table("solver", "Contact algorithm, penalty and their parameters.", (
-            O("algorithm", "str", "simo-laursen", "Contact algorithm (friction: `simo-laursen`, `family-p` or "
-              "`ssn`).", choices=_algorithms()),
+            O("algorithm", "str", "simo-laursen", "Contact algorithm (friction: "
+              f"{', '.join(f'`{a}`' for a in _algorithms(friction=True))}; `alcontact list` shows what each "
+              "supports).", choices=_algorithms()),
             O("penalty", "str", "", "Penalty of `family-p` (default `exp-met1`); the other algorithms fix it.",
               choices=("",) + _penalties()),
         ) + contact),
-        Table("solver.friction", "Options of the frictional solver (used when `contact.friction > 0`).", friction),
+        Table("solver.friction", "The friction-only options of `[solver]` (used when `contact.friction > 0`), "
+              "also accepted here; a key set in both tables must have the same value.", friction),
         Table("reference", "Analytical reference drawn in the plots and compared in the summary.", (
             O("kind", "str", "none", "`none`, `hertz` (cylinder in 2D, sphere in 3D) or `cattaneo-mindlin` "
               "(2D, friction).", choices=("none", "hertz", "cattaneo-mindlin")),
