@@ -70,7 +70,7 @@ import scipy.linalg as sla
 from ..status import Status
 
 __all__ = ["LineSearch", "NewtonSettings", "NewtonSystem", "NewtonRecord", "NewtonResult", "newton",
-           "NewtonOutcome", "CondensedSubproblem", "solve_subproblem", "subproblem_outcome"]
+           "NewtonOutcome", "CondensedSubproblem", "solve_subproblem", "subproblem_outcome", "inner_failure"]
 
 logger = logging.getLogger(__name__)
 
@@ -369,6 +369,15 @@ def _line_search(system, ls: LineSearch, x, state, F, merit, res, dx):
     if ok and np.max(np.abs(F_try), initial=0.0) < np.max(np.abs(F), initial=0.0):
         return trial, 1.0, "full step"
     return None, 0.0, f"line search failed (relative residual {res:.2e})"
+
+
+def inner_failure(out: NewtonResult) -> Status:
+    """Status of an outer loop whose inner Newton solve ``out`` failed.
+
+    ``NONFINITE`` stays (a NaN/inf residual or merit); every other failure of the inner
+    solve (line search, singular matrix, iteration limit) is ``NEWTON_FAILED``.
+    """
+    return Status.NONFINITE if out.status == Status.NONFINITE else Status.NEWTON_FAILED
 
 
 # ---------------------------------------------------------------------- subproblem (S) of the outer loops
