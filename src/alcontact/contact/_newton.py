@@ -61,7 +61,7 @@ from __future__ import annotations
 
 import logging
 import warnings
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -283,6 +283,8 @@ def newton(system: NewtonSystem, x0, *, tol: float, maxiter: int, settings: Newt
     history: list[NewtonRecord] = []
 
     def done(status, message, iterations, res):
+        if not status.success:  # the callers decide (cut-back, fallback) and warn
+            logger.debug("Newton stopped (%s) after %d iterations: %s", status.label, iterations, message)
         return NewtonResult(x, state, status, message, iterations, res, tuple(history))
 
     merit = system.merit(state) if ls.merit else 0.0
@@ -317,11 +319,11 @@ def newton(system: NewtonSystem, x0, *, tol: float, maxiter: int, settings: Newt
             if res <= settings.negligible_tol * tol:
                 return done(Status.CONVERGED, "converged (step at round-off level)", it + 1, res)
             return done(Status.NEWTON_FAILED, f"step at round-off level with residual {res:.2e}", it + 1, res)
-        trial, alpha, why = _line_search(system, ls, x, state, F, merit, res, dx)
+        trial, alpha, full, why = _line_search(system, ls, x, state, F, merit, res, dx)
         if trial is None:
             return done(Status.LINE_SEARCH_FAILED, why, it + 1, res)
         history[-1].step = alpha
-        history[-1].full_step = why == "full step"
+        history[-1].full_step = full
         logger.debug("Newton %d: residual %.2e, step %.3g", it + 1, res, alpha)
         x = x + alpha * dx
         state = trial
@@ -334,7 +336,7 @@ def newton(system: NewtonSystem, x0, *, tol: float, maxiter: int, settings: Newt
 
 
 def _line_search(system, ls: LineSearch, x, state, F, merit, res, dx):
-    """``(trial state, step length, how)`` of the accepted trial, or ``(None, 0, why not)``."""
+    """``(trial state, step length, full step taken on a flat merit, "")``, or ``(None, 0, False, why not)``."""
     slope = min(system.slope(x, state, dx), 0.0) if ls.merit else 0.0
     nF = _norm(F) if ls.residual_decrease else 0.0
     alpha = 1.0
@@ -344,31 +346,38 @@ def _line_search(system, ls: LineSearch, x, state, F, merit, res, dx):
         except system.domain_errors:
             alpha *= 0.5
             continue
-        F_try = system.residual(trial)
-        if ls.measure_decrease:
-            if system.measure(trial) < (1 - ls.armijo * alpha) * res or alpha < ls.accept_below:
-                return trial, alpha, "measure"
-        elif alpha < ls.accept_below:
-            return trial, alpha, "small step"
-        if _finite(F_try):
-            if ls.merit:
-                m_try = system.merit(trial)
-                if np.isfinite(m_try) and m_try <= merit + ls.armijo * alpha * slope + 1e-14 * abs(merit):
-                    return trial, alpha, "armijo"
-            if ls.residual_decrease and _norm(F_try) <= (1 - ls.armijo * alpha) * nF:
-                return trial, alpha, "residual"
+        if _accepts(system, ls, trial, alpha, res, merit, slope, nF):
+            return trial, alpha, False, ""
         alpha *= 0.5
+    why = f"line search failed (relative residual {res:.2e})"
     if not ls.full_step:
-        return None, 0.0, f"line search failed (relative residual {res:.2e})"
+        return None, 0.0, False, why
     try:
         trial = system.evaluate(x + dx)
     except system.domain_errors:
-        return None, 0.0, "line search failed (every trial step leaves the domain)"
+        return None, 0.0, False, "line search failed (every trial step leaves the domain)"
     F_try = system.residual(trial)
     ok = _finite(F_try) and (not ls.merit or np.isfinite(system.merit(trial)))
     if ok and np.max(np.abs(F_try), initial=0.0) < np.max(np.abs(F), initial=0.0):
-        return trial, 1.0, "full step"
-    return None, 0.0, f"line search failed (relative residual {res:.2e})"
+        return trial, 1.0, True, ""
+    return None, 0.0, False, why
+
+
+def _accepts(system, ls: LineSearch, trial, alpha, res, merit, slope, nF) -> bool:
+    """Whether one test of :class:`LineSearch` accepts the trial state at step length ``alpha``."""
+    if ls.measure_decrease and system.measure(trial) < (1 - ls.armijo * alpha) * res:
+        return True
+    if alpha < ls.accept_below:
+        return True
+    F_try = system.residual(trial)
+    if not _finite(F_try):
+        return False
+    m_try = system.merit(trial) if ls.merit else 0.0
+    if not np.isfinite(m_try):
+        return False
+    if ls.merit and m_try <= merit + ls.armijo * alpha * slope + 1e-14 * abs(merit):
+        return True
+    return ls.residual_decrease and _norm(F_try) <= (1 - ls.armijo * alpha) * nF
 
 
 def inner_failure(out: NewtonResult) -> Status:
