@@ -35,6 +35,25 @@ one of its tests: Armijo on the merit, :math:`|F_{try}| \le (1 - c\alpha)|F|`, a
 decrease of the measured residual, or a step below ``accept_below``; when the merit
 is flat to round-off, the full step is taken if it reduces :math:`\max|F|`.
 
+The systems and their settings:
+
+==========================================  ===========================================================
+system                                      line search / stall test
+==========================================  ===========================================================
+:class:`CondensedSubproblem` (direct path)  Armijo on :math:`\Pi`, full step on a flat merit; stall 1e-8
+``_iterative._FullSpaceSubproblem`` (AMG)   the same; tolerance raised to the round-off bound of
+                                            :math:`R`; CG forcing tightened after a damped step
+``_finite._Subproblem``                     Armijo on :math:`\Pi` (or :math:`|R|^2/2`) or a residual
+                                            decrease; inverted elements halve; stall at
+                                            ``max(1e-8, floor)``
+``_finite._EqualityNewton`` (reference)     decrease of the relative residual, any step below
+                                            :math:`2^{-20}`; stops when the active set changes
+``_friction._CondensedSystem``              Armijo on the potential (radius :math:`\mu\lambda_N`) or a
+                                            residual decrease (coupled radius, Alart-Curnier)
+``_finite_friction._FrictionSubproblem``    residual decrease, inverted elements halve; stall 1e-9
+(and the Alart-Curnier reference)           (the reference: from the third iterate on)
+==========================================  ===========================================================
+
 Every outcome carries a :class:`~alcontact.status.Status` (``CONVERGED``,
 ``MAXITER``, ``LINE_SEARCH_FAILED``, ``NONFINITE``, ``NEWTON_FAILED``) and a message
 for people; callers test the status. The history records the relative residual of
