@@ -1,16 +1,21 @@
 """The one Newton driver of the contact algorithms (:func:`alcontact.contact._newton.newton`).
 
 Small systems with known solutions: quadratic convergence on a smooth problem, each
-failure status (line search, NaN, singular matrix, iteration limit, interrupt) and
-backtracking out of a domain error.
+failure status (line search, NaN, singular matrix, iteration limit, interrupt),
+backtracking out of a domain error, and an outer loop that reads the status.
 """
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pytest
 
+from alcontact.contact import ContactStatus, solve
+from alcontact.contact._discrete import DiscreteContact
 from alcontact.contact._newton import LineSearch, NewtonSettings, NewtonSystem, newton
+from alcontact.problems.blocks import patch_block
 from alcontact.status import Status
 
 X_STAR = np.array([1.0, 2.0, -1.0])
@@ -161,3 +166,16 @@ def test_interrupt_stops_after_one_step():
     """A stop requested after the first accepted step: NEWTON_FAILED (not converged) after one correction."""
     out = newton(_Interrupted(), np.zeros(3), tol=1e-14, maxiter=50)
     assert out.status == Status.NEWTON_FAILED and out.iterations == 1 and np.isfinite(out.history[0].step)
+
+
+def test_outer_loop_reads_the_inner_status_not_its_message(monkeypatch):
+    """Algorithm 6.1 ends NONFINITE when the subproblem's status says so, whatever its message reads."""
+    real = DiscreteContact.subproblem
+
+    def nonfinite(self, *args, **kwargs):
+        out = real(self, *args, **kwargs)
+        return dataclasses.replace(out, status=Status.NONFINITE, message="words nobody compares")
+
+    monkeypatch.setattr(DiscreteContact, "subproblem", nonfinite)
+    res = solve(patch_block(2, 1, n=2), "simo-laursen").result
+    assert res.status == ContactStatus.NONFINITE, res.message
