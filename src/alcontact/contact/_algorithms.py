@@ -365,7 +365,7 @@ def run_penalty(dc, opts, eps0, penalty_name=None) -> _Run:
         logger.info("penalty iteration %d: eps_N %.3e, penetration %.2e h", k, eps, pen)
         if not out.converged:
             return _Run(r, lam, out.g, ContactStatus.NEWTON_FAILED,
-                        f"Newton failed in penalty iteration {k}: {out.reason}", k, newton, eps, out.residual, hist)
+                        f"Newton failed in penalty iteration {k}: {out.message}", k, newton, eps, out.residual, hist)
         if pen <= opts.tol_penetration:
             return _Run(r, lam, out.g, ContactStatus.CONVERGED, "penetration tolerance met", k, newton, eps,
                         out.residual, hist)
@@ -450,14 +450,14 @@ def run_al(dc, opts, eps0, penalty_name="rockafellar") -> _Run:
     for k in range(1, opts.maxiter + 1):
         out = dc.subproblem(law, lam, r, tol=inner_tol, maxiter=opts.maxiter_newton)
         newton += out.iterations
-        if out.reason == "the penalty returned NaN" or not np.all(np.isfinite(out.t)):
+        if out.status == ContactStatus.NONFINITE or not np.all(np.isfinite(out.t)):
             return _Run(r, lam, out.g, ContactStatus.NONFINITE,
                         f"penalty {penalty_name!r} produced non-finite (NaN/inf) tractions in iteration {k}; "
                         "check the penalty's formulas, lower penalty_scale or use another penalty",
                         outer0 + k, newton, eps, out.residual, hist)
         if not out.converged:
             return _Run(out.state, lam, out.g, ContactStatus.NEWTON_FAILED,
-                        f"Newton failed in outer iteration {k}: {out.reason}; try penalty_scale < 1 or "
+                        f"Newton failed in outer iteration {k}: {out.message}; try penalty_scale < 1 or "
                         "algorithm='ssn'", outer0 + k, newton, eps, out.residual, hist)
         r = out.state
         lam_new = out.t.copy()  # multiplier update: lambda <- p'(g/eta, lambda)

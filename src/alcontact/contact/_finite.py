@@ -69,14 +69,16 @@ from __future__ import annotations
 
 import logging
 import time
+from dataclasses import dataclass
 
 import numpy as np
 import scipy.sparse as sp
 
 from ..errors import InputError, InvertedElementError
 from ..linalg import SequenceSolver
+from ..status import Status
 from ._discrete import ContactPoints
-from ._newton import NewtonOutcome
+from ._newton import LineSearch, NewtonOutcome, NewtonSettings, NewtonSystem, newton, subproblem_outcome
 
 __all__ = ["FiniteContact", "NewtonSolver", "linear_solve"]
 
@@ -452,106 +454,17 @@ class FiniteContact(ContactPoints):
                 + self._point_blocks(cand, (w * t)[:, None, None] * H)).tocsr()
 
     def subproblem(self, law, lam, x0, *, tol: float, maxiter: int) -> NewtonOutcome:
-        """Newton's method for :math:`R(x) = 0` of subproblem (S) (module doc)."""
-        cand = self.cand
-        w = self.weights[cand]
-        lam = np.asarray(lam, dtype=float)
+        """Newton's method for :math:`R(x) = 0` of subproblem (S) (module doc, :class:`_Subproblem`)."""
         log: list[float] = []
         self.residual_log.append(log)
-
-        last_body = [None]  # f_int - f_ext of the last evaluation
-
-        def evaluate(x_, need_energy=True):
-            u_ = self.expand(x_)
-            r_body, e_body = self._body_state(u_, need_energy)
-            g_, nu_, _ = self._kinematics(u_, cand, False)
-            t_ = law.traction(g_, lam)
-            Bm = self._B(nu_, cand)
-            R_ = r_body[self.free] + Bm.T @ (w * t_)
-            pi_ = e_body + float(np.sum(w * law.energy(g_, lam))) if need_energy else np.nan
-            last_body[0] = r_body
-            return u_, g_, t_, R_, pi_
-
-        x = np.array(x0, dtype=float)
+        system = _Subproblem(self, law, np.asarray(lam, dtype=float))
         try:
-            u, g, t, R, pi = evaluate(x)
+            out = newton(system, x0, tol=tol, maxiter=maxiter, settings=_SETTINGS, log=log)
         except InvertedElementError as exc:
-            return NewtonOutcome(x, self.gaps(x), np.zeros(cand.size), 0, False, np.inf,
+            x = np.array(x0, dtype=float)
+            return NewtonOutcome(x, self.gaps(x), np.zeros(self.cand.size), 0, Status.NEWTON_FAILED, np.inf,
                                  f"inverted element at the starting state ({exc})")
-        e_pen = law.energy(g, lam)
-        if np.any(np.isnan(t)) or np.any(np.isnan(e_pen)):
-            return NewtonOutcome(x, g, t, 0, False, np.nan, "the penalty returned NaN")
-        if not np.all(np.isfinite(e_pen)):
-            return NewtonOutcome(x, g, t, 0, False, np.inf, "start outside the penalty domain")
-        # globalize on the total energy where the body has one, else on the residual norm
-        use_energy = bool(np.isfinite(pi))
-        scale = self.force_scale(last_body[0], w * t)
-        coord = float(np.max(np.abs(self._current(u, cand)), initial=1.0))
-        floor = 0.0
-        prev = np.inf
-        for it in range(1, maxiter + 1):
-            res = float(np.max(np.abs(R), initial=0.0)) / scale
-            log.append(res)
-            if res <= tol:
-                return NewtonOutcome(x, g, t, it - 1, True, res, "converged")
-            if res <= max(1e-8, floor) and res > 0.5 * prev:
-                return NewtonOutcome(x, g, t, it - 1, True, res, "converged (residual at round-off level)")
-            prev = res
-            ta = time.perf_counter()
-            D = law.stiffness(g, lam)
-            # round-off floor of the residual: gaps from absolute coordinates, times the contact stiffness
-            floor = 1e3 * _EPS * coord * float(np.max(w * np.abs(D), initial=0.0)) / scale
-            J = self._newton_matrix(u, t, D)
-            tb = time.perf_counter()
-            self.assembly_seconds += tb - ta
-            try:
-                dx = linear_solve(J, -R, self.solver)
-            except np.linalg.LinAlgError:
-                return NewtonOutcome(x, g, t, it, False, res, "singular Newton matrix")
-            self.solve_seconds += time.perf_counter() - tb
-            self.linear_solves += 1
-            self.newton_iterations += 1
-            if not np.all(np.isfinite(dx)):
-                return NewtonOutcome(x, g, t, it, False, res, "non-finite Newton step")
-            slope = float(R @ dx)
-            norm_R = float(np.linalg.norm(R))
-            merit0 = pi if use_energy else 0.5 * float(R @ R)
-            slope_m = slope if use_energy else -float(R @ R)
-            alpha, accepted = 1.0, False
-            trial = None
-            for _ in range(_MAX_HALVINGS):
-                try:
-                    trial = evaluate(x + alpha * dx, use_energy)
-                except InvertedElementError:
-                    alpha *= 0.5
-                    continue
-                _, _, t_try, R_try, pi_try = trial
-                m_try = pi_try if use_energy else 0.5 * float(R_try @ R_try)
-                if np.isfinite(m_try) and m_try <= merit0 + _ARMIJO * alpha * min(slope_m, 0.0) + 1e-14 * abs(merit0):
-                    accepted = True
-                    break
-                # near the solution the energy decrease drowns in its round-off: a sufficient
-                # decrease of the residual norm accepts the step as well
-                if np.isfinite(m_try) and float(np.linalg.norm(R_try)) <= (1 - _ARMIJO * alpha) * norm_R:
-                    accepted = True
-                    break
-                alpha *= 0.5
-            if not accepted:
-                # merit flat to round-off: accept the full step if it reduces the residual
-                try:
-                    trial = evaluate(x + dx, use_energy)
-                except InvertedElementError:
-                    return NewtonOutcome(x, g, t, it, False, res, "line search failed (inverted elements)")
-                if not (np.isfinite(trial[4]) or not use_energy) or \
-                        np.max(np.abs(trial[3])) >= np.max(np.abs(R)):
-                    return NewtonOutcome(x, g, t, it, False, res, "line search failed")
-                alpha = 1.0
-            x = x + alpha * dx
-            u, g, t, R, pi = trial
-            scale = max(scale, float(np.max(np.abs(w * t), initial=0.0)))
-        res = float(np.max(np.abs(R), initial=0.0)) / scale
-        log.append(res)
-        return NewtonOutcome(x, g, t, maxiter, res <= tol, res, "maximum Newton iterations")
+        return subproblem_outcome(out, out.state.g, out.state.t)
 
     def multiplier_step(self, law, lam, out, *, rtol: float = 1e-8, maxiter: int = 10) -> np.ndarray | None:
         r"""Second-order multiplier update of Algorithm 6.1 (a Newton step on the dual), or ``None``.
@@ -662,88 +575,197 @@ class FiniteContact(ContactPoints):
         return sp.bmat([[Kt, Bc.T], [Bc, D]], format="csc")
 
     def _equality_newton(self, active, lam_all, x, c, tol, maxiter):
-        """Newton on :math:`g_A = 0` (saddle point); stops early when the predicted active set changes.
+        """Newton on :math:`g_A = 0` (saddle point, :class:`_EqualityNewton`); stops early when the
+        predicted active set changes.
 
-        Returns ``(x, lam_all, converged, newton_steps)``.
+        Returns ``(x, lam_all, converged, newton_steps)``. An inverted element at the start
+        propagates (the load step is cut back).
         """
-        cand = self.cand
-        idx = np.flatnonzero(active)
-        A = cand[idx]
-        nA = A.size
-        wA = self.weights[A]
-        r = np.maximum(lam_all[idx], 0.0) * wA
-        nf = self.free.size
         log: list[float] = []
         self.residual_log.append(log)
+        system = _EqualityNewton(self, active, lam_all, c, tol)
+        z0 = np.concatenate([np.asarray(x, dtype=float), system.r0])
+        out = newton(system, z0, tol=tol, maxiter=maxiter, settings=_EQUALITY_SETTINGS, log=log)
+        x_new, r = system.split(out.x)
+        if not out.converged and not system.switched:
+            logger.warning("active-set Newton with %d active points stopped (%s) at relative residual %.2e after "
+                           "%d steps", system.A.size, out.message, out.residual, out.iterations)
+        return x_new, system.lam_of(r), out.converged, out.iterations
 
-        def evaluate(x_, r_):
-            u_ = self.expand(x_)
-            rb, _ = self._body_state(u_, False)
-            g_, nu_, _ = self._kinematics(u_, A, False)
-            Bm = self._B(nu_, A)
-            last_body[0] = rb
-            return u_, g_, Bm, rb[self.free] + Bm.T @ r_
 
-        last_body = [None]
-        scale_run = [0.0]  # running force unit: a free rigid motion has no forces left to scale by
+# ---------------------------------------------------------------------- the Newton systems of FiniteContact
+#: subproblem (S): Armijo on the energy (or |R|^2/2) or a residual decrease, inverted elements halve the step
+_SETTINGS = NewtonSettings(LineSearch(halvings=_MAX_HALVINGS, armijo=_ARMIJO, residual_decrease=True))
+#: active-set reference: backtracking on the relative residual, any step below 2**-20 accepted
+_EQUALITY_SETTINGS = NewtonSettings(LineSearch(halvings=_MAX_HALVINGS, armijo=_ARMIJO, merit=False,
+                                               measure_decrease=True, accept_below=2.0**-20, full_step=False),
+                                    stall_from=3)
 
-        def measure(u_, R_, g_, r_):
-            scale = max(scale_run[0], self.force_scale(last_body[0], r_))
-            scale_run[0] = scale
-            return max(float(np.max(np.abs(R_), initial=0.0)) / scale,
-                       float(np.max(np.abs(g_), initial=0.0)) / self.h)
 
-        def lam_of(r_):
-            out = np.zeros(cand.size)
-            out[idx] = r_ / wA
-            return out
+@dataclass
+class _SubState:
+    """State of :class:`_Subproblem` at one iterate."""
 
-        u, gA, Bm, R = evaluate(x, r)  # InvertedElementError: the load step is cut back
-        res = measure(u, R, gA, r)
-        steps = 0
-        for _it in range(maxiter):
-            log.append(res)
-            if res <= tol or (len(log) > 2 and res <= 1e-8 and res > 0.5 * log[-2]):
-                return x, lam_of(r), True, steps
-            ta = time.perf_counter()
-            _, _, H = self._kinematics(u, A, True)
-            Kt = self._tangent_free(u) + self._point_blocks(A, r[:, None, None] * H)
-            J = self._saddle_matrix(u, Kt, active)
-            tb = time.perf_counter()
-            self.assembly_seconds += tb - ta
-            rhs_g = np.zeros(cand.size)
-            rhs_g[idx] = gA
-            try:
-                step = linear_solve(J, -np.concatenate([R, rhs_g]), self.solver)
-            except np.linalg.LinAlgError:
-                logger.warning("active-set step: singular saddle-point matrix with %d active points", nA)
-                return x, lam_of(r), False, steps + 1
-            self.solve_seconds += time.perf_counter() - tb
-            self.linear_solves += 1
-            self.newton_iterations += 1
-            steps += 1
-            dx, dr = step[:nf], step[nf:][idx]
-            alpha = 1.0
-            for _ in range(_MAX_HALVINGS):
-                try:
-                    trial = evaluate(x + alpha * dx, r + alpha * dr)
-                except InvertedElementError:
-                    alpha *= 0.5
-                    continue
-                res_try = measure(trial[0], trial[3], trial[1], r + alpha * dr)
-                if res_try < (1 - _ARMIJO * alpha) * res or alpha < 2.0 ** -20:
-                    break
-                alpha *= 0.5
-            else:
-                logger.warning("active-set step: every trial step inverts an element")
-                return x, lam_of(r), False, steps
-            x, r = x + alpha * dx, r + alpha * dr
-            u, gA, Bm, R = trial
-            res = res_try
-            if alpha == 1.0 and res > tol:
-                # semi-smooth Newton: switch as soon as the predicted active set changes
-                predicted = (lam_of(r) + c * self.gaps(x)) > 0
-                if not np.array_equal(predicted, active):
-                    return x, lam_of(r), False, steps
-        logger.warning("active-set Newton stopped at relative residual %.2e after %d steps", res, steps)
-        return x, lam_of(r), False, steps
+    u: np.ndarray
+    g: np.ndarray
+    t: np.ndarray
+    R: np.ndarray
+    pi: float
+    r_body: np.ndarray
+    inside: bool
+
+
+class _Subproblem(NewtonSystem):
+    """Subproblem (S) of :class:`FiniteContact` (module doc) for :func:`~._newton.newton`.
+
+    Merit: the total energy where the body has one (decided at the start), else
+    :math:`\\tfrac12|R|^2`. The relative residual is :math:`\\max|R|` over the force unit
+    (:meth:`FiniteContact.force_scale` at the start, raised by the contact forces of every
+    iterate); a stall counts as converged below ``max(1e-8, floor)``, ``floor`` the round-off
+    of the contact forces (gaps from absolute coordinates times the contact stiffness).
+    """
+
+    domain_errors = (InvertedElementError,)
+
+    def __init__(self, fc, law, lam):
+        self.fc, self.law, self.lam = fc, law, lam
+        self.w = fc.weights[fc.cand]
+        self.use_energy = None
+        self.scale = None
+        self.coord = 1.0
+        self.floor = 0.0
+
+    def evaluate(self, x):
+        fc, cand, w = self.fc, self.fc.cand, self.w
+        need_energy = self.use_energy is not False
+        u = fc.expand(x)
+        r_body, e_body = fc._body_state(u, need_energy)
+        g, nu, _ = fc._kinematics(u, cand, False)
+        t = self.law.traction(g, self.lam)
+        R = r_body[fc.free] + fc._B(nu, cand).T @ (w * t)
+        inside = True
+        pi = np.nan
+        if need_energy:
+            e_pen = self.law.energy(g, self.lam)
+            inside = bool(np.all(np.isfinite(e_pen)))
+            pi = e_body + float(np.sum(w * e_pen))
+        if self.use_energy is None:  # the start: globalize on the energy where the body has one
+            # (a NaN penalty energy keeps the NaN merit: the driver reports NONFINITE)
+            self.use_energy = bool(np.isfinite(pi)) or bool(np.any(np.isnan(e_pen)))
+            self.coord = float(np.max(np.abs(fc._current(u, cand)), initial=1.0))
+        return _SubState(u, g, t, R, pi, r_body, inside)
+
+    def residual(self, state):
+        return state.R
+
+    def merit(self, state):
+        return state.pi if self.use_energy else 0.5 * float(state.R @ state.R)
+
+    def slope(self, x, state, dx):
+        return float(state.R @ dx) if self.use_energy else -float(state.R @ state.R)
+
+    def inside(self, state):
+        return state.inside
+
+    def measure(self, state):
+        if self.scale is None:
+            self.scale = self.fc.force_scale(state.r_body, self.w * state.t)
+        else:
+            self.scale = max(self.scale, float(np.max(np.abs(self.w * state.t), initial=0.0)))
+        return float(np.max(np.abs(state.R), initial=0.0)) / self.scale
+
+    def stall_level(self, state, level):
+        return max(level, self.floor)
+
+    def step(self, x, state, history):
+        fc = self.fc
+        ta = time.perf_counter()
+        D = self.law.stiffness(state.g, self.lam)
+        # round-off floor of the residual: gaps from absolute coordinates, times the contact stiffness
+        self.floor = 1e3 * _EPS * self.coord * float(np.max(self.w * np.abs(D), initial=0.0)) / self.scale
+        J = fc._newton_matrix(state.u, state.t, D)
+        tb = time.perf_counter()
+        fc.assembly_seconds += tb - ta
+        dx = linear_solve(J, -state.R, fc.solver)
+        fc.solve_seconds += time.perf_counter() - tb
+        fc.linear_solves += 1
+        fc.newton_iterations += 1
+        return dx
+
+
+class _EqualityNewton(NewtonSystem):
+    """Newton on :math:`g_A(u) = 0` with the saddle-point matrix (:meth:`FiniteContact._equality_newton`).
+
+    Unknowns ``z = (x, r_A)`` (free displacement, contact forces of the active points). The
+    relative residual is the larger of :math:`\\max|R|` over the running force unit and
+    :math:`\\max|g_A|/h`; after a full step the predicted active set
+    :math:`\\lambda + c\\,g > 0` is compared with ``active`` and a change stops the iteration
+    (semi-smooth Newton switches at once).
+    """
+
+    domain_errors = (InvertedElementError,)
+
+    def __init__(self, fc, active, lam_all, c, tol):
+        self.fc, self.active, self.c, self.tol = fc, active, c, tol
+        self.idx = np.flatnonzero(active)
+        self.A = fc.cand[self.idx]
+        self.wA = fc.weights[self.A]
+        self.r0 = np.maximum(lam_all[self.idx], 0.0) * self.wA
+        self.nf = fc.free.size
+        self.scale_run = 0.0  # running force unit: a free rigid motion has no forces left to scale by
+        self.last = np.inf
+        self.switched = False
+
+    def split(self, z):
+        return z[:self.nf], z[self.nf:]
+
+    def lam_of(self, r):
+        out = np.zeros(self.fc.cand.size)
+        out[self.idx] = r / self.wA
+        return out
+
+    def evaluate(self, z):
+        fc = self.fc
+        x, r = self.split(z)
+        u = fc.expand(x)
+        rb, _ = fc._body_state(u, False)
+        gA, nu, _ = fc._kinematics(u, self.A, False)
+        R = rb[fc.free] + fc._B(nu, self.A).T @ r
+        return u, gA, R, r, rb, np.concatenate([R, gA])
+
+    def residual(self, state):
+        return state[5]
+
+    def measure(self, state):
+        _, gA, R, r, rb, _ = state
+        self.scale_run = max(self.scale_run, self.fc.force_scale(rb, r))
+        self.last = max(float(np.max(np.abs(R), initial=0.0)) / self.scale_run,
+                        float(np.max(np.abs(gA), initial=0.0)) / self.fc.h)
+        return self.last
+
+    def step(self, z, state, history):
+        fc, A = self.fc, self.A
+        u, gA, R, r, _, _ = state
+        ta = time.perf_counter()
+        _, _, H = fc._kinematics(u, A, True)
+        Kt = fc._tangent_free(u) + fc._point_blocks(A, r[:, None, None] * H)
+        J = fc._saddle_matrix(u, Kt, self.active)
+        tb = time.perf_counter()
+        fc.assembly_seconds += tb - ta
+        rhs_g = np.zeros(fc.cand.size)
+        rhs_g[self.idx] = gA
+        step = linear_solve(J, -np.concatenate([R, rhs_g]), fc.solver)
+        fc.solve_seconds += time.perf_counter() - tb
+        fc.linear_solves += 1
+        fc.newton_iterations += 1
+        return np.concatenate([step[:self.nf], step[self.nf:][self.idx]])
+
+    def interrupt(self, z, state, alpha):
+        if alpha == 1.0 and self.last > self.tol:
+            # semi-smooth Newton: switch as soon as the predicted active set changes
+            x, r = self.split(z)
+            predicted = (self.lam_of(r) + self.c * self.fc.gaps(x)) > 0
+            if not np.array_equal(predicted, self.active):
+                self.switched = True
+                return "the predicted active set changed"
+        return None

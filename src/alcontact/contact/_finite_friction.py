@@ -65,6 +65,7 @@ reported converged.
 
 from __future__ import annotations
 
+import dataclasses
 import logging
 import time
 from dataclasses import dataclass, field
@@ -77,12 +78,14 @@ from .. import penalties as _pen
 from .._options import is_real, show
 from ..errors import InputError, InvertedElementError
 from ..linalg import SequenceSolver
+from ..status import Status
 from ._algorithms import FRICTION_DEFAULTS, algorithm_names, find_algorithm, options_with, register_family
 from ._finite import FiniteContact
 from ._friction import FrictionOptions
 from ._friction_laws import OPEN, SLIP, STICK, return_mapping
 from ._laws import eta_for_stiffness, freezes_at_zero, make_law
 from ._loading import LoadHistory
+from ._newton import LineSearch, NewtonResult, NewtonSettings, NewtonSystem, inner_failure, newton
 from ._solution import ContactStatus
 from ._solve import penalty_stiffness
 from ._stepping import Attempt, StepRecord, StepRecords, _StepData, _step_times, step_through
@@ -191,63 +194,65 @@ class FiniteFrictionContact(FiniteContact):
         *_, K = self._local(law, lamN, lamT, u, cand, blocks=True)
         return (self._tangent_free(u) + self._point_blocks(cand, w[:, None, None] * K)).tocsr()
 
-    def friction_subproblem(self, law, lamN, lamT, x0, *, tol: float, maxiter: int):
-        """Newton's method for :math:`R(x) = 0` (module doc). Returns ``(x, local, converged, iterations, reason)``."""
-        x = np.array(x0, dtype=float)
+    def friction_subproblem(self, law, lamN, lamT, x0, *, tol: float, maxiter: int) -> NewtonResult:
+        """Newton's method for :math:`R(x) = 0` (module doc, :class:`_FrictionSubproblem`).
+
+        Returns the :class:`~alcontact.contact._newton.NewtonResult`; its ``state`` is the
+        :class:`_Local` state of the last iterate (``None`` when the start inverts an element).
+        """
         log: list[float] = []
         self.residual_log.append(log)
+        system = _FrictionSubproblem(self, law, lamN, lamT)
         try:
-            loc = self.evaluate(law, lamN, lamT, x)
+            return newton(system, x0, tol=tol, maxiter=maxiter, settings=_SETTINGS, log=log)
         except InvertedElementError as exc:
-            return x, None, False, 0, f"inverted element at the starting state ({exc})"
-        w = self.weights[self.cand]
+            return NewtonResult(np.array(x0, dtype=float), None, Status.NEWTON_FAILED,
+                                f"inverted element at the starting state ({exc})", 0, np.inf)
 
-        def scale_of(lc):
-            return self.force_scale(lc.r_body, w * np.hypot(lc.tN, np.linalg.norm(lc.tT, axis=1)))
 
-        scale = scale_of(loc)
-        prev = np.inf
-        for it in range(1, maxiter + 1):
-            res = float(np.max(np.abs(loc.R), initial=0.0)) / scale
-            log.append(res)
-            if res <= tol:
-                return x, loc, True, it - 1, "converged"
-            if res <= 1e-9 and res > 0.5 * prev:
-                return x, loc, True, it - 1, "converged (residual at round-off level)"
-            prev = res
-            ta = time.perf_counter()
-            J = self.friction_jacobian(law, lamN, lamT, loc.u)
-            tb = time.perf_counter()
-            self.assembly_seconds += tb - ta
-            try:
-                dx = self.friction_solver.solve(J, -loc.R)
-            except np.linalg.LinAlgError:
-                return x, loc, False, it, "singular Newton matrix"
-            self.solve_seconds += time.perf_counter() - tb
-            self.linear_solves += 1
-            self.newton_iterations += 1
-            if not np.all(np.isfinite(dx)):
-                return x, loc, False, it, "non-finite Newton step"
-            norm0 = float(np.linalg.norm(loc.R))
-            alpha, trial = 1.0, None
-            for _ in range(_MAX_HALVINGS):
-                try:
-                    cand_loc = self.evaluate(law, lamN, lamT, x + alpha * dx)
-                except InvertedElementError:
-                    alpha *= 0.5
-                    continue
-                if float(np.linalg.norm(cand_loc.R)) <= (1 - _ARMIJO * alpha) * norm0:
-                    trial = cand_loc
-                    break
-                alpha *= 0.5
-            if trial is None:
-                return x, loc, False, it, "line search failed"
-            x = x + alpha * dx
-            loc = trial
-            scale = max(scale, scale_of(loc))
-        res = float(np.max(np.abs(loc.R), initial=0.0)) / scale
-        log.append(res)
-        return x, loc, res <= tol, maxiter, "maximum Newton iterations"
+#: a frictional step has no potential: backtracking on the residual norm, inverted elements halve the step
+_SETTINGS = NewtonSettings(LineSearch(halvings=_MAX_HALVINGS, armijo=_ARMIJO, merit=False, residual_decrease=True,
+                                      full_step=False), stall=1e-9)
+#: the semi-smooth reference: the same, the stall test from the third iterate on
+_SSN_SETTINGS = dataclasses.replace(_SETTINGS, stall_from=3)
+
+
+class _FrictionSubproblem(NewtonSystem):
+    """The frictional subproblem of :class:`FiniteFrictionContact` for :func:`~._newton.newton`.
+
+    State: :class:`_Local`. Relative residual :math:`\\max|R|` over the running force unit
+    (:meth:`~alcontact.contact._finite.FiniteContact.force_scale` with the contact tractions).
+    """
+
+    domain_errors = (InvertedElementError,)
+
+    def __init__(self, dc, law, lamN, lamT):
+        self.dc, self.law, self.lamN, self.lamT = dc, law, lamN, lamT
+        self.w = dc.weights[dc.cand]
+        self.scale = 0.0
+
+    def evaluate(self, x):
+        return self.dc.evaluate(self.law, self.lamN, self.lamT, x)
+
+    def residual(self, state):
+        return state.R
+
+    def measure(self, state):
+        tabs = np.hypot(state.tN, np.linalg.norm(state.tT, axis=1))
+        self.scale = max(self.scale, self.dc.force_scale(state.r_body, self.w * tabs))
+        return float(np.max(np.abs(state.R), initial=0.0)) / self.scale
+
+    def step(self, x, state, history):
+        dc = self.dc
+        ta = time.perf_counter()
+        J = dc.friction_jacobian(self.law, self.lamN, self.lamT, state.u)
+        tb = time.perf_counter()
+        dc.assembly_seconds += tb - ta
+        dx = dc.friction_solver.solve(J, -state.R)
+        dc.solve_seconds += time.perf_counter() - tb
+        dc.linear_solves += 1
+        dc.newton_iterations += 1
+        return dx
 
 
 # ---------------------------------------------------------------------------
@@ -395,23 +400,21 @@ def _step_al(dc: FiniteFrictionContact, lamN, lamT, x, eps_n, pen_name, opts) ->
     law = macaulay
     if family_p:
         # predictor: one Simo-Laursen subproblem gives multipliers for the points entering contact
-        x1, loc, ok, _, _ = dc.friction_subproblem(macaulay, lamN, lamT, x, tol=opts.newton_tol,
-                                                   maxiter=opts.maxiter_newton)
+        pre = dc.friction_subproblem(macaulay, lamN, lamT, x, tol=opts.newton_tol, maxiter=opts.maxiter_newton)
         outer = 1
-        if ok:
-            x, lamN, lamT = x1, loc.tN.copy(), loc.tT.copy()
+        if pre.converged:
+            x, lamN, lamT = pre.x, pre.state.tN.copy(), pre.state.tT.copy()
         pref = max(float(np.max(lamN, initial=0.0)), eps_n * dc.h * 1e-6)
         lamN = np.maximum(lamN, opts.multiplier_floor * pref)
         eta = eta_for_stiffness(pen, np.maximum(lamN, opts.eta_floor * pref), eps_n)
         law = make_law(pen, eta)
     loc = None
     for k in range(1, opts.maxiter + 1):
-        x_new, loc_new, ok, _, reason = dc.friction_subproblem(law, lamN, lamT, x, tol=opts.newton_tol,
-                                                               maxiter=opts.maxiter_newton)
-        if not ok:
-            return _StepResult(False, ContactStatus.NEWTON_FAILED, f"Newton failed in outer iteration {k}: {reason}",
+        out = dc.friction_subproblem(law, lamN, lamT, x, tol=opts.newton_tol, maxiter=opts.maxiter_newton)
+        if not out.converged:
+            return _StepResult(False, inner_failure(out), f"Newton failed in outer iteration {k}: {out.message}",
                                x, lamN, lamT, loc, outer + k)
-        x, loc = x_new, loc_new
+        x, loc = out.x, out.state
         if not (np.all(np.isfinite(loc.tN)) and np.all(np.isfinite(loc.tT))):
             return _StepResult(False, ContactStatus.NONFINITE, f"non-finite tractions in outer iteration {k}",
                                x, lamN, lamT, loc, outer + k)
@@ -470,7 +473,7 @@ def _step_ssn(dc: FiniteFrictionContact, lamN, lamT, x, eps_n, pen_name, opts) -
         g, nu, tN, tT, slip, state, _ = dc._local(macaulay, L_[:, 0], L_[:, 1:], u_, cand, blocks=False)
         Rx = rb[dc.free] + dc._assemble_points(cand, w[:, None] * (L_[:, 1:] - L_[:, :1] * nu))
         RL = w[:, None] * (L_ - np.concatenate([tN[:, None], tT], axis=1))
-        return u_, g, nu, tN, tT, slip, state, rb, Rx, RL
+        return u_, g, nu, tN, tT, slip, state, rb, Rx, RL, L_
 
     def jacobian(u_, L_, nu):
         lN, lT = L_[:, 0], L_[:, 1:]
@@ -524,53 +527,45 @@ def _step_ssn(dc: FiniteFrictionContact, lamN, lamT, x, eps_n, pen_name, opts) -
                              shape=(ntot, ntot))
         return (sp.block_diag([Kxx, sp.csr_matrix((k * nl, k * nl))]) + rest).tocsc()
 
+    class AlartCurnier(NewtonSystem):
+        """Unknowns ``z = (x, L)``; relative residual: the larger of the force and multiplier parts."""
+
+        domain_errors = (InvertedElementError,)
+
+        def evaluate(self, z):
+            return evaluate(z[:nf], z[nf:].reshape(k, d + 1))
+
+        def residual(self, ev):
+            return np.concatenate([ev[8], ev[9].ravel()])
+
+        def measure(self, ev):
+            L_ = ev[10]
+            pref = max(float(np.max(L_[:, 0], initial=0.0)), 1e-300)
+            scale = dc.force_scale(ev[7], w * L_[:, 0])
+            return max(float(np.max(np.abs(ev[8]), initial=0.0)) / scale,
+                       float(np.max(np.abs(ev[9]) / w[:, None], initial=0.0)) / pref)
+
+        def step(self, z, ev, history):
+            J = jacobian(ev[0], ev[10], ev[2])
+            step = dc.friction_solver.solve(J, -self.residual(ev))
+            dc.linear_solves += 1
+            dc.newton_iterations += 1
+            return step
+
     try:
         try:
-            ev = evaluate(x, L)
+            out = newton(AlartCurnier(), np.concatenate([x, L.ravel()]), tol=opts.newton_tol,
+                         maxiter=max(opts.maxiter_newton, 100), settings=_SSN_SETTINGS, log=log)
         except InvertedElementError as exc:
             return _StepResult(False, ContactStatus.NEWTON_FAILED, f"inverted element at the start ({exc})",
                                x, lamN, lamT, None, 1)
-        for it in range(1, max(opts.maxiter_newton, 100) + 1):
-            u, g, nu, tN, tT, slip, state, rb, Rx, RL = ev
-            pref = max(float(np.max(L[:, 0], initial=0.0)), 1e-300)
-            scale = dc.force_scale(rb, w * L[:, 0])
-            res = max(float(np.max(np.abs(Rx), initial=0.0)) / scale,
-                      float(np.max(np.abs(RL) / w[:, None], initial=0.0)) / pref)
-            log.append(res)
-            if res <= opts.newton_tol or (res <= 1e-9 and len(log) > 2 and res > 0.5 * log[-2]):
-                loc = _Local(u, g, nu, L[:, 0].copy(), L[:, 1:].copy(), slip, np.where(L[:, 0] > 0, state, OPEN),
-                             Rx, rb)
-                return _StepResult(True, ContactStatus.CONVERGED, "converged", x, L[:, 0].copy(), L[:, 1:].copy(),
-                                   loc, 1)
-            J = jacobian(u, L, nu)
-            F = np.concatenate([Rx, RL.ravel()])
-            try:
-                step = dc.friction_solver.solve(J, -F)
-            except np.linalg.LinAlgError:
-                return _StepResult(False, ContactStatus.NEWTON_FAILED, "singular semi-smooth Newton matrix",
-                                   x, L[:, 0], L[:, 1:], None, 1)
-            dc.linear_solves += 1
-            dc.newton_iterations += 1
-            dx, dL = step[:nf], step[nf:].reshape(k, d + 1)
-            norm0 = float(np.linalg.norm(F))
-            alpha, trial = 1.0, None
-            for _ in range(_MAX_HALVINGS):
-                try:
-                    cand_ev = evaluate(x + alpha * dx, L + alpha * dL)
-                except InvertedElementError:
-                    alpha *= 0.5
-                    continue
-                if float(np.linalg.norm(np.concatenate([cand_ev[8], cand_ev[9].ravel()]))) \
-                        <= (1 - _ARMIJO * alpha) * norm0:
-                    trial = cand_ev
-                    break
-                alpha *= 0.5
-            if trial is None:
-                return _StepResult(False, ContactStatus.NEWTON_FAILED, f"line search failed (residual {res:.2e})",
-                                   x, L[:, 0], L[:, 1:], None, 1)
-            x, L, ev = x + alpha * dx, L + alpha * dL, trial
-        return _StepResult(False, ContactStatus.NEWTON_FAILED, "maximum semi-smooth Newton iterations",
-                           x, L[:, 0], L[:, 1:], None, 1)
+        x, L = out.x[:nf], out.x[nf:].reshape(k, d + 1)
+        if not out.converged:
+            return _StepResult(False, inner_failure(out), f"semi-smooth Newton: {out.message}",
+                               x, L[:, 0], L[:, 1:], None, 1)
+        u, g, nu, tN, tT, slip, state, rb, Rx, RL, _ = out.state
+        loc = _Local(u, g, nu, L[:, 0].copy(), L[:, 1:].copy(), slip, np.where(L[:, 0] > 0, state, OPEN), Rx, rb)
+        return _StepResult(True, ContactStatus.CONVERGED, "converged", x, L[:, 0].copy(), L[:, 1:].copy(), loc, 1)
     finally:
         dc.eps_t, dc.coupled = saved
 

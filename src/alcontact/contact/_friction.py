@@ -70,6 +70,7 @@ from ._friction_laws import OPEN, SLIP, STICK, Macaulay, block_diag, local_law, 
 from ._friction_solution import FrictionSolution, FrictionStep
 from ._laws import eta_for_stiffness, freezes_at_zero, make_law
 from ._loading import LoadHistory
+from ._newton import LineSearch, NewtonResult, NewtonSettings, NewtonSystem, inner_failure, newton
 from ._solution import ContactStatus
 from ._solve import penalty_stiffness
 from ._stepping import Attempt, StepRecord, step_through
@@ -98,18 +99,8 @@ class FrictionOptions(ContactOptions):
 
 
 # ---------------------------------------------------------------------------
-# generic semi-smooth Newton with residual backtracking
+# the condensed Newton systems of a step (driven by _newton.newton)
 # ---------------------------------------------------------------------------
-@dataclass
-class _NewtonOut:
-    x: np.ndarray
-    aux: tuple
-    iterations: int
-    converged: bool
-    residual: float
-    reason: str
-
-
 def _solve(J, b):
     """``J^{-1} b`` (LinAlgError/ValueError when singular or not finite).
 
@@ -129,67 +120,65 @@ def _solve(J, b):
     return x
 
 
-def _norm(v) -> float:
-    """Euclidean norm; a far-away trial iterate may overflow to ``inf`` (then rejected by the line search)."""
-    with np.errstate(over="ignore"):
-        return float(np.linalg.norm(v))
+@dataclass(frozen=True)
+class _Point:
+    """State of :class:`_CondensedSystem` at one iterate: residual, the caller's ``aux``, energy."""
+
+    x: np.ndarray
+    F: np.ndarray
+    aux: tuple
+    energy: float
 
 
-def _newton(fun, jac, x0, scale, *, tol, maxiter, energy=None, grad=None) -> _NewtonOut:
-    """Solve ``F(x) = 0``; ``fun(x) -> (F, aux)``, ``jac(x, aux) -> J``, ``scale(x, aux)`` > 0.
+class _CondensedSystem(NewtonSystem):
+    """``F(x) = 0`` on the condensed forces of a step, for :func:`~._newton.newton`.
 
-    Globalization: Armijo backtracking on ``energy(x)`` (with ``grad(x, F)`` its
-    gradient) when the problem has a potential, else on the residual norm.
+    ``fun(x) -> (F, aux)``, ``jac(x, aux) -> J`` (dense, possibly unsymmetric), ``scale(x, aux) > 0``
+    the force unit of the relative residual. Globalization: Armijo on ``energy(x)`` (with
+    ``grad(x, F)`` its gradient) when the problem has a potential, else a decrease of the
+    residual norm (:data:`_POTENTIAL`, :data:`_NO_POTENTIAL`).
     """
-    x = np.array(x0, dtype=float)
-    F, aux = fun(x)
-    if not np.all(np.isfinite(F)):
-        return _NewtonOut(x, aux, 0, False, np.inf, "non-finite residual at the start")
-    pi = energy(x) if energy is not None else None
-    res = np.inf
-    for it in range(maxiter + 1):
-        fs = max(scale(x, aux), 1e-300)
-        res = float(np.max(np.abs(F), initial=0.0)) / fs
-        if res <= tol:
-            return _NewtonOut(x, aux, it, True, res, "converged")
-        if it == maxiter:
-            break
-        J = jac(x, aux)
-        try:
-            dx = _solve(J, -F)
-        except (sla.LinAlgError, ValueError):
-            return _NewtonOut(x, aux, it, False, res, "singular Newton matrix")
-        if float(np.max(np.abs(dx), initial=0.0)) <= 1e-14 * max(float(np.max(np.abs(x), initial=0.0)), fs):
-            return _NewtonOut(x, aux, it, res <= 1e3 * tol, res, "step at round-off level")
-        nF = _norm(F)
-        slope = float(grad(x, F) @ dx) if energy is not None else 0.0
-        alpha, accepted = 1.0, False
-        for _ in range(50):
-            x_try = x + alpha * dx
-            if energy is not None:
-                pi_try = energy(x_try)
-                ok = np.isfinite(pi_try) and pi_try <= pi + 1e-4 * alpha * min(slope, 0.0) + 1e-14 * abs(pi)
-            else:
-                ok = True
-            if ok:
-                F_try, aux_try = fun(x_try)
-                ok = np.all(np.isfinite(F_try)) and (
-                    energy is not None or _norm(F_try) <= (1.0 - 1e-4 * alpha) * nF)
-                if ok:
-                    accepted = True
-                    break
-            alpha *= 0.5
-        if not accepted:
-            if energy is not None:  # energy flat to round-off: take the full step if it reduces the residual
-                F_try, aux_try = fun(x + dx)
-                if np.all(np.isfinite(F_try)) and np.max(np.abs(F_try)) < np.max(np.abs(F)):
-                    x_try, pi_try, accepted = x + dx, energy(x + dx), True
-            if not accepted:
-                return _NewtonOut(x, aux, it + 1, False, res, "line search failed")
-        x, F, aux = x_try, F_try, aux_try
-        if energy is not None:
-            pi = pi_try
-    return _NewtonOut(x, aux, maxiter, False, res, "maximum Newton iterations")
+
+    def __init__(self, fun, jac, scale, energy=None, grad=None):
+        self.fun, self.jac, self.scale, self.energy, self.grad = fun, jac, scale, energy, grad
+        self.fs = 1e-300
+
+    def evaluate(self, x):
+        F, aux = self.fun(x)
+        return _Point(x, F, aux, self.energy(x) if self.energy is not None else 0.0)
+
+    def residual(self, state):
+        return state.F
+
+    def merit(self, state):
+        return state.energy
+
+    def slope(self, x, state, dx):
+        return float(self.grad(x, state.F) @ dx)
+
+    def measure(self, state):
+        self.fs = max(self.scale(state.x, state.aux), 1e-300)
+        return float(np.max(np.abs(state.F), initial=0.0)) / self.fs
+
+    def step(self, x, state, history):
+        return _solve(self.jac(x, state.aux), -state.F)
+
+    def negligible(self, x, state, dx):
+        return float(np.max(np.abs(dx), initial=0.0)) <= 1e-14 * max(float(np.max(np.abs(x), initial=0.0)), self.fs)
+
+
+#: with a potential: Armijo on it (full step when it is flat to round-off); no stall test; a
+#: correction at round-off level converges within 1e3 times the tolerance
+_POTENTIAL = NewtonSettings(LineSearch(halvings=50), stall=0.0, negligible_tol=1e3)
+#: without one: a decrease of the residual norm
+_NO_POTENTIAL = NewtonSettings(LineSearch(halvings=50, merit=False, residual_decrease=True, full_step=False),
+                               stall=0.0, negligible_tol=1e3)
+
+
+def _newton(fun, jac, x0, scale, *, tol, maxiter, energy=None, grad=None) -> NewtonResult:
+    """Solve ``F(x) = 0`` by :func:`~._newton.newton` on a :class:`_CondensedSystem`."""
+    system = _CondensedSystem(fun, jac, scale, energy, grad)
+    return newton(system, x0, tol=tol, maxiter=maxiter, settings=_POTENTIAL if energy is not None else _NO_POTENTIAL)
 
 
 # ---------------------------------------------------------------------------
@@ -245,7 +234,7 @@ class _Ctx:
         return t - self.fc.spring_traction(y), Dy - self.fc.spring_tangent()
 
 
-def _al_subproblem(ctx: _Ctx, law, lamN, lamT, R0) -> _NewtonOut:
+def _al_subproblem(ctx: _Ctx, law, lamN, lamT, R0) -> NewtonResult:
     """Subproblem (6.2a): ``R = w t(y_free - A R)`` for fixed multipliers.
 
     ``radius="multiplier"``: the Coulomb disc has the fixed radius
@@ -477,12 +466,13 @@ def _step_al(ctx: _Ctx, penalty_name: str) -> _StepOut:
         newton += out.iterations
         if out.converged:
             R = out.x.reshape(ctx.c, ctx.d)
-            upd = _second_order_update(ctx, macaulay, lamN, lamT, out.aux[0], out.aux[1]) if second_order else None
+            upd = (_second_order_update(ctx, macaulay, lamN, lamT, out.state.aux[0], out.state.aux[1])
+                   if second_order else None)
             if upd is not None:
                 lamN, lamT = upd
                 outer0 = 1
             else:
-                lamN = out.aux[1][:, 0].copy()
+                lamN = out.state.aux[1][:, 0].copy()
         pref = max(float(np.max(lamN, initial=0.0)), ctx.eps_n * ctx.fc.h * 1e-6)
         floor = opts.multiplier_floor * pref
         lamN = np.maximum(lamN, floor)
@@ -498,15 +488,15 @@ def _step_al(ctx: _Ctx, penalty_name: str) -> _StepOut:
         newton += out.iterations
         if not out.converged and fallback is not None:
             logger.debug("friction AL outer %d: subproblem failed after a second-order update (%s); first-order "
-                         "update from here", k, out.reason)
+                         "update from here", k, out.message)
             lamN, lamT, R = fallback
             second_order, fallback = False, None
             continue
         if not out.converged:
-            return _StepOut(False, f"Newton failed in outer iteration {k}: {out.reason}", R, out.aux[1], k + outer0,
-                            newton, ContactStatus.NEWTON_FAILED)
+            return _StepOut(False, f"Newton failed in outer iteration {k}: {out.message}", R, out.state.aux[1],
+                            k + outer0, newton, inner_failure(out))
         R = out.x.reshape(ctx.c, ctx.d)
-        y, t, _, st = out.aux
+        y, t, _, st = out.state.aux
         if not np.all(np.isfinite(t)):
             return _StepOut(False, f"non-finite tractions in outer iteration {k}", R, t, k + outer0, newton,
                             ContactStatus.NONFINITE)
@@ -572,9 +562,9 @@ def _step_ssn(ctx: _Ctx, penalty_name: str = "none") -> _StepOut:
                   maxiter=max(ctx.opts.maxiter_newton, 100))
     R = out.x.reshape(c, d)
     if not out.converged:
-        return _StepOut(False, f"semi-smooth Newton failed: {out.reason}", R, out.aux[1], 1,
-                        out.iterations, ContactStatus.NEWTON_FAILED)
-    return _StepOut(True, "converged", R, out.aux[5].copy(), 1, out.iterations)
+        return _StepOut(False, f"semi-smooth Newton failed: {out.message}", R, out.state.aux[1], 1,
+                        out.iterations, inner_failure(out))
+    return _StepOut(True, "converged", R, out.state.aux[5].copy(), 1, out.iterations)
 
 
 register_family((

@@ -79,7 +79,7 @@ from .. import linalg as _linalg
 from ..errors import InputError
 from ..fem.elasticity import rigid_body_modes
 from ._discrete import ContactPoints
-from ._newton import NewtonOutcome
+from ._newton import NewtonOutcome, NewtonSystem, newton, subproblem_outcome
 
 
 __all__ = ["IterativeContact", "full_newton", "AUTO_AMG_DOFS", "resolve_linear_solver"]
@@ -304,90 +304,91 @@ class IterativeContact(ContactPoints):
 
 
 # ----------------------------------------------------------------------
-def full_newton(ic, law, lam, x0, *, tol=1e-12, maxiter=60) -> NewtonOutcome:
-    """Solve :math:`R(x) = 0` (module doc) by inexact globalized Newton with AMG-CG."""
-    tol = max(tol, _NEWTON_TOL_FLOOR)
-    cand = ic.cand
-    Bc = ic.B[cand]
-    BcT = Bc.T.tocsr()
-    w = ic.weights[cand]
-    gfix = ic.g_fix[cand]
-    K, b = ic.K, ic.b
-    x = np.array(x0, dtype=float)
-    Kabs = sp.csr_matrix((np.abs(K.data), K.indices, K.indptr), shape=K.shape)
-    Bc_abs = abs(Bc).tocsr()
+class _FullSpaceSubproblem(NewtonSystem):
+    """Subproblem (S) in the free DOFs (module doc): :math:`R(x) = Kx - b + B^T(w \\circ t_N(g(x)))`.
 
-    def merit(x_):
-        Kx_ = K @ x_
-        g_ = gfix + Bc @ x_
-        e = law.energy(g_, lam)
-        return 0.5 * float(x_ @ Kx_) - float(b @ x_) + float(np.sum(w * e)), g_, Kx_
+    State ``(g, t, Kx, R, Pi)``. The relative residual is :math:`\\max|R|` over the largest
+    load or contact force; the tolerance is raised to the round-off bound of :math:`R`
+    (:func:`_residual_floor`). Each step is an inexact CG solve with the AMG preconditioner
+    and the forcing terms of the module doc.
+    """
 
-    pi, g, Kx = merit(x)
-    if np.isnan(pi) or np.any(np.isnan(law.traction(g, lam))):
-        return NewtonOutcome(x, g, law.traction(g, lam), 0, False, np.nan, "the penalty returned NaN")
-    if not np.isfinite(pi):
-        return NewtonOutcome(x, g, law.traction(g, lam), 0, False, np.inf, "start outside the penalty domain")
-    bscale = float(np.max(np.abs(b), initial=0.0))
-    scale = None
-    prev_res = np.inf
-    forcing = _FORCING_START
-    alpha = 1.0
-    for it in range(1, maxiter + 1):
+    def __init__(self, ic, law, lam, tol):
+        self.ic, self.law, self.lam, self.tol = ic, law, lam, tol
+        cand = ic.cand
+        self.Bc = ic.B[cand]
+        self.BcT = self.Bc.T.tocsr()
+        self.w = ic.weights[cand]
+        self.gfix = ic.g_fix[cand]
+        K = ic.K
+        self.Kabs = sp.csr_matrix((np.abs(K.data), K.indices, K.indptr), shape=K.shape)
+        self.Bc_abs = abs(self.Bc).tocsr()
+        self.bscale = float(np.max(np.abs(ic.b), initial=0.0))
+        self.scale = None
+        self.fscale = 1e-300
+        self.forcing = _FORCING_START
+        self.tol_k = tol
+
+    def evaluate(self, x):
+        ic, law, lam = self.ic, self.law, self.lam
+        Kx = ic.K @ x
+        g = self.gfix + self.Bc @ x
         t = law.traction(g, lam)
-        F = Kx - b + BcT @ (w * t)
-        if scale is None:
-            scale = max(float(np.max(np.abs(w * t), initial=0.0)), bscale)
-        fscale = max(scale, float(np.max(np.abs(w * t), initial=0.0)), 1e-300)
-        res = float(np.max(np.abs(F), initial=0.0)) / fscale
-        D = law.stiffness(g, lam)
+        pi = 0.5 * float(x @ Kx) - float(ic.b @ x) + float(np.sum(self.w * law.energy(g, lam)))
+        return g, t, Kx, Kx - ic.b + self.BcT @ (self.w * t), pi, x
+
+    def residual(self, state):
+        return state[3]
+
+    def merit(self, state):
+        return state[4]
+
+    def slope(self, x, state, dx):
+        return float(state[3] @ dx)
+
+    def measure(self, state):
+        wt = float(np.max(np.abs(self.w * state[1]), initial=0.0))
+        if self.scale is None:
+            self.scale = max(wt, self.bscale)
+        self.fscale = max(self.scale, wt, 1e-300)
+        return float(np.max(np.abs(state[3]), initial=0.0)) / self.fscale
+
+    def tolerance(self, state, tol):
         # the residual cannot be computed more accurately than its round-off (large penalties)
-        tol_k = max(tol, _residual_floor(Kabs, Bc_abs, x, b, w, t, D, gfix) / fscale)
-        if res <= tol_k:
-            return NewtonOutcome(x, g, t, it - 1, True, res, "converged")
-        if res <= 1e-8 and res > 0.5 * prev_res:
-            return NewtonOutcome(x, g, t, it - 1, True, res, "converged (residual at round-off level)")
-        if it > 1 and (alpha < 1.0 or res > 0.5 * prev_res):
-            # the last (inexact) step was cut back or reduced the residual too little: on the
-            # stiff contact directions a loose CG step is a poor Newton direction; tighten
-            forcing = max(_FORCING_SLOW * forcing, _FORCING_MIN)
-        prev_res = res
-        J = ic.contact_matrix(Bc, w * D)
+        g, t, _, _, _, x = state
+        D = self.law.stiffness(g, self.lam)
+        floor = _residual_floor(self.Kabs, self.Bc_abs, x, self.ic.b, self.w, t, D, self.gfix)
+        self.tol_k = max(tol, floor / self.fscale)
+        return self.tol_k
+
+    def step(self, x, state, history):
+        ic = self.ic
+        res = history[-1].residual
+        if len(history) > 1:
+            last = history[-2]
+            if last.step < 1.0 or last.full_step or res > 0.5 * last.residual:
+                # the last (inexact) step was cut back or reduced the residual too little: on the
+                # stiff contact directions a loose CG step is a poor Newton direction; tighten
+                self.forcing = max(_FORCING_SLOW * self.forcing, _FORCING_MIN)
+        D = self.law.stiffness(state[0], self.lam)
+        J = ic.contact_matrix(self.Bc, self.w * D)
         # inexact Newton: forcing min(forcing, res), tight enough in the last step to reach tol
-        rtol = float(np.clip(max(min(forcing, res), 0.1 * tol_k / res), 1e-14, _FORCING_MAX))
-        M = ic.precond.get(J, float(np.max(w * D, initial=0.0)))
-        dx, nit = ic.pcg(J, -F, M, rtol=rtol)
+        rtol = float(np.clip(max(min(self.forcing, res), 0.1 * self.tol_k / res), 1e-14, _FORCING_MAX))
+        M = ic.precond.get(J, float(np.max(self.w * D, initial=0.0)))
+        dx, nit = ic.pcg(J, -state[3], M, rtol=rtol)
         ic.precond.record(nit, rtol)
-        if not np.all(np.isfinite(dx)):
-            return NewtonOutcome(x, g, t, it, False, res, "non-finite Newton step")
-        if float(np.max(np.abs(dx), initial=0.0)) <= 1e-14 * max(float(np.max(np.abs(x), initial=0.0)), 1e-300):
-            return NewtonOutcome(x, g, t, it, True, res, "converged (step at round-off level)")
-        slope = float(F @ dx)
-        alpha = 1.0
-        accepted = False
-        for _ in range(60):
-            x_try = x + alpha * dx
-            pi_try, g_try, Kx_try = merit(x_try)
-            if np.isfinite(pi_try) and pi_try <= pi + 1e-4 * alpha * min(slope, 0.0) + 1e-14 * abs(pi):
-                accepted = True
-                break
-            alpha *= 0.5
-        if not accepted:
-            x_try = x + dx
-            pi_try, g_try, Kx_try = merit(x_try)
-            t_try = law.traction(g_try, lam)
-            F_try = Kx_try - b + BcT @ (w * t_try)
-            if not (np.isfinite(pi_try) and np.max(np.abs(F_try)) < np.max(np.abs(F))):
-                return NewtonOutcome(x, g, t, it, False, res, "line search failed")
-        logger.debug("Newton %d: residual %.2e, CG rtol %.1e, %d CG iterations, step %.3g", it, res, rtol, nit,
-                     alpha if accepted else 1.0)
-        if not accepted:
-            alpha = 0.5
-        x, g, Kx, pi = x_try, g_try, Kx_try, pi_try
-    t = law.traction(g, lam)
-    F = Kx - b + BcT @ (w * t)
-    res = float(np.max(np.abs(F), initial=0.0)) / max(scale or 0.0, 1e-300)
-    return NewtonOutcome(x, g, t, maxiter, res <= tol, res, "maximum Newton iterations")
+        logger.debug("Newton %d: residual %.2e, CG rtol %.1e, %d CG iterations", len(history), res, rtol, nit)
+        return dx
+
+    def negligible(self, x, state, dx):
+        return float(np.max(np.abs(dx), initial=0.0)) <= 1e-14 * max(float(np.max(np.abs(x), initial=0.0)), 1e-300)
+
+
+def full_newton(ic, law, lam, x0, *, tol=1e-12, maxiter=60) -> NewtonOutcome:
+    """Solve :math:`R(x) = 0` (module doc) by inexact globalized Newton with AMG-CG (:func:`~._newton.newton`)."""
+    tol = max(tol, _NEWTON_TOL_FLOOR)
+    out = newton(_FullSpaceSubproblem(ic, law, lam, tol), x0, tol=tol, maxiter=maxiter)
+    return subproblem_outcome(out, out.state[0], out.state[1])
 
 
 def _residual_floor(Kabs, Bc_abs, x, b, w, t, D, gfix) -> float:

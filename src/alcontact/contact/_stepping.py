@@ -615,7 +615,7 @@ def _free_solve(dc, opts) -> _Run:
     law = make_law(_pen.make("rockafellar"), np.ones(0))
     out = dc.subproblem(law, np.zeros(0), dc.start(), tol=opts.newton_tol, maxiter=opts.maxiter_newton)
     st = ContactStatus.CONVERGED if out.converged else ContactStatus.NEWTON_FAILED
-    return _Run(out.state, np.zeros(0), out.g, st, "no contact in this step" if out.converged else out.reason,
+    return _Run(out.state, np.zeros(0), out.g, st, "no contact in this step" if out.converged else out.message,
                 0, out.iterations, 0.0, out.residual, [])
 
 
