@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -102,3 +104,22 @@ def test_p0_same_energy_as_full_for_linear_fields_and_softer_otherwise():
     for _ in range(5):
         v = rng.standard_normal(full.ndofs)
         assert p0.strain_energy(v) <= full.strain_energy(v) * (1 + 1e-12)
+
+
+# ------------------------------------------------------------ problem files
+_EXAMPLE = Path(__file__).resolve().parents[2] / "examples" / "cattaneo_mindlin.toml"
+
+
+def test_problem_file_volumetric_option():
+    """``[mesh] volumetric`` reaches the model; a bad value names the key and the registered choices."""
+    from alcontact.errors import ConfigError
+    from alcontact.io.config import load_problem_text
+
+    text = _EXAMPLE.read_text(encoding="utf-8")
+    assert 'volumetric = "p0"' in text
+    setup = load_problem_text(text)
+    assert setup.problem.model.volumetric == "p0"
+    with pytest.raises(ConfigError, match=r"mesh\.volumetric.*'full', 'p0'"):
+        load_problem_text(text.replace('volumetric = "p0"', 'volumetric = "b-bar"'))
+    with pytest.raises(ConfigError, match=r"mesh\.(order|volumetric).*order=2 with 'p0'"):
+        load_problem_text(text.replace("order = 2", "order = 1"))

@@ -154,7 +154,8 @@ def _parabolic_cylinder(radius: float) -> UserObstacle:
 def cattaneo_mindlin_2d(n_per_a: int = 16, *, E: float = 200e3, nu: float = 0.49, radius: float = 10.0,
                         a_target: float = 1.0, size: float = 20.0, mu: float = 0.3, q_ratio: float = 0.5,
                         normal_steps: int = 4, tangential_steps: int = 4, order: int = 1,
-                        geometry: str = "parabolic", frictionless_approach: bool = True):
+                        geometry: str = "parabolic", frictionless_approach: bool = True,
+                        volumetric: str = "full", growth: float = 1.15):
     r"""Rigid cylinder on a full-width block: Hertz normal load, then a tangential load Q < mu P.
 
     The block ``[-L, L] x [-H, 0]`` (``L = H = size * a_target``) touches the
@@ -199,8 +200,8 @@ def cattaneo_mindlin_2d(n_per_a: int = 16, *, E: float = 200e3, nu: float = 0.49
     h = a / n_per_a
     mesh = meshes.rectangle(-L, L, -H, 0.0, 16, 8,
                             refine=dict(center=(0.0, 0.0), h_min=h, width=1.6 * a, depth=1.0 * a,
-                                        growth=1.15))
-    model = LinearElasticity(mesh, mat, order=order)
+                                        growth=growth))
+    model = LinearElasticity(mesh, mat, order=order, volumetric=volumetric)
     P = math.pi * a * a * e_star / (4 * radius)
     delta = 2 * P / (math.pi * e_star) * (math.log(2 * H / a) + 0.1)
     # full-stick tangential compliance ~ normal compliance for nu -> 1/2; partial slip softens it (x1.8, calibrated)
