@@ -180,6 +180,19 @@ def cattaneo_mindlin_2d(n_per_a: int = 16, *, E: float = 200e3, nu: float = 0.49
     4, 8, 16 elements per ``a`` (shear traction L2 error 0.128 at 8, 0.080 at 16),
     so use ``order=2`` for accuracy.
 
+    Friction from the first step (``frictionless_approach=False``): the hypothesis
+    holds for :math:`\nu = 1/2` in a half-plane. Use ``order=2, volumetric="p0"``
+    (the locking-free P2-P0 element of :class:`~alcontact.fem.LinearElasticity`;
+    standard P2 at :math:`\nu = 0.4999` gives a shear L2 error of 2.06),
+    :math:`\nu = 0.4999` (at 0.49 the Goodman coupling leaves 0.13) and a large
+    block: under the normal load the surface of a finite block stretches by about
+    :math:`P/(E L)`, which stick points keep (shear error 0.20, 0.074, 0.051, 0.045 at
+    ``size`` = 20, 80, 320, 1280, 16 elements per ``a``). With ``size=1280, growth=1.3``:
+    :math:`c/a` error +0.0004, +0.0003, +0.0058 and shear L2 error 0.085, 0.045, 0.024
+    at 8, 16, 32 elements per ``a`` (1 normal + 1 tangential step).
+    ``volumetric`` is passed to :class:`~alcontact.fem.LinearElasticity`; ``growth`` is
+    the size ratio of neighbouring elements of the graded mesh.
+
     ``geometry="parabolic"`` (default) is Hertz's own approximation: gap
     :math:`y - x^2/(2R)` along the fixed direction :math:`-e_y`, so the pressure
     acts vertically as in the half-space theory. With ``"circle"`` the obstacle
