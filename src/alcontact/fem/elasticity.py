@@ -138,7 +138,7 @@ def _rref(a: np.ndarray, tol: float = 1e-9) -> np.ndarray:
 
 
 class _FullVolumetric:
-    r"""The volumetric term as it stands: :math:`\lambda\,\operatorname{tr}\varepsilon(u)\,\operatorname{tr}\varepsilon(v)`.
+    r"""The standard volumetric term :math:`\lambda\,\operatorname{tr}\varepsilon(u)\operatorname{tr}\varepsilon(v)`.
 
     Standard displacement elements; P1 and, less so, P2 lock as :math:`\nu \to 1/2`.
     """
