@@ -41,7 +41,7 @@ from alcontact.linalg import MatrixHints
 from alcontact.fem._material import Material
 from alcontact.fem.quality import check_mesh_quality
 
-__all__ = ["LinearElasticity", "rigid_body_modes"]
+__all__ = ["VOLUMETRIC_FORMULATIONS", "LinearElasticity", "rigid_body_modes"]
 
 logger = logging.getLogger(__name__)
 
@@ -137,6 +137,100 @@ def _rref(a: np.ndarray, tol: float = 1e-9) -> np.ndarray:
     return a
 
 
+class _FullVolumetric:
+    r"""The standard volumetric term :math:`\lambda\,\operatorname{tr}\varepsilon(u)\operatorname{tr}\varepsilon(v)`.
+
+    Standard displacement elements; P1 and, less so, P2 lock as :math:`\nu \to 1/2`.
+    """
+
+    name = "full"
+    orders = (1, 2)
+
+    def stiffness(self, model: LinearElasticity) -> sp.spmatrix:
+        lam, mu = model.lam, model.mu
+
+        @BilinearForm
+        def a(u, v, w):
+            eu, ev = sym_grad(u), sym_grad(v)
+            return 2.0 * mu * ddot(eu, ev) + lam * trace(eu) * trace(ev)
+
+        return asm(a, _stiffness_basis(model))
+
+    def isotropic_stress(self, model: LinearElasticity, tr: np.ndarray, dx: np.ndarray) -> np.ndarray:
+        r"""Isotropic part of the stress at quadrature points: :math:`\lambda\operatorname{tr}\varepsilon`."""
+        return model.lam * tr
+
+
+class _ProjectedP0Volumetric:
+    r"""The volumetric strain projected onto element-wise constants (P2-P0 mixed element, pressure condensed).
+
+    With :math:`c = 2\mu/3` and :math:`\kappa = \lambda + c` the bulk modulus
+    (plane stress: :math:`\lambda^*` for :math:`\lambda`), the energy
+    :math:`2\mu\,\varepsilon:\varepsilon + \lambda(\operatorname{tr}\varepsilon)^2`
+    is split into a deviatoric and a volumetric part, and only the latter is
+    projected (:math:`\Pi_0`: mean over each element):
+
+    .. math::
+        a(u, v) = \int_\Omega 2\mu\,\varepsilon(u):\varepsilon(v)
+        - c\,\operatorname{tr}\varepsilon(u)\operatorname{tr}\varepsilon(v)\,dx
+        + \kappa \sum_e \frac{1}{|e|}\int_e \operatorname{div} u\,dx \int_e \operatorname{div} v\,dx,
+
+    i.e. :math:`K = K_{dev} + \kappa B^T M_0^{-1} B` with :math:`B_{e i} = \int_e \operatorname{div}\phi_i`
+    and :math:`M_0 = \operatorname{diag}(|e|)`: the mixed displacement/pressure
+    element P2-P0 with its pressure eliminated element by element. It is the
+    same energy when :math:`\operatorname{div} u` is constant per element (so the
+    patch test holds), symmetric positive definite for :math:`\nu < 1/2`, and
+    free of volumetric locking: P2-P0 satisfies the inf-sup condition
+    (Boffi, Brezzi, Fortin 2013, section 8.4), so the error bounds do not depend
+    on :math:`\lambda` (displacement in H1 and pressure in L2 of order :math:`h`).
+    The stress uses the projected mean pressure:
+    :math:`\sigma = 2\mu\,\varepsilon + (\kappa\,\Pi_0\operatorname{tr}\varepsilon
+    - c\operatorname{tr}\varepsilon)\,I`.
+    """
+
+    name = "p0"
+    orders = (2,)
+
+    def stiffness(self, model: LinearElasticity) -> sp.spmatrix:
+        lam, mu = model.lam, model.mu
+        c = 2.0 * mu / 3.0
+
+        @BilinearForm
+        def dev(u, v, w):
+            eu, ev = sym_grad(u), sym_grad(v)
+            return 2.0 * mu * ddot(eu, ev) - c * trace(eu) * trace(ev)
+
+        basis = _stiffness_basis(model)
+        K_dev = asm(dev, basis)
+        # B[e, dof]: integral of div phi over element e (exact: div phi is of degree order-1)
+        dx = np.asarray(basis.dx)  # (nel, nqp)
+        vol = dx.sum(axis=1)
+        ed = np.asarray(basis.element_dofs)  # (nloc, nel)
+        vals = np.empty(ed.shape)
+        for i in range(ed.shape[0]):
+            grad = np.asarray(basis.basis[i][0].grad)  # (dim, dim, nel, nqp)
+            vals[i] = np.sum(np.trace(grad, axis1=0, axis2=1) * dx, axis=1)
+        nel = ed.shape[1]
+        B = sp.csr_matrix((vals.ravel(), (np.tile(np.arange(nel), ed.shape[0]), ed.ravel())),
+                          shape=(nel, model.ndofs))
+        return K_dev + (lam + c) * (B.T @ sp.diags(1.0 / vol) @ B)
+
+    def isotropic_stress(self, model: LinearElasticity, tr: np.ndarray, dx: np.ndarray) -> np.ndarray:
+        r""":math:`\kappa\,\Pi_0\operatorname{tr}\varepsilon - c\operatorname{tr}\varepsilon` at quadrature points."""
+        c = 2.0 * model.mu / 3.0
+        mean = np.sum(tr * dx, axis=-1, keepdims=True) / np.sum(dx, axis=-1, keepdims=True)
+        return (model.lam + c) * mean - c * tr
+
+
+#: Discretizations of the volumetric term, by name (``LinearElasticity(volumetric=...)``).
+VOLUMETRIC_FORMULATIONS = {f.name: f for f in (_FullVolumetric(), _ProjectedP0Volumetric())}
+
+
+def _stiffness_basis(model: LinearElasticity) -> Basis:
+    # strains are of degree order-1 on affine simplices: intorder 2(order-1) is exact
+    return Basis(model.mesh, model.element, intorder=max(1, 2 * (model.order - 1)))
+
+
 class LinearElasticity:
     """Linear elastic body discretized with vector P1 or P2 Lagrange elements.
 
@@ -149,6 +243,12 @@ class LinearElasticity:
         Elastic constants.
     order : {1, 2}
         Polynomial degree.
+    volumetric : {"full", "p0"}
+        Discretization of the volumetric term (:data:`VOLUMETRIC_FORMULATIONS`):
+        ``"full"`` (default) the standard displacement element; ``"p0"`` (P2 only)
+        the volumetric strain projected onto element-wise constants, the
+        locking-free P2-P0 element with the pressure condensed element by element
+        (still symmetric positive definite): use it for :math:`\nu` near 1/2.
 
     Examples
     --------
@@ -160,11 +260,19 @@ class LinearElasticity:
     1.0
     """
 
-    def __init__(self, mesh, material: Material, order: int = 1):
+    def __init__(self, mesh, material: Material, order: int = 1, volumetric: str = "full"):
         if not isinstance(material, Material):
             raise InputError(f"material must be an alcontact.fem.Material; got {type(material).__name__}.")
         if order not in (1, 2):
             raise InputError(f"order={order!r} is not supported; use 1 (P1) or 2 (P2).")
+        form = VOLUMETRIC_FORMULATIONS.get(volumetric) if isinstance(volumetric, str) else None
+        if form is None:
+            raise InputError(f"volumetric={show(volumetric)} is not known; use one of "
+                             f"{', '.join(map(repr, VOLUMETRIC_FORMULATIONS))}.")
+        if order not in form.orders:
+            raise InputError(f"volumetric={volumetric!r} needs order in {form.orders}; got order={order!r}. "
+                             "P1-P0 is not inf-sup stable (it locks like P1): use order=2 with 'p0', or "
+                             "volumetric='full'.")
         key = (type(mesh), order)
         if key not in _ELEMENTS:
             raise MeshError(
@@ -176,6 +284,8 @@ class LinearElasticity:
         self.mesh = mesh
         self.material = material
         self.order = int(order)
+        self.volumetric = volumetric
+        self._volumetric = form
         self.dim = int(mesh.dim())
         self.scalar_element = _ELEMENTS[key]()
         self.element = ElementVector(self.scalar_element)
@@ -341,24 +451,15 @@ class LinearElasticity:
 
     # ---------------------------------------------------------------- matrices
     def stiffness(self) -> sp.csr_matrix:
-        """Global stiffness matrix (``ndofs x ndofs``, symmetric, cached)."""
+        """Global stiffness matrix (``ndofs x ndofs``, symmetric, cached; see ``volumetric``)."""
         if self._stiffness is None:
-            lam, mu = self.lam, self.mu
-
-            @BilinearForm
-            def a(u, v, w):
-                eu, ev = sym_grad(u), sym_grad(v)
-                return 2.0 * mu * ddot(eu, ev) + lam * trace(eu) * trace(ev)
-
             t0 = time.perf_counter()
-            # strains are of degree order-1 on affine simplices: intorder 2(order-1) is exact
-            basis = Basis(self.mesh, self.element, intorder=max(1, 2 * (self.order - 1)))
-            K = asm(a, basis).tocsr()
+            K = self._volumetric.stiffness(self).tocsr()
             K = (0.5 * (K + K.T)).tocsr()  # remove round-off asymmetry
             K.sum_duplicates()
             self._stiffness = K
-            logger.debug("assembled stiffness: %d DOFs, nnz=%d in %.3f s",
-                         self.ndofs, K.nnz, time.perf_counter() - t0)
+            logger.debug("assembled stiffness (%s volumetric term): %d DOFs, nnz=%d in %.3f s",
+                         self.volumetric, self.ndofs, K.nnz, time.perf_counter() - t0)
         return self._stiffness
 
     @cached_property
@@ -777,12 +878,12 @@ class LinearElasticity:
         G = self.basis.interpolate(u).grad  # (dim, dim, nel, nqp)
         eps = 0.5 * (G + np.swapaxes(G, 0, 1))
         tr = np.trace(eps, axis1=0, axis2=1)
-        lam, mu = self.lam, self.mu
-        s = 2.0 * mu * eps
+        iso = self._volumetric.isotropic_stress(self, tr, np.broadcast_to(np.asarray(self.basis.dx), tr.shape))
+        s = 2.0 * self.mu * eps
         for i in range(self.dim):
-            s[i, i] += lam * tr
+            s[i, i] += iso
         if self.dim == 2:
-            szz = lam * tr if self.material.plane == "strain" else np.zeros_like(tr)
+            szz = iso if self.material.plane == "strain" else np.zeros_like(tr)
             return [s[0, 0], s[1, 1], s[0, 1], szz]
         return [s[0, 0], s[1, 1], s[2, 2], s[1, 2], s[0, 2], s[0, 1]]
 

@@ -751,7 +751,12 @@ def _build(data: dict, base: Path, issues: list[Issue], source) -> ProblemSetup 
         return None
 
     if law == LINEAR_MODEL:
-        model = _num(issues, "mesh.order", LinearElasticity, mesh, mat, order=md["order"])
+        model = _num(issues, "mesh.order", LinearElasticity, mesh, mat, order=md["order"],
+                     volumetric=md["volumetric"])
+    elif md["volumetric"] != "full":
+        issues.append(Issue("mesh.volumetric", f"= {md['volumetric']!r} applies to linear elasticity only; the "
+                            f"hyperelastic model {law!r} uses the standard element: remove mesh.volumetric."))
+        return None
     else:
         # the path of LinearElasticity: its mesh-quality errors are rewritten by alcontact.io.preflight
         model = _num(issues, "mesh.order", Hyperelastic, mesh, mat, order=md["order"], model=law)

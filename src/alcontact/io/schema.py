@@ -87,6 +87,12 @@ def _algorithms(friction: bool = False) -> tuple[str, ...]:
     return tuple(algorithm_names(friction=friction))
 
 
+def _volumetric() -> tuple[str, ...]:
+    from ..fem.elasticity import VOLUMETRIC_FORMULATIONS
+
+    return tuple(VOLUMETRIC_FORMULATIONS)
+
+
 def _penalties() -> tuple[str, ...]:
     from ..contact import contact_penalties
 
@@ -114,6 +120,9 @@ def _build_schema() -> tuple[Table, ...]:
             O("file", "str", "", "`file`: a Gmsh `.msh` (or `.geo` with the gmsh module), relative to the problem "
               "file; physical groups name the boundaries and regions."),
             O("order", "int", 1, "Polynomial order of the elements: 1 (P1) or 2 (P2).", low=1, high=2),
+            O("volumetric", "str", "full", "Volumetric term of linear elasticity: `full` (standard element) or "
+              "`p0` (order 2 only: the volumetric strain projected onto element-wise constants, the locking-free "
+              "P2-P0 element; use it for nu near 0.5).", choices=_volumetric()),
         ), required=True),
         Table("mesh.refine", "Optional grading of a generated mesh toward a point of its top face "
               "(the contact zone).", (

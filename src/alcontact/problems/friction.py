@@ -154,7 +154,8 @@ def _parabolic_cylinder(radius: float) -> UserObstacle:
 def cattaneo_mindlin_2d(n_per_a: int = 16, *, E: float = 200e3, nu: float = 0.49, radius: float = 10.0,
                         a_target: float = 1.0, size: float = 20.0, mu: float = 0.3, q_ratio: float = 0.5,
                         normal_steps: int = 4, tangential_steps: int = 4, order: int = 1,
-                        geometry: str = "parabolic", frictionless_approach: bool = True):
+                        geometry: str = "parabolic", frictionless_approach: bool = True,
+                        volumetric: str = "full", growth: float = 1.15):
     r"""Rigid cylinder on a full-width block: Hertz normal load, then a tangential load Q < mu P.
 
     The block ``[-L, L] x [-H, 0]`` (``L = H = size * a_target``) touches the
@@ -179,6 +180,19 @@ def cattaneo_mindlin_2d(n_per_a: int = 16, *, E: float = 200e3, nu: float = 0.49
     4, 8, 16 elements per ``a`` (shear traction L2 error 0.128 at 8, 0.080 at 16),
     so use ``order=2`` for accuracy.
 
+    Friction from the first step (``frictionless_approach=False``): the hypothesis
+    holds for :math:`\nu = 1/2` in a half-plane. Use ``order=2, volumetric="p0"``
+    (the locking-free P2-P0 element of :class:`~alcontact.fem.LinearElasticity`;
+    standard P2 at :math:`\nu = 0.4999` gives a shear L2 error of 2.06),
+    :math:`\nu = 0.4999` (at 0.49 the Goodman coupling leaves 0.13) and a large
+    block: under the normal load the surface of a finite block stretches by about
+    :math:`P/(E L)`, which stick points keep (shear error 0.20, 0.074, 0.051, 0.045 at
+    ``size`` = 20, 80, 320, 1280, 16 elements per ``a``). With ``size=1280, growth=1.3``:
+    :math:`c/a` error +0.0004, +0.0003, +0.0058 and shear L2 error 0.085, 0.045, 0.024
+    at 8, 16, 32 elements per ``a`` (1 normal + 1 tangential step).
+    ``volumetric`` is passed to :class:`~alcontact.fem.LinearElasticity`; ``growth`` is
+    the size ratio of neighbouring elements of the graded mesh.
+
     ``geometry="parabolic"`` (default) is Hertz's own approximation: gap
     :math:`y - x^2/(2R)` along the fixed direction :math:`-e_y`, so the pressure
     acts vertically as in the half-space theory. With ``"circle"`` the obstacle
@@ -199,8 +213,8 @@ def cattaneo_mindlin_2d(n_per_a: int = 16, *, E: float = 200e3, nu: float = 0.49
     h = a / n_per_a
     mesh = meshes.rectangle(-L, L, -H, 0.0, 16, 8,
                             refine=dict(center=(0.0, 0.0), h_min=h, width=1.6 * a, depth=1.0 * a,
-                                        growth=1.15))
-    model = LinearElasticity(mesh, mat, order=order)
+                                        growth=growth))
+    model = LinearElasticity(mesh, mat, order=order, volumetric=volumetric)
     P = math.pi * a * a * e_star / (4 * radius)
     delta = 2 * P / (math.pi * e_star) * (math.log(2 * H / a) + 0.1)
     # full-stick tangential compliance ~ normal compliance for nu -> 1/2; partial slip softens it (x1.8, calibrated)
