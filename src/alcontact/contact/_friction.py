@@ -63,6 +63,7 @@ from ._algorithms import MAX_NEWTON, ContactOptions, check_solve_args, options_w
 from ._friction_discrete import FrictionalContact
 from ._friction_laws import OPEN, SLIP, STICK, Macaulay, block_diag, local_law, tangential_energy
 from ._friction_solution import FrictionSolution, FrictionStep
+from ._iterative import resolve_linear_solver
 from ._laws import eta_for_stiffness, freezes_at_zero, make_law
 from ._loading import LoadHistory
 from ._solution import ContactStatus
@@ -133,6 +134,11 @@ class FrictionOptions:
         change does not halve. It also starts every step from the tangent
         predictor :math:`\\lambda_n + (d\\lambda^*/dy_f)\\Delta y_f` of the last
         converged step. Same stopping test, same solution.
+    linear_solver : str
+        As :attr:`ContactOptions.linear_solver`: ``"amg"`` (``"auto"`` for 3D models above
+        100k DOFs) solves every step in the full space with AMG-preconditioned Krylov
+        solves (:mod:`alcontact.contact._friction_iterative`; first-order multiplier
+        updates there), otherwise the problem is condensed on the contact points.
     """
 
     eps_n: float | None = same_as(ContactOptions, "eps_n")
@@ -161,6 +167,7 @@ class FrictionOptions:
     multiplier_update: str = declared(
         "str", "newton", "AL multiplier update: `newton` (second-order, falls back to first-order) or `first-order`.",
         choices=("newton", "first-order"))
+    linear_solver: str = same_as(ContactOptions, "linear_solver")
 
     def __post_init__(self) -> None:
         check_dataclass(self, "friction")
@@ -859,7 +866,8 @@ def solve_friction(problem, history: LoadHistory, algorithm: str = "simo-laursen
                          "frictionless contact.")
     mu = float(mu)
 
-    fc = FrictionalContact(problem, history, margin=opts.margin)
+    path = resolve_linear_solver(opts.linear_solver, problem.model)
+    fc, advance = _FRICTION_PATHS[path](problem, history, opts)
     eps_n = opts.eps_n if opts.eps_n is not None else penalty_stiffness(problem.model, fc.h, opts.penalty_scale)
     eps_t = opts.eps_t if opts.eps_t is not None else opts.tangential_scale * eps_n
     m, d = fc.points.shape
@@ -890,8 +898,8 @@ def solve_friction(problem, history: LoadHistory, algorithm: str = "simo-laursen
             if away is not None:
                 status, message = ContactStatus.UNBOUNDED, away
                 break
-            res, out, o, nw = _advance(fc, state, t, step_fn, pen_name, eps_n, eps_t,
-                                       mu * history.friction_factor(t), opts)
+            res, out, o, nw = advance(fc, state, t, step_fn, pen_name, eps_n, eps_t,
+                                      mu * history.friction_factor(t), opts)
             n_outer += o
             n_newton += nw
             if res is None:
@@ -960,5 +968,22 @@ def solve_friction(problem, history: LoadHistory, algorithm: str = "simo-laursen
         linear_solves=fc.linear_solves, eps_n=float(eps_n), eps_t=float(eps_t), h=fc.h,
         timings={"setup_s": fc.setup_seconds, "factor_s": fc.factor_seconds, "solve_s": t_end - t_solve,
                  "total_s": t_end - t_start},
-        extra={"candidates": fc.ncand, "dofs": int(problem.model.ndofs)},
+        extra={"candidates": fc.ncand, "dofs": int(problem.model.ndofs), "linear_solver": path,
+               **getattr(fc, "stats", dict)()},
     )
+
+
+def _direct_path(problem, history, opts):
+    """The condensed problem (:class:`FrictionalContact`) and its step."""
+    return FrictionalContact(problem, history, margin=opts.margin), _advance
+
+
+def _amg_path(problem, history, opts):
+    """The full-space problem solved with AMG-preconditioned Krylov methods, and its step."""
+    from ._friction_iterative import IterativeFrictionalContact, advance
+
+    return IterativeFrictionalContact(problem, history, margin=opts.margin), advance
+
+
+#: Solution path of :func:`~alcontact.contact._iterative.resolve_linear_solver` -> (contact problem, step).
+_FRICTION_PATHS = {"direct": _direct_path, "amg": _amg_path}
