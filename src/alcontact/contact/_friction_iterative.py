@@ -150,7 +150,7 @@ class IterativeFrictionalContact(FrictionalContact):
         R = np.zeros((model.ndofs, modes.shape[-1]))
         R[dofs_all.ravel()] = modes.reshape(-1, modes.shape[-1])
         self.R = np.ascontiguousarray(R[self.free])
-        self.S = None
+        self.S = self.Z = self.ZSZ = None
         try:
             model.check_restrained(self.fixed)
             Kt = self._K
@@ -259,6 +259,8 @@ class IterativeFrictionalContact(FrictionalContact):
         self.spring = near.astype(np.int64)
         self.kappa[near] = kappa
         self.S = sp.diags(diag[self.free]).tocsr()
+        self.Z = np.ascontiguousarray(Z[self.free])
+        self.ZSZ = G
         logger.info("body held by the obstacle only: springs (normal and tangential) on %d contact points "
                     "(AMG path)", near.size)
         return (self._K + sp.diags(diag)).tocsr()
@@ -452,6 +454,7 @@ def friction_newton(ctx: _FullCtx, law, lamN, lamT, x0, *, tol: float, maxiter: 
         P = J if symmetric else (K + BcT @ _block_matrix(_psd_part(WD)) @ Bc).tocsr()
         if fc.S is not None:
             P = (P + fc.S).tocsr()
+            J = _held_rigid_motions(fc, J, Bc, WD)
         rtol = float(np.clip(max(min(forcing, res), 0.1 * tol_k / res), 1e-14, _FORCING_MAX))
         M = fc.precond.get(P, float(np.max(np.abs(WD), initial=0.0)))
         dx, nit = fc.krylov(J, -F, M, rtol=rtol, symmetric=symmetric)
@@ -487,6 +490,35 @@ def friction_newton(ctx: _FullCtx, law, lamN, lamT, x0, *, tol: float, maxiter: 
                      "CG" if symmetric else "GMRES", rtol, nit, alpha)
         x, F, aux, Kx, pi = x_try, F_try, aux_try, Kx_try, pi_try
     return _NewtonOut(x, aux, maxiter, False, res, "maximum Newton iterations")
+
+
+def _held_rigid_motions(fc: IterativeFrictionalContact, J, Bc, WD):
+    r"""Newton matrix of a body held by the obstacle, regular along the rigid motions contact does not hold.
+
+    With :math:`Z` the rigid motions left free by the supports (:math:`K Z = 0`),
+    contact stiffens them by :math:`G = Z^T B^T W D B Z`. Where the generalized
+    eigenvalues of :math:`(G, Z^T S Z)` are below 1e-8 (open points at the first
+    iterate of a load step, or zero-radius Coulomb discs: nothing holds that motion
+    yet), :math:`J` is singular along :math:`Z_d = Z V_d`; the step is then taken
+    with the springs on those motions only,
+    :math:`J + S Z_d Z_d^T S` (:math:`V_d^T Z^T S Z V_d = I`), a rank-:math:`k`
+    term. The residual is unchanged (exact), so the fixed point is too, and once
+    contact holds every rigid motion the step is the exact Newton step again.
+    """
+    import scipy.linalg as sla
+    from scipy.sparse.linalg import LinearOperator
+
+    c, d = WD.shape[0], WD.shape[1]
+    Zc = (Bc @ fc.Z).reshape(c, d, -1)
+    sym = 0.5 * (WD + np.transpose(WD, (0, 2, 1)))
+    G = np.einsum("cik,cij,cjl->kl", Zc, sym, Zc)
+    lam, V = sla.eigh(0.5 * (G + G.T), fc.ZSZ)
+    weak = lam <= 1e-8
+    if not np.any(weak):
+        return J
+    SZ = fc.S @ (fc.Z @ V[:, weak])
+    logger.debug("held body: %d rigid motion(s) not held by contact in this Newton step", int(weak.sum()))
+    return LinearOperator(J.shape, matvec=lambda v: J @ v + SZ @ (SZ.T @ v), dtype=float)
 
 
 def _inside_domain(ctx: _FullCtx, law, lamN, x):
