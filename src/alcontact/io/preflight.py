@@ -221,10 +221,6 @@ def _size_key(data: dict) -> tuple[str, Any]:
 def _resolve_solver(data: dict, dim: int, ndofs: int) -> str:
     from ..contact._iterative import AUTO_AMG_DOFS
 
-    cd = data.get("contact") or {}
-    mu = cd.get("friction") if isinstance(cd, dict) else 0.0
-    if isinstance(mu, float) and mu > 0:
-        return "direct"  # the frictional solver always factorizes
     sv = data.get("solver") or {}
     name = sv.get("linear_solver", "auto") if isinstance(sv, dict) else "auto"
     if name == "auto":
@@ -347,7 +343,7 @@ def exact_size(setup) -> SizeEstimate:
     """:class:`SizeEstimate` of a built problem (exact counts; memory and time still estimated)."""
     model = setup.problem.model
     solver = _resolve_solver(setup.data, model.dim, model.ndofs)
-    if setup.friction == 0 and setup.options.get("linear_solver"):
+    if setup.options.get("linear_solver"):
         from ..contact._iterative import resolve_linear_solver
 
         solver = resolve_linear_solver(setup.options["linear_solver"], model)
