@@ -116,8 +116,12 @@ class IterativeFrictionalContact(FrictionalContact):
         Contact springs on the free DOFs of a body held by the obstacle.
     Bl : scipy.sparse.csr_matrix (m d, n_free)
         Local kinematics :math:`y_i = y^{fix}_i + B_i x` (row ``i d`` the gap, then :math:`u_T`).
+    Z : ndarray (n_free, k) or None
+        Rigid motions left free by the supports (body held by the obstacle).
     linear_solves, cg_iterations, amg_setups : int
-        Krylov solves (including the AMG-CG solves of ``factor``), their iterations, hierarchies built.
+        Krylov solves (Newton steps, contact-free solutions, and with :meth:`condense` the
+        compliance columns), Newton Krylov iterations (``stats`` adds those of ``factor``),
+        hierarchies built.
     """
 
     def __init__(self, problem, history, *, margin: float = 0.25):
@@ -150,6 +154,7 @@ class IterativeFrictionalContact(FrictionalContact):
         R = np.zeros((model.ndofs, modes.shape[-1]))
         R[dofs_all.ravel()] = modes.reshape(-1, modes.shape[-1])
         self.R = np.ascontiguousarray(R[self.free])
+        self.K_abs = abs(self.K).tocsr()  # round-off bound of the residual
         self.S = self.Z = self.ZSZ = None
         try:
             model.check_restrained(self.fixed)
@@ -164,6 +169,7 @@ class IterativeFrictionalContact(FrictionalContact):
         self.amg_seconds += self.factor_seconds
         self.b_parts = np.stack([self.factor.rhs(load, fv) for fv, load in parts])  # (ncomp, nfree)
         self.u_parts = np.stack([self.factor.solve_full(load, fv) for fv, load in parts])
+        self.linear_solves += len(parts)
         if not np.all(np.isfinite(self.u_parts)):
             raise InputError("the contact-free solution is not finite; check loads and supports.")
 
@@ -329,7 +335,7 @@ class IterativeFrictionalContact(FrictionalContact):
         """Solver counters for the solution's ``extra``."""
         f = self.factor.factor
         return {"linear_solver": "amg", "cg_iterations": int(self.cg_iterations + f.iterations),
-                "amg_setups": int(self.amg_setups), "krylov_solves": int(self.linear_solves + f.solves)}
+                "amg_setups": int(self.amg_setups), "krylov_solves": int(self.linear_solves)}
 
 
 # ----------------------------------------------------------------------
@@ -397,7 +403,7 @@ def friction_newton(ctx: _FullCtx, law, lamN, lamT, x0, *, tol: float, maxiter: 
     rho = ctx.mu * np.maximum(lamN, 0.0) if ctx.opts.radius == "multiplier" else None
     K, b, Bc = fc.K, ctx.b, ctx.Bc
     BcT = Bc.T.tocsr()
-    Kabs = abs(K).tocsr()
+    Kabs = fc.K_abs
     Babs = abs(Bc).tocsr()
     wd = np.repeat(w, d)
 
