@@ -458,8 +458,7 @@ def friction_newton(ctx: _FullCtx, law, lamN, lamT, x0, *, tol: float, maxiter: 
         asym = float(np.max(np.abs(WD - np.transpose(WD, (0, 2, 1))), initial=0.0))
         symmetric = asym <= _SYM_TOL * max(float(np.max(np.abs(WD), initial=0.0)), 1e-300)
         P = J if symmetric else (K + BcT @ _block_matrix(_psd_part(WD)) @ Bc).tocsr()
-        if fc.S is not None:
-            P = (P + fc.S).tocsr()
+        if fc.S is not None:  # (the preconditioner adds the springs S to P)
             J = _held_rigid_motions(fc, J, Bc, WD)
         rtol = float(np.clip(max(min(forcing, res), 0.1 * tol_k / res), 1e-14, _FORCING_MAX))
         M = fc.precond.get(P, float(np.max(np.abs(WD), initial=0.0)))
