@@ -79,7 +79,7 @@ from ._friction import (_EQUILIBRIUM_TOL, _advance, _measures, _NewtonOut, _norm
 from ._friction_discrete import FrictionalContact, _element_size, tangent_bases
 from ._friction_laws import local_law, tangential_energy
 from ._iterative import _FORCING_MAX, _FORCING_MIN, _FORCING_SLOW, _FORCING_START, _NEWTON_TOL_FLOOR, \
-    _Preconditioner
+    _Preconditioner, free_rigid_motions, springs_hold
 from ._laws import eta_for_stiffness, freezes_at_zero, make_law
 from ._loading import component_fields
 from ._solution import ContactStatus
@@ -160,7 +160,7 @@ class IterativeFrictionalContact(FrictionalContact):
             model.check_restrained(self.fixed)
             Kt = self._K
         except InputError as exc:
-            Kt = self._stabilize_springs(exc, R)
+            Kt = self._stabilize_springs(exc)
         t_f = time.perf_counter()
         self.factor = model.factorize(self.fixed, matrix=Kt, check=False, backend="amg", reuse=False)
         self.factor_seconds = time.perf_counter() - t_f
@@ -219,7 +219,7 @@ class IterativeFrictionalContact(FrictionalContact):
         self.setup_seconds = time.perf_counter() - t0
 
     # ------------------------------------------------------------------ body held by the obstacle
-    def _stabilize_springs(self, exc: InputError, R: np.ndarray):
+    def _stabilize_springs(self, exc: InputError):
         r"""Springs :math:`\kappa w_i` on all free components of the touching points; returns :math:`\tilde K`.
 
         The points and :math:`\kappa = E'/h` are those of
@@ -251,22 +251,16 @@ class IterativeFrictionalContact(FrictionalContact):
         keep = free[dofs]
         diag = np.zeros(model.ndofs)
         np.add.at(diag, dofs[keep], np.repeat(kappa * self.weights[near], model.dim)[keep])
-        # rigid motions left free: modes vanishing on the fixed DOFs
-        Rf = R[self.fixed]
-        _, sv, vt = np.linalg.svd(Rf, full_matrices=True) if Rf.size else (None, np.zeros(0), np.eye(R.shape[1]))
-        rank = int(np.sum(sv > 1e-10 * max(float(sv.max(initial=0.0)), 1e-300)))
-        Z = R @ vt[rank:].T  # (ndofs, k) free rigid motions
-        G = Z.T @ (diag[:, None] * Z)
-        ev = np.linalg.eigvalsh(G) if G.size else np.ones(1)
-        if not ev.min() > 1e-8 * max(float(ev.max()), 1e-300):
+        Z = free_rigid_motions(model, self.fixed, self.free)
+        S = sp.diags(diag[self.free]).tocsr()
+        G = springs_hold(Z, S)
+        if G is None:
             raise InputError(
                 f"{exc} The contact points touching the obstacle do not restrain that motion either: add supports "
                 "(e.g. fix a tangential component) so that every rigid motion is stopped.") from None
         self.spring = near.astype(np.int64)
         self.kappa[near] = kappa
-        self.S = sp.diags(diag[self.free]).tocsr()
-        self.Z = np.ascontiguousarray(Z[self.free])
-        self.ZSZ = G
+        self.S, self.Z, self.ZSZ = S, Z, G
         logger.info("body held by the obstacle only: springs (normal and tangential) on %d contact points "
                     "(AMG path)", near.size)
         return (self._K + sp.diags(diag)).tocsr()

@@ -265,16 +265,7 @@ class IterativeContact(ContactPoints):
         kappa = (mat.E if (model.dim == 2 and mat.plane == "stress") else mat.plane_strain_modulus) / h
         Bs = self.B[near]
         S = (Bs.T @ sp.diags(kappa * self.weights[near]) @ Bs).tocsr()
-        pts_all, dofs_all = model.all_node_dofs()
-        modes, _ = rigid_body_modes(pts_all)
-        R = np.zeros((model.ndofs, modes.shape[-1]))
-        R[dofs_all.ravel()] = modes.reshape(-1, modes.shape[-1])
-        _, sv, vt = np.linalg.svd(R[self.fixed], full_matrices=True) if self.fixed.size else \
-            (None, np.zeros(0), np.eye(R.shape[1]))
-        rank = int(np.sum(sv > 1e-10 * max(float(sv.max(initial=0.0)), 1e-300)))
-        Z = R[self.free] @ vt[rank:].T  # rigid motions left free by the supports
-        ev = np.linalg.eigvalsh(Z.T @ (S @ Z))
-        if not ev.min() > 1e-8 * max(float(ev.max(initial=0.0)), 1e-300):
+        if springs_hold(free_rigid_motions(model, self.fixed, self.free), S) is None:
             raise InputError(f"{exc} The contact points touching the obstacle do not restrain that motion either: "
                              "add supports (e.g. fix a tangential component) so that every rigid motion is "
                              "stopped.") from None
@@ -488,6 +479,27 @@ def _equality_solve(ic, A, mu, c, x0, *, maxiter=60):
     logger.warning("active-set equality solve stopped after %d Uzawa updates (last relative update %.1e)",
                    maxiter, rel)
     return x, mu, g, maxiter
+
+
+def free_rigid_motions(model, fixed: np.ndarray, free: np.ndarray) -> np.ndarray:
+    """Rigid motions ``(free.size, k)`` on the free DOFs that vanish on every fixed DOF (``k`` may be 0)."""
+    pts_all, dofs_all = model.all_node_dofs()
+    modes, _ = rigid_body_modes(pts_all)
+    R = np.zeros((model.ndofs, modes.shape[-1]))
+    R[dofs_all.ravel()] = modes.reshape(-1, modes.shape[-1])
+    if fixed.size:
+        _, sv, vt = np.linalg.svd(R[fixed], full_matrices=True)
+        rank = int(np.sum(sv > 1e-10 * max(float(sv.max(initial=0.0)), 1e-300)))
+    else:
+        vt, rank = np.eye(R.shape[1]), 0
+    return R[free] @ vt[rank:].T
+
+
+def springs_hold(Z: np.ndarray, S) -> np.ndarray | None:
+    r""":math:`Z^T S Z` when the springs ``S`` stop every motion of ``Z`` (positive definite to 1e-8), else None."""
+    G = Z.T @ (S @ Z)
+    ev = np.linalg.eigvalsh(0.5 * (G + G.T))
+    return G if ev.size and ev.min() > 1e-8 * max(float(ev.max()), 1e-300) else None
 
 
 def linear_solver_name(name: str, model) -> str:
