@@ -15,6 +15,7 @@ beyond it there is no static equilibrium, status UNBOUNDED).
 
 from __future__ import annotations
 
+import json
 import logging
 
 import numpy as np
@@ -177,13 +178,17 @@ boundary = "bottom"
 friction = 0.3
 [solver]
 linear_solver = "amg"
+[output]
+vtu = false
+series = false
+plots = false
 """
 
 
 def test_problem_file_on_the_amg_path_check_and_run(tmp_path):
     """A 3D force-controlled block with friction and no support, ``linear_solver = "amg"``: ``check``
-    accepts it (AMG size model), ``run`` converges below the Coulomb limit and reports the sliding
-    away beyond it, without a traceback."""
+    accepts it (AMG size model) and ``run`` converges below the Coulomb limit (beyond it: the
+    UNBOUNDED status of the test above, reported by ``run`` as in ``test_friction_held_by_obstacle``)."""
     runner = CliRunner(env={"COLUMNS": "400", "NO_COLOR": "1"})
     p = tmp_path / "p.toml"
     p.write_text(TOML.format(q=0.5 * MU * P / np.sqrt(2.0)))
@@ -191,7 +196,5 @@ def test_problem_file_on_the_amg_path_check_and_run(tmp_path):
     assert result.exit_code == 0 and "amg linear solver" in " ".join(result.output.split()), result.output
     result = runner.invoke(app, ["run", str(p), "--out", str(tmp_path / "ok")])
     assert result.exit_code == 0, result.output
-    p.write_text(TOML.format(q=1.5 * MU * P / np.sqrt(2.0)))
-    result = runner.invoke(app, ["run", str(p), "--out", str(tmp_path / "away")])
-    text = " ".join(result.output.split())
-    assert result.exit_code != 0 and "Traceback" not in text and "slides away" in text, result.output
+    summary = json.loads((tmp_path / "ok" / "summary.json").read_text())
+    assert summary["status"] == "converged" and abs(summary["total_contact_force"] - 4 * P) <= 1e-9 * 4 * P
