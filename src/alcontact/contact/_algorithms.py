@@ -99,7 +99,8 @@ class ContactOptions:
         direct solver), problem condensed on the contact points
         (:mod:`alcontact.contact._discrete`). ``"amg"``: no factorization;
         full-space Newton with conjugate gradients preconditioned by smoothed-aggregation
-        AMG (PyAMG; :mod:`alcontact.contact._iterative`), for meshes whose factor does not
+        AMG (PyAMG; :mod:`alcontact.contact._iterative`, with friction
+        :mod:`alcontact.contact._friction_iterative`), for meshes whose factor does not
         fit in memory. A direct solver's registry name (:func:`alcontact.linalg.registered_solvers`)
         picks that solver for the factorization. ``"auto"``: :func:`alcontact.linalg.choose_solver`
         (``"amg"`` for 3D models with more than 100k DOFs, else ``"direct"``).
@@ -131,7 +132,7 @@ class ContactOptions:
     multiplier_floor: float = declared("float", 1e-10, "Relative floor keeping MET multipliers positive.",
                                        low=0, high=1, low_open=True, high_open=True)
     linear_solver: str = declared(
-        "str", "auto", "Frictionless linear solver: `direct` (one factorization by the fastest installed "
+        "str", "auto", "Linear solver: `direct` (one factorization by the fastest installed "
         "solver), `amg` (PyAMG + CG, no factorization), `auto` (amg for 3D above 100k DOFs), or a registered "
         "direct solver by name.", choices=_solver_names)
 
