@@ -108,9 +108,15 @@ _REBUILD_STIFFNESS = 5.0
 
 
 def _amg(A, B):
+    """Smoothed-aggregation hierarchy of ``A`` (near-null space ``B``), sparse LU on the coarsest level.
+
+    The coarsening of graded 3D meshes can stop well above ``max_coarse`` (a 1752-row coarse
+    level for the 3D sphere friction benchmark at 17k DOFs), where PyAMG's default dense
+    pseudo-inverse took 6.2 s per hierarchy (70 % of that run) against 0.3 s for ``splu``.
+    """
     import pyamg  # optional at import time: only this path needs it
 
-    return pyamg.smoothed_aggregation_solver(A, B=B, max_coarse=500)
+    return pyamg.smoothed_aggregation_solver(A, B=B, max_coarse=500, coarse_solver="splu")
 
 
 class _Preconditioner:
