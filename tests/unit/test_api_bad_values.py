@@ -119,12 +119,19 @@ def test_direct_path_lets_the_obstacle_hold_the_body():
     assert isinstance(sol, ContactSolution) and sol.result.status > 0
 
 
-def test_amg_path_names_the_free_motion_the_supports_and_the_direct_path():
+def test_amg_path_lets_the_obstacle_hold_the_body_and_names_the_way_out_when_nothing_does():
+    """Issue 9: the AMG path holds the body by contact springs as the direct path does (same displacement,
+    relative 1e-8); with the obstacle out of reach the error names the free motion and the support."""
+    ref = solve(_held_by_obstacle())
+    sol = solve(_held_by_obstacle(), linear_solver="amg")
+    assert isinstance(sol, ContactSolution) and sol.result.status > 0
+    assert np.max(np.abs(sol.u - ref.u)) <= 1e-8 * np.max(np.abs(ref.u))
+    far = dataclasses.replace(_held_by_obstacle(), obstacle=HalfSpace([0.0, -1.0], [0.0, 1.0]))
     with pytest.raises(errors.InputError) as info:
-        solve(_held_by_obstacle(), linear_solver="amg")
+        solve(far, linear_solver="amg")
     msg = str(info.value)
-    for w in ("translation y", "AMG path", "cannot let the obstacle hold the body", "Support('left', components=[1])",
-              "[[support]] boundary = 'left', components = [1]", "linear_solver='direct'"):
+    for w in ("translation y", "does not touch the obstacle", "Support('left', components=[1])",
+              "[[support]] boundary = 'left', components = [1]"):
         assert w in msg, (w, msg)
     assert "model.dirichlet" not in msg
     # the suggested support is enough for the AMG path

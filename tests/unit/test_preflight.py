@@ -138,22 +138,24 @@ def test_machine_memory():
 
 
 # ------------------------------------------------------------------ rigidity on each path
-def test_body_held_by_the_obstacle_passes_on_the_direct_path_and_solves(tmp_path):
-    report = check_problem(_file(tmp_path, BLOCK))
-    assert report.size.linear_solver == "direct"
+@pytest.mark.parametrize("solver", ["direct", "amg"])
+def test_body_held_by_the_obstacle_passes_on_each_path_and_solves(tmp_path, solver):
+    extra = "" if solver == "direct" else "[solver]\nlinear_solver = \"amg\"\n"
+    report = check_problem(_file(tmp_path, BLOCK + extra))
+    assert report.size.linear_solver == solver
     out = run_setup(report.setup, None)
     assert out.summary["status"] == "converged"
 
 
 @pytest.mark.parametrize("extra, key, way", [
-    ("[solver]\nlinear_solver = \"amg\"\n", "solver.linear_solver", "linear_solver = 'direct'"),
+    ("[solver]\nlinear_solver = \"amg\"\n", "support", "components = [1]"),  # obstacle out of reach
     ("", "support", "components = [1]"),  # friction, obstacle out of reach: see the replace below
 ])
 def test_paths_that_cannot_use_the_obstacle(tmp_path, extra, key, way):
     text = BLOCK + extra
     if not extra:  # friction: the obstacle holds the body (see test_friction_held_by_obstacle) only when touching
-        text = text.replace('boundary = "bottom"', 'boundary = "bottom"\nfriction = 0.3').replace(
-            "point = [0.0, 0.0]", "point = [0.0, -1.0]")
+        text = text.replace('boundary = "bottom"', 'boundary = "bottom"\nfriction = 0.3')
+    text = text.replace("point = [0.0, 0.0]", "point = [0.0, -1.0]")
     p = _file(tmp_path, text)
     with pytest.raises(ConfigError) as exc:
         check_problem(p)

@@ -114,7 +114,8 @@ class ContactOptions:
         installed direct solver), problem condensed on the contact points
         (:mod:`alcontact.contact._discrete`). ``"amg"``: no factorization;
         full-space Newton with conjugate gradients preconditioned by smoothed-aggregation
-        AMG (PyAMG; :mod:`alcontact.contact._iterative`), for meshes whose factor does not
+        AMG (PyAMG; :mod:`alcontact.contact._iterative`, with friction
+        :mod:`alcontact.contact._friction_iterative`), for meshes whose factor does not
         fit in memory. A direct solver's registry name (:func:`alcontact.linalg.registered_solvers`)
         picks that solver for the factorization. ``"auto"``: :func:`alcontact.linalg.choose_solver`
         (``"amg"`` for 3D models with more than 100k DOFs, else ``"direct"``). Only the algorithms
@@ -185,7 +186,7 @@ class ContactOptions:
                                        low=0, high=1, low_open=True, high_open=True)
     linear_solver: str = declared(
         "str", "auto", "Linear solver: `direct` (one factorization by the fastest installed solver), `amg` "
-        "(PyAMG + CG, no factorization; frictionless small kinematics), `auto` (amg where available for 3D above "
+        "(PyAMG + CG/GMRES, no factorization; small kinematics), `auto` (amg where available for 3D above "
         "100k DOFs, else direct), or a registered direct solver by name.", choices=_solver_names)
     # ---- read by the frictional solvers only
     eps_t: float | None = declared("float", None, "Friction: tangential penalty stiffness (default: "

@@ -68,6 +68,7 @@ from ._algorithms import (DEFAULT_PENALTY, FRICTION_DEFAULTS, ContactOptions, al
 from ._friction_discrete import FrictionalContact
 from ._friction_laws import OPEN, SLIP, STICK, Macaulay, block_diag, local_law, tangential_energy
 from ._friction_solution import FrictionSolution, FrictionStep
+from ._iterative import resolve_linear_solver
 from ._laws import eta_for_stiffness, freezes_at_zero, make_law
 from ._loading import LoadHistory
 from ._newton import LineSearch, NewtonResult, NewtonSettings, NewtonSystem, inner_failure, newton
@@ -792,7 +793,8 @@ def solve_friction(problem, history: LoadHistory | None, algorithm: str = "simo-
                          "frictionless contact.")
     mu = float(mu)
 
-    fc = FrictionalContact(problem, history, margin=opts.margin, linear_solver=direct_backend(opts.linear_solver))
+    path = resolve_linear_solver(opts.linear_solver, problem.model)
+    fc, advance = _FRICTION_PATHS[path](problem, history, opts)
     eps_n = opts.eps_n if opts.eps_n is not None else penalty_stiffness(problem.model, fc.h, opts.penalty_scale)
     eps_t = opts.eps_t if opts.eps_t is not None else opts.tangential_scale * eps_n
     m, d = fc.points.shape
@@ -818,7 +820,7 @@ def solve_friction(problem, history: LoadHistory | None, algorithm: str = "simo-
         if away is not None:
             return Attempt(False, ContactStatus.UNBOUNDED, away, final=True)
         solves0 = fc.linear_solves
-        res, out, o, nw = _advance(fc, prev, t, step_fn, pen_name, eps_n, eps_t, mu * history.friction_factor(t),
+        res, out, o, nw = advance(fc, prev, t, step_fn, pen_name, eps_n, eps_t, mu * history.friction_factor(t),
                                    opts)
         return Attempt(res is not None, out.status, out.message, newton=nw, outer=o,
                        linear_solves=fc.linear_solves - solves0, value=(res, out))
@@ -889,7 +891,8 @@ def solve_friction(problem, history: LoadHistory | None, algorithm: str = "simo-
         linear_solves=fc.linear_solves, eps_n=float(eps_n), eps_t=float(eps_t), h=fc.h,
         timings={"setup_s": fc.setup_seconds, "factor_s": fc.factor_seconds, "solve_s": t_end - t_solve,
                  "total_s": t_end - t_start},
-        extra={"candidates": fc.ncand, "dofs": int(problem.model.ndofs)},
+        extra={"candidates": fc.ncand, "dofs": int(problem.model.ndofs), "linear_solver": path,
+               **getattr(fc, "stats", dict)()},
     )
 
 
@@ -908,3 +911,21 @@ def _solve_finite(problem, history, algorithm, penalty, options, *, steps, frict
     mu = problem.friction if friction is None else friction
     return solve_finite_friction(problem, mu, algorithm, penalty, options, steps=steps, history=history,
                                  obstacle_path=obstacle_path, progress=on_step, **option_overrides)
+
+
+def _direct_path(problem, history, opts):
+    """The condensed problem (:class:`FrictionalContact`) and its step."""
+    return FrictionalContact(problem, history, margin=opts.margin,
+                             linear_solver=direct_backend(opts.linear_solver)), _advance
+
+
+def _amg_path(problem, history, opts):
+    """The full-space problem solved with AMG-preconditioned Krylov methods, and its step."""
+    from ._friction_iterative import IterativeFrictionalContact, advance
+
+    return IterativeFrictionalContact(problem, history, margin=opts.margin,
+                             linear_solver=direct_backend(opts.linear_solver)), advance
+
+
+#: Solution path of :func:`~alcontact.contact._iterative.resolve_linear_solver` -> (contact problem, step).
+_FRICTION_PATHS = {"direct": _direct_path, "amg": _amg_path}

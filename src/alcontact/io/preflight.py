@@ -11,13 +11,12 @@ runs before it solves. On top of :func:`~alcontact.io.config.load_problem`
   problems that would not fit, or would run for hours, are refused with the
   way out (a coarser mesh, ``linear_solver = "amg"``). The same check runs
   again with the exact counts once the mesh is built.
-- **rigidity** on the path the solver will take: on the AMG path every
-  rigid-body motion must be stopped by the supports (it cannot let the obstacle
-  hold the body); on the direct frictionless path the contact points touching
-  the obstacle may stop the motions the supports leave free through their
-  normal motion (as :meth:`~alcontact.contact._discrete.DiscreteContact._stabilize`
-  does), with friction through all their components (normal contact plus
-  friction, as :meth:`~alcontact.contact._friction_discrete.FrictionalContact._stabilize`;
+- **rigidity**: the contact points touching the obstacle may stop the motions
+  the supports leave free, on the direct and on the AMG path: without friction
+  through their normal motion (as :meth:`~alcontact.contact._discrete.DiscreteContact._stabilize`
+  and :meth:`~alcontact.contact._iterative.IterativeContact._stabilize` do), with
+  friction through all their components (normal contact plus friction, as
+  :meth:`~alcontact.contact._friction_discrete.FrictionalContact._stabilize`;
   a load beyond the friction limit is then reported by ``run`` as sliding away).
   The message names the free motions and a ``[[support]]`` that stops them.
 - **mesh quality** (inverted or degenerate elements, :mod:`alcontact.fem.quality`,
@@ -221,10 +220,6 @@ def _size_key(data: dict) -> tuple[str, Any]:
 def _resolve_solver(data: dict, dim: int, ndofs: int) -> str:
     from ..contact._iterative import AUTO_AMG_DOFS
 
-    cd = data.get("contact") or {}
-    mu = cd.get("friction") if isinstance(cd, dict) else 0.0
-    if isinstance(mu, float) and mu > 0:
-        return "direct"  # the frictional solver always factorizes
     sv = data.get("solver") or {}
     name = sv.get("linear_solver", "auto") if isinstance(sv, dict) else "auto"
     if name == "auto":
@@ -347,7 +342,7 @@ def exact_size(setup) -> SizeEstimate:
     """:class:`SizeEstimate` of a built problem (exact counts; memory and time still estimated)."""
     model = setup.problem.model
     solver = _resolve_solver(setup.data, model.dim, model.ndofs)
-    if setup.friction == 0 and setup.options.get("linear_solver"):
+    if setup.options.get("linear_solver"):
         from ..contact._iterative import resolve_linear_solver
 
         solver = resolve_linear_solver(setup.options["linear_solver"], model)
@@ -488,21 +483,12 @@ def _rigidity_issues(setup) -> list[Issue]:
         return []
     free = _motion_names(null, names)
     fix = _suggest_support(model, null, R, row_of, prob.contact_boundary)
-    if setup.friction > 0:  # the frictional solver factorizes; normal contact and friction may hold the body
+    if setup.friction > 0:  # normal contact and friction may hold the body (both solver paths)
         ok, why = _contact_points_restrain(setup, fixed, null, R, row_of, all_components=True)
         if ok:
             return []
         return [Issue("support", f"rigid-body motion(s) not stopped by the supports: {free}, and {why}: nothing "
                                  f"holds the body. {fix[0].upper()}{fix[1:]}, or move the obstacle into contact.")]
-    solver = exact_size(setup).linear_solver
-    if solver == "amg":
-        chosen = setup.options.get("linear_solver", "auto")
-        why = "" if chosen == "amg" else f" (linear_solver = {chosen!r} picks AMG for this 3D size)"
-        return [Issue("solver.linear_solver", f"= {chosen!r}: rigid-body motion(s) not stopped by the supports: "
-                                              f"{free}. The AMG path{why} needs supports that stop every rigid "
-                                              f"motion (it cannot let the obstacle hold the body): {fix}, or set "
-                                              "solver.linear_solver = 'direct', which lets the contact points "
-                                              "hold the body.")]
     ok, why = _contact_points_restrain(setup, fixed, null, R, row_of)
     if ok:
         return []

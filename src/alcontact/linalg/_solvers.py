@@ -401,5 +401,6 @@ class AMGSolver:
         A = sp.csr_matrix(matrix)
         B = hints.near_null() if (hints is not None and hints.near_null is not None) else None
         t0 = time.perf_counter()
-        ml = pyamg.smoothed_aggregation_solver(A, B=B, max_coarse=500)
+        # sparse LU on the coarsest level: see alcontact.contact._iterative._amg
+        ml = pyamg.smoothed_aggregation_solver(A, B=B, max_coarse=500, coarse_solver="splu")
         return _AMGFactor(A, ml, time.perf_counter() - t0, self.rtol, self.maxiter)

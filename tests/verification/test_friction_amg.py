@@ -1,0 +1,199 @@
+"""Friction on the AMG path (issue 9): full-space Newton with AMG-preconditioned Krylov solves.
+
+Reference: the direct (condensed) path of the same discrete problem. Both paths solve the
+same equations (:mod:`alcontact.contact._friction_iterative`), so every converged step must
+agree: displacements within 1e-6 of the largest displacement, pressures and tangential
+tractions within 1e-6 of the largest pressure (the Newton tolerance is 1e-11 and the CG
+solves stop at 1e-10, so the observed differences are about 1e-9), and the same
+open/stick/slip state at every point.
+
+Bodies held only by the obstacle: the analytical reference of
+``test_friction_held_by_obstacle`` (statics of the rigid motions and Coulomb's law: the
+obstacle carries N = P A and the tangential force Q A; below Q = mu P every point sticks,
+beyond it there is no static equilibrium, status UNBOUNDED).
+"""
+
+from __future__ import annotations
+
+import json
+import logging
+
+import numpy as np
+import pytest
+from typer.testing import CliRunner
+
+from alcontact.cli import app
+from alcontact.contact import ContactProblem, ContactStatus
+from alcontact.contact._friction import solve_friction
+from alcontact.contact._friction_solution import SLIP, STICK
+from alcontact.contact._loading import LoadCase, LoadHistory, Ramp
+from alcontact.contact._problem import Pressure, Traction
+from alcontact.contact.obstacles import HalfSpace
+from alcontact.fem import LinearElasticity, Material, meshes
+from alcontact.problems import friction as fp
+
+MU, P = 0.3, 10.0
+RTOL = 1e-6
+
+
+def _curved(dim: int):
+    """Rigid cylinder (2D) / sphere (3D) pressed, then sheared below mu P: stick and slip zones."""
+    if dim == 2:
+        return fp.cattaneo_mindlin_2d(4, size=5.0, normal_steps=1, tangential_steps=2)
+    return fp.sphere_shear_3d(2, size=3.0, normal_steps=1, tangential_steps=2)
+
+
+def _assert_same(direct, amg):
+    assert direct.status == ContactStatus.CONVERGED, direct.message
+    assert amg.status == ContactStatus.CONVERGED, amg.message
+    assert amg.extra["linear_solver"] == "amg" and direct.extra["linear_solver"] == "direct"
+    assert [s.t for s in amg.steps] == [s.t for s in direct.steps]
+    for a, b in zip(direct.steps, amg.steps):
+        scale = float(np.max(a.pressure))
+        assert np.max(np.abs(b.u - a.u)) <= RTOL * np.max(np.abs(a.u)), a.t
+        assert np.max(np.abs(b.pressure - a.pressure)) <= RTOL * scale, a.t
+        assert np.max(np.abs(b.traction_t - a.traction_t)) <= RTOL * scale, a.t
+        np.testing.assert_array_equal(b.state, a.state)
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+@pytest.mark.parametrize("alg", ["simo-laursen", "ssn"])
+def test_amg_path_matches_the_direct_path_with_stick_and_slip(dim, alg):
+    """Algorithm 6.2 and the Alart-Curnier reference, 2D and 3D, partial slip: the AMG path agrees
+    with the direct path to 1e-6 (relative, module doc) at every step, with stick and slip points."""
+    prob, hist = _curved(dim)
+    direct = solve_friction(prob, hist, algorithm=alg, linear_solver="direct")
+    amg = solve_friction(prob, hist, algorithm=alg, linear_solver="amg")
+    _assert_same(direct, amg)
+    state = amg.final.state
+    assert np.sum(state == STICK) >= 2 and np.sum(state == SLIP) >= 2
+
+
+def test_amg_path_family_p_matches_the_direct_path():
+    """Algorithm 6.4 (family-P, exp-met1) on the AMG path, 3D partial slip: the direct path's solution
+    to 1e-6 (2D: the held block below)."""
+    prob, hist = _curved(3)
+    _assert_same(solve_friction(prob, hist, algorithm="family-p", linear_solver="direct"),
+                 solve_friction(prob, hist, algorithm="family-p", linear_solver="amg"))
+
+
+def test_coupled_disc_radius_takes_gmres_and_matches(caplog):
+    """``radius="traction"``: the Newton matrix is unsymmetric in slip, the Krylov method is GMRES;
+    the solution is the direct path's to 1e-6."""
+    prob, hist = _curved(3)
+    direct = solve_friction(prob, hist, linear_solver="direct", radius="traction")
+    with caplog.at_level(logging.DEBUG, logger="alcontact.contact._friction_iterative"):
+        amg = solve_friction(prob, hist, linear_solver="amg", radius="traction")
+    assert any("GMRES" in r.getMessage() for r in caplog.records)
+    _assert_same(direct, amg)
+
+
+def test_auto_picks_the_amg_path_for_large_3d_models(monkeypatch):
+    """``linear_solver="auto"`` follows :func:`alcontact.linalg.choose_solver` (threshold lowered here)."""
+    import alcontact.linalg._registry as reg
+
+    prob, hist = _block(3, 0.5)
+    assert solve_friction(prob, hist).extra["linear_solver"] == "direct"
+    monkeypatch.setattr(reg, "AUTO_AMG_DOFS", prob.model.ndofs - 1)
+    sol = solve_friction(prob, hist)
+    assert sol.status == ContactStatus.CONVERGED and sol.extra["linear_solver"] == "amg"
+    assert sol.extra["cg_iterations"] > 0 and sol.extra["amg_setups"] >= 1
+
+
+# ---------------------------------------------------------------------- held by the obstacle
+def _block(dim: int, ratio: float, *, n: int = 4):
+    """Block [-1, 1]^(d-1) x [0, 0.5] on the plane x_d = 0, no support: pressure P, then Q = ratio mu P."""
+    if dim == 2:
+        mesh = meshes.rectangle(-1.0, 1.0, 0.0, 0.5, n, 2)
+        tdir = np.array([1.0, 0.0])
+    else:
+        mesh = meshes.box(-1.0, 1.0, -1.0, 1.0, 0.0, 0.5, n, n, 2)
+        tdir = np.array([1.0, 1.0, 0.0]) / np.sqrt(2.0)
+    model = LinearElasticity(mesh, Material(E=1000.0, nu=0.0, plane="strain"))
+    obstacle = HalfSpace(point=(0.0,) * dim, normal=tuple(np.eye(dim)[-1]))
+    press = LoadCase(Pressure("top", P), Ramp((0.0, 0.5), (0.0, 1.0), hold_after=True), name="pressure")
+    shear = LoadCase(Traction("top", tuple((ratio * MU * P * tdir).tolist())), Ramp((0.5, 1.0), (0.0, 1.0)),
+                     tangential=True, name="shear")
+    prob = ContactProblem(model=model, obstacle=obstacle, contact_boundary="bottom", supports=(), friction=MU)
+    return prob, LoadHistory((press, shear), LoadHistory.uniform(4))
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+@pytest.mark.parametrize("alg", ["simo-laursen", "family-p", "ssn"])
+def test_force_controlled_block_held_by_the_obstacle_on_the_amg_path(alg, dim):
+    """No support, Q = mu P / 2: converged, every closed point sticks, N = P A and the tangential
+    force -Q A (relative 1e-9), equilibrium residual <= 1e-8 at every step; the direct path's
+    solution to 1e-6. Q = 1.5 mu P: UNBOUNDED at t = 1 with the sliding-away message, as the
+    direct path."""
+    area = 2.0 if dim == 2 else 4.0
+    prob, hist = _block(dim, 0.5)
+    direct = solve_friction(prob, hist, algorithm=alg, linear_solver="direct")
+    sol = solve_friction(prob, hist, algorithm=alg, linear_solver="amg")
+    _assert_same(direct, sol)
+    f = sol.final
+    assert f.t == 1.0 and np.all(f.state[f.pressure > 0] == STICK) and np.sum(f.pressure > 0) >= 3
+    assert abs(f.normal_force - P * area) <= 1e-9 * P * area
+    q = 0.5 * MU * P * area
+    assert abs(np.linalg.norm(f.tangential_force) - q) <= 1e-9 * P * area
+    assert all(sol.equilibrium(s).residual <= 1e-8 for s in sol.steps)
+
+    prob, hist = _block(dim, 1.5)
+    away = solve_friction(prob, hist, algorithm=alg, linear_solver="amg")
+    assert away.status == ContactStatus.UNBOUNDED, away.message
+    assert "slides away" in away.message and "t=1" in away.message
+    assert [s.t for s in away.steps] == [0.25, 0.5, 0.75]
+    assert all(away.equilibrium(s).residual <= 1e-8 for s in away.steps)
+
+
+TOML = """
+[problem]
+name = "held-by-friction-3d"
+[mesh]
+generator = "box"
+bounds = [-1.0, 1.0, -1.0, 1.0, 0.0, 0.5]
+cells = [4, 4, 2]
+[material]
+E = 1000.0
+nu = 0.0
+[[load]]
+type = "pressure"
+boundary = "top"
+value = 10.0
+ramp = [[0.0, 0.0], [0.5, 1.0], [1.0, 1.0]]
+[[load]]
+type = "traction"
+boundary = "top"
+vector = [{q}, {q}, 0.0]
+ramp = [[0.0, 0.0], [0.5, 0.0], [1.0, 1.0]]
+tangential = true
+[loading]
+steps = 4
+[obstacle]
+type = "half-space"
+point = [0.0, 0.0, 0.0]
+normal = [0.0, 0.0, 1.0]
+[contact]
+boundary = "bottom"
+friction = 0.3
+[solver]
+linear_solver = "amg"
+[output]
+vtu = false
+series = false
+plots = false
+"""
+
+
+def test_problem_file_on_the_amg_path_check_and_run(tmp_path):
+    """A 3D force-controlled block with friction and no support, ``linear_solver = "amg"``: ``check``
+    accepts it (AMG size model) and ``run`` converges below the Coulomb limit (beyond it: the
+    UNBOUNDED status of the test above, reported by ``run`` as in ``test_friction_held_by_obstacle``)."""
+    runner = CliRunner(env={"COLUMNS": "400", "NO_COLOR": "1"})
+    p = tmp_path / "p.toml"
+    p.write_text(TOML.format(q=0.5 * MU * P / np.sqrt(2.0)))
+    result = runner.invoke(app, ["check", str(p)])
+    assert result.exit_code == 0 and "amg linear solver" in " ".join(result.output.split()), result.output
+    result = runner.invoke(app, ["run", str(p), "--out", str(tmp_path / "ok")])
+    assert result.exit_code == 0, result.output
+    summary = json.loads((tmp_path / "ok" / "summary.json").read_text())
+    assert summary["status"] == "converged" and abs(summary["total_contact_force"] - 4 * P) <= 1e-9 * 4 * P
