@@ -574,7 +574,7 @@ register_family((
     ("family-p", _step_al, None, "Algorithm 6.4: Algorithm 6.2 with a family-P normal penalty"),
     ("ssn", _step_ssn, "none",
      "reference: Alart-Curnier semi-smooth Newton on (lambda_N, lambda_T), exact (no penalty)"),
-), friction=True, kinematics="small", linear_solvers=("direct",), defaults=FRICTION_DEFAULTS)
+), friction=True, kinematics="small", linear_solvers=("direct", "amg"), defaults=FRICTION_DEFAULTS)
 #: Family-P penalty of the frictional algorithms when none is given.
 DEFAULT_FRICTION_PENALTY = DEFAULT_PENALTY
 
