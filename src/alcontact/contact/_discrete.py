@@ -238,7 +238,7 @@ class CondensedContact(ContactPoints):
         n_fac = getattr(model, "factorization_count", None)
         self._schur_kw = self._schur_request(problem, margin)
         try:  # checks the rigid motions first
-            self.factor = model.factorize(self.fixed, backend=linear_solver, **self._schur_kw)
+            self.factor = self._factor_of()
         except InputError as exc:
             self._stabilize(exc)  # raises unless the obstacle restrains the free motions
         if n_fac is not None:  # 0 when the model reused its factorization (same supports, e.g. load steps)
@@ -272,8 +272,7 @@ class CondensedContact(ContactPoints):
         near = np.asarray(near, dtype=np.int64)
         self._K = model.stiffness()
         try:
-            self.factor = model.factorize(self.fixed, matrix=self._K + self._spring_matrix(near, kappa),
-                                          check=True, backend=self.linear_solver, **self._schur_kw)
+            self.factor = self._factor_of(self._K + self._spring_matrix(near, kappa))
         except InputError:
             raise InputError(
                 f"{exc} The contact points touching the obstacle do not restrain that motion either: "
@@ -281,6 +280,17 @@ class CondensedContact(ContactPoints):
             ) from None
         self.spring = (near, kappa)
         logger.info("body held by the obstacle only: springs on %d contact points", len(near))
+
+    def _factor_of(self, matrix=None):
+        """The factorization of the stiffness, or of ``matrix`` (with the springs of :meth:`_stabilize`).
+
+        Checked: an :class:`~alcontact.errors.InputError` when the matrix leaves a rigid motion
+        free. The factorization-free frictional path
+        (:class:`~alcontact.contact._friction_iterative.IterativeFrictionalContact`) builds an
+        AMG hierarchy here instead.
+        """
+        return self.model.factorize(self.fixed, matrix=matrix, check=True, backend=self.linear_solver,
+                                    **self._schur_kw)
 
     def _spring_matrix(self, near: np.ndarray, kappa: float) -> sp.csr_matrix:
         r"""Springs :math:`\kappa w_i \nu_i\nu_i^T` on the normal motion of the points ``near`` (full numbering)."""

@@ -923,8 +923,7 @@ def _amg_path(problem, history, opts):
     """The full-space problem solved with AMG-preconditioned Krylov methods, and its step."""
     from ._friction_iterative import IterativeFrictionalContact, advance
 
-    return IterativeFrictionalContact(problem, history, margin=opts.margin,
-                             linear_solver=direct_backend(opts.linear_solver)), advance
+    return IterativeFrictionalContact(problem, history, margin=opts.margin), advance
 
 
 #: Solution path of :func:`~alcontact.contact._iterative.resolve_linear_solver` -> (contact problem, step).

@@ -139,6 +139,7 @@ class FrictionalContact(CondensedContact):
         fixed, parts = component_fields(problem, history)
         self._setup_model(problem, fixed)
         self.loads = np.stack([load for _, load in parts])  # (ncomp, ndofs), for the sliding-away test
+        self.fv_parts = np.stack([fv for fv, _ in parts])  # (ncomp, nfixed) prescribed values per component
         self._factorize(problem, margin, linear_solver)  # points, factorization, springs (CondensedContact)
         self.h = self._element_size()
         self.kappa = np.zeros(self.points.shape[0])  # contact springs of a body held by the obstacle (_stabilize)

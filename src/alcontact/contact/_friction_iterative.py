@@ -75,13 +75,13 @@ from scipy.sparse.linalg import cg, gmres
 from .. import penalties as _pen
 from ..errors import InputError
 from ..fem.elasticity import rigid_body_modes
-from ._friction import (_EQUILIBRIUM_TOL, _advance, _measures, _NewtonOut, _norm, _step_ssn, _StepOut)
-from ._friction_discrete import FrictionalContact, _element_size, tangent_bases
+from ._friction import _EQUILIBRIUM_TOL, _advance, _measures, _Point, _step_ssn, _StepOut
+from ._friction_discrete import FrictionalContact
 from ._friction_laws import local_law, tangential_energy
 from ._iterative import _FORCING_MAX, _FORCING_MIN, _FORCING_SLOW, _FORCING_START, _NEWTON_TOL_FLOOR, \
     _REBUILD_FACTOR, _Preconditioner, free_rigid_motions, springs_hold
 from ._laws import eta_for_stiffness, freezes_at_zero, make_law
-from ._loading import component_fields
+from ._newton import LineSearch, NewtonResult, NewtonSettings, NewtonSystem, inner_failure, newton
 from ._solution import ContactStatus
 
 __all__ = ["IterativeFrictionalContact", "advance"]
@@ -98,13 +98,13 @@ _SYM_TOL = 1e-12
 class IterativeFrictionalContact(FrictionalContact):
     """The frictional problem of a :class:`ContactProblem` in the full space of the free DOFs.
 
-    Same points, normals, tangent bases, held directions (:attr:`tfree`), weights,
-    candidates, element size and contact springs as :class:`FrictionalContact`,
-    whose methods it shares (local kinematics, sliding-away test, equilibrium
-    defect); ``factor`` is the AMG "factorization" of :math:`\\tilde K`
-    (:class:`alcontact.linalg.AMGSolver`: each solve runs preconditioned CG).
-    The condensed compliance ``A`` is built only for the semi-smooth Newton
-    reference (:meth:`condense`).
+    The setup of :class:`FrictionalContact` (points, normals, tangent bases, held
+    directions :attr:`tfree`, weights, candidates, element size, contact springs of a
+    held body), whose methods it shares (local kinematics, sliding-away test,
+    equilibrium defect); its factorization hook (:meth:`_factor_of`) builds the AMG
+    "factorization" of :math:`\\tilde K` (:class:`alcontact.linalg.AMGSolver`: each
+    solve runs preconditioned CG) and checks the rigid motions instead. The condensed
+    compliance ``A`` is built only for the semi-smooth Newton reference (:meth:`condense`).
 
     Attributes
     ----------
@@ -126,152 +126,80 @@ class IterativeFrictionalContact(FrictionalContact):
 
     def __init__(self, problem, history, *, margin: float = 0.25):
         t0 = time.perf_counter()
-        self.problem, self.history = problem, history
-        model = self.model = problem.model
-        self.dim = d = model.dim
-        self.fixed, parts = component_fields(problem, history)
-        self.loads = np.stack([load for _, load in parts])
-        self.fv_parts = np.stack([fv for fv, _ in parts])  # (ncomp, nfixed)
-        pts, dofs = model.node_dofs(problem.contact_boundary)
-        self.points, self.dofs = pts, dofs
-        self.weights = model.boundary_weights(problem.contact_boundary)
-        self.gap0, self.normals = problem.obstacle.evaluate(pts)
-        self.h = _element_size(model, problem.contact_boundary, problem.obstacle)
-        self.kappa = np.zeros(pts.shape[0])
-        self.spring = None
-        self.condensed = False
-        self.linear_solves = self.cg_iterations = self.amg_setups = 0
-        self.amg_seconds = 0.0
-        self._K = model.stiffness()
-        mask = np.ones(model.ndofs, dtype=bool)
-        mask[self.fixed] = False
-        self.free = np.flatnonzero(mask)
-        rows = self._K[self.free]
-        self.K = rows[:, self.free].tocsr()
-        del rows
+        self.condensed = False  # the compliance A is built only for the semi-smooth Newton reference
+        self.S = self.Z = self.ZSZ = None  # contact springs of a held body (_spring_matrix, _factor_of)
+        # the setup of the direct path; its factorization hook builds the AMG hierarchy (_factor_of)
+        super().__init__(problem, history, margin=margin, linear_solver="amg")
+        model = self.model
+        free = self.free = self._free
+        self.K = self._K[free][:, free].tocsr()
+        self.K_abs = abs(self.K).tocsr()  # round-off bound of the residual
         pts_all, dofs_all = model.all_node_dofs()
         modes, _ = rigid_body_modes(pts_all)
         R = np.zeros((model.ndofs, modes.shape[-1]))
         R[dofs_all.ravel()] = modes.reshape(-1, modes.shape[-1])
-        self.R = np.ascontiguousarray(R[self.free])
-        self.K_abs = abs(self.K).tocsr()  # round-off bound of the residual
-        self.S = self.Z = self.ZSZ = None
-        try:
-            model.check_restrained(self.fixed)
-            Kt = self._K
-        except InputError as exc:
-            Kt = self._stabilize_springs(exc)
-        t_f = time.perf_counter()
-        self.factor = model.factorize(self.fixed, matrix=Kt, check=False, backend="amg", reuse=False)
-        self.factor_seconds = time.perf_counter() - t_f
+        self.R = np.ascontiguousarray(R[free])
         self.ml_K = self.factor.factor.ml
-        self.amg_setups += 1
-        self.amg_seconds += self.factor_seconds
-        self.b_parts = np.stack([self.factor.rhs(load, fv) for fv, load in parts])  # (ncomp, nfree)
-        self.u_parts = np.stack([self.factor.solve_full(load, fv) for fv, load in parts])
-        self.linear_solves += len(parts)
-        if not np.all(np.isfinite(self.u_parts)):
-            raise InputError("the contact-free solution is not finite; check loads and supports.")
-
-        free_pos = -np.ones(model.ndofs, dtype=np.int64)
-        free_pos[self.free] = np.arange(self.free.size)
-        self.pos = free_pos[dofs]
-        held = self.pos < 0
-        self.tangents = tangent_bases(self.normals, held)
-        self.E = np.concatenate([self.normals[:, :, None], -self.tangents], axis=2)
-        free_part = np.linalg.norm(np.where(held[:, :, None], 0.0, self.E), axis=1)
-        self.movable = free_part[:, 0] > 1e-12
-        self.tfree = free_part[:, 1:] > 1e-12
-        self.y_parts = np.stack([self._local(u) for u in self.u_parts])
+        self.cg_iterations = 0
+        self.amg_setups = 1
+        self.amg_seconds = self.factor_seconds
+        self.b_parts = np.stack([self.factor.rhs(load, fv) for fv, load in zip(self.fv_parts, self.loads)])
         # y = y_fix(t) + Bl x: rows -E_i^T on the free DOFs of point i
-        m = pts.shape[0]
+        m, d = self.points.shape
         coef = -np.transpose(self.E, (0, 2, 1))  # (m, d local, d global)
         r = np.broadcast_to((np.arange(m)[:, None] * d + np.arange(d))[:, :, None], (m, d, d))
         c = np.broadcast_to(self.pos[:, None, :], (m, d, d))
         keep = (c >= 0) & (np.abs(coef) > 0)
-        self.Bl = sp.csr_matrix((coef[keep], (r[keep], c[keep])), shape=(m * d, self.free.size))
-        self.yfix_parts = np.stack([self._local(self.factor.expand(np.zeros(self.free.size), fv))
+        self.Bl = sp.csr_matrix((coef[keep], (r[keep], c[keep])), shape=(m * d, free.size))
+        self.yfix_parts = np.stack([self._local(self.factor.expand(np.zeros(free.size), fv))
                                     for fv in self.fv_parts])
-
-        gmax_t = np.max(np.stack([self.y_free(t)[:, 0] for t in history.times]), axis=0)
-        bad = ~self.movable & (gmax_t > 1e-12 * self.h)
-        if np.any(bad):
-            i = int(np.flatnonzero(bad)[0])
-            raise InputError(
-                f"contact point {pts[i].tolist()} is held by a Dirichlet condition in the normal direction but "
-                f"penetrates the obstacle by {gmax_t[i]:.3e} at some load step; move the obstacle or release that "
-                "support.")
-        self.max_free_penetration = float(np.max(np.where(self.movable, gmax_t, -np.inf), initial=-np.inf))
-        self.gmax_t = gmax_t
-        gmax = self.max_free_penetration
-        if gmax > 0:
-            thr = -max(margin * gmax, 1e-12 * self.h)
-            cand = np.flatnonzero(self.movable & (gmax_t > thr))
-        else:
-            cand = np.empty(0, dtype=np.int64)
-        if self.spring is not None:
-            cand = np.union1d(cand, self.spring)
-        self.cand = np.empty(0, dtype=np.int64)
-        self.C = np.zeros((0, 0))
-        self.A = np.zeros((0, 0))
-        self.add(cand)
         self.precond = _AmortizedPreconditioner(self)
         self.setup_seconds = time.perf_counter() - t0
 
-    # ------------------------------------------------------------------ body held by the obstacle
-    def _stabilize_springs(self, exc: InputError):
-        r"""Springs :math:`\kappa w_i` on all free components of the touching points; returns :math:`\tilde K`.
+    # ------------------------------------------------------------------ the hooks of the direct path's setup
+    def _schur_request(self, problem, margin: float) -> dict:
+        """No Schur block: nothing is factorized on this path."""
+        return {}
 
-        The points and :math:`\kappa = E'/h` are those of
-        :meth:`FrictionalContact._stabilize`. Instead of a factorization, the check
-        is on the rigid motions :math:`r` left free by the supports: the springs must
-        stop all of them (:math:`r^T S r > 0` on that space, relative to the largest
-        spring energy of a unit motion).
+    def _factor_of(self, matrix=None):
+        r"""The AMG "factorization" of :math:`K` (``matrix``: :math:`\tilde K = K + S` of a held body).
+
+        Instead of a checked factorization, the check is on the rigid motions: the supports
+        restrain them (``model.check_restrained``), or the springs :math:`S` of
+        :meth:`FrictionalContact._stabilize` on the touching points stop every motion :math:`r`
+        the supports leave free (:math:`r^T S r > 0` on that space, relative to the largest
+        spring energy of a unit motion: :func:`~alcontact.contact._iterative.springs_hold`).
 
         Raises
         ------
         InputError
-            When no contact point touches the obstacle, or the touching points do
-            not restrain the free motions either.
+            When a rigid motion is left free (:meth:`FrictionalContact._stabilize` then says
+            what to do).
         """
         model = self.model
-        free = np.ones(model.ndofs, dtype=bool)
-        free[self.fixed] = False
-        movable = np.linalg.norm(np.where(free[self.dofs], self.normals, 0.0), axis=1) > 1e-12
-        g0 = np.where(movable, self.gap0, -np.inf)
-        gmax = float(g0.max(initial=-np.inf))
-        if not np.any(movable) or gmax < -0.5 * self.h:
-            raise InputError(
-                f"{exc} The body does not touch the obstacle either (closest gap {-gmax:.3g}), so nothing "
-                "restrains it: add supports or move the obstacle into contact.") from None
-        near = np.flatnonzero(movable & (g0 >= gmax - 0.5 * self.h))
-        mat = model.material
-        kappa = (mat.E if (model.dim == 2 and mat.plane == "stress") else mat.plane_strain_modulus) / self.h
-        dofs = self.dofs[near].ravel()
-        keep = free[dofs]
-        diag = np.zeros(model.ndofs)
-        np.add.at(diag, dofs[keep], np.repeat(kappa * self.weights[near], model.dim)[keep])
-        Z = free_rigid_motions(model, self.fixed, self.free)
-        S = sp.diags(diag[self.free]).tocsr()
-        G = springs_hold(Z, S)
-        if G is None:
-            raise InputError(
-                f"{exc} The contact points touching the obstacle do not restrain that motion either: add supports "
-                "(e.g. fix a tangential component) so that every rigid motion is stopped.") from None
-        self.spring = near.astype(np.int64)
-        self.kappa[near] = kappa
-        self.S, self.Z, self.ZSZ = S, Z, G
-        logger.info("body held by the obstacle only: springs (normal and tangential) on %d contact points "
-                    "(AMG path)", near.size)
-        return (self._K + sp.diags(diag)).tocsr()
+        if matrix is None:
+            model.check_restrained(self.fixed)
+            self._K = model.stiffness()
+        else:
+            self.Z = free_rigid_motions(model, self.fixed, self._free)
+            self.ZSZ = springs_hold(self.Z, self.S)
+            if self.ZSZ is None:
+                raise InputError("the contact springs do not stop the rigid motions left free by the supports.")
+        return model.factorize(self.fixed, matrix=self._K if matrix is None else matrix, check=False, backend="amg",
+                               reuse=False)
+
+    def _spring_matrix(self, near: np.ndarray, kappa: float) -> sp.csr_matrix:
+        """The springs of :meth:`FrictionalContact._spring_matrix`; kept on the free DOFs as ``S``."""
+        springs = super()._spring_matrix(near, kappa)
+        self.S = springs.tocsr()[self._free][:, self._free].tocsr()
+        return springs
 
     # ------------------------------------------------------------------ candidates
     def add(self, new: np.ndarray) -> np.ndarray:
         """Add candidate points; the condensed compliance only after :meth:`condense`."""
         if self.condensed:
             return super().add(new)
-        new = np.setdiff1d(np.asarray(new, dtype=np.int64), self.cand)
-        new = new[self.movable[new]]
+        new = self._new_points(new)
         self.cand = np.concatenate([self.cand, new])
         return new
 
@@ -418,113 +346,121 @@ class _FullCtx:
         return self.yfix + (self.Bc @ x).reshape(self.yfix.shape)
 
 
-def friction_newton(ctx: _FullCtx, law, lamN, lamT, x0, *, tol: float, maxiter: int) -> _NewtonOut:
-    r"""Solve the subproblem :math:`F(x) = 0` (module doc) by inexact globalized Newton with AMG-Krylov.
+class _FullSpaceFriction(NewtonSystem):
+    r"""Subproblem (6.2a) in the free DOFs (module doc): :math:`F(x) = Kx - b + B^T(w \circ t(y(x)))`.
 
-    Same structure as :func:`~alcontact.contact._iterative.full_newton`: relative
-    residual :math:`\max|F| / \max(|b|, |w t|)`, tolerance ``max(tol, 1e-11)`` or
-    the round-off bound of the residual, forcing terms, preconditioner rebuilds and
-    backtracking (on :math:`\Pi` for ``radius="multiplier"``, else on :math:`|F|`).
-    ``aux`` of the outcome is ``(y, t, Dy, state)`` at the final iterate.
+    The frictional counterpart of :class:`~alcontact.contact._iterative._FullSpaceSubproblem`:
+    relative residual :math:`\max|F|` over the largest load or contact force (of the start,
+    or the current iterate where larger); tolerance raised to the round-off bound of
+    :math:`F`; each step an inexact Krylov solve (CG for a symmetric :math:`J`, else GMRES)
+    with the AMG preconditioner, the forcing terms of :mod:`alcontact.contact._iterative`
+    (tightened after a damped step or a slow residual decrease) and its rebuild rule
+    (:class:`_AmortizedPreconditioner`). The merit is the potential :math:`\Pi` (module
+    doc) for the fixed disc radius :math:`\mu\lambda_N`; without a potential (coupled radius)
+    the line search asks for a decrease of :math:`|F|` (:data:`_WITH_POTENTIAL`,
+    :data:`_NO_POTENTIAL`). State: :class:`~alcontact.contact._friction._Point` with
+    ``aux = (y, t, Dy, state)``.
     """
-    fc, c, d, w = ctx.fc, ctx.c, ctx.d, ctx.w
-    tol = max(tol, _NEWTON_TOL_FLOOR)
-    rho = ctx.mu * np.maximum(lamN, 0.0) if ctx.opts.radius == "multiplier" else None
-    K, b, Bc = fc.K, ctx.b, ctx.Bc
-    BcT = Bc.T.tocsr()
-    Kabs = fc.K_abs
-    Babs = abs(Bc).tocsr()
-    wd = np.repeat(w, d)
 
-    def state(x_):
-        y_ = ctx.y(x_)
-        t_, Dy_, _, st_ = local_law(law, lamN, lamT, y_, ctx.uTn, ctx.eps_t, ctx.mu, rho=rho, tfree=ctx.tfree)
-        Kx_ = K @ x_
-        F_ = Kx_ - b + BcT @ (w[:, None] * t_).ravel()
-        return F_, (y_, t_, Dy_, st_), Kx_
+    def __init__(self, ctx: _FullCtx, law, lamN, lamT):
+        self.ctx, self.law, self.lamN, self.lamT = ctx, law, lamN, lamT
+        self.rho = ctx.mu * np.maximum(lamN, 0.0) if ctx.opts.radius == "multiplier" else None
+        self.BcT = ctx.Bc.T.tocsr()
+        self.Babs = abs(ctx.Bc).tocsr()
+        self.bscale = float(np.max(np.abs(ctx.b), initial=0.0))
+        self.scale = None
+        self.fscale = 1e-300
+        self.forcing = _FORCING_START
+        self.tol_k = 0.0
 
-    def merit(x_, aux_, Kx_):
-        if rho is None:  # no potential: the line search works on the residual norm
-            return None
-        y_ = aux_[0]
-        e = law.energy(y_[:, 0], lamN) + tangential_energy(lamT, y_[:, 1:], ctx.uTn, ctx.eps_t, rho, ctx.tfree)
-        return 0.5 * float(x_ @ Kx_) - float(b @ x_) + float(np.sum(w * e))
+    def evaluate(self, x):
+        ctx, law, fc = self.ctx, self.law, self.ctx.fc
+        y = ctx.y(x)
+        t, Dy, _, st = local_law(law, self.lamN, self.lamT, y, ctx.uTn, ctx.eps_t, ctx.mu, rho=self.rho,
+                                 tfree=ctx.tfree)
+        Kx = fc.K @ x
+        F = Kx - ctx.b + self.BcT @ (ctx.w[:, None] * t).ravel()
+        energy = 0.0
+        if self.rho is not None:
+            e = law.energy(y[:, 0], self.lamN) + tangential_energy(self.lamT, y[:, 1:], ctx.uTn, ctx.eps_t,
+                                                                   self.rho, ctx.tfree)
+            energy = 0.5 * float(x @ Kx) - float(ctx.b @ x) + float(np.sum(ctx.w * e))
+        return _Point(x, F, (y, t, Dy, st), energy)
 
-    x = np.array(x0, dtype=float)
-    F, aux, Kx = state(x)
-    if not np.all(np.isfinite(F)):
-        return _NewtonOut(x, aux, 0, False, np.inf, "non-finite residual at the start")
-    pi = merit(x, aux, Kx)
-    if rho is not None and not np.isfinite(pi):
-        return _NewtonOut(x, aux, 0, False, np.inf, "start outside the penalty domain")
-    bscale = float(np.max(np.abs(b), initial=0.0))
-    scale = max(float(np.max(np.abs(w[:, None] * aux[1]), initial=0.0)), bscale)
-    prev_res = np.inf
-    forcing = _FORCING_START
-    alpha = 1.0
-    res = np.inf
-    for it in range(1, maxiter + 2):
-        y, t, Dy, _ = aux
-        fscale = max(scale, float(np.max(np.abs(w[:, None] * t), initial=0.0)), 1e-300)
-        res = float(np.max(np.abs(F), initial=0.0)) / fscale
+    def residual(self, state):
+        return state.F
+
+    def merit(self, state):
+        return state.energy
+
+    def slope(self, x, state, dx):
+        return float(state.F @ dx)  # the gradient of Pi is F
+
+    def measure(self, state):
+        wt = float(np.max(np.abs(self.ctx.w[:, None] * state.aux[1]), initial=0.0))
+        if self.scale is None:
+            self.scale = max(wt, self.bscale)
+        self.fscale = max(self.scale, wt, 1e-300)
+        return float(np.max(np.abs(state.F), initial=0.0)) / self.fscale
+
+    def tolerance(self, state, tol):
         # round-off bound of F: 10 u (|K||x| + |b| + |B|^T w (|t| + |Dy| (|y_fix| + |B||x|)))
-        yerr = (np.abs(ctx.yfix) + (Babs @ np.abs(x)).reshape(c, d))
+        ctx = self.ctx
+        x, (_, t, Dy, _) = state.x, state.aux
+        ax = np.abs(x)
+        yerr = np.abs(ctx.yfix) + (self.Babs @ ax).reshape(ctx.c, ctx.d)
         terr = np.abs(t) + np.einsum("cij,cj->ci", np.abs(Dy), yerr)
-        floor = 10.0 * np.finfo(float).eps * float(np.max(Kabs @ np.abs(x) + np.abs(b)
-                                                          + Babs.T @ (w[:, None] * terr).ravel(), initial=0.0))
-        tol_k = max(tol, floor / fscale)
-        if res <= tol_k:
-            return _NewtonOut(x, aux, it - 1, True, res, "converged")
-        if res <= 1e-8 and res > 0.5 * prev_res:
-            return _NewtonOut(x, aux, it - 1, True, res, "converged (residual at round-off level)")
-        if it > maxiter:
-            break
-        if it > 1 and (alpha < 1.0 or res > 0.5 * prev_res):
-            forcing = max(_FORCING_SLOW * forcing, _FORCING_MIN)
-        prev_res = res
-        WD = w[:, None, None] * Dy
-        J = (K + BcT @ _block_matrix(WD) @ Bc).tocsr()
+        bound = ctx.fc.K_abs @ ax + np.abs(ctx.b) + self.Babs.T @ (ctx.w[:, None] * terr).ravel()
+        floor = 10.0 * np.finfo(float).eps * float(np.max(bound, initial=0.0))
+        self.tol_k = max(tol, floor / self.fscale)
+        return self.tol_k
+
+    def step(self, x, state, history):
+        ctx, fc = self.ctx, self.ctx.fc
+        res = history[-1].residual
+        if len(history) > 1:
+            last = history[-2]
+            if last.step < 1.0 or last.full_step or res > 0.5 * last.residual:
+                self.forcing = max(_FORCING_SLOW * self.forcing, _FORCING_MIN)  # as _FullSpaceSubproblem.step
+        WD = ctx.w[:, None, None] * state.aux[2]
+        J = (fc.K + self.BcT @ _block_matrix(WD) @ ctx.Bc).tocsr()
         asym = float(np.max(np.abs(WD - np.transpose(WD, (0, 2, 1))), initial=0.0))
         symmetric = asym <= _SYM_TOL * max(float(np.max(np.abs(WD), initial=0.0)), 1e-300)
-        P = J if symmetric else (K + BcT @ _block_matrix(_psd_part(WD)) @ Bc).tocsr()
+        P = J if symmetric else (fc.K + self.BcT @ _block_matrix(_psd_part(WD)) @ ctx.Bc).tocsr()
         if fc.S is not None:  # (the preconditioner adds the springs S to P)
-            J = _held_rigid_motions(fc, J, Bc, WD)
-        rtol = float(np.clip(max(min(forcing, res), 0.1 * tol_k / res), 1e-14, _FORCING_MAX))
+            J = _held_rigid_motions(fc, J, ctx.Bc, WD)
+        # inexact Newton: forcing min(forcing, res), tight enough in the last step to reach the tolerance
+        rtol = float(np.clip(max(min(self.forcing, res), 0.1 * self.tol_k / res), 1e-14, _FORCING_MAX))
         M = fc.precond.get(P, float(np.max(np.abs(WD), initial=0.0)))
         t_k = time.perf_counter()
-        dx, nit = fc.krylov(J, -F, M, rtol=rtol, symmetric=symmetric)
+        dx, nit = fc.krylov(J, -state.F, M, rtol=rtol, symmetric=symmetric)
         fc.precond.record(nit, rtol, time.perf_counter() - t_k)
-        if not np.all(np.isfinite(dx)):
-            return _NewtonOut(x, aux, it, False, res, "non-finite Newton step")
-        if float(np.max(np.abs(dx), initial=0.0)) <= 1e-14 * max(float(np.max(np.abs(x), initial=0.0)), 1e-300):
-            return _NewtonOut(x, aux, it, res <= 1e3 * tol, res, "step at round-off level")
-        nF = _norm(F)
-        slope = float(F @ dx)  # the gradient of Pi is F
-        alpha, accepted = 1.0, False
-        for _ in range(60):
-            x_try = x + alpha * dx
-            F_try, aux_try, Kx_try = state(x_try)
-            if rho is not None:
-                pi_try = merit(x_try, aux_try, Kx_try)
-                ok = np.isfinite(pi_try) and pi_try <= pi + 1e-4 * alpha * min(slope, 0.0) + 1e-14 * abs(pi)
-            else:
-                pi_try = None
-                ok = bool(np.all(np.isfinite(F_try))) and _norm(F_try) <= (1.0 - 1e-4 * alpha) * nF
-            if ok:
-                accepted = True
-                break
-            alpha *= 0.5
-        if not accepted:  # potential flat to round-off: take the full step if it reduces the residual
-            x_try = x + dx
-            F_try, aux_try, Kx_try = state(x_try)
-            if not (np.all(np.isfinite(F_try)) and np.max(np.abs(F_try)) < np.max(np.abs(F))):
-                return _NewtonOut(x, aux, it, False, res, "line search failed")
-            pi_try = merit(x_try, aux_try, Kx_try) if rho is not None else None
-            alpha = 0.5
-        logger.debug("friction Newton (AMG) %d: residual %.2e, %s rtol %.1e, %d iterations, step %.3g", it, res,
-                     "CG" if symmetric else "GMRES", rtol, nit, alpha)
-        x, F, aux, Kx, pi = x_try, F_try, aux_try, Kx_try, pi_try
-    return _NewtonOut(x, aux, maxiter, False, res, "maximum Newton iterations")
+        logger.debug("friction Newton (AMG) %d: residual %.2e, %s rtol %.1e, %d iterations", len(history), res,
+                     "CG" if symmetric else "GMRES", rtol, nit)
+        return dx
+
+    def negligible(self, x, state, dx):
+        return float(np.max(np.abs(dx), initial=0.0)) <= 1e-14 * max(float(np.max(np.abs(x), initial=0.0)), 1e-300)
+
+
+#: fixed disc radius: Armijo on the potential (the full step when it is flat to round-off if it reduces
+#: max|F|); a correction at round-off level converges within 1e3 times the tolerance
+_WITH_POTENTIAL = NewtonSettings(LineSearch(halvings=60), negligible_tol=1e3)
+#: coupled disc radius (no potential): a decrease of |F|, the same full-step rule
+_NO_POTENTIAL = NewtonSettings(LineSearch(halvings=60, merit=False, residual_decrease=True), negligible_tol=1e3)
+
+
+def friction_newton(ctx: _FullCtx, law, lamN, lamT, x0, *, tol: float, maxiter: int) -> NewtonResult:
+    """Solve the subproblem :math:`F(x) = 0` (module doc) by :func:`~alcontact.contact._newton.newton`.
+
+    Inexact globalized Newton with AMG-Krylov steps (:class:`_FullSpaceFriction`), tolerance
+    ``max(tol, 1e-11)`` (as :func:`~alcontact.contact._iterative.full_newton`) or the
+    round-off bound of the residual; ``state.aux`` of the result is ``(y, t, Dy, state)``.
+    """
+    tol = max(tol, _NEWTON_TOL_FLOOR)
+    system = _FullSpaceFriction(ctx, law, lamN, lamT)
+    return newton(system, x0, tol=tol, maxiter=maxiter,
+                  settings=_WITH_POTENTIAL if system.rho is not None else _NO_POTENTIAL)
 
 
 def _held_rigid_motions(fc: IterativeFrictionalContact, J, Bc, WD):
@@ -587,7 +523,7 @@ def _step_al(ctx: _FullCtx, penalty_name: str):
         newton += out.iterations
         if out.converged:
             x = out.x
-            lamN = out.aux[1][:, 0].copy()
+            lamN = out.state.aux[1][:, 0].copy()
         pref = max(float(np.max(lamN, initial=0.0)), ctx.eps_n * ctx.fc.h * 1e-6)
         lamN = np.maximum(lamN, opts.multiplier_floor * pref)
         eta = eta_for_stiffness(pen, np.maximum(lamN, opts.eta_floor * pref), ctx.eps_n)
@@ -600,10 +536,11 @@ def _step_al(ctx: _FullCtx, penalty_name: str):
         out = friction_newton(ctx, law, lamN, lamT, x, **nt)
         newton += out.iterations
         if not out.converged:
-            return _StepOut(False, f"Newton failed in outer iteration {k}: {out.reason}", out.aux[1], out.aux[1],
-                            k, newton, ContactStatus.NEWTON_FAILED), x
+            t = out.state.aux[1]
+            return _StepOut(False, f"Newton failed in outer iteration {k}: {out.message}", ctx.w[:, None] * t, t,
+                            k, newton, inner_failure(out)), x
         x = out.x
-        y, t, _, st = out.aux
+        y, t, _, st = out.state.aux
         if not np.all(np.isfinite(t)):
             return _StepOut(False, f"non-finite tractions in outer iteration {k}", t, t, k, newton,
                             ContactStatus.NONFINITE), x
