@@ -26,10 +26,11 @@ problem; the outer iterations, the multiplier updates (6.2b)/(6.2c) (family-P:
 (:func:`~alcontact.contact._friction._measures`), the step control, cut-backs and
 statuses are those of :mod:`alcontact.contact._friction`.
 
-Newton's method follows :func:`~alcontact.contact._iterative.full_newton` step by
-step: inexact steps with the same forcing terms and tolerance floor, AMG hierarchy
-rebuilt when the Krylov solves slow down (:class:`~alcontact.contact._iterative._Preconditioner`),
-backtracking on the potential
+Each subproblem is solved by the one Newton driver of the contact algorithms
+(:func:`~alcontact.contact._newton.newton`, system :class:`_FullSpaceFriction`), as the
+frictionless :func:`~alcontact.contact._iterative.full_newton`: inexact steps with the
+same forcing terms and tolerance floor, AMG hierarchy rebuilt when the Krylov solves
+slow down (:class:`_AmortizedPreconditioner`), backtracking on the potential
 :math:`\Pi = \tfrac12 x^TKx - b^Tx + \sum_i w_i(\psi_N(g_i) + \phi_T(u_{T,i}))` when the
 disc radius is the fixed :math:`\mu\lambda_N` (``radius="multiplier"``, the
 default: :math:`J` is symmetric, the Krylov method is CG), on the residual norm
