@@ -75,7 +75,6 @@ from scipy.sparse.linalg import cg, gmres
 
 from .. import penalties as _pen
 from ..errors import InputError
-from ..fem.elasticity import rigid_body_modes
 from ._friction import _EQUILIBRIUM_TOL, _advance, _measures, _Point, _step_ssn, _StepOut
 from ._friction_discrete import FrictionalContact
 from ._friction_laws import local_law, tangential_energy
@@ -135,23 +134,15 @@ class IterativeFrictionalContact(FrictionalContact):
         free = self.free = self._free
         self.K = self._K[free][:, free].tocsr()
         self.K_abs = abs(self.K).tocsr()  # round-off bound of the residual
-        pts_all, dofs_all = model.all_node_dofs()
-        modes, _ = rigid_body_modes(pts_all)
-        R = np.zeros((model.ndofs, modes.shape[-1]))
-        R[dofs_all.ravel()] = modes.reshape(-1, modes.shape[-1])
-        self.R = np.ascontiguousarray(R[free])
+        self.R = model._free_rigid_modes(free)  # near-null space of the hierarchies (that of ``factor``)
         self.ml_K = self.factor.factor.ml
         self.cg_iterations = 0
         self.amg_setups = 1
         self.amg_seconds = self.factor_seconds
         self.b_parts = np.stack([self.factor.rhs(load, fv) for fv, load in zip(self.fv_parts, self.loads)])
-        # y = y_fix(t) + Bl x: rows -E_i^T on the free DOFs of point i
-        m, d = self.points.shape
-        coef = -np.transpose(self.E, (0, 2, 1))  # (m, d local, d global)
-        r = np.broadcast_to((np.arange(m)[:, None] * d + np.arange(d))[:, :, None], (m, d, d))
-        c = np.broadcast_to(self.pos[:, None, :], (m, d, d))
-        keep = (c >= 0) & (np.abs(coef) > 0)
-        self.Bl = sp.csr_matrix((coef[keep], (r[keep], c[keep])), shape=(m * d, free.size))
+        # y = y_fix(t) + Bl x: rows -E_i^T P_i (P_i: the free DOFs of point i, the row operator of the direct path)
+        self.Bl = (_block_matrix(-np.transpose(self.E, (0, 2, 1))) @ self._G).tocsr()
+        self.Bl.eliminate_zeros()
         self.yfix_parts = np.stack([self._local(self.factor.expand(np.zeros(free.size), fv))
                                     for fv in self.fv_parts])
         self.precond = _AmortizedPreconditioner(self)
