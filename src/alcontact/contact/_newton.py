@@ -50,6 +50,8 @@ system                                      line search / stall test
                                             :math:`2^{-20}`; stops when the active set changes
 ``_friction._CondensedSystem``              Armijo on the potential (radius :math:`\mu\lambda_N`) or a
                                             residual decrease (coupled radius, Alart-Curnier)
+``_friction_iterative._FullSpaceFriction``  as ``_FullSpaceSubproblem`` (AMG); Armijo on the potential or
+                                            a residual decrease (coupled radius, GMRES); stall 1e-8
 ``_finite_friction._FrictionSubproblem``    residual decrease, inverted elements halve; stall 1e-9
 (and the Alart-Curnier reference)           (the reference: from the third iterate on)
 ==========================================  ===========================================================
