@@ -657,12 +657,17 @@ class FiniteContact(ContactPoints):
         first-order step :math:`(\varepsilon_N W_A)^{-1}` (the Macaulay update (6.13) is one
         Richardson step of this system; its contraction :math:`1/(1 + \varepsilon_N \sigma)`
         per outer iteration becomes a few back-substitutions). Returns the new multipliers
-        on the candidates (zero off :math:`A`, clipped at zero), or ``None`` when no factor of
-        the current candidates is at hand (the caller keeps the first-order update).
+        on the candidates (zero off :math:`A`, clipped at zero) with, when
+        :attr:`primal_correction` is set, the next starting state :math:`x - J^{-1} B_A^T W_A
+        \Delta\lambda_A` (the primal change of the dual step), or ``None`` when no factor of
+        the current candidates is at hand or the subproblem took no Newton iteration (the
+        caller keeps the first-order update).
         """
         t = np.asarray(out.t, dtype=float)
         act = np.flatnonzero(t > 0)
-        if act.size == 0:
+        if act.size == 0 or out.iterations == 0:
+            # no Newton iteration: the state is a start (e.g. a primal correction), not x(lambda),
+            # and the factor at hand is another state's; the first-order update is safer
             return None
         pts = self.cand[act]
         _, nu, _ = self._kinematics(self.expand(out.state), pts, False)
