@@ -239,9 +239,13 @@ class FiniteContact(ContactPoints):
         x_start : ndarray
             Last converged free displacement (for the data set before this call).
         predictor_stiffness : float, optional
-            Penalty stiffness :math:`\varepsilon_N` of the tangent predictor: the starting
-            state is ``x_start`` plus one linearized step for the changes of the prescribed
-            values, loads and obstacle position, with the points that carried pressure
+            Penalty stiffness :math:`\varepsilon_N` of the tangent predictor. With it the
+            step starts from the secant predictor (:meth:`_secant`: the last two converged
+            steps extrapolated, no assembly) where the loading is proportional and the obstacle
+            does not slide (:attr:`secant_predictor`, :attr:`predictor_used`), else from the
+            tangent predictor: the starting state is ``x_start`` plus one linearized step for
+            the changes of the prescribed values, loads and obstacle position, with the points
+            that carried pressure
             (:meth:`accept`) held by springs :math:`w_i \varepsilon_N`, whose forces predict the
             starting pressures (:meth:`initial_multipliers`); without it (or when the
             predicted state inverts an element) the step starts from ``x_start`` and the last
