@@ -395,8 +395,12 @@ def run_al(dc, opts, eps0, penalty_name="rockafellar") -> _Run:
     tolerance of (S) follows the last multiplier change, and the loop stops only after a
     subproblem solved to ``newton_tol``) and offer a second-order multiplier update for
     penalties that do not freeze at zero (``dc.multiplier_step(law, lam, out)``, a Newton
-    step on the dual with the same fixed point; ``None`` keeps the first-order update).
-    The stopping tests are unchanged: they measure the first-order update's change.
+    step on the dual with the same fixed point, optionally with the primal correction it implies as
+    ``(multipliers, next starting state)``; ``None`` keeps the first-order update).
+    The stopping tests measure the first-order update's change; a model with
+    ``dc.physical_stopping`` and the second-order update (Algorithm 6.1 at finite deformation) also stops as soon as the
+    penetration and complementarity tolerances hold at a subproblem solved to ``newton_tol``
+    (the KKT conditions at the returned state, the measures of :mod:`alcontact.contact._verify`).
     """
     pen = _pen.make(penalty_name)
     n = dc.cand.size
@@ -447,6 +451,10 @@ def run_al(dc, opts, eps0, penalty_name="rockafellar") -> _Run:
     # loop stops only after a subproblem solved to newton_tol
     inexact = bool(getattr(dc, "inexact_subproblems", False))
     second_order = getattr(dc, "multiplier_step", None)
+    # a model with the second-order update may stop on the physical tolerances alone: the returned
+    # tractions t = p'(g/eta, lambda) balance the state to newton_tol, so penetration and
+    # complementarity are the KKT conditions
+    physical = bool(getattr(dc, "physical_stopping", False)) and not needs_positive and second_order is not None
     inner_tol = max(opts.newton_tol, _INEXACT_FIRST) if inexact else opts.newton_tol
     for k in range(1, opts.maxiter + 1):
         out = dc.subproblem(law, lam, r, tol=inner_tol, maxiter=opts.maxiter_newton)
@@ -460,13 +468,15 @@ def run_al(dc, opts, eps0, penalty_name="rockafellar") -> _Run:
             return _Run(out.state, lam, out.g, ContactStatus.NEWTON_FAILED,
                         f"Newton failed in outer iteration {k}: {out.message}; try penalty_scale < 1 or "
                         "algorithm='ssn'", outer0 + k, newton, eps, out.residual, hist)
-        r = out.state
+        r = r_next = out.state
         lam_new = out.t.copy()  # multiplier update: lambda <- p'(g/eta, lambda)
         if needs_positive:
             lam_new = np.maximum(lam_new, floor)
         elif second_order is not None:  # a model may offer a Newton step on the dual (same fixed point)
             better = second_order(law, lam, out)
-            if better is not None:
+            if isinstance(better, tuple):  # with the primal correction of the dual step: the next start
+                lam_new, r_next = better
+            elif better is not None:
                 lam_new = better
         pen_k, compl, dlam = _measures(dc, out.t, out.g, lam)
         hist.append(ContactIteration(outer0 + k, pen_k, compl, dlam, out.residual, out.iterations, eps,
@@ -474,7 +484,9 @@ def run_al(dc, opts, eps0, penalty_name="rockafellar") -> _Run:
         lam = lam_new
         logger.info("outer %d: penetration %.2e h, complementarity %.2e, multiplier change %.2e, %d Newton",
                     outer0 + k, pen_k, compl, dlam, out.iterations)
-        if _converged(opts, pen_k, compl, dlam) and inner_tol <= opts.newton_tol:
+        if (_converged(opts, pen_k, compl, dlam) and inner_tol <= opts.newton_tol) or (
+                physical and pen_k <= opts.tol_penetration and compl <= opts.tol_complementarity
+                and out.residual <= opts.newton_tol):
             return _Run(r, out.t, out.g, ContactStatus.CONVERGED, "converged", outer0 + k, newton, eps,
                         out.residual, hist)
         if inexact:
@@ -493,7 +505,8 @@ def run_al(dc, opts, eps0, penalty_name="rockafellar") -> _Run:
             bnd = eta_new * np.asarray(pen.domain_upper(lam), dtype=float)
             eta = np.where(out.g < 0.99 * bnd, eta_new, eta)
         law = make_law(pen, eta)
-    return _Run(r, out.t, out.g, ContactStatus.MAXITER,
+        r = r_next
+    return _Run(out.state, out.t, out.g, ContactStatus.MAXITER,
                 f"maximum outer iterations ({opts.maxiter}) reached; raise maxiter, use strategy='infeasibility' "
                 "or a larger penalty_scale", outer0 + opts.maxiter, newton, eps, out.residual, hist)
 
@@ -510,7 +523,8 @@ def run_ssn(dc, opts, eps0, penalty_name=None) -> _Run:
     state = dc.start()
     lam = _initial_multipliers(dc)
     g = dc.gaps(state)
-    active = (lam + c * g) > 0
+    rule = getattr(dc, "initial_active", None)  # a model may predict the starting set (finite deformation)
+    active = (lam + c * g) > 0 if rule is None else np.asarray(rule(lam, g, c), dtype=bool)
     hist = []
     seen = set()
     for k in range(1, opts.maxiter + 1):

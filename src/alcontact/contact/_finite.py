@@ -89,6 +89,11 @@ _ARMIJO = 1e-4
 _EPS = float(np.finfo(float).eps)
 #: halvings of a Newton step before the line search gives up
 _MAX_HALVINGS = 40
+#: secant predictor: a point enters the starting active set when its extrapolated penetration
+#: exceeds this fraction of its predicted approach (:meth:`FiniteContact.initial_active`)
+_ENTRY_FRACTION = 0.5
+#: secant predictor: largest relative deviation of the step's data change from a multiple of the last one
+_SECANT_RTOL = 1e-8
 
 
 class NewtonSolver(SequenceSolver):
@@ -167,6 +172,16 @@ class FiniteContact(ContactPoints):
     #: the outer loop of Algorithms 6.1 / 6.3 solves its subproblems inexactly
     #: (:func:`~alcontact.contact._algorithms.run_al`): each Newton iteration costs an assembly and a factorization
     inexact_subproblems = True
+    #: :meth:`configure` extrapolates the last two converged steps (no assembly) where the loading
+    #: is proportional, instead of the tangent predictor (one assembly + solve)
+    secant_predictor = True
+    #: Algorithm 6.1 stops as soon as the tolerances of penetration and complementarity hold at a
+    #: subproblem solved to ``newton_tol`` (the KKT conditions at the returned state), without
+    #: waiting for the multiplier change (:func:`~alcontact.contact._algorithms.run_al`)
+    physical_stopping = True
+    #: :meth:`multiplier_step` also returns the primal correction of its dual step (the next
+    #: subproblem starts there instead of at the last state with changed multipliers)
+    primal_correction = True
 
     def __init__(self, problem, *, margin: float = 2.0, fixed=None):
         t0 = time.perf_counter()
@@ -189,6 +204,7 @@ class FiniteContact(ContactPoints):
         free_pos[self.free] = np.arange(self.free.size)
         self.pos = free_pos[dofs]  # (m, d), -1 on fixed DOFs
         self.movable = np.any(self.pos >= 0, axis=1)
+        self._movable_pts = np.flatnonzero(self.movable)
         self.obstacle = problem.obstacle
         self.h = self._element_size()
         self.linear_solves = 0
@@ -205,6 +221,7 @@ class FiniteContact(ContactPoints):
         self.cand = np.empty(0, dtype=np.int64)
         self.last_pressure = np.zeros(pts.shape[0])
         self.start_pressure = self.last_pressure
+        self._history: list[list] = []
         self.configure(self.fixed_values, self.load, self.obstacle, self.x0)
         self.accept(self.last_pressure)
         self.setup_seconds = time.perf_counter() - t0
@@ -224,9 +241,13 @@ class FiniteContact(ContactPoints):
         x_start : ndarray
             Last converged free displacement (for the data set before this call).
         predictor_stiffness : float, optional
-            Penalty stiffness :math:`\varepsilon_N` of the tangent predictor: the starting
-            state is ``x_start`` plus one linearized step for the changes of the prescribed
-            values, loads and obstacle position, with the points that carried pressure
+            Penalty stiffness :math:`\varepsilon_N` of the tangent predictor. With it the
+            step starts from the secant predictor (:meth:`_secant`: the last two converged
+            steps extrapolated, no assembly) where the loading is proportional and the obstacle
+            does not slide (:attr:`secant_predictor`, :attr:`predictor_used`), else from the
+            tangent predictor: the starting state is ``x_start`` plus one linearized step for
+            the changes of the prescribed values, loads and obstacle position, with the points
+            that carried pressure
             (:meth:`accept`) held by springs :math:`w_i \varepsilon_N`, whose forces predict the
             starting pressures (:meth:`initial_multipliers`); without it (or when the
             predicted state inverts an element) the step starts from ``x_start`` and the last
@@ -235,10 +256,21 @@ class FiniteContact(ContactPoints):
         fixed_values = np.asarray(fixed_values, dtype=float)
         load = np.asarray(load, dtype=float)
         x_start = np.array(x_start, dtype=float)
+        if self._history and self._history[-1][1] is None:
+            self._history[-1][1] = x_start.copy()  # the converged state of the last accepted step
         self.start_pressure = self.last_pressure.copy()
+        self.predictor_used = "none"
+        self.predicted_approach = None
         if predictor_stiffness is not None:
-            x_start = self._predict(x_start, fixed_values, load, self._predictor_obstacle(obstacle),
-                                    float(predictor_stiffness))
+            pred_obstacle = self._predictor_obstacle(obstacle)
+            # a sliding obstacle moves the contact zone: no extrapolation of its pressures and gaps
+            secant = (self._secant(x_start, fixed_values, load, obstacle)
+                      if self.secant_predictor and pred_obstacle is obstacle else None)
+            if secant is not None:
+                x_start, self.start_pressure = secant
+                self.predictor_used = "secant"
+            else:
+                x_start = self._predict(x_start, fixed_values, load, pred_obstacle, float(predictor_stiffness))
         self.fixed_values = fixed_values
         self.load = load
         self.obstacle = obstacle
@@ -249,6 +281,69 @@ class FiniteContact(ContactPoints):
         self.max_free_penetration = gmax
         thr = -max(self.margin * self.h, 2.0 * max(gmax, 0.0))
         self.cand = np.flatnonzero(self.movable & (self.g_free > thr))
+
+    @staticmethod
+    def _data_increment(new, old):
+        """Parts of the change of the step data ``(fixed values, load, obstacle)``, or ``None``
+        when the obstacle changed otherwise than by a translation of the same base."""
+        parts = [np.asarray(new[0]) - np.asarray(old[0]), np.asarray(new[1]) - np.asarray(old[1])]
+        ob, ob_old = new[2], old[2]
+        if ob is not ob_old:
+            base, base_old = getattr(ob, "base", ob), getattr(ob_old, "base", ob_old)
+            if base is not base_old:
+                return None
+            off = np.asarray(getattr(ob, "offset", 0.0), dtype=float)
+            off_old = np.asarray(getattr(ob_old, "offset", 0.0), dtype=float)
+            parts.append(np.broadcast_to(off - off_old, (max(off.size, off_old.size),)).astype(float))
+        return parts
+
+    def _secant(self, x, fixed_values, load, obstacle):
+        r"""Secant predictor of :meth:`configure`: ``(x, pressures)`` extrapolated linearly, or ``None``.
+
+        When the data change of the new step is a multiple :math:`\rho` of the last accepted
+        step's (proportional loading, a straight obstacle path; every part, to
+        ``_SECANT_RTOL``), the state and the pressures are extrapolated from the last two
+        converged steps, :math:`x_{k+1} = x_k + \rho\,(x_k - x_{k-1})`,
+        :math:`\lambda_{k+1} = \langle\lambda_k + \rho\,(\lambda_k - \lambda_{k-1})\rangle`:
+        no assembly and no solve, and the active set of the new step (points entering contact)
+        is predicted to first order. ``None`` (the tangent predictor runs) for the first step,
+        after a change of the loading direction, or when the extrapolated state inverts an element.
+        """
+        if len(self._history) < 2 or self._history[-1][1] is None or self._history[-2][1] is None:
+            return None
+        (data_k, x_k, p_k), (data_km, x_km, p_km) = self._history[-1], self._history[-2]
+        if x_k.shape != x.shape or x_km.shape != x.shape or not np.array_equal(x_k, x):
+            return None
+        new = self._data_increment((fixed_values, load, obstacle), data_k)
+        old = self._data_increment(data_k, data_km)
+        if new is None or old is None or len(new) != len(old):
+            return None
+        den = sum(float(b @ b) for b in old)
+        if den == 0.0:
+            return None
+        rho = sum(float(a @ b) for a, b in zip(new, old)) / den
+        if not rho > 0.0:
+            return None
+        for a, b in zip(new, old):
+            if float(np.linalg.norm(a - rho * b)) > _SECANT_RTOL * max(float(np.linalg.norm(a)), 1e-300):
+                return None
+        trial = x + rho * (x - x_km)
+        u = np.zeros(self.model.ndofs)
+        u[self.free] = trial
+        u[self.fixed] = fixed_values
+        try:
+            fint = self.body.internal_force(u)
+        except InvertedElementError:
+            return None
+        if not (np.all(np.isfinite(fint)) and np.all(np.isfinite(trial))):
+            return None
+        # predicted approach of every point: the gap change from the last converged state
+        uk = u.copy()
+        uk[self.free] = x
+        uk[self.fixed] = data_k[0]
+        self.predicted_approach = (obstacle.gap(self.points + u[self.dofs])
+                                   - data_k[2].gap(self.points + uk[self.dofs]))
+        return trial, np.maximum(p_k + rho * (p_k - p_km), 0.0)
 
     def _predictor_obstacle(self, obstacle):
         """The obstacle the tangent predictor linearizes with: ``obstacle``, or the last accepted one
@@ -389,6 +484,8 @@ class FiniteContact(ContactPoints):
         """Record the data and pressures (all points) of an accepted load step (next warm start)."""
         self.last_pressure = np.asarray(pressure, dtype=float).copy()
         self._accepted = (self.fixed_values, self.load, self.obstacle)
+        # the last two accepted steps: [data, converged state (set by the next configure), pressures]
+        self._history = self._history[-1:] + [[self._accepted, None, self.last_pressure]]
 
     def scale_forces(self, x: np.ndarray, factor: float) -> np.ndarray:
         r"""Contact forces scaled by ``factor``, to first order (used for barrier starting points).
@@ -477,12 +574,17 @@ class FiniteContact(ContactPoints):
         first-order step :math:`(\varepsilon_N W_A)^{-1}` (the Macaulay update (6.13) is one
         Richardson step of this system; its contraction :math:`1/(1 + \varepsilon_N \sigma)`
         per outer iteration becomes a few back-substitutions). Returns the new multipliers
-        on the candidates (zero off :math:`A`, clipped at zero), or ``None`` when no factor of
-        the current candidates is at hand (the caller keeps the first-order update).
+        on the candidates (zero off :math:`A`, clipped at zero) with, when
+        :attr:`primal_correction` is set, the next starting state :math:`x - J^{-1} B_A^T W_A
+        \Delta\lambda_A` (the primal change of the dual step), or ``None`` when no factor of
+        the current candidates is at hand or the subproblem took no Newton iteration (the
+        caller keeps the first-order update).
         """
         t = np.asarray(out.t, dtype=float)
         act = np.flatnonzero(t > 0)
-        if act.size == 0:
+        if act.size == 0 or out.iterations == 0:
+            # no Newton iteration: the state is a start (e.g. a primal correction), not x(lambda),
+            # and the factor at hand is another state's; the first-order update is safer
             return None
         pts = self.cand[act]
         _, nu, _ = self._kinematics(self.expand(out.state), pts, False)
@@ -525,10 +627,37 @@ class FiniteContact(ContactPoints):
         if not np.all(np.isfinite(y)):
             return None
         new = np.zeros_like(t)
-        new[act] = np.maximum(np.asarray(lam, dtype=float)[act] + y / w, 0.0)
-        return new
+        lam_a = np.asarray(lam, dtype=float)[act]
+        new[act] = np.maximum(lam_a + y / w, 0.0)
+        if not self.primal_correction:
+            return new
+        # the primal change the dual step implies at fixed Newton matrix: J dx = -B_A^T W_A dlam_A
+        dx = self.solver.resolve(-(Bm.T @ (w * (new[act] - lam_a))))
+        if dx is None or not np.all(np.isfinite(dx)):
+            return new
+        return new, np.asarray(out.state, dtype=float) + dx
 
     # ------------------------------------------------------------------ reference (active set)
+    def initial_active(self, lam: np.ndarray, g: np.ndarray, c: float) -> np.ndarray:
+        r"""Starting active set of :func:`~alcontact.contact._algorithms.run_ssn` on the candidates.
+
+        The semi-smooth rule :math:`\lambda_i + c\,g_i > 0` at the starting state, except after
+        the secant predictor (:meth:`configure`): there a point without predicted pressure
+        starts active only when its extrapolated gap exceeds ``_ENTRY_FRACTION`` of its predicted
+        approach :math:`\Delta g_i` (it crosses the obstacle in the first half of the step).
+        Linear extrapolation overestimates the approach of the points beyond the contact edge
+        (the contact zone flattens as it grows); the active-set iteration releases wrongly
+        active points one per Newton step (the edge point pulls, its neighbour takes over),
+        but takes in all penetrating points at once.
+        """
+        lam = np.asarray(lam, dtype=float)
+        g = np.asarray(g, dtype=float)
+        rule = (lam + c * g) > 0
+        if self.predicted_approach is None:
+            return rule
+        dg = np.maximum(self.predicted_approach[self.cand], 0.0)
+        return (lam > 0) & rule | (g > _ENTRY_FRACTION * dg) & (dg > 0)
+
     def solve_active(self, active, lam, x, c, *, tol: float = 1e-12, maxiter: int = 50):
         r"""Active-set step of :func:`run_ssn`, as a semi-smooth Newton method (Alart-Curnier type).
 
@@ -560,18 +689,29 @@ class FiniteContact(ContactPoints):
             active = new_active
         return x, np.where(active, lam_all, 0.0), self.gaps(x)
 
-    def _saddle_matrix(self, u, Kt, active) -> sp.csc_matrix:
-        r"""Saddle-point matrix of :meth:`_equality_newton` over all candidates (fixed sparsity pattern).
+    def _saddle_rows(self) -> np.ndarray:
+        """Row of every candidate among the constraint rows of :meth:`_saddle_matrix`."""
+        rows = -np.ones(self.points.shape[0], dtype=np.int64)
+        rows[self._movable_pts] = np.arange(self._movable_pts.size)
+        return rows[self.cand]
 
-        Rows of the inactive candidates read :math:`\Delta r_i = 0` (a unit diagonal, their
-        constraint row stored as explicit zeros), so the pattern depends on the candidates
-        only and :class:`NewtonSolver` keeps its analysis while the active set changes.
+    def _saddle_matrix(self, u, Kt, active) -> sp.csc_matrix:
+        r"""Saddle-point matrix of :meth:`_equality_newton` over all movable contact points (one pattern).
+
+        One constraint row per movable point of the contact boundary (:meth:`_saddle_rows`
+        gives the candidates' rows); the rows of the inactive candidates and of the
+        non-candidates read :math:`\Delta r_i = 0` (a unit diagonal, their constraint row
+        stored as explicit zeros), so the pattern is that of the whole run and
+        :class:`NewtonSolver` keeps one analysis while the active set and the candidates
+        of the load steps change (a new analysis per step cost about one factorization).
         """
-        cand = self.cand
-        _, nu, _ = self._kinematics(u, cand, False)
-        Bc = self._B(nu * active[:, None], cand)
-        nc = cand.size
-        D = sp.csr_matrix(((~active).astype(float), np.arange(nc), np.arange(nc + 1)), shape=(nc, nc))
+        pts = self._movable_pts
+        on = np.zeros(pts.size, dtype=bool)
+        on[self._saddle_rows()] = active
+        _, nu, _ = self._kinematics(u, pts, False)
+        Bc = self._B(nu * on[:, None], pts)
+        nc = pts.size
+        D = sp.csr_matrix(((~on).astype(float), np.arange(nc), np.arange(nc + 1)), shape=(nc, nc))
         return sp.bmat([[Kt, Bc.T], [Bc, D]], format="csc")
 
     def _equality_newton(self, active, lam_all, x, c, tol, maxiter):
@@ -712,6 +852,7 @@ class _EqualityNewton(NewtonSystem):
         self.wA = fc.weights[self.A]
         self.r0 = np.maximum(lam_all[self.idx], 0.0) * self.wA
         self.nf = fc.free.size
+        self.rows = fc._saddle_rows()[self.idx]  # constraint rows of the active points in the saddle-point matrix
         self.scale_run = 0.0  # running force unit: a free rigid motion has no forces left to scale by
         self.last = np.inf
         self.switched = False
@@ -752,13 +893,13 @@ class _EqualityNewton(NewtonSystem):
         J = fc._saddle_matrix(u, Kt, self.active)
         tb = time.perf_counter()
         fc.assembly_seconds += tb - ta
-        rhs_g = np.zeros(fc.cand.size)
-        rhs_g[self.idx] = gA
+        rhs_g = np.zeros(J.shape[0] - self.nf)
+        rhs_g[self.rows] = gA
         step = linear_solve(J, -np.concatenate([R, rhs_g]), fc.solver)
         fc.solve_seconds += time.perf_counter() - tb
         fc.linear_solves += 1
         fc.newton_iterations += 1
-        return np.concatenate([step[:self.nf], step[self.nf:][self.idx]])
+        return np.concatenate([step[:self.nf], step[self.nf:][self.rows]])
 
     def interrupt(self, z, state, alpha):
         if alpha == 1.0 and self.last > self.tol:

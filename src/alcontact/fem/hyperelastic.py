@@ -70,6 +70,7 @@ def _pattern_generic(vdofs: np.ndarray, n: int):
     tperm : numpy.ndarray
         Position of the transposed entry of each CSR entry.
     """
+    vdofs = np.asarray(vdofs, dtype=np.int64)  # n**2 overflows 32-bit DOF numbers above 46k DOFs
     keys = (vdofs[:, :, None] * n + vdofs[:, None, :]).ravel()
     # np.unique by hand: a stable (timsort) argsort exploits the runs of element-ordered keys
     order = np.argsort(keys, kind="stable")

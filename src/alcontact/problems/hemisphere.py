@@ -1,0 +1,78 @@
+r"""A neo-Hookean hemisphere pressed onto a rigid plane (finite deformation, 3D).
+
+The 3D companion of :mod:`alcontact.problems.half_cylinder`: a hemisphere of radius
+:math:`R` with its flat face on top (:math:`y = R`) and its curved face on the plane
+:math:`y = 0`, touching it at the origin. One quarter is modelled, :math:`x \le 0`,
+:math:`z \ge 0` (symmetry faces ``"symmetry_x"``, :math:`u_x = 0`, and ``"symmetry_z"``,
+:math:`u_z = 0`); it is the unit ball's octant meshed by the elliptical-grid map of the
+unit cube,
+
+.. math::
+
+    (a, b, c) \mapsto R\,\bigl(a\sqrt{1 - \tfrac{b^2}{2} - \tfrac{c^2}{2} + \tfrac{b^2c^2}{3}},\;
+    b\sqrt{1 - \tfrac{a^2}{2} - \tfrac{c^2}{2} + \tfrac{a^2c^2}{3}},\;
+    c\sqrt{1 - \tfrac{a^2}{2} - \tfrac{b^2}{2} + \tfrac{a^2b^2}{3}}\bigr),
+
+rotated by 180 degrees about the :math:`z` axis and shifted up by :math:`R`. The flat
+face (``"top"``) is pushed down by :math:`\delta` (``u_y = -\delta``, lateral motion
+free): with :func:`alcontact.contact.solve_finite` the approach is ramped over the load
+steps. The contact boundary is ``"curved"``. A benchmark case (no closed-form reference
+at finite deformation; for small :math:`\delta/R` the force tends to Hertz's
+:math:`F = \tfrac{4}{3} E^* R^{1/2} \delta^{3/2}` of the whole sphere, a quarter of it here).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+
+from ..contact import ContactProblem, Support
+from ..contact.obstacles import HalfSpace
+from ..fem import Material, meshes
+from ..fem.hyperelastic import Hyperelastic
+
+__all__ = ["hemisphere"]
+
+
+def hemisphere(n: int = 6, *, order: int = 1, radius: float = 1.0, delta: float = 0.2,
+               E: float = 1000.0, nu: float = 0.3, model: str = "neo-hookean") -> ContactProblem:
+    """Quarter of a hemisphere on a rigid plane, pressed down by ``delta`` (module doc).
+
+    Parameters
+    ----------
+    n : int
+        Cells per side of the mapped cube (``6 n^3`` tetrahedra; P1 has ``3 (n+1)^3`` DOFs).
+    order : {1, 2}
+    radius, delta : float
+        Radius :math:`R` and final approach :math:`\\delta` of the flat face.
+    E, nu : float
+        Elastic constants.
+    model : str
+        Hyperelastic law (:func:`alcontact.fem.available_materials`).
+    """
+    cube = meshes.box(0.0, 1.0, 0.0, 1.0, 0.0, 1.0, n, n, n)
+    a, b, c = cube.doflocs
+    X = a * np.sqrt(np.maximum(1.0 - b**2 / 2 - c**2 / 2 + b**2 * c**2 / 3, 0.0))
+    Y = b * np.sqrt(np.maximum(1.0 - a**2 / 2 - c**2 / 2 + a**2 * c**2 / 3, 0.0))
+    Z = c * np.sqrt(np.maximum(1.0 - a**2 / 2 - b**2 / 2 + a**2 * b**2 / 3, 0.0))
+    p = np.vstack([-radius * X, radius * (1.0 - Y), radius * Z])  # rotation about z keeps the orientation
+    mesh = dataclasses.replace(cube, doflocs=p, _boundaries=None)
+    tol = 1e-9 * radius
+    mesh = mesh.with_boundaries({
+        "top": lambda x: x[1] > radius - tol,
+        "symmetry_x": lambda x: x[0] > -tol,
+        "symmetry_z": lambda x: x[2] < tol,
+        "curved": lambda x: (x[1] < radius - tol) & (x[0] < -tol) & (x[2] > tol),
+    })
+    body = Hyperelastic(mesh, Material(E=E, nu=nu), order=order, model=model)
+    return ContactProblem(
+        model=body,
+        obstacle=HalfSpace([0.0, 0.0, 0.0], [0.0, 1.0, 0.0]),
+        contact_boundary="curved",
+        supports=(Support("symmetry_x", components=(0,)), Support("symmetry_z", components=(2,)),
+                  Support("top", components=(1,), value=-delta)),
+        name=f"hemisphere quarter (R={radius:g}, delta/R={delta / radius:g}, n={n}, P{order}, {model})",
+        kinematics="finite",
+        meta={"radius": radius, "delta": delta, "n": n},
+    )
