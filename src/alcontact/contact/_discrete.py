@@ -413,6 +413,16 @@ class DiscreteContact(ContactPoints):
         S, w = self.S, self.weights[self.cand]
         gfree, g0 = self.g_free[self.cand], self.gap0[self.cand]
         kw = self._spring_stiffness() * w
+        if self.spring is None and r.size:  # r = 0 off A: Cholesky of S_AA on the active rows only
+            r = np.zeros(r.size)
+            if np.any(active):
+                try:
+                    c = sla.cho_factor(S[np.ix_(active, active)], lower=True, check_finite=False)
+                except np.linalg.LinAlgError:  # dependent rows: the caller reports a singular active set
+                    raise np.linalg.LinAlgError("singular active-set system") from None
+                r[active] = sla.cho_solve(c, gfree[active], check_finite=False)
+            g = gfree - S @ r
+            return r, r / w, g
         M = np.where(active[:, None], S, np.eye(S.shape[0]) - kw[:, None] * S)
         rhs = np.where(active, gfree, -kw * (gfree - g0))
         r = np.linalg.solve(M, rhs) if r.size else r
