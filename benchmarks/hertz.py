@@ -22,8 +22,10 @@ from __future__ import annotations
 
 import argparse
 import csv
+import dataclasses
 import io
 import logging
+import math
 import statistics
 import sys
 import time
@@ -82,11 +84,23 @@ REPEAT_BUDGET_S = 2.0
 
 FIELDS = ["case", "dofs", "candidates", "variant", "algorithm", "penalty", "status", "outer_iterations",
           "newton_iterations", "linear_solves", "cg_iterations", "wall_s", "linear_solve_s", "plain_linear_s",
-          "ratio", "repeats", "a_err_pct", "p0_err_pct", "penetration_over_h"]
+          "ratio", "cpu_s", "plain_linear_cpu_s", "ratio_cpu", "repeats", "a_err_pct", "p0_err_pct", "penetration_over_h"]
 
 
-def plain_linear_solve(prob, linear_solver="auto") -> float:
-    """Seconds of one linear elastic solve of ``prob``'s mesh: a fresh factorization + one solve.
+@dataclasses.dataclass(frozen=True, order=True)
+class Timing:
+    """Wall and CPU seconds (user + system of this process) of one measurement; ordered by CPU."""
+
+    cpu: float
+    wall: float
+
+    def __init__(self, wall: float, cpu: float):
+        object.__setattr__(self, "cpu", cpu)
+        object.__setattr__(self, "wall", wall)
+
+
+def plain_linear_solve(prob, linear_solver="auto") -> Timing:
+    """Wall and CPU seconds of one linear elastic solve of ``prob``'s mesh: a fresh factorization + one solve.
 
     The same solver as the contact solve (``"auto"`` resolved as the contact solve does: AMG
     for large 3D models, else the fast direct one), no Schur block, no reuse: this is the
@@ -98,13 +112,13 @@ def plain_linear_solve(prob, linear_solver="auto") -> float:
     fixed, values = prob.dirichlet()
     backend = linear_solver_name(linear_solver, model)  # what the contact solve resolves "auto" to
     model.clear_factorization()
-    t0 = time.perf_counter()
+    c0, t0 = time.process_time(), time.perf_counter()
     fac = model.factorize(fixed, backend=backend, reuse=False)
     fac.solve_full(prob.load_vector(), values)
-    return time.perf_counter() - t0
+    return Timing(time.perf_counter() - t0, time.process_time() - c0)
 
 
-def _row(case, label, prob, sol, plain, wall=None, repeats=1):
+def _row(case, label, prob, sol, plain: Timing, timing: Timing, repeats=1):
     ref = prob.reference
     P = ref.load(sol.normal_force)
     a = sol.contact_half_width(axis=0, center=prob.meta["center"])
@@ -115,9 +129,10 @@ def _row(case, label, prob, sol, plain, wall=None, repeats=1):
         "algorithm": r.algorithm, "penalty": r.penalty, "status": r.status.label,
         "outer_iterations": r.outer_iterations, "newton_iterations": r.newton_iterations,
         "linear_solves": r.linear_solves, "cg_iterations": sol.extra.get("cg_iterations", ""),
-        "wall_s": round(wall if wall is not None else t["total_s"], 4),
-        "linear_solve_s": round(t["linear_solve_s"], 4), "plain_linear_s": round(plain, 4),
-        "ratio": round((wall if wall is not None else t["total_s"]) / plain, 3), "repeats": repeats,
+        "wall_s": round(timing.wall, 4),
+        "linear_solve_s": round(t["linear_solve_s"], 4), "plain_linear_s": round(plain.wall, 4),
+        "ratio": round(timing.wall / plain.wall, 3), "cpu_s": round(timing.cpu, 4),
+        "plain_linear_cpu_s": round(plain.cpu, 4), "ratio_cpu": round(timing.cpu / plain.cpu, 3), "repeats": repeats,
         "a_err_pct": round(100 * (a / ref.half_width(P) - 1), 3) if P > 0 else "",
         "p0_err_pct": round(100 * (sol.peak_pressure / ref.peak_pressure(P) - 1), 3) if P > 0 else "",
         "penetration_over_h": f"{r.penetration:.2e}",
@@ -127,7 +142,8 @@ def _row(case, label, prob, sol, plain, wall=None, repeats=1):
 def _markdown(rows):
     out = ["## Runs", "",
            "Contact solve time over one linear elastic solve (a fresh factorization + one solve with the same "
-           "solver, no Schur block) of the same mesh, measured in the same run (the smaller of the measurements "
+           "solver, no Schur block) of the same mesh, measured in the same run, in CPU seconds of the process "
+           "(user + system, one MKL thread: what a quiet machine takes) and in wall seconds (the smaller of the measurements "
            "before and after the variants; small models are timed `repeats` times and the fastest run of each "
            "kept, numerator and denominator alike). "
            "Iterations: outer / Newton; solves: triangular solve pairs with the single stiffness factorization "
@@ -135,18 +151,21 @@ def _markdown(rows):
     for case in dict.fromkeys(r["case"] for r in rows):
         sub = [r for r in rows if r["case"] == case]
         out += [f"### {case} ({sub[0]['dofs']} DOFs, {sub[0]['candidates']} contact candidates)", "",
-                f"one linear solve: {sub[0]['plain_linear_s']} s (fastest of {sub[0].get('repeats') or 1} x 2)", "",
-                "| variant | status | outer | Newton | solves | wall s | contact/linear | a err % | p0 err % |",
-                "|---|---|---|---|---|---|---|---|---|"]
+                f"one linear solve: {sub[0]['plain_linear_cpu_s']} s CPU, {sub[0]['plain_linear_s']} s wall "
+                f"(fastest of {sub[0].get('repeats') or 1} before and {sub[0].get('repeats') or 1} after)", "",
+                "| variant | status | outer | Newton | solves | CPU s | contact/linear (CPU) | wall s | "
+                "contact/linear (wall) | a err % | p0 err % |",
+                "|---|---|---|---|---|---|---|---|---|---|---|"]
         for r in sub:
             out.append(f"| {r['variant']} | {r['status']} | {r['outer_iterations']} | {r['newton_iterations']} | "
-                       f"{r['linear_solves']} | {r['wall_s']} | {r['ratio']} | {r['a_err_pct']} | {r['p0_err_pct']} |")
+                       f"{r['linear_solves']} | {r['cpu_s']} | {r['ratio_cpu']} | {r['wall_s']} | {r['ratio']} | "
+                       f"{r['a_err_pct']} | {r['p0_err_pct']} |")
         if any(r["cg_iterations"] not in ("", None) for r in sub):
             out += ["", "No factorization (linear_solver='amg'): solves are AMG-preconditioned CG solves, CG "
                     "iterations " + ", ".join(f"{r['variant']} {r['cg_iterations']}" for r in sub) + "; the "
                     "linear solve is the AMG setup plus one CG solve to 1e-10."]
-        ratios = [float(r["ratio"]) for r in sub]
-        out += ["", f"median contact/linear ratio: {statistics.median(ratios):.2f}, max {max(ratios):.2f}", ""]
+        ratios = [float(r["ratio_cpu"]) for r in sub]
+        out += ["", f"contact/linear (CPU): median {statistics.median(ratios):.2f}, max {max(ratios):.2f}", ""]
     return "\n".join(out) + "\n"
 
 
@@ -165,24 +184,25 @@ def summary(rows, ladder=LADDER_2D) -> str:
     variants = [v for v in ISSUE_VARIANTS if any(r["variant"] == v for r in rows)]
     variants += [v for v in dict.fromkeys(r["variant"] for r in rows) if v not in variants]
     cases = list(dict.fromkeys(r["case"] for r in rows))
-    head = "| case | DOFs | candidates | one linear solve s | " + " | ".join(variants) + " | median | max |"
+    head = "| case | DOFs | candidates | one linear solve CPU s | " + " | ".join(variants) + " | median | max |"
     out = [head, "|---" * (6 + len(variants)) + "|"]
     for case in cases:
         sub = {r["variant"]: r for r in rows if r["case"] == case}
         r0 = next(iter(sub.values()))
-        ratios = [float(r["ratio"]) for r in sub.values()]
-        cells = [(f"**{float(sub[v]['ratio']):.2f}**" if float(sub[v]["ratio"]) > 1.5 else f"{float(sub[v]['ratio']):.2f}")
+        ratios = [float(r["ratio_cpu"]) for r in sub.values()]
+        cells = [(f"**{float(sub[v]['ratio_cpu']):.2f}**" if float(sub[v]["ratio_cpu"]) > 1.5
+                  else f"{float(sub[v]['ratio_cpu']):.2f}")
                  if v in sub else "-" for v in variants]
-        out.append(f"| {case} | {r0['dofs']} | {r0['candidates']} | {r0['plain_linear_s']} | " + " | ".join(cells)
+        out.append(f"| {case} | {r0['dofs']} | {r0['candidates']} | {r0['plain_linear_cpu_s']} | " + " | ".join(cells)
                    + f" | {statistics.median(ratios):.2f} | {max(ratios):.2f} |")
     lad = [c for c in ladder if c in cases]
     fits = ["", "Fitted exponents on the 2D ladder (" + ", ".join(lad) + "): quantity ~ DOFs^k", "",
-            "| variant | k of contact solve wall s | k of contact/linear |", "|---|---|---|"]
+            "| variant | k of contact solve CPU s | k of contact/linear (CPU) |", "|---|---|---|"]
     dofs_of = {r["case"]: int(r["dofs"]) for r in rows}
-    plain_of = {r["case"]: float(r["plain_linear_s"]) for r in rows}
+    plain_of = {r["case"]: float(r["plain_linear_cpu_s"]) for r in rows}
     kp = _fit([dofs_of[c] for c in lad], [plain_of[c] for c in lad])
     for v in variants:
-        pts = [(dofs_of[c], float(r["wall_s"]), float(r["ratio"])) for c in lad for r in rows
+        pts = [(dofs_of[c], float(r["cpu_s"]), float(r["ratio_cpu"])) for c in lad for r in rows
                if r["case"] == c and r["variant"] == v]
         kw = _fit([p[0] for p in pts], [p[1] for p in pts])
         kr = _fit([p[0] for p in pts], [p[2] for p in pts])
@@ -205,7 +225,7 @@ def plot(rows, path: Path, ladder=LADDER_2D) -> None:
     dofs_of = {r["case"]: int(r["dofs"]) for r in rows}
     fig, axes = plt.subplots(1, 2, figsize=(11, 4.5))
     for i, v in enumerate(variants):
-        pts = sorted((dofs_of[r["case"]], float(r["wall_s"]), float(r["ratio"])) for r in rows
+        pts = sorted((dofs_of[r["case"]], float(r["cpu_s"]), float(r["ratio_cpu"])) for r in rows
                      if r["variant"] == v and r["case"] in cases)
         if not pts:
             continue
@@ -216,12 +236,12 @@ def plot(rows, path: Path, ladder=LADDER_2D) -> None:
         axes[1].loglog(x, [p[1] for p in pts], marker="o", color=f"C{i}",
                        label=f"{v} (k={kw:.2f})" if kw is not None else v)
     x = [dofs_of[c] for c in cases]
-    plain = [next(float(r["plain_linear_s"]) for r in rows if r["case"] == c) for c in cases]
+    plain = [next(float(r["plain_linear_cpu_s"]) for r in rows if r["case"] == c) for c in cases]
     kp = _fit(x, plain)
     axes[1].loglog(x, plain, "k--", marker="s", label=f"one linear solve (k={kp:.2f})" if kp else "one linear solve")
     axes[0].axhline(1.5, color="k", ls=":", lw=1, label="1.5 (issue 11)")
-    axes[0].set(xlabel="DOFs", ylabel="contact solve / one linear solve", title="2D Hertz: ratio")
-    axes[1].set(xlabel="DOFs", ylabel="wall s (1 MKL thread)", title="2D Hertz: time")
+    axes[0].set(xlabel="DOFs", ylabel="contact solve / one linear solve (CPU s)", title="2D Hertz: ratio")
+    axes[1].set(xlabel="DOFs", ylabel="CPU s (1 MKL thread)", title="2D Hertz: time")
     for ax in axes:
         ax.grid(True, which="both", alpha=0.3)
         ax.legend(fontsize=7)
@@ -231,14 +251,14 @@ def plot(rows, path: Path, ladder=LADDER_2D) -> None:
 
 
 def _timed_solve(prob, alg, pen, opts, repeats):
-    """The fastest of ``repeats`` contact solves (each with its own factorization) and its wall seconds."""
-    best = None
+    """The solution and the fastest (CPU) timing of ``repeats`` contact solves, each with its own factorization."""
+    best = sol = None
     for _ in range(repeats):
         prob.model.clear_factorization()  # every variant pays its factorization (no reuse across variants)
+        c0, t0 = time.process_time(), time.perf_counter()
         sol = solve(prob, alg, pen, **opts)
-        if best is None or sol.timings["total_s"] < best.timings["total_s"]:
-            best = sol
-    return best, best.timings["total_s"]
+        best = min(best or Timing(math.inf, math.inf), Timing(time.perf_counter() - t0, time.process_time() - c0))
+    return sol, best
 
 
 def _read_csv(path: Path) -> list[dict]:
@@ -259,7 +279,7 @@ def write_report(out: Path, rows) -> None:
     md = out / "hertz.md"
     text = md.read_text() if md.exists() else ""
     head = text.split("<!-- tables -->")[0] if "<!-- tables -->" in text else "# Hertz benchmark\n\n"
-    body = ["<!-- tables -->", "", "## Summary (generated): contact solve / one linear solve", "",
+    body = ["<!-- tables -->", "", "## Summary (generated): contact solve / one linear solve, CPU seconds", "",
             "Bold: above 1.5.", "", summary(rows), "![ratio and time against DOFs](hertz.png)", "", _markdown(rows)]
     write_text_atomic(md, head + "\n".join(body))
 
@@ -285,21 +305,21 @@ def run(out_dir=None, cases=None, variants=None, log=print, merge=False, repeats
         prob.model.stiffness()  # assembled once, outside both timings
         plain_linear_solve(prob, backend)  # warm-up: the first call also loads the solver library
         plain = plain_linear_solve(prob, backend)
-        reps = repeats or max(1, min(MAX_REPEATS, int(REPEAT_BUDGET_S / plain)))
+        reps = repeats or max(1, min(MAX_REPEATS, int(REPEAT_BUDGET_S / plain.cpu)))
         plain = min([plain] + [plain_linear_solve(prob, backend) for _ in range(reps - 1)])
-        log(f"  one linear solve {plain:.3f} s, repeats {reps}")
+        log(f"  one linear solve {plain.wall:.3f} s wall, {plain.cpu:.3f} s CPU, repeats {reps}")
         sols = []
         for label, alg, pen, opts in chosen:
             sols.append((label, *_timed_solve(prob, alg, pen, {**case_opts, **opts}, reps)))
         # shared machines: the smaller of the measurements before and after the variants
         plain = min([plain] + [plain_linear_solve(prob, backend) for _ in range(reps)])
-        log(f"  one linear solve (min of before/after) {plain:.3f} s")
-        for label, sol, wall in sols:
-            row = _row(case, label, prob, sol, plain, wall, reps)
+        log(f"  one linear solve (min of before/after) {plain.wall:.3f} s wall, {plain.cpu:.3f} s CPU")
+        for label, sol, timing in sols:
+            row = _row(case, label, prob, sol, plain, timing, reps)
             rows.append(row)
             log(f"  {label:20s} {row['status']:14s} outer={row['outer_iterations']:3d} "
                 f"newton={row['newton_iterations']:4d} solves={row['linear_solves']:5d} cg_its={row['cg_iterations']} "
-                f"wall={row['wall_s']:.3f}s ratio={row['ratio']:.3f}")
+                f"wall={row['wall_s']:.3f}s ratio={row['ratio']:.3f} cpu={row['cpu_s']:.3f}s ratio_cpu={row['ratio_cpu']:.3f}")
         if merge:  # written after every case: an interrupted run keeps what it measured
             old = [r for r in _read_csv(out / "hertz.csv") if r["case"] not in {r["case"] for r in rows}]
             write_report(out, old + rows)
