@@ -102,7 +102,8 @@ class ContactOptions:
         AMG (PyAMG; :mod:`alcontact.contact._iterative`), for meshes whose factor does not
         fit in memory. A direct solver's registry name (:func:`alcontact.linalg.registered_solvers`)
         picks that solver for the factorization. ``"auto"``: :func:`alcontact.linalg.choose_solver`
-        (``"amg"`` for 3D models with more than 100k DOFs, else ``"direct"``).
+        (``"amg"`` for 3D models with more than :data:`~alcontact.linalg.AUTO_AMG_DOFS` = 250k DOFs,
+        else ``"direct"``).
     """
 
     eps_n: float | None = declared(
@@ -132,7 +133,7 @@ class ContactOptions:
                                        low=0, high=1, low_open=True, high_open=True)
     linear_solver: str = declared(
         "str", "auto", "Frictionless linear solver: `direct` (one factorization by the fastest installed "
-        "solver), `amg` (PyAMG + CG, no factorization), `auto` (amg for 3D above 100k DOFs), or a registered "
+        "solver), `amg` (PyAMG + CG, no factorization), `auto` (amg for 3D above 250k DOFs), or a registered "
         "direct solver by name.", choices=_solver_names)
 
     def __post_init__(self) -> None:
