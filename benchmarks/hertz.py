@@ -191,8 +191,9 @@ def summary(rows, ladder=LADDER_2D) -> str:
         sub = {r["variant"]: r for r in rows if r["case"] == case}
         r0 = next(iter(sub.values()))
         ratios = [float(r["ratio_cpu"]) for r in sub.values()]
-        cells = [(f"**{float(sub[v]['ratio_cpu']):.2f}**" if float(sub[v]["ratio_cpu"]) > 1.5
-                  else f"{float(sub[v]['ratio_cpu']):.2f}")
+        cells = [((f"**{float(sub[v]['ratio_cpu']):.2f}**" if float(sub[v]["ratio_cpu"]) > 1.5
+                   else f"{float(sub[v]['ratio_cpu']):.2f}")
+                  + ("" if sub[v]["status"] == "converged" else f" ({sub[v]['status']})"))
                  if v in sub else "-" for v in variants]
         out.append(f"| {case} | {r0['dofs']} | {r0['candidates']} | {r0['plain_linear_cpu_s']} | " + " | ".join(cells)
                    + f" | {statistics.median(ratios):.2f} | {max(ratios):.2f} |")
@@ -204,7 +205,7 @@ def summary(rows, ladder=LADDER_2D) -> str:
     kp = _fit([dofs_of[c] for c in lad], [plain_of[c] for c in lad])
     for v in variants:
         pts = [(dofs_of[c], float(r["cpu_s"]), float(r["ratio_cpu"])) for c in lad for r in rows
-               if r["case"] == c and r["variant"] == v]
+               if r["case"] == c and r["variant"] == v and r["status"] == "converged"]
         kw = _fit([p[0] for p in pts], [p[1] for p in pts])
         kr = _fit([p[0] for p in pts], [p[2] for p in pts])
         if kw is not None:
@@ -227,7 +228,7 @@ def plot(rows, path: Path, ladder=LADDER_2D) -> None:
     fig, axes = plt.subplots(1, 2, figsize=(11, 4.5))
     for i, v in enumerate(variants):
         pts = sorted((dofs_of[r["case"]], float(r["cpu_s"]), float(r["ratio_cpu"])) for r in rows
-                     if r["variant"] == v and r["case"] in cases)
+                     if r["variant"] == v and r["case"] in cases and r["status"] == "converged")
         if not pts:
             continue
         x = [p[0] for p in pts]
@@ -285,7 +286,8 @@ def write_report(out: Path, rows) -> None:
     text = md.read_text() if md.exists() else ""
     head = text.split("<!-- tables -->")[0] if "<!-- tables -->" in text else "# Hertz benchmark\n\n"
     body = ["<!-- tables -->", "", "## Summary (generated): contact solve / one linear solve, CPU seconds", "",
-            "Bold: above 1.5.", "", summary(rows), "![ratio and time against DOFs](hertz.png)", "", _markdown(rows)]
+            "Bold: above 1.5. A status in parentheses: the run failed (its time up to the failure). Fits and "
+            "plot: converged runs only.", "", summary(rows), "![ratio and time against DOFs](hertz.png)", "", _markdown(rows)]
     write_text_atomic(md, head + "\n".join(body))
 
 
