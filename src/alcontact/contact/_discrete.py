@@ -25,7 +25,7 @@ at the end. This is the same discrete problem as the full one, not an approximat
 
 ``S`` comes from the Schur complement when the solver has one (MKL PARDISO): the
 factorization eliminates last the DOFs ``c`` of the contact-boundary points that can
-become candidates (reference gap within a few element sizes of the candidate
+become candidates (reference gap within SCHUR_WINDOW element sizes of the candidate
 threshold, chosen before the factorization) and returns
 :math:`S_c = K_{cc} - K_{ci} K_{ii}^{-1} K_{ic}`, and since :math:`B` lives on those
 DOFs, :math:`S = B_c (K^{-1})_{cc} B_c^T = B_c S_c^{-1} B_c^T` costs one dense Cholesky
@@ -282,7 +282,7 @@ class DiscreteContact(ContactPoints):
             g^0_i \ge \min(g^0_{max}, 0) - \text{margin}\,\max(g^0_{max}, 0) - c\,h,
 
         ``h`` the element size at the contact zone and :math:`c` = :data:`SCHUR_WINDOW`, i.e.
-        the candidate threshold of :meth:`_setup_candidates` widened by a few element sizes
+        the candidate threshold of :meth:`_setup_candidates` widened by :data:`SCHUR_WINDOW` element sizes
         for what the loads add. Candidates found later outside the block get triangular
         solves (:meth:`_add_columns`). At most :data:`SCHUR_MAX_DOFS` DOFs (the points
         closest to the obstacle). Empty when the model's ``factorize`` takes no Schur block
