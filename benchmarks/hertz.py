@@ -85,7 +85,8 @@ REPEAT_BUDGET_S = 2.0
 
 FIELDS = ["case", "dofs", "candidates", "variant", "algorithm", "penalty", "status", "outer_iterations",
           "newton_iterations", "linear_solves", "cg_iterations", "wall_s", "linear_solve_s", "plain_linear_s",
-          "ratio", "cpu_s", "plain_linear_cpu_s", "ratio_cpu", "repeats", "a_err_pct", "p0_err_pct", "penetration_over_h"]
+          "ratio", "cpu_s", "plain_linear_cpu_s", "ratio_cpu", "repeats", "a_err_pct", "p0_err_pct",
+          "penetration_over_h"]
 
 
 @dataclasses.dataclass(frozen=True, order=True)
@@ -144,7 +145,8 @@ def _markdown(rows):
     out = ["## Runs", "",
            "Contact solve time over one linear elastic solve (a fresh factorization + one solve with the same "
            "solver, no Schur block) of the same mesh, measured in the same run, in CPU seconds of the process "
-           "(user + system, one MKL thread: what a quiet machine takes) and in wall seconds (the smallest of the measurements "
+           "(user + system, one MKL thread: what a quiet machine takes) and in wall seconds (the smallest of the "
+           "measurements "
            "before and after the variants; small models are timed `repeats` times, each contact solve followed "
            "by a linear solve, and the fastest run of each kept, numerator and denominator alike). "
            "Iterations: outer / Newton; solves: triangular solve pairs with the single stiffness factorization "
@@ -287,7 +289,8 @@ def write_report(out: Path, rows) -> None:
     head = text.split("<!-- tables -->")[0] if "<!-- tables -->" in text else "# Hertz benchmark\n\n"
     body = ["<!-- tables -->", "", "## Summary (generated): contact solve / one linear solve, CPU seconds", "",
             "Bold: above 1.5. A status in parentheses: the run failed (its time up to the failure). Fits and "
-            "plot: converged runs only.", "", summary(rows), "![ratio and time against DOFs](hertz.png)", "", _markdown(rows)]
+            "plot: converged runs only.", "", summary(rows), "![ratio and time against DOFs](hertz.png)", "",
+            _markdown(rows)]
     write_text_atomic(md, head + "\n".join(body))
 
 
@@ -328,7 +331,8 @@ def run(out_dir=None, cases=None, variants=None, log=print, merge=False, repeats
             rows.append(row)
             log(f"  {label:20s} {row['status']:14s} outer={row['outer_iterations']:3d} "
                 f"newton={row['newton_iterations']:4d} solves={row['linear_solves']:5d} cg_its={row['cg_iterations']} "
-                f"wall={row['wall_s']:.3f}s ratio={row['ratio']:.3f} cpu={row['cpu_s']:.3f}s ratio_cpu={row['ratio_cpu']:.3f}")
+                f"wall={row['wall_s']:.3f}s ratio={row['ratio']:.3f} cpu={row['cpu_s']:.3f}s "
+                f"ratio_cpu={row['ratio_cpu']:.3f}")
         if merge:  # written after every case: an interrupted run keeps what it measured
             old = [r for r in _read_csv(out / "hertz.csv") if r["case"] not in {r["case"] for r in rows}]
             write_report(out, old + rows)
