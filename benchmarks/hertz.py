@@ -212,8 +212,9 @@ def summary(rows, ladder=LADDER_2D) -> str:
         kr = _fit([p[0] for p in pts], [p[2] for p in pts])
         if kw is not None:
             fits.append(f"| {v} | {kw:.2f} | {kr:+.3f} |")
-    if kp is not None:
-        fits.append(f"| (one linear solve) | {kp:.2f} | |")
+    if kp is None:  # fewer than 3 ladder cases: no fit
+        return "\n".join(out) + "\n"
+    fits.append(f"| (one linear solve) | {kp:.2f} | |")
     return "\n".join(out + fits) + "\n"
 
 
