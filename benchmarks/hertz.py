@@ -6,11 +6,14 @@ iterations, linear solves (triangular solve pairs with the one stiffness factor)
 time, and the ratio of the contact solve to one linear elastic solve of the same mesh
 (a fresh factorization + one solve with the same solver, :func:`plain_linear_solve`)
 measured in the same run, plus the accuracy against Hertz.
-Writes ``<out>/hertz.csv`` and ``<out>/hertz.md``.
+Writes ``<out>/hertz.csv``, ``<out>/hertz.md`` (the text above ``<!-- tables -->`` is kept) and
+``<out>/hertz.png`` (log-log ratio and time against DOFs on the 2D ladder, fitted exponents).
 
 Usage::
 
     python benchmarks/hertz.py [--out DIR] [--cases 2d-10k 2d-100k ...] [--variants ssn simo-laursen ...]
+        [--issue-variants] [--merge] [--repeats N]
+    python benchmarks/hertz.py --report --out DIR
 
 Timings are ratios within one run; machines are shared and noisy.
 """
@@ -19,8 +22,10 @@ from __future__ import annotations
 
 import argparse
 import csv
+import dataclasses
 import io
 import logging
+import math
 import statistics
 import sys
 import time
@@ -42,12 +47,18 @@ CASES = {
     "3d-100k": (hertz.hertz_3d, dict(n_per_a=6, growth=1.07)),
     "3d-100k-direct": (hertz.hertz_3d, dict(n_per_a=6, growth=1.07)),  # condensed path, Schur build
     "3d-1M": (hertz.hertz_3d, dict(n_per_a=16, growth=1.04)),
+    "3d-p2-78k-direct": (hertz.hertz_3d, dict(order=2, n_per_a=2.0, growth=1.3)),  # the peer's 3D P2 size
+    "3d-243k-direct": (hertz.hertz_3d, dict(n_per_a=9, growth=1.07)),  # largest 3D P1 factor of a few GB
 }
 DEFAULT_CASES = ["2d-10k", "2d-100k", "2d-500k", "3d-100k"]
+#: the 2D ladder of issue 11 (10k to 1M DOFs)
+LADDER_2D = ["2d-10k", "2d-28k", "2d-84k", "2d-100k", "2d-277k", "2d-500k", "2d-984k"]
 #: contact options per case: the 3D 1M-DOF factor (~30 GB) does not fit in memory, so that
 #: case runs the factorization-free AMG path ("auto" would choose it too; stated explicitly)
 CASE_OPTIONS = {"3d-1M": {"linear_solver": "amg"},
-                "3d-100k-direct": {"linear_solver": "mkl-pardiso"}}
+                "3d-100k-direct": {"linear_solver": "mkl-pardiso"},
+                "3d-p2-78k-direct": {"linear_solver": "mkl-pardiso"},
+                "3d-243k-direct": {"linear_solver": "mkl-pardiso"}}
 
 #: (label, algorithm, penalty, extra options)
 VARIANTS = [
@@ -59,17 +70,39 @@ VARIANTS = [
     ("log-met1", "family-p", "log-met1", {}),
     ("log-met2", "family-p", "log-met2", {}),
     ("quad-met2", "family-p", "quad-met2", {}),
+    ("rockafellar", "family-p", "rockafellar", {}),
     ("exp-met1/fixed-eta", "family-p", "exp-met1", {"eta_scaling": "fixed"}),
     ("log-met2/fixed-eta", "family-p", "log-met2", {"eta_scaling": "fixed"}),
 ]
 
+#: the variants of issue 11 (every algorithm; family-p with the penalties of each kind)
+ISSUE_VARIANTS = ["ssn", "penalty", "simo-laursen", "exp-met1", "log-met2", "quad-met2", "rockafellar"]
+#: small models are timed several times and the fastest run kept (numerator and denominator alike):
+#: repeats = min(MAX_REPEATS, REPEAT_BUDGET_S / one linear solve), at least 1; with repeats, every
+#: variant's contact solves alternate with as many linear solves (both see the same machine load)
+MAX_REPEATS = 10
+REPEAT_BUDGET_S = 2.0
+
 FIELDS = ["case", "dofs", "candidates", "variant", "algorithm", "penalty", "status", "outer_iterations",
           "newton_iterations", "linear_solves", "cg_iterations", "wall_s", "linear_solve_s", "plain_linear_s",
-          "ratio", "a_err_pct", "p0_err_pct", "penetration_over_h"]
+          "ratio", "cpu_s", "plain_linear_cpu_s", "ratio_cpu", "repeats", "a_err_pct", "p0_err_pct",
+          "penetration_over_h"]
 
 
-def plain_linear_solve(prob, linear_solver="auto") -> float:
-    """Seconds of one linear elastic solve of ``prob``'s mesh: a fresh factorization + one solve.
+@dataclasses.dataclass(frozen=True, order=True)
+class Timing:
+    """Wall and CPU seconds (user + system of this process) of one measurement; ordered by CPU."""
+
+    cpu: float
+    wall: float
+
+    def __init__(self, wall: float, cpu: float):
+        object.__setattr__(self, "cpu", cpu)
+        object.__setattr__(self, "wall", wall)
+
+
+def plain_linear_solve(prob, linear_solver="auto") -> Timing:
+    """Wall and CPU seconds of one linear elastic solve of ``prob``'s mesh: a fresh factorization + one solve.
 
     The same solver as the contact solve (``"auto"`` resolved as the contact solve does: AMG
     for large 3D models, else the fast direct one), no Schur block, no reuse: this is the
@@ -81,13 +114,13 @@ def plain_linear_solve(prob, linear_solver="auto") -> float:
     fixed, values = prob.dirichlet()
     backend = linear_solver_name(linear_solver, model)  # what the contact solve resolves "auto" to
     model.clear_factorization()
-    t0 = time.perf_counter()
+    c0, t0 = time.process_time(), time.perf_counter()
     fac = model.factorize(fixed, backend=backend, reuse=False)
     fac.solve_full(prob.load_vector(), values)
-    return time.perf_counter() - t0
+    return Timing(time.perf_counter() - t0, time.process_time() - c0)
 
 
-def _row(case, label, prob, sol, plain):
+def _row(case, label, prob, sol, plain: Timing, timing: Timing, repeats=1):
     ref = prob.reference
     P = ref.load(sol.normal_force)
     a = sol.contact_half_width(axis=0, center=prob.meta["center"])
@@ -98,9 +131,10 @@ def _row(case, label, prob, sol, plain):
         "algorithm": r.algorithm, "penalty": r.penalty, "status": r.status.label,
         "outer_iterations": r.outer_iterations, "newton_iterations": r.newton_iterations,
         "linear_solves": r.linear_solves, "cg_iterations": sol.extra.get("cg_iterations", ""),
-        "wall_s": round(t["total_s"], 4),
-        "linear_solve_s": round(t["linear_solve_s"], 4), "plain_linear_s": round(plain, 4),
-        "ratio": round(t["total_s"] / plain, 3),
+        "wall_s": round(timing.wall, 4),
+        "linear_solve_s": round(t["linear_solve_s"], 4), "plain_linear_s": round(plain.wall, 4),
+        "ratio": round(timing.wall / plain.wall, 3), "cpu_s": round(timing.cpu, 4),
+        "plain_linear_cpu_s": round(plain.cpu, 4), "ratio_cpu": round(timing.cpu / plain.cpu, 3), "repeats": repeats,
         "a_err_pct": round(100 * (a / ref.half_width(P) - 1), 3) if P > 0 else "",
         "p0_err_pct": round(100 * (sol.peak_pressure / ref.peak_pressure(P) - 1), 3) if P > 0 else "",
         "penetration_over_h": f"{r.penetration:.2e}",
@@ -108,32 +142,165 @@ def _row(case, label, prob, sol, plain):
 
 
 def _markdown(rows):
-    out = ["# Hertz benchmark", "",
+    out = ["## Runs", "",
            "Contact solve time over one linear elastic solve (a fresh factorization + one solve with the same "
-           "solver, no Schur block) of the same mesh, measured in the same run (the smaller of two measurements, "
-           "before and after the variants). "
+           "solver, no Schur block) of the same mesh, measured in the same run, in CPU seconds of the process "
+           "(user + system, one MKL thread: what a quiet machine takes) and in wall seconds (the smallest of the "
+           "measurements "
+           "before and after the variants; small models are timed `repeats` times, each contact solve followed "
+           "by a linear solve, and the fastest run of each kept, numerator and denominator alike). "
            "Iterations: outer / Newton; solves: triangular solve pairs with the single stiffness factorization "
            "(the Delassus operator comes from the Schur complement with MKL PARDISO and costs none).", ""]
     for case in dict.fromkeys(r["case"] for r in rows):
         sub = [r for r in rows if r["case"] == case]
-        out += [f"## {case} ({sub[0]['dofs']} DOFs, {sub[0]['candidates']} contact candidates)", "",
-                f"one linear solve: {sub[0]['plain_linear_s']} s", "",
-                "| variant | status | outer | Newton | solves | wall s | contact/linear | a err % | p0 err % |",
-                "|---|---|---|---|---|---|---|---|---|"]
+        out += [f"### {case} ({sub[0]['dofs']} DOFs, {sub[0]['candidates']} contact candidates)", "",
+                f"one linear solve: {sub[0]['plain_linear_cpu_s']} s CPU, {sub[0]['plain_linear_s']} s wall "
+                f"(fastest of {sub[0].get('repeats') or 1} before and {sub[0].get('repeats') or 1} after)", "",
+                "| variant | status | outer | Newton | solves | CPU s | contact/linear (CPU) | wall s | "
+                "contact/linear (wall) | a err % | p0 err % |",
+                "|---|---|---|---|---|---|---|---|---|---|---|"]
         for r in sub:
             out.append(f"| {r['variant']} | {r['status']} | {r['outer_iterations']} | {r['newton_iterations']} | "
-                       f"{r['linear_solves']} | {r['wall_s']} | {r['ratio']} | {r['a_err_pct']} | {r['p0_err_pct']} |")
-        if any(r["cg_iterations"] != "" for r in sub):
+                       f"{r['linear_solves']} | {r['cpu_s']} | {r['ratio_cpu']} | {r['wall_s']} | {r['ratio']} | "
+                       f"{r['a_err_pct']} | {r['p0_err_pct']} |")
+        if any(r["cg_iterations"] not in ("", None) for r in sub):
             out += ["", "No factorization (linear_solver='amg'): solves are AMG-preconditioned CG solves, CG "
                     "iterations " + ", ".join(f"{r['variant']} {r['cg_iterations']}" for r in sub) + "; the "
                     "linear solve is the AMG setup plus one CG solve to 1e-10."]
-        ratios = [r["ratio"] for r in sub]
-        out += ["", f"median contact/linear ratio: {statistics.median(ratios):.2f}", ""]
+        ratios = [float(r["ratio_cpu"]) for r in sub]
+        out += ["", f"contact/linear (CPU): median {statistics.median(ratios):.2f}, max {max(ratios):.2f}", ""]
     return "\n".join(out) + "\n"
 
 
-def run(out_dir=None, cases=None, variants=None, log=print) -> Path:
-    """Run the benchmark; return the folder with ``hertz.csv`` and ``hertz.md``."""
+def _fit(xs, ys):
+    """Least-squares exponent ``k`` of ``y ~ x^k`` (None with fewer than 3 points)."""
+    import numpy as np
+
+    x, y = np.log(np.asarray(xs, float)), np.log(np.asarray(ys, float))
+    if x.size < 3:
+        return None
+    return float(np.polyfit(x, y, 1)[0])
+
+
+def summary(rows, ladder=LADDER_2D) -> str:
+    """Markdown summary: contact/linear ratio per case and variant, and fitted exponents on the 2D ladder."""
+    variants = [v for v in ISSUE_VARIANTS if any(r["variant"] == v for r in rows)]
+    variants += [v for v in dict.fromkeys(r["variant"] for r in rows) if v not in variants]
+    cases = list(dict.fromkeys(r["case"] for r in rows))
+    head = "| case | DOFs | candidates | one linear solve CPU s | " + " | ".join(variants) + " | median | max |"
+    out = [head, "|---" * (6 + len(variants)) + "|"]
+    for case in cases:
+        sub = {r["variant"]: r for r in rows if r["case"] == case}
+        r0 = next(iter(sub.values()))
+        ratios = [float(r["ratio_cpu"]) for r in sub.values()]
+        cells = [((f"**{float(sub[v]['ratio_cpu']):.2f}**" if float(sub[v]["ratio_cpu"]) > 1.5
+                   else f"{float(sub[v]['ratio_cpu']):.2f}")
+                  + ("" if sub[v]["status"] == "converged" else f" ({sub[v]['status']})"))
+                 if v in sub else "-" for v in variants]
+        out.append(f"| {case} | {r0['dofs']} | {r0['candidates']} | {r0['plain_linear_cpu_s']} | " + " | ".join(cells)
+                   + f" | {statistics.median(ratios):.2f} | {max(ratios):.2f} |")
+    lad = [c for c in ladder if c in cases]
+    fits = ["", "Fitted exponents on the 2D ladder (" + ", ".join(lad) + "): quantity ~ DOFs^k", "",
+            "| variant | k of contact solve CPU s | k of contact/linear (CPU) |", "|---|---|---|"]
+    dofs_of = {r["case"]: int(r["dofs"]) for r in rows}
+    plain_of = {r["case"]: float(r["plain_linear_cpu_s"]) for r in rows}
+    kp = _fit([dofs_of[c] for c in lad], [plain_of[c] for c in lad])
+    for v in variants:
+        pts = [(dofs_of[c], float(r["cpu_s"]), float(r["ratio_cpu"])) for c in lad for r in rows
+               if r["case"] == c and r["variant"] == v and r["status"] == "converged"]
+        kw = _fit([p[0] for p in pts], [p[1] for p in pts])
+        kr = _fit([p[0] for p in pts], [p[2] for p in pts])
+        if kw is not None:
+            fits.append(f"| {v} | {kw:.2f} | {kr:+.3f} |")
+    if kp is None:  # fewer than 3 ladder cases: no fit
+        return "\n".join(out) + "\n"
+    fits.append(f"| (one linear solve) | {kp:.2f} | |")
+    return "\n".join(out + fits) + "\n"
+
+
+def plot(rows, path: Path, ladder=LADDER_2D) -> None:
+    """Log-log plot of the contact/linear ratio and of the times against DOFs (2D ladder), with fitted exponents."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    cases = [c for c in ladder if any(r["case"] == c for r in rows)]
+    variants = [v for v in ISSUE_VARIANTS if any(r["variant"] == v for r in rows)]
+    dofs_of = {r["case"]: int(r["dofs"]) for r in rows}
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4.5))
+    for i, v in enumerate(variants):
+        pts = sorted((dofs_of[r["case"]], float(r["cpu_s"]), float(r["ratio_cpu"])) for r in rows
+                     if r["variant"] == v and r["case"] in cases and r["status"] == "converged")
+        if not pts:
+            continue
+        x = [p[0] for p in pts]
+        kw, kr = _fit(x, [p[1] for p in pts]), _fit(x, [p[2] for p in pts])
+        axes[0].loglog(x, [p[2] for p in pts], marker="o", color=f"C{i}",
+                       label=f"{v} (k={kr:+.3f})" if kr is not None else v)
+        axes[1].loglog(x, [p[1] for p in pts], marker="o", color=f"C{i}",
+                       label=f"{v} (k={kw:.2f})" if kw is not None else v)
+    x = [dofs_of[c] for c in cases]
+    plain = [next(float(r["plain_linear_cpu_s"]) for r in rows if r["case"] == c) for c in cases]
+    kp = _fit(x, plain)
+    axes[1].loglog(x, plain, "k--", marker="s", label=f"one linear solve (k={kp:.2f})" if kp else "one linear solve")
+    axes[0].axhline(1.5, color="k", ls=":", lw=1, label="1.5 (issue 11)")
+    axes[0].set(xlabel="DOFs", ylabel="contact solve / one linear solve (CPU s)", title="2D Hertz: ratio")
+    axes[1].set(xlabel="DOFs", ylabel="CPU s (1 MKL thread)", title="2D Hertz: time")
+    for ax in axes:
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def _timed_solve(prob, alg, pen, opts, repeats, backend):
+    """The solution, the fastest (CPU) timing of ``repeats`` contact solves (each with its own
+    factorization) and the fastest of the linear solves alternating with them (none for one repeat)."""
+    best = sol = None
+    plain = Timing(math.inf, math.inf)
+    for _ in range(repeats):
+        prob.model.clear_factorization()  # every variant pays its factorization (no reuse across variants)
+        c0, t0 = time.process_time(), time.perf_counter()
+        sol = solve(prob, alg, pen, **opts)
+        best = min(best or Timing(math.inf, math.inf), Timing(time.perf_counter() - t0, time.process_time() - c0))
+        if repeats > 1:
+            plain = min(plain, plain_linear_solve(prob, backend))
+    return sol, best, plain
+
+
+def _read_csv(path: Path) -> list[dict]:
+    if not path.exists():
+        return []
+    with open(path, newline="") as fh:
+        return list(csv.DictReader(fh))
+
+
+def write_report(out: Path, rows) -> None:
+    """``hertz.csv``, ``hertz.png`` and ``hertz.md`` (text above ``<!-- tables -->`` kept) from ``rows``."""
+    buf = io.StringIO()
+    w = csv.DictWriter(buf, fieldnames=FIELDS, extrasaction="ignore")
+    w.writeheader()
+    w.writerows(rows)
+    write_text_atomic(out / "hertz.csv", buf.getvalue())
+    plot(rows, out / "hertz.png")
+    md = out / "hertz.md"
+    text = md.read_text() if md.exists() else ""
+    head = text.split("<!-- tables -->")[0] if "<!-- tables -->" in text else "# Hertz benchmark\n\n"
+    body = ["<!-- tables -->", "", "## Summary (generated): contact solve / one linear solve, CPU seconds", "",
+            "Bold: above 1.5. A status in parentheses: the run failed (its time up to the failure). Fits and "
+            "plot: converged runs only.", "", summary(rows), "![ratio and time against DOFs](hertz.png)", "",
+            _markdown(rows)]
+    write_text_atomic(md, head + "\n".join(body))
+
+
+def run(out_dir=None, cases=None, variants=None, log=print, merge=False, repeats=None) -> Path:
+    """Run the benchmark; return the folder with ``hertz.csv``, ``hertz.md`` and ``hertz.png``.
+
+    ``merge``: keep the rows of other cases already in ``hertz.csv`` (big cases run one at a
+    time). ``repeats``: timings per variant (default from :data:`REPEAT_BUDGET_S`).
+    """
     out = Path(out_dir or Path(__file__).parent / "out")
     out.mkdir(parents=True, exist_ok=True)
     cases = cases or DEFAULT_CASES
@@ -147,27 +314,31 @@ def run(out_dir=None, cases=None, variants=None, log=print) -> Path:
         case_opts = CASE_OPTIONS.get(case, {})
         backend = case_opts.get("linear_solver", "auto")
         prob.model.stiffness()  # assembled once, outside both timings
+        plain_linear_solve(prob, backend)  # warm-up: the first call also loads the solver library
         plain = plain_linear_solve(prob, backend)
-        log(f"  one linear solve {plain:.2f} s")
+        reps = repeats or max(1, min(MAX_REPEATS, int(REPEAT_BUDGET_S / plain.cpu)))
+        plain = min([plain] + [plain_linear_solve(prob, backend) for _ in range(reps - 1)])
+        log(f"  one linear solve {plain.wall:.3f} s wall, {plain.cpu:.3f} s CPU, repeats {reps}")
         sols = []
         for label, alg, pen, opts in chosen:
-            prob.model.clear_factorization()  # every variant pays its factorization (no reuse across variants)
-            sols.append((label, solve(prob, alg, pen, **{**case_opts, **opts})))
-        # shared machines: the smaller of two measurements, one before and one after the variants
-        plain = min(plain, plain_linear_solve(prob, backend))
-        log(f"  one linear solve (min of 2) {plain:.2f} s")
-        for label, sol in sols:
-            row = _row(case, label, prob, sol, plain)
+            sol, timing, between = _timed_solve(prob, alg, pen, {**case_opts, **opts}, reps, backend)
+            sols.append((label, sol, timing))
+            plain = min(plain, between)
+        # shared machines: the smallest of the measurements before, between and after the variants
+        plain = min([plain] + [plain_linear_solve(prob, backend) for _ in range(reps)])
+        log(f"  one linear solve (min of before/after) {plain.wall:.3f} s wall, {plain.cpu:.3f} s CPU")
+        for label, sol, timing in sols:
+            row = _row(case, label, prob, sol, plain, timing, reps)
             rows.append(row)
             log(f"  {label:20s} {row['status']:14s} outer={row['outer_iterations']:3d} "
                 f"newton={row['newton_iterations']:4d} solves={row['linear_solves']:5d} cg_its={row['cg_iterations']} "
-                f"wall={row['wall_s']:.2f}s ratio={row['ratio']:.2f}")
-    buf = io.StringIO()
-    w = csv.DictWriter(buf, fieldnames=FIELDS)
-    w.writeheader()
-    w.writerows(rows)
-    write_text_atomic(out / "hertz.csv", buf.getvalue())
-    write_text_atomic(out / "hertz.md", _markdown(rows))
+                f"wall={row['wall_s']:.3f}s ratio={row['ratio']:.3f} cpu={row['cpu_s']:.3f}s "
+                f"ratio_cpu={row['ratio_cpu']:.3f}")
+        if merge:  # written after every case: an interrupted run keeps what it measured
+            old = [r for r in _read_csv(out / "hertz.csv") if r["case"] not in {r["case"] for r in rows}]
+            write_report(out, old + rows)
+    if not merge:
+        write_report(out, rows)
     return out
 
 
@@ -176,10 +347,20 @@ def main(argv=None) -> int:
     ap.add_argument("--out", default=None)
     ap.add_argument("--cases", nargs="*", choices=list(CASES), default=None)
     ap.add_argument("--variants", nargs="*", choices=[v[0] for v in VARIANTS], default=None)
+    ap.add_argument("--issue-variants", action="store_true", help="the variants of issue 11 (ISSUE_VARIANTS)")
+    ap.add_argument("--merge", action="store_true", help="keep the other cases already in <out>/hertz.csv")
+    ap.add_argument("--repeats", type=int, default=None, help="timings per variant (default: by model size)")
+    ap.add_argument("--report", action="store_true", help="only rewrite hertz.md / hertz.png from hertz.csv")
     args = ap.parse_args(argv)
     logging.basicConfig(level=logging.WARNING)
-    path = run(args.out, args.cases, args.variants)
-    print(f"wrote {path / 'hertz.csv'} and {path / 'hertz.md'}")
+    out = Path(args.out or Path(__file__).parent / "out")
+    if args.report:
+        write_report(out, _read_csv(out / "hertz.csv"))
+        print(f"wrote {out / 'hertz.md'}")
+        return 0
+    variants = ISSUE_VARIANTS if args.issue_variants else args.variants
+    path = run(args.out, args.cases, variants, merge=args.merge, repeats=args.repeats)
+    print(f"wrote {path / 'hertz.csv'}, {path / 'hertz.md'} and {path / 'hertz.png'}")
     return 0
 
 

@@ -37,8 +37,8 @@ from pathlib import Path
 
 #: case -> (builder name, order, ladder of n_per_a, growth)
 CASES = {
-    "2d-p2": ("hertz_2d", 2, (16, 32, 49.5, 100), 1.15),
-    "3d-p1": ("hertz_3d", 1, (8, 12, 16, 24), 1.3),
+    "2d-p2": ("hertz_2d", 2, (16, 32, 49.5, 100, 110, 120), 1.15),
+    "3d-p1": ("hertz_3d", 1, (8, 12, 16, 20, 24), 1.3),
     "3d-p2": ("hertz_3d", 2, (1.25, 2.0, 3.0, 4.0), 1.3),
 }
 #: peer figures (one linear solve, seconds, as quoted by the tester): case, n_per_a and growth giving

@@ -23,10 +23,12 @@ CASES = {
 
 @pytest.fixture(autouse=True)
 def _schur_for_small_problems(monkeypatch):
-    """These meshes are smaller than the default SCHUR_MIN_DOFS: lift the limit."""
+    """These meshes are smaller than the default SCHUR_MIN_DOFS: lift the limit. The window is pinned
+    at two element sizes so that the block holds non-candidate points for the ``extend`` checks."""
     import alcontact.contact._discrete as discrete
 
     monkeypatch.setattr(discrete, "SCHUR_MIN_DOFS", 0)
+    monkeypatch.setattr(discrete, "SCHUR_WINDOW", 2.0)
 
 
 @pytest.mark.parametrize("case", list(CASES))

@@ -25,7 +25,7 @@ at the end. This is the same discrete problem as the full one, not an approximat
 
 ``S`` comes from the Schur complement when the solver has one (MKL PARDISO): the
 factorization eliminates last the DOFs ``c`` of the contact-boundary points that can
-become candidates (reference gap within a few element sizes of the candidate
+become candidates (reference gap within SCHUR_WINDOW element sizes of the candidate
 threshold, chosen before the factorization) and returns
 :math:`S_c = K_{cc} - K_{ci} K_{ii}^{-1} K_{ic}`, and since :math:`B` lives on those
 DOFs, :math:`S = B_c (K^{-1})_{cc} B_c^T = B_c S_c^{-1} B_c^T` costs one dense Cholesky
@@ -72,8 +72,13 @@ SCHUR_MAX_DOFS = 3000
 #: candidate solves are cheap there; the force balance keeps the round-off of the plain factor)
 SCHUR_MIN_DOFS = 10_000
 #: width of the Schur block beyond the candidate threshold, in element sizes of the contact zone
-#: (reference gaps): the whole 3D contact boundary made the factorization ~55 % dearer than a plain one
-SCHUR_WINDOW = 2.0
+#: (reference gaps): the whole 3D contact boundary made the factorization ~55 % dearer than a plain one.
+#: Measured (3D P1 Hertz 36k DOFs, CPU s of the contact solve over one linear solve, ssn / exp-met1):
+#: window 0: 72 block DOFs, 1.09 / 1.08; 0.5: 152, 1.10 / 1.13; 1: 217, 1.09 / 1.22; 2: 339,
+#: 1.34 / 1.24; 4: 522, 1.45 / 1.42 (every candidate inside the block in all of them). Half an
+#: element keeps a margin for loads that widen the contact zone (a candidate outside the block costs
+#: one triangular solve pair); in 2D the block is the candidates' DOFs (+-2) for any window.
+SCHUR_WINDOW = 0.5
 
 
 def _element_size(model, boundary: str, obstacle) -> float:
@@ -314,7 +319,7 @@ class CondensedContact(ContactPoints):
             g^0_i \ge \min(g^0_{max}, 0) - \text{margin}\,\max(g^0_{max}, 0) - c\,h,
 
         ``h`` the element size at the contact zone and :math:`c` = :data:`SCHUR_WINDOW`, i.e.
-        the candidate threshold of :meth:`_select_candidates` widened by a few element sizes
+        the candidate threshold of :meth:`_select_candidates` widened by :data:`SCHUR_WINDOW` element sizes
         for what the loads add. Candidates found later outside the block get triangular
         solves (:meth:`_condensed`). At most :data:`SCHUR_MAX_DOFS` DOFs (the points
         closest to the obstacle). Empty when the model's ``factorize`` takes no Schur block
@@ -515,6 +520,16 @@ class DiscreteContact(CondensedContact):
         S, w = self.S, self.weights[self.cand]
         gfree, g0 = self.g_free[self.cand], self.gap0[self.cand]
         kw = self._spring_stiffness() * w
+        if self.spring is None and r.size:  # r = 0 off A: Cholesky of S_AA on the active rows only
+            r = np.zeros(r.size)
+            if np.any(active):
+                try:
+                    c = sla.cho_factor(S[np.ix_(active, active)], lower=True, check_finite=False)
+                except np.linalg.LinAlgError:  # dependent rows: the caller reports a singular active set
+                    raise np.linalg.LinAlgError("singular active-set system") from None
+                r[active] = sla.cho_solve(c, gfree[active], check_finite=False)
+            g = gfree - S @ r
+            return r, r / w, g
         M = np.where(active[:, None], S, np.eye(S.shape[0]) - kw[:, None] * S)
         rhs = np.where(active, gfree, -kw * (gfree - g0))
         r = np.linalg.solve(M, rhs) if r.size else r

@@ -29,8 +29,10 @@ __all__ = [
 logger = logging.getLogger(__name__)
 
 #: 3D problems above this many DOFs are solved without a factorization (AMG + CG) by
-#: ``"auto"``: see :func:`choose_solver` for the measurements.
-AUTO_AMG_DOFS = 100_000
+#: ``"auto"``: memory, not time, sets it (see :func:`choose_solver` for the measurements:
+#: the PARDISO factor of 3D P1 takes 2.1 GB at 219k free DOFs and grows like n^1.5, while
+#: the direct contact path is still 2-3 times faster than the AMG one there).
+AUTO_AMG_DOFS = 250_000
 
 
 @dataclass(frozen=True)
@@ -189,11 +191,20 @@ def choose_solver(dim: int, ndofs: int, *, installed: list[str] | None = None,
     Rules (measurements in ``docs/benchmarks/linear_solvers.md``: one thread, CPU seconds
     of factorization + one solve of the Hertz stiffness matrices):
 
-    * 3D above :data:`AUTO_AMG_DOFS` DOFs: ``"amg"`` (no factorization). The direct
-      factors grow like :math:`n^{4/3}` in memory and about :math:`n^2` in time in 3D,
-      and the condensed contact path needs one solve per contact candidate; the
-      threshold comes from the contact benchmark (3D Hertz, 111k DOFs: AMG path 10 s,
-      condensed path with SuperLU 31 s).
+    * 3D above :data:`AUTO_AMG_DOFS` = 250k DOFs: ``"amg"`` (no factorization). Measured
+      with PARDISO (one thread, CPU s of factorization + one solve, peak memory of the
+      factorization; 3D P1 Hertz): 141k DOFs 18.6 s / 1.0 GB, 229k DOFs 43.7 s / 2.1 GB,
+      against AMG setup + CG to 1e-10 8.9 s / 0.04 GB and 16.0 s / 0.1 GB (3D P2: PARDISO
+      33 s / 1.9 GB at 169k, AMG 42 s). One linear solve is cheaper with AMG from about 40k
+      DOFs in 3D P1, but a contact solve is not: the condensed direct path costs 1.2-1.4
+      linear solves (the Delassus operator from PARDISO's Schur complement,
+      ``docs/benchmarks/hertz.md``), the AMG path 5-17 AMG solves (``amg_paths.md``,
+      ``hertz_3d_1M.md``), so direct stays 2-3 times faster at 229k and the time
+      crossover lies near 700k DOFs, where the factor would need about 12 GB. The
+      threshold therefore keeps the factor at about 2-2.5 GB (peak resident set about
+      4 GB); above it the factor's memory (~ n^1.5), not time, rules direct out.
+      (Before PARDISO the threshold was 100k: 3D Hertz 111k, AMG path 10 s against 31 s
+      for SuperLU with one triangular solve per contact candidate.)
     * otherwise the first installed of :data:`DIRECT_PREFERENCE`: MKL PARDISO, then
       CHOLMOD (the ``cholespy`` wheel links a reference BLAS), then SuperLU (always
       there; with the mesh's nested dissection in 3D). PARDISO against CHOLMOD /
