@@ -68,6 +68,8 @@ __all__ = [
     "UserObstacle",
     "Translated",
     "translate",
+    "surface_slip",
+    "transport_tangent",
     "available",
     "docs",
     "make",
@@ -256,6 +258,20 @@ class _ObstacleBase(abc.ABC):
         """Hessian of the gap, shape ``(m, d, d)`` (``= -d normal / dx``)."""
         return self._hessian(_points(x, self.dim))
 
+    def surface_slip(self, x: ArrayLike, y_prev: ArrayLike, *,
+                     jacobian: bool = True) -> tuple[FloatArray, FloatArray | None]:
+        r"""Slip on the surface from ``y_prev`` to the projection of ``x`` (:func:`surface_slip`).
+
+        Default (any signed distance): the chord from ``y_prev`` to ``x`` projected onto
+        the tangent plane at the projection of ``x``, :math:`\Delta s = P\,(x - y_{prev})`,
+        :math:`P = I - \nu\nu^T`. Since :math:`P(x - \bar x) = 0` this is the tangential part
+        of the chord between the two surface points: a first-order consistent measure of the
+        path on the surface (exact for a plane; relative error :math:`\theta^2/6` when the
+        normal turns by :math:`\theta`).
+        """
+        pts = _points(x, self.dim)
+        return _chord_slip(self, pts, np.asarray(y_prev, dtype=float).reshape(pts.shape), jacobian)
+
 
 # --------------------------------------------------------------------------- half-space
 
@@ -383,6 +399,19 @@ class _Ball(_ObstacleBase):
         h[deg] = 0.0
         return h if self.inside else -h
 
+    def surface_slip(self, x: ArrayLike, y_prev: ArrayLike, *,
+                     jacobian: bool = True) -> tuple[FloatArray, FloatArray | None]:
+        r"""Geodesic slip on the sphere/circle: the great-circle arc as a tangent vector.
+
+        With :math:`\theta` the angle between the radii to ``y_prev`` and to the projection
+        of ``x``: :math:`\Delta s = \frac{\theta}{\sin\theta} P (x - y_{prev})`, of length
+        :math:`R\theta` (:func:`_arc_scale`).
+        """
+        pts = _points(x, self.dim)
+        yp = np.asarray(y_prev, dtype=float).reshape(pts.shape)
+        slip, jac = _chord_slip(self, pts, yp, jacobian)
+        return _arc_scale(slip, jac, self.radius, np.zeros((self.dim, self.dim)), pts - yp)
+
 
 class Sphere(_Ball):
     """Sphere in 3D: solid indenter, or cavity with ``inside=True`` (``center``, ``radius``).
@@ -482,6 +511,19 @@ class Cylinder(_ObstacleBase):
         h = proj / np.where(deg, 1.0, r)[:, None, None]
         h[deg] = 0.0
         return h if self.inside else -h
+
+    def surface_slip(self, x: ArrayLike, y_prev: ArrayLike, *,
+                     jacobian: bool = True) -> tuple[FloatArray, FloatArray | None]:
+        r"""Geodesic slip on the cylinder (a developable surface): axial part plus arc.
+
+        :math:`\Delta s = (a\cdot b)\,a + \frac{\theta}{\sin\theta}(P - aa^T)\,b`,
+        :math:`b = x - y_{prev}`, :math:`\theta` the angle about the axis between the two
+        surface points (unrolled, the surface is a plane and the geodesic a straight line).
+        """
+        pts = _points(x, 3)
+        yp = np.asarray(y_prev, dtype=float).reshape(pts.shape)
+        slip, jac = _chord_slip(self, pts, yp, jacobian)
+        return _arc_scale(slip, jac, self.radius, np.outer(self.axis, self.axis), pts - yp)
 
 
 # --------------------------------------------------------------------------- polytope
@@ -938,6 +980,125 @@ class UserObstacle(_ObstacleBase):
         return 0.5 * (hess + np.swapaxes(hess, 1, 2))
 
 
+# --------------------------------------------------------------------------- slip on the surface
+
+
+def surface_slip(obstacle: Any, x: ArrayLike, y_prev: ArrayLike, *,
+                 jacobian: bool = True) -> tuple[FloatArray, FloatArray | None]:
+    r"""Slip vector on the obstacle's surface from the surface point ``y_prev`` to the projection of ``x``.
+
+    Parameters
+    ----------
+    obstacle : Obstacle
+        Its ``surface_slip`` method is used when it has one (the built-in obstacles do:
+        the geodesic for balls and cylinders, exact for planes); otherwise the default of
+        :meth:`_ObstacleBase.surface_slip` (the chord projected onto the current tangent plane,
+        first-order consistent), so user obstacles following only :class:`Obstacle` work.
+    x : array_like (m, d)
+        Current points.
+    y_prev : array_like (m, d)
+        Previous surface points (projections), in the same frame as ``x``.
+    jacobian : bool
+        Also return :math:`\partial \Delta s / \partial x`.
+
+    Returns
+    -------
+    slip : ndarray (m, d)
+        Tangent to the obstacle at the projection of ``x``, pointing along the motion from
+        ``y_prev``; its length is the distance travelled on the surface.
+    jac : ndarray (m, d, d) or None
+    """
+    method = getattr(obstacle, "surface_slip", None)
+    if method is not None:
+        return method(x, y_prev, jacobian=jacobian)
+    pts = np.asarray(x, dtype=float)
+    return _chord_slip(obstacle, pts, np.asarray(y_prev, dtype=float).reshape(pts.shape), jacobian)
+
+
+def _chord_slip(ob: Any, x: FloatArray, y_prev: FloatArray,
+                jacobian: bool) -> tuple[FloatArray, FloatArray | None]:
+    r"""Tangential projection of the chord, :math:`P(x - y_{prev})`, and its Jacobian in ``x``.
+
+    :math:`\partial(Pb)/\partial x = P + (\nu\cdot b) H + \nu (H b)^T` with
+    :math:`\partial\nu/\partial x = -H`.
+    """
+    _, nu = ob.evaluate(x)
+    b = x - y_prev
+    nb = np.einsum("ij,ij->i", nu, b)
+    slip = b - nb[:, None] * nu
+    if not jacobian:
+        return slip, None
+    d = x.shape[1]
+    H = np.asarray(ob.gap_hessian(x), dtype=float)
+    P = np.eye(d)[None] - nu[:, :, None] * nu[:, None, :]
+    Hb = np.einsum("ijk,ik->ij", H, b)
+    return slip, P + nb[:, None, None] * H + nu[:, :, None] * Hb[:, None, :]
+
+
+def _arc_scale(slip: FloatArray, jac: FloatArray | None, radius: float, axial: FloatArray,
+               b: FloatArray) -> tuple[FloatArray, FloatArray | None]:
+    r"""Scale the circumferential part of the chord slip :math:`Pb` to the arc, with the Jacobian.
+
+    ``axial`` is the projector :math:`A = aa^T` onto a cylinder axis (0 for balls). The
+    circumferential part :math:`c = Pb - Ab` has length :math:`R\sin\theta`, :math:`\theta`
+    the turn of the normal between the two surface points; the arc is :math:`f(\theta)\,c`,
+    :math:`f = \theta/\sin\theta`. From :math:`\sin\theta = |c|/R`,
+
+    .. math::
+
+        \frac{\partial (f c)}{\partial x} = f\,C + \frac{q(\theta)}{R^2\cos\theta}\,c\,c^T C,
+        \qquad C = \frac{\partial c}{\partial x} = \frac{\partial (Pb)}{\partial x} - A,
+        \qquad q = \frac{f'(\theta)}{\sin\theta} = \frac{\sin\theta - \theta\cos\theta}{\sin^3\theta}
+
+    (series :math:`f = 1 + \theta^2/6`, :math:`q = 1/3 + 2\theta^2/15` below
+    :math:`\theta = 10^{-3}`). Valid while a load step turns a contact normal by less than
+    :math:`\pi/2` (far beyond any usable step).
+    """
+    ab = b @ axial
+    c = slip - ab
+    s = np.clip(np.linalg.norm(c, axis=1) / radius, 0.0, 1.0)
+    theta = np.arcsin(s)
+    small = theta < 1e-3
+    th = np.where(small, 1.0, theta)
+    sn = np.where(small, 1.0, s)
+    f = np.where(small, 1.0 + theta**2 / 6.0, th / sn)
+    out = ab + f[:, None] * c
+    if jac is None:
+        return out, None
+    q = np.where(small, 1.0 / 3.0 + 2.0 * theta**2 / 15.0, (sn - th * np.cos(th)) / sn**3)
+    cosv = np.sqrt(np.maximum(1.0 - s**2, 1e-300))
+    C = jac - axial[None]
+    cC = np.einsum("ij,ijk->ik", c, C)
+    coef = q / (radius**2 * cosv)
+    return out, axial[None] + f[:, None, None] * C + coef[:, None, None] * c[:, :, None] * cC[:, None, :]
+
+
+def transport_tangent(t: ArrayLike, n_from: ArrayLike, n_to: ArrayLike) -> FloatArray:
+    r"""Rotate tangent vectors ``t`` (m, d) from the tangent planes of ``n_from`` to those of ``n_to``.
+
+    The minimal rotation taking :math:`n_0` to :math:`n_1` (about :math:`n_0\times n_1` in
+    3D, Rodrigues' formula :math:`R = I + [k]_\times + [k]_\times^2/(1 + n_0\cdot n_1)`,
+    :math:`k = n_0\times n_1`; in 2D the rotation by the angle between them). It is the
+    parallel transport along the geodesic for a plane, a sphere/circle and a cylinder
+    (whose normals turn about the axis); for a general surface a first-order transport.
+    Lengths are kept. Opposite normals (a turn by :math:`\pi`) leave ``t`` unchanged.
+    """
+    t = np.asarray(t, dtype=float)
+    n0 = np.asarray(n_from, dtype=float)
+    n1 = np.asarray(n_to, dtype=float)
+    cosv = np.einsum("ij,ij->i", n0, n1)
+    ok = cosv > -1.0 + 1e-12
+    den = np.where(ok, 1.0 + cosv, 1.0)
+    if t.shape[1] == 2:
+        sinv = n0[:, 0] * n1[:, 1] - n0[:, 1] * n1[:, 0]
+        cs, sn = np.where(ok, cosv, 1.0), np.where(ok, sinv, 0.0)
+        return np.stack([cs * t[:, 0] - sn * t[:, 1], sn * t[:, 0] + cs * t[:, 1]], axis=1)
+    k = np.cross(n0, n1)
+    kt = np.cross(k, t)
+    out = t + kt + np.cross(k, kt) / den[:, None]
+    return np.where(ok[:, None], out, t)
+
+
 # --------------------------------------------------------------------------- moving obstacles
 
 
@@ -988,6 +1149,13 @@ class Translated(_ObstacleBase):
 
     def _hessian(self, x: FloatArray) -> FloatArray:
         return self.base.gap_hessian(x - self.offset)
+
+    def surface_slip(self, x: ArrayLike, y_prev: ArrayLike, *,
+                     jacobian: bool = True) -> tuple[FloatArray, FloatArray | None]:
+        """:func:`surface_slip` of the base obstacle in its own frame (a translation keeps tangents)."""
+        pts = _points(x, self.dim)
+        yp = np.asarray(y_prev, dtype=float).reshape(pts.shape)
+        return surface_slip(self.base, pts - self.offset, yp - self.offset, jacobian=jacobian)
 
 
 def translate(obstacle: Obstacle, offset: ArrayLike) -> Obstacle:
