@@ -90,6 +90,7 @@ from ._solution import ContactStatus
 from ._solve import penalty_stiffness
 from ._stepping import Attempt, StepRecord, StepRecords, _StepData, _step_times, step_through
 from ._verify import check_state, verified_status
+from .obstacles import surface_slip, transport_tangent
 
 __all__ = ["FiniteFrictionContact", "FiniteFrictionStep", "FiniteFrictionSolution", "solve_finite_friction",
            "finite_friction_algorithms"]
@@ -131,37 +132,67 @@ class FiniteFrictionContact(FiniteContact):
             solver = self._friction_solver = SequenceSolver(matrix_type="unsymmetric")
         return solver
 
-    def set_history(self, s_prev: np.ndarray, offset: np.ndarray, mu: float, eps_t: float, radius: str) -> None:
-        self.s_prev = np.asarray(s_prev, dtype=float)
+    def set_history(self, y_prev: np.ndarray, offset: np.ndarray, mu: float, eps_t: float, radius: str) -> None:
+        """Frictional history of the step.
+
+        Parameters
+        ----------
+        y_prev : ndarray (m, d)
+            Surface coordinates of all contact points at the last converged step: their
+            projections onto the obstacle in the obstacle's own frame (:meth:`surface_points`).
+        offset : ndarray (d,)
+            Obstacle translation :math:`c(t)` of the current step.
+        mu, eps_t : float
+            Coulomb coefficient and tangential penalty.
+        radius : {"multiplier", "traction"}
+            Radius of the Coulomb disc (module doc).
+        """
+        self.y_prev = np.asarray(y_prev, dtype=float)
         self.offset = np.asarray(offset, dtype=float)
         self.mu = float(mu)
         self.eps_t = float(eps_t)
         self.coupled = radius == "traction"
 
-    def relative_positions(self, u: np.ndarray) -> np.ndarray:
-        """:math:`s_i = X_i + u_i - c` of all contact points (positions relative to the moving obstacle)."""
-        return self.points + u[self.dofs] - self.offset
+    def surface_points(self, u: np.ndarray) -> np.ndarray:
+        """Obstacle-fixed surface coordinates :math:`\\bar x_i - c` of all contact points.
+
+        The projection :math:`\\bar x_i` of :math:`x_i = X_i + u_i` onto the current obstacle,
+        moved back by the obstacle translation :math:`c`: the point of the obstacle's own
+        surface the contact point touches (or faces).
+        """
+        return self.obstacle.project(self.points + u[self.dofs]) - self.offset
+
+    def _trial(self, lamT, xc, nu, idx, *, blocks: bool):
+        r"""Trial tangential traction :math:`z = P\lambda_T + \varepsilon_T\Delta s_T` and the slip.
+
+        :math:`\Delta s_T` is the slip on the obstacle's surface from the previous surface
+        point to the projection of :math:`x` (:func:`~alcontact.contact.obstacles.surface_slip`).
+        With ``blocks``, also :math:`\partial z/\partial x = (\nu\cdot\lambda_T) H +
+        \nu (H\lambda_T)^T + \varepsilon_T\,\partial\Delta s_T/\partial x`.
+        """
+        y_prev = self.y_prev[idx] + self.offset
+        slip, dslip = surface_slip(self.obstacle, xc, y_prev, jacobian=blocks)
+        nl = np.einsum("ij,ij->i", nu, lamT)
+        z = lamT - nl[:, None] * nu + self.eps_t * slip
+        if not blocks:
+            return z, slip, None, None
+        H = self.obstacle.gap_hessian(xc)
+        Hl = np.einsum("ijk,ik->ij", H, lamT)
+        dz = nl[:, None, None] * H + nu[:, :, None] * Hl[:, None, :] + self.eps_t * dslip
+        return z, slip, dz, H
 
     # ------------------------------------------------------------------ local law
     def _local(self, law, lamN, lamT, u, idx, *, blocks: bool):
-        d = self.dim
         xc = self._current(u, idx)
         g, nu = self.obstacle.evaluate(xc)
         tN = np.asarray(law.traction(g, lamN), dtype=float)
         kN = np.asarray(law.stiffness(g, lamN), dtype=float)
-        P = np.eye(d)[None] - nu[:, :, None] * nu[:, None, :]
-        a = lamT + self.eps_t * (xc - self.offset - self.s_prev[idx])
-        z = np.einsum("ijk,ik->ij", P, a)
-        slip = np.einsum("ijk,ik->ij", P, xc - self.offset - self.s_prev[idx])
+        z, slip, dz, H = self._trial(lamT, xc, nu, idx, blocks=blocks)
         rho = self.mu * (tN if self.coupled else np.maximum(lamN, 0.0))
         tT, opened, stick, slipping, n, dproj = return_mapping(z, rho)
         state = np.where(opened, OPEN, np.where(stick, STICK, SLIP))
         if not blocks:
             return g, nu, tN, tT, slip, state, None
-        H = self.obstacle.gap_hessian(xc)
-        Ha = np.einsum("ijk,ik->ij", H, a)
-        nua = np.einsum("ij,ij->i", nu, a)
-        dz = self.eps_t * P + nua[:, None, None] * H + nu[:, :, None] * Ha[:, None, :]
         dT = dproj @ dz
         if self.coupled:
             dT = dT - np.where(slipping[:, None, None], self.mu * kN[:, None, None] * n[:, :, None] * nu[:, None, :],
@@ -479,18 +510,14 @@ def _step_ssn(dc: FiniteFrictionContact, lamN, lamT, x, eps_n, pen_name, opts) -
         lN, lT = L_[:, 0], L_[:, 1:]
         xc = dc._current(u_, cand)
         g = dc.obstacle.gap(xc)
-        H = dc.obstacle.gap_hessian(xc)
         P = np.eye(d)[None] - nu[:, :, None] * nu[:, None, :]
-        a = lT + c * (xc - dc.offset - dc.s_prev[cand])
-        z = np.einsum("ijk,ik->ij", P, a)
+        z, _, dz_dx, H = dc._trial(lT, xc, nu, cand, blocks=True)
         act = (lN + c * g) > 0
         tN = np.where(act, lN + c * g, 0.0)
         rho = mu * tN
         _, _, _, slipping, n, M = return_mapping(z, rho)
         dtN_dx = -np.where(act, c, 0.0)[:, None] * nu  # (k, d)
         dtN_dl = act.astype(float)
-        dz_dx = c * P + np.einsum("i,ijk->ijk", np.einsum("ij,ij->i", nu, a), H) \
-            + nu[:, :, None] * np.einsum("ijk,ik->ij", H, a)[:, None, :]
         dtT_dx = M @ dz_dx + np.where(slipping[:, None, None], mu * n[:, :, None] * dtN_dx[:, None, :], 0.0)
         dtT_dlT = M @ P
         dtT_dlN = np.where(slipping[:, None], mu * dtN_dl[:, None] * n, 0.0)
@@ -654,14 +681,15 @@ def solve_finite_friction(problem, mu: float, algorithm: str = "simo-laursen", p
     dc.accept(np.zeros(m))
     dc.offset = offset_at(0.0)
     # the committed state every try starts from
-    state = {"x": x0, "s_prev": dc.relative_positions(dc.expand(x0)), "lamN": np.zeros(m),
-             "lamT": np.zeros((m, d)), "last": None}
+    u0 = dc.expand(x0)
+    state = {"x": x0, "y_prev": dc.surface_points(u0), "nu_prev": dc.obstacle.normal(dc.points + u0[dc.dofs]),
+             "lamN": np.zeros(m), "lamT": np.zeros((m, d)), "last": None}
     records: list[FiniteFrictionStep] = []
 
     def attempt(t: float) -> Attempt:
         newton0, solves0 = dc.newton_iterations, dc.linear_solves
-        res, exc = _attempt(dc, data, step_fn, state["x"], t, offset_at(t), state["s_prev"], state["lamN"],
-                            state["lamT"], mu, eps_n, eps_t, pen_name, opts)
+        res, exc = _attempt(dc, data, step_fn, state["x"], t, offset_at(t), state["y_prev"], state["nu_prev"],
+                            state["lamN"], state["lamT"], mu, eps_n, eps_t, pen_name, opts)
         counts = dict(newton=dc.newton_iterations - newton0, linear_solves=dc.linear_solves - solves0)
         if exc is not None:
             return Attempt(False, ContactStatus.NEWTON_FAILED, str(exc), **counts)
@@ -675,7 +703,8 @@ def solve_finite_friction(problem, mu: float, algorithm: str = "simo-laursen", p
         state["last"] = full
         if step.status > 0:
             state["x"] = res.x
-            state["s_prev"] = dc.relative_positions(dc.expand(res.x))
+            state["y_prev"] = dc.surface_points(dc.expand(res.x))
+            state["nu_prev"] = full["normals"].copy()
             state["lamN"], state["lamT"] = full["pressure"].copy(), full["traction_t"].copy()
             dc.accept(state["lamN"])
         return step
@@ -700,12 +729,20 @@ def solve_finite_friction(problem, mu: float, algorithm: str = "simo-laursen", p
                "cutbacks": int(run.cutbacks), "total_s": time.perf_counter() - t_start})
 
 
-def _attempt(dc, data, step_fn, x, t, offset, s_prev, lamN_all, lamT_all, mu, eps_n, eps_t, pen_name, opts):
-    """One try of the step to ``t`` from ``x``: ``(step result, exception or None)``."""
+def _attempt(dc, data, step_fn, x, t, offset, y_prev, nu_prev, lamN_all, lamT_all, mu, eps_n, eps_t, pen_name,
+             opts):
+    """One try of the step to ``t`` from ``x``: ``(step result, exception or None)``.
+
+    The last tangential tractions (tangent to the obstacle at the normals ``nu_prev``) are
+    transported into the tangent planes at the step's predictor
+    (:func:`~alcontact.contact.obstacles.transport_tangent`) and start the step's multipliers.
+    """
     try:
         fv, load, ob = data(t)
         dc.configure(fv, load, ob, x, predictor_stiffness=eps_n)
-        dc.set_history(s_prev, offset, mu, eps_t, opts.radius)
+        dc.set_history(y_prev, offset, mu, eps_t, opts.radius)
+        nu_start = dc.obstacle.normal(dc.points + dc.expand(dc.x0)[dc.dofs])
+        lamT_all = transport_tangent(lamT_all, nu_prev, nu_start)
         res = None
         for _ in range(8):
             cand = dc.cand
