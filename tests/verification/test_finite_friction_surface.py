@@ -206,8 +206,9 @@ def test_friction_jacobian_matches_finite_differences_on_a_curved_obstacle(radiu
 
     Setting: the 2D ironing block under the pressed circle, the previous surface points of
     every other point moved along the circle by 0.15 rad (large slip on the curved surface),
-    tangential multipliers below the Coulomb radius so that the others stick. Reference: central differences of the residual (step 1e-7,
-    error ~1e-7 relative to the largest entry) for both Coulomb radii; asserted to 1e-5 relative.
+    tangential multipliers below the Coulomb radius so that the others stick. Reference:
+    central differences of the residual (step 1e-7, error ~1e-7 relative to the largest
+    entry) for both Coulomb radii; asserted to 1e-5 relative.
     """
     from alcontact import penalties
     from alcontact.contact._finite_friction import FiniteFrictionContact

@@ -2,18 +2,31 @@ r"""Coulomb friction at finite deformation: Algorithms 6.2 and 6.4 in the curren
 
 Kinematics (current configuration, nodal collocation as in
 :mod:`alcontact.contact._finite`). Contact point ``i`` has the current position
-:math:`x_i = X_i + u_i`, the gap :math:`g_i = \operatorname{gap}(x_i)` and the obstacle
-normal :math:`\nu_i` at its projection. The obstacle moves rigidly by the translation
-:math:`c(t)` (``obstacle_path``), so the position of the point *relative to the
-obstacle* is :math:`s_i = x_i - c`. The slip of a load step :math:`n \to n+1` is the
-tangential part, with respect to the current normal, of the relative motion,
+:math:`x_i = X_i + u_i`, the gap :math:`g_i = \operatorname{gap}(x_i)`, the obstacle
+normal :math:`\nu_i` and the projection :math:`\bar x_i = x_i + g_i\nu_i` onto the obstacle.
+The obstacle moves rigidly by the translation :math:`c(t)` (``obstacle_path``); the point
+of the obstacle's *own* surface that contact point ``i`` touches is
+:math:`y_i = \bar x_i - c` (its surface coordinate, :meth:`FiniteFrictionContact.surface_points`).
+The slip of a load step :math:`n \to n+1` is measured *on the obstacle's surface*, from the
+previous surface point :math:`y_{i,n}` (carried with the obstacle: :math:`y_{i,n} + c`) to
+the current projection, as a vector of the current tangent plane,
 
 .. math::
 
-    \Delta s_{T,i} = P_i\,(s_i - s_{i,n}), \qquad P_i = I - \nu_i\nu_i^T,
+    \Delta s_{T,i} = \operatorname{slip}(x_i;\ y_{i,n} + c)
+    \qquad (:func:`~alcontact.contact.obstacles.surface_slip`):
 
-(the discrete slip on the obstacle's surface; for a plane it is exact, for a curved
-obstacle it is the first-order approximation of the arc on the surface).
+the geodesic for the analytic obstacles (exact for a plane; great-circle arc
+:math:`\frac{\theta}{\sin\theta} P_i (x_i - y_{i,n} - c)` on a circle/sphere,
+:math:`\theta` the turn of the normal; axial part plus arc on a cylinder) and, for a general
+signed-distance obstacle, the chord projected onto the current tangent plane,
+:math:`P_i (x_i - y_{i,n} - c)`, :math:`P_i = I - \nu_i\nu_i^T`, a first-order consistent
+choice (relative error :math:`\theta^2/6`). The tangential traction of the last step,
+tangent to the obstacle at the old normal, is transported into the current tangent plane
+by the minimal rotation of the normals
+(:func:`~alcontact.contact.obstacles.transport_tangent`, the parallel transport for the
+analytic obstacles) before it starts the step's multipliers; within the step the
+multiplier is projected, :math:`P\lambda_T`, onto the tangent plane of the current iterate.
 
 Local law of one AL subproblem with multipliers :math:`(\lambda_N, \lambda_T)` (the
 dissertation's (6.46)-(6.50) with the corrected (6.49), see
@@ -24,8 +37,8 @@ obstacle):
 
     t_N &= t_N(g; \lambda_N) \quad (\langle\lambda_N + \varepsilon_N g\rangle \text{ (6.52), Algorithm 6.2; }
           p'(g/\eta, \lambda_N) \text{, Algorithm 6.4}),\\
-    z &= P\,(\lambda_T + \varepsilon_T (s - s_n))
-         \quad (\lambda_T \text{ transported onto the current tangent plane}),\\
+    z &= P\,\lambda_T + \varepsilon_T \Delta s_T
+         \quad (\lambda_T \text{ projected onto the current tangent plane}),\\
     t_T &= \operatorname{proj}_{\{|t| \le \rho\}}(z), \qquad \rho = \mu\lambda_N \text{ (radius ``multiplier'')
           or } \mu t_N \text{ (``traction'')},
 
@@ -42,9 +55,12 @@ solved by Newton's method with the consistent (non-symmetric) point blocks
 .. math::
 
     \frac{\partial}{\partial x_i} w_i(t_T - t_N\nu) = w_i\Big(k_N \nu\nu^T + t_N H + \frac{\partial t_T}{\partial z}
-      \big(\varepsilon_T P + (\nu\cdot a) H + \nu (H a)^T\big) + n\,\frac{\partial\rho}{\partial x}\Big),
+      \Big(\varepsilon_T \frac{\partial\Delta s_T}{\partial x} + (\nu\cdot\lambda_T) H + \nu (H \lambda_T)^T\Big)
+      + n\,\frac{\partial\rho}{\partial x}\Big),
 
-:math:`a = \lambda_T + \varepsilon_T(s - s_n)`, :math:`H` the Hessian of the gap
+:math:`\partial\Delta s_T/\partial x` from :func:`~alcontact.contact.obstacles.surface_slip`
+(for the chord :math:`P + (\nu\cdot b) H + \nu (H b)^T`, :math:`b = x - y_n - c`; the arc adds
+the derivative of :math:`\theta/\sin\theta`), :math:`H` the Hessian of the gap
 (:math:`\partial\nu/\partial x = -H`), :math:`\partial t_T/\partial z` the derivative of the
 return mapping (identity at stick, :math:`\rho/|z|\,(I - nn^T)` at slip, :math:`n = z/|z|`),
 :math:`\partial\rho/\partial x = -\mu k_N \nu^T` for the coupled radius at slip. The
@@ -55,7 +71,7 @@ Outer loop (Algorithm 6.2, resp. 6.4 with a family-P penalty, as in
 :mod:`alcontact.contact._friction`): :math:`\lambda_N \leftarrow t_N`, :math:`\lambda_T
 \leftarrow t_T` ((6.2b), (6.2c)) until the penetration, complementarity, multiplier
 change and the slip of the sticking points are below their tolerances. A step starts
-from :math:`\lambda_T = t_{T,n}` (projected onto the current tangent plane by :math:`P`).
+from :math:`\lambda_T = t_{T,n}` (transported into the current tangent plane).
 The reference ``"ssn"`` (:func:`_step_ssn`) solves the Alart-Curnier equations of the same
 time-discrete law exactly, in :math:`(u, \lambda_N, \lambda_T)`, by a semi-smooth Newton method.
 Every accepted step is verified by :func:`~alcontact.contact._verify.check_state`
@@ -110,7 +126,7 @@ class _Local:
     nu: np.ndarray
     tN: np.ndarray
     tT: np.ndarray  # (c, d), tangent to the obstacle
-    slip: np.ndarray  # (c, d), P (s - s_n)
+    slip: np.ndarray  # (c, d), slip on the obstacle surface (obstacles.surface_slip)
     state: np.ndarray
     R: np.ndarray
     r_body: np.ndarray
@@ -119,8 +135,8 @@ class _Local:
 class FiniteFrictionContact(FiniteContact):
     """:class:`~alcontact.contact._finite.FiniteContact` with Coulomb friction (module doc).
 
-    The frictional history of a step is set by :meth:`set_history`: the positions of all
-    contact points relative to the obstacle at the last converged step, the obstacle
+    The frictional history of a step is set by :meth:`set_history`: the surface coordinates
+    of all contact points at the last converged step (:meth:`surface_points`), the obstacle
     translation of the current step, :math:`\\mu` and :math:`\\varepsilon_T`.
     """
 
@@ -475,7 +491,7 @@ def _step_ssn(dc: FiniteFrictionContact, lamN, lamT, x, eps_n, pen_name, opts) -
 
     Unknowns :math:`(x, \lambda_N, \lambda_T)`, equations (with :math:`c = \varepsilon_N`,
     :math:`\hat t_N = \langle\lambda_N + c g\rangle`,
-    :math:`\hat t_T = \operatorname{proj}_{|t| \le \mu\hat t_N} P(\lambda_T + c(s - s_n))`)
+    :math:`\hat t_T = \operatorname{proj}_{|t| \le \mu\hat t_N} (P\lambda_T + c\,\Delta s_T)`)
 
     .. math::
 
