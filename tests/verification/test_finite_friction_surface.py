@@ -227,7 +227,7 @@ def test_friction_jacobian_matches_finite_differences_on_a_curved_obstacle(radiu
     angle = np.where(np.arange(y.shape[0]) % 2 == 0, 0.15, 0.0)  # every other point: no slip
     c, s = np.cos(angle)[:, None], np.sin(angle)[:, None]
     turned = np.concatenate([c * y[:, :1] - s * y[:, 1:], s * y[:, :1] + c * y[:, 1:]], axis=1)
-    dc.set_history(turned + center, offset, 0.3, 2e4, radius)
+    dc.set_history(turned + center, 0.3, 2e4, radius)
     cand = dc.cand
     assert cand.size >= 3
     rng = np.random.default_rng(5)

@@ -4,23 +4,25 @@ Kinematics (current configuration, nodal collocation as in
 :mod:`alcontact.contact._finite`). Contact point ``i`` has the current position
 :math:`x_i = X_i + u_i`, the gap :math:`g_i = \operatorname{gap}(x_i)`, the obstacle
 normal :math:`\nu_i` and the projection :math:`\bar x_i = x_i + g_i\nu_i` onto the obstacle.
-The obstacle moves rigidly by the translation :math:`c(t)` (``obstacle_path``); the point
-of the obstacle's *own* surface that contact point ``i`` touches is
-:math:`y_i = \bar x_i - c` (its surface coordinate, :meth:`FiniteFrictionContact.surface_points`).
-The slip of a load step :math:`n \to n+1` is measured *on the obstacle's surface*, from the
-previous surface point :math:`y_{i,n}` (carried with the obstacle: :math:`y_{i,n} + c`) to
-the current projection, as a vector of the current tangent plane,
+The obstacle moves rigidly, :math:`x = Q(t)\,y + c(t)` (``obstacle_path``: a translation
+:math:`c`, or an :class:`~alcontact.contact.obstacles.RigidMotion` with a rotation :math:`Q`);
+the point of the obstacle's *own* surface that contact point ``i`` touches is
+:math:`y_i = Q^T(\bar x_i - c)` (its surface coordinate,
+:meth:`FiniteFrictionContact.surface_points`). The slip of a load step :math:`n \to n+1` is
+measured *on the obstacle's surface*, from the previous surface point :math:`y_{i,n}`
+(carried with the obstacle: :math:`Q y_{i,n} + c`) to the current projection, as a vector of
+the current tangent plane,
 
 .. math::
 
-    \Delta s_{T,i} = \operatorname{slip}(x_i;\ y_{i,n} + c)
+    \Delta s_{T,i} = \operatorname{slip}(x_i;\ Q y_{i,n} + c)
     \qquad (:func:`~alcontact.contact.obstacles.surface_slip`):
 
 the geodesic for the analytic obstacles (exact for a plane; great-circle arc
-:math:`\frac{\theta}{\sin\theta} P_i (x_i - y_{i,n} - c)` on a circle/sphere,
+:math:`\frac{\theta}{\sin\theta} P_i (x_i - Q y_{i,n} - c)` on a circle/sphere,
 :math:`\theta` the turn of the normal; axial part plus arc on a cylinder) and, for a general
 signed-distance obstacle, the chord projected onto the current tangent plane,
-:math:`P_i (x_i - y_{i,n} - c)`, :math:`P_i = I - \nu_i\nu_i^T`, a first-order consistent
+:math:`P_i (x_i - Q y_{i,n} - c)`, :math:`P_i = I - \nu_i\nu_i^T`, a first-order consistent
 choice (relative error :math:`\theta^2/6`). The tangential traction of the last step,
 tangent to the obstacle at the old normal, is transported into the current tangent plane
 by the minimal rotation of the normals
@@ -59,7 +61,7 @@ solved by Newton's method with the consistent (non-symmetric) point blocks
       + n\,\frac{\partial\rho}{\partial x}\Big),
 
 :math:`\partial\Delta s_T/\partial x` from :func:`~alcontact.contact.obstacles.surface_slip`
-(for the chord :math:`P + (\nu\cdot b) H + \nu (H b)^T`, :math:`b = x - y_n - c`; the arc adds
+(for the chord :math:`P + (\nu\cdot b) H + \nu (H b)^T`, :math:`b = x - Q y_n - c`; the arc adds
 the derivative of :math:`\theta/\sin\theta`), :math:`H` the Hessian of the gap
 (:math:`\partial\nu/\partial x = -H`), :math:`\partial t_T/\partial z` the derivative of the
 return mapping (identity at stick, :math:`\rho/|z|\,(I - nn^T)` at slip, :math:`n = z/|z|`),
@@ -106,7 +108,7 @@ from ._solution import ContactStatus
 from ._solve import penalty_stiffness
 from ._stepping import Attempt, StepRecord, StepRecords, _StepData, _step_times, step_through
 from ._verify import check_state, verified_status
-from .obstacles import surface_slip, transport_tangent
+from .obstacles import frame, surface_slip, transport_tangent
 
 __all__ = ["FiniteFrictionContact", "FiniteFrictionStep", "FiniteFrictionSolution", "solve_finite_friction",
            "finite_friction_algorithms"]
@@ -148,35 +150,38 @@ class FiniteFrictionContact(FiniteContact):
             solver = self._friction_solver = SequenceSolver(matrix_type="unsymmetric")
         return solver
 
-    def set_history(self, y_prev: np.ndarray, offset: np.ndarray, mu: float, eps_t: float, radius: str) -> None:
-        """Frictional history of the step.
+    def set_history(self, y_prev: np.ndarray, mu: float, eps_t: float, radius: str) -> None:
+        """Frictional history of the step (call after :meth:`configure` placed the obstacle).
 
         Parameters
         ----------
         y_prev : ndarray (m, d)
             Surface coordinates of all contact points at the last converged step: their
             projections onto the obstacle in the obstacle's own frame (:meth:`surface_points`).
-        offset : ndarray (d,)
-            Obstacle translation :math:`c(t)` of the current step.
         mu, eps_t : float
             Coulomb coefficient and tangential penalty.
         radius : {"multiplier", "traction"}
             Radius of the Coulomb disc (module doc).
         """
         self.y_prev = np.asarray(y_prev, dtype=float)
-        self.offset = np.asarray(offset, dtype=float)
+        self.place()
         self.mu = float(mu)
         self.eps_t = float(eps_t)
         self.coupled = radius == "traction"
 
+    def place(self) -> None:
+        """Read the placement :math:`x = Qy + b` of the current obstacle (:func:`~.obstacles.frame`)."""
+        self.rotation, self.offset = frame(self.obstacle, self.dim)
+
     def surface_points(self, u: np.ndarray) -> np.ndarray:
-        """Obstacle-fixed surface coordinates :math:`\\bar x_i - c` of all contact points.
+        """Obstacle-fixed surface coordinates :math:`y_i = Q^T(\\bar x_i - b)` of all contact points.
 
         The projection :math:`\\bar x_i` of :math:`x_i = X_i + u_i` onto the current obstacle,
-        moved back by the obstacle translation :math:`c`: the point of the obstacle's own
+        taken back to the obstacle's own frame (placement :math:`(Q, b)`, a translation
+        :math:`b = c` for ``obstacle_path`` vectors): the point of the obstacle's own
         surface the contact point touches (or faces).
         """
-        return self.obstacle.project(self.points + u[self.dofs]) - self.offset
+        return (self.obstacle.project(self.points + u[self.dofs]) - self.offset) @ self.rotation
 
     def _trial(self, lamT, xc, nu, idx, *, blocks: bool):
         r"""Trial tangential traction :math:`z = P\lambda_T + \varepsilon_T\Delta s_T` and the slip.
@@ -186,7 +191,7 @@ class FiniteFrictionContact(FiniteContact):
         With ``blocks``, also :math:`\partial z/\partial x = (\nu\cdot\lambda_T) H +
         \nu (H\lambda_T)^T + \varepsilon_T\,\partial\Delta s_T/\partial x`.
         """
-        y_prev = self.y_prev[idx] + self.offset
+        y_prev = self.y_prev[idx] @ self.rotation.T + self.offset
         slip, dslip = surface_slip(self.obstacle, xc, y_prev, jacobian=blocks)
         nl = np.einsum("ij,ij->i", nu, lamT)
         z = lamT - nl[:, None] * nu + self.eps_t * slip
@@ -327,7 +332,9 @@ class FiniteFrictionStep:
     stored_energy : float
         :math:`\\Pi_{int}(u)` of the body at the end of the step.
     offset : ndarray (d,)
-        Obstacle translation :math:`c(t)`.
+        Obstacle translation :math:`c(t)` (the translation part :math:`b` of the placement
+        :math:`x = Qy + b` when ``obstacle_path`` returns a
+        :class:`~alcontact.contact.obstacles.RigidMotion`).
     seconds : float
     message : str
     u : ndarray (ndofs,)
@@ -658,8 +665,10 @@ def solve_finite_friction(problem, mu: float, algorithm: str = "simo-laursen", p
     history : LoadHistory, optional
         Amplitudes of the load cases (as :func:`~alcontact.contact.solve_finite`); without it
         every support value and load is scaled by the pseudo-time.
-    obstacle_path : callable ``t -> (d,)``, optional
-        Translation of the obstacle at pseudo-time ``t`` (default none).
+    obstacle_path : callable ``t -> (d,)`` or ``t -> RigidMotion``, optional
+        Translation of the obstacle at pseudo-time ``t`` (default none), or its rigid
+        placement (rotation and translation, :class:`~alcontact.contact.obstacles.RigidMotion`);
+        the slip is measured on the moving obstacle's surface in its own frame.
     on_step : callable ``step -> None``, optional
         Called with every accepted :class:`FiniteFrictionStep` (it carries the step's
         displacement, pressures, gaps, tangential tractions, slip and stick/slip states).
@@ -689,13 +698,10 @@ def solve_finite_friction(problem, mu: float, algorithm: str = "simo-laursen", p
     eps_n = opts.eps_n if opts.eps_n is not None else penalty_stiffness(problem.model, dc.h, opts.penalty_scale)
     eps_t = opts.eps_t if opts.eps_t is not None else opts.tangential_scale * eps_n
 
-    def offset_at(t):
-        return np.zeros(d) if obstacle_path is None else np.asarray(obstacle_path(float(t)), dtype=float)
-
     x0 = np.zeros(dc.free.size)
     dc.configure(*data(0.0), x0)
     dc.accept(np.zeros(m))
-    dc.offset = offset_at(0.0)
+    dc.place()
     # the committed state every try starts from
     u0 = dc.expand(x0)
     state = {"x": x0, "y_prev": dc.surface_points(u0), "nu_prev": dc.obstacle.normal(dc.points + u0[dc.dofs]),
@@ -704,7 +710,7 @@ def solve_finite_friction(problem, mu: float, algorithm: str = "simo-laursen", p
 
     def attempt(t: float) -> Attempt:
         newton0, solves0 = dc.newton_iterations, dc.linear_solves
-        res, exc = _attempt(dc, data, step_fn, state["x"], t, offset_at(t), state["y_prev"], state["nu_prev"],
+        res, exc = _attempt(dc, data, step_fn, state["x"], t, state["y_prev"], state["nu_prev"],
                             state["lamN"], state["lamT"], mu, eps_n, eps_t, pen_name, opts)
         counts = dict(newton=dc.newton_iterations - newton0, linear_solves=dc.linear_solves - solves0)
         if exc is not None:
@@ -745,7 +751,7 @@ def solve_finite_friction(problem, mu: float, algorithm: str = "simo-laursen", p
                "cutbacks": int(run.cutbacks), "total_s": time.perf_counter() - t_start})
 
 
-def _attempt(dc, data, step_fn, x, t, offset, y_prev, nu_prev, lamN_all, lamT_all, mu, eps_n, eps_t, pen_name,
+def _attempt(dc, data, step_fn, x, t, y_prev, nu_prev, lamN_all, lamT_all, mu, eps_n, eps_t, pen_name,
              opts):
     """One try of the step to ``t`` from ``x``: ``(step result, exception or None)``.
 
@@ -756,7 +762,7 @@ def _attempt(dc, data, step_fn, x, t, offset, y_prev, nu_prev, lamN_all, lamT_al
     try:
         fv, load, ob = data(t)
         dc.configure(fv, load, ob, x, predictor_stiffness=eps_n)
-        dc.set_history(y_prev, offset, mu, eps_t, opts.radius)
+        dc.set_history(y_prev, mu, eps_t, opts.radius)
         nu_start = dc.obstacle.normal(dc.points + dc.expand(dc.x0)[dc.dofs])
         lamT_all = transport_tangent(lamT_all, nu_prev, nu_start)
         res = None

@@ -68,6 +68,10 @@ __all__ = [
     "UserObstacle",
     "Translated",
     "translate",
+    "RigidMotion",
+    "Moved",
+    "move",
+    "frame",
     "surface_slip",
     "transport_tangent",
     "available",
@@ -1163,6 +1167,158 @@ def translate(obstacle: Obstacle, offset: ArrayLike) -> Obstacle:
     if isinstance(obstacle, Translated):
         return Translated(obstacle.base, obstacle.offset + _vector(offset, "offset", (obstacle.offset.size,)))
     return Translated(obstacle, offset)
+
+
+@dataclass(frozen=True, eq=False, init=False)
+class RigidMotion:
+    r"""A rigid placement :math:`x = Q\,y + b` of an obstacle (rotation :math:`Q`, then translation).
+
+    ``obstacle_path(t)`` of the finite-deformation solvers may return one instead of a
+    translation vector: the obstacle is then placed by :func:`move`. Build it with
+    :meth:`about` (rotation by an angle about a centre, plus a translation).
+
+    Parameters
+    ----------
+    rotation : array_like (d, d)
+        Proper orthogonal matrix :math:`Q` (checked to 1e-10).
+    offset : array_like (d,)
+        Translation :math:`b`.
+    """
+
+    rotation: FloatArray
+    offset: FloatArray
+
+    def __init__(self, rotation: ArrayLike, offset: ArrayLike) -> None:
+        b = _vector(offset, "offset")
+        q = np.asarray(rotation, dtype=float)
+        d = b.size
+        if q.shape != (d, d) or not np.all(np.isfinite(q)):
+            raise InputError(f"rotation must be a finite {d}x{d} matrix like offset has {d} components; "
+                             f"got shape {q.shape}")
+        if np.max(np.abs(q.T @ q - np.eye(d))) > 1e-10 or np.linalg.det(q) <= 0:
+            raise InputError("rotation must be a proper orthogonal matrix (Q^T Q = I, det Q = 1); "
+                             "build it with RigidMotion.about(center, angle, axis)")
+        object.__setattr__(self, "rotation", _readonly(q))
+        object.__setattr__(self, "offset", _readonly(b))
+
+    @classmethod
+    def about(cls, center: ArrayLike, angle: float, axis: ArrayLike | None = None,
+              offset: ArrayLike | None = None) -> RigidMotion:
+        r"""Rotation by ``angle`` (radians, counter-clockwise about ``axis``) about ``center``, then ``offset``.
+
+        :math:`x = Q(y - p) + p + c`; in 2D no ``axis``, in 3D a unit ``axis`` (Rodrigues'
+        formula :math:`Q = I + \sin\varphi\,[a]_\times + (1 - \cos\varphi)[a]_\times^2`).
+        """
+        p = _vector(center, "center")
+        if not (isinstance(angle, (int, float, np.floating, np.integer)) and math.isfinite(float(angle))):
+            raise InputError(f"angle = {angle!r} must be a finite number of radians")
+        phi = float(angle)
+        if p.size == 2:
+            if axis is not None:
+                raise InputError("axis is for 3D rotations; omit it in 2D (rotation in the plane)")
+            q = np.array([[math.cos(phi), -math.sin(phi)], [math.sin(phi), math.cos(phi)]])
+        else:
+            if axis is None:
+                raise InputError("a 3D rotation needs axis=(ax, ay, az)")
+            a = _unit(axis, "axis", (3,))
+            k = np.array([[0.0, -a[2], a[1]], [a[2], 0.0, -a[0]], [-a[1], a[0], 0.0]])
+            q = np.eye(3) + math.sin(phi) * k + (1.0 - math.cos(phi)) * (k @ k)
+        c = np.zeros(p.size) if offset is None else _vector(offset, "offset", (p.size,))
+        return cls(q, p - q @ p + c)
+
+
+@dataclass(frozen=True, eq=False)
+class Moved(_ObstacleBase):
+    r"""An obstacle placed rigidly by a :class:`RigidMotion` :math:`x = Q y + b`.
+
+    .. math::
+
+        \operatorname{gap}(x) = \operatorname{gap}_O(y), \quad n(x) = Q\,n_O(y), \quad
+        H(x) = Q H_O(y) Q^T, \quad \bar x = Q\,\bar y_O(y) + b, \qquad y = Q^T(x - b).
+
+    Build it with :func:`move`; :func:`frame` returns its placement.
+    """
+
+    base: Any
+    motion: RigidMotion
+
+    def __post_init__(self) -> None:
+        if self.base.dim is not None and self.motion.offset.size != self.base.dim:
+            raise InputError(f"the rigid motion is {self.motion.offset.size}D but the obstacle "
+                             f"{self.base.describe()} is {self.base.dim}D")
+
+    @property
+    def dim(self) -> int | None:
+        return self.base.dim
+
+    @property
+    def name(self) -> str:
+        return self.base.name
+
+    def describe(self) -> str:
+        return (f"{self.base.describe()}, rotated by {_fmt(self.motion.rotation.ravel())} "
+                f"and translated by {_fmt(self.motion.offset)}")
+
+    def _local(self, x: FloatArray) -> FloatArray:
+        return (x - self.motion.offset) @ self.motion.rotation
+
+    def _gap_normal(self, x: FloatArray) -> tuple[FloatArray, FloatArray]:
+        g, n = self.base.evaluate(self._local(x))
+        return g, n @ self.motion.rotation.T
+
+    def project(self, x: ArrayLike) -> FloatArray:
+        pts = _points(x, self.dim)
+        return self.base.project(self._local(pts)) @ self.motion.rotation.T + self.motion.offset
+
+    def _hessian(self, x: FloatArray) -> FloatArray:
+        q = self.motion.rotation
+        return np.einsum("ij,mjk,lk->mil", q, self.base.gap_hessian(self._local(x)), q)
+
+    def surface_slip(self, x: ArrayLike, y_prev: ArrayLike, *,
+                     jacobian: bool = True) -> tuple[FloatArray, FloatArray | None]:
+        """:func:`surface_slip` of the base obstacle in its own frame, rotated back.
+
+        Slip :math:`Q\\,\\Delta s_O(y; y_{prev})`, Jacobian :math:`Q J_O Q^T`.
+        """
+        pts = _points(x, self.dim)
+        yp = np.asarray(y_prev, dtype=float).reshape(pts.shape)
+        q = self.motion.rotation
+        slip, jac = surface_slip(self.base, self._local(pts), self._local(yp), jacobian=jacobian)
+        if jac is not None:
+            jac = np.einsum("ij,mjk,lk->mil", q, jac, q)
+        return slip @ q.T, jac
+
+
+def move(obstacle: Obstacle, motion: RigidMotion) -> Obstacle:
+    """``obstacle`` placed by the rigid ``motion``.
+
+    A :class:`Moved` obstacle; a translation-only motion gives :func:`translate`.
+    """
+    if not isinstance(motion, RigidMotion):
+        raise InputError(f"motion must be an obstacles.RigidMotion, got {type(motion).__name__}")
+    if np.array_equal(motion.rotation, np.eye(motion.offset.size)):
+        return translate(obstacle, motion.offset)
+    return Moved(obstacle, motion)
+
+
+def frame(obstacle: Any, dim: int | None = None) -> tuple[FloatArray, FloatArray]:
+    r"""Placement :math:`(Q, b)` of an obstacle: a point :math:`y` of its own frame is at :math:`Qy + b`.
+
+    :class:`Moved` and :class:`Translated` compose their motion with their base's frame;
+    any other obstacle (user obstacles included) is at rest in its own frame,
+    :math:`(I, 0)`; ``dim`` is used when the obstacle has no dimension of its own.
+    """
+    if isinstance(obstacle, (Moved, Translated)):
+        qb, bb = frame(obstacle.base, dim)
+        if isinstance(obstacle, Moved):
+            q, b = np.asarray(obstacle.motion.rotation), np.asarray(obstacle.motion.offset)
+        else:
+            q, b = np.eye(obstacle.offset.size), np.asarray(obstacle.offset)
+        return q @ qb, q @ bb + b
+    d = obstacle.dim if obstacle.dim is not None else dim
+    if d is None:
+        raise InputError(f"obstacle {obstacle.describe()} has no dimension; pass dim= to frame()")
+    return np.eye(d), np.zeros(d)
 
 
 # --------------------------------------------------------------------------- registry
