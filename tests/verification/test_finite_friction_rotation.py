@@ -4,8 +4,9 @@ References (neo-Hookean bodies, plane strain, E = 1000, nu = 0.3):
 
 1. *Placement*: :class:`~alcontact.contact.obstacles.Moved` equals the obstacle built at the
    moved place (gap, normal, Hessian, projection to 1e-14; a rotated half-space is a
-   half-space with the rotated normal through the moved point), its surface slip is the
-   rotated one with a Jacobian equal to central differences (1e-7 relative), and
+   half-space with the rotated normal through the moved point, a rotated cylinder the
+   cylinder with the rotated axis), its surface slip is the rotated one (1e-13) with a
+   Jacobian equal to central differences (1e-7 relative), and
    :func:`~alcontact.contact.obstacles.frame` composes placements.
 2. *Frictionless path independence*: a hyperelastic body without friction has a potential,
    so its equilibrium depends on the final obstacle placement only. A clamped block pressed
@@ -71,6 +72,20 @@ def test_moved_obstacle_is_the_obstacle_at_its_place():
     fd = np.stack([_fd(lambda p: obstacles.surface_slip(ball, p[None], y_prev[i:i + 1], jacobian=False)[0][0], x[i])
                    for i in range(x.shape[0])])
     assert np.max(np.abs(jac - fd)) <= 1e-7 * np.max(np.abs(jac))
+    # 3D: a cylinder rotated about a tilted axis is the cylinder with the rotated axis and centre
+    m3 = obstacles.RigidMotion.about((0.1, 0.2, 0.3), 0.7, axis=(1.0, 1.0, 0.5), offset=(0.0, 0.1, -0.2))
+    cyl = obstacles.Cylinder(center=(0.0, 0.0, 1.0), axis=(0.0, 1.0, 0.0), radius=RADIUS)
+    q3, b3 = m3.rotation, m3.offset
+    cyl_moved = obstacles.move(cyl, m3)
+    cyl_direct = obstacles.Cylinder(center=q3 @ np.array([0.0, 0.0, 1.0]) + b3, axis=q3 @ np.array([0.0, 1.0, 0.0]),
+                                    radius=RADIUS)
+    x3 = cyl_direct.center + 0.8 * np.random.default_rng(4).normal(size=(6, 3))
+    for f in ("gap", "normal", "gap_hessian", "project"):
+        assert np.max(np.abs(getattr(cyl_moved, f)(x3) - getattr(cyl_direct, f)(x3))) <= 1e-14
+    y3 = cyl_direct.project(x3 + 0.2)
+    s_m, j_m = obstacles.surface_slip(cyl_moved, x3, y3)
+    s_d, j_d = obstacles.surface_slip(cyl_direct, x3, y3)
+    assert np.max(np.abs(s_m - s_d)) <= 1e-13 and np.max(np.abs(j_m - j_d)) <= 1e-12 * np.max(np.abs(j_d))
     # frame composition: move(translate(O, c), M) places y at Q (y + c) + b
     q2, b2 = obstacles.frame(obstacles.move(obstacles.translate(plane, (0.3, 0.0)), motion))
     assert np.allclose(q2, q, atol=1e-15) and np.allclose(b2, q @ np.array([0.3, 0.0]) + b, atol=1e-15)
