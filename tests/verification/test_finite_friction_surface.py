@@ -181,6 +181,21 @@ def test_surface_slip_geodesic_and_jacobian(ob):
     assert np.max(np.abs(jac - fd)) <= tol * np.max(np.abs(jac))
 
 
+@pytest.mark.parametrize("turn", [1.2, 2.5, -2.9])
+def test_surface_slip_beyond_a_quarter_turn(turn):
+    """Arc beyond pi/2: on a circle (R = 0.7) and a cylinder the slip length is R |turn| (1e-12), FD Jacobian (1e-7)."""
+    circle = obstacles.Circle(center=(0.1, -0.2), radius=0.7)
+    cyl = obstacles.Cylinder(center=(0.0, 0.0, 0.0), axis=(0.0, 0.0, 1.0), radius=0.7)
+    for ob, x, y_prev, extra in (
+            (circle, np.array([[0.1 + 0.75, -0.2]]),
+             np.array([[0.1 + 0.7 * np.cos(turn), -0.2 - 0.7 * np.sin(turn)]]), 0.0),
+            (cyl, np.array([[0.75, 0.0, 0.3]]), np.array([[0.7 * np.cos(turn), -0.7 * np.sin(turn), 0.1]]), 0.2)):
+        slip, jac = obstacles.surface_slip(ob, x, y_prev)
+        assert abs(np.linalg.norm(slip[0]) - np.hypot(0.7 * abs(turn), extra)) <= 1e-12
+        fd = _fd_jacobian(lambda p: obstacles.surface_slip(ob, p[None], y_prev, jacobian=False)[0][0], x[0], 1e-6)
+        assert np.max(np.abs(jac[0] - fd)) <= 1e-7 * np.max(np.abs(jac[0]))
+
+
 def test_transport_tangent_rotates_into_the_new_tangent_plane():
     """transport_tangent keeps lengths, lands in the new tangent plane (1e-14) and is the 2D rotation."""
     rng = np.random.default_rng(3)

@@ -414,7 +414,10 @@ class _Ball(_ObstacleBase):
         pts = _points(x, self.dim)
         yp = np.asarray(y_prev, dtype=float).reshape(pts.shape)
         slip, jac = _chord_slip(self, pts, yp, jacobian)
-        return _arc_scale(slip, jac, self.radius, np.zeros((self.dim, self.dim)), pts - yp)
+        r, e, deg = self._radial(pts)
+        cos = np.einsum("ij,ij->i", e, yp - self.center) / self.radius
+        return _arc_scale(slip, jac, self.radius, np.zeros((self.dim, self.dim)), pts - yp,
+                          np.where(deg, self.radius, r), cos)
 
 
 class Sphere(_Ball):
@@ -527,7 +530,10 @@ class Cylinder(_ObstacleBase):
         pts = _points(x, 3)
         yp = np.asarray(y_prev, dtype=float).reshape(pts.shape)
         slip, jac = _chord_slip(self, pts, yp, jacobian)
-        return _arc_scale(slip, jac, self.radius, np.outer(self.axis, self.axis), pts - yp)
+        r, e, deg = self._radial(pts)
+        cos = np.einsum("ij,ij->i", e, yp - self.center) / self.radius  # e is normal to the axis
+        return _arc_scale(slip, jac, self.radius, np.outer(self.axis, self.axis), pts - yp,
+                          np.where(deg, self.radius, r), cos)
 
 
 # --------------------------------------------------------------------------- polytope
@@ -1040,41 +1046,43 @@ def _chord_slip(ob: Any, x: FloatArray, y_prev: FloatArray,
 
 
 def _arc_scale(slip: FloatArray, jac: FloatArray | None, radius: float, axial: FloatArray,
-               b: FloatArray) -> tuple[FloatArray, FloatArray | None]:
+               b: FloatArray, r: FloatArray, cos: FloatArray) -> tuple[FloatArray, FloatArray | None]:
     r"""Scale the circumferential part of the chord slip :math:`Pb` to the arc, with the Jacobian.
 
-    ``axial`` is the projector :math:`A = aa^T` onto a cylinder axis (0 for balls). The
-    circumferential part :math:`c = Pb - Ab` has length :math:`R\sin\theta`, :math:`\theta`
-    the turn of the normal between the two surface points; the arc is :math:`f(\theta)\,c`,
-    :math:`f = \theta/\sin\theta`. From :math:`\sin\theta = |c|/R`,
+    ``axial`` is the projector :math:`A = aa^T` onto a cylinder axis (0 for balls), ``r`` the
+    radial distance of :math:`x` from the centre (axis) and ``cos`` :math:`= e\cdot e_{prev}`,
+    the cosine of the angle :math:`\theta` between the radial directions of :math:`x` and of
+    the previous surface point. The circumferential part :math:`c = Pb - Ab = -R(P - A)e_{prev}`
+    has length :math:`R\sin\theta`; with :math:`\theta = \operatorname{atan2}(|c|/R, \cos\theta)`
+    (any turn below :math:`\pi`) the arc is :math:`f(\theta)\,c`, :math:`f = \theta/\sin\theta`.
+    From :math:`d\theta = \cos\theta\,d(\sin\theta) - \sin\theta\,d(\cos\theta)` and
+    :math:`\partial\cos\theta/\partial x = -c^T/(Rr)`,
 
     .. math::
 
-        \frac{\partial (f c)}{\partial x} = f\,C + \frac{q(\theta)}{R^2\cos\theta}\,c\,c^T C,
+        \frac{\partial (f c)}{\partial x} = f\,C + \frac{q(\theta)}{R\,r}\,c\,c^T,
         \qquad C = \frac{\partial c}{\partial x} = \frac{\partial (Pb)}{\partial x} - A,
         \qquad q = \frac{f'(\theta)}{\sin\theta} = \frac{\sin\theta - \theta\cos\theta}{\sin^3\theta}
 
-    (series :math:`f = 1 + \theta^2/6`, :math:`q = 1/3 + 2\theta^2/15` below
-    :math:`\theta = 10^{-3}`). Valid while a load step turns a contact normal by less than
-    :math:`\pi/2` (far beyond any usable step).
+    (using :math:`c^T C = (R\cos\theta/r)\,c^T`, which holds because the previous point lies on
+    the surface; series :math:`f = 1 + \theta^2/6`, :math:`q = 1/3 + 2\theta^2/15` below
+    :math:`\theta = 10^{-3}`).
     """
     ab = b @ axial
     c = slip - ab
-    s = np.clip(np.linalg.norm(c, axis=1) / radius, 0.0, 1.0)
-    theta = np.arcsin(s)
+    s = np.linalg.norm(c, axis=1) / radius
+    theta = np.arctan2(s, cos)
     small = theta < 1e-3
     th = np.where(small, 1.0, theta)
     sn = np.where(small, 1.0, s)
-    f = np.where(small, 1.0 + theta**2 / 6.0, th / sn)
+    f = np.where(small, 1.0 + theta**2 / 6.0, th / sn)  # |f c| = R theta
     out = ab + f[:, None] * c
     if jac is None:
         return out, None
     q = np.where(small, 1.0 / 3.0 + 2.0 * theta**2 / 15.0, (sn - th * np.cos(th)) / sn**3)
-    cosv = np.sqrt(np.maximum(1.0 - s**2, 1e-300))
     C = jac - axial[None]
-    cC = np.einsum("ij,ijk->ik", c, C)
-    coef = q / (radius**2 * cosv)
-    return out, axial[None] + f[:, None, None] * C + coef[:, None, None] * c[:, :, None] * cC[:, None, :]
+    coef = q / (radius * r)
+    return out, axial[None] + f[:, None, None] * C + coef[:, None, None] * c[:, :, None] * c[:, None, :]
 
 
 def transport_tangent(t: ArrayLike, n_from: ArrayLike, n_to: ArrayLike) -> FloatArray:
