@@ -2,18 +2,33 @@ r"""Coulomb friction at finite deformation: Algorithms 6.2 and 6.4 in the curren
 
 Kinematics (current configuration, nodal collocation as in
 :mod:`alcontact.contact._finite`). Contact point ``i`` has the current position
-:math:`x_i = X_i + u_i`, the gap :math:`g_i = \operatorname{gap}(x_i)` and the obstacle
-normal :math:`\nu_i` at its projection. The obstacle moves rigidly by the translation
-:math:`c(t)` (``obstacle_path``), so the position of the point *relative to the
-obstacle* is :math:`s_i = x_i - c`. The slip of a load step :math:`n \to n+1` is the
-tangential part, with respect to the current normal, of the relative motion,
+:math:`x_i = X_i + u_i`, the gap :math:`g_i = \operatorname{gap}(x_i)`, the obstacle
+normal :math:`\nu_i` and the projection :math:`\bar x_i = x_i + g_i\nu_i` onto the obstacle.
+The obstacle moves rigidly, :math:`x = Q(t)\,y + c(t)` (``obstacle_path``: a translation
+:math:`c`, or an :class:`~alcontact.contact.obstacles.RigidMotion` with a rotation :math:`Q`);
+the point of the obstacle's *own* surface that contact point ``i`` touches is
+:math:`y_i = Q^T(\bar x_i - c)` (its surface coordinate,
+:meth:`FiniteFrictionContact.surface_points`). The slip of a load step :math:`n \to n+1` is
+measured *on the obstacle's surface*, from the previous surface point :math:`y_{i,n}`
+(carried with the obstacle: :math:`Q y_{i,n} + c`) to the current projection, as a vector of
+the current tangent plane,
 
 .. math::
 
-    \Delta s_{T,i} = P_i\,(s_i - s_{i,n}), \qquad P_i = I - \nu_i\nu_i^T,
+    \Delta s_{T,i} = \operatorname{slip}(x_i;\ Q y_{i,n} + c)
+    \qquad (:func:`~alcontact.contact.obstacles.surface_slip`):
 
-(the discrete slip on the obstacle's surface; for a plane it is exact, for a curved
-obstacle it is the first-order approximation of the arc on the surface).
+the geodesic for the analytic obstacles (exact for a plane; great-circle arc
+:math:`\frac{\theta}{\sin\theta} P_i (x_i - Q y_{i,n} - c)` on a circle/sphere,
+:math:`\theta` the turn of the normal; axial part plus arc on a cylinder) and, for a general
+signed-distance obstacle, the chord projected onto the current tangent plane,
+:math:`P_i (x_i - Q y_{i,n} - c)`, :math:`P_i = I - \nu_i\nu_i^T`, a first-order consistent
+choice (relative error :math:`\theta^2/6`). The tangential traction of the last step,
+tangent to the obstacle at the old normal, is transported into the current tangent plane
+by the minimal rotation of the normals
+(:func:`~alcontact.contact.obstacles.transport_tangent`, the parallel transport for the
+analytic obstacles) before it starts the step's multipliers; within the step the
+multiplier is projected, :math:`P\lambda_T`, onto the tangent plane of the current iterate.
 
 Local law of one AL subproblem with multipliers :math:`(\lambda_N, \lambda_T)` (the
 dissertation's (6.46)-(6.50) with the corrected (6.49), see
@@ -24,8 +39,8 @@ obstacle):
 
     t_N &= t_N(g; \lambda_N) \quad (\langle\lambda_N + \varepsilon_N g\rangle \text{ (6.52), Algorithm 6.2; }
           p'(g/\eta, \lambda_N) \text{, Algorithm 6.4}),\\
-    z &= P\,(\lambda_T + \varepsilon_T (s - s_n))
-         \quad (\lambda_T \text{ transported onto the current tangent plane}),\\
+    z &= P\,\lambda_T + \varepsilon_T \Delta s_T
+         \quad (\lambda_T \text{ projected onto the current tangent plane}),\\
     t_T &= \operatorname{proj}_{\{|t| \le \rho\}}(z), \qquad \rho = \mu\lambda_N \text{ (radius ``multiplier'')
           or } \mu t_N \text{ (``traction'')},
 
@@ -42,9 +57,12 @@ solved by Newton's method with the consistent (non-symmetric) point blocks
 .. math::
 
     \frac{\partial}{\partial x_i} w_i(t_T - t_N\nu) = w_i\Big(k_N \nu\nu^T + t_N H + \frac{\partial t_T}{\partial z}
-      \big(\varepsilon_T P + (\nu\cdot a) H + \nu (H a)^T\big) + n\,\frac{\partial\rho}{\partial x}\Big),
+      \Big(\varepsilon_T \frac{\partial\Delta s_T}{\partial x} + (\nu\cdot\lambda_T) H + \nu (H \lambda_T)^T\Big)
+      + n\,\frac{\partial\rho}{\partial x}\Big),
 
-:math:`a = \lambda_T + \varepsilon_T(s - s_n)`, :math:`H` the Hessian of the gap
+:math:`\partial\Delta s_T/\partial x` from :func:`~alcontact.contact.obstacles.surface_slip`
+(for the chord :math:`P + (\nu\cdot b) H + \nu (H b)^T`, :math:`b = x - Q y_n - c`; the arc adds
+the derivative of :math:`\theta/\sin\theta`), :math:`H` the Hessian of the gap
 (:math:`\partial\nu/\partial x = -H`), :math:`\partial t_T/\partial z` the derivative of the
 return mapping (identity at stick, :math:`\rho/|z|\,(I - nn^T)` at slip, :math:`n = z/|z|`),
 :math:`\partial\rho/\partial x = -\mu k_N \nu^T` for the coupled radius at slip. The
@@ -55,7 +73,7 @@ Outer loop (Algorithm 6.2, resp. 6.4 with a family-P penalty, as in
 :mod:`alcontact.contact._friction`): :math:`\lambda_N \leftarrow t_N`, :math:`\lambda_T
 \leftarrow t_T` ((6.2b), (6.2c)) until the penetration, complementarity, multiplier
 change and the slip of the sticking points are below their tolerances. A step starts
-from :math:`\lambda_T = t_{T,n}` (projected onto the current tangent plane by :math:`P`).
+from :math:`\lambda_T = t_{T,n}` (transported into the current tangent plane).
 The reference ``"ssn"`` (:func:`_step_ssn`) solves the Alart-Curnier equations of the same
 time-discrete law exactly, in :math:`(u, \lambda_N, \lambda_T)`, by a semi-smooth Newton method.
 Every accepted step is verified by :func:`~alcontact.contact._verify.check_state`
@@ -90,6 +108,7 @@ from ._solution import ContactStatus
 from ._solve import penalty_stiffness
 from ._stepping import Attempt, StepRecord, StepRecords, _StepData, _step_times, step_through
 from ._verify import check_state, verified_status
+from .obstacles import frame, surface_slip, transport_tangent
 
 __all__ = ["FiniteFrictionContact", "FiniteFrictionStep", "FiniteFrictionSolution", "solve_finite_friction",
            "finite_friction_algorithms"]
@@ -109,7 +128,7 @@ class _Local:
     nu: np.ndarray
     tN: np.ndarray
     tT: np.ndarray  # (c, d), tangent to the obstacle
-    slip: np.ndarray  # (c, d), P (s - s_n)
+    slip: np.ndarray  # (c, d), slip on the obstacle surface (obstacles.surface_slip)
     state: np.ndarray
     R: np.ndarray
     r_body: np.ndarray
@@ -118,8 +137,8 @@ class _Local:
 class FiniteFrictionContact(FiniteContact):
     """:class:`~alcontact.contact._finite.FiniteContact` with Coulomb friction (module doc).
 
-    The frictional history of a step is set by :meth:`set_history`: the positions of all
-    contact points relative to the obstacle at the last converged step, the obstacle
+    The frictional history of a step is set by :meth:`set_history`: the surface coordinates
+    of all contact points at the last converged step (:meth:`surface_points`), the obstacle
     translation of the current step, :math:`\\mu` and :math:`\\varepsilon_T`.
     """
 
@@ -131,37 +150,70 @@ class FiniteFrictionContact(FiniteContact):
             solver = self._friction_solver = SequenceSolver(matrix_type="unsymmetric")
         return solver
 
-    def set_history(self, s_prev: np.ndarray, offset: np.ndarray, mu: float, eps_t: float, radius: str) -> None:
-        self.s_prev = np.asarray(s_prev, dtype=float)
-        self.offset = np.asarray(offset, dtype=float)
+    def set_history(self, y_prev: np.ndarray, mu: float, eps_t: float, radius: str) -> None:
+        """Frictional history of the step (call after :meth:`configure` placed the obstacle).
+
+        Parameters
+        ----------
+        y_prev : ndarray (m, d)
+            Surface coordinates of all contact points at the last converged step: their
+            projections onto the obstacle in the obstacle's own frame (:meth:`surface_points`).
+        mu, eps_t : float
+            Coulomb coefficient and tangential penalty.
+        radius : {"multiplier", "traction"}
+            Radius of the Coulomb disc (module doc).
+        """
+        self.y_prev = np.asarray(y_prev, dtype=float)
+        self.place()
         self.mu = float(mu)
         self.eps_t = float(eps_t)
         self.coupled = radius == "traction"
 
-    def relative_positions(self, u: np.ndarray) -> np.ndarray:
-        """:math:`s_i = X_i + u_i - c` of all contact points (positions relative to the moving obstacle)."""
-        return self.points + u[self.dofs] - self.offset
+    def place(self) -> None:
+        """Read the placement :math:`x = Qy + b` of the current obstacle (:func:`~.obstacles.frame`)."""
+        self.rotation, self.offset = frame(self.obstacle, self.dim)
+
+    def surface_points(self, u: np.ndarray) -> np.ndarray:
+        """Obstacle-fixed surface coordinates :math:`y_i = Q^T(\\bar x_i - b)` of all contact points.
+
+        The projection :math:`\\bar x_i` of :math:`x_i = X_i + u_i` onto the current obstacle,
+        taken back to the obstacle's own frame (placement :math:`(Q, b)`, a translation
+        :math:`b = c` for ``obstacle_path`` vectors): the point of the obstacle's own
+        surface the contact point touches (or faces).
+        """
+        return (self.obstacle.project(self.points + u[self.dofs]) - self.offset) @ self.rotation
+
+    def _trial(self, lamT, xc, nu, idx, *, blocks: bool):
+        r"""Trial tangential traction :math:`z = P\lambda_T + \varepsilon_T\Delta s_T` and the slip.
+
+        :math:`\Delta s_T` is the slip on the obstacle's surface from the previous surface
+        point to the projection of :math:`x` (:func:`~alcontact.contact.obstacles.surface_slip`).
+        With ``blocks``, also :math:`\partial z/\partial x = (\nu\cdot\lambda_T) H +
+        \nu (H\lambda_T)^T + \varepsilon_T\,\partial\Delta s_T/\partial x`.
+        """
+        y_prev = self.y_prev[idx] @ self.rotation.T + self.offset
+        slip, dslip = surface_slip(self.obstacle, xc, y_prev, jacobian=blocks)
+        nl = np.einsum("ij,ij->i", nu, lamT)
+        z = lamT - nl[:, None] * nu + self.eps_t * slip
+        if not blocks:
+            return z, slip, None, None
+        H = self.obstacle.gap_hessian(xc)
+        Hl = np.einsum("ijk,ik->ij", H, lamT)
+        dz = nl[:, None, None] * H + nu[:, :, None] * Hl[:, None, :] + self.eps_t * dslip
+        return z, slip, dz, H
 
     # ------------------------------------------------------------------ local law
     def _local(self, law, lamN, lamT, u, idx, *, blocks: bool):
-        d = self.dim
         xc = self._current(u, idx)
         g, nu = self.obstacle.evaluate(xc)
         tN = np.asarray(law.traction(g, lamN), dtype=float)
         kN = np.asarray(law.stiffness(g, lamN), dtype=float)
-        P = np.eye(d)[None] - nu[:, :, None] * nu[:, None, :]
-        a = lamT + self.eps_t * (xc - self.offset - self.s_prev[idx])
-        z = np.einsum("ijk,ik->ij", P, a)
-        slip = np.einsum("ijk,ik->ij", P, xc - self.offset - self.s_prev[idx])
+        z, slip, dz, H = self._trial(lamT, xc, nu, idx, blocks=blocks)
         rho = self.mu * (tN if self.coupled else np.maximum(lamN, 0.0))
         tT, opened, stick, slipping, n, dproj = return_mapping(z, rho)
         state = np.where(opened, OPEN, np.where(stick, STICK, SLIP))
         if not blocks:
             return g, nu, tN, tT, slip, state, None
-        H = self.obstacle.gap_hessian(xc)
-        Ha = np.einsum("ijk,ik->ij", H, a)
-        nua = np.einsum("ij,ij->i", nu, a)
-        dz = self.eps_t * P + nua[:, None, None] * H + nu[:, :, None] * Ha[:, None, :]
         dT = dproj @ dz
         if self.coupled:
             dT = dT - np.where(slipping[:, None, None], self.mu * kN[:, None, None] * n[:, :, None] * nu[:, None, :],
@@ -280,7 +332,9 @@ class FiniteFrictionStep:
     stored_energy : float
         :math:`\\Pi_{int}(u)` of the body at the end of the step.
     offset : ndarray (d,)
-        Obstacle translation :math:`c(t)`.
+        Obstacle translation :math:`c(t)` (the translation part :math:`b` of the placement
+        :math:`x = Qy + b` when ``obstacle_path`` returns a
+        :class:`~alcontact.contact.obstacles.RigidMotion`).
     seconds : float
     message : str
     u : ndarray (ndofs,)
@@ -444,7 +498,7 @@ def _step_ssn(dc: FiniteFrictionContact, lamN, lamT, x, eps_n, pen_name, opts) -
 
     Unknowns :math:`(x, \lambda_N, \lambda_T)`, equations (with :math:`c = \varepsilon_N`,
     :math:`\hat t_N = \langle\lambda_N + c g\rangle`,
-    :math:`\hat t_T = \operatorname{proj}_{|t| \le \mu\hat t_N} P(\lambda_T + c(s - s_n))`)
+    :math:`\hat t_T = \operatorname{proj}_{|t| \le \mu\hat t_N} (P\lambda_T + c\,\Delta s_T)`)
 
     .. math::
 
@@ -479,18 +533,14 @@ def _step_ssn(dc: FiniteFrictionContact, lamN, lamT, x, eps_n, pen_name, opts) -
         lN, lT = L_[:, 0], L_[:, 1:]
         xc = dc._current(u_, cand)
         g = dc.obstacle.gap(xc)
-        H = dc.obstacle.gap_hessian(xc)
         P = np.eye(d)[None] - nu[:, :, None] * nu[:, None, :]
-        a = lT + c * (xc - dc.offset - dc.s_prev[cand])
-        z = np.einsum("ijk,ik->ij", P, a)
+        z, _, dz_dx, H = dc._trial(lT, xc, nu, cand, blocks=True)
         act = (lN + c * g) > 0
         tN = np.where(act, lN + c * g, 0.0)
         rho = mu * tN
         _, _, _, slipping, n, M = return_mapping(z, rho)
         dtN_dx = -np.where(act, c, 0.0)[:, None] * nu  # (k, d)
         dtN_dl = act.astype(float)
-        dz_dx = c * P + np.einsum("i,ijk->ijk", np.einsum("ij,ij->i", nu, a), H) \
-            + nu[:, :, None] * np.einsum("ijk,ik->ij", H, a)[:, None, :]
         dtT_dx = M @ dz_dx + np.where(slipping[:, None, None], mu * n[:, :, None] * dtN_dx[:, None, :], 0.0)
         dtT_dlT = M @ P
         dtT_dlN = np.where(slipping[:, None], mu * dtN_dl[:, None] * n, 0.0)
@@ -615,8 +665,10 @@ def solve_finite_friction(problem, mu: float, algorithm: str = "simo-laursen", p
     history : LoadHistory, optional
         Amplitudes of the load cases (as :func:`~alcontact.contact.solve_finite`); without it
         every support value and load is scaled by the pseudo-time.
-    obstacle_path : callable ``t -> (d,)``, optional
-        Translation of the obstacle at pseudo-time ``t`` (default none).
+    obstacle_path : callable ``t -> (d,)`` or ``t -> RigidMotion``, optional
+        Translation of the obstacle at pseudo-time ``t`` (default none), or its rigid
+        placement (rotation and translation, :class:`~alcontact.contact.obstacles.RigidMotion`);
+        the slip is measured on the moving obstacle's surface in its own frame.
     on_step : callable ``step -> None``, optional
         Called with every accepted :class:`FiniteFrictionStep` (it carries the step's
         displacement, pressures, gaps, tangential tractions, slip and stick/slip states).
@@ -646,22 +698,20 @@ def solve_finite_friction(problem, mu: float, algorithm: str = "simo-laursen", p
     eps_n = opts.eps_n if opts.eps_n is not None else penalty_stiffness(problem.model, dc.h, opts.penalty_scale)
     eps_t = opts.eps_t if opts.eps_t is not None else opts.tangential_scale * eps_n
 
-    def offset_at(t):
-        return np.zeros(d) if obstacle_path is None else np.asarray(obstacle_path(float(t)), dtype=float)
-
     x0 = np.zeros(dc.free.size)
     dc.configure(*data(0.0), x0)
     dc.accept(np.zeros(m))
-    dc.offset = offset_at(0.0)
+    dc.place()
     # the committed state every try starts from
-    state = {"x": x0, "s_prev": dc.relative_positions(dc.expand(x0)), "lamN": np.zeros(m),
-             "lamT": np.zeros((m, d)), "last": None}
+    u0 = dc.expand(x0)
+    state = {"x": x0, "y_prev": dc.surface_points(u0), "nu_prev": dc.obstacle.normal(dc.points + u0[dc.dofs]),
+             "lamN": np.zeros(m), "lamT": np.zeros((m, d)), "last": None}
     records: list[FiniteFrictionStep] = []
 
     def attempt(t: float) -> Attempt:
         newton0, solves0 = dc.newton_iterations, dc.linear_solves
-        res, exc = _attempt(dc, data, step_fn, state["x"], t, offset_at(t), state["s_prev"], state["lamN"],
-                            state["lamT"], mu, eps_n, eps_t, pen_name, opts)
+        res, exc = _attempt(dc, data, step_fn, state["x"], t, state["y_prev"], state["nu_prev"],
+                            state["lamN"], state["lamT"], mu, eps_n, eps_t, pen_name, opts)
         counts = dict(newton=dc.newton_iterations - newton0, linear_solves=dc.linear_solves - solves0)
         if exc is not None:
             return Attempt(False, ContactStatus.NEWTON_FAILED, str(exc), **counts)
@@ -675,7 +725,8 @@ def solve_finite_friction(problem, mu: float, algorithm: str = "simo-laursen", p
         state["last"] = full
         if step.status > 0:
             state["x"] = res.x
-            state["s_prev"] = dc.relative_positions(dc.expand(res.x))
+            state["y_prev"] = dc.surface_points(dc.expand(res.x))
+            state["nu_prev"] = full["normals"].copy()
             state["lamN"], state["lamT"] = full["pressure"].copy(), full["traction_t"].copy()
             dc.accept(state["lamN"])
         return step
@@ -700,12 +751,20 @@ def solve_finite_friction(problem, mu: float, algorithm: str = "simo-laursen", p
                "cutbacks": int(run.cutbacks), "total_s": time.perf_counter() - t_start})
 
 
-def _attempt(dc, data, step_fn, x, t, offset, s_prev, lamN_all, lamT_all, mu, eps_n, eps_t, pen_name, opts):
-    """One try of the step to ``t`` from ``x``: ``(step result, exception or None)``."""
+def _attempt(dc, data, step_fn, x, t, y_prev, nu_prev, lamN_all, lamT_all, mu, eps_n, eps_t, pen_name,
+             opts):
+    """One try of the step to ``t`` from ``x``: ``(step result, exception or None)``.
+
+    The last tangential tractions (tangent to the obstacle at the normals ``nu_prev``) are
+    transported into the tangent planes at the step's predictor
+    (:func:`~alcontact.contact.obstacles.transport_tangent`) and start the step's multipliers.
+    """
     try:
         fv, load, ob = data(t)
         dc.configure(fv, load, ob, x, predictor_stiffness=eps_n)
-        dc.set_history(s_prev, offset, mu, eps_t, opts.radius)
+        dc.set_history(y_prev, mu, eps_t, opts.radius)
+        nu_start = dc.obstacle.normal(dc.points + dc.expand(dc.x0)[dc.dofs])
+        lamT_all = transport_tangent(lamT_all, nu_prev, nu_start)
         res = None
         for _ in range(8):
             cand = dc.cand

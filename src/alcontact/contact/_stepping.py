@@ -19,7 +19,9 @@ steps :math:`t_1 < \dots < t_N`. At step time :math:`t`
 - with one, the problem's own supports and loads are applied fully and each
   :class:`~alcontact.contact.LoadCase` is scaled by its amplitude :math:`a_k(t)`;
 - the obstacle is translated by ``obstacle_path(t)`` (a vector; default no motion),
-  a rigid motion along a prescribed path (:func:`~alcontact.contact.obstacles.translate`).
+  a rigid motion along a prescribed path (:func:`~alcontact.contact.obstacles.translate`),
+  or placed by it when it returns an :class:`~alcontact.contact.obstacles.RigidMotion`
+  (rotation and translation, :func:`~alcontact.contact.obstacles.move`).
 
 Each step starts from the last converged displacement (warm start) and runs one of
 the frictionless algorithms of :mod:`alcontact.contact._algorithms` on the
@@ -249,7 +251,7 @@ class _StepData:
             self.parts = [(vals, problem.load_vector())]
 
     def __call__(self, t: float):
-        from .obstacles import translate
+        from .obstacles import RigidMotion, move, translate
 
         if self.history is None:
             amps = np.array([t])
@@ -260,10 +262,15 @@ class _StepData:
         ob = self.problem.obstacle
         if self.path is not None:
             try:
-                off = np.asarray(self.path(float(t)), dtype=float)
+                off = self.path(float(t))
+                if isinstance(off, RigidMotion):  # rotation and translation
+                    return np.asarray(fv, dtype=float), np.asarray(load, dtype=float), move(ob, off)
+                off = np.asarray(off, dtype=float)
+            except InputError:
+                raise
             except Exception as exc:  # user callables may fail in any way
                 raise InputError(f"obstacle_path failed at t={t:g}: {exc!r}; it must map t to a "
-                                 "translation vector") from exc
+                                 "translation vector or an obstacles.RigidMotion") from exc
             if off.shape != (self.problem.model.dim,) or not np.all(np.isfinite(off)):
                 raise InputError(f"obstacle_path({t:g}) must be a finite vector of length "
                                  f"{self.problem.model.dim}; got {off!r}")
@@ -517,8 +524,8 @@ def solve_finite(problem, algorithm: str = "simo-laursen", penalty: str | None =
     history : LoadHistory, optional
         Amplitudes of extra supports and loads (module doc); its own step times are
         ignored in favour of ``steps``.
-    obstacle_path : callable ``t -> (d,)``, optional
-        Translation of the obstacle at pseudo-time ``t``.
+    obstacle_path : callable ``t -> (d,)`` or ``t -> RigidMotion``, optional
+        Translation (or rigid placement) of the obstacle at pseudo-time ``t``.
     max_cutbacks : int
         Halvings of a step's increment allowed (at most ``2**max_cutbacks`` sub-steps per
         step); a failure at the smallest increment stops the run with a negative status.

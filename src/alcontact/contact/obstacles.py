@@ -68,6 +68,12 @@ __all__ = [
     "UserObstacle",
     "Translated",
     "translate",
+    "RigidMotion",
+    "Moved",
+    "move",
+    "frame",
+    "surface_slip",
+    "transport_tangent",
     "available",
     "docs",
     "make",
@@ -256,6 +262,20 @@ class _ObstacleBase(abc.ABC):
         """Hessian of the gap, shape ``(m, d, d)`` (``= -d normal / dx``)."""
         return self._hessian(_points(x, self.dim))
 
+    def surface_slip(self, x: ArrayLike, y_prev: ArrayLike, *,
+                     jacobian: bool = True) -> tuple[FloatArray, FloatArray | None]:
+        r"""Slip on the surface from ``y_prev`` to the projection of ``x`` (:func:`surface_slip`).
+
+        Default (any signed distance): the chord from ``y_prev`` to ``x`` projected onto
+        the tangent plane at the projection of ``x``, :math:`\Delta s = P\,(x - y_{prev})`,
+        :math:`P = I - \nu\nu^T`. Since :math:`P(x - \bar x) = 0` this is the tangential part
+        of the chord between the two surface points: a first-order consistent measure of the
+        path on the surface (exact for a plane; relative error :math:`\theta^2/6` when the
+        normal turns by :math:`\theta`).
+        """
+        pts = _points(x, self.dim)
+        return _chord_slip(self, pts, np.asarray(y_prev, dtype=float).reshape(pts.shape), jacobian)
+
 
 # --------------------------------------------------------------------------- half-space
 
@@ -383,6 +403,22 @@ class _Ball(_ObstacleBase):
         h[deg] = 0.0
         return h if self.inside else -h
 
+    def surface_slip(self, x: ArrayLike, y_prev: ArrayLike, *,
+                     jacobian: bool = True) -> tuple[FloatArray, FloatArray | None]:
+        r"""Geodesic slip on the sphere/circle: the great-circle arc as a tangent vector.
+
+        With :math:`\theta` the angle between the radii to ``y_prev`` and to the projection
+        of ``x``: :math:`\Delta s = \frac{\theta}{\sin\theta} P (x - y_{prev})`, of length
+        :math:`R\theta` (:func:`_arc_scale`).
+        """
+        pts = _points(x, self.dim)
+        yp = np.asarray(y_prev, dtype=float).reshape(pts.shape)
+        slip, jac = _chord_slip(self, pts, yp, jacobian)
+        r, e, deg = self._radial(pts)
+        cos = np.einsum("ij,ij->i", e, yp - self.center) / self.radius
+        return _arc_scale(slip, jac, self.radius, np.zeros((self.dim, self.dim)), pts - yp,
+                          np.where(deg, self.radius, r), cos)
+
 
 class Sphere(_Ball):
     """Sphere in 3D: solid indenter, or cavity with ``inside=True`` (``center``, ``radius``).
@@ -482,6 +518,22 @@ class Cylinder(_ObstacleBase):
         h = proj / np.where(deg, 1.0, r)[:, None, None]
         h[deg] = 0.0
         return h if self.inside else -h
+
+    def surface_slip(self, x: ArrayLike, y_prev: ArrayLike, *,
+                     jacobian: bool = True) -> tuple[FloatArray, FloatArray | None]:
+        r"""Geodesic slip on the cylinder (a developable surface): axial part plus arc.
+
+        :math:`\Delta s = (a\cdot b)\,a + \frac{\theta}{\sin\theta}(P - aa^T)\,b`,
+        :math:`b = x - y_{prev}`, :math:`\theta` the angle about the axis between the two
+        surface points (unrolled, the surface is a plane and the geodesic a straight line).
+        """
+        pts = _points(x, 3)
+        yp = np.asarray(y_prev, dtype=float).reshape(pts.shape)
+        slip, jac = _chord_slip(self, pts, yp, jacobian)
+        r, e, deg = self._radial(pts)
+        cos = np.einsum("ij,ij->i", e, yp - self.center) / self.radius  # e is normal to the axis
+        return _arc_scale(slip, jac, self.radius, np.outer(self.axis, self.axis), pts - yp,
+                          np.where(deg, self.radius, r), cos)
 
 
 # --------------------------------------------------------------------------- polytope
@@ -938,6 +990,127 @@ class UserObstacle(_ObstacleBase):
         return 0.5 * (hess + np.swapaxes(hess, 1, 2))
 
 
+# --------------------------------------------------------------------------- slip on the surface
+
+
+def surface_slip(obstacle: Any, x: ArrayLike, y_prev: ArrayLike, *,
+                 jacobian: bool = True) -> tuple[FloatArray, FloatArray | None]:
+    r"""Slip vector on the obstacle's surface from the surface point ``y_prev`` to the projection of ``x``.
+
+    Parameters
+    ----------
+    obstacle : Obstacle
+        Its ``surface_slip`` method is used when it has one (the built-in obstacles do:
+        the geodesic for balls and cylinders, exact for planes); otherwise the default of
+        :meth:`_ObstacleBase.surface_slip` (the chord projected onto the current tangent plane,
+        first-order consistent), so user obstacles following only :class:`Obstacle` work.
+    x : array_like (m, d)
+        Current points.
+    y_prev : array_like (m, d)
+        Previous surface points (projections), in the same frame as ``x``.
+    jacobian : bool
+        Also return :math:`\partial \Delta s / \partial x`.
+
+    Returns
+    -------
+    slip : ndarray (m, d)
+        Tangent to the obstacle at the projection of ``x``, pointing along the motion from
+        ``y_prev``; its length is the distance travelled on the surface.
+    jac : ndarray (m, d, d) or None
+    """
+    method = getattr(obstacle, "surface_slip", None)
+    if method is not None:
+        return method(x, y_prev, jacobian=jacobian)
+    pts = np.asarray(x, dtype=float)
+    return _chord_slip(obstacle, pts, np.asarray(y_prev, dtype=float).reshape(pts.shape), jacobian)
+
+
+def _chord_slip(ob: Any, x: FloatArray, y_prev: FloatArray,
+                jacobian: bool) -> tuple[FloatArray, FloatArray | None]:
+    r"""Tangential projection of the chord, :math:`P(x - y_{prev})`, and its Jacobian in ``x``.
+
+    :math:`\partial(Pb)/\partial x = P + (\nu\cdot b) H + \nu (H b)^T` with
+    :math:`\partial\nu/\partial x = -H`.
+    """
+    _, nu = ob.evaluate(x)
+    b = x - y_prev
+    nb = np.einsum("ij,ij->i", nu, b)
+    slip = b - nb[:, None] * nu
+    if not jacobian:
+        return slip, None
+    d = x.shape[1]
+    H = np.asarray(ob.gap_hessian(x), dtype=float)
+    P = np.eye(d)[None] - nu[:, :, None] * nu[:, None, :]
+    Hb = np.einsum("ijk,ik->ij", H, b)
+    return slip, P + nb[:, None, None] * H + nu[:, :, None] * Hb[:, None, :]
+
+
+def _arc_scale(slip: FloatArray, jac: FloatArray | None, radius: float, axial: FloatArray,
+               b: FloatArray, r: FloatArray, cos: FloatArray) -> tuple[FloatArray, FloatArray | None]:
+    r"""Scale the circumferential part of the chord slip :math:`Pb` to the arc, with the Jacobian.
+
+    ``axial`` is the projector :math:`A = aa^T` onto a cylinder axis (0 for balls), ``r`` the
+    radial distance of :math:`x` from the centre (axis) and ``cos`` :math:`= e\cdot e_{prev}`,
+    the cosine of the angle :math:`\theta` between the radial directions of :math:`x` and of
+    the previous surface point. The circumferential part :math:`c = Pb - Ab = -R(P - A)e_{prev}`
+    has length :math:`R\sin\theta`; with :math:`\theta = \operatorname{atan2}(|c|/R, \cos\theta)`
+    (any turn below :math:`\pi`) the arc is :math:`f(\theta)\,c`, :math:`f = \theta/\sin\theta`.
+    From :math:`d\theta = \cos\theta\,d(\sin\theta) - \sin\theta\,d(\cos\theta)` and
+    :math:`\partial\cos\theta/\partial x = -c^T/(Rr)`,
+
+    .. math::
+
+        \frac{\partial (f c)}{\partial x} = f\,C + \frac{q(\theta)}{R\,r}\,c\,c^T,
+        \qquad C = \frac{\partial c}{\partial x} = \frac{\partial (Pb)}{\partial x} - A,
+        \qquad q = \frac{f'(\theta)}{\sin\theta} = \frac{\sin\theta - \theta\cos\theta}{\sin^3\theta}
+
+    (using :math:`c^T C = (R\cos\theta/r)\,c^T`, which holds because the previous point lies on
+    the surface; series :math:`f = 1 + \theta^2/6`, :math:`q = 1/3 + 2\theta^2/15` below
+    :math:`\theta = 10^{-3}`).
+    """
+    ab = b @ axial
+    c = slip - ab
+    s = np.linalg.norm(c, axis=1) / radius
+    theta = np.arctan2(s, cos)
+    small = theta < 1e-3
+    th = np.where(small, 1.0, theta)
+    sn = np.where(small, 1.0, s)
+    f = np.where(small, 1.0 + theta**2 / 6.0, th / sn)  # |f c| = R theta
+    out = ab + f[:, None] * c
+    if jac is None:
+        return out, None
+    q = np.where(small, 1.0 / 3.0 + 2.0 * theta**2 / 15.0, (sn - th * np.cos(th)) / sn**3)
+    C = jac - axial[None]
+    coef = q / (radius * r)
+    return out, axial[None] + f[:, None, None] * C + coef[:, None, None] * c[:, :, None] * c[:, None, :]
+
+
+def transport_tangent(t: ArrayLike, n_from: ArrayLike, n_to: ArrayLike) -> FloatArray:
+    r"""Rotate tangent vectors ``t`` (m, d) from the tangent planes of ``n_from`` to those of ``n_to``.
+
+    The minimal rotation taking :math:`n_0` to :math:`n_1` (about :math:`n_0\times n_1` in
+    3D, Rodrigues' formula :math:`R = I + [k]_\times + [k]_\times^2/(1 + n_0\cdot n_1)`,
+    :math:`k = n_0\times n_1`; in 2D the rotation by the angle between them). It is the
+    parallel transport along the geodesic for a plane, a sphere/circle and a cylinder
+    (whose normals turn about the axis); for a general surface a first-order transport.
+    Lengths are kept. Opposite normals (a turn by :math:`\pi`) leave ``t`` unchanged.
+    """
+    t = np.asarray(t, dtype=float)
+    n0 = np.asarray(n_from, dtype=float)
+    n1 = np.asarray(n_to, dtype=float)
+    cosv = np.einsum("ij,ij->i", n0, n1)
+    ok = cosv > -1.0 + 1e-12
+    den = np.where(ok, 1.0 + cosv, 1.0)
+    if t.shape[1] == 2:
+        sinv = n0[:, 0] * n1[:, 1] - n0[:, 1] * n1[:, 0]
+        cs, sn = np.where(ok, cosv, 1.0), np.where(ok, sinv, 0.0)
+        return np.stack([cs * t[:, 0] - sn * t[:, 1], sn * t[:, 0] + cs * t[:, 1]], axis=1)
+    k = np.cross(n0, n1)
+    kt = np.cross(k, t)
+    out = t + kt + np.cross(k, kt) / den[:, None]
+    return np.where(ok[:, None], out, t)
+
+
 # --------------------------------------------------------------------------- moving obstacles
 
 
@@ -989,12 +1162,171 @@ class Translated(_ObstacleBase):
     def _hessian(self, x: FloatArray) -> FloatArray:
         return self.base.gap_hessian(x - self.offset)
 
+    def surface_slip(self, x: ArrayLike, y_prev: ArrayLike, *,
+                     jacobian: bool = True) -> tuple[FloatArray, FloatArray | None]:
+        """:func:`surface_slip` of the base obstacle in its own frame (a translation keeps tangents)."""
+        pts = _points(x, self.dim)
+        yp = np.asarray(y_prev, dtype=float).reshape(pts.shape)
+        return surface_slip(self.base, pts - self.offset, yp - self.offset, jacobian=jacobian)
+
 
 def translate(obstacle: Obstacle, offset: ArrayLike) -> Obstacle:
     """``obstacle`` moved rigidly by ``offset`` (offsets of a :class:`Translated` add up)."""
     if isinstance(obstacle, Translated):
         return Translated(obstacle.base, obstacle.offset + _vector(offset, "offset", (obstacle.offset.size,)))
     return Translated(obstacle, offset)
+
+
+@dataclass(frozen=True, eq=False, init=False)
+class RigidMotion:
+    r"""A rigid placement :math:`x = Q\,y + b` of an obstacle (rotation :math:`Q`, then translation).
+
+    ``obstacle_path(t)`` of the finite-deformation solvers may return one instead of a
+    translation vector: the obstacle is then placed by :func:`move`. Build it with
+    :meth:`about` (rotation by an angle about a centre, plus a translation).
+
+    Parameters
+    ----------
+    rotation : array_like (d, d)
+        Proper orthogonal matrix :math:`Q` (checked to 1e-10).
+    offset : array_like (d,)
+        Translation :math:`b`.
+    """
+
+    rotation: FloatArray
+    offset: FloatArray
+
+    def __init__(self, rotation: ArrayLike, offset: ArrayLike) -> None:
+        b = _vector(offset, "offset")
+        q = np.asarray(rotation, dtype=float)
+        d = b.size
+        if q.shape != (d, d) or not np.all(np.isfinite(q)):
+            raise InputError(f"rotation must be a finite {d}x{d} matrix like offset has {d} components; "
+                             f"got shape {q.shape}")
+        if np.max(np.abs(q.T @ q - np.eye(d))) > 1e-10 or np.linalg.det(q) <= 0:
+            raise InputError("rotation must be a proper orthogonal matrix (Q^T Q = I, det Q = 1); "
+                             "build it with RigidMotion.about(center, angle, axis)")
+        object.__setattr__(self, "rotation", _readonly(q))
+        object.__setattr__(self, "offset", _readonly(b))
+
+    @classmethod
+    def about(cls, center: ArrayLike, angle: float, axis: ArrayLike | None = None,
+              offset: ArrayLike | None = None) -> RigidMotion:
+        r"""Rotation by ``angle`` (radians, counter-clockwise about ``axis``) about ``center``, then ``offset``.
+
+        :math:`x = Q(y - p) + p + c`; in 2D no ``axis``, in 3D a unit ``axis`` (Rodrigues'
+        formula :math:`Q = I + \sin\varphi\,[a]_\times + (1 - \cos\varphi)[a]_\times^2`).
+        """
+        p = _vector(center, "center")
+        if not (isinstance(angle, (int, float, np.floating, np.integer)) and math.isfinite(float(angle))):
+            raise InputError(f"angle = {angle!r} must be a finite number of radians")
+        phi = float(angle)
+        if p.size == 2:
+            if axis is not None:
+                raise InputError("axis is for 3D rotations; omit it in 2D (rotation in the plane)")
+            q = np.array([[math.cos(phi), -math.sin(phi)], [math.sin(phi), math.cos(phi)]])
+        else:
+            if axis is None:
+                raise InputError("a 3D rotation needs axis=(ax, ay, az)")
+            a = _unit(axis, "axis", (3,))
+            k = np.array([[0.0, -a[2], a[1]], [a[2], 0.0, -a[0]], [-a[1], a[0], 0.0]])
+            q = np.eye(3) + math.sin(phi) * k + (1.0 - math.cos(phi)) * (k @ k)
+        c = np.zeros(p.size) if offset is None else _vector(offset, "offset", (p.size,))
+        return cls(q, p - q @ p + c)
+
+
+@dataclass(frozen=True, eq=False)
+class Moved(_ObstacleBase):
+    r"""An obstacle placed rigidly by a :class:`RigidMotion` :math:`x = Q y + b`.
+
+    .. math::
+
+        \operatorname{gap}(x) = \operatorname{gap}_O(y), \quad n(x) = Q\,n_O(y), \quad
+        H(x) = Q H_O(y) Q^T, \quad \bar x = Q\,\bar y_O(y) + b, \qquad y = Q^T(x - b).
+
+    Build it with :func:`move`; :func:`frame` returns its placement.
+    """
+
+    base: Any
+    motion: RigidMotion
+
+    def __post_init__(self) -> None:
+        if self.base.dim is not None and self.motion.offset.size != self.base.dim:
+            raise InputError(f"the rigid motion is {self.motion.offset.size}D but the obstacle "
+                             f"{self.base.describe()} is {self.base.dim}D")
+
+    @property
+    def dim(self) -> int | None:
+        return self.base.dim
+
+    @property
+    def name(self) -> str:
+        return self.base.name
+
+    def describe(self) -> str:
+        return (f"{self.base.describe()}, rotated by {_fmt(self.motion.rotation.ravel())} "
+                f"and translated by {_fmt(self.motion.offset)}")
+
+    def _local(self, x: FloatArray) -> FloatArray:
+        return (x - self.motion.offset) @ self.motion.rotation
+
+    def _gap_normal(self, x: FloatArray) -> tuple[FloatArray, FloatArray]:
+        g, n = self.base.evaluate(self._local(x))
+        return g, n @ self.motion.rotation.T
+
+    def project(self, x: ArrayLike) -> FloatArray:
+        pts = _points(x, self.dim)
+        return self.base.project(self._local(pts)) @ self.motion.rotation.T + self.motion.offset
+
+    def _hessian(self, x: FloatArray) -> FloatArray:
+        q = self.motion.rotation
+        return np.einsum("ij,mjk,lk->mil", q, self.base.gap_hessian(self._local(x)), q)
+
+    def surface_slip(self, x: ArrayLike, y_prev: ArrayLike, *,
+                     jacobian: bool = True) -> tuple[FloatArray, FloatArray | None]:
+        """:func:`surface_slip` of the base obstacle in its own frame, rotated back.
+
+        Slip :math:`Q\\,\\Delta s_O(y; y_{prev})`, Jacobian :math:`Q J_O Q^T`.
+        """
+        pts = _points(x, self.dim)
+        yp = np.asarray(y_prev, dtype=float).reshape(pts.shape)
+        q = self.motion.rotation
+        slip, jac = surface_slip(self.base, self._local(pts), self._local(yp), jacobian=jacobian)
+        if jac is not None:
+            jac = np.einsum("ij,mjk,lk->mil", q, jac, q)
+        return slip @ q.T, jac
+
+
+def move(obstacle: Obstacle, motion: RigidMotion) -> Obstacle:
+    """``obstacle`` placed by the rigid ``motion``.
+
+    A :class:`Moved` obstacle; a translation-only motion gives :func:`translate`.
+    """
+    if not isinstance(motion, RigidMotion):
+        raise InputError(f"motion must be an obstacles.RigidMotion, got {type(motion).__name__}")
+    if np.array_equal(motion.rotation, np.eye(motion.offset.size)):
+        return translate(obstacle, motion.offset)
+    return Moved(obstacle, motion)
+
+
+def frame(obstacle: Any, dim: int | None = None) -> tuple[FloatArray, FloatArray]:
+    r"""Placement :math:`(Q, b)` of an obstacle: a point :math:`y` of its own frame is at :math:`Qy + b`.
+
+    :class:`Moved` and :class:`Translated` compose their motion with their base's frame;
+    any other obstacle (user obstacles included) is at rest in its own frame,
+    :math:`(I, 0)`; ``dim`` is used when the obstacle has no dimension of its own.
+    """
+    if isinstance(obstacle, (Moved, Translated)):
+        qb, bb = frame(obstacle.base, dim)
+        if isinstance(obstacle, Moved):
+            q, b = np.asarray(obstacle.motion.rotation), np.asarray(obstacle.motion.offset)
+        else:
+            q, b = np.eye(obstacle.offset.size), np.asarray(obstacle.offset)
+        return q @ qb, q @ bb + b
+    d = obstacle.dim if obstacle.dim is not None else dim
+    if d is None:
+        raise InputError(f"obstacle {obstacle.describe()} has no dimension; pass dim= to frame()")
+    return np.eye(d), np.zeros(d)
 
 
 # --------------------------------------------------------------------------- registry
