@@ -1,0 +1,242 @@
+"""Large 3D Hertz contact on one machine: peak memory per DOF and time in linear solves (issue 11).
+
+For each requested size (``--dofs 250k 1M 5M``, P1 tetrahedra; the graded quarter
+block of :func:`alcontact.problems.hertz.hertz_3d` with ``growth`` 1.04 and the
+elements per contact radius chosen to reach the size) a fresh subprocess builds the
+problem, assembles the stiffness, sets up the factorization-free contact path
+(:class:`alcontact.contact._iterative.IterativeContact`: AMG of ``K`` plus one CG
+solve, which is also the reference "one linear solve") and runs the requested
+variants. Memory: the resident set is sampled every 10 ms in a thread; the peak of each
+stage is reported, and the process peak (``resource.getrusage`` ``ru_maxrss``) divided
+by the DOFs gives bytes/DOF. Time: each variant's total wall time (setup included)
+over one linear solve of the same mesh measured in the same run: AMG setup for ``K``
+plus one CG solve to 1e-10 (``timings["linear_solve_s"]``).
+
+Writes ``<out>/hertz_3d_large.json`` (one record per size) and ``.csv`` (one row per
+variant). Usage::
+
+    python benchmarks/hertz_3d_large.py --dofs 250k 1M [--variants ssn simo-laursen exp-met1] [--out DIR]
+
+Run big sizes in the background with a memory limit, e.g.
+``prlimit --as=14000000000 timeout 2400 python benchmarks/hertz_3d_large.py --dofs 5M``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import io
+import json
+import logging
+import os
+import resource
+import subprocess
+import sys
+import threading
+import time
+from pathlib import Path
+
+#: (label, algorithm, penalty)
+VARIANTS = {
+    "ssn": ("ssn", None),
+    "simo-laursen": ("simo-laursen", None),
+    "exp-met1": ("family-p", "exp-met1"),
+    "penalty": ("penalty", None),
+}
+DEFAULT_VARIANTS = ["ssn", "simo-laursen", "exp-met1"]
+GROWTH = 1.04
+FIELDS = ["case", "dofs", "variant", "status", "outer_iterations", "newton_iterations", "linear_solves",
+          "cg_iterations", "amg_setups", "wall_s", "linear_solve_s", "ratio", "a_err_pct", "p0_err_pct",
+          "peak_gb", "bytes_per_dof"]
+
+
+def parse_size(text: str) -> int:
+    """``"250k"`` -> 250000, ``"1M"`` -> 1000000, ``"1200000"`` -> 1200000."""
+    t = text.strip().lower()
+    mult = {"k": 10**3, "m": 10**6}.get(t[-1:], 1)
+    return int(float(t[:-1] if mult > 1 else t) * mult)
+
+
+def predicted_dofs(n_per_a: float, growth: float = GROWTH) -> int:
+    """DOFs of ``hertz_3d(n_per_a=..., growth=...)`` (P1) from the graded axes alone (nothing meshed)."""
+    from alcontact.fem.meshes import graded_axis
+    from alcontact.problems.hertz import mesh_spec
+
+    md = mesh_spec(3, n_per_a, 1, growth=growth)
+    b, r = md["bounds"], md["refine"]
+    n = 3
+    for ax in range(3):
+        lo, hi = b[2 * ax], b[2 * ax + 1]
+        h_max = (hi - lo) / md["cells"][ax]
+        if ax < 2:  # fine for |x - xc| <= width
+            flo, fhi = r["center"][ax] - r["width"], r["center"][ax] + r["width"]
+        else:  # fine for z >= zc - depth
+            flo, fhi = r["center"][2] - r["depth"], hi
+        n *= graded_axis(lo, hi, flo, fhi, r["h_min"], r["growth"], h_max).size
+    return int(n)
+
+
+def n_per_a_for(dofs: int, growth: float = GROWTH) -> float:
+    """Smallest elements per contact radius (to 1e-3) whose mesh has at least ``dofs`` DOFs."""
+    lo, hi = 1.0, 80.0
+    for _ in range(30):
+        mid = 0.5 * (lo + hi)
+        if predicted_dofs(mid, growth) < dofs:
+            lo = mid
+        else:
+            hi = mid
+    return float(f"{hi:.3f}") if predicted_dofs(float(f"{hi:.3f}"), growth) >= dofs else float(f"{hi + 1e-3:.3f}")
+
+
+class _Memory:
+    """Resident-set peaks per stage, sampled in a thread (Linux ``/proc/self/status``)."""
+
+    def __init__(self):
+        self.stage = "start"
+        self.peaks: dict[str, int] = {}
+        self._stop = False
+        self._thread = threading.Thread(target=self._run, daemon=True)
+        self._thread.start()
+
+    @staticmethod
+    def rss() -> int:
+        with open("/proc/self/status") as f:
+            for line in f:
+                if line.startswith("VmRSS"):
+                    return int(line.split()[1]) * 1024
+        return 0
+
+    def _run(self):
+        while not self._stop:
+            r, s = self.rss(), self.stage
+            if r > self.peaks.get(s, 0):
+                self.peaks[s] = r
+            time.sleep(0.01)
+
+    def enter(self, stage: str) -> None:
+        r = self.rss()
+        self.peaks[self.stage] = max(self.peaks.get(self.stage, 0), r)
+        self.stage = stage
+        self.peaks[stage] = max(self.peaks.get(stage, 0), r)
+
+
+def one_size(dofs_target: int, variants: list[str], log=print) -> dict:
+    """Build, set up and solve one size in this process; the record of :func:`run`."""
+    from alcontact.contact import solve
+    from alcontact.contact._iterative import IterativeContact
+    from alcontact.problems import hertz
+
+    mem = _Memory()
+    rec: dict = {"dofs_target": dofs_target, "growth": GROWTH, "stages": {}}
+    n = n_per_a_for(dofs_target)
+    rec["n_per_a"] = n
+    t0 = time.perf_counter()
+    mem.enter("mesh+model")
+    prob = hertz.hertz_3d(n_per_a=n, growth=GROWTH)
+    model = prob.model
+    rec["dofs"] = int(model.ndofs)
+    rec["elements"] = int(model.mesh.t.shape[1])
+    rec["stages"]["mesh+model"] = {"s": round(time.perf_counter() - t0, 2)}
+    log(f"{rec['dofs']} DOFs, {rec['elements']} tetrahedra (n_per_a={n}) in {time.perf_counter() - t0:.1f} s")
+    t0 = time.perf_counter()
+    mem.enter("stiffness")
+    K = model.stiffness()
+    rec["nnz"] = int(K.nnz)
+    rec["stages"]["stiffness"] = {"s": round(time.perf_counter() - t0, 2)}
+    log(f"stiffness nnz {K.nnz} in {time.perf_counter() - t0:.1f} s")
+    del K
+    t0 = time.perf_counter()
+    mem.enter("contact setup")
+    ic = IterativeContact(prob)
+    rec["stages"]["contact setup"] = {"s": round(time.perf_counter() - t0, 2)}
+    rec["linear_solve_s"] = round(ic.reference_seconds, 3)
+    rec["amg_setup_s"] = round(ic.factor_seconds, 3)
+    rec["reference_cg_iterations"] = int(ic.cg_iterations)
+    rec["candidates"] = int(ic.cand.size)
+    log(f"one linear solve {ic.reference_seconds:.1f} s (AMG setup {ic.factor_seconds:.1f} s, "
+        f"{ic.cg_iterations} CG iterations)")
+    del ic
+    rec["variants"] = []
+    ref = prob.reference
+    for label in variants:
+        alg, pen = VARIANTS[label]
+        mem.enter(f"solve {label}")
+        sol = solve(prob, alg, pen, linear_solver="amg")
+        r = sol.result
+        P = ref.load(sol.normal_force)
+        a = sol.contact_half_width(axis=0, center=prob.meta["center"])
+        t = sol.timings
+        row = {"variant": label, "status": r.status.label, "outer_iterations": r.outer_iterations,
+               "newton_iterations": r.newton_iterations, "linear_solves": r.linear_solves,
+               "cg_iterations": sol.extra.get("cg_iterations"), "amg_setups": sol.extra.get("amg_setups"),
+               "wall_s": round(t["total_s"], 2), "linear_solve_s": round(t["linear_solve_s"], 3),
+               "ratio": round(t["total_s"] / t["linear_solve_s"], 2),
+               "a_err_pct": round(100 * (a / ref.half_width(P) - 1), 3) if P > 0 else None,
+               "p0_err_pct": round(100 * (sol.peak_pressure / ref.peak_pressure(P) - 1), 3) if P > 0 else None}
+        rec["variants"].append(row)
+        log(f"  {label}: {row}")
+        del sol
+    mem.enter("end")
+    time.sleep(0.05)
+    mem._stop = True
+    for s, b in mem.peaks.items():
+        if s in rec["stages"] or s.startswith("solve"):
+            rec["stages"].setdefault(s, {})["peak_gb"] = round(b / 1e9, 3)
+    peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024  # Linux: kilobytes
+    rec["peak_gb"] = round(peak / 1e9, 3)
+    rec["bytes_per_dof"] = int(round(peak / rec["dofs"]))
+    return rec
+
+
+def run(sizes: list[int], variants: list[str], out: Path, log=print) -> list[dict]:
+    """Each size in its own subprocess (a clean ``ru_maxrss``); write JSON and CSV into ``out``."""
+    out.mkdir(parents=True, exist_ok=True)
+    recs = []
+    for size in sizes:
+        cmd = [sys.executable, __file__, "--worker", str(size), "--variants", *variants]
+        log(f"== {size} DOFs: {' '.join(cmd)}")
+        proc = subprocess.run(cmd, capture_output=True, text=True, env=os.environ.copy())
+        sys.stderr.write(proc.stderr)
+        lines = [ln for ln in proc.stdout.splitlines() if ln.startswith("RECORD ")]
+        if proc.returncode != 0 or not lines:
+            recs.append({"dofs_target": size, "error": f"exit status {proc.returncode}",
+                         "stderr_tail": proc.stderr[-2000:]})
+            log(f"   failed: exit status {proc.returncode}")
+            continue
+        recs.append(json.loads(lines[-1][len("RECORD "):]))
+    rows = []
+    for rec in recs:
+        for v in rec.get("variants", []):
+            rows.append({"case": f"3d-p1-{rec['dofs_target']}", "dofs": rec["dofs"], **v,
+                         "peak_gb": rec["peak_gb"], "bytes_per_dof": rec["bytes_per_dof"]})
+    (out / "hertz_3d_large.json").write_text(json.dumps(recs, indent=1) + "\n")
+    buf = io.StringIO()
+    w = csv.DictWriter(buf, fieldnames=FIELDS, extrasaction="ignore")
+    w.writeheader()
+    w.writerows(rows)
+    (out / "hertz_3d_large.csv").write_text(buf.getvalue())
+    return recs
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--dofs", nargs="*", default=["250k", "1M"], help="sizes, e.g. 250k 1M 5M")
+    ap.add_argument("--variants", nargs="*", default=DEFAULT_VARIANTS, choices=list(VARIANTS))
+    ap.add_argument("--out", default=str(Path(__file__).parent / "out"))
+    ap.add_argument("--worker", type=int, default=None, help=argparse.SUPPRESS)
+    args = ap.parse_args(argv)
+    logging.basicConfig(level=logging.WARNING)
+    if args.worker is not None:
+        rec = one_size(args.worker, args.variants, log=lambda s: print(s, file=sys.stderr, flush=True))
+        print("RECORD " + json.dumps(rec), flush=True)
+        return 0
+    recs = run([parse_size(s) for s in args.dofs], args.variants, Path(args.out))
+    for rec in recs:
+        print(json.dumps({k: v for k, v in rec.items() if k != "variants"}))
+        for v in rec.get("variants", []):
+            print("   ", json.dumps(v))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
