@@ -163,6 +163,7 @@ def one_size(dofs_target: int, variants: list[str], log=print) -> dict:
         f"{ic.cg_iterations} CG iterations)")
     del ic
     rec["variants"] = []
+    _partial(rec, mem)
     ref = prob.reference
     for label in variants:
         alg, pen = VARIANTS[label]
@@ -184,16 +185,28 @@ def one_size(dofs_target: int, variants: list[str], log=print) -> dict:
         rec["variants"].append(row)
         log(f"  {label}: {row}")
         del sol
+        _partial(rec, mem)
     mem.enter("end")
     time.sleep(0.05)
     mem._stop = True
-    for s, b in mem.peaks.items():
+    _memory_fields(rec, mem)
+    return rec
+
+
+def _memory_fields(rec: dict, mem: _Memory) -> None:
+    """Stage peaks and the process peak (``ru_maxrss``) so far into ``rec``."""
+    for s, b in list(mem.peaks.items()):
         if s in rec["stages"] or s.startswith("solve"):
             rec["stages"].setdefault(s, {})["peak_gb"] = round(b / 1e9, 3)
     peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024  # Linux: kilobytes
     rec["peak_gb"] = round(peak / 1e9, 3)
     rec["bytes_per_dof"] = int(round(peak / rec["dofs"]))
-    return rec
+
+
+def _partial(rec: dict, mem: _Memory) -> None:
+    """Print the record so far (a run stopped by a time limit keeps what it measured)."""
+    _memory_fields(rec, mem)
+    print("RECORD " + json.dumps(rec), flush=True)
 
 
 def run(sizes: list[int], variants: list[str], out: Path, log=print) -> list[dict]:
@@ -205,11 +218,14 @@ def run(sizes: list[int], variants: list[str], out: Path, log=print) -> list[dic
         log(f"== {size} DOFs: {' '.join(cmd)}")
         proc = subprocess.run(cmd, stdout=subprocess.PIPE, text=True, env=os.environ.copy())  # progress on stderr
         lines = [ln for ln in proc.stdout.splitlines() if ln.startswith("RECORD ")]
-        if proc.returncode != 0 or not lines:
+        if not lines:
             recs.append({"dofs_target": size, "error": f"exit status {proc.returncode}"})
             log(f"   failed: exit status {proc.returncode}")
             continue
-        recs.append(json.loads(lines[-1][len("RECORD "):]))
+        rec = json.loads(lines[-1][len("RECORD "):])
+        if proc.returncode != 0:  # stopped (time or memory limit): the variants done so far
+            rec["error"] = f"exit status {proc.returncode} after {len(rec.get('variants', []))} variants"
+        recs.append(rec)
     rows = []
     for rec in recs:
         for v in rec.get("variants", []):
