@@ -209,12 +209,25 @@ def _partial(rec: dict, mem: _Memory) -> None:
     print("RECORD " + json.dumps(rec), flush=True)
 
 
-def run(sizes: list[int], variants: list[str], out: Path, log=print) -> list[dict]:
+def _set_mmap_threshold(nbytes: int) -> None:
+    """Fix glibc's mmap threshold (``mallopt(M_MMAP_THRESHOLD)``): arrays above it are returned to the
+    system when freed. The default threshold grows to 32 MB after the first large free, and the
+    heap then keeps freed arrays of up to that size (its resident set grows with fragmentation)."""
+    import ctypes
+
+    libc = ctypes.CDLL("libc.so.6")
+    M_MMAP_THRESHOLD = -3
+    if libc.mallopt(M_MMAP_THRESHOLD, int(nbytes)) != 1:
+        raise RuntimeError("mallopt(M_MMAP_THRESHOLD) failed")
+
+
+def run(sizes: list[int], variants: list[str], out: Path, log=print, mmap_threshold: int = 0) -> list[dict]:
     """Each size in its own subprocess (a clean ``ru_maxrss``); write JSON and CSV into ``out``."""
     out.mkdir(parents=True, exist_ok=True)
     recs = []
     for size in sizes:
-        cmd = [sys.executable, __file__, "--worker", str(size), "--variants", *variants]
+        cmd = [sys.executable, __file__, "--worker", str(size), "--variants", *variants,
+               "--mmap-threshold", str(mmap_threshold)]
         log(f"== {size} DOFs: {' '.join(cmd)}")
         proc = subprocess.run(cmd, stdout=subprocess.PIPE, text=True, env=os.environ.copy())  # progress on stderr
         lines = [ln for ln in proc.stdout.splitlines() if ln.startswith("RECORD ")]
@@ -245,14 +258,18 @@ def main(argv=None) -> int:
     ap.add_argument("--dofs", nargs="*", default=["250k", "1M"], help="sizes, e.g. 250k 1M 5M")
     ap.add_argument("--variants", nargs="*", default=DEFAULT_VARIANTS, choices=list(VARIANTS))
     ap.add_argument("--out", default=str(Path(__file__).parent / "out"))
+    ap.add_argument("--mmap-threshold", type=int, default=0,
+                    help="glibc M_MMAP_THRESHOLD in bytes for the workers (0: the default, a dynamic threshold)")
     ap.add_argument("--worker", type=int, default=None, help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
     logging.basicConfig(level=logging.WARNING)
     if args.worker is not None:
+        if args.mmap_threshold:
+            _set_mmap_threshold(args.mmap_threshold)
         rec = one_size(args.worker, args.variants, log=lambda s: print(s, file=sys.stderr, flush=True))
         print("RECORD " + json.dumps(rec), flush=True)
         return 0
-    recs = run([parse_size(s) for s in args.dofs], args.variants, Path(args.out))
+    recs = run([parse_size(s) for s in args.dofs], args.variants, Path(args.out), mmap_threshold=args.mmap_threshold)
     for rec in recs:
         print(json.dumps({k: v for k, v in rec.items() if k != "variants"}))
         for v in rec.get("variants", []):
