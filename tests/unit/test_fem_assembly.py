@@ -99,8 +99,8 @@ def test_non_interleaved_numbering_is_permuted():
 def test_stiffness_assembly_memory_is_bounded_by_the_matrix():
     """Peak traced memory of the assembly is at most 3.5 times the CSR matrix (3D P1, ~12k DOFs).
 
-    Chunks of 2**15 element-matrix entries (the default chunk, 2**23 entries, is a fixed
-    64 MB of element blocks that would dominate at this size). The former scikit-fem
+    Chunks of 2**15 element-matrix entries (the default chunk, 2**21 entries, is a fixed
+    16 MB of element blocks that would dominate at this size). The former scikit-fem
     assembly held 144 COO triplets (24 bytes each) per tetrahedron plus the basis
     values: about 12 times the matrix at this size, growing with the mesh.
     """

@@ -37,8 +37,9 @@ from skfem.quadrature import get_quadrature
 
 __all__ = ["elasticity_stiffness", "scalar_pattern", "scalar_doflocs"]
 
-#: element-matrix entries per chunk (float64: 64 MB of element blocks)
-CHUNK_ENTRIES = 1 << 23
+#: element-matrix entries per chunk (float64: 16 MB of element blocks; with the temporaries of a
+#: chunk about 100 MB, whatever the mesh size)
+CHUNK_ENTRIES = 1 << 21
 
 
 def scalar_pattern(sdofs: np.ndarray, ns: int) -> tuple[np.ndarray, np.ndarray]:
