@@ -40,10 +40,13 @@ several Newton iterations (measured on the 3D P2 Hertz case at 22k DOFs, pure pe
 ``B^T W D B`` is block diagonal (one ``d x d`` block per contact point), but its
 entries are about ``penalty_scale`` times those of ``K``: with the hierarchy of
 :math:`K` alone CG needed about 3 times more iterations (measured on the 3D Hertz
-problem at 110k DOFs: 614 against 193 for Algorithm 6.1). So the hierarchy is
-rebuilt for the current :math:`J` when a solve needs clearly more CG iterations
-per digit than the first one after the last build (:class:`_Preconditioner`);
-forcing terms 1e-2 and 1e-3 cost more CG iterations in total (235, 246) than 0.1.
+problem at 110k DOFs: 614 against 193 for Algorithm 6.1), and a fresh hierarchy for
+every :math:`J` costs about one linear solve each (the setup is 50-85 % of the
+reference solve). So every :math:`J` gets the hierarchy of :func:`_contact_hierarchy`:
+the prolongators of the hierarchy of :math:`K`, built once, with the Galerkin coarse
+operators of :math:`J` (the contact term only touches the coarse DOFs next to the
+contact zone); it preconditions as well as a fresh setup (tests/unit/test_fem_assembly.py).
+Forcing terms 1e-2 and 1e-3 cost more CG iterations in total (235, 246) than 0.1.
 Since the Newton systems are solved inexactly, a subproblem takes more Newton
 iterations than the exact condensed Newton (which ends in one step once the active
 set is right); the CG iterations are the measure of work here.
@@ -63,7 +66,13 @@ iteration with penalty :math:`c = \varepsilon_N`, whose error contracts by about
 :math:`1/(1 + c\,\lambda_{min}(W S_{AA})) \approx 1/100` per CG solve.
 
 Counters: ``linear_solves`` counts CG solves, ``cg_iterations`` their iterations,
-``amg_setups`` the hierarchies built.
+``amg_setups`` the hierarchies built from scratch, ``amg_updates`` the Galerkin
+updates of :func:`_contact_hierarchy`.
+
+Memory: ``K`` on the free DOFs is extracted in one pass (:func:`principal_submatrix`)
+and the model's stiffness is dropped again if the setup assembled it; every :math:`J`
+shares the index arrays of ``K`` (:func:`_plus`); the round-off bound of the residual
+reads :math:`|K|` in row chunks.
 """
 
 from __future__ import annotations
@@ -82,7 +91,7 @@ from ._discrete import ContactPoints
 from ._newton import NewtonOutcome, NewtonSystem, newton, subproblem_outcome
 
 
-__all__ = ["IterativeContact", "full_newton", "AUTO_AMG_DOFS", "resolve_linear_solver"]
+__all__ = ["IterativeContact", "full_newton", "AUTO_AMG_DOFS", "INEXACT_DOFS", "resolve_linear_solver"]
 
 logger = logging.getLogger(__name__)
 
@@ -101,10 +110,20 @@ _FORCING_MIN = 1e-6
 _REBUILD_FACTOR = 1.5
 #: relative multiplier update ending the inner Uzawa iteration of the semi-smooth Newton reference
 _UZAWA_TOL = 1e-8
+#: CG tolerance of an Uzawa step relative to the right-hand side change of the last multiplier update
+_UZAWA_FORCING = 1e-3
 #: Newton tolerance cannot go below what inexact CG solves and round-off in K x reach
 _NEWTON_TOL_FLOOR = 1e-11
 #: a hierarchy is rebuilt when the largest contact stiffness grew by more than this factor
 _REBUILD_STIFFNESS = 5.0
+#: above this many free DOFs the subproblems of Algorithms 6.1 / 6.3 are solved inexactly
+#: (:attr:`IterativeContact.inexact_subproblems`): where ``linear_solver="auto"`` picks this path
+INEXACT_DOFS = AUTO_AMG_DOFS
+
+
+#: relaxation of every level: pyamg's default for smoothed aggregation, named so that the
+#: hierarchies of :func:`_contact_hierarchy` use the same
+_SMOOTHER = ("block_gauss_seidel", {"sweep": "symmetric"})
 
 
 def _amg(A, B):
@@ -116,16 +135,127 @@ def _amg(A, B):
     """
     import pyamg  # optional at import time: only this path needs it
 
-    return pyamg.smoothed_aggregation_solver(A, B=B, max_coarse=500, coarse_solver="splu")
+    return pyamg.smoothed_aggregation_solver(A, B=B, max_coarse=500, coarse_solver="splu",
+                                             presmoother=_SMOOTHER, postsmoother=_SMOOTHER)
+
+
+def _entry_positions(A, rows: np.ndarray, cols: np.ndarray) -> np.ndarray | None:
+    """Positions of the entries ``(rows, cols)`` in the data of ``A`` (CSR or BSR, sorted indices).
+
+    Returns ``(block, r, c)`` index arrays into ``A.data`` for BSR (``(pos,)`` for CSR),
+    or ``None`` when an entry is not in the sparsity pattern of ``A``. Only the rows
+    of ``A`` that hold entries are searched (a contact update touches few rows).
+    """
+    br, bc = A.blocksize if sp.issparse(A) and A.format == "bsr" else (1, 1)
+    brow, bcol = rows // br, cols // bc
+    ncol_b = A.shape[1] // bc
+    ur, inv = np.unique(brow, return_inverse=True)
+    starts = A.indptr[ur].astype(np.int64)
+    lens = A.indptr[ur + 1].astype(np.int64) - starts
+    if lens.sum() == 0:
+        return None
+    seg = np.repeat(np.arange(ur.size, dtype=np.int64), lens)
+    pos = np.repeat(starts - np.concatenate([[0], np.cumsum(lens)[:-1]]), lens) + np.arange(lens.sum())
+    keys = seg * ncol_b + A.indices[pos]  # sorted: segments ascending, sorted indices within each
+    q = inv.astype(np.int64) * ncol_b + bcol
+    k = np.minimum(np.searchsorted(keys, q), keys.size - 1)
+    if not np.array_equal(keys[k], q):
+        return None
+    if br == 1 and bc == 1 and A.format != "bsr":
+        return (pos[k],)
+    return pos[k], rows % br, cols % bc
+
+
+def _plus(A, D):
+    """``A + D`` for a sparse ``D`` with few rows: a new data array on the index arrays of ``A``.
+
+    Falls back to scipy's sum (in the format of ``A``) when ``D`` has an entry outside
+    the pattern of ``A`` (e.g. an entry of a node block that assembled to exactly zero).
+    """
+    D = sp.coo_matrix(D)
+    D.sum_duplicates()
+    if D.nnz == 0:
+        return A
+    where = _entry_positions(A, D.row.astype(np.int64), D.col.astype(np.int64))
+    if where is None:
+        out = (A + D).asformat(A.format, copy=False)
+        if A.format == "bsr":
+            out = sp.bsr_matrix(out, blocksize=A.blocksize)
+        out.sort_indices()
+        return out
+    data = A.data.copy()
+    np.add.at(data, where, D.data)
+    kind = sp.bsr_matrix if A.format == "bsr" else sp.csr_matrix
+    out = kind((data, A.indices, A.indptr), shape=A.shape)
+    out.has_sorted_indices = True
+    return out
+
+
+def _row_slice(P, rows: np.ndarray):
+    """Rows ``rows`` (sorted, unique) of a CSR or BSR matrix as a CSR matrix ``(rows.size, ncols)``."""
+    if P.format != "bsr":
+        return sp.csr_matrix(P)[rows]
+    br, bc = P.blocksize
+    blk = rows // br
+    starts = P.indptr[blk].astype(np.int64)
+    lens = P.indptr[blk + 1].astype(np.int64) - starts
+    seg = np.repeat(np.arange(rows.size, dtype=np.int64), lens)
+    pos = np.repeat(starts - np.concatenate([[0], np.cumsum(lens)[:-1]]), lens) + np.arange(lens.sum())
+    vals = P.data[pos, np.repeat(rows % br, lens), :]  # (nblocks, bc)
+    cols = (P.indices[pos].astype(np.int64)[:, None] * bc + np.arange(bc)).ravel()
+    return sp.csr_matrix((vals.ravel(), (np.repeat(seg, bc), cols)), shape=(rows.size, P.shape[1]))
+
+
+def _contact_hierarchy(ml_K, J, delta):
+    r"""AMG hierarchy of :math:`J = K + \Delta` on the prolongators of the hierarchy ``ml_K`` of :math:`K`.
+
+    The contact term :math:`\Delta = B_c^T \operatorname{diag}(k) B_c` is block diagonal on
+    the few contact DOFs. Its Galerkin coarse versions :math:`\Delta_{l+1} = P_l^T \Delta_l P_l`
+    touch only the coarse DOFs whose prolongator rows meet the contact DOFs, so the coarse
+    operators :math:`A_l(K) + \Delta_l` of :math:`J` cost a copy of the coarse data plus a
+    small product, instead of a new aggregation, prolongator smoothing and Galerkin product
+    of the whole matrix (a fresh setup of :func:`_amg`, about 85 % of one linear solve on the
+    3D Hertz problem). The smoothers are set up again on the new operators.
+    """
+    from pyamg.multilevel import MultilevelSolver
+    from pyamg.relaxation.smoothing import change_smoothers
+
+    levels = []
+    D = sp.csr_matrix(delta)
+    last = len(ml_K.levels) - 1
+    for i, lk in enumerate(ml_K.levels):
+        lvl = MultilevelSolver.Level()
+        lvl.A = J if i == 0 else _plus(lk.A, D)
+        lvl.A.symmetry = getattr(lk.A, "symmetry", "hermitian")
+        lvl.B = lk.B
+        if i < last:
+            lvl.P, lvl.R = lk.P, lk.R
+            D.eliminate_zeros()
+            rows = np.unique(D.tocoo().row)
+            if rows.size:
+                Pc = _row_slice(lk.P, rows)
+                D = (Pc.T @ (D[rows][:, rows] @ Pc)).tocsr()
+            else:
+                D = sp.csr_matrix((lk.P.shape[1], lk.P.shape[1]))
+        levels.append(lvl)
+    ml = MultilevelSolver(levels, coarse_solver="splu")
+    change_smoothers(ml, _SMOOTHER, _SMOOTHER)
+    return ml
 
 
 class _Preconditioner:
-    """AMG hierarchy of ``K + B_c^T diag(k_ref) B_c``, rebuilt when CG slows down.
+    """AMG preconditioner of the Newton matrices ``J = K + B_c^T diag(k) B_c``.
 
-    The rate is measured in CG iterations per decimal digit of residual reduction;
-    after a build the first solve sets the reference rate, and a solve that needs
-    more than ``1.5 * rate_ref + 1`` iterations per digit marks the hierarchy stale:
-    the next call to :meth:`get` builds one for the matrix it is given.
+    With the contact term ``delta`` (as :func:`full_newton` passes it) each matrix gets
+    the hierarchy of :func:`_contact_hierarchy`: the prolongators of the hierarchy of
+    ``K`` (built once, in the setup) with Galerkin coarse operators of ``J``, counted in
+    ``amg_updates``. A fresh setup per slow solve cost about one linear solve each and
+    preconditioned no better (3D P1 Hertz, 38k DOFs: simo-laursen 295 CG iterations with
+    6 fresh setups, 160 with updates only). Without ``delta`` (callers that do not know
+    the contact term) a fresh hierarchy (:func:`_amg`, counted in ``amg_setups``) is built
+    when the scheme is stale: when a solve needs more than ``1.5 * rate_ref + 1`` CG
+    iterations per decimal digit (``rate_ref``: the first solve after a build), or the
+    largest contact stiffness grew by more than :data:`_REBUILD_STIFFNESS`.
     """
 
     def __init__(self, ic):
@@ -135,16 +265,27 @@ class _Preconditioner:
         self.stale = False
         self.k_built = 0.0
 
-    def get(self, J, kmax: float = 0.0):
+    def release(self) -> None:
+        """Forget the hierarchy of the last matrix (frees it before the next one is built)."""
+        self.ml = self.ic.ml_K
+
+    def get(self, J, kmax: float = 0.0, delta=None):
         """Preconditioner for ``J``; ``kmax`` is its largest contact stiffness ``w_i dt_N/dg``.
 
-        A hierarchy built for contact stiffnesses more than :data:`_REBUILD_STIFFNESS` times
-        smaller than ``kmax`` (the pure penalty raising :math:`\varepsilon_N`) is stale.
+        ``delta`` is ``J - K`` (the contact term): with it, the hierarchy of ``K`` is
+        updated for ``J`` (:func:`_contact_hierarchy`).
         """
+        if delta is not None:
+            t0 = time.perf_counter()
+            self.ml = _contact_hierarchy(self.ic.ml_K, J, delta)
+            self.ic.amg_updates += 1
+            self.ic.amg_seconds += time.perf_counter() - t0
+            return self.ml.aspreconditioner(cycle="V")
         if self.k_built > 0 and kmax > _REBUILD_STIFFNESS * self.k_built:
             self.stale = True
         if self.stale:
             self.k_built = kmax
+            self.ml = None
             t0 = time.perf_counter()
             S = getattr(self.ic, "S", None)  # contact springs of a body held by the obstacle
             self.ml = _amg(J if S is None else (J + S).tocsr(), self.ic.R)
@@ -202,20 +343,34 @@ class IterativeContact(ContactPoints):
         except InputError as exc:
             self._setup_points(problem, self.free)
             self._stabilize(exc)
+        # a stiffness assembled here is dropped from the model again once K_ff is extracted
+        # (memory: the model's cache is left as it was found)
+        assembled_here = getattr(model, "_stiffness", True) is None
+        t_asm = time.perf_counter()
         Kfull = model.stiffness()
-        rows = Kfull[self.free]
-        self.K = rows[:, self.free].tocsr()
-        self.b = self.load[self.free] - rows[:, self.fixed] @ self.fixed_values
-        del rows
+        self.assembly_seconds = time.perf_counter() - t_asm if assembled_here else 0.0
+        ud = np.zeros(n)
+        ud[self.fixed] = self.fixed_values
+        self.b = (self.load - Kfull @ ud)[self.free]
+        del ud
+        self.K = principal_submatrix(Kfull, mask)
+        del Kfull
+        if assembled_here:
+            model.clear_stiffness()
         pts_all, dofs_all = model.all_node_dofs()
         modes, _ = rigid_body_modes(pts_all)
+        del pts_all
         R = np.zeros((n, modes.shape[-1]))
         R[dofs_all.ravel()] = modes.reshape(-1, modes.shape[-1])
+        del modes, dofs_all
         self.R = np.ascontiguousarray(R[self.free])
+        del R
         self.linear_solves = 0
         self.cg_iterations = 0
         self.amg_setups = 0
+        self.amg_updates = 0
         self.amg_seconds = 0.0
+        self.precond = None
 
         self._setup_points(problem, self.free)
         w = self.weights
@@ -293,9 +448,19 @@ class IterativeContact(ContactPoints):
             logger.warning("CG stopped after %d iterations without reaching rtol %.1e", it[0], rtol)
         return x, it[0]
 
+    def contact_delta(self, Bc, k):
+        """The contact term ``Bc^T diag(k) Bc`` (block diagonal, one block per contact point)."""
+        return (Bc.T @ sp.diags(k) @ Bc).tocsr()
+
+    def with_contact(self, delta):
+        """``K + delta`` on the index arrays of ``K`` (the hierarchy of the last matrix is released first)."""
+        if self.precond is not None:
+            self.precond.release()
+        return _plus(self.K, delta)
+
     def contact_matrix(self, Bc, k):
         """``K + Bc^T diag(k) Bc`` (block diagonal addition, one block per contact point)."""
-        return (self.K + Bc.T @ sp.diags(k) @ Bc).tocsr()
+        return self.with_contact(self.contact_delta(Bc, k))
 
     def expand(self, x: np.ndarray) -> np.ndarray:
         u = np.zeros(self.model.ndofs)
@@ -307,6 +472,20 @@ class IterativeContact(ContactPoints):
     # ------------------------------------------- interface of the outer loops
     # (see DiscreteContact; the state here is the free displacement x)
     factorizations = 0
+
+    @property
+    def inexact_subproblems(self) -> bool:
+        """Solve (S) of Algorithms 6.1 / 6.3 inexactly: above :data:`INEXACT_DOFS` free DOFs.
+
+        :func:`~alcontact.contact._algorithms.run_al` then sets the Newton tolerance of each
+        subproblem from the last multiplier change and stops only after one solved to
+        ``newton_tol``. Every CG iteration costs a V-cycle on the whole mesh, and early
+        subproblems solved to 1e-11 are mostly wasted (3D P1 Hertz, 38k DOFs: simo-laursen
+        160 -> 110 CG iterations, exp-met1 165 -> 117, contact force equal to 1e-12); the
+        outer loop may take one iteration more than the direct path. Smaller problems are
+        solved exactly and take the direct path's outer iterations.
+        """
+        return self.K.shape[0] > INEXACT_DOFS
 
     def start(self) -> np.ndarray:
         return self.x_free.copy()
@@ -337,10 +516,11 @@ class IterativeContact(ContactPoints):
 
     def timings(self) -> dict:
         return {"setup_s": self.setup_seconds, "factor_s": 0.0, "amg_setup_s": self.amg_seconds,
-                "linear_solve_s": self.reference_seconds}
+                "linear_solve_s": self.reference_seconds, "assembly_s": self.assembly_seconds}
 
     def extra(self) -> dict:
-        return {"linear_solver": "amg", "cg_iterations": int(self.cg_iterations), "amg_setups": int(self.amg_setups)}
+        return {"linear_solver": "amg", "cg_iterations": int(self.cg_iterations), "amg_setups": int(self.amg_setups),
+                "amg_updates": int(self.amg_updates)}
 
 
 # ----------------------------------------------------------------------
@@ -360,8 +540,6 @@ class _FullSpaceSubproblem(NewtonSystem):
         self.BcT = self.Bc.T.tocsr()
         self.w = ic.weights[cand]
         self.gfix = ic.g_fix[cand]
-        K = ic.K
-        self.Kabs = sp.csr_matrix((np.abs(K.data), K.indices, K.indptr), shape=K.shape)
         self.Bc_abs = abs(self.Bc).tocsr()
         self.bscale = float(np.max(np.abs(ic.b), initial=0.0))
         self.scale = None
@@ -397,7 +575,7 @@ class _FullSpaceSubproblem(NewtonSystem):
         # the residual cannot be computed more accurately than its round-off (large penalties)
         g, t, _, _, _, x = state
         D = self.law.stiffness(g, self.lam)
-        floor = _residual_floor(self.Kabs, self.Bc_abs, x, self.ic.b, self.w, t, D, self.gfix)
+        floor = _residual_floor(self.ic.K, self.Bc_abs, x, self.ic.b, self.w, t, D, self.gfix)
         self.tol_k = max(tol, floor / self.fscale)
         return self.tol_k
 
@@ -411,10 +589,11 @@ class _FullSpaceSubproblem(NewtonSystem):
                 # stiff contact directions a loose CG step is a poor Newton direction; tighten
                 self.forcing = max(_FORCING_SLOW * self.forcing, _FORCING_MIN)
         D = self.law.stiffness(state[0], self.lam)
-        J = ic.contact_matrix(self.Bc, self.w * D)
+        delta = ic.contact_delta(self.Bc, self.w * D)
+        J = ic.with_contact(delta)
         # inexact Newton: forcing min(forcing, res), tight enough in the last step to reach tol
         rtol = float(np.clip(max(min(self.forcing, res), 0.1 * self.tol_k / res), 1e-14, _FORCING_MAX))
-        M = ic.precond.get(J, float(np.max(self.w * D, initial=0.0)))
+        M = ic.precond.get(J, float(np.max(self.w * D, initial=0.0)), delta=delta)
         dx, nit = ic.pcg(J, -state[3], M, rtol=rtol)
         ic.precond.record(nit, rtol)
         logger.debug("Newton %d: residual %.2e, CG rtol %.1e, %d CG iterations", len(history), res, rtol, nit)
@@ -431,7 +610,41 @@ def full_newton(ic, law, lam, x0, *, tol=1e-12, maxiter=60) -> NewtonOutcome:
     return subproblem_outcome(out, out.state[0], out.state[1])
 
 
-def _residual_floor(Kabs, Bc_abs, x, b, w, t, D, gfix) -> float:
+def _abs_matvec(A, v: np.ndarray, rows: int = 1 << 16) -> np.ndarray:
+    """``|A| v`` for a CSR matrix, in row chunks (no copy of the whole data array)."""
+    out = np.empty(A.shape[0])
+    for s in range(0, A.shape[0], rows):
+        e = min(s + rows, A.shape[0])
+        a, z = int(A.indptr[s]), int(A.indptr[e])
+        blk = sp.csr_matrix((np.abs(A.data[a:z]), A.indices[a:z], A.indptr[s : e + 1] - a), shape=(e - s, A.shape[1]))
+        out[s:e] = blk @ v
+    return out
+
+
+def principal_submatrix(A, keep: np.ndarray) -> sp.csr_matrix:
+    """``A[keep][:, keep]`` of a CSR matrix for a boolean mask, in one pass (sorted indices kept).
+
+    Peak memory: the result plus one boolean per entry of ``A`` (the two-step slicing
+    copies the kept rows first).
+    """
+    A = sp.csr_matrix(A)
+    newpos = np.cumsum(keep) - 1
+    rows = np.flatnonzero(keep)
+    lens = np.diff(A.indptr)
+    sel = np.repeat(keep, lens)
+    sel &= keep[A.indices]
+    counts = np.add.reduceat(sel, A.indptr[:-1]) if A.nnz else np.zeros(A.shape[0], dtype=np.int64)
+    counts[lens == 0] = 0  # reduceat returns the next row's first entry for empty rows
+    indptr = np.zeros(rows.size + 1, dtype=np.int64)
+    np.cumsum(counts[rows], out=indptr[1:])
+    idx_t = np.int32 if max(indptr[-1], rows.size) < np.iinfo(np.int32).max else np.int64
+    out = sp.csr_matrix((A.data[sel], newpos[A.indices[sel]].astype(idx_t), indptr.astype(idx_t)),
+                        shape=(rows.size, rows.size))
+    out.has_sorted_indices = A.has_sorted_indices
+    return out
+
+
+def _residual_floor(K, Bc_abs, x, b, w, t, D, gfix) -> float:
     r"""Round-off bound of :math:`\max|R(x)|`: ``10 u (|K||x| + |b| + |B|^T w (|t| + D (|g^{fix}| + |B||x|)))``.
 
     ``u`` is the unit round-off; the last term is the error of the tractions of a
@@ -440,7 +653,7 @@ def _residual_floor(Kabs, Bc_abs, x, b, w, t, D, gfix) -> float:
     """
     ax = np.abs(x)
     gerr = np.abs(gfix) + Bc_abs @ ax
-    bound = Kabs @ ax + np.abs(b) + Bc_abs.T @ (w * (np.abs(t) + D * gerr))
+    bound = _abs_matvec(K, ax) + np.abs(b) + Bc_abs.T @ (w * (np.abs(t) + D * gerr))
     return 10.0 * np.finfo(float).eps * float(np.max(bound, initial=0.0))
 
 
@@ -459,22 +672,30 @@ def _equality_solve(ic, A, mu, c, x0, *, maxiter=60):
     BA = ic.B[ic.cand[A]]
     wA = ic.weights[ic.cand[A]]
     gfA = ic.g_fix[ic.cand[A]]
-    J = ic.contact_matrix(BA, c * wA)
+    delta = ic.contact_delta(BA, c * wA)
+    J = ic.with_contact(delta)
     t0 = time.perf_counter()
-    ml = _amg(J, ic.R)
-    ic.amg_setups += 1
+    ml = _contact_hierarchy(ic.ml_K, J, delta)  # the hierarchy of K with Galerkin coarse operators of J
+    ic.amg_updates += 1
     ic.amg_seconds += time.perf_counter() - t0
     M = ml.aspreconditioner(cycle="V")
     x = x0
     mu = mu.copy()
     prev = np.inf
+    change = None  # norm of the right-hand side change of the last multiplier update
     for j in range(1, maxiter + 1):
         rhs = ic.b - BA.T @ (wA * (mu + c * gfA))
-        target = 1e-12 * max(float(np.linalg.norm(rhs)), 1e-300)
-        if float(np.linalg.norm(rhs - J @ x)) > target:
+        res0 = float(np.linalg.norm(rhs - J @ x))
+        # inexact Uzawa: the CG solve only needs to be accurate to a fraction of the last update
+        # (the multipliers move by about 1/100 of it next; the first solve: of the initial
+        # residual); the floor is the exact solve, which the last updates reach
+        target = max(1e-12 * max(float(np.linalg.norm(rhs)), 1e-300),
+                     _UZAWA_FORCING * (res0 if change is None else change))
+        if res0 > target:
             x, _ = ic.pcg(J, rhs, M, rtol=0.0, atol=target, x0=x)
         g = gfA + BA @ x
         step = float(np.max(np.abs(c * g), initial=0.0))
+        change = float(np.linalg.norm(BA.T @ (wA * (c * g))))
         mu = mu + c * g
         rel = step / max(float(np.max(np.abs(mu), initial=0.0)), 1e-300)
         if rel <= _UZAWA_TOL:

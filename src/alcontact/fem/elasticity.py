@@ -15,7 +15,7 @@ DOF numbering
 scikit-fem's :class:`~skfem.ElementVector` interleaves the components: the
 vector DOF of component ``c`` at scalar DOF ``k`` is ``dof_map[k, c]`` (equal
 to ``dim * k + c`` for the Lagrange elements used here, but always use the
-map). Scalar DOF ``k`` sits at ``scalar_basis.doflocs[:, k]`` (vertices first,
+map). Scalar DOF ``k`` sits at ``scalar_doflocs[:, k]`` (vertices first,
 then edge midpoints for P2).
 """
 
@@ -32,10 +32,12 @@ import scipy.sparse as sp
 import skfem
 from scipy.sparse.linalg import cg
 from skfem import Basis, BilinearForm, ElementVector, FacetBasis, LinearForm, asm
+from skfem.assembly import Dofs
 from skfem.helpers import ddot, dot, sym_grad, trace
 
 from alcontact._options import VALUE_RANGE, show
 from alcontact.errors import InputError, MeshError
+from alcontact.fem._assembly import elasticity_stiffness, scalar_doflocs
 from alcontact.fem._linalg import Factorization, nested_dissection
 from alcontact.linalg import MatrixHints
 from alcontact.fem._material import Material
@@ -147,14 +149,18 @@ class _FullVolumetric:
     orders = (1, 2)
 
     def stiffness(self, model: LinearElasticity) -> sp.spmatrix:
-        lam, mu = model.lam, model.mu
-
-        @BilinearForm
-        def a(u, v, w):
-            eu, ev = sym_grad(u), sym_grad(v)
-            return 2.0 * mu * ddot(eu, ev) + lam * trace(eu) * trace(ev)
-
-        return asm(a, _stiffness_basis(model))
+        # strains are of degree order-1 on affine simplices: intorder 2(order-1) is exact
+        K = elasticity_stiffness(model.mesh, model.scalar_element, model.scalar_dofs.element_dofs,
+                                 int(model.scalar_dofs.N), model.lam, model.mu,
+                                 intorder=max(1, 2 * (model.order - 1)))
+        dm = model.dof_map
+        interleaved = np.array_equal(dm, model.dim * np.arange(dm.shape[0])[:, None] + np.arange(model.dim))
+        if not interleaved:  # K is in the numbering d k + c: permute to the DOFs of dof_map
+            perm = np.empty(model.ndofs, dtype=np.int64)
+            perm[dm.ravel()] = np.arange(model.ndofs)
+            K = K[perm][:, perm].tocsr()
+            K.sort_indices()
+        return K  # exactly symmetric
 
     def isotropic_stress(self, model: LinearElasticity, tr: np.ndarray, dx: np.ndarray) -> np.ndarray:
         r"""Isotropic part of the stress at quadrature points: :math:`\lambda\operatorname{tr}\varepsilon`."""
@@ -213,7 +219,10 @@ class _ProjectedP0Volumetric:
         nel = ed.shape[1]
         B = sp.csr_matrix((vals.ravel(), (np.tile(np.arange(nel), ed.shape[0]), ed.ravel())),
                           shape=(nel, model.ndofs))
-        return K_dev + (lam + c) * (B.T @ sp.diags(1.0 / vol) @ B)
+        K = (K_dev + (lam + c) * (B.T @ sp.diags(1.0 / vol) @ B)).tocsr()
+        K = (0.5 * (K + K.T)).tocsr()  # remove round-off asymmetry
+        K.sum_duplicates()
+        return K
 
     def isotropic_stress(self, model: LinearElasticity, tr: np.ndarray, dx: np.ndarray) -> np.ndarray:
         r""":math:`\kappa\,\Pi_0\operatorname{tr}\varepsilon - c\operatorname{tr}\varepsilon` at quadrature points."""
@@ -289,20 +298,36 @@ class LinearElasticity:
         self.dim = int(mesh.dim())
         self.scalar_element = _ELEMENTS[key]()
         self.element = ElementVector(self.scalar_element)
-        self.basis = Basis(mesh, self.element)
-        self.scalar_basis = Basis(mesh, self.scalar_element)
-        self.ndofs = int(self.basis.N)
+        # DOF numbering only (no quadrature): the bases with their basis-function values at every
+        # quadrature point of every element are built on first use (:attr:`basis`, :attr:`scalar_basis`)
+        self.scalar_dofs = Dofs(mesh, self.scalar_element)
+        self.ndofs = self.dim * int(self.scalar_dofs.N)
         self.lam, self.mu = material.lame(self.dim)
         self._stiffness: sp.csr_matrix | None = None
         self._facet_cache: dict[str, Any] = {}
 
     # ------------------------------------------------------------------ DOFs
     @cached_property
+    def basis(self) -> Basis:
+        """Vector basis (built on first use: it holds every basis function at every quadrature point)."""
+        return Basis(self.mesh, self.element)
+
+    @cached_property
+    def scalar_basis(self) -> Basis:
+        """Scalar basis (built on first use; same numbering as :attr:`scalar_dofs`)."""
+        return Basis(self.mesh, self.scalar_element, dofs=self.scalar_dofs)
+
+    @cached_property
+    def scalar_doflocs(self) -> np.ndarray:
+        """``(dim, n_scalar)`` locations of the scalar DOFs (vertices, then midpoints), from the mesh alone."""
+        return scalar_doflocs(self.mesh, self.order)
+
+    @cached_property
     def dof_map(self) -> np.ndarray:
         """``(n_scalar, dim)`` int array: vector DOF of each component at each scalar DOF."""
-        sed = self.scalar_basis.element_dofs
-        ved = self.basis.element_dofs
-        out = np.empty((self.scalar_basis.N, self.dim), dtype=np.int64)
+        sed = self.scalar_dofs.element_dofs
+        ved = Dofs(self.mesh, self.element).element_dofs
+        out = np.empty((self.scalar_dofs.N, self.dim), dtype=np.int64)
         for c in range(self.dim):  # ElementVector: local dof i -> scalar i // dim, component i % dim
             out[sed.ravel(), c] = ved[c :: self.dim].ravel()
         return out
@@ -337,17 +362,17 @@ class LinearElasticity:
             ``dofs[i, c]`` is the global DOF of component ``c`` at ``points[i]``.
         """
         sdofs = self._boundary_scalar_dofs(name)
-        return self.scalar_basis.doflocs[:, sdofs].T.copy(), self.dof_map[sdofs]
+        return self.scalar_doflocs[:, sdofs].T.copy(), self.dof_map[sdofs]
 
     def all_node_dofs(self) -> tuple[np.ndarray, np.ndarray]:
         """All scalar DOF locations ``(n_scalar, dim)`` and vector DOFs ``(n_scalar, dim)``."""
-        return self.scalar_basis.doflocs.T.copy(), self.dof_map.copy()
+        return self.scalar_doflocs.T.copy(), self.dof_map.copy()
 
     def _boundary_scalar_dofs(self, name: str) -> np.ndarray:
         key = ("sdofs", name)
         if key not in self._facet_cache:
             f = self.facets(name)
-            self._facet_cache[key] = np.unique(self.scalar_basis.get_dofs(f).flatten()).astype(np.int64)
+            self._facet_cache[key] = np.unique(self.scalar_dofs.get_facet_dofs(f).flatten()).astype(np.int64)
         return self._facet_cache[key]
 
     def _facet_basis(self, name: str, *, vector: bool, intorder: int | None = None) -> FacetBasis:
@@ -375,9 +400,9 @@ class LinearElasticity:
             area = 0.5 * np.linalg.norm(
                 np.cross((p[:, v[1]] - p[:, v[0]]).T, (p[:, v[2]] - p[:, v[0]]).T), axis=1
             )
-            w = np.zeros(self.scalar_basis.N)
-            vdofs = self.scalar_basis.nodal_dofs[0][v]  # (3, nf)
-            edofs = self.scalar_basis.edge_dofs[0][self.mesh.f2e[:, f]]  # (3, nf)
+            w = np.zeros(self.scalar_dofs.N)
+            vdofs = self.scalar_dofs.nodal_dofs[0][v]  # (3, nf)
+            edofs = self.scalar_dofs.edge_dofs[0][self.mesh.f2e[:, f]]  # (3, nf)
             np.add.at(w, vdofs.ravel(), np.tile(area / 12.0, 3))
             np.add.at(w, edofs.ravel(), np.tile(area / 4.0, 3))
             return w[sdofs]
@@ -437,12 +462,12 @@ class LinearElasticity:
         sdofs = self._boundary_scalar_dofs(name)
         f = self.facets(name)
         if near is not None:
-            mark = np.zeros(self.scalar_basis.N, dtype=bool)
+            mark = np.zeros(self.scalar_dofs.N, dtype=bool)
             mark[sdofs[np.asarray(near, dtype=bool)]] = True
             facet_dofs = np.asarray(self._facet_basis(name, vector=False).element_dofs)  # (nloc, nf)
             f = f[np.any(mark[facet_dofs], axis=0)]
         fb = FacetBasis(self.mesh, self.scalar_element, facets=f, intorder=intorder)
-        full = np.zeros(self.scalar_basis.N)
+        full = np.zeros(self.scalar_dofs.N)
         full[sdofs] = np.asarray(values, dtype=float)
         val = np.asarray(fb.interpolate(full))  # (nf, nqp)
         x = np.asarray(fb.global_coordinates()).reshape(self.dim, -1).T
@@ -451,16 +476,29 @@ class LinearElasticity:
 
     # ---------------------------------------------------------------- matrices
     def stiffness(self) -> sp.csr_matrix:
-        """Global stiffness matrix (``ndofs x ndofs``, symmetric, cached; see ``volumetric``)."""
+        """Global stiffness matrix (``ndofs x ndofs``, symmetric, cached; see ``volumetric``).
+
+        The standard element is assembled in chunks of elements straight into its block
+        sparsity pattern (:func:`alcontact.fem._assembly.elasticity_stiffness`): peak memory
+        about twice the matrix, no per-element dense intermediates of the whole mesh.
+        """
         if self._stiffness is None:
             t0 = time.perf_counter()
             K = self._volumetric.stiffness(self).tocsr()
-            K = (0.5 * (K + K.T)).tocsr()  # remove round-off asymmetry
-            K.sum_duplicates()
+            K.eliminate_zeros()
             self._stiffness = K
             logger.debug("assembled stiffness (%s volumetric term): %d DOFs, nnz=%d in %.3f s",
                          self.volumetric, self.ndofs, K.nnz, time.perf_counter() - t0)
         return self._stiffness
+
+    def clear_stiffness(self) -> None:
+        """Drop the cached :meth:`stiffness` (frees its memory; the next call assembles it again).
+
+        A cached factorization of that matrix is dropped too (its cache compares the matrix object).
+        """
+        if self._factor_cache is not None and self._factor_cache[0] is self._stiffness:
+            self._factor_cache = None
+        self._stiffness = None
 
     @cached_property
     def _mass_scalar(self) -> sp.csr_matrix:
@@ -706,11 +744,11 @@ class LinearElasticity:
     @cached_property
     def node_graph(self) -> sp.csr_matrix:
         """Scalar-DOF adjacency (two DOFs are adjacent if they share an element)."""
-        ed = self.scalar_basis.element_dofs
+        ed = self.scalar_dofs.element_dofs
         nel = ed.shape[1]
         B = sp.csr_matrix(
             (np.ones(ed.size), (np.repeat(np.arange(nel), ed.shape[0]), ed.T.ravel())),
-            shape=(nel, self.scalar_basis.N),
+            shape=(nel, self.scalar_dofs.N),
         )
         return (B.T @ B).tocsr()
 
