@@ -36,6 +36,14 @@ sensitivity of the subproblem, plus a tangent predictor from the last step) need
 one subproblem and one confirming subproblem per step while the stick/slip sets
 do not change, with the same stopping test.
 
+Coulomb radius of the subproblems (option ``radius``): ``"multiplier"`` (default)
+takes the coupled radius :math:`\mu t_N(g)` in the first subproblem of a step and
+the fixed radius :math:`\mu\lambda_N` of (6.2c) afterwards (hybrid radius,
+:func:`_coupled_start`: points entering contact at :math:`\lambda_N = 0` stick from the
+first subproblem instead of slipping on a disc of radius 0; 2 outer iterations per
+step on Cattaneo-Mindlin with friction from the first step instead of 3-5);
+``"traction"`` takes the coupled radius in every subproblem.
+
 Every subproblem is solved by a semi-smooth Newton method in the condensed
 variables (see :mod:`alcontact.contact._friction_discrete`) with the consistent
 tangent of the return mapping and backtracking on the residual norm (the
