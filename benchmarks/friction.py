@@ -236,7 +236,9 @@ def run(out_dir=None, cases=None, variants=None, log=print, with_accuracy=False)
           "that updates the multipliers counts as an outer iteration. Newton: iterations of the condensed "
           "(dense, contact-points-only) subproblems; `solves`: linear solves of the full mesh (condensation). "
           "`radius=traction`: the AL subproblems use the coupled Coulomb radius mu t_N(g) "
-          "(`FrictionOptions.radius`; default `multiplier`, the fixed radius mu lambda_N of (6.2c)). "
+          "(`FrictionOptions.radius`); the default `multiplier` uses the fixed radius mu lambda_N of (6.2c) in "
+          "every subproblem but the first of a step, which takes mu t_N(g) (hybrid radius: points entering "
+          "contact, at lambda_N = 0, stick from the first subproblem; same fixed point and stopping test). "
           "`(c - c_ex)/a`, `shear L2`: Cattaneo-Mindlin accuracy of the final state against Johnson's solution "
           "(stick half-width error over a; weighted L2 error of the shear traction over the contact). "
           "Per-step counts and times in friction.csv.", ""]

@@ -143,7 +143,9 @@ class ContactOptions:
         Friction: radius of the Coulomb disc inside an AL subproblem: :math:`\\mu\\lambda_N`
         (fixed, as in (6.2c): the subproblem has a convex potential, robust
         Newton) or :math:`\\mu t_N(g)` (coupled, non-symmetric tangent). Both
-        converge to the same step solution.
+        converge to the same step solution. With ``"multiplier"`` and the ``"newton"``
+        update the small-kinematics direct path takes the coupled radius in the first
+        subproblem of a step (points entering contact stick at once; hybrid radius).
     multiplier_update : {"newton", "first-order"}
         Friction: outer update of Algorithms 6.2 / 6.4. ``"first-order"``: (6.2b)/(6.2c),
         :math:`\\lambda \\leftarrow t(\\lambda)`. ``"newton"``: a second-order

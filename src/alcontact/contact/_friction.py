@@ -36,6 +36,14 @@ sensitivity of the subproblem, plus a tangent predictor from the last step) need
 one subproblem and one confirming subproblem per step while the stick/slip sets
 do not change, with the same stopping test.
 
+Coulomb radius of the subproblems (option ``radius``): ``"multiplier"`` (default)
+takes the coupled radius :math:`\mu t_N(g)` in the first subproblem of a step and
+the fixed radius :math:`\mu\lambda_N` of (6.2c) afterwards (hybrid radius,
+:func:`_coupled_start`: points entering contact at :math:`\lambda_N = 0` stick from the
+first subproblem instead of slipping on a disc of radius 0; 2 outer iterations per
+step on Cattaneo-Mindlin with friction from the first step instead of 3-5);
+``"traction"`` takes the coupled radius in every subproblem.
+
 Every subproblem is solved by a semi-smooth Newton method in the condensed
 variables (see :mod:`alcontact.contact._friction_discrete`) with the consistent
 tangent of the return mapping and backtracking on the residual norm (the
@@ -235,18 +243,28 @@ class _Ctx:
         return t - self.fc.spring_traction(y), Dy - self.fc.spring_tangent()
 
 
-def _al_subproblem(ctx: _Ctx, law, lamN, lamT, R0) -> NewtonResult:
+def _fixed_radius(ctx: _Ctx, coupled: bool) -> bool:
+    """Whether a subproblem uses the fixed Coulomb radius :math:`\\mu\\lambda_N` of (6.2c).
+
+    ``coupled=True`` asks for the coupled radius :math:`\\mu t_N(g)` whatever
+    ``radius`` says (the first subproblem of a step, :func:`_step_al`).
+    """
+    return ctx.opts.radius == "multiplier" and not coupled
+
+
+def _al_subproblem(ctx: _Ctx, law, lamN, lamT, R0, coupled: bool = False) -> NewtonResult:
     """Subproblem (6.2a): ``R = w t(y_free - A R)`` for fixed multipliers.
 
     ``radius="multiplier"``: the Coulomb disc has the fixed radius
     :math:`\\mu\\lambda_N` (as in (6.2c)); the subproblem is then the stationarity of
     the convex potential :math:`\\tfrac12 R^TAR + \\sum_i w_i(\\psi_N(g_i) + \\phi_T(u_{T,i}))`
-    (symmetric tangent, Armijo on the potential: globally convergent). ``"traction"``:
-    radius :math:`\\mu t_N(g)`, coupled and non-symmetric, residual backtracking.
+    (symmetric tangent, Armijo on the potential: globally convergent). ``"traction"``
+    (or ``coupled=True``): radius :math:`\\mu t_N(g)`, coupled and non-symmetric,
+    residual backtracking.
     """
     c, d, w = ctx.c, ctx.d, ctx.w
     n = c * d
-    rho = ctx.mu * np.maximum(lamN, 0.0) if ctx.opts.radius == "multiplier" else None
+    rho = ctx.mu * np.maximum(lamN, 0.0) if _fixed_radius(ctx, coupled) else None
 
     def fun(x):
         R = x.reshape(c, d)
@@ -346,7 +364,7 @@ class _WithDlam:
         return np.where(np.isfinite(d), d, 0.0)
 
 
-def _sensitivity(ctx: _Ctx, law, lamN, lamT, y, t):
+def _sensitivity(ctx: _Ctx, law, lamN, lamT, y, t, coupled: bool = False):
     r"""Derivatives of the multiplier map :math:`\lambda \mapsto t(\lambda)` of the subproblem (6.2a).
 
     At the subproblem solution :math:`R(\lambda, y_f)`,
@@ -365,7 +383,7 @@ def _sensitivity(ctx: _Ctx, law, lamN, lamT, y, t):
     c, d, w = ctx.c, ctx.d, ctx.w
     n = c * d
     pref = max(float(np.max(t[:, 0], initial=0.0)), 1e-300)
-    fixed = ctx.opts.radius == "multiplier"
+    fixed = _fixed_radius(ctx, coupled)
     rho = ctx.mu * np.maximum(lamN, 0.0) if fixed else None
     drho = ctx.mu * (lamN > 0) if fixed else None
     _, Dy, Dl, _ = local_law(_WithDlam(law, pref), lamN, lamT, y, ctx.uTn, ctx.eps_t, ctx.mu, with_lam=True,
@@ -397,7 +415,7 @@ def _admissible(ctx: _Ctx, lam):
     return newN, newT
 
 
-def _second_order_update(ctx: _Ctx, law, lamN, lamT, y, t):
+def _second_order_update(ctx: _Ctx, law, lamN, lamT, y, t, coupled: bool = False):
     r"""Newton step on the multiplier fixed point :math:`G(\lambda) = \lambda - t(\lambda) = 0`.
 
     Solves :math:`(I - dt/d\lambda)\,\Delta = t - \lambda` with the derivatives of
@@ -409,7 +427,7 @@ def _second_order_update(ctx: _Ctx, law, lamN, lamT, y, t):
     (lamN, lamT) or None
         ``None`` when a Newton matrix is singular or the step is not finite.
     """
-    sens = _sensitivity(ctx, law, lamN, lamT, y, t)
+    sens = _sensitivity(ctx, law, lamN, lamT, y, t, coupled)
     if sens is None:
         return None
     lam = np.concatenate([lamN[:, None], lamT], axis=1)
@@ -442,6 +460,37 @@ def _dy_times(Dy, B, c, d):
     return np.einsum("ikm,imj->ikj", Dy, B.reshape(c, d, -1)).reshape(c * d, -1)
 
 
+def _coupled_start(ctx: _Ctx) -> bool:
+    r"""Whether the first subproblem of a step takes the coupled Coulomb radius (hybrid radius).
+
+    With the fixed radius :math:`\mu\lambda_N` of (6.2c) a point that enters contact
+    in the step starts with :math:`\lambda_N = 0`, a Coulomb disc of radius 0: it slips
+    freely in the first subproblem, and the second-order update cannot foresee that it
+    sticks (the radius has no sensitivity to a multiplier at 0). The first subproblem
+    therefore takes the radius :math:`\mu t_N(g)` of the current iterate (and the
+    second-order update its exact sensitivity); every later one the fixed radius (the
+    convex subproblem). The fixed point and the stopping test are those of (6.2c).
+    Only with ``radius="multiplier"``, the second-order update, and a body held by its
+    supports (a body held by the obstacle starts sticking, :func:`_advance`).
+    """
+    return (ctx.opts.radius == "multiplier" and ctx.opts.multiplier_update == "newton"
+            and ctx.fc.spring is None and ctx.mu > 0)
+
+
+def _first_subproblem(ctx: _Ctx, law, lamN, lamT, R, coupled: bool):
+    """The first subproblem of a step: coupled radius when ``coupled``, the fixed radius when that fails.
+
+    Returns the Newton result and whether it used the coupled radius.
+    """
+    if coupled:
+        out = _al_subproblem(ctx, law, lamN, lamT, R, coupled=True)
+        if out.converged and np.all(np.isfinite(out.state.aux[1])):
+            return out, True
+        logger.debug("friction AL: first subproblem with the coupled radius failed (%s); fixed radius",
+                      out.message)
+    return _al_subproblem(ctx, law, lamN, lamT, R), False
+
+
 def _step_al(ctx: _Ctx, penalty_name: str) -> _StepOut:
     """Algorithms 6.2 (``rockafellar``) / 6.4 (family-P) for one load step.
 
@@ -460,14 +509,15 @@ def _step_al(ctx: _Ctx, penalty_name: str) -> _StepOut:
     family_p = freezes_at_zero(pen)  # MET 1/2: positive multipliers, predictor, scaled eta
     second_order = opts.multiplier_update == "newton"
     outer0 = 0
+    coupled = _coupled_start(ctx)
     if family_p:
         # predictor: one Simo-Laursen subproblem gives multipliers for points entering contact
         # (with the second-order update it is a full Simo-Laursen outer iteration, counted as one)
-        out = _al_subproblem(ctx, macaulay, lamN, lamT, R)
+        out, coupled = _first_subproblem(ctx, macaulay, lamN, lamT, R, coupled)
         newton += out.iterations
         if out.converged:
             R = out.x.reshape(ctx.c, ctx.d)
-            upd = (_second_order_update(ctx, macaulay, lamN, lamT, out.state.aux[0], out.state.aux[1])
+            upd = (_second_order_update(ctx, macaulay, lamN, lamT, out.state.aux[0], out.state.aux[1], coupled)
                    if second_order else None)
             if upd is not None:
                 lamN, lamT = upd
@@ -484,8 +534,12 @@ def _step_al(ctx: _Ctx, penalty_name: str) -> _StepOut:
         law = macaulay
     fallback = None  # first-order multipliers (and R) of the last second-order update
     dlam_prev = np.inf
+    coupled = coupled and not family_p  # the hybrid radius serves the first subproblem only
     for k in range(1, opts.maxiter + 1):
-        out = _al_subproblem(ctx, law, lamN, lamT, R)
+        if coupled:
+            out, coupled = _first_subproblem(ctx, law, lamN, lamT, R, coupled)
+        else:
+            out = _al_subproblem(ctx, law, lamN, lamT, R)
         newton += out.iterations
         if not out.converged and fallback is not None:
             logger.debug("friction AL outer %d: subproblem failed after a second-order update (%s); first-order "
@@ -514,7 +568,8 @@ def _step_al(ctx: _Ctx, penalty_name: str) -> _StepOut:
             second_order = False
         dlam_prev = dlam
         # multiplier updates (6.2b)/(6.2c), resp. lambda_N <- p'(g/eta, lambda_N)
-        upd = _second_order_update(ctx, law, lamN, lamT, y, t) if second_order else None
+        upd = _second_order_update(ctx, law, lamN, lamT, y, t, coupled) if second_order else None
+        coupled = False
         fallback = (t[:, 0].copy(), t[:, 1:].copy(), R.copy()) if upd is not None else None
         lamN, lamT = upd if upd is not None else (t[:, 0].copy(), t[:, 1:].copy())
         if family_p:
