@@ -292,6 +292,8 @@ class FiniteContact(ContactPoints):
             base, base_old = getattr(ob, "base", ob), getattr(ob_old, "base", ob_old)
             if base is not base_old:
                 return None
+            if any(o is not base and not hasattr(o, "offset") for o in (ob, ob_old)):
+                return None  # moved otherwise than by a translation (e.g. rotated, obstacles.Moved)
             off = np.asarray(getattr(ob, "offset", 0.0), dtype=float)
             off_old = np.asarray(getattr(ob_old, "offset", 0.0), dtype=float)
             parts.append(np.broadcast_to(off - off_old, (max(off.size, off_old.size),)).astype(float))
