@@ -452,6 +452,9 @@ def run_al(dc, opts, eps0, penalty_name="rockafellar") -> _Run:
         lam = np.maximum(lam, floor)
     eta = eta_for_stiffness(pen, lam, eps)
     law = make_law(pen, eta)
+    entry = getattr(dc, "entry_multipliers", None)  # a model may keep predicted points out of the first (S)
+    if entry is not None and not needs_positive:
+        lam = np.asarray(entry(lam, law), dtype=float)
     # barrier-type penalties: the start must lie inside the domain g < eta b; pushing
     # harder (scaling the contact forces up) closes the penetrations
     bound = law.gap_bound(lam)
