@@ -510,7 +510,8 @@ def run_al(dc, opts, eps0, penalty_name="rockafellar") -> _Run:
                 lam_new, r_next = better
             elif better is not None:
                 lam_new = better
-        pen_k, compl, dlam = _measures(dc, out.t, out.g, lam)
+        # the change from the clipped multipliers (an entry shift lambda_i < 0 is no multiplier change)
+        pen_k, compl, dlam = _measures(dc, out.t, out.g, np.maximum(lam, 0.0))
         hist.append(ContactIteration(outer0 + k, pen_k, compl, dlam, out.residual, out.iterations, eps,
                                      int(np.sum(out.g > -opts.tol_penetration * dc.h))))
         lam = lam_new
