@@ -670,7 +670,8 @@ class FiniteContact(ContactPoints):
         iteration (they pull; their neighbour takes over). A point without predicted pressure
         that :meth:`initial_active` keeps out of the starting set gets the multiplier
         :math:`\lambda_i = -g_i/\eta_i` instead: its traction is zero at the start and grows only
-        if the point penetrates deeper than predicted. The shift acts in the first subproblem
+        if the point penetrates deeper than predicted (applied only where the law's traction
+        vanishes at the shifted multiplier: the Macaulay law). The shift acts in the first subproblem
         only: the multiplier update (6.13) or :meth:`multiplier_step` gives it
         :math:`\langle\lambda_i + g_i/\eta_i\rangle \ge 0` at the subproblem's solution, where a point
         that still penetrates enters with its full penalty force (all at once). Unchanged
@@ -682,7 +683,10 @@ class FiniteContact(ContactPoints):
         g = self.gaps(self.x0)
         c = 1.0 / np.asarray(law.eta, dtype=float)
         kept_out = ~np.asarray(self.initial_active(lam, g, c), dtype=bool) & (lam + c * g > 0)
-        return np.where(kept_out, -c * g, lam)
+        shifted = np.where(kept_out, -c * g, lam)
+        # only where the law's traction vanishes there (the Macaulay law; no other law is shifted)
+        free = np.asarray(law.traction(g, shifted), dtype=float) <= 0.0
+        return np.where(kept_out & free, shifted, lam)
 
     def solve_active(self, active, lam, x, c, *, tol: float = 1e-12, maxiter: int = 50):
         r"""Active-set step of :func:`run_ssn`, as a semi-smooth Newton method (Alart-Curnier type).
