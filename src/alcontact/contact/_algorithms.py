@@ -454,6 +454,9 @@ def run_al(dc, opts, eps0, penalty_name="rockafellar") -> _Run:
         lam = np.maximum(lam, floor)
     eta = eta_for_stiffness(pen, lam, eps)
     law = make_law(pen, eta)
+    entry = getattr(dc, "entry_multipliers", None)  # a model may keep predicted points out of the first (S)
+    if entry is not None and not needs_positive:
+        lam = np.asarray(entry(lam, law), dtype=float)
     # barrier-type penalties: the start must lie inside the domain g < eta b; pushing
     # harder (scaling the contact forces up) closes the penetrations
     bound = law.gap_bound(lam)
@@ -509,7 +512,8 @@ def run_al(dc, opts, eps0, penalty_name="rockafellar") -> _Run:
                 lam_new, r_next = better
             elif better is not None:
                 lam_new = better
-        pen_k, compl, dlam = _measures(dc, out.t, out.g, lam)
+        # the change from the clipped multipliers (an entry shift lambda_i < 0 is no multiplier change)
+        pen_k, compl, dlam = _measures(dc, out.t, out.g, np.maximum(lam, 0.0))
         hist.append(ContactIteration(outer0 + k, pen_k, compl, dlam, out.residual, out.iterations, eps,
                                      int(np.sum(out.g > -opts.tol_penetration * dc.h))))
         lam = lam_new

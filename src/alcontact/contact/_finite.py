@@ -182,6 +182,9 @@ class FiniteContact(ContactPoints):
     #: :meth:`multiplier_step` also returns the primal correction of its dual step (the next
     #: subproblem starts there instead of at the last state with changed multipliers)
     primal_correction = True
+    #: Algorithm 6.1 applies the entry rule of :meth:`initial_active` to the secant prediction
+    #: (:meth:`entry_multipliers`): over-predicted edge points start without penalty force
+    entry_rule_multipliers = True
 
     def __init__(self, problem, *, margin: float = 2.0, fixed=None):
         t0 = time.perf_counter()
@@ -659,6 +662,33 @@ class FiniteContact(ContactPoints):
             return rule
         dg = np.maximum(self.predicted_approach[self.cand], 0.0)
         return (lam > 0) & rule | (g > _ENTRY_FRACTION * dg) & (dg > 0)
+
+    def entry_multipliers(self, lam: np.ndarray, law) -> np.ndarray:
+        r"""Starting multipliers of Algorithm 6.1 with the entry rule of :meth:`initial_active`.
+
+        After the secant predictor the Macaulay law :math:`t_N = \langle\lambda + g/\eta\rangle`
+        of subproblem (S) would load every extrapolated penetration with a penalty force, so the
+        primal Newton releases the over-predicted points beyond the contact edge one per
+        iteration (they pull; their neighbour takes over). A point without predicted pressure
+        that :meth:`initial_active` keeps out of the starting set gets the multiplier
+        :math:`\lambda_i = -g_i/\eta_i` instead: its traction is zero at the start and grows only
+        if the point penetrates deeper than predicted (applied only where the law's traction
+        vanishes at the shifted multiplier: the Macaulay law). The shift acts in the first subproblem
+        only: the multiplier update (6.13) or :meth:`multiplier_step` gives it
+        :math:`\langle\lambda_i + g_i/\eta_i\rangle \ge 0` at the subproblem's solution, where a point
+        that still penetrates enters with its full penalty force (all at once). Unchanged
+        (``lam``) without the secant prediction or with :attr:`entry_rule_multipliers` off.
+        """
+        lam = np.asarray(lam, dtype=float)
+        if not self.entry_rule_multipliers or self.predicted_approach is None:
+            return lam
+        g = self.gaps(self.x0)
+        c = 1.0 / np.asarray(law.eta, dtype=float)
+        kept_out = ~np.asarray(self.initial_active(lam, g, c), dtype=bool) & (lam + c * g > 0)
+        shifted = np.where(kept_out, -c * g, lam)
+        # only where the law's traction vanishes there (the Macaulay law; no other law is shifted)
+        free = np.asarray(law.traction(g, shifted), dtype=float) <= 0.0
+        return np.where(kept_out & free, shifted, lam)
 
     def solve_active(self, active, lam, x, c, *, tol: float = 1e-12, maxiter: int = 50):
         r"""Active-set step of :func:`run_ssn`, as a semi-smooth Newton method (Alart-Curnier type).
