@@ -403,7 +403,10 @@ def _first_push(g, g_doubled, bound) -> float:
     doubled forces. The smallest scale that closes every penetration outside the domain,
     :math:`\max_i g_i / d_i`, times :data:`_PUSH_MARGIN`, keeps the start next to the
     penalty solution: the former fixed first scale 0.5 (50 % more contact force) cost the
-    first MET 2 subproblem about 15 Newton steps instead of a few. Capped at 0.5; the
+    first MET 2 subproblem about 15 Newton steps instead of a few, and at finite deformation
+    (neo-Hookean half-cylinder, P2, 20 steps) failed log-met1/2 (n = 24 at delta/R = 0.28): the
+    edge points with floored multipliers were left at their barrier bound and Newton stalled
+    (``tests/verification/test_finite_log_barrier.py``). Capped at 0.5; the
     caller doubles it while the start is still outside the domain.
     """
     d = g - g_doubled
