@@ -146,9 +146,9 @@ def _markdown(rows):
            "Contact solve time over one linear elastic solve (a fresh factorization + one solve with the same "
            "solver, no Schur block) of the same mesh, measured in the same run, in CPU seconds of the process "
            "(user + system, one MKL thread: what a quiet machine takes) and in wall seconds (the smallest of the "
-           "measurements "
-           "before and after the variants; small models are timed `repeats` times, each contact solve followed "
-           "by a linear solve, and the fastest run of each kept, numerator and denominator alike). "
+           "measurements before and after the variants; small models are timed `repeats` times in round robin "
+           "(each round: every variant, then a linear solve), and the fastest run of each kept, numerator and "
+           "denominator alike). "
            "Iterations: outer / Newton; solves: triangular solve pairs with the single stiffness factorization "
            "(the Delassus operator comes from the Schur complement with MKL PARDISO and costs none).", ""]
     for case in dict.fromkeys(r["case"] for r in rows):
@@ -255,19 +255,26 @@ def plot(rows, path: Path, ladder=LADDER_2D) -> None:
     plt.close(fig)
 
 
-def _timed_solve(prob, alg, pen, opts, repeats, backend):
-    """The solution, the fastest (CPU) timing of ``repeats`` contact solves (each with its own
-    factorization) and the fastest of the linear solves alternating with them (none for one repeat)."""
-    best = sol = None
+def _timed_solves(prob, chosen, case_opts, repeats, backend):
+    """Per variant of ``chosen``: the solution and the fastest (CPU) timing of ``repeats`` contact solves
+    (each with its own factorization); and the fastest of the linear solves between them (none for one repeat).
+
+    Round robin: every repeat runs each variant once, then one linear solve, so that every variant and
+    the denominator sample the same stretches of machine load (a shared machine's load changes over
+    seconds; timing one variant's repeats in a row let a busy stretch inflate that variant alone).
+    """
+    best = {label: Timing(math.inf, math.inf) for label, *_ in chosen}
+    sols = {}
     plain = Timing(math.inf, math.inf)
     for _ in range(repeats):
-        prob.model.clear_factorization()  # every variant pays its factorization (no reuse across variants)
-        c0, t0 = time.process_time(), time.perf_counter()
-        sol = solve(prob, alg, pen, **opts)
-        best = min(best or Timing(math.inf, math.inf), Timing(time.perf_counter() - t0, time.process_time() - c0))
+        for label, alg, pen, opts in chosen:
+            prob.model.clear_factorization()  # every variant pays its factorization (no reuse across variants)
+            c0, t0 = time.process_time(), time.perf_counter()
+            sols[label] = solve(prob, alg, pen, **{**case_opts, **opts})
+            best[label] = min(best[label], Timing(time.perf_counter() - t0, time.process_time() - c0))
         if repeats > 1:
             plain = min(plain, plain_linear_solve(prob, backend))
-    return sol, best, plain
+    return [(label, sols[label], best[label]) for label, *_ in chosen], plain
 
 
 def _read_csv(path: Path) -> list[dict]:
@@ -319,11 +326,8 @@ def run(out_dir=None, cases=None, variants=None, log=print, merge=False, repeats
         reps = repeats or max(1, min(MAX_REPEATS, int(REPEAT_BUDGET_S / plain.cpu)))
         plain = min([plain] + [plain_linear_solve(prob, backend) for _ in range(reps - 1)])
         log(f"  one linear solve {plain.wall:.3f} s wall, {plain.cpu:.3f} s CPU, repeats {reps}")
-        sols = []
-        for label, alg, pen, opts in chosen:
-            sol, timing, between = _timed_solve(prob, alg, pen, {**case_opts, **opts}, reps, backend)
-            sols.append((label, sol, timing))
-            plain = min(plain, between)
+        sols, between = _timed_solves(prob, chosen, case_opts, reps, backend)
+        plain = min(plain, between)
         # shared machines: the smallest of the measurements before, between and after the variants
         plain = min([plain] + [plain_linear_solve(prob, backend) for _ in range(reps)])
         log(f"  one linear solve (min of before/after) {plain.wall:.3f} s wall, {plain.cpu:.3f} s CPU")

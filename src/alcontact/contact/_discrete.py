@@ -184,8 +184,12 @@ class ContactPoints:
         return np.empty(0, dtype=np.int64)
 
     def _element_size(self) -> float:
-        """Mean facet size of the contact boundary near the obstacle."""
-        return _element_size(self.model, self.problem.contact_boundary, self.problem.obstacle)
+        """Median facet size of the contact boundary near the obstacle (kept for the same obstacle and boundary)."""
+        key = (self.model, self.problem.obstacle, self.problem.contact_boundary)
+        cached = getattr(self, "_h_of", None)
+        if cached is None or cached[0][0] is not key[0] or cached[0][1] is not key[1] or cached[0][2] != key[2]:
+            cached = self._h_of = (key, _element_size(key[0], key[2], key[1]))
+        return cached[1]
 
     def all_gaps(self, u: np.ndarray) -> np.ndarray:
         """Linearized gaps (6.15) of every contact-boundary point for displacement ``u``."""
@@ -328,9 +332,9 @@ class CondensedContact(ContactPoints):
         model = self.model
         if model.ndofs < SCHUR_MIN_DOFS or "schur" not in inspect.signature(model.factorize).parameters:
             return {}
-        pts, dofs = model.node_dofs(problem.contact_boundary)
-        keep = ~np.isin(dofs, self.fixed)
-        g0 = problem.obstacle.evaluate(pts)[0]
+        # the points of _setup_points (same problem): their DOFs, free ones (pos >= 0) and reference gaps
+        dofs, g0 = self.dofs, self.gap0
+        keep = self.pos >= 0
         movable = keep.any(axis=1)
         if not np.any(movable):
             return {}
