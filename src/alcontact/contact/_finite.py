@@ -581,7 +581,15 @@ class FiniteContact(ContactPoints):
         for the update solved here by conjugate gradients preconditioned with the
         first-order step :math:`(\varepsilon_N W_A)^{-1}` (the Macaulay update (6.13) is one
         Richardson step of this system; its contraction :math:`1/(1 + \varepsilon_N \sigma)`
-        per outer iteration becomes a few back-substitutions). Returns the new multipliers
+        per outer iteration becomes a few back-substitutions). With :attr:`dual_entry` the step
+        is semi-smooth: a point the entry shift (:meth:`entry_multipliers`) kept out that still
+        penetrates (:math:`\lambda_i < 0`, :math:`t_{N,i} = 0`, :math:`g_i > 0`: with the clipped
+        multiplier :math:`\langle\lambda_i\rangle + g_i/\eta_i > 0`) enters :math:`A` with
+        :math:`\lambda_i = 0` and preconditioner :math:`1/\eta_i`, so its gap is closed by the
+        dual step and its force enters the primal correction (before, it entered the next
+        subproblem with its full penalty force, and that Newton released such points one per
+        iteration); an entering point whose multiplier comes out negative leaves :math:`A`
+        again and the system is re-solved. Returns the new multipliers
         on the candidates (zero off :math:`A`, clipped at zero) with, when
         :attr:`primal_correction` is set, the next starting state :math:`x - J^{-1} B_A^T W_A
         \Delta\lambda_A` (the primal change of the dual step), or ``None`` when no factor of
