@@ -185,6 +185,9 @@ class FiniteContact(ContactPoints):
     #: Algorithm 6.1 applies the entry rule of :meth:`initial_active` to the secant prediction
     #: (:meth:`entry_multipliers`): over-predicted edge points start without penalty force
     entry_rule_multipliers = True
+    #: :meth:`multiplier_step` is a semi-smooth step: the points the entry shift kept out that still
+    #: penetrate at the subproblem's solution enter its active set (and its primal correction)
+    dual_entry = True
 
     def __init__(self, problem, *, margin: float = 2.0, fixed=None):
         t0 = time.perf_counter()
@@ -578,7 +581,15 @@ class FiniteContact(ContactPoints):
         for the update solved here by conjugate gradients preconditioned with the
         first-order step :math:`(\varepsilon_N W_A)^{-1}` (the Macaulay update (6.13) is one
         Richardson step of this system; its contraction :math:`1/(1 + \varepsilon_N \sigma)`
-        per outer iteration becomes a few back-substitutions). Returns the new multipliers
+        per outer iteration becomes a few back-substitutions). With :attr:`dual_entry` the step
+        is semi-smooth: a point the entry shift (:meth:`entry_multipliers`) kept out that still
+        penetrates (:math:`\lambda_i < 0`, :math:`t_{N,i} = 0`, :math:`g_i > 0`: with the clipped
+        multiplier :math:`\langle\lambda_i\rangle + g_i/\eta_i > 0`) enters :math:`A` with
+        :math:`\lambda_i = 0` and preconditioner :math:`1/\eta_i`, so its gap is closed by the
+        dual step and its force enters the primal correction (before, it entered the next
+        subproblem with its full penalty force, and that Newton released such points one per
+        iteration); an entering point whose multiplier comes out negative leaves :math:`A`
+        again and the system is re-solved. Returns the new multipliers
         on the candidates (zero off :math:`A`, clipped at zero) with, when
         :attr:`primal_correction` is set, the next starting state :math:`x - J^{-1} B_A^T W_A
         \Delta\lambda_A` (the primal change of the dual step), or ``None`` when no factor of
@@ -586,18 +597,57 @@ class FiniteContact(ContactPoints):
         caller keeps the first-order update).
         """
         t = np.asarray(out.t, dtype=float)
-        act = np.flatnonzero(t > 0)
-        if act.size == 0 or out.iterations == 0:
+        g_all = np.asarray(out.g, dtype=float)
+        lam_all = np.asarray(lam, dtype=float)
+        if not np.any(t > 0) or out.iterations == 0:
             # no Newton iteration: the state is a start (e.g. a primal correction), not x(lambda),
             # and the factor at hand is another state's; the first-order update is safer
             return None
+        eps_all = np.asarray(law.stiffness(g_all, lam_all), dtype=float)
+        # points kept out by the entry shift (lambda_i < 0, no traction) that still penetrate: a
+        # semi-smooth step takes them into A with the clipped multiplier 0 (lambda + g/eta > 0)
+        enter = (t <= 0) & (lam_all < 0) & (g_all > 0) if self.dual_entry else np.zeros(t.size, dtype=bool)
+        eta = getattr(law, "eta", None)
+        if np.any(enter) and eta is not None:
+            eps_enter = 1.0 / np.broadcast_to(np.asarray(eta, dtype=float), t.shape)
+        else:
+            enter[:] = False
+            eps_enter = eps_all
+        base = np.flatnonzero(t > 0)
+        if not np.all(eps_all[base] > 0):
+            return None
+        u_state = self.expand(out.state)
+        for _ in range(4):  # the entering points that would pull leave A again (a few re-solves)
+            act = np.flatnonzero((t > 0) | enter)
+            result = self._dual_newton(act, np.where(enter, eps_enter, eps_all)[act],
+                                       np.where(enter, 0.0, lam_all)[act], g_all[act], u_state, rtol, maxiter)
+            if result is None:
+                return None
+            lam_a, y, Bm, w = result
+            pulls = enter[act] & (lam_a + y / w < 0)
+            if not np.any(pulls):
+                break
+            enter[act[pulls]] = False
+        new = np.zeros_like(t)
+        new[act] = np.maximum(lam_a + y / w, 0.0)
+        if not self.primal_correction:
+            return new
+        # the primal change the dual step implies at fixed Newton matrix: J dx = -B_A^T W_A dlam_A
+        dx = self.solver.resolve(-(Bm.T @ (w * (new[act] - lam_a))))
+        if dx is None or not np.all(np.isfinite(dx)):
+            return new
+        return new, np.asarray(out.state, dtype=float) + dx
+
+    def _dual_newton(self, act, eps, lam_a, g, u_state, rtol, maxiter):
+        r"""Solve :math:`S\,y = g_A`, :math:`S = B_A J^{-1} B_A^T`, by preconditioned CG (:meth:`multiplier_step`).
+
+        Returns ``(lam_a, y, B_A, w_A)`` (``y = W_A \Delta\lambda_A``, forces) or ``None`` when no
+        factor is at hand or the iteration breaks down.
+        """
         pts = self.cand[act]
-        _, nu, _ = self._kinematics(self.expand(out.state), pts, False)
+        _, nu, _ = self._kinematics(u_state, pts, False)
         Bm = self._B(nu, pts)
         w = self.weights[pts]
-        eps = np.asarray(law.stiffness(np.asarray(out.g, dtype=float), np.asarray(lam, dtype=float)), dtype=float)[act]
-        if not np.all(eps > 0):
-            return None
 
         def S(v):
             z = self.solver.resolve(Bm.T @ v)
@@ -605,7 +655,6 @@ class FiniteContact(ContactPoints):
                 raise np.linalg.LinAlgError("no factor")
             return Bm @ z
 
-        g = np.asarray(out.g, dtype=float)[act]
         try:  # preconditioned CG on S y = g_A, y = W_A dlam (forces); M^-1 = eps W
             y = np.zeros(act.size)
             r = g.copy()
@@ -631,16 +680,7 @@ class FiniteContact(ContactPoints):
             return None
         if not np.all(np.isfinite(y)):
             return None
-        new = np.zeros_like(t)
-        lam_a = np.asarray(lam, dtype=float)[act]
-        new[act] = np.maximum(lam_a + y / w, 0.0)
-        if not self.primal_correction:
-            return new
-        # the primal change the dual step implies at fixed Newton matrix: J dx = -B_A^T W_A dlam_A
-        dx = self.solver.resolve(-(Bm.T @ (w * (new[act] - lam_a))))
-        if dx is None or not np.all(np.isfinite(dx)):
-            return new
-        return new, np.asarray(out.state, dtype=float) + dx
+        return lam_a, y, Bm, w
 
     # ------------------------------------------------------------------ reference (active set)
     def initial_active(self, lam: np.ndarray, g: np.ndarray, c: float) -> np.ndarray:
