@@ -112,6 +112,10 @@ _REBUILD_FACTOR = 1.5
 _UZAWA_TOL = 1e-8
 #: CG tolerance of an Uzawa step relative to the right-hand side change of the last multiplier update
 _UZAWA_FORCING = 1e-3
+#: relative multiplier update at which the inner Uzawa iteration may stop when the active set
+#: is about to change (the step only decides the next active set; the last one is solved to
+#: :data:`_UZAWA_TOL`)
+_UZAWA_LOOSE = 1e-2
 #: Newton tolerance cannot go below what inexact CG solves and round-off in K x reach
 _NEWTON_TOL_FLOOR = 1e-11
 #: a hierarchy is rebuilt when the largest contact stiffness grew by more than this factor
@@ -501,11 +505,22 @@ class IterativeContact(ContactPoints):
         return full_newton(self, law, lam, x0, tol=tol, maxiter=maxiter)
 
     def solve_active(self, active, lam, x, c):
-        """Active-set step of :func:`run_ssn`: :math:`g_A = 0` by an inner AL (:func:`_equality_solve`)."""
+        """Active-set step of :func:`run_ssn`: :math:`g_A = 0` by an inner AL (:func:`_equality_solve`).
+
+        A set that the step changes is solved only to :data:`_UZAWA_LOOSE` (its multipliers
+        and gaps only decide the next set); the set that repeats, which ``run_ssn`` accepts,
+        to :data:`_UZAWA_TOL` (3D P1 Hertz, 128k DOFs: 159 -> 99 CG iterations, same outer
+        iterations and contact force).
+        """
         A = np.flatnonzero(active)
         lam_new = np.zeros(self.cand.size)
         if A.size:
-            x, mu, _, _ = _equality_solve(self, A, np.maximum(lam[A], 0.0), c, x)
+            def moves(xa, mu):  # the outer step's next active set, (lam + c g) > 0, differs
+                lam_next = np.zeros(self.cand.size)
+                lam_next[A] = mu
+                return not np.array_equal((lam_next + c * self.gaps(xa)) > 0, active)
+
+            x, mu, _, _ = _equality_solve(self, A, np.maximum(lam[A], 0.0), c, x, moves=moves)
             lam_new[A] = mu
         else:
             x = self.x_free.copy()
@@ -659,7 +674,7 @@ def _residual_floor(K, Bc_abs, x, b, w, t, D, gfix) -> float:
 
 # ---------------------------------------------------------------------- active-set reference
 
-def _equality_solve(ic, A, mu, c, x0, *, maxiter=60):
+def _equality_solve(ic, A, mu, c, x0, *, maxiter=60, moves=None):
     r"""Solve the contact problem with :math:`g_A = 0` on the candidates ``A`` (inner AL / Uzawa).
 
     Minimizes :math:`\Pi_0(x) + \sum_{i\in A} w_i(\mu_i g_i + \tfrac c2 g_i^2)`, a linear
@@ -668,6 +683,11 @@ def _equality_solve(ic, A, mu, c, x0, *, maxiter=60):
     :data:`_UZAWA_TOL` times the largest multiplier (the error contracts by about 1/100 per
     update, so the multipliers are then accurate to about 1e-10), or stops decreasing (the
     round-off floor of the CG solves). Returns ``(x, mu, g_A, updates)``.
+
+    ``moves(x, mu)``, when given, says whether the active set of the outer iteration changes
+    at this state; once the update is below :data:`_UZAWA_LOOSE` and it does, the iteration
+    stops there: that step only decides the next active set, and the set the outer
+    iteration accepts (the one that repeats) is always solved to :data:`_UZAWA_TOL`.
     """
     BA = ic.B[ic.cand[A]]
     wA = ic.weights[ic.cand[A]]
@@ -698,7 +718,11 @@ def _equality_solve(ic, A, mu, c, x0, *, maxiter=60):
         change = float(np.linalg.norm(BA.T @ (wA * (c * g))))
         mu = mu + c * g
         rel = step / max(float(np.max(np.abs(mu), initial=0.0)), 1e-300)
+        logger.debug("Uzawa %d: relative update %.1e", j, rel)
         if rel <= _UZAWA_TOL:
+            return x, mu, g, j
+        if moves is not None and rel <= _UZAWA_LOOSE and moves(x, mu):
+            logger.debug("Uzawa stops at %.1e: the active set changes", rel)
             return x, mu, g, j
         if rel > 0.5 * prev and rel <= 1e3 * _UZAWA_TOL:
             logger.debug("Uzawa update stagnates at %.1e (round-off of the CG solves)", rel)
