@@ -124,6 +124,18 @@ class ContactPoints:
         self.dim = self.model.dim
         self.fixed, self.fixed_values = fixed, fixed_values
 
+    def applied_pressure(self, out) -> np.ndarray:
+        """Pressures the solution reports for the final run ``out``: its multipliers."""
+        return out.lam
+
+    def expand(self, x: np.ndarray) -> np.ndarray:
+        """Full displacement from the values ``x`` of the free DOFs and the prescribed values."""
+        u = np.zeros(self.model.ndofs)
+        u[self.free] = x
+        if self.fixed.size:
+            u[self.fixed] = self.fixed_values
+        return u
+
     def _setup_points(self, problem, free: np.ndarray) -> None:
         """Points, DOFs, weights, obstacle normals and gaps; ``pos``, ``B`` and ``movable`` for the DOFs ``free``.
 
@@ -543,6 +555,23 @@ class DiscreteContact(CondensedContact):
     def final_displacement(self, r: np.ndarray) -> np.ndarray:
         """Full displacement of a state (one solve)."""
         return self.displacement(r)
+
+    def applied_pressure(self, out) -> np.ndarray:
+        r"""Pressures of the contact forces that :meth:`final_displacement` of ``out.r`` carries.
+
+        The displacement is :math:`u = u_{free} - K^{-1}B^T r` with the final iterate
+        :math:`r`, while :math:`\lambda` (the multipliers, or :math:`t_N(g(r))` for the pure
+        penalty) differs from :math:`r/w` by the Newton residual or the last multiplier
+        change. Reporting :math:`r/w` makes the reported nodal forces exactly the forces in
+        equilibrium with ``u`` (a pure penalty at :math:`\varepsilon_N \sim 10^{13}` stops at
+        a Newton residual of ~1e-8 relative, its round-off floor, which otherwise shows up as
+        an equilibrium error of that size). With contact springs (a body held by the
+        obstacle) :math:`r` is the spring-shifted force and :math:`\lambda` is kept.
+        """
+        lam = out.lam
+        if self.spring is None and out.r.size == lam.size and np.all(np.isfinite(out.r)):
+            return out.r / self.weights[self.cand[: lam.size]]
+        return lam
 
     def timings(self) -> dict:
         # linear_solve_s: one factorization + one solve, also when the factor was reused (factor_s ~ 0)

@@ -74,7 +74,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
-from ..errors import InputError, InvertedElementError
+from ..errors import InvertedElementError
 from ..linalg import SequenceSolver
 from ..status import Status
 from ._discrete import ContactPoints
@@ -414,14 +414,6 @@ class FiniteContact(ContactPoints):
             pass
         logger.debug("tangent predictor rejected; the step starts from the last converged state")
         return x
-
-    def expand(self, x: np.ndarray) -> np.ndarray:
-        """Full displacement from the free DOFs and the prescribed values."""
-        u = np.zeros(self.model.ndofs)
-        u[self.free] = x
-        if self.fixed.size:
-            u[self.fixed] = self.fixed_values
-        return u
 
     # ------------------------------------------------------------------ kinematics
     def _current(self, u: np.ndarray, idx: np.ndarray) -> np.ndarray:

@@ -462,17 +462,6 @@ class IterativeContact(ContactPoints):
             self.precond.release()
         return _plus(self.K, delta)
 
-    def contact_matrix(self, Bc, k):
-        """``K + Bc^T diag(k) Bc`` (block diagonal addition, one block per contact point)."""
-        return self.with_contact(self.contact_delta(Bc, k))
-
-    def expand(self, x: np.ndarray) -> np.ndarray:
-        u = np.zeros(self.model.ndofs)
-        u[self.free] = x
-        if self.fixed.size:
-            u[self.fixed] = self.fixed_values
-        return u
-
     # ------------------------------------------- interface of the outer loops
     # (see DiscreteContact; the state here is the free displacement x)
     factorizations = 0

@@ -21,26 +21,6 @@ DEFAULT_ALGORITHM = "simo-laursen"
 
 
 
-def _applied_pressure(dc, out) -> np.ndarray:
-    r"""Pressures of the contact forces that the returned displacement carries.
-
-    On the condensed path the displacement is :math:`u = u_{free} - K^{-1}B^T r` with the
-    final iterate :math:`r`, while :math:`\lambda` (the multipliers, or :math:`t_N(g(r))`
-    for the pure penalty) differs from :math:`r/w` by the Newton residual or the last
-    multiplier change. Reporting :math:`r/w` makes the reported nodal forces exactly the
-    forces in equilibrium with ``u`` (a pure penalty at :math:`\varepsilon_N \sim 10^{13}`
-    stops at a Newton residual of ~1e-8 relative, its round-off floor, which otherwise shows
-    up as an equilibrium error of that size). With contact springs (a body held by the
-    obstacle) :math:`r` is the spring-shifted force and :math:`\lambda` is kept; other paths
-    keep :math:`\lambda`.
-    """
-    lam = out.lam
-    if (isinstance(dc, DiscreteContact) and dc.spring is None and out.r.size == lam.size
-            and np.all(np.isfinite(out.r))):
-        return out.r / dc.weights[dc.cand[: lam.size]]
-    return lam
-
-
 def penalty_stiffness(model, h: float, scale: float = 1.0) -> float:
     """Automatic penalty stiffness ``scale * E' / h`` (pressure per length).
 
@@ -134,7 +114,7 @@ def solve(problem, algorithm: str = DEFAULT_ALGORITHM, penalty: str | None = Non
     m = dc.points.shape[0]
     pressure = np.zeros(m)
     if out.lam.size:
-        pressure[dc.cand[: out.lam.size]] = _applied_pressure(dc, out)  # candidates added later carry none
+        pressure[dc.cand[: out.lam.size]] = dc.applied_pressure(out)  # candidates added later carry none
     if out.status > 0 and not np.all(np.isfinite(u)):
         out.status, out.message = ContactStatus.NONFINITE, "non-finite displacement"
     check = check_state(g_all, pressure, dc.h, tol_penetration=opts.tol_penetration,
