@@ -1114,8 +1114,22 @@ def transport_tangent(t: ArrayLike, n_from: ArrayLike, n_to: ArrayLike) -> Float
 # --------------------------------------------------------------------------- moving obstacles
 
 
+class _PlacedObstacle(_ObstacleBase):
+    """An obstacle ``base`` placed elsewhere (:class:`Translated`, :class:`Moved`): same dimension and name."""
+
+    base: Any
+
+    @property
+    def dim(self) -> int | None:
+        return self.base.dim
+
+    @property
+    def name(self) -> str:
+        return self.base.name
+
+
 @dataclass(frozen=True, eq=False)
-class Translated(_ObstacleBase):
+class Translated(_PlacedObstacle):
     r"""An obstacle moved rigidly by ``offset``: the occupied set is :math:`\{y + c : y \in O\}`.
 
     .. math::
@@ -1140,14 +1154,6 @@ class Translated(_ObstacleBase):
     def __post_init__(self) -> None:
         dims = (self.base.dim,) if self.base.dim is not None else (2, 3)
         object.__setattr__(self, "offset", _readonly(_vector(self.offset, "offset", dims)))
-
-    @property
-    def dim(self) -> int | None:
-        return self.base.dim
-
-    @property
-    def name(self) -> str:
-        return self.base.name
 
     def describe(self) -> str:
         return f"{self.base.describe()}, translated by {_fmt(self.offset)}"
@@ -1236,7 +1242,7 @@ class RigidMotion:
 
 
 @dataclass(frozen=True, eq=False)
-class Moved(_ObstacleBase):
+class Moved(_PlacedObstacle):
     r"""An obstacle placed rigidly by a :class:`RigidMotion` :math:`x = Q y + b`.
 
     .. math::
@@ -1254,14 +1260,6 @@ class Moved(_ObstacleBase):
         if self.base.dim is not None and self.motion.offset.size != self.base.dim:
             raise InputError(f"the rigid motion is {self.motion.offset.size}D but the obstacle "
                              f"{self.base.describe()} is {self.base.dim}D")
-
-    @property
-    def dim(self) -> int | None:
-        return self.base.dim
-
-    @property
-    def name(self) -> str:
-        return self.base.name
 
     def describe(self) -> str:
         return (f"{self.base.describe()}, rotated by {_fmt(self.motion.rotation.ravel())} "
