@@ -598,7 +598,7 @@ def _solve_finite_friction_setup(setup, on_step=None):
     ``tangential_force``, ``dissipation``) so the VTU writer, the rows and the plots
     treat it like the other stepped runs.
     """
-    from .contact import ContactResult, ContactSolution, ContactStatus, problem_at, solve_friction
+    from .contact import ContactResult, ContactSolution, problem_at, solve_friction
 
     prob = setup.problem
     total = len(setup.times)

@@ -561,7 +561,6 @@ def run_ssn(dc, opts, eps0, penalty_name=None) -> _Run:
     (``dc.solve_active``: a dense solve on the Delassus operator, or an inner
     augmented Lagrangian with AMG-CG on the factorization-free path).
     """
-    n = dc.cand.size
     c = eps0
     state = dc.start()
     lam = _initial_multipliers(dc)

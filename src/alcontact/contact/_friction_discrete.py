@@ -56,7 +56,6 @@ import scipy.sparse as sp
 
 from ..errors import InputError
 from ._discrete import CondensedContact
-from ._discrete import _element_size  # noqa: F401 - re-exported for alcontact.io.preflight
 from ._loading import LoadHistory, component_fields
 
 __all__ = ["FrictionalContact", "tangent_bases"]

@@ -36,7 +36,7 @@ import scipy.sparse as sp
 from skfem import Basis
 
 from alcontact.errors import ConvergenceError, InputError, InvertedElementError, NonFiniteError
-from alcontact.fem._hyper_materials import HyperelasticLaw, det, inv, make_material
+from alcontact.fem._hyper_materials import HyperelasticLaw, det, make_material
 from alcontact.fem._material import Material
 from alcontact.fem.elasticity import LinearElasticity
 

@@ -356,9 +356,7 @@ def size_issues(est: SizeEstimate | None, memory: float | None = None) -> list[I
     if est is None:
         return []
     total = machine_memory()[0] if memory is None else float(memory)
-    key = est.key
     head = f"= {est.value!r}: " if est.value is not None else ""
-    issues = []
     coarser = "a coarser mesh (fewer [mesh] cells, a larger mesh.refine.h_min or growth, or order = 1)"
     reasons, ways = [], [coarser]
     if est.ndofs > MAX_DOFS:
@@ -451,7 +449,7 @@ def _contact_points_restrain(setup, fixed: np.ndarray, null: np.ndarray, R, row_
     movable = np.linalg.norm(coef, axis=1) > 1e-12
     if not np.any(movable):
         return False, "no contact point can move toward the obstacle"
-    from ..contact._friction_discrete import _element_size
+    from ..contact._discrete import _element_size
 
     h = _element_size(model, prob.contact_boundary, prob.obstacle)
     g0 = np.where(movable, gap0, -np.inf)

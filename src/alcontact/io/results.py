@@ -47,10 +47,8 @@ import logging
 import math
 import os
 import re
-import secrets
 import shutil
 import signal
-import stat
 import tempfile
 import threading
 from collections.abc import Iterator, Mapping

@@ -36,7 +36,6 @@ __all__ = [
     "TYPES",
     "Option",
     "Table",
-    "SCHEMA",
     "table",
     "option",
     "render_markdown",
