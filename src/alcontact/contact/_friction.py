@@ -62,8 +62,9 @@ from __future__ import annotations
 import logging
 import time
 import warnings
+from abc import ABC, abstractmethod
 from dataclasses import dataclass
-from typing import ClassVar
+from typing import ClassVar, Protocol
 
 import numpy as np
 import scipy.linalg as sla
@@ -203,6 +204,56 @@ class _StepOut:
     newton: int
     status: ContactStatus = ContactStatus.CONVERGED
     predictor: np.ndarray | None = None  # (c d, c d) d lambda* / d y_free at the converged state
+    z: np.ndarray | None = None  # last iterate in the unknowns of the step's system (_ALSystem.start)
+
+
+class _ALSystem(Protocol):
+    """The system of a load step that the one AL loop :func:`_step_al` drives (Algorithms 6.2 / 6.4).
+
+    Its unknowns ``z`` are the condensed contact forces ``R`` ``(c, d)`` on the direct path
+    (:class:`_Ctx`) or the free displacements ``x`` on the AMG path
+    (:class:`~alcontact.contact._friction_iterative._FullCtx`); the multipliers, the
+    stopping test (:func:`_measures`) and the updates (6.2b)/(6.2c) are the same.
+    """
+
+    #: prefix of the loop's debug lines
+    label: ClassVar[str]
+    fc: FrictionalContact
+    lamN: np.ndarray
+    lamT: np.ndarray
+    uTn: np.ndarray
+    eps_n: float
+    mu: float
+    opts: ContactOptions
+    tfree: np.ndarray | None
+
+    @property
+    def c(self) -> int: ...
+
+    @property
+    def d(self) -> int: ...
+
+    @property
+    def second_order(self) -> bool:
+        """Whether the loop takes the second-order multiplier update (:func:`_second_order_update`,
+        :func:`_tangent_predictor`, :func:`_coupled_start`); only a system with the dense
+        condensed sensitivity can."""
+
+    @property
+    def start(self) -> np.ndarray:
+        """The first iterate ``z`` of the step."""
+
+    def subproblem(self, law, lamN, lamT, z, coupled: bool = False) -> NewtonResult:
+        """Subproblem (6.2a) from ``z`` for fixed multipliers; ``state.aux = (y, t, Dy, state)``."""
+
+    def iterate(self, out: NewtonResult) -> np.ndarray:
+        """The unknowns ``z`` of a subproblem's result."""
+
+    def inside_domain(self, law, lamN, z) -> np.ndarray:
+        """A start ``z`` with every gap inside the domain of a barrier-type penalty."""
+
+    def forces(self, z, t) -> np.ndarray:
+        """The local contact forces ``R`` ``(c, d)`` of the iterate ``z`` with tractions ``t``."""
 
 
 @dataclass
@@ -223,6 +274,8 @@ class _Ctx:
     opts: FrictionOptions
     tfree: np.ndarray | None = None  # (c, d-1) tangent directions not held by a support
 
+    label: ClassVar[str] = "friction AL"
+
     @property
     def c(self):
         return self.yf.shape[0]
@@ -241,6 +294,28 @@ class _Ctx:
         if self.fc.spring is None:
             return t, Dy
         return t - self.fc.spring_traction(y), Dy - self.fc.spring_tangent()
+
+    # the _ALSystem of the condensed forces R
+    @property
+    def second_order(self) -> bool:
+        """The option ``multiplier_update``: ``"newton"`` takes the second-order update."""
+        return self.opts.multiplier_update == "newton"
+
+    @property
+    def start(self):
+        return self.R0.copy()
+
+    def subproblem(self, law, lamN, lamT, R, coupled: bool = False) -> NewtonResult:
+        return _al_subproblem(self, law, lamN, lamT, R, coupled)
+
+    def iterate(self, out):
+        return out.x.reshape(self.c, self.d)
+
+    def inside_domain(self, law, lamN, R):
+        return _inside_domain(self, law, lamN, R)
+
+    def forces(self, R, t):
+        return R
 
 
 def _fixed_radius(ctx: _Ctx, coupled: bool) -> bool:
@@ -302,7 +377,8 @@ def _al_subproblem(ctx: _Ctx, law, lamN, lamT, R0, coupled: bool = False) -> New
                    energy=energy, grad=grad)
 
 
-def _measures(ctx: _Ctx, t, y, st, lamN_old, lamT_old):
+def _measures(ctx: _ALSystem, t, y, st, lamN_old, lamT_old):
+    """Relative penetration, complementarity, multiplier change and stick slip of an outer iterate."""
     h = ctx.fc.h
     tN, tT = t[:, 0], t[:, 1:]
     pref = max(float(np.max(tN, initial=0.0)), 1e-300)
@@ -460,7 +536,7 @@ def _dy_times(Dy, B, c, d):
     return np.einsum("ikm,imj->ikj", Dy, B.reshape(c, d, -1)).reshape(c * d, -1)
 
 
-def _coupled_start(ctx: _Ctx) -> bool:
+def _coupled_start(ctx: _ALSystem) -> bool:
     r"""Whether the first subproblem of a step takes the coupled Coulomb radius (hybrid radius).
 
     With the fixed radius :math:`\mu\lambda_N` of (6.2c) a point that enters contact
@@ -470,53 +546,57 @@ def _coupled_start(ctx: _Ctx) -> bool:
     therefore takes the radius :math:`\mu t_N(g)` of the current iterate (and the
     second-order update its exact sensitivity); every later one the fixed radius (the
     convex subproblem). The fixed point and the stopping test are those of (6.2c).
-    Only with ``radius="multiplier"``, the second-order update, and a body held by its
-    supports (a body held by the obstacle starts sticking, :func:`_advance`).
+    Only with ``radius="multiplier"``, the second-order update (``ctx.second_order``), and
+    a body held by its supports (a body held by the obstacle starts sticking, :func:`_advance`).
     """
-    return (ctx.opts.radius == "multiplier" and ctx.opts.multiplier_update == "newton"
-            and ctx.fc.spring is None and ctx.mu > 0)
+    return ctx.opts.radius == "multiplier" and ctx.second_order and ctx.fc.spring is None and ctx.mu > 0
 
 
-def _first_subproblem(ctx: _Ctx, law, lamN, lamT, R, coupled: bool):
+def _first_subproblem(ctx: _ALSystem, law, lamN, lamT, z, coupled: bool):
     """The first subproblem of a step: coupled radius when ``coupled``, the fixed radius when that fails.
 
     Returns the Newton result and whether it used the coupled radius.
     """
     if coupled:
-        out = _al_subproblem(ctx, law, lamN, lamT, R, coupled=True)
+        out = ctx.subproblem(law, lamN, lamT, z, coupled=True)
         if out.converged and np.all(np.isfinite(out.state.aux[1])):
             return out, True
-        logger.debug("friction AL: first subproblem with the coupled radius failed (%s); fixed radius",
-                      out.message)
-    return _al_subproblem(ctx, law, lamN, lamT, R), False
+        logger.debug("%s: first subproblem with the coupled radius failed (%s); fixed radius", ctx.label,
+                     out.message)
+    return ctx.subproblem(law, lamN, lamT, z), False
 
 
-def _step_al(ctx: _Ctx, penalty_name: str) -> _StepOut:
-    """Algorithms 6.2 (``rockafellar``) / 6.4 (family-P) for one load step.
+def _step_al(ctx: _ALSystem, penalty_name: str) -> _StepOut:
+    """Algorithms 6.2 (``rockafellar``) / 6.4 (family-P) for one load step of either path.
 
-    The outer update is (6.2b)/(6.2c) (``multiplier_update="first-order"``) or, by
-    default, the second-order multiplier iteration :func:`_second_order_update`,
-    which falls back to the first-order update for the rest of the step as soon
-    as the multiplier change does not decrease by half (or a subproblem fails
-    after a second-order update). The stopping test is the same for both.
+    ``ctx`` is the step's system (:class:`_ALSystem`: the condensed forces of the direct
+    path, :class:`_Ctx`, or the free displacements of the AMG path,
+    :class:`~alcontact.contact._friction_iterative._FullCtx`); the loop, the multiplier
+    updates and the stopping test are the same on both. The outer update is
+    (6.2b)/(6.2c) (``multiplier_update="first-order"``, or a system without the
+    second-order update, ``ctx.second_order`` false) or, by default, the second-order
+    multiplier iteration :func:`_second_order_update`, which falls back to the
+    first-order update for the rest of the step as soon as the multiplier change does
+    not decrease by half (or a subproblem fails after a second-order update). The
+    stopping test is the same for both. The result's ``z`` is the last iterate.
     """
     opts = ctx.opts
     lamN, lamT = ctx.lamN.copy(), ctx.lamT.copy()
-    R = ctx.R0.copy()
+    z = ctx.start
     newton = 0
     macaulay = make_law(_pen.make("rockafellar"), np.full(ctx.c, 1.0 / ctx.eps_n))
     pen = _pen.make(penalty_name)
     family_p = freezes_at_zero(pen)  # MET 1/2: positive multipliers, predictor, scaled eta
-    second_order = opts.multiplier_update == "newton"
+    second_order = ctx.second_order
     outer0 = 0
     coupled = _coupled_start(ctx)
     if family_p:
         # predictor: one Simo-Laursen subproblem gives multipliers for points entering contact
         # (with the second-order update it is a full Simo-Laursen outer iteration, counted as one)
-        out, coupled = _first_subproblem(ctx, macaulay, lamN, lamT, R, coupled)
+        out, coupled = _first_subproblem(ctx, macaulay, lamN, lamT, z, coupled)
         newton += out.iterations
         if out.converged:
-            R = out.x.reshape(ctx.c, ctx.d)
+            z = ctx.iterate(out)
             upd = (_second_order_update(ctx, macaulay, lamN, lamT, out.state.aux[0], out.state.aux[1], coupled)
                    if second_order else None)
             if upd is not None:
@@ -529,48 +609,50 @@ def _step_al(ctx: _Ctx, penalty_name: str) -> _StepOut:
         lamN = np.maximum(lamN, floor)
         eta = eta_for_stiffness(pen, np.maximum(lamN, opts.eta_floor * pref), ctx.eps_n)
         law = make_law(pen, eta)
-        R = _inside_domain(ctx, law, lamN, R)
+        z = ctx.inside_domain(law, lamN, z)
     else:
         law = macaulay
-    fallback = None  # first-order multipliers (and R) of the last second-order update
+    fallback = None  # first-order multipliers (and z) of the last second-order update
     dlam_prev = np.inf
     coupled = coupled and not family_p  # the hybrid radius serves the first subproblem only
+    t = np.zeros((ctx.c, ctx.d))
     for k in range(1, opts.maxiter + 1):
         if coupled:
-            out, coupled = _first_subproblem(ctx, law, lamN, lamT, R, coupled)
+            out, coupled = _first_subproblem(ctx, law, lamN, lamT, z, coupled)
         else:
-            out = _al_subproblem(ctx, law, lamN, lamT, R)
+            out = ctx.subproblem(law, lamN, lamT, z)
         newton += out.iterations
         if not out.converged and fallback is not None:
-            logger.debug("friction AL outer %d: subproblem failed after a second-order update (%s); first-order "
-                         "update from here", k, out.message)
-            lamN, lamT, R = fallback
+            logger.debug("%s outer %d: subproblem failed after a second-order update (%s); first-order "
+                         "update from here", ctx.label, k, out.message)
+            lamN, lamT, z = fallback
             second_order, fallback = False, None
             continue
         if not out.converged:
-            return _StepOut(False, f"Newton failed in outer iteration {k}: {out.message}", R, out.state.aux[1],
-                            k + outer0, newton, inner_failure(out))
-        R = out.x.reshape(ctx.c, ctx.d)
+            t = out.state.aux[1]
+            return _StepOut(False, f"Newton failed in outer iteration {k}: {out.message}", ctx.forces(z, t), t,
+                            k + outer0, newton, inner_failure(out), z=z)
+        z = ctx.iterate(out)
         y, t, _, st = out.state.aux
         if not np.all(np.isfinite(t)):
-            return _StepOut(False, f"non-finite tractions in outer iteration {k}", R, t, k + outer0, newton,
-                            ContactStatus.NONFINITE)
+            return _StepOut(False, f"non-finite tractions in outer iteration {k}", ctx.forces(z, t), t, k + outer0,
+                            newton, ContactStatus.NONFINITE, z=z)
         pen_k, compl, dlam, stick_slip = _measures(ctx, t, y, st, lamN, lamT)
-        logger.debug("friction AL outer %d: pen=%.2e compl=%.2e dlam=%.2e stick-slip=%.2e newton=%d%s",
+        logger.debug("%s outer %d: pen=%.2e compl=%.2e dlam=%.2e stick-slip=%.2e newton=%d%s", ctx.label,
                      k, pen_k, compl, dlam, stick_slip, out.iterations, " (second-order)" if fallback else "")
         if (pen_k <= opts.tol_penetration and compl <= opts.tol_complementarity and dlam <= opts.tol_multiplier
                 and stick_slip <= opts.tol_slip):
-            pred = _tangent_predictor(ctx, law, lamN, lamT, y, t) if opts.multiplier_update == "newton" else None
-            return _StepOut(True, "converged", R, t, k + outer0, newton, predictor=pred)
+            pred = _tangent_predictor(ctx, law, lamN, lamT, y, t) if ctx.second_order else None
+            return _StepOut(True, "converged", ctx.forces(z, t), t, k + outer0, newton, predictor=pred, z=z)
         if fallback is not None and not dlam <= 0.5 * dlam_prev:
-            logger.debug("friction AL outer %d: second-order update did not halve the multiplier change; "
-                         "first-order update from here", k)
+            logger.debug("%s outer %d: second-order update did not halve the multiplier change; "
+                         "first-order update from here", ctx.label, k)
             second_order = False
         dlam_prev = dlam
         # multiplier updates (6.2b)/(6.2c), resp. lambda_N <- p'(g/eta, lambda_N)
         upd = _second_order_update(ctx, law, lamN, lamT, y, t, coupled) if second_order else None
         coupled = False
-        fallback = (t[:, 0].copy(), t[:, 1:].copy(), R.copy()) if upd is not None else None
+        fallback = (t[:, 0].copy(), t[:, 1:].copy(), z.copy()) if upd is not None else None
         lamN, lamT = upd if upd is not None else (t[:, 0].copy(), t[:, 1:].copy())
         if family_p:
             pref = max(float(np.max(lamN, initial=0.0)), 1e-300)
@@ -581,9 +663,9 @@ def _step_al(ctx: _Ctx, penalty_name: str) -> _StepOut:
                 eta = np.where(y[:, 0] < 0.99 * bnd, eta_new, eta)
                 law = make_law(pen, eta)
             if upd is not None:
-                R = _inside_domain(ctx, law, lamN, R)
-    return _StepOut(False, f"maximum outer iterations ({opts.maxiter}) reached", R, t, opts.maxiter + outer0,
-                    newton, ContactStatus.MAXITER)
+                z = ctx.inside_domain(law, lamN, z)
+    return _StepOut(False, f"maximum outer iterations ({opts.maxiter}) reached", ctx.forces(z, t), t,
+                    opts.maxiter + outer0, newton, ContactStatus.MAXITER, z=z)
 
 
 def _step_ssn(ctx: _Ctx, penalty_name: str = "none") -> _StepOut:
@@ -686,71 +768,126 @@ def _closed(fc, tN, g, opts):
     return (tN > 0) & (g >= -max(1e-6, 10 * opts.tol_penetration) * fc.h)
 
 
-def _advance(fc: FrictionalContact, prev: _State, t: float, step_fn, pen_name, eps_n, eps_t, mu, opts):
-    """Solve one step from ``prev`` to time ``t`` (adding candidates that penetrate)."""
-    outer = newton = 0
-    for _attempt in range(8):
+class _StepPath(ABC):
+    """How a solution path sets up one load step; the step itself (:meth:`advance`) is shared.
+
+    A path gives the system of a step (:meth:`context`, an :class:`_ALSystem` for the AL
+    algorithms), the step without candidates (:meth:`without_candidates`) and the
+    displacement of a solved step (:meth:`displacement`); :meth:`advance` adds the
+    candidates that penetrate, assembles the state over all points and accepts a step of a
+    body held by the obstacle only in equilibrium.
+    """
+
+    @abstractmethod
+    def context(self, fc, prev: _State, t: float, last: _StepOut | None, step_fn, eps_n, eps_t, mu, opts):
+        """The step's system on the candidates ``fc.cand`` and the Newton iterations spent to set it up.
+
+        ``last`` is the previous attempt of the same step (before candidates were added), or ``None``.
+        """
+
+    @abstractmethod
+    def without_candidates(self, fc, t: float) -> tuple[_StepOut, np.ndarray]:
+        """The step without contact candidates and its displacement."""
+
+    @abstractmethod
+    def displacement(self, fc, t: float, out: _StepOut) -> np.ndarray:
+        """The displacement of the solved step ``out``."""
+
+    def advance(self, fc, prev: _State, t: float, step_fn, pen_name, eps_n, eps_t, mu, opts):
+        """Solve one step from ``prev`` to time ``t`` (adding candidates that penetrate).
+
+        Returns ``(result, out, outer, newton)`` with ``result = (u, y_all, tN, tT, R, predictor)``
+        over all points (``None`` when the step failed; ``out`` says why).
+        """
+        outer = newton = 0
+        last = None
+        for _attempt in range(8):
+            cand = fc.cand
+            d = fc.dim
+            if cand.size == 0:
+                out, u = self.without_candidates(fc, t)
+            else:
+                ctx, pre = self.context(fc, prev, t, last, step_fn, eps_n, eps_t, mu, opts)
+                newton += pre
+                out = step_fn(ctx, pen_name)
+                outer += out.outer
+                newton += out.newton
+                if not out.ok:
+                    return None, out, outer, newton
+                u = self.displacement(fc, t, out)
+            y_all = fc.all_local(u)
+            outside = np.ones(fc.points.shape[0], bool)
+            outside[cand] = False
+            add = fc.add(np.flatnonzero(outside & (y_all[:, 0] > opts.tol_penetration * fc.h)))
+            if add.size:
+                logger.info("t=%g: adding %d contact candidates that penetrate", t, add.size)
+                last = out
+                continue
+            m = fc.points.shape[0]
+            tN = np.zeros(m)
+            tT = np.zeros((m, d - 1))
+            R = np.zeros((m, d))
+            tN[cand], tT[cand], R[cand] = out.t[:, 0], out.t[:, 1:], out.R
+            if fc.spring is not None:  # held by the obstacle: accept only a step in equilibrium
+                R_phys = np.zeros((m, d))
+                R_phys[cand] = fc.weights[cand, None] * out.t
+                defect = fc.equilibrium_defect(t, u, R_phys)
+                if not defect <= _EQUILIBRIUM_TOL:
+                    return None, _StepOut(False, f"no equilibrium found (relative residual {defect:.2e}): the "
+                                                 "obstacle and friction do not hold the body there", prev.R, prev.R,
+                                          outer, newton, ContactStatus.NEWTON_FAILED), outer, newton
+            pred = (cand.copy(), out.predictor) if out.predictor is not None else None
+            return (u, y_all, tN, tT, R, pred), out, outer, newton
+        return None, _StepOut(False, "candidate set did not settle", prev.R, prev.R, 0, 0, ContactStatus.MAXITER), \
+            outer, newton
+
+
+class _CondensedPath(_StepPath):
+    """The direct path: steps on the condensed forces of :class:`FrictionalContact` (:class:`_Ctx`).
+
+    A body held by the obstacle starts each step sticking (:meth:`FrictionalContact.frozen_start`),
+    at first contact from the semi-smooth Newton solution; the multipliers start from the tangent
+    predictor of the last step where it has the same candidates.
+    """
+
+    def context(self, fc, prev, t, last, step_fn, eps_n, eps_t, mu, opts):
         cand = fc.cand
         c, d = cand.size, fc.dim
-        if c == 0:
-            u = fc.u_free(t)
-            y_all = fc.all_local(u)
-            R_c = np.zeros((0, d))
-            t_c = np.zeros((0, d))
-            out = _StepOut(True, "no candidate points", R_c, t_c, 0, 0)
-        else:
-            ctx = _Ctx(fc, fc.y_free(t)[cand], fc.weights[cand], fc.A.reshape(c, d, c, d), prev.tN[cand].copy(),
-                       prev.tT[cand].copy(), prev.y[cand, 1:].copy(), prev.R[cand].copy(), eps_n, eps_t, mu, opts,
-                       fc.tfree[cand])
-            if fc.spring is not None:  # held by the obstacle only
-                closed = prev.tN[cand] > 0
-                if np.any(closed):  # start sticking (FrictionalContact.frozen_start)
-                    R0 = fc.frozen_start(prev.t, t, ctx.R0, closed)
-                    ctx.R0 = ctx.R0 if R0 is None else R0
-                elif step_fn is not _step_ssn:
-                    # first contact: with zero multipliers the Coulomb discs of the AL subproblem have radius 0
-                    # and nothing holds the tangential rigid motion; start from the semi-smooth Newton solution
-                    # of the same discrete problem (a predictor: the AL stopping test decides)
-                    pre = _step_ssn(ctx)
-                    newton += pre.newton
-                    if pre.ok:
-                        ctx.R0, ctx.lamN, ctx.lamT = pre.R, pre.t[:, 0].copy(), pre.t[:, 1:].copy()
-            if prev.predictor is not None and np.array_equal(prev.predictor[0], cand):
-                # tangent predictor: lambda_n + (d lambda*/d y_free) (y_free(t) - y_free(t_n))
-                dyf = (ctx.yf - fc.y_free(prev.t)[cand]).ravel()
-                lam0 = np.concatenate([ctx.lamN[:, None], ctx.lamT], axis=1) + (prev.predictor[1] @ dyf).reshape(c, d)
-                if np.all(np.isfinite(lam0)):
-                    ctx.lamN, ctx.lamT = _admissible(ctx, lam0)
-            out = step_fn(ctx, pen_name)
-            outer += out.outer
-            newton += out.newton
-            if not out.ok:
-                return None, out, outer, newton
-            u = fc.displacement(t, out.R)
-            y_all = fc.all_local(u)
-        outside = np.ones(fc.points.shape[0], bool)
-        outside[cand] = False
-        add = fc.add(np.flatnonzero(outside & (y_all[:, 0] > opts.tol_penetration * fc.h)))
-        if add.size:
-            logger.info("t=%g: adding %d contact candidates that penetrate", t, add.size)
-            continue
-        m = fc.points.shape[0]
-        tN = np.zeros(m)
-        tT = np.zeros((m, d - 1))
-        R = np.zeros((m, d))
-        tN[cand], tT[cand], R[cand] = out.t[:, 0], out.t[:, 1:], out.R
-        if fc.spring is not None:  # held by the obstacle: accept only a step in equilibrium
-            R_phys = np.zeros((m, d))
-            R_phys[cand] = fc.weights[cand, None] * out.t
-            defect = fc.equilibrium_defect(t, u, R_phys)
-            if not defect <= _EQUILIBRIUM_TOL:
-                return None, _StepOut(False, f"no equilibrium found (relative residual {defect:.2e}): the obstacle "
-                                             "and friction do not hold the body there", prev.R, prev.R, outer,
-                                      newton, ContactStatus.NEWTON_FAILED), outer, newton
-        pred = (cand.copy(), out.predictor) if out.predictor is not None else None
-        return (u, y_all, tN, tT, R, pred), out, outer, newton
-    return None, _StepOut(False, "candidate set did not settle", prev.R, prev.R, 0, 0, ContactStatus.MAXITER), \
-        outer, newton
+        newton = 0
+        ctx = _Ctx(fc, fc.y_free(t)[cand], fc.weights[cand], fc.A.reshape(c, d, c, d), prev.tN[cand].copy(),
+                   prev.tT[cand].copy(), prev.y[cand, 1:].copy(), prev.R[cand].copy(), eps_n, eps_t, mu, opts,
+                   fc.tfree[cand])
+        if fc.spring is not None:  # held by the obstacle only
+            closed = prev.tN[cand] > 0
+            if np.any(closed):  # start sticking (FrictionalContact.frozen_start)
+                R0 = fc.frozen_start(prev.t, t, ctx.R0, closed)
+                ctx.R0 = ctx.R0 if R0 is None else R0
+            elif step_fn is not _step_ssn:
+                # first contact: with zero multipliers the Coulomb discs of the AL subproblem have radius 0
+                # and nothing holds the tangential rigid motion; start from the semi-smooth Newton solution
+                # of the same discrete problem (a predictor: the AL stopping test decides)
+                pre = _step_ssn(ctx)
+                newton += pre.newton
+                if pre.ok:
+                    ctx.R0, ctx.lamN, ctx.lamT = pre.R, pre.t[:, 0].copy(), pre.t[:, 1:].copy()
+        if prev.predictor is not None and np.array_equal(prev.predictor[0], cand):
+            # tangent predictor: lambda_n + (d lambda*/d y_free) (y_free(t) - y_free(t_n))
+            dyf = (ctx.yf - fc.y_free(prev.t)[cand]).ravel()
+            lam0 = np.concatenate([ctx.lamN[:, None], ctx.lamT], axis=1) + (prev.predictor[1] @ dyf).reshape(c, d)
+            if np.all(np.isfinite(lam0)):
+                ctx.lamN, ctx.lamT = _admissible(ctx, lam0)
+        return ctx, newton
+
+    def without_candidates(self, fc, t):
+        d = fc.dim
+        return _StepOut(True, "no candidate points", np.zeros((0, d)), np.zeros((0, d)), 0, 0), fc.u_free(t)
+
+    def displacement(self, fc, t, out):
+        return fc.displacement(t, out.R)
+
+
+#: The direct path's step (:meth:`_StepPath.advance` of :class:`_CondensedPath`).
+_advance = _CondensedPath().advance
 
 
 def solve_friction(problem, history: LoadHistory | None, algorithm: str = "simo-laursen", penalty: str | None = None,

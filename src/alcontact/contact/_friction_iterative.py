@@ -21,10 +21,13 @@ of :func:`~alcontact.contact._friction_laws.local_law` at the multipliers
 :math:`(\lambda_N, \lambda_T)` (the same function as the condensed path). It is
 :math:`K u = f + P^T E R` of the condensed path written in :math:`x` (the force on
 the body is :math:`E_i R_i = -B_i^T R_i`), so both paths solve the same discrete
-problem; the outer iterations, the multiplier updates (6.2b)/(6.2c) (family-P:
-:math:`\lambda_N \leftarrow p'(g/\eta, \lambda_N)`), the stopping test
-(:func:`~alcontact.contact._friction._measures`), the step control, cut-backs and
-statuses are those of :mod:`alcontact.contact._friction`.
+problem. The outer iterations, the multiplier updates (6.2b)/(6.2c) (family-P:
+:math:`\lambda_N \leftarrow p'(g/\eta, \lambda_N)`) and the stopping test
+(:func:`~alcontact.contact._friction._measures`) are the one AL loop
+:func:`~alcontact.contact._friction._step_al`, here on the system :class:`_FullCtx`
+(unknowns :math:`x`); the load step (:class:`~alcontact.contact._friction._StepPath`:
+candidates, equilibrium of a held body), step control, cut-backs and statuses are
+those of :mod:`alcontact.contact._friction` too.
 
 Each subproblem is solved by the one Newton driver of the contact algorithms
 (:func:`~alcontact.contact._newton.newton`, system :class:`_FullSpaceFriction`), as the
@@ -41,9 +44,10 @@ smoothed-aggregation hierarchy of the symmetric positive semi-definite part of
 eigenvalues dropped) plus the contact springs below, with the rigid-body modes as
 near-null space.
 
-The multiplier update is first order on this path (``multiplier_update="newton"``
-needs the dense sensitivity of the condensed subproblem, :math:`c d \times c d`
-with one solve per column): the fixed point, hence the solution, is the same.
+The multiplier update is first order on this path, a declared property of its system
+(:attr:`_FullCtx.second_order` is false: ``multiplier_update="newton"`` needs the dense
+sensitivity of the condensed subproblem, :math:`c d \times c d` with one solve per
+column): the fixed point, hence the solution, is the same.
 
 Body held by the obstacle. When the supports leave rigid motions free, springs
 :math:`\kappa = E'/h` on all free components of the contact points touching the
@@ -68,21 +72,19 @@ from __future__ import annotations
 import logging
 import time
 from dataclasses import dataclass
+from typing import ClassVar
 
 import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.linalg import cg, gmres
 
-from .. import penalties as _pen
 from ..errors import InputError
-from ._friction import _EQUILIBRIUM_TOL, _advance, _measures, _Point, _step_ssn, _StepOut
+from ._friction import _CondensedPath, _Point, _step_ssn, _StepOut, _StepPath
 from ._friction_discrete import FrictionalContact
 from ._friction_laws import local_law, tangential_energy
 from ._iterative import _FORCING_MAX, _FORCING_MIN, _FORCING_SLOW, _FORCING_START, _NEWTON_TOL_FLOOR, \
     _REBUILD_FACTOR, _Preconditioner, free_rigid_motions, springs_hold
-from ._laws import eta_for_stiffness, freezes_at_zero, make_law
-from ._newton import LineSearch, NewtonResult, NewtonSettings, NewtonSystem, inner_failure, newton
-from ._solution import ContactStatus
+from ._newton import LineSearch, NewtonResult, NewtonSettings, NewtonSystem, newton
 
 __all__ = ["IterativeFrictionalContact", "advance"]
 
@@ -326,6 +328,11 @@ class _FullCtx:
     opts: object
     tfree: np.ndarray
 
+    label: ClassVar[str] = "friction AL (AMG)"
+    #: first-order multiplier updates (6.2b)/(6.2c) only: the second-order update needs the dense
+    #: sensitivity of the condensed subproblem (c d x c d, one solve per column); same fixed point
+    second_order: ClassVar[bool] = False
+
     @property
     def c(self):
         return self.yfix.shape[0]
@@ -336,6 +343,32 @@ class _FullCtx:
 
     def y(self, x):
         return self.yfix + (self.Bc @ x).reshape(self.yfix.shape)
+
+    # the _friction._ALSystem of the free displacements x
+    @property
+    def start(self):
+        return self.x0.copy()
+
+    def subproblem(self, law, lamN, lamT, x, coupled: bool = False) -> NewtonResult:
+        """Subproblem (6.2a) by :func:`friction_newton` (``coupled`` is never asked: first-order updates)."""
+        return friction_newton(self, law, lamN, lamT, x, tol=self.opts.newton_tol, maxiter=self.opts.maxiter_newton)
+
+    def iterate(self, out):
+        return out.x
+
+    def inside_domain(self, law, lamN, x):
+        """Start for barrier-type penalties: scale the contact part ``x - x_free`` up until every gap is inside."""
+        bound = law.gap_bound(lamN)
+        s = 0.5
+        while np.any(self.y(x)[:, 0] >= 0.99 * bound) and s < 1e6:
+            trial = self.x_free + (1.0 + s) * (x - self.x_free)
+            if not np.any(self.y(trial)[:, 0] >= 0.99 * bound):
+                return trial
+            s *= 2
+        return x
+
+    def forces(self, x, t):
+        return self.w[:, None] * t
 
 
 class _FullSpaceFriction(NewtonSystem):
@@ -484,137 +517,44 @@ def _held_rigid_motions(fc: IterativeFrictionalContact, J, Bc, WD):
     return LinearOperator(J.shape, matvec=lambda v: J @ v + SZ @ (SZ.T @ v), dtype=float)
 
 
-def _inside_domain(ctx: _FullCtx, law, lamN, x):
-    """Start for barrier-type penalties: scale the contact part ``x - x_free`` up until every gap is inside."""
-    bound = law.gap_bound(lamN)
-    s = 0.5
-    while np.any(ctx.y(x)[:, 0] >= 0.99 * bound) and s < 1e6:
-        trial = ctx.x_free + (1.0 + s) * (x - ctx.x_free)
-        if not np.any(ctx.y(trial)[:, 0] >= 0.99 * bound):
-            return trial
-        s *= 2
-    return x
-
-
-def _step_al(ctx: _FullCtx, penalty_name: str):
-    """Algorithms 6.2 / 6.4 for one load step in the full space (first-order multiplier updates).
-
-    Line by line :func:`alcontact.contact._friction._step_al` with the displacement as
-    state. Returns ``(_StepOut, x)``.
-    """
-    opts = ctx.opts
-    lamN, lamT = ctx.lamN.copy(), ctx.lamT.copy()
-    x = ctx.x0.copy()
-    newton = 0
-    macaulay = make_law(_pen.make("rockafellar"), np.full(ctx.c, 1.0 / ctx.eps_n))
-    pen = _pen.make(penalty_name)
-    family_p = freezes_at_zero(pen)
-    nt = dict(tol=opts.newton_tol, maxiter=opts.maxiter_newton)
-    if family_p:  # predictor: one Simo-Laursen subproblem gives multipliers for points entering contact
-        out = friction_newton(ctx, macaulay, lamN, lamT, x, **nt)
-        newton += out.iterations
-        if out.converged:
-            x = out.x
-            lamN = out.state.aux[1][:, 0].copy()
-        pref = max(float(np.max(lamN, initial=0.0)), ctx.eps_n * ctx.fc.h * 1e-6)
-        lamN = np.maximum(lamN, opts.multiplier_floor * pref)
-        eta = eta_for_stiffness(pen, np.maximum(lamN, opts.eta_floor * pref), ctx.eps_n)
-        law = make_law(pen, eta)
-        x = _inside_domain(ctx, law, lamN, x)
-    else:
-        law = macaulay
-    t = np.zeros((ctx.c, ctx.d))
-    for k in range(1, opts.maxiter + 1):
-        out = friction_newton(ctx, law, lamN, lamT, x, **nt)
-        newton += out.iterations
-        if not out.converged:
-            t = out.state.aux[1]
-            return _StepOut(False, f"Newton failed in outer iteration {k}: {out.message}", ctx.w[:, None] * t, t,
-                            k, newton, inner_failure(out)), x
-        x = out.x
-        y, t, _, st = out.state.aux
-        if not np.all(np.isfinite(t)):
-            return _StepOut(False, f"non-finite tractions in outer iteration {k}", t, t, k, newton,
-                            ContactStatus.NONFINITE), x
-        pen_k, compl, dlam, stick_slip = _measures(ctx, t, y, st, lamN, lamT)
-        logger.debug("friction AL (AMG) outer %d: pen=%.2e compl=%.2e dlam=%.2e stick-slip=%.2e newton=%d",
-                     k, pen_k, compl, dlam, stick_slip, out.iterations)
-        if (pen_k <= opts.tol_penetration and compl <= opts.tol_complementarity and dlam <= opts.tol_multiplier
-                and stick_slip <= opts.tol_slip):
-            return _StepOut(True, "converged", ctx.w[:, None] * t, t, k, newton), x
-        # multiplier updates (6.2b)/(6.2c), resp. lambda_N <- p'(g/eta, lambda_N)
-        lamN, lamT = t[:, 0].copy(), t[:, 1:].copy()
-        if family_p:
-            pref = max(float(np.max(lamN, initial=0.0)), 1e-300)
-            lamN = np.maximum(lamN, opts.multiplier_floor * pref)
-            if opts.eta_scaling == "adaptive":
-                eta_new = eta_for_stiffness(pen, np.maximum(lamN, opts.eta_floor * pref), ctx.eps_n)
-                bnd = eta_new * np.asarray(pen.domain_upper(lamN), dtype=float)
-                eta = np.where(y[:, 0] < 0.99 * bnd, eta_new, eta)
-                law = make_law(pen, eta)
-    return _StepOut(False, f"maximum outer iterations ({opts.maxiter}) reached", ctx.w[:, None] * t, t,
-                    opts.maxiter, newton, ContactStatus.MAXITER), x
-
-
-def _advance_full(fc: IterativeFrictionalContact, prev, t: float, step_fn, pen_name, eps_n, eps_t, mu, opts):
-    """One step from ``prev`` to ``t`` in the full space; the contract of :func:`_friction._advance`.
+class _FullSpacePath(_StepPath):
+    """The AMG path's AL step: the loop of :func:`~alcontact.contact._friction._step_al` on :class:`_FullCtx`.
 
     Every step starts from the previous converged displacement (all closed points
-    sticking, as :meth:`FrictionalContact.frozen_start` on the direct path).
+    sticking, as :meth:`FrictionalContact.frozen_start` on the direct path), or from the
+    last attempt's when candidates were added.
     """
-    outer = newton = 0
-    d = fc.dim
-    x_prev = prev.u[fc.free]
-    for _attempt in range(8):
+
+    def context(self, fc: IterativeFrictionalContact, prev, t, last, step_fn, eps_n, eps_t, mu, opts):
         cand = fc.cand
-        c = cand.size
-        if c == 0:
-            x = fc.u_free(t)[fc.free]
-            out = _StepOut(True, "no candidate points", np.zeros((0, d)), np.zeros((0, d)), 0, 0)
-        else:
-            ctx = _FullCtx(fc, fc.rows(cand), fc.y_fix(t)[cand], fc.load(t), fc.weights[cand],
-                           prev.tN[cand].copy(), prev.tT[cand].copy(), prev.y[cand, 1:].copy(), x_prev,
-                           fc.u_free(t)[fc.free], eps_n, eps_t, mu, opts, fc.tfree[cand])
-            out, x = _step_al(ctx, pen_name)
-            outer += out.outer
-            newton += out.newton
-            if not out.ok:
-                return None, out, outer, newton
-        u = fc.expand_at(t, x)
-        y_all = fc.all_local(u)
-        outside = np.ones(fc.points.shape[0], bool)
-        outside[cand] = False
-        add = fc.add(np.flatnonzero(outside & (y_all[:, 0] > opts.tol_penetration * fc.h)))
-        if add.size:
-            logger.info("t=%g: adding %d contact candidates that penetrate", t, add.size)
-            x_prev = x
-            continue
-        m = fc.points.shape[0]
-        tN = np.zeros(m)
-        tT = np.zeros((m, d - 1))
-        R = np.zeros((m, d))
-        tN[cand], tT[cand], R[cand] = out.t[:, 0], out.t[:, 1:], out.R
-        if fc.spring is not None:  # held by the obstacle: accept only a step in equilibrium
-            defect = fc.equilibrium_defect(t, u, R)
-            if not defect <= _EQUILIBRIUM_TOL:
-                return None, _StepOut(False, f"no equilibrium found (relative residual {defect:.2e}): the obstacle "
-                                             "and friction do not hold the body there", prev.R, prev.R, outer,
-                                      newton, ContactStatus.NEWTON_FAILED), outer, newton
-        return (u, y_all, tN, tT, R, None), out, outer, newton
-    return None, _StepOut(False, "candidate set did not settle", prev.R, prev.R, 0, 0, ContactStatus.MAXITER), \
-        outer, newton
+        x0 = prev.u[fc.free] if last is None else last.z
+        return _FullCtx(fc, fc.rows(cand), fc.y_fix(t)[cand], fc.load(t), fc.weights[cand], prev.tN[cand].copy(),
+                        prev.tT[cand].copy(), prev.y[cand, 1:].copy(), x0, fc.u_free(t)[fc.free], eps_n, eps_t,
+                        mu, opts, fc.tfree[cand]), 0
+
+    def without_candidates(self, fc, t):
+        d = fc.dim
+        x = fc.u_free(t)[fc.free]
+        return _StepOut(True, "no candidate points", np.zeros((0, d)), np.zeros((0, d)), 0, 0, z=x), \
+            fc.expand_at(t, x)
+
+    def displacement(self, fc, t, out):
+        return fc.expand_at(t, out.z)
 
 
-def _advance_condensed(fc: IterativeFrictionalContact, prev, t, step_fn, pen_name, eps_n, eps_t, mu, opts):
+class _CondensedOnAMG(_CondensedPath):
     """The semi-smooth Newton reference: the direct path's step on the compliance built by AMG-CG solves."""
-    fc.condense()
-    return _advance(fc, prev, t, step_fn, pen_name, eps_n, eps_t, mu, opts)
+
+    def advance(self, fc: IterativeFrictionalContact, prev, t, step_fn, pen_name, eps_n, eps_t, mu, opts):
+        fc.condense()
+        return super().advance(fc, prev, t, step_fn, pen_name, eps_n, eps_t, mu, opts)
 
 
-#: Step of each frictional step function on this path (default: the full-space AL step).
-_STEP_PATHS = {_step_ssn: _advance_condensed}
+#: Path of each frictional step function on the AMG path (default: the full-space AL step).
+_STEP_PATHS = {_step_ssn: _CondensedOnAMG()}
+_FULL_SPACE = _FullSpacePath()
 
 
 def advance(fc: IterativeFrictionalContact, prev, t: float, step_fn, pen_name, eps_n, eps_t, mu, opts):
-    """One load step on the AMG path (the contract of :func:`alcontact.contact._friction._advance`)."""
-    return _STEP_PATHS.get(step_fn, _advance_full)(fc, prev, t, step_fn, pen_name, eps_n, eps_t, mu, opts)
+    """One load step on the AMG path (the contract of :meth:`alcontact.contact._friction._StepPath.advance`)."""
+    return _STEP_PATHS.get(step_fn, _FULL_SPACE).advance(fc, prev, t, step_fn, pen_name, eps_n, eps_t, mu, opts)
