@@ -120,6 +120,15 @@ def _rank(a: np.ndarray) -> int:
     return int(np.sum(s > 1e-9 * s[0])) if s[0] > 0 else 0
 
 
+def describe_motions(null: np.ndarray, names: list[str]) -> str:
+    """The free rigid motions ``null`` (rows: coefficients of the modes ``names``) in words."""
+    out = []
+    for vec in null:
+        vec = vec / np.max(np.abs(vec))
+        out.append(" + ".join(names[i] for i in np.flatnonzero(np.abs(vec) > 1e-6)))
+    return "; ".join(out)
+
+
 def _rref(a: np.ndarray, tol: float = 1e-9) -> np.ndarray:
     """Reduced row echelon form of a small full-row-rank matrix (for readable messages)."""
     a = np.array(a, dtype=float)
@@ -632,6 +641,32 @@ class LinearElasticity:
         uniq, idx = np.unique(dofs_all[::-1], return_index=True)
         return uniq, vals_all[::-1][idx]
 
+    def free_rigid_motions(self, dirichlet_dofs) -> tuple[np.ndarray, list[str], np.ndarray, np.ndarray]:
+        """Rigid motions the fixed DOFs leave free: ``(null, names, R, row_of)``.
+
+        ``null`` ``(k, n_modes)``: coefficient vectors of the free motions in the basis of
+        :func:`rigid_body_modes` (named ``names``), in echelon form (each free motion led
+        by one named mode; ``k = 0`` when the supports stop every rigid motion); ``R``
+        ``(n_scalar dim, n_modes)`` the modes at every DOF, row ``row_of[dof]`` for a
+        vector DOF.
+        """
+        fixed = np.unique(np.asarray(dirichlet_dofs, dtype=np.int64).ravel())
+        pts, _ = self.all_node_dofs()
+        modes, names = rigid_body_modes(pts)
+        R = modes.reshape(-1, modes.shape[-1])  # (n_scalar*dim, n_modes), row = scalar*dim + c
+        # map vector DOF -> row of R
+        row_of = np.empty(self.ndofs, dtype=np.int64)
+        row_of[self.dof_map.ravel()] = np.arange(self.dof_map.size)
+        nm = R.shape[1]
+        Rf = R[row_of[fixed]]
+        if Rf.shape[0] < nm:  # pad so that the thin SVD returns all nm singular values
+            Rf = np.vstack([Rf, np.zeros((nm - Rf.shape[0], nm))])
+        _, s, vt = np.linalg.svd(Rf, full_matrices=False)
+        null = vt[s <= 1e-9 * s[0]] if s[0] > 0 else vt
+        if null.shape[0]:
+            null = _rref(null)  # echelon form: each free motion led by one named mode
+        return null, names, R, row_of
+
     def check_restrained(self, dirichlet_dofs, *, path: str | None = None, alternative: str | None = None,
                          contact: str | None = None) -> None:
         """Raise :class:`InputError` if the fixed DOFs leave a rigid-body motion free.
@@ -658,28 +693,10 @@ class LinearElasticity:
             ``Support(boundary, components=[c])`` (Python) and as ``[[support]]``
             (problem file).
         """
-        fixed = np.unique(np.asarray(dirichlet_dofs, dtype=np.int64).ravel())
-        pts, _ = self.all_node_dofs()
-        modes, names = rigid_body_modes(pts)
-        R = modes.reshape(-1, modes.shape[-1])  # (n_scalar*dim, n_modes), row = scalar*dim + c
-        # map vector DOF -> row of R
-        row_of = np.empty(self.ndofs, dtype=np.int64)
-        row_of[self.dof_map.ravel()] = np.arange(self.dof_map.size)
-        nm = R.shape[1]
-        Rf = R[row_of[fixed]]
-        if Rf.shape[0] < nm:  # pad so that the thin SVD returns all nm singular values
-            Rf = np.vstack([Rf, np.zeros((nm - Rf.shape[0], nm))])
-        _, s, vt = np.linalg.svd(Rf, full_matrices=False)
-        null = vt[s <= 1e-9 * s[0]] if s[0] > 0 else vt
+        null, names, R, row_of = self.free_rigid_motions(dirichlet_dofs)
         if null.shape[0] == 0:
             return
-        null = _rref(null)  # echelon form: each free motion led by one named mode
-        free_motions = []
-        for vec in null:
-            vec = vec / np.max(np.abs(vec))
-            parts = [names[i] for i in np.flatnonzero(np.abs(vec) > 1e-6)]
-            free_motions.append(" + ".join(parts))
-        free = "; ".join(free_motions)
+        free = describe_motions(null, names)
         hint = self._support_hint(null, R, row_of, contact)
         if path is None:
             msg = (f"the stiffness matrix is singular with these supports: rigid-body motion(s) not stopped: "

@@ -72,7 +72,6 @@ _T_DIRECT_3D = 6e-9  # s * n^2
 _T_AMG = 2e-4  # s per DOF
 _LOCAL = {(2, 1): 6, (2, 2): 12, (3, 1): 12, (3, 2): 30}  # DOFs per element
 _QUAD = {(2, 1): 3, (2, 2): 6, (3, 1): 4, (3, 2): 11}  # quadrature points per element of the stiffness
-_AXES = "xyz"
 
 
 # --------------------------------------------------------------------------- size
@@ -376,61 +375,6 @@ def size_issues(est: SizeEstimate | None, memory: float | None = None) -> list[I
 
 
 # --------------------------------------------------------------------------- rigidity
-def _free_motions(model, fixed: np.ndarray):
-    """Rigid motions the fixed DOFs leave free: ``(null, names, R, row_of)``.
-
-    ``null`` (k, n_modes): coefficient vectors of the free motions in the basis of
-    :func:`~alcontact.fem.elasticity.rigid_body_modes`; ``R`` the modes at every DOF.
-    """
-    from ..fem.elasticity import _rref, rigid_body_modes
-
-    pts, dmap = model.all_node_dofs()
-    modes, names = rigid_body_modes(pts)
-    R = modes.reshape(-1, modes.shape[-1])
-    row_of = np.empty(model.ndofs, dtype=np.int64)
-    row_of[dmap.ravel()] = np.arange(dmap.size)
-    nm = R.shape[1]
-    Rf = R[row_of[np.unique(fixed)]]
-    if Rf.shape[0] < nm:
-        Rf = np.vstack([Rf, np.zeros((nm - Rf.shape[0], nm))])
-    _, s, vt = np.linalg.svd(Rf, full_matrices=False)
-    null = vt[s <= 1e-9 * s[0]] if s[0] > 0 else vt
-    if null.shape[0]:
-        null = _rref(null)
-    return null, names, R, row_of
-
-
-def _motion_names(null: np.ndarray, names: list[str]) -> str:
-    out = []
-    for vec in null:
-        vec = vec / np.max(np.abs(vec))
-        out.append(" + ".join(names[i] for i in np.flatnonzero(np.abs(vec) > 1e-6)))
-    return "; ".join(out)
-
-
-def _rank(a: np.ndarray) -> int:
-    if a.size == 0:
-        return 0
-    s = np.linalg.svd(a, compute_uv=False)
-    return int(np.sum(s > 1e-9 * s[0])) if s[0] > 0 else 0
-
-
-def _suggest_support(model, null, R, row_of, contact: str) -> str:
-    """A ``[[support]]`` (boundary and component) that stops the most free motions."""
-    best = None
-    names = sorted(model.boundary_names, key=lambda b: (b == contact, b))
-    for b in names:
-        _, dofs = model.node_dofs(b)
-        for c in range(model.dim):
-            r = _rank(R[row_of[dofs[:, c]]] @ null.T)
-            if best is None or r > best[0]:
-                best = (r, b, c)
-    if best is None or best[0] == 0:
-        return "add supports so that every rigid motion is stopped"
-    _, b, c = best
-    return f"add [[support]] boundary = {b!r}, components = [{c}] (fixes {_AXES[c]} on {b!r})"
-
-
 def _contact_points_restrain(setup, fixed: np.ndarray, null: np.ndarray, R, row_of, *,
                              all_components: bool = False) -> tuple[bool, str]:
     """Whether the contact points touching the obstacle stop the free motions (as ``_stabilize`` does).
@@ -450,6 +394,7 @@ def _contact_points_restrain(setup, fixed: np.ndarray, null: np.ndarray, R, row_
     if not np.any(movable):
         return False, "no contact point can move toward the obstacle"
     from ..contact._discrete import _element_size
+    from ..fem.elasticity import _rank
 
     h = _element_size(model, prob.contact_boundary, prob.obstacle)
     g0 = np.where(movable, gap0, -np.inf)
@@ -468,6 +413,7 @@ def _contact_points_restrain(setup, fixed: np.ndarray, null: np.ndarray, R, row_
 
 def _rigidity_issues(setup) -> list[Issue]:
     from ..contact._problem import Support
+    from ..fem.elasticity import describe_motions
 
     prob = setup.problem
     model = prob.model
@@ -476,22 +422,18 @@ def _rigidity_issues(setup) -> list[Issue]:
         extra = [model.dirichlet(c.item.boundary, None if c.item.components is None else list(c.item.components),
                                  c.item.value)[0] for c in setup.history.cases if isinstance(c.item, Support)]
         fixed = np.unique(np.concatenate([fixed, *extra])) if extra else fixed
-    null, names, R, row_of = _free_motions(model, fixed)
+    null, names, R, row_of = model.free_rigid_motions(fixed)
     if null.shape[0] == 0:
         return []
-    free = _motion_names(null, names)
-    fix = _suggest_support(model, null, R, row_of, prob.contact_boundary)
-    if setup.friction > 0:  # normal contact and friction may hold the body (both solver paths)
-        ok, why = _contact_points_restrain(setup, fixed, null, R, row_of, all_components=True)
-        if ok:
-            return []
-        return [Issue("support", f"rigid-body motion(s) not stopped by the supports: {free}, and {why}: nothing "
-                                 f"holds the body. {fix[0].upper()}{fix[1:]}, or move the obstacle into contact.")]
-    ok, why = _contact_points_restrain(setup, fixed, null, R, row_of)
+    free = describe_motions(null, names)
+    # normal contact (and with friction, the tangential springs of the pressed points) may hold the body (both
+    # solver paths)
+    ok, why = _contact_points_restrain(setup, fixed, null, R, row_of, all_components=setup.friction > 0)
     if ok:
         return []
+    fix = model._support_hint(null, R, row_of, prob.contact_boundary)  # the way out of the solver's own message
     return [Issue("support", f"rigid-body motion(s) not stopped by the supports: {free}, and {why}: nothing "
-                             f"holds the body. {fix[0].upper()}{fix[1:]}, or move the obstacle into contact.")]
+                             f"holds the body. {fix}, or move the obstacle into contact.")]
 
 
 # --------------------------------------------------------------------------- supports, ranges
