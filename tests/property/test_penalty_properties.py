@@ -11,38 +11,18 @@ from __future__ import annotations
 import contextlib
 import math
 from collections.abc import Iterator
-from dataclasses import dataclass
-from typing import ClassVar
 
 import numpy as np
 import pytest
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
+from _helpers import Softplus
 from alcontact import penalties as P
 
 SETTINGS = settings(max_examples=60, deadline=None, derandomize=True)
 MU = st.floats(0.05, 20.0)
 U = st.floats(1e-4, 30.0)  # distance into the domain, in units of max(1, |b|)
-
-
-@dataclass(frozen=True)
-class _Softplus(P.PenaltyBase):
-    """User penalty 2 mu (log(1 + e^y) - log 2): (P1),(P2),(P3),(P5), bounded p'."""
-
-    name: str = "user-softplus"
-    doc: str = "user softplus penalty"
-    properties: ClassVar[frozenset[str]] = frozenset({"P1", "P2", "P3", "P5"})
-
-    def _p(self, y, mu):
-        return 2.0 * mu * (np.logaddexp(0.0, y) - math.log(2.0))
-
-    def _dp(self, y, mu):
-        return 2.0 * mu / (1.0 + np.exp(-y))
-
-    def _d2p(self, y, mu):
-        s = 1.0 / (1.0 + np.exp(-y))
-        return 2.0 * mu * s * (1.0 - s)
 
 
 def _frac() -> P.Theta:
@@ -61,7 +41,7 @@ def registered(name: str) -> Iterator[None]:
         yield
         return
     P.register_theta("frac", _frac())
-    P.register("user-softplus", _Softplus, doc="user softplus penalty")
+    P.register("user-softplus", Softplus, doc="user softplus penalty")
     try:
         yield
     finally:

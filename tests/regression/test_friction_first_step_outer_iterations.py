@@ -17,6 +17,7 @@ afterwards: 2x as well, with the same solution.
 import numpy as np
 import pytest
 
+from _helpers import assert_same_friction_steps
 from alcontact.contact import _friction, solve_friction
 from alcontact.problems import friction as fp
 
@@ -34,12 +35,8 @@ def mindlin():
 
 
 def _same_solution(sol, ref):
-    assert len(sol.steps) == len(ref.steps)
-    for s, r in zip(sol.steps, ref.steps):
-        pref = float(np.max(r.pressure))
-        assert np.max(np.abs(s.pressure - r.pressure)) <= TRACTION_TOL * pref
-        assert np.max(np.abs(s.traction_t - r.traction_t)) <= TRACTION_TOL * pref
-        assert np.array_equal(s.state, r.state)
+    """Same steps, tractions within TRACTION_TOL of the largest pressure, same open / stick / slip zones."""
+    assert_same_friction_steps(sol, ref, TRACTION_TOL)
 
 
 @pytest.mark.parametrize("alg,pen", [("simo-laursen", None), ("family-p", "exp-met1"), ("family-p", "log-met1")])

@@ -9,6 +9,7 @@ start and one that confirms the fixed point, so the bound is 2 per step.
 import numpy as np
 import pytest
 
+from _helpers import assert_same_friction_steps
 from alcontact.contact import solve_friction
 from alcontact.problems import friction as fp
 
@@ -22,12 +23,8 @@ TRACTION_TOL = 1e-7
 
 
 def _same_solution(sol, ref):
-    assert len(sol.steps) == len(ref.steps)
-    for s, r in zip(sol.steps, ref.steps):
-        pref = float(np.max(r.pressure))
-        assert np.max(np.abs(s.pressure - r.pressure)) <= TRACTION_TOL * pref
-        assert np.max(np.abs(s.traction_t - r.traction_t)) <= TRACTION_TOL * pref
-        assert np.array_equal(s.state, r.state)  # same open / stick / slip zones
+    """Same steps, tractions within TRACTION_TOL of the largest pressure, same open / stick / slip zones."""
+    assert_same_friction_steps(sol, ref, TRACTION_TOL)
 
 
 @pytest.fixture(scope="module")

@@ -17,6 +17,7 @@ import math
 import numpy as np
 import pytest
 
+from _helpers import sq, sq_grad
 from alcontact import errors
 from alcontact._options import declarations
 from alcontact.contact import ContactOptions, Support, solve
@@ -162,14 +163,6 @@ def test_bad_call_is_a_project_error(label, call, words, contact_problem, fricti
         assert w in str(info.value), (w, str(info.value))
 
 
-def _sq(x):
-    return float(x @ x)
-
-
-def _sq_grad(x):
-    return 2 * x
-
-
 MINIMIZE_BAD_OPTIONS = [
     ({"maxiter": "10"}, "maxiter"), ({"maxiter": True}, "maxiter"), ({"maxiter": 0}, "maxiter"),
     ({"maxiter": 2.5}, "maxiter"), ({"maxiter_inner": None}, "maxiter_inner"),
@@ -194,13 +187,13 @@ def test_minimize_bad_options(options, key):
     """``optim.minimize`` rejects each bad option with a project error naming the option."""
     cons = [{"type": "ineq", "fun": lambda x: 1.0 - x[0], "jac": lambda x: np.array([-1.0, 0.0])}]
     with pytest.raises(PROJECT_ERRORS) as info:
-        minimize(_sq, np.array([2.0, 1.0]), jac=_sq_grad, constraints=cons, options=options)
+        minimize(sq, np.array([2.0, 1.0]), jac=sq_grad, constraints=cons, options=options)
     assert key in str(info.value), str(info.value)
 
 
 def test_minimize_options_not_a_dict():
     with pytest.raises(errors.InputError, match="options must be a dict"):
-        minimize(_sq, np.array([1.0]), jac=_sq_grad, options=[("maxiter", 3)])
+        minimize(sq, np.array([1.0]), jac=sq_grad, options=[("maxiter", 3)])
 
 
 MESH_BAD_CALLS = [

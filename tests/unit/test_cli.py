@@ -5,20 +5,13 @@ from __future__ import annotations
 import json
 
 import pytest
-from typer.testing import CliRunner
 
+from _helpers import flat, runner
 from alcontact.cli import app, main
 from alcontact.io import POINT_FIELDS, SUMMARY_KEYS
 from alcontact.runner import RESULT_FILES
 
 # wide console: rich would otherwise wrap long paths in messages
-runner = CliRunner(env={"COLUMNS": "400", "NO_COLOR": "1"})
-
-
-def _flat(text: str) -> str:
-    return " ".join(text.split())
-
-
 @pytest.fixture(scope="module")
 def first_run(tmp_path_factory):
     out = tmp_path_factory.mktemp("cli") / "results"
@@ -67,7 +60,7 @@ def test_existing_folder_needs_force(first_run):
     result = runner.invoke(app, ["run", "--out", str(out), "--level", "0"])
     assert result.exit_code == 2
     assert result.exception is None or isinstance(result.exception, SystemExit)
-    msg = _flat(result.stderr)
+    msg = flat(result.stderr)
     assert str(out) in msg and "--force" in msg and "Traceback" not in result.output
     after = {p.name: (p.read_bytes(), p.stat().st_mtime_ns) for p in out.iterdir()}
     assert after == before
@@ -86,7 +79,7 @@ def test_non_convergence_exits_1_with_advice(tmp_path):
     out = tmp_path / "res"
     result = runner.invoke(app, ["run", "--out", str(out), "--level", "0", "--maxiter", "1", "--quiet"])
     assert result.exit_code == 1
-    msg = _flat(result.stderr)
+    msg = flat(result.stderr)
     assert "not converged (maxiter)" in msg and "what to try" in msg
     assert json.loads((out / "summary.json").read_text())["status"] == "maxiter"
 
@@ -105,7 +98,7 @@ def test_bad_input_exits_2_without_traceback(tmp_path, args, text):
     out = tmp_path / "res"
     result = runner.invoke(app, ["run", "--out", str(out), *args])
     assert result.exit_code == 2
-    assert text in _flat(result.stderr) and "Traceback" not in result.output
+    assert text in flat(result.stderr) and "Traceback" not in result.output
     assert not out.exists()  # checked before anything is written
 
 
@@ -172,7 +165,7 @@ def test_run_problem_file_with_load_steps_writes_series_and_report(tmp_path):
     assert "![Contact pressure](pressure.png)" in (out / "report.md").read_text()
     # the results folder is not overwritten without --force
     again = runner.invoke(app, ["run", str(EXAMPLES / "sliding_block.toml"), "--out", str(out)])
-    assert again.exit_code == 2 and "--force" in _flat(again.stderr)
+    assert again.exit_code == 2 and "--force" in flat(again.stderr)
 
 
 def test_run_problem_file_uses_output_folder_and_quiet(tmp_path, monkeypatch):
@@ -187,7 +180,7 @@ def test_run_problem_file_uses_output_folder_and_quiet(tmp_path, monkeypatch):
 
 def test_run_problem_file_rejects_builtin_options(tmp_path):
     result = runner.invoke(app, ["run", str(EXAMPLES / "hertz_2d.toml"), "--level", "2", "--out", str(tmp_path / "r")])
-    assert result.exit_code == 2 and "built-in problem" in _flat(result.stderr)
+    assert result.exit_code == 2 and "built-in problem" in flat(result.stderr)
 
 
 def test_check_ok_and_errors(tmp_path):
@@ -197,7 +190,7 @@ def test_check_ok_and_errors(tmp_path):
     bad.write_text((EXAMPLES / "hertz_2d.toml").read_text().replace('boundary = "top"', 'boundary = "topp"')
                    .replace("nu = 0.3", "nu = 0.6"))
     result = runner.invoke(app, ["check", str(bad)])
-    msg = _flat(result.stderr)
+    msg = flat(result.stderr)
     assert result.exit_code == 2 and "2 errors" in msg
     assert "contact.boundary = 'topp'" in msg and "Did you mean 'top'" in msg and "material.nu = 0.6" in msg
     assert "Traceback" not in result.output
@@ -241,9 +234,9 @@ def test_bench_runs_scripts_and_writes_report(tmp_path):
                                  "--benchmarks-dir", str(bench)])
     assert result.exit_code == 0 and "variants=['exp-met1']" in (out / "bench.md").read_text()
     result = runner.invoke(app, ["bench", "--suite", "hertzz", "--benchmarks-dir", str(bench)])
-    assert result.exit_code == 2 and "Did you mean 'hertz'" in _flat(result.stderr)
+    assert result.exit_code == 2 and "Did you mean 'hertz'" in flat(result.stderr)
     result = runner.invoke(app, ["bench", "--benchmarks-dir", str(tmp_path / "none")])
-    assert result.exit_code == 2 and "--benchmarks-dir" in _flat(result.stderr)
+    assert result.exit_code == 2 and "--benchmarks-dir" in flat(result.stderr)
 
 
 def test_list_shows_friction_algorithms_and_examples():
@@ -276,7 +269,7 @@ def test_make_run_writes_report_md(tmp_path):
         if name != "report.md":
             assert f"- `{name}`:" in report
     assert s["units"] == {"length": "mm", "stress": "MPa", "force": "N/mm"}
-    text = _flat(result.stdout.replace("│", " "))
+    text = flat(result.stdout.replace("│", " "))
     assert "contact half-width a (mm)" in text and "peak pressure p0 (MPa)" in text and "force P (N/mm)" in text
 
 
@@ -287,7 +280,7 @@ def test_stepped_summary_compares_the_total_time_with_one_linear_solve(tmp_path)
     s = json.loads((out / "summary.json").read_text())
     assert s["load_steps"] == 4
     assert s["time_ratio_contact_to_linear"] == pytest.approx(s["wall_time_s"] / s["linear_solve_time_s"], rel=1e-12)
-    text = _flat(result.stdout.replace("│", " "))
+    text = flat(result.stdout.replace("│", " "))
     assert f"wall time, all steps (s) {s['wall_time_s']:.3f}" in text
     assert f"wall time / linear solve {s['time_ratio_contact_to_linear']:.2f}" in text
     report = (out / "report.md").read_text()

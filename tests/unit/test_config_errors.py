@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import pytest
 
+from _helpers import flat
 from alcontact.errors import ConfigError
 from alcontact.io.config import load_problem, load_problem_text
 
@@ -40,10 +41,6 @@ boundary = "bottom"
 [solver]
 algorithm = "simo-laursen"
 """
-
-
-def _flat(s: str) -> str:
-    return " ".join(s.split())
 
 
 def test_base_file_is_valid():
@@ -141,7 +138,7 @@ def test_bad_file_is_reported(tmp_path, text, fragments):
     path.write_text(text)
     with pytest.raises(ConfigError) as info:
         load_problem(path)
-    msg = _flat(str(info.value))
+    msg = flat(str(info.value))
     assert "nothing was solved" in msg
     for frag in fragments:
         assert frag in msg, f"{frag!r} not in {msg!r}"
@@ -176,7 +173,7 @@ def test_unreadable_mesh_file(tmp_path):
     path.write_text(text)
     with pytest.raises(ConfigError) as info:
         load_problem(path)
-    msg = _flat(str(info.value))
+    msg = flat(str(info.value))
     assert "mesh.file = 'body.msh'" in msg and "cannot read mesh file" in msg
 
 

@@ -15,6 +15,7 @@ import logging
 import numpy as np
 import pytest
 
+from _helpers import sq, sq_grad, sq_hess
 from alcontact import penalties
 from alcontact.contact import ContactProblem, ContactStatus, LoadCase, LoadHistory, Ramp, Support, solve, solve_friction
 from alcontact.contact._problem import Pressure, Traction
@@ -105,18 +106,6 @@ def test_contact_failure_status(status, nan_penalty, caplog):
         res.raise_for_status()
 
 
-def _sq(x):
-    return float(x @ x)
-
-
-def _sq_grad(x):
-    return 2 * x
-
-
-def _sq_hess(x):
-    return 2 * np.eye(x.size)
-
-
 def _optim_cases():
     at_least_1 = {"type": "ineq", "fun": lambda x: x[0] - 1.0, "jac": lambda x: np.array([1.0])}
     at_most_0 = {"type": "ineq", "fun": lambda x: -x[0], "jac": lambda x: np.array([-1.0])}
@@ -133,11 +122,11 @@ def _optim_cases():
 
     x2 = np.array([1.0, 2.0])
     return {
-        Status.MAXITER: lambda: minimize(_sq, x2, jac=_sq_grad, hess=_sq_hess, constraints=half,
+        Status.MAXITER: lambda: minimize(sq, x2, jac=sq_grad, hess=sq_hess, constraints=half,
                                          options={"maxiter": 1}),
-        Status.INNER_FAILED: lambda: minimize(_sq, x2, jac=no_descent, hess=lambda x: -2 * np.eye(2), constraints=half,
+        Status.INNER_FAILED: lambda: minimize(sq, x2, jac=no_descent, hess=lambda x: -2 * np.eye(2), constraints=half,
                                               penalty="rockafellar"),
-        Status.NONFINITE: lambda: minimize(_sq, x2, jac=nan_late, hess=_sq_hess, constraints=half),
+        Status.NONFINITE: lambda: minimize(sq, x2, jac=nan_late, hess=sq_hess, constraints=half),
         # x >= 1 and x <= 0: infeasible, the penalty parameter runs into eta_min
         Status.PENALTY_LIMIT: lambda: minimize(lambda x: float(x[0] ** 2), np.array([0.5]), jac=lambda x: 2 * x,
                                                hess=lambda x: 2 * np.eye(1), constraints=[at_least_1, at_most_0]),

@@ -8,24 +8,13 @@ import pytest
 import scipy.sparse as sp
 from scipy.optimize import BFGS, Bounds, LinearConstraint, NonlinearConstraint
 
+from _helpers import sq, sq_grad, sq_hess
 from alcontact import errors
 from alcontact.optim import (ALResult, IterationRecord, Status, available_inner_solvers,
                              available_methods, available_strategies, minimize)
 
 AL_PENALTIES = ["exp-met1", "exp-met2", "log-met1", "log-met2", "quad-met1", "quad-met2",
                 "rockafellar"]
-
-
-def sq(x):
-    return float(x @ x)
-
-
-def sq_grad(x):
-    return 2.0 * x
-
-
-def sq_hess(x):
-    return 2.0 * np.eye(x.size)
 
 
 # x1 + x2 <= -1 -> solution (-1/2, -1/2), multiplier 1

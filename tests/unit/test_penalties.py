@@ -12,12 +12,11 @@ import dataclasses
 import math
 import warnings
 from collections.abc import Iterator
-from dataclasses import dataclass
-from typing import ClassVar
 
 import numpy as np
 import pytest
 
+from _helpers import Softplus
 from alcontact import errors
 from alcontact import penalties as P
 
@@ -52,25 +51,6 @@ def frac_theta() -> P.Theta:
         upper=1.0,
         doc="user generator y/(1-y)",
     )
-
-
-@dataclass(frozen=True)
-class Softplus(P.PenaltyBase):
-    """User penalty p = 2 mu (log(1 + e^y) - log 2): (P1),(P2),(P3),(P5) but bounded p'."""
-
-    name: str = "user-softplus"
-    doc: str = "user softplus penalty"
-    properties: ClassVar[frozenset[str]] = frozenset({"P1", "P2", "P3", "P5"})
-
-    def _p(self, y, mu):
-        return 2.0 * mu * (np.logaddexp(0.0, y) - math.log(2.0))
-
-    def _dp(self, y, mu):
-        return 2.0 * mu / (1.0 + np.exp(-y))
-
-    def _d2p(self, y, mu):
-        s = 1.0 / (1.0 + np.exp(-y))
-        return 2.0 * mu * s * (1.0 - s)
 
 
 USER_PENALTIES = ("frac-met1", "frac-met2", "user-softplus")

@@ -13,19 +13,13 @@ import time
 from pathlib import Path
 
 import pytest
-from typer.testing import CliRunner
 
+from _helpers import flat, runner
 from alcontact.cli import Interrupted, _raise_interrupted, _signals_raise, app
 from alcontact.errors import InputError, OutputExistsError, OutputPathError
 from alcontact.io import ResultsFolder, check_output_dir, owned_entries, write_json, write_text_atomic
 from alcontact.io.results import _signals_deferred
 from alcontact.runner import RESULT_FILES
-
-runner = CliRunner(env={"COLUMNS": "400", "NO_COLOR": "1"})
-
-
-def _flat(text: str) -> str:
-    return " ".join(text.split())
 
 
 def _snapshot(folder: Path) -> dict[str, bytes]:
@@ -194,7 +188,7 @@ def test_out_under_a_regular_file(tmp_path):
     assert f"'{f}' is a file" in msg and "choose an --out outside it" in msg
     result = runner.invoke(app, ["run", "--out", str(f / "results"), "--level", "0"])
     assert result.exit_code == 2 and "Traceback" not in result.output
-    assert f"'{f}' is a file" in _flat(result.stderr)
+    assert f"'{f}' is a file" in flat(result.stderr)
     assert f.read_text() == "x"
 
 
@@ -208,7 +202,7 @@ def test_out_in_a_read_only_place_is_checked_before_solving(tmp_path, monkeypatc
     assert f"cannot write in '{ro}'" in str(info.value) and "writable" in str(info.value)
     result = runner.invoke(app, ["run", "--out", str(ro / "results"), "--level", "0"])
     assert result.exit_code == 2 and "Traceback" not in result.output
-    assert f"cannot write in '{ro}'" in _flat(result.stderr)
+    assert f"cannot write in '{ro}'" in flat(result.stderr)
 
 
 def test_failing_staging_folder_becomes_a_clear_error(tmp_path, monkeypatch):
@@ -292,7 +286,7 @@ def test_cli_reports_an_interrupt_with_its_exit_code(tmp_path, monkeypatch, sign
     out = tmp_path / "res"
     result = runner.invoke(app, ["run", "--out", str(out), "--quiet"])
     assert result.exit_code == code
-    msg = _flat(result.stderr)
+    msg = flat(result.stderr)
     assert f"interrupted by {signal.Signals(signum).name}" in msg and f"'{out}' was left as it was" in msg
 
 
@@ -353,7 +347,7 @@ def test_signal_while_writing_leaves_no_temporary_files(tmp_path, signum, existi
             proc.kill()
             proc.wait()
     assert proc.returncode == 128 + signum, stderr
-    msg = _flat(stderr)
+    msg = flat(stderr)
     assert f"interrupted by {signal.Signals(signum).name}" in msg and "left as it was" in msg
     assert "Traceback" not in stderr
     if existing:

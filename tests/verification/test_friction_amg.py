@@ -20,19 +20,15 @@ import logging
 
 import numpy as np
 import pytest
-from typer.testing import CliRunner
 
+from _helpers import HELD_MU, HELD_P, assert_same_friction_steps, held_block, runner
 from alcontact.cli import app
-from alcontact.contact import ContactProblem, ContactStatus
+from alcontact.contact import ContactStatus
 from alcontact.contact._friction import solve_friction
 from alcontact.contact._friction_solution import SLIP, STICK
-from alcontact.contact._loading import LoadCase, LoadHistory, Ramp
-from alcontact.contact._problem import Pressure, Traction
-from alcontact.contact.obstacles import HalfSpace
-from alcontact.fem import LinearElasticity, Material, meshes
 from alcontact.problems import friction as fp
 
-MU, P = 0.3, 10.0
+MU, P = HELD_MU, HELD_P
 RTOL = 1e-6
 
 
@@ -48,12 +44,7 @@ def _assert_same(direct, amg):
     assert amg.status == ContactStatus.CONVERGED, amg.message
     assert amg.extra["linear_solver"] == "amg" and direct.extra["linear_solver"] == "direct"
     assert [s.t for s in amg.steps] == [s.t for s in direct.steps]
-    for a, b in zip(direct.steps, amg.steps):
-        scale = float(np.max(a.pressure))
-        assert np.max(np.abs(b.u - a.u)) <= RTOL * np.max(np.abs(a.u)), a.t
-        assert np.max(np.abs(b.pressure - a.pressure)) <= RTOL * scale, a.t
-        assert np.max(np.abs(b.traction_t - a.traction_t)) <= RTOL * scale, a.t
-        np.testing.assert_array_equal(b.state, a.state)
+    assert_same_friction_steps(amg, direct, RTOL, displacements=True)
 
 
 @pytest.mark.parametrize("dim", [2, 3])
@@ -92,7 +83,7 @@ def test_auto_picks_the_amg_path_for_large_3d_models(monkeypatch):
     """``linear_solver="auto"`` follows :func:`alcontact.linalg.choose_solver` (threshold lowered here)."""
     import alcontact.linalg._registry as reg
 
-    prob, hist = _block(3, 0.5)
+    prob, hist, *_ = held_block(3, 0.5)
     assert solve_friction(prob, hist).extra["linear_solver"] == "direct"
     monkeypatch.setattr(reg, "AUTO_AMG_DOFS", prob.model.ndofs - 1)
     sol = solve_friction(prob, hist)
@@ -101,23 +92,6 @@ def test_auto_picks_the_amg_path_for_large_3d_models(monkeypatch):
 
 
 # ---------------------------------------------------------------------- held by the obstacle
-def _block(dim: int, ratio: float, *, n: int = 4):
-    """Block [-1, 1]^(d-1) x [0, 0.5] on the plane x_d = 0, no support: pressure P, then Q = ratio mu P."""
-    if dim == 2:
-        mesh = meshes.rectangle(-1.0, 1.0, 0.0, 0.5, n, 2)
-        tdir = np.array([1.0, 0.0])
-    else:
-        mesh = meshes.box(-1.0, 1.0, -1.0, 1.0, 0.0, 0.5, n, n, 2)
-        tdir = np.array([1.0, 1.0, 0.0]) / np.sqrt(2.0)
-    model = LinearElasticity(mesh, Material(E=1000.0, nu=0.0, plane="strain"))
-    obstacle = HalfSpace(point=(0.0,) * dim, normal=tuple(np.eye(dim)[-1]))
-    press = LoadCase(Pressure("top", P), Ramp((0.0, 0.5), (0.0, 1.0), hold_after=True), name="pressure")
-    shear = LoadCase(Traction("top", tuple((ratio * MU * P * tdir).tolist())), Ramp((0.5, 1.0), (0.0, 1.0)),
-                     tangential=True, name="shear")
-    prob = ContactProblem(model=model, obstacle=obstacle, contact_boundary="bottom", supports=(), friction=MU)
-    return prob, LoadHistory((press, shear), LoadHistory.uniform(4))
-
-
 @pytest.mark.parametrize("dim", [2, 3])
 @pytest.mark.parametrize("alg", ["simo-laursen", "family-p", "ssn"])
 def test_force_controlled_block_held_by_the_obstacle_on_the_amg_path(alg, dim):
@@ -125,8 +99,7 @@ def test_force_controlled_block_held_by_the_obstacle_on_the_amg_path(alg, dim):
     force -Q A (relative 1e-9), equilibrium residual <= 1e-8 at every step; the direct path's
     solution to 1e-6. Q = 1.5 mu P: UNBOUNDED at t = 1 with the sliding-away message, as the
     direct path."""
-    area = 2.0 if dim == 2 else 4.0
-    prob, hist = _block(dim, 0.5)
+    prob, hist, area, _ = held_block(dim, 0.5)
     direct = solve_friction(prob, hist, algorithm=alg, linear_solver="direct")
     sol = solve_friction(prob, hist, algorithm=alg, linear_solver="amg")
     _assert_same(direct, sol)
@@ -137,7 +110,7 @@ def test_force_controlled_block_held_by_the_obstacle_on_the_amg_path(alg, dim):
     assert abs(np.linalg.norm(f.tangential_force) - q) <= 1e-9 * P * area
     assert all(sol.equilibrium(s).residual <= 1e-8 for s in sol.steps)
 
-    prob, hist = _block(dim, 1.5)
+    prob, hist, *_ = held_block(dim, 1.5)
     away = solve_friction(prob, hist, algorithm=alg, linear_solver="amg")
     assert away.status == ContactStatus.UNBOUNDED, away.message
     assert "slides away" in away.message and "t=1" in away.message
@@ -188,7 +161,6 @@ def test_problem_file_on_the_amg_path_check_and_run(tmp_path):
     """A 3D force-controlled block with friction and no support, ``linear_solver = "amg"``: ``check``
     accepts it (AMG size model) and ``run`` converges below the Coulomb limit (beyond it: the
     UNBOUNDED status of the test above, reported by ``run`` as in ``test_friction_held_by_obstacle``)."""
-    runner = CliRunner(env={"COLUMNS": "400", "NO_COLOR": "1"})
     p = tmp_path / "p.toml"
     p.write_text(TOML.format(q=0.5 * MU * P / np.sqrt(2.0)))
     result = runner.invoke(app, ["check", str(p)])

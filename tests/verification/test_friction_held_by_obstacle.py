@@ -17,37 +17,17 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from typer.testing import CliRunner
 
+from _helpers import HELD_MU, HELD_P, held_block, runner
 from alcontact.cli import app
 from alcontact.contact import ContactProblem, ContactStatus
 from alcontact.contact._friction import solve_friction
 from alcontact.contact._friction_solution import STICK
 from alcontact.contact._loading import LoadCase, LoadHistory, Ramp
-from alcontact.contact._problem import Pressure, Traction
-from alcontact.contact.obstacles import HalfSpace
-from alcontact.fem import LinearElasticity, Material, meshes
+from alcontact.contact._problem import Traction
 
 ALGS = ("simo-laursen", "family-p", "ssn")
-MU, P = 0.3, 10.0
-
-
-def _block(dim: int, ratio: float, *, pressure: float = P, n: int = 4):
-    """Block [-1, 1]^(d-1) x [0, 0.5] on the plane x_d = 0, pressure then traction Q = ratio mu P."""
-    if dim == 2:
-        mesh = meshes.rectangle(-1.0, 1.0, 0.0, 0.5, n, 2)
-        tdir, area = np.array([1.0, 0.0]), 2.0
-    else:
-        mesh = meshes.box(-1.0, 1.0, -1.0, 1.0, 0.0, 0.5, n, n, 2)
-        tdir, area = np.array([1.0, 1.0, 0.0]) / np.sqrt(2.0), 4.0
-    model = LinearElasticity(mesh, Material(E=1000.0, nu=0.0, plane="strain"))
-    obstacle = HalfSpace(point=(0.0,) * dim, normal=tuple(np.eye(dim)[-1]))
-    Q = ratio * MU * P
-    press = LoadCase(Pressure("top", pressure), Ramp((0.0, 0.5), (0.0, 1.0), hold_after=True), name="pressure")
-    shear = LoadCase(Traction("top", tuple((Q * tdir).tolist())), Ramp((0.5, 1.0), (0.0, 1.0)), tangential=True,
-                     name="shear")
-    prob = ContactProblem(model=model, obstacle=obstacle, contact_boundary="bottom", supports=(), friction=MU)
-    return prob, LoadHistory((press, shear), LoadHistory.uniform(4)), area, Q * tdir
+MU, P = HELD_MU, HELD_P
 
 
 @pytest.mark.parametrize("dim", [2, 3])
@@ -55,7 +35,7 @@ def _block(dim: int, ratio: float, *, pressure: float = P, n: int = 4):
 def test_force_controlled_block_sticks_below_the_coulomb_limit(alg, dim):
     """Q = mu P / 2, no support: converged, every point sticks, N = P A and the tangential force
     = Q A (relative 1e-9, so Q A / (mu N) = 0.5 as applied), global equilibrium residual <= 1e-8."""
-    prob, hist, area, q = _block(dim, 0.5)
+    prob, hist, area, q = held_block(dim, 0.5)
     sol = solve_friction(prob, hist, algorithm=alg)
     assert sol.status == ContactStatus.CONVERGED, sol.message
     f = sol.final
@@ -78,7 +58,7 @@ def test_force_controlled_block_beyond_the_coulomb_limit_slides_away(alg, dim):
     <= 1e-8); at t = 1 (Q A = 1.5 mu N) the status is UNBOUNDED, no exception, and the message gives
     the tangential load 1.5 mu P A and the friction limit mu P A, says the body slides away and what
     to do."""
-    prob, hist, area, _ = _block(dim, 1.5)
+    prob, hist, area, _ = held_block(dim, 1.5)
     sol = solve_friction(prob, hist, algorithm=alg)
     assert sol.status == ContactStatus.UNBOUNDED and sol.status < 0
     msg = sol.message
@@ -91,7 +71,7 @@ def test_force_controlled_block_beyond_the_coulomb_limit_slides_away(alg, dim):
 
 def test_loads_pulling_the_body_off_the_obstacle_are_reported():
     """A suction (negative pressure) on a block with no support: nothing can hold it, UNBOUNDED."""
-    prob, hist, _, _ = _block(2, 0.0, pressure=-P)
+    prob, hist, _, _ = held_block(2, 0.0, pressure=-P)
     sol = solve_friction(prob, hist, algorithm="ssn")
     assert sol.status == ContactStatus.UNBOUNDED
     assert "pull the body off the obstacle" in sol.message and "add a support" in sol.message
@@ -133,7 +113,6 @@ friction = 0.3
 def test_problem_file_check_accepts_and_run_solves(tmp_path):
     """``check`` accepts the unsupported block with friction and ``run`` converges (Q = mu P / 2);
     with Q = 1.5 mu P ``run`` ends with the sliding-away message, no traceback."""
-    runner = CliRunner(env={"COLUMNS": "400", "NO_COLOR": "1"})
     p = tmp_path / "p.toml"
     p.write_text(TOML.format(q=0.5 * MU * P))
     result = runner.invoke(app, ["check", str(p)])
@@ -151,7 +130,6 @@ def test_problem_file_friction_holds_the_free_translation(tmp_path):
     """Only y fixed on the left side: the x translation is left to the obstacle's friction; ``check``
     accepts it and ``run`` converges. With the obstacle two heights away nothing holds the body:
     ``check`` rejects it naming the free motion and a support."""
-    runner = CliRunner(env={"COLUMNS": "400", "NO_COLOR": "1"})
     p = tmp_path / "p.toml"
     text = TOML.format(q=0.5 * MU * P) + '[[support]]\nboundary = "left"\ncomponents = [1]\n'
     p.write_text(text)
