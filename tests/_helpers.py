@@ -7,7 +7,9 @@ compares and to which tolerance; the tolerance is the caller's (its docstring sa
 
 from __future__ import annotations
 
+import contextlib
 import math
+from collections.abc import Iterator
 from dataclasses import dataclass
 from typing import ClassVar
 
@@ -75,6 +77,50 @@ def held_block(dim: int, ratio: float, *, pressure: float = HELD_P, n: int = 4):
     return prob, LoadHistory((press, shear), LoadHistory.uniform(4)), area, Q * tdir
 
 
+_HELD_BLOCK_TOML = """
+[problem]
+name = "{name}"
+[mesh]
+generator = "{generator}"
+bounds = {bounds}
+cells = {cells}
+[material]
+E = 1000.0
+nu = 0.0
+[[load]]
+type = "pressure"
+boundary = "top"
+value = 10.0
+ramp = [[0.0, 0.0], [0.5, 1.0], [1.0, 1.0]]
+[[load]]
+type = "traction"
+boundary = "top"
+vector = {vector}
+ramp = [[0.0, 0.0], [0.5, 0.0], [1.0, 1.0]]
+tangential = true
+[loading]
+steps = 4
+[obstacle]
+type = "half-space"
+point = {point}
+normal = {normal}
+[contact]
+boundary = "bottom"
+friction = 0.3
+"""
+
+
+def held_block_toml(dim: int, q: float) -> str:
+    """:func:`held_block` (n = 4) as a problem file, with the traction vector [q, 0] (2D) or [q, q, 0] (3D)."""
+    if dim == 2:
+        return _HELD_BLOCK_TOML.format(name="held-by-friction", generator="rectangle", bounds="[-1.0, 1.0, 0.0, 0.5]",
+                                       cells="[4, 2]", vector=f"[{q}, 0.0]", point="[0.0, 0.0]",
+                                       normal="[0.0, 1.0]")
+    return _HELD_BLOCK_TOML.format(name="held-by-friction-3d", generator="box",
+                                   bounds="[-1.0, 1.0, -1.0, 1.0, 0.0, 0.5]", cells="[4, 4, 2]",
+                                   vector=f"[{q}, {q}, 0.0]", point="[0.0, 0.0, 0.0]", normal="[0.0, 0.0, 1.0]")
+
+
 # ---------------------------------------------------------------------------- penalties, objectives
 @dataclass(frozen=True)
 class Softplus(P.PenaltyBase):
@@ -93,6 +139,23 @@ class Softplus(P.PenaltyBase):
     def _d2p(self, y, mu):
         s = 1.0 / (1.0 + np.exp(-y))
         return 2.0 * mu * s * (1.0 - s)
+
+
+#: the penalties of :func:`user_penalties`: family-P methods of the user generator "frac", and Softplus
+USER_PENALTIES = ("frac-met1", "frac-met2", "user-softplus")
+
+
+@contextlib.contextmanager
+def user_penalties(theta: P.Theta) -> Iterator[None]:
+    """Register the user generator ``theta`` as "frac" and :class:`Softplus` as "user-softplus" while the
+    block runs; always unregister them."""
+    P.register_theta("frac", theta)
+    P.register("user-softplus", Softplus, doc="user softplus penalty")
+    try:
+        yield
+    finally:
+        P.unregister_theta("frac")
+        P.unregister("user-softplus")
 
 
 def sq(x):

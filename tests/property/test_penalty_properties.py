@@ -17,7 +17,7 @@ import pytest
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
-from _helpers import Softplus
+from _helpers import USER_PENALTIES, user_penalties
 from alcontact import penalties as P
 
 SETTINGS = settings(max_examples=60, deadline=None, derandomize=True)
@@ -29,7 +29,7 @@ def _frac() -> P.Theta:
     return P.Theta("frac", lambda y: y / (1 - y), lambda y: (1 - y) ** -2.0, lambda y: 2 * (1 - y) ** -3.0, upper=1.0)
 
 
-USER = ("frac-met1", "frac-met2", "user-softplus")
+USER = USER_PENALTIES
 ALL = sorted(P.available()) + list(USER)
 THETAS = sorted(P.thetas()) + ["frac"]
 
@@ -40,13 +40,8 @@ def registered(name: str) -> Iterator[None]:
     if name not in USER and name != "frac":
         yield
         return
-    P.register_theta("frac", _frac())
-    P.register("user-softplus", Softplus, doc="user softplus penalty")
-    try:
+    with user_penalties(_frac()):
         yield
-    finally:
-        P.unregister_theta("frac")
-        P.unregister("user-softplus")
 
 
 def claims(p: P.Penalty, label: str) -> bool:

@@ -16,7 +16,7 @@ from collections.abc import Iterator
 import numpy as np
 import pytest
 
-from _helpers import Softplus
+from _helpers import USER_PENALTIES, user_penalties
 from alcontact import errors
 from alcontact import penalties as P
 
@@ -53,18 +53,10 @@ def frac_theta() -> P.Theta:
     )
 
 
-USER_PENALTIES = ("frac-met1", "frac-met2", "user-softplus")
-
-
 @pytest.fixture
 def user_registrations() -> Iterator[None]:
-    P.register_theta("frac", frac_theta())
-    P.register("user-softplus", Softplus, doc="user softplus penalty")
-    try:
+    with user_penalties(frac_theta()):
         yield
-    finally:
-        P.unregister_theta("frac")
-        P.unregister("user-softplus")
 
 
 ALL = sorted(P.available()) + list(USER_PENALTIES)

@@ -21,7 +21,7 @@ import logging
 import numpy as np
 import pytest
 
-from _helpers import HELD_MU, HELD_P, assert_same_friction_steps, held_block, runner
+from _helpers import HELD_MU, HELD_P, assert_same_friction_steps, held_block, held_block_toml, runner
 from alcontact.cli import app
 from alcontact.contact import ContactStatus
 from alcontact.contact._friction import solve_friction
@@ -118,51 +118,13 @@ def test_force_controlled_block_held_by_the_obstacle_on_the_amg_path(alg, dim):
     assert all(away.equilibrium(s).residual <= 1e-8 for s in away.steps)
 
 
-TOML = """
-[problem]
-name = "held-by-friction-3d"
-[mesh]
-generator = "box"
-bounds = [-1.0, 1.0, -1.0, 1.0, 0.0, 0.5]
-cells = [4, 4, 2]
-[material]
-E = 1000.0
-nu = 0.0
-[[load]]
-type = "pressure"
-boundary = "top"
-value = 10.0
-ramp = [[0.0, 0.0], [0.5, 1.0], [1.0, 1.0]]
-[[load]]
-type = "traction"
-boundary = "top"
-vector = [{q}, {q}, 0.0]
-ramp = [[0.0, 0.0], [0.5, 0.0], [1.0, 1.0]]
-tangential = true
-[loading]
-steps = 4
-[obstacle]
-type = "half-space"
-point = [0.0, 0.0, 0.0]
-normal = [0.0, 0.0, 1.0]
-[contact]
-boundary = "bottom"
-friction = 0.3
-[solver]
-linear_solver = "amg"
-[output]
-vtu = false
-series = false
-plots = false
-"""
-
-
 def test_problem_file_on_the_amg_path_check_and_run(tmp_path):
     """A 3D force-controlled block with friction and no support, ``linear_solver = "amg"``: ``check``
     accepts it (AMG size model) and ``run`` converges below the Coulomb limit (beyond it: the
     UNBOUNDED status of the test above, reported by ``run`` as in ``test_friction_held_by_obstacle``)."""
     p = tmp_path / "p.toml"
-    p.write_text(TOML.format(q=0.5 * MU * P / np.sqrt(2.0)))
+    p.write_text(held_block_toml(3, 0.5 * MU * P / np.sqrt(2.0)) + '[solver]\nlinear_solver = "amg"\n'
+                 + "[output]\nvtu = false\nseries = false\nplots = false\n")
     result = runner.invoke(app, ["check", str(p)])
     assert result.exit_code == 0 and "amg linear solver" in " ".join(result.output.split()), result.output
     result = runner.invoke(app, ["run", str(p), "--out", str(tmp_path / "ok")])

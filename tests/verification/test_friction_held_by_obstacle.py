@@ -18,7 +18,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from _helpers import HELD_MU, HELD_P, held_block, runner
+from _helpers import HELD_MU, HELD_P, held_block, held_block_toml, runner
 from alcontact.cli import app
 from alcontact.contact import ContactProblem, ContactStatus
 from alcontact.contact._friction import solve_friction
@@ -77,49 +77,16 @@ def test_loads_pulling_the_body_off_the_obstacle_are_reported():
     assert "pull the body off the obstacle" in sol.message and "add a support" in sol.message
 
 
-TOML = """
-[problem]
-name = "held-by-friction"
-[mesh]
-generator = "rectangle"
-bounds = [-1.0, 1.0, 0.0, 0.5]
-cells = [4, 2]
-[material]
-E = 1000.0
-nu = 0.0
-[[load]]
-type = "pressure"
-boundary = "top"
-value = 10.0
-ramp = [[0.0, 0.0], [0.5, 1.0], [1.0, 1.0]]
-[[load]]
-type = "traction"
-boundary = "top"
-vector = [{q}, 0.0]
-ramp = [[0.0, 0.0], [0.5, 0.0], [1.0, 1.0]]
-tangential = true
-[loading]
-steps = 4
-[obstacle]
-type = "half-space"
-point = [0.0, 0.0]
-normal = [0.0, 1.0]
-[contact]
-boundary = "bottom"
-friction = 0.3
-"""
-
-
 def test_problem_file_check_accepts_and_run_solves(tmp_path):
     """``check`` accepts the unsupported block with friction and ``run`` converges (Q = mu P / 2);
     with Q = 1.5 mu P ``run`` ends with the sliding-away message, no traceback."""
     p = tmp_path / "p.toml"
-    p.write_text(TOML.format(q=0.5 * MU * P))
+    p.write_text(held_block_toml(2, 0.5 * MU * P))
     result = runner.invoke(app, ["check", str(p)])
     assert result.exit_code == 0, result.output
     result = runner.invoke(app, ["run", str(p), "--out", str(tmp_path / "ok")])
     assert result.exit_code == 0, result.output
-    p.write_text(TOML.format(q=1.5 * MU * P))
+    p.write_text(held_block_toml(2, 1.5 * MU * P))
     result = runner.invoke(app, ["run", str(p), "--out", str(tmp_path / "away")])
     text = " ".join(result.output.split())
     assert result.exit_code != 0 and "Traceback" not in text and "slides away" in text, result.output
@@ -131,7 +98,7 @@ def test_problem_file_friction_holds_the_free_translation(tmp_path):
     accepts it and ``run`` converges. With the obstacle two heights away nothing holds the body:
     ``check`` rejects it naming the free motion and a support."""
     p = tmp_path / "p.toml"
-    text = TOML.format(q=0.5 * MU * P) + '[[support]]\nboundary = "left"\ncomponents = [1]\n'
+    text = held_block_toml(2, 0.5 * MU * P) + '[[support]]\nboundary = "left"\ncomponents = [1]\n'
     p.write_text(text)
     assert runner.invoke(app, ["check", str(p)]).exit_code == 0
     result = runner.invoke(app, ["run", str(p), "--out", str(tmp_path / "ok")])
