@@ -140,7 +140,19 @@ class _Point:
     energy: float
 
 
-class _CondensedSystem(NewtonSystem):
+class _PointSystem(NewtonSystem):
+    """A Newton system whose states are :class:`_Point`: the residual ``F``, the merit its ``energy``
+    (the subproblems of both paths: :class:`_CondensedSystem`,
+    :class:`~alcontact.contact._friction_iterative._FullSpaceFriction`)."""
+
+    def residual(self, state):
+        return state.F
+
+    def merit(self, state):
+        return state.energy
+
+
+class _CondensedSystem(_PointSystem):
     """``F(x) = 0`` on the condensed forces of a step, for :func:`~._newton.newton`.
 
     ``fun(x) -> (F, aux)``, ``jac(x, aux) -> J`` (dense, possibly unsymmetric), ``scale(x, aux) > 0``
@@ -156,12 +168,6 @@ class _CondensedSystem(NewtonSystem):
     def evaluate(self, x):
         F, aux = self.fun(x)
         return _Point(x, F, aux, self.energy(x) if self.energy is not None else 0.0)
-
-    def residual(self, state):
-        return state.F
-
-    def merit(self, state):
-        return state.energy
 
     def slope(self, x, state, dx):
         return float(self.grad(x, state.F) @ dx)

@@ -79,12 +79,12 @@ import scipy.sparse as sp
 from scipy.sparse.linalg import cg, gmres
 
 from ..errors import InputError
-from ._friction import _CondensedPath, _Point, _step_ssn, _StepOut, _StepPath
+from ._friction import _CondensedPath, _Point, _PointSystem, _step_ssn, _StepOut, _StepPath
 from ._friction_discrete import FrictionalContact
 from ._friction_laws import local_law, tangential_energy
 from ._iterative import _FORCING_MAX, _FORCING_MIN, _FORCING_SLOW, _FORCING_START, _NEWTON_TOL_FLOOR, \
     _REBUILD_FACTOR, _Preconditioner, free_rigid_motions, springs_hold
-from ._newton import LineSearch, NewtonResult, NewtonSettings, NewtonSystem, newton
+from ._newton import LineSearch, NewtonResult, NewtonSettings, newton
 
 __all__ = ["IterativeFrictionalContact", "advance"]
 
@@ -371,7 +371,7 @@ class _FullCtx:
         return self.w[:, None] * t
 
 
-class _FullSpaceFriction(NewtonSystem):
+class _FullSpaceFriction(_PointSystem):
     r"""Subproblem (6.2a) in the free DOFs (module doc): :math:`F(x) = Kx - b + B^T(w \circ t(y(x)))`.
 
     The frictional counterpart of :class:`~alcontact.contact._iterative._FullSpaceSubproblem`:
@@ -411,12 +411,6 @@ class _FullSpaceFriction(NewtonSystem):
                                                                    self.rho, ctx.tfree)
             energy = 0.5 * float(x @ Kx) - float(ctx.b @ x) + float(np.sum(ctx.w * e))
         return _Point(x, F, (y, t, Dy, st), energy)
-
-    def residual(self, state):
-        return state.F
-
-    def merit(self, state):
-        return state.energy
 
     def slope(self, x, state, dx):
         return float(state.F @ dx)  # the gradient of Pi is F
