@@ -48,6 +48,11 @@ Every subproblem is solved by a semi-smooth Newton method in the condensed
 variables (see :mod:`alcontact.contact._friction_discrete`) with the consistent
 tangent of the return mapping and backtracking on the residual norm (the
 frictional problem is non-symmetric: there is no energy to descend).
+On the AMG path (:mod:`alcontact.contact._friction_iterative`) the same loop
+:func:`_step_al` drives the subproblems in the free displacements instead (the step's
+system, :class:`_ALSystem`, is the only difference; that path declares first-order
+multiplier updates), and the same load step (:class:`_StepPath`) adds candidates and
+checks a held body's equilibrium.
 
 The steps are walked by :func:`~alcontact.contact._stepping.step_through`: a step
 that fails is retried from the last converged state with the increment times
