@@ -94,8 +94,10 @@ _MAX_HALVINGS = 40
 _ENTRY_FRACTION = 0.5
 #: secant predictor: largest relative deviation of the step's data change from a multiple of the last one
 _SECANT_RTOL = 1e-8
-#: relative residual below which a subproblem's residual is at the round-off level of the state at the
-#: meshes of interest (the representable states of 60k-100k DOFs leave 0.5-3e-12): chord steps from there
+#: relative residual of (S) below which its next correction reuses the factor at hand (a chord step,
+#: :meth:`_Subproblem.step`): from there a simplified-Newton step with the same step's factor contracts as well
+#: as a new tangent, and at 60k-100k DOFs the residual is near its round-off floor (one ulp of the state moves
+#: it by 1-3e-12 of the force unit at 62k DOFs), where a new tangent buys nothing
 _CHORD_LEVEL = 1e-9
 #: chord steps of one subproblem at most
 _MAX_CHORDS = 3
@@ -196,8 +198,8 @@ class FiniteContact(ContactPoints):
     #: the entry rule (:meth:`initial_active`, :meth:`entry_multipliers`) also applies to the tangent
     #: prediction of a first contact (no point pressed yet, e.g. the first load step)
     first_contact_entry = True
-    #: a subproblem whose residual is already at the round-off level of the state (below
-    #: ``_CHORD_LEVEL``, above its tolerance) takes its next correction with the factor at hand
+    #: a subproblem whose relative residual is already near convergence (below ``_CHORD_LEVEL``,
+    #: above its tolerance) takes its next correction with the factor at hand
     #: (a chord step: one back-substitution, no assembly; counted in :attr:`chord_steps`, not in
     #: :attr:`newton_iterations`) where the factor belongs to the same candidates and active set
     chord_at_floor = True
@@ -711,7 +713,8 @@ class FiniteContact(ContactPoints):
         r"""Starting active set of :func:`~alcontact.contact._algorithms.run_ssn` on the candidates.
 
         The semi-smooth rule :math:`\lambda_i + c\,g_i > 0` at the starting state, except after
-        the secant predictor (:meth:`configure`): there a point without predicted pressure
+        the secant predictor (:meth:`configure`) or the tangent predictor of a first contact
+        (:attr:`first_contact_entry`): there a point without predicted pressure
         starts active only when its extrapolated gap exceeds ``_ENTRY_FRACTION`` of its predicted
         approach :math:`\Delta g_i` (it crosses the obstacle in the first half of the step).
         Linear extrapolation overestimates the approach of the points beyond the contact edge
@@ -741,7 +744,8 @@ class FiniteContact(ContactPoints):
         only: the multiplier update (6.13) or :meth:`multiplier_step` gives it
         :math:`\langle\lambda_i + g_i/\eta_i\rangle \ge 0` at the subproblem's solution, where a point
         that still penetrates enters with its full penalty force (all at once). Unchanged
-        (``lam``) without the secant prediction or with :attr:`entry_rule_multipliers` off.
+        (``lam``) without a predicted approach (secant prediction, first contact) or with
+        :attr:`entry_rule_multipliers` off.
         """
         lam = np.asarray(lam, dtype=float)
         if not self.entry_rule_multipliers or self.predicted_approach is None:
@@ -932,8 +936,8 @@ class _Subproblem(NewtonSystem):
         ta = time.perf_counter()
         D = self.law.stiffness(state.g, self.lam)
         if self._chord(state, history, D):
-            # the residual is at the round-off level of the state (about ||K|| ulp(u)): a new
-            # tangent cannot do better than the factor at hand, so draw the next iterate with it
+            # near convergence (and near the round-off floor ||K|| ulp(u) of large meshes) the
+            # factor at hand does as well as a new tangent: a chord step, no assembly
             dx = fc.solver.resolve(-state.R)
             if dx is not None and np.all(np.isfinite(dx)):
                 fc.solve_seconds += time.perf_counter() - ta
