@@ -39,6 +39,17 @@ load step on average for the reference and for Algorithm 6.1):
   :meth:`FiniteContact.multiplier_step` and its primal correction): on ``n=8`` 3.65 Newton per
   step (3.75 without); asserted: fewer, forces within 1e-9 relative. At n=88 (62 658 DOFs)
   6.65 -> 5.45 (``docs/benchmarks/finite.md``);
+- chord steps near convergence (:attr:`FiniteContact.chord_at_floor`: a subproblem whose relative
+  residual is already below 1e-9 takes its next correction with the factor at hand, one
+  back-substitution and no assembly, counted in ``chord_steps`` and not as a Newton system):
+  Algorithm 6.1 on ``n=8`` (20 steps) 3.10 Newton systems per step (3.65 without: the last
+  subproblem of a step, started at 1e-10 relative by the primal correction, took a Newton
+  system); asserted: mean <= 3.25, more without, forces within 1e-9 relative. At n=88
+  (62 658 DOFs) 5.45 -> 4.75 (``docs/benchmarks/finite.md``);
+- the entry rule on the tangent prediction of a first contact
+  (:attr:`FiniteContact.first_contact_entry`: in step 1 no point is pressed, the predictor has
+  no springs and every predicted penetration was loaded): step 1 on ``n=8`` takes 4 Newton
+  systems for both algorithms (5 without); asserted: <= 4, more without, same forces within 1e-9;
 - a 3D case, :func:`alcontact.problems.hemisphere.hemisphere` ``(n=4, order=1)`` (375 DOFs,
   delta/R = 0.2 in 5 steps): both algorithms converge with at most 4 assembly + solves per
   step on average (measured 3.2 and 3.2) and the same force within 1e-6 relative;
@@ -275,3 +286,42 @@ def test_semi_smooth_dual_step_saves_newton_in_algorithm_6_1(problem, algorithm_
     assert plain.success, plain.message
     assert _mean(algorithm_6_1, "newton_iterations") < _mean(plain, "newton_iterations")
     assert np.max(np.abs(plain.forces[:, 1] - algorithm_6_1.forces[:, 1]) / plain.forces[:, 1]) <= 1e-9
+
+
+def test_chord_steps_near_convergence_save_newton_systems(problem, algorithm_6_1, monkeypatch):
+    """Algorithm 6.1 with chord steps below 1e-9 relative: <= 3.25 Newton systems per step on n=8 (module doc).
+
+    Reference: the fixture run (measured 3.10 Newton systems per step, 20 steps, some chord
+    steps) against the same run with :attr:`FiniteContact.chord_at_floor` off (measured 3.65).
+    Asserted: mean <= 3.25 with the chord steps, more without, chord steps recorded, and the
+    same forces within 1e-9 relative (both runs stop on the same tolerances).
+    """
+    from alcontact.contact._finite import FiniteContact
+
+    mean = _mean(algorithm_6_1, "newton_iterations")
+    assert mean <= 3.25, mean
+    assert algorithm_6_1.solution.extra["chord_steps"] > 0
+    monkeypatch.setattr(FiniteContact, "chord_at_floor", False)
+    plain = solve_finite(problem, "simo-laursen", steps=STEPS)
+    assert plain.success, plain.message
+    assert plain.solution.extra["chord_steps"] == 0
+    assert _mean(plain, "newton_iterations") > mean
+    assert np.max(np.abs(plain.forces[:, 1] - algorithm_6_1.forces[:, 1]) / plain.forces[:, 1]) <= 1e-9
+
+
+@pytest.mark.parametrize("algorithm", ["ssn", "simo-laursen"])
+def test_entry_rule_on_the_first_contact_saves_newton(problem, ssn, algorithm_6_1, algorithm, monkeypatch):
+    """Step 1 (first contact, tangent predictor) on n=8: <= 4 Newton systems, more without the entry rule (module doc).
+
+    Reference: measured 4 with :attr:`FiniteContact.first_contact_entry` and 5 without, for both
+    algorithms. Asserted: step 1 <= 4, more without, forces of every step within 1e-9 relative.
+    """
+    from alcontact.contact._finite import FiniteContact
+
+    fs = ssn if algorithm == "ssn" else algorithm_6_1
+    assert fs.steps[0].newton_iterations <= 4, fs.steps[0].newton_iterations
+    monkeypatch.setattr(FiniteContact, "first_contact_entry", False)
+    plain = solve_finite(problem, algorithm, steps=STEPS)
+    assert plain.success, plain.message
+    assert plain.steps[0].newton_iterations > fs.steps[0].newton_iterations
+    assert np.max(np.abs(plain.forces[:, 1] - fs.forces[:, 1]) / plain.forces[:, 1]) <= 1e-9

@@ -94,6 +94,13 @@ _MAX_HALVINGS = 40
 _ENTRY_FRACTION = 0.5
 #: secant predictor: largest relative deviation of the step's data change from a multiple of the last one
 _SECANT_RTOL = 1e-8
+#: relative residual of (S) below which its next correction reuses the factor at hand (a chord step,
+#: :meth:`_Subproblem.step`): from there a simplified-Newton step with the same step's factor contracts as well
+#: as a new tangent, and at 60k-100k DOFs the residual is near its round-off floor (one ulp of the state moves
+#: it by 1-3e-12 of the force unit at 62k DOFs), where a new tangent buys nothing
+_CHORD_LEVEL = 1e-9
+#: chord steps of one subproblem at most
+_MAX_CHORDS = 3
 
 
 class NewtonSolver(SequenceSolver):
@@ -188,6 +195,14 @@ class FiniteContact(ContactPoints):
     #: :meth:`multiplier_step` is a semi-smooth step: the points the entry shift kept out that still
     #: penetrate at the subproblem's solution enter its active set (and its primal correction)
     dual_entry = True
+    #: the entry rule (:meth:`initial_active`, :meth:`entry_multipliers`) also applies to the tangent
+    #: prediction of a first contact (no point pressed yet, e.g. the first load step)
+    first_contact_entry = True
+    #: a subproblem whose relative residual is already near convergence (below ``_CHORD_LEVEL``,
+    #: above its tolerance) takes its next correction with the factor at hand
+    #: (a chord step: one back-substitution, no assembly; counted in :attr:`chord_steps`, not in
+    #: :attr:`newton_iterations`) where the factor belongs to the same candidates and active set
+    chord_at_floor = True
 
     def __init__(self, problem, *, margin: float = 2.0, fixed=None):
         t0 = time.perf_counter()
@@ -215,6 +230,8 @@ class FiniteContact(ContactPoints):
         self.h = self._element_size()
         self.linear_solves = 0
         self.newton_iterations = 0
+        self.chord_steps = 0
+        self._factor_stiffness = None
         self.solver = NewtonSolver()
         self.residual_log: list[list[float]] = []
         self.assembly_seconds = 0.0
@@ -265,6 +282,7 @@ class FiniteContact(ContactPoints):
         if self._history and self._history[-1][1] is None:
             self._history[-1][1] = x_start.copy()  # the converged state of the last accepted step
         self.start_pressure = self.last_pressure.copy()
+        self._factor_stiffness = None  # the factor at hand is no subproblem's of this step
         self.predictor_used = "none"
         self.predicted_approach = None
         if predictor_stiffness is not None:
@@ -276,7 +294,12 @@ class FiniteContact(ContactPoints):
                 x_start, self.start_pressure = secant
                 self.predictor_used = "secant"
             else:
-                x_start = self._predict(x_start, fixed_values, load, pred_obstacle, float(predictor_stiffness))
+                x_pred = self._predict(x_start, fixed_values, load, pred_obstacle, float(predictor_stiffness))
+                if (self.first_contact_entry and x_pred is not x_start and pred_obstacle is obstacle
+                        and not np.any(self.last_pressure > 0)):
+                    # first contact: the predictor has no springs, every predicted penetration is unbalanced
+                    self.predicted_approach = self._approach(x_start, x_pred, fixed_values, obstacle)
+                x_start = x_pred
         self.fixed_values = fixed_values
         self.load = load
         self.obstacle = obstacle
@@ -345,13 +368,20 @@ class FiniteContact(ContactPoints):
             return None
         if not (np.all(np.isfinite(fint)) and np.all(np.isfinite(trial))):
             return None
-        # predicted approach of every point: the gap change from the last converged state
-        uk = u.copy()
-        uk[self.free] = x
-        uk[self.fixed] = data_k[0]
-        self.predicted_approach = (obstacle.gap(self.points + u[self.dofs])
-                                   - data_k[2].gap(self.points + uk[self.dofs]))
+        self.predicted_approach = self._approach(x, trial, fixed_values, obstacle)
         return trial, np.maximum(p_k + rho * (p_k - p_km), 0.0)
+
+    def _approach(self, x, trial, fixed_values, obstacle) -> np.ndarray:
+        """Predicted approach of every contact-boundary point: its gap at the predicted state ``trial``
+        (step data ``fixed_values``, ``obstacle``) minus its gap at the last converged state ``x``."""
+        fv_old, _, ob_old = self._accepted
+        u = np.zeros(self.model.ndofs)
+        u[self.free] = trial
+        u[self.fixed] = fixed_values
+        uk = np.zeros(self.model.ndofs)
+        uk[self.free] = x
+        uk[self.fixed] = fv_old
+        return obstacle.gap(self.points + u[self.dofs]) - ob_old.gap(self.points + uk[self.dofs])
 
     def _predictor_obstacle(self, obstacle):
         """The obstacle the tangent predictor linearizes with: ``obstacle``, or the last accepted one
@@ -397,6 +427,7 @@ class FiniteContact(ContactPoints):
             k = eps * self.weights[pressed]
             J = Kf[:, self.free] + Bm.T @ sp.diags(k) @ Bm
             rhs = df[self.free] - Kf[:, self.fixed] @ du_d - Bm.T @ (k * dg)
+            self._factor_stiffness = None
             dx = linear_solve(J, rhs, self.solver)
             self.linear_solves += 1
             trial = x + dx
@@ -500,6 +531,7 @@ class FiniteContact(ContactPoints):
             rhs = rb[self.free]
             if not np.any(rhs):
                 return np.array(x, dtype=float)
+            self._factor_stiffness = None
             dx = linear_solve(self._tangent_free(u), (factor - 1.0) * rhs, self.solver)
             self.linear_solves += 1
             return np.asarray(x, dtype=float) + dx
@@ -515,7 +547,8 @@ class FiniteContact(ContactPoints):
 
     def extra(self) -> dict:
         return {"linear_solver": "direct", "direct_solver": self.solver.backend, "kinematics": "finite",
-                "newton_total": int(self.newton_iterations), "analyses": int(self.solver.analyses)}
+                "newton_total": int(self.newton_iterations), "analyses": int(self.solver.analyses),
+                "chord_steps": int(self.chord_steps)}
 
     def force_scale(self, r_body: np.ndarray, contact: np.ndarray) -> float:
         """Force unit of the relative residuals: largest external, internal (reaction) or contact force.
@@ -555,6 +588,7 @@ class FiniteContact(ContactPoints):
         log: list[float] = []
         self.residual_log.append(log)
         system = _Subproblem(self, law, np.asarray(lam, dtype=float))
+        system.tol = float(tol)
         try:
             out = newton(system, x0, tol=tol, maxiter=maxiter, settings=_SETTINGS, log=log)
         except InvertedElementError as exc:
@@ -679,7 +713,8 @@ class FiniteContact(ContactPoints):
         r"""Starting active set of :func:`~alcontact.contact._algorithms.run_ssn` on the candidates.
 
         The semi-smooth rule :math:`\lambda_i + c\,g_i > 0` at the starting state, except after
-        the secant predictor (:meth:`configure`): there a point without predicted pressure
+        the secant predictor (:meth:`configure`) or the tangent predictor of a first contact
+        (:attr:`first_contact_entry`): there a point without predicted pressure
         starts active only when its extrapolated gap exceeds ``_ENTRY_FRACTION`` of its predicted
         approach :math:`\Delta g_i` (it crosses the obstacle in the first half of the step).
         Linear extrapolation overestimates the approach of the points beyond the contact edge
@@ -709,7 +744,8 @@ class FiniteContact(ContactPoints):
         only: the multiplier update (6.13) or :meth:`multiplier_step` gives it
         :math:`\langle\lambda_i + g_i/\eta_i\rangle \ge 0` at the subproblem's solution, where a point
         that still penetrates enters with its full penalty force (all at once). Unchanged
-        (``lam``) without the secant prediction or with :attr:`entry_rule_multipliers` off.
+        (``lam``) without a predicted approach (secant prediction, first contact) or with
+        :attr:`entry_rule_multipliers` off.
         """
         lam = np.asarray(lam, dtype=float)
         if not self.entry_rule_multipliers or self.predicted_approach is None:
@@ -838,6 +874,8 @@ class _Subproblem(NewtonSystem):
         self.scale = None
         self.coord = 1.0
         self.floor = 0.0
+        self.tol = 0.0
+        self.chords = 0
 
     def evaluate(self, x):
         fc, cand, w = self.fc, self.fc.cand, self.w
@@ -881,15 +919,37 @@ class _Subproblem(NewtonSystem):
     def stall_level(self, state, level):
         return max(level, self.floor)
 
+    def _chord(self, state, history, D) -> bool:
+        """Whether the next correction may reuse the factor at hand (a chord step, :meth:`step`)."""
+        fc = self.fc
+        rec = getattr(fc, "_factor_stiffness", None)
+        res = history[-1].residual if history else np.inf
+        if not fc.chord_at_floor or rec is None or self.chords >= _MAX_CHORDS:
+            return False
+        if not (self.tol < res <= _CHORD_LEVEL):
+            return False
+        cand, d = rec
+        return cand.shape == fc.cand.shape and np.array_equal(cand, fc.cand) and np.array_equal(d > 0, D > 0)
+
     def step(self, x, state, history):
         fc = self.fc
         ta = time.perf_counter()
         D = self.law.stiffness(state.g, self.lam)
+        if self._chord(state, history, D):
+            # near convergence (and near the round-off floor ||K|| ulp(u) of large meshes) the
+            # factor at hand does as well as a new tangent: a chord step, no assembly
+            dx = fc.solver.resolve(-state.R)
+            if dx is not None and np.all(np.isfinite(dx)):
+                fc.solve_seconds += time.perf_counter() - ta
+                fc.chord_steps += 1
+                self.chords += 1
+                return dx
         # round-off floor of the residual: gaps from absolute coordinates, times the contact stiffness
         self.floor = 1e3 * _EPS * self.coord * float(np.max(self.w * np.abs(D), initial=0.0)) / self.scale
         J = fc._newton_matrix(state.u, state.t, D)
         tb = time.perf_counter()
         fc.assembly_seconds += tb - ta
+        fc._factor_stiffness = (fc.cand, D)  # the contact springs in the factor (chord steps, _Subproblem._chord)
         dx = linear_solve(J, -state.R, fc.solver)
         fc.solve_seconds += time.perf_counter() - tb
         fc.linear_solves += 1
@@ -959,6 +1019,7 @@ class _EqualityNewton(NewtonSystem):
         fc.assembly_seconds += tb - ta
         rhs_g = np.zeros(J.shape[0] - self.nf)
         rhs_g[self.rows] = gA
+        fc._factor_stiffness = None
         step = linear_solve(J, -np.concatenate([R, rhs_g]), fc.solver)
         fc.solve_seconds += time.perf_counter() - tb
         fc.linear_solves += 1
