@@ -46,6 +46,12 @@ reference solve). So every :math:`J` gets the hierarchy of :func:`_contact_hiera
 the prolongators of the hierarchy of :math:`K`, built once, with the Galerkin coarse
 operators of :math:`J` (the contact term only touches the coarse DOFs next to the
 contact zone); it preconditions as well as a fresh setup (tests/unit/test_fem_assembly.py).
+Springs that dominate the stiffness of their node (the pure penalty after a few increases of
+:math:`\varepsilon_N`) are moved onto one coordinate each by Householder reflections at their
+nodes (:func:`_rotated_hierarchy`), where the pointwise Gauss-Seidel smoother relaxes them
+exactly: with the plain update the CG iterations per Newton step grew with the penalty (3D P2
+Hertz, 9k DOFs, pure penalty: 899 CG iterations, 117-201 per Newton step at the last three
+penalties; with the reflections 210, at most 25 per step).
 Forcing terms 1e-2 and 1e-3 cost more CG iterations in total (235, 246) than 0.1.
 Since the Newton systems are solved inexactly, a subproblem takes more Newton
 iterations than the exact condensed Newton (which ends in one step once the active
