@@ -50,7 +50,7 @@ Springs that dominate the stiffness of their node (the pure penalty after a few 
 :math:`\varepsilon_N`) are moved onto one coordinate each by Householder reflections at their
 nodes (:func:`_rotated_hierarchy`), where the pointwise Gauss-Seidel smoother relaxes them
 exactly: with the plain update the CG iterations per Newton step grew with the penalty (3D P2
-Hertz, 9k DOFs, pure penalty: 899 CG iterations, 117-201 per Newton step at the last three
+Hertz, 9k DOFs, pure penalty: 968 CG iterations, 117-201 per Newton step at the last three
 penalties; with the reflections 210, at most 25 per step).
 Forcing terms 1e-2 and 1e-3 cost more CG iterations in total (235, 246) than 0.1.
 Since the Newton systems are solved inexactly, a subproblem takes more Newton
@@ -316,17 +316,18 @@ def _normal_reflections(Bs, n: int):
 def _rotated_hierarchy(ml_K, J, delta, Bs):
     r"""Preconditioner of :math:`J = K + \Delta` whose first level sees each stiff spring on one coordinate.
 
-    A spring much stiffer than its node (the pure penalty at :math:`\varepsilon_N` of 1e3
-    times the initial one and more) puts :math:`k_i \nu_i \nu_i^T` into the node block of
+    A spring much stiffer than its node (the default :math:`\varepsilon_N^0 = 100 E'/h` is
+    about 20 times the node's normal stiffness on the 3D P2 Hertz mesh, the pure penalty
+    raises it 1e5-fold) puts :math:`k_i \nu_i \nu_i^T` into the node block of
     :math:`J`. The first level of the hierarchy of ``K`` is a CSR matrix smoothed by pointwise
-    Gauss-Seidel, which on an oblique normal (the sphere away from its axis) relaxes the
-    tangential motion of the node at a rate of about :math:`1 - K_{ii}/k_i`: the CG
+    Gauss-Seidel; on an oblique normal (the sphere away from its axis) the spring couples the
+    node's DOFs, and pointwise relaxation barely moves the node's tangential motion: the CG
     iterations per Newton step grew with the penalty (3D P2 Hertz, 9k DOFs, a random
-    right-hand side to 1e-8: 30, 206 and 746 iterations at :math:`\varepsilon_N = 1, 10^4,
-    10^6 \varepsilon_N^0`; keeping the stiff normals out of the coarse spaces, as for a
-    support, did not help: 182 and 715). With the reflections :math:`Q` of
+    right-hand side to 1e-8: 31, 206 and 748 iterations at 1e3, 1e5 and 1e7 :math:`E'/h`;
+    keeping the stiff normals out of the coarse spaces, as for a support, did not help:
+    182 and 715 at the last two; with the reflections: 30, 30, 31). With the reflections :math:`Q` of
     :func:`_normal_reflections`, :math:`\hat J = Q J Q` carries each stiff spring on the
-    diagonal of one DOF, which Gauss-Seidel relaxes exactly, and :math:`\hat P = Q P` keeps the
+    diagonal of one DOF (no coupling left for the pointwise relaxation), and :math:`\hat P = Q P` keeps the
     coarse operators :math:`\hat P^T \hat J \hat P = P^T J P` of :func:`_contact_hierarchy`.
     The preconditioner is :math:`Q\,V(\hat J)\,Q` (symmetric positive definite as the V-cycle is);
     :math:`Q - I` lives on the stiff points' DOFs, so :math:`\hat J` and :math:`\hat P` are
