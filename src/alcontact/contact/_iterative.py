@@ -313,7 +313,7 @@ def _normal_reflections(Bs, n: int):
     return E, np.unique(rows)
 
 
-def _rotated_hierarchy(ml_K, J, delta, Bs):
+def _rotated_hierarchy(ml_K, J, delta, Bs, *, overwrite: bool = False):
     r"""Preconditioner of :math:`J = K + \Delta` whose first level sees each stiff spring on one coordinate.
 
     A spring much stiffer than its node (the default :math:`\varepsilon_N^0 = 100 E'/h` is
@@ -329,11 +329,15 @@ def _rotated_hierarchy(ml_K, J, delta, Bs):
     :func:`_normal_reflections`, :math:`\hat J = Q J Q` carries each stiff spring on the
     diagonal of one DOF (no coupling left for the pointwise relaxation), and :math:`\hat P = Q P` keeps the
     coarse operators :math:`\hat P^T \hat J \hat P = P^T J P` of :func:`_contact_hierarchy`.
-    The preconditioner is :math:`Q\,V(\hat J)\,Q` (symmetric positive definite as the V-cycle is);
+    CG runs on :math:`\hat J y = Q r`, :math:`dx = Q y` (:meth:`_Preconditioner.solve`), i.e. with the
+    preconditioner :math:`Q\,V(\hat J)\,Q` of :math:`J`, symmetric positive definite as the V-cycle is;
     :math:`Q - I` lives on the stiff points' DOFs, so :math:`\hat J` and :math:`\hat P` are
     corrections of a few rows and columns on the index arrays of :math:`J` and :math:`P`.
 
-    Returns ``(hierarchy, Q - I)``; ``Q = I`` for a one-level hierarchy (a direct solve).
+    With ``overwrite`` the data of ``J`` become those of :math:`\hat J` where its pattern
+    allows (always, for the node blocks of a finite element matrix); the first level's
+    matrix is :math:`\hat J` either way. Returns ``(hierarchy, Q - I)``; ``Q = I`` for a
+    one-level hierarchy (a direct solve).
     """
     ml = _contact_hierarchy(ml_K, J, delta)
     if len(ml.levels) == 1:  # one level: the coarse solver factorizes J, nothing to relax
@@ -343,8 +347,14 @@ def _rotated_hierarchy(ml_K, J, delta, Bs):
     EJ = (Er @ sp.csr_matrix(J)[r]).tocsr()  # (Q - I) J
     EJE = (EJ[:, r] @ E[r]).tocsr()  # (Q - I) J (Q - I)
     corr = (EJ + EJ.T + EJE).tocoo()  # Q J Q - J, J symmetric
+    corr.sum_duplicates()
     l0 = ml.levels[0]
-    Jh = _plus(J, corr)
+    where = _entry_positions(J, corr.row.astype(np.int64), corr.col.astype(np.int64)) if overwrite else None
+    if where is not None:  # in the pattern of J (the node blocks): in place
+        np.add.at(J.data, where, corr.data)
+        Jh = J
+    else:
+        Jh = _plus(J, corr)
     Jh.symmetry = getattr(l0.A, "symmetry", "hermitian")
     P = l0.P
     Ph = _plus(P, (Er @ _row_slice(P, r)).tocoo())  # Q P
@@ -354,18 +364,6 @@ def _rotated_hierarchy(ml_K, J, delta, Bs):
 
     change_smoothers(ml, _SMOOTHER, _SMOOTHER)
     return ml, E
-
-
-def _reflected(M, E):
-    """The operator :math:`Q M Q` for ``E = Q - I`` (:func:`_rotated_hierarchy`)."""
-    from scipy.sparse.linalg import LinearOperator
-
-    def apply(r):
-        r = np.asarray(r).ravel()
-        y = M @ (r + E @ r)
-        return y + E @ y
-
-    return LinearOperator(M.shape, matvec=apply, dtype=float)
 
 
 class _Preconditioner:
@@ -394,26 +392,18 @@ class _Preconditioner:
         """Forget the hierarchy of the last matrix (frees it before the next one is built)."""
         self.ml = self.ic.ml_K
 
-    def get(self, J, kmax: float = 0.0, delta=None, contact=None):
+    def get(self, J, kmax: float = 0.0, delta=None):
         """Preconditioner for ``J``; ``kmax`` is its largest contact stiffness ``w_i dt_N/dg``.
 
         ``delta`` is ``J - K`` (the contact term): with it, the hierarchy of ``K`` is
-        updated for ``J`` (:func:`_contact_hierarchy`). ``contact``, the factors
-        ``(B_c, k)`` of ``delta``, lets springs that dominate their node act as constraints
-        (:func:`_constrained_hierarchy`, used when :func:`_stiff_points` finds any).
+        updated for ``J`` (:func:`_contact_hierarchy`).
         """
         if delta is not None:
             t0 = time.perf_counter()
-            stiff = _stiff_points(self.ic.K, *contact) if contact is not None else None
-            if stiff is not None and np.any(stiff):
-                self.ml, E = _rotated_hierarchy(self.ic.ml_K, J, delta, sp.csr_matrix(contact[0])[stiff])
-                M = _reflected(self.ml.aspreconditioner(cycle="V"), E)
-            else:
-                self.ml = _contact_hierarchy(self.ic.ml_K, J, delta)
-                M = self.ml.aspreconditioner(cycle="V")
+            self.ml = _contact_hierarchy(self.ic.ml_K, J, delta)
             self.ic.amg_updates += 1
             self.ic.amg_seconds += time.perf_counter() - t0
-            return M
+            return self.ml.aspreconditioner(cycle="V")
         if self.k_built > 0 and kmax > _REBUILD_STIFFNESS * self.k_built:
             self.stale = True
         if self.stale:
@@ -427,6 +417,29 @@ class _Preconditioner:
             self.rate_ref = None
             self.stale = False
         return self.ml.aspreconditioner(cycle="V")
+
+    def solve(self, J, rhs, *, rtol: float, delta, Bc, k):
+        r"""``J dx = rhs`` by CG (counted, recorded) for :math:`J = K + \Delta`, :math:`\Delta = B_c^T \operatorname{diag}(k) B_c`.
+
+        Without stiff springs (:func:`_stiff_points`) the preconditioner is that of :meth:`get`.
+        With them, CG runs in the reflected coordinates :math:`y = Q\,dx` on :math:`QJQ` with the
+        hierarchy of :func:`_rotated_hierarchy` (same residual norms: :math:`Q` is orthogonal).
+        ``J`` must be a fresh matrix (:meth:`IterativeContact.with_contact`): it is overwritten by
+        :math:`QJQ`, so that no second copy of the matrix is held.
+        """
+        stiff = _stiff_points(self.ic.K, Bc, k)
+        if np.any(stiff) and J is not self.ic.K:
+            t0 = time.perf_counter()
+            self.ml, E = _rotated_hierarchy(self.ic.ml_K, J, delta, sp.csr_matrix(Bc)[stiff], overwrite=True)
+            self.ic.amg_updates += 1
+            self.ic.amg_seconds += time.perf_counter() - t0
+            y, nit = self.ic.pcg(self.ml.levels[0].A, rhs + E @ rhs, self.ml.aspreconditioner(cycle="V"), rtol=rtol)
+            dx = y + E @ y
+        else:
+            M = self.get(J, float(np.max(k, initial=0.0)), delta=delta)
+            dx, nit = self.ic.pcg(J, rhs, M, rtol=rtol)
+        self.record(nit, rtol)
+        return dx, nit
 
     def record(self, iterations: int, rtol: float) -> None:
         digits = max(np.log10(1.0 / max(rtol, 1e-16)), 1.0)
@@ -726,9 +739,7 @@ class _FullSpaceSubproblem(NewtonSystem):
         J = ic.with_contact(delta)
         # inexact Newton: forcing min(forcing, res), tight enough in the last step to reach tol
         rtol = float(np.clip(max(min(self.forcing, res), 0.1 * self.tol_k / res), 1e-14, _FORCING_MAX))
-        M = ic.precond.get(J, float(np.max(self.w * D, initial=0.0)), delta=delta, contact=(self.Bc, self.w * D))
-        dx, nit = ic.pcg(J, -state[3], M, rtol=rtol)
-        ic.precond.record(nit, rtol)
+        dx, nit = ic.precond.solve(J, -state[3], rtol=rtol, delta=delta, Bc=self.Bc, k=self.w * D)
         logger.debug("Newton %d: residual %.2e, CG rtol %.1e, %d CG iterations", len(history), res, rtol, nit)
         return dx
 
