@@ -370,10 +370,11 @@ def _rotated_hierarchy(ml_K, J, delta, Bs, *, overwrite: bool = False):
 class _Preconditioner:
     """AMG preconditioner of the Newton matrices ``J = K + B_c^T diag(k) B_c``.
 
-    With the contact term ``delta`` (as :func:`full_newton` passes it) each matrix gets
-    the hierarchy of :func:`_contact_hierarchy`: the prolongators of the hierarchy of
-    ``K`` (built once, in the setup) with Galerkin coarse operators of ``J``, counted in
-    ``amg_updates``. A fresh setup per slow solve cost about one linear solve each and
+    With the contact term ``delta`` (as :func:`full_newton` passes it, through
+    :meth:`solve`) each matrix gets the hierarchy of :func:`_contact_hierarchy`: the
+    prolongators of the hierarchy of ``K`` (built once, in the setup) with Galerkin coarse
+    operators of ``J``, counted in ``amg_updates``; with springs that dominate their node,
+    the reflected one of :func:`_rotated_hierarchy`. A fresh setup per slow solve cost about one linear solve each and
     preconditioned no better (3D P1 Hertz, 38k DOFs: simo-laursen 295 CG iterations with
     6 fresh setups, 160 with updates only). Without ``delta`` (callers that do not know
     the contact term) a fresh hierarchy (:func:`_amg`, counted in ``amg_setups``) is built
