@@ -12,7 +12,7 @@ Writes ``<out>/<name>.csv``, ``<out>/<name>.json`` and the table ``<out>/<name>_
 
 Usage::
 
-    python benchmarks/amg_paths.py [--out DIR] [--cases 3d-p2-9k 3d-p2-22k 3d-p2-78k] [--name STEM] [--variants ssn simo-laursen ...]
+    python benchmarks/amg_paths.py [--out DIR] [--cases 3d-p2-9k 3d-p2-22k 3d-p2-78k] [--name STEM] [--variants ssn simo-laursen ...] [--append]
 
 Timings are ratios within one run; machines are shared and noisy.
 """
@@ -38,7 +38,11 @@ from alcontact.problems import hertz
 CASES = {
     "3d-p2-9k": (dict(n_per_a=1, growth=1.6, size=6.0), ("direct", "amg")),
     "3d-p2-22k": (dict(n_per_a=2, growth=2.0, size=6.0), ("direct", "amg")),
-    "3d-p2-78k": (dict(n_per_a=2), ("amg",)),
+    # the ~37.6k-DOF case of issue 11: the graded box mesh jumps from 33,327 to 39,375 DOFs
+    # (n_per_a 1.5-2.1, growth 1.3-1.8, size 6-10 give no count in between)
+    "3d-p2-39k": (dict(n_per_a=2, growth=1.5, size=8.0), ("direct", "amg")),
+    # the mesh of examples/hertz_3d.toml with P2 elements; one factorization about 6 s
+    "3d-p2-78k": (dict(n_per_a=2), ("direct", "amg")),
 }
 DEFAULT_CASES = ["3d-p2-9k"]
 
@@ -46,11 +50,13 @@ DEFAULT_CASES = ["3d-p2-9k"]
 VARIANTS = [
     ("penalty", "penalty", None),
     ("simo-laursen", "simo-laursen", None),
+    ("rockafellar", "family-p", "rockafellar"),
     ("exp-met1", "family-p", "exp-met1"),
+    ("exp-met2", "family-p", "exp-met2"),
     ("log-met1", "family-p", "log-met1"),
     ("log-met2", "family-p", "log-met2"),
+    ("quad-met1", "family-p", "quad-met1"),
     ("quad-met2", "family-p", "quad-met2"),
-    ("rockafellar", "family-p", "rockafellar"),
     ("ssn", "ssn", None),
 ]
 
@@ -60,9 +66,10 @@ FIELDS = ["case", "dofs", "variant", "algorithm", "penalty", "linear_solver", "s
           "ratio", "outer_ratio_amg_direct", "force_rel_diff", "normal_force"]
 
 
-def run(out_dir: Path, cases: list[str], variants: list[str] | None = None, name: str = "amg_paths") -> list[dict]:
+def run(out_dir: Path, cases: list[str], variants: list[str] | None = None, name: str = "amg_paths",
+        append: bool = False) -> list[dict]:
     chosen = [v for v in VARIANTS if variants is None or v[0] in variants]
-    rows = []
+    rows = _previous_rows(out_dir, name, cases, [v[0] for v in chosen]) if append else []
     for case in cases:
         kwargs, paths = CASES[case]
         prob = hertz.hertz_3d(order=2, **kwargs)
@@ -86,6 +93,7 @@ def run(out_dir: Path, cases: list[str], variants: list[str] | None = None, name
                 })
                 print(f"{case} {label} {path}: {res.status.label}, {res.outer_iterations} outer, "
                       f"{res.newton_iterations} Newton, {wall:.1f} s", file=sys.stderr, flush=True)
+                _write(out_dir, name, rows)  # a run stopped by a time limit keeps the paths it finished
             amg = sols["amg"]
             ref = amg.timings["linear_solve_s"]
             for row in rows[-len(paths):]:
@@ -98,8 +106,17 @@ def run(out_dir: Path, cases: list[str], variants: list[str] | None = None, name
                 ratio = amg.result.outer_iterations / max(d.result.outer_iterations, 1)
                 rows[-1]["outer_ratio_amg_direct"] = round(ratio, 2)
                 rows[-1]["force_rel_diff"] = f"{diff:.1e}"
-            _write(out_dir, name, rows)  # after every variant: a run stopped by a time limit keeps its rows
+            _write(out_dir, name, rows)
     return rows
+
+
+def _previous_rows(out_dir: Path, name: str, cases: list[str], variants: list[str]) -> list[dict]:
+    """Rows of an earlier run (``<name>.json``) except those of the (case, variant) pairs run now."""
+    path = out_dir / f"{name}.json"
+    if not path.exists():
+        return []
+    rows = json.loads(path.read_text())
+    return [r for r in rows if not (r["case"] in cases and r["variant"] in variants)]
 
 
 def _write(out_dir: Path, name: str, rows: list[dict]) -> None:
@@ -127,9 +144,11 @@ def main(argv=None) -> int:
     ap.add_argument("--cases", nargs="+", default=DEFAULT_CASES, choices=list(CASES))
     ap.add_argument("--variants", nargs="+", default=None, choices=[v[0] for v in VARIANTS])
     ap.add_argument("--name", default="amg_paths", help="stem of the output files")
+    ap.add_argument("--append", action="store_true",
+                    help="keep the rows of <name>.json of other cases/variants (one process per case and variant)")
     args = ap.parse_args(argv)
     logging.basicConfig(level=logging.WARNING)
-    run(args.out, args.cases, args.variants, args.name)
+    run(args.out, args.cases, args.variants, args.name, args.append)
     return 0
 
 

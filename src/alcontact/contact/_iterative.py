@@ -46,6 +46,13 @@ reference solve). So every :math:`J` gets the hierarchy of :func:`_contact_hiera
 the prolongators of the hierarchy of :math:`K`, built once, with the Galerkin coarse
 operators of :math:`J` (the contact term only touches the coarse DOFs next to the
 contact zone); it preconditions as well as a fresh setup (tests/unit/test_fem_assembly.py).
+Springs that dominate the stiffness of their node (the default penalty on the 3D P2 Hertz
+mesh already; the pure penalty raises it 1e5-fold) are moved onto one coordinate each by
+Householder reflections at their nodes (:func:`_rotated_hierarchy`), where they no longer
+couple the DOFs that the pointwise Gauss-Seidel smoother relaxes one by one: with the plain
+update the CG iterations per Newton step grew with the penalty (3D P2
+Hertz, 9k DOFs, pure penalty: 968 CG iterations, 117-201 per Newton step at the last three
+penalties; with the reflections 210, at most 25 per step).
 Forcing terms 1e-2 and 1e-3 cost more CG iterations in total (235, 246) than 0.1.
 Since the Newton systems are solved inexactly, a subproblem takes more Newton
 iterations than the exact condensed Newton (which ends in one step once the active
@@ -247,13 +254,127 @@ def _contact_hierarchy(ml_K, J, delta):
     return ml
 
 
+#: a contact point whose spring :math:`k_i` exceeds this many times the normal stiffness of its
+#: node in ``K`` gets its own coordinate (:func:`_rotated_hierarchy`)
+_STIFF_RATIO = 10.0
+
+
+def _stiff_points(K, Bc, k) -> np.ndarray:
+    r"""Mask of the contact points whose spring dominates the stiffness of their node.
+
+    The spring :math:`k_i (B_i x)^2` has stiffness :math:`k_i |B_i|^2` along the unit normal;
+    the node's own normal stiffness is :math:`B_i K B_i^T / |B_i|^2`. Points with a ratio above
+    :data:`_STIFF_RATIO` are stiff. Only rows with disjoint supports (one point per node, as
+    :class:`~alcontact.contact._discrete.ContactPoints` builds ``B``) are eligible; otherwise
+    no point is.
+    """
+    Bc = sp.csr_matrix(Bc)
+    if Bc.shape[0] == 0 or np.unique(Bc.indices).size != Bc.nnz:  # rows share a DOF
+        return np.zeros(Bc.shape[0], dtype=bool)
+    n2 = np.asarray(Bc.multiply(Bc).sum(axis=1)).ravel()
+    kn = np.asarray((Bc @ K).multiply(Bc).sum(axis=1)).ravel()
+    ok = (n2 > 0) & (kn > 0)
+    ratio = np.zeros_like(n2)
+    ratio[ok] = k[ok] * n2[ok] ** 2 / kn[ok]
+    return ratio > _STIFF_RATIO
+
+
+def _normal_reflections(Bs, n: int):
+    r"""Householder reflections :math:`H_i` that map a coordinate of each node onto its normal.
+
+    ``Bs`` holds one row per point on disjoint DOFs (the rows :math:`-\nu_i^T` on the free
+    DOFs of its node). :math:`H_i = I - 2 v v^T / v^T v`, :math:`v = u - s\,e_j` with
+    :math:`u = B_i^T/|B_i|`, ``j`` its largest component and :math:`s` its sign, so that
+    :math:`H_i u = s\,e_j`. Returns ``Q - I`` (``n x n``, symmetric; :math:`Q = Q^T = Q^{-1}`
+    is block diagonal with :math:`H_i` on the DOFs of point ``i``) and the sorted DOFs it touches.
+    """
+    Bs = sp.csr_matrix(Bs)
+    rows_out, cols_out, vals_out = [], [], []
+    lens = np.diff(Bs.indptr)
+    for d in np.unique(lens[lens > 0]):
+        pts = np.flatnonzero(lens == d)
+        pos = Bs.indptr[pts][:, None] + np.arange(d)
+        dofs = Bs.indices[pos]  # (p, d)
+        u = Bs.data[pos]
+        u = u / np.linalg.norm(u, axis=1, keepdims=True)
+        j = np.argmax(np.abs(u), axis=1)
+        v = u.copy()
+        v[np.arange(pts.size), j] -= np.sign(u[np.arange(pts.size), j])
+        vv = np.einsum("pi,pi->p", v, v)
+        ok = vv > 1e-30  # the normal is a coordinate already: H = I
+        E = -2.0 * v[ok, :, None] * v[ok, None, :] / vv[ok, None, None]  # H - I, (p, d, d)
+        dd = dofs[ok]
+        rows_out.append(np.repeat(dd, d, axis=1).ravel())
+        cols_out.append(np.tile(dd, (1, d)).ravel())
+        vals_out.append(E.ravel())
+    rows = np.concatenate(rows_out) if rows_out else np.zeros(0, dtype=np.int64)
+    cols = np.concatenate(cols_out) if cols_out else np.zeros(0, dtype=np.int64)
+    vals = np.concatenate(vals_out) if vals_out else np.zeros(0)
+    E = sp.csr_matrix((vals, (rows, cols)), shape=(n, n))
+    return E, np.unique(rows)
+
+
+def _rotated_hierarchy(ml_K, J, delta, Bs, *, overwrite: bool = False):
+    r"""Preconditioner of :math:`J = K + \Delta` whose first level sees each stiff spring on one coordinate.
+
+    A spring much stiffer than its node (the default :math:`\varepsilon_N^0 = 100 E'/h` is
+    about 20 times the node's normal stiffness on the 3D P2 Hertz mesh, the pure penalty
+    raises it 1e5-fold) puts :math:`k_i \nu_i \nu_i^T` into the node block of
+    :math:`J`. The first level of the hierarchy of ``K`` is a CSR matrix smoothed by pointwise
+    Gauss-Seidel; on an oblique normal (the sphere away from its axis) the spring couples the
+    node's DOFs, and pointwise relaxation barely moves the node's tangential motion: the CG
+    iterations per Newton step grew with the penalty (3D P2 Hertz, 9k DOFs, a random
+    right-hand side to 1e-8: 31, 206 and 748 iterations at 1e3, 1e5 and 1e7 :math:`E'/h`;
+    keeping the stiff normals out of the coarse spaces, as for a support, did not help:
+    182 and 715 at the last two; with the reflections: 30, 30, 31). With the reflections :math:`Q` of
+    :func:`_normal_reflections`, :math:`\hat J = Q J Q` carries each stiff spring on the
+    diagonal of one DOF (no coupling left for the pointwise relaxation), and :math:`\hat P = Q P` keeps the
+    coarse operators :math:`\hat P^T \hat J \hat P = P^T J P` of :func:`_contact_hierarchy`.
+    CG runs on :math:`\hat J y = Q r`, :math:`dx = Q y` (:meth:`_Preconditioner.solve`), i.e. with the
+    preconditioner :math:`Q\,V(\hat J)\,Q` of :math:`J`, symmetric positive definite as the V-cycle is;
+    :math:`Q - I` lives on the stiff points' DOFs, so :math:`\hat J` and :math:`\hat P` are
+    corrections of a few rows and columns on the index arrays of :math:`J` and :math:`P`.
+
+    With ``overwrite`` the data of ``J`` become those of :math:`\hat J` where its pattern
+    allows (always, for the node blocks of a finite element matrix); the first level's
+    matrix is :math:`\hat J` either way. Returns ``(hierarchy, Q - I)``; ``Q = I`` for a
+    one-level hierarchy (a direct solve).
+    """
+    ml = _contact_hierarchy(ml_K, J, delta)
+    if len(ml.levels) == 1:  # one level: the coarse solver factorizes J, nothing to relax
+        return ml, sp.csr_matrix(J.shape)
+    E, r = _normal_reflections(Bs, J.shape[0])
+    Er = E[:, r]  # (n, |r|), nonzero rows only in r
+    EJ = (Er @ sp.csr_matrix(J)[r]).tocsr()  # (Q - I) J
+    EJE = (EJ[:, r] @ E[r]).tocsr()  # (Q - I) J (Q - I)
+    corr = (EJ + EJ.T + EJE).tocoo()  # Q J Q - J, J symmetric
+    corr.sum_duplicates()
+    l0 = ml.levels[0]
+    where = _entry_positions(J, corr.row.astype(np.int64), corr.col.astype(np.int64)) if overwrite else None
+    if where is not None:  # in the pattern of J (the node blocks): in place
+        np.add.at(J.data, where, corr.data)
+        Jh = J
+    else:
+        Jh = _plus(J, corr)
+    Jh.symmetry = getattr(l0.A, "symmetry", "hermitian")
+    P = l0.P
+    Ph = _plus(P, (Er @ _row_slice(P, r)).tocoo())  # Q P
+    l0.A, l0.P = Jh, Ph
+    l0.R = Ph.T.tocsr() if Ph.format != "bsr" else Ph.T
+    from pyamg.relaxation.smoothing import change_smoothers
+
+    change_smoothers(ml, _SMOOTHER, _SMOOTHER)
+    return ml, E
+
+
 class _Preconditioner:
     """AMG preconditioner of the Newton matrices ``J = K + B_c^T diag(k) B_c``.
 
-    With the contact term ``delta`` (as :func:`full_newton` passes it) each matrix gets
-    the hierarchy of :func:`_contact_hierarchy`: the prolongators of the hierarchy of
-    ``K`` (built once, in the setup) with Galerkin coarse operators of ``J``, counted in
-    ``amg_updates``. A fresh setup per slow solve cost about one linear solve each and
+    With the contact term ``delta`` (as :func:`full_newton` passes it, through
+    :meth:`solve`) each matrix gets the hierarchy of :func:`_contact_hierarchy`: the
+    prolongators of the hierarchy of ``K`` (built once, in the setup) with Galerkin coarse
+    operators of ``J``, counted in ``amg_updates``; with springs that dominate their node,
+    the reflected one of :func:`_rotated_hierarchy`. A fresh setup per slow solve cost about one linear solve each and
     preconditioned no better (3D P1 Hertz, 38k DOFs: simo-laursen 295 CG iterations with
     6 fresh setups, 160 with updates only). Without ``delta`` (callers that do not know
     the contact term) a fresh hierarchy (:func:`_amg`, counted in ``amg_setups``) is built
@@ -298,6 +419,29 @@ class _Preconditioner:
             self.rate_ref = None
             self.stale = False
         return self.ml.aspreconditioner(cycle="V")
+
+    def solve(self, J, rhs, *, rtol: float, delta, Bc, k):
+        r"""``J dx = rhs`` by CG (counted, recorded), :math:`J = K + B_c^T \operatorname{diag}(k) B_c`.
+
+        Without stiff springs (:func:`_stiff_points`) the preconditioner is that of :meth:`get`.
+        With them, CG runs in the reflected coordinates :math:`y = Q\,dx` on :math:`QJQ` with the
+        hierarchy of :func:`_rotated_hierarchy` (same residual norms: :math:`Q` is orthogonal).
+        ``J`` must be a fresh matrix (:meth:`IterativeContact.with_contact`): it is overwritten by
+        :math:`QJQ`, so that no second copy of the matrix is held.
+        """
+        stiff = _stiff_points(self.ic.K, Bc, k)
+        if np.any(stiff) and J is not self.ic.K:
+            t0 = time.perf_counter()
+            self.ml, E = _rotated_hierarchy(self.ic.ml_K, J, delta, sp.csr_matrix(Bc)[stiff], overwrite=True)
+            self.ic.amg_updates += 1
+            self.ic.amg_seconds += time.perf_counter() - t0
+            y, nit = self.ic.pcg(self.ml.levels[0].A, rhs + E @ rhs, self.ml.aspreconditioner(cycle="V"), rtol=rtol)
+            dx = y + E @ y
+        else:
+            M = self.get(J, float(np.max(k, initial=0.0)), delta=delta)
+            dx, nit = self.ic.pcg(J, rhs, M, rtol=rtol)
+        self.record(nit, rtol)
+        return dx, nit
 
     def record(self, iterations: int, rtol: float) -> None:
         digits = max(np.log10(1.0 / max(rtol, 1e-16)), 1.0)
@@ -597,9 +741,7 @@ class _FullSpaceSubproblem(NewtonSystem):
         J = ic.with_contact(delta)
         # inexact Newton: forcing min(forcing, res), tight enough in the last step to reach tol
         rtol = float(np.clip(max(min(self.forcing, res), 0.1 * self.tol_k / res), 1e-14, _FORCING_MAX))
-        M = ic.precond.get(J, float(np.max(self.w * D, initial=0.0)), delta=delta)
-        dx, nit = ic.pcg(J, -state[3], M, rtol=rtol)
-        ic.precond.record(nit, rtol)
+        dx, nit = ic.precond.solve(J, -state[3], rtol=rtol, delta=delta, Bc=self.Bc, k=self.w * D)
         logger.debug("Newton %d: residual %.2e, CG rtol %.1e, %d CG iterations", len(history), res, rtol, nit)
         return dx
 
