@@ -783,5 +783,9 @@ _FRICTIONLESS = (
 )
 register_family(_FRICTIONLESS, friction=False, kinematics="small", linear_solvers=("direct", "amg"),
                 defaults=FRICTIONLESS_DEFAULTS)
-register_family(_FRICTIONLESS, friction=False, kinematics="finite", linear_solvers=("direct",),
+# finite deformation: the augmented-Lagrangian algorithms (symmetric Newton matrices) also run on AMG + CG
+# (:mod:`alcontact.contact._finite_iterative`); the reference solves saddle-point systems, direct only
+register_family(_FRICTIONLESS[:3], friction=False, kinematics="finite", linear_solvers=("direct", "amg"),
+                defaults=FRICTIONLESS_DEFAULTS)
+register_family(_FRICTIONLESS[3:], friction=False, kinematics="finite", linear_solvers=("direct",),
                 defaults=FRICTIONLESS_DEFAULTS)
