@@ -21,7 +21,8 @@ factorizes every :math:`J` (:class:`~alcontact.contact._finite.NewtonSolver`, MK
   the tangent's elastic part;
 * **reuse**: one hierarchy preconditions the Newton matrices of many iterations and load
   steps; it is rebuilt (from the current :math:`J`) when a solve needs more than
-  ``rebuild_factor * rate_ref + 1`` CG iterations per decimal digit of residual reduction,
+  ``rebuild_factor * rate_ref + 1`` CG iterations per decimal digit of residual reduction
+  (``rebuild_factor`` 1, measured: ``_REBUILD_FACTOR``),
   ``rate_ref`` the rate of the first solve after the last build (contact points entering
   with their penalty stiffness change :math:`J` most), or when CG stops at ``maxiter``;
 * **dual step**: the products :math:`J^{-1} B_A^T v` of the multiplier step are CG solves to
@@ -79,8 +80,16 @@ _FORCING_START = 1e-3
 _EW_GAMMA = 0.9
 #: smallest CG tolerance (round-off of J x for the penalty stiffnesses of the contact terms)
 _FORCING_MIN = 1e-12
-#: CG iterations per digit above ``_REBUILD_FACTOR * rate_ref + 1`` mark the hierarchy stale
-_REBUILD_FACTOR = 2.0
+#: CG iterations per digit above ``_REBUILD_FACTOR * rate_ref + 1`` mark the hierarchy stale. Measured
+#: (simo-laursen, CPU s of the run / CG iterations per Newton step / setups), factor 0 (rebuild at almost
+#: every solve), 1, 2, 4, never: hemisphere P1 n = 8 (2187 DOFs, 4 steps) 1.76/19.9/10, 1.59/15.1/6,
+#: 1.91/19.5/4, 2.15/36.0/2, 3.07/53.7/1; half-cylinder P1 n = 32 (8 steps) 1.68/16.1/20, 1.95/18.6/14,
+#: 2.49/26.4/7, 2.55/34.0/4, 7.07/97.0/1. A 3D setup costs more CG iterations than a 2D one: 1
+_REBUILD_FACTOR = 1.0
+#: configuration of the rigid-body near-null modes (:meth:`AMGNewtonSolver.near_null`). The reference
+#: configuration's gave the same CG and Newton counts on both cases of ``_REBUILD_FACTOR`` (half-cylinder
+#: to delta/R = 0.4: 26.4 CG per Newton step either way); the current one costs nothing more
+_MODES = "current"
 #: CG iteration limit of one solve (the hierarchy is rebuilt and the solve repeated once)
 _MAXITER = 1000
 #: largest coarsest level of a hierarchy (solved by sparse LU)
@@ -141,10 +150,10 @@ class AMGNewtonSolver:
         CG tolerance of :meth:`solve` and :meth:`resolve`.
     forcing_max : float
         Largest forcing term of a Newton step.
-    rebuild_factor : float
-        Hierarchy reuse rule (module doc).
-    modes : {"current", "reference"}
-        Configuration of the rigid-body near-null modes.
+    rebuild_factor : float, optional
+        Hierarchy reuse rule (module doc); default ``_REBUILD_FACTOR``.
+    modes : {"current", "reference"}, optional
+        Configuration of the rigid-body near-null modes; default ``_MODES`` (``"current"``).
     fallback : bool
         Solve a system with negative curvature by the direct factorization (True) or fail the
         Newton step (False: the load step is cut back).
@@ -161,7 +170,9 @@ class AMGNewtonSolver:
     backend = "amg"
 
     def __init__(self, fc, *, rtol: float = _RTOL, forcing_max: float = _FORCING_MAX,
-                 rebuild_factor: float = _REBUILD_FACTOR, modes: str = "current", fallback: bool = True):
+                 rebuild_factor: float | None = None, modes: str | None = None, fallback: bool = True):
+        rebuild_factor = _REBUILD_FACTOR if rebuild_factor is None else rebuild_factor
+        modes = _MODES if modes is None else modes
         if modes not in ("current", "reference"):
             from ..errors import InputError
 
