@@ -78,6 +78,7 @@ def child(args) -> None:
     print(json.dumps({"success": bool(fs.success), "message": fs.message, "dofs": int(prob.model.ndofs),
                       "steps": steps, "extra": {k: v for k, v in fs.solution.extra.items()
                                                 if isinstance(v, (int, float, str))},
+                      "timings": {k: float(v) for k, v in fs.solution.timings.items()},
                       "peak_rss_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0}))
 
 

@@ -57,3 +57,12 @@ def test_ssn_with_amg_is_refused_naming_the_key(tmp_path):
     msg = " ".join(result.output.split())
     assert result.exit_code == 2, result.output
     assert "linear_solver = 'amg'" in msg and "'ssn' has no AMG path" in msg and "'direct'" in msg
+
+
+def test_list_shows_the_finite_amg_path():
+    """``alcontact list algorithms``: the augmented-Lagrangian algorithms run on ``finite: direct, amg``, ssn on
+    ``finite: direct``."""
+    result = runner.invoke(app, ["list", "algorithms"])
+    out = " ".join(result.output.split())
+    assert result.exit_code == 0
+    assert out.count("finite: direct, amg]") == 3 and "[small: direct, amg; finite: direct]" in out

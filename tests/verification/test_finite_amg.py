@@ -10,15 +10,16 @@ preconditions CG.
 Reference: the same run on the direct path (MKL PARDISO factor of every Newton matrix).
 CG tolerances of :class:`~alcontact.contact._finite_iterative.AMGNewtonSolver`: the Newton
 steps to the Eisenstat-Walker forcing term (at least 1e-12 relative, at most 0.1), the products
-of the dual multiplier step to 1e-6, the other solves (predictor) to 1e-10 relative; the Newton tolerance is the
+of the dual multiplier step to 1e-2, the other solves (predictor) to 1e-10 relative; the Newton tolerance is the
 default 1e-12. Asserted for Algorithm 6.1 (``simo-laursen``), Algorithm 6.3 with
 ``exp-met1`` and the pure penalty:
 
 - the contact force of every load step and the final displacement within **1e-8 relative**
-  of the direct path (measured: forces 1e-16 to 2.8e-9, displacements 1e-16 to 7e-11; the
+  of the direct path (measured: forces 1e-16 to 2.9e-9, displacements 1e-16 to 1.8e-9; the
   multipliers follow the inexact dual steps, the displacements the subproblems solved to 1e-12);
 - the same load steps (no cut-back), and at most **2 more Newton iterations per load step on
-  average** (measured: 0 to 0.33 more);
+  average** (measured: 0 to 1.0 more, simo-laursen on the half-cylinder P2, whose dual steps
+  are inexact here);
 - ``solution.extra["linear_solver"]`` names the path (``"amg"`` / ``"direct"``).
 """
 
@@ -84,7 +85,7 @@ def test_amg_path_reproduces_the_direct_path(multilevel, case, algorithm):
 
 def test_hierarchy_is_reused_across_newton_iterations(multilevel):
     """One AMG hierarchy serves several Newton systems: setups <= half the Newton iterations
-    (half-cylinder P1 n = 8, simo-laursen, 4 steps; measured 5 setups for 18 Newton steps)."""
+    (half-cylinder P1 n = 8, simo-laursen, 4 steps; measured 5 setups for 21 Newton steps)."""
     fs = solve_finite(half_cylinder(8), "simo-laursen", steps=4, linear_solver="amg")
     assert fs.success, fs.message
     ex = fs.solution.extra
@@ -131,7 +132,7 @@ def _spd_and_indefinite(fc):
 
 def test_cg_solves_an_spd_system_to_its_tolerance(multilevel):
     """A solve of the stiffness matrix (SPD) reaches the CG tolerance 1e-10 relative (residual 2-norm),
-    a re-solve with the same matrix (dual step) 1e-6."""
+    a re-solve with the same matrix (dual step) 1e-2."""
     fc = _fc(8)
     solver = fi.AMGNewtonSolver(fc)
     K, _ = _spd_and_indefinite(fc)
@@ -139,7 +140,7 @@ def test_cg_solves_an_spd_system_to_its_tolerance(multilevel):
     x = solver.solve(K, b)
     assert np.linalg.norm(K @ x - b) <= 1e-10 * np.linalg.norm(b)
     y = solver.resolve(b)  # the same matrix again (the dual step of Algorithm 6.1)
-    assert np.linalg.norm(K @ y - b) <= 1e-6 * np.linalg.norm(b)
+    assert np.linalg.norm(K @ y - b) <= 1e-2 * np.linalg.norm(b)
     assert solver.info()["direct_fallbacks"] == 0
 
 
