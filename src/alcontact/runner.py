@@ -681,6 +681,11 @@ def _finite_friction_summary(setup, fs, frames) -> dict[str, Any]:
     }
 
 
+#: keys of ``solution.extra`` of a finite-deformation run copied to ``summary.json``
+_FINITE_SOLVER_KEYS = ("linear_solver", "direct_solver", "amg_setups", "cg_iterations", "cg_per_newton",
+                       "direct_fallbacks")
+
+
 def _finite_summary(setup, fs, frames, wall: float) -> dict[str, Any]:
     """``summary.json`` keys of a finite-deformation run (the per-step lists have one entry per accepted step)."""
     final = frames[-1]
@@ -706,6 +711,8 @@ def _finite_summary(setup, fs, frames, wall: float) -> dict[str, Any]:
         "final_contact_force": [float(x) for x in final.total_contact_force],
         "max_cutbacks": int(setup.max_cutbacks),
         "obstacle_path": list(setup.obstacle_path) if setup.obstacle_path is not None else None,
+        # the linear-solver path of the Newton systems (direct factorization or AMG + CG) and its counters
+        **{k: final.extra[k] for k in _FINITE_SOLVER_KEYS if k in final.extra},
     }
     if steps:
         out.update(equilibrium_keys(final.equilibrium()))

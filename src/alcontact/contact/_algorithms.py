@@ -116,7 +116,9 @@ class ContactOptions:
         full-space Newton with conjugate gradients preconditioned by smoothed-aggregation
         AMG (PyAMG; :mod:`alcontact.contact._iterative`, with friction
         :mod:`alcontact.contact._friction_iterative`), for meshes whose factor does not
-        fit in memory. A direct solver's registry name (:func:`alcontact.linalg.registered_solvers`)
+        fit in memory; at finite deformation (penalty, Algorithm 6.1, Algorithm 6.3) each Newton
+        system by CG with an AMG hierarchy kept across iterations and an inexact-Newton forcing term
+        (:mod:`alcontact.contact._finite_iterative`). A direct solver's registry name (:func:`alcontact.linalg.registered_solvers`)
         picks that solver for the factorization. ``"auto"``: :func:`alcontact.linalg.choose_solver`
         (``"amg"`` for 3D models with more than :data:`~alcontact.linalg.AUTO_AMG_DOFS` = 250k DOFs,
         else ``"direct"``). Only the algorithms
@@ -189,7 +191,7 @@ class ContactOptions:
                                        low=0, high=1, low_open=True, high_open=True)
     linear_solver: str = declared(
         "str", "auto", "Linear solver: `direct` (one factorization by the fastest installed solver), `amg` "
-        "(PyAMG + CG/GMRES, no factorization; small kinematics), `auto` (amg where available for 3D above "
+        "(PyAMG + CG/GMRES, no factorization; at finite kinematics penalty, simo-laursen and family-p), `auto` (amg where available for 3D above "
         "250k DOFs, else direct), or a registered direct solver by name.", choices=_solver_names)
     # ---- read by the frictional solvers only
     eps_t: float | None = declared("float", None, "Friction: tangential penalty stiffness (default: "
@@ -783,5 +785,9 @@ _FRICTIONLESS = (
 )
 register_family(_FRICTIONLESS, friction=False, kinematics="small", linear_solvers=("direct", "amg"),
                 defaults=FRICTIONLESS_DEFAULTS)
-register_family(_FRICTIONLESS, friction=False, kinematics="finite", linear_solvers=("direct",),
+# finite deformation: the augmented-Lagrangian algorithms (symmetric Newton matrices) also run on AMG + CG
+# (:mod:`alcontact.contact._finite_iterative`); the reference solves saddle-point systems, direct only
+register_family(_FRICTIONLESS[:3], friction=False, kinematics="finite", linear_solvers=("direct", "amg"),
+                defaults=FRICTIONLESS_DEFAULTS)
+register_family(_FRICTIONLESS[3:], friction=False, kinematics="finite", linear_solvers=("direct",),
                 defaults=FRICTIONLESS_DEFAULTS)

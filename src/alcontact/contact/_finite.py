@@ -123,8 +123,20 @@ class NewtonSolver(SequenceSolver):
         Sparsity patterns whose analyses are kept.
     """
 
+    #: the linear-solver path this solver is (``solution.extra["linear_solver"]``)
+    path = "direct"
+
     def __init__(self, use_pardiso: bool = True, keep: int = 3):
         super().__init__(None if use_pardiso else "superlu", matrix_type="symmetric-indefinite", keep=keep)
+
+    def newton_step(self, A, rhs: np.ndarray, history) -> np.ndarray:
+        """The Newton correction ``A dx = rhs`` (exact; ``history`` serves inexact solvers'
+        forcing terms, :class:`~alcontact.contact._finite_iterative.AMGNewtonSolver`)."""
+        return self.solve(A, rhs)
+
+    def info(self) -> dict:
+        """Path and counters for ``solution.extra``."""
+        return {"linear_solver": self.path, "direct_solver": self.backend, "analyses": int(self.analyses)}
 
 
 _DEFAULT_SOLVER: NewtonSolver | None = None
@@ -156,6 +168,10 @@ class FiniteContact(ContactPoints):
         the fixed DOFs; their values per load step are set by :meth:`configure`.
     fixed : ndarray of int, optional
         Fixed DOFs (default those of the problem's supports).
+    solver : callable, optional
+        ``solver(fc)`` returns the solver of the Newton systems (the surface of
+        :class:`NewtonSolver`: ``newton_step``, ``solve``, ``resolve``, ``info``), e.g.
+        :class:`~alcontact.contact._finite_iterative.AMGNewtonSolver`; default a :class:`NewtonSolver`.
     margin : float
         Candidates of a step are the points whose gap at the step's starting state
         exceeds ``-max(margin * h, 2 * max_penetration)``; points that penetrate
@@ -204,7 +220,7 @@ class FiniteContact(ContactPoints):
     #: :attr:`newton_iterations`) where the factor belongs to the same candidates and active set
     chord_at_floor = True
 
-    def __init__(self, problem, *, margin: float = 2.0, fixed=None):
+    def __init__(self, problem, *, margin: float = 2.0, fixed=None, solver=None):
         t0 = time.perf_counter()
         self._setup_problem(problem)
         if fixed is not None:  # fixed DOFs of a load history (values set by configure)
@@ -232,7 +248,8 @@ class FiniteContact(ContactPoints):
         self.newton_iterations = 0
         self.chord_steps = 0
         self._factor_stiffness = None
-        self.solver = NewtonSolver()
+        # the solver of the Newton systems: NewtonSolver (direct) or a factory's (solver(self), e.g. AMG + CG)
+        self.solver = NewtonSolver() if solver is None else solver(self)
         self.residual_log: list[list[float]] = []
         self.assembly_seconds = 0.0
         self.solve_seconds = 0.0
@@ -546,8 +563,7 @@ class FiniteContact(ContactPoints):
                 "linear_solve_s": self.solve_seconds}
 
     def extra(self) -> dict:
-        return {"linear_solver": "direct", "direct_solver": self.solver.backend, "kinematics": "finite",
-                "newton_total": int(self.newton_iterations), "analyses": int(self.solver.analyses),
+        return {**self.solver.info(), "kinematics": "finite", "newton_total": int(self.newton_iterations),
                 "chord_steps": int(self.chord_steps)}
 
     def force_scale(self, r_body: np.ndarray, contact: np.ndarray) -> float:
@@ -950,7 +966,7 @@ class _Subproblem(NewtonSystem):
         tb = time.perf_counter()
         fc.assembly_seconds += tb - ta
         fc._factor_stiffness = (fc.cand, D)  # the contact springs in the factor (chord steps, _Subproblem._chord)
-        dx = linear_solve(J, -state.R, fc.solver)
+        dx = fc.solver.newton_step(J, -state.R, history)
         fc.solve_seconds += time.perf_counter() - tb
         fc.linear_solves += 1
         fc.newton_iterations += 1

@@ -540,6 +540,7 @@ def solve_finite(problem, algorithm: str = "simo-laursen", penalty: str | None =
         A failed step is logged as a warning (what to try) and ends the run with its
         negative status; the steps reached so far are kept.
     """
+    from ._finite_iterative import finite_solver
     from ._solve import penalty_stiffness
 
     t_start = time.perf_counter()
@@ -552,7 +553,7 @@ def solve_finite(problem, algorithm: str = "simo-laursen", penalty: str | None =
     max_cutbacks = int(max_cutbacks)
     times = _step_times(steps)
     data = _StepData(problem, history, obstacle_path)
-    dc = FiniteContact(problem, fixed=data.fixed)
+    dc = FiniteContact(problem, fixed=data.fixed, solver=finite_solver(opts.linear_solver, entry, problem.model))
     eps0 = opts.eps_n if opts.eps_n is not None else penalty_stiffness(problem.model, dc.h, opts.penalty_scale)
     state = {"x": np.zeros(dc.free.size), "last": None}
     dc.configure(*data(0.0), state["x"])  # the undeformed state belongs to t = 0

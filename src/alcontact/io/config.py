@@ -33,7 +33,7 @@ from pathlib import Path
 from typing import Any
 
 from .._options import BAD, LINEAR_MODEL, Option, check_value, declarations
-from ..errors import ConfigError, InputError, MeshError
+from ..errors import ConfigError, InputError, MeshError, UnknownNameError
 from .schema import Table, schema
 
 __all__ = ["Issue", "ProblemSetup", "load_problem", "load_problem_text", "validate_data"]
@@ -702,6 +702,15 @@ def _build(data: dict, base: Path, issues: list[Issue], source) -> ProblemSetup 
             ContactOptions(**given).validate()
         except InputError as exc:
             issues.append(Issue("solver", str(exc)))
+        else:  # the linear-solver path must be one the algorithm's registry entry has at these kinematics
+            try:
+                find_algorithm(algorithm, friction=isinstance(mu, float) and mu > 0,
+                               kinematics=kinematics if kinematics in ("small", "finite") else "small"
+                               ).check_options(ContactOptions(**given))
+            except UnknownNameError:
+                pass  # an algorithm without friction support is reported above
+            except InputError as exc:
+                issues.append(Issue("solver.linear_solver", str(exc)))
         # one options type: the frictional runs read every [solver] key; the friction-only ones may also be
         # set in [solver.friction] (a value other than the default there wins; both set: they must agree)
         fopts = dict(given)

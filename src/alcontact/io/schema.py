@@ -353,6 +353,16 @@ def render_markdown() -> str:
         "slip and stick/slip state of every step, the tangential reaction and the frictional",
         "dissipation (`summary.json`: `step_dissipation`).",
         "",
+        "Linear solver at finite deformation (`[solver] linear_solver`): `direct` (default; one MKL PARDISO",
+        "factorization per Newton iteration, symmetric indefinite) or `amg` for `penalty`, `simo-laursen`",
+        "and `family-p`: each Newton system by CG preconditioned with smoothed-aggregation AMG (rigid-body",
+        "modes of the current configuration), the hierarchy kept while the CG iteration counts stay low,",
+        "the CG tolerance following the Newton residual (Eisenstat-Walker); a Newton matrix that is not",
+        "positive definite is solved directly (`summary.json`: `direct_fallbacks`). No factor is stored,",
+        "so memory stays near that of the matrix; `ssn` (saddle-point systems) is direct-only and",
+        "`ssn` with `amg` is refused. `summary.json` names the path (`linear_solver`) with `cg_iterations`,",
+        "`cg_per_newton` and `amg_setups`; measurements in `docs/benchmarks/finite_amg.md`.",
+        "",
     ]
     for t in schema():
         head = f"[[{t.path}]]" if t.array else f"[{t.path}]"
