@@ -87,6 +87,8 @@ from scipy.sparse.linalg import cg
 from .. import linalg as _linalg
 from ..errors import InputError
 from ..fem.elasticity import rigid_body_modes
+from ..linalg._amg import SMOOTHER as AMG_SMOOTHER
+from ..linalg._amg import smoothed_aggregation
 from ._discrete import ContactPoints
 from ._newton import NewtonOutcome, NewtonSystem, newton, subproblem_outcome
 
@@ -127,20 +129,21 @@ INEXACT_DOFS = AUTO_AMG_DOFS
 
 #: relaxation of every level: pyamg's default for smoothed aggregation, named so that the
 #: hierarchies of :func:`_contact_hierarchy` use the same
-_SMOOTHER = ("block_gauss_seidel", {"sweep": "symmetric"})
+_SMOOTHER = AMG_SMOOTHER
 
 
 def _amg(A, B):
     """Smoothed-aggregation hierarchy of ``A`` (near-null space ``B``), sparse LU on the coarsest level.
 
+    :func:`alcontact.linalg._amg.smoothed_aggregation`: PyAMG's method with a first level built
+    by blocks of rows (no strength matrix, ``P`` stored once with ``R = P^T`` a view of it,
+    Galerkin product by blocks): 3D P1 Hertz, 188k DOFs, setup peak 940 instead of 1,750
+    bytes per DOF above ``A``, hierarchy 560 instead of 730, same CG iterations.
     The coarsening of graded 3D meshes can stop well above ``max_coarse`` (a 1752-row coarse
     level for the 3D sphere friction benchmark at 17k DOFs), where PyAMG's default dense
     pseudo-inverse took 6.2 s per hierarchy (70 % of that run) against 0.3 s for ``splu``.
     """
-    import pyamg  # optional at import time: only this path needs it
-
-    return pyamg.smoothed_aggregation_solver(A, B=B, max_coarse=500, coarse_solver="splu",
-                                             presmoother=_SMOOTHER, postsmoother=_SMOOTHER)
+    return smoothed_aggregation(A, B, max_coarse=500, coarse_solver="splu", smoother=_SMOOTHER)
 
 
 def _entry_positions(A, rows: np.ndarray, cols: np.ndarray) -> np.ndarray | None:
