@@ -351,8 +351,8 @@ class _AMGFactor:
         for lvl in self.ml.levels:
             for name in ("A", "P", "R"):
                 M = getattr(lvl, name, None)
-                if name == "R" and M is not None and getattr(lvl, "P", None) is not None \
-                        and getattr(M, "data", None) is getattr(lvl.P, "data", None):
+                if name == "R" and sp.issparse(M) and sp.issparse(getattr(lvl, "P", None)) \
+                        and np.shares_memory(M.data, lvl.P.data):
                     continue
                 if M is not None and sp.issparse(M):
                     total += M.data.nbytes + M.indices.nbytes + M.indptr.nbytes
