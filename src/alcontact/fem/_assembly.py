@@ -199,22 +199,75 @@ def elasticity_stiffness(mesh, element, sdofs: np.ndarray, ns: int, lam: float, 
         ck = (sd[:, None, :] * ns + sd[None, :, :]).transpose(2, 0, 1)  # (ne, a, b)
         pos = np.searchsorted(keys, ck.ravel())
         del ck
-        lo, hi = int(pos.min()), int(pos.max()) + 1
-        idx = ((pos - lo)[:, None] * dd + comp[None, :]).ravel()
-        blocks[lo * dd : hi * dd] += np.bincount(idx, weights=Ke.ravel(), minlength=(hi - lo) * dd)
-        del Ke, idx, pos
+        # the chunk's sums on the pattern positions it touches (a chunk's elements can span a
+        # wide range of rows: a bincount over the whole range was as large as the matrix)
+        u, inv = np.unique(pos, return_inverse=True)
+        idx = (inv.reshape(-1)[:, None] * dd + comp[None, :]).ravel()
+        blocks.reshape(-1, dd)[u] += np.bincount(idx, weights=Ke.ravel(), minlength=u.size * dd).reshape(-1, dd)
+        del Ke, idx, pos, u, inv
     blocks = blocks.reshape(nnz_s, d, d)
     # exact symmetry: average each block with the transpose of its mirror block
     tpos = np.searchsorted(keys, indices.astype(np.int64) * ns + np.repeat(np.arange(ns, dtype=np.int64),
                                                                            np.diff(indptr)))
     del keys
-    blocks = 0.5 * (blocks + blocks[tpos].transpose(0, 2, 1))
+    _symmetrize(blocks, tpos)
     del tpos
     _drop_roundoff(blocks, indptr, indices, ns)
-    idx_t = np.int32 if d * d * nnz_s < np.iinfo(np.int32).max else np.int64
-    K = sp.bsr_matrix((blocks, indices.astype(idx_t, copy=False), indptr.astype(idx_t)),
-                      shape=(d * ns, d * ns), blocksize=(d, d))
-    del blocks
-    K = K.tocsr()
+    return _blocks_to_csr(blocks, indptr, indices, ns, d)
+
+
+def _symmetrize(blocks: np.ndarray, tpos: np.ndarray, step: int = 1 << 18) -> None:
+    """``blocks[i] = (blocks[i] + blocks[tpos[i]]^T) / 2`` for every block, in place, by chunks.
+
+    Each pair is averaged once, from its upper block (``tpos[i] >= i``), and written to
+    both: the same values as the whole-array expression (addition commutes), without its
+    two copies of the blocks.
+    """
+    for s in range(0, blocks.shape[0], step):
+        i = np.arange(s, min(s + step, blocks.shape[0]), dtype=np.int64)
+        i = i[tpos[i] >= i]
+        avg = 0.5 * (blocks[i] + blocks[tpos[i]].transpose(0, 2, 1))
+        blocks[i] = avg
+        blocks[tpos[i]] = avg.transpose(0, 2, 1)
+
+
+def _blocks_to_csr(blocks: np.ndarray, indptr: np.ndarray, indices: np.ndarray, ns: int, d: int,
+                   step: int = 1 << 14) -> sp.csr_matrix:
+    """The block matrix as the interleaved CSR matrix (vector DOF ``d k + c``), reusing the block values' memory.
+
+    The CSR rows ``d a .. d b`` hold exactly the entries of the block rows ``a .. b``, so
+    the values are permuted within that range of the same array, by chunks of block rows;
+    only the column indices are a new array (no BSR-to-CSR copy of the values). Chunks
+    of about ``step`` blocks.
+    """
+    nnz_s = int(indptr[-1])
+    dd = d * d
+    idx_t = np.int32 if dd * nnz_s < np.iinfo(np.int32).max else np.int64
+    flat = blocks.reshape(-1)
+    cols = np.empty(nnz_s * dd, dtype=idx_t)
+    lens = np.diff(indptr)
+    cuts = np.unique(np.concatenate([np.searchsorted(indptr, np.arange(0, nnz_s, step), side="right") - 1, [ns]]))
+    for a, b in zip(cuts[:-1], cuts[1:]):
+        a, b = int(a), int(b)
+        s, e = int(indptr[a]), int(indptr[b])
+        if e == s:
+            continue
+        rl = lens[a:b]
+        # entries of block row r: (block j of the row, i, l) -> CSR row d r + i, position d j + l
+        blk = blocks[s:e]  # (nb, i, l)
+        j = np.arange(e - s) - np.repeat(indptr[a:b] - s, rl)
+        # CSR position within the chunk: d * (start of block row r) + i * (d * len_r) + d * j + l
+        base = d * (np.repeat(indptr[a:b] - s, rl)) * d
+        row_len = d * np.repeat(rl, rl)
+        ii = np.arange(d)
+        pos = (base[:, None, None] + ii[None, :, None] * row_len[:, None, None]
+               + (d * j)[:, None, None] + ii[None, None, :])  # (nb, i, l)
+        c = (d * indices[s:e].astype(np.int64))[:, None, None] + ii[None, None, :]
+        flat[dd * s + pos.reshape(-1)] = blk.reshape(-1).copy()  # a copy: source and target overlap
+        cols[dd * s + pos.reshape(-1)] = np.broadcast_to(c, pos.shape).reshape(-1)
+    csr_ptr = np.zeros(d * ns + 1, dtype=np.int64)
+    csr_ptr[1:] = np.repeat(d * lens, d)
+    np.cumsum(csr_ptr, out=csr_ptr)
+    K = sp.csr_matrix((flat, cols, csr_ptr.astype(idx_t)), shape=(d * ns, d * ns))
     K.has_sorted_indices = True
     return K

@@ -179,9 +179,21 @@ def _direct_cost(dim: int, n: float, nnz_k: float) -> tuple[float, float]:
     return _FILL_3D * n ** (4.0 / 3.0) * 16, _T_DIRECT_3D * n**2  # 3D: fill n^(4/3), work n^2
 
 
+#: Process peak of a contact solve on the AMG path: interpreter and libraries, plus bytes per
+#: stiffness nonzero for everything that scales with the mesh (mesh, model and contact boundary
+#: data, ``K`` on the free DOFs, the AMG hierarchy of :func:`alcontact.linalg._amg.smoothed_aggregation`
+#: and its setup transient, the Newton matrix and its coarse operators, CG vectors). Measured on
+#: 3D P1 Hertz (benchmarks/hertz_3d_large.py, peak resident set of the first contact solve:
+#: 0.577 GB at 128,625 DOFs / 4.56M nonzeros, 3.71 GB at 1,041,984 DOFs / 37.8M nonzeros; the
+#: fixed part is the interpreter, libraries and the fixed-size chunk temporaries of the
+#: assembly and the AMG setup): see docs/benchmarks/hertz_3d_large.md
+_AMG_PROCESS = 1.5e8
+_AMG_BYTES_PER_NNZ = 94.0
+
+
 def _amg_cost(dim: int, n: float, nnz_k: float) -> tuple[float, float]:
-    """Hierarchy memory (about 3 stiffness matrices) and solve time (linear in n) of the AMG path."""
-    return 3 * nnz_k * 12, _T_AMG * n
+    """Whole-process peak memory (measured model above) and solve time (linear in n) of the AMG path."""
+    return _AMG_PROCESS + _AMG_BYTES_PER_NNZ * nnz_k, _T_AMG * n
 
 
 #: Memory and time model of each linear solver path (``ContactOptions.linear_solver`` after "auto").
@@ -193,13 +205,16 @@ def _cost(dim: int, order: int, nodes: int, elements: int, solver: str, exact: b
     key = (dim, order)
     nnz_k = _NNZ_K[key] * n
     local = _LOCAL[key]
-    mem = (nodes * dim * 8 + elements * (dim + 1) * 8 * 6  # mesh, facets, connectivity
-           + elements * local * 2 * dim * _QUAD[key] * 8  # basis values and gradients (measured 2.4 kB/tet)
-           + 1.5 * elements * local**2 * 24  # assembly (COO values, rows, columns) and conversion
-           + 2 * nnz_k * 12  # stiffness and its condensed copy
-           + n * 8 * 40)  # solution vectors, fields, output
     solver_mem, secs = _SOLVER_COST[solver](dim, float(n), float(nnz_k))
-    mem += solver_mem
+    if solver == "amg":  # measured as a whole (_amg_cost)
+        mem = solver_mem
+    else:
+        mem = (nodes * dim * 8 + elements * (dim + 1) * 8 * 6  # mesh, facets, connectivity
+               + elements * local * 2 * dim * _QUAD[key] * 8  # basis values and gradients (measured 2.4 kB/tet)
+               + 1.5 * elements * local**2 * 24  # assembly (COO values, rows, columns) and conversion
+               + 2 * nnz_k * 12  # stiffness and its condensed copy
+               + n * 8 * 40  # solution vectors, fields, output
+               + solver_mem)
     return SizeEstimate(dim, order, int(nodes), int(elements), int(n), solver, float(mem), float(secs), exact)
 
 

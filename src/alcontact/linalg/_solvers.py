@@ -346,11 +346,14 @@ class _AMGFactor:
 
     @property
     def memory_bytes(self) -> int:
-        """Matrices of the hierarchy (values and indices)."""
+        """Matrices of the hierarchy (values and indices; a restriction that is a view of ``P`` counted once)."""
         total = 0
         for lvl in self.ml.levels:
             for name in ("A", "P", "R"):
                 M = getattr(lvl, name, None)
+                if name == "R" and sp.issparse(M) and sp.issparse(getattr(lvl, "P", None)) \
+                        and np.shares_memory(M.data, lvl.P.data):
+                    continue
                 if M is not None and sp.issparse(M):
                     total += M.data.nbytes + M.indices.nbytes + M.indptr.nbytes
         return total
@@ -400,11 +403,12 @@ class AMGSolver:
         self.rtol, self.maxiter = rtol, maxiter
 
     def factorize(self, matrix, hints: MatrixHints | None = None) -> _AMGFactor:
-        import pyamg
+        from ._amg import smoothed_aggregation
 
         A = sp.csr_matrix(matrix)
         B = hints.near_null() if (hints is not None and hints.near_null is not None) else None
         t0 = time.perf_counter()
-        # sparse LU on the coarsest level: see alcontact.contact._iterative._amg
-        ml = pyamg.smoothed_aggregation_solver(A, B=B, max_coarse=500, coarse_solver="splu")
+        # sparse LU on the coarsest level, first level built by blocks of rows: see
+        # alcontact.contact._iterative._amg
+        ml = smoothed_aggregation(A, B, max_coarse=500, coarse_solver="splu")
         return _AMGFactor(A, ml, time.perf_counter() - t0, self.rtol, self.maxiter)
