@@ -50,7 +50,9 @@ solve), which converges quadratically.
 
 Cost of a Newton iteration: one assembly of :math:`J` and one factorization by
 :class:`NewtonSolver` (MKL PARDISO with the symbolic analysis kept between iterations,
-SuperLU without it). The outer loop of Algorithm 6.1 solves its subproblems inexactly
+SuperLU without it). The values of :math:`J` are filled into fixed sparse structures
+(:mod:`._finite_matrices`), the tangent reuses the deformation gradient of the accepted
+trial state, and the body state of the last evaluated displacement is kept. The outer loop of Algorithm 6.1 solves its subproblems inexactly
 (``inexact_subproblems``) and updates the multipliers by a Newton step on the dual
 (:meth:`FiniteContact.multiplier_step`, a few back-substitutions with the factor of the
 last iteration); the tangent predictor of a load step also predicts the pressures.
@@ -102,9 +104,12 @@ class NewtonSolver(SequenceSolver):
 
     Every Newton matrix of :class:`FiniteContact` is symmetric (the tangent, the contact
     terms, the saddle-point matrix of the reference) and possibly indefinite, and few
-    sparsity patterns occur (:meth:`Hyperelastic.tangent
-    <alcontact.fem.hyperelastic.Hyperelastic.tangent>` keeps one pattern; the saddle-point
-    matrix keeps one per candidate set, :meth:`FiniteContact._saddle_matrix`). A
+    sparsity patterns occur: the Newton matrices of a run share the structure of
+    :class:`~._finite_matrices.NewtonLayout` (the free block of the body's fixed tangent
+    pattern, :attr:`Hyperelastic.tangent_pattern
+    <alcontact.fem.hyperelastic.Hyperelastic.tangent_pattern>`, and one saddle-point pattern
+    over all movable contact points, :meth:`FiniteContact._saddle_matrix`), so a run analyses
+    each pattern once and refactorizes by a gather. A
     :class:`~alcontact.linalg.SequenceSolver` for ``"symmetric-indefinite"`` matrices: the
     registry's choice (MKL PARDISO when installed, analyses of the ``keep`` most recent
     patterns kept, else SuperLU), with the residual check and the SuperLU fallback there.
