@@ -52,8 +52,8 @@ Cost of a Newton iteration: one assembly of :math:`J` and one factorization by
 :class:`NewtonSolver` (MKL PARDISO with the symbolic analysis kept between iterations,
 SuperLU without it). The values of :math:`J` are filled into fixed sparse structures
 (:mod:`._finite_matrices`), the tangent reuses the deformation gradient of the accepted
-trial state, and the body state of the last evaluated displacement is kept. The outer loop of Algorithm 6.1 solves its subproblems inexactly
-(``inexact_subproblems``) and updates the multipliers by a Newton step on the dual
+trial state, and the body state of the last evaluated displacement is kept. The outer
+loop of Algorithm 6.1 solves its subproblems inexactly (``inexact_subproblems``) and updates the multipliers by a Newton step on the dual
 (:meth:`FiniteContact.multiplier_step`, a few back-substitutions with the factor of the
 last iteration); the tangent predictor of a load step also predicts the pressures.
 
