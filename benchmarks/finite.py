@@ -12,12 +12,17 @@ the CPU cost of one tangent assembly plus one sparse direct solve of the same me
 (measured in the same run, at the final state), once with a fresh solver (ordering and
 analysis included) and once reusing the analysis as the Newton iterations do (the
 ``ratio`` column of the CSV). Writes ``<out>/<name>.csv`` (one row per step) and
-``<out>/<name>.md`` (``--name``, default ``finite``).
+``<out>/<name>.md`` (``--name``, default ``finite``). With ``--profile`` every variant runs
+under :mod:`cProfile` with a CPU-time clock and the report adds where a load step's CPU time
+goes (:data:`BREAKDOWN`: factorization, solve phase, back-substitutions, solver overhead,
+tangent assembly, Newton matrix, residual evaluations, multiplier step, predictor, rest) with
+the counts of residual evaluations and back-substitutions. The solver registry's one-time
+library lookup runs before the timed variants.
 
 Usage::
 
     python benchmarks/finite.py [--out DIR] [--problem half-cylinder] [--n 24] [--order 2] [--steps 20]
-                                [--delta 0.4] [--variants ssn ...] [--name finite]
+                                [--delta 0.4] [--variants ssn ...] [--name finite] [--profile]
 
 ``--n 104 --order 2`` has about 95k DOFs (the size of the targets); the default
 ``--n 24`` (4.8k DOFs) runs in a minute on a laptop. ``--problem hemisphere --n 31
@@ -27,9 +32,11 @@ Usage::
 from __future__ import annotations
 
 import argparse
+import cProfile
 import csv
 import io
 import logging
+import pstats
 import sys
 import time
 from pathlib import Path
@@ -82,17 +89,86 @@ def assembly_and_solve_seconds(problem, u: np.ndarray, repeat: int = 3) -> tuple
     return ta, tf, tr
 
 
+#: rows of the ``--profile`` breakdown: (label, what it measures)
+BREAKDOWN = [
+    ("factorization", "PARDISO analysis + numerical factorization (all Newton systems and predictors)"),
+    ("solve", "PARDISO solve phase of the Newton systems"),
+    ("back-substitutions", "PARDISO solves with the factor at hand (multiplier step of Algorithm 6.1)"),
+    ("solver overhead", "the solver's pattern lookup, conversion to PARDISO's input and residual check"),
+    ("tangent assembly", "K_T(u): element tangents and their CSR assembly"),
+    ("Newton matrix", "free block, contact blocks, saddle-point matrix (besides the tangent)"),
+    ("residual evaluations", "f_int, energy, gaps and contact forces of the start and of every trial step"),
+    ("multiplier step", "Algorithm 6.1's dual step besides its back-substitutions"),
+    ("predictor", "configure: secant / tangent predictor, candidates (besides its assembly and solve)"),
+    ("rest", "outer loops, stopping tests, step records"),
+]
+
+
+def _cum(stats: dict, name: str, file: str = "", caller: str | None = None) -> tuple[float, int]:
+    """Cumulative CPU seconds and calls of the functions ``name`` (defined in a file containing ``file``),
+    all callers or only those named ``caller``."""
+    total, calls = 0.0, 0
+    for (f, _, fn), (_, nc, _, ct, callers) in stats.items():
+        if fn != name or file not in f:
+            continue
+        if caller is None:
+            total, calls = total + ct, calls + nc
+            continue
+        for (_, _, cfn), cstat in callers.items():
+            if cfn == caller:
+                total, calls = total + cstat[3], calls + cstat[1]
+    return total, calls
+
+
+def breakdown(prof: cProfile.Profile, total: float) -> tuple[dict, dict]:
+    """CPU seconds of a profiled run by :data:`BREAKDOWN` row (non-overlapping) and call counts."""
+    st = pstats.Stats(prof).stats
+    # PARDISO's input (upper triangle) from the matrix: a conversion, not the factorization
+    convert = _cum(st, "_upper_with_diagonal", "_sequence")[0] + _cum(st, "_gathered", "_sequence")[0]
+    fact = (_cum(st, "refactorize", "_sequence")[0] + _cum(st, "__init__", "_sequence.py")[0]
+            - _cum(st, "__init__", "_sequence.py", "__init__")[0] - convert)  # SequenceSolver.__init__ is no factor
+    solve = _cum(st, "solve", "_solvers", "solve")[0]
+    back, nback = _cum(st, "solve", "_solvers", "resolve")
+    seq = _cum(st, "solve", "_sequence")[0]
+    tan = _cum(st, "tangent_data", "hyperelastic")[0] or _cum(st, "tangent", "hyperelastic")[0]
+    tan_pred = _cum(st, "tangent", "hyperelastic", "_predict")[0]
+    steps = _cum(st, "step", "_finite.py")[0]
+    solve_steps = _cum(st, "linear_solve", "_finite.py", "step")[0]
+    ev, nev = _cum(st, "evaluate", "_finite.py")
+    mult = _cum(st, "multiplier_step", "_finite.py")[0]
+    conf = _cum(st, "configure", "_finite.py")[0]
+    solve_pred = _cum(st, "linear_solve", "_finite.py", "_predict")[0]
+    out = {
+        "factorization": fact, "solve": solve, "back-substitutions": back, "solver overhead": seq - fact - solve,
+        "tangent assembly": tan, "Newton matrix": steps - solve_steps - (tan - tan_pred),
+        "residual evaluations": ev, "multiplier step": mult - back,
+        "predictor": conf - solve_pred - tan_pred,
+    }
+    out["rest"] = total - sum(out.values())
+    counts = {"evaluations": nev, "back-substitutions": nback,
+              "factorizations": _cum(st, "refactorize", "_sequence")[1]}
+    return out, counts
+
+
 def run(args) -> str:
     kwargs = {} if args.delta is None else {"delta": args.delta}
     problem = PROBLEMS[args.problem](args.n, order=args.order, **kwargs)
-    rows, summary = [], []
+    rows, summary, profiles = [], [], []
     t_ref = None
+    NewtonSolver()  # the solver registry's one-time library lookup (imports, pypardiso's search) is no step cost
     for name in args.variants:
         algorithm, penalty = VARIANTS[name]
+        prof = cProfile.Profile(time.process_time) if args.profile else None
         marks = [time.process_time()]  # CPU time at the start and after every accepted step
         t0 = time.perf_counter()
+        if prof is not None:
+            prof.enable()
         fs = solve_finite(problem, algorithm, penalty, steps=args.steps,
                           on_step=lambda *_: marks.append(time.process_time()))
+        if prof is not None:
+            prof.disable()
+            profiles.append((name, len(fs.steps), int(sum(s.newton_iterations for s in fs.steps)),
+                             *breakdown(prof, marks[-1] - marks[0])))
         wall = time.perf_counter() - t0
         if t_ref is None:
             t_asm, t_first, t_again = assembly_and_solve_seconds(problem, fs.u, repeat=args.repeat)
@@ -136,6 +212,22 @@ def run(args) -> str:
     for name, st, n, nm, nx, ns, ratio, ratio2, wall, f in summary:
         lines.append(f"| {name} | {st} | {n} | {nm:.2f} | {nx} | {ns:.2f} | {ratio:.2f} | {ratio2:.2f} | {wall:.1f} "
                      f"| {f:.10g} |")
+    if profiles:
+        lines += ["", "CPU seconds per load step by part (cProfile with a CPU-time clock; its overhead inflates "
+                  "the Python-heavy rows a little), and per Newton system:", "",
+                  "| part | " + " | ".join(f"{p[0]} / step | {p[0]} / Newton" for p in profiles) + " |",
+                  "|---|" + "---|---|" * len(profiles)]
+        for label, _ in BREAKDOWN:
+            cells = [f"{p[3][label] / p[1]:.3f} | {p[3][label] / max(p[2], 1):.3f}" for p in profiles]
+            lines.append(f"| {label} | " + " | ".join(cells) + " |")
+        cells = [f"{sum(p[3].values()) / p[1]:.3f} | {sum(p[3].values()) / max(p[2], 1):.3f}" for p in profiles]
+        lines.append("| **total** | " + " | ".join(cells) + " |")
+        for name, nsteps, newton, _, counts in profiles:
+            lines.append(f"\n{name}: {newton} Newton systems in {nsteps} steps, {counts['factorizations']} "
+                         f"refactorizations, {counts['evaluations']} residual evaluations "
+                         f"({counts['evaluations'] / max(newton, 1):.2f} per Newton system), "
+                         f"{counts['back-substitutions']} back-substitutions.")
+        lines += [""] + [f"- {label}: {what}" for label, what in BREAKDOWN]
     text = "\n".join(lines) + "\n"
     write_text_atomic(out / f"{args.name}.md", text)
     return text
@@ -152,6 +244,8 @@ def main(argv=None) -> int:
     ap.add_argument("--order", type=int, default=2)
     ap.add_argument("--steps", type=int, default=20)
     ap.add_argument("--variants", nargs="+", default=list(VARIANTS), choices=list(VARIANTS))
+    ap.add_argument("--profile", action="store_true",
+                    help="profile every variant (CPU clock) and add the breakdown of a step's CPU time by part")
     args = ap.parse_args(argv)
     logging.basicConfig(level=logging.INFO, format="%(message)s")
     print(run(args))

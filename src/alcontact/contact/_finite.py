@@ -50,8 +50,10 @@ solve), which converges quadratically.
 
 Cost of a Newton iteration: one assembly of :math:`J` and one factorization by
 :class:`NewtonSolver` (MKL PARDISO with the symbolic analysis kept between iterations,
-SuperLU without it). The outer loop of Algorithm 6.1 solves its subproblems inexactly
-(``inexact_subproblems``) and updates the multipliers by a Newton step on the dual
+SuperLU without it). The values of :math:`J` are filled into fixed sparse structures
+(:mod:`._finite_matrices`), the tangent reuses the deformation gradient of the accepted
+trial state, and the body state of the last evaluated displacement is kept. The outer
+loop of Algorithm 6.1 solves its subproblems inexactly (``inexact_subproblems``) and updates the multipliers by a Newton step on the dual
 (:meth:`FiniteContact.multiplier_step`, a few back-substitutions with the factor of the
 last iteration); the tangent predictor of a load step also predicts the pressures.
 
@@ -78,6 +80,7 @@ from ..errors import InvertedElementError
 from ..linalg import SequenceSolver
 from ..status import Status
 from ._discrete import ContactPoints
+from ._finite_matrices import NewtonLayout
 from ._newton import LineSearch, NewtonOutcome, NewtonSettings, NewtonSystem, newton, subproblem_outcome
 
 __all__ = ["FiniteContact", "NewtonSolver", "linear_solve"]
@@ -108,9 +111,12 @@ class NewtonSolver(SequenceSolver):
 
     Every Newton matrix of :class:`FiniteContact` is symmetric (the tangent, the contact
     terms, the saddle-point matrix of the reference) and possibly indefinite, and few
-    sparsity patterns occur (:meth:`Hyperelastic.tangent
-    <alcontact.fem.hyperelastic.Hyperelastic.tangent>` keeps one pattern; the saddle-point
-    matrix keeps one per candidate set, :meth:`FiniteContact._saddle_matrix`). A
+    sparsity patterns occur: the Newton matrices of a run share the structure of
+    :class:`~._finite_matrices.NewtonLayout` (the free block of the body's fixed tangent
+    pattern, :attr:`Hyperelastic.tangent_pattern
+    <alcontact.fem.hyperelastic.Hyperelastic.tangent_pattern>`, and one saddle-point pattern
+    over all movable contact points, :meth:`FiniteContact._saddle_matrix`), so a run analyses
+    each pattern once and refactorizes by a gather. A
     :class:`~alcontact.linalg.SequenceSolver` for ``"symmetric-indefinite"`` matrices: the
     registry's choice (MKL PARDISO when installed, analyses of the ``keep`` most recent
     patterns kept, else SuperLU), with the residual check and the SuperLU fallback there.
@@ -505,16 +511,57 @@ class FiniteContact(ContactPoints):
 
     # ------------------------------------------------------------------ body
     def _body_state(self, u: np.ndarray, energy: bool):
-        """``(f_int - f_ext, Pi_body)``; raises InvertedElementError for J <= 0."""
-        fint = np.asarray(self.body.internal_force(u), dtype=float)
-        if not np.all(np.isfinite(fint)):
-            raise InvertedElementError("non-finite internal force (an element is inverted or degenerate)")
-        e = float(self.body.energy(u)) - float(self.load @ u) if energy else np.nan
+        """``(f_int - f_ext, Pi_body)``; raises InvertedElementError for J <= 0.
+
+        The internal force and stored energy of the last state are kept: a subproblem starts
+        where the last one stopped (new multipliers, same state), and the residual function and
+        the Newton systems evaluate the same state more than once.
+        """
+        kept = getattr(self, "_kept_body", None)
+        if kept is not None and np.array_equal(kept[0], u):
+            _, fint, e_int = kept
+        else:
+            fint = np.asarray(self.body.internal_force(u), dtype=float)
+            if not np.all(np.isfinite(fint)):
+                raise InvertedElementError("non-finite internal force (an element is inverted or degenerate)")
+            e_int = None
+        if energy and e_int is None:
+            e_int = float(self.body.energy(u))
+        self._kept_body = (np.array(u, dtype=float), fint, e_int)
+        e = e_int - float(self.load @ u) if energy else np.nan
         return fint - self.load, e
 
+    def _free_tangent_data(self, u: np.ndarray):
+        """``(layout, values)`` of the free block of :math:`K_T(u)` on its fixed structure
+        (:class:`~._finite_matrices.NewtonLayout`), or ``(None, matrix)`` for a body without
+        :meth:`tangent_data <alcontact.fem.hyperelastic.Hyperelastic.tangent_data>`."""
+        body = self.body
+        if not hasattr(body, "tangent_data"):
+            K = body.tangent(u).tocsr()
+            return None, K[self.free][:, self.free]
+        indptr, indices = body.tangent_pattern
+        layout = getattr(self, "_layout", None)
+        if layout is None or not layout.matches(indptr, indices):
+            layout = NewtonLayout(indptr, indices, self.free, self.pos, self._movable_pts)
+            self._layout = layout
+        kdata = body.tangent_data(u)
+        if not layout.complete:
+            K = sp.csr_matrix((kdata, indices, indptr), shape=(body.ndofs, body.ndofs))
+            return None, K[self.free][:, self.free]
+        return layout, layout.free_block(kdata)
+
     def _tangent_free(self, u: np.ndarray) -> sp.csr_matrix:
-        K = self.body.tangent(u).tocsr()
-        return K[self.free][:, self.free]
+        """Free block of :math:`K_T(u)` (CSR; on the fixed structure of :attr:`_layout` where the body has one)."""
+        layout, data = self._free_tangent_data(u)
+        return data if layout is None else layout.matrix(data)
+
+    def _tangent_blocks(self, u: np.ndarray, idx: np.ndarray, blocks: np.ndarray) -> sp.csr_matrix:
+        """Free block of :math:`K_T(u)` plus the ``d x d`` ``blocks`` of the points ``idx``."""
+        layout, data = self._free_tangent_data(u)
+        if layout is None:
+            return data + self._point_blocks(idx, blocks)
+        layout.add_blocks(data, idx, blocks)
+        return layout.matrix(data)
 
     # ------------------------------------------- interface of the outer loops
     def start(self) -> np.ndarray:
@@ -595,9 +642,15 @@ class FiniteContact(ContactPoints):
         cand = self.cand
         w = self.weights[cand]
         _, nu, H = self._kinematics(u, cand, True)
-        Bm = self._B(nu, cand)
-        return (self._tangent_free(u) + Bm.T @ sp.diags(w * D) @ Bm
-                + self._point_blocks(cand, (w * t)[:, None, None] * H)).tocsr()
+        layout, data = self._free_tangent_data(u)
+        if layout is None:
+            Bm = self._B(nu, cand)
+            return (data + Bm.T @ sp.diags(w * D) @ Bm + self._point_blocks(cand, (w * t)[:, None, None] * H)).tocsr()
+        # B^T diag(w D) B is the block (-nu_i w_i D_i)(-nu_i)^T of every point (the products of the sparse
+        # product, in its order), added before the curvature blocks as the sparse sum did
+        layout.add_blocks(data, cand, ((-nu) * (w * D)[:, None])[:, :, None] * (-nu)[:, None, :])
+        layout.add_blocks(data, cand, (w * t)[:, None, None] * H)
+        return layout.matrix(data)
 
     def subproblem(self, law, lam, x0, *, tol: float, maxiter: int) -> NewtonOutcome:
         """Newton's method for :math:`R(x) = 0` of subproblem (S) (module doc, :class:`_Subproblem`)."""
@@ -811,7 +864,7 @@ class FiniteContact(ContactPoints):
         rows[self._movable_pts] = np.arange(self._movable_pts.size)
         return rows[self.cand]
 
-    def _saddle_matrix(self, u, Kt, active) -> sp.csc_matrix:
+    def _saddle_matrix(self, u, Kt, active) -> sp.spmatrix:
         r"""Saddle-point matrix of :meth:`_equality_newton` over all movable contact points (one pattern).
 
         One constraint row per movable point of the contact boundary (:meth:`_saddle_rows`
@@ -825,6 +878,9 @@ class FiniteContact(ContactPoints):
         on = np.zeros(pts.size, dtype=bool)
         on[self._saddle_rows()] = active
         _, nu, _ = self._kinematics(u, pts, False)
+        layout = getattr(self, "_layout", None)
+        if layout is not None and layout.built_here(Kt):
+            return layout.saddle(Kt.data, nu, on)  # the same matrix on its fixed structure
         Bc = self._B(nu * on[:, None], pts)
         nc = pts.size
         D = sp.csr_matrix(((~on).astype(float), np.arange(nc), np.arange(nc + 1)), shape=(nc, nc))
@@ -1029,8 +1085,7 @@ class _EqualityNewton(NewtonSystem):
         u, gA, R, r, _, _ = state
         ta = time.perf_counter()
         _, _, H = fc._kinematics(u, A, True)
-        Kt = fc._tangent_free(u) + fc._point_blocks(A, r[:, None, None] * H)
-        J = fc._saddle_matrix(u, Kt, self.active)
+        J = fc._saddle_matrix(u, fc._tangent_blocks(u, A, r[:, None, None] * H), self.active)
         tb = time.perf_counter()
         fc.assembly_seconds += tb - ta
         rhs_g = np.zeros(J.shape[0] - self.nf)

@@ -195,6 +195,7 @@ class Hyperelastic(LinearElasticity):
         sdofs = np.ascontiguousarray(self.quadrature_basis.element_dofs.T)  # (nel, nloc)
         self._sdofs = sdofs
         self._vdofs = self.dof_map[sdofs].reshape(sdofs.shape[0], -1)  # (nel, nloc*dim), a-major
+        self._kept_gradient: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
 
     # ------------------------------------------------------------- kinematics
     def _check_u(self, u) -> np.ndarray:
@@ -223,6 +224,22 @@ class Hyperelastic(LinearElasticity):
             )
         return F, J
 
+    def _state_gradient(self, u: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """``F`` and ``J`` at the quadrature points for a checked ``u``, the last state's kept.
+
+        A Newton iteration evaluates the internal force and the energy of a trial state and,
+        once the line search accepts it, the tangent there: all three share one deformation
+        gradient (read-only arrays; a state that inverts an element is not kept).
+        """
+        kept = self._kept_gradient
+        if kept is not None and np.array_equal(kept[0], u):
+            return kept[1], kept[2]
+        F, J = self._gradient(u, self._G, self._sdofs)
+        F.flags.writeable = False
+        J.flags.writeable = False
+        self._kept_gradient = (u.copy(), F, J)
+        return F, J
+
     def deformation_gradient(self, u) -> np.ndarray:
         r"""Deformation gradient :math:`F = I + \nabla_X u` at the quadrature points.
 
@@ -240,7 +257,7 @@ class Hyperelastic(LinearElasticity):
     # ------------------------------------------------- Body protocol (fem._body)
     def energy(self, u) -> float:
         r"""Stored energy :math:`\Pi_{int}(u) = \int_{\Omega_0} W(F)\,dV`."""
-        F, _ = self._gradient(self._check_u(u), self._G, self._sdofs)
+        F, _ = self._state_gradient(self._check_u(u))
         lam, mu = self.lam, self.mu
         return float(np.sum(self.law.energy(F, lam, mu) * self._dx))
 
@@ -250,7 +267,7 @@ class Hyperelastic(LinearElasticity):
 
     def internal_force(self, u) -> np.ndarray:
         r"""Internal force :math:`f_{int}(u) = \int_{\Omega_0} P(F) : \nabla_X \delta u\,dV`, shape ``(ndofs,)``."""
-        F, _ = self._gradient(self._check_u(u), self._G, self._sdofs)
+        F, _ = self._state_gradient(self._check_u(u))
         P = self.law.stress(F, self.lam, self.mu)
         fe = (self._G @ np.swapaxes(P * self._dx[:, :, None, None], -1, -2)).sum(axis=1)  # (nel, a, i)
         return np.bincount(self._vdofs.ravel(), weights=fe.ravel(), minlength=self.ndofs)
@@ -269,14 +286,31 @@ class Hyperelastic(LinearElasticity):
         logger.debug("tangent sparsity pattern: nnz=%d in %.3f s", int(indptr[-1]), time.perf_counter() - t0)
         return out
 
-    def tangent(self, u) -> sp.csr_matrix:
-        r"""Tangent stiffness :math:`K_T(u) = \partial f_{int}/\partial u` (symmetric CSR, material + geometric)."""
+    @property
+    def tangent_pattern(self) -> tuple[np.ndarray, np.ndarray]:
+        """``(indptr, indices)`` of the CSR pattern of every :meth:`tangent` (sorted, read-only arrays).
+
+        :meth:`tangent_data` fills it; a caller that keeps sparse structures built on it (the
+        free-DOF block, a saddle-point matrix) updates only their values per tangent.
+        """
+        indptr, indices = self._pattern[:2]
+        indptr.flags.writeable = False
+        indices.flags.writeable = False
+        return indptr, indices
+
+    def tangent_data(self, u) -> np.ndarray:
+        r"""Values of :meth:`tangent` at ``u`` in the CSR order of :attr:`tangent_pattern` (a new array)."""
         u = self._check_u(u)
-        F, _ = self._gradient(u, self._G, self._sdofs)
+        F, _ = self._state_gradient(u)
         Ke = self.law.element_tangent(F, self._G, self._dx, self.lam, self.mu)  # (nel, a, i, b, k)
         indptr, indices, pos, tperm = self._pattern
         data = np.bincount(pos, weights=Ke.ravel(), minlength=int(indptr[-1]))
-        data = 0.5 * (data + data[tperm])  # remove round-off asymmetry (exactly symmetric CSR)
+        return 0.5 * (data + data[tperm])  # remove round-off asymmetry (exactly symmetric CSR)
+
+    def tangent(self, u) -> sp.csr_matrix:
+        r"""Tangent stiffness :math:`K_T(u) = \partial f_{int}/\partial u` (symmetric CSR, material + geometric)."""
+        data = self.tangent_data(u)
+        indptr, indices = self._pattern[:2]
         # own copies of the structure: in-place scipy operations (eliminate_zeros, ...) on one
         # tangent must not change the cached pattern of the next
         K = sp.csr_matrix((data, indices.copy(), indptr.copy()), shape=(self.ndofs, self.ndofs))

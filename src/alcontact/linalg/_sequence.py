@@ -50,6 +50,14 @@ def _upper_with_diagonal(A, upper: bool = True) -> sp.csr_matrix:
     return U
 
 
+def _canonical_csr(A) -> bool:
+    return sp.issparse(A) and A.format == "csr" and bool(A.has_canonical_format)
+
+
+def _same_arrays(a: np.ndarray, b: np.ndarray) -> bool:
+    return a is b or (a.shape == b.shape and np.array_equal(a, b))
+
+
 class PardisoSymmetricFactor(PardisoHandle):
     """MKL PARDISO factor of a real (symmetric or unsymmetric) matrix whose symbolic analysis is kept.
 
@@ -77,6 +85,14 @@ class PardisoSymmetricFactor(PardisoHandle):
         self.matrix_type = matrix_type
         self._mtype = _PARDISO_MTYPE[matrix_type]
         self._upper = matrix_type != "unsymmetric"
+        self._source = None
+        if _canonical_csr(matrix):
+            # where every entry of PARDISO's input sits in the CSR data of ``matrix``: a matrix of the same
+            # pattern is refactorized by a gather (no triangle extraction and conversion per factorization)
+            labels = sp.csr_matrix((np.arange(1, matrix.nnz + 1, dtype=float), matrix.indices, matrix.indptr),
+                                   shape=matrix.shape)
+            gather = _upper_with_diagonal(labels, self._upper).data.astype(np.int64) - 1
+            self._source = (matrix.indptr.copy(), matrix.indices.copy(), gather, np.flatnonzero(gather < 0))
         U = _upper_with_diagonal(matrix, self._upper)
         self.n = U.shape[0]
         self._ia = (U.indptr + 1).astype(np.int32)
@@ -126,19 +142,37 @@ class PardisoSymmetricFactor(PardisoHandle):
                              f"error {err.value} ({_PARDISO_ERRORS.get(err.value, 'see the MKL documentation')}); "
                              "use another linear solver (e.g. 'superlu').")
 
+    def _gathered(self, matrix) -> np.ndarray | None:
+        """PARDISO's input data of ``matrix`` by the gather of the analysed CSR pattern, or ``None``
+        when ``matrix`` is not a canonical CSR matrix of that pattern."""
+        src = self._source
+        if src is None or not _canonical_csr(matrix) or matrix.shape != (self.n, self.n):
+            return None
+        if not (_same_arrays(matrix.indptr, src[0]) and _same_arrays(matrix.indices, src[1])):
+            return None
+        data = np.asarray(matrix.data, dtype=np.float64)[src[2]]
+        data[src[3]] = 0.0  # diagonal entries PARDISO needs but the matrix does not store
+        return data
+
     def same_pattern(self, matrix) -> bool:
         """Whether ``matrix`` has the sparsity pattern this factor analysed."""
+        if self._gathered(matrix) is not None:
+            return True
         U = _upper_with_diagonal(matrix, self._upper)
         return (U.shape[0] == self.n and np.array_equal(U.indptr + 1, self._ia)
                 and np.array_equal(U.indices + 1, self._ja))
 
     def refactorize(self, matrix) -> PardisoSymmetricFactor:
         """Numerical factorization of ``matrix`` (same pattern) on the kept analysis; returns self."""
-        U = _upper_with_diagonal(matrix, self._upper)
-        if U.shape[0] != self.n or not (np.array_equal(U.indptr + 1, self._ia)
-                                        and np.array_equal(U.indices + 1, self._ja)):
-            raise InputError("refactorize needs a matrix with the analysed sparsity pattern; factorize it instead.")
-        self._data = np.ascontiguousarray(U.data, dtype=np.float64)
+        data = self._gathered(matrix)
+        if data is None:
+            U = _upper_with_diagonal(matrix, self._upper)
+            if U.shape[0] != self.n or not (np.array_equal(U.indptr + 1, self._ia)
+                                            and np.array_equal(U.indices + 1, self._ja)):
+                raise InputError("refactorize needs a matrix with the analysed sparsity pattern; factorize it "
+                                 "instead.")
+            data = U.data
+        self._data = np.ascontiguousarray(data, dtype=np.float64)
         t0 = time.perf_counter()
         self._run(22)
         self.factorizations += 1
@@ -253,7 +287,7 @@ class SequenceSolver:
                 logger.debug("%s refused the matrix (%s); %s solves it", self.backend, exc, self._fallback.name)
             else:
                 r = A @ x - rhs
-                amax = float(abs(A).max()) if A.nnz else 0.0
+                amax = float(np.max(np.abs(A.data), initial=0.0))
                 bound = 1e-8 * (amax * float(np.max(np.abs(x), initial=0.0)) + float(np.max(np.abs(rhs), initial=0.0)))
                 if np.all(np.isfinite(x)) and float(np.max(np.abs(r), initial=0.0)) <= bound:
                     self._last = f

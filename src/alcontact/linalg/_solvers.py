@@ -177,7 +177,11 @@ def _mkl_pardiso():
     if not _MKL_PARDISO:
         import pypardiso
 
-        _MKL_PARDISO.append(pypardiso.PyPardisoSolver())  # kept: it holds the library handle
+        # the instance pypardiso makes on import has located the library already (a second one globs again)
+        solver = getattr(pypardiso, "ps", None)
+        if getattr(solver, "_mkl_pardiso", None) is None:
+            solver = pypardiso.PyPardisoSolver()
+        _MKL_PARDISO.append(solver)  # kept: it holds the library handle
     return _MKL_PARDISO[0]._mkl_pardiso
 
 
