@@ -9,10 +9,15 @@ measured in the same run, plus the accuracy against Hertz.
 Writes ``<out>/hertz.csv``, ``<out>/hertz.md`` (the text above ``<!-- tables -->`` is kept) and
 ``<out>/hertz.png`` (log-log ratio and time against DOFs on the 2D ladder, fitted exponents).
 
+Every case runs in its own process (``--in-process`` runs them in this one): the peak memory of
+each linear and contact solve is the peak resident set size (``VmHWM``, reset through
+``/proc/self/clear_refs`` before each measured solve) and one case's allocations do not carry
+over into the next.
+
 Usage::
 
     python benchmarks/hertz.py [--out DIR] [--cases 2d-10k 2d-100k ...] [--variants ssn simo-laursen ...]
-        [--issue-variants] [--merge] [--repeats N]
+        [--issue-variants] [--merge] [--repeats N] [--in-process]
     python benchmarks/hertz.py --report --out DIR
 
 Timings are ratios within one run; machines are shared and noisy.
@@ -26,7 +31,9 @@ import dataclasses
 import io
 import logging
 import math
+import os
 import statistics
+import subprocess
 import sys
 import time
 from pathlib import Path
@@ -86,19 +93,65 @@ REPEAT_BUDGET_S = 2.0
 FIELDS = ["case", "dofs", "candidates", "variant", "algorithm", "penalty", "status", "outer_iterations",
           "newton_iterations", "linear_solves", "cg_iterations", "wall_s", "linear_solve_s", "plain_linear_s",
           "ratio", "cpu_s", "plain_linear_cpu_s", "ratio_cpu", "repeats", "a_err_pct", "p0_err_pct",
-          "penetration_over_h"]
+          "penetration_over_h", "peak_rss_mb", "base_rss_mb", "plain_linear_peak_rss_mb",
+          "plain_linear_base_rss_mb", "ratio_rss"]
+
+_CLEAR_REFS = Path("/proc/self/clear_refs")
+
+
+def reset_peak_rss() -> bool:
+    """Reset the kernel's peak resident set size of this process (``VmHWM``) to the current one.
+
+    Linux only (``echo 5 > /proc/self/clear_refs``); False where that is not possible, and then
+    :func:`peak_rss_mb` is the peak since the process started.
+    """
+    try:
+        _CLEAR_REFS.write_text("5")
+    except OSError:
+        return False
+    return True
+
+
+def rss_mb() -> float:
+    """Current resident set size of this process in MiB (NaN where ``/proc`` is missing)."""
+    try:
+        for line in Path("/proc/self/status").read_text().splitlines():
+            if line.startswith("VmRSS:"):
+                return int(line.split()[1]) / 1024.0
+    except OSError:
+        pass
+    return math.nan
+
+
+def peak_rss_mb() -> float:
+    """Peak resident set size of this process in MiB since the last :func:`reset_peak_rss` (NaN if unknown)."""
+    try:
+        for line in Path("/proc/self/status").read_text().splitlines():
+            if line.startswith("VmHWM:"):
+                return int(line.split()[1]) / 1024.0
+    except OSError:
+        pass
+    try:
+        import resource
+    except ImportError:
+        return math.nan
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
 
 
 @dataclasses.dataclass(frozen=True, order=True)
 class Timing:
-    """Wall and CPU seconds (user + system of this process) of one measurement; ordered by CPU."""
+    """Wall and CPU seconds (user + system of this process) and peak RSS (MiB) of one measurement; ordered by CPU."""
 
     cpu: float
     wall: float
+    rss_mb: float = dataclasses.field(compare=False)
+    base_rss_mb: float = dataclasses.field(compare=False)
 
-    def __init__(self, wall: float, cpu: float):
+    def __init__(self, wall: float, cpu: float, rss_mb: float = math.nan, base_rss_mb: float = math.nan):
         object.__setattr__(self, "cpu", cpu)
         object.__setattr__(self, "wall", wall)
+        object.__setattr__(self, "rss_mb", rss_mb)
+        object.__setattr__(self, "base_rss_mb", base_rss_mb)
 
 
 def plain_linear_solve(prob, linear_solver="auto") -> Timing:
@@ -114,10 +167,15 @@ def plain_linear_solve(prob, linear_solver="auto") -> Timing:
     fixed, values = prob.dirichlet()
     backend = linear_solver_name(linear_solver, model)  # what the contact solve resolves "auto" to
     model.clear_factorization()
+    reset_peak_rss()
+    base = rss_mb()
     c0, t0 = time.process_time(), time.perf_counter()
     fac = model.factorize(fixed, backend=backend, reuse=False)
     fac.solve_full(prob.load_vector(), values)
-    return Timing(time.perf_counter() - t0, time.process_time() - c0)
+    timing = Timing(time.perf_counter() - t0, time.process_time() - c0, peak_rss_mb(), base)
+    del fac
+    model.clear_factorization()
+    return timing
 
 
 def _row(case, label, prob, sol, plain: Timing, timing: Timing, repeats=1):
@@ -138,6 +196,9 @@ def _row(case, label, prob, sol, plain: Timing, timing: Timing, repeats=1):
         "a_err_pct": round(100 * (a / ref.half_width(P) - 1), 3) if P > 0 else "",
         "p0_err_pct": round(100 * (sol.peak_pressure / ref.peak_pressure(P) - 1), 3) if P > 0 else "",
         "penetration_over_h": f"{r.penetration:.2e}",
+        "peak_rss_mb": round(timing.rss_mb, 1), "base_rss_mb": round(timing.base_rss_mb, 1),
+        "plain_linear_peak_rss_mb": round(plain.rss_mb, 1), "plain_linear_base_rss_mb": round(plain.base_rss_mb, 1),
+        "ratio_rss": round(timing.rss_mb / plain.rss_mb, 3),
     }
 
 
@@ -269,9 +330,13 @@ def _timed_solves(prob, chosen, case_opts, repeats, backend):
     for _ in range(repeats):
         for label, alg, pen, opts in chosen:
             prob.model.clear_factorization()  # every variant pays its factorization (no reuse across variants)
+            sols.pop(label, None)
+            reset_peak_rss()
+            base = rss_mb()
             c0, t0 = time.process_time(), time.perf_counter()
             sols[label] = solve(prob, alg, pen, **{**case_opts, **opts})
-            best[label] = min(best[label], Timing(time.perf_counter() - t0, time.process_time() - c0))
+            best[label] = min(best[label], Timing(time.perf_counter() - t0, time.process_time() - c0, peak_rss_mb(),
+                                                  base))
         if repeats > 1:
             plain = min(plain, plain_linear_solve(prob, backend))
     return [(label, sols[label], best[label]) for label, *_ in chosen], plain
@@ -303,10 +368,11 @@ def write_report(out: Path, rows) -> None:
 
 
 def run(out_dir=None, cases=None, variants=None, log=print, merge=False, repeats=None) -> Path:
-    """Run the benchmark; return the folder with ``hertz.csv``, ``hertz.md`` and ``hertz.png``.
+    """Run the benchmark in this process; return the folder with ``hertz.csv``, ``hertz.md`` and ``hertz.png``.
 
     ``merge``: keep the rows of other cases already in ``hertz.csv`` (big cases run one at a
     time). ``repeats``: timings per variant (default from :data:`REPEAT_BUDGET_S`).
+    :func:`run_isolated` runs every case in a process of its own.
     """
     out = Path(out_dir or Path(__file__).parent / "out")
     out.mkdir(parents=True, exist_ok=True)
@@ -325,7 +391,8 @@ def run(out_dir=None, cases=None, variants=None, log=print, merge=False, repeats
         plain = plain_linear_solve(prob, backend)
         reps = repeats or max(1, min(MAX_REPEATS, int(REPEAT_BUDGET_S / plain.cpu)))
         plain = min([plain] + [plain_linear_solve(prob, backend) for _ in range(reps - 1)])
-        log(f"  one linear solve {plain.wall:.3f} s wall, {plain.cpu:.3f} s CPU, repeats {reps}")
+        log(f"  one linear solve {plain.wall:.3f} s wall, {plain.cpu:.3f} s CPU, peak RSS {plain.rss_mb:.0f} MiB, "
+            f"repeats {reps}")
         sols, between = _timed_solves(prob, chosen, case_opts, reps, backend)
         plain = min(plain, between)
         # shared machines: the smallest of the measurements before, between and after the variants
@@ -337,13 +404,44 @@ def run(out_dir=None, cases=None, variants=None, log=print, merge=False, repeats
             log(f"  {label:20s} {row['status']:14s} outer={row['outer_iterations']:3d} "
                 f"newton={row['newton_iterations']:4d} solves={row['linear_solves']:5d} cg_its={row['cg_iterations']} "
                 f"wall={row['wall_s']:.3f}s ratio={row['ratio']:.3f} cpu={row['cpu_s']:.3f}s "
-                f"ratio_cpu={row['ratio_cpu']:.3f}")
+                f"ratio_cpu={row['ratio_cpu']:.3f} rss={row['peak_rss_mb']:.0f}MiB ratio_rss={row['ratio_rss']:.3f}")
         if merge:  # written after every case: an interrupted run keeps what it measured
             old = [r for r in _read_csv(out / "hertz.csv") if r["case"] not in {r["case"] for r in rows}]
             write_report(out, old + rows)
     if not merge:
         write_report(out, rows)
     return out
+
+
+def run_isolated(out_dir=None, cases=None, variants=None, log=print, merge=False, repeats=None,
+                 timeout=None) -> tuple[Path, list[str]]:
+    """Run every case in a process of its own (:func:`run` with ``merge``); return the folder and the failed cases.
+
+    A fresh process per case: the peak RSS of a case does not include the previous case's heap,
+    and a case that runs out of memory or past ``timeout`` seconds loses only its own rows.
+    Without ``merge`` the rows of cases not run are dropped from ``hertz.csv`` first.
+    """
+    out = Path(out_dir or Path(__file__).parent / "out")
+    out.mkdir(parents=True, exist_ok=True)
+    cases = cases or DEFAULT_CASES
+    if not merge:
+        write_report(out, [])
+    failed = []
+    for case in cases:
+        cmd = [sys.executable, str(Path(__file__).resolve()), "--in-process", "--merge", "--out", str(out),
+               "--cases", case]
+        if variants is not None:
+            cmd += ["--variants", *variants]
+        if repeats:
+            cmd += ["--repeats", str(repeats)]
+        try:
+            rc = subprocess.run(cmd, timeout=timeout).returncode
+        except subprocess.TimeoutExpired:
+            rc = "timeout"
+        if rc != 0:
+            log(f"{case}: its process ended with {rc}; its rows are missing")
+            failed.append(case)
+    return out, failed
 
 
 def main(argv=None) -> int:
@@ -355,6 +453,8 @@ def main(argv=None) -> int:
     ap.add_argument("--merge", action="store_true", help="keep the other cases already in <out>/hertz.csv")
     ap.add_argument("--repeats", type=int, default=None, help="timings per variant (default: by model size)")
     ap.add_argument("--report", action="store_true", help="only rewrite hertz.md / hertz.png from hertz.csv")
+    ap.add_argument("--in-process", action="store_true", help="run the cases in this process (default: one each)")
+    ap.add_argument("--case-timeout", type=float, default=None, help="seconds per case process")
     args = ap.parse_args(argv)
     logging.basicConfig(level=logging.WARNING)
     out = Path(args.out or Path(__file__).parent / "out")
@@ -363,9 +463,14 @@ def main(argv=None) -> int:
         print(f"wrote {out / 'hertz.md'}")
         return 0
     variants = ISSUE_VARIANTS if args.issue_variants else args.variants
-    path = run(args.out, args.cases, variants, merge=args.merge, repeats=args.repeats)
+    if args.in_process:
+        path = run(args.out, args.cases, variants, merge=args.merge, repeats=args.repeats)
+        failed = []
+    else:
+        path, failed = run_isolated(args.out, args.cases, variants, merge=args.merge, repeats=args.repeats,
+                                    timeout=args.case_timeout)
     print(f"wrote {path / 'hertz.csv'}, {path / 'hertz.md'} and {path / 'hertz.png'}")
-    return 0
+    return 1 if failed else 0
 
 
 if __name__ == "__main__":
