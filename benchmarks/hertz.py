@@ -94,7 +94,7 @@ FIELDS = ["case", "dofs", "candidates", "variant", "algorithm", "penalty", "stat
           "newton_iterations", "linear_solves", "cg_iterations", "wall_s", "linear_solve_s", "plain_linear_s",
           "ratio", "cpu_s", "plain_linear_cpu_s", "ratio_cpu", "repeats", "a_err_pct", "p0_err_pct",
           "penetration_over_h", "peak_rss_mb", "base_rss_mb", "plain_linear_peak_rss_mb",
-          "plain_linear_base_rss_mb", "ratio_rss"]
+          "plain_linear_base_rss_mb", "model_rss_mb", "ratio_rss"]
 
 _CLEAR_REFS = Path("/proc/self/clear_refs")
 
@@ -178,7 +178,7 @@ def plain_linear_solve(prob, linear_solver="auto") -> Timing:
     return timing
 
 
-def _row(case, label, prob, sol, plain: Timing, timing: Timing, repeats=1):
+def _row(case, label, prob, sol, plain: Timing, timing: Timing, repeats=1, model_rss=math.nan):
     ref = prob.reference
     P = ref.load(sol.normal_force)
     a = sol.contact_half_width(axis=0, center=prob.meta["center"])
@@ -198,6 +198,7 @@ def _row(case, label, prob, sol, plain: Timing, timing: Timing, repeats=1):
         "penetration_over_h": f"{r.penetration:.2e}",
         "peak_rss_mb": round(timing.rss_mb, 1), "base_rss_mb": round(timing.base_rss_mb, 1),
         "plain_linear_peak_rss_mb": round(plain.rss_mb, 1), "plain_linear_base_rss_mb": round(plain.base_rss_mb, 1),
+        "model_rss_mb": round(model_rss, 1),
         "ratio_rss": round(timing.rss_mb / plain.rss_mb, 3),
     }
 
@@ -216,14 +217,15 @@ def _markdown(rows):
         sub = [r for r in rows if r["case"] == case]
         out += [f"### {case} ({sub[0]['dofs']} DOFs, {sub[0]['candidates']} contact candidates)", "",
                 f"one linear solve: {sub[0]['plain_linear_cpu_s']} s CPU, {sub[0]['plain_linear_s']} s wall "
-                f"(fastest of {sub[0].get('repeats') or 1} before and {sub[0].get('repeats') or 1} after)", "",
+                f"(fastest of {sub[0].get('repeats') or 1} before and {sub[0].get('repeats') or 1} after), "
+                f"peak RSS {sub[0].get('plain_linear_peak_rss_mb') or '-'} MiB", "",
                 "| variant | status | outer | Newton | solves | CPU s | contact/linear (CPU) | wall s | "
-                "contact/linear (wall) | a err % | p0 err % |",
-                "|---|---|---|---|---|---|---|---|---|---|---|"]
+                "contact/linear (wall) | peak RSS MiB | a err % | p0 err % |",
+                "|---|---|---|---|---|---|---|---|---|---|---|---|"]
         for r in sub:
             out.append(f"| {r['variant']} | {r['status']} | {r['outer_iterations']} | {r['newton_iterations']} | "
                        f"{r['linear_solves']} | {r['cpu_s']} | {r['ratio_cpu']} | {r['wall_s']} | {r['ratio']} | "
-                       f"{r['a_err_pct']} | {r['p0_err_pct']} |")
+                       f"{r.get('peak_rss_mb') or '-'} | {r['a_err_pct']} | {r['p0_err_pct']} |")
         if any(r["cg_iterations"] not in ("", None) for r in sub):
             out += ["", "No factorization (linear_solver='amg'): solves are AMG-preconditioned CG solves, CG "
                     "iterations " + ", ".join(f"{r['variant']} {r['cg_iterations']}" for r in sub) + "; the "
@@ -243,71 +245,148 @@ def _fit(xs, ys):
     return float(np.polyfit(x, y, 1)[0])
 
 
-def summary(rows, ladder=LADDER_2D) -> str:
-    """Markdown summary: contact/linear ratio per case and variant, and fitted exponents on the 2D ladder."""
-    variants = [v for v in ISSUE_VARIANTS if any(r["variant"] == v for r in rows)]
-    variants += [v for v in dict.fromkeys(r["variant"] for r in rows) if v not in variants]
-    cases = list(dict.fromkeys(r["case"] for r in rows))
-    head = "| case | DOFs | candidates | one linear solve CPU s | " + " | ".join(variants) + " | median | max |"
+#: the 3D cases of the direct path drawn next to the 2D ladder (P1 meshes; the P2 case is its own point)
+LADDER_3D = ["3d-100k-direct", "3d-p2-78k-direct", "3d-243k-direct"]
+
+
+def _num(row, key):
+    """``row[key]`` as a float (NaN when missing: rows of older runs lack the memory columns)."""
+    try:
+        return float(row.get(key, "") or "nan")
+    except ValueError:
+        return math.nan
+
+
+def _ratio_cell(row, key, status=True):
+    v = _num(row, key)
+    text = f"**{v:.2f}**" if v > 1.5 else f"{v:.2f}"
+    return text + ("" if not status or row["status"] == "converged" else f" ({row['status']})")
+
+
+def _ratio_table(rows, variants, cases, key, title_plain, plain_key):
+    head = f"| case | DOFs | candidates | {title_plain} | " + " | ".join(variants) + " | median | max |"
     out = [head, "|---" * (6 + len(variants)) + "|"]
     for case in cases:
         sub = {r["variant"]: r for r in rows if r["case"] == case}
         r0 = next(iter(sub.values()))
-        ratios = [float(r["ratio_cpu"]) for r in sub.values()]
-        cells = [((f"**{float(sub[v]['ratio_cpu']):.2f}**" if float(sub[v]["ratio_cpu"]) > 1.5
-                   else f"{float(sub[v]['ratio_cpu']):.2f}")
-                  + ("" if sub[v]["status"] == "converged" else f" ({sub[v]['status']})"))
-                 if v in sub else "-" for v in variants]
-        out.append(f"| {case} | {r0['dofs']} | {r0['candidates']} | {r0['plain_linear_cpu_s']} | " + " | ".join(cells)
+        ratios = [_num(r, key) for r in sub.values()]
+        cells = [_ratio_cell(sub[v], key) if v in sub else "-" for v in variants]
+        out.append(f"| {case} | {r0['dofs']} | {r0['candidates']} | {r0[plain_key]} | " + " | ".join(cells)
                    + f" | {statistics.median(ratios):.2f} | {max(ratios):.2f} |")
+    return out
+
+
+def _memory_table(rows, cases):
+    """Peak RSS per case: the model's resident size, the linear solve's peak and the contact solves' peaks."""
+    out = ["| case | DOFs | model MiB | one linear solve: peak RSS MiB (solve: +MiB) | contact solves: peak RSS MiB, "
+           "min-max (solve: +MiB) | contact/linear peak RSS, max | contact/linear solve memory, max |",
+           "|---|---|---|---|---|---|---|"]
+    for case in cases:
+        sub = [r for r in rows if r["case"] == case]
+        peaks = [_num(r, "peak_rss_mb") for r in sub]
+        if all(math.isnan(x) for x in peaks):
+            continue
+        r0 = sub[0]
+        model, lin = _num(r0, "model_rss_mb"), _num(r0, "plain_linear_peak_rss_mb")
+        out.append(f"| {case} | {r0['dofs']} | {model:.0f} | {lin:.0f} (+{lin - model:.0f}) | "
+                   f"{min(peaks):.0f}-{max(peaks):.0f} (+{min(peaks) - model:.0f}-{max(peaks) - model:.0f}) | "
+                   f"{max(peaks) / lin:.2f} | {(max(peaks) - model) / (lin - model):.2f} |")
+    return out
+
+
+def summary(rows, ladder=LADDER_2D) -> str:
+    """Markdown summary: contact/linear ratio (CPU and wall) and peak RSS per case and variant, and the
+    fitted exponents of time, memory and ratio on the 2D ladder."""
+    variants = [v for v in ISSUE_VARIANTS if any(r["variant"] == v for r in rows)]
+    variants += [v for v in dict.fromkeys(r["variant"] for r in rows) if v not in variants]
+    cases = list(dict.fromkeys(r["case"] for r in rows))
+    cases = [c for c in ladder if c in cases] + [c for c in cases if c not in ladder]
+    out = _ratio_table(rows, variants, cases, "ratio_cpu", "one linear solve CPU s", "plain_linear_cpu_s")
+    out += ["", "Wall seconds (same runs; the machine's load, not the code, decides most of the spread):", ""]
+    out += _ratio_table(rows, variants, cases, "ratio", "one linear solve wall s", "plain_linear_s")
+    out += ["", "Peak memory (resident set size of the benchmark's process during the solve, `VmHWM` reset "
+            "before each solve; \"model\": the resident size after the assembly, before any solve: interpreter, "
+            "libraries, mesh, stiffness; \"solve\": the peak above it):", ""]
+    out += _memory_table(rows, cases)
     lad = [c for c in ladder if c in cases]
     fits = ["", "Fitted exponents on the 2D ladder (" + ", ".join(lad) + "): quantity ~ DOFs^k", "",
-            "| variant | k of contact solve CPU s | k of contact/linear (CPU) |", "|---|---|---|"]
+            "| variant | k of CPU s | k of contact/linear (CPU) | k of wall s | k of peak RSS | k of solve memory "
+            "(peak RSS - model) |", "|---|---|---|---|---|---|"]
     dofs_of = {r["case"]: int(r["dofs"]) for r in rows}
-    plain_of = {r["case"]: float(r["plain_linear_cpu_s"]) for r in rows}
-    kp = _fit([dofs_of[c] for c in lad], [plain_of[c] for c in lad])
-    for v in variants:
-        pts = [(dofs_of[c], float(r["cpu_s"]), float(r["ratio_cpu"])) for c in lad for r in rows
-               if r["case"] == c and r["variant"] == v and r["status"] == "converged"]
-        kw = _fit([p[0] for p in pts], [p[1] for p in pts])
-        kr = _fit([p[0] for p in pts], [p[2] for p in pts])
-        if kw is not None:
-            fits.append(f"| {v} | {kw:.2f} | {kr:+.3f} |")
+    first = {}
+    for r in rows:
+        first.setdefault(r["case"], r)
+    kp = _fit([dofs_of[c] for c in lad], [_num(first[c], "plain_linear_cpu_s") for c in lad])
     if kp is None:  # fewer than 3 ladder cases: no fit
         return "\n".join(out) + "\n"
-    fits.append(f"| (one linear solve) | {kp:.2f} | |")
+    for v in variants:
+        pts = [r for c in lad for r in rows if r["case"] == c and r["variant"] == v and r["status"] == "converged"]
+        x = [dofs_of[r["case"]] for r in pts]
+        ks = [_fit(x, [_num(r, key) for r in pts]) for key in ("cpu_s", "ratio_cpu", "wall_s", "peak_rss_mb")]
+        ks.append(_fit(x, [_num(r, "peak_rss_mb") - _num(r, "model_rss_mb") for r in pts]))
+        if ks[0] is not None:
+            fits.append(f"| {v} | {ks[0]:.2f} | {ks[1]:+.3f} | {ks[2]:.2f} | {_fmt_k(ks[3])} | {_fmt_k(ks[4])} |")
+    kw = _fit([dofs_of[c] for c in lad], [_num(first[c], "plain_linear_s") for c in lad])
+    km = _fit([dofs_of[c] for c in lad], [_num(first[c], "plain_linear_peak_rss_mb") for c in lad])
+    ks = _fit([dofs_of[c] for c in lad], [_num(first[c], "plain_linear_peak_rss_mb") - _num(first[c], "model_rss_mb")
+                                          for c in lad])
+    fits.append(f"| (one linear solve) | {kp:.2f} | | {kw:.2f} | {_fmt_k(km)} | {_fmt_k(ks)} |")
     return "\n".join(out + fits) + "\n"
 
 
-def plot(rows, path: Path, ladder=LADDER_2D) -> None:
-    """Log-log plot of the contact/linear ratio and of the times against DOFs (2D ladder), with fitted exponents."""
+def _fmt_k(k):
+    return "-" if k is None or math.isnan(k) else f"{k:.2f}"
+
+
+def plot(rows, path: Path, ladder=LADDER_2D, ladder_3d=LADDER_3D) -> None:
+    """Log-log plots against DOFs: contact/linear ratio (CPU), CPU time and peak RSS, with fitted exponents.
+
+    Lines: the 2D ladder (fits over it in the legend); open markers: the 3D direct-path cases.
+    """
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
     cases = [c for c in ladder if any(r["case"] == c for r in rows)]
+    cases3 = [c for c in ladder_3d if any(r["case"] == c for r in rows)]
     variants = [v for v in ISSUE_VARIANTS if any(r["variant"] == v for r in rows)]
     dofs_of = {r["case"]: int(r["dofs"]) for r in rows}
-    fig, axes = plt.subplots(1, 2, figsize=(11, 4.5))
+    first = {}
+    for r in rows:
+        first.setdefault(r["case"], r)
+    keys = ("ratio_cpu", "cpu_s", "peak_rss_mb")
+    fig, axes = plt.subplots(1, 3, figsize=(16, 4.8))
     for i, v in enumerate(variants):
-        pts = sorted((dofs_of[r["case"]], float(r["cpu_s"]), float(r["ratio_cpu"])) for r in rows
-                     if r["variant"] == v and r["case"] in cases and r["status"] == "converged")
-        if not pts:
-            continue
+        pts = sorted(((dofs_of[r["case"]], r) for r in rows
+                      if r["variant"] == v and r["case"] in cases and r["status"] == "converged"),
+                     key=lambda p: p[0])
+        pts3 = [(dofs_of[r["case"]], r) for r in rows
+                if r["variant"] == v and r["case"] in cases3 and r["status"] == "converged"]
         x = [p[0] for p in pts]
-        kw, kr = _fit(x, [p[1] for p in pts]), _fit(x, [p[2] for p in pts])
-        axes[0].loglog(x, [p[2] for p in pts], marker="o", color=f"C{i}",
-                       label=f"{v} (k={kr:+.3f})" if kr is not None else v)
-        axes[1].loglog(x, [p[1] for p in pts], marker="o", color=f"C{i}",
-                       label=f"{v} (k={kw:.2f})" if kw is not None else v)
+        for ax, key in zip(axes, keys):
+            y = [_num(p[1], key) for p in pts]
+            k = _fit(x, y) if pts else None
+            fmt = "{:+.3f}" if key == "ratio_cpu" else "{:.2f}"
+            if pts:
+                ax.loglog(x, y, marker="o", color=f"C{i}",
+                          label=f"{v} (k={fmt.format(k)})" if k is not None and not math.isnan(k) else v)
+            if pts3:
+                ax.loglog([p[0] for p in pts3], [_num(p[1], key) for p in pts3], ls="none", marker="^",
+                          mfc="none", color=f"C{i}")
     x = [dofs_of[c] for c in cases]
-    plain = [next(float(r["plain_linear_cpu_s"]) for r in rows if r["case"] == c) for c in cases]
-    kp = _fit(x, plain)
-    axes[1].loglog(x, plain, "k--", marker="s", label=f"one linear solve (k={kp:.2f})" if kp else "one linear solve")
+    for ax, key, label in ((axes[1], "plain_linear_cpu_s", "one linear solve"),
+                           (axes[2], "plain_linear_peak_rss_mb", "one linear solve")):
+        y = [_num(first[c], key) for c in cases]
+        k = _fit(x, y) if cases else None
+        ax.loglog(x, y, "k--", marker="s", label=f"{label} (k={k:.2f})" if k and not math.isnan(k) else label)
+        if cases3:
+            ax.loglog([dofs_of[c] for c in cases3], [_num(first[c], key) for c in cases3], "ks", mfc="none",
+                      label="3D direct: " + ", ".join(cases3) + " (open markers)")
     axes[0].axhline(1.5, color="k", ls=":", lw=1, label="1.5 (issue 11)")
-    axes[0].set(xlabel="DOFs", ylabel="contact solve / one linear solve (CPU s)", title="2D Hertz: ratio")
-    axes[1].set(xlabel="DOFs", ylabel="CPU s (1 MKL thread)", title="2D Hertz: time")
+    axes[0].set(xlabel="DOFs", ylabel="contact solve / one linear solve (CPU s)", title="Hertz: ratio")
+    axes[1].set(xlabel="DOFs", ylabel="CPU s (1 MKL thread)", title="Hertz: time")
+    axes[2].set(xlabel="DOFs", ylabel="peak RSS of the process, MiB", title="Hertz: memory")
     for ax in axes:
         ax.grid(True, which="both", alpha=0.3)
         ax.legend(fontsize=7)
@@ -362,7 +441,8 @@ def write_report(out: Path, rows) -> None:
     head = text.split("<!-- tables -->")[0] if "<!-- tables -->" in text else "# Hertz benchmark\n\n"
     body = ["<!-- tables -->", "", "## Summary (generated): contact solve / one linear solve, CPU seconds", "",
             "Bold: above 1.5. A status in parentheses: the run failed (its time up to the failure). Fits and "
-            "plot: converged runs only.", "", summary(rows), "![ratio and time against DOFs](hertz.png)", "",
+            "plot: converged runs only; the fits run over the 2D ladder, the 3D direct-path cases are the open "
+            "markers of the plot.", "", summary(rows), "![ratio, time and memory against DOFs](hertz.png)", "",
             _markdown(rows)]
     write_text_atomic(md, head + "\n".join(body))
 
@@ -387,7 +467,10 @@ def run(out_dir=None, cases=None, variants=None, log=print, merge=False, repeats
         case_opts = CASE_OPTIONS.get(case, {})
         backend = case_opts.get("linear_solver", "auto")
         prob.model.stiffness()  # assembled once, outside both timings
-        plain_linear_solve(prob, backend)  # warm-up: the first call also loads the solver library
+        model_rss = rss_mb()  # interpreter, libraries, mesh, stiffness: what every solve starts from
+        # the first call also loads the solver library: kept only if no later linear solve is faster
+        # (a big case is timed once before and once after the variants; a separate warm-up would cost
+        # a whole linear solve there)
         plain = plain_linear_solve(prob, backend)
         reps = repeats or max(1, min(MAX_REPEATS, int(REPEAT_BUDGET_S / plain.cpu)))
         plain = min([plain] + [plain_linear_solve(prob, backend) for _ in range(reps - 1)])
@@ -399,7 +482,7 @@ def run(out_dir=None, cases=None, variants=None, log=print, merge=False, repeats
         plain = min([plain] + [plain_linear_solve(prob, backend) for _ in range(reps)])
         log(f"  one linear solve (min of before/after) {plain.wall:.3f} s wall, {plain.cpu:.3f} s CPU")
         for label, sol, timing in sols:
-            row = _row(case, label, prob, sol, plain, timing, reps)
+            row = _row(case, label, prob, sol, plain, timing, reps, model_rss)
             rows.append(row)
             log(f"  {label:20s} {row['status']:14s} outer={row['outer_iterations']:3d} "
                 f"newton={row['newton_iterations']:4d} solves={row['linear_solves']:5d} cg_its={row['cg_iterations']} "
