@@ -395,13 +395,15 @@ def plot(rows, path: Path, ladder=LADDER_2D, ladder_3d=LADDER_3D) -> None:
     plt.close(fig)
 
 
-def _timed_solves(prob, chosen, case_opts, repeats, backend):
+def _timed_solves(prob, chosen, case_opts, repeats, backend, done=None):
     """Per variant of ``chosen``: the solution and the fastest (CPU) timing of ``repeats`` contact solves
     (each with its own factorization); and the fastest of the linear solves between them (none for one repeat).
 
     Round robin: every repeat runs each variant once, then one linear solve, so that every variant and
     the denominator sample the same stretches of machine load (a shared machine's load changes over
     seconds; timing one variant's repeats in a row let a busy stretch inflate that variant alone).
+    ``done(label, solution, timing)``, if given, is called after each variant of a single repeat
+    (big cases: provisional rows survive an interrupted run).
     """
     best = {label: Timing(math.inf, math.inf) for label, *_ in chosen}
     sols = {}
@@ -416,6 +418,8 @@ def _timed_solves(prob, chosen, case_opts, repeats, backend):
             sols[label] = solve(prob, alg, pen, **{**case_opts, **opts})
             best[label] = min(best[label], Timing(time.perf_counter() - t0, time.process_time() - c0, peak_rss_mb(),
                                                   base))
+            if done is not None and repeats == 1:
+                done(label, sols[label], best[label])
         if repeats > 1:
             plain = min(plain, plain_linear_solve(prob, backend))
     return [(label, sols[label], best[label]) for label, *_ in chosen], plain
@@ -476,7 +480,16 @@ def run(out_dir=None, cases=None, variants=None, log=print, merge=False, repeats
         plain = min([plain] + [plain_linear_solve(prob, backend) for _ in range(reps - 1)])
         log(f"  one linear solve {plain.wall:.3f} s wall, {plain.cpu:.3f} s CPU, peak RSS {plain.rss_mb:.0f} MiB, "
             f"repeats {reps}")
-        sols, between = _timed_solves(prob, chosen, case_opts, reps, backend)
+        provisional = []
+
+        def done(label, sol, timing, case=case, prob=prob, plain=plain, model_rss=model_rss, provisional=provisional):
+            """A provisional row (linear solve measured before the variants only), written at once with ``merge``."""
+            provisional.append(_row(case, label, prob, sol, plain, timing, 1, model_rss))
+            if merge:
+                old = [r for r in _read_csv(out / "hertz.csv") if r["case"] != case]
+                write_report(out, old + rows + provisional)
+
+        sols, between = _timed_solves(prob, chosen, case_opts, reps, backend, done)
         plain = min(plain, between)
         # shared machines: the smallest of the measurements before, between and after the variants
         plain = min([plain] + [plain_linear_solve(prob, backend) for _ in range(reps)])
