@@ -1,13 +1,15 @@
 """Hertz contact benchmark: every frictionless algorithm and penalty, several mesh sizes.
 
-For each case (2D cylinder at about 10k, 100k, 500k DOFs; 3D sphere at about 100k and
-1M DOFs) and each algorithm/penalty the script records outer iterations, Newton
-iterations, linear solves (triangular solve pairs with the one stiffness factor), wall
-time, and the ratio of the contact solve to one linear elastic solve of the same mesh
-(a fresh factorization + one solve with the same solver, :func:`plain_linear_solve`)
-measured in the same run, plus the accuracy against Hertz.
+For each case (:data:`CASES`: the 2D cylinder ladder of issue 11 from 10k to 984k DOFs,
+:data:`LADDER_2D`; the 3D sphere on the direct path at 78k P2, 111k and 243k P1 DOFs; 3D
+on the AMG path) and each algorithm/penalty the script records outer iterations, Newton
+iterations, linear solves (triangular solve pairs with the one stiffness factor), CPU and
+wall time, peak memory, and the ratio of the contact solve to one linear elastic solve of
+the same mesh (a fresh factorization + one solve with the same solver,
+:func:`plain_linear_solve`) measured in the same run, plus the accuracy against Hertz.
 Writes ``<out>/hertz.csv``, ``<out>/hertz.md`` (the text above ``<!-- tables -->`` is kept) and
-``<out>/hertz.png`` (log-log ratio and time against DOFs on the 2D ladder, fitted exponents).
+``<out>/hertz.png`` (log-log ratio, CPU time and peak memory against DOFs: the 2D ladder with
+fitted exponents, the 3D direct-path cases as open markers).
 
 Every case runs in its own process (``--in-process`` runs them in this one): the peak memory of
 each linear and contact solve is the peak resident set size (``VmHWM``, reset through
