@@ -101,12 +101,31 @@ FIELDS = ["case", "dofs", "candidates", "variant", "algorithm", "penalty", "stat
 _CLEAR_REFS = Path("/proc/self/clear_refs")
 
 
+def _trim_heap() -> None:
+    """Collect garbage and hand the C heap's free pages back to the system (glibc ``malloc_trim(0)``).
+
+    Without it the memory a finished solve freed stays resident in the heap, and the next
+    solve's "before" RSS counts it: the solve memory (peak - before) then reads low.
+    """
+    import ctypes
+    import ctypes.util
+    import gc
+
+    gc.collect()
+    try:
+        ctypes.CDLL(ctypes.util.find_library("c") or "libc.so.6").malloc_trim(0)
+    except (OSError, AttributeError):  # not glibc: nothing to trim
+        pass
+
+
 def reset_peak_rss() -> bool:
     """Reset the kernel's peak resident set size of this process (``VmHWM``) to the current one.
 
+    The heap is trimmed first (:func:`_trim_heap`), so the current RSS is the live memory.
     Linux only (``echo 5 > /proc/self/clear_refs``); False where that is not possible, and then
     :func:`peak_rss_mb` is the peak since the process started.
     """
+    _trim_heap()
     try:
         _CLEAR_REFS.write_text("5")
     except OSError:
@@ -238,13 +257,15 @@ def _markdown(rows):
 
 
 def _fit(xs, ys):
-    """Least-squares exponent ``k`` of ``y ~ x^k`` (None with fewer than 3 points)."""
+    """Least-squares exponent ``k`` of ``y ~ x^k`` over the points with positive finite ``y``
+    (None with fewer than 3 such points)."""
     import numpy as np
 
-    x, y = np.log(np.asarray(xs, float)), np.log(np.asarray(ys, float))
-    if x.size < 3:
+    x, y = np.asarray(xs, float), np.asarray(ys, float)
+    keep = np.isfinite(y) & (y > 0)
+    if np.count_nonzero(keep) < 3:
         return None
-    return float(np.polyfit(x, y, 1)[0])
+    return float(np.polyfit(np.log(x[keep]), np.log(y[keep]), 1)[0])
 
 
 #: the 3D cases of the direct path drawn next to the 2D ladder (P1 meshes; the P2 case is its own point)
@@ -278,21 +299,29 @@ def _ratio_table(rows, variants, cases, key, title_plain, plain_key):
     return out
 
 
+def _solve_mb(row, linear=False):
+    """Memory of one solve: its peak RSS above the RSS when it started (heap trimmed, :func:`reset_peak_rss`)."""
+    if linear:
+        return _num(row, "plain_linear_peak_rss_mb") - _num(row, "plain_linear_base_rss_mb")
+    return _num(row, "peak_rss_mb") - _num(row, "base_rss_mb")
+
+
 def _memory_table(rows, cases):
-    """Peak RSS per case: the model's resident size, the linear solve's peak and the contact solves' peaks."""
+    """Per case: the model's resident size, the peak RSS and the solve memory of the linear and contact solves."""
     out = ["| case | DOFs | model MiB | one linear solve: peak RSS MiB (solve: +MiB) | contact solves: peak RSS MiB, "
-           "min-max (solve: +MiB) | contact/linear peak RSS, max | contact/linear solve memory, max |",
-           "|---|---|---|---|---|---|---|"]
+           "min-max (solve: +MiB, min-max) | contact/linear solve memory, max |",
+           "|---|---|---|---|---|---|"]
     for case in cases:
         sub = [r for r in rows if r["case"] == case]
         peaks = [_num(r, "peak_rss_mb") for r in sub]
         if all(math.isnan(x) for x in peaks):
             continue
         r0 = sub[0]
-        model, lin = _num(r0, "model_rss_mb"), _num(r0, "plain_linear_peak_rss_mb")
-        out.append(f"| {case} | {r0['dofs']} | {model:.0f} | {lin:.0f} (+{lin - model:.0f}) | "
-                   f"{min(peaks):.0f}-{max(peaks):.0f} (+{min(peaks) - model:.0f}-{max(peaks) - model:.0f}) | "
-                   f"{max(peaks) / lin:.2f} | {(max(peaks) - model) / (lin - model):.2f} |")
+        lin, lin_solve = _num(r0, "plain_linear_peak_rss_mb"), _solve_mb(r0, linear=True)
+        solves = [_solve_mb(r) for r in sub]
+        ratio = f"{max(solves) / lin_solve:.2f}" if lin_solve > 0 else "-"
+        out.append(f"| {case} | {r0['dofs']} | {_num(r0, 'model_rss_mb'):.0f} | {lin:.0f} (+{lin_solve:.0f}) | "
+                   f"{min(peaks):.0f}-{max(peaks):.0f} (+{min(solves):.0f}-{max(solves):.0f}) | {ratio} |")
     return out
 
 
@@ -307,13 +336,14 @@ def summary(rows, ladder=LADDER_2D) -> str:
     out += ["", "Wall seconds (same runs; the machine's load, not the code, decides most of the spread):", ""]
     out += _ratio_table(rows, variants, cases, "ratio", "one linear solve wall s", "plain_linear_s")
     out += ["", "Peak memory (resident set size of the benchmark's process during the solve, `VmHWM` reset "
-            "before each solve; \"model\": the resident size after the assembly, before any solve: interpreter, "
-            "libraries, mesh, stiffness; \"solve\": the peak above it):", ""]
+            "before each solve after trimming the C heap; \"model\": the resident size after the assembly, before any "
+            "solve: interpreter, libraries, mesh, stiffness; \"solve\": the peak above the resident size when the "
+            "solve started):", ""]
     out += _memory_table(rows, cases)
     lad = [c for c in ladder if c in cases]
     fits = ["", "Fitted exponents on the 2D ladder (" + ", ".join(lad) + "): quantity ~ DOFs^k", "",
             "| variant | k of CPU s | k of contact/linear (CPU) | k of wall s | k of peak RSS | k of solve memory "
-            "(peak RSS - model) |", "|---|---|---|---|---|---|"]
+            "(peak RSS above the start) |", "|---|---|---|---|---|---|"]
     dofs_of = {r["case"]: int(r["dofs"]) for r in rows}
     first = {}
     for r in rows:
@@ -325,13 +355,12 @@ def summary(rows, ladder=LADDER_2D) -> str:
         pts = [r for c in lad for r in rows if r["case"] == c and r["variant"] == v and r["status"] == "converged"]
         x = [dofs_of[r["case"]] for r in pts]
         ks = [_fit(x, [_num(r, key) for r in pts]) for key in ("cpu_s", "ratio_cpu", "wall_s", "peak_rss_mb")]
-        ks.append(_fit(x, [_num(r, "peak_rss_mb") - _num(r, "model_rss_mb") for r in pts]))
+        ks.append(_fit(x, [_solve_mb(r) for r in pts]))
         if ks[0] is not None:
             fits.append(f"| {v} | {ks[0]:.2f} | {ks[1]:+.3f} | {ks[2]:.2f} | {_fmt_k(ks[3])} | {_fmt_k(ks[4])} |")
     kw = _fit([dofs_of[c] for c in lad], [_num(first[c], "plain_linear_s") for c in lad])
     km = _fit([dofs_of[c] for c in lad], [_num(first[c], "plain_linear_peak_rss_mb") for c in lad])
-    ks = _fit([dofs_of[c] for c in lad], [_num(first[c], "plain_linear_peak_rss_mb") - _num(first[c], "model_rss_mb")
-                                          for c in lad])
+    ks = _fit([dofs_of[c] for c in lad], [_solve_mb(first[c], linear=True) for c in lad])
     fits.append(f"| (one linear solve) | {kp:.2f} | | {kw:.2f} | {_fmt_k(km)} | {_fmt_k(ks)} |")
     return "\n".join(out + fits) + "\n"
 
@@ -341,9 +370,11 @@ def _fmt_k(k):
 
 
 def plot(rows, path: Path, ladder=LADDER_2D, ladder_3d=LADDER_3D) -> None:
-    """Log-log plots against DOFs: contact/linear ratio (CPU), CPU time and peak RSS, with fitted exponents.
+    """Log-log plots against DOFs: contact/linear ratio (CPU), CPU time and solve memory, with fitted exponents.
 
     Lines: the 2D ladder (fits over it in the legend); open markers: the 3D direct-path cases.
+    Memory: the peak RSS of each solve above the RSS when it started (:func:`_solve_mb`), and
+    the model's resident size (interpreter, mesh, stiffness) for scale.
     """
     import matplotlib
 
@@ -357,7 +388,8 @@ def plot(rows, path: Path, ladder=LADDER_2D, ladder_3d=LADDER_3D) -> None:
     first = {}
     for r in rows:
         first.setdefault(r["case"], r)
-    keys = ("ratio_cpu", "cpu_s", "peak_rss_mb")
+    getters = (lambda r: _num(r, "ratio_cpu"), lambda r: _num(r, "cpu_s"), _solve_mb)
+    fmts = ("{:+.3f}", "{:.2f}", "{:.2f}")
     fig, axes = plt.subplots(1, 3, figsize=(16, 4.8))
     for i, v in enumerate(variants):
         pts = sorted(((dofs_of[r["case"]], r) for r in rows
@@ -366,29 +398,31 @@ def plot(rows, path: Path, ladder=LADDER_2D, ladder_3d=LADDER_3D) -> None:
         pts3 = [(dofs_of[r["case"]], r) for r in rows
                 if r["variant"] == v and r["case"] in cases3 and r["status"] == "converged"]
         x = [p[0] for p in pts]
-        for ax, key in zip(axes, keys):
-            y = [_num(p[1], key) for p in pts]
+        for ax, get, fmt in zip(axes, getters, fmts):
+            y = [get(p[1]) for p in pts]
             k = _fit(x, y) if pts else None
-            fmt = "{:+.3f}" if key == "ratio_cpu" else "{:.2f}"
             if pts:
                 ax.loglog(x, y, marker="o", color=f"C{i}",
                           label=f"{v} (k={fmt.format(k)})" if k is not None and not math.isnan(k) else v)
             if pts3:
-                ax.loglog([p[0] for p in pts3], [_num(p[1], key) for p in pts3], ls="none", marker="^",
+                ax.loglog([p[0] for p in pts3], [get(p[1]) for p in pts3], ls="none", marker="^",
                           mfc="none", color=f"C{i}")
     x = [dofs_of[c] for c in cases]
-    for ax, key, label in ((axes[1], "plain_linear_cpu_s", "one linear solve"),
-                           (axes[2], "plain_linear_peak_rss_mb", "one linear solve")):
-        y = [_num(first[c], key) for c in cases]
+    for ax, get, label, style in (
+            (axes[1], lambda r: _num(r, "plain_linear_cpu_s"), "one linear solve", "k--"),
+            (axes[2], lambda r: _solve_mb(r, linear=True), "one linear solve", "k--"),
+            (axes[2], lambda r: _num(r, "model_rss_mb"), "model (before any solve)", "k:")):
+        y = [get(first[c]) for c in cases]
         k = _fit(x, y) if cases else None
-        ax.loglog(x, y, "k--", marker="s", label=f"{label} (k={k:.2f})" if k and not math.isnan(k) else label)
+        ax.loglog(x, y, style, marker="s", label=f"{label} (k={k:.2f})" if k and not math.isnan(k) else label)
         if cases3:
-            ax.loglog([dofs_of[c] for c in cases3], [_num(first[c], key) for c in cases3], "ks", mfc="none",
-                      label="3D direct: " + ", ".join(cases3) + " (open markers)")
+            ax.loglog([dofs_of[c] for c in cases3], [get(first[c]) for c in cases3], "ks", mfc="none")
     axes[0].axhline(1.5, color="k", ls=":", lw=1, label="1.5 (issue 11)")
     axes[0].set(xlabel="DOFs", ylabel="contact solve / one linear solve (CPU s)", title="Hertz: ratio")
     axes[1].set(xlabel="DOFs", ylabel="CPU s (1 MKL thread)", title="Hertz: time")
-    axes[2].set(xlabel="DOFs", ylabel="peak RSS of the process, MiB", title="Hertz: memory")
+    axes[2].set(xlabel="DOFs", ylabel="MiB", title="Hertz: memory (peak RSS above the start of the solve)")
+    fig.suptitle("2D ladder: lines, fitted exponents k in the legends; 3D direct path (" + ", ".join(cases3)
+                 + "): open markers", fontsize=9)
     for ax in axes:
         ax.grid(True, which="both", alpha=0.3)
         ax.legend(fontsize=7)

@@ -50,12 +50,12 @@ def test_fit_recovers_the_exponent(bench):
     assert bench._fit(x[:2], x[:2]) is None
 
 
-def test_memory_table_reports_solve_memory_over_the_model(bench):
-    """Memory table: model 100 MiB, linear peak 300, contact peaks 320 and 340: solve memory +200 and
-    +220..+240, contact/linear peak 340/300 = 1.13, solve memory 240/200 = 1.20 (exact arithmetic)."""
-    base = dict(case="c", dofs="1000", candidates="5", status="converged", model_rss_mb="100",
-                plain_linear_peak_rss_mb="300")
-    rows = [dict(base, variant="a", peak_rss_mb="320", ratio_rss="1.067"),
-            dict(base, variant="b", peak_rss_mb="340", ratio_rss="1.133")]
+def test_memory_table_reports_solve_memory_above_the_start(bench):
+    """Memory table: linear solve from 100 to 300 MiB, contact solves from 110 to 320 and from 120 to 360:
+    solve memory +200, +210..+240, contact/linear solve memory 240/200 = 1.20 (exact arithmetic)."""
+    base = dict(case="c", dofs="1000", candidates="5", status="converged", model_rss_mb="90",
+                plain_linear_peak_rss_mb="300", plain_linear_base_rss_mb="100")
+    rows = [dict(base, variant="a", peak_rss_mb="320", base_rss_mb="110"),
+            dict(base, variant="b", peak_rss_mb="360", base_rss_mb="120")]
     line = bench._memory_table(rows, ["c"])[-1]
-    assert line == "| c | 1000 | 100 | 300 (+200) | 320-340 (+220-240) | 1.13 | 1.20 |"
+    assert line == "| c | 1000 | 90 | 300 (+200) | 320-360 (+210-240) | 1.20 |"
