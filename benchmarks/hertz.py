@@ -1,18 +1,25 @@
 """Hertz contact benchmark: every frictionless algorithm and penalty, several mesh sizes.
 
-For each case (2D cylinder at about 10k, 100k, 500k DOFs; 3D sphere at about 100k and
-1M DOFs) and each algorithm/penalty the script records outer iterations, Newton
-iterations, linear solves (triangular solve pairs with the one stiffness factor), wall
-time, and the ratio of the contact solve to one linear elastic solve of the same mesh
-(a fresh factorization + one solve with the same solver, :func:`plain_linear_solve`)
-measured in the same run, plus the accuracy against Hertz.
+For each case (:data:`CASES`: the 2D cylinder ladder of issue 11 from 10k to 984k DOFs,
+:data:`LADDER_2D`; the 3D sphere on the direct path at 78k P2, 111k and 243k P1 DOFs; 3D
+on the AMG path) and each algorithm/penalty the script records outer iterations, Newton
+iterations, linear solves (triangular solve pairs with the one stiffness factor), CPU and
+wall time, peak memory, and the ratio of the contact solve to one linear elastic solve of
+the same mesh (a fresh factorization + one solve with the same solver,
+:func:`plain_linear_solve`) measured in the same run, plus the accuracy against Hertz.
 Writes ``<out>/hertz.csv``, ``<out>/hertz.md`` (the text above ``<!-- tables -->`` is kept) and
-``<out>/hertz.png`` (log-log ratio and time against DOFs on the 2D ladder, fitted exponents).
+``<out>/hertz.png`` (log-log ratio, CPU time and peak memory against DOFs: the 2D ladder with
+fitted exponents, the 3D direct-path cases as open markers).
+
+Every case runs in its own process (``--in-process`` runs them in this one): the peak memory of
+each linear and contact solve is the peak resident set size (``VmHWM``, reset through
+``/proc/self/clear_refs`` before each measured solve) and one case's allocations do not carry
+over into the next.
 
 Usage::
 
     python benchmarks/hertz.py [--out DIR] [--cases 2d-10k 2d-100k ...] [--variants ssn simo-laursen ...]
-        [--issue-variants] [--merge] [--repeats N]
+        [--issue-variants] [--merge] [--repeats N] [--in-process]
     python benchmarks/hertz.py --report --out DIR
 
 Timings are ratios within one run; machines are shared and noisy.
@@ -26,7 +33,9 @@ import dataclasses
 import io
 import logging
 import math
+import os
 import statistics
+import subprocess
 import sys
 import time
 from pathlib import Path
@@ -86,19 +95,84 @@ REPEAT_BUDGET_S = 2.0
 FIELDS = ["case", "dofs", "candidates", "variant", "algorithm", "penalty", "status", "outer_iterations",
           "newton_iterations", "linear_solves", "cg_iterations", "wall_s", "linear_solve_s", "plain_linear_s",
           "ratio", "cpu_s", "plain_linear_cpu_s", "ratio_cpu", "repeats", "a_err_pct", "p0_err_pct",
-          "penetration_over_h"]
+          "penetration_over_h", "peak_rss_mb", "base_rss_mb", "plain_linear_peak_rss_mb",
+          "plain_linear_base_rss_mb", "model_rss_mb", "ratio_rss"]
+
+_CLEAR_REFS = Path("/proc/self/clear_refs")
+
+
+def _trim_heap() -> None:
+    """Collect garbage and hand the C heap's free pages back to the system (glibc ``malloc_trim(0)``).
+
+    Without it the memory a finished solve freed stays resident in the heap, and the next
+    solve's "before" RSS counts it: the solve memory (peak - before) then reads low.
+    """
+    import ctypes
+    import ctypes.util
+    import gc
+
+    gc.collect()
+    try:
+        ctypes.CDLL(ctypes.util.find_library("c") or "libc.so.6").malloc_trim(0)
+    except (OSError, AttributeError):  # not glibc: nothing to trim
+        pass
+
+
+def reset_peak_rss() -> bool:
+    """Reset the kernel's peak resident set size of this process (``VmHWM``) to the current one.
+
+    The heap is trimmed first (:func:`_trim_heap`), so the current RSS is the live memory.
+    Linux only (``echo 5 > /proc/self/clear_refs``); False where that is not possible, and then
+    :func:`peak_rss_mb` is the peak since the process started.
+    """
+    _trim_heap()
+    try:
+        _CLEAR_REFS.write_text("5")
+    except OSError:
+        return False
+    return True
+
+
+def rss_mb() -> float:
+    """Current resident set size of this process in MiB (NaN where ``/proc`` is missing)."""
+    try:
+        for line in Path("/proc/self/status").read_text().splitlines():
+            if line.startswith("VmRSS:"):
+                return int(line.split()[1]) / 1024.0
+    except OSError:
+        pass
+    return math.nan
+
+
+def peak_rss_mb() -> float:
+    """Peak resident set size of this process in MiB since the last :func:`reset_peak_rss` (NaN if unknown)."""
+    try:
+        for line in Path("/proc/self/status").read_text().splitlines():
+            if line.startswith("VmHWM:"):
+                return int(line.split()[1]) / 1024.0
+    except OSError:
+        pass
+    try:
+        import resource
+    except ImportError:
+        return math.nan
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
 
 
 @dataclasses.dataclass(frozen=True, order=True)
 class Timing:
-    """Wall and CPU seconds (user + system of this process) of one measurement; ordered by CPU."""
+    """Wall and CPU seconds (user + system of this process) and peak RSS (MiB) of one measurement; ordered by CPU."""
 
     cpu: float
     wall: float
+    rss_mb: float = dataclasses.field(compare=False)
+    base_rss_mb: float = dataclasses.field(compare=False)
 
-    def __init__(self, wall: float, cpu: float):
+    def __init__(self, wall: float, cpu: float, rss_mb: float = math.nan, base_rss_mb: float = math.nan):
         object.__setattr__(self, "cpu", cpu)
         object.__setattr__(self, "wall", wall)
+        object.__setattr__(self, "rss_mb", rss_mb)
+        object.__setattr__(self, "base_rss_mb", base_rss_mb)
 
 
 def plain_linear_solve(prob, linear_solver="auto") -> Timing:
@@ -114,13 +188,18 @@ def plain_linear_solve(prob, linear_solver="auto") -> Timing:
     fixed, values = prob.dirichlet()
     backend = linear_solver_name(linear_solver, model)  # what the contact solve resolves "auto" to
     model.clear_factorization()
+    reset_peak_rss()
+    base = rss_mb()
     c0, t0 = time.process_time(), time.perf_counter()
     fac = model.factorize(fixed, backend=backend, reuse=False)
     fac.solve_full(prob.load_vector(), values)
-    return Timing(time.perf_counter() - t0, time.process_time() - c0)
+    timing = Timing(time.perf_counter() - t0, time.process_time() - c0, peak_rss_mb(), base)
+    del fac
+    model.clear_factorization()
+    return timing
 
 
-def _row(case, label, prob, sol, plain: Timing, timing: Timing, repeats=1):
+def _row(case, label, prob, sol, plain: Timing, timing: Timing, repeats=1, model_rss=math.nan):
     ref = prob.reference
     P = ref.load(sol.normal_force)
     a = sol.contact_half_width(axis=0, center=prob.meta["center"])
@@ -138,6 +217,10 @@ def _row(case, label, prob, sol, plain: Timing, timing: Timing, repeats=1):
         "a_err_pct": round(100 * (a / ref.half_width(P) - 1), 3) if P > 0 else "",
         "p0_err_pct": round(100 * (sol.peak_pressure / ref.peak_pressure(P) - 1), 3) if P > 0 else "",
         "penetration_over_h": f"{r.penetration:.2e}",
+        "peak_rss_mb": round(timing.rss_mb, 1), "base_rss_mb": round(timing.base_rss_mb, 1),
+        "plain_linear_peak_rss_mb": round(plain.rss_mb, 1), "plain_linear_base_rss_mb": round(plain.base_rss_mb, 1),
+        "model_rss_mb": round(model_rss, 1),
+        "ratio_rss": round(timing.rss_mb / plain.rss_mb, 3),
     }
 
 
@@ -155,14 +238,15 @@ def _markdown(rows):
         sub = [r for r in rows if r["case"] == case]
         out += [f"### {case} ({sub[0]['dofs']} DOFs, {sub[0]['candidates']} contact candidates)", "",
                 f"one linear solve: {sub[0]['plain_linear_cpu_s']} s CPU, {sub[0]['plain_linear_s']} s wall "
-                f"(fastest of {sub[0].get('repeats') or 1} before and {sub[0].get('repeats') or 1} after)", "",
+                f"(fastest of {sub[0].get('repeats') or 1} before and {sub[0].get('repeats') or 1} after), "
+                f"peak RSS {sub[0].get('plain_linear_peak_rss_mb') or '-'} MiB", "",
                 "| variant | status | outer | Newton | solves | CPU s | contact/linear (CPU) | wall s | "
-                "contact/linear (wall) | a err % | p0 err % |",
-                "|---|---|---|---|---|---|---|---|---|---|---|"]
+                "contact/linear (wall) | peak RSS MiB | a err % | p0 err % |",
+                "|---|---|---|---|---|---|---|---|---|---|---|---|"]
         for r in sub:
             out.append(f"| {r['variant']} | {r['status']} | {r['outer_iterations']} | {r['newton_iterations']} | "
                        f"{r['linear_solves']} | {r['cpu_s']} | {r['ratio_cpu']} | {r['wall_s']} | {r['ratio']} | "
-                       f"{r['a_err_pct']} | {r['p0_err_pct']} |")
+                       f"{r.get('peak_rss_mb') or '-'} | {r['a_err_pct']} | {r['p0_err_pct']} |")
         if any(r["cg_iterations"] not in ("", None) for r in sub):
             out += ["", "No factorization (linear_solver='amg'): solves are AMG-preconditioned CG solves, CG "
                     "iterations " + ", ".join(f"{r['variant']} {r['cg_iterations']}" for r in sub) + "; the "
@@ -173,80 +257,172 @@ def _markdown(rows):
 
 
 def _fit(xs, ys):
-    """Least-squares exponent ``k`` of ``y ~ x^k`` (None with fewer than 3 points)."""
+    """Least-squares exponent ``k`` of ``y ~ x^k`` over the points with positive finite ``y``
+    (None with fewer than 3 such points)."""
     import numpy as np
 
-    x, y = np.log(np.asarray(xs, float)), np.log(np.asarray(ys, float))
-    if x.size < 3:
+    x, y = np.asarray(xs, float), np.asarray(ys, float)
+    keep = np.isfinite(y) & (y > 0)
+    if np.count_nonzero(keep) < 3:
         return None
-    return float(np.polyfit(x, y, 1)[0])
+    return float(np.polyfit(np.log(x[keep]), np.log(y[keep]), 1)[0])
 
 
-def summary(rows, ladder=LADDER_2D) -> str:
-    """Markdown summary: contact/linear ratio per case and variant, and fitted exponents on the 2D ladder."""
-    variants = [v for v in ISSUE_VARIANTS if any(r["variant"] == v for r in rows)]
-    variants += [v for v in dict.fromkeys(r["variant"] for r in rows) if v not in variants]
-    cases = list(dict.fromkeys(r["case"] for r in rows))
-    head = "| case | DOFs | candidates | one linear solve CPU s | " + " | ".join(variants) + " | median | max |"
+#: the 3D cases of the direct path drawn next to the 2D ladder (P1 meshes; the P2 case is its own point)
+LADDER_3D = ["3d-100k-direct", "3d-p2-78k-direct", "3d-243k-direct"]
+
+
+def _num(row, key):
+    """``row[key]`` as a float (NaN when missing: rows of older runs lack the memory columns)."""
+    try:
+        return float(row.get(key, "") or "nan")
+    except ValueError:
+        return math.nan
+
+
+def _ratio_cell(row, key, status=True):
+    v = _num(row, key)
+    text = f"**{v:.2f}**" if v > 1.5 else f"{v:.2f}"
+    return text + ("" if not status or row["status"] == "converged" else f" ({row['status']})")
+
+
+def _ratio_table(rows, variants, cases, key, title_plain, plain_key):
+    head = f"| case | DOFs | candidates | {title_plain} | " + " | ".join(variants) + " | median | max |"
     out = [head, "|---" * (6 + len(variants)) + "|"]
     for case in cases:
         sub = {r["variant"]: r for r in rows if r["case"] == case}
         r0 = next(iter(sub.values()))
-        ratios = [float(r["ratio_cpu"]) for r in sub.values()]
-        cells = [((f"**{float(sub[v]['ratio_cpu']):.2f}**" if float(sub[v]["ratio_cpu"]) > 1.5
-                   else f"{float(sub[v]['ratio_cpu']):.2f}")
-                  + ("" if sub[v]["status"] == "converged" else f" ({sub[v]['status']})"))
-                 if v in sub else "-" for v in variants]
-        out.append(f"| {case} | {r0['dofs']} | {r0['candidates']} | {r0['plain_linear_cpu_s']} | " + " | ".join(cells)
+        ratios = [_num(r, key) for r in sub.values()]
+        cells = [_ratio_cell(sub[v], key) if v in sub else "-" for v in variants]
+        out.append(f"| {case} | {r0['dofs']} | {r0['candidates']} | {r0[plain_key]} | " + " | ".join(cells)
                    + f" | {statistics.median(ratios):.2f} | {max(ratios):.2f} |")
+    return out
+
+
+def _solve_mb(row, linear=False):
+    """Memory of one solve: its peak RSS above the RSS when it started (heap trimmed, :func:`reset_peak_rss`)."""
+    if linear:
+        return _num(row, "plain_linear_peak_rss_mb") - _num(row, "plain_linear_base_rss_mb")
+    return _num(row, "peak_rss_mb") - _num(row, "base_rss_mb")
+
+
+def _memory_table(rows, cases):
+    """Per case: the model's resident size, the peak RSS and the solve memory of the linear and contact solves."""
+    out = ["| case | DOFs | model MiB | one linear solve: peak RSS MiB (solve: +MiB) | contact solves: peak RSS MiB, "
+           "min-max (solve: +MiB, min-max) | contact/linear solve memory, max |",
+           "|---|---|---|---|---|---|"]
+    for case in cases:
+        sub = [r for r in rows if r["case"] == case]
+        peaks = [_num(r, "peak_rss_mb") for r in sub]
+        if all(math.isnan(x) for x in peaks):
+            continue
+        r0 = sub[0]
+        lin, lin_solve = _num(r0, "plain_linear_peak_rss_mb"), _solve_mb(r0, linear=True)
+        solves = [_solve_mb(r) for r in sub]
+        ratio = f"{max(solves) / lin_solve:.2f}" if lin_solve > 0 else "-"
+        out.append(f"| {case} | {r0['dofs']} | {_num(r0, 'model_rss_mb'):.0f} | {lin:.0f} (+{lin_solve:.0f}) | "
+                   f"{min(peaks):.0f}-{max(peaks):.0f} (+{min(solves):.0f}-{max(solves):.0f}) | {ratio} |")
+    return out
+
+
+def summary(rows, ladder=LADDER_2D) -> str:
+    """Markdown summary: contact/linear ratio (CPU and wall) and peak RSS per case and variant, and the
+    fitted exponents of time, memory and ratio on the 2D ladder."""
+    variants = [v for v in ISSUE_VARIANTS if any(r["variant"] == v for r in rows)]
+    variants += [v for v in dict.fromkeys(r["variant"] for r in rows) if v not in variants]
+    cases = list(dict.fromkeys(r["case"] for r in rows))
+    cases = [c for c in ladder if c in cases] + [c for c in cases if c not in ladder]
+    out = _ratio_table(rows, variants, cases, "ratio_cpu", "one linear solve CPU s", "plain_linear_cpu_s")
+    out += ["", "Wall seconds (same runs; the machine's load, not the code, decides most of the spread):", ""]
+    out += _ratio_table(rows, variants, cases, "ratio", "one linear solve wall s", "plain_linear_s")
+    out += ["", "Peak memory (resident set size of the benchmark's process during the solve, `VmHWM` reset "
+            "before each solve after trimming the C heap; \"model\": the resident size after the assembly, before any "
+            "solve: interpreter, libraries, mesh, stiffness; \"solve\": the peak above the resident size when the "
+            "solve started):", ""]
+    out += _memory_table(rows, cases)
     lad = [c for c in ladder if c in cases]
     fits = ["", "Fitted exponents on the 2D ladder (" + ", ".join(lad) + "): quantity ~ DOFs^k", "",
-            "| variant | k of contact solve CPU s | k of contact/linear (CPU) |", "|---|---|---|"]
+            "| variant | k of CPU s | k of contact/linear (CPU) | k of wall s | k of peak RSS | k of solve memory "
+            "(peak RSS above the start) |", "|---|---|---|---|---|---|"]
     dofs_of = {r["case"]: int(r["dofs"]) for r in rows}
-    plain_of = {r["case"]: float(r["plain_linear_cpu_s"]) for r in rows}
-    kp = _fit([dofs_of[c] for c in lad], [plain_of[c] for c in lad])
-    for v in variants:
-        pts = [(dofs_of[c], float(r["cpu_s"]), float(r["ratio_cpu"])) for c in lad for r in rows
-               if r["case"] == c and r["variant"] == v and r["status"] == "converged"]
-        kw = _fit([p[0] for p in pts], [p[1] for p in pts])
-        kr = _fit([p[0] for p in pts], [p[2] for p in pts])
-        if kw is not None:
-            fits.append(f"| {v} | {kw:.2f} | {kr:+.3f} |")
+    first = {}
+    for r in rows:
+        first.setdefault(r["case"], r)
+    kp = _fit([dofs_of[c] for c in lad], [_num(first[c], "plain_linear_cpu_s") for c in lad])
     if kp is None:  # fewer than 3 ladder cases: no fit
         return "\n".join(out) + "\n"
-    fits.append(f"| (one linear solve) | {kp:.2f} | |")
+    for v in variants:
+        pts = [r for c in lad for r in rows if r["case"] == c and r["variant"] == v and r["status"] == "converged"]
+        x = [dofs_of[r["case"]] for r in pts]
+        ks = [_fit(x, [_num(r, key) for r in pts]) for key in ("cpu_s", "ratio_cpu", "wall_s", "peak_rss_mb")]
+        ks.append(_fit(x, [_solve_mb(r) for r in pts]))
+        if ks[0] is not None:
+            fits.append(f"| {v} | {ks[0]:.2f} | {ks[1]:+.3f} | {ks[2]:.2f} | {_fmt_k(ks[3])} | {_fmt_k(ks[4])} |")
+    kw = _fit([dofs_of[c] for c in lad], [_num(first[c], "plain_linear_s") for c in lad])
+    km = _fit([dofs_of[c] for c in lad], [_num(first[c], "plain_linear_peak_rss_mb") for c in lad])
+    ks = _fit([dofs_of[c] for c in lad], [_solve_mb(first[c], linear=True) for c in lad])
+    fits.append(f"| (one linear solve) | {kp:.2f} | | {kw:.2f} | {_fmt_k(km)} | {_fmt_k(ks)} |")
     return "\n".join(out + fits) + "\n"
 
 
-def plot(rows, path: Path, ladder=LADDER_2D) -> None:
-    """Log-log plot of the contact/linear ratio and of the times against DOFs (2D ladder), with fitted exponents."""
+def _fmt_k(k):
+    return "-" if k is None or math.isnan(k) else f"{k:.2f}"
+
+
+def plot(rows, path: Path, ladder=LADDER_2D, ladder_3d=LADDER_3D) -> None:
+    """Log-log plots against DOFs: contact/linear ratio (CPU), CPU time and solve memory, with fitted exponents.
+
+    Lines: the 2D ladder (fits over it in the legend); open markers: the 3D direct-path cases.
+    Memory: the peak RSS of each solve above the RSS when it started (:func:`_solve_mb`), and
+    the model's resident size (interpreter, mesh, stiffness) for scale.
+    """
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
     cases = [c for c in ladder if any(r["case"] == c for r in rows)]
+    cases3 = [c for c in ladder_3d if any(r["case"] == c for r in rows)]
     variants = [v for v in ISSUE_VARIANTS if any(r["variant"] == v for r in rows)]
     dofs_of = {r["case"]: int(r["dofs"]) for r in rows}
-    fig, axes = plt.subplots(1, 2, figsize=(11, 4.5))
+    first = {}
+    for r in rows:
+        first.setdefault(r["case"], r)
+    getters = (lambda r: _num(r, "ratio_cpu"), lambda r: _num(r, "cpu_s"), _solve_mb)
+    fmts = ("{:+.3f}", "{:.2f}", "{:.2f}")
+    fig, axes = plt.subplots(1, 3, figsize=(16, 4.8))
     for i, v in enumerate(variants):
-        pts = sorted((dofs_of[r["case"]], float(r["cpu_s"]), float(r["ratio_cpu"])) for r in rows
-                     if r["variant"] == v and r["case"] in cases and r["status"] == "converged")
-        if not pts:
-            continue
+        pts = sorted(((dofs_of[r["case"]], r) for r in rows
+                      if r["variant"] == v and r["case"] in cases and r["status"] == "converged"),
+                     key=lambda p: p[0])
+        pts3 = [(dofs_of[r["case"]], r) for r in rows
+                if r["variant"] == v and r["case"] in cases3 and r["status"] == "converged"]
         x = [p[0] for p in pts]
-        kw, kr = _fit(x, [p[1] for p in pts]), _fit(x, [p[2] for p in pts])
-        axes[0].loglog(x, [p[2] for p in pts], marker="o", color=f"C{i}",
-                       label=f"{v} (k={kr:+.3f})" if kr is not None else v)
-        axes[1].loglog(x, [p[1] for p in pts], marker="o", color=f"C{i}",
-                       label=f"{v} (k={kw:.2f})" if kw is not None else v)
+        for ax, get, fmt in zip(axes, getters, fmts):
+            y = [get(p[1]) for p in pts]
+            k = _fit(x, y) if pts else None
+            if pts:
+                ax.loglog(x, y, marker="o", color=f"C{i}",
+                          label=f"{v} (k={fmt.format(k)})" if k is not None and not math.isnan(k) else v)
+            if pts3:
+                ax.loglog([p[0] for p in pts3], [get(p[1]) for p in pts3], ls="none", marker="^",
+                          mfc="none", color=f"C{i}")
     x = [dofs_of[c] for c in cases]
-    plain = [next(float(r["plain_linear_cpu_s"]) for r in rows if r["case"] == c) for c in cases]
-    kp = _fit(x, plain)
-    axes[1].loglog(x, plain, "k--", marker="s", label=f"one linear solve (k={kp:.2f})" if kp else "one linear solve")
+    for ax, get, label, style in (
+            (axes[1], lambda r: _num(r, "plain_linear_cpu_s"), "one linear solve", "k--"),
+            (axes[2], lambda r: _solve_mb(r, linear=True), "one linear solve", "k--"),
+            (axes[2], lambda r: _num(r, "model_rss_mb"), "model (before any solve)", "k:")):
+        y = [get(first[c]) for c in cases]
+        k = _fit(x, y) if cases else None
+        ax.loglog(x, y, style, marker="s", label=f"{label} (k={k:.2f})" if k and not math.isnan(k) else label)
+        if cases3:
+            ax.loglog([dofs_of[c] for c in cases3], [get(first[c]) for c in cases3], "ks", mfc="none")
     axes[0].axhline(1.5, color="k", ls=":", lw=1, label="1.5 (issue 11)")
-    axes[0].set(xlabel="DOFs", ylabel="contact solve / one linear solve (CPU s)", title="2D Hertz: ratio")
-    axes[1].set(xlabel="DOFs", ylabel="CPU s (1 MKL thread)", title="2D Hertz: time")
+    axes[0].set(xlabel="DOFs", ylabel="contact solve / one linear solve (CPU s)", title="Hertz: ratio")
+    axes[1].set(xlabel="DOFs", ylabel="CPU s (1 MKL thread)", title="Hertz: time")
+    axes[2].set(xlabel="DOFs", ylabel="MiB", title="Hertz: memory (peak RSS above the start of the solve)")
+    fig.suptitle("2D ladder: lines, fitted exponents k in the legends; 3D direct path (" + ", ".join(cases3)
+                 + "): open markers", fontsize=9)
     for ax in axes:
         ax.grid(True, which="both", alpha=0.3)
         ax.legend(fontsize=7)
@@ -255,13 +431,15 @@ def plot(rows, path: Path, ladder=LADDER_2D) -> None:
     plt.close(fig)
 
 
-def _timed_solves(prob, chosen, case_opts, repeats, backend):
+def _timed_solves(prob, chosen, case_opts, repeats, backend, done=None):
     """Per variant of ``chosen``: the solution and the fastest (CPU) timing of ``repeats`` contact solves
     (each with its own factorization); and the fastest of the linear solves between them (none for one repeat).
 
     Round robin: every repeat runs each variant once, then one linear solve, so that every variant and
     the denominator sample the same stretches of machine load (a shared machine's load changes over
     seconds; timing one variant's repeats in a row let a busy stretch inflate that variant alone).
+    ``done(label, solution, timing)``, if given, is called after each variant of a single repeat
+    (big cases: provisional rows survive an interrupted run).
     """
     best = {label: Timing(math.inf, math.inf) for label, *_ in chosen}
     sols = {}
@@ -269,9 +447,15 @@ def _timed_solves(prob, chosen, case_opts, repeats, backend):
     for _ in range(repeats):
         for label, alg, pen, opts in chosen:
             prob.model.clear_factorization()  # every variant pays its factorization (no reuse across variants)
+            sols.pop(label, None)
+            reset_peak_rss()
+            base = rss_mb()
             c0, t0 = time.process_time(), time.perf_counter()
             sols[label] = solve(prob, alg, pen, **{**case_opts, **opts})
-            best[label] = min(best[label], Timing(time.perf_counter() - t0, time.process_time() - c0))
+            best[label] = min(best[label], Timing(time.perf_counter() - t0, time.process_time() - c0, peak_rss_mb(),
+                                                  base))
+            if done is not None and repeats == 1:
+                done(label, sols[label], best[label])
         if repeats > 1:
             plain = min(plain, plain_linear_solve(prob, backend))
     return [(label, sols[label], best[label]) for label, *_ in chosen], plain
@@ -297,16 +481,18 @@ def write_report(out: Path, rows) -> None:
     head = text.split("<!-- tables -->")[0] if "<!-- tables -->" in text else "# Hertz benchmark\n\n"
     body = ["<!-- tables -->", "", "## Summary (generated): contact solve / one linear solve, CPU seconds", "",
             "Bold: above 1.5. A status in parentheses: the run failed (its time up to the failure). Fits and "
-            "plot: converged runs only.", "", summary(rows), "![ratio and time against DOFs](hertz.png)", "",
+            "plot: converged runs only; the fits run over the 2D ladder, the 3D direct-path cases are the open "
+            "markers of the plot.", "", summary(rows), "![ratio, time and memory against DOFs](hertz.png)", "",
             _markdown(rows)]
     write_text_atomic(md, head + "\n".join(body))
 
 
 def run(out_dir=None, cases=None, variants=None, log=print, merge=False, repeats=None) -> Path:
-    """Run the benchmark; return the folder with ``hertz.csv``, ``hertz.md`` and ``hertz.png``.
+    """Run the benchmark in this process; return the folder with ``hertz.csv``, ``hertz.md`` and ``hertz.png``.
 
     ``merge``: keep the rows of other cases already in ``hertz.csv`` (big cases run one at a
     time). ``repeats``: timings per variant (default from :data:`REPEAT_BUDGET_S`).
+    :func:`run_isolated` runs every case in a process of its own.
     """
     out = Path(out_dir or Path(__file__).parent / "out")
     out.mkdir(parents=True, exist_ok=True)
@@ -321,29 +507,73 @@ def run(out_dir=None, cases=None, variants=None, log=print, merge=False, repeats
         case_opts = CASE_OPTIONS.get(case, {})
         backend = case_opts.get("linear_solver", "auto")
         prob.model.stiffness()  # assembled once, outside both timings
-        plain_linear_solve(prob, backend)  # warm-up: the first call also loads the solver library
+        model_rss = rss_mb()  # interpreter, libraries, mesh, stiffness: what every solve starts from
+        # the first call also loads the solver library: kept only if no later linear solve is faster
+        # (a big case is timed once before and once after the variants; a separate warm-up would cost
+        # a whole linear solve there)
         plain = plain_linear_solve(prob, backend)
         reps = repeats or max(1, min(MAX_REPEATS, int(REPEAT_BUDGET_S / plain.cpu)))
         plain = min([plain] + [plain_linear_solve(prob, backend) for _ in range(reps - 1)])
-        log(f"  one linear solve {plain.wall:.3f} s wall, {plain.cpu:.3f} s CPU, repeats {reps}")
-        sols, between = _timed_solves(prob, chosen, case_opts, reps, backend)
+        log(f"  one linear solve {plain.wall:.3f} s wall, {plain.cpu:.3f} s CPU, peak RSS {plain.rss_mb:.0f} MiB, "
+            f"repeats {reps}")
+        provisional = []
+
+        def done(label, sol, timing, case=case, prob=prob, plain=plain, model_rss=model_rss, provisional=provisional):
+            """A provisional row (linear solve measured before the variants only), written at once with ``merge``."""
+            provisional.append(_row(case, label, prob, sol, plain, timing, 1, model_rss))
+            if merge:
+                old = [r for r in _read_csv(out / "hertz.csv") if r["case"] != case]
+                write_report(out, old + rows + provisional)
+
+        sols, between = _timed_solves(prob, chosen, case_opts, reps, backend, done)
         plain = min(plain, between)
         # shared machines: the smallest of the measurements before, between and after the variants
         plain = min([plain] + [plain_linear_solve(prob, backend) for _ in range(reps)])
         log(f"  one linear solve (min of before/after) {plain.wall:.3f} s wall, {plain.cpu:.3f} s CPU")
         for label, sol, timing in sols:
-            row = _row(case, label, prob, sol, plain, timing, reps)
+            row = _row(case, label, prob, sol, plain, timing, reps, model_rss)
             rows.append(row)
             log(f"  {label:20s} {row['status']:14s} outer={row['outer_iterations']:3d} "
                 f"newton={row['newton_iterations']:4d} solves={row['linear_solves']:5d} cg_its={row['cg_iterations']} "
                 f"wall={row['wall_s']:.3f}s ratio={row['ratio']:.3f} cpu={row['cpu_s']:.3f}s "
-                f"ratio_cpu={row['ratio_cpu']:.3f}")
+                f"ratio_cpu={row['ratio_cpu']:.3f} rss={row['peak_rss_mb']:.0f}MiB ratio_rss={row['ratio_rss']:.3f}")
         if merge:  # written after every case: an interrupted run keeps what it measured
             old = [r for r in _read_csv(out / "hertz.csv") if r["case"] not in {r["case"] for r in rows}]
             write_report(out, old + rows)
     if not merge:
         write_report(out, rows)
     return out
+
+
+def run_isolated(out_dir=None, cases=None, variants=None, log=print, merge=False, repeats=None,
+                 timeout=None) -> tuple[Path, list[str]]:
+    """Run every case in a process of its own (:func:`run` with ``merge``); return the folder and the failed cases.
+
+    A fresh process per case: the peak RSS of a case does not include the previous case's heap,
+    and a case that runs out of memory or past ``timeout`` seconds loses only its own rows.
+    Without ``merge`` the rows of cases not run are dropped from ``hertz.csv`` first.
+    """
+    out = Path(out_dir or Path(__file__).parent / "out")
+    out.mkdir(parents=True, exist_ok=True)
+    cases = cases or DEFAULT_CASES
+    if not merge:
+        write_report(out, [])
+    failed = []
+    for case in cases:
+        cmd = [sys.executable, str(Path(__file__).resolve()), "--in-process", "--merge", "--out", str(out),
+               "--cases", case]
+        if variants is not None:
+            cmd += ["--variants", *variants]
+        if repeats:
+            cmd += ["--repeats", str(repeats)]
+        try:
+            rc = subprocess.run(cmd, timeout=timeout).returncode
+        except subprocess.TimeoutExpired:
+            rc = "timeout"
+        if rc != 0:
+            log(f"{case}: its process ended with {rc}; its rows are missing")
+            failed.append(case)
+    return out, failed
 
 
 def main(argv=None) -> int:
@@ -355,6 +585,8 @@ def main(argv=None) -> int:
     ap.add_argument("--merge", action="store_true", help="keep the other cases already in <out>/hertz.csv")
     ap.add_argument("--repeats", type=int, default=None, help="timings per variant (default: by model size)")
     ap.add_argument("--report", action="store_true", help="only rewrite hertz.md / hertz.png from hertz.csv")
+    ap.add_argument("--in-process", action="store_true", help="run the cases in this process (default: one each)")
+    ap.add_argument("--case-timeout", type=float, default=None, help="seconds per case process")
     args = ap.parse_args(argv)
     logging.basicConfig(level=logging.WARNING)
     out = Path(args.out or Path(__file__).parent / "out")
@@ -363,9 +595,14 @@ def main(argv=None) -> int:
         print(f"wrote {out / 'hertz.md'}")
         return 0
     variants = ISSUE_VARIANTS if args.issue_variants else args.variants
-    path = run(args.out, args.cases, variants, merge=args.merge, repeats=args.repeats)
+    if args.in_process:
+        path = run(args.out, args.cases, variants, merge=args.merge, repeats=args.repeats)
+        failed = []
+    else:
+        path, failed = run_isolated(args.out, args.cases, variants, merge=args.merge, repeats=args.repeats,
+                                    timeout=args.case_timeout)
     print(f"wrote {path / 'hertz.csv'}, {path / 'hertz.md'} and {path / 'hertz.png'}")
-    return 0
+    return 1 if failed else 0
 
 
 if __name__ == "__main__":
