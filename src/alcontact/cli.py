@@ -445,17 +445,20 @@ def check_command(
 def bench_command(
     out: Annotated[Path, typer.Option("--out", "-o", help="Report folder.")] = Path("benchmarks/out"),
     suite: Annotated[
-        Optional[list[str]], typer.Option("--suite", "-s", help="hertz, friction, nlp (repeatable; default all).")
+        Optional[list[str]],
+        typer.Option("--suite", "-s", help="hertz, friction, nlp, finite (repeatable; default all)."),
     ] = None,
     quick: Annotated[bool, typer.Option("--quick", help="Small sizes and a few variants (about a minute).")] = False,
     cases: Annotated[
-        Optional[list[str]], typer.Option("--case", help="Case of the hertz or friction suite, e.g. 2d-10k, mindlin-2d (repeatable).")
+        Optional[list[str]],
+        typer.Option("--case", help="Case of the hertz, friction or finite suite, e.g. 2d-10k, mindlin-2d, "
+                                    "3d-100k (repeatable)."),
     ] = None,
     variants: Annotated[
         Optional[list[str]], typer.Option("--variant", help="Variant of the chosen suites (repeatable).")
     ] = None,
     benchmarks_dir: Annotated[
-        Optional[Path], typer.Option("--benchmarks-dir", help="Folder with hertz.py and nlp_hs.py "
+        Optional[Path], typer.Option("--benchmarks-dir", help="Folder with the benchmark scripts "
                                                               "(default: the repository's benchmarks/).")
     ] = None,
 ) -> None:

@@ -1123,6 +1123,8 @@ BENCH_SUITES: dict[str, BenchSuite] = {
     "friction": BenchSuite("friction.py", "friction.md", True,
                            {"cases": ["mindlin-2d"], "variants": ["ssn", "simo-laursen", "exp-met1"]}),
     "nlp": BenchSuite("nlp_hs.py", "nlp_hs.md", False, {"variants": ["rockafellar", "exp-met1", "SLSQP"]}),
+    "finite": BenchSuite("finite.py", "finite.md", True,
+                         {"cases": ["2d-5k"], "variants": ["ssn", "simo-laursen", "quad-met1"]}),
 }
 
 
@@ -1131,7 +1133,7 @@ def run_benchmarks(out: str | os.PathLike, *, suites=None, quick: bool = False, 
     """``alcontact bench``: run benchmark scripts of ``benchmarks/`` and write ``bench.md``.
 
     Each suite's script is loaded with :func:`runpy.run_path` and its ``run``
-    function called (``hertz.py``, ``friction.py``: ``run(out_dir, cases, variants)``,
+    function called (``hertz.py``, ``friction.py``, ``finite.py``: ``run(out_dir, cases, variants)``,
     ``nlp_hs.py``: ``run(out_dir, variants)``); each writes its CSV and
     markdown into ``out``; ``bench.md`` joins the markdown reports.
 
