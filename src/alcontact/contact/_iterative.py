@@ -761,21 +761,15 @@ def full_newton(ic, law, lam, x0, *, tol=1e-12, maxiter=60) -> NewtonOutcome:
 
 
 def _release_geometry(model) -> None:
-    """Drop the scikit-fem facet bases and element mappings cached by the model and its mesh.
+    """Let the model drop its geometry caches (:meth:`LinearElasticity.release_geometry`), if it has any.
 
-    The contact points are set up from them; the solve does not use them, and they are
-    rebuilt on demand afterwards. They held about 620 bytes per DOF through every
-    solve on the graded 3D Hertz mesh (fine boundary facets: the facet mappings at the
-    quadrature points, plus the affine map of every element), 1/3 of the resident
-    memory of the solve.
+    They held about 620 bytes per DOF through every solve on the graded 3D Hertz mesh (fine
+    boundary facets: the facet mappings at the quadrature points, plus the affine map of
+    every element), 1/3 of the resident memory of the solve.
     """
-    cache = getattr(model, "_facet_cache", None)
-    if isinstance(cache, dict):
-        for key in [k for k in cache if isinstance(k, tuple) and k and k[0] == "fb"]:
-            del cache[key]
-    mesh = getattr(model, "mesh", None)
-    if mesh is not None and hasattr(mesh, "_cached_mapping"):
-        del mesh._cached_mapping
+    release = getattr(model, "release_geometry", None)
+    if release is not None:
+        release()
 
 
 def _abs_matvec(A, v: np.ndarray, rows: int = 1 << 16) -> np.ndarray:
