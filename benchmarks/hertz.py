@@ -33,7 +33,6 @@ import dataclasses
 import io
 import logging
 import math
-import os
 import statistics
 import subprocess
 import sys

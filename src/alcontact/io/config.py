@@ -275,7 +275,7 @@ def _build_mesh(d: dict, base: Path, issues: list[Issue]):
             return None
         for key in ("bounds", "cells", "refine"):
             if d[key] is not None:
-                issues.append(Issue(f"mesh.{key}", f"not used with generator = 'file'; remove it (or use "
+                issues.append(Issue(f"mesh.{key}", "not used with generator = 'file'; remove it (or use "
                                                    "generator = 'rectangle' / 'box')."))
         p = Path(d["file"])
         p = p if p.is_absolute() else base / p
