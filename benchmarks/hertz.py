@@ -132,25 +132,27 @@ def reset_peak_rss() -> bool:
     return True
 
 
-def rss_mb() -> float:
-    """Current resident set size of this process in MiB (NaN where ``/proc`` is missing)."""
+def _status_mb(key: str) -> float:
+    """``VmRSS`` / ``VmHWM`` of this process in MiB from ``/proc/self/status`` (NaN where it is missing)."""
     try:
         for line in Path("/proc/self/status").read_text().splitlines():
-            if line.startswith("VmRSS:"):
+            if line.startswith(key + ":"):
                 return int(line.split()[1]) / 1024.0
     except OSError:
         pass
     return math.nan
 
 
+def rss_mb() -> float:
+    """Current resident set size of this process in MiB (NaN where ``/proc`` is missing)."""
+    return _status_mb("VmRSS")
+
+
 def peak_rss_mb() -> float:
     """Peak resident set size of this process in MiB since the last :func:`reset_peak_rss` (NaN if unknown)."""
-    try:
-        for line in Path("/proc/self/status").read_text().splitlines():
-            if line.startswith("VmHWM:"):
-                return int(line.split()[1]) / 1024.0
-    except OSError:
-        pass
+    peak = _status_mb("VmHWM")
+    if not math.isnan(peak):
+        return peak
     try:
         import resource
     except ImportError:
