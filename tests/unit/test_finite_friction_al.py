@@ -26,7 +26,7 @@ from alcontact.contact import _algorithms as A
 from alcontact.contact import _finite_friction as FF
 from alcontact.contact import _friction as F
 from alcontact.contact._friction_laws import SLIP, STICK
-from alcontact.contact._laws import make_law
+from alcontact.contact._laws import eta_for_stiffness, make_law
 from alcontact.contact._newton import NewtonResult
 from alcontact.contact._solution import ContactStatus
 from alcontact.contact._stepping import _StepData
@@ -155,3 +155,22 @@ def test_failed_subproblem_without_state_is_a_reported_failure():
     assert not out.ok and out.status == ContactStatus.NEWTON_FAILED and out.status < 0
     assert "outer iteration 1" in out.message and out.last_state is None
     assert out.t.shape == (2, 3) and not np.any(out.t)
+
+
+def test_inside_domain_moves_the_predictor_into_the_log_barrier_domain():
+    """After the Simo-Laursen predictor from zero multipliers (first contact) the gaps lie at about the
+    log-met1 bound eta b; the move puts every gap below 0.99 eta b, and leaves a start already inside (and a
+    law without bound) unchanged."""
+    ctx = _pressed_block_ctx()
+    macaulay = make_law(P.make("rockafellar"), np.full(ctx.c, 1.0 / ctx.eps_n))
+    pre = ctx.subproblem(macaulay, np.zeros(ctx.c), ctx.lamT, ctx.start)
+    assert pre.converged, pre.message
+    lamN = np.maximum(pre.state.tN, 1e-3 * np.max(pre.state.tN))
+    pen = P.make("log-met1")
+    law = make_law(pen, eta_for_stiffness(pen, lamN, ctx.eps_n))
+    bound = law.gap_bound(lamN)
+    assert np.any(ctx.fc.gaps(pre.x) >= 0.99 * bound)  # the predictor is outside: the move has work to do
+    x = ctx.inside_domain(law, lamN, pre.x)
+    assert np.all(ctx.fc.gaps(x) < 0.99 * bound)
+    assert ctx.inside_domain(law, lamN, x) is x
+    assert ctx.inside_domain(macaulay, lamN, pre.x) is pre.x

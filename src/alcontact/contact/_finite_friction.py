@@ -99,7 +99,8 @@ from .._options import is_real, show
 from ..errors import InputError, InvertedElementError
 from ..linalg import SequenceSolver
 from ..status import Status
-from ._algorithms import FRICTION_DEFAULTS, algorithm_names, find_algorithm, options_with, register_family
+from ._algorithms import (FRICTION_DEFAULTS, _first_push, algorithm_names, find_algorithm, options_with,
+                          register_family)
 from ._finite import FiniteContact
 from ._friction import FrictionOptions, _step_al, _StepOut
 from ._friction_laws import OPEN, SLIP, STICK, return_mapping
@@ -217,6 +218,10 @@ class FiniteFrictionContact(FiniteContact):
         tN = np.asarray(law.traction(g, lamN), dtype=float)
         kN = np.asarray(law.stiffness(g, lamN), dtype=float)
         z, slip, dz, H = self._trial(lamT, xc, nu, idx, blocks=blocks)
+        if not blocks and not np.all(np.isfinite(tN)):
+            # outside the domain of a barrier-type penalty (a line-search trial that its non-finite
+            # residual rejects, or a start the AL loop reports): no tangential traction
+            return g, nu, tN, np.full_like(z, np.nan), slip, np.full(idx.size, OPEN), None
         rho = self.mu * (tN if self.coupled else np.maximum(lamN, 0.0))
         tT, opened, stick, slipping, n, dproj = return_mapping(z, rho)
         state = np.where(opened, OPEN, np.where(stick, STICK, SLIP))
@@ -244,7 +249,10 @@ class FiniteFrictionContact(FiniteContact):
         u = self.expand(x)
         rb, _ = self._body_state(u, False)
         g, nu, tN, tT, slip, state, _ = self._local(law, lamN, lamT, u, cand, blocks=False)
-        R = rb[self.free] + self._assemble_points(cand, w[:, None] * (tT - tN[:, None] * nu))
+        if np.all(np.isfinite(tN)):
+            R = rb[self.free] + self._assemble_points(cand, w[:, None] * (tT - tN[:, None] * nu))
+        else:  # outside a barrier's domain (see _local)
+            R = np.full(self.free.size, np.nan)
         return _Local(u, g, nu, tN, tT, slip, state, R, rb)
 
     def friction_jacobian(self, law, lamN, lamT, u) -> sp.csr_matrix:
@@ -453,8 +461,9 @@ class _FiniteALCtx:
     - the family-P predictor is a full Simo-Laursen outer iteration (:attr:`full_predictor`):
       both multipliers are taken from it and it is counted (its tangential traction, in the
       tangent planes of the predicted state, starts the family-P iterations);
-    - no inside-domain move (:meth:`inside_domain`): the iterate is not shifted for a
-      barrier-type penalty.
+    - the inside-domain move of a barrier-type penalty (:meth:`inside_domain`) is that of the
+      frictionless finite solver (first-order scaling of the contact forces); before it the
+      finite path had none and ``family-p`` with ``log-met1`` failed at its first load step.
     """
 
     fc: FiniteFrictionContact
@@ -500,7 +509,28 @@ class _FiniteALCtx:
         return out.x
 
     def inside_domain(self, law, lamN, x) -> np.ndarray:
-        """``x`` unchanged: the finite path does not move the iterate into a barrier's domain."""
+        """Start for barrier-type penalties: contact forces scaled up until every gap is inside ``g < eta b``.
+
+        The barrier start of the frictionless finite-deformation solver
+        (:func:`~alcontact.contact._algorithms.run_al`): the forces are scaled to first order
+        (:meth:`~alcontact.contact._finite.FiniteContact.scale_forces`), first by the scale that
+        just closes the penetrations (:func:`~alcontact.contact._algorithms._first_push`), doubled
+        while the start is still outside; ``x`` unchanged when it is inside or no force can be scaled.
+        """
+        dc = self.fc
+        bound = law.gap_bound(lamN)
+        g = dc.gaps(x)
+        if not np.any(g >= 0.99 * bound):
+            return x
+        doubled = dc.scale_forces(x, 2.0)
+        if np.array_equal(doubled, x):  # no contact force to scale up
+            return x
+        scale = _first_push(g, dc.gaps(doubled), bound)
+        while scale < 1e6:
+            trial = dc.scale_forces(x, 1.0 + scale)
+            if not np.any(dc.gaps(trial) >= 0.99 * bound):
+                return trial
+            scale *= 2
         return x
 
     def forces(self, x, t) -> np.ndarray:
