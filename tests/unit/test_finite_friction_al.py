@@ -21,6 +21,7 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
+from alcontact import penalties as P
 from alcontact.contact import ContactProblem, FrictionOptions, Support, obstacles
 from alcontact.contact import _algorithms as A
 from alcontact.contact import _finite_friction as FF
@@ -32,7 +33,6 @@ from alcontact.contact._solution import ContactStatus
 from alcontact.contact._stepping import _StepData
 from alcontact.fem import Material, meshes
 from alcontact.fem.hyperelastic import Hyperelastic
-from alcontact import penalties as P
 from alcontact.status import Status
 
 
