@@ -69,11 +69,13 @@ return mapping (identity at stick, :math:`\rho/|z|\,(I - nn^T)` at slip, :math:`
 line search backtracks on the residual norm (a frictional step has no potential) and
 halves a step that inverts an element.
 
-Outer loop (Algorithm 6.2, resp. 6.4 with a family-P penalty, as in
-:mod:`alcontact.contact._friction`): :math:`\lambda_N \leftarrow t_N`, :math:`\lambda_T
-\leftarrow t_T` ((6.2b), (6.2c)) until the penetration, complementarity, multiplier
-change and the slip of the sticking points are below their tolerances. A step starts
-from :math:`\lambda_T = t_{T,n}` (transported into the current tangent plane).
+Outer loop (Algorithm 6.2, resp. 6.4 with a family-P penalty): the one loop of the
+small-deformation solvers, :func:`alcontact.contact._friction._step_al`, on the step's
+system :class:`_FiniteALCtx` (first-order updates :math:`\lambda_N \leftarrow t_N`,
+:math:`\lambda_T \leftarrow t_T` ((6.2b), (6.2c)) until the penetration, complementarity,
+multiplier change and the slip of the sticking points are below their tolerances; what
+the finite system declares differently is listed there). A step starts from
+:math:`\lambda_T = t_{T,n}` (transported into the current tangent plane).
 The reference ``"ssn"`` (:func:`_step_ssn`) solves the Alart-Curnier equations of the same
 time-discrete law exactly, in :math:`(u, \lambda_N, \lambda_T)`, by a semi-smooth Newton method.
 Every accepted step is verified by :func:`~alcontact.contact._verify.check_state`
@@ -87,7 +89,7 @@ import dataclasses
 import logging
 import time
 from dataclasses import dataclass, field
-from typing import Any, Callable, Sequence
+from typing import Any, Callable, ClassVar, Sequence
 
 import numpy as np
 import scipy.sparse as sp
@@ -97,11 +99,12 @@ from .._options import is_real, show
 from ..errors import InputError, InvertedElementError
 from ..linalg import SequenceSolver
 from ..status import Status
-from ._algorithms import FRICTION_DEFAULTS, algorithm_names, find_algorithm, options_with, register_family
+from ._algorithms import (FRICTION_DEFAULTS, _first_push, algorithm_names, find_algorithm, options_with,
+                          register_family)
 from ._finite import FiniteContact
-from ._friction import FrictionOptions
+from ._friction import FrictionOptions, _step_al, _StepOut
 from ._friction_laws import OPEN, SLIP, STICK, return_mapping
-from ._laws import eta_for_stiffness, freezes_at_zero, make_law
+from ._laws import make_law
 from ._loading import LoadHistory
 from ._newton import LineSearch, NewtonResult, NewtonSettings, NewtonSystem, inner_failure, newton
 from ._solution import ContactStatus
@@ -132,6 +135,12 @@ class _Local:
     state: np.ndarray
     R: np.ndarray
     r_body: np.ndarray
+
+    @property
+    def aux(self) -> tuple:
+        """``(y, t, Dy, state)`` of the AL loop (:class:`_FiniteALCtx`): ``y = [g, slip]``,
+        ``t = [t_N, t_T]`` (``(c, 1 + d)`` each), no tangent ``Dy`` (first-order updates only)."""
+        return np.column_stack([self.g, self.slip]), np.column_stack([self.tN, self.tT]), None, self.state
 
 
 class FiniteFrictionContact(FiniteContact):
@@ -209,6 +218,10 @@ class FiniteFrictionContact(FiniteContact):
         tN = np.asarray(law.traction(g, lamN), dtype=float)
         kN = np.asarray(law.stiffness(g, lamN), dtype=float)
         z, slip, dz, H = self._trial(lamT, xc, nu, idx, blocks=blocks)
+        if not blocks and not np.all(np.isfinite(tN)):
+            # outside the domain of a barrier-type penalty (a line-search trial that its non-finite
+            # residual rejects, or a start the AL loop reports): no tangential traction
+            return g, nu, tN, np.full_like(z, np.nan), slip, np.full(idx.size, OPEN), None
         rho = self.mu * (tN if self.coupled else np.maximum(lamN, 0.0))
         tT, opened, stick, slipping, n, dproj = return_mapping(z, rho)
         state = np.where(opened, OPEN, np.where(stick, STICK, SLIP))
@@ -236,7 +249,10 @@ class FiniteFrictionContact(FiniteContact):
         u = self.expand(x)
         rb, _ = self._body_state(u, False)
         g, nu, tN, tT, slip, state, _ = self._local(law, lamN, lamT, u, cand, blocks=False)
-        R = rb[self.free] + self._assemble_points(cand, w[:, None] * (tT - tN[:, None] * nu))
+        if np.all(np.isfinite(tN)):
+            R = rb[self.free] + self._assemble_points(cand, w[:, None] * (tT - tN[:, None] * nu))
+        else:  # outside a barrier's domain (see _local)
+            R = np.full(self.free.size, np.nan)
         return _Local(u, g, nu, tN, tT, slip, state, R, rb)
 
     def friction_jacobian(self, law, lamN, lamT, u) -> sp.csr_matrix:
@@ -422,78 +438,110 @@ class FiniteFrictionSolution(StepRecords):
 # one load step: Algorithms 6.2 / 6.4
 # ---------------------------------------------------------------------------
 @dataclass
-class _StepResult:
-    ok: bool
-    status: ContactStatus
-    message: str
-    x: np.ndarray
-    lamN: np.ndarray
-    lamT: np.ndarray
-    loc: Any
-    outer: int
+class _FiniteALCtx:
+    r"""The :class:`~alcontact.contact._friction._ALSystem` of a finite-deformation load step.
+
+    The one AL loop :func:`~alcontact.contact._friction._step_al` (Algorithms 6.2 / 6.4)
+    drives it; its unknowns are the free displacements ``x``, a subproblem is
+    :meth:`FiniteFrictionContact.friction_subproblem` and its state the :class:`_Local` of the
+    last iterate (``aux``: gaps and slips, tractions). The reference ``ssn``
+    (:func:`_step_ssn`) takes the same system. What differs from the small-deformation
+    paths, each by a declaration here:
+
+    - the multipliers ``lamT`` are ambient vectors ``(c, d)`` tangent to the obstacle, the
+      tractions ``t = [t_N, t_T]`` have ``d + 1`` columns (:attr:`d`);
+    - the slip of the stopping test is the step's slip on the obstacle's surface
+      (``aux[0][:, 1:]``, :func:`~alcontact.contact.obstacles.surface_slip`), measured
+      from the previous surface point: the reference :attr:`uTn` is zero, and no tangent
+      direction is held by a support (:attr:`tfree` is ``None``);
+    - first-order multiplier updates only (:attr:`second_order` false: the second-order
+      update needs the dense sensitivity of the condensed small-deformation subproblem),
+      so the hybrid Coulomb radius of the first subproblem is not taken either; the radius
+      is the one :meth:`FiniteFrictionContact.set_history` set from ``radius``;
+    - the family-P predictor is a full Simo-Laursen outer iteration (:attr:`full_predictor`):
+      both multipliers are taken from it and it is counted (its tangential traction, in the
+      tangent planes of the predicted state, starts the family-P iterations);
+    - the inside-domain move of a barrier-type penalty (:meth:`inside_domain`) is that of the
+      frictionless finite solver (first-order scaling of the contact forces); before it the
+      finite path had none and ``family-p`` with ``log-met1`` failed at its first load step.
+    """
+
+    fc: FiniteFrictionContact
+    lamN: np.ndarray  # (c,)
+    lamT: np.ndarray  # (c, d), tangent to the obstacle
+    x0: np.ndarray  # free displacements the step starts from
+    eps_n: float
+    opts: Any
+
+    label: ClassVar[str] = "finite friction AL"
+    second_order: ClassVar[bool] = False
+    full_predictor: ClassVar[bool] = True
+    tfree: ClassVar[None] = None
+
+    @property
+    def c(self) -> int:
+        return int(self.fc.cand.size)
+
+    @property
+    def d(self) -> int:
+        """Columns of the tractions ``[t_N, t_T]`` (``t_T`` ambient, ``dim`` components)."""
+        return self.fc.dim + 1
+
+    @property
+    def mu(self) -> float:
+        return self.fc.mu
+
+    @property
+    def uTn(self) -> np.ndarray:
+        """Zero: the slip ``aux[0][:, 1:]`` is already measured from the previous surface point."""
+        return np.zeros((self.c, self.fc.dim))
+
+    @property
+    def start(self) -> np.ndarray:
+        return self.x0.copy()
+
+    def subproblem(self, law, lamN, lamT, x, coupled: bool = False) -> NewtonResult:
+        """:meth:`FiniteFrictionContact.friction_subproblem` (``coupled`` is never asked: first-order updates)."""
+        return self.fc.friction_subproblem(law, lamN, lamT, x, tol=self.opts.newton_tol,
+                                           maxiter=self.opts.maxiter_newton)
+
+    def iterate(self, out: NewtonResult) -> np.ndarray:
+        return out.x
+
+    def inside_domain(self, law, lamN, x) -> np.ndarray:
+        """Start for barrier-type penalties: contact forces scaled up until every gap is inside ``g < eta b``.
+
+        The barrier start of the frictionless finite-deformation solver
+        (:func:`~alcontact.contact._algorithms.run_al`): the forces are scaled to first order
+        (:meth:`~alcontact.contact._finite.FiniteContact.scale_forces`), first by the scale that
+        just closes the penetrations (:func:`~alcontact.contact._algorithms._first_push`), doubled
+        while the start is still outside; ``x`` unchanged when it is inside or no force can be scaled.
+        """
+        dc = self.fc
+        bound = law.gap_bound(lamN)
+        g = dc.gaps(x)
+        if not np.any(g >= 0.99 * bound):
+            return x
+        doubled = dc.scale_forces(x, 2.0)
+        if np.array_equal(doubled, x):  # no contact force to scale up
+            return x
+        scale = _first_push(g, dc.gaps(doubled), bound)
+        while scale < 1e6:
+            trial = dc.scale_forces(x, 1.0 + scale)
+            if not np.any(dc.gaps(trial) >= 0.99 * bound):
+                return trial
+            scale *= 2
+        return x
+
+    def forces(self, x, t) -> np.ndarray:
+        r"""Force of the obstacle on the body at each candidate, :math:`w_i (t_{N,i}\nu_i - t_{T,i})` ``(c, d)``."""
+        dc = self.fc
+        nu = dc.obstacle.normal(dc._current(dc.expand(x), dc.cand))
+        with np.errstate(invalid="ignore", over="ignore"):  # the non-finite tractions of a failed step as they are
+            return dc.weights[dc.cand][:, None] * (t[:, :1] * nu - t[:, 1:])
 
 
-def _measures(dc, loc, lamN, lamT):
-    h = dc.h
-    pref = max(float(np.max(loc.tN, initial=0.0)), 1e-300)
-    pen = float(np.max(loc.g, initial=0.0)) / h
-    compl = float(np.max(np.abs(loc.tN * np.minimum(loc.g, 0.0)), initial=0.0)) / (pref * h)
-    dlam = max(float(np.max(np.abs(loc.tN - lamN), initial=0.0)),
-               float(np.max(np.abs(loc.tT - lamT), initial=0.0))) / pref
-    stick_slip = float(np.max(np.linalg.norm(loc.slip, axis=1)[loc.state == STICK], initial=0.0)) / h
-    return pen, compl, dlam, stick_slip
-
-
-def _step_al(dc: FiniteFrictionContact, lamN, lamT, x, eps_n, pen_name, opts) -> _StepResult:
-    """Algorithm 6.2 (``rockafellar``: Macaulay law) / 6.4 (family-P) for one load step."""
-    c = dc.cand.size
-    macaulay = make_law(_pen.make("rockafellar"), np.full(c, 1.0 / eps_n))
-    pen = _pen.make(pen_name)
-    family_p = freezes_at_zero(pen)
-    outer = 0
-    law = macaulay
-    if family_p:
-        # predictor: one Simo-Laursen subproblem gives multipliers for the points entering contact
-        pre = dc.friction_subproblem(macaulay, lamN, lamT, x, tol=opts.newton_tol, maxiter=opts.maxiter_newton)
-        outer = 1
-        if pre.converged:
-            x, lamN, lamT = pre.x, pre.state.tN.copy(), pre.state.tT.copy()
-        pref = max(float(np.max(lamN, initial=0.0)), eps_n * dc.h * 1e-6)
-        lamN = np.maximum(lamN, opts.multiplier_floor * pref)
-        eta = eta_for_stiffness(pen, np.maximum(lamN, opts.eta_floor * pref), eps_n)
-        law = make_law(pen, eta)
-    loc = None
-    for k in range(1, opts.maxiter + 1):
-        out = dc.friction_subproblem(law, lamN, lamT, x, tol=opts.newton_tol, maxiter=opts.maxiter_newton)
-        if not out.converged:
-            return _StepResult(False, inner_failure(out), f"Newton failed in outer iteration {k}: {out.message}",
-                               x, lamN, lamT, loc, outer + k)
-        x, loc = out.x, out.state
-        if not (np.all(np.isfinite(loc.tN)) and np.all(np.isfinite(loc.tT))):
-            return _StepResult(False, ContactStatus.NONFINITE, f"non-finite tractions in outer iteration {k}",
-                               x, lamN, lamT, loc, outer + k)
-        pen_k, compl, dlam, stick_slip = _measures(dc, loc, lamN, lamT)
-        logger.debug("finite friction AL outer %d: pen=%.2e compl=%.2e dlam=%.2e stick-slip=%.2e",
-                     k, pen_k, compl, dlam, stick_slip)
-        if (pen_k <= opts.tol_penetration and compl <= opts.tol_complementarity and dlam <= opts.tol_multiplier
-                and stick_slip <= opts.tol_slip):
-            return _StepResult(True, ContactStatus.CONVERGED, "converged", x, loc.tN.copy(), loc.tT.copy(), loc,
-                               outer + k)
-        # multiplier updates (6.2b)/(6.2c), resp. lambda_N <- p'(g/eta, lambda_N)
-        lamN, lamT = loc.tN.copy(), loc.tT.copy()
-        if family_p:
-            pref = max(float(np.max(lamN, initial=0.0)), 1e-300)
-            lamN = np.maximum(lamN, opts.multiplier_floor * pref)
-            if opts.eta_scaling == "adaptive":
-                eta_new = eta_for_stiffness(pen, np.maximum(lamN, opts.eta_floor * pref), eps_n)
-                bnd = eta_new * np.asarray(pen.domain_upper(lamN), dtype=float)
-                eta = np.where(loc.g < 0.99 * bnd, eta_new, law.eta)
-                law = make_law(pen, eta)
-    return _StepResult(False, ContactStatus.MAXITER, f"maximum outer iterations ({opts.maxiter}) reached",
-                       x, lamN, lamT, loc, outer + opts.maxiter)
-
-
-def _step_ssn(dc: FiniteFrictionContact, lamN, lamT, x, eps_n, pen_name, opts) -> _StepResult:
+def _step_ssn(ctx: _FiniteALCtx, penalty_name: str = "none") -> _StepOut:
     r"""Alart-Curnier semi-smooth Newton reference for one load step (no penalty, exact).
 
     Unknowns :math:`(x, \lambda_N, \lambda_T)`, equations (with :math:`c = \varepsilon_N`,
@@ -507,7 +555,11 @@ def _step_ssn(dc: FiniteFrictionContact, lamN, lamT, x, eps_n, pen_name, opts) -
 
     solved by Newton's method with the generalized Jacobian (the return-mapping
     derivatives of the module doc with the coupled radius) and backtracking on the residual norm.
+    ``ctx`` is the step's system of the AL algorithms (:class:`_FiniteALCtx`: candidates,
+    starting multipliers and displacements); one outer iteration.
     """
+    dc, lamN, lamT, x, opts = ctx.fc, ctx.lamN, ctx.lamT, ctx.start, ctx.opts
+    eps_n = ctx.eps_n
     cand = dc.cand
     k, d = cand.size, dc.dim
     w = dc.weights[cand]
@@ -607,15 +659,15 @@ def _step_ssn(dc: FiniteFrictionContact, lamN, lamT, x, eps_n, pen_name, opts) -
             out = newton(AlartCurnier(), np.concatenate([x, L.ravel()]), tol=opts.newton_tol,
                          maxiter=max(opts.maxiter_newton, 100), settings=_SSN_SETTINGS, log=log)
         except InvertedElementError as exc:
-            return _StepResult(False, ContactStatus.NEWTON_FAILED, f"inverted element at the start ({exc})",
-                               x, lamN, lamT, None, 1)
+            return _StepOut(False, f"inverted element at the start ({exc})", ctx.forces(x, L), L, 1, 0,
+                            ContactStatus.NEWTON_FAILED, z=x)
         x, L = out.x[:nf], out.x[nf:].reshape(k, d + 1)
         if not out.converged:
-            return _StepResult(False, inner_failure(out), f"semi-smooth Newton: {out.message}",
-                               x, L[:, 0], L[:, 1:], None, 1)
+            return _StepOut(False, f"semi-smooth Newton: {out.message}", ctx.forces(x, L), L, 1, out.iterations,
+                            inner_failure(out), z=x)
         u, g, nu, tN, tT, slip, state, rb, Rx, RL, _ = out.state
         loc = _Local(u, g, nu, L[:, 0].copy(), L[:, 1:].copy(), slip, np.where(L[:, 0] > 0, state, OPEN), Rx, rb)
-        return _StepResult(True, ContactStatus.CONVERGED, "converged", x, L[:, 0].copy(), L[:, 1:].copy(), loc, 1)
+        return _StepOut(True, "converged", ctx.forces(x, L), L.copy(), 1, out.iterations, z=x, last_state=loc)
     finally:
         dc.eps_t, dc.coupled = saved
 
@@ -724,8 +776,8 @@ def solve_finite_friction(problem, mu: float, algorithm: str = "simo-laursen", p
         records.append(step)
         state["last"] = full
         if step.status > 0:
-            state["x"] = res.x
-            state["y_prev"] = dc.surface_points(dc.expand(res.x))
+            state["x"] = res.z
+            state["y_prev"] = dc.surface_points(dc.expand(res.z))
             state["nu_prev"] = full["normals"].copy()
             state["lamN"], state["lamT"] = full["pressure"].copy(), full["traction_t"].copy()
             dc.accept(state["lamN"])
@@ -768,13 +820,14 @@ def _attempt(dc, data, step_fn, x, t, y_prev, nu_prev, lamN_all, lamT_all, mu, e
         res = None
         for _ in range(8):
             cand = dc.cand
-            res = step_fn(dc, lamN_all[cand].copy(), lamT_all[cand].copy(), dc.x0, eps_n, pen_name, opts)
+            res = step_fn(_FiniteALCtx(dc, lamN_all[cand].copy(), lamT_all[cand].copy(), dc.x0, eps_n, opts),
+                          pen_name)
             if not res.ok:
                 break
-            added = dc.extend(dc.all_gaps(dc.expand(res.x)), opts.tol_penetration * dc.h)
+            added = dc.extend(dc.all_gaps(dc.expand(res.z)), opts.tol_penetration * dc.h)
             if added.size == 0:
                 break
-            dc.x0 = res.x
+            dc.x0 = res.z
         return res, None
     except InvertedElementError as exc:
         return None, exc
@@ -784,8 +837,8 @@ def _record(dc, res, t, mu, opts, cut, newton, seconds, solves=0):
     """Verified step record and the full-size fields of an accepted step."""
     m, d = dc.points.shape
     cand = dc.cand
-    loc = res.loc
-    u = dc.expand(res.x)
+    loc = res.last_state
+    u = dc.expand(res.z)
     g_all = dc.all_gaps(u)
     pressure = np.zeros(m)
     traction_t = np.zeros((m, d))

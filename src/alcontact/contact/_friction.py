@@ -59,7 +59,8 @@ that fails is retried from the last converged state with the increment times
 ``cutback_factor``, down to ``cutback_factor**max_cutbacks`` times the requested
 one; the converged steps are kept. A problem with ``kinematics="finite"`` goes to
 :func:`~alcontact.contact.solve_finite_friction` (same algorithms in the current
-configuration).
+configuration, driven by the same loop :func:`_step_al` through the step's system
+:class:`~alcontact.contact._finite_friction._FiniteALCtx`).
 """
 
 from __future__ import annotations
@@ -69,7 +70,7 @@ import time
 import warnings
 from abc import ABC, abstractmethod
 from dataclasses import dataclass
-from typing import ClassVar, Protocol
+from typing import Any, ClassVar, Protocol
 
 import numpy as np
 import scipy.linalg as sla
@@ -216,15 +217,22 @@ class _StepOut:
     status: ContactStatus = ContactStatus.CONVERGED
     predictor: np.ndarray | None = None  # (c d, c d) d lambda* / d y_free at the converged state
     z: np.ndarray | None = None  # last iterate in the unknowns of the step's system (_ALSystem.start)
+    last_state: Any = None  # the system's state of the last subproblem (NewtonResult.state; None: none solved)
 
 
 class _ALSystem(Protocol):
     """The system of a load step that the one AL loop :func:`_step_al` drives (Algorithms 6.2 / 6.4).
 
     Its unknowns ``z`` are the condensed contact forces ``R`` ``(c, d)`` on the direct path
-    (:class:`_Ctx`) or the free displacements ``x`` on the AMG path
-    (:class:`~alcontact.contact._friction_iterative._FullCtx`); the multipliers, the
-    stopping test (:func:`_measures`) and the updates (6.2b)/(6.2c) are the same.
+    (:class:`_Ctx`), the free displacements ``x`` on the AMG path
+    (:class:`~alcontact.contact._friction_iterative._FullCtx`) or the free displacements at
+    finite deformation (:class:`~alcontact.contact._finite_friction._FiniteALCtx`); the
+    multipliers, the stopping test (:func:`_measures`) and the updates (6.2b)/(6.2c) are the same.
+
+    A subproblem's state carries ``aux = (y, t, Dy, state)``: ``y`` ``(c, 1 + k)`` the gaps and
+    the ``k`` tangential kinematic components whose change from ``uTn`` is the step's slip, ``t``
+    ``(c, 1 + k)`` the normal and tangential tractions, ``Dy`` the tangent of ``t`` (read only by
+    the second-order update) and ``state`` the OPEN / STICK / SLIP flags.
     """
 
     #: prefix of the loop's debug lines
@@ -239,16 +247,24 @@ class _ALSystem(Protocol):
     tfree: np.ndarray | None
 
     @property
-    def c(self) -> int: ...
+    def c(self) -> int:
+        """The number of candidates."""
 
     @property
-    def d(self) -> int: ...
+    def d(self) -> int:
+        """The columns ``1 + k`` of the tractions ``t`` (``aux[1]``)."""
 
     @property
     def second_order(self) -> bool:
         """Whether the loop takes the second-order multiplier update (:func:`_second_order_update`,
         :func:`_tangent_predictor`, :func:`_coupled_start`); only a system with the dense
         condensed sensitivity can."""
+
+    @property
+    def full_predictor(self) -> bool:
+        """Whether the family-P predictor of a first-order step is a full outer iteration of
+        Algorithm 6.2: both multipliers are taken from it (else only :math:`\\lambda_N`) and it
+        is counted as an outer iteration (else not; see :func:`_step_al`)."""
 
     @property
     def start(self) -> np.ndarray:
@@ -286,6 +302,8 @@ class _Ctx:
     tfree: np.ndarray | None = None  # (c, d-1) tangent directions not held by a support
 
     label: ClassVar[str] = "friction AL"
+    #: the family-P predictor of a first-order step gives lambda_N only and is not counted (_step_al)
+    full_predictor: ClassVar[bool] = False
 
     @property
     def c(self):
@@ -581,15 +599,24 @@ def _step_al(ctx: _ALSystem, penalty_name: str) -> _StepOut:
     """Algorithms 6.2 (``rockafellar``) / 6.4 (family-P) for one load step of either path.
 
     ``ctx`` is the step's system (:class:`_ALSystem`: the condensed forces of the direct
-    path, :class:`_Ctx`, or the free displacements of the AMG path,
-    :class:`~alcontact.contact._friction_iterative._FullCtx`); the loop, the multiplier
-    updates and the stopping test are the same on both. The outer update is
+    path, :class:`_Ctx`, the free displacements of the AMG path,
+    :class:`~alcontact.contact._friction_iterative._FullCtx`, or those of a finite-deformation
+    step, :class:`~alcontact.contact._finite_friction._FiniteALCtx`); the loop, the multiplier
+    updates and the stopping test are the same on all three. The outer update is
     (6.2b)/(6.2c) (``multiplier_update="first-order"``, or a system without the
     second-order update, ``ctx.second_order`` false) or, by default, the second-order
     multiplier iteration :func:`_second_order_update`, which falls back to the
     first-order update for the rest of the step as soon as the multiplier change does
     not decrease by half (or a subproblem fails after a second-order update). The
-    stopping test is the same for both. The result's ``z`` is the last iterate.
+    stopping test is the same for both. The result's ``z`` is the last iterate, its
+    ``last_state`` the state of the last subproblem.
+
+    Family-P (Algorithm 6.4) starts with a predictor, one Simo-Laursen subproblem at the
+    step's multipliers. With the second-order update it is a full outer iteration (counted);
+    with first-order updates it gives :math:`\\lambda_N` for the points entering contact and
+    is not counted, unless the system declares ``full_predictor``: then it is the first
+    outer iteration (6.2b)/(6.2c) of Algorithm 6.2 (both multipliers taken, counted).
+    A barrier-type penalty then moves the iterate inside its domain (``ctx.inside_domain``).
     """
     opts = ctx.opts
     lamN, lamT = ctx.lamN.copy(), ctx.lamT.copy()
@@ -604,8 +631,10 @@ def _step_al(ctx: _ALSystem, penalty_name: str) -> _StepOut:
     if family_p:
         # predictor: one Simo-Laursen subproblem gives multipliers for points entering contact
         # (with the second-order update it is a full Simo-Laursen outer iteration, counted as one)
+        # (ctx.full_predictor: a first-order outer iteration, both multipliers, counted whether it converges or not)
         out, coupled = _first_subproblem(ctx, macaulay, lamN, lamT, z, coupled)
         newton += out.iterations
+        outer0 = 1 if ctx.full_predictor else 0
         if out.converged:
             z = ctx.iterate(out)
             upd = (_second_order_update(ctx, macaulay, lamN, lamT, out.state.aux[0], out.state.aux[1], coupled)
@@ -613,6 +642,8 @@ def _step_al(ctx: _ALSystem, penalty_name: str) -> _StepOut:
             if upd is not None:
                 lamN, lamT = upd
                 outer0 = 1
+            elif ctx.full_predictor:
+                lamN, lamT = out.state.aux[1][:, 0].copy(), out.state.aux[1][:, 1:].copy()
             else:
                 lamN = out.state.aux[1][:, 0].copy()
         pref = max(float(np.max(lamN, initial=0.0)), ctx.eps_n * ctx.fc.h * 1e-6)
@@ -640,21 +671,23 @@ def _step_al(ctx: _ALSystem, penalty_name: str) -> _StepOut:
             second_order, fallback = False, None
             continue
         if not out.converged:
-            t = out.state.aux[1]
+            # no state when the start is outside the body's domain (finite deformation: an inverted element)
+            t = out.state.aux[1] if out.state is not None else np.zeros((ctx.c, ctx.d))
             return _StepOut(False, f"Newton failed in outer iteration {k}: {out.message}", ctx.forces(z, t), t,
-                            k + outer0, newton, inner_failure(out), z=z)
+                            k + outer0, newton, inner_failure(out), z=z, last_state=out.state)
         z = ctx.iterate(out)
         y, t, _, st = out.state.aux
         if not np.all(np.isfinite(t)):
             return _StepOut(False, f"non-finite tractions in outer iteration {k}", ctx.forces(z, t), t, k + outer0,
-                            newton, ContactStatus.NONFINITE, z=z)
+                            newton, ContactStatus.NONFINITE, z=z, last_state=out.state)
         pen_k, compl, dlam, stick_slip = _measures(ctx, t, y, st, lamN, lamT)
         logger.debug("%s outer %d: pen=%.2e compl=%.2e dlam=%.2e stick-slip=%.2e newton=%d%s", ctx.label,
                      k, pen_k, compl, dlam, stick_slip, out.iterations, " (second-order)" if fallback else "")
         if (pen_k <= opts.tol_penetration and compl <= opts.tol_complementarity and dlam <= opts.tol_multiplier
                 and stick_slip <= opts.tol_slip):
             pred = _tangent_predictor(ctx, law, lamN, lamT, y, t) if ctx.second_order else None
-            return _StepOut(True, "converged", ctx.forces(z, t), t, k + outer0, newton, predictor=pred, z=z)
+            return _StepOut(True, "converged", ctx.forces(z, t), t, k + outer0, newton, predictor=pred, z=z,
+                            last_state=out.state)
         if fallback is not None and not dlam <= 0.5 * dlam_prev:
             logger.debug("%s outer %d: second-order update did not halve the multiplier change; "
                          "first-order update from here", ctx.label, k)
@@ -676,7 +709,7 @@ def _step_al(ctx: _ALSystem, penalty_name: str) -> _StepOut:
             if upd is not None:
                 z = ctx.inside_domain(law, lamN, z)
     return _StepOut(False, f"maximum outer iterations ({opts.maxiter}) reached", ctx.forces(z, t), t,
-                    opts.maxiter + outer0, newton, ContactStatus.MAXITER, z=z)
+                    opts.maxiter + outer0, newton, ContactStatus.MAXITER, z=z, last_state=out.state)
 
 
 def _step_ssn(ctx: _Ctx, penalty_name: str = "none") -> _StepOut:

@@ -332,6 +332,8 @@ class _FullCtx:
     #: first-order multiplier updates (6.2b)/(6.2c) only: the second-order update needs the dense
     #: sensitivity of the condensed subproblem (c d x c d, one solve per column); same fixed point
     second_order: ClassVar[bool] = False
+    #: the family-P predictor gives lambda_N only and is not counted (_friction._step_al)
+    full_predictor: ClassVar[bool] = False
 
     @property
     def c(self):
