@@ -249,13 +249,14 @@ def test_builtin_problem_too_large_is_refused_before_meshing(tmp_path):
     from typer.testing import CliRunner
 
     from alcontact.cli import app
+    from alcontact.io.preflight import MAX_DOFS
 
     out = tmp_path / "res"
     result = CliRunner(env={"COLUMNS": "400", "NO_COLOR": "1"}).invoke(
         app, ["run", "--problem", "hertz-3d", "--level", "5", "--order", "2", "--out", str(out)])
     assert result.exit_code == 2, result.output
     text = " ".join(result.output.split())
-    for w in ("--problem hertz-3d --level 5 --order 2", "DOFs", "more than 4,000,000 DOFs", "--level (0 .. 4)",
+    for w in ("--problem hertz-3d --level 5 --order 2", "DOFs", f"more than {MAX_DOFS:,} DOFs", "--level (0 .. 4)",
               "--order 1"):
         assert w in text, (w, text)
     assert not out.exists()
