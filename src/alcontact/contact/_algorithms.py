@@ -484,9 +484,13 @@ def _penalty_start(dc, opts, eps):
         # the next subproblem of Algorithm 6.1 (its multipliers, from its primal correction) and a second
         # dual step bring them to their pressures (without: 2-3 more first-order MET iterations per such step)
         again = dc.subproblem(law, better[0], better[1], tol=opts.newton_tol, maxiter=opts.maxiter_newton)
-        second = dual(law, better[0], again) if again.converged else None
-        if isinstance(second, tuple):
-            return dataclasses.replace(again, iterations=again.iterations + out.iterations), second[0], second[1]
+        if again.converged:
+            both = dataclasses.replace(again, iterations=again.iterations + out.iterations)
+            second = dual(law, better[0], again)
+            if isinstance(second, tuple):
+                return both, second[0], second[1]
+            return both, (again.t.copy() if second is None else second), again.state.copy()
+        out = dataclasses.replace(out, iterations=out.iterations + again.iterations)
     if isinstance(better, tuple):
         return out, better[0], better[1]
     if better is not None:
