@@ -38,3 +38,33 @@ def test_direct_solver_and_switch_off():
     assert model.start_multiplier_step(None, None, None) == ("lam", "x") and seen == [None]
     model, seen = _model(False, SimpleNamespace(resolve_rtol=1e-2))
     assert model.start_multiplier_step(None, None, None) is None and seen == []
+
+
+def test_penalty_start_zeroes_floor_pressures_before_the_entry_rule():
+    """_penalty_start: predicted pressures at or below multiplier_floor x the largest (the positive floor of MET
+    multipliers: a barrier penalty's tiny traction at open points) reach the entry rule as zero, the others
+    unchanged; without a dual step the start's tractions are the initial multipliers."""
+    import numpy as np
+
+    from alcontact.contact._algorithms import ContactOptions, _penalty_start
+    from alcontact.contact._newton import NewtonOutcome
+    from alcontact.status import Status
+
+    seen = {}
+    x0 = np.zeros(2)
+
+    def entry_multipliers(lam, law):
+        seen["entry"] = np.array(lam)
+        return lam
+
+    def subproblem(law, lam, r0, *, tol, maxiter):
+        seen["sub"] = np.array(lam)
+        return NewtonOutcome(r0 + 1.0, np.zeros(3), np.array([3.0, 2.0, 1.0]), 2, Status.CONVERGED, 0.0, "ok")
+
+    dc = SimpleNamespace(cand=np.arange(3), warm_penalty_start=True, start=lambda: x0,
+                         initial_multipliers=lambda: np.array([1.0, 1e-12, 0.5]),
+                         entry_multipliers=entry_multipliers, subproblem=subproblem)
+    opts = ContactOptions(newton_tol=1e-12, maxiter_newton=60)
+    out, lam, r = _penalty_start(dc, opts, 10.0)
+    assert np.array_equal(seen["entry"], [1.0, 0.0, 0.5]) and np.array_equal(seen["sub"], [1.0, 0.0, 0.5])
+    assert np.array_equal(lam, [3.0, 2.0, 1.0]) and np.array_equal(r, x0 + 1.0) and out.iterations == 2

@@ -475,6 +475,9 @@ def _penalty_start(dc, opts, eps):
         return out, out.t.copy(), out.state.copy()
     law = make_law(_pen.make("rockafellar"), np.full(dc.cand.size, 1.0 / eps))
     lam0 = _initial_multipliers(dc)
+    # pressures at or below the multiplier floor are MET's positive floor (barrier penalties keep a tiny traction
+    # at every open point), not contact: zero, so that the entry rule sees those points as not pressed
+    lam0 = np.where(lam0 > opts.multiplier_floor * float(np.max(lam0, initial=0.0)), lam0, 0.0)
     dual = getattr(dc, "start_multiplier_step", None)
     out, lam_used = _entry_subproblem(dc, law, lam0, dc.start(), tol=opts.newton_tol, maxiter=opts.maxiter_newton,
                                       finish=dual is None)
