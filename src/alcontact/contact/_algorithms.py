@@ -106,7 +106,11 @@ class ContactOptions:
     initial : {"penalty", "uniform"}
         Frictionless: initial multipliers of family-P penalties: from one pure-penalty
         solve (floored at ``multiplier_floor`` times its largest pressure), or the
-        uniform value ``eps_n * h``.
+        uniform value ``eps_n * h``. At finite deformation (load steps) the penalty solve
+        of a step starts from the step's predicted pressures with the entry rule, and its
+        dual Newton step gives the initial multipliers (``_penalty_start``,
+        :attr:`FiniteContact.warm_penalty_start
+        <alcontact.contact._finite.FiniteContact.warm_penalty_start>`).
     multiplier_floor : float
         Relative lower bound keeping MET multipliers positive.
     linear_solver : {"auto", "direct", "amg", "mkl-pardiso", "cholmod", "superlu", ...}
