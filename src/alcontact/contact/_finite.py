@@ -776,8 +776,8 @@ class FiniteContact(ContactPoints):
         are solved to ``_START_RESOLVE_RTOL`` where the solver's back-substitutions are iterative
         (``solver.resolve_rtol``, AMG + CG: 1e-2 for the dual steps of Algorithm 6.1, which the
         next subproblem corrects): the first-order MET iterations that follow keep the start's error
-        for several outer iterations (half-cylinder P2 ``n = 4``, 4 steps, exp-met1: 21 Newton in
-        step 3 with 1e-2, 10 as on the direct path with 1e-8). ``None`` with
+        for several outer iterations (half-cylinder P2 ``n = 4``, 4 steps, exp-met1: 11 11 9 10 Newton
+        per step with 1e-2, 7 7 6 7 with 1e-8 as on the direct path). ``None`` with
         :attr:`dual_penalty_start` off (the caller keeps the start's tractions).
         """
         if not self.dual_penalty_start:
