@@ -1,4 +1,4 @@
-"""FiniteContact.start_multiplier_step: the dual step of Algorithm 6.3's start with tight iterative products."""
+"""Load-step starts of the pure penalty and Algorithm 6.3 at finite deformation, on stand-in models."""
 
 from __future__ import annotations
 
@@ -68,3 +68,32 @@ def test_penalty_start_zeroes_floor_pressures_before_the_entry_rule():
     out, lam, r = _penalty_start(dc, opts, 10.0)
     assert np.array_equal(seen["entry"], [1.0, 0.0, 0.5]) and np.array_equal(seen["sub"], [1.0, 0.0, 0.5])
     assert np.array_equal(lam, [3.0, 2.0, 1.0]) and np.array_equal(r, x0 + 1.0) and out.iterations == 2
+
+
+def test_penalty_continuation_restarts_from_eps0_after_a_failed_first_solve():
+    """run_penalty: a step starts at the carried stiffness / alpha; when that first solve fails, the step's
+    sequence restarts from eps0 (and from the step's start) instead of failing, and the stiffness it
+    converges with is carried on."""
+    import numpy as np
+
+    from alcontact.contact._algorithms import ContactOptions, run_penalty
+    from alcontact.contact._newton import NewtonOutcome
+    from alcontact.status import Status
+
+    eps_seen = []
+
+    def subproblem(law, lam, r0, *, tol, maxiter):
+        eps = 1.0 / float(law.eta[0])
+        eps_seen.append(eps)
+        if len(eps_seen) == 1:
+            return NewtonOutcome(r0, np.full(2, 1.0), np.zeros(2), 5, Status.NEWTON_FAILED, 1.0, "line search")
+        g = np.full(2, 5e-5 / eps)  # penetration falls with the stiffness: <= 1e-8 from eps = 1e4 on
+        return NewtonOutcome(r0, g, eps * g, 2, Status.CONVERGED, 0.0, "ok")
+
+    dc = SimpleNamespace(cand=np.arange(2), h=1.0, start=lambda: np.zeros(2), subproblem=subproblem,
+                         penalty_continuation=True, penalty_entry=False, penalty_stiffness=1e4)
+    opts = ContactOptions(newton_tol=1e-12, maxiter_newton=60, tol_penetration=1e-8)
+    run = run_penalty(dc, opts, 10.0)
+    assert run.status > 0, run.message
+    assert np.allclose(eps_seen, [1e3, 10.0, 1e2, 1e3, 1e4])
+    assert dc.penalty_stiffness == run.eps and np.isclose(run.eps, 1e4)

@@ -420,6 +420,7 @@ def run_penalty(dc, opts, eps0, penalty_name=None) -> _Run:
     entry-shifted solution as the start of the full-stiffness solve instead (no re-solve where a
     kept-out point still penetrates) saved 0.6-1.3 Newton per step but left that solve 1e-7 to
     3e-7 apart in force on the AMG and direct paths (the round-off floor again), so it is not done.
+    A first solve at the carried stiffness that fails restarts the step's sequence from ``eps0``.
     """
     carry = bool(getattr(dc, "penalty_continuation", False))
     entry = carry and bool(getattr(dc, "penalty_entry", False))
@@ -436,6 +437,12 @@ def run_penalty(dc, opts, eps0, penalty_name=None) -> _Run:
         pen, compl, dlam = _measures(dc, lam, out.g, lam_old)
         hist.append(ContactIteration(k, pen, compl, dlam, out.residual, out.iterations, eps, int(np.sum(lam > 0))))
         logger.info("penalty iteration %d: eps_N %.3e, penetration %.2e h", k, eps, pen)
+        if not out.converged and carried is not None and k == 1:
+            # the carried stiffness failed from this start: the step's sequence from eps0, as without it
+            logger.info("penalty iteration 1 at the carried eps_N %.3e failed (%s); restarting from %.3e", eps,
+                        out.message, eps0)
+            eps, r, carried = eps0, dc.start(), None
+            continue
         if not out.converged:
             return _Run(r, lam, out.g, ContactStatus.NEWTON_FAILED,
                         f"Newton failed in penalty iteration {k}: {out.message}", k, newton, eps, out.residual, hist)
