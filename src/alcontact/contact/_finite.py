@@ -249,9 +249,9 @@ class FiniteContact(ContactPoints):
     penalty_continuation = True
     #: with :attr:`penalty_continuation`, the first penalty solve of a load step starts Newton with the entry
     #: rule (:func:`~alcontact.contact._algorithms._entry_subproblem`). Newton per step with / without it
-    #: (20 steps, half-cylinder P2): n = 8 4.80 / 4.45, n = 24 5.00 / 4.95, n = 56 5.10 / 5.90; 3D
-    #: hemisphere n = 12 (10 steps) 5.30 / 4.80: it pays on the finer 2D meshes, where the contact edge
-    #: has more points to release
+    #: (20 steps, half-cylinder P2): n = 8 4.80 / 4.45, n = 24 5.00 / 4.95, n = 56 5.10 / 5.90, n = 88
+    #: 6.20 / 6.85; 3D hemisphere n = 12 (10 steps) 5.30 / 4.80: it pays on the finer 2D meshes, where the
+    #: contact edge has more points to release
     penalty_entry = True
     #: Algorithm 6.3 (no physical stopping): when the stopping tests hold at an inexact subproblem, that
     #: subproblem is finished to ``newton_tol`` with its multipliers (often a chord step) instead of one
