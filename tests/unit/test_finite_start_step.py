@@ -91,9 +91,9 @@ def test_penalty_continuation_restarts_from_eps0_after_a_failed_first_solve():
         return NewtonOutcome(r0, g, eps * g, 2, Status.CONVERGED, 0.0, "ok")
 
     dc = SimpleNamespace(cand=np.arange(2), h=1.0, start=lambda: np.zeros(2), subproblem=subproblem,
-                         penalty_continuation=True, penalty_entry=False, penalty_stiffness=1e4)
+                         penalty_continuation=True, penalty_entry=False, carried_stiffness=1e4)
     opts = ContactOptions(newton_tol=1e-12, maxiter_newton=60, tol_penetration=1e-8)
     run = run_penalty(dc, opts, 10.0)
     assert run.status > 0, run.message
     assert np.allclose(eps_seen, [1e3, 10.0, 1e2, 1e3, 1e4])
-    assert dc.penalty_stiffness == run.eps and np.isclose(run.eps, 1e4)
+    assert dc.carried_stiffness == run.eps and np.isclose(run.eps, 1e4)

@@ -409,7 +409,7 @@ def run_penalty(dc, opts, eps0, penalty_name=None) -> _Run:
 
     A load-stepped model with ``dc.penalty_continuation`` (finite deformation,
     :attr:`FiniteContact.penalty_continuation <alcontact.contact._finite.FiniteContact.penalty_continuation>`)
-    starts each step at the stiffness its last converged step ended with (``dc.penalty_stiffness``,
+    starts each step at the stiffness its last converged step ended with (``dc.carried_stiffness``,
     at least ``eps0``, at most ``eps_max * eps0``) instead of ``eps0``: the sequence of (6.10) of
     Algorithm 5.2 continued over the load steps, the same stopping test (penetration at most
     ``tol_penetration``). It starts one growth factor below that stiffness (``/ alpha``): the
@@ -424,7 +424,7 @@ def run_penalty(dc, opts, eps0, penalty_name=None) -> _Run:
     """
     carry = bool(getattr(dc, "penalty_continuation", False))
     entry = carry and bool(getattr(dc, "penalty_entry", False))
-    carried = getattr(dc, "penalty_stiffness", None) if carry else None
+    carried = getattr(dc, "carried_stiffness", None) if carry else None
     eps = eps0 if carried is None else min(max(eps0, float(carried) / opts.alpha), opts.eps_max * eps0)
     r = dc.start()
     hist, newton = [], 0
@@ -448,7 +448,7 @@ def run_penalty(dc, opts, eps0, penalty_name=None) -> _Run:
                         f"Newton failed in penalty iteration {k}: {out.message}", k, newton, eps, out.residual, hist)
         if pen <= opts.tol_penetration:
             if carry:
-                dc.penalty_stiffness = eps
+                dc.carried_stiffness = eps
             return _Run(r, lam, out.g, ContactStatus.CONVERGED, "penetration tolerance met", k, newton, eps,
                         out.residual, hist)
         if eps * opts.alpha > opts.eps_max * eps0:

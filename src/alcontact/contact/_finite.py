@@ -198,7 +198,7 @@ class FiniteContact(ContactPoints):
         Relative residuals of every Newton solve (subproblem or active-set step), in order.
     linear_solves, newton_iterations : int
         Counters over the life of the object.
-    penalty_stiffness : float or None
+    carried_stiffness : float or None
         Stiffness the pure penalty method's last converged load step ended with
         (:attr:`penalty_continuation`); ``None`` before.
     """
@@ -244,7 +244,7 @@ class FiniteContact(ContactPoints):
     #: primal correction) instead of its tractions; the MET iterations themselves stay first order
     dual_penalty_start = True
     #: the pure penalty method starts each load step at the stiffness the last converged step ended
-    #: with (:attr:`penalty_stiffness`; :func:`~alcontact.contact._algorithms.run_penalty`) instead of
+    #: with (:attr:`carried_stiffness`; :func:`~alcontact.contact._algorithms.run_penalty`) instead of
     #: ``eps_n``: Algorithm 5.2's increasing sequence continued over the load steps
     penalty_continuation = True
     #: with :attr:`penalty_continuation`, the first penalty solve of a load step starts Newton with the entry
@@ -286,7 +286,7 @@ class FiniteContact(ContactPoints):
         self.newton_iterations = 0
         self.chord_steps = 0
         #: stiffness the pure penalty method's last converged load step ended with (:attr:`penalty_continuation`)
-        self.penalty_stiffness: float | None = None
+        self.carried_stiffness: float | None = None
         self._factor_stiffness = None
         # the solver of the Newton systems: NewtonSolver (direct) or a factory's (solver(self), e.g. AMG + CG)
         self.solver = NewtonSolver() if solver is None else solver(self)
