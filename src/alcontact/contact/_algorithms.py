@@ -620,9 +620,6 @@ def run_al(dc, opts, eps0, penalty_name="rockafellar") -> _Run:
     # tractions t = p'(g/eta, lambda) balance the state to newton_tol, so penetration and
     # complementarity are the KKT conditions
     physical = bool(getattr(dc, "physical_stopping", False)) and not needs_positive and second_order is not None
-    # without the physical stopping, a model may ask that the subproblem at which the stopping tests hold
-    # be finished to newton_tol, instead of one more subproblem with the updated multipliers
-    finish = inexact and not physical and bool(getattr(dc, "finish_subproblem", False))
     inner_tol = max(opts.newton_tol, _INEXACT_FIRST) if inexact else opts.newton_tol
     for k in range(1, opts.maxiter + 1):
         out = dc.subproblem(law, lam, r, tol=inner_tol, maxiter=opts.maxiter_newton)
@@ -650,7 +647,7 @@ def run_al(dc, opts, eps0, penalty_name="rockafellar") -> _Run:
         pen_k, compl, dlam = _measures(dc, out.t, out.g, np.maximum(lam, 0.0))
         hist.append(ContactIteration(outer0 + k, pen_k, compl, dlam, out.residual, out.iterations, eps,
                                      int(np.sum(out.g > -opts.tol_penetration * dc.h))))
-        lam_sub, lam = lam, lam_new
+        lam = lam_new
         logger.info("outer %d: penetration %.2e h, complementarity %.2e, multiplier change %.2e, %d Newton",
                     outer0 + k, pen_k, compl, dlam, out.iterations)
         if (_converged(opts, pen_k, compl, dlam) and inner_tol <= opts.newton_tol) or (
@@ -658,23 +655,6 @@ def run_al(dc, opts, eps0, penalty_name="rockafellar") -> _Run:
                 and out.residual <= opts.newton_tol):
             return _Run(r, out.t, out.g, ContactStatus.CONVERGED, "converged", outer0 + k, newton, eps,
                         out.residual, hist)
-        if finish and inner_tol > opts.newton_tol and _converged(opts, pen_k, compl, dlam):
-            # the tests hold at an inexact solve: finish this subproblem (same multipliers) to newton_tol
-            # from where it stopped (near the floor: often a chord step) instead of solving the next one
-            fin = dc.subproblem(law, lam_sub, out.state, tol=opts.newton_tol, maxiter=opts.maxiter_newton)
-            newton += fin.iterations
-            if fin.converged and np.all(np.isfinite(fin.t)):
-                pen_k, compl, dlam = _measures(dc, fin.t, fin.g, np.maximum(lam_sub, 0.0))
-                hist[-1] = ContactIteration(outer0 + k, pen_k, compl, dlam, fin.residual,
-                                            out.iterations + fin.iterations, eps,
-                                            int(np.sum(fin.g > -opts.tol_penetration * dc.h)))
-                logger.info("outer %d finished to newton_tol: penetration %.2e h, complementarity %.2e, multiplier "
-                            "change %.2e, %d Newton", outer0 + k, pen_k, compl, dlam, fin.iterations)
-                if _converged(opts, pen_k, compl, dlam):
-                    return _Run(fin.state, fin.t, fin.g, ContactStatus.CONVERGED, "converged", outer0 + k, newton,
-                                eps, fin.residual, hist)
-                r_next = fin.state
-                lam = np.maximum(fin.t, floor) if needs_positive else fin.t.copy()
         if inexact:
             inner_tol = max(opts.newton_tol, min(_INEXACT_FORCING * dlam, dlam**2))
             if _converged(opts, pen_k, compl, dlam):

@@ -253,10 +253,6 @@ class FiniteContact(ContactPoints):
     #: 6.20 / 6.85; 3D hemisphere n = 12 (10 steps) 5.30 / 4.80: it pays on the finer 2D meshes, where the
     #: contact edge has more points to release
     penalty_entry = True
-    #: Algorithm 6.3 (no physical stopping): when the stopping tests hold at an inexact subproblem, that
-    #: subproblem is finished to ``newton_tol`` with its multipliers (often a chord step) instead of one
-    #: more subproblem with the updated ones (:func:`~alcontact.contact._algorithms.run_al`)
-    finish_subproblem = True
 
     def __init__(self, problem, *, margin: float = 2.0, fixed=None, solver=None):
         t0 = time.perf_counter()
