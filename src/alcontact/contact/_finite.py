@@ -104,6 +104,9 @@ _SECANT_RTOL = 1e-8
 _CHORD_LEVEL = 1e-9
 #: chord steps of one subproblem at most
 _MAX_CHORDS = 3
+#: relative tolerance of iterative back-substitutions in the dual step of Algorithm 6.3's start
+#: (:meth:`FiniteContact.start_multiplier_step`)
+_START_RESOLVE_RTOL = 1e-8
 
 
 class NewtonSolver(SequenceSolver):
@@ -195,6 +198,9 @@ class FiniteContact(ContactPoints):
         Relative residuals of every Newton solve (subproblem or active-set step), in order.
     linear_solves, newton_iterations : int
         Counters over the life of the object.
+    carried_stiffness : float or None
+        Stiffness the pure penalty method's last converged load step ended with
+        (:attr:`penalty_continuation`); ``None`` before.
     """
 
     factorizations = 0
@@ -225,6 +231,28 @@ class FiniteContact(ContactPoints):
     #: (a chord step: one back-substitution, no assembly; counted in :attr:`chord_steps`, not in
     #: :attr:`newton_iterations`) where the factor belongs to the same candidates and active set
     chord_at_floor = True
+    #: the pure-penalty start of Algorithm 6.3 (``initial="penalty"``,
+    #: :func:`~alcontact.contact._algorithms.run_al`) solves the penalty subproblem of a load step with
+    #: the step's predicted pressures as multipliers (:meth:`initial_multipliers`,
+    #: :math:`t_N = \langle\lambda_{pred} + \varepsilon_N g\rangle`, the first subproblem of Algorithm 6.1),
+    #: its Newton solve started with the entry rule (:meth:`entry_multipliers`,
+    #: :func:`~alcontact.contact._algorithms._entry_subproblem`), instead of :math:`\lambda = 0` from the
+    #: extrapolated state (whose over-predicted contact edge Newton released one point per iteration)
+    warm_penalty_start = True
+    #: with :attr:`warm_penalty_start`, the initial multipliers of Algorithm 6.3 are the
+    #: second-order update of that start (:meth:`start_multiplier_step`, a Newton step on the dual and its
+    #: primal correction) instead of its tractions; the MET iterations themselves stay first order
+    dual_penalty_start = True
+    #: the pure penalty method starts each load step at the stiffness the last converged step ended
+    #: with (:attr:`carried_stiffness`; :func:`~alcontact.contact._algorithms.run_penalty`) instead of
+    #: ``eps_n``: Algorithm 5.2's increasing sequence continued over the load steps
+    penalty_continuation = True
+    #: with :attr:`penalty_continuation`, the first penalty solve of a load step starts Newton with the entry
+    #: rule (:func:`~alcontact.contact._algorithms._entry_subproblem`). Newton per step with / without it
+    #: (20 steps, half-cylinder P2): n = 8 4.80 / 4.45, n = 24 5.00 / 4.95, n = 56 5.10 / 5.90, n = 88
+    #: 6.20 / 6.85; 3D hemisphere n = 12 (10 steps) 5.30 / 4.80: it pays on the finer 2D meshes, where the
+    #: contact edge has more points to release
+    penalty_entry = True
 
     def __init__(self, problem, *, margin: float = 2.0, fixed=None, solver=None):
         t0 = time.perf_counter()
@@ -253,6 +281,8 @@ class FiniteContact(ContactPoints):
         self.linear_solves = 0
         self.newton_iterations = 0
         self.chord_steps = 0
+        #: stiffness the pure penalty method's last converged load step ended with (:attr:`penalty_continuation`)
+        self.carried_stiffness: float | None = None
         self._factor_stiffness = None
         # the solver of the Newton systems: NewtonSolver (direct) or a factory's (solver(self), e.g. AMG + CG)
         self.solver = NewtonSolver() if solver is None else solver(self)
@@ -732,6 +762,30 @@ class FiniteContact(ContactPoints):
         if dx is None or not np.all(np.isfinite(dx)):
             return new
         return new, np.asarray(out.state, dtype=float) + dx
+
+    def start_multiplier_step(self, law, lam, out):
+        r"""Initial multipliers of Algorithm 6.3 from its penalty start (:attr:`dual_penalty_start`), or ``None``.
+
+        :meth:`multiplier_step` on the start's subproblem (the Macaulay law of
+        :func:`~alcontact.contact._algorithms._penalty_start`): the Newton step on the dual with
+        its primal correction, the entering points of :attr:`dual_entry` included. Its products
+        are solved to ``_START_RESOLVE_RTOL`` where the solver's back-substitutions are iterative
+        (``solver.resolve_rtol``, AMG + CG: 1e-2 for the dual steps of Algorithm 6.1, which the
+        next subproblem corrects): the first-order MET iterations that follow keep the start's error
+        for several outer iterations (half-cylinder P2 ``n = 4``, 4 steps, exp-met1: 11 11 9 10 Newton
+        per step with 1e-2, 7 7 6 7 with 1e-8 as on the direct path). ``None`` with
+        :attr:`dual_penalty_start` off (the caller keeps the start's tractions).
+        """
+        if not self.dual_penalty_start:
+            return None
+        rtol = getattr(self.solver, "resolve_rtol", None)
+        if rtol is None:
+            return self.multiplier_step(law, lam, out)
+        self.solver.resolve_rtol = min(float(rtol), _START_RESOLVE_RTOL)
+        try:
+            return self.multiplier_step(law, lam, out)
+        finally:
+            self.solver.resolve_rtol = rtol
 
     def _dual_newton(self, act, eps, lam_a, g, u_state, rtol, maxiter):
         r"""Solve :math:`S\,y = g_A`, :math:`S = B_A J^{-1} B_A^T`, by preconditioned CG (:meth:`multiplier_step`).
