@@ -37,25 +37,12 @@ import pytest
 
 from alcontact.contact import solve_finite
 from alcontact.contact._finite import FiniteContact
-from alcontact.problems.half_cylinder import half_cylinder
 
 STEPS = 20
 #: (penalty, switch turned off): every switch for exp-met1, the warm start for the other two penalties
 CASES = [("exp-met1", "warm_penalty_start"), ("exp-met1", "dual_penalty_start"),
          ("exp-met1", "entry_rule_multipliers"), ("quad-met1", "warm_penalty_start"),
          ("log-met1", "warm_penalty_start")]
-
-
-@pytest.fixture(scope="module")
-def problem():
-    return half_cylinder(8, order=2)
-
-
-@pytest.fixture(scope="module")
-def reference(problem):
-    fs = solve_finite(problem, "ssn", steps=STEPS)
-    assert fs.success, fs.message
-    return fs
 
 
 def _mean(fs) -> float:
@@ -76,27 +63,27 @@ def _run(problem, algorithm, penalty, monkeypatch, **flags):
     return fs
 
 
-def test_penalty_continuation_cuts_newton(problem, reference, monkeypatch):
+def test_penalty_continuation_cuts_newton(half_cylinder_8, half_cylinder_8_ssn, monkeypatch):
     """Pure penalty: mean <= 5.5 Newton per step, fewer than starting at eps_n, <= 3 penalty iterations
     per step after step 1 (mean <= 2.5), forces within 1e-9 of the run without and 1e-6 of ``ssn`` (module doc)."""
-    fs = _run(problem, "penalty", None, monkeypatch)
-    plain = _run(problem, "penalty", None, monkeypatch, penalty_continuation=False)
+    fs = _run(half_cylinder_8, "penalty", None, monkeypatch)
+    plain = _run(half_cylinder_8, "penalty", None, monkeypatch, penalty_continuation=False)
     assert _mean(fs) <= 5.5, _mean(fs)
     assert _mean(fs) < _mean(plain), (_mean(fs), _mean(plain))
     outer = [s.outer_iterations for s in fs.steps[1:]]
     assert max(outer) <= 3 and np.mean(outer) <= 2.5, outer
     assert _dev(fs, plain) <= 1e-9
-    assert _dev(fs, reference) <= 1e-6
+    assert _dev(fs, half_cylinder_8_ssn) <= 1e-6
 
 
 @pytest.fixture(scope="module")
-def met_runs(problem):
+def met_runs(half_cylinder_8):
     """Default runs of Algorithm 6.3 per penalty (made on first use)."""
     runs = {}
 
     def get(penalty):
         if penalty not in runs:
-            runs[penalty] = solve_finite(problem, "family-p", penalty, steps=STEPS)
+            runs[penalty] = solve_finite(half_cylinder_8, "family-p", penalty, steps=STEPS)
             assert runs[penalty].success, runs[penalty].message
         return runs[penalty]
 
@@ -104,13 +91,13 @@ def met_runs(problem):
 
 
 @pytest.mark.parametrize("penalty,flag", CASES)
-def test_warm_penalty_start_cuts_newton(problem, reference, met_runs, penalty, flag, monkeypatch):
+def test_warm_penalty_start_cuts_newton(half_cylinder_8, half_cylinder_8_ssn, met_runs, penalty, flag, monkeypatch):
     """Algorithm 6.3: mean <= 6 Newton per step, fewer than with ``flag`` off (the warm start, its dual
     step, the entry rule); forces within 1e-9 of that run and 1e-6 of ``ssn`` (module doc)."""
     fs = met_runs(penalty)
     assert len(fs.steps) == STEPS
     assert _mean(fs) <= 6.0, _mean(fs)
-    assert _dev(fs, reference) <= 1e-6
-    other = _run(problem, "family-p", penalty, monkeypatch, **{flag: False})
+    assert _dev(fs, half_cylinder_8_ssn) <= 1e-6
+    other = _run(half_cylinder_8, "family-p", penalty, monkeypatch, **{flag: False})
     assert _mean(fs) < _mean(other), (flag, _mean(fs), _mean(other))
     assert _dev(fs, other) <= 1e-9, flag

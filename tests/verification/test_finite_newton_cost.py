@@ -74,53 +74,41 @@ from alcontact.problems.half_cylinder import half_cylinder
 STEPS = 20
 
 
-@pytest.fixture(scope="module")
-def problem():
-    return half_cylinder(8, order=2)
-
-
-@pytest.fixture(scope="module")
-def ssn(problem):
-    fs = solve_finite(problem, "ssn", steps=STEPS)
-    assert fs.success, fs.message
-    return fs
-
-
-def test_reference_needs_at_most_five_newton_per_step(ssn):
+def test_reference_needs_at_most_five_newton_per_step(half_cylinder_8_ssn):
     """Mean Newton systems per load step of ``ssn`` <= 5 (module doc)."""
-    mean = np.mean([s.newton_iterations for s in ssn.steps])
-    assert len(ssn.steps) == STEPS
+    mean = np.mean([s.newton_iterations for s in half_cylinder_8_ssn.steps])
+    assert len(half_cylinder_8_ssn.steps) == STEPS
     assert mean <= 5.0, mean
 
 
-def test_reference_analyses_once_per_candidate_set(ssn):
+def test_reference_analyses_once_per_candidate_set(half_cylinder_8_ssn):
     """The direct solver's symbolic analysis is reused inside a load step (module doc)."""
-    extra = ssn.solution.extra
+    extra = half_cylinder_8_ssn.solution.extra
     if extra["direct_solver"] != "mkl-pardiso":
         pytest.skip("MKL PARDISO not installed: SuperLU factorizes every system")
     assert extra["analyses"] <= STEPS + 1, extra["analyses"]
     assert extra["analyses"] <= 2, extra["analyses"]
-    assert ssn.solution.result.linear_solves > 3 * extra["analyses"]
+    assert half_cylinder_8_ssn.solution.result.linear_solves > 3 * extra["analyses"]
 
 
 @pytest.fixture(scope="module")
-def algorithm_6_1(problem):
-    fs = solve_finite(problem, "simo-laursen", steps=STEPS)
+def algorithm_6_1(half_cylinder_8):
+    fs = solve_finite(half_cylinder_8, "simo-laursen", steps=STEPS)
     assert fs.success, fs.message
     return fs
 
 
-def test_algorithm_6_1_needs_at_most_five_newton_per_step(algorithm_6_1, ssn):
+def test_algorithm_6_1_needs_at_most_five_newton_per_step(algorithm_6_1, half_cylinder_8_ssn):
     """Algorithm 6.1: mean <= 5 Newton per step, forces of the reference within 1e-6 (module doc)."""
     fs = algorithm_6_1
     mean = np.mean([s.newton_iterations for s in fs.steps])
     assert mean <= 5.0, mean
-    ref = ssn.forces[:, 1]
+    ref = half_cylinder_8_ssn.forces[:, 1]
     assert np.max(np.abs(fs.forces[:, 1] - ref) / ref) <= 1e-6
 
 
 @pytest.mark.slow
-def test_exact_subproblems_and_first_order_updates_cost_more(problem, algorithm_6_1, monkeypatch):
+def test_exact_subproblems_and_first_order_updates_cost_more(half_cylinder_8, algorithm_6_1, monkeypatch):
     """Exact subproblems, then first-order updates: more Newton per step, same forces within 1e-9 (module doc).
 
     The exact-subproblem run leaves out the semi-smooth dual step (``dual_entry``): with it, that
@@ -133,14 +121,14 @@ def test_exact_subproblems_and_first_order_updates_cost_more(problem, algorithm_
     fs = algorithm_6_1
     mean = np.mean([s.newton_iterations for s in fs.steps])
     monkeypatch.setattr(FiniteContact, "inexact_subproblems", False)
-    semi_smooth = solve_finite(problem, "simo-laursen", steps=STEPS)
+    semi_smooth = solve_finite(half_cylinder_8, "simo-laursen", steps=STEPS)
     assert semi_smooth.success, semi_smooth.message
     assert np.mean([s.newton_iterations for s in semi_smooth.steps]) > mean
     assert np.max(np.abs(fs.forces[:, 1] - semi_smooth.forces[:, 1]) / semi_smooth.forces[:, 1]) <= 1e-8
     monkeypatch.setattr(FiniteContact, "dual_entry", False)
-    exact = solve_finite(problem, "simo-laursen", steps=STEPS)
+    exact = solve_finite(half_cylinder_8, "simo-laursen", steps=STEPS)
     monkeypatch.setattr(FiniteContact, "multiplier_step", None)
-    first = solve_finite(problem, "simo-laursen", steps=STEPS)
+    first = solve_finite(half_cylinder_8, "simo-laursen", steps=STEPS)
     for other in (exact, first):
         assert other.success, other.message
         assert np.mean([s.newton_iterations for s in other.steps]) > mean
@@ -181,33 +169,34 @@ def _mean(fs, what):
     return float(np.mean([getattr(s, what) for s in fs.steps]))
 
 
-def test_at_most_four_assembly_and_solves_per_step(ssn, algorithm_6_1):
+def test_at_most_four_assembly_and_solves_per_step(half_cylinder_8_ssn, algorithm_6_1):
     """Reference and Algorithm 6.1: mean Newton and assembly + solves per step <= 4 (module doc)."""
-    for fs in (ssn, algorithm_6_1):
+    for fs in (half_cylinder_8_ssn, algorithm_6_1):
         assert len(fs.steps) == STEPS
         assert _mean(fs, "newton_iterations") <= 4.0, _mean(fs, "newton_iterations")
         assert _mean(fs, "linear_solves") <= 4.0, _mean(fs, "linear_solves")
 
 
 @pytest.mark.parametrize("algorithm", ["ssn", "simo-laursen"])
-def test_tangent_predictor_costs_more_solves(problem, ssn, algorithm_6_1, algorithm, monkeypatch):
+def test_tangent_predictor_costs_more_solves(half_cylinder_8, half_cylinder_8_ssn, algorithm_6_1, algorithm,
+                                             monkeypatch):
     """Tangent instead of secant predictor: more assembly + solves per step, forces within 1e-9 (module doc)."""
     from alcontact.contact._finite import FiniteContact
 
-    fs = ssn if algorithm == "ssn" else algorithm_6_1
+    fs = half_cylinder_8_ssn if algorithm == "ssn" else algorithm_6_1
     monkeypatch.setattr(FiniteContact, "secant_predictor", False)
-    tangent = solve_finite(problem, algorithm, steps=STEPS)
+    tangent = solve_finite(half_cylinder_8, algorithm, steps=STEPS)
     assert tangent.success, tangent.message
     assert _mean(tangent, "linear_solves") > _mean(fs, "linear_solves")
     assert np.max(np.abs(fs.forces[:, 1] - tangent.forces[:, 1]) / tangent.forces[:, 1]) <= 1e-9
 
 
-def test_primal_correction_saves_newton(problem, algorithm_6_1, monkeypatch):
+def test_primal_correction_saves_newton(half_cylinder_8, algorithm_6_1, monkeypatch):
     """Algorithm 6.1 without the primal correction of the dual step: more Newton per step (module doc)."""
     from alcontact.contact._finite import FiniteContact
 
     monkeypatch.setattr(FiniteContact, "primal_correction", False)
-    plain = solve_finite(problem, "simo-laursen", steps=STEPS)
+    plain = solve_finite(half_cylinder_8, "simo-laursen", steps=STEPS)
     assert plain.success, plain.message
     assert _mean(plain, "newton_iterations") > _mean(algorithm_6_1, "newton_iterations")
     assert np.max(np.abs(plain.forces[:, 1] - algorithm_6_1.forces[:, 1]) / plain.forces[:, 1]) <= 1e-9
@@ -271,7 +260,7 @@ def test_entry_rule_on_the_prediction_saves_newton_in_algorithm_6_1(monkeypatch)
 
 
 
-def test_semi_smooth_dual_step_saves_newton_in_algorithm_6_1(problem, algorithm_6_1, monkeypatch):
+def test_semi_smooth_dual_step_saves_newton_in_algorithm_6_1(half_cylinder_8, algorithm_6_1, monkeypatch):
     """Algorithm 6.1 without the semi-smooth dual step (``dual_entry``): more Newton per step (module doc).
 
     Reference: the run with the step (fixture, measured 3.65 Newton per step on ``n=8``, 20
@@ -282,13 +271,13 @@ def test_semi_smooth_dual_step_saves_newton_in_algorithm_6_1(problem, algorithm_
     from alcontact.contact._finite import FiniteContact
 
     monkeypatch.setattr(FiniteContact, "dual_entry", False)
-    plain = solve_finite(problem, "simo-laursen", steps=STEPS)
+    plain = solve_finite(half_cylinder_8, "simo-laursen", steps=STEPS)
     assert plain.success, plain.message
     assert _mean(algorithm_6_1, "newton_iterations") < _mean(plain, "newton_iterations")
     assert np.max(np.abs(plain.forces[:, 1] - algorithm_6_1.forces[:, 1]) / plain.forces[:, 1]) <= 1e-9
 
 
-def test_chord_steps_near_convergence_save_newton_systems(problem, algorithm_6_1, monkeypatch):
+def test_chord_steps_near_convergence_save_newton_systems(half_cylinder_8, algorithm_6_1, monkeypatch):
     """Algorithm 6.1 with chord steps below 1e-9 relative: <= 3.25 Newton systems per step on n=8 (module doc).
 
     Reference: the fixture run (measured 3.10 Newton systems per step, 20 steps, some chord
@@ -302,7 +291,7 @@ def test_chord_steps_near_convergence_save_newton_systems(problem, algorithm_6_1
     assert mean <= 3.25, mean
     assert algorithm_6_1.solution.extra["chord_steps"] > 0
     monkeypatch.setattr(FiniteContact, "chord_at_floor", False)
-    plain = solve_finite(problem, "simo-laursen", steps=STEPS)
+    plain = solve_finite(half_cylinder_8, "simo-laursen", steps=STEPS)
     assert plain.success, plain.message
     assert plain.solution.extra["chord_steps"] == 0
     assert _mean(plain, "newton_iterations") > mean
@@ -310,7 +299,8 @@ def test_chord_steps_near_convergence_save_newton_systems(problem, algorithm_6_1
 
 
 @pytest.mark.parametrize("algorithm", ["ssn", "simo-laursen"])
-def test_entry_rule_on_the_first_contact_saves_newton(problem, ssn, algorithm_6_1, algorithm, monkeypatch):
+def test_entry_rule_on_the_first_contact_saves_newton(half_cylinder_8, half_cylinder_8_ssn, algorithm_6_1, algorithm,
+                                                      monkeypatch):
     """Step 1 (first contact, tangent predictor) on n=8: <= 4 Newton systems, more without the entry rule (module doc).
 
     Reference: measured 4 with :attr:`FiniteContact.first_contact_entry` and 5 without, for both
@@ -318,10 +308,10 @@ def test_entry_rule_on_the_first_contact_saves_newton(problem, ssn, algorithm_6_
     """
     from alcontact.contact._finite import FiniteContact
 
-    fs = ssn if algorithm == "ssn" else algorithm_6_1
+    fs = half_cylinder_8_ssn if algorithm == "ssn" else algorithm_6_1
     assert fs.steps[0].newton_iterations <= 4, fs.steps[0].newton_iterations
     monkeypatch.setattr(FiniteContact, "first_contact_entry", False)
-    plain = solve_finite(problem, algorithm, steps=STEPS)
+    plain = solve_finite(half_cylinder_8, algorithm, steps=STEPS)
     assert plain.success, plain.message
     assert plain.steps[0].newton_iterations > fs.steps[0].newton_iterations
     assert np.max(np.abs(plain.forces[:, 1] - fs.forces[:, 1]) / plain.forces[:, 1]) <= 1e-9
