@@ -462,6 +462,18 @@ def run_penalty(dc, opts, eps0, penalty_name=None) -> _Run:
                 out.residual, hist)
 
 
+def _after_dual_step(better, lam, state):
+    """Multipliers and next start after a model's Newton step on the dual (``dc.multiplier_step``).
+
+    ``better`` is its result: ``None`` (no step: ``(lam, state)`` stay), the new multipliers
+    (``state`` stays), or the multipliers with the primal correction of the dual step as the
+    next start.
+    """
+    if isinstance(better, tuple):
+        return better
+    return (lam, state) if better is None else (better, state)
+
+
 def _penalty_start(dc, opts, eps):
     r"""The pure-penalty start of Algorithm 6.3 (``initial="penalty"``): ``(outcome, multipliers, state)``.
 
@@ -500,15 +512,10 @@ def _penalty_start(dc, opts, eps):
         again = dc.subproblem(law, better[0], better[1], tol=opts.newton_tol, maxiter=opts.maxiter_newton)
         if again.converged:
             both = dataclasses.replace(again, iterations=again.iterations + out.iterations)
-            second = dual(law, better[0], again)
-            if isinstance(second, tuple):
-                return both, second[0], second[1]
-            return both, (again.t.copy() if second is None else second), again.state.copy()
+            return (both, *_after_dual_step(dual(law, better[0], again), again.t.copy(), again.state.copy()))
         out = dataclasses.replace(out, iterations=out.iterations + again.iterations)
-    if isinstance(better, tuple):
-        return out, better[0], better[1]
     if better is not None:
-        return out, better, out.state.copy()
+        return (out, *_after_dual_step(better, None, out.state.copy()))
     if lam_used is not lam0:  # no dual step: the shifted solution is not (S) with lam0's; solve on
         out = _solve_on(dc, law, lam0, out, dc.start(), tol=opts.newton_tol, maxiter=opts.maxiter_newton)
     return out, out.t.copy(), out.state.copy()
@@ -638,11 +645,7 @@ def run_al(dc, opts, eps0, penalty_name="rockafellar") -> _Run:
         if needs_positive:
             lam_new = np.maximum(lam_new, floor)
         elif second_order is not None:  # a model may offer a Newton step on the dual (same fixed point)
-            better = second_order(law, lam, out)
-            if isinstance(better, tuple):  # with the primal correction of the dual step: the next start
-                lam_new, r_next = better
-            elif better is not None:
-                lam_new = better
+            lam_new, r_next = _after_dual_step(second_order(law, lam, out), lam_new, r_next)
         # the change from the clipped multipliers (an entry shift lambda_i < 0 is no multiplier change)
         pen_k, compl, dlam = _measures(dc, out.t, out.g, np.maximum(lam, 0.0))
         hist.append(ContactIteration(outer0 + k, pen_k, compl, dlam, out.residual, out.iterations, eps,
