@@ -14,7 +14,6 @@ import pytest
 from alcontact.contact import solve
 from alcontact.problems import hertz
 
-pytest.importorskip("pyamg")
 
 #: (algorithm, penalty) of every frictionless algorithm and the family-P penalties of issue 11
 VARIANTS = [

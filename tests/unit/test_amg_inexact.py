@@ -8,7 +8,6 @@ import pytest
 from alcontact.contact import _iterative, solve
 from alcontact.problems import hertz
 
-pytest.importorskip("pyamg")
 
 
 @pytest.fixture(scope="module")

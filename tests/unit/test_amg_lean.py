@@ -14,6 +14,7 @@ from __future__ import annotations
 import tracemalloc
 
 import numpy as np
+import pyamg
 import pytest
 import scipy.sparse as sp
 from scipy.sparse.linalg import cg
@@ -22,8 +23,6 @@ from alcontact.contact._iterative import IterativeContact
 from alcontact.linalg import make_solver
 from alcontact.linalg._amg import SMOOTHER, smoothed_aggregation
 from alcontact.problems import hertz
-
-pyamg = pytest.importorskip("pyamg")
 
 
 @pytest.fixture(scope="module")

@@ -12,7 +12,6 @@ from alcontact.contact._iterative import AUTO_AMG_DOFS, resolve_linear_solver
 from alcontact.errors import InputError
 from alcontact.problems import blocks, hertz
 
-pytest.importorskip("pyamg")
 
 PROBLEMS = {
     "patch-2d": lambda: blocks.patch_block(2, n=6),

@@ -17,7 +17,6 @@ from _helpers import assert_same_contact_solution
 from alcontact.contact import _iterative, solve
 from alcontact.problems import blocks
 
-pytest.importorskip("pyamg")
 
 
 @pytest.mark.parametrize("make", [lambda: blocks.signorini_block(n=8), lambda: blocks.patch_block(3, n=4)],

@@ -14,9 +14,8 @@ import warnings
 
 import pytest
 
+from alcontact import optim
 from alcontact.problems import hock_schittkowski as hs
-
-optim = pytest.importorskip("alcontact.optim")
 
 PENALTIES = ["rockafellar", "exp-met1", "log-met1", "log-met2", "quad-met2"]
 REQUIRED_FRACTION = 0.90
