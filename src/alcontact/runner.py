@@ -15,6 +15,9 @@ Results folder written by :func:`write_results`:
     Contact pressure along the contact boundary against the analytical profile.
 ``convergence.png``
     Penetration, complementarity and multiplier change per outer iteration (log scale).
+``body_pressure.png``, ``body_von_mises.png``
+    Pictures of the deformed body coloured by contact pressure and by von Mises stress
+    (:mod:`alcontact.viz.pictures`).
 ``report.md``
     One page: problem, solver, outcome, key numbers against the reference, the plots.
 ``summary.json``
@@ -107,8 +110,8 @@ BUILTIN_PROBLEMS: dict[str, BuiltinProblem] = {
 DEFAULT_PROBLEM = "hertz-2d"
 
 #: Files :func:`write_results` writes (``summary.json`` last).
-RESULT_FILES: tuple[str, ...] = ("solution.vtu", "history.csv", "pressure.png", "convergence.png", "report.md",
-                                 "summary.json")
+RESULT_FILES: tuple[str, ...] = ("solution.vtu", "history.csv", "pressure.png", "convergence.png",
+                                 "body_pressure.png", "body_von_mises.png", "report.md", "summary.json")
 
 
 def build_problem(name: str = DEFAULT_PROBLEM, level: int | None = None, order: int = 1):
@@ -302,6 +305,7 @@ def write_results(out: str | os.PathLike, problem, solution, summary: dict, *,
     from .io import write_history_csv, write_json, write_solution_vtu
     from .io.report import write_report
     from .viz import save_convergence_plot, save_pressure_plot
+    from .viz.pictures import save_body_pictures
 
     out = Path(out)
     paths = {name: out / name for name in RESULT_FILES}
@@ -309,6 +313,7 @@ def write_results(out: str | os.PathLike, problem, solution, summary: dict, *,
     write_history_csv(paths["history.csv"], solution.result.history)
     save_pressure_plot(solution, paths["pressure.png"], units=units)
     save_convergence_plot(solution.result, paths["convergence.png"], tolerances=tolerances)
+    save_body_pictures(solution, out, units=units, title=summary.get("problem_label") or summary.get("problem"))
     write_report(paths["report.md"], summary, list(RESULT_FILES), description=description, units=units)
     write_json(paths["summary.json"], {**summary, "files": list(RESULT_FILES)})
     logger.info("results written to %s", out)
@@ -1030,7 +1035,8 @@ def write_setup_results(folder: Path, setup, frames, summary: dict) -> list[str]
     Files (switched by ``[output]``): ``solution.vtu`` (final state), ``steps/solution_NNNN.vtu``
     and ``solution.pvd`` (stepped runs), ``history.csv`` (outer iterations of
     the last frictionless solve), ``steps.csv``, ``pressure.png``,
-    ``convergence.png``, ``load_displacement.png``, ``report.md``, ``summary.json``.
+    ``convergence.png``, ``load_displacement.png``, ``body_pressure.png`` and
+    ``body_von_mises.png`` (pictures of the deformed body), ``report.md``, ``summary.json``.
     Finite-deformation runs write the VTU files in the deformed configuration and
     add ``reaction_force.csv`` and ``reaction_force.png`` (support reaction and
     contact force against the prescribed displacement, per step).
@@ -1094,6 +1100,9 @@ def write_setup_results(folder: Path, setup, frames, summary: dict) -> list[str]
                 _add_tangential_curves(fig, rows, control, int(setup.problem.model.dim))
             save_figure(fig, folder / "reaction_force.png")
             files.append("reaction_force.png")
+        from .viz.pictures import save_body_pictures
+
+        files += save_body_pictures(final, folder, title=setup.name)
     if o["report"]:
         files.append("report.md")
         write_report(folder / "report.md", summary, files + ["summary.json"],
