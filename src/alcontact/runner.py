@@ -58,6 +58,7 @@ __all__ = [
     "BUILTIN_PROBLEMS",
     "DEFAULT_PROBLEM",
     "RESULT_FILES",
+    "quick_bench_estimate",
     "build_problem",
     "run_problem",
     "summarize",
@@ -1135,6 +1136,23 @@ BENCH_SUITES: dict[str, BenchSuite] = {
     "finite": BenchSuite("finite.py", "finite.md", True,
                          {"cases": ["2d-5k"], "variants": ["ssn", "simo-laursen", "quad-met1"]}),
 }
+
+
+def quick_bench_estimate(suites=None) -> tuple[float, str] | None:
+    """Seconds ``alcontact bench --quick`` takes for ``suites`` (default all), and where that was measured.
+
+    From the committed calibration (``benchmarks/time_estimates.py --bench`` writes
+    ``alcontact/io/time_calibration.json``); ``None`` without one.
+    """
+    from .io.preflight import machine_kind, time_calibration
+
+    cal = time_calibration()
+    per = ((cal.get("bench_quick") or {}).get("suites_s")) or {}
+    names = list(suites or BENCH_SUITES)
+    if not per or any(n not in per for n in names if n in BENCH_SUITES):
+        return None
+    overhead = max(float(cal["bench_quick"].get("total_s", 0.0)) - sum(per.values()), 0.0)  # start, imports
+    return overhead + float(sum(per[n] for n in names if n in per)), machine_kind(cal)
 
 
 def run_benchmarks(out: str | os.PathLike, *, suites=None, quick: bool = False, cases=None, variants=None,
