@@ -544,7 +544,7 @@ def bench_command(
         Optional[list[str]],
         typer.Option("--suite", "-s", help="hertz, friction, nlp, finite (repeatable; default all)."),
     ] = None,
-    quick: Annotated[bool, typer.Option("--quick", help="Small sizes and a few variants (about 1 min on a 2-core "
+    quick: Annotated[bool, typer.Option("--quick", help="Small sizes and a few variants (1-2 min on a 2-core "
                                                         "machine; the calibrated time is printed at the start).")]
     = False,
     cases: Annotated[

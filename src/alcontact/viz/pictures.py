@@ -126,21 +126,24 @@ def _draw_2d(fig, axes, x, tri, field, values, contact_pressure, facets, unit):
     label = f"{_FIELDS[field]} ({unit})"
     for k, ax in enumerate(axes):
         zoom = k == 1
-        if zoom:
-            cen = x[tri].mean(axis=1)
-            keep = np.all((cen >= zlo) & (cen <= zhi), axis=1)
+        if zoom:  # the triangles that reach into the window (drawing all of a large mesh is slow)
+            xt = x[tri]
+            keep = np.all(xt.max(axis=1) >= zlo, axis=1) & np.all(xt.min(axis=1) <= zhi, axis=1)
             sub = Triangulation(x[:, 0], x[:, 1], tri[keep]) if keep.any() else tr
         else:
             sub = tr
+        edges = zoom or tri.shape[0] <= 4000  # the whole mesh of a fine body would be a grey blot
         if pressure is None:
-            m = ax.tripcolor(tr, values, shading="gouraud", cmap="viridis")
-            if zoom or tri.shape[0] <= 4000:
+            m = ax.tripcolor(sub, values, shading="gouraud", cmap="viridis",
+                             vmin=float(values.min()), vmax=float(values.max()))
+            if edges:
                 ax.triplot(sub, color="k" if zoom else "0.2", lw=0.25 if zoom else 0.15, alpha=0.6)
             if k == len(axes) - 1:
                 _colorbar(fig, m, axes, label)
         else:
-            ax.tripcolor(tr, np.zeros(x.shape[0]), shading="flat", cmap="Greys", vmin=0.0, vmax=4.0)
-            ax.triplot(sub, color="0.45", lw=0.3 if zoom else 0.15, alpha=0.7)
+            ax.tripcolor(sub, np.zeros(x.shape[0]), shading="flat", cmap="Greys", vmin=0.0, vmax=4.0)
+            if edges:
+                ax.triplot(sub, color="0.45", lw=0.3 if zoom else 0.15, alpha=0.7)
             seg = x[facets.T]  # (m, 2, 2)
             norm = Normalize(0.0, max(float(values.max()), 1e-300))
             lc = LineCollection(seg, array=values[facets].mean(axis=0), cmap="inferno_r", norm=norm,
@@ -256,7 +259,7 @@ def _cmap(name):
     return matplotlib.colormaps[name]
 
 
-def body_figure(solution, field: str = "contact_pressure", *, units=None, title: str | None = None):
+def body_figure(solution, field: str = "contact_pressure", *, units=None, title: str | None = None, _data=None):
     """Picture of the deformed body coloured by ``field``.
 
     Parameters
@@ -278,7 +281,7 @@ def body_figure(solution, field: str = "contact_pressure", *, units=None, title:
 
     if field not in _FIELDS:
         raise InputError(f"body_figure: field = {field!r} is not one of {', '.join(_FIELDS)}.")
-    X, u, cells, pd, facets, finite, mesh = _body_data(solution)
+    X, u, cells, pd, facets, finite, mesh = _body_data(solution) if _data is None else _data
     dim = X.shape[1]
     scale = displacement_scale(X, u, finite)
     x = X + scale * u
@@ -308,7 +311,8 @@ def save_body_pictures(solution, folder: str | os.PathLike, *, units=None, title
                        dpi: int = 100) -> list[str]:
     """Write :data:`PICTURE_FILES` (pressure view, von Mises view) into ``folder``; return their names."""
     folder = Path(folder)
+    data = _body_data(solution)  # the stress projection once for both pictures
     for name, field in zip(PICTURE_FILES, ("contact_pressure", "von_mises")):
-        save_figure(body_figure(solution, field, units=units, title=title), folder / name, dpi=dpi)
+        save_figure(body_figure(solution, field, units=units, title=title, _data=data), folder / name, dpi=dpi)
     logger.debug("wrote %s in %s", ", ".join(PICTURE_FILES), folder)
     return list(PICTURE_FILES)
