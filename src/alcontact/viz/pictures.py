@@ -18,8 +18,10 @@ its largest value is about 5 % of the body's size (:func:`displacement_scale`, a
 
 Views: 2D, the whole body and a zoom on the contact zone with the mesh drawn (the
 pressure view draws the contact boundary as a thick line coloured by the pressure).
-3D, the pressure view looks at the contact boundary from outside (along the mean
-outward normal of its faces); the von Mises view shows the same and an oblique view.
+3D, the pressure view looks at the touching faces from outside (along their outward
+normals weighted by the pressure), the whole body and zoomed on the contact zone; the
+von Mises view looks obliquely from the contact zone's side of the body (symmetry
+planes, where the stress under the contact shows), whole and zoomed.
 Large 3D meshes draw the :data:`MAX_FACES` boundary triangles nearest the contact
 zone (the title says how many of how many).
 
@@ -196,8 +198,14 @@ def _draw_3d(fig, x, X, mesh, field, values, pressure, facets, unit):
     contact = {tuple(sorted(f)) for f in facets.T} if facets.size else set()
     is_contact = np.array([tuple(sorted(f)) in contact for f in faces], dtype=bool) if contact else \
         np.zeros(faces.shape[0], dtype=bool)
-    ncf = _face_normals(x, faces[is_contact]) if is_contact.any() else np.zeros((0, 3))
-    normal = ncf.sum(axis=0) if ncf.size else np.array([0.0, 0.0, 1.0])
+    # look at the touching faces from outside: their normals weighted by the pressure (all contact faces if none)
+    cf = faces[is_contact]
+    ncf = _face_normals(x, cf) if cf.size else np.zeros((0, 3))
+    weight = pressure[cf].mean(axis=1) if cf.size else np.zeros(0)
+    weight = weight if np.any(weight > 0) else np.ones(len(cf))
+    normal = (weight[:, None] * ncf).sum(axis=0) if ncf.size else np.array([0.0, 0.0, 1.0])
+    if not np.linalg.norm(normal) > 0:
+        normal = np.array([0.0, 0.0, 1.0])
     normal = normal / max(float(np.linalg.norm(normal)), 1e-300)
     cnodes = np.unique(facets) if facets.size else np.zeros(0, dtype=np.int64)
     lo, hi = x.min(axis=0), x.max(axis=0)
