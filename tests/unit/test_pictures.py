@@ -102,3 +102,21 @@ def test_problem_file_run_shows_the_pictures_in_the_report(tmp_path):
         assert f"]({name})" in report
         var, ncol = _not_blank(_image(tmp_path / "out" / name))
         assert var > 1e-3 and ncol > 50
+
+
+def test_3d_pressure_view_looks_at_the_touching_faces_of_a_curved_body(tmp_path):
+    """Hemisphere pressed onto the plane y = 0 (finite deformation): the camera looks from below (-y), not along
+    the mean normal of the whole curved contact boundary (a diagonal view, as before the fix)."""
+    from alcontact.contact import solve_finite
+    from alcontact.problems.hemisphere import hemisphere
+
+    fs = solve_finite(hemisphere(n=3), steps=2)
+    assert fs.success
+    fig = body_figure(fs.solution, "contact_pressure")
+    ax = fig.axes[0]
+    assert abs(ax.elev) < 20 and abs(ax.azim + 90) < 20, (ax.elev, ax.azim)
+    assert "displacement x" not in fig.get_suptitle()  # finite deformation: drawn as it is
+    names = save_body_pictures(fs.solution, tmp_path)
+    for name in names:
+        var, ncol = _not_blank(_image(tmp_path / name))
+        assert var > 1e-3 and ncol > 50
