@@ -55,12 +55,26 @@ def _consoles() -> tuple[Console, Console]:
     return Console(), Console(stderr=True)
 
 
+class _NoteWarnings(logging.Filter):
+    """Appends ``note`` to the warnings shown (e.g. that a benchmark's failed solve is expected)."""
+
+    def __init__(self, note: str):
+        super().__init__()
+        self._note = note
+
+    def filter(self, record: logging.LogRecord) -> bool:
+        if record.levelno >= logging.WARNING and not getattr(record, "_noted", False):
+            record.msg, record.args, record._noted = f"{record.getMessage()} {self._note}", (), True
+        return True
+
+
 @contextlib.contextmanager
-def _cli_logging(err: Console, level: int) -> Iterator[None]:
+def _cli_logging(err: Console, level: int, note: str | None = None) -> Iterator[None]:
     """Route the library's log records (``alcontact.*``) to stderr through rich.
 
     The logger's level and handlers are restored afterwards, so calling the
-    app in-process (tests, notebooks) leaves logging as it was.
+    app in-process (tests, notebooks) leaves logging as it was. ``note`` is
+    appended to every warning shown.
     """
     from rich.logging import RichHandler
 
@@ -68,6 +82,8 @@ def _cli_logging(err: Console, level: int) -> Iterator[None]:
     old_level = log.level
     handler = RichHandler(console=err, show_time=False, show_path=False, markup=False)
     handler.setLevel(level)
+    if note:
+        handler.addFilter(_NoteWarnings(note))
     log.addHandler(handler)
     log.setLevel(level)
     try:
@@ -284,6 +300,8 @@ def run_command(
                 _check_builtin_size(problem, level, order or 1)  # what `alcontact check` checks in a file
                 if quiet:
                     _, summary = run_problem(**kwargs)
+                elif not err.is_terminal:  # batch job, pipe: one line per phase with the elapsed time
+                    _, summary = run_problem(**kwargs, progress=_LineProgress(err, problem).phase)
                 else:
                     with err.status("starting", spinner="dots") as status:
                         _, summary = run_problem(**kwargs, progress=lambda msg: status.update(f"{msg} ..."))
@@ -366,10 +384,73 @@ class _StatusHandler(logging.Handler):
             pass
 
 
+def _clock(seconds: float) -> str:
+    s = int(round(max(seconds, 0.0)))
+    return f"{s // 3600}:{s // 60 % 60:02d}:{s % 60:02d}"
+
+
+class _LineProgress:
+    """Progress as plain lines, for output that is not a terminal (batch jobs, ``| tee``, log files).
+
+    One line per finished load step with the elapsed time and the ETA (elapsed per
+    step times the steps left), and the solver's latest status at most every
+    ``every`` seconds in between, so a long step still shows it is alive.
+    """
+
+    def __init__(self, err: Console, name: str, every: float = 5.0, clock=None):
+        import time
+
+        self._err, self._name, self._every = err, name, float(every)
+        self._now = clock or time.monotonic
+        self._t0 = self._now()
+        self._last = self._t0
+        self._done = -1
+
+    def _print(self, msg: str) -> None:
+        self._last = self._now()
+        self._err.print(Text(msg), soft_wrap=True, highlight=False)
+
+    def step(self, done: int, total: int, t: float) -> None:
+        if done == self._done:
+            return
+        self._done = done
+        el = self._now() - self._t0
+        if done <= 0:
+            self._print(f"{self._name}: {total} load step{'s' if total != 1 else ''}, started")
+            return
+        eta = el / done * (total - done)
+        self._print(f"{self._name}: step {done}/{total} done (t = {t:.4g}), elapsed {_clock(el)}, "
+                    f"ETA {_clock(eta)}")
+
+    def phase(self, msg: str) -> None:
+        """A phase of the run (building, solving, writing): always printed, with the elapsed time."""
+        self._print(f"{self._name}: elapsed {_clock(self._now() - self._t0)}: {msg}")
+
+    def status(self, msg: str) -> None:
+        if self._now() - self._last >= self._every:
+            self._print(f"{self._name}: elapsed {_clock(self._now() - self._t0)}: {msg}")
+
+
+def _bar_columns(width: int):
+    """Columns of the progress bar: step count, elapsed time and ETA first, so they fit 80 columns.
+
+    The problem name and the solver's status come last and are cut (with an ellipsis)
+    to what is left of ``width``.
+    """
+    from rich.progress import BarColumn, MofNCompleteColumn, SpinnerColumn, TextColumn, TimeElapsedColumn, \
+        TimeRemainingColumn
+    from rich.table import Column
+
+    return (SpinnerColumn(), MofNCompleteColumn(), TextColumn("steps"), TimeElapsedColumn(), TextColumn("ETA"),
+            TimeRemainingColumn(), BarColumn(bar_width=10),
+            TextColumn("{task.description}", table_column=Column(no_wrap=True, overflow="ellipsis", max_width=18)),
+            TextColumn("[dim]{task.fields[status]}",
+                       table_column=Column(no_wrap=True, overflow="ellipsis", max_width=max(width - 72, 0))))
+
+
 def _run_file(problem_file: Path, out, console: Console, err: Console, level: int, quiet: bool, **kwargs):
-    """``alcontact run PROBLEM.toml``: validate, solve with a progress bar, write, print the summary."""
-    from rich.progress import BarColumn, MofNCompleteColumn, Progress, SpinnerColumn, TextColumn, \
-        TimeElapsedColumn, TimeRemainingColumn
+    """``alcontact run PROBLEM.toml``: validate, solve with a progress bar (lines without a terminal), write."""
+    from rich.progress import Progress
 
     from .io.preflight import check_problem
     from .runner import run_setup
@@ -383,11 +464,21 @@ def _run_file(problem_file: Path, out, console: Console, err: Console, level: in
             out = out if out is not None else Path(setup.output["folder"])
             if quiet:
                 result = run_setup(setup, out, force, algorithm=algorithm, penalty=penalty, **kwargs)
+            elif not err.is_terminal:
+                lines = _LineProgress(err, setup.name)
+                status = _StatusHandler(lines.status)
+                lib = logging.getLogger("alcontact.contact")
+                old = lib.level
+                lib.addHandler(status)
+                lib.setLevel(min(old or logging.WARNING, logging.INFO))
+                try:
+                    result = run_setup(setup, out, force, algorithm=algorithm, penalty=penalty, progress=lines.status,
+                                       on_step=lines.step, **kwargs)
+                finally:
+                    lib.removeHandler(status)
+                    lib.setLevel(old)
             else:
-                columns = (SpinnerColumn(), TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(),
-                           TextColumn("steps"), TimeElapsedColumn(), TextColumn("ETA"), TimeRemainingColumn(),
-                           TextColumn("[dim]{task.fields[status]}"))
-                with Progress(*columns, console=err, transient=True) as bar:
+                with Progress(*_bar_columns(err.width), console=err, transient=True) as bar:
                     task = bar.add_task(setup.name, total=len(setup.times), status="")
 
                     def on_step(done: int, total: int, t: float) -> None:
@@ -415,11 +506,14 @@ def _run_file(problem_file: Path, out, console: Console, err: Console, level: in
 @app.command("check")
 def check_command(
     problem_file: Annotated[Path, typer.Argument(help="TOML problem file to validate.", show_default=False)],
+    quiet: Annotated[bool, typer.Option("--quiet", "-q", help="Print nothing unless something is wrong (the exit "
+                                                              "code says OK: 0).")] = False,
 ) -> None:
     """Validate a problem file without solving it: everything `run` would reject.
 
-    Prints OK, a one-line summary and the size estimate, or every error found
-    with its key path and the way out (exit code 2): the schema, the mesh size
+    Prints OK, a one-line summary, the size and the run-time estimate (calibrated
+    on the examples, docs/benchmarks/time_estimates.md), or every error found
+    with its key path and the way out (exit code 2; --quiet: only the errors): the schema, the mesh size
     against this machine's memory (estimated before the mesh is built), mesh
     quality, boundary names, conflicting supports, supports or obstacle contact
     restraining every rigid motion on the solver's path (direct, AMG,
@@ -435,6 +529,8 @@ def check_command(
         raise _fail(err, exc, EXIT_USAGE) from None
     except AlcontactError as exc:
         raise _fail(err, exc, EXIT_FAILED) from None
+    if quiet:
+        return
     first, *rest = report.summary_lines()
     console.print(Text(f"OK {first}"))
     for line in rest:
@@ -448,7 +544,9 @@ def bench_command(
         Optional[list[str]],
         typer.Option("--suite", "-s", help="hertz, friction, nlp, finite (repeatable; default all)."),
     ] = None,
-    quick: Annotated[bool, typer.Option("--quick", help="Small sizes and a few variants (about a minute).")] = False,
+    quick: Annotated[bool, typer.Option("--quick", help="Small sizes and a few variants (1-2 min on a 2-core "
+                                                        "machine; the calibrated time is printed at the start).")]
+    = False,
     cases: Annotated[
         Optional[list[str]],
         typer.Option("--case", help="Case of the hertz, friction or finite suite, e.g. 2d-10k, mindlin-2d, "
@@ -462,19 +560,33 @@ def bench_command(
                                                               "(default: the repository's benchmarks/).")
     ] = None,
 ) -> None:
-    """Run the benchmark suite and write its report (bench.md plus each suite's CSV and markdown)."""
-    from .runner import run_benchmarks
+    """Run the benchmark suite and write its report (bench.md plus each suite's CSV and markdown).
+
+    Benchmarks include cases that fail on purpose or by the method's nature (e.g. a
+    Hock-Schittkowski problem an algorithm does not solve): their warnings are marked
+    as expected; each failure is listed in the suite's report.
+    """
+    import time
+
+    from .runner import quick_bench_estimate, run_benchmarks
 
     console, err = _consoles()
+    est = quick_bench_estimate(suite) if quick and not cases and not variants else None
+    if est is not None:
+        err.print(Text(f"bench --quick: about {_clock(est[0])} (h:mm:ss), measured on {est[1]}"), highlight=False)
+    t0 = time.perf_counter()
+    note = "[expected: the benchmark records failed solves; see the Failures list of its report]"
     try:
-        with _cli_logging(err, logging.WARNING):
+        with _cli_logging(err, logging.WARNING, note=note):
             report = run_benchmarks(out, suites=suite, quick=quick, cases=cases, variants=variants,
                                     benchmarks_dir=benchmarks_dir, log=lambda msg: err.print(Text(msg)))
     except InputError as exc:
         raise _fail(err, exc, EXIT_USAGE) from None
     except AlcontactError as exc:
         raise _fail(err, exc, EXIT_FAILED) from None
-    console.print(f"report written to [bold]{report}[/]", highlight=False)
+    took = time.perf_counter() - t0
+    console.print(f"report written to [bold]{report}[/] ({_clock(took)} h:mm:ss"
+                  + (f", estimated {_clock(est[0])})" if est is not None else ")"), highlight=False)
 
 
 @app.command("docs")

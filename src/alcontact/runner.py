@@ -15,6 +15,9 @@ Results folder written by :func:`write_results`:
     Contact pressure along the contact boundary against the analytical profile.
 ``convergence.png``
     Penetration, complementarity and multiplier change per outer iteration (log scale).
+``body_pressure.png``, ``body_von_mises.png``
+    Pictures of the deformed body coloured by contact pressure and by von Mises stress
+    (:mod:`alcontact.viz.pictures`).
 ``report.md``
     One page: problem, solver, outcome, key numbers against the reference, the plots.
 ``summary.json``
@@ -55,6 +58,7 @@ __all__ = [
     "BUILTIN_PROBLEMS",
     "DEFAULT_PROBLEM",
     "RESULT_FILES",
+    "quick_bench_estimate",
     "build_problem",
     "run_problem",
     "summarize",
@@ -107,8 +111,8 @@ BUILTIN_PROBLEMS: dict[str, BuiltinProblem] = {
 DEFAULT_PROBLEM = "hertz-2d"
 
 #: Files :func:`write_results` writes (``summary.json`` last).
-RESULT_FILES: tuple[str, ...] = ("solution.vtu", "history.csv", "pressure.png", "convergence.png", "report.md",
-                                 "summary.json")
+RESULT_FILES: tuple[str, ...] = ("solution.vtu", "history.csv", "pressure.png", "convergence.png",
+                                 "body_pressure.png", "body_von_mises.png", "report.md", "summary.json")
 
 
 def build_problem(name: str = DEFAULT_PROBLEM, level: int | None = None, order: int = 1):
@@ -302,6 +306,7 @@ def write_results(out: str | os.PathLike, problem, solution, summary: dict, *,
     from .io import write_history_csv, write_json, write_solution_vtu
     from .io.report import write_report
     from .viz import save_convergence_plot, save_pressure_plot
+    from .viz.pictures import save_body_pictures
 
     out = Path(out)
     paths = {name: out / name for name in RESULT_FILES}
@@ -309,6 +314,7 @@ def write_results(out: str | os.PathLike, problem, solution, summary: dict, *,
     write_history_csv(paths["history.csv"], solution.result.history)
     save_pressure_plot(solution, paths["pressure.png"], units=units)
     save_convergence_plot(solution.result, paths["convergence.png"], tolerances=tolerances)
+    save_body_pictures(solution, out, units=units, title=summary.get("problem_label") or summary.get("problem"))
     write_report(paths["report.md"], summary, list(RESULT_FILES), description=description, units=units)
     write_json(paths["summary.json"], {**summary, "files": list(RESULT_FILES)})
     logger.info("results written to %s", out)
@@ -1030,7 +1036,8 @@ def write_setup_results(folder: Path, setup, frames, summary: dict) -> list[str]
     Files (switched by ``[output]``): ``solution.vtu`` (final state), ``steps/solution_NNNN.vtu``
     and ``solution.pvd`` (stepped runs), ``history.csv`` (outer iterations of
     the last frictionless solve), ``steps.csv``, ``pressure.png``,
-    ``convergence.png``, ``load_displacement.png``, ``report.md``, ``summary.json``.
+    ``convergence.png``, ``load_displacement.png``, ``body_pressure.png`` and
+    ``body_von_mises.png`` (pictures of the deformed body), ``report.md``, ``summary.json``.
     Finite-deformation runs write the VTU files in the deformed configuration and
     add ``reaction_force.csv`` and ``reaction_force.png`` (support reaction and
     contact force against the prescribed displacement, per step).
@@ -1094,6 +1101,9 @@ def write_setup_results(folder: Path, setup, frames, summary: dict) -> list[str]
                 _add_tangential_curves(fig, rows, control, int(setup.problem.model.dim))
             save_figure(fig, folder / "reaction_force.png")
             files.append("reaction_force.png")
+        from .viz.pictures import save_body_pictures
+
+        files += save_body_pictures(final, folder, title=setup.name)
     if o["report"]:
         files.append("report.md")
         write_report(folder / "report.md", summary, files + ["summary.json"],
@@ -1126,6 +1136,23 @@ BENCH_SUITES: dict[str, BenchSuite] = {
     "finite": BenchSuite("finite.py", "finite.md", True,
                          {"cases": ["2d-5k"], "variants": ["ssn", "simo-laursen", "quad-met1"]}),
 }
+
+
+def quick_bench_estimate(suites=None) -> tuple[float, str] | None:
+    """Seconds ``alcontact bench --quick`` takes for ``suites`` (default all), and where that was measured.
+
+    From the committed calibration (``benchmarks/time_estimates.py --bench`` writes
+    ``alcontact/io/time_calibration.json``); ``None`` without one.
+    """
+    from .io.preflight import machine_kind, time_calibration
+
+    cal = time_calibration()
+    per = ((cal.get("bench_quick") or {}).get("suites_s")) or {}
+    names = list(suites or BENCH_SUITES)
+    if not per or any(n not in per for n in names if n in BENCH_SUITES):
+        return None
+    overhead = max(float(cal["bench_quick"].get("total_s", 0.0)) - sum(per.values()), 0.0)  # start, imports
+    return overhead + float(sum(per[n] for n in names if n in per)), machine_kind(cal)
 
 
 def run_benchmarks(out: str | os.PathLike, *, suites=None, quick: bool = False, cases=None, variants=None,

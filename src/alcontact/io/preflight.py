@@ -50,7 +50,7 @@ from ..errors import ConfigError, InputError, MeshError
 from .config import Issue, _raise, _text_of, load_problem, validate_data
 
 __all__ = ["SizeEstimate", "Preflight", "check_problem", "estimate_size", "exact_size", "size_issues", "setup_issues",
-           "machine_memory", "MAX_DOFS", "MAX_SECONDS", "MEMORY_FRACTION", "VALUE_RANGE"]
+           "machine_memory", "run_features", "run_seconds", "time_calibration", "machine_kind", "MAX_DOFS", "MAX_SECONDS", "MEMORY_FRACTION", "VALUE_RANGE"]
 
 logger = logging.getLogger(__name__)
 
@@ -563,6 +563,75 @@ def _low_dim_issue(md: dict, base: Path, issue: Issue) -> Issue:
                               "then re-mesh.")
 
 
+# --------------------------------------------------------------------------- run time
+#: Calibration of :func:`run_seconds` (written by ``benchmarks/time_estimates.py``).
+CALIBRATION_FILE = Path(__file__).with_name("time_calibration.json")
+
+
+def time_calibration() -> dict:
+    """The committed calibration of the run-time estimates (empty when the file is missing)."""
+    import json
+
+    try:
+        return json.loads(CALIBRATION_FILE.read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return {}
+
+
+def run_features(setup, size: SizeEstimate) -> dict[str, Any]:
+    """What :func:`run_seconds` depends on: DOFs, load steps, friction, finite deformation, solver model time."""
+    return {"ndofs": int(size.ndofs), "steps": len(setup.times), "friction": int(setup.friction > 0),
+            "finite": int(setup.finite), "solver_s": float(size.seconds)}
+
+
+def run_seconds(setup, size: SizeEstimate, calibration: dict | None = None) -> float:
+    r"""Estimated wall time of ``alcontact run FILE`` on the calibration machine, in seconds.
+
+    .. math::
+
+        t = a + S\,(b + b_f\,[\text{friction}] + b_F\,[\text{finite}]) + c\,n\,S + t_{solver}
+
+    :math:`t_{solver}` is ``size.seconds`` (the linear-algebra cost model above);
+    :math:`a, b, b_f, b_F, c` are fitted on the example files by
+    ``benchmarks/time_estimates.py`` (``time_calibration.json``, report in
+    ``docs/benchmarks/time_estimates.md``: within a factor 2 of the measured time on
+    every example).
+    """
+    cal = (time_calibration() if calibration is None else calibration).get("run") or {}
+    f = run_features(setup, size)
+    S = f["steps"]
+    return (cal.get("fixed_s", 0.0) + S * (cal.get("per_step_s", 0.0) + f["friction"] * cal.get("per_friction_step_s",
+                                                                                                 0.0)
+                                           + f["finite"] * cal.get("per_finite_step_s", 0.0))
+            + cal.get("per_dof_step_s", 0.0) * f["ndofs"] * S + f["solver_s"])
+
+
+def machine_kind(cal: dict | None = None) -> str:
+    """``"<cpu>, <n> cores"`` of the calibration machine, and whether this machine is of that kind."""
+    cal = time_calibration() if cal is None else cal
+    m = cal.get("machine") or {}
+    if not m:
+        return "uncalibrated"
+    here = _this_machine()
+    same = (here.get("cpu"), here.get("cores")) == (m.get("cpu"), m.get("cores"))
+    kind = f"{m.get('cpu')}, {m.get('cores')} cores"
+    return f"this machine kind ({kind})" if same else f"{kind}; this machine differs, scale accordingly"
+
+
+def _this_machine() -> dict:
+    cpu = ""
+    try:
+        for line in Path("/proc/cpuinfo").read_text().splitlines():
+            if line.startswith("model name"):
+                cpu = line.split(":", 1)[1].strip()
+                break
+    except OSError:
+        pass
+    import platform
+
+    return {"cpu": cpu or platform.processor() or platform.machine(), "cores": os.cpu_count() or 1}
+
+
 # --------------------------------------------------------------------------- entry point
 @dataclasses.dataclass(frozen=True)
 class Preflight:
@@ -582,9 +651,16 @@ class Preflight:
     size: SizeEstimate
     memory: float
 
+    @property
+    def run_seconds(self) -> float:
+        """Estimated wall time of ``alcontact run`` of this file (:func:`run_seconds`)."""
+        return run_seconds(self.setup, self.size)
+
     def summary_lines(self) -> list[str]:
         return [self.setup.summary_line(),
-                f"size: {self.size.describe()} (machine memory {_gib(self.memory)})"]
+                f"size: {self.size.describe()} (machine memory {_gib(self.memory)})",
+                f"run time: {_duration(self.run_seconds)} for `alcontact run` (solve and result files), "
+                f"calibrated on {machine_kind()}"]
 
 
 def check_problem(path: str | os.PathLike, *, memory: float | None = None) -> Preflight:

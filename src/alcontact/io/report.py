@@ -28,7 +28,13 @@ _FILE_DOCS = {
     "reaction_force.csv": "finite deformation: support reaction and contact force per step against the "
                           "prescribed displacement",
     "reaction_force.png": "reaction-force curve (finite deformation)",
+    "body_pressure.png": "picture of the deformed body coloured by contact pressure",
+    "body_von_mises.png": "picture of the deformed body coloured by von Mises stress",
 }
+
+#: Pictures of the body (alcontact.viz.pictures) shown in their own section.
+_PICTURES = (("body_pressure.png", "Deformed body coloured by contact pressure"),
+             ("body_von_mises.png", "Deformed body coloured by von Mises stress"))
 
 
 def _f(x, spec=".5g") -> str:
@@ -109,6 +115,13 @@ def render_report(summary: dict, files: list[str], *, description: str = "", sou
                          ("load_displacement.png", "Load-displacement curve"),
                          ("reaction_force.png", "Reaction-force curve")):
         if png in files:
+            lines += [f"![{caption}]({png})", ""]
+    pictures = [(png, caption) for png, caption in _PICTURES if png in files]
+    if pictures:
+        lines += ["## Pictures of the body", "",
+                  "The deformed body (small-deformation runs: displacement magnified, the factor is in the title); "
+                  "2D: the whole body and the mesh near the contact zone; 3D: the boundary surface.", ""]
+        for png, caption in pictures:
             lines += [f"![{caption}]({png})", ""]
     lines += ["## Files", ""]
     for name in files:

@@ -100,6 +100,7 @@ RESULT_NAMES: frozenset[str] = frozenset({
     "solution.vtu", "solution.pvd", "steps/", "history.csv", "steps.csv", "pressure.png",
     "convergence.png", "load_displacement.png", "report.md", "summary.json",
     "reaction_force.csv", "reaction_force.png",  # finite-deformation runs
+    "body_pressure.png", "body_von_mises.png",  # pictures of the body (alcontact.viz.pictures)
 })
 
 #: Columns of ``history.csv``: the fields of :class:`alcontact.contact.ContactIteration`.

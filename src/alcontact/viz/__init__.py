@@ -2,6 +2,8 @@
 
 - :mod:`alcontact.viz.plots` -- contact pressure profile against the analytical one,
   convergence history of the outer iterations, convergence per load step, load-displacement curve
+- :mod:`alcontact.viz.pictures` -- pictures of the deformed body coloured by contact pressure and
+  by von Mises stress
 """
 
 from __future__ import annotations
@@ -17,6 +19,7 @@ from .plots import (
     save_pressure_plot,
     steps_figure,
 )
+from .pictures import body_figure, save_body_pictures
 
 __all__ = [
     "Units",
@@ -28,4 +31,6 @@ __all__ = [
     "save_convergence_plot",
     "steps_figure",
     "load_displacement_figure",
+    "body_figure",
+    "save_body_pictures",
 ]

@@ -367,6 +367,12 @@ def reaction_force_figure(rows, control: str | None = None, *, title: str | None
 def convergence_figure(result, *, tolerances: Mapping[str, float] | None = None, title: str | None = None):
     """Convergence history of the outer iterations (log scale).
 
+    A converged run ends below the tolerance line in every measure its stopping test
+    used; a measure it did not use (the multiplier change of ``ssn``, which stops when
+    the active set repeats, or of a physical stopping test) is labelled so, and the
+    penetration and complementarity of the returned state (the verified values of
+    ``result``) are drawn as stars at the last iteration.
+
     Parameters
     ----------
     result : ContactResult
@@ -386,11 +392,22 @@ def convergence_figure(result, *, tolerances: Mapping[str, float] | None = None,
         ax.set_axis_off()
         return fig
     k = np.array([it.k for it in hist], dtype=float)
+    tols = {name: float(v) for name, v in (tolerances or {}).items() if v and v > 0}
+    converged = getattr(result, "success", False)
     for i, (name, label) in enumerate(_HISTORY_SERIES):
         y = np.array([getattr(it, name) for it in hist], dtype=float)
         y = np.where(np.isfinite(y) & (y > 0), y, np.nan)  # zeros cannot be drawn on a log axis
+        if converged and name in tols and np.isfinite(y[-1]) and y[-1] > tols[name]:
+            # the solver stopped on other tests (ssn: the active set repeats; physical stopping at finite
+            # deformation: penetration, complementarity and equilibrium): this measure was not one of them
+            label += f" (not a stopping test here: {result.message})"
         ax.semilogy(k, y, "o-", ms=4, color=f"C{i}", label=label)
-    tols = {name: float(v) for name, v in (tolerances or {}).items() if v and v > 0}
+    if converged:  # the measures of the returned state, as verified where results are built
+        for i, (name, label) in enumerate(_HISTORY_SERIES[:2]):
+            v = float(getattr(result, name, np.nan))
+            if np.isfinite(v) and v > 0:
+                ax.semilogy([k[-1]], [v], "*", ms=11, mec="k", mew=0.6, color=f"C{i}",
+                            label=f"{name} of the returned state (verified)")
     same = len(set(tols.values())) == 1
     for i, (name, _label) in enumerate(_HISTORY_SERIES):
         if name in tols:  # one grey line when all tolerances coincide
