@@ -27,13 +27,20 @@ from alcontact.fem._hyper_materials import (
     make_material,
     register_material,
 )
+from alcontact.fem._hyper_laws import ArrudaBoyce, EnergyExpression, Gent, MooneyRivlin, Ogden, Yeoh
 from alcontact.fem._linalg import Factorization, nested_dissection
 from alcontact.fem._material import Material
 from alcontact.fem.elasticity import LinearElasticity, rigid_body_modes
 from alcontact.fem.hyperelastic import Hyperelastic
 
 __all__ = [
+    "ArrudaBoyce",
     "Body",
+    "EnergyExpression",
+    "Gent",
+    "MooneyRivlin",
+    "Ogden",
+    "Yeoh",
     "Factorization",
     "Hyperelastic",
     "HyperelasticLaw",

@@ -66,6 +66,8 @@ __all__ = [
     "available_materials",
     "make_material",
     "register_material",
+    "material_parameters",
+    "check_material_parameters",
     "det",
     "inv",
 ]
@@ -145,6 +147,38 @@ class HyperelasticLaw(ABC):
     """
 
     name: str = ""
+
+    #: Declared parameters of the law (type, range, one line of doc), checked by
+    #: :func:`make_material` and by the problem-file loader (``material.parameters``).
+    PARAMETERS: tuple = ()
+
+    @classmethod
+    def parameter_issues(cls, values: dict[str, Any]) -> list[tuple[str, str]]:
+        """Conditions between declared parameters (stability ranges), as ``(name, message)`` pairs.
+
+        Called with the values that passed their own declarations; ``message``
+        starts with ``"= value: "`` and says the allowed range and the fix.
+        """
+        return []
+
+    def fixed_moduli(self) -> tuple[float | None, float | None]:
+        r"""Initial shear and bulk moduli :math:`(\mu_0, K_0)` fixed by the law's own parameters.
+
+        ``None`` where the law takes the modulus from the :class:`~alcontact.fem.Material`
+        (:math:`\mu` and :math:`K = \lambda + 2\mu/3`). A body checks that the
+        material's constants agree with the fixed ones (:meth:`reference_moduli`).
+        """
+        return None, None
+
+    def reference_moduli(self, lam: float, mu: float) -> tuple[float, float]:
+        r"""Lamé constants :math:`(\lambda_0, \mu_0)` of the linearization at :math:`F = I`.
+
+        Read from :math:`\mathbb{A}(I) = \lambda_0\,\delta_{iJ}\delta_{kL}
+        + \mu_0(\delta_{ik}\delta_{JL} + \delta_{iL}\delta_{Jk})` in 3D: the consistency
+        condition to linear elasticity is :math:`(\lambda_0, \mu_0) = (\lambda, \mu)`.
+        """
+        A = self.tangent(np.eye(3)[None], lam, mu)[0]
+        return float(A[0, 0, 1, 1]), float(A[0, 1, 0, 1])
 
     @abstractmethod
     def energy(self, F: np.ndarray, lam: float, mu: float) -> np.ndarray:
@@ -401,19 +435,89 @@ def available_materials() -> list[str]:
     return sorted(_REGISTRY)
 
 
-def make_material(name: str | HyperelasticLaw) -> HyperelasticLaw:
+def material_parameters(name: str) -> tuple:
+    """Declared parameters (:class:`~alcontact._options.Option`) of the law registered as ``name``."""
+    if not isinstance(name, str) or name not in _REGISTRY:
+        raise UnknownNameError("hyperelastic material", str(name), list(_REGISTRY))
+    return tuple(getattr(_REGISTRY[name], "PARAMETERS", ()))
+
+
+def check_material_parameters(name: str, params: dict[str, Any] | None, *,
+                              api: bool = False) -> tuple[dict[str, Any], list[tuple[str, str]]]:
+    """Check ``params`` against the declarations of law ``name``.
+
+    Returns
+    -------
+    values, issues
+        The converted values (declared defaults filled in), and ``(parameter, message)``
+        pairs for unknown, missing or out-of-range parameters and for violated
+        stability conditions (:meth:`HyperelasticLaw.parameter_issues`).
+    """
+    import difflib
+
+    from alcontact._options import BAD, check_value
+
+    decl = material_parameters(name)
+    known = [o.name for o in decl]
+    params = dict(params or {})
+    issues: list[tuple[str, str]] = []
+    values: dict[str, Any] = {}
+    for key, value in params.items():
+        opt = next((o for o in decl if o.name == key), None)
+        if opt is None:
+            close = difflib.get_close_matches(str(key), known, n=1, cutoff=0.6)
+            mean = f" Did you mean {close[0]!r}?" if close else ""
+            allowed = ", ".join(known) if known else "none (it takes its constants from E and nu)"
+            issues.append((str(key), f"= {value!r}: not a parameter of material {name!r}.{mean} "
+                                     f"Its parameters: {allowed}."))
+            continue
+        v, found = check_value(opt, value, api=api)
+        issues.extend((key + suffix, msg) for suffix, msg in found)
+        if v is not BAD:
+            values[key] = v
+    for opt in decl:
+        if opt.name not in params:
+            if opt.required:
+                issues.append((opt.name, f"missing (required by material {name!r}): {opt.doc}"))
+            else:
+                values[opt.name] = opt.default
+    if not issues:
+        factory = _REGISTRY[name]
+        check = getattr(factory, "parameter_issues", None)
+        if check is not None:
+            issues.extend(check(values))
+    return values, issues
+
+
+def make_material(name: str | HyperelasticLaw, **params: Any) -> HyperelasticLaw:
     """The hyperelastic law registered as ``name`` (a law instance is returned as is).
+
+    Parameters
+    ----------
+    name : str or HyperelasticLaw
+    **params
+        The law's declared parameters (:func:`material_parameters`), e.g.
+        ``make_material("mooney-rivlin", c10=0.4, c01=0.1)``.
 
     Raises
     ------
     alcontact.errors.UnknownNameError
         If no law has that name (the message lists the known ones).
+    alcontact.errors.InputError
+        If a parameter is unknown, missing or out of its stable range.
     """
     if isinstance(name, HyperelasticLaw):
+        if params:
+            raise InputError(f"make_material: parameters {sorted(params)} given with a law instance {name!r}; "
+                             "pass the parameters when building the instance.")
         return name
     if not isinstance(name, str) or name not in _REGISTRY:
         raise UnknownNameError("hyperelastic material", str(name), list(_REGISTRY))
-    law = _REGISTRY[name]()
+    values, issues = check_material_parameters(name, params, api=True)
+    if issues:
+        raise InputError(f"material {name!r}: " + " ".join(f"{k} {m}" if m.startswith("= ") else f"{k}: {m}"
+                                                           for k, m in issues))
+    law = _REGISTRY[name](**values)
     if not isinstance(law, HyperelasticLaw):
         raise InputError(f"the factory registered as material {name!r} returned {law!r}, not a HyperelasticLaw; "
                          "register a HyperelasticLaw instance or a factory that returns one.")

@@ -184,6 +184,7 @@ class Hyperelastic(LinearElasticity):
             )
         # Material already holds -1 < nu < 0.5, which every compressible law needs
         self.law = make_material(model)
+        self._check_moduli(material)
         if intorder is None:
             intorder = max(1, 2 * (self.order - 1))
         if isinstance(intorder, bool) or not isinstance(intorder, (int, np.integer)) or intorder < 1:
@@ -196,6 +197,31 @@ class Hyperelastic(LinearElasticity):
         self._sdofs = sdofs
         self._vdofs = self.dof_map[sdofs].reshape(sdofs.shape[0], -1)  # (nel, nloc*dim), a-major
         self._kept_gradient: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
+
+    def _check_moduli(self, material: Material) -> None:
+        r"""The law linearized at :math:`F = I` must be the material's linear elasticity.
+
+        The linear elastic stiffness of the body (:meth:`stiffness`, contact scalings)
+        uses ``material``; a law that fixes :math:`\mu_0` or :math:`K_0` by its own
+        parameters (:meth:`~alcontact.fem.HyperelasticLaw.fixed_moduli`) must agree.
+        """
+        lam, mu = material.lame(3)
+        lam0, mu0 = self.law.reference_moduli(lam, mu)
+        if not (np.isfinite(lam0) and np.isfinite(mu0)) or abs(mu0 - mu) > 1e-6 * mu \
+                or abs(lam0 - lam) > 1e-6 * (lam + 2.0 * mu / 3.0):
+            K0 = lam0 + 2.0 * mu0 / 3.0
+            fix = ""
+            if mu0 > 0 and K0 > 0:
+                E0, nu0 = 9.0 * K0 * mu0 / (3.0 * K0 + mu0), (3.0 * K0 - 2.0 * mu0) / (2.0 * (3.0 * K0 + mu0))
+                if abs(K0 - (lam + 2.0 * mu / 3.0)) <= 1e-6 * K0:
+                    E0, nu0 = 2.0 * mu0 * (1.0 + material.nu), material.nu
+                fix = f" Use Material(E={E0:.12g}, nu={nu0:.12g}) for these law parameters."
+            raise InputError(
+                f"material law {self.law.name!r} linearizes at F = I to shear modulus {mu0:.6g} and lambda "
+                f"{lam0:.6g}, but Material(E={material.E:g}, nu={material.nu:g}) has mu = {mu:.6g}, lambda = "
+                f"{lam:.6g}: the law's initial moduli must equal the material's (consistency with linear "
+                f"elasticity).{fix}"
+            )
 
     # ------------------------------------------------------------- kinematics
     def _check_u(self, u) -> np.ndarray:
