@@ -228,9 +228,8 @@ class MooneyRivlin(InvariantLaw):
     name = "mooney-rivlin"
     PARAMETERS = (
         Option("c10", "float", REQUIRED, "Mooney-Rivlin: coefficient of (I1b - 3), stress units; c10 + c01 > 0 "
-               "(initial shear modulus 2 (c10 + c01)).", low=-1e100, high=1e100),
-        Option("c01", "float", 0.0, "Mooney-Rivlin: coefficient of (I2b - 3), stress units (0: neo-Hookean).",
-               low=-1e100, high=1e100),
+               "(initial shear modulus 2 (c10 + c01))."),
+        Option("c01", "float", 0.0, "Mooney-Rivlin: coefficient of (I2b - 3), stress units (0: neo-Hookean)."),
     )
 
     def __init__(self, c10: float, c01: float = 0.0):
@@ -261,10 +260,9 @@ class Yeoh(InvariantLaw):
     name = "yeoh"
     PARAMETERS = (
         Option("c10", "float", REQUIRED, "Yeoh: coefficient of (I1b - 3), stress units; initial shear modulus "
-               "2 c10.", low=0, low_open=True, high=1e100),
-        Option("c20", "float", 0.0, "Yeoh: coefficient of (I1b - 3)^2; negative allowed while c20^2 < 3 c10 c30.",
-               low=-1e100, high=1e100),
-        Option("c30", "float", 0.0, "Yeoh: coefficient of (I1b - 3)^3.", low=0, high=1e100),
+               "2 c10.", low=0, low_open=True),
+        Option("c20", "float", 0.0, "Yeoh: coefficient of (I1b - 3)^2; negative allowed while c20^2 < 3 c10 c30."),
+        Option("c30", "float", 0.0, "Yeoh: coefficient of (I1b - 3)^3.", low=0),
     )
 
     def __init__(self, c10: float, c20: float = 0.0, c30: float = 0.0):
@@ -298,7 +296,7 @@ class Gent(InvariantLaw):
     name = "gent"
     PARAMETERS = (
         Option("Jm", "float", REQUIRED, "Gent: limiting value of I1b - 3 (chain extensibility; rubber about "
-               "30-100); the shear modulus is the material's mu.", low=0, low_open=True, high=1e100),
+               "30-100); the shear modulus is the material's mu.", low=0, low_open=True),
     )
 
     def __init__(self, Jm: float):
@@ -320,7 +318,7 @@ class ArrudaBoyce(InvariantLaw):
     name = "arruda-boyce"
     PARAMETERS = (
         Option("lambda_m", "float", REQUIRED, "Arruda-Boyce: locking chain stretch (> 1; rubber about 3-7); the "
-               "initial shear modulus is the material's mu.", low=1, low_open=True, high=1e100),
+               "initial shear modulus is the material's mu.", low=1, low_open=True),
     )
 
     def __init__(self, lambda_m: float):
@@ -357,7 +355,7 @@ class Ogden(HyperelasticLaw):
     name = "ogden"
     PARAMETERS = (
         Option("mu", "floats", REQUIRED, "Ogden: moduli mu_p of the N terms (stress units); the initial shear "
-               "modulus is sum(mu_p alpha_p) / 2 > 0.", low=-1e100, high=1e100, lengths=(1, 2, 3, 4, 5, 6)),
+               "modulus is sum(mu_p alpha_p) / 2 > 0.", lengths=(1, 2, 3, 4, 5, 6)),
         Option("alpha", "floats", REQUIRED, "Ogden: exponents alpha_p (nonzero), as many as mu.", low=-100,
                high=100, lengths=(1, 2, 3, 4, 5, 6)),
     )

@@ -135,13 +135,23 @@ def _build_schema() -> tuple[Table, ...]:
         )),
         Table("material", "Isotropic elastic material of the whole body: linear elastic, or hyperelastic "
               "(`model`) for finite kinematics.", (
-            O("E", "float", REQUIRED, "Young's modulus (stress units, e.g. MPa).", low=0, low_open=True),
-            O("nu", "float", REQUIRED, "Poisson's ratio (< 0.5: every law is compressible).", low=-1, high=0.5,
-              low_open=True, high_open=True),
+            O("E", "float", None, "Young's modulus (stress units, e.g. MPa). Required, except for a law whose "
+              "parameters fix the shear modulus mu0 (`mooney-rivlin`, `yeoh`, `ogden`: default E = 2 mu0 (1 + nu), "
+              "and a given E must equal it) and for `energy` (E and nu follow from it).", low=0, low_open=True),
+            O("nu", "float", None, "Poisson's ratio (< 0.5: every law is compressible; it sets the bulk modulus "
+              "K = E / (3 (1 - 2 nu)) of the volumetric term). Required, except with `energy`.", low=-1,
+              high=0.5, low_open=True, high_open=True),
             O("plane", "str", "strain", "2D assumption: `strain` or `stress` (ignored in 3D; hyperelastic: "
               "`strain` only).", choices=("strain", "stress")),
             material_model_option(),
+            O("energy", "str", None, "A user hyperelastic law: its strain energy W as an expression of the "
+              "invariants `I1`, `I2`, `I3`, `J`, `I1b`, `I2b`, the names of `[material.parameters]`, numbers, "
+              "`+ - * / **` and `log`, `exp`, `sqrt`, e.g. `\"c10*(I1b-3) + c01*(I2b-3) + K/2*(J-1)**2\"` "
+              "(finite kinematics; replaces `model`; parsed, never executed)."),
         ), required=True),
+        Table("material.parameters", "Parameters of the hyperelastic law: the declared ones of `model` (tables "
+              "below), or the names used in `energy`, e.g. `parameters = { c10 = 0.4, c01 = 0.1 }`.", (),
+              open=True),
         Table("material.region", "Material of a mesh region (Gmsh physical group of cells). Names are checked "
               "against the mesh; constants different from `[material]` are rejected until the FEM layer "
               "supports several materials.", (
@@ -372,11 +382,35 @@ def render_markdown() -> str:
         if t.array:
             flags.append("repeatable")
         lines += [f"## `{head}`" + (f" ({', '.join(flags)})" if flags else ""), "", t.doc, ""]
-        lines += ["| key | type | default | allowed | description |", "|---|---|---|---|---|"]
-        for o in t.options:
+        if t.options:
+            lines += ["| key | type | default | allowed | description |", "|---|---|---|---|---|"]
+            for o in t.options:
+                lines.append(f"| `{o.name}` | {o.type} | {_default_text(o)} | {o.range_text()} | {o.doc} |")
+            lines.append("")
+        if t.path == "material.parameters":
+            lines += _law_parameter_tables()
+    return "\n".join(lines)
+
+
+def _law_parameter_tables() -> list[str]:
+    """One table of declared parameters per hyperelastic law that has any (from the registry)."""
+    from ..fem._hyper_materials import available_materials, material_parameters
+
+    lines = []
+    for name in available_materials():
+        decl = material_parameters(name)
+        if not decl:
+            continue
+        lines += [f"### `model = \"{name}\"`", "", "| key | type | default | allowed | description |",
+                  "|---|---|---|---|---|"]
+        for o in decl:
             lines.append(f"| `{o.name}` | {o.type} | {_default_text(o)} | {o.range_text()} | {o.doc} |")
         lines.append("")
-    return "\n".join(lines)
+    others = [n for n in available_materials() if not material_parameters(n)]
+    lines += [f"{', '.join(f'`{n}`' for n in others)}: no parameters (the constants are `E` and `nu`). The laws, "
+              "their stability ranges and their consistency with linear elasticity are documented in "
+              "`alcontact.fem._hyper_laws`.", ""]
+    return lines
 
 
 def _repo_root() -> Path:
