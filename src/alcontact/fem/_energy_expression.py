@@ -18,11 +18,11 @@ Examples
 --------
 >>> expr = parse_energy("c10*(I1b-3) + K/2*(J-1)**2", {"c10": 0.5, "K": 10.0})
 >>> sorted(str(s) for s in expr.free_symbols)
-['I1', 'J']
+['I1', 'J', 'p_K', 'p_c10']
 >>> parse_energy("__import__('os')", {})
 Traceback (most recent call last):
 ...
-alcontact.errors.InputError: energy = "__import__('os')": a call of '__import__' is not allowed; functions: exp, log, sqrt. Allowed names: I1, I1b, I2, I2b, I3, J (invariants), no parameters.
+alcontact.errors.InputError: energy = "__import__('os')": a call of '__import__' is not allowed; functions: log, exp, sqrt. Allowed names: I1, I1b, I2, I2b, I3, J (invariants), no parameters.
 """
 
 from __future__ import annotations
@@ -44,12 +44,12 @@ FUNCTIONS = ("log", "exp", "sqrt")
 MAX_CHARS, MAX_NODES = 4000, 2000
 
 
-def SYMBOLS() -> dict[str, Any]:
-    """The SymPy symbols ``I1, I2, J`` of the parsed expressions."""
+def SYMBOLS(parameters=()) -> dict[str, Any]:
+    """The SymPy symbols ``I1, I2, J`` of the parsed expressions, and one per parameter name."""
     import sympy
 
     I1, I2, J = sympy.symbols("I1 I2 J", positive=True)
-    return {"I1": I1, "I2": I2, "J": J}
+    return {"I1": I1, "I2": I2, "J": J, **{n: sympy.Symbol(f"p_{n}", real=True) for n in parameters}}
 
 
 def _invariant_values() -> dict[str, Any]:
@@ -65,7 +65,11 @@ _OPS = {ast.Add: "+", ast.Sub: "-", ast.Mult: "*", ast.Div: "/", ast.Pow: "**"}
 
 
 def parse_energy(text: Any, parameters: dict[str, Any], *, key: str = "energy", params_key: str = "parameters"):
-    """The SymPy expression of ``text`` (see module doc), with the parameter values substituted.
+    """The SymPy expression of ``text`` (see module doc) in ``I1, I2, J`` and the parameter symbols.
+
+    The parameters stay symbols (:func:`SYMBOLS`; their values are checked here and
+    substituted by the caller at evaluation), so that SymPy keeps ``c10*(I1b-3)`` as
+    written instead of distributing a rounded coefficient.
 
     Parameters
     ----------
@@ -119,6 +123,7 @@ def parse_energy(text: Any, parameters: dict[str, Any], *, key: str = "energy", 
         raise fail(f"more than {MAX_NODES} terms; simplify it.")
 
     inv = _invariant_values()
+    psym = SYMBOLS(params)
     used: set[str] = set()
 
     def number(x: float, node) -> Any:
@@ -137,7 +142,7 @@ def parse_energy(text: Any, parameters: dict[str, Any], *, key: str = "energy", 
                 return inv[node.id]
             if node.id in params:
                 used.add(node.id)
-                return float(params[node.id])
+                return psym[node.id]
             close = difflib.get_close_matches(node.id, list(INVARIANTS) + list(params), n=1, cutoff=0.6)
             mean = f" Did you mean {close[0]!r}?" if close else ""
             hint = "" if node.id in FUNCTIONS else f" (declare it in {params_key} if it is a parameter)"
@@ -203,6 +208,6 @@ def parse_energy(text: Any, parameters: dict[str, Any], *, key: str = "energy", 
     if unused:
         raise InputError(f"{params_key}.{unused[0]}: not used by {key}; remove it or use it in the expression "
                          f"(a typo?). Names in the expression: {', '.join(sorted(used)) or 'none'}.")
-    if not expr.free_symbols:
+    if not expr.free_symbols & {psym["I1"], psym["I2"], psym["J"]}:
         raise fail("the energy does not depend on the deformation (no invariant in it).")
     return expr

@@ -97,6 +97,10 @@ __all__ = ["InvariantLaw", "MooneyRivlin", "Yeoh", "Gent", "ArrudaBoyce", "Ogden
 logger = logging.getLogger(__name__)
 
 
+#: compiled (energy, gradient, Hessian) functions of W(I1, I2, J), per law class (or per user expression)
+_COMPILED: dict[Any, tuple[Callable, Callable, Callable]] = {}
+
+
 def _embed(F: np.ndarray) -> np.ndarray:
     """A 2x2 (plane strain) deformation gradient as the 3x3 one with ``F33 = 1``; 3x3 unchanged."""
     if F.shape[-1] == 3:
@@ -119,28 +123,42 @@ class InvariantLaw(HyperelasticLaw):
     of the symbols ``I1, I2, J`` and ``lam, mu`` (the material's Lamé constants).
     """
 
-    def energy_expression(self, I1, I2, J, lam, mu):  # pragma: no cover - abstract in spirit
-        """SymPy expression of :math:`W` in the invariants and the Lamé constants."""
+    def energy_expression(self, I1, I2, J, lam, mu, p):  # pragma: no cover - abstract in spirit
+        """SymPy expression of :math:`W` in the invariants, the Lamé constants and the parameter symbols ``p``."""
         raise InputError(f"{type(self).__name__} does not define its energy.")
 
+    def parameter_values(self) -> dict[str, float]:
+        """Values of the scalar parameters, by name (symbols of :meth:`energy_expression`)."""
+        return {o.name: float(getattr(self, o.name)) for o in self.PARAMETERS}
+
+    def _cache_key(self) -> Any:
+        return type(self)
+
     def _compiled(self) -> tuple[Callable, Callable, Callable]:
-        cached = getattr(self, "_funs", None)
-        if cached is not None:
-            return cached
+        # parameters stay symbols (values passed at evaluation): one compilation per law class, and
+        # SymPy does not distribute numeric coefficients (W(I) = 0 exactly, no cancelling constants)
+        key = self._cache_key()
+        if key in _COMPILED:
+            return _COMPILED[key]
         import sympy
 
         I1, I2, J = sympy.symbols("I1 I2 J", positive=True)
         lam, mu = sympy.symbols("lam mu", positive=True)
-        W = sympy.sympify(self.energy_expression(I1, I2, J, lam, mu))
+        names = list(self.parameter_values())
+        p = {n: sympy.Symbol(f"p_{n}", real=True) for n in names}
+        W = sympy.sympify(self.energy_expression(I1, I2, J, lam, mu, p))
         x = (I1, I2, J)
         grad = [sympy.diff(W, v) for v in x]
         hess = [sympy.diff(grad[a], x[b]) for a, b in ((0, 0), (0, 1), (0, 2), (1, 1), (1, 2), (2, 2))]
-        args = [I1, I2, J, lam, mu]
+        args = [I1, I2, J, lam, mu, *(p[n] for n in names)]
         funs = (sympy.lambdify(args, W, modules="numpy"),
                 sympy.lambdify(args, grad, modules="numpy", cse=True),
                 sympy.lambdify(args, hess, modules="numpy", cse=True))
-        self._funs = funs
+        _COMPILED[key] = funs
         return funs
+
+    def _args(self, I1, I2, J, lam, mu) -> tuple:
+        return (I1, I2, J, float(lam), float(mu), *self.parameter_values().values())
 
     @staticmethod
     def _invariants(F3: np.ndarray):
@@ -157,11 +175,11 @@ class InvariantLaw(HyperelasticLaw):
 
     def energy(self, F, lam, mu):
         _, I1, I2, J = self._invariants(_embed(F))
-        return self._values(self._compiled()[0], J.shape, I1, I2, J, float(lam), float(mu))[0].copy()
+        return self._values(self._compiled()[0], J.shape, *self._args(I1, I2, J, lam, mu))[0].copy()
 
     def _stress3(self, F3, lam, mu):
         C, I1, I2, J = self._invariants(F3)
-        W1, W2, WJ = self._values(self._compiled()[1], J.shape, I1, I2, J, float(lam), float(mu))
+        W1, W2, WJ = self._values(self._compiled()[1], J.shape, *self._args(I1, I2, J, lam, mu))
         dJ = J[..., None, None] * np.swapaxes(inv(F3, J), -1, -2)
         dI1 = 2.0 * F3
         dI2 = 2.0 * (I1[..., None, None] * F3 - F3 @ C)
@@ -181,7 +199,7 @@ class InvariantLaw(HyperelasticLaw):
         d = F.shape[-1]
         F3 = _embed(F)
         C, I1, I2, J = self._invariants(F3)
-        args = (I1, I2, J, float(lam), float(mu))
+        args = self._args(I1, I2, J, lam, mu)
         W1, W2, WJ = self._values(self._compiled()[1], J.shape, *args)
         W11, W12, W1J, W22, W2J, WJJ = self._values(self._compiled()[2], J.shape, *args)
         Fi = inv(F3, J)
@@ -226,6 +244,8 @@ class MooneyRivlin(InvariantLaw):
     """
 
     name = "mooney-rivlin"
+    SUMMARY = 'W = c10 (I1b - 3) + c01 (I2b - 3) + K/2 (J - 1)^2; initial shear modulus mu0 = 2 (c10 + c01).'
+    EXAMPLE_PARAMETERS = {"c10": 0.35, "c01": 0.1}
     PARAMETERS = (
         Option("c10", "float", REQUIRED, "Mooney-Rivlin: coefficient of (I1b - 3), stress units; c10 + c01 > 0 "
                "(initial shear modulus 2 (c10 + c01))."),
@@ -249,15 +269,17 @@ class MooneyRivlin(InvariantLaw):
     def fixed_moduli(self):
         return 2.0 * (self.c10 + self.c01), None
 
-    def energy_expression(self, I1, I2, J, lam, mu):
+    def energy_expression(self, I1, I2, J, lam, mu, p):
         I1b, I2b = _isochoric(I1, I2, J)
-        return self.c10 * (I1b - 3) + self.c01 * (I2b - 3) + _volumetric(J, lam, mu)
+        return p["c10"] * (I1b - 3) + p["c01"] * (I2b - 3) + _volumetric(J, lam, mu)
 
 
 class Yeoh(InvariantLaw):
     r"""Yeoh: :math:`W = \sum_{i=1}^3 c_{i0}(\bar I_1 - 3)^i + \frac{K}{2}(J-1)^2` (module doc)."""
 
     name = "yeoh"
+    SUMMARY = 'W = c10 (I1b - 3) + c20 (I1b - 3)^2 + c30 (I1b - 3)^3 + K/2 (J - 1)^2; mu0 = 2 c10; checked: dW/dI1b > 0 at every stretch.'
+    EXAMPLE_PARAMETERS = {"c10": 0.45, "c20": -0.02, "c30": 0.005}
     PARAMETERS = (
         Option("c10", "float", REQUIRED, "Yeoh: coefficient of (I1b - 3), stress units; initial shear modulus "
                "2 c10.", low=0, low_open=True),
@@ -281,9 +303,9 @@ class Yeoh(InvariantLaw):
     def fixed_moduli(self):
         return 2.0 * self.c10, None
 
-    def energy_expression(self, I1, I2, J, lam, mu):
+    def energy_expression(self, I1, I2, J, lam, mu, p):
         x = _isochoric(I1, I2, J)[0] - 3
-        return self.c10 * x + self.c20 * x**2 + self.c30 * x**3 + _volumetric(J, lam, mu)
+        return p["c10"] * x + p["c20"] * x**2 + p["c30"] * x**3 + _volumetric(J, lam, mu)
 
 
 class Gent(InvariantLaw):
@@ -294,6 +316,8 @@ class Gent(InvariantLaw):
     """
 
     name = "gent"
+    SUMMARY = 'W = -mu Jm/2 ln(1 - (I1b - 3)/Jm) + K/2 (J - 1)^2; mu0 = mu of E and nu; I1b - 3 must stay below Jm.'
+    EXAMPLE_PARAMETERS = {"Jm": 20.0}
     PARAMETERS = (
         Option("Jm", "float", REQUIRED, "Gent: limiting value of I1b - 3 (chain extensibility; rubber about "
                "30-100); the shear modulus is the material's mu.", low=0, low_open=True),
@@ -302,20 +326,23 @@ class Gent(InvariantLaw):
     def __init__(self, Jm: float):
         self.Jm = float(Jm)
 
-    def energy_expression(self, I1, I2, J, lam, mu):
+    def energy_expression(self, I1, I2, J, lam, mu, p):
         import sympy
 
-        I1b = _isochoric(I1, I2, J)[0]
-        return -mu * self.Jm / 2 * sympy.log(1 - (I1b - 3) / self.Jm) + _volumetric(J, lam, mu)
+        I1b, Jm = _isochoric(I1, I2, J)[0], p["Jm"]
+        return -mu * Jm / 2 * sympy.log(1 - (I1b - 3) / Jm) + _volumetric(J, lam, mu)
 
 
-_AB_C = (0.5, 1.0 / 20.0, 11.0 / 1050.0, 19.0 / 7000.0, 519.0 / 673750.0)
+#: coefficients C_i of the Arruda-Boyce series (numerators, denominators)
+_AB_C = ((1, 2), (1, 20), (11, 1050), (19, 7000), (519, 673750))
 
 
 class ArrudaBoyce(InvariantLaw):
     r"""Arruda-Boyce eight-chain model, five-term series (module doc)."""
 
     name = "arruda-boyce"
+    SUMMARY = 'Eight-chain model, five-term series in I1b (Arruda and Boyce 1993, as in Abaqus) + K/2 (J - 1)^2, scaled so that mu0 = mu of E and nu.'
+    EXAMPLE_PARAMETERS = {"lambda_m": 3.0}
     PARAMETERS = (
         Option("lambda_m", "float", REQUIRED, "Arruda-Boyce: locking chain stretch (> 1; rubber about 3-7); the "
                "initial shear modulus is the material's mu.", low=1, low_open=True),
@@ -324,16 +351,19 @@ class ArrudaBoyce(InvariantLaw):
     def __init__(self, lambda_m: float):
         self.lambda_m = float(lambda_m)
 
-    @property
-    def shear_factor(self) -> float:
-        r""":math:`\mu_0/\mu_c = 2\sum_i i\,C_i\,3^{i-1}/\lambda_m^{2i-2}`."""
-        return 2.0 * sum(i * c * 3.0 ** (i - 1) / self.lambda_m ** (2 * i - 2) for i, c in enumerate(_AB_C, 1))
+    @staticmethod
+    def shear_factor(lambda_m):
+        r""":math:`\mu_0/\mu_c = 2\sum_i i\,C_i\,3^{i-1}/\lambda_m^{2i-2}` (a number or a SymPy expression)."""
+        import sympy
 
-    def energy_expression(self, I1, I2, J, lam, mu):
-        I1b = _isochoric(I1, I2, J)[0]
-        muc = mu / self.shear_factor
-        W = sum(c / self.lambda_m ** (2 * i - 2) * (I1b**i - 3**i) for i, c in enumerate(_AB_C, 1))
-        return muc * W + _volumetric(J, lam, mu)
+        return 2 * sum(i * sympy.Rational(*_AB_C[i - 1]) * 3 ** (i - 1) / lambda_m ** (2 * i - 2) for i in range(1, 6))
+
+    def energy_expression(self, I1, I2, J, lam, mu, p):
+        I1b, lm = _isochoric(I1, I2, J)[0], p["lambda_m"]
+        import sympy
+
+        W = sum(sympy.Rational(*_AB_C[i - 1]) / lm ** (2 * i - 2) * (I1b**i - 3**i) for i in range(1, 6))
+        return mu / self.shear_factor(lm) * W + _volumetric(J, lam, mu)
 
 
 class Ogden(HyperelasticLaw):
@@ -353,6 +383,8 @@ class Ogden(HyperelasticLaw):
     """
 
     name = "ogden"
+    SUMMARY = 'W = sum_p mu_p/alpha_p (l1b^alpha_p + l2b^alpha_p + l3b^alpha_p - 3) + K/2 (J - 1)^2 in the isochoric principal stretches; mu0 = sum(mu_p alpha_p)/2.'
+    EXAMPLE_PARAMETERS = {"mu": [0.88, 0.004, -0.01], "alpha": [2.0, 5.0, -2.0]}
     PARAMETERS = (
         Option("mu", "floats", REQUIRED, "Ogden: moduli mu_p of the N terms (stress units); the initial shear "
                "modulus is sum(mu_p alpha_p) / 2 > 0.", lengths=(1, 2, 3, 4, 5, 6)),
@@ -511,11 +543,18 @@ class EnergyExpression(InvariantLaw):
     def fixed_moduli(self):
         return self._moduli
 
-    def energy_expression(self, I1, I2, J, lam, mu):
+    def parameter_values(self) -> dict[str, float]:
+        return {n: float(v) for n, v in sorted(self.parameters.items())}
+
+    def _cache_key(self) -> Any:
+        return ("energy-expression", self.text, tuple(sorted(self.parameters)))
+
+    def energy_expression(self, I1, I2, J, lam, mu, p):
         from alcontact.fem._energy_expression import SYMBOLS
 
-        s = SYMBOLS()
-        return self._expr.subs({s["I1"]: I1, s["I2"]: I2, s["J"]: J}, simultaneous=True)
+        s = SYMBOLS(self.parameters)
+        subs = {s["I1"]: I1, s["I2"]: I2, s["J"]: J, **{s[n]: p[n] for n in self.parameters}}
+        return self._expr.subs(subs, simultaneous=True)
 
     def __repr__(self) -> str:
         return f"EnergyExpression({self.text!r}, {self.parameters!r})"

@@ -44,8 +44,8 @@ Examples
 >>> F = np.eye(3)[None]
 >>> float(law.energy(F, 1.0, 1.0)[0]), float(np.abs(law.stress(F, 1.0, 1.0)).max())
 (0.0, 0.0)
->>> sorted(available_materials())
-['neo-hookean', 'saint-venant-kirchhoff']
+>>> sorted(available_materials())[:4]
+['arruda-boyce', 'gent', 'mooney-rivlin', 'neo-hookean']
 """
 
 from __future__ import annotations
@@ -67,6 +67,7 @@ __all__ = [
     "make_material",
     "register_material",
     "material_parameters",
+    "example_material_parameters",
     "check_material_parameters",
     "det",
     "inv",
@@ -152,6 +153,13 @@ class HyperelasticLaw(ABC):
     #: :func:`make_material` and by the problem-file loader (``material.parameters``).
     PARAMETERS: tuple = ()
 
+    #: One line of plain text: the energy and where its moduli come from (generated docs).
+    SUMMARY: str = ""
+
+    #: Values of :attr:`PARAMETERS` of a documented example (initial shear modulus 0.9): the
+    #: generated tests and docs build the law with them, so a newly registered law is covered.
+    EXAMPLE_PARAMETERS: dict = {}
+
     @classmethod
     def parameter_issues(cls, values: dict[str, Any]) -> list[tuple[str, str]]:
         """Conditions between declared parameters (stability ranges), as ``(name, message)`` pairs.
@@ -227,6 +235,7 @@ class NeoHookean(HyperelasticLaw):
     r"""Compressible neo-Hookean law (module doc): :math:`W = \frac{\mu}{2}(\operatorname{tr}C - 3) - \mu\ln J + \frac{\lambda}{2}\ln^2 J`."""
 
     name = "neo-hookean"
+    SUMMARY = "W = mu/2 (I1 - 3) - mu ln J + lam/2 (ln J)^2 with the Lame constants of E and nu."
 
     def energy(self, F, lam, mu):
         d = F.shape[-1]
@@ -264,6 +273,7 @@ class SaintVenantKirchhoff(HyperelasticLaw):
     r"""St Venant-Kirchhoff law (module doc): :math:`W = \mu E:E + \frac{\lambda}{2}(\operatorname{tr}E)^2`."""
 
     name = "saint-venant-kirchhoff"
+    SUMMARY = "W = mu E:E + lam/2 (tr E)^2, E = (C - I)/2, with the Lame constants of E and nu."
 
     @staticmethod
     def _green(F):
@@ -440,6 +450,12 @@ def material_parameters(name: str) -> tuple:
     if not isinstance(name, str) or name not in _REGISTRY:
         raise UnknownNameError("hyperelastic material", str(name), list(_REGISTRY))
     return tuple(getattr(_REGISTRY[name], "PARAMETERS", ()))
+
+
+def example_material_parameters(name: str) -> dict[str, Any]:
+    """Parameters of the documented example of law ``name`` (``{}`` for a law without parameters)."""
+    material_parameters(name)  # the name check
+    return dict(getattr(_REGISTRY[name], "EXAMPLE_PARAMETERS", {}))
 
 
 def check_material_parameters(name: str, params: dict[str, Any] | None, *,

@@ -351,7 +351,7 @@ def render_markdown() -> str:
         "TOML holds data and registry names only (no code): the `user` obstacle cannot be used from a file.",
         "",
         "Finite deformation: `[contact] kinematics = \"finite\"` with a hyperelastic `[material] model`",
-        "(`neo-hookean`, `saint-venant-kirchhoff`) solves the frictionless problem in the load steps of",
+        "(the laws of `[material.parameters]` below, or a user `energy`) solves the frictionless problem in the load steps of",
         "`[loading]`, each from the last one, with Newton on the deformed configuration; a step that",
         "fails is cut back (`loading.max_cutbacks` halvings). Supports and loads with a `ramp` follow it;",
         "when nothing has a ramp, every support value and load grows in proportion to t. `[obstacle] path`",
@@ -394,22 +394,29 @@ def render_markdown() -> str:
 
 def _law_parameter_tables() -> list[str]:
     """One table of declared parameters per hyperelastic law that has any (from the registry)."""
-    from ..fem._hyper_materials import available_materials, material_parameters
+    from ..fem._hyper_materials import available_materials, example_material_parameters, material_parameters
 
-    lines = []
+    from ..fem._hyper_materials import make_material
+
+    lines = ["Every hyperelastic law is compressible: the volumetric term K/2 (J - 1)^2 of the laws with",
+             "parameters uses the bulk modulus K = E / (3 (1 - 2 nu)); at F = I each law linearizes to the",
+             "linear elasticity of E and nu (checked when the body is built). I1b = J^(-2/3) I1 and",
+             "I2b = J^(-4/3) I2 are the isochoric invariants of C = F^T F, J = det F.", ""]
     for name in available_materials():
         decl = material_parameters(name)
+        summary = type(make_material(name, **example_material_parameters(name))).SUMMARY
         if not decl:
+            lines += [f"### `model = \"{name}\"`", "", summary, ""]
             continue
-        lines += [f"### `model = \"{name}\"`", "", "| key | type | default | allowed | description |",
+        lines += [f"### `model = \"{name}\"`", "", summary, "", "| key | type | default | allowed | description |",
                   "|---|---|---|---|---|"]
         for o in decl:
             lines.append(f"| `{o.name}` | {o.type} | {_default_text(o)} | {o.range_text()} | {o.doc} |")
-        lines.append("")
-    others = [n for n in available_materials() if not material_parameters(n)]
-    lines += [f"{', '.join(f'`{n}`' for n in others)}: no parameters (the constants are `E` and `nu`). The laws, "
-              "their stability ranges and their consistency with linear elasticity are documented in "
-              "`alcontact.fem._hyper_laws`.", ""]
+        example = ", ".join(f"{k} = {v!r}" for k, v in example_material_parameters(name).items())
+        lines += ["", f"Example: `parameters = {{ {example} }}`.", ""]
+    lines += ["A user law: `energy = \"...\"` (instead of `model`) with its constants in `[material.parameters]`;",
+              "the expression is the whole energy (add a volumetric term such as `K/2*(J-1)**2`), must be",
+              "stress free at F = I, and fixes E and nu through its initial shear and bulk moduli.", ""]
     return lines
 
 
