@@ -534,7 +534,7 @@ class EnergyExpression(InvariantLaw):
             raise InputError(f"{key} = {text!r}: the energy is not stress free at F = I (P = {P0[0, 0]:.6g} I); "
                              "a reference state needs dW/dF = 0 there. Write it in the isochoric invariants I1b, "
                              "I2b with a volumetric term of J that is flat at J = 1, e.g. K/2*(J-1)**2.")
-        if not (math.isfinite(mu0) and mu0 > 0 and math.isfinite(K0) and K0 > 0):
+        if not (math.isfinite(mu0) and mu0 > 0 and math.isfinite(K0) and K0 > 1e-9 * mu0):  # K0 = 0 up to round-off
             raise InputError(f"{key} = {text!r}: initial shear modulus mu0 = {mu0:g} and bulk modulus K0 = {K0:g} "
                              "(from the tangent at F = I) must both be > 0 for a stable solid; check the signs "
                              "of the parameters and include a volumetric term such as K/2*(J-1)**2.")
