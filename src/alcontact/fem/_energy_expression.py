@@ -143,7 +143,9 @@ def parse_energy(text: Any, parameters: dict[str, Any], *, key: str = "energy", 
             if node.id in params:
                 used.add(node.id)
                 return psym[node.id]
-            close = difflib.get_close_matches(node.id, list(INVARIANTS) + list(params), n=1, cutoff=0.6)
+            known = list(INVARIANTS) + list(params)
+            close = [k for k in known if k.lower() == node.id.lower()]  # names are case sensitive: K is not k
+            close = close or difflib.get_close_matches(node.id, known, n=1, cutoff=0.6)
             mean = f" Did you mean {close[0]!r}?" if close else ""
             hint = "" if node.id in FUNCTIONS else f" (declare it in {params_key} if it is a parameter)"
             raise fail(f"unknown name {node.id!r}{hint}.{mean} {allowed()}")
