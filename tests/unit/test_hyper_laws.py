@@ -27,7 +27,7 @@ from alcontact.fem import (
     meshes,
 )
 from alcontact.fem._energy_expression import parse_energy
-from alcontact.fem._hyper_materials import check_material_parameters, example_material_parameters
+from alcontact.fem import check_material_parameters, example_material_parameters
 
 LAM, MU = 1.7, 0.9
 

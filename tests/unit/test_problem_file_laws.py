@@ -18,7 +18,7 @@ from _helpers import assert_check_rejects, runner
 from alcontact.cli import app
 from alcontact.errors import ConfigError
 from alcontact.fem import available_materials
-from alcontact.fem._hyper_materials import example_material_parameters
+from alcontact.fem import example_material_parameters
 from alcontact.io.config import load_problem_text
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"

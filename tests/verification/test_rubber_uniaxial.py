@@ -32,7 +32,7 @@ import pytest
 from scipy.optimize import brentq
 
 from alcontact.fem import Hyperelastic, Material, available_materials, make_material, meshes
-from alcontact.fem._hyper_materials import example_material_parameters
+from alcontact.fem import example_material_parameters
 
 MU = 0.9  # initial shear modulus of every documented example law (and of neo-Hookean below)
 AB_C = (1 / 2, 1 / 20, 11 / 1050, 19 / 7000, 519 / 673750)

@@ -90,11 +90,96 @@ import numpy as np
 
 from alcontact._options import REQUIRED, Option
 from alcontact.errors import InputError
-from alcontact.fem._hyper_materials import HyperelasticLaw, det, inv, register_material
+from alcontact.fem._hyper_materials import HyperelasticLaw, det, inv, material_parameters, register_material
 
-__all__ = ["InvariantLaw", "MooneyRivlin", "Yeoh", "Gent", "ArrudaBoyce", "Ogden", "EnergyExpression"]
+__all__ = ["InvariantLaw", "MooneyRivlin", "Yeoh", "Gent", "ArrudaBoyce", "Ogden", "EnergyExpression",
+           "check_material_parameters"]
 
 logger = logging.getLogger(__name__)
+
+
+def _check_parameters(cls, params: dict[str, Any] | None, name: str, *,
+                      api: bool = False) -> tuple[dict[str, Any], list[tuple[str, str]]]:
+    """:func:`check_material_parameters` on the declarations of the law class ``cls``."""
+    import difflib
+
+    from alcontact._options import BAD, check_value
+
+    decl = tuple(getattr(cls, "PARAMETERS", ()))
+    known = [o.name for o in decl]
+    params = dict(params or {})
+    issues: list[tuple[str, str]] = []
+    values: dict[str, Any] = {}
+    for key, value in params.items():
+        opt = next((o for o in decl if o.name == key), None)
+        if opt is None:
+            close = difflib.get_close_matches(str(key), known, n=1, cutoff=0.6)
+            mean = f" Did you mean {close[0]!r}?" if close else ""
+            allowed = ", ".join(known) if known else "none (it takes its constants from E and nu)"
+            issues.append((str(key), f"= {value!r}: not a parameter of material {name!r}.{mean} "
+                                     f"Its parameters: {allowed}."))
+            continue
+        v, found = check_value(opt, value, api=api)
+        issues.extend((key + suffix, msg) for suffix, msg in found)
+        if v is not BAD:
+            values[key] = v
+    for opt in decl:
+        if opt.name not in params:
+            if opt.required:
+                issues.append((opt.name, f"missing (required by material {name!r}): {opt.doc}"))
+            else:
+                values[opt.name] = opt.default
+    if not issues:
+        check = getattr(cls, "parameter_issues", None)
+        if check is not None:
+            issues.extend(check(values))
+    return values, issues
+
+
+def check_material_parameters(name: str, params: dict[str, Any] | None, *,
+                              api: bool = False) -> tuple[dict[str, Any], list[tuple[str, str]]]:
+    """Check ``params`` against the declarations of the law registered as ``name``.
+
+    Returns
+    -------
+    values, issues
+        The converted values (declared defaults filled in), and ``(parameter, message)``
+        pairs for unknown, missing or out-of-range parameters and for violated
+        stability conditions (:meth:`~alcontact.fem.HyperelasticLaw.parameter_issues`);
+        each message starts with ``"= value: "`` or says what is missing, and the fix.
+
+    Examples
+    --------
+    >>> check_material_parameters("gent", {"Jm": 0.0})[1]
+    [('Jm', '= 0.0: out of range, must be > 0.')]
+    """
+    from alcontact.fem._hyper_materials import _REGISTRY
+
+    material_parameters(name)  # the name check
+    return _check_parameters(_REGISTRY[name], params, name, api=api)
+
+
+def _raise_issues(name: str, issues) -> None:
+    if issues:
+        raise InputError(f"material {name!r}: " + " ".join(f"{k} {m}" if m.startswith("= ") else f"{k}: {m}"
+                                                           for k, m in issues))
+
+
+class _Parametrized:
+    """Mixin of the laws with declared parameters: checked construction from a dict (registry)."""
+
+    @classmethod
+    def from_parameters(cls, params: dict[str, Any], *, name: str | None = None):
+        """The law built from ``params`` after the full check (unknown, missing, ranges, stability)."""
+        name = cls.name if name is None else name
+        values, issues = _check_parameters(cls, params, name, api=True)
+        _raise_issues(name, issues)
+        return cls(**values)
+
+    def _checked(self, **values) -> dict[str, Any]:
+        out, issues = _check_parameters(type(self), values, self.name, api=True)
+        _raise_issues(self.name, issues)
+        return out
 
 
 #: compiled (energy, gradient, Hessian) functions of W(I1, I2, J), per law class (or per user expression)
@@ -234,7 +319,7 @@ def _isochoric(I1, I2, J):
     return I1 * J ** sympy.Rational(-2, 3), I2 * J ** sympy.Rational(-4, 3)
 
 
-class MooneyRivlin(InvariantLaw):
+class MooneyRivlin(_Parametrized, InvariantLaw):
     r"""Mooney-Rivlin: :math:`W = c_{10}(\bar I_1 - 3) + c_{01}(\bar I_2 - 3) + \frac{K}{2}(J-1)^2` (module doc).
 
     Examples
@@ -253,7 +338,8 @@ class MooneyRivlin(InvariantLaw):
     )
 
     def __init__(self, c10: float, c01: float = 0.0):
-        self.c10, self.c01 = float(c10), float(c01)
+        v = self._checked(c10=c10, c01=c01)
+        self.c10, self.c01 = v["c10"], v["c01"]
 
     @classmethod
     def parameter_issues(cls, values):
@@ -274,7 +360,7 @@ class MooneyRivlin(InvariantLaw):
         return p["c10"] * (I1b - 3) + p["c01"] * (I2b - 3) + _volumetric(J, lam, mu)
 
 
-class Yeoh(InvariantLaw):
+class Yeoh(_Parametrized, InvariantLaw):
     r"""Yeoh: :math:`W = \sum_{i=1}^3 c_{i0}(\bar I_1 - 3)^i + \frac{K}{2}(J-1)^2` (module doc)."""
 
     name = "yeoh"
@@ -288,7 +374,8 @@ class Yeoh(InvariantLaw):
     )
 
     def __init__(self, c10: float, c20: float = 0.0, c30: float = 0.0):
-        self.c10, self.c20, self.c30 = float(c10), float(c20), float(c30)
+        v = self._checked(c10=c10, c20=c20, c30=c30)
+        self.c10, self.c20, self.c30 = v["c10"], v["c20"], v["c30"]
 
     @classmethod
     def parameter_issues(cls, values):
@@ -308,7 +395,7 @@ class Yeoh(InvariantLaw):
         return p["c10"] * x + p["c20"] * x**2 + p["c30"] * x**3 + _volumetric(J, lam, mu)
 
 
-class Gent(InvariantLaw):
+class Gent(_Parametrized, InvariantLaw):
     r"""Gent: :math:`W = -\frac{\mu J_m}{2}\ln(1 - (\bar I_1 - 3)/J_m) + \frac{K}{2}(J-1)^2` (module doc).
 
     Outside :math:`\bar I_1 < 3 + J_m` the energy is undefined (NaN; the solver
@@ -324,7 +411,7 @@ class Gent(InvariantLaw):
     )
 
     def __init__(self, Jm: float):
-        self.Jm = float(Jm)
+        self.Jm = self._checked(Jm=Jm)["Jm"]
 
     def energy_expression(self, I1, I2, J, lam, mu, p):
         import sympy
@@ -337,7 +424,7 @@ class Gent(InvariantLaw):
 _AB_C = ((1, 2), (1, 20), (11, 1050), (19, 7000), (519, 673750))
 
 
-class ArrudaBoyce(InvariantLaw):
+class ArrudaBoyce(_Parametrized, InvariantLaw):
     r"""Arruda-Boyce eight-chain model, five-term series (module doc)."""
 
     name = "arruda-boyce"
@@ -349,7 +436,7 @@ class ArrudaBoyce(InvariantLaw):
     )
 
     def __init__(self, lambda_m: float):
-        self.lambda_m = float(lambda_m)
+        self.lambda_m = self._checked(lambda_m=lambda_m)["lambda_m"]
 
     @staticmethod
     def shear_factor(lambda_m):
@@ -366,7 +453,7 @@ class ArrudaBoyce(InvariantLaw):
         return mu / self.shear_factor(lm) * W + _volumetric(J, lam, mu)
 
 
-class Ogden(HyperelasticLaw):
+class Ogden(_Parametrized, HyperelasticLaw):
     r"""Ogden law of N terms in the isochoric principal stretches (module doc).
 
     Parameters
@@ -393,11 +480,10 @@ class Ogden(HyperelasticLaw):
     )
 
     def __init__(self, mu, alpha):
-        self.mu = np.asarray(mu, dtype=float).ravel()
-        self.alpha = np.asarray(alpha, dtype=float).ravel()
-        issues = self.parameter_issues({"mu": list(self.mu), "alpha": list(self.alpha)})
-        if issues:
-            raise InputError("Ogden: " + " ".join(f"{k} {m}" for k, m in issues))
+        as_list = (lambda v: [float(x) for x in np.ravel(v)] if isinstance(v, np.ndarray) else v)  # noqa: E731
+        v = self._checked(mu=as_list(mu), alpha=as_list(alpha))
+        self.mu = np.asarray(v["mu"], dtype=float)
+        self.alpha = np.asarray(v["alpha"], dtype=float)
 
     @classmethod
     def parameter_issues(cls, values):

@@ -68,7 +68,6 @@ __all__ = [
     "register_material",
     "material_parameters",
     "example_material_parameters",
-    "check_material_parameters",
     "det",
     "inv",
 ]
@@ -150,7 +149,8 @@ class HyperelasticLaw(ABC):
     name: str = ""
 
     #: Declared parameters of the law (type, range, one line of doc), checked by
-    #: :func:`make_material` and by the problem-file loader (``material.parameters``).
+    #: :func:`~alcontact.fem.check_material_parameters` (:func:`make_material`, the constructors of the
+    #: parametrized laws and the problem-file loader, ``material.parameters``).
     PARAMETERS: tuple = ()
 
     #: One line of plain text: the energy and where its moduli come from (generated docs).
@@ -458,53 +458,6 @@ def example_material_parameters(name: str) -> dict[str, Any]:
     return dict(getattr(_REGISTRY[name], "EXAMPLE_PARAMETERS", {}))
 
 
-def check_material_parameters(name: str, params: dict[str, Any] | None, *,
-                              api: bool = False) -> tuple[dict[str, Any], list[tuple[str, str]]]:
-    """Check ``params`` against the declarations of law ``name``.
-
-    Returns
-    -------
-    values, issues
-        The converted values (declared defaults filled in), and ``(parameter, message)``
-        pairs for unknown, missing or out-of-range parameters and for violated
-        stability conditions (:meth:`HyperelasticLaw.parameter_issues`).
-    """
-    import difflib
-
-    from alcontact._options import BAD, check_value
-
-    decl = material_parameters(name)
-    known = [o.name for o in decl]
-    params = dict(params or {})
-    issues: list[tuple[str, str]] = []
-    values: dict[str, Any] = {}
-    for key, value in params.items():
-        opt = next((o for o in decl if o.name == key), None)
-        if opt is None:
-            close = difflib.get_close_matches(str(key), known, n=1, cutoff=0.6)
-            mean = f" Did you mean {close[0]!r}?" if close else ""
-            allowed = ", ".join(known) if known else "none (it takes its constants from E and nu)"
-            issues.append((str(key), f"= {value!r}: not a parameter of material {name!r}.{mean} "
-                                     f"Its parameters: {allowed}."))
-            continue
-        v, found = check_value(opt, value, api=api)
-        issues.extend((key + suffix, msg) for suffix, msg in found)
-        if v is not BAD:
-            values[key] = v
-    for opt in decl:
-        if opt.name not in params:
-            if opt.required:
-                issues.append((opt.name, f"missing (required by material {name!r}): {opt.doc}"))
-            else:
-                values[opt.name] = opt.default
-    if not issues:
-        factory = _REGISTRY[name]
-        check = getattr(factory, "parameter_issues", None)
-        if check is not None:
-            issues.extend(check(values))
-    return values, issues
-
-
 def make_material(name: str | HyperelasticLaw, **params: Any) -> HyperelasticLaw:
     """The hyperelastic law registered as ``name`` (a law instance is returned as is).
 
@@ -529,11 +482,15 @@ def make_material(name: str | HyperelasticLaw, **params: Any) -> HyperelasticLaw
         return name
     if not isinstance(name, str) or name not in _REGISTRY:
         raise UnknownNameError("hyperelastic material", str(name), list(_REGISTRY))
-    values, issues = check_material_parameters(name, params, api=True)
-    if issues:
-        raise InputError(f"material {name!r}: " + " ".join(f"{k} {m}" if m.startswith("= ") else f"{k}: {m}"
-                                                           for k, m in issues))
-    law = _REGISTRY[name](**values)
+    factory = _REGISTRY[name]
+    build = getattr(factory, "from_parameters", None)  # a law with declared parameters checks them
+    if build is not None:
+        law = build(params, name=name)
+    elif params:
+        raise InputError(f"material {name!r} takes no parameters (its constants are E and nu); got "
+                         f"{', '.join(sorted(params))}.")
+    else:
+        law = factory()
     if not isinstance(law, HyperelasticLaw):
         raise InputError(f"the factory registered as material {name!r} returned {law!r}, not a HyperelasticLaw; "
                          "register a HyperelasticLaw instance or a factory that returns one.")

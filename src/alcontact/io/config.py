@@ -557,8 +557,7 @@ def _material_law(mt: dict, law: str, issues: list[Issue]):
 
     ``E`` or ``nu`` is ``None`` (with an issue) when it is missing or cannot be derived.
     """
-    from ..fem._hyper_laws import EnergyExpression
-    from ..fem._hyper_materials import check_material_parameters, make_material
+    from ..fem import EnergyExpression, check_material_parameters, make_material
 
     sub = mt.get("parameters")
     params = dict(sub.get("params") or {}) if isinstance(sub, dict) else {}

@@ -394,9 +394,7 @@ def render_markdown() -> str:
 
 def _law_parameter_tables() -> list[str]:
     """One table of declared parameters per hyperelastic law that has any (from the registry)."""
-    from ..fem._hyper_materials import available_materials, example_material_parameters, material_parameters
-
-    from ..fem._hyper_materials import make_material
+    from ..fem import available_materials, example_material_parameters, make_material, material_parameters
 
     lines = ["Every hyperelastic law is compressible: the volumetric term K/2 (J - 1)^2 of the laws with",
              "parameters uses the bulk modulus K = E / (3 (1 - 2 nu)); at F = I each law linearizes to the",
