@@ -90,7 +90,15 @@ import numpy as np
 
 from alcontact._options import REQUIRED, Option
 from alcontact.errors import InputError
-from alcontact.fem._hyper_materials import HyperelasticLaw, det, inv, material_parameters, register_material
+from alcontact.fem._hyper_materials import (
+    HyperelasticLaw,
+    _assemble_terms,
+    _weighted_outer,
+    det,
+    inv,
+    material_parameters,
+    register_material,
+)
 
 __all__ = ["InvariantLaw", "MooneyRivlin", "Yeoh", "Gent", "ArrudaBoyce", "Ogden", "EnergyExpression",
            "check_material_parameters"]
@@ -306,6 +314,45 @@ class InvariantLaw(HyperelasticLaw):
         A += 2.0 * W1[..., None, None, None, None] * I4 + W2[..., None, None, None, None] * d2I2
         A += WJ[..., None, None, None, None] * d2J
         return A[..., :d, :d, :d, :d].copy()
+
+
+    def element_tangent(self, F, G, dx, lam, mu):
+        r"""Integrated element tangents by the chain-rule terms, without forming :math:`\mathbb{A}`.
+
+        With :math:`v^\alpha_a = G_a \cdot (\partial I_\alpha/\partial F)^T`, :math:`h_a = F G_a`,
+        :math:`g_a = F^{-T} G_a` (3D, plane strain padded with :math:`G_{a3} = 0`):
+
+        .. math::
+            K_{aibk} = \sum_q w_q\Bigl[\sum_{\alpha\beta} W_{\alpha\beta} v^\alpha_{ai} v^\beta_{bk}
+            + 2W_2(2 h_{ai}h_{bk} - h_{ak}h_{bi} - b_{ik}\,G_a\cdot G_b)
+            + W_J J (g_{ai}g_{bk} - g_{ak}g_{bi})
+            + \delta_{ik}\bigl((2W_1 + 2W_2I_1)\,G_a\cdot G_b - 2W_2\,G_a C G_b\bigr)\Bigr].
+        """
+        nel, nqp, nloc, d = G.shape
+        F3 = _embed(F)
+        G3 = G if d == 3 else np.concatenate([G, np.zeros(G.shape[:-1] + (1,))], axis=-1)
+        C, I1, I2, J = self._invariants(F3)
+        args = self._args(I1, I2, J, lam, mu)
+        W1, W2, WJ = self._values(self._compiled()[1], J.shape, *args)
+        W11, W12, W1J, W22, W2J, WJJ = self._values(self._compiled()[2], J.shape, *args)
+        FiT = np.swapaxes(inv(F3, J), -1, -2)
+        FT = np.swapaxes(F3, -1, -2)
+        dI = (2.0 * F3, 2.0 * (I1[..., None, None] * F3 - F3 @ C), J[..., None, None] * FiT)
+        m = 3 * nloc
+        V = np.stack([(G3 @ np.swapaxes(D, -1, -2)).reshape(nel, nqp, m) for D in dI], axis=2)  # (e, q, 3, m)
+        Wm = np.stack([np.stack(r, axis=-1) for r in ((W11, W12, W1J), (W12, W22, W2J), (W1J, W2J, WJJ))],
+                      axis=-2) * dx[..., None, None]
+        WV = Wm @ V
+        K = np.matmul(np.swapaxes(V.reshape(nel, nqp * 3, m), 1, 2), WV.reshape(nel, nqp * 3, m))
+        K = K.reshape(nel, nloc, 3, nloc, 3)
+        h = G3 @ FT  # h_ai = F_iJ G_aJ
+        K += _assemble_terms(h, 4.0 * W2 * dx, -2.0 * W2 * dx, G3, (2.0 * W1 + 2.0 * W2 * I1) * dx)
+        g = G3 @ inv(F3, J)  # g_ai = G_aJ Fi_Ji
+        K += _assemble_terms(g, WJ * J * dx, -WJ * J * dx, G3 @ C, -2.0 * W2 * dx, G3)
+        b = (F3 @ FT).reshape(nel, nqp, 9)
+        GG = (G3 @ np.swapaxes(G3, -1, -2)).reshape(nel, nqp, nloc * nloc)
+        K += _weighted_outer(GG, b, -2.0 * W2 * dx).reshape(nel, nloc, nloc, 3, 3).transpose(0, 1, 3, 2, 4)
+        return np.ascontiguousarray(K[:, :, :d, :, :d]) if d == 2 else K
 
 
 def _volumetric(J, lam, mu):
