@@ -296,3 +296,22 @@ def test_bad_energy_parameters(params, key, fragment):
 def test_energy_expression_must_be_a_stable_stress_free_solid(text, fragment):
     with pytest.raises(InputError, match=fragment):
         EnergyExpression(text, {"c10": 0.5, "K": 10.0} if "K" in text else {"c10": 0.5})
+
+
+def test_gent_beyond_its_locking_is_a_rejected_state_not_a_number():
+    """Beyond I1b - 3 = Jm the Gent energy is undefined: the body raises LawDomainError (an
+    InvertedElementError, so Newton solvers reject the step and cut back) naming the elements, instead of
+    returning NaN (energy) or finite values of a meaningless branch (force, tangent)."""
+    from alcontact.errors import InvertedElementError, LawDomainError
+
+    law = make_material("gent", Jm=0.5)
+    body = Hyperelastic(meshes.rectangle(0, 1, 0, 1, 2, 2), Material(E=2 * MU * 1.3, nu=0.3), model=law)
+    far = body.interpolate(lambda x: np.stack([1.0 * x[0], 0 * x[1]]))  # stretch 2: I1b - 3 ~ 1.3 > Jm
+    for f in (body.energy, body.internal_force, body.tangent):
+        with pytest.raises(LawDomainError, match=r"8 of 8 elements.*'gent'.*Jm") as info:
+            f(far)
+        assert isinstance(info.value, InvertedElementError) and info.value.elements.tolist() == list(range(8))
+    near = body.interpolate(lambda x: np.stack([0.2 * x[0], 0 * x[1]]))  # I1b - 3 ~ 0.05 < Jm
+    assert np.isfinite(body.energy(near)) and np.all(np.isfinite(body.internal_force(near)))
+    F = np.diag([1.2, 1.0, 1.0])[None]
+    assert not law.domain_violation(F).any() and law.domain_violation(np.diag([2.0, 1.0, 1.0])[None]).all()

@@ -460,6 +460,11 @@ class Gent(_Parametrized, InvariantLaw):
     def __init__(self, Jm: float):
         self.Jm = self._checked(Jm=Jm)["Jm"]
 
+    def domain_violation(self, F):
+        r"""Points at or beyond the locking, :math:`\bar I_1 - 3 \ge J_m` (the energy is infinite there)."""
+        _, I1, _, J = self._invariants(_embed(F))
+        return ~(I1 * J ** (-2.0 / 3.0) - 3.0 < self.Jm)
+
     def energy_expression(self, I1, I2, J, lam, mu, p):
         import sympy
 

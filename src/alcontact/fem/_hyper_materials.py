@@ -188,6 +188,11 @@ class HyperelasticLaw(ABC):
         A = self.tangent(np.eye(3)[None], lam, mu)[0]
         return float(A[0, 0, 1, 1]), float(A[0, 1, 0, 1])
 
+    def domain_violation(self, F: np.ndarray) -> np.ndarray | None:
+        """Where ``F`` (with :math:`J > 0`) lies outside the law's domain: a boolean array of shape
+        ``F.shape[:-2]``, or ``None`` when the law is defined for every :math:`J > 0`."""
+        return None
+
     @abstractmethod
     def energy(self, F: np.ndarray, lam: float, mu: float) -> np.ndarray:
         """Strain energy density :math:`W(F)`, shape ``F.shape[:-2]``."""

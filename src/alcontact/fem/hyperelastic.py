@@ -35,7 +35,7 @@ import numpy as np
 import scipy.sparse as sp
 from skfem import Basis
 
-from alcontact.errors import ConvergenceError, InputError, InvertedElementError, NonFiniteError
+from alcontact.errors import ConvergenceError, InputError, InvertedElementError, LawDomainError, NonFiniteError
 from alcontact.fem._hyper_materials import HyperelasticLaw, det, make_material
 from alcontact.fem._material import Material
 from alcontact.fem.elasticity import LinearElasticity
@@ -246,6 +246,16 @@ class Hyperelastic(LinearElasticity):
                 f"{elements.size} of {F.shape[0]} elements inverted (J = det F <= 0 at a quadrature "
                 f"point, min J = {float(np.nanmin(J)):.3g}): elements {shown}. The displacement is too "
                 "large for this mesh: reject the Newton step (line search) or cut the load step.",
+                elements=elements,
+            )
+        out = self.law.domain_violation(F)
+        if out is not None and out.any():
+            elements = np.flatnonzero(out.any(axis=1))
+            shown = ", ".join(map(str, elements[:20])) + (", ..." if elements.size > 20 else "")
+            raise LawDomainError(
+                f"{elements.size} of {F.shape[0]} elements deformed beyond the domain of material law "
+                f"{self.law.name!r} (e.g. the Gent locking I1b - 3 >= Jm): elements {shown}. Reject the Newton "
+                "step or cut the load step; if the stretch is physical, raise the law's limit (Jm).",
                 elements=elements,
             )
         return F, J
