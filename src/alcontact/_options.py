@@ -34,7 +34,7 @@ from .errors import InputError
 
 __all__ = ["REQUIRED", "TYPES", "BAD", "MAX_STEPS", "VALUE_RANGE", "Option", "check_value", "declared",
            "declarations", "check_dataclass", "as_options", "is_real", "is_integer", "show", "LINEAR_MODEL",
-           "kinematics_option", "material_model_option", "OBSTACLE_PATH", "MAX_CUTBACKS"]
+           "kinematics_option", "material_model_option", "ENERGY_MODEL", "OBSTACLE_PATH", "MAX_CUTBACKS"]
 
 
 class _Required:
@@ -462,6 +462,9 @@ def as_options(cls: type, options: Any, overrides: dict, kind: str) -> Any:
 #: ``material.model`` of a linear elastic body (small strains); every other value is a hyperelastic law.
 LINEAR_MODEL = "linear"
 
+#: Law name of a user strain energy given as ``[material] energy`` (not a ``model`` choice).
+ENERGY_MODEL = "energy-expression"
+
 
 def kinematics_option() -> Option:
     """``[contact] kinematics``: the contact kinematics (registry :data:`alcontact.contact._problem.KINEMATICS`)."""
@@ -477,7 +480,8 @@ def material_model_option() -> Option:
     from .fem._hyper_materials import available_materials
 
     return Option("model", "str", None, "Constitutive law: `linear` (small strains) or a hyperelastic law for "
-                  "`kinematics = \"finite\"` (default: `linear` for small, `neo-hookean` for finite kinematics).",
+                  "`kinematics = \"finite\"` (default: `linear` for small, `neo-hookean` for finite kinematics); "
+                  "its parameters go in `[material.parameters]`, see the tables below.",
                   choices=(LINEAR_MODEL,) + tuple(available_materials()))
 
 

@@ -12,6 +12,7 @@ __all__ = [
     "UnknownNameError",
     "DomainError",
     "NonFiniteError",
+    "LawDomainError",
     "ConvergenceError",
     "ConfigError",
     "MeshError",
@@ -93,3 +94,8 @@ class InvertedElementError(AlcontactError, ArithmeticError):
 
         self.elements = np.asarray(elements, dtype=np.int64)
         super().__init__(message)
+
+
+class LawDomainError(InvertedElementError):
+    """A deformation outside the domain of the material law in some element (e.g. the Gent law's
+    locking, I1b - 3 >= Jm): treated like an inverted element (a rejected step)."""

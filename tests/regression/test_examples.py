@@ -15,7 +15,7 @@ from alcontact.runner import run_setup
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 NAMES = ["hertz_2d", "hertz_3d", "flat_punch", "signorini_liftoff", "sliding_block", "cattaneo_mindlin",
-         "finite_half_cylinder", "finite_ironing", "finite_ironing_friction"]
+         "finite_half_cylinder", "finite_ironing", "finite_ironing_friction", "finite_mooney_rivlin"]
 
 
 def _run(name):
@@ -114,6 +114,44 @@ def test_finite_half_cylinder_equals_the_python_api():
     f = api.forces[:, 1]
     assert f[-1] > 4 * f[0]  # the force grows faster than the approach: Hertz-like stiffening
     assert s["cutbacks"] == 0 and len(res.frames) == 4
+
+
+def test_finite_mooney_rivlin_runs_the_law_of_the_file_and_equals_the_python_api():
+    """The Mooney-Rivlin example runs the law and constants of its file (c10 = 0.5, c01 = 0.1, E derived
+    as 2 mu0 (1 + nu) = 3.48) and gives the Python API's steps and forces (to 1e-9 relative) for
+    ``half_cylinder(n=6, delta=0.3)`` with ``MooneyRivlin(0.5, 0.1)``; the same law written as a user
+    ``energy`` in the file gives the same forces (1e-9); the force grows faster than the approach."""
+    from alcontact.contact import solve_finite
+    from alcontact.fem import EnergyExpression, MooneyRivlin
+    from alcontact.io.config import load_problem_text
+    from alcontact.problems.half_cylinder import half_cylinder
+
+    setup, res = _run("finite_mooney_rivlin")
+    body = setup.problem.model
+    assert isinstance(body.law, MooneyRivlin) and (body.law.c10, body.law.c01) == (0.5, 0.1)
+    assert body.material.E == pytest.approx(3.48, rel=1e-14) and body.material.nu == 0.45
+    s = res.summary
+    assert s["cutbacks"] == 0 and len(res.frames) == 6
+    api = solve_finite(half_cylinder(n=6, delta=0.3, E=3.48, nu=0.45, model=MooneyRivlin(0.5, 0.1)), steps=6)
+    assert api.success
+    assert s["step_newton_iterations"] == [st.newton_iterations for st in api.steps]
+    np.testing.assert_allclose(s["step_contact_force"], api.forces, rtol=1e-9, atol=1e-9 * abs(api.forces).max())
+    f = api.forces[:, 1]
+    assert f[-1] > 6 * f[0]
+
+    text = (EXAMPLES / "finite_mooney_rivlin.toml").read_text(encoding="utf-8")
+    K = 3.48 / (3 * (1 - 2 * 0.45))
+    user = text.replace('model = "mooney-rivlin"\nnu = 0.45\nparameters = { c10 = 0.5, c01 = 0.1 }',
+                        'energy = "c10*(I1b-3) + c01*(I2b-3) + K/2*(J-1)**2"\n'
+                        f'parameters = {{ c10 = 0.5, c01 = 0.1, K = {K!r} }}')
+    assert user != text
+    usetup = load_problem_text(user, base_dir=EXAMPLES)
+    assert isinstance(usetup.problem.model.law, EnergyExpression)
+    assert usetup.problem.model.material.nu == pytest.approx(0.45, rel=1e-12)
+    ures = run_setup(usetup)
+    assert ures.summary["status"] == "converged"
+    np.testing.assert_allclose(ures.summary["step_contact_force"], s["step_contact_force"], rtol=1e-9,
+                               atol=1e-9 * abs(api.forces).max())
 
 
 def test_finite_ironing_contact_follows_the_moving_cylinder():

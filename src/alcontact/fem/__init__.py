@@ -24,8 +24,19 @@ from alcontact.fem._hyper_materials import (
     SaintVenantKirchhoff,
     SymbolicMaterial,
     available_materials,
+    example_material_parameters,
     make_material,
+    material_parameters,
     register_material,
+)
+from alcontact.fem._hyper_laws import (
+    ArrudaBoyce,
+    EnergyExpression,
+    Gent,
+    MooneyRivlin,
+    Ogden,
+    Yeoh,
+    check_material_parameters,
 )
 from alcontact.fem._linalg import Factorization, nested_dissection
 from alcontact.fem._material import Material
@@ -33,7 +44,13 @@ from alcontact.fem.elasticity import LinearElasticity, rigid_body_modes
 from alcontact.fem.hyperelastic import Hyperelastic
 
 __all__ = [
+    "ArrudaBoyce",
     "Body",
+    "EnergyExpression",
+    "Gent",
+    "MooneyRivlin",
+    "Ogden",
+    "Yeoh",
     "Factorization",
     "Hyperelastic",
     "HyperelasticLaw",
@@ -43,7 +60,10 @@ __all__ = [
     "SaintVenantKirchhoff",
     "SymbolicMaterial",
     "available_materials",
+    "check_material_parameters",
+    "example_material_parameters",
     "make_material",
+    "material_parameters",
     "register_material",
     "meshes",
     "model_problems",

@@ -44,8 +44,8 @@ Examples
 >>> F = np.eye(3)[None]
 >>> float(law.energy(F, 1.0, 1.0)[0]), float(np.abs(law.stress(F, 1.0, 1.0)).max())
 (0.0, 0.0)
->>> sorted(available_materials())
-['neo-hookean', 'saint-venant-kirchhoff']
+>>> sorted(available_materials())[:4]
+['arruda-boyce', 'gent', 'mooney-rivlin', 'neo-hookean']
 """
 
 from __future__ import annotations
@@ -66,6 +66,8 @@ __all__ = [
     "available_materials",
     "make_material",
     "register_material",
+    "material_parameters",
+    "example_material_parameters",
     "det",
     "inv",
 ]
@@ -146,6 +148,51 @@ class HyperelasticLaw(ABC):
 
     name: str = ""
 
+    #: Declared parameters of the law (type, range, one line of doc), checked by
+    #: :func:`~alcontact.fem.check_material_parameters` (:func:`make_material`, the constructors of the
+    #: parametrized laws and the problem-file loader, ``material.parameters``).
+    PARAMETERS: tuple = ()
+
+    #: One line of plain text: the energy and where its moduli come from (generated docs).
+    SUMMARY: str = ""
+
+    #: Values of :attr:`PARAMETERS` of a documented example (initial shear modulus 0.9): the
+    #: generated tests and docs build the law with them, so a newly registered law is covered.
+    EXAMPLE_PARAMETERS: dict = {}
+
+    @classmethod
+    def parameter_issues(cls, values: dict[str, Any]) -> list[tuple[str, str]]:
+        """Conditions between declared parameters (stability ranges), as ``(name, message)`` pairs.
+
+        Called with the values that passed their own declarations; ``message``
+        starts with ``"= value: "`` and says the allowed range and the fix.
+        """
+        return []
+
+    def fixed_moduli(self) -> tuple[float | None, float | None]:
+        r"""Initial shear and bulk moduli :math:`(\mu_0, K_0)` fixed by the law's own parameters.
+
+        ``None`` where the law takes the modulus from the :class:`~alcontact.fem.Material`
+        (:math:`\mu` and :math:`K = \lambda + 2\mu/3`). A body checks that the
+        material's constants agree with the fixed ones (:meth:`reference_moduli`).
+        """
+        return None, None
+
+    def reference_moduli(self, lam: float, mu: float) -> tuple[float, float]:
+        r"""Lamé constants :math:`(\lambda_0, \mu_0)` of the linearization at :math:`F = I`.
+
+        Read from :math:`\mathbb{A}(I) = \lambda_0\,\delta_{iJ}\delta_{kL}
+        + \mu_0(\delta_{ik}\delta_{JL} + \delta_{iL}\delta_{Jk})` in 3D: the consistency
+        condition to linear elasticity is :math:`(\lambda_0, \mu_0) = (\lambda, \mu)`.
+        """
+        A = self.tangent(np.eye(3)[None], lam, mu)[0]
+        return float(A[0, 0, 1, 1]), float(A[0, 1, 0, 1])
+
+    def domain_violation(self, F: np.ndarray) -> np.ndarray | None:
+        """Where ``F`` (with :math:`J > 0`) lies outside the law's domain: a boolean array of shape
+        ``F.shape[:-2]``, or ``None`` when the law is defined for every :math:`J > 0`."""
+        return None
+
     @abstractmethod
     def energy(self, F: np.ndarray, lam: float, mu: float) -> np.ndarray:
         """Strain energy density :math:`W(F)`, shape ``F.shape[:-2]``."""
@@ -193,6 +240,7 @@ class NeoHookean(HyperelasticLaw):
     r"""Compressible neo-Hookean law (module doc): :math:`W = \frac{\mu}{2}(\operatorname{tr}C - 3) - \mu\ln J + \frac{\lambda}{2}\ln^2 J`."""
 
     name = "neo-hookean"
+    SUMMARY = "W = mu/2 (I1 - 3) - mu ln J + lam/2 (ln J)^2 with the Lame constants of E and nu."
 
     def energy(self, F, lam, mu):
         d = F.shape[-1]
@@ -230,6 +278,7 @@ class SaintVenantKirchhoff(HyperelasticLaw):
     r"""St Venant-Kirchhoff law (module doc): :math:`W = \mu E:E + \frac{\lambda}{2}(\operatorname{tr}E)^2`."""
 
     name = "saint-venant-kirchhoff"
+    SUMMARY = "W = mu E:E + lam/2 (tr E)^2, E = (C - I)/2, with the Lame constants of E and nu."
 
     @staticmethod
     def _green(F):
@@ -401,19 +450,52 @@ def available_materials() -> list[str]:
     return sorted(_REGISTRY)
 
 
-def make_material(name: str | HyperelasticLaw) -> HyperelasticLaw:
+def material_parameters(name: str) -> tuple:
+    """Declared parameters (:class:`~alcontact._options.Option`) of the law registered as ``name``."""
+    if not isinstance(name, str) or name not in _REGISTRY:
+        raise UnknownNameError("hyperelastic material", str(name), list(_REGISTRY))
+    return tuple(getattr(_REGISTRY[name], "PARAMETERS", ()))
+
+
+def example_material_parameters(name: str) -> dict[str, Any]:
+    """Parameters of the documented example of law ``name`` (``{}`` for a law without parameters)."""
+    material_parameters(name)  # the name check
+    return dict(getattr(_REGISTRY[name], "EXAMPLE_PARAMETERS", {}))
+
+
+def make_material(name: str | HyperelasticLaw, **params: Any) -> HyperelasticLaw:
     """The hyperelastic law registered as ``name`` (a law instance is returned as is).
+
+    Parameters
+    ----------
+    name : str or HyperelasticLaw
+    **params
+        The law's declared parameters (:func:`material_parameters`), e.g.
+        ``make_material("mooney-rivlin", c10=0.4, c01=0.1)``.
 
     Raises
     ------
     alcontact.errors.UnknownNameError
         If no law has that name (the message lists the known ones).
+    alcontact.errors.InputError
+        If a parameter is unknown, missing or out of its stable range.
     """
     if isinstance(name, HyperelasticLaw):
+        if params:
+            raise InputError(f"make_material: parameters {sorted(params)} given with a law instance {name!r}; "
+                             "pass the parameters when building the instance.")
         return name
     if not isinstance(name, str) or name not in _REGISTRY:
         raise UnknownNameError("hyperelastic material", str(name), list(_REGISTRY))
-    law = _REGISTRY[name]()
+    factory = _REGISTRY[name]
+    build = getattr(factory, "from_parameters", None)  # a law with declared parameters checks them
+    if build is not None:
+        law = build(params, name=name)
+    elif params:
+        raise InputError(f"material {name!r} takes no parameters (its constants are E and nu); got "
+                         f"{', '.join(sorted(params))}.")
+    else:
+        law = factory()
     if not isinstance(law, HyperelasticLaw):
         raise InputError(f"the factory registered as material {name!r} returned {law!r}, not a HyperelasticLaw; "
                          "register a HyperelasticLaw instance or a factory that returns one.")

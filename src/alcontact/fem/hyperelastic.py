@@ -35,7 +35,7 @@ import numpy as np
 import scipy.sparse as sp
 from skfem import Basis
 
-from alcontact.errors import ConvergenceError, InputError, InvertedElementError, NonFiniteError
+from alcontact.errors import ConvergenceError, InputError, InvertedElementError, LawDomainError, NonFiniteError
 from alcontact.fem._hyper_materials import HyperelasticLaw, det, make_material
 from alcontact.fem._material import Material
 from alcontact.fem.elasticity import LinearElasticity
@@ -184,6 +184,7 @@ class Hyperelastic(LinearElasticity):
             )
         # Material already holds -1 < nu < 0.5, which every compressible law needs
         self.law = make_material(model)
+        self._check_moduli(material)
         if intorder is None:
             intorder = max(1, 2 * (self.order - 1))
         if isinstance(intorder, bool) or not isinstance(intorder, (int, np.integer)) or intorder < 1:
@@ -196,6 +197,31 @@ class Hyperelastic(LinearElasticity):
         self._sdofs = sdofs
         self._vdofs = self.dof_map[sdofs].reshape(sdofs.shape[0], -1)  # (nel, nloc*dim), a-major
         self._kept_gradient: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
+
+    def _check_moduli(self, material: Material) -> None:
+        r"""The law linearized at :math:`F = I` must be the material's linear elasticity.
+
+        The linear elastic stiffness of the body (:meth:`stiffness`, contact scalings)
+        uses ``material``; a law that fixes :math:`\mu_0` or :math:`K_0` by its own
+        parameters (:meth:`~alcontact.fem.HyperelasticLaw.fixed_moduli`) must agree.
+        """
+        lam, mu = material.lame(3)
+        lam0, mu0 = self.law.reference_moduli(lam, mu)
+        if not (np.isfinite(lam0) and np.isfinite(mu0)) or abs(mu0 - mu) > 1e-6 * mu \
+                or abs(lam0 - lam) > 1e-6 * (lam + 2.0 * mu / 3.0):
+            K0 = lam0 + 2.0 * mu0 / 3.0
+            fix = ""
+            if mu0 > 0 and K0 > 0:
+                E0, nu0 = 9.0 * K0 * mu0 / (3.0 * K0 + mu0), (3.0 * K0 - 2.0 * mu0) / (2.0 * (3.0 * K0 + mu0))
+                if abs(K0 - (lam + 2.0 * mu / 3.0)) <= 1e-6 * K0:
+                    E0, nu0 = 2.0 * mu0 * (1.0 + material.nu), material.nu
+                fix = f" Use Material(E={E0:.12g}, nu={nu0:.12g}) for these law parameters."
+            raise InputError(
+                f"material law {self.law.name!r} linearizes at F = I to shear modulus {mu0:.6g} and lambda "
+                f"{lam0:.6g}, but Material(E={material.E:g}, nu={material.nu:g}) has mu = {mu:.6g}, lambda = "
+                f"{lam:.6g}: the law's initial moduli must equal the material's (consistency with linear "
+                f"elasticity).{fix}"
+            )
 
     # ------------------------------------------------------------- kinematics
     def _check_u(self, u) -> np.ndarray:
@@ -220,6 +246,16 @@ class Hyperelastic(LinearElasticity):
                 f"{elements.size} of {F.shape[0]} elements inverted (J = det F <= 0 at a quadrature "
                 f"point, min J = {float(np.nanmin(J)):.3g}): elements {shown}. The displacement is too "
                 "large for this mesh: reject the Newton step (line search) or cut the load step.",
+                elements=elements,
+            )
+        out = self.law.domain_violation(F)
+        if out is not None and out.any():
+            elements = np.flatnonzero(out.any(axis=1))
+            shown = ", ".join(map(str, elements[:20])) + (", ..." if elements.size > 20 else "")
+            raise LawDomainError(
+                f"{elements.size} of {F.shape[0]} elements deformed beyond the domain of material law "
+                f"{self.law.name!r} (e.g. the Gent locking I1b - 3 >= Jm): elements {shown}. Reject the Newton "
+                "step or cut the load step; if the stretch is physical, raise the law's limit (Jm).",
                 elements=elements,
             )
         return F, J

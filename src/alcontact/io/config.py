@@ -32,7 +32,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from .._options import BAD, LINEAR_MODEL, Option, check_value, declarations
+from .._options import BAD, ENERGY_MODEL, LINEAR_MODEL, Option, check_value, declarations
 from ..errors import ConfigError, InputError, MeshError, UnknownNameError
 from .schema import Table, schema
 
@@ -496,6 +496,16 @@ def _kinematics(mt, cd, dim, data: dict, issues: list[Issue]) -> tuple[str, str]
     model = mt.get("model") if isinstance(mt, dict) else None
     if model is _BAD:
         model = None
+    energy = mt.get("energy") if isinstance(mt, dict) else None
+    if energy is not None and energy is not _BAD:
+        if model is not None:
+            issues.append(Issue("material.energy", f"given together with model = {model!r}: a user energy is "
+                                                   "its own law; remove one of model and energy."))
+        model = ENERGY_MODEL
+        if kin != "finite":
+            issues.append(Issue("contact.kinematics", "= 'small': a user material.energy is a hyperelastic law "
+                                                      "and needs kinematics = 'finite'."))
+            return kin, model
     if model is None:
         model = "neo-hookean" if kin == "finite" else LINEAR_MODEL
     finite = kin == "finite"
@@ -530,6 +540,85 @@ def _kinematics(mt, cd, dim, data: dict, issues: list[Issue]) -> tuple[str, str]
     return kin, model
 
 
+def _split_message(msg: str, default: str) -> Issue:
+    """An :class:`Issue` from an InputError message that starts with its key path (``key = ...`` / ``key: ...``)."""
+    import re
+
+    m = re.match(r"^([A-Za-z_][\w.\[\]]*)( = |: )(.*)$", msg, flags=re.S)
+    if m is None or not m.group(1).startswith("material."):
+        return Issue(default, msg)
+    return Issue(m.group(1), ("= " if m.group(2) == " = " else "") + m.group(3))
+
+
+def _material_law(mt: dict, law: str, issues: list[Issue]):
+    """``(law instance or None, E, nu)`` of ``[material]``: the law built from ``model`` and
+    ``[material.parameters]`` (or ``energy``), and the constants, completed from the moduli
+    the law fixes (:meth:`~alcontact.fem.HyperelasticLaw.fixed_moduli`) and checked against them.
+
+    ``E`` or ``nu`` is ``None`` (with an issue) when it is missing or cannot be derived.
+    """
+    from ..fem import EnergyExpression, check_material_parameters, make_material
+
+    sub = mt.get("parameters")
+    params = dict(sub.get("params") or {}) if isinstance(sub, dict) else {}
+    E, nu = mt["E"], mt["nu"]
+
+    def require(key: str, why: str):
+        issues.append(Issue(f"material.{key}", f"missing (required {why})."))
+
+    if law == LINEAR_MODEL or law is None:
+        if params:
+            issues.append(Issue("material.parameters", f"= {sorted(params)}: not used by the linear elastic model "
+                                                       "(its constants are E and nu); remove [material.parameters] "
+                                                       "or choose a hyperelastic model."))
+        for key, v in (("E", E), ("nu", nu)):
+            if v is None:
+                require(key, "for the linear elastic model")
+        return None, E, nu
+    if law == ENERGY_MODEL:
+        try:
+            obj = EnergyExpression(mt["energy"], params, key="material.energy", params_key="material.parameters")
+        except InputError as exc:
+            issues.append(_split_message(str(exc), "material.energy"))
+            return None, E, nu
+    else:
+        values, found = check_material_parameters(law, params)
+        issues.extend(_split_message(f"material.parameters.{k} {m}" if m.startswith("= ")
+                                     else f"material.parameters.{k}: {m}", "material.parameters")
+                      for k, m in found)
+        if found:
+            return None, E, nu
+        obj = make_material(law, **values)
+    mu0, K0 = obj.fixed_moduli()
+    if mu0 is None:  # the law takes its moduli from E and nu
+        for key, v in (("E", E), ("nu", nu)):
+            if v is None:
+                require(key, f"for model {law!r}, which takes its shear and bulk moduli from E and nu")
+        return obj, E, nu
+    if K0 is None:  # mu0 fixed, the bulk modulus from nu
+        if nu is None:
+            require("nu", f"for model {law!r}: it sets the bulk modulus of the volumetric term")
+            return obj, E, None
+        E0 = 2.0 * mu0 * (1.0 + nu)
+        what = f"model {law!r} with these parameters has initial shear modulus mu0 = {mu0:.6g}"
+    else:  # the user energy fixes both
+        E0 = 9.0 * K0 * mu0 / (3.0 * K0 + mu0)
+        nu0 = (3.0 * K0 - 2.0 * mu0) / (2.0 * (3.0 * K0 + mu0))
+        what = f"the energy has initial moduli mu0 = {mu0:.6g}, K0 = {K0:.6g}"
+        if nu is not None and abs(nu - nu0) > 1e-6:
+            issues.append(Issue("material.nu", f"= {nu!r}: {what}, so nu = {nu0:.9g}; remove nu (it is derived) "
+                                               "or make it agree."))
+            return obj, E, None
+        nu = nu0
+    if E is not None and abs(E - E0) > 1e-6 * E0:
+        issues.append(Issue("material.E", f"= {E!r}: {what}, so E = 2 mu0 (1 + nu) = {E0:.9g} (consistency with "
+                                          "linear elasticity); remove E (it is derived) or make it agree."
+                            if K0 is None else f"= {E!r}: {what}, so E = {E0:.9g}; remove E (it is derived) or "
+                                               "make it agree."))
+        return obj, None, nu
+    return obj, E0 if E is None else E, nu
+
+
 def _build(data: dict, base: Path, issues: list[Issue], source) -> ProblemSetup | None:  # noqa: C901
     from ..contact import ContactOptions, ContactProblem, Pressure, Traction, BodyForce, Support
     from ..contact import FrictionOptions, friction_algorithms
@@ -554,14 +643,19 @@ def _build(data: dict, base: Path, issues: list[Issue], source) -> ProblemSetup 
         issues.append(issue)
         mesh = dim = None
 
-    # ---- material
-    mat = None
+    # ---- kinematics and constitutive law
     mt = data.get("material")
+    cd = data.get("contact")
+    kinematics, law = _kinematics(mt, cd, dim, data, issues)
+
+    # ---- material
+    mat = law_obj = None
     if _ok({k: v for k, v in (mt or {}).items() if k != "region"}) and mt is not None:
-        bad = material_issues(mt["E"], mt["nu"], mt["plane"])  # the ranges of Material, keyed like the file
+        law_obj, E, nu = _material_law(mt, law, issues)
+        bad = [] if E is None or nu is None else material_issues(E, nu, mt["plane"])  # keyed like the file
         issues.extend(Issue(f"material.{key}", msg) for key, msg in bad)
-        if not bad:
-            mat = _num(issues, "material", Material, E=mt["E"], nu=mt["nu"], plane=mt["plane"])
+        if not bad and E is not None and nu is not None:
+            mat = _num(issues, "material", Material, E=E, nu=nu, plane=mt["plane"])
         for i, reg in enumerate(mt["region"] or []):
             rp = f"material.region[{i + 1}]"
             if not _ok(reg):
@@ -578,10 +672,6 @@ def _build(data: dict, base: Path, issues: list[Issue], source) -> ProblemSetup 
                                         f"plane={reg['plane']!r}, different from [material]: several materials "
                                         "in one body are not supported yet (the FEM layer takes one material); "
                                         "use one [material] for the whole body."))
-
-    # ---- kinematics and constitutive law
-    cd = data.get("contact")
-    kinematics, law = _kinematics(mt, cd, dim, data, issues)
 
     # ---- boundaries, supports, loads
     contact_ok = _ok(cd)
@@ -768,7 +858,9 @@ def _build(data: dict, base: Path, issues: list[Issue], source) -> ProblemSetup 
         return None
     else:
         # the path of LinearElasticity: its mesh-quality errors are rewritten by alcontact.io.preflight
-        model = _num(issues, "mesh.order", Hyperelastic, mesh, mat, order=md["order"], model=law)
+        if law_obj is None:
+            return None
+        model = _num(issues, "mesh.order", Hyperelastic, mesh, mat, order=md["order"], model=law_obj)
     if model is None:
         return None
     center = tuple(rd["center"]) if rd["center"] is not None else (0.0,) * dim

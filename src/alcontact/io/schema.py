@@ -135,13 +135,23 @@ def _build_schema() -> tuple[Table, ...]:
         )),
         Table("material", "Isotropic elastic material of the whole body: linear elastic, or hyperelastic "
               "(`model`) for finite kinematics.", (
-            O("E", "float", REQUIRED, "Young's modulus (stress units, e.g. MPa).", low=0, low_open=True),
-            O("nu", "float", REQUIRED, "Poisson's ratio (< 0.5: every law is compressible).", low=-1, high=0.5,
-              low_open=True, high_open=True),
+            O("E", "float", None, "Young's modulus (stress units, e.g. MPa). Required, except for a law whose "
+              "parameters fix the shear modulus mu0 (`mooney-rivlin`, `yeoh`, `ogden`: default E = 2 mu0 (1 + nu), "
+              "and a given E must equal it) and for `energy` (E and nu follow from it).", low=0, low_open=True),
+            O("nu", "float", None, "Poisson's ratio (< 0.5: every law is compressible; it sets the bulk modulus "
+              "K = E / (3 (1 - 2 nu)) of the volumetric term). Required, except with `energy`.", low=-1,
+              high=0.5, low_open=True, high_open=True),
             O("plane", "str", "strain", "2D assumption: `strain` or `stress` (ignored in 3D; hyperelastic: "
               "`strain` only).", choices=("strain", "stress")),
             material_model_option(),
+            O("energy", "str", None, "A user hyperelastic law: its strain energy W as an expression of the "
+              "invariants `I1`, `I2`, `I3`, `J`, `I1b`, `I2b`, the names of `[material.parameters]`, numbers, "
+              "`+ - * / **` and `log`, `exp`, `sqrt`, e.g. `\"c10*(I1b-3) + c01*(I2b-3) + K/2*(J-1)**2\"` "
+              "(finite kinematics; replaces `model`; parsed, never executed)."),
         ), required=True),
+        Table("material.parameters", "Parameters of the hyperelastic law: the declared ones of `model` (tables "
+              "below), or the names used in `energy`, e.g. `parameters = { c10 = 0.4, c01 = 0.1 }`.", (),
+              open=True),
         Table("material.region", "Material of a mesh region (Gmsh physical group of cells). Names are checked "
               "against the mesh; constants different from `[material]` are rejected until the FEM layer "
               "supports several materials.", (
@@ -341,7 +351,7 @@ def render_markdown() -> str:
         "TOML holds data and registry names only (no code): the `user` obstacle cannot be used from a file.",
         "",
         "Finite deformation: `[contact] kinematics = \"finite\"` with a hyperelastic `[material] model`",
-        "(`neo-hookean`, `saint-venant-kirchhoff`) solves the frictionless problem in the load steps of",
+        "(the laws of `[material.parameters]` below, or a user `energy`) solves the frictionless problem in the load steps of",
         "`[loading]`, each from the last one, with Newton on the deformed configuration; a step that",
         "fails is cut back (`loading.max_cutbacks` halvings). Supports and loads with a `ramp` follow it;",
         "when nothing has a ramp, every support value and load grows in proportion to t. `[obstacle] path`",
@@ -372,11 +382,40 @@ def render_markdown() -> str:
         if t.array:
             flags.append("repeatable")
         lines += [f"## `{head}`" + (f" ({', '.join(flags)})" if flags else ""), "", t.doc, ""]
-        lines += ["| key | type | default | allowed | description |", "|---|---|---|---|---|"]
-        for o in t.options:
-            lines.append(f"| `{o.name}` | {o.type} | {_default_text(o)} | {o.range_text()} | {o.doc} |")
-        lines.append("")
+        if t.options:
+            lines += ["| key | type | default | allowed | description |", "|---|---|---|---|---|"]
+            for o in t.options:
+                lines.append(f"| `{o.name}` | {o.type} | {_default_text(o)} | {o.range_text()} | {o.doc} |")
+            lines.append("")
+        if t.path == "material.parameters":
+            lines += _law_parameter_tables()
     return "\n".join(lines)
+
+
+def _law_parameter_tables() -> list[str]:
+    """One table of declared parameters per hyperelastic law that has any (from the registry)."""
+    from ..fem import available_materials, example_material_parameters, make_material, material_parameters
+
+    lines = ["Every hyperelastic law is compressible: the volumetric term K/2 (J - 1)^2 of the laws with",
+             "parameters uses the bulk modulus K = E / (3 (1 - 2 nu)); at F = I each law linearizes to the",
+             "linear elasticity of E and nu (checked when the body is built). I1b = J^(-2/3) I1 and",
+             "I2b = J^(-4/3) I2 are the isochoric invariants of C = F^T F, J = det F.", ""]
+    for name in available_materials():
+        decl = material_parameters(name)
+        summary = type(make_material(name, **example_material_parameters(name))).SUMMARY
+        if not decl:
+            lines += [f"### `model = \"{name}\"`", "", summary, ""]
+            continue
+        lines += [f"### `model = \"{name}\"`", "", summary, "", "| key | type | default | allowed | description |",
+                  "|---|---|---|---|---|"]
+        for o in decl:
+            lines.append(f"| `{o.name}` | {o.type} | {_default_text(o)} | {o.range_text()} | {o.doc} |")
+        example = ", ".join(f"{k} = {v!r}" for k, v in example_material_parameters(name).items())
+        lines += ["", f"Example: `parameters = {{ {example} }}`.", ""]
+    lines += ["A user law: `energy = \"...\"` (instead of `model`) with its constants in `[material.parameters]`;",
+              "the expression is the whole energy (add a volumetric term such as `K/2*(J-1)**2`), must be",
+              "stress free at F = I, and fixes E and nu through its initial shear and bulk moduli.", ""]
+    return lines
 
 
 def _repo_root() -> Path:
