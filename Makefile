@@ -11,8 +11,16 @@ $(BIN)/python:
 	$(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
 
+# Gmsh's wheel links the X11/OpenGL client libraries (it never opens a display); a bare
+# Debian 12 lacks some of them, so they come from Debian's packages when `import gmsh` fails.
+GMSH_DEBS := libglu1-mesa libgl1 libopengl0 libx11-6 libxext6 libxfixes3 libxrender1 \
+             libxcursor1 libxft2 libxinerama1 libfontconfig1 libgomp1
+
 $(VENV)/.installed: $(BIN)/python pyproject.toml
 	$(BIN)/python -m pip install --quiet -e '.[test]'
+	$(BIN)/python -c 'import gmsh' 2>/dev/null || { apt-get update -qq && \
+	  DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends $(GMSH_DEBS); }
+	$(BIN)/python -c 'import gmsh'
 	touch $@
 
 install: $(VENV)/.installed
