@@ -9,6 +9,7 @@ from __future__ import annotations
 from .plots import (
     Units,
     contact_coordinate,
+    loaded_half_width,
     convergence_figure,
     load_displacement_figure,
     pressure_figure,
@@ -21,6 +22,7 @@ from .plots import (
 __all__ = [
     "Units",
     "contact_coordinate",
+    "loaded_half_width",
     "pressure_figure",
     "convergence_figure",
     "save_figure",

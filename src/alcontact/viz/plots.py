@@ -28,6 +28,7 @@ from ..io.results import atomic_path
 __all__ = [
     "Units",
     "contact_coordinate",
+    "loaded_half_width",
     "pressure_figure",
     "convergence_figure",
     "save_figure",
@@ -111,12 +112,90 @@ def _new_figure(size=(6.4, 4.2)):
     return fig
 
 
-def contact_coordinate(solution, axis: int = 0, center=None) -> tuple[np.ndarray, str]:
-    """Coordinate of the contact points for a profile plot.
+def _pad(center, d: int) -> np.ndarray:
+    c = np.zeros(d) if center is None else np.asarray(center, dtype=float).ravel()
+    return np.concatenate([c, np.zeros(d - c.size)]) if c.size < d else c[:d]
 
-    2D: the signed coordinate ``x[axis] - center[axis]`` along the contact
-    boundary. 3D: the distance from ``center`` within the (flat) contact
-    plane, i.e. the radius of an axisymmetric contact.
+
+def _body_normals(solution, points: np.ndarray) -> np.ndarray | None:
+    """Outward unit normals of the body's contact boundary at ``points`` (``None`` without a mesh).
+
+    Facet normals (oriented away from the facet's element) summed at the vertices with the
+    facet size as weight; each point takes the normal of its nearest boundary vertex (the
+    edge midpoints of P2 included).
+    """
+    problem = getattr(solution, "problem", None)
+    model = getattr(problem, "model", None)
+    name = getattr(problem, "contact_boundary", None)
+    mesh = getattr(model, "mesh", None)
+    if mesh is None or name is None or not hasattr(model, "facets"):
+        return None
+    try:
+        f = np.asarray(model.facets(name), dtype=np.int64)
+        P = np.asarray(mesh.p, dtype=float)
+        nodes = np.asarray(mesh.facets)[:, f]
+        elem = np.asarray(mesh.f2t)[0, f]
+        centroid = P[:, np.asarray(mesh.t)[:, elem]].mean(axis=1)
+    except (AttributeError, KeyError, IndexError, TypeError, ValueError):
+        return None
+    d = P.shape[0]
+    if f.size == 0 or d != points.shape[1] or d not in (2, 3):
+        return None
+    a = P[:, nodes[1]] - P[:, nodes[0]]
+    if d == 2:
+        nrm = np.vstack([a[1], -a[0]])
+    else:
+        nrm = np.cross(a.T, (P[:, nodes[2]] - P[:, nodes[0]]).T).T
+    nrm *= np.where(np.sum(nrm * (P[:, nodes].mean(axis=1) - centroid), axis=0) < 0, -1.0, 1.0)
+    acc = np.zeros((P.shape[1], d))
+    for k in range(nodes.shape[0]):
+        np.add.at(acc, nodes[k], nrm.T)
+    verts = np.unique(nodes)
+    from scipy.spatial import cKDTree
+
+    _, nearest = cKDTree(P[:, verts].T).query(points)
+    nu = acc[verts[nearest]]
+    return nu / np.maximum(np.linalg.norm(nu, axis=1, keepdims=True), 1e-300)
+
+
+def contact_coordinate(solution, axis: int = 0, center=None) -> tuple[np.ndarray, str]:
+    r"""Abscissa of the contact points for a profile plot, monotone along the contact boundary.
+
+    The approach direction :math:`n` is the pressure-weighted mean normal at the loaded
+    points (all points when none is loaded), of the obstacle or of the body's contact
+    boundary, whichever varies less over them (a plane obstacle, a flat face), so
+    that a curved contact boundary (ball, O-ring, a Gmsh body) is measured in the
+    plane the obstacle presses on rather than along the direction of least extent. With the
+    contact centre :math:`c`, a point :math:`x` on the side of the body that faces
+    the obstacle (outward boundary normal :math:`\nu` with :math:`\nu\cdot n > 0`) gets
+
+    .. math::
+
+        r(x) = \bigl|(x - c) - ((x - c)\cdot n)\,n\bigr|,
+
+    its distance from the axis through :math:`c` along :math:`n` (2D: signed by the
+    tangent :math:`t \perp n` that points along ``+axis``). This is Hertz's radius for
+    a flat body and the chord radius :math:`R\sin\theta` on a sphere or a cylinder of
+    radius :math:`R`. Points on the far side (:math:`\nu\cdot n \le 0`: the back of a
+    ball, the sides of a punch) continue past the fold, at
+    :math:`r_f + |(r_f - r,\; h - h_f)|` with :math:`r_f` the largest front radius,
+    :math:`h = (x - c)\cdot n` and :math:`h_f` the deepest front height, so that the
+    abscissa keeps increasing along the boundary instead of folding back onto the
+    contact zone.
+
+    Parameters
+    ----------
+    solution : ContactSolution
+        ``points`` (m, d), ``pressure`` (m,), ``normals`` (m, d) (outward normals of
+        the obstacle, optional: without any normals the coordinate direction of least
+        extent is the approach direction) and ``problem`` (mesh and contact boundary, optional:
+        without them no point is treated as far side).
+    axis : int
+        2D: the coordinate whose direction gives the sign.
+    center : sequence of float, optional
+        Contact centre :math:`c` (e.g. the symmetry point of a half or quarter
+        model). Default: the point of the largest pressure (of the largest gap when
+        nothing is loaded).
 
     Returns
     -------
@@ -125,15 +204,72 @@ def contact_coordinate(solution, axis: int = 0, center=None) -> tuple[np.ndarray
         Axis label without unit: ``"x ..."`` in 2D, ``"r ..."`` in 3D.
     """
     pts = np.asarray(solution.points, dtype=float)
-    d = pts.shape[1]
-    c = np.zeros(d) if center is None else np.asarray(center, dtype=float)
-    if c.size < d:
-        c = np.concatenate([c, np.zeros(d - c.size)])
+    m, d = pts.shape
+    p = np.asarray(getattr(solution, "pressure", np.zeros(m)), dtype=float)
+    loaded = p > 0
+    nu = _body_normals(solution, pts)
+    w = p if np.any(loaded) else np.ones(m)
+    n, spread = None, np.inf
+    # the flatter side sets the direction: the obstacle's normals for a plane, the body's for a flat face
+    ob = getattr(solution, "normals", None)  # outward normals of the obstacle: they point at the body
+    for normals in (None if ob is None else -np.asarray(ob, dtype=float), nu):
+        if normals is None or np.shape(normals) != (m, d):
+            continue
+        s = np.asarray(normals, dtype=float).T @ w
+        norm = float(np.linalg.norm(s))
+        if norm > 0 and np.all(np.isfinite(s)) and 1.0 - norm / float(np.sum(w)) < spread - 1e-12:
+            n, spread = s / norm, 1.0 - norm / float(np.sum(w))
+    if n is None:  # no normals: the flat direction of the point cloud
+        n = np.eye(d)[int(np.argmin(np.ptp(pts, axis=0)))] if m else np.eye(d)[-1]
+    if center is not None:
+        c = _pad(center, d)
+    elif np.any(loaded):
+        c = pts[int(np.argmax(p))]
+    else:
+        gap = np.asarray(getattr(solution, "gap", np.zeros(m)), dtype=float)
+        c = pts[int(np.argmax(gap))] if m else np.zeros(d)
+    rel = pts - c
+    h = rel @ n
+    lateral = rel - np.outer(h, n)
     if d == 2:
-        return pts[:, axis] - c[axis], "x (along the contact boundary)"
-    flat = int(np.argmin(np.ptp(pts, axis=0)))
-    plane = [k for k in range(d) if k != flat]
-    return np.linalg.norm(pts[:, plane] - c[plane], axis=1), "r (distance from the centre in the contact plane)"
+        t = np.array([-n[1], n[0]])
+        if t[axis] < 0 or (t[axis] == 0 and t[1 - axis] < 0):
+            t = -t
+        signed = lateral @ t
+        r = np.abs(signed)
+    else:
+        signed = None
+        r = np.linalg.norm(lateral, axis=1)
+    if nu is not None:
+        front = nu @ n > 1e-3
+        if np.any(front) and not np.all(front):
+            r_f = float(np.max(r[front]))
+            h_f = float(np.min(h[front]))
+            back = ~front
+            r = r.copy()
+            r[back] = r_f + np.hypot(r_f - r[back], h[back] - h_f)
+    if d == 2:
+        sign = np.where(signed < 0, -1.0, 1.0)
+        return sign * r, "x (along the contact boundary)"
+    return r, "r (distance from the centre in the contact plane)"
+
+
+def loaded_half_width(solution, axis: int = 0, center=None) -> float:
+    """Half-width of the loaded zone measured with :func:`contact_coordinate` (contact radius in 3D).
+
+    2D: half the extent :math:`(x_{max} - x_{min})/2` of the loaded points along the
+    contact boundary; 3D: the largest distance of a loaded point from the centre.
+    A contact measure for problems without a declared contact centre (a moving
+    obstacle, a curved body): unlike a distance from the origin it stays a width
+    wherever the contact zone is. ``0.0`` when no point carries pressure.
+    """
+    r, _ = contact_coordinate(solution, axis=axis, center=center)
+    loaded = np.asarray(solution.pressure, dtype=float) > 0
+    if not np.any(loaded):
+        return 0.0
+    if np.asarray(solution.points).shape[1] == 2:
+        return 0.5 * float(np.ptp(r[loaded]))
+    return float(np.max(r[loaded]))
 
 
 def pressure_figure(solution, *, reference=None, load: float | None = None, center=None, axis: int = 0,
