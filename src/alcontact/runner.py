@@ -154,6 +154,13 @@ def equilibrium_keys(eq) -> dict[str, Any]:
     }
 
 
+def _half_width_measure(solution, axis: int, center) -> str:
+    from .viz.plots import contact_center
+
+    return "from the contact centre" if contact_center(solution, center, declared=False) is not None \
+        else "half the extent of the loaded zone"
+
+
 def summarize(problem, solution, *, problem_name: str | None = None, level: int | None = None,
               options: dict | None = None, build_time_s: float | None = None) -> dict[str, Any]:
     r"""The ``summary.json`` dictionary of a solved problem.
@@ -176,7 +183,12 @@ def summarize(problem, solution, *, problem_name: str | None = None, level: int 
         ``time_ratio_contact_to_linear`` compares the contact solve with a linear one.
     ``contact_half_width``, ``contact_half_width_exact``
         Computed half-width ``a`` (contact radius in 3D) and the analytical one
-        for the load the model carries.
+        for the load the model carries. Measured from the contact centre
+        (``problem.meta["center"]``); a problem file's centre that is only the default
+        origin (``meta["center_declared"]`` false) is used while it lies in the
+        contact zone, otherwise ``a`` is half the extent of the loaded zone
+        (:func:`alcontact.viz.contact_half_width`), never the distance of the zone
+        from the origin.
     ``peak_pressure``, ``peak_pressure_exact``
         Estimated peak pressure and the analytical ``p0``.
     ``total_contact_force``
@@ -210,8 +222,14 @@ def summarize(problem, solution, *, problem_name: str | None = None, level: int 
     center = meta.get("center")
     axis = int(meta.get("symmetry_axis", 0))
 
-    a_num = float(solution.contact_half_width(axis=axis, center=center))
-    a_edge = float(solution.contact_half_width_edge(axis=axis, center=center))
+    declared = bool(meta.get("center_declared", True))
+    if declared or center is None:
+        a_num = float(solution.contact_half_width(axis=axis, center=center))
+        a_edge = float(solution.contact_half_width_edge(axis=axis, center=center))
+    else:  # a problem file's default centre (the origin): only while it lies in the contact zone
+        from .viz.plots import contact_half_width
+
+        a_num = a_edge = contact_half_width(solution, axis=axis, center=center, declared=False)
     p_num = float(solution.peak_pressure)
     p_max = float(solution.peak_pressure_nodal_max)
     f_model = float(solution.normal_force)
@@ -252,6 +270,8 @@ def summarize(problem, solution, *, problem_name: str | None = None, level: int 
         "status_code": int(res.status),
         "message": res.message,
         "contact_half_width_error_pct": _error_pct(a_num, a_ex),
+        "contact_half_width_measure": "from the contact centre" if declared or center is None or a_ex is not None
+        else _half_width_measure(solution, axis, center),
         "peak_pressure_error_pct": _error_pct(p_num, p_ex),
         "model_contact_force": f_model,
         "contact_force_vector": np.asarray(solution.total_contact_force, dtype=float).tolist(),
@@ -716,7 +736,14 @@ def _finite_summary(setup, fs, frames, wall: float) -> dict[str, Any]:
     }
     if steps:
         out.update(equilibrium_keys(final.equilibrium()))
-    lin = final.timings.get("linear_solve_s")
+    # the solver times all its Newton linear solves together: one solve is their mean
+    total = final.timings.get("linear_solve_s")
+    count = int(final.result.linear_solves)
+    lin = total / count if total and count > 0 else None
+    out["linear_solve_time_s"] = lin
+    out["linear_solve_time_total_s"] = total
+    out["linear_solve_count"] = count
+    out["linear_solve_time_kind"] = "mean Newton linear solve" if lin else None
     out["time_ratio_contact_to_linear"] = out["wall_time_s"] / lin if lin else None
     if not fs.success:
         reached = float(steps[-1].t) if steps else 0.0
@@ -755,6 +782,8 @@ def _controls(setup) -> list[tuple[str, str, str, int]]:
 
 
 def _step_rows(setup, frames, controls) -> list[dict[str, Any]]:
+    from .viz.plots import contact_half_width
+
     model = setup.problem.model
     meta = setup.problem.meta
     axis = int(meta.get("symmetry_axis", 0))
@@ -770,7 +799,8 @@ def _step_rows(setup, frames, controls) -> list[dict[str, Any]]:
             "normal_force": fr.normal_force,
             "tangential_force": float(np.linalg.norm(tf)),
             "peak_pressure": fr.peak_pressure,
-            "contact_half_width": fr.contact_half_width(axis=axis, center=meta.get("center")),
+            "contact_half_width": contact_half_width(fr, axis=axis, center=meta.get("center"),
+                                                     declared=bool(meta.get("center_declared", True))),
             "active_points": int(np.count_nonzero(fr.active)),
             "penetration": fr.result.penetration,
         }
@@ -1014,6 +1044,10 @@ def run_setup(setup, out: str | os.PathLike | None = None, force: bool = False, 
         summary["time_ratio_contact_to_linear"] = summary["wall_time_s"] / lin if lin else None
         if len(frames) < n:
             summary["message"] = f"step {len(frames)} of {n} failed: {final.result.message}"
+    if setup.friction > 0 and "shear" in final.extra:
+        # |Q| = |sum of q_i| <= sum of |q_i| <= mu N: the two differ where the tangents turn over the zone
+        q = np.linalg.norm(np.asarray(final.extra["shear"], dtype=float), axis=1)
+        summary["tangential_force_magnitude_sum"] = float(np.sum(np.asarray(final.weights, dtype=float) * q))
     logger.info("%s: %s", name, summary["status"])
 
     files: list[str] = []

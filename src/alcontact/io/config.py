@@ -772,7 +772,9 @@ def _build(data: dict, base: Path, issues: list[Issue], source) -> ProblemSetup 
     if model is None:
         return None
     center = tuple(rd["center"]) if rd["center"] is not None else (0.0,) * dim
-    meta = {"symmetry_axis": int(rd["axis"]), "center": center}
+    # the origin is only a default centre unless a reference or [reference] center names it (viz.contact_center)
+    meta = {"symmetry_axis": int(rd["axis"]), "center": center,
+            "center_declared": rd["center"] is not None or rd["kind"] != "none"}
     problem = _num(issues, "", ContactProblem, model=model, obstacle=ob, contact_boundary=cd["boundary"],
                    supports=tuple(fixed), loads=tuple(loads), friction=float(mu), name=data["problem"]["name"],
                    reference=ref, meta=meta, kinematics=kinematics)

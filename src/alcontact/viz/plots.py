@@ -29,6 +29,8 @@ __all__ = [
     "Units",
     "contact_coordinate",
     "loaded_half_width",
+    "contact_center",
+    "contact_half_width",
     "pressure_figure",
     "convergence_figure",
     "save_figure",
@@ -254,6 +256,42 @@ def contact_coordinate(solution, axis: int = 0, center=None) -> tuple[np.ndarray
     return r, "r (distance from the centre in the contact plane)"
 
 
+def contact_center(solution, center=None, declared: bool = True):
+    """The contact centre to measure contact widths from, or ``None`` (measure the loaded zone itself).
+
+    A ``declared`` centre (a Hertz reference, ``[reference] center``, a built-in
+    problem's symmetry point) is used as given. An undeclared default (a problem
+    file's origin) is used only while it lies in the loaded zone, i.e. within its
+    bounding box widened by the element size ``solution.extra["h"]``: the symmetry
+    point of a half model pressed at the origin keeps it, a contact zone elsewhere (a
+    moving obstacle, a body away from the origin) does not, so that a "half-width" is
+    never the distance of the zone from the origin.
+    """
+    if center is None or declared:
+        return center
+    pts = np.asarray(solution.points, dtype=float)
+    loaded = np.asarray(solution.pressure, dtype=float) > 0
+    if not np.any(loaded):
+        return None
+    c = _pad(center, pts.shape[1])
+    h = float((getattr(solution, "extra", None) or {}).get("h") or 0.0)
+    lo, hi = pts[loaded].min(axis=0) - h, pts[loaded].max(axis=0) + h
+    return center if bool(np.all((c >= lo) & (c <= hi))) else None
+
+
+def contact_half_width(solution, axis: int = 0, center=None, declared: bool = True) -> float:
+    """The contact half-width a report shows: from the centre where there is one, else of the loaded zone.
+
+    With a centre (see :func:`contact_center`): ``solution.contact_half_width(axis,
+    center)`` (the Hertz fit or the loaded edge measured from the centre). Without:
+    :func:`loaded_half_width`.
+    """
+    c = contact_center(solution, center, declared)
+    if c is None and not declared:
+        return loaded_half_width(solution, axis=axis)
+    return float(solution.contact_half_width(axis=axis, center=c))
+
+
 def loaded_half_width(solution, axis: int = 0, center=None) -> float:
     """Half-width of the loaded zone measured with :func:`contact_coordinate` (contact radius in 3D).
 
@@ -286,7 +324,8 @@ def pressure_figure(solution, *, reference=None, load: float | None = None, cent
     load : float, optional
         Total load ``P`` of the reference; default ``reference.load(solution.normal_force)``.
     center, axis
-        See :func:`contact_coordinate`.
+        See :func:`contact_coordinate`; default centre: ``problem.meta["center"]``, used
+        as :func:`contact_center` says (``meta["center_declared"]``).
     mindlin : MindlinReference, optional
         Frictional runs (``solution.extra["shear"]`` present) get a second panel
         with the tangential traction and the Coulomb bound :math:`\\mu p`; with
@@ -300,14 +339,16 @@ def pressure_figure(solution, *, reference=None, load: float | None = None, cent
     """
     problem = solution.problem
     reference = reference if reference is not None else getattr(problem, "reference", None)
+    declared = True
     if center is None:
-        center = (getattr(problem, "meta", None) or {}).get("center")
+        meta = getattr(problem, "meta", None) or {}
+        center, declared = meta.get("center"), bool(meta.get("center_declared", True))
     u = _units(units)
-    r, xlabel = contact_coordinate(solution, axis=axis, center=center)
+    a_num = contact_half_width(solution, axis=axis, center=center, declared=declared)
+    r, xlabel = contact_coordinate(solution, axis=axis, center=contact_center(solution, center, declared))
     var = xlabel[0]  # "x" (2D) or "r" (3D)
     xlabel = f"{xlabel} ({u.length})"
     p = np.asarray(solution.pressure, dtype=float)
-    a_num = solution.contact_half_width(axis=axis, center=center)
 
     extra = getattr(solution, "extra", None) or {}
     friction = "shear" in extra
