@@ -1048,6 +1048,7 @@ def run_setup(setup, out: str | os.PathLike | None = None, force: bool = False, 
         # |Q| = |sum of q_i| <= sum of |q_i| <= mu N: the two differ where the tangents turn over the zone
         q = np.linalg.norm(np.asarray(final.extra["shear"], dtype=float), axis=1)
         summary["tangential_force_magnitude_sum"] = float(np.sum(np.asarray(final.weights, dtype=float) * q))
+    summary["units"] = setup.plot_units().as_dict(int(prob.model.dim))
     logger.info("%s: %s", name, summary["status"])
 
     files: list[str] = []
@@ -1073,6 +1074,7 @@ def write_setup_results(folder: Path, setup, frames, summary: dict) -> list[str]
     from .io.report import write_report
 
     o = setup.output
+    units = setup.plot_units()
     final = frames[-1]
     friction = setup.friction > 0
     stepped = len(frames) > 1 or setup.stepped
@@ -1106,7 +1108,7 @@ def write_setup_results(folder: Path, setup, frames, summary: dict) -> list[str]
 
         meta = setup.problem.meta
         save_pressure_plot(final, folder / "pressure.png", mindlin=setup.mindlin,
-                           axis=int(meta.get("symmetry_axis", 0)))
+                           axis=int(meta.get("symmetry_axis", 0)), units=units)
         files.append("pressure.png")
         if friction:
             save_figure(steps_figure(rows, title=f"{setup.name}: {summary['status']}"), folder / "convergence.png")
@@ -1115,7 +1117,7 @@ def write_setup_results(folder: Path, setup, frames, summary: dict) -> list[str]
         files.append("convergence.png")
         if stepped:
             save_figure(load_displacement_figure(rows, [(c[0], c[1]) for c in controls], title=setup.name,
-                                                 dim=int(setup.problem.model.dim)),
+                                                 dim=int(setup.problem.model.dim), units=units),
                         folder / "load_displacement.png")
             files.append("load_displacement.png")
         if setup.finite:
@@ -1123,7 +1125,7 @@ def write_setup_results(folder: Path, setup, frames, summary: dict) -> list[str]
 
             control = next((c[0] for c in controls if c[1] == "normal"), None)
             fig = reaction_force_figure(rows, control, title=f"{setup.name}: reaction-force curve",
-                                        dim=int(setup.problem.model.dim))
+                                        dim=int(setup.problem.model.dim), units=units)
             if friction:
                 _add_tangential_curves(fig, rows, control, int(setup.problem.model.dim))
             save_figure(fig, folder / "reaction_force.png")
@@ -1132,7 +1134,7 @@ def write_setup_results(folder: Path, setup, frames, summary: dict) -> list[str]
         files.append("report.md")
         write_report(folder / "report.md", summary, files + ["summary.json"],
                      description=setup.data["problem"]["description"],
-                     source=str(setup.source) if setup.source else None)
+                     source=str(setup.source) if setup.source else None, units=units)
     files.append("summary.json")
     write_json(folder / "summary.json", {**summary, "files": files})
     logger.info("results written to %s", folder)

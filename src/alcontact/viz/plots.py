@@ -54,21 +54,23 @@ _HISTORY_SERIES = (
 class Units:
     """Units of a problem for axis labels: a length and a stress unit, force derived.
 
-    ``None`` stands for "whatever consistent unit the problem uses" (problem files
-    carry no unit declaration): labels then use the symbols ``L`` (length unit of
-    the mesh) and ``[E]`` (stress unit of Young's modulus), explained by
-    :attr:`note` in the figure.
+    ``None`` stands for "whatever consistent unit the problem uses" (a problem file
+    without ``[units]``): labels then use the symbols ``L`` (length unit of the mesh)
+    and ``[E]`` (stress unit of Young's modulus), explained by :attr:`note` in the
+    figure. The force unit is ``force_unit`` when given, else the named unit equal to
+    stress x length^2 (:func:`alcontact._options.derived_force_unit`), else the product.
 
     Examples
     --------
-    >>> Units("mm", "MPa").force(2), Units("mm", "MPa").force(3)
-    ('N/mm', 'N')
+    >>> Units("mm", "MPa").force(2), Units("mm", "MPa").force(3), Units("mm", "GPa").force(3)
+    ('N/mm', 'N', 'kN')
     >>> Units().pressure, Units().force(3)
     ('[E]', '[E]·L²')
     """
 
     length_unit: str | None = None
     stress_unit: str | None = None
+    force_unit: str | None = None
 
     @property
     def length(self) -> str:
@@ -81,19 +83,30 @@ class Units:
         return self.stress_unit or "[E]"
 
     @property
+    def named(self) -> bool:
+        """Both units are named (a ``[units]`` table or a built-in problem)."""
+        return bool(self.length_unit and self.stress_unit)
+
+    @property
     def note(self) -> str:
         """What the generic symbols mean (empty when both units are named)."""
-        if self.length_unit and self.stress_unit:
+        if self.named:
             return ""
         return "units: L = length unit of the mesh, [E] = stress unit of Young's modulus E"
 
     def force(self, dim: int) -> str:
         """Force unit of a contact force: per unit thickness in 2D (plane strain/stress)."""
-        if (self.length_unit, self.stress_unit) == ("mm", "MPa"):
-            return "N/mm" if dim == 2 else "N"
-        if (self.length_unit, self.stress_unit) == ("m", "Pa"):
-            return "N/m" if dim == 2 else "N"
+        from .._options import derived_force_unit
+
+        f = self.force_unit or derived_force_unit(self.length_unit, self.stress_unit)
+        if f:
+            return f"{f}/{self.length}" if dim == 2 else f
         return f"{self.pressure}·{self.length}" + ("" if dim == 2 else "²")
+
+    def as_dict(self, dim: int) -> dict[str, str | None]:
+        """``summary.json``'s ``units``: the labels used (``None`` where unnamed)."""
+        return {"length": self.length_unit, "stress": self.stress_unit,
+                "force": self.force(dim) if self.named else None}
 
 
 def _units(units) -> Units:
