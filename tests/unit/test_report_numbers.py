@@ -107,3 +107,15 @@ def test_deformed_vtus_are_not_to_be_warped(ironing, tmp_path):
     small = tmp_path / "small"
     run_setup(load_problem(EXAMPLES / "signorini_liftoff.toml"), small)
     assert "Warp By Vector" in (small / "report.md").read_text(encoding="utf-8")
+
+
+def test_printed_table_says_the_same(tmp_path):
+    from _helpers import flat, runner
+    from alcontact.cli import app
+
+    res = runner.invoke(app, ["run", str(EXAMPLES / "finite_ironing.toml"), "--out", str(tmp_path / "o")])
+    assert res.exit_code == 0, res.output
+    s = json.loads((tmp_path / "o" / "summary.json").read_text(encoding="utf-8"))
+    text = flat(res.stdout)
+    assert f"one Newton linear solve, mean of {s['linear_solve_count']} (s) │ {s['linear_solve_time_s']:.3g}" in text
+    assert f"contact half-width a (half the loaded zone) │ {s['contact_half_width']:.5g}" in text
