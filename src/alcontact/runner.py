@@ -39,6 +39,7 @@ import datetime as _dt
 import logging
 import math
 import os
+import re
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -781,6 +782,71 @@ def _controls(setup) -> list[tuple[str, str, str, int]]:
     return out
 
 
+def _prescribed(setup, t: float) -> dict[str, float]:
+    """What the problem file prescribes at pseudo-time ``t``: ``reaction_force.csv``'s leading columns.
+
+    ``prescribed_u_<boundary>_<x|y|z>``: the value of each ramped support component (value x
+    amplitude; zero throughout: left out by :func:`_prescribed_quantities`),
+    ``load_factor_<load>``: the amplitude of each ramped load, ``obstacle_<x|y|z>`` and
+    ``obstacle_travel``: the obstacle's translation ``t * path`` and the distance it has
+    travelled along its (straight) path.
+    """
+    from .contact import Support
+
+    out: dict[str, float] = {}
+    dim = int(setup.problem.model.dim)
+    for case in (setup.history.cases if setup.history is not None else ()):
+        a = float(case.value(t))
+        item = case.item
+        if isinstance(item, Support):
+            comps = range(dim) if item.components is None else item.components
+            for c in comps:
+                v = item.value if np.ndim(item.value) == 0 else item.value[c]
+                key = f"prescribed_u_{item.boundary}_{'xyz'[c]}"
+                out[key] = out.get(key, 0.0) + float(v) * a
+        else:
+            out["load_factor_" + re.sub(r"\W+", "_", str(case.name or case.label)).strip("_")] = a
+    if setup.obstacle_path is not None:
+        off = setup.obstacle_offset(t)
+        for c, v in zip("xyz", off):
+            out[f"obstacle_{c}"] = float(v)
+        out["obstacle_travel"] = float(np.linalg.norm(off))
+    return out
+
+
+def _prescribed_quantities(setup, rows, final) -> list[tuple[str, str, bool]]:
+    """The prescribed quantities that change over the steps: ``(column, label, normal)``.
+
+    ``normal``: a pressing action (a support not marked ``tangential``, an obstacle moving
+    along the contact normal), preferred as the abscissa of a phase that has one.
+    """
+    from .contact import Support
+
+    if not rows:
+        return []
+    start = _prescribed(setup, 0.0)
+    moving = [k for k in rows[0] if k.startswith(("prescribed_u_", "load_factor_", "obstacle_travel"))
+              and any(abs(float(r[k]) - start.get(k, 0.0)) > 0 for r in rows)]
+    tangential = set()
+    for case in (setup.history.cases if setup.history is not None else ()):
+        if case.tangential and isinstance(case.item, Support):
+            tangential |= {k for k in moving if k.startswith(f"prescribed_u_{case.item.boundary}_")}
+    out = []
+    for k in moving:
+        if k == "obstacle_travel":
+            path = np.asarray(setup.obstacle_path, dtype=float)
+            w = np.asarray(final.pressure, dtype=float)
+            n = np.asarray(final.normals, dtype=float).T @ (w if w.sum() > 0 else np.ones_like(w))
+            along = abs(float(path @ n)) / max(float(np.linalg.norm(path) * np.linalg.norm(n)), 1e-300)
+            out.append((k, "obstacle travel along its path", along > 0.5))
+        elif k.startswith("prescribed_u_"):
+            boundary, comp = k[len("prescribed_u_"):].rsplit("_", 1)
+            out.append((k, f"prescribed u_{comp} of {boundary}", k not in tangential))
+        else:
+            out.append((k, f"load factor of {k[len('load_factor_'):]}", True))
+    return out
+
+
 def _step_rows(setup, frames, controls) -> list[dict[str, Any]]:
     from .viz.plots import contact_half_width
 
@@ -819,6 +885,7 @@ def _step_rows(setup, frames, controls) -> list[dict[str, Any]]:
         for label, _kind, boundary, comp in controls:
             _, dofs = model.node_dofs(boundary)
             row[f"u_{label}"] = float(np.mean(np.asarray(fr.u)[dofs[:, comp]]))
+        row.update(_prescribed(setup, row["t"]))
         rows.append(row)
     return rows
 
@@ -851,7 +918,9 @@ def _add_tangential_curves(fig, rows, control: str | None, dim: int) -> None:
 def _reaction_rows(rows, controls) -> list[dict[str, Any]]:
     """Columns of ``reaction_force.csv``: step, t, the driving displacements, reactions and contact forces."""
     keep = ("step", "t") + tuple(f"u_{c[0]}" for c in controls)
-    return [{k: v for k, v in r.items() if k in keep or k.startswith(("reaction_", "force_"))} for r in rows]
+    lead = ("prescribed_u_", "load_factor_", "obstacle_")
+    return [{**{k: v for k, v in r.items() if k in keep or k.startswith(lead)},
+             **{k: v for k, v in r.items() if k.startswith(("reaction_", "force_"))}} for r in rows]
 
 
 def _write_rows_csv(path, rows) -> Path:
@@ -1115,19 +1184,30 @@ def write_setup_results(folder: Path, setup, frames, summary: dict) -> list[str]
         else:
             save_convergence_plot(final.result, folder / "convergence.png", tolerances=_tolerances(setup.options))
         files.append("convergence.png")
+        from .viz.plots import force_path_figure
+
+        dim = int(setup.problem.model.dim)
+        quantities = _prescribed_quantities(setup, rows, final)  # what the file prescribes and the run moved
+        start = _prescribed(setup, 0.0)
         if stepped:
-            save_figure(load_displacement_figure(rows, [(c[0], c[1]) for c in controls], title=setup.name,
-                                                 dim=int(setup.problem.model.dim), units=units),
-                        folder / "load_displacement.png")
+            if controls or not quantities:
+                fig = load_displacement_figure(rows, [(c[0], c[1]) for c in controls], title=setup.name, dim=dim,
+                                               units=units)
+            else:  # nothing ramped but the obstacle's path: the forces against its travel
+                fig = force_path_figure(rows, quantities, start=start, title=setup.name, units=units, dim=dim)
+            save_figure(fig, folder / "load_displacement.png")
             files.append("load_displacement.png")
         if setup.finite:
             from .viz.plots import reaction_force_figure
 
-            control = next((c[0] for c in controls if c[1] == "normal"), None)
-            fig = reaction_force_figure(rows, control, title=f"{setup.name}: reaction-force curve",
-                                        dim=int(setup.problem.model.dim), units=units)
-            if friction:
-                _add_tangential_curves(fig, rows, control, int(setup.problem.model.dim))
+            title = f"{setup.name}: reaction-force curve"
+            if quantities:  # one panel per phase of the prescribed path, against what was prescribed
+                fig = force_path_figure(rows, quantities, start=start, title=title, units=units, dim=dim)
+            else:
+                control = next((c[0] for c in controls if c[1] == "normal"), None)
+                fig = reaction_force_figure(rows, control, title=title, dim=dim, units=units)
+                if friction:
+                    _add_tangential_curves(fig, rows, control, dim)
             save_figure(fig, folder / "reaction_force.png")
             files.append("reaction_force.png")
     if o["report"]:

@@ -25,9 +25,11 @@ _FILE_DOCS = {
     "convergence.png": "convergence history",
     "load_displacement.png": "contact force against the displacement of the loaded boundary",
     "steps/": "one VTU per load step (referenced by solution.pvd)",
-    "reaction_force.csv": "finite deformation: support reaction and contact force per step against the "
-                          "prescribed displacement",
-    "reaction_force.png": "reaction-force curve (finite deformation)",
+    "reaction_force.csv": "finite deformation: per step the prescribed quantities (support displacements "
+                          "prescribed_u_*, obstacle position obstacle_* and its travel along the path, load "
+                          "factors), the support reaction and the contact force",
+    "reaction_force.png": "reaction and contact force against what was prescribed, one panel per phase of the "
+                          "path (press, then slide)",
 }
 
 

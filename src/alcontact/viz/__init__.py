@@ -11,7 +11,9 @@ from .plots import (
     contact_coordinate,
     loaded_half_width,
     convergence_figure,
+    force_path_figure,
     load_displacement_figure,
+    load_path_phases,
     pressure_figure,
     save_convergence_plot,
     save_figure,
@@ -30,4 +32,6 @@ __all__ = [
     "save_convergence_plot",
     "steps_figure",
     "load_displacement_figure",
+    "load_path_phases",
+    "force_path_figure",
 ]

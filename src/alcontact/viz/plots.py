@@ -39,6 +39,8 @@ __all__ = [
     "steps_figure",
     "reaction_force_figure",
     "load_displacement_figure",
+    "load_path_phases",
+    "force_path_figure",
 ]
 
 logger = logging.getLogger(__name__)
@@ -551,6 +553,117 @@ def reaction_force_figure(rows, control: str | None = None, *, title: str | None
     ax.grid(alpha=0.3)
     ax.legend(fontsize="small")
     ax.set_title(title or "reaction-force curve", fontsize="medium")
+    return fig
+
+
+def load_path_phases(rows, quantities, start=None) -> list[tuple[int, int, str]]:
+    """Split the load steps into phases in which the same prescribed quantities move the same way.
+
+    Parameters
+    ----------
+    rows : sequence of dict
+        One per load step, with a column per prescribed quantity.
+    quantities : sequence of (column, label, normal)
+        The prescribed quantities (``normal``: a pressing action).
+    start : dict, optional
+        Their values at ``t = 0`` (default 0).
+
+    Returns
+    -------
+    list of (first, last, column)
+        Rows ``first..last`` (inclusive) form a phase: a new one starts where the set of
+        moving quantities or the sign of a motion changes (press, then slide; load, then
+        unload); a step where nothing moves stays in the phase before. ``column`` is the
+        phase's abscissa: the quantity that changes most in the phase, a pressing one
+        where one moves.
+    """
+    if not rows or not quantities:
+        return []
+    cols = [q[0] for q in quantities]
+    start = start or {}
+    Q = np.array([[float(start.get(c, 0.0)) for c in cols]] + [[float(r[c]) for c in cols] for r in rows])
+    D = np.diff(Q, axis=0)
+    tol = 1e-9 * max(float(np.max(np.abs(D), initial=0.0)), 1e-300)
+    sig = np.where(np.abs(D) > tol, np.sign(D), 0.0)
+    phases: list[list[int]] = []
+    last = None
+    for k in range(len(rows)):
+        if last is None or (np.any(sig[k]) and not np.array_equal(sig[k], last)):
+            phases.append([k, k])
+        else:
+            phases[-1][1] = k
+        if np.any(sig[k]):
+            last = sig[k]
+    out = []
+    for first, end in phases:
+        change = np.abs(Q[end + 1] - Q[first])
+        normal = np.array([bool(q[2]) for q in quantities])
+        pick = normal & (change > tol) if np.any(normal & (change > tol)) else np.ones(len(cols), bool)
+        j = int(np.argmax(np.where(pick, change, -1.0)))
+        out.append((first, end, cols[j]))
+    return out
+
+
+def force_path_figure(rows, quantities, *, start=None, title: str | None = None, units: Units | None = None,
+                      dim: int = 2):
+    """Support reactions and contact forces against what was prescribed, one panel per phase of the path.
+
+    Parameters
+    ----------
+    rows : sequence of dict
+        Rows of ``reaction_force.csv``: ``reaction_<c>``, ``force_<c>`` and the prescribed quantities.
+    quantities : sequence of (column, label, normal)
+        The prescribed quantities (see :func:`load_path_phases`); ``obstacle_*`` and
+        ``prescribed_u_*`` are lengths, ``load_factor_*`` dimensionless.
+    start : dict, optional
+        The prescribed quantities at ``t = 0`` (the curves start there, at zero force).
+    units : Units, optional
+        Axis units (default: the problem file's, unnamed).
+    dim : int
+        Dimension of the model (the force is per unit thickness in 2D).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One panel per phase (press, then slide: two), each against its own abscissa
+        (e.g. the prescribed displacement, then the obstacle travel).
+    """
+    u = _units(units)
+    phases = load_path_phases(rows, quantities, start)
+    if not phases:
+        return reaction_force_figure(rows, None, title=title, units=units, dim=dim)
+    labels = {q[0]: q[1] for q in quantities}
+    fig = _new_figure(size=(6.4 if len(phases) == 1 else 4.2 * min(len(phases), 3), 4.4))
+    comps = [c for c in "xyz"[:dim]
+             if any(abs(float(r.get(f"force_{c}", 0.0))) > 0 or abs(float(r.get(f"reaction_{c}", 0.0))) > 0
+                    for r in rows)]
+    first_ax = None
+    start = start or {}
+    for i, (first, end, col) in enumerate(phases):
+        ax = fig.add_subplot(1, len(phases), i + 1, sharey=first_ax)
+        first_ax = first_ax or ax
+        before = rows[first - 1] if first > 0 else None
+        x = [float(before[col]) if before else float(start.get(col, 0.0))] + \
+            [float(r[col]) for r in rows[first:end + 1]]
+        for j, c in enumerate(comps):
+            for key, style, text in ((f"force_{c}", "o-", f"contact force F_{c} on the body"),
+                                     (f"reaction_{c}", "s--", f"support reaction R_{c}")):
+                y = [float(before.get(key, np.nan)) if before else 0.0] + \
+                    [float(r.get(key, np.nan)) for r in rows[first:end + 1]]
+                ax.plot(x, y, style, ms=3.5, color=f"C{j}", label=text)
+        ax.axhline(0.0, color="0.6", lw=0.8)  # the axis, not data
+        unit = "dimensionless" if col.startswith("load_factor_") else u.length
+        ax.set_xlabel(f"{labels[col]} ({unit})")
+        if i == 0:
+            ax.set_ylabel(f"force of the model ({u.force(dim)})")
+        t0 = float(before["t"]) if before else 0.0
+        ax.set_title(f"phase {i + 1}: t = {t0:g} to {float(rows[end]['t']):g}" if len(phases) > 1
+                     else (title or "reaction-force curve"), fontsize="medium")
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize="x-small")
+    if len(phases) > 1 and title:
+        fig.suptitle(title, fontsize="medium")
+    _note_units(fig, u)
     return fig
 
 
