@@ -594,11 +594,13 @@ def _solve_finite_setup(setup, on_step=None):
             weights=base.weights, active=pressure > 0, normals=np.asarray(normals, dtype=float),
             total_contact_force=np.asarray(step.force, dtype=float), result=res, nodal_forces=nodal,
             timings={"total_s": float(step.seconds)},
-            extra={**base.extra, "t": float(step.t), "cutbacks": int(step.cutbacks), "seconds": float(step.seconds)}))
+            extra={**base.extra, "t": float(step.t), "cutbacks": int(step.cutbacks), "seconds": float(step.seconds),
+                   "requested": bool(getattr(step, "requested", True))}))
     if fs.steps:
         last = fs.steps[-1]
         frames.append(dataclasses.replace(base, problem=at(last.t), extra={
             **base.extra, "t": float(last.t), "cutbacks": int(last.cutbacks), "seconds": float(last.seconds),
+            "requested": bool(getattr(last, "requested", True)),
             "step_newton_iterations": int(last.newton_iterations), "step_outer_iterations": int(last.outer_iterations)}))
         for fr, st in zip(frames[:-1], fs.steps[:-1]):
             fr.extra.update(step_newton_iterations=int(st.newton_iterations),
@@ -659,6 +661,7 @@ def _solve_finite_friction_setup(setup, on_step=None):
             result=result, nodal_forces=weights * st.pressure,
             timings={"total_s": float(ex["total_s"]) if last else float(st.seconds)},
             extra={"t": float(st.t), "cutbacks": int(st.cutbacks), "seconds": float(st.seconds),
+                   "requested": bool(getattr(st, "requested", True)),
                    "step_newton_iterations": int(st.newton_iterations),
                    "step_outer_iterations": int(st.outer_iterations), "slip": slip_total.copy(),
                    "slip_increment": st.slip, "state": st.states, "shear": -np.asarray(st.traction_t, dtype=float),
@@ -723,6 +726,8 @@ def _finite_summary(setup, fs, frames, wall: float) -> dict[str, Any]:
         "linear_solves": int(sum(s.linear_solves for s in steps)),
         "wall_time_s": float(final.timings.get("total_s", wall)),
         "step_times": [float(s.t) for s in steps],
+        # False: a sub-step a cut-back inserted (halved increment); step_times holds both kinds
+        "step_requested": [bool(getattr(s, "requested", True)) for s in steps],
         "step_newton_iterations": [int(s.newton_iterations) for s in steps],
         "step_outer_iterations": [int(s.outer_iterations) for s in steps],
         "step_cutbacks": [int(s.cutbacks) for s in steps],
@@ -859,6 +864,7 @@ def _step_rows(setup, frames, controls) -> list[dict[str, Any]]:
         tf = np.asarray(ex.get("tangential_force", np.zeros(model.dim)), dtype=float)
         row: dict[str, Any] = {
             "step": k + 1, "t": float(ex.get("t", setup.times[min(k, len(setup.times) - 1)])),
+            "requested": int(bool(ex.get("requested", True))),  # 0: a sub-step inserted by a cut-back
             "status": fr.result.status.label,
             "outer_iterations": ex.get("step_outer_iterations", fr.result.outer_iterations),
             "newton_iterations": ex.get("step_newton_iterations", fr.result.newton_iterations),
@@ -917,7 +923,7 @@ def _add_tangential_curves(fig, rows, control: str | None, dim: int) -> None:
 
 def _reaction_rows(rows, controls) -> list[dict[str, Any]]:
     """Columns of ``reaction_force.csv``: step, t, the driving displacements, reactions and contact forces."""
-    keep = ("step", "t") + tuple(f"u_{c[0]}" for c in controls)
+    keep = ("step", "t", "requested") + tuple(f"u_{c[0]}" for c in controls)
     lead = ("prescribed_u_", "load_factor_", "obstacle_")
     return [{**{k: v for k, v in r.items() if k in keep or k.startswith(lead)},
              **{k: v for k, v in r.items() if k.startswith(("reaction_", "force_"))}} for r in rows]

@@ -365,6 +365,8 @@ class FiniteFrictionStep:
         Obstacle normals at the projections of the contact points.
     linear_solves : int
         Newton systems solved in this step (failed tries included).
+    requested : bool
+        ``t`` is a requested step time; ``False`` for a sub-step a cut-back inserted.
     """
 
     t: float
@@ -388,6 +390,7 @@ class FiniteFrictionStep:
     slip: np.ndarray | None = None
     normals: np.ndarray | None = None
     linear_solves: int = 0
+    requested: bool = True
 
     @property
     def state(self) -> np.ndarray:
@@ -773,6 +776,7 @@ def solve_finite_friction(problem, mu: float, algorithm: str = "simo-laursen", p
         res = att.value
         step, full = _record(dc, res, t, mu, opts, rec.cutbacks, rec.newton_iterations, rec.seconds,
                              rec.linear_solves)
+        step = dataclasses.replace(step, requested=rec.requested)  # False: a sub-step of a cut-back
         records.append(step)
         state["last"] = full
         if step.status > 0:

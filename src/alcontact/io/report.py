@@ -118,12 +118,20 @@ def render_report(summary: dict, files: list[str], *, description: str = "", sou
         f"{_f(s.get('peak_pressure_error_pct'), '+.2f')} |",
         f"| total contact force P ({F}) | {_f(s.get('total_contact_force'))} | | |",
     ]
+    notes = []
     if s.get("kinematics") == "finite":
-        lines.append(f"| finite deformation ({s.get('material_model')}): Newton iterations per step | "
-                     f"{' '.join(map(str, s.get('step_newton_iterations', [])))} | | |")
+        newton = s.get("step_newton_iterations", [])
+        asked = s.get("step_requested") or [True] * len(newton)
+        marked = " ".join(f"{n}" if r else f"{n}*" for n, r in zip(newton, asked))
+        lines.append(f"| finite deformation ({s.get('material_model')}): Newton iterations per accepted step | "
+                     f"{marked} | | |")
         lines.append(f"| cut-backs / equilibrium residual | {s.get('cutbacks')} / "
                      f"{_f(s.get('equilibrium_residual'), '.2e')} | | |")
-    notes = []
+        if not all(asked):
+            notes.append(f"Load steps: {sum(1 for r in asked if not r)} of the {len(asked)} accepted steps "
+                         "(marked *) are sub-steps that cut-backs inserted (a failed step's increment halved); "
+                         "`summary.json` lists every accepted step in `step_times`, and `step_requested` says "
+                         "which were requested.")
     if s.get("friction"):
         lines.append(f"| tangential force of the model, resultant \\|Q\\| = \\|sum q_i\\| ({F}) | "
                      f"{_f(s.get('tangential_force'))} | <= mu N = {_f(s.get('coulomb_limit'))} | |")
