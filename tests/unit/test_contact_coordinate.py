@@ -132,3 +132,32 @@ def test_pressure_plot_of_a_ball_is_a_profile_not_a_cloud():
     xs, ps = fig.axes[0].get_lines()[0].get_data()  # the computed pressure (no reference)
     assert np.all(np.diff(xs) >= 0)
     assert np.all(np.diff(ps[xs > 0.05]) <= 1e-12)  # a Hertz-like cap: no zero pressure inside the zone
+
+
+def _write_ball_msh(path: Path) -> Path:
+    """The ball of :func:`test_sphere_meridians_front_and_back` as a Gmsh 2.2 file: 'surface' and 'body' groups."""
+    ball = skfem.MeshTet.init_ball(nrefs=2)
+    lines, tag = [], 0
+    for f in ball.boundary_facets():
+        tag += 1
+        a, b, c = ball.facets[:, f] + 1
+        lines.append(f"{tag} 2 2 1 1 {a} {b} {c}")
+    for e in range(ball.nelements):
+        tag += 1
+        lines.append(f"{tag} 4 2 2 100 " + " ".join(str(i + 1) for i in ball.t[:, e]))
+    nodes = [f"{i + 1} {x:.17g} {y:.17g} {z:.17g}" for i, (x, y, z) in enumerate(ball.p.T)]
+    path.write_text("\n".join(["$MeshFormat", "2.2 0 8", "$EndMeshFormat", "$PhysicalNames", "2",
+                               '2 1 "surface"', '3 2 "body"', "$EndPhysicalNames", "$Nodes", str(len(nodes)), *nodes,
+                               "$EndNodes", "$Elements", str(len(lines)), *lines, "$EndElements", ""]))
+    return path
+
+
+def test_gmsh_ball_meridians(tmp_path):
+    """A 3D Gmsh body (a ball read from a .msh file with a physical surface group) on a plane."""
+    mesh = meshes.read(_write_ball_msh(tmp_path / "ball.msh"))
+    sol = _solution(mesh, "surface", HalfSpace([0.0, 0.0, -1.0], [0.0, 0.0, 1.0]), pole=[0.0, 0.0, -1.0])
+    r, _ = contact_coordinate(sol)
+    x, y, z = sol.points.T
+    theta = np.arccos(np.clip(-z / np.linalg.norm(sol.points, axis=1), -1, 1))
+    for side in (x > 1e-9, x < -1e-9):
+        _check_path(r, (np.abs(y) < 1e-9) & side, theta)
