@@ -387,7 +387,9 @@ def pressure_figure(solution, *, reference=None, load: float | None = None, cent
                 label=rf"analytical $p_0\sqrt{{1-{var}^2/a^2}}${p0}")
         ax.axvline(a_ref, color="0.35", ls=":", lw=1, label=f"analytical $a$ = {a_ref:.4g} {u.length}")
     ax.plot(rk, pk, "o", ms=3.5, color="C0", label="computed pressure")
-    ax.axvline(a_num, color="C0", ls="--", lw=1, label=f"computed $a$ = {a_num:.4g} {u.length}")
+    # 2D: on the side that carries the pressure (a half model at x <= 0 has its edge at -a)
+    side = -1.0 if r.size and float(np.sum(p * r)) < 0 else 1.0
+    ax.axvline(side * a_num, color="C0", ls="--", lw=1, label=f"computed $a$ = {a_num:.4g} {u.length}")
     ax.set_xlabel(xlabel)
     ax.set_ylabel(f"contact pressure p ({u.pressure})")
     ax.set_ylim(bottom=0.0)
