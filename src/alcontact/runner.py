@@ -1196,11 +1196,13 @@ def write_setup_results(folder: Path, setup, frames, summary: dict) -> list[str]
         quantities = _prescribed_quantities(setup, rows, final)  # what the file prescribes and the run moved
         start = _prescribed(setup, 0.0)
         if stepped:
-            if controls or not quantities:
+            if quantities and not any(q[0].startswith("load_factor_") for q in quantities):
+                # displacement-driven (supports, the obstacle's path): forces against what was prescribed,
+                # one panel per phase (press, then slide)
+                fig = force_path_figure(rows, quantities, start=start, title=setup.name, units=units, dim=dim)
+            else:  # load-driven: the loads' effect, the mean displacement of the loaded boundary
                 fig = load_displacement_figure(rows, [(c[0], c[1]) for c in controls], title=setup.name, dim=dim,
                                                units=units)
-            else:  # nothing ramped but the obstacle's path: the forces against its travel
-                fig = force_path_figure(rows, quantities, start=start, title=setup.name, units=units, dim=dim)
             save_figure(fig, folder / "load_displacement.png")
             files.append("load_displacement.png")
         if setup.finite:

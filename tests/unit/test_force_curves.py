@@ -94,3 +94,25 @@ def test_phases_split_where_the_motion_turns():
     both = [{"t": 1, "a": 0.1, "b": 1.0}, {"t": 2, "a": 0.2, "b": 2.0}]
     assert load_path_phases(both, q) == [(0, 1, "a")]
     assert load_path_phases(_rows([1.0, 2.0, 3.0]), [("q", "q", True)]) == [(0, 2, "q")]
+
+
+def test_small_deformation_press_then_slide(tmp_path, captured):
+    """examples/sliding_block.toml (small deformation, friction): the top pressed down by 0.005 until t = 0.5,
+    then moved by 0.009 along x: two panels, the slide ending at the Coulomb limit |F_x| = mu F_y."""
+    run_setup(load_problem(EXAMPLES / "sliding_block.toml"), tmp_path / "o")
+    rows = _csv_steps(tmp_path / "o" / "steps.csv")
+    t = np.array([r["t"] for r in rows])
+    np.testing.assert_allclose([r["prescribed_u_top_y"] for r in rows], -0.005 * np.minimum(t / 0.5, 1.0), rtol=1e-12)
+    np.testing.assert_allclose([r["prescribed_u_top_x"] for r in rows], 0.009 * np.clip(2 * t - 1, 0, 1), rtol=1e-12,
+                               atol=1e-15)
+    fig = captured["load_displacement.png"]
+    press, slide = fig.axes
+    assert press.get_xlabel() == "prescribed u_y of top (L)" and slide.get_xlabel() == "prescribed u_x of top (L)"
+    fx = slide.get_lines()[0].get_ydata()
+    fy = slide.get_lines()[1].get_ydata()
+    assert abs(fx[-1]) == pytest.approx(0.3 * fy[-1], rel=1e-6)
+
+
+def _csv_steps(path: Path) -> list[dict[str, float]]:
+    with open(path, newline="", encoding="utf-8") as fh:
+        return [{k: float(v) for k, v in r.items() if k.startswith(("prescribed_", "t"))} for r in csv.DictReader(fh)]

@@ -23,7 +23,9 @@ _FILE_DOCS = {
     "steps.csv": "one row per load step: forces, contact zone, iterations, control displacements",
     "pressure.png": "contact pressure along the contact boundary (and tangential traction for friction)",
     "convergence.png": "convergence history",
-    "load_displacement.png": "contact force against the displacement of the loaded boundary",
+    "load_displacement.png": "contact force against the prescribed displacement or obstacle travel, one panel per "
+                             "phase of the path (press, then slide); load-driven runs: against the mean "
+                             "displacement of the loaded boundary",
     "steps/": "one VTU per load step (referenced by solution.pvd)",
     "reaction_force.csv": "finite deformation: per step the prescribed quantities (support displacements "
                           "prescribed_u_*, obstacle position obstacle_* and its travel along the path, load "

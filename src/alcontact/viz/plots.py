@@ -650,6 +650,8 @@ def force_path_figure(rows, quantities, *, start=None, title: str | None = None,
         for j, c in enumerate(comps):
             for key, style, text in ((f"force_{c}", "o-", f"contact force F_{c} on the body"),
                                      (f"reaction_{c}", "s--", f"support reaction R_{c}")):
+                if key not in rows[0]:  # small deformation: no support reactions in the rows
+                    continue
                 y = [float(before.get(key, np.nan)) if before else 0.0] + \
                     [float(r.get(key, np.nan)) for r in rows[first:end + 1]]
                 ax.plot(x, y, style, ms=3.5, color=f"C{j}", label=text)
