@@ -804,6 +804,8 @@ def _prescribed(setup, t: float) -> dict[str, float]:
         a = float(case.value(t))
         item = case.item
         if isinstance(item, Support):
+            if callable(item.value):  # a field of values (Python API): no single prescribed number
+                continue
             comps = range(dim) if item.components is None else item.components
             for c in comps:
                 v = item.value if np.ndim(item.value) == 0 else item.value[c]
