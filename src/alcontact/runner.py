@@ -659,7 +659,8 @@ def _solve_finite_friction_setup(setup, on_step=None):
             problem=at(st.t), u=st.u, points=points, pressure=st.pressure, gap=st.gap, weights=weights,
             active=st.states != 0, normals=st.normals, total_contact_force=np.asarray(st.force, dtype=float),
             result=result, nodal_forces=weights * st.pressure,
-            timings={"total_s": float(ex["total_s"]) if last else float(st.seconds)},
+            timings={"total_s": float(ex["total_s"]), "linear_solve_s": float(ex.get("linear_solve_s", float("nan")))}
+            if last else {"total_s": float(st.seconds)},
             extra={"t": float(st.t), "cutbacks": int(st.cutbacks), "seconds": float(st.seconds),
                    "requested": bool(getattr(st, "requested", True)),
                    "step_newton_iterations": int(st.newton_iterations),
@@ -744,7 +745,8 @@ def _finite_summary(setup, fs, frames, wall: float) -> dict[str, Any]:
         out.update(equilibrium_keys(final.equilibrium()))
     # the solver times all its Newton linear solves together: one solve is their mean
     total = final.timings.get("linear_solve_s")
-    count = int(final.result.linear_solves)
+    total = total if total is not None and math.isfinite(total) else None
+    count = int(fs.extra.get("linear_solves", final.result.linear_solves))  # the run's (friction: its extra)
     lin = total / count if total and count > 0 else None
     out["linear_solve_time_s"] = lin
     out["linear_solve_time_total_s"] = total

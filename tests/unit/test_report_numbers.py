@@ -119,3 +119,11 @@ def test_printed_table_says_the_same(tmp_path):
     text = flat(res.stdout)
     assert f"one Newton linear solve, mean of {s['linear_solve_count']} (s) │ {s['linear_solve_time_s']:.3g}" in text
     assert f"contact half-width a (half the loaded zone) │ {s['contact_half_width']:.5g}" in text
+
+
+def test_one_linear_solve_of_a_frictional_finite_run(ironing_friction):
+    res, s, table, _ = ironing_friction
+    total, count = res.raw.extra["linear_solve_s"], res.raw.extra["linear_solves"]
+    assert count == s["linear_solve_count"] == s["linear_solves"]
+    assert s["linear_solve_time_s"] == pytest.approx(total / count, rel=1e-15)
+    assert table[f"one Newton linear solve, mean of {count} (s)"] == format(s["linear_solve_time_s"], ".3g")

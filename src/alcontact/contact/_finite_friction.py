@@ -804,7 +804,8 @@ def solve_finite_friction(problem, mu: float, algorithm: str = "simo-laursen", p
                "eps_t": float(eps_t), "mu": float(mu), "algorithm": algorithm, "penalty": pen_name,
                "dofs": int(problem.model.ndofs), "residual_log": dc.residual_log,
                "newton_total": int(dc.newton_iterations), "linear_solves": int(dc.linear_solves),
-               "cutbacks": int(run.cutbacks), "total_s": time.perf_counter() - t_start})
+               "cutbacks": int(run.cutbacks), "total_s": time.perf_counter() - t_start,
+               "linear_solve_s": float(dc.solve_seconds)})  # all Newton linear solves together
 
 
 def _attempt(dc, data, step_fn, x, t, y_prev, nu_prev, lamN_all, lamT_all, mu, eps_n, eps_t, pen_name,
