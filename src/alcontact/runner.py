@@ -182,6 +182,9 @@ def summarize(problem, solution, *, problem_name: str | None = None, level: int 
         One factorization plus one solve of the same stiffness, measured in the
         same run (``solution.timings["linear_solve_s"]``), so
         ``time_ratio_contact_to_linear`` compares the contact solve with a linear one.
+        Finite-deformation runs (:func:`run_setup`): the mean of the run's Newton linear
+        solves (``linear_solve_time_kind = "mean Newton linear solve"``), with their total
+        ``linear_solve_time_total_s`` and number ``linear_solve_count``.
     ``contact_half_width``, ``contact_half_width_exact``
         Computed half-width ``a`` (contact radius in 3D) and the analytical one
         for the load the model carries. Measured from the contact centre
