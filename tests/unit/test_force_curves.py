@@ -116,3 +116,15 @@ def test_small_deformation_press_then_slide(tmp_path, captured):
 def _csv_steps(path: Path) -> list[dict[str, float]]:
     with open(path, newline="", encoding="utf-8") as fh:
         return [{k: float(v) for k, v in r.items() if k.startswith(("prescribed_", "t"))} for r in csv.DictReader(fh)]
+
+
+def test_a_cyclic_path_is_drawn_over_the_pseudo_time():
+    from alcontact.viz import force_path_figure
+
+    q = [(0.1 * (-1) ** (k // 2)) for k in range(12)]  # up, down, up, ...: six phases
+    rows = [{"t": k + 1.0, "prescribed_u_top_y": v, "force_y": 10 * v} for k, v in enumerate(np.cumsum(q))]
+    assert len(load_path_phases(rows, [("prescribed_u_top_y", "u", True)])) == 6
+    fig = force_path_figure(rows, [("prescribed_u_top_y", "prescribed u_y of top", True)])
+    assert len(fig.axes) == 1 and fig.axes[0].get_xlabel().startswith("pseudo-time")
+    assert [ln.get_label() for ln in fig.axes[0].get_lines() if not ln.get_label().startswith("_")] == \
+        ["contact force F_y on the body"]

@@ -521,7 +521,7 @@ def reaction_force_figure(rows, control: str | None = None, *, title: str | None
     control : str, optional
         Label of the driving support (``"top_y"``): its mean displacement is the
         abscissa and its component (the last letter) the plotted one; default: the
-        pseudo-time (load factor) and the largest final component.
+        pseudo-time (load factor) and the component with the largest force over the steps.
     units : Units, optional
         Axis units (default: the problem file's, unnamed).
     dim : int
@@ -540,13 +540,15 @@ def reaction_force_figure(rows, control: str | None = None, *, title: str | None
         x = np.array([float(r[f"u_{control}"]) for r in rows])
         ax.set_xlabel(f"prescribed displacement: mean u_{comp} of {control[:-2]} ({u.length})")
     else:
-        last = rows[-1]
-        comp = max(axes, key=lambda c: abs(float(last.get(f"reaction_{c}", 0.0))))
+        comp = max(axes, key=lambda c: max(abs(float(r.get(f"reaction_{c}", r.get(f"force_{c}", 0.0))))
+                                           for r in rows))
         x = np.array([float(r["t"]) for r in rows])
         ax.set_xlabel("pseudo-time t (load factor, dimensionless)")
     x = np.concatenate([[0.0], x])
     for key, style, label in ((f"reaction_{comp}", "o-", f"support reaction R_{comp} (all supports)"),
                               (f"force_{comp}", "s--", f"contact force F_{comp} on the body")):
+        if key not in rows[0]:  # small deformation: no support reactions in the rows
+            continue
         y = np.concatenate([[0.0], [float(r.get(key, np.nan)) for r in rows]])
         ax.plot(x, y, style, ms=4, label=label)
     ax.axhline(0.0, color="0.6", lw=0.8)
@@ -556,6 +558,10 @@ def reaction_force_figure(rows, control: str | None = None, *, title: str | None
     ax.legend(fontsize="small")
     ax.set_title(title or "reaction-force curve", fontsize="medium")
     return fig
+
+
+#: Most phases :func:`force_path_figure` draws side by side (a longer path is drawn over the pseudo-time).
+MAX_PHASE_PANELS = 4
 
 
 def load_path_phases(rows, quantities, start=None) -> list[tuple[int, int, str]]:
@@ -628,11 +634,12 @@ def force_path_figure(rows, quantities, *, start=None, title: str | None = None,
     -------
     matplotlib.figure.Figure
         One panel per phase (press, then slide: two), each against its own abscissa
-        (e.g. the prescribed displacement, then the obstacle travel).
+        (e.g. the prescribed displacement, then the obstacle travel); more than
+        :data:`MAX_PHASE_PANELS` phases: :func:`reaction_force_figure` over the pseudo-time.
     """
     u = _units(units)
     phases = load_path_phases(rows, quantities, start)
-    if not phases:
+    if not phases or len(phases) > MAX_PHASE_PANELS:  # a cyclic path: one panel over the pseudo-time
         return reaction_force_figure(rows, None, title=title, units=units, dim=dim)
     labels = {q[0]: q[1] for q in quantities}
     fig = _new_figure(size=(6.4 if len(phases) == 1 else 4.2 * min(len(phases), 3), 4.4))
