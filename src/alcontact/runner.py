@@ -913,9 +913,9 @@ def _add_tangential_curves(fig, rows, control: str | None, dim: int) -> None:
     if control is not None and control[-1:] in axes:
         shown = control[-1]
         x = np.array([float(r[f"u_{control}"]) for r in rows])
-    else:
-        last = rows[-1]
-        shown = max(axes, key=lambda c: abs(float(last.get(f"reaction_{c}", 0.0))))
+    else:  # the component reaction_force_figure picks
+        shown = max(axes, key=lambda c: max(abs(float(r.get(f"reaction_{c}", r.get(f"force_{c}", 0.0))))
+                                            for r in rows))
         x = np.array([float(r["t"]) for r in rows])
     x = np.concatenate([[0.0], x])
     for c in axes:
