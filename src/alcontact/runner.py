@@ -226,14 +226,15 @@ def summarize(problem, solution, *, problem_name: str | None = None, level: int 
     center = meta.get("center")
     axis = int(meta.get("symmetry_axis", 0))
 
+    from .viz.plots import edge_search_applies, contact_half_width
+
     declared = bool(meta.get("center_declared", True))
-    if declared or center is None:
+    if (declared or center is None) and edge_search_applies(solution):
         a_num = float(solution.contact_half_width(axis=axis, center=center))
         a_edge = float(solution.contact_half_width_edge(axis=axis, center=center))
-    else:  # a problem file's default centre (the origin): only while it lies in the contact zone
-        from .viz.plots import contact_half_width
-
-        a_num = a_edge = contact_half_width(solution, axis=axis, center=center, declared=False)
+    else:  # a problem file's default centre (the origin) only while it lies in the contact zone; a curved 3D
+        # boundary has no line of a flat plane to search the edge on (viz.contact_half_width)
+        a_num = a_edge = contact_half_width(solution, axis=axis, center=center, declared=declared)
     p_num = float(solution.peak_pressure)
     p_max = float(solution.peak_pressure_nodal_max)
     f_model = float(solution.normal_force)

@@ -127,3 +127,21 @@ def test_one_linear_solve_of_a_frictional_finite_run(ironing_friction):
     assert count == s["linear_solve_count"] == s["linear_solves"]
     assert s["linear_solve_time_s"] == pytest.approx(total / count, rel=1e-15)
     assert table[f"one Newton linear solve, mean of {count} (s)"] == format(s["linear_solve_time_s"], ".3g")
+
+
+def test_half_width_of_a_curved_3d_body_is_its_contact_radius():
+    """A quarter hemisphere pressed on the plane y = 0 (no Hertz reference): the edge search along a line of
+    the 'flat' coordinate plane found nothing (a = 0); the contact radius is the largest distance of a loaded
+    point from the y axis through the pole (exact geometry of the reference configuration)."""
+    from alcontact.contact import solve_finite
+    from alcontact.problems.hemisphere import hemisphere
+    from alcontact.runner import summarize
+
+    prob = hemisphere(n=4, delta=0.1)
+    sol = solve_finite(prob, steps=2).solution
+    s = summarize(prob, sol)
+    loaded = sol.pressure > 0
+    assert loaded.sum() >= 3
+    expected = float(np.max(np.hypot(sol.points[loaded, 0], sol.points[loaded, 2])))
+    assert s["contact_half_width"] == pytest.approx(expected, rel=1e-12)
+    assert 0.2 < s["contact_half_width"] < 0.5  # about sqrt(R delta) = 0.32 for R = 1, delta = 0.1

@@ -8,7 +8,10 @@ from __future__ import annotations
 
 from .plots import (
     Units,
+    contact_center,
     contact_coordinate,
+    contact_half_width,
+    edge_search_applies,
     loaded_half_width,
     convergence_figure,
     force_path_figure,
@@ -24,6 +27,9 @@ from .plots import (
 __all__ = [
     "Units",
     "contact_coordinate",
+    "contact_center",
+    "contact_half_width",
+    "edge_search_applies",
     "loaded_half_width",
     "pressure_figure",
     "convergence_figure",

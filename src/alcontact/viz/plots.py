@@ -31,6 +31,7 @@ __all__ = [
     "loaded_half_width",
     "contact_center",
     "contact_half_width",
+    "edge_search_applies",
     "pressure_figure",
     "convergence_figure",
     "save_figure",
@@ -298,13 +299,28 @@ def contact_half_width(solution, axis: int = 0, center=None, declared: bool = Tr
     """The contact half-width a report shows: from the centre where there is one, else of the loaded zone.
 
     With a centre (see :func:`contact_center`): ``solution.contact_half_width(axis,
-    center)`` (the Hertz fit or the loaded edge measured from the centre). Without:
-    :func:`loaded_half_width`.
+    center)`` (the Hertz fit or the loaded edge measured from the centre), except in 3D
+    without a Hertz reference on a contact boundary that is not a coordinate plane (a
+    ball, a Gmsh body), where that edge, searched along a line of the "flat" coordinate
+    plane, does not exist: there the contact radius of :func:`loaded_half_width`.
+    Without a centre: :func:`loaded_half_width`.
     """
     c = contact_center(solution, center, declared)
     if c is None and not declared:
         return loaded_half_width(solution, axis=axis)
+    if not edge_search_applies(solution):
+        return loaded_half_width(solution, axis=axis, center=c)
     return float(solution.contact_half_width(axis=axis, center=c))
+
+
+def edge_search_applies(solution) -> bool:
+    """Whether ``solution.contact_half_width`` measures a real width: 2D, a Hertz fit, or a 3D contact
+    boundary that is a coordinate plane (its edge is searched along a line of that plane)."""
+    pts = np.asarray(solution.points, dtype=float)
+    if pts.shape[1] != 3 or getattr(getattr(solution, "problem", None), "reference", None) is not None:
+        return True
+    spread = np.ptp(pts, axis=0) if pts.shape[0] else np.zeros(3)
+    return bool(spread.min() <= 1e-9 * max(float(spread.max()), 1e-300))
 
 
 def loaded_half_width(solution, axis: int = 0, center=None) -> float:
