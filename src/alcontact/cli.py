@@ -189,8 +189,11 @@ def _summary_table(s: dict) -> Table:
                   _fmt(s.get("peak_pressure_error_pct"), "+.2f"))
     table.add_row(f"total contact force P{force}", _fmt(s["total_contact_force"]), "", "")
     if s.get("friction"):
-        table.add_row("tangential force Q (model)", _fmt(s.get("tangential_force")), f"mu N = {_fmt(s.get('coulomb_limit'))}",
-                      "")
+        table.add_row("tangential force |Q| = |sum q_i| (model)", _fmt(s.get("tangential_force")),
+                      f"<= mu N = {_fmt(s.get('coulomb_limit'))}", "")
+        if s.get("tangential_force_magnitude_sum") is not None:  # = mu N where every loaded point slips
+            table.add_row("sum |q_i| (model)", _fmt(s["tangential_force_magnitude_sum"]),
+                          f"<= mu N = {_fmt(s.get('coulomb_limit'))}", "")
         table.add_row("stick / slip / open points",
                       f"{s.get('stick_points')} / {s.get('slip_points')} / {s.get('open_points')}", "", "")
         if s.get("stick_half_width_exact") is not None:
