@@ -34,7 +34,8 @@ from .errors import InputError
 
 __all__ = ["REQUIRED", "TYPES", "BAD", "MAX_STEPS", "VALUE_RANGE", "Option", "check_value", "declared",
            "declarations", "check_dataclass", "as_options", "is_real", "is_integer", "show", "LINEAR_MODEL",
-           "kinematics_option", "material_model_option", "ENERGY_MODEL", "OBSTACLE_PATH", "MAX_CUTBACKS"]
+           "kinematics_option", "material_model_option", "ENERGY_MODEL", "OBSTACLE_PATH", "MAX_CUTBACKS",
+           "LENGTH_UNITS", "STRESS_UNITS", "FORCE_UNITS", "UNITS_OPTIONS", "derived_force_unit", "units_issues"]
 
 
 class _Required:
@@ -494,3 +495,71 @@ OBSTACLE_PATH = Option("path", "floats", None, "Finite kinematics: translation o
 MAX_CUTBACKS = Option("max_cutbacks", "int", 6, "Finite kinematics: halvings of a load step's increment allowed "
                       "when its Newton solve fails or an element inverts (at most 2^n sub-steps per step).",
                       low=0, high=20)
+
+
+# --------------------------------------------------------------------------- units
+#: Length units a problem file may declare (``[units] length``), in metres.
+LENGTH_UNITS: dict[str, float] = {"m": 1.0, "cm": 1e-2, "mm": 1e-3, "um": 1e-6, "in": 0.0254, "ft": 0.3048}
+
+#: Stress units (``[units] stress``, the unit of Young's modulus and of the pressure), in pascals.
+STRESS_UNITS: dict[str, float] = {"Pa": 1.0, "kPa": 1e3, "MPa": 1e6, "GPa": 1e9, "psi": 6894.757293168361,
+                                  "ksi": 6894757.293168361}
+
+#: Force units (``[units] force``), in newtons.
+FORCE_UNITS: dict[str, float] = {"uN": 1e-6, "mN": 1e-3, "N": 1.0, "kN": 1e3, "MN": 1e6, "GN": 1e9,
+                                 "lbf": 4.4482216152605, "kip": 4448.2216152605}
+
+#: ``[units]``: the units of the numbers of a problem file (labels only: nothing is converted).
+UNITS_OPTIONS: tuple[Option, ...] = (
+    Option("length", "str", None, "Unit of the mesh coordinates and every length (e.g. `mm`); default: unnamed "
+           "(labels say `L`).", choices=tuple(LENGTH_UNITS)),
+    Option("stress", "str", None, "Unit of Young's modulus, pressures and tractions (e.g. `MPa`); default: "
+           "unnamed (labels say `[E]`).", choices=tuple(STRESS_UNITS)),
+    Option("force", "str", None, "Optional check of the force unit: must be stress x length^2 (`N` for `MPa` "
+           "and `mm`, `kN` for `GPa` and `mm`); default: derived.", choices=tuple(FORCE_UNITS)),
+)
+
+
+def derived_force_unit(length: str | None, stress: str | None) -> str | None:
+    """The named force unit equal to ``stress x length^2`` (``"N"`` for MPa and mm), or ``None``.
+
+    Examples
+    --------
+    >>> derived_force_unit("mm", "MPa"), derived_force_unit("m", "GPa"), derived_force_unit("cm", "MPa")
+    ('N', 'GN', None)
+    """
+    if length not in LENGTH_UNITS or stress not in STRESS_UNITS:
+        return None
+    value = STRESS_UNITS[stress] * LENGTH_UNITS[length] ** 2
+    return next((name for name, f in FORCE_UNITS.items() if math.isclose(f, value, rel_tol=1e-9)), None)
+
+
+def units_issues(length: str | None, stress: str | None, force: str | None) -> list[tuple[str, str]]:
+    """Inconsistencies of a ``[units]`` table: ``[(key, message)]`` (empty when consistent).
+
+    The numbers of a problem file are used as they are (no conversion), so the units
+    must form a consistent set: force = stress x length^2.
+
+    Examples
+    --------
+    >>> units_issues("mm", "MPa", "N")
+    []
+    >>> units_issues("mm", "GPa", "N")[0][1][:58]
+    "= 'N': inconsistent with stress = 'GPa' and length = 'mm' "
+    """
+    if force is None:
+        return []
+    if length is None or stress is None:
+        return [("force", f"= {force!r}: a force unit is checked against stress x length^2; give [units] length "
+                          "and stress too, or remove force.")]
+    derived = derived_force_unit(length, stress)
+    if derived == force:
+        return []
+    if derived is None:
+        value = STRESS_UNITS[stress] * LENGTH_UNITS[length] ** 2
+        return [("force", f"= {force!r}: inconsistent with stress = {stress!r} and length = {length!r} "
+                          f"({stress} x {length}^2 = {value:g} N, no named unit); remove force (labels then say "
+                          f"{stress}·{length}²) or change length/stress.")]
+    return [("force", f"= {force!r}: inconsistent with stress = {stress!r} and length = {length!r} "
+                      f"({stress} x {length}^2 = {derived}); set force = {derived!r}, remove force, or change "
+                      "length/stress (the numbers of the file are not converted).")]

@@ -197,14 +197,19 @@ def _summary_table(s: dict) -> Table:
     length = f" ({units['length']})" if units.get("length") else ""
     stress = f" ({units['stress']})" if units.get("stress") else ""
     force = f" ({units['force']})" if units.get("force") else ""
-    table.add_row(f"contact half-width a{length}", _fmt(s["contact_half_width"]),
+    loaded_zone = s.get("contact_half_width_measure") == "half the extent of the loaded zone"
+    table.add_row(f"contact half-width a{' (half the loaded zone)' if loaded_zone else ''}{length}",
+                  _fmt(s["contact_half_width"]),
                   _fmt(s["contact_half_width_exact"]), _fmt(s.get("contact_half_width_error_pct"), "+.2f"))
     table.add_row(f"peak pressure p0{stress}", _fmt(s["peak_pressure"]), _fmt(s["peak_pressure_exact"]),
                   _fmt(s.get("peak_pressure_error_pct"), "+.2f"))
     table.add_row(f"total contact force P{force}", _fmt(s["total_contact_force"]), "", "")
     if s.get("friction"):
-        table.add_row("tangential force Q (model)", _fmt(s.get("tangential_force")), f"mu N = {_fmt(s.get('coulomb_limit'))}",
-                      "")
+        table.add_row("tangential force |Q| = |sum q_i| (model)", _fmt(s.get("tangential_force")),
+                      f"<= mu N = {_fmt(s.get('coulomb_limit'))}", "")
+        if s.get("tangential_force_magnitude_sum") is not None:  # = mu N where every loaded point slips
+            table.add_row("sum |q_i| (model)", _fmt(s["tangential_force_magnitude_sum"]),
+                          f"<= mu N = {_fmt(s.get('coulomb_limit'))}", "")
         table.add_row("stick / slip / open points",
                       f"{s.get('stick_points')} / {s.get('slip_points')} / {s.get('open_points')}", "", "")
         if s.get("stick_half_width_exact") is not None:
@@ -223,7 +228,11 @@ def _summary_table(s: dict) -> Table:
         table.add_row("load steps (converged)", f"{s.get('converged_steps')} / {s['load_steps']}", "", "")
     table.add_row("max penetration / h", _fmt(s.get("penetration"), ".2e"), "", "")
     table.add_row("wall time, all steps (s)" if stepped else "wall time (s)", _fmt(s["wall_time_s"], ".3f"), "", "")
-    table.add_row("one linear solve (s)", _fmt(s["linear_solve_time_s"], ".3f"), "", "")
+    if s.get("linear_solve_time_kind") == "mean Newton linear solve":  # finite: the solver times all solves
+        table.add_row(f"one Newton linear solve, mean of {s.get('linear_solve_count')} (s)",
+                      _fmt(s["linear_solve_time_s"], ".3g"), "", "")
+    else:
+        table.add_row("one linear solve (s)", _fmt(s["linear_solve_time_s"], ".3f"), "", "")
     table.add_row("wall time / linear solve", _fmt(s.get("time_ratio_contact_to_linear"), ".2f"), "", "")
     return table
 

@@ -42,6 +42,7 @@ import datetime as _dt
 import logging
 import math
 import os
+import re
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -158,6 +159,13 @@ def equilibrium_keys(eq) -> dict[str, Any]:
     }
 
 
+def _half_width_measure(solution, axis: int, center) -> str:
+    from .viz.plots import contact_center
+
+    return "from the contact centre" if contact_center(solution, center, declared=False) is not None \
+        else "half the extent of the loaded zone"
+
+
 def summarize(problem, solution, *, problem_name: str | None = None, level: int | None = None,
               options: dict | None = None, build_time_s: float | None = None) -> dict[str, Any]:
     r"""The ``summary.json`` dictionary of a solved problem.
@@ -178,9 +186,17 @@ def summarize(problem, solution, *, problem_name: str | None = None, level: int 
         One factorization plus one solve of the same stiffness, measured in the
         same run (``solution.timings["linear_solve_s"]``), so
         ``time_ratio_contact_to_linear`` compares the contact solve with a linear one.
+        Finite-deformation runs (:func:`run_setup`): the mean of the run's Newton linear
+        solves (``linear_solve_time_kind = "mean Newton linear solve"``), with their total
+        ``linear_solve_time_total_s`` and number ``linear_solve_count``.
     ``contact_half_width``, ``contact_half_width_exact``
         Computed half-width ``a`` (contact radius in 3D) and the analytical one
-        for the load the model carries.
+        for the load the model carries. Measured from the contact centre
+        (``problem.meta["center"]``); a problem file's centre that is only the default
+        origin (``meta["center_declared"]`` false) is used while it lies in the
+        contact zone, otherwise ``a`` is half the extent of the loaded zone
+        (:func:`alcontact.viz.contact_half_width`), never the distance of the zone
+        from the origin.
     ``peak_pressure``, ``peak_pressure_exact``
         Estimated peak pressure and the analytical ``p0``.
     ``total_contact_force``
@@ -214,8 +230,15 @@ def summarize(problem, solution, *, problem_name: str | None = None, level: int 
     center = meta.get("center")
     axis = int(meta.get("symmetry_axis", 0))
 
-    a_num = float(solution.contact_half_width(axis=axis, center=center))
-    a_edge = float(solution.contact_half_width_edge(axis=axis, center=center))
+    from .viz.plots import edge_search_applies, contact_half_width
+
+    declared = bool(meta.get("center_declared", True))
+    if (declared or center is None) and edge_search_applies(solution):
+        a_num = float(solution.contact_half_width(axis=axis, center=center))
+        a_edge = float(solution.contact_half_width_edge(axis=axis, center=center))
+    else:  # a problem file's default centre (the origin) only while it lies in the contact zone; a curved 3D
+        # boundary has no line of a flat plane to search the edge on (viz.contact_half_width)
+        a_num = a_edge = contact_half_width(solution, axis=axis, center=center, declared=declared)
     p_num = float(solution.peak_pressure)
     p_max = float(solution.peak_pressure_nodal_max)
     f_model = float(solution.normal_force)
@@ -256,6 +279,8 @@ def summarize(problem, solution, *, problem_name: str | None = None, level: int 
         "status_code": int(res.status),
         "message": res.message,
         "contact_half_width_error_pct": _error_pct(a_num, a_ex),
+        "contact_half_width_measure": "from the contact centre" if declared or center is None or a_ex is not None
+        else _half_width_measure(solution, axis, center),
         "peak_pressure_error_pct": _error_pct(p_num, p_ex),
         "model_contact_force": f_model,
         "contact_force_vector": np.asarray(solution.total_contact_force, dtype=float).tolist(),
@@ -579,11 +604,13 @@ def _solve_finite_setup(setup, on_step=None):
             weights=base.weights, active=pressure > 0, normals=np.asarray(normals, dtype=float),
             total_contact_force=np.asarray(step.force, dtype=float), result=res, nodal_forces=nodal,
             timings={"total_s": float(step.seconds)},
-            extra={**base.extra, "t": float(step.t), "cutbacks": int(step.cutbacks), "seconds": float(step.seconds)}))
+            extra={**base.extra, "t": float(step.t), "cutbacks": int(step.cutbacks), "seconds": float(step.seconds),
+                   "requested": bool(getattr(step, "requested", True))}))
     if fs.steps:
         last = fs.steps[-1]
         frames.append(dataclasses.replace(base, problem=at(last.t), extra={
             **base.extra, "t": float(last.t), "cutbacks": int(last.cutbacks), "seconds": float(last.seconds),
+            "requested": bool(getattr(last, "requested", True)),
             "step_newton_iterations": int(last.newton_iterations), "step_outer_iterations": int(last.outer_iterations)}))
         for fr, st in zip(frames[:-1], fs.steps[:-1]):
             fr.extra.update(step_newton_iterations=int(st.newton_iterations),
@@ -642,8 +669,10 @@ def _solve_finite_friction_setup(setup, on_step=None):
             problem=at(st.t), u=st.u, points=points, pressure=st.pressure, gap=st.gap, weights=weights,
             active=st.states != 0, normals=st.normals, total_contact_force=np.asarray(st.force, dtype=float),
             result=result, nodal_forces=weights * st.pressure,
-            timings={"total_s": float(ex["total_s"]) if last else float(st.seconds)},
+            timings={"total_s": float(ex["total_s"]), "linear_solve_s": float(ex.get("linear_solve_s", float("nan")))}
+            if last else {"total_s": float(st.seconds)},
             extra={"t": float(st.t), "cutbacks": int(st.cutbacks), "seconds": float(st.seconds),
+                   "requested": bool(getattr(st, "requested", True)),
                    "step_newton_iterations": int(st.newton_iterations),
                    "step_outer_iterations": int(st.outer_iterations), "slip": slip_total.copy(),
                    "slip_increment": st.slip, "state": st.states, "shear": -np.asarray(st.traction_t, dtype=float),
@@ -708,6 +737,8 @@ def _finite_summary(setup, fs, frames, wall: float) -> dict[str, Any]:
         "linear_solves": int(sum(s.linear_solves for s in steps)),
         "wall_time_s": float(final.timings.get("total_s", wall)),
         "step_times": [float(s.t) for s in steps],
+        # False: a sub-step a cut-back inserted (halved increment); step_times holds both kinds
+        "step_requested": [bool(getattr(s, "requested", True)) for s in steps],
         "step_newton_iterations": [int(s.newton_iterations) for s in steps],
         "step_outer_iterations": [int(s.outer_iterations) for s in steps],
         "step_cutbacks": [int(s.cutbacks) for s in steps],
@@ -722,7 +753,15 @@ def _finite_summary(setup, fs, frames, wall: float) -> dict[str, Any]:
     }
     if steps:
         out.update(equilibrium_keys(final.equilibrium()))
-    lin = final.timings.get("linear_solve_s")
+    # the solver times all its Newton linear solves together: one solve is their mean
+    total = final.timings.get("linear_solve_s")
+    total = total if total is not None and math.isfinite(total) else None
+    count = int(fs.extra.get("linear_solves", final.result.linear_solves))  # the run's (friction: its extra)
+    lin = total / count if total and count > 0 else None
+    out["linear_solve_time_s"] = lin
+    out["linear_solve_time_total_s"] = total
+    out["linear_solve_count"] = count
+    out["linear_solve_time_kind"] = "mean Newton linear solve" if lin else None
     out["time_ratio_contact_to_linear"] = out["wall_time_s"] / lin if lin else None
     if not fs.success:
         reached = float(steps[-1].t) if steps else 0.0
@@ -760,7 +799,76 @@ def _controls(setup) -> list[tuple[str, str, str, int]]:
     return out
 
 
+def _prescribed(setup, t: float) -> dict[str, float]:
+    """What the problem file prescribes at pseudo-time ``t``: ``reaction_force.csv``'s leading columns.
+
+    ``prescribed_u_<boundary>_<x|y|z>``: the value of each ramped support component (value x
+    amplitude; zero throughout: left out by :func:`_prescribed_quantities`),
+    ``load_factor_<load>``: the amplitude of each ramped load, ``obstacle_<x|y|z>`` and
+    ``obstacle_travel``: the obstacle's translation ``t * path`` and the distance it has
+    travelled along its (straight) path.
+    """
+    from .contact import Support
+
+    out: dict[str, float] = {}
+    dim = int(setup.problem.model.dim)
+    for case in (setup.history.cases if setup.history is not None else ()):
+        a = float(case.value(t))
+        item = case.item
+        if isinstance(item, Support):
+            if callable(item.value):  # a field of values (Python API): no single prescribed number
+                continue
+            comps = range(dim) if item.components is None else item.components
+            for c in comps:
+                v = item.value if np.ndim(item.value) == 0 else item.value[c]
+                key = f"prescribed_u_{item.boundary}_{'xyz'[c]}"
+                out[key] = out.get(key, 0.0) + float(v) * a
+        else:
+            out["load_factor_" + re.sub(r"\W+", "_", str(case.name or case.label)).strip("_")] = a
+    if setup.obstacle_path is not None:
+        off = setup.obstacle_offset(t)
+        for c, v in zip("xyz", off):
+            out[f"obstacle_{c}"] = float(v)
+        out["obstacle_travel"] = float(np.linalg.norm(off))
+    return out
+
+
+def _prescribed_quantities(setup, rows, final) -> list[tuple[str, str, bool]]:
+    """The prescribed quantities that change over the steps: ``(column, label, normal)``.
+
+    ``normal``: a pressing action (a support not marked ``tangential``, an obstacle moving
+    along the contact normal), preferred as the abscissa of a phase that has one.
+    """
+    from .contact import Support
+
+    if not rows:
+        return []
+    start = _prescribed(setup, 0.0)
+    moving = [k for k in rows[0] if k.startswith(("prescribed_u_", "load_factor_", "obstacle_travel"))
+              and any(abs(float(r[k]) - start.get(k, 0.0)) > 0 for r in rows)]
+    tangential = set()
+    for case in (setup.history.cases if setup.history is not None else ()):
+        if case.tangential and isinstance(case.item, Support):
+            tangential |= {k for k in moving if k.startswith(f"prescribed_u_{case.item.boundary}_")}
+    out = []
+    for k in moving:
+        if k == "obstacle_travel":
+            path = np.asarray(setup.obstacle_path, dtype=float)
+            w = np.asarray(final.pressure, dtype=float)
+            n = np.asarray(final.normals, dtype=float).T @ (w if w.sum() > 0 else np.ones_like(w))
+            along = abs(float(path @ n)) / max(float(np.linalg.norm(path) * np.linalg.norm(n)), 1e-300)
+            out.append((k, "obstacle travel along its path", along > 0.5))
+        elif k.startswith("prescribed_u_"):
+            boundary, comp = k[len("prescribed_u_"):].rsplit("_", 1)
+            out.append((k, f"prescribed u_{comp} of {boundary}", k not in tangential))
+        else:
+            out.append((k, f"load factor of {k[len('load_factor_'):]}", True))
+    return out
+
+
 def _step_rows(setup, frames, controls) -> list[dict[str, Any]]:
+    from .viz.plots import contact_half_width
+
     model = setup.problem.model
     meta = setup.problem.meta
     axis = int(meta.get("symmetry_axis", 0))
@@ -770,13 +878,15 @@ def _step_rows(setup, frames, controls) -> list[dict[str, Any]]:
         tf = np.asarray(ex.get("tangential_force", np.zeros(model.dim)), dtype=float)
         row: dict[str, Any] = {
             "step": k + 1, "t": float(ex.get("t", setup.times[min(k, len(setup.times) - 1)])),
+            "requested": int(bool(ex.get("requested", True))),  # 0: a sub-step inserted by a cut-back
             "status": fr.result.status.label,
             "outer_iterations": ex.get("step_outer_iterations", fr.result.outer_iterations),
             "newton_iterations": ex.get("step_newton_iterations", fr.result.newton_iterations),
             "normal_force": fr.normal_force,
             "tangential_force": float(np.linalg.norm(tf)),
             "peak_pressure": fr.peak_pressure,
-            "contact_half_width": fr.contact_half_width(axis=axis, center=meta.get("center")),
+            "contact_half_width": contact_half_width(fr, axis=axis, center=meta.get("center"),
+                                                     declared=bool(meta.get("center_declared", True))),
             "active_points": int(np.count_nonzero(fr.active)),
             "penetration": fr.result.penetration,
         }
@@ -795,6 +905,7 @@ def _step_rows(setup, frames, controls) -> list[dict[str, Any]]:
         for label, _kind, boundary, comp in controls:
             _, dofs = model.node_dofs(boundary)
             row[f"u_{label}"] = float(np.mean(np.asarray(fr.u)[dofs[:, comp]]))
+        row.update(_prescribed(setup, row["t"]))
         rows.append(row)
     return rows
 
@@ -809,9 +920,9 @@ def _add_tangential_curves(fig, rows, control: str | None, dim: int) -> None:
     if control is not None and control[-1:] in axes:
         shown = control[-1]
         x = np.array([float(r[f"u_{control}"]) for r in rows])
-    else:
-        last = rows[-1]
-        shown = max(axes, key=lambda c: abs(float(last.get(f"reaction_{c}", 0.0))))
+    else:  # the component reaction_force_figure picks
+        shown = max(axes, key=lambda c: max(abs(float(r.get(f"reaction_{c}", r.get(f"force_{c}", 0.0))))
+                                            for r in rows))
         x = np.array([float(r["t"]) for r in rows])
     x = np.concatenate([[0.0], x])
     for c in axes:
@@ -826,8 +937,10 @@ def _add_tangential_curves(fig, rows, control: str | None, dim: int) -> None:
 
 def _reaction_rows(rows, controls) -> list[dict[str, Any]]:
     """Columns of ``reaction_force.csv``: step, t, the driving displacements, reactions and contact forces."""
-    keep = ("step", "t") + tuple(f"u_{c[0]}" for c in controls)
-    return [{k: v for k, v in r.items() if k in keep or k.startswith(("reaction_", "force_"))} for r in rows]
+    keep = ("step", "t", "requested") + tuple(f"u_{c[0]}" for c in controls)
+    lead = ("prescribed_u_", "load_factor_", "obstacle_")
+    return [{**{k: v for k, v in r.items() if k in keep or k.startswith(lead)},
+             **{k: v for k, v in r.items() if k.startswith(("reaction_", "force_"))}} for r in rows]
 
 
 def _write_rows_csv(path, rows) -> Path:
@@ -1020,6 +1133,11 @@ def run_setup(setup, out: str | os.PathLike | None = None, force: bool = False, 
         summary["time_ratio_contact_to_linear"] = summary["wall_time_s"] / lin if lin else None
         if len(frames) < n:
             summary["message"] = f"step {len(frames)} of {n} failed: {final.result.message}"
+    if setup.friction > 0 and "shear" in final.extra:
+        # |Q| = |sum of q_i| <= sum of |q_i| <= mu N: the two differ where the tangents turn over the zone
+        q = np.linalg.norm(np.asarray(final.extra["shear"], dtype=float), axis=1)
+        summary["tangential_force_magnitude_sum"] = float(np.sum(np.asarray(final.weights, dtype=float) * q))
+    summary["units"] = setup.plot_units().as_dict(int(prob.model.dim))
     logger.info("%s: %s", name, summary["status"])
 
     files: list[str] = []
@@ -1046,6 +1164,7 @@ def write_setup_results(folder: Path, setup, frames, summary: dict) -> list[str]
     from .io.report import write_report
 
     o = setup.output
+    units = setup.plot_units()
     final = frames[-1]
     friction = setup.friction > 0
     stepped = len(frames) > 1 or setup.stepped
@@ -1079,36 +1198,49 @@ def write_setup_results(folder: Path, setup, frames, summary: dict) -> list[str]
 
         meta = setup.problem.meta
         save_pressure_plot(final, folder / "pressure.png", mindlin=setup.mindlin,
-                           axis=int(meta.get("symmetry_axis", 0)))
+                           axis=int(meta.get("symmetry_axis", 0)), units=units)
         files.append("pressure.png")
         if friction:
             save_figure(steps_figure(rows, title=f"{setup.name}: {summary['status']}"), folder / "convergence.png")
         else:
             save_convergence_plot(final.result, folder / "convergence.png", tolerances=_tolerances(setup.options))
         files.append("convergence.png")
+        from .viz.plots import force_path_figure
+
+        dim = int(setup.problem.model.dim)
+        quantities = _prescribed_quantities(setup, rows, final)  # what the file prescribes and the run moved
+        start = _prescribed(setup, 0.0)
         if stepped:
-            save_figure(load_displacement_figure(rows, [(c[0], c[1]) for c in controls], title=setup.name,
-                                                 dim=int(setup.problem.model.dim)),
-                        folder / "load_displacement.png")
+            if quantities and not any(q[0].startswith("load_factor_") for q in quantities):
+                # displacement-driven (supports, the obstacle's path): forces against what was prescribed,
+                # one panel per phase (press, then slide)
+                fig = force_path_figure(rows, quantities, start=start, title=setup.name, units=units, dim=dim)
+            else:  # load-driven: the loads' effect, the mean displacement of the loaded boundary
+                fig = load_displacement_figure(rows, [(c[0], c[1]) for c in controls], title=setup.name, dim=dim,
+                                               units=units)
+            save_figure(fig, folder / "load_displacement.png")
             files.append("load_displacement.png")
         if setup.finite:
             from .viz.plots import reaction_force_figure
 
-            control = next((c[0] for c in controls if c[1] == "normal"), None)
-            fig = reaction_force_figure(rows, control, title=f"{setup.name}: reaction-force curve",
-                                        dim=int(setup.problem.model.dim))
-            if friction:
-                _add_tangential_curves(fig, rows, control, int(setup.problem.model.dim))
+            title = f"{setup.name}: reaction-force curve"
+            if quantities:  # one panel per phase of the prescribed path, against what was prescribed
+                fig = force_path_figure(rows, quantities, start=start, title=title, units=units, dim=dim)
+            else:
+                control = next((c[0] for c in controls if c[1] == "normal"), None)
+                fig = reaction_force_figure(rows, control, title=title, dim=dim, units=units)
+                if friction:
+                    _add_tangential_curves(fig, rows, control, dim)
             save_figure(fig, folder / "reaction_force.png")
             files.append("reaction_force.png")
         from .viz.pictures import save_body_pictures
 
-        files += save_body_pictures(final, folder, title=setup.name)
+        files += save_body_pictures(final, folder, units=units, title=setup.name)
     if o["report"]:
         files.append("report.md")
         write_report(folder / "report.md", summary, files + ["summary.json"],
                      description=setup.data["problem"]["description"],
-                     source=str(setup.source) if setup.source else None)
+                     source=str(setup.source) if setup.source else None, units=units)
     files.append("summary.json")
     write_json(folder / "summary.json", {**summary, "files": files})
     logger.info("results written to %s", folder)

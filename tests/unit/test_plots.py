@@ -108,5 +108,5 @@ def test_load_displacement_and_steps_figures_have_units():
 
 def test_units_force():
     assert Units("mm", "MPa").force(2) == "N/mm" and Units("m", "Pa").force(3) == "N"
-    assert Units("in", "psi").force(3) == "psi·in²"
+    assert Units("in", "psi").force(3) == "lbf" and Units("cm", "psi").force(3) == "psi·cm²"
     assert Units().force(2) == "[E]·L" and Units().note and not MM_MPA.note

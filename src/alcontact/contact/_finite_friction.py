@@ -365,6 +365,8 @@ class FiniteFrictionStep:
         Obstacle normals at the projections of the contact points.
     linear_solves : int
         Newton systems solved in this step (failed tries included).
+    requested : bool
+        ``t`` is a requested step time; ``False`` for a sub-step a cut-back inserted.
     """
 
     t: float
@@ -388,6 +390,7 @@ class FiniteFrictionStep:
     slip: np.ndarray | None = None
     normals: np.ndarray | None = None
     linear_solves: int = 0
+    requested: bool = True
 
     @property
     def state(self) -> np.ndarray:
@@ -773,6 +776,7 @@ def solve_finite_friction(problem, mu: float, algorithm: str = "simo-laursen", p
         res = att.value
         step, full = _record(dc, res, t, mu, opts, rec.cutbacks, rec.newton_iterations, rec.seconds,
                              rec.linear_solves)
+        step = dataclasses.replace(step, requested=rec.requested)  # False: a sub-step of a cut-back
         records.append(step)
         state["last"] = full
         if step.status > 0:
@@ -800,7 +804,8 @@ def solve_finite_friction(problem, mu: float, algorithm: str = "simo-laursen", p
                "eps_t": float(eps_t), "mu": float(mu), "algorithm": algorithm, "penalty": pen_name,
                "dofs": int(problem.model.ndofs), "residual_log": dc.residual_log,
                "newton_total": int(dc.newton_iterations), "linear_solves": int(dc.linear_solves),
-               "cutbacks": int(run.cutbacks), "total_s": time.perf_counter() - t_start})
+               "cutbacks": int(run.cutbacks), "total_s": time.perf_counter() - t_start,
+               "linear_solve_s": float(dc.solve_seconds)})  # all Newton linear solves together
 
 
 def _attempt(dc, data, step_fn, x, t, y_prev, nu_prev, lamN_all, lamT_all, mu, eps_n, eps_t, pen_name,

@@ -83,6 +83,9 @@ class FiniteStep:
         Contact pressure and gap (current configuration) of every contact-boundary point.
     normal_force : float
         :math:`\\sum_i w_i t_{N,i}`.
+    requested : bool
+        ``t`` is a requested step time; ``False`` for a sub-step a cut-back inserted
+        (the increment halved after a failed try).
     """
 
     t: float
@@ -98,6 +101,7 @@ class FiniteStep:
     pressure: np.ndarray | None = None
     gap: np.ndarray | None = None
     normal_force: float = float("nan")
+    requested: bool = True
 
 
 @dataclass(frozen=True)
@@ -175,7 +179,22 @@ class StepRecords:
 
     @property
     def times(self) -> np.ndarray:
+        """Pseudo-time of every accepted step, in order: the requested step times *and* the sub-steps
+        that cut-backs inserted (a failed step's increment halved, ``max_cutbacks`` times at most).
+
+        :attr:`requested` marks which is which; :attr:`requested_times` keeps the requested ones.
+        """
         return np.array([s.t for s in self.steps])
+
+    @property
+    def requested(self) -> np.ndarray:
+        """Per accepted step: ``True`` at a requested step time, ``False`` at a cut-back sub-step."""
+        return np.array([bool(getattr(s, "requested", True)) for s in self.steps], dtype=bool)
+
+    @property
+    def requested_times(self) -> np.ndarray:
+        """The requested step times that were reached (:attr:`times` without the cut-back sub-steps)."""
+        return self.times[self.requested] if self.steps else np.array([])
 
     @property
     def forces(self) -> np.ndarray:
@@ -576,7 +595,7 @@ def solve_finite(problem, algorithm: str = "simo-laursen", penalty: str | None =
         dc.accept(pressure)
         step = FiniteStep(t, out.status, rec.newton_iterations, int(out.outer), rec.linear_solves, force,
                           rec.cutbacks, rec.seconds, out.message, u=u.copy(), pressure=pressure.copy(),
-                          gap=gap, normal_force=float(np.sum(dc.weights * pressure)))
+                          gap=gap, normal_force=float(np.sum(dc.weights * pressure)), requested=rec.requested)
         records.append(step)
         state["last"] = (out, u)
         return step

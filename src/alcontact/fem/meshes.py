@@ -93,7 +93,8 @@ def _grow(length: float, h0: float, growth: float, h_max: float, axis: str = "x"
         lg = math.log(growth)
         k_cap = math.log(h_max / h0) / lg
         # steps needed before the geometric sum passes length (+2: the result is the same as with k_cap)
-        n_geo = math.log1p(length * (growth - 1.0) / h0) / lg + 2.0
+        # Python floats: a huge growth gives inf here (NumPy scalars would warn of the overflow)
+        n_geo = math.log1p(float(length) * (float(growth) - 1.0) / float(h0)) / lg + 2.0
         _too_many(min(k_cap, n_geo), axis, "refine (h_min, growth)")
         k_cap = max(0, int(math.ceil(min(k_cap, n_geo))))
         with np.errstate(over="ignore"):  # a huge growth overflows past the cap: min() gives h_max

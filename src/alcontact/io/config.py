@@ -32,7 +32,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from .._options import BAD, ENERGY_MODEL, LINEAR_MODEL, Option, check_value, declarations
+from .._options import BAD, ENERGY_MODEL, LINEAR_MODEL, Option, check_value, declarations, units_issues
 from ..errors import ConfigError, InputError, MeshError, UnknownNameError
 from .schema import Table, schema
 
@@ -200,6 +200,9 @@ class ProblemSetup:
         Finite kinematics: translation of the obstacle per unit pseudo-time (``[obstacle] path``).
     max_cutbacks : int
         Finite kinematics: halvings of a failed step (``[loading] max_cutbacks``).
+    units : tuple of (str or None)
+        ``(length, stress, force)`` of ``[units]`` (``None``: unnamed; force checked to be
+        stress x length^2), see :meth:`plot_units`.
     """
 
     source: Path | None
@@ -217,6 +220,7 @@ class ProblemSetup:
     kinematics: str = "small"
     obstacle_path: tuple[float, ...] | None = None
     max_cutbacks: int = 6
+    units: tuple[str | None, str | None, str | None] = (None, None, None)
 
     @property
     def finite(self) -> bool:
@@ -234,6 +238,12 @@ class ProblemSetup:
     @property
     def name(self) -> str:
         return self.data["problem"]["name"]
+
+    def plot_units(self):
+        """The :class:`alcontact.viz.Units` of the labels (``[units]``; ``L`` / ``[E]`` without it)."""
+        from ..viz.plots import Units
+
+        return Units(*self.units)
 
     @property
     def friction(self) -> float:
@@ -821,6 +831,13 @@ def _build(data: dict, base: Path, issues: list[Issue], source) -> ProblemSetup 
         except InputError as exc:
             issues.append(Issue("solver.friction", str(exc)))
 
+    # ---- units (labels only; the set must be consistent)
+    units: tuple = (None, None, None)
+    ud = data.get("units")
+    if _ok(ud):
+        units = (ud["length"], ud["stress"], ud["force"])
+        issues.extend(Issue(f"units.{key}", msg) for key, msg in units_issues(*units))
+
     # ---- reference
     ref = mindlin = None
     rd = data.get("reference")
@@ -864,7 +881,9 @@ def _build(data: dict, base: Path, issues: list[Issue], source) -> ProblemSetup 
     if model is None:
         return None
     center = tuple(rd["center"]) if rd["center"] is not None else (0.0,) * dim
-    meta = {"symmetry_axis": int(rd["axis"]), "center": center}
+    # the origin is only a default centre unless a reference or [reference] center names it (viz.contact_center)
+    meta = {"symmetry_axis": int(rd["axis"]), "center": center,
+            "center_declared": rd["center"] is not None or rd["kind"] != "none"}
     problem = _num(issues, "", ContactProblem, model=model, obstacle=ob, contact_boundary=cd["boundary"],
                    supports=tuple(fixed), loads=tuple(loads), friction=float(mu), name=data["problem"]["name"],
                    reference=ref, meta=meta, kinematics=kinematics)
@@ -884,5 +903,5 @@ def _build(data: dict, base: Path, issues: list[Issue], source) -> ProblemSetup 
         times=times, algorithm=algorithm, penalty=penalty, options=options, friction_options=fopts,
         reference=ref, mindlin=mindlin, output=dict(data["output"]), kinematics=kinematics,
         obstacle_path=tuple(od["path"]) if od.get("path") is not None else None,
-        max_cutbacks=int(lo["max_cutbacks"]),
+        max_cutbacks=int(lo["max_cutbacks"]), units=units,
     )

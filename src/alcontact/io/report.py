@@ -23,13 +23,27 @@ _FILE_DOCS = {
     "steps.csv": "one row per load step: forces, contact zone, iterations, control displacements",
     "pressure.png": "contact pressure along the contact boundary (and tangential traction for friction)",
     "convergence.png": "convergence history",
-    "load_displacement.png": "contact force against the displacement of the loaded boundary",
+    "load_displacement.png": "contact force against the prescribed displacement or obstacle travel, one panel per "
+                             "phase of the path (press, then slide); load-driven runs: against the mean "
+                             "displacement of the loaded boundary",
     "steps/": "one VTU per load step (referenced by solution.pvd)",
-    "reaction_force.csv": "finite deformation: support reaction and contact force per step against the "
-                          "prescribed displacement",
-    "reaction_force.png": "reaction-force curve (finite deformation)",
+    "reaction_force.csv": "finite deformation: per step the prescribed quantities (support displacements "
+                          "prescribed_u_*, obstacle position obstacle_* and its travel along the path, load "
+                          "factors), the support reaction and the contact force",
+    "reaction_force.png": "reaction and contact force against what was prescribed, one panel per phase of the "
+                          "path (press, then slide)",
     "body_pressure.png": "picture of the deformed body coloured by contact pressure",
     "body_von_mises.png": "picture of the deformed body coloured by von Mises stress",
+}
+
+
+#: finite deformation: the VTU points are the deformed positions already
+_FINITE_FILE_DOCS = {
+    "solution.vtu": "final state in the deformed configuration (the points are already moved: do not warp "
+                    "it again): displacement, stress, von Mises, contact pressure, gap, contact state (+ slip "
+                    "for friction); ParaView: File > Open, Apply, colour by a field",
+    "solution.pvd": "all load steps as a ParaView time series, each in its deformed configuration (open this "
+                    "file, then use the time controls; no Warp By Vector needed)",
 }
 
 #: Pictures of the body (alcontact.viz.pictures) shown in their own section.
@@ -43,6 +57,29 @@ def _f(x, spec=".5g") -> str:
     if isinstance(x, float):
         return format(x, spec)
     return str(x)
+
+
+def _half_width_label(s: dict) -> str:
+    if s.get("contact_half_width_measure") == "half the extent of the loaded zone":
+        return "contact half-width a: half the extent of the loaded zone"
+    return "contact half-width a" + (" (contact radius)" if s.get("dim") == 3 else "")
+
+
+def _linear_solve_rows(s: dict) -> list[str]:
+    """What one linear solve took: a factorization + solve of the stiffness, or the mean Newton solve."""
+    if s.get("linear_solve_time_kind") == "mean Newton linear solve":
+        return [
+            f"| one Newton linear solve, mean of {s.get('linear_solve_count')} (s) | "
+            f"{_f(s.get('linear_solve_time_s'), '.3g')} | | |",
+            f"| all linear solves together (s) | {_f(s.get('linear_solve_time_total_s'), '.3f')} | | |",
+            f"| wall time / one Newton linear solve | {_f(s.get('time_ratio_contact_to_linear'), '.2f')} | | |",
+        ]
+    if s.get("kinematics") == "finite":  # the solver did not time its linear solves
+        return []
+    return [
+        f"| one linear elastic solve: factorization + solve (s) | {_f(s.get('linear_solve_time_s'), '.3f')} | | |",
+        f"| wall time / linear solve | {_f(s.get('time_ratio_contact_to_linear'), '.2f')} | | |",
+    ]
 
 
 def render_report(summary: dict, files: list[str], *, description: str = "", source: str | None = None,
@@ -63,6 +100,7 @@ def render_report(summary: dict, files: list[str], *, description: str = "", sou
     from ..viz.plots import Units
 
     u = units if units is not None else Units()
+    deformed = summary.get("kinematics") == "finite"
     L, S, F = u.length, u.pressure, u.force(int(summary.get("dim") or 2))
     s = summary
     stepped = s.get("load_steps", 1) > 1
@@ -82,20 +120,37 @@ def render_report(summary: dict, files: list[str], *, description: str = "", sou
         "",
         "| quantity | computed | reference | error % |",
         "|---|---|---|---|",
-        f"| contact half-width a ({L}) | {_f(s.get('contact_half_width'))} | "
+        f"| {_half_width_label(s)} ({L}) | {_f(s.get('contact_half_width'))} | "
         f"{_f(s.get('contact_half_width_exact'))} | {_f(s.get('contact_half_width_error_pct'), '+.2f')} |",
         f"| peak pressure p0 ({S}) | {_f(s.get('peak_pressure'))} | {_f(s.get('peak_pressure_exact'))} | "
         f"{_f(s.get('peak_pressure_error_pct'), '+.2f')} |",
         f"| total contact force P ({F}) | {_f(s.get('total_contact_force'))} | | |",
     ]
+    notes = []
     if s.get("kinematics") == "finite":
-        lines.append(f"| finite deformation ({s.get('material_model')}): Newton iterations per step | "
-                     f"{' '.join(map(str, s.get('step_newton_iterations', [])))} | | |")
+        newton = s.get("step_newton_iterations", [])
+        asked = s.get("step_requested") or [True] * len(newton)
+        marked = " ".join(f"{n}" if r else f"{n}*" for n, r in zip(newton, asked))
+        lines.append(f"| finite deformation ({s.get('material_model')}): Newton iterations per accepted step | "
+                     f"{marked} | | |")
         lines.append(f"| cut-backs / equilibrium residual | {s.get('cutbacks')} / "
                      f"{_f(s.get('equilibrium_residual'), '.2e')} | | |")
+        if not all(asked):
+            notes.append(f"Load steps: {sum(1 for r in asked if not r)} of the {len(asked)} accepted steps "
+                         "(marked *) are sub-steps that cut-backs inserted (a failed step's increment halved); "
+                         "`summary.json` lists every accepted step in `step_times`, and `step_requested` says "
+                         "which were requested.")
     if s.get("friction"):
-        lines.append(f"| tangential force of the model ({F}) | {_f(s.get('tangential_force'))} | mu N = "
-                     f"{_f(s.get('coulomb_limit'))} | |")
+        lines.append(f"| tangential force of the model, resultant \\|Q\\| = \\|sum q_i\\| ({F}) | "
+                     f"{_f(s.get('tangential_force'))} | <= mu N = {_f(s.get('coulomb_limit'))} | |")
+        if s.get("tangential_force_magnitude_sum") is not None:
+            lines.append(f"| sum of the nodal tangential force magnitudes, sum \\|q_i\\| ({F}) | "
+                         f"{_f(s.get('tangential_force_magnitude_sum'))} | <= mu N = {_f(s.get('coulomb_limit'))} | |")
+            notes.append("Friction: every contact point obeys Coulomb's law |q_i| <= mu p_i (= where it "
+                         "slips), so sum |q_i| <= mu N, with equality when every loaded point slips. The "
+                         "resultant |Q| is smaller than sum |q_i| where the tangent directions turn over "
+                         "the contact zone (a curved or deformed surface) or the points slip in different "
+                         "directions; |Q| < mu N is then no sign of sticking.")
         lines.append(f"| stick / slip / open points | {s.get('stick_points')} / {s.get('slip_points')} / "
                      f"{s.get('open_points')} | | |")
         if s.get("stick_half_width_exact") is not None:
@@ -107,10 +162,7 @@ def render_report(summary: dict, files: list[str], *, description: str = "", sou
         f"| linear solves | {s.get('linear_solves')} | | |",
         f"| max penetration / h | {_f(s.get('penetration'), '.2e')} | | |",
         f"| wall time{' of all steps' if stepped else ''} (s) | {_f(s.get('wall_time_s'), '.3f')} | | |",
-        f"| one linear elastic solve (s) | {_f(s.get('linear_solve_time_s'), '.3f')} | | |",
-        f"| wall time / linear solve | {_f(s.get('time_ratio_contact_to_linear'), '.2f')} | | |",
-        "",
-    ]
+    ] + _linear_solve_rows(s) + [""] + [line for note in notes for line in (note, "")]
     for png, caption in (("pressure.png", "Contact pressure"), ("convergence.png", "Convergence"),
                          ("load_displacement.png", "Load-displacement curve"),
                          ("reaction_force.png", "Reaction-force curve")):
@@ -127,7 +179,8 @@ def render_report(summary: dict, files: list[str], *, description: str = "", sou
     for name in files:
         if name == "report.md":
             continue
-        lines.append(f"- `{name}`: {_FILE_DOCS.get(name, '')}".rstrip(": "))
+        doc = _FINITE_FILE_DOCS.get(name) if deformed else None
+        lines.append(f"- `{name}`: {doc or _FILE_DOCS.get(name, '')}".rstrip(": "))
     lines.append("")
     return "\n".join(lines)
 

@@ -28,8 +28,8 @@ import sys
 from dataclasses import dataclass
 from pathlib import Path
 
-from .._options import (MAX_CUTBACKS, MAX_STEPS, OBSTACLE_PATH, REQUIRED, TYPES, Option, declarations,
-                        kinematics_option, material_model_option)
+from .._options import (MAX_CUTBACKS, MAX_STEPS, OBSTACLE_PATH, REQUIRED, TYPES, UNITS_OPTIONS, Option,
+                        declarations, kinematics_option, material_model_option)
 
 __all__ = [
     "REQUIRED",
@@ -223,6 +223,9 @@ def _build_schema() -> tuple[Table, ...]:
               "measured from it.", lengths=(2, 3)),
             O("axis", "int", 0, "Coordinate along which the contact width is measured.", low=0, high=2),
         )),
+        Table("units", "Units of the numbers in this file, for the labels of every plot, table and summary "
+              "(nothing is converted: the numbers must form a consistent set, force = stress x length^2). "
+              "Without it the labels say `L` (length) and `[E]` (the unit of Young's modulus).", UNITS_OPTIONS),
         Table("output", "What to write into the results folder.", (
             O("folder", "str", "results", "Results folder when `--out` is not given (relative to the current "
               "directory)."),

@@ -10,9 +10,15 @@ from __future__ import annotations
 
 from .plots import (
     Units,
+    contact_center,
     contact_coordinate,
+    contact_half_width,
+    edge_search_applies,
+    loaded_half_width,
     convergence_figure,
+    force_path_figure,
     load_displacement_figure,
+    load_path_phases,
     pressure_figure,
     save_convergence_plot,
     save_figure,
@@ -24,6 +30,10 @@ from .pictures import body_figure, save_body_pictures
 __all__ = [
     "Units",
     "contact_coordinate",
+    "contact_center",
+    "contact_half_width",
+    "edge_search_applies",
+    "loaded_half_width",
     "pressure_figure",
     "convergence_figure",
     "save_figure",
@@ -33,4 +43,6 @@ __all__ = [
     "load_displacement_figure",
     "body_figure",
     "save_body_pictures",
+    "load_path_phases",
+    "force_path_figure",
 ]
