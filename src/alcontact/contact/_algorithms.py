@@ -659,7 +659,8 @@ def run_al(dc, opts, eps0, penalty_name="rockafellar") -> _Run:
             return _Run(r, out.t, out.g, ContactStatus.CONVERGED, "converged", outer0 + k, newton, eps,
                         out.residual, hist)
         if inexact:
-            inner_tol = max(opts.newton_tol, min(_INEXACT_FORCING * dlam, dlam**2))
+            # dlam * dlam, not dlam**2: a huge change (multipliers from ~0) gives inf, not an OverflowError
+            inner_tol = max(opts.newton_tol, min(_INEXACT_FORCING * dlam, dlam * dlam))
             if _converged(opts, pen_k, compl, dlam):
                 inner_tol = opts.newton_tol
         if (opts.strategy == "infeasibility" and pen_k > opts.tau * pen_prev and pen_k > opts.tol_penetration

@@ -39,7 +39,6 @@ import io
 import logging
 import math
 import os
-import tomllib
 from pathlib import Path
 from typing import Any
 
@@ -47,7 +46,7 @@ import numpy as np
 
 from .._options import VALUE_RANGE
 from ..errors import ConfigError, InputError, MeshError
-from .config import Issue, _raise, _text_of, load_problem, validate_data
+from .config import Issue, _raise, _text_of, load_problem, parse_toml, validate_data
 
 __all__ = ["SizeEstimate", "Preflight", "check_problem", "estimate_size", "exact_size", "size_issues", "setup_issues",
            "machine_memory", "MAX_DOFS", "MAX_SECONDS", "MEMORY_FRACTION", "VALUE_RANGE"]
@@ -611,10 +610,7 @@ def check_problem(path: str | os.PathLike, *, memory: float | None = None) -> Pr
     label = str(p)
     text = _text_of(p)
     total = machine_memory()[0] if memory is None else float(memory)
-    try:
-        data, issues = validate_data(tomllib.loads(text))
-    except tomllib.TOMLDecodeError:
-        data, issues = None, [Issue("", "not valid TOML")]
+    data, issues = validate_data(parse_toml(text, label))
     if issues:  # load_problem reports them all, with its wording
         load_problem(p)
         raise AssertionError("load_problem accepted a file with schema issues")  # pragma: no cover
