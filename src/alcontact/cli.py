@@ -280,7 +280,9 @@ def run_command(
         kwargs = dict(problem=problem, out=out, algorithm=algorithm, penalty=penalty, force=force, level=level,
                       order=order or 1, maxiter=maxiter, penalty_scale=penalty_scale)
         try:
-            with _signals_raise(), _cli_logging(err, level_):
+            from .io.results import output_lock
+
+            with _signals_raise(), _cli_logging(err, level_), output_lock(out):
                 _check_builtin_size(problem, level, order or 1)  # what `alcontact check` checks in a file
                 if quiet:
                     _, summary = run_problem(**kwargs)
@@ -372,15 +374,17 @@ def _run_file(problem_file: Path, out, console: Console, err: Console, level: in
         TimeElapsedColumn, TimeRemainingColumn
 
     from .io.preflight import check_problem
+    from .io.results import output_lock
     from .runner import run_setup
 
     force = kwargs.pop("force")
     algorithm = kwargs.pop("algorithm")
     penalty = kwargs.pop("penalty")
     try:
-        with _cli_logging(err, level):
+        with _cli_logging(err, level), contextlib.ExitStack() as stack:
             setup = check_problem(problem_file).setup  # what `alcontact check` checks, before solving
             out = out if out is not None else Path(setup.output["folder"])
+            stack.enter_context(output_lock(out))  # a second run into `out` is refused now, not after its solve
             if quiet:
                 result = run_setup(setup, out, force, algorithm=algorithm, penalty=penalty, **kwargs)
             else:

@@ -148,3 +148,121 @@ def test_case_12_duplicate_elements_are_not_called_inverted(tmp_path):
     msg = _refused(runner.invoke(app, ["check", str(_write(tmp_path, SQUARE_PROBLEM))]), "mesh.file = 'body.msh'",
                    "2 duplicate triangle element(s)", "remove the duplicates")
     assert "inverted" not in msg
+
+
+# ---------------------------------------------------------------------------------------------- case 3
+def test_case_3_an_output_folder_name_over_255_bytes_is_refused_by_check(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    p = _write(tmp_path, HERTZ.replace('folder = "results-hertz-2d"', f'folder = "{"a" * 300}"'))
+    _check_and_run_refuse(tmp_path, p, "output.folder", "300 bytes long", "choose a shorter name")
+    _refused(runner.invoke(app, ["run", "--out", str(tmp_path / ("b" * 300)), "-q", "--level", "0"]),
+             "300 bytes long", "choose a shorter name")
+    assert sorted(q.name for q in tmp_path.iterdir()) == ["p.toml"]
+
+
+# ---------------------------------------------------------------------------------------------- case 6
+def _cli(*args: str, cwd: Path):
+    import os
+    import subprocess
+    import sys
+
+    env = {**os.environ, "COLUMNS": "400", "NO_COLOR": "1"}
+    return subprocess.Popen([sys.executable, "-c", "from alcontact.cli import main; main()", *args], cwd=cwd,
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env)
+
+
+def test_case_6_a_second_run_into_a_folder_in_use_is_refused(tmp_path):
+    """While a run holds the results folder (its lock), another ``run --force`` into it exits 2 "in use"."""
+    from alcontact.io.results import output_lock
+
+    p = _write(tmp_path, HERTZ)
+    first = runner.invoke(app, ["run", str(p), "--out", str(tmp_path / "out"), "-q"])
+    assert first.exit_code == 0, first.output
+    before = {q.name: q.read_bytes() for q in (tmp_path / "out").iterdir()}
+    with output_lock(tmp_path / "out") as lock:
+        assert lock is not None and lock.exists()
+        proc = _cli("run", str(p), "--out", "out", "--force", "-q", cwd=tmp_path)
+        _, err = proc.communicate(timeout=120)
+    msg = flat(err)
+    assert proc.returncode == 2 and "Traceback" not in err, err
+    assert "results folder 'out' is in use" in msg and "choose another --out" in msg
+    assert {q.name: q.read_bytes() for q in (tmp_path / "out").iterdir()} == before  # intact
+    assert not lock.exists()  # removed on release
+
+
+def test_case_6_two_force_runs_at_once_one_wins(tmp_path):
+    """Two ``run --force`` into one folder at once: each exits 0 or 2 ("in use"), never a traceback; the folder is whole."""
+    import json
+
+    p = _write(tmp_path, HERTZ)
+    procs = [_cli("run", str(p), "--out", "out", "--force", "-q", cwd=tmp_path) for _ in range(2)]
+    outs = [(proc.wait(timeout=180), proc.communicate()[1]) for proc in procs]
+    for code, err in outs:
+        assert code in (0, 2) and "Traceback" not in err, err
+        assert code == 0 or "is in use" in flat(err)
+    assert 0 in [c for c, _ in outs]
+    s = json.loads((tmp_path / "out" / "summary.json").read_text())
+    assert sorted(s["files"]) == sorted(q.name for q in (tmp_path / "out").iterdir())
+    assert sorted(q.name for q in tmp_path.iterdir()) == ["out", "p.toml"]  # no staging folder, no lock file
+
+
+def test_case_6_a_full_disk_is_a_clean_error_and_the_folder_is_intact(tmp_path, monkeypatch):
+    import errno
+
+    import alcontact.runner as runner_mod
+
+    p = _write(tmp_path, HERTZ)
+    assert runner.invoke(app, ["run", str(p), "--out", str(tmp_path / "out"), "-q"]).exit_code == 0
+    before = {q.name: q.read_bytes() for q in (tmp_path / "out").iterdir()}
+
+    def full(folder, *args, **kwargs):
+        (Path(folder) / "solution.vtu").write_text("partial")
+        raise OSError(errno.ENOSPC, "No space left on device")
+
+    monkeypatch.setattr(runner_mod, "write_setup_results", full)
+    msg = _refused(runner.invoke(app, ["run", str(p), "--out", str(tmp_path / "out"), "-q", "--force"]),
+                   "No space left on device", "left as it was", "Free space")
+    assert "Traceback" not in msg
+    assert {q.name: q.read_bytes() for q in (tmp_path / "out").iterdir()} == before
+
+
+# ---------------------------------------------------------------------------------------------- case 11
+@pytest.mark.parametrize("link", ["dangling", "loop"])
+def test_case_11_a_bad_symlink_as_out_is_refused_before_solving(tmp_path, link, monkeypatch):
+    import alcontact.contact as contact_mod
+
+    if link == "dangling":
+        (tmp_path / "out").symlink_to(tmp_path / "nowhere" / "x")
+    else:
+        (tmp_path / "out").symlink_to(tmp_path / "other")
+        (tmp_path / "other").symlink_to(tmp_path / "out")
+    monkeypatch.setattr(contact_mod, "solve", lambda *a, **k: pytest.fail("solved before refusing --out"))
+    p = _write(tmp_path, HERTZ)
+    _refused(runner.invoke(app, ["run", str(p), "--out", str(tmp_path / "out"), "-q"]), "symbolic link",
+             "remove the link")
+
+
+def test_case_11_dot_dot_in_out_leaves_no_stray_folder(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    p = _write(tmp_path, HERTZ)
+    result = runner.invoke(app, ["run", str(p), "--out", "a/b/../c", "-q"])
+    assert result.exit_code == 0, result.output
+    assert sorted(q.name for q in (tmp_path / "a").iterdir()) == ["c"]
+    assert (tmp_path / "a" / "c" / "summary.json").is_file()
+
+
+@pytest.mark.parametrize("exists", [False, True])
+def test_case_11_stale_partial_folders_of_killed_runs_are_removed(tmp_path, exists, caplog):
+    """``.out.partial-*`` beside (and ``.alcontact-partial-*`` inside) left by a SIGKILL: the next run removes them."""
+    p = _write(tmp_path, HERTZ)
+    if exists:
+        assert runner.invoke(app, ["run", str(p), "--out", str(tmp_path / "out"), "-q"]).exit_code == 0
+        (tmp_path / "out" / ".alcontact-partial-k1ll3d00" / "steps").mkdir(parents=True)
+    (tmp_path / ".out.partial-k1ll3d00").mkdir()
+    (tmp_path / ".out.partial-k1ll3d00" / "solution.vtu").write_text("half")
+    args = ["run", str(p), "--out", str(tmp_path / "out"), "-v"] + (["--force"] if exists else [])
+    with caplog.at_level("INFO", logger="alcontact"):
+        assert runner.invoke(app, args).exit_code == 0
+    assert sorted(q.name for q in tmp_path.iterdir()) == ["out", "p.toml"]
+    assert not [q for q in (tmp_path / "out").iterdir() if q.name.startswith(".")]
+    assert "staging folder(s) of interrupted runs" in caplog.text

@@ -626,9 +626,21 @@ def check_problem(path: str | os.PathLike, *, memory: float | None = None) -> Pr
             _raise(issues, label)
         raise
     size = exact_size(setup)
-    issues = size_issues(size, total) + setup_issues(setup)
+    issues = size_issues(size, total) + setup_issues(setup) + _output_issues(setup)
     _check(issues, label)
     return Preflight(setup=setup, size=size, memory=total)
+
+
+def _output_issues(setup) -> list[Issue]:
+    """``[output] folder`` names no folder this system can make (too long a name, a NUL): ``run`` would fail."""
+    from .results import output_path_issue
+
+    folder = str(setup.output.get("folder") or "")
+    why = output_path_issue(folder) if folder else None
+    if why is None:
+        return []
+    shown = folder if len(folder) <= 60 else folder[:30] + "..." + folder[-15:]
+    return [Issue("output.folder", f"= {shown!r}: {why}.")]
 
 
 def _mesh_issue(md: dict, base: Path, issue: Issue) -> Issue:
