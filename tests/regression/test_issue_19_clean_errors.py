@@ -266,3 +266,41 @@ def test_case_11_stale_partial_folders_of_killed_runs_are_removed(tmp_path, exis
     assert sorted(q.name for q in tmp_path.iterdir()) == ["out", "p.toml"]
     assert not [q for q in (tmp_path / "out").iterdir() if q.name.startswith(".")]
     assert "staging folder(s) of interrupted runs" in caplog.text
+
+
+# ---------------------------------------------------------------------------------------------- case 7
+@pytest.mark.parametrize("kwargs, texts", [
+    (dict(level=1.5), ["hertz_2d: level = 1.5", "whole number"]),
+    (dict(level="1"), ["hertz_2d: level = '1'", "not a string"]),
+    (dict(level=-1), ["hertz_2d: level = -1", "[0, 5]"]),
+    (dict(level=6), ["hertz_2d: level = 6", "[0, 5]"]),
+])
+def test_case_7_hertz_2d_level_of_a_wrong_type_or_range(kwargs, texts):
+    """``hertz_2d(level=1.5 / "1")`` gave a TypeError from deep inside; ``level=-1`` built the finest level."""
+    from alcontact.errors import InputError
+    from alcontact.problems.hertz import hertz_2d
+
+    with pytest.raises(InputError) as info:
+        hertz_2d(**kwargs)
+    for t in texts:
+        assert t in str(info.value)
+
+
+@pytest.mark.parametrize("field, value, texts", [
+    ("obstacle", None, ["obstacle = None", "obstacles.make"]),
+    ("supports", "Support", ["supports = Support(...)", "wrap the single item in a list"]),
+    ("loads", "Pressure", ["loads = Pressure(...)", "wrap the single item in a list"]),
+])
+def test_case_7_contact_problem_with_a_wrong_field(field, value, texts):
+    """``ContactProblem(obstacle=None)`` and a bare Support/Pressure where a list is expected: AttributeError before."""
+    import dataclasses
+
+    from alcontact.contact import Pressure, Support
+    from alcontact.errors import InputError
+    from alcontact.problems.hertz import hertz_2d
+
+    value = {"Support": Support("bottom"), "Pressure": Pressure("top", 1.0)}.get(value, value)
+    with pytest.raises(InputError) as info:
+        dataclasses.replace(hertz_2d(level=0), **{field: value})
+    for t in texts:
+        assert t in str(info.value)
