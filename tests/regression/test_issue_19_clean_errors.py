@@ -304,3 +304,41 @@ def test_case_7_contact_problem_with_a_wrong_field(field, value, texts):
         dataclasses.replace(hertz_2d(level=0), **{field: value})
     for t in texts:
         assert t in str(info.value)
+
+
+# ---------------------------------------------------------------------------------------------- case 8
+@pytest.mark.parametrize("loading", ["", "[loading]\nsteps = 8\nt_end = 1e6\n"], ids=["no-loading", "huge-t_end"])
+def test_case_8_a_tangential_support_before_contact_is_refused_by_check(tmp_path, loading):
+    """Cattaneo-Mindlin without ``[loading]`` (one step at t = 1) or with ``t_end = 1e6``: ``run`` exited 2 after
+    ``check`` said OK."""
+    text = (ROOT / "examples" / "cattaneo_mindlin.toml").read_text()
+    text = text.replace("h_min = 0.125", "h_min = 1.0").replace("cells = [16, 8]", "cells = [8, 4]")
+    text = text.replace("[loading]\nsteps = 8\n", loading)
+    _check_and_run_refuse(tmp_path, _write(tmp_path, text), "loading:", "support[2]", "already non-zero at the "
+                          "first step time", "start the tangential ramp at 0")
+
+
+def test_case_8_the_example_still_passes_check(tmp_path):
+    text = (ROOT / "examples" / "cattaneo_mindlin.toml").read_text()
+    text = text.replace("h_min = 0.125", "h_min = 1.0").replace("cells = [16, 8]", "cells = [8, 4]")
+    result = runner.invoke(app, ["check", str(_write(tmp_path, text))])
+    assert result.exit_code == 0, result.output
+
+
+# ---------------------------------------------------------------------------------------------- case 9
+def _two_squares(tmp_path: Path, shift: float) -> Path:
+    from _gmsh import msh_text
+
+    pts, tri, lines = square()
+    order = ["left", "right", "bottom", "top"]
+    blocks = [("line", k + 1, lines[n]) for k, n in enumerate(order)]
+    blocks.append(("triangle", 5, np.vstack([tri, tri + len(pts)])))  # a second square, no boundary groups
+    names = [(1, k + 1, n) for k, n in enumerate(order)] + [(2, 5, "body")]
+    (tmp_path / "body.msh").write_text(msh_text(np.vstack([pts, pts + [shift, 0.0, 0.0]]), blocks, names))
+    return _write(tmp_path, SQUARE_PROBLEM)
+
+
+def test_case_9_a_disconnected_unsupported_piece_is_refused_by_check(tmp_path):
+    """A second, unsupported piece of the mesh: ``run`` exited 2 on a singular matrix after ``check`` said OK."""
+    _check_and_run_refuse(tmp_path, _two_squares(tmp_path, 2.0), "mesh:", "2 disconnected pieces",
+                          "nothing holds piece 2", "[2, 3] x [0, 1]", "add a [[support]]")
