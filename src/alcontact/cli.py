@@ -23,6 +23,7 @@ import contextlib
 import logging
 import signal
 import threading
+import warnings
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Annotated, Optional
@@ -71,10 +72,19 @@ def _cli_logging(err: Console, level: int) -> Iterator[None]:
     log.addHandler(handler)
     log.setLevel(level)
     try:
-        yield
+        with warnings.catch_warnings():
+            # NumPy/Matplotlib warnings (overflow in a trial step, a flat plot) are no message for the user:
+            # they become debug records of the library (shown with --verbose at DEBUG level, never raw on stderr)
+            warnings.simplefilter("always")
+            warnings.showwarning = _warning_to_log
+            yield
     finally:
         log.removeHandler(handler)
         log.setLevel(old_level)
+
+
+def _warning_to_log(message, category, filename, lineno, file=None, line=None) -> None:
+    logging.getLogger("alcontact.warnings").debug("%s: %s (%s:%s)", category.__name__, message, filename, lineno)
 
 
 class Interrupted(KeyboardInterrupt):

@@ -342,3 +342,22 @@ def test_case_9_a_disconnected_unsupported_piece_is_refused_by_check(tmp_path):
     """A second, unsupported piece of the mesh: ``run`` exited 2 on a singular matrix after ``check`` said OK."""
     _check_and_run_refuse(tmp_path, _two_squares(tmp_path, 2.0), "mesh:", "2 disconnected pieces",
                           "nothing holds piece 2", "[2, 3] x [0, 1]", "add a [[support]]")
+
+
+def test_case_12_runtime_warnings_do_not_leak_to_stderr(tmp_path, monkeypatch):
+    """NumPy/Matplotlib RuntimeWarnings printed raw on stderr; the CLI now turns them into debug log records."""
+    import warnings
+
+    import alcontact.runner as runner_mod
+
+    original = runner_mod.write_setup_results
+
+    def noisy(*args, **kwargs):
+        np.exp(np.array([1000.0]))  # NumPy: RuntimeWarning: overflow encountered in exp
+        warnings.warn("Attempting to set identical low and high ylims", UserWarning)  # as Matplotlib does
+        return original(*args, **kwargs)
+
+    monkeypatch.setattr(runner_mod, "write_setup_results", noisy)
+    result = runner.invoke(app, ["run", str(_write(tmp_path, HERTZ)), "--out", str(tmp_path / "out"), "-v"])
+    assert result.exit_code == 0, result.output
+    assert "Warning" not in result.stderr and "overflow" not in result.stderr and "ylims" not in result.stderr
