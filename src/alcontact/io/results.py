@@ -656,8 +656,15 @@ class ResultsFolder:
                     shutil.rmtree(self.path, ignore_errors=True)
                     raise
         except BaseException as err:
+            state = "written" if self.committed else "unchanged"
             with contextlib.suppress(AttributeError, TypeError):
-                err.results_state = "written" if self.committed else "unchanged"
+                err.results_state = state
+            if isinstance(err, OSError) and not isinstance(err, AlcontactError):
+                new = OutputPathError(f"--out '{self.target}': putting the result files in place failed "
+                                      f"({err.strerror or err}); check the folder and choose another --out if it "
+                                      "is not writable.")
+                new.results_state = state
+                raise new from err
             raise
         logger.info("results written to %s", self.target)
 
