@@ -34,7 +34,8 @@ from .errors import InputError
 
 __all__ = ["REQUIRED", "TYPES", "BAD", "MAX_STEPS", "VALUE_RANGE", "Option", "check_value", "declared",
            "declarations", "check_dataclass", "as_options", "is_real", "is_integer", "show", "LINEAR_MODEL",
-           "kinematics_option", "material_model_option", "OBSTACLE_PATH", "MAX_CUTBACKS", "check_args"]
+           "kinematics_option", "material_model_option", "OBSTACLE_PATH", "MAX_CUTBACKS", "check_args", "require",
+           "is_path"]
 
 
 class _Required:
@@ -456,6 +457,23 @@ def check_args(where: str, checks: list[tuple[Option, Any]]) -> list[Any]:
     if issues:
         raise InputError("\n".join(issues))
     return out
+
+
+def require(where: str, name: str, value: Any, ok: bool, want: str, error: type | None = None) -> None:
+    """Raise ``error`` (default :class:`~alcontact.errors.InputError`) unless ``ok``: the message names the
+    function, the argument, its value and type, and what to pass instead."""
+    if ok:
+        return
+    from .errors import InputError
+
+    raise (error or InputError)(f"{where}: {name} = {show(value)}: expected {want}, got {type(value).__name__}.")
+
+
+def is_path(value: Any) -> bool:
+    """A file-system path argument: ``str`` or ``os.PathLike`` (not bytes, not a number)."""
+    import os
+
+    return isinstance(value, (str, os.PathLike)) and "\0" not in os.fspath(value)
 
 
 def _names(cls_or_obj: Any) -> list[str]:

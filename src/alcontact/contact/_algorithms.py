@@ -882,6 +882,10 @@ def available_algorithms() -> list[str]:
 
 def algorithm_docs(*, friction: bool = False, kinematics: str = "small") -> dict[str, str]:
     """One line of documentation per algorithm (default: the frictionless ones at small deformation)."""
+    if not isinstance(friction, (bool, np.bool_)):
+        raise InputError(f"algorithm_docs: friction = {friction!r:.60}: expected True or False.")
+    if not isinstance(kinematics, str):
+        raise InputError(f"algorithm_docs: kinematics = {kinematics!r:.60}: expected 'small' or 'finite'.")
     return {e.name: e.doc for e in algorithms(friction=friction, kinematics=kinematics)}
 
 

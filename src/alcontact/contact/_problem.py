@@ -194,13 +194,13 @@ class ContactProblem:
             if isinstance(items, types):
                 raise InputError(f"{kind}: {name} = {type(items).__name__}(...): expected a list; wrap the single "
                                  f"item in a list, e.g. {name}={example}.")
-            if isinstance(items, (str, bytes, dict)) or not np.iterable(items):
+            if isinstance(items, (str, bytes, dict, np.ndarray)) or not np.iterable(items):
                 raise _bad(kind, name, items, f"a list of {' / '.join(t.__name__ for t in types)}, e.g. {example}")
             for i, item in enumerate(items):
                 if not isinstance(item, types):
                     raise _bad(kind, f"{name}[{i}]", item, f"a {' / '.join(t.__name__ for t in types)}")
-        if not _is_real(self.friction):
-            raise _bad(kind, "friction", self.friction, "a finite number >= 0 (0 = frictionless)")
+        if not _is_real(self.friction) or abs(float(self.friction)) > 1e100:
+            raise _bad(kind, "friction", self.friction, "a finite number in [0, 1e100] (0 = frictionless)")
         if not isinstance(self.name, str):
             raise _bad(kind, "name", self.name, "a string")
         if not isinstance(self.kinematics, str):

@@ -42,6 +42,7 @@ from typing import Any
 import numpy as np
 import skfem
 
+from alcontact._options import show
 from alcontact.errors import InputError, MeshError
 
 __all__ = ["rectangle", "box", "interval", "read", "graded_axis", "MAX_CELLS_PER_AXIS", "MAX_VERTICES",
@@ -156,6 +157,18 @@ def graded_axis(
     InputError
         More than :data:`MAX_CELLS_PER_AXIS` cells along the axis.
     """
+    from alcontact._options import Option, check_args
+
+    big = MAX_COORDINATE
+    a, b, lo, hi, h_min, growth, h_max = check_args("graded_axis", [
+        (Option("a", "float", 0.0, "a", low=-big, high=big), a), (Option("b", "float", 0.0, "b", low=-big, high=big), b),
+        (Option("lo", "float", 0.0, "lo", low=-big, high=big), lo),
+        (Option("hi", "float", 0.0, "hi", low=-big, high=big), hi),
+        (Option("h_min", "float", 0.0, "h_min", low=0.0, low_open=True, high=big), h_min),
+        (Option("growth", "float", 1.2, "growth", low=1.0, high=1e3), growth),
+        (Option("h_max", "float", 0.0, "h_max", low=0.0, low_open=True, high=big), h_max)])
+    if not isinstance(axis, str):
+        raise InputError(f"graded_axis: axis = {show(axis)}: expected a name such as 'x'.")
     lo, hi = max(lo, a), min(hi, b)
     if hi < lo:  # window outside the axis: grade from the nearest end
         lo = hi = min(max(lo, a), b)
@@ -209,22 +222,30 @@ def _check_refine(refine: Mapping[str, Any], dim: int) -> dict[str, Any]:
     return r
 
 
+def _finite(x) -> bool:
+    """A finite number (an integer too large for a float is not)."""
+    try:
+        return math.isfinite(x)
+    except OverflowError:
+        return False
+
+
 def _min_spacing(lo: float, hi: float) -> float:
     return max(MIN_SPACING, MIN_RELATIVE_SPACING * max(abs(lo), abs(hi)))
 
 
 def _check_extent(names: str, lo: float, hi: float, n: int) -> None:
     if not all(isinstance(v, numbers.Real) and not isinstance(v, bool) for v in (lo, hi)):
-        raise InputError(f"{names}: bounds must be numbers; got ({lo!r}, {hi!r}).")
-    if not (math.isfinite(lo) and math.isfinite(hi) and hi > lo):
+        raise InputError(f"{names}: bounds must be numbers; got ({show(lo)}, {show(hi)}).")
+    if not (_finite(lo) and _finite(hi) and hi > lo):
         raise InputError(f"{names}: need finite bounds with lower < upper; got ({lo}, {hi}).")
     if max(abs(lo), abs(hi)) > MAX_COORDINATE:
         raise InputError(f"{names}: bounds ({lo:g}, {hi:g}) exceed |coordinate| <= {MAX_COORDINATE:g}; "
                          "choose other length units (e.g. mm instead of m or the reverse).")
-    if not (isinstance(n, numbers.Real) and not isinstance(n, bool) and math.isfinite(n) and int(n) == n
+    if not (isinstance(n, numbers.Real) and not isinstance(n, bool) and _finite(n) and int(n) == n
             and 1 <= n <= MAX_CELLS_PER_AXIS):
         raise InputError(f"number of cells along {names} must be an integer in [1, {MAX_CELLS_PER_AXIS}]; "
-                         f"got {n!r}.")
+                         f"got {show(n)}.")
     h = (hi - lo) / n
     if h < _min_spacing(lo, hi):
         raise InputError(f"{names}: {int(n)} cells on ({lo:g}, {hi:g}) are {h:.3g} wide, too small for the size "
@@ -581,6 +602,8 @@ def read(path: str | os.PathLike[str]):
     import meshio
     from skfem.io.meshio import from_meshio
 
+    if not isinstance(path, (str, os.PathLike)):
+        raise MeshError(f"mesh file = {show(path)}: expected a path (str or pathlib.Path), got {type(path).__name__}.")
     p = Path(path)
     if not p.is_file():
         raise MeshError(f"mesh file {str(p)!r} does not exist; check the path (relative to {os.getcwd()!r}).")

@@ -461,6 +461,9 @@ def load_problem(path: str | os.PathLike) -> ProblemSetup:
     ConfigError
         With every problem found (``exc.issues``); nothing has been solved.
     """
+    if not isinstance(path, (str, os.PathLike)):
+        _raise([Issue("", f"problem file = {path!r:.60}: expected a path (str or pathlib.Path), got "
+                          f"{type(path).__name__}.")], "load_problem")
     p = Path(path)
     return load_problem_text(_text_of(p), base_dir=p.parent, source=p)
 

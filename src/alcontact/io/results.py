@@ -57,6 +57,7 @@ from typing import Any
 
 import numpy as np
 
+from .._options import is_path, require
 from ..errors import AlcontactError, OutputExistsError, OutputInUseError, OutputPathError
 
 __all__ = [
@@ -131,6 +132,7 @@ def atomic_path(path: str | os.PathLike) -> Iterator[Path]:
     path : path-like
         Destination; its folder must exist.
     """
+    require("atomic_path", "path", path, is_path(path), "a file path (str or pathlib.Path)", OutputPathError)
     path = Path(path)
     fd, tmp_name = tempfile.mkstemp(dir=path.parent, prefix=f".{path.stem}.", suffix=f".tmp{path.suffix}")
     os.close(fd)
@@ -152,6 +154,8 @@ def atomic_path(path: str | os.PathLike) -> Iterator[Path]:
 
 def write_text_atomic(path: str | os.PathLike, text: str, *, encoding: str = "utf-8") -> Path:
     """Write ``text`` to ``path`` atomically; return ``path``."""
+    require("write_text_atomic", "path", path, is_path(path), "a file path (str or pathlib.Path)", OutputPathError)
+    require("write_text_atomic", "text", text, isinstance(text, str), "a str")
     path = Path(path)
     with atomic_path(path) as tmp, open(tmp, "w", encoding=encoding, newline="") as fh:
         fh.write(text)
@@ -185,6 +189,7 @@ def jsonable(value: Any) -> Any:
 
 def write_json(path: str | os.PathLike, data: Mapping[str, Any]) -> Path:
     """Write ``data`` as indented JSON (keys in insertion order), atomically."""
+    require("write_json", "data", data, isinstance(data, Mapping), "a dict")
     text = json.dumps(jsonable(data), indent=2, allow_nan=False) + "\n"
     return write_text_atomic(path, text)
 
@@ -195,6 +200,12 @@ def write_history_csv(path: str | os.PathLike, history) -> Path:
     One row per outer iteration, columns :data:`HISTORY_COLUMNS`; floats with
     17 significant digits (round trip). An empty history gives the header only.
     """
+    ok = not isinstance(history, (str, bytes, Mapping)) and np.iterable(history)
+    require("write_history_csv", "history", history, ok, "a list of ContactIteration records")
+    history = list(history)
+    for i, it in enumerate(history):
+        require("write_history_csv", f"history[{i}]", it, all(hasattr(it, c) for c in HISTORY_COLUMNS),
+                f"a record with the fields {', '.join(HISTORY_COLUMNS)} (a ContactIteration)")
     buf = io.StringIO()
     writer = csv.writer(buf, lineterminator="\n")
     writer.writerow(HISTORY_COLUMNS)
@@ -235,7 +246,9 @@ def owned_entries(folder: str | os.PathLike) -> tuple[list[str], list[str]]:
     owned, foreign : list of str
         Sorted names of the entries present in ``folder``.
     """
+    require("owned_entries", "folder", folder, is_path(folder), "a folder path (str or pathlib.Path)", OutputPathError)
     folder = Path(folder)
+    require("owned_entries", "folder", folder, folder.is_dir(), "an existing folder", OutputPathError)
     listed: set[str] = set()
     summary = folder / "summary.json"
     if summary.is_file():
@@ -319,6 +332,8 @@ def check_output_dir(path: str | os.PathLike, force: bool = False) -> Path:
     OutputPathError
         A parent of ``path`` is a file, or the place is not writable.
     """
+    require("check_output_dir", "path", path, is_path(path), "a folder path (str or pathlib.Path)", OutputPathError)
+    require("check_output_dir", "force", force, isinstance(force, (bool, np.bool_)), "True or False")
     path = Path(path)
     why = output_path_issue(path)
     if why is not None:
@@ -382,6 +397,8 @@ def prepare_output_dir(path: str | os.PathLike, force: bool = False, *, create: 
     OutputExistsError, OutputPathError
         As :func:`check_output_dir`.
     """
+    require("prepare_output_dir", "force", force, isinstance(force, (bool, np.bool_)), "True or False")
+    require("prepare_output_dir", "create", create, isinstance(create, (bool, np.bool_)), "True or False")
     path = check_output_dir(path, force)
     if create:
         try:
@@ -589,6 +606,8 @@ class ResultsFolder:
     """
 
     def __init__(self, path: str | os.PathLike, force: bool = False):
+        require("ResultsFolder", "path", path, is_path(path), "a folder path (str or pathlib.Path)", OutputPathError)
+        require("ResultsFolder", "force", force, isinstance(force, (bool, np.bool_)), "True or False")
         self.target = Path(path)
         self.force = force
         self.path: Path | None = None

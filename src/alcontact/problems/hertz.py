@@ -82,6 +82,15 @@ def mesh_spec(dim: int, n_per_a: int, order: int = 1, *, a_target: float = 1.0, 
     writes it, so that :mod:`alcontact.io.preflight` can count the nodes before
     anything is meshed (``alcontact run --problem NAME --level L``).
     """
+    from .._options import VALUE_RANGE, Option, check_args
+
+    dim, n_per_a, order, a_target, size, growth = check_args("mesh_spec", [
+        (Option("dim", "int", 2, "Dimension.", low=2, high=3), dim),
+        (Option("n_per_a", "float", 8, "Elements per a.", low=0.01, high=4096), n_per_a),
+        (Option("order", "int", 1, "Order.", low=1, high=2), order),
+        (Option("a_target", "float", 1.0, "Half-width.", low=VALUE_RANGE[0], high=VALUE_RANGE[1]), a_target),
+        (Option("size", "float", None, "Block size / a.", low=1.0, high=1e6, low_open=True), size),
+        (Option("growth", "float", None, "Grading ratio.", low=1.0, high=10.0), growth)])
     a = a_target
     if dim == 2:
         L = H = (20.0 if size is None else size) * a
