@@ -82,7 +82,7 @@ def gmsh_files(draw) -> str:
             if op == "value":
                 pts[i, draw(st.integers(0, 2))] = draw(st.sampled_from(ODD_NUMBERS) | st.floats())
             elif op == "scale":
-                with np.errstate(over="ignore", under="ignore"):
+                with np.errstate(over="ignore", under="ignore", invalid="ignore"):
                     pts = pts * draw(st.sampled_from([1e200, 1e-300, 1e-20, 1e29, -1.0, 0.0]))
             elif op == "z":
                 pts[:, 2] = draw(st.sampled_from([0.0, 5.0])) + draw(st.sampled_from([0.0, 1e-12, 0.1])) * pts[:, 0]

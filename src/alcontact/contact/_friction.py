@@ -1025,8 +1025,8 @@ def solve_friction(problem, history: LoadHistory | None, algorithm: str = "simo-
         history = history.with_times(_checked_steps(steps))
     mu = problem.friction if friction is None else friction
     if not (is_real(mu) and 0 <= mu <= VALUE_RANGE[1]):  # comparisons, not isfinite: a huge int is no float
-        raise InputError(f"friction = {show(mu)}: the friction coefficient must be a finite number in [0, "
-                         f"{VALUE_RANGE[1]:g}]. Use 0 for frictionless contact.")
+        raise InputError(f"friction = {show(mu)}: the friction coefficient must be a finite number >= 0 (at most "
+                         f"{VALUE_RANGE[1]:g}). Use 0 for frictionless contact.")
     mu = float(mu)
 
     path = resolve_linear_solver(opts.linear_solver, problem.model)

@@ -38,9 +38,12 @@ def _is_real(value: Any) -> bool:
 
 
 def _bad(kind: str, field_: str, value: Any, want: str) -> InputError:
-    from .._options import show
-
-    return InputError(f"{kind}: {field_} = {show(value)}: expected {want}, got {type(value).__name__}.")
+    try:  # not alcontact._options.show: that module imports this one
+        text = repr(value) if not (isinstance(value, int) and abs(value) > 10**40) else "<a huge integer>"
+    except (RecursionError, ValueError):
+        text = f"<{type(value).__name__}>"
+    text = text if len(text) <= 60 else text[:57] + "..."
+    return InputError(f"{kind}: {field_} = {text}: expected {want}, got {type(value).__name__}.")
 
 
 def _check_boundary(kind: str, boundary: Any) -> None:
