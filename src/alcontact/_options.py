@@ -473,7 +473,10 @@ def is_path(value: Any) -> bool:
     """A file-system path argument: ``str`` or ``os.PathLike`` (not bytes, not a number)."""
     import os
 
-    return isinstance(value, (str, os.PathLike)) and "\0" not in os.fspath(value)
+    if not isinstance(value, (str, os.PathLike)):
+        return False
+    text = os.fspath(value)
+    return isinstance(text, str) and "\0" not in text
 
 
 def _names(cls_or_obj: Any) -> list[str]:

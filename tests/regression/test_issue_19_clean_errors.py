@@ -191,7 +191,8 @@ def test_case_6_a_second_run_into_a_folder_in_use_is_refused(tmp_path):
 
 
 def test_case_6_two_force_runs_at_once_one_wins(tmp_path):
-    """Two ``run --force`` into one folder at once: each exits 0 or 2 ("in use"), never a traceback; the folder is whole."""
+    """Two ``run --force`` into one folder at once: each exits 0 or 2 ("in use"), never a traceback; the folder
+    is whole."""
     import json
 
     p = _write(tmp_path, HERTZ)

@@ -161,7 +161,8 @@ def graded_axis(
 
     big = MAX_COORDINATE
     a, b, lo, hi, h_min, growth, h_max = check_args("graded_axis", [
-        (Option("a", "float", 0.0, "a", low=-big, high=big), a), (Option("b", "float", 0.0, "b", low=-big, high=big), b),
+        (Option("a", "float", 0.0, "a", low=-big, high=big), a),
+        (Option("b", "float", 0.0, "b", low=-big, high=big), b),
         (Option("lo", "float", 0.0, "lo", low=-big, high=big), lo),
         (Option("hi", "float", 0.0, "hi", low=-big, high=big), hi),
         (Option("h_min", "float", 0.0, "h_min", low=0.0, low_open=True, high=big), h_min),
@@ -549,7 +550,8 @@ def _check_cells(m, kind: str, path) -> None:
     big = float(np.max(np.abs(pts), initial=0.0))
     if big > MAX_COORDINATE:
         i = int(np.argmax(np.max(np.abs(pts), axis=1)))
-        raise MeshError(f"{where}: the node at {pts[i].tolist()} has a coordinate of magnitude {big:.3g}, beyond {MAX_COORDINATE:g} "
+        raise MeshError(f"{where}: the node at {pts[i].tolist()} has a coordinate of magnitude {big:.3g}, beyond "
+                        f"{MAX_COORDINATE:g} "
                         "where element measures and stiffness entries stay finite in double precision; express "
                         "the lengths in other units (e.g. km instead of mm), the problem file alike.")
     dim = _CELL_DIMS[kind]

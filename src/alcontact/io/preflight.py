@@ -428,16 +428,11 @@ def _contact_points_restrain(setup, fixed: np.ndarray, null: np.ndarray, R, row_
 
 
 def _rigidity_issues(setup) -> list[Issue]:
-    from ..contact._problem import Support
     from ..fem.elasticity import describe_motions
 
     prob = setup.problem
     model = prob.model
-    fixed = prob.dirichlet()[0]
-    if setup.history is not None:
-        extra = [model.dirichlet(c.item.boundary, None if c.item.components is None else list(c.item.components),
-                                 c.item.value)[0] for c in setup.history.cases if isinstance(c.item, Support)]
-        fixed = np.unique(np.concatenate([fixed, *extra])) if extra else fixed
+    fixed = _fixed_dofs(setup)
     null, names, R, row_of = model.free_rigid_motions(fixed)
     if null.shape[0] == 0:
         return []
