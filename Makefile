@@ -39,9 +39,12 @@ test: $(VENV)/.installed
 test-slow: $(VENV)/.installed
 	$(TEST_ENV) $(BIN)/python -m pytest -q -n 2 --dist loadfile -m slow
 
-# Problem-file fuzzing: 3 x 40,000 Hypothesis examples (profile "fuzz" in tests/conftest.py).
+# Fuzzing (profile "fuzz" in tests/conftest.py): problem files 3 x 40,000 Hypothesis examples, Gmsh files
+# 40,000, Python-API calls 40,000; the algorithm differential test 200 random problems.
+FUZZ_TESTS := tests/unit/test_config_fuzz.py tests/unit/test_gmsh_fuzz.py tests/unit/test_api_fuzz.py \
+	tests/property/test_algorithms_differential.py
 fuzz: $(VENV)/.installed
-	ALCONTACT_FUZZ=1 $(BIN)/python -m pytest -q -n 2 tests/unit/test_config_fuzz.py
+	ALCONTACT_FUZZ=1 $(BIN)/python -m pytest -q -n 2 $(FUZZ_TESTS)
 
 bench: $(VENV)/.installed
 	$(BIN)/alcontact bench

@@ -11,8 +11,9 @@ several times longer on 2 cores). The xdist workers inherit these variables.
 CHOLMOD (cholespy) links a single-threaded reference BLAS.
 
 ``make fuzz`` sets ``ALCONTACT_FUZZ=1``, which selects the ``fuzz`` profile: the
-problem-file fuzz tests (``tests/unit/test_config_fuzz.py``) then draw 40,000
-examples each (120,000 in all) instead of their few hundred.
+fuzz tests (problem files ``tests/unit/test_config_fuzz.py``, Gmsh files
+``tests/unit/test_gmsh_fuzz.py``, Python-API calls ``tests/unit/test_api_fuzz.py``)
+then draw 40,000 examples each instead of their 1,000 or fewer.
 """
 
 import os

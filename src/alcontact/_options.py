@@ -35,7 +35,8 @@ from .errors import InputError
 __all__ = ["REQUIRED", "TYPES", "BAD", "MAX_STEPS", "VALUE_RANGE", "Option", "check_value", "declared",
            "declarations", "check_dataclass", "as_options", "is_real", "is_integer", "show", "LINEAR_MODEL",
            "kinematics_option", "material_model_option", "ENERGY_MODEL", "OBSTACLE_PATH", "MAX_CUTBACKS",
-           "LENGTH_UNITS", "STRESS_UNITS", "FORCE_UNITS", "UNITS_OPTIONS", "derived_force_unit", "units_issues"]
+           "LENGTH_UNITS", "STRESS_UNITS", "FORCE_UNITS", "UNITS_OPTIONS", "derived_force_unit", "units_issues",
+           "check_args", "require", "is_path"]
 
 
 class _Required:
@@ -418,6 +419,65 @@ def check_dataclass(obj: Any, kind: str) -> Any:
     for name, value in changes.items():  # frozen dataclass: convert in place (called from __post_init__)
         object.__setattr__(obj, name, value)
     return obj
+
+
+def check_args(where: str, checks: list[tuple[Option, Any]]) -> list[Any]:
+    """Check the arguments of a public function against declarations made on the spot.
+
+    For functions whose parameters are not an options dataclass (``hertz_2d(level=...)``):
+    a wrong type or a value out of range raises here, naming the function, the
+    parameter, the value and the fix, instead of a ``TypeError`` from deep inside.
+
+    Parameters
+    ----------
+    where : str
+        The function, e.g. ``"hertz_2d"``.
+    checks : list of (Option, value)
+
+    Returns
+    -------
+    list
+        The values converted to their declared types (``None`` kept where the
+        declaration's default is ``None``).
+
+    Raises
+    ------
+    InputError
+        ``"hertz_2d: level = 1.5: expected an integer, got float. Use a whole number, e.g. 2."``
+    """
+    from .errors import InputError
+
+    issues, out = [], []
+    for opt, value in checks:
+        if value is None and opt.default is None:
+            out.append(None)
+            continue
+        new, found = check_value(opt, value, api=True)
+        issues += [f"{where}: {opt.name}{suffix} {msg}" for suffix, msg in found]
+        out.append(new)
+    if issues:
+        raise InputError("\n".join(issues))
+    return out
+
+
+def require(where: str, name: str, value: Any, ok: bool, want: str, error: type | None = None) -> None:
+    """Raise ``error`` (default :class:`~alcontact.errors.InputError`) unless ``ok``: the message names the
+    function, the argument, its value and type, and what to pass instead."""
+    if ok:
+        return
+    from .errors import InputError
+
+    raise (error or InputError)(f"{where}: {name} = {show(value)}: expected {want}, got {type(value).__name__}.")
+
+
+def is_path(value: Any) -> bool:
+    """A file-system path argument: ``str`` or ``os.PathLike`` (not bytes, not a number)."""
+    import os
+
+    if not isinstance(value, (str, os.PathLike)):
+        return False
+    text = os.fspath(value)
+    return isinstance(text, str) and "\0" not in text
 
 
 def _names(cls_or_obj: Any) -> list[str]:

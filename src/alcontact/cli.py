@@ -23,6 +23,7 @@ import contextlib
 import logging
 import signal
 import threading
+import warnings
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Annotated, Optional
@@ -87,10 +88,19 @@ def _cli_logging(err: Console, level: int, note: str | None = None) -> Iterator[
     log.addHandler(handler)
     log.setLevel(level)
     try:
-        yield
+        with warnings.catch_warnings():
+            # NumPy/Matplotlib warnings (overflow in a trial step, a flat plot) are no message for the user:
+            # they become debug records of the library (shown with --verbose at DEBUG level, never raw on stderr)
+            warnings.simplefilter("always")
+            warnings.showwarning = _warning_to_log
+            yield
     finally:
         log.removeHandler(handler)
         log.setLevel(old_level)
+
+
+def _warning_to_log(message, category, filename, lineno, file=None, line=None) -> None:
+    logging.getLogger("alcontact.warnings").debug("%s: %s (%s:%s)", category.__name__, message, filename, lineno)
 
 
 class Interrupted(KeyboardInterrupt):
@@ -305,7 +315,9 @@ def run_command(
         kwargs = dict(problem=problem, out=out, algorithm=algorithm, penalty=penalty, force=force, level=level,
                       order=order or 1, maxiter=maxiter, penalty_scale=penalty_scale)
         try:
-            with _signals_raise(), _cli_logging(err, level_):
+            from .io.results import output_lock
+
+            with _signals_raise(), _cli_logging(err, level_), output_lock(out):
                 _check_builtin_size(problem, level, order or 1)  # what `alcontact check` checks in a file
                 if quiet:
                     _, summary = run_problem(**kwargs)
@@ -462,15 +474,17 @@ def _run_file(problem_file: Path, out, console: Console, err: Console, level: in
     from rich.progress import Progress
 
     from .io.preflight import check_problem
+    from .io.results import output_lock
     from .runner import run_setup
 
     force = kwargs.pop("force")
     algorithm = kwargs.pop("algorithm")
     penalty = kwargs.pop("penalty")
     try:
-        with _cli_logging(err, level):
+        with _cli_logging(err, level), contextlib.ExitStack() as stack:
             setup = check_problem(problem_file).setup  # what `alcontact check` checks, before solving
             out = out if out is not None else Path(setup.output["folder"])
+            stack.enter_context(output_lock(out))  # a second run into `out` is refused now, not after its solve
             if quiet:
                 result = run_setup(setup, out, force, algorithm=algorithm, penalty=penalty, **kwargs)
             elif not err.is_terminal:

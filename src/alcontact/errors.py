@@ -17,6 +17,7 @@ __all__ = [
     "ConfigError",
     "MeshError",
     "OutputExistsError",
+    "OutputInUseError",
     "OutputPathError",
     "InvertedElementError",
 ]
@@ -71,6 +72,10 @@ class MeshError(InputError):
 
 class OutputExistsError(AlcontactError, FileExistsError):
     """A results folder exists and ``--force`` was not given."""
+
+
+class OutputInUseError(OutputExistsError):
+    """Another run is writing the same results folder (its lock file is held)."""
 
 
 class OutputPathError(InputError):

@@ -248,8 +248,13 @@ def summarize(problem, solution, *, problem_name: str | None = None, level: int 
     if ref is not None:
         load = float(ref.load(f_model))
         if load > 0:
-            a_ex = float(ref.half_width(load))
-            p_ex = float(ref.peak_pressure(load))
+            try:  # a load or radius at the edge of double precision: no reference rather than a traceback
+                a_ex = float(ref.half_width(load))
+                p_ex = float(ref.peak_pressure(load))
+            except (ZeroDivisionError, OverflowError):
+                a_ex = p_ex = None
+            a_ex, p_ex = (None, None) if a_ex is None or not (math.isfinite(a_ex) and a_ex > 0
+                                                               and math.isfinite(p_ex)) else (a_ex, p_ex)
     wall = float(solution.timings.get("total_s", float("nan")))
     lin = float(solution.timings.get("linear_solve_s", float("nan")))
     ratio = wall / lin if lin > 0 else None

@@ -659,7 +659,8 @@ def run_al(dc, opts, eps0, penalty_name="rockafellar") -> _Run:
             return _Run(r, out.t, out.g, ContactStatus.CONVERGED, "converged", outer0 + k, newton, eps,
                         out.residual, hist)
         if inexact:
-            inner_tol = max(opts.newton_tol, min(_INEXACT_FORCING * dlam, dlam**2))
+            # dlam * dlam, not dlam**2: a huge change (multipliers from ~0) gives inf, not an OverflowError
+            inner_tol = max(opts.newton_tol, min(_INEXACT_FORCING * dlam, dlam * dlam))
             if _converged(opts, pen_k, compl, dlam):
                 inner_tol = opts.newton_tol
         if (opts.strategy == "infeasibility" and pen_k > opts.tau * pen_prev and pen_k > opts.tol_penetration
@@ -881,6 +882,10 @@ def available_algorithms() -> list[str]:
 
 def algorithm_docs(*, friction: bool = False, kinematics: str = "small") -> dict[str, str]:
     """One line of documentation per algorithm (default: the frictionless ones at small deformation)."""
+    if not isinstance(friction, (bool, np.bool_)):
+        raise InputError(f"algorithm_docs: friction = {friction!r:.60}: expected True or False.")
+    if not isinstance(kinematics, str):
+        raise InputError(f"algorithm_docs: kinematics = {kinematics!r:.60}: expected 'small' or 'finite'.")
     return {e.name: e.doc for e in algorithms(friction=friction, kinematics=kinematics)}
 
 

@@ -739,8 +739,8 @@ def solve_finite_friction(problem, mu: float, algorithm: str = "simo-laursen", p
         or its state fails the verification.
     """
     t_start = time.perf_counter()
-    if not (is_real(mu) and np.isfinite(mu) and mu >= 0):
-        raise InputError(f"mu = {show(mu)}: the Coulomb coefficient must be a finite number >= 0.")
+    if not (is_real(mu) and 0 <= mu <= 1e100):  # comparisons, not isfinite: a huge int is no float
+        raise InputError(f"mu = {show(mu)}: the Coulomb coefficient must be a finite number >= 0 (at most 1e100).")
     entry = find_algorithm(algorithm, friction=True, kinematics="finite")
     pen_name = entry.penalty_for(penalty)
     opts = options_with(options, FrictionOptions, option_overrides, "friction options", entry)

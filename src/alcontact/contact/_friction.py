@@ -76,7 +76,7 @@ import numpy as np
 import scipy.linalg as sla
 
 from .. import penalties as _pen
-from .._options import MAX_STEPS, is_integer, is_real, show
+from .._options import MAX_STEPS, VALUE_RANGE, is_integer, is_real, show
 from ..errors import InputError
 from ._algorithms import (DEFAULT_PENALTY, FRICTION_DEFAULTS, ContactOptions, algorithm_docs, algorithm_names,
                           check_solve_args, direct_backend, find_algorithm, options_with, register_family)
@@ -1024,9 +1024,9 @@ def solve_friction(problem, history: LoadHistory | None, algorithm: str = "simo-
     if steps is not None:
         history = history.with_times(_checked_steps(steps))
     mu = problem.friction if friction is None else friction
-    if not (is_real(mu) and np.isfinite(mu) and mu >= 0):
-        raise InputError(f"friction = {show(mu)}: the friction coefficient must be a finite number >= 0. Use 0 for "
-                         "frictionless contact.")
+    if not (is_real(mu) and 0 <= mu <= VALUE_RANGE[1]):  # comparisons, not isfinite: a huge int is no float
+        raise InputError(f"friction = {show(mu)}: the friction coefficient must be a finite number >= 0 (at most "
+                         f"{VALUE_RANGE[1]:g}). Use 0 for frictionless contact.")
     mu = float(mu)
 
     path = resolve_linear_solver(opts.linear_solver, problem.model)

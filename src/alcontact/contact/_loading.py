@@ -39,6 +39,13 @@ from .._options import MAX_STEPS, is_integer, is_real, show
 from ..errors import InputError
 from ._problem import BodyForce, Pressure, Support, Traction
 
+
+def _finite_number(x) -> bool:
+    try:
+        return math.isfinite(x)
+    except OverflowError:
+        return False
+
 __all__ = ["Ramp", "LoadCase", "LoadHistory"]
 
 
@@ -59,8 +66,12 @@ class Ramp:
     hold_after: bool = False
 
     def __post_init__(self) -> None:
-        t = np.asarray(self.times, dtype=float)
-        v = np.asarray(self.values, dtype=float)
+        try:
+            t = np.asarray(self.times, dtype=float)
+            v = np.asarray(self.values, dtype=float)
+        except (TypeError, ValueError, OverflowError):
+            raise InputError(f"Ramp knots must be lists of numbers; got times={show(self.times)}, "
+                             f"values={show(self.values)}.") from None
         if t.ndim != 1 or t.size < 1 or t.shape != v.shape:
             raise InputError(f"Ramp needs equally long, non-empty knot lists; got times={self.times!r}, "
                              f"values={self.values!r}.")
@@ -153,6 +164,11 @@ class LoadHistory:
     friction: Any = None
 
     def __post_init__(self) -> None:
+        if isinstance(self.cases, LoadCase):
+            raise InputError("LoadHistory cases = LoadCase(...): expected a list; wrap the single case in a list, "
+                             "e.g. LoadHistory([case], times).")
+        if isinstance(self.cases, (str, bytes, dict, np.ndarray)) or not np.iterable(self.cases):
+            raise InputError(f"LoadHistory cases = {show(self.cases)}: expected a list of LoadCase objects.")
         cases = tuple(self.cases)
         for c in cases:
             if not isinstance(c, LoadCase):
@@ -307,6 +323,14 @@ def problem_at(problem, history: LoadHistory, t: float):
     """
     import dataclasses
 
+    from ._problem import ContactProblem
+
+    if not isinstance(problem, ContactProblem):
+        raise InputError(f"problem_at: problem = {show(problem)}: expected a ContactProblem.")
+    if not isinstance(history, LoadHistory):
+        raise InputError(f"problem_at: history = {show(history)}: expected a LoadHistory.")
+    if not (is_real(t) and _finite_number(t)):
+        raise InputError(f"problem_at: t = {show(t)}: expected a finite number (a time of the history).")
     supports = list(problem.supports)
     loads = list(problem.loads)
     for c in history.cases:

@@ -22,6 +22,35 @@ KINEMATICS = {
 }
 
 
+def _numbers(value: Any) -> bool:
+    """A finite real number or a non-empty 1-D list of them (not a bool, not a string)."""
+    if isinstance(value, (bool, str, bytes)) or value is None:
+        return False
+    try:
+        a = np.asarray(value, dtype=float)
+    except (TypeError, ValueError, OverflowError):
+        return False
+    return a.ndim <= 1 and a.size >= 1 and bool(np.all(np.isfinite(a))) and a.dtype != object
+
+
+def _is_real(value: Any) -> bool:
+    return _numbers(value) and np.ndim(value) == 0
+
+
+def _bad(kind: str, field_: str, value: Any, want: str) -> InputError:
+    try:  # not alcontact._options.show: that module imports this one
+        text = repr(value) if not (isinstance(value, int) and abs(value) > 10**40) else "<a huge integer>"
+    except (RecursionError, ValueError):
+        text = f"<{type(value).__name__}>"
+    text = text if len(text) <= 60 else text[:57] + "..."
+    return InputError(f"{kind}: {field_} = {text}: expected {want}, got {type(value).__name__}.")
+
+
+def _check_boundary(kind: str, boundary: Any) -> None:
+    if not isinstance(boundary, str):
+        raise _bad(kind, "boundary", boundary, "the name of a boundary of the mesh (a string), e.g. 'top'")
+
+
 @dataclass(frozen=True)
 class Support:
     """Dirichlet condition ``u_c = value`` on a named boundary.
@@ -40,6 +69,16 @@ class Support:
     components: tuple[int, ...] | None = None
     value: float | Callable[..., Any] = 0.0
 
+    def __post_init__(self) -> None:
+        _check_boundary("Support", self.boundary)
+        comps = self.components
+        if comps is not None and (isinstance(comps, (str, bytes, bool)) or not np.iterable(comps) or not all(
+                isinstance(c, (int, np.integer)) and not isinstance(c, bool) and 0 <= c <= 2 for c in comps)):
+            raise _bad("Support", "components", comps, "None (all) or a list of components 0, 1, 2, e.g. [0]")
+        if not (callable(self.value) or _numbers(self.value)):
+            raise _bad("Support", "value", self.value, "a finite number, a list of them (one per component) or "
+                                                      "a callable x -> (dim, m) array")
+
 
 @dataclass(frozen=True)
 class Traction:
@@ -47,6 +86,12 @@ class Traction:
 
     boundary: str
     vector: tuple[float, ...] | Callable[..., Any]
+
+    def __post_init__(self) -> None:
+        _check_boundary("Traction", self.boundary)
+        if not (callable(self.vector) or (_numbers(self.vector) and np.ndim(self.vector) == 1)):
+            raise _bad("Traction", "vector", self.vector, "a list of finite numbers (one per direction) or a "
+                                                          "callable x -> (dim, m) array")
 
 
 @dataclass(frozen=True)
@@ -56,12 +101,23 @@ class Pressure:
     boundary: str
     value: float
 
+    def __post_init__(self) -> None:
+        _check_boundary("Pressure", self.boundary)
+        if not (callable(self.value) or _is_real(self.value)):
+            raise _bad("Pressure", "value", self.value, "a finite number (positive pushes into the body) or a "
+                                                        "callable x -> (m,) array")
+
 
 @dataclass(frozen=True)
 class BodyForce:
     """Body force density (force per unit volume)."""
 
     vector: tuple[float, ...] | Callable[..., Any]
+
+    def __post_init__(self) -> None:
+        if not (callable(self.vector) or (_numbers(self.vector) and np.ndim(self.vector) == 1)):
+            raise _bad("BodyForce", "vector", self.vector, "a list of finite numbers (one per direction) or a "
+                                                           "callable x -> (dim, m) array")
 
 
 @dataclass(frozen=True)
@@ -102,6 +158,7 @@ class ContactProblem:
     kinematics: str = "small"
 
     def __post_init__(self) -> None:
+        self._check_types()
         if self.kinematics not in KINEMATICS:
             raise UnknownNameError("kinematics", self.kinematics, list(KINEMATICS))
         if self.kinematics == "finite" and getattr(self.model, "linear", False):
@@ -122,6 +179,37 @@ class ContactProblem:
                 self.model.facets(ld.boundary)
         self.obstacle.check_dim(self.model.dim)
         self.dirichlet()  # InputError on two supports prescribing different values to one DOF
+
+    def _check_types(self) -> None:
+        """Wrong types of the fields: an :class:`InputError` naming the field and the fix (not an AttributeError)."""
+        kind = "ContactProblem"
+        if not (hasattr(self.model, "facets") and hasattr(self.model, "dim") and hasattr(self.model, "ndofs")):
+            raise _bad(kind, "model", self.model, "a discretized body: alcontact.fem.LinearElasticity(mesh, "
+                                                  "material) or a hyperelastic alcontact.fem.Body")
+        if not (hasattr(self.obstacle, "evaluate") and hasattr(self.obstacle, "check_dim")):
+            raise _bad(kind, "obstacle", self.obstacle, "a rigid obstacle, e.g. alcontact.contact.obstacles."
+                                                        "make('half-space', point=..., normal=...)")
+        if not isinstance(self.contact_boundary, str):
+            raise _bad(kind, "contact_boundary", self.contact_boundary, "the name of a boundary of the mesh")
+        for name, items, types, example in (("supports", self.supports, (Support,), "[Support('bottom')]"),
+                                            ("loads", self.loads, (Traction, Pressure, BodyForce),
+                                             "[Pressure('top', 1.0)]")):
+            if isinstance(items, types):
+                raise InputError(f"{kind}: {name} = {type(items).__name__}(...): expected a list; wrap the single "
+                                 f"item in a list, e.g. {name}={example}.")
+            if isinstance(items, (str, bytes, dict, np.ndarray)) or not np.iterable(items):
+                raise _bad(kind, name, items, f"a list of {' / '.join(t.__name__ for t in types)}, e.g. {example}")
+            for i, item in enumerate(items):
+                if not isinstance(item, types):
+                    raise _bad(kind, f"{name}[{i}]", item, f"a {' / '.join(t.__name__ for t in types)}")
+        if not _is_real(self.friction) or abs(float(self.friction)) > 1e100:
+            raise _bad(kind, "friction", self.friction, "a finite number in [0, 1e100] (0 = frictionless)")
+        if not isinstance(self.name, str):
+            raise _bad(kind, "name", self.name, "a string")
+        if not isinstance(self.kinematics, str):
+            raise _bad(kind, "kinematics", self.kinematics, f"one of {', '.join(map(repr, KINEMATICS))}")
+        if not isinstance(self.meta, dict):
+            raise _bad(kind, "meta", self.meta, "a dict")
 
     # ------------------------------------------------------------ assembly
     def dirichlet(self) -> tuple[np.ndarray, np.ndarray]:

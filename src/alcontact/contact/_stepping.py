@@ -260,6 +260,15 @@ class _StepData:
     """Prescribed values, loads and obstacle of the problem at pseudo-time ``t``."""
 
     def __init__(self, problem, history: LoadHistory | None, obstacle_path):
+        from .._options import require
+        from ._problem import ContactProblem
+
+        require("finite-deformation solve", "problem", problem, isinstance(problem, ContactProblem),
+                "a ContactProblem (kinematics='finite')")
+        require("finite-deformation solve", "history", history, history is None or isinstance(history, LoadHistory),
+                "None or a LoadHistory")
+        require("finite-deformation solve", "obstacle_path", obstacle_path, obstacle_path is None
+                or callable(obstacle_path), "None or a callable t -> offset (or RigidMotion)")
         self.problem = problem
         self.history = history
         self.path = obstacle_path
@@ -455,9 +464,12 @@ def step_through(times: Sequence[float], attempt: Callable[[float], Attempt],
     SteppingResult
     """
     if not (is_integer(max_cutbacks) or (is_real(max_cutbacks) and float(max_cutbacks).is_integer())) \
-            or max_cutbacks < 0:
-        raise InputError(f"max_cutbacks={max_cutbacks!r} must be an integer >= 0 (halvings of a failed step's "
-                         "increment); use e.g. max_cutbacks=6.")
+            or not 0 <= max_cutbacks <= 60:
+        raise InputError(f"max_cutbacks={max_cutbacks!r:.40} must be an integer in [0, 60] (halvings of a failed "
+                         "step's increment); use e.g. max_cutbacks=6.")
+    if not (on_step is None or callable(on_step)) or not (before_step is None or callable(before_step)):
+        raise InputError(f"on_step = {(on_step if not callable(on_step) else before_step)!r:.40}: expected None or "
+                         "a callable (called after each step).")
     if not (is_real(factor) and 0.0 < factor < 1.0):
         raise InputError(f"cutback_factor={factor!r} must be in (0, 1); use 0.5 (halving).")
     records: list[StepRecord] = []
@@ -567,8 +579,11 @@ def solve_finite(problem, algorithm: str = "simo-laursen", penalty: str | None =
     run = entry.run
     pen_name = entry.penalty_for(penalty)
     opts = options_with(options, ContactOptions, option_overrides, "contact", entry)
-    if int(max_cutbacks) < 0:
-        raise InputError(f"max_cutbacks={max_cutbacks!r} must be >= 0.")
+    if not (is_integer(max_cutbacks) or (is_real(max_cutbacks) and float(max_cutbacks).is_integer())) \
+            or not 0 <= max_cutbacks <= 60:
+        raise InputError(f"max_cutbacks={max_cutbacks!r:.40} must be an integer in [0, 60]; use e.g. max_cutbacks=6.")
+    if not (on_step is None or callable(on_step)):
+        raise InputError(f"on_step = {on_step!r:.40}: expected None or a callable (step, u, pressure).")
     max_cutbacks = int(max_cutbacks)
     times = _step_times(steps)
     data = _StepData(problem, history, obstacle_path)

@@ -55,7 +55,7 @@ from typing import Any, ClassVar, Protocol, runtime_checkable
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from alcontact._options import VALUE_RANGE, show
+from alcontact._options import VALUE_RANGE, is_integer, show
 from alcontact.errors import InputError, NonFiniteError, UnknownNameError
 
 __all__ = [
@@ -185,7 +185,7 @@ def _points(x: ArrayLike, dim: int | None) -> FloatArray:
     want = f"(m, {dim})" if dim is not None else "(m, d)"
     try:
         arr = np.asarray(x, dtype=float)
-    except (TypeError, ValueError) as exc:
+    except (TypeError, ValueError, OverflowError) as exc:
         raise InputError(f"x must be an array of shape {want}, got {type(x).__name__}") from exc
     if arr.ndim != 2 or (dim is not None and arr.shape[1] != dim) or arr.shape[1] < 1:
         raise InputError(
@@ -274,7 +274,7 @@ class _ObstacleBase(abc.ABC):
         normal turns by :math:`\theta`).
         """
         pts = _points(x, self.dim)
-        return _chord_slip(self, pts, np.asarray(y_prev, dtype=float).reshape(pts.shape), jacobian)
+        return _chord_slip(self, pts, _previous(y_prev, pts), jacobian)
 
 
 # --------------------------------------------------------------------------- half-space
@@ -412,7 +412,7 @@ class _Ball(_ObstacleBase):
         :math:`R\theta` (:func:`_arc_scale`).
         """
         pts = _points(x, self.dim)
-        yp = np.asarray(y_prev, dtype=float).reshape(pts.shape)
+        yp = _previous(y_prev, pts)
         slip, jac = _chord_slip(self, pts, yp, jacobian)
         r, e, deg = self._radial(pts)
         cos = np.einsum("ij,ij->i", e, yp - self.center) / self.radius
@@ -528,7 +528,7 @@ class Cylinder(_ObstacleBase):
         surface points (unrolled, the surface is a plane and the geodesic a straight line).
         """
         pts = _points(x, 3)
-        yp = np.asarray(y_prev, dtype=float).reshape(pts.shape)
+        yp = _previous(y_prev, pts)
         slip, jac = _chord_slip(self, pts, yp, jacobian)
         r, e, deg = self._radial(pts)
         cos = np.einsum("ij,ij->i", e, yp - self.center) / self.radius  # e is normal to the axis
@@ -916,7 +916,7 @@ class UserObstacle(_ObstacleBase):
         for nm, fn in (("normal", normal), ("hessian", hessian)):
             if fn is not None and not callable(fn):
                 raise InputError(f"{nm} must be a callable or omitted, got {fn!r}")
-        if dim is not None and (isinstance(dim, bool) or dim not in (1, 2, 3)):
+        if dim is not None and (isinstance(dim, (bool, np.ndarray)) or not is_integer(dim) or dim not in (1, 2, 3)):
             raise InputError(f"dim must be 1, 2, 3 or omitted, got {dim!r}")
         object.__setattr__(self, "gap_fn", gap)
         object.__setattr__(self, "normal_fn", normal)
@@ -1021,8 +1021,13 @@ def surface_slip(obstacle: Any, x: ArrayLike, y_prev: ArrayLike, *,
     method = getattr(obstacle, "surface_slip", None)
     if method is not None:
         return method(x, y_prev, jacobian=jacobian)
-    pts = np.asarray(x, dtype=float)
-    return _chord_slip(obstacle, pts, np.asarray(y_prev, dtype=float).reshape(pts.shape), jacobian)
+    _check_obstacle(obstacle, "surface_slip")
+    pts = _point_rows(x, "surface_slip: x")
+    prev = _point_rows(y_prev, "surface_slip: y_prev")
+    if prev.shape != pts.shape:
+        raise InputError(f"surface_slip: y_prev has shape {prev.shape}, x has {pts.shape}; give one previous "
+                         "surface point per point of x.")
+    return _chord_slip(obstacle, pts, prev, jacobian)
 
 
 def _chord_slip(ob: Any, x: FloatArray, y_prev: FloatArray,
@@ -1095,9 +1100,10 @@ def transport_tangent(t: ArrayLike, n_from: ArrayLike, n_to: ArrayLike) -> Float
     (whose normals turn about the axis); for a general surface a first-order transport.
     Lengths are kept. Opposite normals (a turn by :math:`\pi`) leave ``t`` unchanged.
     """
-    t = np.asarray(t, dtype=float)
-    n0 = np.asarray(n_from, dtype=float)
-    n1 = np.asarray(n_to, dtype=float)
+    t, n0, n1 = (_point_rows(v, f"transport_tangent: {nm}") for v, nm in ((t, "t"), (n_from, "n_from"), (n_to, "n_to")))
+    if not (t.shape == n0.shape == n1.shape):
+        raise InputError(f"transport_tangent: t, n_from and n_to must have one shape (m, 2) or (m, 3); got "
+                         f"{t.shape}, {n0.shape}, {n1.shape}.")
     cosv = np.einsum("ij,ij->i", n0, n1)
     ok = cosv > -1.0 + 1e-12
     den = np.where(ok, 1.0 + cosv, 1.0)
@@ -1152,6 +1158,7 @@ class Translated(_PlacedObstacle):
     offset: FloatArray
 
     def __post_init__(self) -> None:
+        _check_obstacle(self.base, "Translated", "base")
         dims = (self.base.dim,) if self.base.dim is not None else (2, 3)
         object.__setattr__(self, "offset", _readonly(_vector(self.offset, "offset", dims)))
 
@@ -1172,12 +1179,44 @@ class Translated(_PlacedObstacle):
                      jacobian: bool = True) -> tuple[FloatArray, FloatArray | None]:
         """:func:`surface_slip` of the base obstacle in its own frame (a translation keeps tangents)."""
         pts = _points(x, self.dim)
-        yp = np.asarray(y_prev, dtype=float).reshape(pts.shape)
+        yp = _previous(y_prev, pts)
         return surface_slip(self.base, pts - self.offset, yp - self.offset, jacobian=jacobian)
+
+
+def _check_obstacle(obstacle: Any, where: str, name: str = "obstacle") -> None:
+    """:class:`InputError` unless ``obstacle`` is an obstacle (``evaluate``, ``dim``, ``describe``)."""
+    if not (callable(getattr(obstacle, "evaluate", None)) and hasattr(obstacle, "dim")
+            and callable(getattr(obstacle, "describe", None))):
+        raise InputError(f"{where}: {name} = {show(obstacle)}: expected an obstacle, e.g. "
+                         "alcontact.contact.obstacles.make('circle', center=..., radius=...).")
+
+
+def _previous(y_prev: Any, pts: FloatArray) -> FloatArray:
+    """The previous surface points of ``surface_slip``: one finite row per point of ``pts``."""
+    try:
+        prev = np.asarray(y_prev, dtype=float)
+    except (TypeError, ValueError, OverflowError):
+        prev = None
+    if prev is None or prev.shape != pts.shape or not np.all(np.isfinite(prev)):
+        raise InputError(f"y_prev = {show(y_prev)}: expected a finite array of shape {pts.shape} (one previous "
+                         "surface point per point of x).")
+    return prev
+
+
+def _point_rows(value: Any, what: str) -> FloatArray:
+    """A finite ``(m, 2)`` or ``(m, 3)`` float array; :class:`InputError` naming ``what`` otherwise."""
+    try:
+        arr = np.asarray(value, dtype=float)
+    except (TypeError, ValueError, OverflowError):
+        arr = None
+    if arr is None or arr.ndim != 2 or arr.shape[1] not in (2, 3) or not np.all(np.isfinite(arr)):
+        raise InputError(f"{what} = {show(value)}: expected a finite (m, 2) or (m, 3) array.")
+    return arr
 
 
 def translate(obstacle: Obstacle, offset: ArrayLike) -> Obstacle:
     """``obstacle`` moved rigidly by ``offset`` (offsets of a :class:`Translated` add up)."""
+    _check_obstacle(obstacle, "translate")
     if isinstance(obstacle, Translated):
         return Translated(obstacle.base, obstacle.offset + _vector(offset, "offset", (obstacle.offset.size,)))
     return Translated(obstacle, offset)
@@ -1204,7 +1243,10 @@ class RigidMotion:
 
     def __init__(self, rotation: ArrayLike, offset: ArrayLike) -> None:
         b = _vector(offset, "offset")
-        q = np.asarray(rotation, dtype=float)
+        try:
+            q = np.asarray(rotation, dtype=float)
+        except (TypeError, ValueError, OverflowError):
+            raise InputError(f"rotation must be a {b.size}x{b.size} matrix of numbers; got {show(rotation)}") from None
         d = b.size
         if q.shape != (d, d) or not np.all(np.isfinite(q)):
             raise InputError(f"rotation must be a finite {d}x{d} matrix like offset has {d} components; "
@@ -1257,6 +1299,10 @@ class Moved(_PlacedObstacle):
     motion: RigidMotion
 
     def __post_init__(self) -> None:
+        _check_obstacle(self.base, "Moved", "base")
+        if not isinstance(self.motion, RigidMotion):
+            raise InputError(f"Moved: motion = {show(self.motion)}: expected a RigidMotion (RigidMotion(rotation, "
+                             "offset) or RigidMotion.about(...)).")
         if self.base.dim is not None and self.motion.offset.size != self.base.dim:
             raise InputError(f"the rigid motion is {self.motion.offset.size}D but the obstacle "
                              f"{self.base.describe()} is {self.base.dim}D")
@@ -1287,7 +1333,7 @@ class Moved(_PlacedObstacle):
         Slip :math:`Q\\,\\Delta s_O(y; y_{prev})`, Jacobian :math:`Q J_O Q^T`.
         """
         pts = _points(x, self.dim)
-        yp = np.asarray(y_prev, dtype=float).reshape(pts.shape)
+        yp = _previous(y_prev, pts)
         q = self.motion.rotation
         slip, jac = surface_slip(self.base, self._local(pts), self._local(yp), jacobian=jacobian)
         if jac is not None:
@@ -1314,6 +1360,9 @@ def frame(obstacle: Any, dim: int | None = None) -> tuple[FloatArray, FloatArray
     any other obstacle (user obstacles included) is at rest in its own frame,
     :math:`(I, 0)`; ``dim`` is used when the obstacle has no dimension of its own.
     """
+    _check_obstacle(obstacle, "frame")
+    if dim is not None and not (is_integer(dim) and dim in (2, 3)):
+        raise InputError(f"frame: dim = {show(dim)}: expected 2, 3 or None.")
     if isinstance(obstacle, (Moved, Translated)):
         qb, bb = frame(obstacle.base, dim)
         if isinstance(obstacle, Moved):

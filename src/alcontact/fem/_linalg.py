@@ -34,6 +34,34 @@ def _ranges(starts: np.ndarray, lens: np.ndarray) -> np.ndarray:
     return offs + np.arange(total)
 
 
+_PERMC = ("MMD_AT_PLUS_A", "MMD_ATA", "COLAMD", "NATURAL")
+
+
+def _matrix(value, what: str):
+    """``value`` as a CSR matrix of floats; :class:`InputError` naming ``what`` otherwise."""
+    try:
+        if np.iscomplexobj(value.data if sp.issparse(value) else value):
+            raise TypeError("complex")
+        A = sp.csr_matrix(value, dtype=float)
+    except (TypeError, ValueError, OverflowError):
+        raise InputError(f"{what}: expected a square scipy.sparse matrix (or array) of numbers, got "
+                         f"{type(value).__name__}.") from None
+    if A.ndim != 2 or A.shape[0] != A.shape[1]:
+        raise InputError(f"{what}: expected a square matrix, got shape {A.shape}.")
+    return A
+
+
+def _indices(value, what: str) -> np.ndarray:
+    """``value`` as sorted unique DOF indices; :class:`InputError` naming ``what`` for non-integers."""
+    try:
+        arr = np.asarray(value) if not isinstance(value, (str, bytes, dict, set)) and value is not None else None
+    except (TypeError, ValueError, OverflowError):
+        arr = None
+    if arr is None or arr.dtype == object or (arr.size and not np.issubdtype(arr.dtype, np.integer)):
+        raise InputError(f"{what}: expected a list of integer DOF indices, got {type(value).__name__}.")
+    return np.unique(arr.astype(np.int64).ravel())
+
+
 def nested_dissection(points: np.ndarray, adjacency, leaf_size: int = 64) -> np.ndarray:
     """Geometric nested-dissection ordering of a mesh graph.
 
@@ -57,7 +85,16 @@ def nested_dissection(points: np.ndarray, adjacency, leaf_size: int = 64) -> np.
     numpy.ndarray of int, shape (n,)
         ``perm[new] = old``.
     """
-    A = sp.csr_matrix(adjacency)
+    A = _matrix(adjacency, "nested_dissection: adjacency")
+    try:
+        points = np.asarray(points, dtype=float)
+    except (TypeError, ValueError, OverflowError):
+        points = None
+    if points is None or points.ndim != 2 or points.shape[0] != A.shape[0] or not np.all(np.isfinite(points)):
+        raise InputError(f"nested_dissection: points must be a finite (n, dim) array with n = {A.shape[0]} rows "
+                         "(one per node of the adjacency).")
+    if not (isinstance(leaf_size, (int, np.integer)) and not isinstance(leaf_size, bool) and leaf_size >= 1):
+        raise InputError(f"nested_dissection: leaf_size = {leaf_size!r:.40}: expected an integer >= 1.")
     n = points.shape[0]
     indptr, indices = A.indptr, A.indices
     stamp = np.full(n, -1, dtype=np.int64)
@@ -157,11 +194,16 @@ class Factorization:
 
     def __init__(self, matrix, fixed, *, permc_spec: str = "MMD_AT_PLUS_A", perm=None, check: bool = True,
                  backend: str = "superlu", hints: MatrixHints | None = None):
-        A = sp.csr_matrix(matrix)
+        A = _matrix(matrix, "Factorization")
         n = A.shape[0]
         if A.shape != (n, n):
             raise InputError(f"matrix must be square; got shape {A.shape}.")
-        fixed = np.unique(np.asarray(fixed, dtype=np.int64).ravel())
+        fixed = _indices(fixed, "Factorization: fixed")
+        if not isinstance(permc_spec, str) or permc_spec not in _PERMC:
+            raise InputError(f"Factorization: permc_spec = {permc_spec!r:.40}: expected one of {', '.join(_PERMC)}.")
+        if not isinstance(backend, str):
+            raise InputError(f"Factorization: backend = {backend!r:.40}: expected the name of a linear solver, "
+                             "e.g. 'superlu'.")
         if fixed.size and (fixed[0] < 0 or fixed[-1] >= n):
             raise InputError(f"fixed DOF indices must lie in [0, {n}); got min {fixed[0]}, max {fixed[-1]}.")
         mask = np.ones(n, dtype=bool)

@@ -73,6 +73,12 @@ def rigid_body_modes(points: np.ndarray) -> tuple[np.ndarray, list[str]]:
     names : list of str
         ``"translation x"``, ..., ``"rotation about z"``.
     """
+    try:
+        points = np.asarray(points, dtype=float)
+    except (TypeError, ValueError, OverflowError):
+        points = None
+    if points is None or points.ndim != 2 or points.shape[1] not in (2, 3) or not np.all(np.isfinite(points)):
+        raise InputError("rigid_body_modes: points must be a finite (m, 2) or (m, 3) array of coordinates.")
     m, dim = points.shape
     c = points - points.mean(axis=0) if m else points
     scale = float(np.max(np.abs(c))) if m and np.max(np.abs(c)) > 0 else 1.0
@@ -281,8 +287,8 @@ class LinearElasticity:
     def __init__(self, mesh, material: Material, order: int = 1, volumetric: str = "full"):
         if not isinstance(material, Material):
             raise InputError(f"material must be an alcontact.fem.Material; got {type(material).__name__}.")
-        if order not in (1, 2):
-            raise InputError(f"order={order!r} is not supported; use 1 (P1) or 2 (P2).")
+        if not (isinstance(order, (int, np.integer)) and not isinstance(order, bool) and order in (1, 2)):
+            raise InputError(f"order={show(order)} is not supported; use 1 (P1) or 2 (P2).")
         form = VOLUMETRIC_FORMULATIONS.get(volumetric) if isinstance(volumetric, str) else None
         if form is None:
             raise InputError(f"volumetric={show(volumetric)} is not known; use one of "

@@ -34,6 +34,7 @@ import math
 import numbers
 import os
 import tempfile
+import warnings
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
@@ -41,6 +42,7 @@ from typing import Any
 import numpy as np
 import skfem
 
+from alcontact._options import show
 from alcontact.errors import InputError, MeshError
 
 __all__ = ["rectangle", "box", "interval", "read", "graded_axis", "MAX_CELLS_PER_AXIS", "MAX_VERTICES",
@@ -156,6 +158,19 @@ def graded_axis(
     InputError
         More than :data:`MAX_CELLS_PER_AXIS` cells along the axis.
     """
+    from alcontact._options import Option, check_args
+
+    big = MAX_COORDINATE
+    a, b, lo, hi, h_min, growth, h_max = check_args("graded_axis", [
+        (Option("a", "float", 0.0, "a", low=-big, high=big), a),
+        (Option("b", "float", 0.0, "b", low=-big, high=big), b),
+        (Option("lo", "float", 0.0, "lo", low=-big, high=big), lo),
+        (Option("hi", "float", 0.0, "hi", low=-big, high=big), hi),
+        (Option("h_min", "float", 0.0, "h_min", low=0.0, low_open=True, high=big), h_min),
+        (Option("growth", "float", 1.2, "growth", low=1.0, high=1e3), growth),
+        (Option("h_max", "float", 0.0, "h_max", low=0.0, low_open=True, high=big), h_max)])
+    if not isinstance(axis, str):
+        raise InputError(f"graded_axis: axis = {show(axis)}: expected a name such as 'x'.")
     lo, hi = max(lo, a), min(hi, b)
     if hi < lo:  # window outside the axis: grade from the nearest end
         lo = hi = min(max(lo, a), b)
@@ -209,22 +224,30 @@ def _check_refine(refine: Mapping[str, Any], dim: int) -> dict[str, Any]:
     return r
 
 
+def _finite(x) -> bool:
+    """A finite number (an integer too large for a float is not)."""
+    try:
+        return math.isfinite(x)
+    except OverflowError:
+        return False
+
+
 def _min_spacing(lo: float, hi: float) -> float:
     return max(MIN_SPACING, MIN_RELATIVE_SPACING * max(abs(lo), abs(hi)))
 
 
 def _check_extent(names: str, lo: float, hi: float, n: int) -> None:
     if not all(isinstance(v, numbers.Real) and not isinstance(v, bool) for v in (lo, hi)):
-        raise InputError(f"{names}: bounds must be numbers; got ({lo!r}, {hi!r}).")
-    if not (math.isfinite(lo) and math.isfinite(hi) and hi > lo):
+        raise InputError(f"{names}: bounds must be numbers; got ({show(lo)}, {show(hi)}).")
+    if not (_finite(lo) and _finite(hi) and hi > lo):
         raise InputError(f"{names}: need finite bounds with lower < upper; got ({lo}, {hi}).")
     if max(abs(lo), abs(hi)) > MAX_COORDINATE:
         raise InputError(f"{names}: bounds ({lo:g}, {hi:g}) exceed |coordinate| <= {MAX_COORDINATE:g}; "
                          "choose other length units (e.g. mm instead of m or the reverse).")
-    if not (isinstance(n, numbers.Real) and not isinstance(n, bool) and math.isfinite(n) and int(n) == n
+    if not (isinstance(n, numbers.Real) and not isinstance(n, bool) and _finite(n) and int(n) == n
             and 1 <= n <= MAX_CELLS_PER_AXIS):
         raise InputError(f"number of cells along {names} must be an integer in [1, {MAX_CELLS_PER_AXIS}]; "
-                         f"got {n!r}.")
+                         f"got {show(n)}.")
     h = (hi - lo) / n
     if h < _min_spacing(lo, hi):
         raise InputError(f"{names}: {int(n)} cells on ({lo:g}, {hi:g}) are {h:.3g} wide, too small for the size "
@@ -442,6 +465,119 @@ def _drop_unused_points(m):
     )
 
 
+_GROUP_FIX = ("give every physical group its own name in the .geo file, e.g. Physical Curve(\"top\", 1) = {...}; "
+              "(Physical Surface/Volume for the body), then re-mesh")
+
+
+def _physical_names(path: Path) -> list[tuple[int, int, str]]:
+    """``(dimension, tag, name)`` of each entry of the ``$PhysicalNames`` section of a Gmsh file, in file order.
+
+    meshio keeps one tag per name (a dict), so names given twice are read here from the
+    section itself (ASCII in every Gmsh format, also in binary files).
+    """
+    if path.suffix.lower() != ".msh":
+        return []
+    raw = path.read_bytes()
+    start = raw.find(b"$PhysicalNames")
+    end = raw.find(b"$EndPhysicalNames", start)
+    if start < 0 or end < 0:
+        return []
+    out = []
+    for line in raw[start:end].decode("utf-8", errors="replace").splitlines()[2:]:
+        parts = line.strip().split(maxsplit=2)
+        if len(parts) == 3 and parts[0].lstrip("-").isdigit() and parts[1].lstrip("-").isdigit():
+            out.append((int(parts[0]), int(parts[1]), parts[2].strip().strip('"')))
+    return out
+
+
+def _check_physical_groups(m, declared: list[tuple[int, int, str]], path) -> None:
+    """Refuse physical groups that scikit-fem cannot name: no name, a name given twice, a tag with two names.
+
+    scikit-fem looks a group's name up by its tag alone, so each used tag needs exactly one
+    name and each name one tag.
+
+    Raises
+    ------
+    MeshError
+        Naming the file, the tags and names, and the way out.
+    """
+    where = f"mesh file {str(path)!r}"
+    by_name: dict[str, list[tuple[int, int]]] = {}
+    by_tag: dict[int, set[str]] = {}
+    for dim, tag, name in declared:
+        if not name:
+            raise MeshError(f"{where}: physical group {tag} (dimension {dim}) has an empty name; {_GROUP_FIX}.")
+        by_name.setdefault(name, []).append((dim, tag))
+        by_tag.setdefault(tag, set()).add(name)
+    twice = {n: g for n, g in by_name.items() if len(g) > 1}
+    if twice:
+        n, g = next(iter(sorted(twice.items())))
+        groups = " and ".join(f"tag {tag} (dimension {dim})" for dim, tag in g)
+        raise MeshError(f"{where}: the physical name {n!r} is given to {len(g)} groups ({groups}), so the "
+                        f"boundaries and regions cannot be told apart; {_GROUP_FIX}, or merge the groups into one.")
+    shared = {tag: names for tag, names in by_tag.items() if len(names) > 1}
+    if shared:
+        tag, names = next(iter(sorted(shared.items())))
+        raise MeshError(f"{where}: physical tag {tag} is used by groups of different dimensions named "
+                        f"{', '.join(map(repr, sorted(names)))}; scikit-fem finds a group by its tag, so give the "
+                        "groups different tags (e.g. Physical Curve(\"top\", 1), Physical Surface(\"body\", 10)), "
+                        "then re-mesh.")
+    named = {int(v[0]) for v in (m.field_data or {}).values() if np.size(v) >= 1}
+    used: set[int] = set()
+    for block, tags in zip(m.cells, (m.cell_data or {}).get("gmsh:physical", [])):
+        if _CELL_DIMS.get(block.type, 0) >= 1:
+            used |= {int(x) for x in np.unique(np.asarray(tags))}
+    unnamed = sorted(used - named - {0})
+    if unnamed:
+        raise MeshError(f"{where}: physical group(s) with tag {', '.join(map(str, unnamed))} have no name "
+                        f"($PhysicalNames); boundaries and regions are found by name, so {_GROUP_FIX}.")
+
+
+def _check_cells(m, kind: str, path) -> None:
+    """Refuse coordinates that are not finite or too large, duplicate elements, and a 2D mesh off a plane z = const.
+
+    Raises
+    ------
+    MeshError
+        Naming the file, the node or element and the way out.
+    """
+    where = f"mesh file {str(path)!r}"
+    pts = np.asarray(m.points, dtype=float)
+    cells = next(c.data for c in m.cells if c.type == kind)
+    bad = np.flatnonzero(~np.all(np.isfinite(pts), axis=1))
+    if bad.size:
+        raise MeshError(f"{where}: {bad.size} node(s) of the elements have coordinates that are not finite numbers "
+                        f"(first: {pts[bad[0]].tolist()}); fix the $Nodes section or re-export the mesh from Gmsh.")
+    big = float(np.max(np.abs(pts), initial=0.0))
+    if big > MAX_COORDINATE:
+        i = int(np.argmax(np.max(np.abs(pts), axis=1)))
+        raise MeshError(f"{where}: the node at {pts[i].tolist()} has a coordinate of magnitude {big:.3g}, beyond "
+                        f"{MAX_COORDINATE:g} "
+                        "where element measures and stiffness entries stay finite in double precision; express "
+                        "the lengths in other units (e.g. km instead of mm), the problem file alike.")
+    dim = _CELL_DIMS[kind]
+    if dim == 2 and pts.shape[1] > 2 and pts.shape[0]:  # a line mesh is refused later, with its own message
+        extent = float(np.max(np.ptp(pts[:, :dim], axis=0), initial=0.0))
+        z = pts[:, dim:]
+        spread = float(np.max(np.ptp(z, axis=0), initial=0.0))
+        if spread > 1e-9 * max(extent, 1e-300):
+            i = int(np.argmax(np.max(np.abs(z - z[0]), axis=1)))
+            raise MeshError(f"{where}: a {dim}D mesh ({kind} cells) whose nodes are not in one plane "
+                            f"z = const (e.g. the node at {pts[i].tolist()}; z varies by {spread:.3g}); alcontact "
+                            "would drop z and solve a distorted body. Mesh the body in the plane z = 0.")
+        if np.any(z[0] != 0):
+            logger.warning("%s: the %dD mesh lies in the plane z = %g; z is dropped.", path, dim, float(z[0, 0]))
+    key = np.sort(np.asarray(cells), axis=1)
+    _, first, counts = np.unique(key, axis=0, return_index=True, return_counts=True)
+    if np.any(counts > 1):
+        dup = int(first[np.argmax(counts > 1)])
+        twins = np.flatnonzero(np.all(key == key[dup], axis=1))
+        raise MeshError(f"{where}: {int(np.sum(counts[counts > 1] - 1))} duplicate {kind} element(s) (first: "
+                        f"{twins.size} elements on the nodes {np.round(pts[np.asarray(cells)[dup]], 6).tolist()}), "
+                        "e.g. a surface in two physical groups; remove the duplicates (one physical group per "
+                        "surface/volume, or Gmsh: Mesh > Coherence), then re-export.")
+
+
 def read(path: str | os.PathLike[str]):
     """Read a Gmsh mesh with physical groups as named boundaries and subdomains.
 
@@ -469,6 +605,8 @@ def read(path: str | os.PathLike[str]):
     import meshio
     from skfem.io.meshio import from_meshio
 
+    if not isinstance(path, (str, os.PathLike)):
+        raise MeshError(f"mesh file = {show(path)}: expected a path (str or pathlib.Path), got {type(path).__name__}.")
     p = Path(path)
     if not p.is_file():
         raise MeshError(f"mesh file {str(p)!r} does not exist; check the path (relative to {os.getcwd()!r}).")
@@ -477,9 +615,12 @@ def read(path: str | os.PathLike[str]):
         tmp = p = _mesh_geo(p)
     try:
         sink = io.StringIO()
-        try:  # meshio prints, and may call sys.exit, on unreadable files
-            with contextlib.redirect_stdout(sink), contextlib.redirect_stderr(sink):
+        try:  # meshio prints, and may call sys.exit, on unreadable files; NumPy warns on odd numbers
+            with contextlib.redirect_stdout(sink), contextlib.redirect_stderr(sink), warnings.catch_warnings(), \
+                    np.errstate(all="ignore"):
+                warnings.simplefilter("ignore")
                 m = meshio.read(p, file_format="gmsh" if p.suffix.lower() == ".msh" else None)
+                declared = _physical_names(p)
         except (Exception, SystemExit) as exc:  # meshio raises many types (ReadError, ValueError, ...)
             detail = str(exc) if not isinstance(exc, SystemExit) else sink.getvalue().strip()
             raise MeshError(
@@ -499,7 +640,9 @@ def read(path: str | os.PathLike[str]):
             f"{', '.join(_SUPPORTED_CELLS)} cells. Re-mesh with first-order triangles/tetrahedra "
             "(gmsh -order 1, no recombination); use LinearElasticity(order=2) for quadratic fields."
         )
+    _check_physical_groups(m, declared, path)
     m = _drop_unused_points(m)
+    _check_cells(m, kind, path)
     try:
         mesh = from_meshio(m, force_meshio_type=kind)
     except Exception as exc:

@@ -166,8 +166,9 @@ def mesh_quality(mesh) -> MeshQuality:
                         "fix or re-export the mesh file.")
     centroids = p[:, t].mean(axis=1).T
     vol = np.abs(element_measures(mesh))
-    ratio = vol / np.maximum(_longest_edge(p, t), np.finfo(float).tiny) ** dim
-    ratio = np.where(vol > 0, ratio, 0.0)
+    with np.errstate(divide="ignore", invalid="ignore", under="ignore"):  # 0/0 for collapsed elements: degenerate
+        ratio = vol / np.maximum(_longest_edge(p, t), np.finfo(float).tiny) ** dim
+    ratio = np.where(vol > 0, np.nan_to_num(ratio, nan=0.0), 0.0)
     degenerate = np.flatnonzero(ratio <= DEGENERATE_RATIO)
 
     # interior facets and their two elements

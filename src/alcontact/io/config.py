@@ -36,7 +36,7 @@ from .._options import BAD, ENERGY_MODEL, LINEAR_MODEL, Option, check_value, dec
 from ..errors import ConfigError, InputError, MeshError, UnknownNameError
 from .schema import Table, schema
 
-__all__ = ["Issue", "ProblemSetup", "load_problem", "load_problem_text", "validate_data"]
+__all__ = ["Issue", "ProblemSetup", "load_problem", "load_problem_text", "parse_toml", "validate_data"]
 
 logger = logging.getLogger(__name__)
 
@@ -437,24 +437,21 @@ def _text_of(path: Path) -> str:
     raise AssertionError  # pragma: no cover
 
 
-def load_problem(path: str | os.PathLike) -> ProblemSetup:
-    """Read, validate and build the problem file ``path``.
+def parse_toml(text: str, label: str = "problem file") -> dict:
+    """The TOML document ``text`` as a dict; every way the text can fail to parse is a :class:`ConfigError`.
+
+    The one parser of problem files (:func:`load_problem_text` and
+    :func:`alcontact.io.preflight.check_problem`), so that no reading path lets a
+    ``RecursionError`` (arrays nested hundreds of levels deep) or a ``ValueError``
+    (an integer of more than 4300 digits) escape as a traceback.
 
     Raises
     ------
     ConfigError
-        With every problem found (``exc.issues``); nothing has been solved.
+        Naming ``label`` and the way out.
     """
-    p = Path(path)
-    return load_problem_text(_text_of(p), base_dir=p.parent, source=p)
-
-
-def load_problem_text(text: str, *, base_dir: str | os.PathLike = ".", source: str | os.PathLike | None = None
-                      ) -> ProblemSetup:
-    """:func:`load_problem` from the TOML text (mesh files relative to ``base_dir``)."""
-    label = str(source) if source is not None else "problem file"
     try:
-        raw = tomllib.loads(text)
+        return tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         _raise([Issue("", f"not valid TOML: {exc}. Check quotes, brackets and '=' on that line.")], label)
     except ValueError as exc:  # e.g. an integer of more than 4300 digits (sys.get_int_max_str_digits)
@@ -463,7 +460,29 @@ def load_problem_text(text: str, *, base_dir: str | os.PathLike = ".", source: s
     except RecursionError:
         _raise([Issue("", "arrays or tables nested too deeply to read; a problem file needs at most 3 levels "
                           "(e.g. ramp = [[0.0, 0.0], [1.0, 1.0]]). Check the brackets.")], label)
-    data, issues = validate_data(raw)
+    raise AssertionError  # pragma: no cover
+
+
+def load_problem(path: str | os.PathLike) -> ProblemSetup:
+    """Read, validate and build the problem file ``path``.
+
+    Raises
+    ------
+    ConfigError
+        With every problem found (``exc.issues``); nothing has been solved.
+    """
+    if not isinstance(path, (str, os.PathLike)):
+        _raise([Issue("", f"problem file = {path!r:.60}: expected a path (str or pathlib.Path), got "
+                          f"{type(path).__name__}.")], "load_problem")
+    p = Path(path)
+    return load_problem_text(_text_of(p), base_dir=p.parent, source=p)
+
+
+def load_problem_text(text: str, *, base_dir: str | os.PathLike = ".", source: str | os.PathLike | None = None
+                      ) -> ProblemSetup:
+    """:func:`load_problem` from the TOML text (mesh files relative to ``base_dir``)."""
+    label = str(source) if source is not None else "problem file"
+    data, issues = validate_data(parse_toml(text, label))
     setup = _build(data, Path(base_dir), issues, source)
     if issues:
         _raise(issues, label)

@@ -39,7 +39,6 @@ import io
 import logging
 import math
 import os
-import tomllib
 from pathlib import Path
 from typing import Any
 
@@ -47,7 +46,7 @@ import numpy as np
 
 from .._options import VALUE_RANGE
 from ..errors import ConfigError, InputError, MeshError
-from .config import Issue, _raise, _text_of, load_problem, validate_data
+from .config import Issue, _raise, _text_of, load_problem, parse_toml, validate_data
 
 __all__ = ["SizeEstimate", "Preflight", "check_problem", "estimate_size", "exact_size", "size_issues", "setup_issues",
            "machine_memory", "run_features", "run_seconds", "time_calibration", "machine_kind", "MAX_DOFS", "MAX_SECONDS", "MEMORY_FRACTION", "VALUE_RANGE"]
@@ -429,16 +428,11 @@ def _contact_points_restrain(setup, fixed: np.ndarray, null: np.ndarray, R, row_
 
 
 def _rigidity_issues(setup) -> list[Issue]:
-    from ..contact._problem import Support
     from ..fem.elasticity import describe_motions
 
     prob = setup.problem
     model = prob.model
-    fixed = prob.dirichlet()[0]
-    if setup.history is not None:
-        extra = [model.dirichlet(c.item.boundary, None if c.item.components is None else list(c.item.components),
-                                 c.item.value)[0] for c in setup.history.cases if isinstance(c.item, Support)]
-        fixed = np.unique(np.concatenate([fixed, *extra])) if extra else fixed
+    fixed = _fixed_dofs(setup)
     null, names, R, row_of = model.free_rigid_motions(fixed)
     if null.shape[0] == 0:
         return []
@@ -530,12 +524,121 @@ def _pinned_issues(setup) -> list[Issue]:
                              "body, or release the normal component of the support on the contact boundary.")]
 
 
+def _fixed_dofs(setup) -> np.ndarray:
+    """DOFs fixed by the supports, ramped ones included (as :func:`_rigidity_issues`)."""
+    from ..contact._problem import Support
+
+    prob = setup.problem
+    model = prob.model
+    fixed = prob.dirichlet()[0]
+    if setup.history is not None:
+        extra = [model.dirichlet(c.item.boundary, None if c.item.components is None else list(c.item.components),
+                                 c.item.value)[0] for c in setup.history.cases if isinstance(c.item, Support)]
+        fixed = np.unique(np.concatenate([fixed, *extra])) if extra else fixed
+    return np.asarray(fixed, dtype=np.int64)
+
+
+def _piece_issues(setup) -> list[Issue]:
+    """A mesh of several disconnected pieces, one of which nothing holds (no support, no contact).
+
+    :func:`_rigidity_issues` is exact for a connected body; a second piece of the mesh
+    has rigid motions of its own, and a piece without supports and away from the
+    obstacle makes the stiffness matrix singular. Each piece is checked as the whole
+    body is: the supports on it and the contact points touching the obstacle (with
+    friction, all their components) must stop its rigid motions.
+    """
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+
+    from ..fem import rigid_body_modes
+
+    prob = setup.problem
+    model = prob.model
+    sdofs = getattr(model, "scalar_dofs", None)
+    if sdofs is None:
+        return []
+    ed = np.asarray(sdofs.element_dofs)  # (nloc, nel) scalar DOFs of each element
+    n = int(model.dof_map.shape[0])
+    rows = np.repeat(ed[:1], ed.shape[0] - 1, axis=0).ravel()
+    graph = coo_matrix((np.ones(rows.size), (rows, ed[1:].ravel())), shape=(n, n))
+    count, piece = connected_components(graph, directed=False)
+    if count <= 1:
+        return []
+    fixed = _fixed_dofs(setup)
+    pts, _ = model.all_node_dofs()
+    modes, _ = rigid_body_modes(pts)
+    nm = modes.shape[-1]
+    scalar_of = np.empty(model.ndofs, dtype=np.int64)
+    scalar_of[model.dof_map.ravel()] = np.repeat(np.arange(n), model.dof_map.shape[1])
+    comp_of = np.empty(model.ndofs, dtype=np.int64)
+    comp_of[model.dof_map.ravel()] = np.tile(np.arange(model.dof_map.shape[1]), n)
+    # contact rows: the points touching the obstacle (as _contact_points_restrain finds them)
+    cpts, cdofs = model.node_dofs(prob.contact_boundary)
+    gap0, nu = prob.obstacle.evaluate(cpts)
+    is_fixed = np.zeros(model.ndofs, dtype=bool)
+    is_fixed[fixed] = True
+    coef = np.where(is_fixed[cdofs], 0.0, -nu)
+    movable = np.linalg.norm(coef, axis=1) > 1e-12
+    from ..contact._discrete import _element_size
+    from ..fem.elasticity import _rank
+
+    h = _element_size(model, prob.contact_boundary, prob.obstacle)
+    g0 = np.where(movable, gap0, -np.inf)
+    near = np.flatnonzero(movable & (g0 >= float(np.max(g0, initial=-np.inf)) - 0.5 * h)) if movable.any() else \
+        np.zeros(0, dtype=np.int64)
+    near_scalar = scalar_of[cdofs[near, 0]] if near.size else np.zeros(0, dtype=np.int64)
+    for c in range(count):
+        sel = fixed[piece[scalar_of[fixed]] == c]
+        blocks = [modes[scalar_of[sel], comp_of[sel]]]
+        mine = near[piece[near_scalar] == c] if near.size else near
+        for i in mine:
+            vals = modes[scalar_of[cdofs[i, 0]]]  # (dim, nm): each mode's displacement at the point
+            if setup.friction > 0:
+                blocks += [vals[k][None, :] for k in range(vals.shape[0]) if not is_fixed[cdofs[i, k]]]
+            else:
+                blocks.append((coef[i] @ vals)[None, :])
+        held = np.vstack(blocks) if blocks else np.zeros((0, nm))
+        if _rank(held) < nm:
+            members = np.flatnonzero(piece == c)
+            lo, hi = pts[members].min(axis=0), pts[members].max(axis=0)
+            box = " x ".join(f"[{a:.4g}, {b:.4g}]" for a, b in zip(lo, hi))
+            return [Issue("mesh", f"the mesh has {count} disconnected pieces, and nothing holds piece {c + 1} "
+                                  f"({members.size} nodes in {box}): no support stops its rigid motions and it does "
+                                  "not touch the obstacle, so the stiffness matrix is singular. Remove the piece "
+                                  "from the mesh (a stray surface/volume in the Gmsh file), connect it to the body "
+                                  "(shared nodes; Gmsh: Coherence), or add a [[support]] on a boundary of it.")]
+    return []
+
+
+def _tangential_first_step_issues(setup) -> list[Issue]:
+    """A tangential load already non-zero at the first step time: the frictional solver refuses it.
+
+    At the start of the first step no point carries a contact pressure, so no point is
+    in contact there (``_friction._closed`` needs ``t_N > 0``) and
+    :func:`alcontact.contact.solve_friction` raises for any tangential case with a non-zero
+    value at the first step: known without solving.
+    """
+    if setup.friction <= 0 or setup.history is None or getattr(setup.problem, "kinematics", "small") != "small":
+        return []
+    t1 = float(setup.times[0])
+    active = [c for c in setup.history.cases if c.tangential and c.value(t1) != 0.0]
+    if not active:
+        return []
+    names = ", ".join(c.label for c in active)
+    return [Issue("loading", f"the tangential load {names} is already non-zero at the first step time t = {t1:g}, "
+                             "before any point is in contact (the frictional solver needs contact at the start of "
+                             "a step that shears): ramp the normal load first and start the tangential ramp at 0 "
+                             "until then (e.g. ramp = [[0.5, 0.0], [1.0, 1.0]]) with [loading] steps (or times) "
+                             "that put a step before it.")]
+
+
 def setup_issues(setup) -> list[Issue]:
     """Issues of a built problem: rigidity on the solver's path, ramped support conflicts, number ranges."""
     issues = _range_issues(setup)
     if issues:  # the rigidity test would report the overflow as a free motion
         return issues
-    return _ramped_support_issues(setup) + _pinned_issues(setup) + _rigidity_issues(setup)
+    return (_ramped_support_issues(setup) + _pinned_issues(setup) + _tangential_first_step_issues(setup)
+            + _piece_issues(setup) + _rigidity_issues(setup))
 
 
 # --------------------------------------------------------------------------- Gmsh files without a body
@@ -687,10 +790,7 @@ def check_problem(path: str | os.PathLike, *, memory: float | None = None) -> Pr
     label = str(p)
     text = _text_of(p)
     total = machine_memory()[0] if memory is None else float(memory)
-    try:
-        data, issues = validate_data(tomllib.loads(text))
-    except tomllib.TOMLDecodeError:
-        data, issues = None, [Issue("", "not valid TOML")]
+    data, issues = validate_data(parse_toml(text, label))
     if issues:  # load_problem reports them all, with its wording
         load_problem(p)
         raise AssertionError("load_problem accepted a file with schema issues")  # pragma: no cover
@@ -706,9 +806,21 @@ def check_problem(path: str | os.PathLike, *, memory: float | None = None) -> Pr
             _raise(issues, label)
         raise
     size = exact_size(setup)
-    issues = size_issues(size, total) + setup_issues(setup)
+    issues = size_issues(size, total) + setup_issues(setup) + _output_issues(setup)
     _check(issues, label)
     return Preflight(setup=setup, size=size, memory=total)
+
+
+def _output_issues(setup) -> list[Issue]:
+    """``[output] folder`` names no folder this system can make (too long a name, a NUL): ``run`` would fail."""
+    from .results import output_path_issue
+
+    folder = str(setup.output.get("folder") or "")
+    why = output_path_issue(folder) if folder else None
+    if why is None:
+        return []
+    shown = folder if len(folder) <= 60 else folder[:30] + "..." + folder[-15:]
+    return [Issue("output.folder", f"= {shown!r}: {why}.")]
 
 
 def _mesh_issue(md: dict, base: Path, issue: Issue) -> Issue:

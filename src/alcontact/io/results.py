@@ -57,7 +57,8 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import OutputExistsError, OutputPathError
+from .._options import is_path, require
+from ..errors import AlcontactError, OutputExistsError, OutputInUseError, OutputPathError
 
 __all__ = [
     "SUMMARY_KEYS",
@@ -70,6 +71,8 @@ __all__ = [
     "check_output_dir",
     "owned_entries",
     "ResultsFolder",
+    "output_lock",
+    "output_path_issue",
     "RESULT_NAMES",
     "jsonable",
 ]
@@ -130,6 +133,7 @@ def atomic_path(path: str | os.PathLike) -> Iterator[Path]:
     path : path-like
         Destination; its folder must exist.
     """
+    require("atomic_path", "path", path, is_path(path), "a file path (str or pathlib.Path)", OutputPathError)
     path = Path(path)
     fd, tmp_name = tempfile.mkstemp(dir=path.parent, prefix=f".{path.stem}.", suffix=f".tmp{path.suffix}")
     os.close(fd)
@@ -151,6 +155,8 @@ def atomic_path(path: str | os.PathLike) -> Iterator[Path]:
 
 def write_text_atomic(path: str | os.PathLike, text: str, *, encoding: str = "utf-8") -> Path:
     """Write ``text`` to ``path`` atomically; return ``path``."""
+    require("write_text_atomic", "path", path, is_path(path), "a file path (str or pathlib.Path)", OutputPathError)
+    require("write_text_atomic", "text", text, isinstance(text, str), "a str")
     path = Path(path)
     with atomic_path(path) as tmp, open(tmp, "w", encoding=encoding, newline="") as fh:
         fh.write(text)
@@ -184,6 +190,7 @@ def jsonable(value: Any) -> Any:
 
 def write_json(path: str | os.PathLike, data: Mapping[str, Any]) -> Path:
     """Write ``data`` as indented JSON (keys in insertion order), atomically."""
+    require("write_json", "data", data, isinstance(data, Mapping), "a dict")
     text = json.dumps(jsonable(data), indent=2, allow_nan=False) + "\n"
     return write_text_atomic(path, text)
 
@@ -194,6 +201,12 @@ def write_history_csv(path: str | os.PathLike, history) -> Path:
     One row per outer iteration, columns :data:`HISTORY_COLUMNS`; floats with
     17 significant digits (round trip). An empty history gives the header only.
     """
+    ok = not isinstance(history, (str, bytes, Mapping)) and np.iterable(history)
+    require("write_history_csv", "history", history, ok, "a list of ContactIteration records")
+    history = list(history)
+    for i, it in enumerate(history):
+        require("write_history_csv", f"history[{i}]", it, all(hasattr(it, c) for c in HISTORY_COLUMNS),
+                f"a record with the fields {', '.join(HISTORY_COLUMNS)} (a ContactIteration)")
     buf = io.StringIO()
     writer = csv.writer(buf, lineterminator="\n")
     writer.writerow(HISTORY_COLUMNS)
@@ -210,6 +223,9 @@ def write_history_csv(path: str | os.PathLike, history) -> Path:
 _TEMP_FILE = re.compile(r"^\..+\.tmp(\.[A-Za-z0-9]+)?$")  # atomic_path's temporary files
 _STAGING_TAG = ".partial-"  # staging folder beside a new results folder: .<name>.partial-<random>
 _STAGING_INSIDE = ".alcontact-partial-"  # staging folder inside an existing one
+_LOCK_TAG = ".alcontact-lock"  # lock file beside the folder (.<name>.alcontact-lock) or inside it
+#: bytes a staging folder adds to the folder's name: "." + name + ".partial-" + 8 random characters
+_STAGING_EXTRA = 1 + len(_STAGING_TAG) + 8
 
 
 def _entry_name(p: Path) -> str:
@@ -231,7 +247,9 @@ def owned_entries(folder: str | os.PathLike) -> tuple[list[str], list[str]]:
     owned, foreign : list of str
         Sorted names of the entries present in ``folder``.
     """
+    require("owned_entries", "folder", folder, is_path(folder), "a folder path (str or pathlib.Path)", OutputPathError)
     folder = Path(folder)
+    require("owned_entries", "folder", folder, folder.is_dir(), "an existing folder", OutputPathError)
     listed: set[str] = set()
     summary = folder / "summary.json"
     if summary.is_file():
@@ -244,7 +262,7 @@ def owned_entries(folder: str | os.PathLike) -> tuple[list[str], list[str]]:
     owned, foreign = [], []
     for p in sorted(folder.iterdir()):
         name = _entry_name(p)
-        ours = name in listed or (p.is_file() and _TEMP_FILE.match(p.name)) or \
+        ours = name in listed or (p.is_file() and (_TEMP_FILE.match(p.name) or p.name == _LOCK_TAG)) or \
             (p.is_dir() and p.name.startswith(_STAGING_INSIDE))
         (owned if ours else foreign).append(name)
     return owned, foreign
@@ -252,14 +270,53 @@ def owned_entries(folder: str | os.PathLike) -> tuple[list[str], list[str]]:
 
 def _leftover(name: str) -> bool:
     """A temporary file or staging folder of an interrupted (killed) write."""
-    return bool(_TEMP_FILE.match(name)) or name.startswith(_STAGING_INSIDE)
+    return bool(_TEMP_FILE.match(name)) or name.startswith(_STAGING_INSIDE) or name == _LOCK_TAG
+
+
+def _short(path: Path) -> str:
+    text = str(path)
+    return text if len(text) <= 80 else text[:40] + "..." + text[-20:]
 
 
 def _first_existing(path: Path) -> Path:
     p = path
-    while not p.exists() and not p.is_symlink() and p != p.parent:
+    while not os.path.lexists(p) and p != p.parent:  # lexists: False (no OSError) for over-long names
         p = p.parent
     return p
+
+
+def _name_max(where: Path) -> int:
+    try:
+        return int(os.pathconf(where, "PC_NAME_MAX"))
+    except (OSError, ValueError, AttributeError):
+        return 255
+
+
+def output_path_issue(path: str | os.PathLike) -> str | None:
+    """Why no results folder can be made at ``path`` by its name alone, or ``None``; touches nothing.
+
+    A name longer than the file system allows (255 bytes on most), counting the
+    staging folder's longer name (``.<name>.partial-<random>``, :class:`ResultsFolder`);
+    a path longer than ``PATH_MAX``; a NUL character.
+    """
+    text = os.fspath(path)
+    if "\0" in text:
+        return "the name holds a NUL character, which no file name may hold; choose another name"
+    raw = os.fsencode(text)
+    limit = _name_max(_first_existing(Path(text).absolute()))
+    parts = [q for q in Path(text).parts if q not in ("/", "")]
+    for i, part in enumerate(parts):
+        n = len(os.fsencode(part))
+        last = i == len(parts) - 1
+        room = limit - (_STAGING_EXTRA if last else 0)
+        if n > room:
+            what = "the folder name" if last else f"the path component {part[:20]!r}..."
+            extra = f" ({limit} less {_STAGING_EXTRA} for the staging folder written beside it)" if last else ""
+            return (f"{what} is {n} bytes long, more than the {room} bytes the file system allows{extra}; "
+                    "choose a shorter name")
+    if len(raw) > 4000:
+        return f"the path is {len(raw)} bytes long (most systems allow 4096); choose a shorter path"
+    return None
 
 
 def check_output_dir(path: str | os.PathLike, force: bool = False) -> Path:
@@ -276,10 +333,21 @@ def check_output_dir(path: str | os.PathLike, force: bool = False) -> Path:
     OutputPathError
         A parent of ``path`` is a file, or the place is not writable.
     """
+    require("check_output_dir", "path", path, is_path(path), "a folder path (str or pathlib.Path)", OutputPathError)
+    require("check_output_dir", "force", force, isinstance(force, (bool, np.bool_)), "True or False")
     path = Path(path)
+    why = output_path_issue(path)
+    if why is not None:
+        raise OutputPathError(f"--out '{_short(path)}': {why}.")
+    if path.is_symlink() and not path.exists():
+        raise OutputPathError(f"--out '{path}' is a symbolic link to a place that does not exist (or a loop of "
+                              f"links, -> '{os.readlink(path)}'); remove the link, or choose another --out.")
+    base = _first_existing(path.parent)
+    if base.is_symlink() and not base.exists():
+        raise OutputPathError(f"--out '{path}': '{base}' is a symbolic link to a place that does not exist (or "
+                              "a loop of links); remove or fix the link, or choose another --out.")
     if path.exists() and not path.is_dir():
         raise OutputExistsError(f"results path '{path}' exists and is not a folder; choose another --out.")
-    base = _first_existing(path.parent)
     if base.exists() and not base.is_dir():
         raise OutputPathError(
             f"--out '{path}': '{base}' is a file, not a folder, so no results folder can be created "
@@ -330,6 +398,8 @@ def prepare_output_dir(path: str | os.PathLike, force: bool = False, *, create: 
     OutputExistsError, OutputPathError
         As :func:`check_output_dir`.
     """
+    require("prepare_output_dir", "force", force, isinstance(force, (bool, np.bool_)), "True or False")
+    require("prepare_output_dir", "create", create, isinstance(create, (bool, np.bool_)), "True or False")
     path = check_output_dir(path, force)
     if create:
         try:
@@ -338,6 +408,125 @@ def prepare_output_dir(path: str | os.PathLike, force: bool = False, *, create: 
             raise OutputPathError(f"--out '{path}': cannot create the folder ({exc.strerror}); choose another "
                                   "--out.") from exc
     return path
+
+
+# --------------------------------------------------------------------------- lock
+_HELD: dict[str, int] = {}  # lock files this process holds -> depth (the CLI holds it over the solve)
+_HELD_GUARD = threading.Lock()
+
+
+def _lock_file(target: Path) -> Path | None:
+    """The lock file of results folder ``target``: ``.<name>.alcontact-lock`` beside it.
+
+    Beside, so that one name serves a folder that exists and one still to be made
+    (staged beside it). Inside the folder (``.alcontact-lock``) when its parent
+    cannot be written (``.``, a mount point). ``None`` when neither place exists yet:
+    nothing can be staged there either.
+    """
+    real = Path(os.path.realpath(target))
+    parent = real.parent
+    if real.name and parent.is_dir() and os.access(parent, os.W_OK | os.X_OK):
+        return parent / f".{real.name}{_LOCK_TAG}"
+    if real.is_dir():
+        return real / _LOCK_TAG
+    return None
+
+
+def _take(lock: Path, target: Path) -> int:
+    """Open and lock ``lock`` (non-blocking); return its descriptor.
+
+    The file is removed when released; a taker that locked a file removed meanwhile
+    (its inode no longer at ``lock``) tries again, so two runs never both hold one.
+    """
+    import fcntl
+
+    for _ in range(50):
+        fd = os.open(lock, os.O_RDWR | os.O_CREAT, 0o644)
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except OSError:
+            try:
+                owner = os.pread(fd, 64, 0).decode("ascii", "replace").strip()
+            except OSError:
+                owner = ""
+            os.close(fd)
+            by = f" (process {owner})" if owner.isdigit() else ""
+            raise OutputInUseError(
+                f"results folder '{target}' is in use: another alcontact run{by} is writing it (lock file "
+                f"'{lock}'); wait until it ends, or choose another --out.") from None
+        try:
+            same = os.stat(lock).st_ino == os.fstat(fd).st_ino
+        except FileNotFoundError:
+            same = False
+        if same:
+            os.ftruncate(fd, 0)
+            os.pwrite(fd, f"{os.getpid()}\n".encode(), 0)
+            return fd
+        os.close(fd)
+    raise OutputInUseError(f"cannot take the lock file '{lock}' (it keeps being replaced); choose another --out.")
+
+
+@contextlib.contextmanager
+def output_lock(target: str | os.PathLike) -> Iterator[Path | None]:
+    """Hold the lock of the results folder ``target`` during the block (re-entrant within a process).
+
+    Two runs writing one folder at once would delete each other's staging folders;
+    with the lock, the second one is refused at once with
+    :class:`~alcontact.errors.OutputInUseError` ("in use"). The lock is an advisory
+    ``flock`` on ``.<name>.alcontact-lock`` beside the folder: the kernel releases it
+    when the process dies, even by SIGKILL, so a stale lock file never blocks a run.
+    The file is removed on release. Without ``fcntl`` (Windows), or when no place for
+    the lock exists yet, the block runs unlocked.
+
+    Yields
+    ------
+    Path or None
+        The lock file, or ``None`` when unlocked.
+    """
+    lock = _lock_file(Path(target))
+    try:
+        import fcntl  # noqa: F401
+    except ImportError:  # pragma: no cover - not POSIX
+        lock = None
+    if lock is None:
+        yield None
+        return
+    key = str(lock)
+    with _HELD_GUARD:
+        depth = _HELD.get(key, 0)
+        _HELD[key] = depth + 1
+    fd = None
+    try:
+        if depth == 0:
+            try:
+                fd = _take(lock, Path(target))
+            except OSError as exc:
+                if isinstance(exc, AlcontactError):
+                    raise
+                logger.debug("no lock for %s (%s): writing unlocked", target, exc)
+        yield lock
+    finally:
+        with _HELD_GUARD:
+            _HELD[key] -= 1
+            if not _HELD[key]:
+                del _HELD[key]
+        if fd is not None:
+            with contextlib.suppress(OSError):
+                os.unlink(lock)
+            os.close(fd)
+
+
+def _remove_stale_staging(where: Path, prefix: str) -> None:
+    """Delete staging folders ``where/<prefix>*`` of runs that died (we hold the lock: no live run owns one)."""
+    try:
+        stale = [p for p in where.iterdir() if p.name.startswith(prefix) and p.is_dir() and not p.is_symlink()]
+    except OSError:
+        return
+    for p in stale:
+        shutil.rmtree(p, ignore_errors=True)
+    if stale:
+        logger.info("removed %d staging folder(s) of interrupted runs: %s", len(stale),
+                    ", ".join(p.name for p in stale))
 
 
 _DEFERRED_SIGNALS = tuple(getattr(signal, n) for n in ("SIGINT", "SIGTERM") if hasattr(signal, n))
@@ -398,7 +587,14 @@ class ResultsFolder:
     exception (including ``KeyboardInterrupt``) the staging folder is deleted
     and ``target`` is not touched; the exception gets the attribute
     ``results_state = "unchanged"`` (``"written"`` when a deferred signal
-    arrives after the files were put in place).
+    arrives after the files were put in place). An ``OSError`` of the writing
+    (a full disk) becomes an :class:`~alcontact.errors.OutputPathError`.
+
+    One run at a time: the block holds :func:`output_lock` (a second run into
+    the same folder gets :class:`~alcontact.errors.OutputInUseError`), and
+    under it staging folders left by killed runs (``.<name>.partial-*``
+    beside, ``.alcontact-partial-*`` inside) are removed. ``a/b/../c`` is
+    staged in the real parent ``a``, so no folder ``a/b`` is left behind.
 
     Examples
     --------
@@ -411,6 +607,8 @@ class ResultsFolder:
     """
 
     def __init__(self, path: str | os.PathLike, force: bool = False):
+        require("ResultsFolder", "path", path, is_path(path), "a folder path (str or pathlib.Path)", OutputPathError)
+        require("ResultsFolder", "force", force, isinstance(force, (bool, np.bool_)), "True or False")
         self.target = Path(path)
         self.force = force
         self.path: Path | None = None
@@ -419,17 +617,32 @@ class ResultsFolder:
     def __enter__(self) -> ResultsFolder:
         check_output_dir(self.target, self.force)
         inside = self.target.is_dir()
-        where = self.target if inside else self.target.parent
+        # the real parent: '--out a/b/../c' makes 'a/c', not a stray 'a/b'
+        where = self.target if inside else Path(os.path.realpath(self.target.parent))
+        self._lock = contextlib.ExitStack()
         try:
             where.mkdir(parents=True, exist_ok=True)
+            self._lock.enter_context(output_lock(self.target))
+            check_output_dir(self.target, self.force)  # again, under the lock: another run may have written it
+            inside = self.target.is_dir()
+            where = self.target if inside else where
+            self._final = where / self.target.name if not inside else self.target
             prefix = _STAGING_INSIDE if inside else f".{self.target.name}{_STAGING_TAG}"
+            if self.target.name not in ("", ".", ".."):
+                _remove_stale_staging(Path(os.path.realpath(self.target.parent)),
+                                      f".{self.target.name}{_STAGING_TAG}")
+            if inside:
+                _remove_stale_staging(where, _STAGING_INSIDE)
             self.path = Path(tempfile.mkdtemp(dir=where, prefix=prefix))
             umask = os.umask(0)
             os.umask(umask)
             os.chmod(self.path, 0o777 & ~umask)
-        except OSError as exc:
+        except BaseException as exc:
             if self.path is not None:
                 shutil.rmtree(self.path, ignore_errors=True)
+            self._lock.close()
+            if not isinstance(exc, OSError) or isinstance(exc, AlcontactError):
+                raise
             raise OutputPathError(
                 f"--out '{self.target}': cannot create a folder in '{where}' ({exc.strerror or exc}); choose "
                 "an --out in a writable folder.") from exc
@@ -437,12 +650,23 @@ class ResultsFolder:
         return self
 
     def __exit__(self, exc_type, exc, tb) -> None:
+        with self._lock:
+            self._exit(exc)
+
+    def _exit(self, exc) -> None:
         if exc is not None:
             with _signals_deferred():
                 shutil.rmtree(self.path, ignore_errors=True)
             with contextlib.suppress(AttributeError, TypeError):
                 exc.results_state = "unchanged"
             logger.debug("discarded the partial results in %s", self.path)
+            if isinstance(exc, OSError) and not isinstance(exc, AlcontactError):  # e.g. a full disk (ENOSPC)
+                err = OutputPathError(
+                    f"--out '{self.target}': writing the result files failed ({exc.strerror or exc}); the folder "
+                    "was left as it was (no partial files). Free space or fix the permissions, or choose another "
+                    "--out.")
+                err.results_state = "unchanged"
+                raise err from exc
             return
         try:
             with _signals_deferred():
@@ -452,8 +676,15 @@ class ResultsFolder:
                     shutil.rmtree(self.path, ignore_errors=True)
                     raise
         except BaseException as err:
+            state = "written" if self.committed else "unchanged"
             with contextlib.suppress(AttributeError, TypeError):
-                err.results_state = "written" if self.committed else "unchanged"
+                err.results_state = state
+            if isinstance(err, OSError) and not isinstance(err, AlcontactError):
+                new = OutputPathError(f"--out '{self.target}': putting the result files in place failed "
+                                      f"({err.strerror or err}); check the folder and choose another --out if it "
+                                      "is not writable.")
+                new.results_state = state
+                raise new from err
             raise
         logger.info("results written to %s", self.target)
 
@@ -461,7 +692,7 @@ class ResultsFolder:
         staging, target = self.path, self.target
         if staging.parent != target:  # the target did not exist: one rename
             try:
-                os.rename(staging, target)
+                os.rename(staging, self._final)
             except OSError as exc:
                 raise OutputExistsError(f"results folder '{target}' appeared during the run ({exc.strerror}); "
                                         "choose another --out.") from exc
@@ -477,7 +708,7 @@ class ResultsFolder:
         # described by a manifest of another set of files
         for name in sorted(owned, key=lambda n: n != "summary.json"):
             p = target / name.rstrip("/")
-            if p == staging:
+            if p == staging or name == _LOCK_TAG:
                 continue
             if p.is_dir() and not p.is_symlink():
                 shutil.rmtree(p)

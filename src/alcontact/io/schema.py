@@ -28,8 +28,8 @@ import sys
 from dataclasses import dataclass
 from pathlib import Path
 
-from .._options import (MAX_CUTBACKS, MAX_STEPS, OBSTACLE_PATH, REQUIRED, TYPES, UNITS_OPTIONS, Option,
-                        declarations, kinematics_option, material_model_option)
+from .._options import (MAX_CUTBACKS, MAX_STEPS, OBSTACLE_PATH, REQUIRED, TYPES, UNITS_OPTIONS, VALUE_RANGE,
+                        Option, declarations, kinematics_option, material_model_option)
 
 __all__ = [
     "REQUIRED",
@@ -215,10 +215,10 @@ def _build_schema() -> tuple[Table, ...]:
         Table("reference", "Analytical reference drawn in the plots and compared in the summary.", (
             O("kind", "str", "none", "`none`, `hertz` (cylinder in 2D, sphere in 3D) or `cattaneo-mindlin` "
               "(2D, friction).", choices=("none", "hertz", "cattaneo-mindlin")),
-            O("radius", "float", None, "Radius R of the indenter (hertz, cattaneo-mindlin).",
-              low=0, low_open=True),
-            O("symmetry", "float", 1.0, "Total load / model load: 2 for a half model, 4 for a quarter model.",
-              low=0, low_open=True),
+            O("radius", "float", None, "Radius R of the indenter (hertz, cattaneo-mindlin); the formulas divide "
+              "by it and square it, so it lies in 1e-100 .. 1e100.", low=VALUE_RANGE[0], high=VALUE_RANGE[1]),
+            O("symmetry", "float", 1.0, "Total load / model load: 2 for a half model, 4 for a quarter model "
+              "(1e-100 .. 1e100).", low=VALUE_RANGE[0], high=VALUE_RANGE[1]),
             O("center", "floats", None, "First contact point (default: the origin); contact widths are "
               "measured from it.", lengths=(2, 3)),
             O("axis", "int", 0, "Coordinate along which the contact width is measured.", low=0, high=2),

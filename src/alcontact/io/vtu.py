@@ -107,6 +107,12 @@ def solution_point_data(solution, deformed: bool | None = None
     point_data : dict
         The fields of :data:`POINT_FIELDS`, one value (row) per vertex.
     """
+    from .._options import require
+
+    require("solution_point_data", "solution", solution, hasattr(solution, "u") and hasattr(
+        getattr(solution, "problem", None), "model"), "a solution of alcontact.contact.solve (a ContactSolution)")
+    require("solution_point_data", "deformed", deformed, deformed is None or isinstance(deformed, (bool, np.bool_)),
+            "None, True or False")
     model = solution.problem.model
     mesh = model.mesh
     dim = model.dim
@@ -185,6 +191,9 @@ def write_solution_vtu(path: str | os.PathLike, solution, *, deformed: bool | No
     """
     import meshio  # imported here: only output needs it
 
+    from .._options import is_path, require
+
+    require("write_solution_vtu", "path", path, is_path(path), "a file path (str or pathlib.Path)")
     points, cells, point_data = solution_point_data(solution, deformed)
     out = meshio.Mesh(points, cells, point_data=point_data)
     path = Path(path)
@@ -206,8 +215,15 @@ def write_pvd(path: str | os.PathLike, entries) -> Path:
     """
     from xml.sax.saxutils import quoteattr
 
+    from .._options import is_real, require
     from .results import write_text_atomic
 
+    ok = not isinstance(entries, (str, bytes, dict)) and np.iterable(entries)
+    require("write_pvd", "entries", entries, ok, "a list of (time, file) pairs")
+    entries = list(entries)
+    for i, e in enumerate(entries):
+        require("write_pvd", f"entries[{i}]", e, isinstance(e, (tuple, list)) and len(e) == 2 and is_real(e[0])
+                and isinstance(e[1], (str, os.PathLike)), "a (time, file) pair: a number and a path")
     lines = ['<?xml version="1.0"?>', '<VTKFile type="Collection" version="0.1" byte_order="LittleEndian">',
              "  <Collection>"]
     for t, name in entries:

@@ -389,7 +389,7 @@ def minimize(fun, x0, *, jac=None, hess=None, constraints=(), bounds=None, metho
     opts = Options.from_dict(options)
     pen_name = spec.default_penalty if penalty is None else penalty
     known_pen = list(_penalties.available())
-    if pen_name not in known_pen:
+    if not isinstance(pen_name, str) or pen_name not in known_pen:
         raise UnknownNameError("penalty", pen_name, known_pen)
     pen = _penalties.make(pen_name, **(opts.penalty_options or {}))
     known = _penalties.facts(pen)

@@ -108,7 +108,10 @@ class NLP:
 
     def __init__(self, fun, x0, jac=None, hess=None, constraints=(), bounds=None,
                  box=False):
-        x0 = np.asarray(x0, dtype=float)
+        try:
+            x0 = np.asarray(x0, dtype=float)
+        except (TypeError, ValueError, OverflowError):
+            raise InputError(f"x0 must be a 1-D array of numbers; got {type(x0).__name__} {x0!r:.60}") from None
         if x0.ndim != 1:
             if x0.ndim == 0:
                 x0 = x0.reshape(1)
@@ -160,6 +163,9 @@ class NLP:
             cons = ()
         if isinstance(cons, (NonlinearConstraint, LinearConstraint, dict)):
             cons = (cons,)
+        if isinstance(cons, (str, bytes, np.ndarray)) or not np.iterable(cons):
+            raise InputError(f"constraints must be a constraint (NonlinearConstraint, LinearConstraint, dict) or a "
+                             f"list of them; got {type(cons).__name__} {cons!r:.60}")
         sparse = h0 is not None and sp.issparse(h0)
         for i, c in enumerate(cons):
             block, is_sparse = self._make_block(c, i, x0)
@@ -398,7 +404,12 @@ class NLP:
         self.nfev += 1
         out = _guard("fun", self._fun, x)
         if self.fun_returns_grad:
-            f, g = out
+            try:
+                f, g = out
+            except (TypeError, ValueError):
+                raise InputError(f"jac=True: fun must return the pair (f, gradient); it returned "
+                                 f"{type(out).__name__} {out!r:.40}. Return both, or pass jac=None or a callable."
+                                 ) from None
             self.njev += 1
             g = np.asarray(g, dtype=float).ravel()
         else:

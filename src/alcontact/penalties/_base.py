@@ -58,7 +58,14 @@ def minimizer_by_bisection(penalty: Any, mu: ArrayLike) -> Any:
     Doubles a left end from ``-1`` until ``p' <= 0`` (``-inf`` when ``p' > 0`` down to
     ``-2**30``), then bisects the bracket to relative precision ``1e-15``.
     """
-    mu_arr = np.atleast_1d(np.asarray(mu, dtype=float))
+    if not callable(getattr(penalty, "derivative", None)):
+        raise InputError(f"minimizer_by_bisection: penalty = {penalty!r:.60}: expected a penalty, e.g. "
+                         "alcontact.penalties.make('exp-met1').")
+    try:
+        mu_arr = np.atleast_1d(np.asarray(mu, dtype=float))
+    except (TypeError, ValueError, OverflowError):
+        raise InputError(f"minimizer_by_bisection: mu = {mu!r:.40}: expected a number or an array of numbers."
+                         ) from None
     lo = -np.ones_like(mu_arr)
     with np.errstate(all="ignore"):
         for _ in range(30):

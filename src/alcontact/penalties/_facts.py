@@ -107,6 +107,10 @@ def facts(pen: Any) -> PenaltyFacts:
     >>> facts(make("hestenes-powell")).equality_only
     True
     """
+    if not (callable(getattr(pen, "domain_upper", None)) and callable(getattr(pen, "value", None))):
+        from ..errors import InputError
+
+        raise InputError(f"facts: pen = {pen!r:.60}: expected a penalty, e.g. alcontact.penalties.make('exp-met1').")
     props = frozenset(getattr(pen, "properties", frozenset()))
     equality_only = bool(getattr(pen, "equality_only", False))
     freezes = getattr(pen, "freezes_at_zero", None)

@@ -11,11 +11,20 @@ from typing import Any, ClassVar
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ..errors import DomainError
+from ..errors import DomainError, InputError
 from ._base import PenaltyBase
 from ._theta import Generator
 
 __all__ = ["Met1", "Met2", "properties_from_generator", "generator_zero"]
+
+
+def _check_generator(theta: Any, where: str) -> None:
+    """:class:`InputError` unless ``theta`` is a generator (``name``, ``satisfies``, value and derivatives)."""
+    ok = all(hasattr(theta, a) for a in ("name", "satisfies")) and all(
+        callable(getattr(theta, a, None)) for a in ("value", "derivative", "second_derivative"))
+    if not ok:
+        raise InputError(f"{where}: theta = {theta!r:.60}: expected a generator θ, e.g. "
+                         "alcontact.penalties.theta('exp') (see alcontact.penalties.thetas()).")
 
 
 def properties_from_generator(theta: Generator) -> frozenset[str]:
@@ -23,6 +32,7 @@ def properties_from_generator(theta: Generator) -> frozenset[str]:
 
     (e) gives (P1) and (P3); (b) gives (P2); (a) and (c) give (P4); (d) gives (P5).
     """
+    _check_generator(theta, "properties_from_generator")
     s = set(theta.satisfies)
     props = set()
     if "e" in s:
@@ -43,6 +53,7 @@ def generator_zero(theta: Generator) -> float | None:
     Matioli's quadratic (5.27) with ``y0 = -1``.  Bisection to relative precision
     ``1e-15``.
     """
+    _check_generator(theta, "generator_zero")
     lo, hi = -1.0, 0.0
     with np.errstate(all="ignore"):
         while float(theta.derivative(lo)) > 0:
@@ -99,6 +110,7 @@ class _Met(PenaltyBase):
         return dataclasses.replace(self, theta=theta, name=self.name, doc=doc or self.doc)
 
     def __post_init__(self) -> None:
+        _check_generator(self.theta, type(self).__name__)
         if not self.name:
             object.__setattr__(self, "name", f"{self.theta.name}-{self.suffix}")
         if not self.doc:

@@ -53,6 +53,11 @@ class Safeguarded(PenaltyBase):
     twice_differentiable = False
 
     def __post_init__(self) -> None:
+        if not (hasattr(self.base, "name") and callable(getattr(self.base, "derivative", None))):
+            from ..errors import InputError
+
+            raise InputError(f"Safeguarded: base = {self.base!r:.60}: expected a penalty, e.g. "
+                             "alcontact.penalties.make('quad-met2').")
         if not self.name:
             object.__setattr__(self, "name", self.base.name)
         if not self.doc:

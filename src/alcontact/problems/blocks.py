@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from .._options import VALUE_RANGE, Option, check_args
 from ..contact import ContactProblem, Pressure, Support
 from ..contact.obstacles import HalfSpace
 from ..fem import LinearElasticity, Material, meshes
@@ -14,6 +15,13 @@ def patch_pressure(E: float, nu: float, dim: int, d: float, H: float) -> float:
 
     2D plane strain: ``E/(1-nu^2) d/H``; 3D: ``E d/H``.
     """
+    lo, hi = VALUE_RANGE
+    E, nu, dim, d, H = check_args("patch_pressure", [
+        (Option("E", "float", 1000.0, "Young's modulus.", low=lo, high=hi), E),
+        (Option("nu", "float", 0.3, "Poisson's ratio.", low=-1.0, high=0.5, low_open=True, high_open=True), nu),
+        (Option("dim", "int", 2, "Dimension.", low=2, high=3), dim),
+        (Option("d", "float", 0.01, "Push.", low=-hi, high=hi), d),
+        (Option("H", "float", 1.0, "Height.", low=lo, high=hi), H)])
     return (E / (1 - nu * nu) if dim == 2 else E) * d / H
 
 
@@ -26,6 +34,14 @@ def patch_block(dim: int = 2, order: int = 1, n: int = 4, *, E: float = 1000.0, 
     symmetry rollers on ``left`` (and ``front``) stop the rigid sliding. The
     exact pressure is :func:`patch_pressure`, uniform along the contact face.
     """
+    lo, hi = VALUE_RANGE
+    dim, order, n, d, width, height = check_args("patch_block", [
+        (Option("dim", "int", 2, "Dimension.", low=2, high=3), dim),
+        (Option("order", "int", 1, "Order.", low=1, high=2), order),
+        (Option("n", "int", 4, "Cells per side.", low=1, high=1000), n),
+        (Option("d", "float", 0.01, "Push.", low=-hi, high=hi), d),
+        (Option("width", "float", 1.0, "Width.", low=lo, high=hi), width),
+        (Option("height", "float", 1.0, "Height.", low=lo, high=hi), height)])
     mat = Material(E=E, nu=nu, plane="strain")
     if dim == 2:
         mesh = meshes.rectangle(0.0, width, 0.0, height, n, n)
@@ -52,6 +68,12 @@ def signorini_block(order: int = 1, n: int = 8, *, E: float = 1000.0, nu: float 
     solver). Used to check that every algorithm reproduces the semi-smooth
     Newton reference.
     """
+    lo, hi = VALUE_RANGE
+    order, n, gap, pressure = check_args("signorini_block", [
+        (Option("order", "int", 1, "Order.", low=1, high=2), order),
+        (Option("n", "int", 8, "Cells across.", low=1, high=1000), n),
+        (Option("gap", "float", 0.01, "Initial gap.", low=-hi, high=hi), gap),
+        (Option("pressure", "float", 2.0, "Pressure.", low=-hi, high=hi), pressure)])
     mat = Material(E=E, nu=nu, plane="strain")
     mesh = meshes.rectangle(0.0, 4.0, 0.0, 1.0, 4 * n, n)
     model = LinearElasticity(mesh, mat, order=order)

@@ -80,6 +80,18 @@ def block_on_plane(dim: int = 2, *, n: int = 8, E: float = 1000.0, nu: float = 0
     problem : ContactProblem
     history : LoadHistory
     """
+    from .._options import VALUE_RANGE, Option, check_args
+
+    lo, hi = VALUE_RANGE
+    dim, n, width, height, strain, mu, shear_ratio, steps = check_args("block_on_plane", [
+        (Option("dim", "int", 2, "Dimension.", low=2, high=3), dim),
+        (Option("n", "int", 8, "Cells across.", low=1, high=1000), n),
+        (Option("width", "float", 2.0, "Width.", low=lo, high=hi), width),
+        (Option("height", "float", 0.5, "Height.", low=lo, high=hi), height),
+        (Option("strain", "float", 0.01, "Compression.", low=-hi, high=hi), strain),
+        (Option("mu", "float", 0.3, "Friction coefficient.", low=0.0, high=hi), mu),
+        (Option("shear_ratio", "float", 0.5, "Shear / limit.", low=-hi, high=hi), shear_ratio),
+        (Option("steps", "int", 8, "Load steps.", low=1, high=100_000), steps)])
     mat = Material(E=E, nu=nu, plane="strain")
     half = 0.5 * width
     nz = max(2, int(round(n * height / width)))
@@ -206,6 +218,25 @@ def cattaneo_mindlin_2d(n_per_a: int = 16, *, E: float = 200e3, nu: float = 0.49
         ``problem.reference`` is a :class:`MindlinReference`.
     history : LoadHistory
     """
+    from .._options import VALUE_RANGE, Option, check_args
+
+    lo, hi = VALUE_RANGE
+    n_per_a, radius, a_target, size, mu, q_ratio, normal_steps, tangential_steps, order, growth = check_args(
+        "cattaneo_mindlin_2d", [
+            (Option("n_per_a", "float", 16, "Elements per a.", low=0.01, high=4096), n_per_a),
+            (Option("radius", "float", 10.0, "Radius.", low=lo, high=hi), radius),
+            (Option("a_target", "float", 1.0, "Half-width.", low=lo, high=hi), a_target),
+            (Option("size", "float", 20.0, "Block size / a.", low=1.0, high=1e6, low_open=True), size),
+            (Option("mu", "float", 0.3, "Friction coefficient.", low=0.0, high=hi), mu),
+            (Option("q_ratio", "float", 0.5, "Q / (mu P).", low=-hi, high=hi), q_ratio),
+            (Option("normal_steps", "int", 4, "Normal steps.", low=1, high=100_000), normal_steps),
+            (Option("tangential_steps", "int", 4, "Tangential steps.", low=1, high=100_000), tangential_steps),
+            (Option("order", "int", 1, "Order.", low=1, high=2), order),
+            (Option("growth", "float", 1.15, "Grading ratio.", low=1.0, high=10.0), growth)])
+    if not isinstance(geometry, str) or geometry not in ("parabolic", "circle"):
+        from ..errors import InputError
+
+        raise InputError(f"cattaneo_mindlin_2d: geometry = {geometry!r:.40}: expected 'parabolic' or 'circle'.")
     mat = Material(E=E, nu=nu, plane="strain")
     e_star = mat.plane_strain_modulus
     a = a_target

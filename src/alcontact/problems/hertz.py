@@ -82,6 +82,15 @@ def mesh_spec(dim: int, n_per_a: int, order: int = 1, *, a_target: float = 1.0, 
     writes it, so that :mod:`alcontact.io.preflight` can count the nodes before
     anything is meshed (``alcontact run --problem NAME --level L``).
     """
+    from .._options import VALUE_RANGE, Option, check_args
+
+    dim, n_per_a, order, a_target, size, growth = check_args("mesh_spec", [
+        (Option("dim", "int", 2, "Dimension.", low=2, high=3), dim),
+        (Option("n_per_a", "float", 8, "Elements per a.", low=0.01, high=4096), n_per_a),
+        (Option("order", "int", 1, "Order.", low=1, high=2), order),
+        (Option("a_target", "float", 1.0, "Half-width.", low=VALUE_RANGE[0], high=VALUE_RANGE[1]), a_target),
+        (Option("size", "float", None, "Block size / a.", low=1.0, high=1e6, low_open=True), size),
+        (Option("growth", "float", None, "Grading ratio.", low=1.0, high=10.0), growth)])
     a = a_target
     if dim == 2:
         L = H = (20.0 if size is None else size) * a
@@ -92,6 +101,22 @@ def mesh_spec(dim: int, n_per_a: int, order: int = 1, *, a_target: float = 1.0, 
     return dict(bounds=[0.0, L, 0.0, L, -H, 0.0], cells=[4, 4, 4],
                 refine=dict(center=[0.0, 0.0, 0.0], h_min=a / n_per_a / order, width=1.5 * a, depth=1.0 * a,
                             growth=1.3 if growth is None else growth))
+
+
+def _checked(where: str, levels: tuple, level, order, n_per_a, radius, a_target, size, growth, *, integer: bool):
+    """The arguments of :func:`hertz_2d` / :func:`hertz_3d` checked (InputError naming the parameter and the fix)."""
+    from .._options import VALUE_RANGE, Option, check_args
+
+    lo, hi = VALUE_RANGE
+    return check_args(where, [
+        (Option("level", "int", 1, "Refinement level.", low=0, high=len(levels) - 1), level),
+        (Option("order", "int", 1, "Polynomial order.", low=1, high=2), order),
+        (Option("n_per_a", "int" if integer else "float", None, "Elements per a.", low=1, high=4096), n_per_a),
+        (Option("radius", "float", 10.0, "Radius.", low=lo, high=hi), radius),
+        (Option("a_target", "float", 1.0, "Contact half-width.", low=lo, high=hi), a_target),
+        (Option("size", "float", 20.0, "Block size in units of a.", low=1.0, high=1e6, low_open=True), size),
+        (Option("growth", "float", 1.15, "Grading ratio.", low=1.0, high=10.0), growth),
+    ])
 
 
 def hertz_2d(level: int = 1, *, order: int = 1, E: float = 200e3, nu: float = 0.3, radius: float = 10.0,
@@ -117,6 +142,8 @@ def hertz_2d(level: int = 1, *, order: int = 1, E: float = 200e3, nu: float = 0.
     growth : float
         Size ratio of neighbouring elements away from the fine zone (closer to 1 = more DOFs).
     """
+    level, order, n_per_a, radius, a_target, size, growth = _checked("hertz_2d", LEVELS_2D, level, order, n_per_a,
+                                                                     radius, a_target, size, growth, integer=True)
     mat = Material(E=E, nu=nu, plane="strain")
     e_star = mat.plane_strain_modulus
     n = n_per_a or LEVELS_2D[level]
@@ -147,6 +174,8 @@ def hertz_3d(level: int = 1, *, order: int = 1, E: float = 200e3, nu: float = 0.
              growth: float = 1.3) -> ContactProblem:
     """Rigid sphere on an elastic block, quarter model ``x, y >= 0`` (parameters as :func:`hertz_2d`;
     ``n_per_a`` may be fractional, e.g. 1.5 for a P2 sweep between 1 and 2 elements per ``a``)."""
+    level, order, n_per_a, radius, a_target, size, growth = _checked("hertz_3d", LEVELS_3D, level, order, n_per_a,
+                                                                     radius, a_target, size, growth, integer=False)
     mat = Material(E=E, nu=nu)
     e_star = mat.plane_strain_modulus
     n = n_per_a or LEVELS_3D[level]
