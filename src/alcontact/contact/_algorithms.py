@@ -702,6 +702,14 @@ def run_ssn(dc, opts, eps0, penalty_name=None) -> _Run:
             return _Run(state, lam, g, ContactStatus.NEWTON_FAILED,
                         f"singular active-set system at iteration {k} ({int(active.sum())} active points); use "
                         "algorithm='simo-laursen'", k, k, c, 0.0, hist)
+        if not getattr(dc, "active_converged", True):
+            # an inner Newton that stopped at its budget (or stalled) is a failure, whatever its active set:
+            # the load step is cut back, its state is never accepted
+            return _Run(state, lam, g, ContactStatus.NEWTON_FAILED,
+                        f"the Newton solve of active-set iteration {k} stopped at relative residual "
+                        f"{getattr(dc, 'active_residual', np.nan):.2e} (newton_tol {opts.newton_tol:.1e}); use "
+                        "more load steps or algorithm='simo-laursen'", k, k, c,
+                        float(getattr(dc, "active_residual", np.inf)), hist)
         new_active = (lam_new + c * g) > 0
         pen, compl, dlam = _measures(dc, lam_new, g, lam)
         hist.append(ContactIteration(k, pen, compl, dlam, 0.0, 1, c, int(active.sum())))

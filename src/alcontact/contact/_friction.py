@@ -85,12 +85,12 @@ from ._friction_laws import OPEN, SLIP, STICK, Macaulay, block_diag, local_law, 
 from ._friction_solution import FrictionSolution, FrictionStep
 from ._iterative import resolve_linear_solver
 from ._laws import eta_for_stiffness, freezes_at_zero, make_law
-from ._loading import LoadHistory
+from ._loading import LoadHistory, problem_at
 from ._newton import LineSearch, NewtonResult, NewtonSettings, NewtonSystem, inner_failure, newton
 from ._solution import ContactStatus
 from ._solve import penalty_stiffness
 from ._stepping import Attempt, StepRecord, step_through
-from ._verify import check_state, verified_status
+from ._verify import check_state, equilibrium_tolerance, reach, state_equilibrium, verified_status
 
 __all__ = ["FrictionOptions", "solve_friction", "friction_algorithms", "friction_algorithm_docs"]
 
@@ -1038,6 +1038,7 @@ def solve_friction(problem, history: LoadHistory | None, algorithm: str = "simo-
     y0 = fc.all_local(u0)
     state = _State(0.0, u0, y0, np.zeros(m), np.zeros((m, d - 1)), np.zeros((m, d)), np.zeros((m, d)))
     tangential = [c for c in history.cases if c.tangential]
+    contact_dofs = problem.model.node_dofs(problem.contact_boundary)[1]
     records: list[FrictionStep] = []
     failed_check = []  # (t, Check) of the first recorded step that fails verification
     cur = {"state": state}
@@ -1077,10 +1078,16 @@ def solve_friction(problem, history: LoadHistory | None, algorithm: str = "simo-
         tang_force = np.sum(w[:, None] * shear, axis=0)
         normal_force = float(np.sum(w * tN))
         slip_total = prev.slip_total + slip
+        # equilibrium of the step's displacement with the forces it reports (loads and supports at t)
+        p_t = problem_at(problem, history, t)
+        eq = state_equilibrium(problem.model, u, p_t.dirichlet()[0], p_t.load_vector(), contact_dofs,
+                               w[:, None] * (tN[:, None] * fc.normals + shear), fc.h)
         check = check_state(y_all[:, 0], tN, fc.h, tol_penetration=opts.tol_penetration,
                             tol_complementarity=opts.tol_complementarity, traction_t=tT,
                             slip=np.where(closed[:, None] & fc.tfree, duT, 0.0), mu=mu_t,
-                            tol_friction=max(opts.tol_multiplier, opts.tol_slip))
+                            tol_friction=max(opts.tol_multiplier, opts.tol_slip), equilibrium=eq.free_residual,
+                            tol_equilibrium=equilibrium_tolerance(opts, multipliers=True),
+                            reach=reach(fc.points, u))
         if not failed_check and not check.ok:
             failed_check.append((float(t), check))
         step = FrictionStep(

@@ -46,7 +46,7 @@ from ._algorithms import ContactOptions, _Run, find_algorithm, options_with
 from ._finite import FiniteContact
 from ._loading import LoadHistory, component_fields
 from ._solution import ContactResult, ContactSolution, ContactStatus
-from ._verify import check_state, verified_status
+from ._verify import check_state, equilibrium_tolerance, reach, state_equilibrium, verified_status
 
 __all__ = ["FiniteStep", "FiniteSolution", "solve_finite", "Frame", "StepRecords", "Attempt", "StepRecord",
            "SteppingResult", "step_through"]
@@ -590,7 +590,9 @@ def solve_finite(problem, algorithm: str = "simo-laursen", penalty: str | None =
         out, u = _Run(x, np.zeros(dc.cand.size), dc.gaps(x), status, message, 0, 0, eps0, np.inf, []), dc.expand(x)
     else:
         out, u = last
-    sol = _solution(problem, dc, out, u, algorithm, pen_name, opts, status, message, records, t_start)
+    t_last = records[-1].t if (records and last is not None) else 0.0
+    sol = _solution(problem, dc, out, u, algorithm, pen_name, opts, status, message, records, t_start,
+                    fixed=data.fixed, load=data(t_last)[1])
     return FiniteSolution(sol, tuple(records), status, message,
                           extra={"h": dc.h, "dofs": int(problem.model.ndofs), "residual_log": dc.residual_log})
 
@@ -636,25 +638,28 @@ def _force(dc, out, u) -> tuple[np.ndarray, np.ndarray]:
     return np.sum((dc.weights * p)[:, None] * dc.normals, axis=0), p
 
 
-def _solution(problem, dc, out, u, algorithm, pen_name, opts, status, message, records, t_start):
+def _solution(problem, dc, out, u, algorithm, pen_name, opts, status, message, records, t_start, *, fixed, load):
     g_all = dc.all_gaps(u)
     m = dc.points.shape[0]
     pressure = np.zeros(m)
     if out.lam.size:
         pressure[dc.cand] = out.lam
-    # the one place a finite-deformation result is built: a "converged" state must pass the tolerances
+    nodal = dc.weights * np.maximum(pressure, 0.0)
+    # the one place a finite-deformation result is built: a "converged" state must pass the tolerances,
+    # equilibrium of the returned displacement with the returned forces (loads of the last step) included
+    eq = state_equilibrium(problem.model, u, fixed, load, problem.model.node_dofs(problem.contact_boundary)[1],
+                           nodal[:, None] * dc.normals, dc.h)
     check = check_state(g_all, pressure, dc.h, tol_penetration=opts.tol_penetration,
-                        tol_complementarity=opts.tol_complementarity)
+                        tol_complementarity=opts.tol_complementarity, equilibrium=eq.free_residual,
+                        tol_equilibrium=equilibrium_tolerance(opts), reach=reach(dc.points, u))
     status, message = verified_status(status if status < 0 else out.status, message, check,
                                       what=f"finite-deformation contact solve {algorithm}")
     pressure = np.maximum(pressure, 0.0)
-    nodal = dc.weights * pressure
     force = np.sum(nodal[:, None] * dc.normals, axis=0)
     closed = g_all > -max(1e-6, 10 * opts.tol_penetration) * dc.h
     active = closed & (pressure > 1e-12 * max(float(pressure.max(initial=0.0)), 1e-300))
-    pen_final = float(np.max(g_all, initial=0.0)) / dc.h
-    pref = max(float(pressure.max(initial=0.0)), 1e-300)
-    compl = float(np.max(np.abs(pressure * g_all), initial=0.0)) / (pref * dc.h)
+    pen_final = check.value("penetration")
+    compl = check.value("complementarity")
     result = ContactResult(
         status=status,
         message=message,
