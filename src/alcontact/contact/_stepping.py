@@ -573,7 +573,8 @@ def solve_finite(problem, algorithm: str = "simo-laursen", penalty: str | None =
         state["x"] = out.r.copy()
         gap = dc.all_gaps(u).copy()
         force, pressure = _force(dc, out, u)
-        dc.accept(pressure)
+        dc.accept(pressure)  # the warm start of the next step: the law's tractions, as the algorithms left them
+        force, pressure = _force(dc, out, u, balanced=True)
         step = FiniteStep(t, out.status, rec.newton_iterations, int(out.outer), rec.linear_solves, force,
                           rec.cutbacks, rec.seconds, out.message, u=u.copy(), pressure=pressure.copy(),
                           gap=gap, normal_force=float(np.sum(dc.weights * pressure)))
@@ -629,13 +630,50 @@ def _free_solve(dc, opts) -> _Run:
                 0, out.iterations, 0.0, out.residual, [])
 
 
-def _force(dc, out, u) -> tuple[np.ndarray, np.ndarray]:
-    """Resultant contact force and pressures (all points) of a converged step."""
+def _force(dc, out, u, *, balanced: bool = False) -> tuple[np.ndarray, np.ndarray]:
+    """Resultant contact force and pressures (all points) of a converged step (``balanced``: the
+    pressures of :func:`_applied_pressure`, else the algorithm's tractions)."""
     dc.all_gaps(u)  # the normals at the current configuration
     p = np.zeros(dc.points.shape[0])
     if out.lam.size:
-        p[dc.cand] = np.maximum(out.lam, 0.0)
+        p[dc.cand] = np.maximum(_applied_pressure(dc, out.lam, u) if balanced else out.lam, 0.0)
     return np.sum((dc.weights * p)[:, None] * dc.normals, axis=0), p
+
+
+def _applied_pressure(dc, lam, u) -> np.ndarray:
+    r"""Pressures on the candidates that the state ``u`` carries: the forces in equilibrium with it.
+
+    At a candidate :math:`i` with :math:`\lambda_i > 0` the residual of (S) on its free DOFs is
+    :math:`(f_{int} - f_{ext})_i - 
+u_i w_i t_i`, so the normal force that balances the body
+    there is :math:`w_i p_i = 
+u_i \cdot (f_{int} - f_{ext})_i` (free components only). It
+    equals the law's traction :math:`t_i = p'(g_i/\eta_i, \lambda_i)` up to the Newton residual,
+    except where the law's round-off dominates: the pure penalty at :math:`arepsilon_N \sim
+    10^6 arepsilon_0` (penetration below ``tol_penetration`` ``h``) evaluates
+    :math:`arepsilon_N g(x)` with gaps from absolute coordinates, a force noise of
+    :math:`arepsilon_N \epsilon_{mach} |x|` (4.5e-8 relative on ``examples/finite_ironing.toml``),
+    at which its Newton iteration stalls; the balanced forces are in equilibrium with the
+    returned displacement to 6e-16 there (law forces: 2.3e-8). The same choice as the
+    small-deformation direct path (:meth:`DiscreteContact.applied_pressure
+    <alcontact.contact._discrete.DiscreteContact.applied_pressure>`). Points with
+    :math:`\lambda_i \le 0`, or without a free DOF, keep :math:`\lambda_i`.
+    """
+    lam = np.asarray(lam, dtype=float)
+    cand = dc.cand
+    if lam.size != cand.size or not np.any(lam > 0):
+        return lam
+    rb, _ = dc._body_state(u, False)
+    rb_free = rb[dc.free]
+    pos = dc.pos[cand]
+    free = pos >= 0
+    nu = np.where(free, dc.normals[cand], 0.0)
+    f = np.where(free, rb_free[np.maximum(pos, 0)], 0.0)
+    nn = np.einsum("ij,ij->i", nu, nu)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        p = np.einsum("ij,ij->i", nu, f) / (nn * dc.weights[cand])
+    keep = (lam > 0) & (nn > 0.5) & np.isfinite(p)
+    return np.where(keep, p, lam)
 
 
 def _solution(problem, dc, out, u, algorithm, pen_name, opts, status, message, records, t_start, *, fixed, load):
@@ -643,7 +681,7 @@ def _solution(problem, dc, out, u, algorithm, pen_name, opts, status, message, r
     m = dc.points.shape[0]
     pressure = np.zeros(m)
     if out.lam.size:
-        pressure[dc.cand] = out.lam
+        pressure[dc.cand] = _applied_pressure(dc, out.lam, u)
     nodal = dc.weights * np.maximum(pressure, 0.0)
     # the one place a finite-deformation result is built: a "converged" state must pass the tolerances,
     # equilibrium of the returned displacement with the returned forces (loads of the last step) included

@@ -172,15 +172,16 @@ def verified_status(status: ContactStatus, message: str, check: Check, *, what: 
 
 
 def equilibrium_tolerance(opts, *, multipliers: bool = False) -> float:
-    """Tolerance of the ``equilibrium`` measure: ``newton_tol``.
+    r"""Tolerance of the ``equilibrium`` measure: ``newton_tol``.
 
     With ``multipliers`` (the frictional solvers report the updated multipliers
     :math:`\lambda_{k+1} = t(\lambda_k)` as tractions, while the state balances
     :math:`t(\lambda_k)` to ``newton_tol``) the two differ by the last multiplier change, at
     most ``tol_multiplier`` of the largest pressure at a converged step: ``max(newton_tol,
-    tol_multiplier)``.
+    tol_multiplier)``. Options with no ``newton_tol`` (not resolved against an algorithm) take the
+    frictionless default ``1e-12``.
     """
-    tol = float(opts.newton_tol)
+    tol = 1e-12 if opts.newton_tol is None else float(opts.newton_tol)
     return max(tol, float(opts.tol_multiplier)) if multipliers else tol
 
 
