@@ -566,6 +566,11 @@ def solve_finite(problem, algorithm: str = "simo-laursen", penalty: str | None =
         counts = dict(newton=dc.newton_iterations - newton0, linear_solves=dc.linear_solves - solves0)
         if exc is not None:
             return Attempt(False, ContactStatus.NEWTON_FAILED, str(exc), **counts)
+        if out.status > 0:  # a step is accepted only when its returned state passes every measure (cut back if not)
+            check = _check(problem, dc, out, u, opts, fixed=data.fixed, load=data(t)[1])[0]
+            if not check.ok:
+                return Attempt(False, ContactStatus.NOT_VERIFIED, f"{algorithm} reported {out.message!r} but the "
+                               f"state fails verification: {check.describe()}", outer=int(out.outer), **counts)
         return Attempt(out.status > 0, out.status, out.message, outer=int(out.outer), value=(out, u), **counts)
 
     def commit(t: float, att: Attempt, rec: StepRecord) -> FiniteStep:
@@ -594,7 +599,8 @@ def solve_finite(problem, algorithm: str = "simo-laursen", penalty: str | None =
     t_last = records[-1].t if (records and last is not None) else 0.0
     sol = _solution(problem, dc, out, u, algorithm, pen_name, opts, status, message, records, t_start,
                     fixed=data.fixed, load=data(t_last)[1])
-    return FiniteSolution(sol, tuple(records), status, message,
+    # the run's status is the verified one of its returned state
+    return FiniteSolution(sol, tuple(records), sol.result.status, sol.result.message,
                           extra={"h": dc.h, "dofs": int(problem.model.ndofs), "residual_log": dc.residual_log})
 
 
@@ -644,19 +650,19 @@ def _applied_pressure(dc, lam, u) -> np.ndarray:
     r"""Pressures on the candidates that the state ``u`` carries: the forces in equilibrium with it.
 
     At a candidate :math:`i` with :math:`\lambda_i > 0` the residual of (S) on its free DOFs is
-    :math:`(f_{int} - f_{ext})_i - 
-u_i w_i t_i`, so the normal force that balances the body
-    there is :math:`w_i p_i = 
-u_i \cdot (f_{int} - f_{ext})_i` (free components only). It
+    :math:`(f_{int} - f_{ext})_i - \nu_i w_i t_i`, so the normal force that balances the body
+    there is :math:`w_i p_i = \nu_i \cdot (f_{int} - f_{ext})_i` (free components only). It
     equals the law's traction :math:`t_i = p'(g_i/\eta_i, \lambda_i)` up to the Newton residual,
-    except where the law's round-off dominates: the pure penalty at :math:`arepsilon_N \sim
-    10^6 arepsilon_0` (penetration below ``tol_penetration`` ``h``) evaluates
-    :math:`arepsilon_N g(x)` with gaps from absolute coordinates, a force noise of
-    :math:`arepsilon_N \epsilon_{mach} |x|` (4.5e-8 relative on ``examples/finite_ironing.toml``),
+    except where the law's round-off dominates: the pure penalty at :math:`\varepsilon_N \sim
+    10^6 \varepsilon_0` (penetration below ``tol_penetration`` ``h``) evaluates
+    :math:`\varepsilon_N g(x)` with gaps from absolute coordinates, a force noise of
+    :math:`\varepsilon_N \epsilon_{mach} |x|` (4.5e-8 relative on ``examples/finite_ironing.toml``),
     at which its Newton iteration stalls; the balanced forces are in equilibrium with the
     returned displacement to 6e-16 there (law forces: 2.3e-8). The same choice as the
     small-deformation direct path (:meth:`DiscreteContact.applied_pressure
-    <alcontact.contact._discrete.DiscreteContact.applied_pressure>`). Points with
+    <alcontact.contact._discrete.DiscreteContact.applied_pressure>`). The residual left on
+    the other free DOFs (tangential components at the contact points, the interior) is what
+    the ``equilibrium`` measure of :mod:`alcontact.contact._verify` checks. Points with
     :math:`\lambda_i \le 0`, or without a free DOF, keep :math:`\lambda_i`.
     """
     lam = np.asarray(lam, dtype=float)
@@ -676,20 +682,40 @@ u_i \cdot (f_{int} - f_{ext})_i` (free components only). It
     return np.where(keep, p, lam)
 
 
-def _solution(problem, dc, out, u, algorithm, pen_name, opts, status, message, records, t_start, *, fixed, load):
+def _check(problem, dc, out, u, opts, *, fixed, load):
+    """``(check, pressures, gaps)`` of a returned state (all contact points): every measure of
+    :mod:`alcontact.contact._verify`, equilibrium of ``u`` with the reported forces (loads ``load``) included."""
     g_all = dc.all_gaps(u)
-    m = dc.points.shape[0]
-    pressure = np.zeros(m)
-    if out.lam.size:
-        pressure[dc.cand] = _applied_pressure(dc, out.lam, u)
-    nodal = dc.weights * np.maximum(pressure, 0.0)
+    pressure = np.zeros(dc.points.shape[0])
+    try:
+        if out.lam.size:
+            pressure[dc.cand] = _applied_pressure(dc, out.lam, u)
+        nodal = dc.weights * np.maximum(pressure, 0.0)
+        residual = state_equilibrium(problem.model, u, fixed, load, dc.dofs, nodal[:, None] * dc.normals,
+                                     dc.h).free_residual
+    except InvertedElementError:  # the state of a failed run (its status already says so): no equilibrium
+        if out.lam.size:
+            pressure[dc.cand] = out.lam
+        residual = np.inf
+    check = check_state(g_all, pressure, dc.h, tol_penetration=opts.tol_penetration,
+                        tol_complementarity=opts.tol_complementarity, equilibrium=residual,
+                        tol_equilibrium=equilibrium_tolerance(opts, floor=_tol_floor(dc)), reach=reach(dc.points, u))
+    return check, pressure, g_all
+
+
+def _tol_floor(dc) -> float:
+    """Lowest Newton tolerance of the model's linear-solver path (AMG + CG: ``_NEWTON_TOL_FLOOR``)."""
+    from ._finite_iterative import AMGNewtonSolver
+    from ._iterative import _NEWTON_TOL_FLOOR
+
+    return _NEWTON_TOL_FLOOR if isinstance(getattr(dc, "solver", None), AMGNewtonSolver) else 0.0
+
+
+def _solution(problem, dc, out, u, algorithm, pen_name, opts, status, message, records, t_start, *, fixed, load):
     # the one place a finite-deformation result is built: a "converged" state must pass the tolerances,
     # equilibrium of the returned displacement with the returned forces (loads of the last step) included
-    eq = state_equilibrium(problem.model, u, fixed, load, problem.model.node_dofs(problem.contact_boundary)[1],
-                           nodal[:, None] * dc.normals, dc.h)
-    check = check_state(g_all, pressure, dc.h, tol_penetration=opts.tol_penetration,
-                        tol_complementarity=opts.tol_complementarity, equilibrium=eq.free_residual,
-                        tol_equilibrium=equilibrium_tolerance(opts), reach=reach(dc.points, u))
+    check, pressure, g_all = _check(problem, dc, out, u, opts, fixed=fixed, load=load)
+    nodal = dc.weights * np.maximum(pressure, 0.0)
     status, message = verified_status(status if status < 0 else out.status, message, check,
                                       what=f"finite-deformation contact solve {algorithm}")
     pressure = np.maximum(pressure, 0.0)

@@ -171,17 +171,20 @@ def verified_status(status: ContactStatus, message: str, check: Check, *, what: 
     return ContactStatus.NOT_VERIFIED, text
 
 
-def equilibrium_tolerance(opts, *, multipliers: bool = False) -> float:
+def equilibrium_tolerance(opts, *, multipliers: bool = False, floor: float = 0.0) -> float:
     r"""Tolerance of the ``equilibrium`` measure: ``newton_tol``.
 
     With ``multipliers`` (the frictional solvers report the updated multipliers
     :math:`\lambda_{k+1} = t(\lambda_k)` as tractions, while the state balances
     :math:`t(\lambda_k)` to ``newton_tol``) the two differ by the last multiplier change, at
     most ``tol_multiplier`` of the largest pressure at a converged step: ``max(newton_tol,
-    tol_multiplier)``. Options with no ``newton_tol`` (not resolved against an algorithm) take the
-    frictionless default ``1e-12``.
+    tol_multiplier)``. ``floor``: the lowest Newton tolerance of the linear-solver path (the
+    factorization-free paths: ``1e-11``, what inexact CG solves and the round-off of :math:`K x`
+    reach, :data:`alcontact.contact._iterative._NEWTON_TOL_FLOOR`, to which their Newton
+    iterations are held). Options with no ``newton_tol`` (not resolved against an algorithm)
+    take the frictionless default ``1e-12``.
     """
-    tol = 1e-12 if opts.newton_tol is None else float(opts.newton_tol)
+    tol = max(1e-12 if opts.newton_tol is None else float(opts.newton_tol), float(floor))
     return max(tol, float(opts.tol_multiplier)) if multipliers else tol
 
 
