@@ -90,6 +90,11 @@ class Equilibrium:
     residual: float
     free_residual: float
 
+    @property
+    def largest(self) -> float:
+        """The larger of the two residuals (the ``equilibrium`` measure of :mod:`alcontact.contact._verify`)."""
+        return max(float(self.residual), float(self.free_residual))
+
     def as_dict(self) -> dict:
         """JSON-ready dictionary (lists of floats)."""
         return {

@@ -858,7 +858,7 @@ def _record(dc, res, t, mu, opts, cut, newton, seconds, solves=0, *, fixed, load
     check = check_state(g_all, pressure, dc.h, tol_penetration=opts.tol_penetration,
                         tol_complementarity=opts.tol_complementarity, traction_t=traction_t,
                         slip=np.where(closed[:, None], slip, 0.0), mu=mu,
-                        tol_friction=max(opts.tol_multiplier, opts.tol_slip), equilibrium=eq.free_residual,
+                        tol_friction=max(opts.tol_multiplier, opts.tol_slip), equilibrium=eq.largest,
                         tol_equilibrium=equilibrium_tolerance(opts, multipliers=True), reach=reach(dc.points, u))
     status, message = verified_status(res.status, res.message, check,
                                       what=f"finite-deformation friction step to t={t:.6g}")

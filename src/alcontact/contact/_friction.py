@@ -1085,7 +1085,7 @@ def solve_friction(problem, history: LoadHistory | None, algorithm: str = "simo-
         check = check_state(y_all[:, 0], tN, fc.h, tol_penetration=opts.tol_penetration,
                             tol_complementarity=opts.tol_complementarity, traction_t=tT,
                             slip=np.where(closed[:, None] & fc.tfree, duT, 0.0), mu=mu_t,
-                            tol_friction=max(opts.tol_multiplier, opts.tol_slip), equilibrium=eq.free_residual,
+                            tol_friction=max(opts.tol_multiplier, opts.tol_slip), equilibrium=eq.largest,
                             tol_equilibrium=equilibrium_tolerance(opts, multipliers=True),
                             reach=reach(fc.points, u))
         if not failed_check and not check.ok:

@@ -127,7 +127,7 @@ def solve(problem, algorithm: str = DEFAULT_ALGORITHM, penalty: str | None = Non
     eq = state_equilibrium(problem.model, u, fixed, problem.load_vector(),
                            problem.model.node_dofs(problem.contact_boundary)[1], nodal[:, None] * dc.normals, dc.h)
     check = check_state(g_all, pressure, dc.h, tol_penetration=opts.tol_penetration,
-                        tol_complementarity=opts.tol_complementarity, equilibrium=eq.free_residual,
+                        tol_complementarity=opts.tol_complementarity, equilibrium=eq.largest,
                         tol_equilibrium=equilibrium_tolerance(opts, multipliers=not isinstance(dc, DiscreteContact)),
                         reach=reach(dc.points, u))
     out.status, out.message = verified_status(out.status, out.message, check, what=f"contact solve {algorithm}")

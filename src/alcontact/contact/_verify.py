@@ -27,7 +27,8 @@ of the algorithms (:mod:`alcontact.contact._algorithms`, Algorithm 6.2):
     the time-discrete Coulomb law of (6.47)-(6.50).
 ``equilibrium``
     The largest residual :math:`|f_{int}(u) - f_{ext} - f_c|` on the free DOFs of the
-    returned displacement with the returned contact forces (normal and tangential),
+    returned displacement with the returned contact forces (normal and tangential), or the
+    global balance :math:`|F_c + F_{ext} + R|` if larger (the two residuals ``summary.json`` prints),
     relative to the force scale of :func:`~alcontact.contact._estimators.equilibrium`
     (the largest of the applied load, the reactions, the contact and internal forces and
     a stiffness times the displacement, so that it does not vanish with the contact
@@ -211,7 +212,7 @@ def state_equilibrium(model, u, fixed, load, contact_dofs, point_forces, h: floa
     Returns
     -------
     Equilibrium
-        Its ``free_residual`` is the ``equilibrium`` measure.
+        Its ``largest`` residual is the ``equilibrium`` measure.
     """
     from ._estimators import equilibrium, nodal_force_vector
 
