@@ -83,3 +83,17 @@ def test_run_ssn_refuses_an_unconverged_active_set_solve():
     out = run_ssn(Model(), ContactOptions(newton_tol=1e-12), 1.0)
     assert out.status == ContactStatus.NEWTON_FAILED
     assert "6.00e-02" in out.message and out.outer == 1
+
+
+def test_amg_active_set_solve_out_of_budget_fails(monkeypatch):
+    """The factorization-free path (small deformation): an inner Uzawa iteration stopped at its budget (one
+    update) is a failure of run_ssn too; with its budget (60) the same solve converges."""
+    from alcontact.contact import _iterative, solve
+    from alcontact.problems import hertz
+
+    problem = hertz.hertz_2d(0, n_per_a=4)
+    assert solve(problem, "ssn", linear_solver="amg").status == ContactStatus.CONVERGED
+    monkeypatch.setattr(_iterative, "_UZAWA_MAXITER", 1)
+    sol = solve(problem, "ssn", linear_solver="amg")
+    assert sol.status == ContactStatus.NEWTON_FAILED
+    assert "stopped at relative residual" in sol.result.message
