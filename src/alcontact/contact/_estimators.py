@@ -124,7 +124,8 @@ def nodal_force_vector(ndofs: int, dofs: np.ndarray, forces: np.ndarray) -> np.n
     return out
 
 
-def equilibrium(body, u, fixed, load, contact_forces, *, length: float | None = None) -> Equilibrium:
+def equilibrium(body, u, fixed, load, contact_forces, *, length: float | None = None,
+                force_scale: float = 0.0) -> Equilibrium:
     r"""Global equilibrium :math:`F_c + F_{ext} + R = 0` of a solved body.
 
     Both residuals are relative to the force scale
@@ -155,6 +156,9 @@ def equilibrium(body, u, fixed, load, contact_forces, *, length: float | None = 
     length : float, optional
         Element size ``h`` of the stiffness scale (default: no stiffness scale, or a body
         without a ``material``).
+    force_scale : float
+        A further force of the scale (the verification passes the largest contact pressure
+        times the largest tributary weight of a contact point).
 
     Returns
     -------
@@ -177,7 +181,7 @@ def equilibrium(body, u, fixed, load, contact_forces, *, length: float | None = 
         scale = max(float(np.linalg.norm(Fc)), float(np.linalg.norm(Fe)), float(np.linalg.norm(R)),
                     float(np.max(np.abs(fint), initial=0.0)), float(np.max(np.abs(fext), initial=0.0)),
                     float(np.max(np.abs(fc), initial=0.0)), stiffness_scale(body, length) * float(
-                        np.max(np.abs(u), initial=0.0)))
+                        np.max(np.abs(u), initial=0.0)), float(force_scale))
     if not np.isfinite(scale):
         return Equilibrium(Fc, Fe, R, np.inf, np.inf)
     if scale == 0.0:

@@ -909,8 +909,7 @@ class FiniteContact(ContactPoints):
                 key = active.tobytes()
                 if np.array_equal(new_active, active) or key in converged_sets:
                     break
-                converged_sets.add(key)
-                ok = budget > 0  # a set change with no budget left to solve the new set
+                converged_sets.add(key)  # converged on a set that changes: the outer loop goes on from here
             elif np.array_equal(new_active, active):
                 break  # the equality Newton failed on a settled set (logged there)
             lam_all = np.where(new_active, lam_all, 0.0)

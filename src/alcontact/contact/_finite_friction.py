@@ -854,7 +854,7 @@ def _record(dc, res, t, mu, opts, cut, newton, seconds, solves=0, *, fixed, load
     problem = dc.problem
     forces = (w * pressure)[:, None] * dc.normals - w[:, None] * traction_t
     eq = state_equilibrium(problem.model, u, fixed, load, problem.model.node_dofs(problem.contact_boundary)[1],
-                           forces, dc.h)
+                           forces, dc.h, pressure=pressure, weights=w)
     check = check_state(g_all, pressure, dc.h, tol_penetration=opts.tol_penetration,
                         tol_complementarity=opts.tol_complementarity, traction_t=traction_t,
                         slip=np.where(closed[:, None], slip, 0.0), mu=mu,

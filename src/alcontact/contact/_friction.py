@@ -1081,7 +1081,7 @@ def solve_friction(problem, history: LoadHistory | None, algorithm: str = "simo-
         # equilibrium of the step's displacement with the forces it reports (loads and supports at t)
         p_t = problem_at(problem, history, t)
         eq = state_equilibrium(problem.model, u, p_t.dirichlet()[0], p_t.load_vector(), contact_dofs,
-                               w[:, None] * (tN[:, None] * fc.normals + shear), fc.h)
+                               w[:, None] * (tN[:, None] * fc.normals + shear), fc.h, pressure=tN, weights=w)
         check = check_state(y_all[:, 0], tN, fc.h, tol_penetration=opts.tol_penetration,
                             tol_complementarity=opts.tol_complementarity, traction_t=tT,
                             slip=np.where(closed[:, None] & fc.tfree, duT, 0.0), mu=mu_t,

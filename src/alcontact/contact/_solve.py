@@ -125,7 +125,8 @@ def solve(problem, algorithm: str = DEFAULT_ALGORITHM, penalty: str | None = Non
     # (gaps of u, the applied pressures, equilibrium of u with those forces) against its tolerance
     fixed, _ = problem.dirichlet()
     eq = state_equilibrium(problem.model, u, fixed, problem.load_vector(),
-                           problem.model.node_dofs(problem.contact_boundary)[1], nodal[:, None] * dc.normals, dc.h)
+                           problem.model.node_dofs(problem.contact_boundary)[1], nodal[:, None] * dc.normals, dc.h,
+                           pressure=pressure, weights=dc.weights)
     check = check_state(g_all, pressure, dc.h, tol_penetration=opts.tol_penetration,
                         tol_complementarity=opts.tol_complementarity, equilibrium=eq.largest,
                         tol_equilibrium=equilibrium_tolerance(opts, multipliers=not isinstance(dc, DiscreteContact)),

@@ -692,7 +692,7 @@ def _check(problem, dc, out, u, opts, *, fixed, load):
             pressure[dc.cand] = _applied_pressure(dc, out.lam, u)
         nodal = dc.weights * np.maximum(pressure, 0.0)
         residual = state_equilibrium(problem.model, u, fixed, load, dc.dofs, nodal[:, None] * dc.normals,
-                                     dc.h).largest
+                                     dc.h, pressure=pressure, weights=dc.weights).largest
     except InvertedElementError:  # the state of a failed run (its status already says so): no equilibrium
         if out.lam.size:
             pressure[dc.cand] = out.lam
