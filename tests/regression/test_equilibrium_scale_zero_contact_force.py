@@ -9,7 +9,6 @@ internal and applied forces, so it does not vanish with the contact force: refer
 
 from __future__ import annotations
 
-import logging
 from pathlib import Path
 
 from alcontact.io.config import load_problem_text
@@ -19,7 +18,6 @@ EXAMPLE = Path(__file__).resolve().parents[2] / "examples" / "hertz_3d.toml"
 
 
 def test_hertz_3d_without_bottom_support():
-    logging.getLogger("alcontact").setLevel(logging.ERROR)
     text = EXAMPLE.read_text().replace('[[support]]\nboundary = "bottom"\n\n', "")
     assert 'boundary = "bottom"' not in text
     res = run_setup(load_problem_text(text, base_dir=EXAMPLE.parent))

@@ -17,7 +17,6 @@ Every combination converges on the examples' own (coarse) meshes; the whole file
 
 from __future__ import annotations
 
-import logging
 import math
 import tomllib
 from pathlib import Path
@@ -44,7 +43,6 @@ def _cases():
 
 @pytest.mark.parametrize("name, algorithm, friction", _cases())
 def test_converged_result_satisfies_every_printed_invariant(name, algorithm, friction):
-    logging.getLogger("alcontact").setLevel(logging.ERROR)
     setup = load_problem(EXAMPLES / f"{name}.toml")
     assert (setup.friction > 0) == friction  # the case list matches the file
     s = run_setup(setup, algorithm=algorithm).summary

@@ -12,7 +12,6 @@ iterations per sliding step before).
 
 from __future__ import annotations
 
-import logging
 from pathlib import Path
 
 import numpy as np
@@ -26,7 +25,6 @@ EXAMPLE = Path(__file__).resolve().parents[2] / "examples" / "finite_ironing.tom
 def test_finite_ironing_penalty_is_in_equilibrium():
     """Reference: the semi-smooth Newton solution of the same file (exact complementarity); the penalty's
     penetration (3.4e-9 h) moves the forces by about eps_N^-1 of it: 1e-6 relative is the bound used."""
-    logging.getLogger("alcontact").setLevel(logging.ERROR)
     pen = run_setup(load_problem(EXAMPLE), algorithm="penalty")
     ref = run_setup(load_problem(EXAMPLE), algorithm="ssn")
     s = pen.summary

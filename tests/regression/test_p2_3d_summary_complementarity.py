@@ -8,7 +8,6 @@ state (applied pressures and gaps of the returned displacement).
 
 from __future__ import annotations
 
-import logging
 from pathlib import Path
 
 import pytest
@@ -20,7 +19,6 @@ EXAMPLE = Path(__file__).resolve().parents[2] / "examples" / "hertz_3d.toml"
 
 
 def test_hertz_3d_p2_summary_complementarity_is_the_returned_states():
-    logging.getLogger("alcontact").setLevel(logging.ERROR)
     text = EXAMPLE.read_text().replace('generator = "box"', 'generator = "box"\norder = 2')
     res = run_setup(load_problem_text(text, base_dir=EXAMPLE.parent))
     s = res.summary

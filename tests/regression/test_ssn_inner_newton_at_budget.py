@@ -9,7 +9,6 @@ never a state the outer loop keeps.
 
 from __future__ import annotations
 
-import functools
 
 import numpy as np
 

@@ -11,7 +11,6 @@ says the state cannot be trusted.
 from __future__ import annotations
 
 import dataclasses
-import logging
 from pathlib import Path
 
 import pytest
@@ -34,7 +33,6 @@ def test_problem_file_is_refused_before_solving(tmp_path):
 
 
 def test_api_solve_is_not_converged():
-    logging.getLogger("alcontact").setLevel(logging.ERROR)
     setup = load_problem(EXAMPLE)
     prob = setup.problem
     supports = tuple(dataclasses.replace(s, value=-1e14) if s.boundary == "bottom" else s for s in prob.supports)
@@ -45,7 +43,6 @@ def test_api_solve_is_not_converged():
 
 
 def test_the_shipped_punch_is_unaffected():
-    logging.getLogger("alcontact").setLevel(logging.ERROR)
     text = EXAMPLE.read_text()
     setup = load_problem_text(text, base_dir=EXAMPLE.parent)
     sol = solve(setup.problem, "ssn")

@@ -567,7 +567,8 @@ class DiscreteContact(CondensedContact):
         a Newton residual of ~1e-8 relative, its round-off floor, which otherwise shows up as
         an equilibrium error of that size). With contact springs (a body held by the
         obstacle) :math:`r` is the spring-shifted force; the physical force that ``u`` carries is
-        :math:`r_i + \kappa_i w_i (g_i - g^0_i)` (as :meth:`solve_active` reports it), where
+        :math:`r_i + \kappa_i w_i (g_i - g^0_i)` at the pressed points (as :meth:`solve_active`
+        reports it; at an open point the two terms cancel to round-off, and its zero is kept), where
         :math:`\lambda = t_N(g)` of a pure penalty at :math:`\varepsilon_N \sim 4\cdot 10^9` is
         5e-11 off equilibrium (the held block of ``tests/verification/test_contact_patch_signorini.py``).
         """
@@ -576,9 +577,9 @@ class DiscreteContact(CondensedContact):
             w = self.weights[self.cand[: lam.size]]
             if self.spring is None:
                 return out.r / w
-            if lam.size == self.cand.size:
+            if lam.size == self.cand.size:  # at the pressed points (open ones: the spring force cancels to 0)
                 kw = self._spring_stiffness() * w
-                return (out.r + kw * (self.gaps(out.r) - self.gap0[self.cand])) / w
+                return np.where(lam > 0, (out.r + kw * (self.gaps(out.r) - self.gap0[self.cand])) / w, lam)
         return lam
 
     def timings(self) -> dict:

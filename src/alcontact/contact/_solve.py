@@ -118,11 +118,11 @@ def solve(problem, algorithm: str = DEFAULT_ALGORITHM, penalty: str | None = Non
     if out.status > 0 and not np.all(np.isfinite(u)):
         out.status, out.message = ContactStatus.NONFINITE, "non-finite displacement"
     nodal = dc.weights * np.maximum(pressure, 0.0)  # the normal nodal forces r = w lambda the solver applied
-    # the condensed direct path reports the forces u carries (r / w); the AMG path its multipliers, which
-    # differ from the tractions u balances by the last multiplier change (the ssn reference's inner Uzawa
-    # iteration stops at a relative update of 1e-8): its equilibrium tolerance has tol_multiplier in it
     # the one place a small-deformation frictionless result is built: every measure of the returned state
-    # (gaps of u, the applied pressures, equilibrium of u with those forces) against its tolerance
+    # (gaps of u, the applied pressures, equilibrium of u with those forces) against its tolerance. The
+    # condensed direct path reports the forces u carries (r / w); the AMG path its multipliers, which differ
+    # from the tractions u balances by the last multiplier change (the ssn reference's inner Uzawa iteration
+    # stops at a relative update of 1e-8): its equilibrium tolerance has tol_multiplier in it
     fixed, _ = problem.dirichlet()
     eq = state_equilibrium(problem.model, u, fixed, problem.load_vector(),
                            problem.model.node_dofs(problem.contact_boundary)[1], nodal[:, None] * dc.normals, dc.h,
