@@ -9,7 +9,6 @@ never a state the outer loop keeps.
 
 from __future__ import annotations
 
-
 import numpy as np
 
 from alcontact.contact import ContactProblem, ContactStatus, Ramp, Support, obstacles, solve_finite
