@@ -201,9 +201,14 @@ def summarize(problem, solution, *, problem_name: str | None = None, level: int 
     otherwise the largest recovered pressure and the outermost loaded point
     interpolated along the boundary. ``peak_pressure_nodal_max`` is the raw
     largest nodal pressure, ``contact_half_width_edge`` the interpolated edge.
-    ``equilibrium_residual`` is :math:`|F_c + F_{ext} + R|/\max(|F_c|, |F_{ext}|, |R|)`
-    (contact force, applied loads, support reactions; ``contact_force_vector``,
-    ``applied_load_vector``, ``reaction_force_vector``), about 1e-12 for a converged solve.
+    ``equilibrium_residual`` is :math:`|F_c + F_{ext} + R|` (contact force, applied loads,
+    support reactions; ``contact_force_vector``, ``applied_load_vector``,
+    ``reaction_force_vector``) and ``equilibrium_free_residual`` the largest imbalance on a
+    free DOF, both over the force scale of :func:`alcontact.contact._estimators.equilibrium`
+    (which does not vanish with the contact force); a converged result has both below its
+    equilibrium tolerance (``newton_tol``, at least 1e-11; see :mod:`alcontact.contact._verify`),
+    as ``penetration`` and ``complementarity``, the measures the verification checked on the
+    returned state, are below theirs.
 
     Exact values and errors are ``None`` when the problem has no analytical reference.
     Extras: ``problem``, ``problem_label``, ``level``, ``dim``, ``order``,
