@@ -6,7 +6,11 @@ AMG, and :func:`~alcontact.contact.solve_friction`) builds its result through
 it is about to return (the full displacement's gaps, not the solver's last
 iterate) and turns a positive status into :attr:`ContactStatus.NOT_VERIFIED`
 (with a logged warning naming the measure, its value, the tolerance and what to
-try) when one fails. The measures are dimensionless, as in the stopping tests
+try) when one fails. The load-stepped solvers check every step before accepting it:
+at small deformation with friction and at finite deformation without, a step whose
+state fails is cut back like a failed Newton solve (``NOT_VERIFIED`` when the smallest
+increment fails too); at finite deformation with friction a failing step ends the run
+``NOT_VERIFIED``. The measures are dimensionless, as in the stopping tests
 of the algorithms (:mod:`alcontact.contact._algorithms`, Algorithm 6.2):
 
 ``penetration``
