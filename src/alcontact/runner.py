@@ -148,6 +148,14 @@ def _error_pct(num, exact) -> float | None:
     return 100.0 * (num - exact) / exact
 
 
+def _complementarity(gap, pressure, h: float) -> float:
+    """The ``complementarity`` measure of :func:`alcontact.contact.check_state` of a returned step (the one its
+    verification checked)."""
+    from .contact import check_state
+
+    return check_state(gap, pressure, h, tol_penetration=1.0, tol_complementarity=1.0).value("complementarity")
+
+
 def equilibrium_keys(eq) -> dict[str, Any]:
     """``summary.json`` keys of an :class:`~alcontact.contact._estimators.Equilibrium`."""
     return {
@@ -213,9 +221,14 @@ def summarize(problem, solution, *, problem_name: str | None = None, level: int 
     otherwise the largest recovered pressure and the outermost loaded point
     interpolated along the boundary. ``peak_pressure_nodal_max`` is the raw
     largest nodal pressure, ``contact_half_width_edge`` the interpolated edge.
-    ``equilibrium_residual`` is :math:`|F_c + F_{ext} + R|/\max(|F_c|, |F_{ext}|, |R|)`
-    (contact force, applied loads, support reactions; ``contact_force_vector``,
-    ``applied_load_vector``, ``reaction_force_vector``), about 1e-12 for a converged solve.
+    ``equilibrium_residual`` is :math:`|F_c + F_{ext} + R|` (contact force, applied loads,
+    support reactions; ``contact_force_vector``, ``applied_load_vector``,
+    ``reaction_force_vector``) and ``equilibrium_free_residual`` the largest imbalance on a
+    free DOF, both over the force scale of :func:`alcontact.contact._estimators.equilibrium`
+    (which does not vanish with the contact force); a converged result has both below its
+    equilibrium tolerance (``newton_tol``, at least 1e-11; see :mod:`alcontact.contact._verify`),
+    as ``penetration`` and ``complementarity``, the measures the verification checked on the
+    returned state, are below theirs.
 
     Exact values and errors are ``None`` when the problem has no analytical reference.
     Extras: ``problem``, ``problem_label``, ``level``, ``dim``, ``order``,
@@ -532,8 +545,8 @@ def _friction_frames(fsol) -> list:
             status=status, message=fsol.message if last else "converged", algorithm=fsol.algorithm,
             penalty=fsol.penalty, outer_iterations=int(st.outer_iterations), newton_iterations=int(st.newton_iterations),
             linear_solves=int(fsol.linear_solves), factorizations=int(fsol.factorizations),
-            penetration=float(st.penetration), complementarity=float("nan"), residual=float("nan"),
-            eps_n=float(fsol.eps_n), history=())
+            penetration=float(st.penetration), complementarity=_complementarity(st.gap, st.pressure, fsol.h),
+            residual=float("nan"), eps_n=float(fsol.eps_n), history=())
         frames.append(ContactSolution(
             problem=problem, u=st.u, points=fsol.points, pressure=st.pressure, gap=st.gap, weights=fsol.weights,
             active=st.state != 0, normals=fsol.normals, total_contact_force=st.contact_force, result=result,
@@ -669,7 +682,7 @@ def _solve_finite_friction_setup(setup, on_step=None):
             algorithm=str(ex["algorithm"]), penalty=str(ex["penalty"]), outer_iterations=int(st.outer_iterations),
             newton_iterations=int(st.newton_iterations), linear_solves=int(st.linear_solves),
             factorizations=int(st.linear_solves), penetration=float(max(np.max(st.gap, initial=0.0), 0.0)) / h,
-            complementarity=float("nan"), residual=float("nan"), eps_n=float(ex["eps_n"]))
+            complementarity=_complementarity(st.gap, st.pressure, h), residual=float("nan"), eps_n=float(ex["eps_n"]))
         frames.append(ContactSolution(
             problem=at(st.t), u=st.u, points=points, pressure=st.pressure, gap=st.gap, weights=weights,
             active=st.states != 0, normals=st.normals, total_contact_force=np.asarray(st.force, dtype=float),

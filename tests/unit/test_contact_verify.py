@@ -101,4 +101,6 @@ def test_solve_friction_does_not_report_a_wrong_state_as_converged(monkeypatch):
     prob, hist = fp.block_on_plane(dim=2, n=4)
     sol = solve_friction(prob, hist.with_times((0.25, 0.5)), "fake")
     assert sol.status == ContactStatus.NOT_VERIFIED and not sol.success
-    assert "penetration" in sol.message and "t=0.25" in sol.message
+    # a step that fails verification is cut back, never accepted: no step, the failure names the measure
+    assert len(sol.steps) == 0 and sol.cutbacks > 0
+    assert "penetration" in sol.message and "fails verification" in sol.message

@@ -37,6 +37,7 @@ from ._problem import KINEMATICS
 from ._stepping import FiniteSolution, FiniteStep, solve_finite
 from ._finite_friction import (FiniteFrictionSolution, FiniteFrictionStep, finite_friction_algorithms,
                                solve_finite_friction)
+from ._verify import check_state
 
 __all__ = [
     "obstacles",
@@ -74,4 +75,5 @@ __all__ = [
     "FiniteFrictionSolution",
     "FiniteFrictionStep",
     "finite_friction_algorithms",
+    "check_state",
 ]

@@ -566,11 +566,20 @@ class DiscreteContact(CondensedContact):
         equilibrium with ``u`` (a pure penalty at :math:`\varepsilon_N \sim 10^{13}` stops at
         a Newton residual of ~1e-8 relative, its round-off floor, which otherwise shows up as
         an equilibrium error of that size). With contact springs (a body held by the
-        obstacle) :math:`r` is the spring-shifted force and :math:`\lambda` is kept.
+        obstacle) :math:`r` is the spring-shifted force; the physical force that ``u`` carries is
+        :math:`r_i + \kappa_i w_i (g_i - g^0_i)` at the pressed points (as :meth:`solve_active`
+        reports it; at an open point the two terms cancel to round-off, and its zero is kept), where
+        :math:`\lambda = t_N(g)` of a pure penalty at :math:`\varepsilon_N \sim 4\cdot 10^9` is
+        5e-11 off equilibrium (the held block of ``tests/verification/test_contact_patch_signorini.py``).
         """
         lam = out.lam
-        if self.spring is None and out.r.size == lam.size and np.all(np.isfinite(out.r)):
-            return out.r / self.weights[self.cand[: lam.size]]
+        if out.r.size == lam.size and np.all(np.isfinite(out.r)):
+            w = self.weights[self.cand[: lam.size]]
+            if self.spring is None:
+                return out.r / w
+            if lam.size == self.cand.size:  # at the pressed points (open ones: the spring force cancels to 0)
+                kw = self._spring_stiffness() * w
+                return np.where(lam > 0, (out.r + kw * (self.gaps(out.r) - self.gap0[self.cand])) / w, lam)
         return lam
 
     def timings(self) -> dict:

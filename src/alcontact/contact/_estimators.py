@@ -53,6 +53,7 @@ __all__ = [
     "Equilibrium",
     "HertzFit",
     "equilibrium",
+    "stiffness_scale",
     "nodal_force_vector",
     "radial_coordinate",
     "fit_hertz",
@@ -89,6 +90,11 @@ class Equilibrium:
     residual: float
     free_residual: float
 
+    @property
+    def largest(self) -> float:
+        """The larger of the two residuals (the ``equilibrium`` measure of :mod:`alcontact.contact._verify`)."""
+        return max(float(self.residual), float(self.free_residual))
+
     def as_dict(self) -> dict:
         """JSON-ready dictionary (lists of floats)."""
         return {
@@ -118,8 +124,19 @@ def nodal_force_vector(ndofs: int, dofs: np.ndarray, forces: np.ndarray) -> np.n
     return out
 
 
-def equilibrium(body, u, fixed, load, contact_forces) -> Equilibrium:
+def equilibrium(body, u, fixed, load, contact_forces, *, length: float | None = None,
+                force_scale: float = 0.0) -> Equilibrium:
     r"""Global equilibrium :math:`F_c + F_{ext} + R = 0` of a solved body.
+
+    Both residuals are relative to the force scale
+
+    .. math::  s = \max\big(|F_c|, |F_{ext}|, |R|, \|f_{int}\|_\infty, \|f_{ext}\|_\infty,
+               \|f_c\|_\infty, E' h^{d-2} \|u\|_\infty\big),
+
+    whose last term (a stiffness times the displacement, ``E'`` the plane-strain modulus of
+    the body's material, ``h = length``) does not vanish when the contact force and the
+    reactions do: a body that is only moved (no load, no contact force) otherwise
+    compares round-off with round-off and reads 1.0.
 
     Parameters
     ----------
@@ -136,6 +153,12 @@ def equilibrium(body, u, fixed, load, contact_forces) -> Equilibrium:
         External load vector :math:`f_{ext}`.
     contact_forces : ndarray (ndofs,)
         Nodal contact forces on the body :math:`f_c` (see :func:`nodal_force_vector`).
+    length : float, optional
+        Element size ``h`` of the stiffness scale (default: no stiffness scale, or a body
+        without a ``material``).
+    force_scale : float
+        A further force of the scale (the verification passes the largest contact pressure
+        times the largest tributary weight of a contact point).
 
     Returns
     -------
@@ -154,12 +177,34 @@ def equilibrium(body, u, fixed, load, contact_forces) -> Equilibrium:
     Fc = np.bincount(comp, weights=fc, minlength=d)
     Fe = np.bincount(comp, weights=fext, minlength=d)
     R = np.bincount(comp[fixed], weights=res[fixed], minlength=d)
-    scale = max(float(np.linalg.norm(Fc)), float(np.linalg.norm(Fe)), float(np.linalg.norm(R)))
+    with np.errstate(over="ignore", invalid="ignore"):
+        scale = max(float(np.linalg.norm(Fc)), float(np.linalg.norm(Fe)), float(np.linalg.norm(R)),
+                    float(np.max(np.abs(fint), initial=0.0)), float(np.max(np.abs(fext), initial=0.0)),
+                    float(np.max(np.abs(fc), initial=0.0)), stiffness_scale(body, length) * float(
+                        np.max(np.abs(u), initial=0.0)), float(force_scale))
+    if not np.isfinite(scale):
+        return Equilibrium(Fc, Fe, R, np.inf, np.inf)
     if scale == 0.0:
         return Equilibrium(Fc, Fe, R, 0.0, 0.0)
     resid = float(np.linalg.norm(Fc + Fe + R)) / scale
     free_res = float(np.max(np.abs(res[free]), initial=0.0)) / scale
     return Equilibrium(Fc, Fe, R, resid, free_res)
+
+
+def stiffness_scale(body, length: float | None) -> float:
+    r"""Nodal stiffness :math:`E' h^{d-2}` of ``body`` (force per displacement; 0 without ``length`` or material).
+
+    ``E'`` is the plane-strain modulus :math:`E/(1-\nu^2)` (plane stress: ``E``), the
+    stiffness of an element layer of thickness ``h`` per unit area, times the
+    tributary area :math:`h^{d-1}` over ``h``.
+    """
+    mat = getattr(body, "material", None)
+    if length is None or mat is None or not hasattr(mat, "E"):
+        return 0.0
+    d = int(body.dim)
+    e = float(mat.E) if (d == 2 and getattr(mat, "plane", "strain") == "stress") else float(
+        getattr(mat, "plane_strain_modulus", mat.E))
+    return e * float(length) ** (d - 2)
 
 
 def radial_coordinate(points: np.ndarray, center=None, axis: int | None = None) -> np.ndarray:

@@ -890,13 +890,17 @@ class FiniteContact(ContactPoints):
         (a Newton step of :math:`\lambda - \max(0, \lambda + c g) = 0`), so the outer
         active-set loop mostly finds its set settled. Returns ``(x, lam_new, g)`` with the
         pressures ``lam_new`` (zero off the final active set) and the gaps of all candidates.
-        A Newton failure is logged; the outer loop then sees the remaining penetration.
+        Whether the last Newton solve converged is left in :attr:`active_converged` (with its
+        relative residual in :attr:`active_residual`): a solve that stopped at its budget or
+        stalled is a failure of the step (``run_ssn`` returns ``NEWTON_FAILED`` and the load
+        step is cut back), never a state to accept because its active set settled.
         """
         active = np.asarray(active, dtype=bool).copy()
         lam_all = np.where(active, np.maximum(np.asarray(lam, dtype=float), 0.0), 0.0)
         x = np.array(x, dtype=float)
         budget = int(maxiter)
         converged_sets = set()
+        ok = False
         while budget > 0:
             x, lam_all, ok, used = self._equality_newton(active, lam_all, x, c, tol, budget)
             budget -= used
@@ -905,11 +909,13 @@ class FiniteContact(ContactPoints):
                 key = active.tobytes()
                 if np.array_equal(new_active, active) or key in converged_sets:
                     break
-                converged_sets.add(key)
+                converged_sets.add(key)  # converged on a set that changes: the outer loop goes on from here
             elif np.array_equal(new_active, active):
                 break  # the equality Newton failed on a settled set (logged there)
             lam_all = np.where(new_active, lam_all, 0.0)
             active = new_active
+        self.active_converged = bool(ok)
+        self.active_residual = float(self._last_equality_residual)
         return x, np.where(active, lam_all, 0.0), self.gaps(x)
 
     def _saddle_rows(self) -> np.ndarray:
@@ -953,6 +959,7 @@ class FiniteContact(ContactPoints):
         z0 = np.concatenate([np.asarray(x, dtype=float), system.r0])
         out = newton(system, z0, tol=tol, maxiter=maxiter, settings=_EQUALITY_SETTINGS, log=log)
         x_new, r = system.split(out.x)
+        self._last_equality_residual = float(out.residual)
         if not out.converged and not system.switched:
             logger.warning("active-set Newton with %d active points stopped (%s) at relative residual %.2e after "
                            "%d steps", system.A.size, out.message, out.residual, out.iterations)

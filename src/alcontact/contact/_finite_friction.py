@@ -110,7 +110,7 @@ from ._newton import LineSearch, NewtonResult, NewtonSettings, NewtonSystem, inn
 from ._solution import ContactStatus
 from ._solve import penalty_stiffness
 from ._stepping import Attempt, StepRecord, StepRecords, _StepData, _step_times, step_through
-from ._verify import check_state, verified_status
+from ._verify import check_state, equilibrium_tolerance, reach, state_equilibrium, verified_status
 from .obstacles import frame, surface_slip, transport_tangent
 
 __all__ = ["FiniteFrictionContact", "FiniteFrictionStep", "FiniteFrictionSolution", "solve_finite_friction",
@@ -775,7 +775,7 @@ def solve_finite_friction(problem, mu: float, algorithm: str = "simo-laursen", p
     def commit(t: float, att: Attempt, rec: StepRecord) -> FiniteFrictionStep:
         res = att.value
         step, full = _record(dc, res, t, mu, opts, rec.cutbacks, rec.newton_iterations, rec.seconds,
-                             rec.linear_solves)
+                             rec.linear_solves, fixed=data.fixed, load=data(t)[1])
         step = dataclasses.replace(step, requested=rec.requested)  # False: a sub-step of a cut-back
         records.append(step)
         state["last"] = full
@@ -838,7 +838,7 @@ def _attempt(dc, data, step_fn, x, t, y_prev, nu_prev, lamN_all, lamT_all, mu, e
         return None, exc
 
 
-def _record(dc, res, t, mu, opts, cut, newton, seconds, solves=0):
+def _record(dc, res, t, mu, opts, cut, newton, seconds, solves=0, *, fixed, load):
     """Verified step record and the full-size fields of an accepted step."""
     m, d = dc.points.shape
     cand = dc.cand
@@ -855,10 +855,16 @@ def _record(dc, res, t, mu, opts, cut, newton, seconds, solves=0):
     states[cand] = loc.state
     w = dc.weights
     closed = pressure > 0
+    # equilibrium of the step's displacement with the forces it reports (normal and tangential)
+    problem = dc.problem
+    forces = (w * pressure)[:, None] * dc.normals - w[:, None] * traction_t
+    eq = state_equilibrium(problem.model, u, fixed, load, problem.model.node_dofs(problem.contact_boundary)[1],
+                           forces, dc.h, pressure=pressure, weights=w)
     check = check_state(g_all, pressure, dc.h, tol_penetration=opts.tol_penetration,
                         tol_complementarity=opts.tol_complementarity, traction_t=traction_t,
                         slip=np.where(closed[:, None], slip, 0.0), mu=mu,
-                        tol_friction=max(opts.tol_multiplier, opts.tol_slip))
+                        tol_friction=max(opts.tol_multiplier, opts.tol_slip), equilibrium=eq.largest,
+                        tol_equilibrium=equilibrium_tolerance(opts, multipliers=True), reach=reach(dc.points, u))
     status, message = verified_status(res.status, res.message, check,
                                       what=f"finite-deformation friction step to t={t:.6g}")
     tang = -np.sum(w[:, None] * traction_t, axis=0)

@@ -85,12 +85,12 @@ from ._friction_laws import OPEN, SLIP, STICK, Macaulay, block_diag, local_law, 
 from ._friction_solution import FrictionSolution, FrictionStep
 from ._iterative import resolve_linear_solver
 from ._laws import eta_for_stiffness, freezes_at_zero, make_law
-from ._loading import LoadHistory
+from ._loading import LoadHistory, problem_at
 from ._newton import LineSearch, NewtonResult, NewtonSettings, NewtonSystem, inner_failure, newton
 from ._solution import ContactStatus
 from ._solve import penalty_stiffness
 from ._stepping import Attempt, StepRecord, step_through
-from ._verify import check_state, verified_status
+from ._verify import check_state, equilibrium_tolerance, reach, state_equilibrium
 
 __all__ = ["FrictionOptions", "solve_friction", "friction_algorithms", "friction_algorithm_docs"]
 
@@ -1038,8 +1038,8 @@ def solve_friction(problem, history: LoadHistory | None, algorithm: str = "simo-
     y0 = fc.all_local(u0)
     state = _State(0.0, u0, y0, np.zeros(m), np.zeros((m, d - 1)), np.zeros((m, d)), np.zeros((m, d)))
     tangential = [c for c in history.cases if c.tangential]
+    contact_dofs = problem.model.node_dofs(problem.contact_boundary)[1]
     records: list[FrictionStep] = []
-    failed_check = []  # (t, Check) of the first recorded step that fails verification
     cur = {"state": state}
     t_solve = time.perf_counter()
 
@@ -1058,8 +1058,30 @@ def solve_friction(problem, history: LoadHistory | None, algorithm: str = "simo-
         solves0 = fc.linear_solves
         res, out, o, nw = advance(fc, prev, t, step_fn, pen_name, eps_n, eps_t, mu * history.friction_factor(t),
                                    opts)
-        return Attempt(res is not None, out.status, out.message, newton=nw, outer=o,
-                       linear_solves=fc.linear_solves - solves0, value=(res, out))
+        counts = dict(newton=nw, outer=o, linear_solves=fc.linear_solves - solves0)
+        if res is not None:  # a step is accepted only when its returned state passes every measure (cut back if not)
+            check = verify(t, prev, res)
+            if not check.ok:
+                return Attempt(False, ContactStatus.NOT_VERIFIED, f"{algorithm} reported {out.message!r} but the "
+                               f"state fails verification: {check.describe()}", **counts)
+        return Attempt(res is not None, out.status, out.message, value=(res, out), **counts)
+
+    def verify(t: float, prev: _State, res):
+        """Every measure of the step's returned state (:mod:`alcontact.contact._verify`)."""
+        u, y_all, tN, tT = res[:4]
+        closed = _closed(fc, tN, y_all[:, 0], opts)
+        duT = y_all[:, 1:] - prev.y[:, 1:]
+        w = fc.weights
+        shear = -np.einsum("ijk,ik->ij", fc.tangents, tT)
+        # equilibrium of the step's displacement with the forces it reports (loads and supports at t)
+        p_t = problem_at(problem, history, t)
+        eq = state_equilibrium(problem.model, u, p_t.dirichlet()[0], p_t.load_vector(), contact_dofs,
+                               w[:, None] * (tN[:, None] * fc.normals + shear), fc.h, pressure=tN, weights=w)
+        return check_state(y_all[:, 0], tN, fc.h, tol_penetration=opts.tol_penetration,
+                           tol_complementarity=opts.tol_complementarity, traction_t=tT,
+                           slip=np.where(closed[:, None] & fc.tfree, duT, 0.0), mu=mu * history.friction_factor(t),
+                           tol_friction=max(opts.tol_multiplier, opts.tol_slip), equilibrium=eq.largest,
+                           tol_equilibrium=equilibrium_tolerance(opts, multipliers=True), reach=reach(fc.points, u))
 
     def commit(t: float, att: Attempt, rec: StepRecord) -> FrictionStep:
         prev = cur["state"]
@@ -1077,12 +1099,6 @@ def solve_friction(problem, history: LoadHistory | None, algorithm: str = "simo-
         tang_force = np.sum(w[:, None] * shear, axis=0)
         normal_force = float(np.sum(w * tN))
         slip_total = prev.slip_total + slip
-        check = check_state(y_all[:, 0], tN, fc.h, tol_penetration=opts.tol_penetration,
-                            tol_complementarity=opts.tol_complementarity, traction_t=tT,
-                            slip=np.where(closed[:, None] & fc.tfree, duT, 0.0), mu=mu_t,
-                            tol_friction=max(opts.tol_multiplier, opts.tol_slip))
-        if not failed_check and not check.ok:
-            failed_check.append((float(t), check))
         step = FrictionStep(
             t=float(t), requested=rec.requested, u=u, pressure=tN, traction_t=tT, shear=shear, slip=slip,
             slip_total=slip_total, gap=y_all[:, 0], state=st, normal_force=normal_force,
@@ -1108,10 +1124,6 @@ def solve_friction(problem, history: LoadHistory | None, algorithm: str = "simo-
                        done_message="converged")
     status, message = run.status, run.message
     n_outer, n_newton, n_cut = run.outer_iterations, run.newton_iterations, run.cutbacks
-    failed_check = failed_check[0] if failed_check else None
-    if failed_check is not None:
-        status, message = verified_status(status, message, failed_check[1],
-                                          what=f"frictional contact {algorithm} (step t={failed_check[0]:g})")
     if fc.ncand == 0 and status > 0:
         i = int(np.argmax(np.where(fc.movable, fc.gmax_t, -np.inf)))
         status = ContactStatus.NO_CONTACT

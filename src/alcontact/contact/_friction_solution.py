@@ -166,5 +166,6 @@ class FrictionSolution(StepRecords):
         w = np.asarray(self.weights, dtype=float)[:, None]
         forces = w * (np.asarray(st.pressure, dtype=float)[:, None] * self.normals + np.asarray(st.shear, dtype=float))
         fixed, _ = prob.dirichlet()
-        return equilibrium(model, st.u, fixed, prob.load_vector(), nodal_force_vector(model.ndofs, dofs, forces))
+        return equilibrium(model, st.u, fixed, prob.load_vector(), nodal_force_vector(model.ndofs, dofs, forces),
+                           length=self.h)
 

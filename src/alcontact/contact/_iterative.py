@@ -125,6 +125,8 @@ _UZAWA_FORCING = 1e-3
 #: is about to change (the step only decides the next active set; the last one is solved to
 #: :data:`_UZAWA_TOL`)
 _UZAWA_LOOSE = 1e-2
+#: Uzawa updates of one active-set solve of the semi-smooth Newton reference (its budget)
+_UZAWA_MAXITER = 60
 #: Newton tolerance cannot go below what inexact CG solves and round-off in K x reach
 _NEWTON_TOL_FLOOR = 1e-11
 #: a hierarchy is rebuilt when the largest contact stiffness grew by more than this factor
@@ -657,10 +659,15 @@ class IterativeContact(ContactPoints):
                 lam_next[A] = mu
                 return not np.array_equal((lam_next + c * self.gaps(xa)) > 0, active)
 
-            x, mu, _, _ = _equality_solve(self, A, np.maximum(lam[A], 0.0), c, x, moves=moves)
+            x, mu, g_a, used = _equality_solve(self, A, np.maximum(lam[A], 0.0), c, x, moves=moves)
             lam_new[A] = mu
+            # an inner iteration stopped at its budget fails the run (run_ssn), whatever its active set
+            self.active_converged = used <= _UZAWA_MAXITER
+            self.active_residual = float(np.max(np.abs(c * g_a), initial=0.0)) / max(float(np.max(np.abs(mu),
+                                                                                                 initial=0.0)), 1e-300)
         else:
             x = self.x_free.copy()
+            self.active_converged = True
         return x, lam_new, self.gaps(x)
 
     def final_displacement(self, x: np.ndarray) -> np.ndarray:
@@ -821,7 +828,7 @@ def _residual_floor(K, Bc_abs, x, b, w, t, D, gfix) -> float:
 
 # ---------------------------------------------------------------------- active-set reference
 
-def _equality_solve(ic, A, mu, c, x0, *, maxiter=60, moves=None):
+def _equality_solve(ic, A, mu, c, x0, *, maxiter=None, moves=None):
     r"""Solve the contact problem with :math:`g_A = 0` on the candidates ``A`` (inner AL / Uzawa).
 
     Minimizes :math:`\Pi_0(x) + \sum_{i\in A} w_i(\mu_i g_i + \tfrac c2 g_i^2)`, a linear
@@ -829,7 +836,9 @@ def _equality_solve(ic, A, mu, c, x0, *, maxiter=60, moves=None):
     then :math:`\mu \leftarrow \mu + c g_A`, until the update is below
     :data:`_UZAWA_TOL` times the largest multiplier (the error contracts by about 1/100 per
     update, so the multipliers are then accurate to about 1e-10), or stops decreasing (the
-    round-off floor of the CG solves). Returns ``(x, mu, g_A, updates)``.
+    round-off floor of the CG solves). Returns ``(x, mu, g_A, updates)``; ``updates`` is
+    ``maxiter + 1`` when the iteration stopped at its budget (``maxiter``, default
+    :data:`_UZAWA_MAXITER`) without converging.
 
     ``moves(x, mu)``, when given, says whether the active set of the outer iteration changes
     at this state; once the update is below :data:`_UZAWA_LOOSE` and it does, the iteration
@@ -846,6 +855,7 @@ def _equality_solve(ic, A, mu, c, x0, *, maxiter=60, moves=None):
     ic.amg_updates += 1
     ic.amg_seconds += time.perf_counter() - t0
     M = ml.aspreconditioner(cycle="V")
+    maxiter = _UZAWA_MAXITER if maxiter is None else int(maxiter)
     x = x0
     mu = mu.copy()
     prev = np.inf
@@ -877,7 +887,7 @@ def _equality_solve(ic, A, mu, c, x0, *, maxiter=60, moves=None):
         prev = rel
     logger.warning("active-set equality solve stopped after %d Uzawa updates (last relative update %.1e)",
                    maxiter, rel)
-    return x, mu, g, maxiter
+    return x, mu, g, maxiter + 1  # more than maxiter: stopped at its budget, not converged
 
 
 def free_rigid_motions(model, fixed: np.ndarray, free: np.ndarray) -> np.ndarray:

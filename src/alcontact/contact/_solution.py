@@ -165,7 +165,7 @@ class ContactSolution:
         _, dofs = model.node_dofs(prob.contact_boundary)
         fixed, _ = prob.dirichlet()
         fc = nodal_force_vector(model.ndofs, dofs, self.contact_point_forces())
-        return equilibrium(model, self.u, fixed, prob.load_vector(), fc)
+        return equilibrium(model, self.u, fixed, prob.load_vector(), fc, length=self.extra.get("h"))
 
     def _geometry(self, axis: int, center):
         meta = getattr(self.problem, "meta", None) or {}

@@ -46,7 +46,7 @@ from ._algorithms import ContactOptions, _Run, find_algorithm, options_with
 from ._finite import FiniteContact
 from ._loading import LoadHistory, component_fields
 from ._solution import ContactResult, ContactSolution, ContactStatus
-from ._verify import check_state, verified_status
+from ._verify import check_state, equilibrium_tolerance, reach, state_equilibrium, verified_status
 
 __all__ = ["FiniteStep", "FiniteSolution", "solve_finite", "Frame", "StepRecords", "Attempt", "StepRecord",
            "SteppingResult", "step_through"]
@@ -600,6 +600,11 @@ def solve_finite(problem, algorithm: str = "simo-laursen", penalty: str | None =
         counts = dict(newton=dc.newton_iterations - newton0, linear_solves=dc.linear_solves - solves0)
         if exc is not None:
             return Attempt(False, ContactStatus.NEWTON_FAILED, str(exc), **counts)
+        if out.status > 0:  # a step is accepted only when its returned state passes every measure (cut back if not)
+            check = _check(problem, dc, out, u, opts, fixed=data.fixed, load=data(t)[1])[0]
+            if not check.ok:
+                return Attempt(False, ContactStatus.NOT_VERIFIED, f"{algorithm} reported {out.message!r} but the "
+                               f"state fails verification: {check.describe()}", outer=int(out.outer), **counts)
         return Attempt(out.status > 0, out.status, out.message, outer=int(out.outer), value=(out, u), **counts)
 
     def commit(t: float, att: Attempt, rec: StepRecord) -> FiniteStep:
@@ -607,7 +612,8 @@ def solve_finite(problem, algorithm: str = "simo-laursen", penalty: str | None =
         state["x"] = out.r.copy()
         gap = dc.all_gaps(u).copy()
         force, pressure = _force(dc, out, u)
-        dc.accept(pressure)
+        dc.accept(pressure)  # the warm start of the next step: the law's tractions, as the algorithms left them
+        force, pressure = _force(dc, out, u, balanced=True)
         step = FiniteStep(t, out.status, rec.newton_iterations, int(out.outer), rec.linear_solves, force,
                           rec.cutbacks, rec.seconds, out.message, u=u.copy(), pressure=pressure.copy(),
                           gap=gap, normal_force=float(np.sum(dc.weights * pressure)), requested=rec.requested)
@@ -624,8 +630,11 @@ def solve_finite(problem, algorithm: str = "simo-laursen", penalty: str | None =
         out, u = _Run(x, np.zeros(dc.cand.size), dc.gaps(x), status, message, 0, 0, eps0, np.inf, []), dc.expand(x)
     else:
         out, u = last
-    sol = _solution(problem, dc, out, u, algorithm, pen_name, opts, status, message, records, t_start)
-    return FiniteSolution(sol, tuple(records), status, message,
+    t_last = records[-1].t if (records and last is not None) else 0.0
+    sol = _solution(problem, dc, out, u, algorithm, pen_name, opts, status, message, records, t_start,
+                    fixed=data.fixed, load=data(t_last)[1])
+    # the run's status is the verified one of its returned state
+    return FiniteSolution(sol, tuple(records), sol.result.status, sol.result.message,
                           extra={"h": dc.h, "dofs": int(problem.model.ndofs), "residual_log": dc.residual_log})
 
 
@@ -661,34 +670,94 @@ def _free_solve(dc, opts) -> _Run:
                 0, out.iterations, 0.0, out.residual, [])
 
 
-def _force(dc, out, u) -> tuple[np.ndarray, np.ndarray]:
-    """Resultant contact force and pressures (all points) of a converged step."""
+def _force(dc, out, u, *, balanced: bool = False) -> tuple[np.ndarray, np.ndarray]:
+    """Resultant contact force and pressures (all points) of a converged step (``balanced``: the
+    pressures of :func:`_applied_pressure`, else the algorithm's tractions)."""
     dc.all_gaps(u)  # the normals at the current configuration
     p = np.zeros(dc.points.shape[0])
     if out.lam.size:
-        p[dc.cand] = np.maximum(out.lam, 0.0)
+        p[dc.cand] = np.maximum(_applied_pressure(dc, out.lam, u) if balanced else out.lam, 0.0)
     return np.sum((dc.weights * p)[:, None] * dc.normals, axis=0), p
 
 
-def _solution(problem, dc, out, u, algorithm, pen_name, opts, status, message, records, t_start):
+def _applied_pressure(dc, lam, u) -> np.ndarray:
+    r"""Pressures on the candidates that the state ``u`` carries: the forces in equilibrium with it.
+
+    At a candidate :math:`i` with :math:`\lambda_i > 0` the residual of (S) on its free DOFs is
+    :math:`(f_{int} - f_{ext})_i - \nu_i w_i t_i`, so the normal force that balances the body
+    there is :math:`w_i p_i = \nu_i \cdot (f_{int} - f_{ext})_i` (free components only). It
+    equals the law's traction :math:`t_i = p'(g_i/\eta_i, \lambda_i)` up to the Newton residual,
+    except where the law's round-off dominates: the pure penalty at :math:`\varepsilon_N \sim
+    10^6 \varepsilon_0` (penetration below ``tol_penetration`` ``h``) evaluates
+    :math:`\varepsilon_N g(x)` with gaps from absolute coordinates, a force noise of
+    :math:`\varepsilon_N \epsilon_{mach} |x|` (4.5e-8 relative on ``examples/finite_ironing.toml``),
+    at which its Newton iteration stalls; the balanced forces are in equilibrium with the
+    returned displacement to 6e-16 there (law forces: 2.3e-8). The same choice as the
+    small-deformation direct path (:meth:`DiscreteContact.applied_pressure
+    <alcontact.contact._discrete.DiscreteContact.applied_pressure>`). The residual left on
+    the other free DOFs (tangential components at the contact points, the interior) is what
+    the ``equilibrium`` measure of :mod:`alcontact.contact._verify` checks. Points with
+    :math:`\lambda_i \le 0`, or without a free DOF, keep :math:`\lambda_i`.
+    """
+    lam = np.asarray(lam, dtype=float)
+    cand = dc.cand
+    if lam.size != cand.size or not np.any(lam > 0):
+        return lam
+    rb, _ = dc._body_state(u, False)
+    rb_free = rb[dc.free]
+    pos = dc.pos[cand]
+    free = pos >= 0
+    nu = np.where(free, dc.normals[cand], 0.0)
+    f = np.where(free, rb_free[np.maximum(pos, 0)], 0.0)
+    nn = np.einsum("ij,ij->i", nu, nu)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        p = np.einsum("ij,ij->i", nu, f) / (nn * dc.weights[cand])
+    keep = (lam > 0) & (nn > 0.5) & np.isfinite(p)
+    return np.where(keep, p, lam)
+
+
+def _check(problem, dc, out, u, opts, *, fixed, load):
+    """``(check, pressures, gaps)`` of a returned state (all contact points): every measure of
+    :mod:`alcontact.contact._verify`, equilibrium of ``u`` with the reported forces (loads ``load``) included."""
     g_all = dc.all_gaps(u)
-    m = dc.points.shape[0]
-    pressure = np.zeros(m)
-    if out.lam.size:
-        pressure[dc.cand] = out.lam
-    # the one place a finite-deformation result is built: a "converged" state must pass the tolerances
+    pressure = np.zeros(dc.points.shape[0])
+    try:
+        if out.lam.size:
+            pressure[dc.cand] = _applied_pressure(dc, out.lam, u)
+        nodal = dc.weights * np.maximum(pressure, 0.0)
+        residual = state_equilibrium(problem.model, u, fixed, load, dc.dofs, nodal[:, None] * dc.normals,
+                                     dc.h, pressure=pressure, weights=dc.weights).largest
+    except InvertedElementError:  # the state of a failed run (its status already says so): no equilibrium
+        if out.lam.size:
+            pressure[dc.cand] = out.lam
+        residual = np.inf
     check = check_state(g_all, pressure, dc.h, tol_penetration=opts.tol_penetration,
-                        tol_complementarity=opts.tol_complementarity)
+                        tol_complementarity=opts.tol_complementarity, equilibrium=residual,
+                        tol_equilibrium=equilibrium_tolerance(opts, floor=_tol_floor(dc)), reach=reach(dc.points, u))
+    return check, pressure, g_all
+
+
+def _tol_floor(dc) -> float:
+    """Lowest Newton tolerance of the model's linear-solver path (AMG + CG: ``_NEWTON_TOL_FLOOR``)."""
+    from ._finite_iterative import AMGNewtonSolver
+    from ._iterative import _NEWTON_TOL_FLOOR
+
+    return _NEWTON_TOL_FLOOR if isinstance(getattr(dc, "solver", None), AMGNewtonSolver) else 0.0
+
+
+def _solution(problem, dc, out, u, algorithm, pen_name, opts, status, message, records, t_start, *, fixed, load):
+    # the one place a finite-deformation result is built: a "converged" state must pass the tolerances,
+    # equilibrium of the returned displacement with the returned forces (loads of the last step) included
+    check, pressure, g_all = _check(problem, dc, out, u, opts, fixed=fixed, load=load)
+    nodal = dc.weights * np.maximum(pressure, 0.0)
     status, message = verified_status(status if status < 0 else out.status, message, check,
                                       what=f"finite-deformation contact solve {algorithm}")
     pressure = np.maximum(pressure, 0.0)
-    nodal = dc.weights * pressure
     force = np.sum(nodal[:, None] * dc.normals, axis=0)
     closed = g_all > -max(1e-6, 10 * opts.tol_penetration) * dc.h
     active = closed & (pressure > 1e-12 * max(float(pressure.max(initial=0.0)), 1e-300))
-    pen_final = float(np.max(g_all, initial=0.0)) / dc.h
-    pref = max(float(pressure.max(initial=0.0)), 1e-300)
-    compl = float(np.max(np.abs(pressure * g_all), initial=0.0)) / (pref * dc.h)
+    pen_final = check.value("penetration")
+    compl = check.value("complementarity")
     result = ContactResult(
         status=status,
         message=message,

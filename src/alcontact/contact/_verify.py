@@ -6,7 +6,11 @@ AMG, and :func:`~alcontact.contact.solve_friction`) builds its result through
 it is about to return (the full displacement's gaps, not the solver's last
 iterate) and turns a positive status into :attr:`ContactStatus.NOT_VERIFIED`
 (with a logged warning naming the measure, its value, the tolerance and what to
-try) when one fails. The measures are dimensionless, as in the stopping tests
+try) when one fails. The load-stepped solvers check every step before accepting it:
+at small deformation with friction and at finite deformation without, a step whose
+state fails is cut back like a failed Newton solve (``NOT_VERIFIED`` when the smallest
+increment fails too); at finite deformation with friction a failing step ends the run
+``NOT_VERIFIED``. The measures are dimensionless, as in the stopping tests
 of the algorithms (:mod:`alcontact.contact._algorithms`, Algorithm 6.2):
 
 ``penetration``
@@ -25,6 +29,20 @@ of the algorithms (:mod:`alcontact.contact._algorithms`, Algorithm 6.2):
     a saturated traction along the slip (:math:`t_T = \mu t_N \Delta u_T/|\Delta u_T|`,
     dissertation sign: the force on the body, :math:`-t_T`, opposes the slip),
     the time-discrete Coulomb law of (6.47)-(6.50).
+``equilibrium``
+    The largest residual :math:`|f_{int}(u) - f_{ext} - f_c|` on the free DOFs of the
+    returned displacement with the returned contact forces (normal and tangential), or the
+    global balance :math:`|F_c + F_{ext} + R|` if larger (the two residuals ``summary.json`` prints),
+    relative to the force scale of :func:`~alcontact.contact._estimators.equilibrium`
+    (the largest of the applied load, the reactions, the contact and internal forces and
+    a stiffness times the displacement, so that it does not vanish with the contact
+    force): :func:`state_equilibrium`. Its tolerance is the Newton tolerance, not below the
+    round-off of the measure (:func:`equilibrium_tolerance`).
+``resolution``
+    :math:`\epsilon_{mach} \max(|x| + |u|) / h`: the round-off of the gaps computed at
+    positions of that size, over ``h``. Above ``tol_penetration`` the gaps, and with them
+    penetration, complementarity and the contact forces, are round-off (a support moved
+    by :math:`10^{14}`).
 """
 
 from __future__ import annotations
@@ -36,9 +54,16 @@ import numpy as np
 
 from ._solution import ContactStatus
 
-__all__ = ["Check", "check_state", "verified_status"]
+__all__ = ["Check", "check_state", "verified_status", "state_equilibrium", "equilibrium_tolerance", "ROUNDOFF_FLOOR"]
 
 logger = logging.getLogger(__name__)
+
+#: Lowest tolerance of the ``equilibrium`` measure: the round-off of :math:`f_{int}(u) - f_{ext} - f_c`
+#: itself (terms of size :math:`|K||u|` cancel). Measured: 2.2e-12 on the 2D P2 Hertz problem of the
+#: verification tests with Algorithm 6.1 on the condensed direct path, whose forces are exact by
+#: construction and whose own Newton stopped at 1.1e-12; the factorization-free paths hold their Newton
+#: iterations to the same 1e-11 (``_iterative._NEWTON_TOL_FLOOR``).
+ROUNDOFF_FLOOR = 1e-11
 
 _ADVICE = {
     "penetration": "tighten newton_tol, use more outer iterations (maxiter) or a larger penalty_scale, "
@@ -47,6 +72,11 @@ _ADVICE = {
     "coulomb": "tighten tol_multiplier / newton_tol, use more load steps or try algorithm='ssn'",
     "slip": "tighten tol_slip / tol_multiplier, use more load steps or try algorithm='ssn'",
     "finite": "check loads and supports, try a smaller penalty_scale or algorithm='ssn'",
+    "equilibrium": "the returned state is not in equilibrium: tighten newton_tol, raise maxiter_newton, use more "
+                   "load steps or try algorithm='ssn'",
+    "resolution": "the displacements or coordinates are too large for double precision to resolve the gaps at "
+                  "this element size: check the support values and the units (a prescribed displacement should be "
+                  "of the order of the body)",
 }
 
 
@@ -71,6 +101,10 @@ class Check:
     def ok(self) -> bool:
         return not self.failed
 
+    def value(self, name: str) -> float:
+        """The value of measure ``name`` (``inf`` for a state with non-finite gaps or pressures)."""
+        return float(self.measures.get(name, (np.inf, 0.0))[0]) if "finite" not in self.measures else np.inf
+
     def describe(self) -> str:
         parts = [f"{k} {v:.3e} > tolerance {tol:.1e}" for k, (v, tol) in self.failed.items()]
         advice = "; ".join(dict.fromkeys(_ADVICE[k.split()[0]] for k in self.failed))
@@ -78,7 +112,9 @@ class Check:
 
 
 def check_state(gap, pressure, h: float, *, tol_penetration: float, tol_complementarity: float,
-                traction_t=None, slip=None, mu: float = 0.0, tol_friction: float | None = None) -> Check:
+                traction_t=None, slip=None, mu: float = 0.0, tol_friction: float | None = None,
+                equilibrium: float | None = None, tol_equilibrium: float | None = None,
+                reach: float | None = None) -> Check:
     """Measure a contact state (see the module docstring).
 
     Parameters
@@ -97,6 +133,11 @@ def check_state(gap, pressure, h: float, *, tol_penetration: float, tol_compleme
         local frame (held directions zero); default no slip.
     mu : float
         Coulomb coefficient at that state.
+    equilibrium, tol_equilibrium : float, optional
+        Relative equilibrium residual of the state (:func:`state_equilibrium`) and its
+        tolerance (:func:`equilibrium_tolerance`); checked when given.
+    reach : float, optional
+        Largest coordinate plus largest displacement of the state (``resolution``).
     """
     g = np.asarray(gap, dtype=float)
     p = np.asarray(pressure, dtype=float)
@@ -110,6 +151,10 @@ def check_state(gap, pressure, h: float, *, tol_penetration: float, tol_compleme
             "complementarity": (max(float(np.max(np.abs(p * g), initial=0.0)) / (pref * h),
                                     float(np.max(-p, initial=0.0)) / pref), tol_complementarity),
         }
+    if equilibrium is not None:
+        measures["equilibrium"] = (float(equilibrium), float(tol_equilibrium))
+    if reach is not None:
+        measures["resolution"] = (float(np.finfo(float).eps * reach / h), tol_penetration)
     if traction_t is not None:
         tT = np.asarray(traction_t, dtype=float).reshape(g.size, -1)
         du = np.zeros_like(tT) if slip is None else np.asarray(slip, dtype=float).reshape(tT.shape)
@@ -136,3 +181,69 @@ def verified_status(status: ContactStatus, message: str, check: Check, *, what: 
     text = f"{what} reported {message!r} but the returned state fails verification: {check.describe()}"
     logger.warning("%s", text)
     return ContactStatus.NOT_VERIFIED, text
+
+
+def equilibrium_tolerance(opts, *, multipliers: bool = False, floor: float = 0.0) -> float:
+    r"""Tolerance of the ``equilibrium`` measure: ``newton_tol``.
+
+    With ``multipliers`` (the frictional solvers report the updated multipliers
+    :math:`\lambda_{k+1} = t(\lambda_k)` as tractions, while the state balances
+    :math:`t(\lambda_k)` to ``newton_tol``) the two differ by the last multiplier change, at
+    most ``tol_multiplier`` of the largest pressure at a converged step: ``max(newton_tol,
+    tol_multiplier)``. ``floor``: the lowest Newton tolerance of the linear-solver path (the
+    factorization-free paths: ``1e-11``, what inexact CG solves and the round-off of :math:`K x`
+    reach, :data:`alcontact.contact._iterative._NEWTON_TOL_FLOOR`, to which their Newton
+    iterations are held). Never below :data:`ROUNDOFF_FLOOR`. Options with no ``newton_tol``
+    (not resolved against an algorithm) take the frictionless default ``1e-12``.
+    """
+    tol = max(1e-12 if opts.newton_tol is None else float(opts.newton_tol), float(floor), ROUNDOFF_FLOOR)
+    return max(tol, float(opts.tol_multiplier)) if multipliers else tol
+
+
+def state_equilibrium(model, u, fixed, load, contact_dofs, point_forces, h: float, *, pressure=None,
+                      weights=None):
+    r"""Equilibrium of a returned state (:func:`~alcontact.contact._estimators.equilibrium`).
+
+    Parameters
+    ----------
+    model : Body
+        The body (``internal_force``, ``ndofs``, ``dim``, ``material``).
+    u : ndarray (ndofs,)
+        Returned displacement.
+    fixed : array_like of int
+        Dirichlet DOFs.
+    load : ndarray (ndofs,)
+        External loads at the state's load level.
+    contact_dofs : ndarray (m, d)
+        DOFs of the contact points.
+    point_forces : ndarray (m, d)
+        Contact force on the body at every point (normal and tangential).
+    h : float
+        Contact-zone element size (stiffness scale).
+    pressure, weights : ndarray (m,), optional
+        Contact pressures (multipliers) and tributary weights of the points: the largest
+        pressure times the largest weight joins the force scale. With it, a state whose
+        reported tractions differ from the ones it balances by at most ``tol_multiplier``
+        times the largest pressure (the frictional stopping test) has a residual of at most
+        ``tol_multiplier`` also on a graded mesh, where the point of largest pressure has a
+        smaller weight than others.
+
+    Returns
+    -------
+    Equilibrium
+        Its ``largest`` residual is the ``equilibrium`` measure.
+    """
+    from ._estimators import equilibrium, nodal_force_vector
+
+    fc = nodal_force_vector(model.ndofs, contact_dofs, point_forces)
+    extra = 0.0
+    if pressure is not None and weights is not None and np.size(pressure):
+        with np.errstate(over="ignore", invalid="ignore"):
+            extra = float(np.max(np.abs(pressure), initial=0.0)) * float(np.max(np.abs(weights), initial=0.0))
+    return equilibrium(model, u, fixed, load, fc, length=h, force_scale=extra if np.isfinite(extra) else 0.0)
+
+
+def reach(points, u) -> float:
+    """Largest coordinate of the contact points plus the largest displacement (``resolution``)."""
+    with np.errstate(over="ignore", invalid="ignore"):
+        return float(np.max(np.abs(points), initial=0.0)) + float(np.max(np.abs(u), initial=0.0))

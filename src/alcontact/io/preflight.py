@@ -492,7 +492,39 @@ def _range_issues(setup) -> list[Issue]:
             key = "value" if ld.get("value") is not None else "vector"
             issues.append(Issue(f"load[{i + 1}].{key}", f"= {ld[key]!r}: magnitudes outside {lo:g} .. {hi:g} "
                                                          "overflow or underflow in the solver; rescale the units."))
+    return issues + _support_range_issues(setup)
+
+
+#: largest prescribed displacement over the body's size: beyond it the gaps at the displaced positions are
+#: round-off at the default penetration tolerance (1e-8 h) for any element size above 1e-8 of the body
+SUPPORT_RANGE = 1e6
+
+
+def _support_range_issues(setup) -> list[Issue]:
+    """Support values far beyond the body's size (a support moved by 1e14): double precision cannot resolve the
+    gaps, the contact forces or the equilibrium at such positions (issue 18: reported converged before)."""
+    mesh = getattr(setup.problem.model, "mesh", None)
+    if mesh is None:
+        return []
+    size = float(np.max(np.ptp(np.asarray(mesh.p, dtype=float), axis=1)))
+    issues = []
+    for i, sd in enumerate(setup.data.get("support") or []):
+        if not isinstance(sd, dict) or sd.get("value") is None:
+            continue
+        vals = np.atleast_1d(np.asarray(sd["value"], dtype=float)) if _numbers(sd["value"]) else np.zeros(0)
+        big = float(np.max(np.abs(vals), initial=0.0))
+        if big > SUPPORT_RANGE * size:
+            issues.append(Issue(f"support[{i + 1}].value", f"= {sd['value']!r}: a displacement of {big:g} is "
+                                f"{big / size:.1e} times the body's size ({size:g}); at such positions double "
+                                "precision cannot resolve the gaps, contact forces or equilibrium. Prescribe a "
+                                f"displacement of at most {SUPPORT_RANGE:g} times the body's size (check the units)."))
     return issues
+
+
+def _numbers(v) -> bool:
+    """Whether ``v`` is a number or a list of numbers (anything else is the schema's to report)."""
+    items = v if isinstance(v, (list, tuple)) else [v]
+    return all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in items)
 
 
 def _pinned_issues(setup) -> list[Issue]:
