@@ -33,9 +33,10 @@ from __future__ import annotations
 
 import numpy as np
 import scipy.sparse as sp
+import skfem
 from skfem.quadrature import get_quadrature
 
-__all__ = ["elasticity_stiffness", "scalar_pattern", "scalar_doflocs"]
+__all__ = ["elasticity_stiffness", "scalar_pattern", "scalar_doflocs", "is_curved", "default_intorder", "straight_mesh"]
 
 #: element-matrix entries per chunk (float64: 16 MB of element blocks; with the temporaries of a
 #: chunk about 100 MB, whatever the mesh size)
@@ -67,13 +68,50 @@ def scalar_pattern(sdofs: np.ndarray, ns: int) -> tuple[np.ndarray, np.ndarray]:
     return G.indptr.astype(np.int64), G.indices
 
 
+def is_curved(mesh) -> bool:
+    """Whether ``mesh`` is a second-order (isoparametric) simplex mesh, ``MeshTri2`` or ``MeshTet2``.
+
+    Its ``doflocs`` hold the vertices, then one node per edge (2D: facet) that need not be
+    the edge midpoint: the element map is the quadratic interpolant of these nodes, so
+    boundary edges/faces follow the curved geometry. (For these meshes scikit-fem's
+    ``mesh.p`` is the whole ``doflocs``; ``mesh.t`` indexes the vertices only.)
+    """
+    return isinstance(mesh, (skfem.MeshTri2, skfem.MeshTet2))
+
+
+def default_intorder(mesh, order: int) -> int:
+    """Quadrature degree of the stiffness and of the hyperelastic forces.
+
+    ``2 (order - 1)`` (at least 1) is exact for the linear stiffness on affine simplices;
+    on a curved (isoparametric) mesh the integrand is rational in the reference
+    coordinates, and ``2 order`` is used (the quadrature error is then below the
+    discretization error of P2: see ``tests/verification/test_curved_p2.py``).
+    """
+    if is_curved(mesh):
+        return 2 * int(order)
+    return max(1, 2 * (int(order) - 1))
+
+
+def straight_mesh(mesh):
+    """The first-order mesh on the vertices of a curved ``mesh`` (same elements, facets and named sets)."""
+    cls = skfem.MeshTri1 if mesh.dim() == 2 else skfem.MeshTet1
+    return cls(np.asarray(mesh.doflocs[:, : mesh.nvertices], dtype=float), np.asarray(mesh.t),
+               _boundaries=mesh._boundaries, _subdomains=mesh._subdomains)
+
+
 def scalar_doflocs(mesh, order: int) -> np.ndarray:
-    """Locations ``(dim, n_scalar)`` of the scalar P1/P2 DOFs: vertices, then edge (2D: facet) midpoints.
+    """Locations ``(dim, n_scalar)`` of the scalar P1/P2 DOFs: vertices, then edge (2D: facet) nodes.
 
     The numbering of :class:`skfem.assembly.Dofs` for the Lagrange elements of
     :mod:`alcontact.fem.elasticity` (checked against ``Basis.doflocs`` in the tests);
-    computed from the mesh alone, without a quadrature.
+    computed from the mesh alone, without a quadrature. On a straight mesh the edge
+    nodes are the midpoints; on a curved one (:func:`is_curved`) they are the mesh's
+    own second-order nodes (on the true boundary curve/surface).
     """
+    if is_curved(mesh):
+        if order == 2:
+            return np.asarray(mesh.doflocs, dtype=float)
+        return np.asarray(mesh.doflocs[:, : mesh.nvertices], dtype=float)
     if order == 1:
         return np.asarray(mesh.p, dtype=float)
     # ElementTriP2 numbers its midpoint DOFs on the facets (= edges), ElementTetP2 on the edges

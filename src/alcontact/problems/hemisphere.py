@@ -13,7 +13,9 @@ unit cube,
     b\sqrt{1 - \tfrac{a^2}{2} - \tfrac{c^2}{2} + \tfrac{a^2c^2}{3}},\;
     c\sqrt{1 - \tfrac{a^2}{2} - \tfrac{b^2}{2} + \tfrac{a^2b^2}{3}}\bigr),
 
-rotated by 180 degrees about the :math:`z` axis and shifted up by :math:`R`. The flat
+rotated by 180 degrees about the :math:`z` axis and shifted up by :math:`R`. For P2 the
+mesh is of second order by default (the map applied to the edge midpoints too, which
+puts the boundary ones on the sphere). The flat
 face (``"top"``) is pushed down by :math:`\delta` (``u_y = -\delta``, lateral motion
 free): with :func:`alcontact.contact.solve_finite` the approach is ramped over the load
 steps. The contact boundary is ``"curved"``. A benchmark case (no closed-form reference
@@ -26,6 +28,7 @@ from __future__ import annotations
 import dataclasses
 
 import numpy as np
+import skfem
 
 from ..contact import ContactProblem, Support
 from ..contact.obstacles import HalfSpace
@@ -36,7 +39,8 @@ __all__ = ["hemisphere"]
 
 
 def hemisphere(n: int = 6, *, order: int = 1, radius: float = 1.0, delta: float = 0.2,
-               E: float = 1000.0, nu: float = 0.3, model: str = "neo-hookean") -> ContactProblem:
+               E: float = 1000.0, nu: float = 0.3, model: str = "neo-hookean",
+               curved: bool = True) -> ContactProblem:
     """Quarter of a hemisphere on a rigid plane, pressed down by ``delta`` (module doc).
 
     Parameters
@@ -50,8 +54,14 @@ def hemisphere(n: int = 6, *, order: int = 1, radius: float = 1.0, delta: float 
         Elastic constants.
     model : str
         Hyperelastic law (:func:`alcontact.fem.available_materials`).
+    curved : bool
+        With ``order=2``: a second-order mesh (``MeshTet2``) whose edge nodes are mapped
+        too, so that the boundary faces lie on the sphere at their nodes (isoparametric
+        P2, default); ``False`` gives straight-sided P2 elements on the same vertices.
     """
     cube = meshes.box(0.0, 1.0, 0.0, 1.0, 0.0, 1.0, n, n, n)
+    if order == 2 and curved:  # the map of the edge midpoints: the boundary ones land on the sphere
+        cube = skfem.MeshTet2.from_mesh(cube)
     a, b, c = cube.doflocs
     X = a * np.sqrt(np.maximum(1.0 - b**2 / 2 - c**2 / 2 + b**2 * c**2 / 3, 0.0))
     Y = b * np.sqrt(np.maximum(1.0 - a**2 / 2 - c**2 / 2 + a**2 * c**2 / 3, 0.0))
@@ -74,5 +84,5 @@ def hemisphere(n: int = 6, *, order: int = 1, radius: float = 1.0, delta: float 
                   Support("top", components=(1,), value=-delta)),
         name=f"hemisphere quarter (R={radius:g}, delta/R={delta / radius:g}, n={n}, P{order}, {model})",
         kinematics="finite",
-        meta={"radius": radius, "delta": delta, "n": n},
+        meta={"radius": radius, "delta": delta, "n": n, "curved": bool(order == 2 and curved)},
     )
