@@ -36,7 +36,9 @@ import scipy.sparse as sp
 import skfem
 from skfem.quadrature import get_quadrature
 
-__all__ = ["elasticity_stiffness", "scalar_pattern", "scalar_doflocs", "is_curved", "default_intorder", "straight_mesh"]
+from alcontact.fem.quality import is_curved
+
+__all__ = ["elasticity_stiffness", "scalar_pattern", "scalar_doflocs", "default_intorder", "straight_mesh"]
 
 #: element-matrix entries per chunk (float64: 16 MB of element blocks; with the temporaries of a
 #: chunk about 100 MB, whatever the mesh size)
@@ -66,17 +68,6 @@ def scalar_pattern(sdofs: np.ndarray, ns: int) -> tuple[np.ndarray, np.ndarray]:
     del A
     G.sort_indices()
     return G.indptr.astype(np.int64), G.indices
-
-
-def is_curved(mesh) -> bool:
-    """Whether ``mesh`` is a second-order (isoparametric) simplex mesh, ``MeshTri2`` or ``MeshTet2``.
-
-    Its ``doflocs`` hold the vertices, then one node per edge (2D: facet) that need not be
-    the edge midpoint: the element map is the quadratic interpolant of these nodes, so
-    boundary edges/faces follow the curved geometry. (For these meshes scikit-fem's
-    ``mesh.p`` is the whole ``doflocs``; ``mesh.t`` indexes the vertices only.)
-    """
-    return isinstance(mesh, (skfem.MeshTri2, skfem.MeshTet2))
 
 
 def default_intorder(mesh, order: int) -> int:

@@ -34,12 +34,13 @@ import logging
 
 import numpy as np
 import scipy.sparse as sp
+import skfem
 from scipy.sparse.csgraph import connected_components
 
 from alcontact.errors import MeshError
 
 __all__ = ["MeshQuality", "mesh_quality", "check_mesh_quality", "element_measures", "curved_jacobian_ratio",
-           "DEGENERATE_RATIO", "CURVED_CHECK_INTORDER"]
+           "is_curved", "DEGENERATE_RATIO", "CURVED_CHECK_INTORDER"]
 
 logger = logging.getLogger(__name__)
 
@@ -161,6 +162,17 @@ def _facet_side(p: np.ndarray, fv: np.ndarray, x: np.ndarray) -> np.ndarray:
     return np.einsum("ij,ij->j", n, x - a)
 
 
+def is_curved(mesh) -> bool:
+    """Whether ``mesh`` is a second-order (isoparametric) simplex mesh, ``MeshTri2`` or ``MeshTet2``.
+
+    Its ``doflocs`` hold the vertices, then one node per edge (2D: facet) that need not be
+    the edge midpoint: the element map is the quadratic interpolant of these nodes, so
+    boundary edges/faces follow the curved geometry. (For these meshes scikit-fem's
+    ``mesh.p`` is the whole ``doflocs``; ``mesh.t`` indexes the vertices only.)
+    """
+    return isinstance(mesh, (skfem.MeshTri2, skfem.MeshTet2))
+
+
 #: Quadrature degree at whose points the Jacobian of a curved element is checked (besides its nodes).
 CURVED_CHECK_INTORDER = 4
 
@@ -270,7 +282,7 @@ def mesh_quality(mesh) -> MeshQuality:
             inverted = np.unique(np.concatenate([ea[folded], eb[folded]]))
     curved = np.empty(0, dtype=np.int64)
     min_jac = 1.0
-    if p.shape[1] > mesh.nvertices:  # second-order nodes: check the curved map of the valid elements
+    if is_curved(mesh):  # second-order nodes: check the curved map of the valid elements
         r = curved_jacobian_ratio(mesh)
         r[~good] = 1.0
         bad = ~(r > 0.0)
