@@ -246,3 +246,27 @@ def test_vtu_of_a_curved_p2_solution_has_second_order_cells(tmp_path):
                                                                > 1 - 1e-12))
     assert on.sum() == len(pts)  # every contact node (vertex and edge node) is a point on the circle
     assert np.allclose(m.point_data["displacement"][:, :2], fs.solution.u[pb.model.dof_map])
+
+
+def test_run_of_a_triangle6_file_writes_results_and_pictures(tmp_path):
+    """A problem file on a triangle6 Gmsh mesh with order = 2 runs through the runner (VTU, figures)."""
+    import json
+    from pathlib import Path
+
+    import meshio
+
+    from alcontact.io import load_problem
+    from alcontact.runner import run_setup
+
+    _quarter_disc(tmp_path / "half_cylinder.msh", h=0.25)
+    toml = (Path(__file__).resolve().parents[2] / "examples" / "finite_half_cylinder.toml").read_text()
+    toml = toml.replace('file = "half_cylinder.msh"', 'file = "half_cylinder.msh"\norder = 2')
+    toml = toml.replace('folder = "results-finite-half-cylinder"', 'folder = "res"').replace("steps = 4", "steps = 2")
+    (tmp_path / "p.toml").write_text(toml)
+    setup = load_problem(tmp_path / "p.toml")
+    assert isinstance(setup.problem.model.mesh, skfem.MeshTri2) and setup.problem.model.order == 2
+    run_setup(setup, tmp_path / "res")
+    summary = json.loads((tmp_path / "res" / "summary.json").read_text())
+    assert summary["status"] == "converged"
+    assert [c.type for c in meshio.read(tmp_path / "res" / "solution.vtu").cells] == ["triangle6"]
+    assert (tmp_path / "res" / "body_pressure.png").stat().st_size > 0

@@ -135,3 +135,12 @@ def test_hemisphere_curved_force_rate():
     rate = brentq(lambda p: (4.0**-p - 6.0**-p) / (6.0**-p - 8.0**-p) - r, 0.1, 8.0)
     assert rate >= 2.3, (F, rate)
     assert abs(F[8] - 13.774) <= 3e-3 * 13.774, F
+
+
+@pytest.mark.parametrize("algorithm,penalty", [("simo-laursen", None), ("penalty", None), ("family-p", "exp-met1")])
+def test_algorithms_agree_on_the_curved_mesh(runs, algorithm, penalty):
+    """Every algorithm reproduces the ssn force of the curved P2 half-cylinder (n = 8) within 1e-6 relative."""
+    pb, ref = runs[8, True]
+    fs = solve_finite(pb, algorithm, penalty, steps=STEPS)
+    assert fs.success, fs.message
+    assert np.max(np.abs(fs.forces[:, 1] - ref.forces[:, 1]) / ref.forces[:, 1]) <= 1e-6
