@@ -261,7 +261,7 @@ VOLUMETRIC_FORMULATIONS = {f.name: f for f in (_FullVolumetric(), _ProjectedP0Vo
 
 
 def _stiffness_basis(model: LinearElasticity) -> Basis:
-    # strains are of degree order-1 on affine simplices: intorder 2(order-1) is exact (curved: 2 order)
+    # strains are of degree order-1 on affine simplices: intorder 2(order-1) is exact (curved: 4 or 5)
     return Basis(model.mesh, model.element, intorder=default_intorder(model.mesh, model.order))
 
 

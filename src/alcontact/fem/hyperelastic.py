@@ -147,8 +147,8 @@ class Hyperelastic(LinearElasticity):
     intorder : int, optional
         Quadrature degree; default ``2 (order - 1)`` (at least 1), exact for the
         linearized stiffness, so that ``stiffness()`` equals the linear elastic one;
-        ``2 order`` on a curved (``MeshTri2``/``MeshTet2``) mesh, the degree of the
-        linear elastic stiffness there.
+        on a curved (``MeshTri2``/``MeshTet2``) mesh 4 (triangles) or 5 (tetrahedra), the
+        degree of the linear elastic stiffness there (``alcontact.fem._assembly.default_intorder``).
 
     Attributes
     ----------
