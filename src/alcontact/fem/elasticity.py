@@ -37,7 +37,7 @@ from skfem.helpers import ddot, dot, sym_grad, trace
 
 from alcontact._options import VALUE_RANGE, show
 from alcontact.errors import InputError, MeshError
-from alcontact.fem._assembly import elasticity_stiffness, scalar_doflocs
+from alcontact.fem._assembly import default_intorder, elasticity_stiffness, is_curved, scalar_doflocs, straight_mesh
 from alcontact.fem._linalg import Factorization, nested_dissection
 from alcontact.linalg import MatrixHints
 from alcontact.fem._material import Material
@@ -52,6 +52,9 @@ _ELEMENTS = {
     (skfem.MeshTri1, 2): skfem.ElementTriP2,
     (skfem.MeshTet1, 1): skfem.ElementTetP1,
     (skfem.MeshTet1, 2): skfem.ElementTetP2,
+    # second-order (curved) meshes: the P2 field uses the isoparametric map of the mesh
+    (skfem.MeshTri2, 2): skfem.ElementTriP2,
+    (skfem.MeshTet2, 2): skfem.ElementTetP2,
 }
 
 _AXES = "xyz"
@@ -164,6 +167,19 @@ class _FullVolumetric:
     orders = (1, 2)
 
     def stiffness(self, model: LinearElasticity) -> sp.spmatrix:
+        if is_curved(model.mesh):  # isoparametric map: scikit-fem's assembly (already in dof_map numbering)
+            lam, mu = model.lam, model.mu
+
+            @BilinearForm
+            def full(u, v, w):
+                eu, ev = sym_grad(u), sym_grad(v)
+                return 2.0 * mu * ddot(eu, ev) + lam * trace(eu) * trace(ev)
+
+            K = asm(full, _stiffness_basis(model)).tocsr()
+            K = (0.5 * (K + K.T)).tocsr()  # remove round-off asymmetry
+            K.sum_duplicates()
+            K.sort_indices()
+            return K
         # strains are of degree order-1 on affine simplices: intorder 2(order-1) is exact
         K = elasticity_stiffness(model.mesh, model.scalar_element, model.scalar_dofs.element_dofs,
                                  int(model.scalar_dofs.N), model.lam, model.mu,
@@ -251,8 +267,8 @@ VOLUMETRIC_FORMULATIONS = {f.name: f for f in (_FullVolumetric(), _ProjectedP0Vo
 
 
 def _stiffness_basis(model: LinearElasticity) -> Basis:
-    # strains are of degree order-1 on affine simplices: intorder 2(order-1) is exact
-    return Basis(model.mesh, model.element, intorder=max(1, 2 * (model.order - 1)))
+    # strains are of degree order-1 on affine simplices: intorder 2(order-1) is exact (curved: 4 or 5)
+    return Basis(model.mesh, model.element, intorder=default_intorder(model.mesh, model.order))
 
 
 class LinearElasticity:
@@ -260,9 +276,12 @@ class LinearElasticity:
 
     Parameters
     ----------
-    mesh : skfem.MeshTri or skfem.MeshTet
+    mesh : skfem.MeshTri, skfem.MeshTet, skfem.MeshTri2 or skfem.MeshTet2
         Mesh with named boundaries (``mesh.boundaries``), e.g. from
-        :mod:`alcontact.fem.meshes`.
+        :mod:`alcontact.fem.meshes`. A second-order mesh (``MeshTri2``/``MeshTet2``,
+        e.g. a Gmsh ``triangle6``/``tetra10`` file) is curved: with ``order=2`` the
+        body uses its isoparametric map (edge nodes on the true boundary); with
+        ``order=1`` only its vertices are used (straight elements).
     material : Material
         Elastic constants.
     order : {1, 2}
@@ -297,12 +316,14 @@ class LinearElasticity:
             raise InputError(f"volumetric={volumetric!r} needs order in {form.orders}; got order={order!r}. "
                              "P1-P0 is not inf-sup stable (it locks like P1): use order=2 with 'p0', or "
                              "volumetric='full'.")
+        if is_curved(mesh) and order == 1:  # P1 sees the vertices only: the straight-sided mesh
+            mesh = straight_mesh(mesh)
         key = (type(mesh), order)
         if key not in _ELEMENTS:
             raise MeshError(
-                f"LinearElasticity needs a linear triangle (MeshTri) or tetrahedron (MeshTet) mesh; "
-                f"got {type(mesh).__name__}. Build it with alcontact.fem.meshes or read a Gmsh file "
-                "with first-order triangles/tetrahedra."
+                f"LinearElasticity needs a triangle (MeshTri, MeshTri2) or tetrahedron (MeshTet, MeshTet2) "
+                f"mesh; got {type(mesh).__name__}. Build it with alcontact.fem.meshes or read a Gmsh file "
+                "with triangles/tetrahedra (first or second order)."
             )
         check_mesh_quality(mesh)  # MeshError naming inverted or degenerate elements
         self.mesh = mesh
@@ -423,9 +444,13 @@ class LinearElasticity:
             f = self.facets(name)
             p = self.mesh.p
             v = self.mesh.facets[:, f]
-            area = 0.5 * np.linalg.norm(
-                np.cross((p[:, v[1]] - p[:, v[0]]).T, (p[:, v[2]] - p[:, v[0]]).T), axis=1
-            )
+            if is_curved(self.mesh):  # the area of the curved face (isoparametric map)
+                fb = self._facet_basis(name, vector=False)
+                area = np.asarray(fb.dx).sum(axis=1)
+            else:
+                area = 0.5 * np.linalg.norm(
+                    np.cross((p[:, v[1]] - p[:, v[0]]).T, (p[:, v[2]] - p[:, v[0]]).T), axis=1
+                )
             w = np.zeros(self.scalar_dofs.N)
             vdofs = self.scalar_dofs.nodal_dofs[0][v]  # (3, nf)
             edofs = self.scalar_dofs.edge_dofs[0][self.mesh.f2e[:, f]]  # (3, nf)

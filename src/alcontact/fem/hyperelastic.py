@@ -36,6 +36,7 @@ import scipy.sparse as sp
 from skfem import Basis
 
 from alcontact.errors import ConvergenceError, InputError, InvertedElementError, LawDomainError, NonFiniteError
+from alcontact.fem._assembly import default_intorder
 from alcontact.fem._hyper_materials import HyperelasticLaw, det, make_material
 from alcontact.fem._material import Material
 from alcontact.fem.elasticity import LinearElasticity
@@ -131,7 +132,8 @@ class Hyperelastic(LinearElasticity):
 
     Parameters
     ----------
-    mesh : skfem.MeshTri or skfem.MeshTet
+    mesh : skfem.MeshTri, skfem.MeshTet, skfem.MeshTri2 or skfem.MeshTet2
+        (second order: curved, isoparametric P2; see :class:`~alcontact.fem.LinearElasticity`)
         Mesh with named boundaries, e.g. from :mod:`alcontact.fem.meshes`.
     material : Material
         Elastic constants; the law uses the Lamé constants :math:`(\lambda, \mu)`
@@ -144,7 +146,9 @@ class Hyperelastic(LinearElasticity):
         as a :class:`~alcontact.fem.SymbolicMaterial`.
     intorder : int, optional
         Quadrature degree; default ``2 (order - 1)`` (at least 1), exact for the
-        linearized stiffness, so that ``stiffness()`` equals the linear elastic one.
+        linearized stiffness, so that ``stiffness()`` equals the linear elastic one;
+        on a curved (``MeshTri2``/``MeshTet2``) mesh 4 (triangles) or 5 (tetrahedra), the
+        degree of the linear elastic stiffness there (``alcontact.fem._assembly.default_intorder``).
 
     Attributes
     ----------
@@ -176,6 +180,7 @@ class Hyperelastic(LinearElasticity):
     def __init__(self, mesh, material: Material, order: int = 1, model: str | HyperelasticLaw = "neo-hookean",
                  intorder: int | None = None):
         super().__init__(mesh, material, order)
+        mesh = self.mesh  # a curved mesh with order=1 is replaced by its straight-sided vertices
         if self.dim == 2 and material.plane != "strain":
             raise InputError(
                 f"material.plane={material.plane!r}: hyperelastic bodies in 2D are plane strain only "
@@ -186,7 +191,7 @@ class Hyperelastic(LinearElasticity):
         self.law = make_material(model)
         self._check_moduli(material)
         if intorder is None:
-            intorder = max(1, 2 * (self.order - 1))
+            intorder = default_intorder(mesh, self.order)
         if isinstance(intorder, bool) or not isinstance(intorder, (int, np.integer)) or intorder < 1:
             raise InputError(f"intorder={intorder!r} must be a positive integer (quadrature degree).")
         self.intorder = int(intorder)

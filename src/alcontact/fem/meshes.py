@@ -425,6 +425,69 @@ _CELL_DIMS = {
 }
 
 
+#: second-order Gmsh cells read as curved meshes, and the linear cell of their vertices
+_SECOND_ORDER = {"triangle6": "triangle", "tetra10": "tetra", "line3": "line"}
+_VERTICES = {"triangle": 3, "tetra": 4, "line": 2}
+#: local edges of meshio's (VTK's) triangle6 / tetra10 cells, in the order of their edge nodes
+_VTK_EDGES = {"triangle6": ((0, 1), (1, 2), (2, 0)),
+              "tetra10": ((0, 1), (1, 2), (2, 0), (0, 3), (1, 3), (2, 3))}
+
+
+def _split_second_order(m):
+    """A meshio mesh with ``triangle6``/``tetra10`` cells as linear cells, plus what restores the edge nodes.
+
+    Returns ``(linear, kind, block)`` with ``kind`` the second-order cell type and ``block``
+    its connectivity (meshio's point indices), or ``(m, None, None)`` for a first-order mesh.
+    Facet cells (``line3``, ``triangle6`` facets of ``tetra10``) become linear too, so that
+    the physical groups are read as for a first-order mesh.
+    """
+    import meshio
+
+    types = [c.type for c in m.cells]
+    kind = "tetra10" if "tetra10" in types else ("triangle6" if "triangle6" in types else None)
+    if kind is None:
+        return m, None, None
+    block = np.concatenate([c.data for c in m.cells if c.type == kind])
+    cells = []
+    for c in m.cells:
+        if c.type in ("triangle6", "tetra10", "line3"):
+            lin = _SECOND_ORDER[c.type]
+            cells.append(meshio.CellBlock(lin, np.ascontiguousarray(c.data[:, : _VERTICES[lin]])))
+        else:
+            cells.append(c)
+    linear = meshio.Mesh(m.points, cells, point_data=m.point_data, cell_data=m.cell_data,
+                         field_data=m.field_data, cell_sets=m.cell_sets)
+    return linear, kind, block
+
+
+def _curved_mesh(mesh, points: np.ndarray, used: np.ndarray, kind: str, block: np.ndarray, path):
+    """The second-order mesh (``MeshTri2``/``MeshTet2``) of ``mesh`` with the edge nodes of ``block``.
+
+    ``mesh`` is the first-order mesh read from the same file (vertices ``points[used]``),
+    ``block`` the ``triangle6``/``tetra10`` connectivity in meshio's point numbering.
+    """
+    cls = skfem.MeshTri2 if kind == "triangle6" else skfem.MeshTet2
+    dim = mesh.dim()
+    nv = mesh.nvertices
+    new = np.full(points.shape[0], -1, dtype=np.int64)
+    new[used] = np.arange(used.size)
+    m2 = cls.from_mesh(mesh)
+    edges = np.sort(np.asarray(mesh.facets if dim == 2 else mesh.edges), axis=0)  # the P2 edge DOFs, in order
+    keys = edges[0].astype(np.int64) * nv + edges[1]
+    order = np.argsort(keys)
+    doflocs = np.array(m2.doflocs, dtype=float)
+    for k, (a, b) in enumerate(_VTK_EDGES[kind]):
+        va, vb = new[block[:, a]], new[block[:, b]]
+        key = np.minimum(va, vb) * nv + np.maximum(va, vb)
+        pos = np.searchsorted(keys, key, sorter=order)
+        idx = order[np.minimum(pos, keys.size - 1)]
+        if (va < 0).any() or (vb < 0).any() or not np.array_equal(keys[idx], key):
+            raise MeshError(f"cannot read the second-order cells of {str(path)!r}: an edge node does not match "
+                            "an edge of the mesh. Re-export the mesh from Gmsh (Mesh.SecondOrderIncomplete = 0).")
+        doflocs[:, nv + idx] = points[block[:, _VERTICES[_SECOND_ORDER[kind]] + k], :dim].T
+    return dataclasses.replace(m2, doflocs=doflocs, _boundaries=mesh._boundaries, _subdomains=mesh._subdomains)
+
+
 def _mesh_geo(path: Path) -> Path:
     try:
         import gmsh  # type: ignore[import-not-found]
@@ -591,16 +654,18 @@ def read(path: str | os.PathLike[str]):
     Returns
     -------
     skfem.Mesh
-        ``MeshTri`` (triangles), ``MeshTet`` (tetrahedra) or ``MeshLine``. Physical
-        groups of facets are in ``mesh.boundaries`` and of cells in
-        ``mesh.subdomains``, keyed by the physical names.
+        ``MeshTri`` (triangles), ``MeshTet`` (tetrahedra) or ``MeshLine``; for
+        second-order Gmsh cells (``triangle6``, ``tetra10``) the curved ``MeshTri2`` or
+        ``MeshTet2`` whose edge nodes are the file's (P2 bodies use its isoparametric
+        map; P1 bodies its vertices). Physical groups of facets are in
+        ``mesh.boundaries`` and of cells in ``mesh.subdomains``, keyed by the physical names.
 
     Raises
     ------
     alcontact.errors.MeshError
-        Missing or unreadable file, no supported cell type (only linear
-        ``triangle``/``tetra``/``line`` cells; use ``LinearElasticity(order=2)``
-        for quadratic fields), or a ``.geo`` file without ``gmsh`` installed.
+        Missing or unreadable file, no supported cell type (``triangle``/``tetra``/
+        ``line`` cells and the second-order ``triangle6``/``tetra10``; not quadrilaterals
+        or hexahedra), or a ``.geo`` file without ``gmsh`` installed.
     """
     import meshio
     from skfem.io.meshio import from_meshio
@@ -630,6 +695,8 @@ def read(path: str | os.PathLike[str]):
     finally:
         if tmp is not None:
             tmp.unlink(missing_ok=True)
+    points = np.asarray(m.points, dtype=float)
+    m, second, block = _split_second_order(m)  # triangle6/tetra10: read the vertices, then add the edge nodes
     types = {c.type for c in m.cells}
     kind = next((t for t in _SUPPORTED_CELLS if t in types), None)
     dim = _CELL_DIMS.get(kind, 0)
@@ -637,10 +704,11 @@ def read(path: str | os.PathLike[str]):
     if kind is None or other:
         raise MeshError(
             f"mesh file {str(path)!r} has cell types {sorted(types)}; supported are linear "
-            f"{', '.join(_SUPPORTED_CELLS)} cells. Re-mesh with first-order triangles/tetrahedra "
-            "(gmsh -order 1, no recombination); use LinearElasticity(order=2) for quadratic fields."
+            f"{', '.join(_SUPPORTED_CELLS)} cells and second-order triangle6, tetra10 cells. Re-mesh with "
+            "triangles/tetrahedra (no recombination; gmsh -order 1 or -order 2)."
         )
     _check_physical_groups(m, declared, path)
+    used = np.unique(np.concatenate([c.data.ravel() for c in m.cells]))
     m = _drop_unused_points(m)
     _check_cells(m, kind, path)
     try:
@@ -653,6 +721,8 @@ def read(path: str | os.PathLike[str]):
         _boundaries={k: v for k, v in (mesh.boundaries or {}).items() if not str(k).startswith("gmsh:")} or None,
         _subdomains={k: v for k, v in (mesh.subdomains or {}).items() if not str(k).startswith("gmsh:")} or None,
     )
+    if second is not None:
+        mesh = _curved_mesh(mesh, points, used, second, block, path)
     logger.info(
         "read %s: %s mesh, %d vertices, %d elements, boundaries %s, subdomains %s",
         path, type(mesh).__name__, mesh.nvertices, mesh.nelements,

@@ -34,11 +34,13 @@ import logging
 
 import numpy as np
 import scipy.sparse as sp
+import skfem
 from scipy.sparse.csgraph import connected_components
 
 from alcontact.errors import MeshError
 
-__all__ = ["MeshQuality", "mesh_quality", "check_mesh_quality", "element_measures", "DEGENERATE_RATIO"]
+__all__ = ["MeshQuality", "mesh_quality", "check_mesh_quality", "element_measures", "curved_jacobian_ratio",
+           "is_curved", "DEGENERATE_RATIO", "CURVED_CHECK_INTORDER"]
 
 logger = logging.getLogger(__name__)
 
@@ -59,6 +61,12 @@ class MeshQuality:
     ----------
     inverted : ndarray of int
         Elements whose orientation is opposite to that of most elements.
+    curved_inverted : ndarray of int
+        Second-order (curved) elements whose isoparametric map has a Jacobian of the
+        wrong sign or zero at a quadrature point or a node (:func:`curved_jacobian_ratio`).
+    min_jacobian_ratio : float
+        Smallest ratio of the curved element's Jacobian to its straight element's
+        (1 for straight meshes).
     degenerate : ndarray of int
         Elements with zero or near-zero measure (see :data:`DEGENERATE_RATIO`).
     folded_facets : ndarray of int
@@ -74,10 +82,12 @@ class MeshQuality:
     folded_facets: np.ndarray
     centroids: np.ndarray
     min_ratio: float
+    curved_inverted: np.ndarray = dataclasses.field(default_factory=lambda: np.empty(0, dtype=np.int64))
+    min_jacobian_ratio: float = 1.0
 
     @property
     def ok(self) -> bool:
-        return self.inverted.size == 0 and self.degenerate.size == 0
+        return self.inverted.size == 0 and self.degenerate.size == 0 and self.curved_inverted.size == 0
 
     def message(self, label: str = "the mesh") -> str:
         """What is wrong (element indices and centroids) and the way out; ``""`` when :attr:`ok`."""
@@ -96,6 +106,14 @@ class MeshQuality:
                 f"overlaps itself across {self.folded_facets.size} folded facet(s) and would give wrong "
                 f"forces): {self._where(self.inverted)}. Re-mesh the body, or undo the node moves that "
                 "folded these elements."
+            )
+        if self.curved_inverted.size:
+            parts.append(
+                f"{label} has {self.curved_inverted.size} second-order element(s) whose edge nodes make the "
+                f"element map invert (Jacobian <= 0 at a quadrature point or node; smallest Jacobian / straight "
+                f"element's = {self.min_jacobian_ratio:.3g}): {self._where(self.curved_inverted)}. Move the "
+                "edge nodes back towards the edge midpoints (in Gmsh: Mesh.HighOrderOptimize = 2, or a finer "
+                "mesh along the curved boundary), or read the mesh with order 1."
             )
         return " ".join(parts)
 
@@ -144,19 +162,62 @@ def _facet_side(p: np.ndarray, fv: np.ndarray, x: np.ndarray) -> np.ndarray:
     return np.einsum("ij,ij->j", n, x - a)
 
 
+def is_curved(mesh) -> bool:
+    """Whether ``mesh`` is a second-order (isoparametric) simplex mesh, ``MeshTri2`` or ``MeshTet2``.
+
+    Its ``doflocs`` hold the vertices, then one node per edge (2D: facet) that need not be
+    the edge midpoint: the element map is the quadratic interpolant of these nodes, so
+    boundary edges/faces follow the curved geometry. (For these meshes scikit-fem's
+    ``mesh.p`` is the whole ``doflocs``; ``mesh.t`` indexes the vertices only.)
+    """
+    return isinstance(mesh, (skfem.MeshTri2, skfem.MeshTet2))
+
+
+#: Quadrature degree at whose points the Jacobian of a curved element is checked (besides its nodes).
+CURVED_CHECK_INTORDER = 4
+
+
+def curved_jacobian_ratio(mesh) -> np.ndarray:
+    r"""Jacobian of the isoparametric map over that of the straight element, per element and point.
+
+    For a second-order mesh (``MeshTri2``/``MeshTet2``) the element map
+    :math:`x(\xi) = \sum_a x_a N_a(\xi)` is quadratic; its Jacobian
+    :math:`\det \partial x/\partial \xi` is evaluated at the quadrature points of degree
+    :data:`CURVED_CHECK_INTORDER` and at the element's nodes (vertices and edge nodes),
+    and divided by the constant Jacobian of the straight element on the same vertices.
+    A valid curved element has ratios > 0 (1 everywhere when the edge nodes are the
+    midpoints); a ratio <= 0 means the map folds over.
+
+    Returns
+    -------
+    ndarray, shape (nelements, npoints)
+    """
+    from skfem.quadrature import get_quadrature
+
+    X, _ = get_quadrature(mesh.refdom, CURVED_CHECK_INTORDER)
+    nodes = mesh.elem().doflocs.T  # reference coordinates of the element's nodes, (dim, nloc)
+    pts = np.hstack([X, nodes])
+    jac = np.asarray(mesh.mapping().detDF(pts))  # (nel, npts)
+    dim = mesh.dim()
+    straight = element_measures(mesh) * (2.0 if dim == 2 else 6.0)  # detDF of the affine map, same vertex order
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return jac / straight[:, None]
+
+
 def mesh_quality(mesh) -> MeshQuality:
     """Find the inverted and degenerate elements of a triangle or tetrahedron mesh.
 
     Parameters
     ----------
-    mesh : skfem.MeshTri or skfem.MeshTet
-        Linear simplex mesh.
+    mesh : skfem.MeshTri, skfem.MeshTet, skfem.MeshTri2 or skfem.MeshTet2
+        Simplex mesh; of a second-order mesh the straight elements on its vertices are
+        checked as for a linear one, and the curved map by :func:`curved_jacobian_ratio`.
 
     Returns
     -------
     MeshQuality
     """
-    p, t = np.asarray(mesh.p, dtype=float), np.asarray(mesh.t)
+    p, t = np.asarray(mesh.p, dtype=float), np.asarray(mesh.t)  # second order: p has the edge nodes too
     dim, nel = p.shape[0], t.shape[1]
     if t.shape[0] != dim + 1:
         raise MeshError(f"mesh quality needs linear triangles or tetrahedra; got {t.shape[0]} vertices per element.")
@@ -220,9 +281,18 @@ def mesh_quality(mesh) -> MeshQuality:
             inverted = np.flatnonzero(el_colour == minority)
         else:  # no consistent orientation: report the elements around the folds
             inverted = np.unique(np.concatenate([ea[folded], eb[folded]]))
+    curved = np.empty(0, dtype=np.int64)
+    min_jac = 1.0
+    if is_curved(mesh):  # second-order nodes: check the curved map of the valid elements
+        r = curved_jacobian_ratio(mesh)
+        r[~good] = 1.0
+        bad = ~(r > 0.0)
+        curved = np.setdiff1d(np.flatnonzero(bad.any(axis=1)), inverted)
+        min_jac = float(np.nanmin(np.where(np.isfinite(r), r, 1.0), initial=1.0))
     return MeshQuality(inverted=inverted.astype(np.int64), degenerate=degenerate.astype(np.int64),
                        folded_facets=folded_facets.astype(np.int64), centroids=centroids,
-                       min_ratio=float(ratio.min(initial=np.inf)))
+                       min_ratio=float(ratio.min(initial=np.inf)), curved_inverted=curved.astype(np.int64),
+                       min_jacobian_ratio=min_jac)
 
 
 def check_mesh_quality(mesh, label: str = "the mesh") -> MeshQuality:

@@ -859,8 +859,8 @@ def _mesh_issue(md: dict, base: Path, issue: Issue) -> Issue:
     """Rewrite the mesh issues of :func:`load_problem` for the user: the key that fixes them."""
     if md.get("generator") == "file" and issue.path == "mesh" and issue.message.startswith("the mesh is"):
         return _low_dim_issue(md, base, issue)
-    if issue.path == "mesh.order" and ("inverted element" in issue.message or "degenerate element" in
-                                       issue.message):  # raised by the quality check of LinearElasticity
+    if issue.path == "mesh.order" and any(w in issue.message for w in (
+            "inverted element", "degenerate element", "second-order element")):  # the quality check of the body
         if md.get("generator") == "file":
             return Issue("mesh.file", f"= {md.get('file')!r}: {issue.message}")
         return Issue("mesh", issue.message)

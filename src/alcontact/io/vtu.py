@@ -2,7 +2,9 @@
 
 One unstructured grid on the mesh vertices (linear triangles or tetrahedra;
 for P2 models the vertex values of the quadratic fields are written, the edge
-midpoint values are dropped). Points are 3D (``z = 0`` in 2D).
+midpoint values are dropped). A P2 model on a curved second-order mesh
+(``MeshTri2``/``MeshTet2``) is written with all its nodes as ``triangle6``/``tetra10``
+cells instead, so that the curved boundary shows. Points are 3D (``z = 0`` in 2D).
 
 Configuration: small-deformation runs are written on the reference mesh (use
 ParaView's "Warp By Vector" with ``displacement`` to see the deformed shape).
@@ -58,6 +60,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
+from ..fem.quality import is_curved
 from .results import atomic_path
 
 __all__ = ["POINT_FIELDS", "FRICTION_FIELDS", "solution_point_data", "write_solution_vtu", "write_pvd"]
@@ -71,6 +74,7 @@ POINT_FIELDS: tuple[str, ...] = ("displacement", "contact_pressure", "gap", "con
 FRICTION_FIELDS: tuple[str, ...] = ("slip", "slip_increment", "contact_state")
 
 _CELL_TYPES = {(2, 3): "triangle", (3, 4): "tetra"}
+_CURVED_CELL_TYPES = {"triangle": "triangle6", "tetra": "tetra10"}
 
 
 def _contact_scalar_dofs(solution) -> np.ndarray:
@@ -116,18 +120,29 @@ def solution_point_data(solution, deformed: bool | None = None
     model = solution.problem.model
     mesh = model.mesh
     dim = model.dim
-    nverts = mesh.p.shape[1]
     cell_type = _CELL_TYPES.get((dim, mesh.t.shape[0]))
     if cell_type is None:
         raise InputError(f"VTU output supports triangle and tetrahedron meshes; got {type(mesh).__name__}.")
 
-    # scalar DOF carrying the value at each vertex (P1: all DOFs, P2: the vertex ones)
-    vertex_dof = np.asarray(model.scalar_basis.nodal_dofs[0], dtype=np.int64)
+    if is_curved(mesh) and model.order == 2:
+        # curved (isoparametric) P2: every node is a point of a second-order cell, so the
+        # curved boundary shows as such; scikit-fem's local P2 node order (vertices, then
+        # edges 01, 12, 02[, 03, 13, 23]) is VTK's for triangle6/tetra10
+        cell_type = _CURVED_CELL_TYPES[cell_type]
+        vertex_dof = np.arange(model.dof_map.shape[0], dtype=np.int64)
+        conn = np.asarray(model.scalar_dofs.element_dofs, dtype=np.int64).T
+        coords = model.scalar_doflocs
+    else:
+        # scalar DOF carrying the value at each vertex (P1: all DOFs, P2: the vertex ones)
+        vertex_dof = np.asarray(model.scalar_basis.nodal_dofs[0], dtype=np.int64)
+        conn = np.asarray(mesh.t, dtype=np.int64).T
+        coords = np.asarray(mesh.p, dtype=float)[:, : mesh.nvertices]
+    nverts = vertex_dof.size
     vertex_of_scalar = -np.ones(model.dof_map.shape[0], dtype=np.int64)
     vertex_of_scalar[vertex_dof] = np.arange(nverts)
 
     points = np.zeros((nverts, 3))
-    points[:, :dim] = mesh.p.T
+    points[:, :dim] = coords.T
 
     u = np.asarray(solution.u, dtype=float)
     disp = np.zeros((nverts, 3))
@@ -174,7 +189,7 @@ def solution_point_data(solution, deformed: bool | None = None
         state = np.full(nverts, -1.0)
         state[cv[on_vertex]] = np.asarray(extra["state"], dtype=float)[on_vertex]
         point_data["contact_state"] = state
-    cells = [(cell_type, np.ascontiguousarray(mesh.t.T, dtype=np.int64))]
+    cells = [(cell_type, np.ascontiguousarray(conn))]
     return points, cells, point_data
 
 

@@ -9,7 +9,9 @@ elliptical-grid map of the unit square onto the quarter disc,
 
     (\xi, \eta) \mapsto R\,\bigl(\xi\sqrt{1 - \eta^2/2},\; \eta\sqrt{1 - \xi^2/2}\bigr),
 
-rotated by 180 degrees and shifted up by :math:`R`. The flat face (``"top"``) is pushed
+rotated by 180 degrees and shifted up by :math:`R`. For P2 the mesh is of second
+order by default (the map applied to the edge midpoints too): the boundary edges are
+arcs of the isoparametric map through three points of the circle. The flat face (``"top"``) is pushed
 down by :math:`\delta` (``u_y = -\delta``, lateral motion free): with
 :func:`alcontact.contact.solve_finite` the approach is ramped over the load steps.
 The contact boundary is ``"curved"``.
@@ -20,6 +22,7 @@ from __future__ import annotations
 import dataclasses
 
 import numpy as np
+import skfem
 
 from ..contact import ContactProblem, Support
 from ..contact.obstacles import HalfSpace
@@ -30,7 +33,8 @@ __all__ = ["half_cylinder"]
 
 
 def half_cylinder(n: int = 8, *, order: int = 1, radius: float = 1.0, delta: float = 0.4,
-                  E: float = 1000.0, nu: float = 0.3, model: str = "neo-hookean") -> ContactProblem:
+                  E: float = 1000.0, nu: float = 0.3, model: str = "neo-hookean",
+                  curved: bool = True) -> ContactProblem:
     """Half-cylinder on a rigid plane, pressed down by ``delta`` (module doc).
 
     Parameters
@@ -44,8 +48,14 @@ def half_cylinder(n: int = 8, *, order: int = 1, radius: float = 1.0, delta: flo
         Elastic constants (plane strain).
     model : str
         Hyperelastic law (:func:`alcontact.fem.available_materials`).
+    curved : bool
+        With ``order=2``: a second-order mesh (``MeshTri2``) whose edge nodes are mapped
+        too, so that the boundary edges lie on the circle (isoparametric P2, default);
+        ``False`` gives straight-sided P2 elements on the same vertices.
     """
     sq = meshes.rectangle(0.0, 1.0, 0.0, 1.0, n, n)
+    if order == 2 and curved:  # the map of the edge midpoints: the boundary ones land on the circle
+        sq = skfem.MeshTri2.from_mesh(sq)
     xi, eta = sq.doflocs
     X = radius * xi * np.sqrt(1.0 - eta**2 / 2.0)
     Y = radius * eta * np.sqrt(1.0 - xi**2 / 2.0)
@@ -65,5 +75,5 @@ def half_cylinder(n: int = 8, *, order: int = 1, radius: float = 1.0, delta: flo
         supports=(Support("symmetry", components=(0,)), Support("top", components=(1,), value=-delta)),
         name=f"half-cylinder (R={radius:g}, delta/R={delta / radius:g}, n={n}, P{order}, {model})",
         kinematics="finite",
-        meta={"radius": radius, "delta": delta, "n": n},
+        meta={"radius": radius, "delta": delta, "n": n, "curved": bool(order == 2 and curved)},
     )

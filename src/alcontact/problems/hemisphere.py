@@ -13,7 +13,9 @@ unit cube,
     b\sqrt{1 - \tfrac{a^2}{2} - \tfrac{c^2}{2} + \tfrac{a^2c^2}{3}},\;
     c\sqrt{1 - \tfrac{a^2}{2} - \tfrac{b^2}{2} + \tfrac{a^2b^2}{3}}\bigr),
 
-rotated by 180 degrees about the :math:`z` axis and shifted up by :math:`R`. The flat
+rotated by 180 degrees about the :math:`z` axis and shifted up by :math:`R`. For P2 the
+mesh is of second order by default: the edge nodes of the spherical face are projected
+onto the sphere (the others stay at the edge midpoints), so the contact surface is curved. The flat
 face (``"top"``) is pushed down by :math:`\delta` (``u_y = -\delta``, lateral motion
 free): with :func:`alcontact.contact.solve_finite` the approach is ramped over the load
 steps. The contact boundary is ``"curved"``. A benchmark case (no closed-form reference
@@ -26,6 +28,7 @@ from __future__ import annotations
 import dataclasses
 
 import numpy as np
+import skfem
 
 from ..contact import ContactProblem, Support
 from ..contact.obstacles import HalfSpace
@@ -35,8 +38,29 @@ from ..fem.hyperelastic import Hyperelastic
 __all__ = ["hemisphere"]
 
 
+def _curved(mesh, radius: float, tol: float):
+    """Second-order mesh: edge midpoints, those of the spherical boundary projected onto the sphere.
+
+    (The elliptical-grid map itself is singular along the images of the cube's edges, and its
+    quadratic interpolation inverts elements there; the projection of the boundary nodes alone
+    keeps every element map valid: :func:`alcontact.fem.quality.curved_jacobian_ratio`.)
+    """
+    m2 = skfem.MeshTet2.from_mesh(mesh)  # straight: the edge nodes at the midpoints
+    x = np.array(m2.doflocs, dtype=float)
+    nv = mesh.nvertices
+    centre = np.array([0.0, radius, 0.0])
+    bf = mesh.boundary_facets()
+    mid = mesh.p[:, mesh.facets[:, bf]].mean(axis=1)
+    sphere = bf[(mid[1] < radius - tol) & (mid[0] < -tol) & (mid[2] > tol)]
+    edges = np.unique(mesh.f2e[:, sphere])
+    d = x[:, nv + edges] - centre[:, None]
+    x[:, nv + edges] = centre[:, None] + radius * d / np.linalg.norm(d, axis=0)
+    return dataclasses.replace(m2, doflocs=x)
+
+
 def hemisphere(n: int = 6, *, order: int = 1, radius: float = 1.0, delta: float = 0.2,
-               E: float = 1000.0, nu: float = 0.3, model: str = "neo-hookean") -> ContactProblem:
+               E: float = 1000.0, nu: float = 0.3, model: str = "neo-hookean",
+               curved: bool = True) -> ContactProblem:
     """Quarter of a hemisphere on a rigid plane, pressed down by ``delta`` (module doc).
 
     Parameters
@@ -50,6 +74,11 @@ def hemisphere(n: int = 6, *, order: int = 1, radius: float = 1.0, delta: float 
         Elastic constants.
     model : str
         Hyperelastic law (:func:`alcontact.fem.available_materials`).
+    curved : bool
+        With ``order=2``: a second-order mesh (``MeshTet2``) whose edge nodes on the
+        spherical face are projected onto the sphere (isoparametric P2, default; interior
+        edge nodes at the midpoints); ``False`` gives straight-sided P2 elements on the
+        same vertices.
     """
     cube = meshes.box(0.0, 1.0, 0.0, 1.0, 0.0, 1.0, n, n, n)
     a, b, c = cube.doflocs
@@ -59,6 +88,8 @@ def hemisphere(n: int = 6, *, order: int = 1, radius: float = 1.0, delta: float 
     p = np.vstack([-radius * X, radius * (1.0 - Y), radius * Z])  # rotation about z keeps the orientation
     mesh = dataclasses.replace(cube, doflocs=p, _boundaries=None)
     tol = 1e-9 * radius
+    if order == 2 and curved:
+        mesh = _curved(mesh, radius, tol)
     mesh = mesh.with_boundaries({
         "top": lambda x: x[1] > radius - tol,
         "symmetry_x": lambda x: x[0] > -tol,
@@ -74,5 +105,5 @@ def hemisphere(n: int = 6, *, order: int = 1, radius: float = 1.0, delta: float 
                   Support("top", components=(1,), value=-delta)),
         name=f"hemisphere quarter (R={radius:g}, delta/R={delta / radius:g}, n={n}, P{order}, {model})",
         kinematics="finite",
-        meta={"radius": radius, "delta": delta, "n": n},
+        meta={"radius": radius, "delta": delta, "n": n, "curved": bool(order == 2 and curved)},
     )

@@ -95,7 +95,12 @@ def _body_data(solution):
     cb = problem.contact_boundary
     facets = mesh.facets[:, names[cb]] if cb in names else np.zeros((dim, 0), dtype=np.int64)
     finite = getattr(problem, "kinematics", "small") == "finite"
-    return points[:, :dim], pd["displacement"][:, :dim], cells[0][1], pd, np.asarray(facets), finite, mesh
+    conn = cells[0][1]
+    if conn.shape[1] == 6:  # curved triangle6 (v0 v1 v2 m01 m12 m20): four sub-triangles through the edge nodes
+        conn = conn[:, [0, 3, 5, 3, 1, 4, 5, 4, 2, 3, 4, 5]].reshape(-1, 3)
+    elif conn.shape[1] == 10:  # curved tetra10: its vertices (the vertex numbers are the mesh's)
+        conn = conn[:, :4]
+    return points[:, :dim], pd["displacement"][:, :dim], conn, pd, np.asarray(facets), finite, mesh
 
 
 def _zoom_box(x: np.ndarray, pressure: np.ndarray, contact_nodes: np.ndarray, body_lo, body_hi):
