@@ -99,6 +99,17 @@ def test_quadratic_quadrilaterals_are_refused(tmp_path):
         meshes.read(tmp_path / "q.msh")
 
 
+def test_first_and_second_order_cells_mixed_are_refused(tmp_path):
+    """Gmsh-file fuzzing: triangles plus one degenerate triangle6 crashed the curved reader (ValueError)."""
+    import meshio
+
+    pts = np.array([[0, 0], [1, 0], [1, 1], [0, 1], [.5, 0], [1, .5], [.5, .5]], float)
+    m = meshio.Mesh(pts, [("triangle", np.array([[0, 1, 2], [0, 2, 3]])), ("triangle6", np.zeros((1, 6), int))])
+    meshio.write(tmp_path / "mixed.msh", m, file_format="gmsh22", binary=False)
+    with pytest.raises(MeshError, match="both triangle and triangle6 cells"):
+        meshes.read(tmp_path / "mixed.msh")
+
+
 @pytest.mark.parametrize("mesh", [meshes.rectangle(0, 1, 0, 1, 3, 3), meshes.box(0, 1, 0, 1, 0, 1, 2, 2, 2)])
 def test_patch_test_on_a_curved_mesh(mesh):
     """A linear displacement on a mesh with moved interior edge nodes: no interior nodal force."""

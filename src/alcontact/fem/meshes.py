@@ -167,7 +167,7 @@ def graded_axis(
         (Option("lo", "float", 0.0, "lo", low=-big, high=big), lo),
         (Option("hi", "float", 0.0, "hi", low=-big, high=big), hi),
         (Option("h_min", "float", 0.0, "h_min", low=0.0, low_open=True, high=big), h_min),
-        (Option("growth", "float", 1.2, "growth", low=1.0, high=1e3), growth),
+        (Option("growth", "float", 1.2, "growth", low=1.0), growth),
         (Option("h_max", "float", 0.0, "h_max", low=0.0, low_open=True, high=big), h_max)])
     if not isinstance(axis, str):
         raise InputError(f"graded_axis: axis = {show(axis)}: expected a name such as 'x'.")
@@ -433,7 +433,7 @@ _VTK_EDGES = {"triangle6": ((0, 1), (1, 2), (2, 0)),
               "tetra10": ((0, 1), (1, 2), (2, 0), (0, 3), (1, 3), (2, 3))}
 
 
-def _split_second_order(m):
+def _split_second_order(m, path):
     """A meshio mesh with ``triangle6``/``tetra10`` cells as linear cells, plus what restores the edge nodes.
 
     Returns ``(linear, kind, block)`` with ``kind`` the second-order cell type and ``block``
@@ -447,6 +447,9 @@ def _split_second_order(m):
     kind = "tetra10" if "tetra10" in types else ("triangle6" if "triangle6" in types else None)
     if kind is None:
         return m, None, None
+    if _SECOND_ORDER[kind] in types:
+        raise MeshError(f"mesh file {str(path)!r} has both {_SECOND_ORDER[kind]} and {kind} cells: a body is meshed with one "
+                        "element order. Re-mesh it with one order (gmsh -order 1 or -order 2).")
     block = np.concatenate([c.data for c in m.cells if c.type == kind])
     cells = []
     for c in m.cells:
@@ -696,7 +699,7 @@ def read(path: str | os.PathLike[str]):
         if tmp is not None:
             tmp.unlink(missing_ok=True)
     points = np.asarray(m.points, dtype=float)
-    m, second, block = _split_second_order(m)  # triangle6/tetra10: read the vertices, then add the edge nodes
+    m, second, block = _split_second_order(m, path)  # triangle6/tetra10: read the vertices, then add the edge nodes
     types = {c.type for c in m.cells}
     kind = next((t for t in _SUPPORTED_CELLS if t in types), None)
     dim = _CELL_DIMS.get(kind, 0)
