@@ -29,4 +29,5 @@ def pytest_configure(config):
         missing.append("mpirun is not on PATH (OpenMPI: apt-get install openmpi-bin)")
     if missing:
         raise pytest.UsageError("tests/mpi need the MPI environment; run `make mpi` and use .venv-mpi/bin/python "
-                                "(make test does): " + "; ".join(missing))
+                                "(make test does), or leave them out explicitly (make test-serial, pytest "
+                                "--ignore=tests/mpi): " + "; ".join(missing))

@@ -4,7 +4,7 @@ Rank 0 holds the mesh (as the serial path reads it), partitions its elements
 (:func:`~alcontact.distributed._partition.partition_elements`) and sends each rank only
 its elements and their nodes. Each rank assembles the stiffness of its own elements with
 scikit-fem (:class:`alcontact.fem.LinearElasticity` on the local piece of the mesh,
-chapter 2's bilinear form :math:`a(u, v) = \int_\Omega \sigma(u):\varepsilon(v)\,dx`)
+the bilinear form of the equilibrium (6.18)-(6.20) without contact, :math:`a(u, v) = \int_\Omega \sigma(u):\varepsilon(v)\,dx`)
 and passes the element entries as COO triplets to ``MatSetPreallocationCOO`` /
 ``MatSetValuesCOO``, which send the entries of rows owned elsewhere to their owner.
 No rank but rank 0 (while it scatters the mesh) holds an array of the global size.
