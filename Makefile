@@ -62,7 +62,7 @@ test-mpi: $(MPI_VENV)/.installed
 		tests/unit/test_linalg.py tests/unit/test_linalg_petsc_missing.py
 
 test-slow: $(VENV)/.installed
-	$(TEST_ENV) $(BIN)/python -m pytest -q -n 2 --dist loadfile -m slow
+	$(TEST_ENV) $(BIN)/python -m pytest -q -n 2 --dist loadfile -m slow --ignore=tests/mpi
 
 # Problem-file fuzzing: 3 x 40,000 Hypothesis examples (profile "fuzz" in tests/conftest.py).
 fuzz: $(VENV)/.installed
