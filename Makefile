@@ -5,11 +5,36 @@ VENV   := .venv
 BIN    := $(VENV)/bin
 OUT    ?= results
 
-.PHONY: run test test-slow install bench fuzz clean
+.PHONY: run test test-serial test-mpi test-slow install mpi bench fuzz clean
 
 $(BIN)/python:
 	$(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
+
+# ---- the MPI / PETSc environment (`make mpi`), Debian 12 (bookworm) + Python 3.11:
+# Debian's petsc4py 3.18 (OpenMPI; MUMPS, SuperLU_dist, hypre), mpi4py and OpenMPI from apt, and a
+# venv over the system site-packages (NumPy 1.x, which that petsc4py needs: the `mpi` extra pins it).
+# No source build: PyPI has no petsc4py wheel for this platform and building PETSc takes far longer
+# than the apt packages (measured with `make mpi` on a fresh machine: see the README).
+MPI_VENV      := .venv-mpi
+MPI_APT       := python3-petsc4py python3-mpi4py openmpi-bin python3-venv
+DEBIAN_PETSC  := /usr/lib/petscdir/petsc3.18/x86_64-linux-gnu-real
+SUDO          := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
+MPI_RUN_ENV   := OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+
+$(MPI_VENV)/.installed: pyproject.toml
+	@command -v apt-get >/dev/null || { echo "make mpi: needs Debian/Ubuntu apt-get (python3-petsc4py); see README"; exit 1; }
+	dpkg -s $(MPI_APT) >/dev/null 2>&1 || { $(SUDO) apt-get update -q && \
+		DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -q --no-install-recommends $(MPI_APT); }
+	test -x $(MPI_VENV)/bin/python || /usr/bin/python3 -m venv --system-site-packages $(MPI_VENV)
+	# Debian's petsc4py.pth looks for it under $$PETSC_DIR (or petsc-dev's /usr/lib/petsc): point at it once
+	echo $(DEBIAN_PETSC)/lib/python3/dist-packages > \
+		$$($(MPI_VENV)/bin/python -c "import sysconfig; print(sysconfig.get_paths()['purelib'])")/zz-petsc-debian.pth
+	$(MPI_VENV)/bin/python -m pip install --quiet -e '.[test,mpi]'
+	$(MPI_VENV)/bin/python -c "import alcontact.linalg as L; L.petsc(); import mpi4py, pymetis"
+	touch $@
+
+mpi: $(MPI_VENV)/.installed
 
 # Gmsh's wheel links the X11/OpenGL client libraries (it never opens a display); a bare
 # Debian 12 lacks some of them, so they come from Debian's packages when `import gmsh` fails.
@@ -18,8 +43,8 @@ GMSH_DEBS := libglu1-mesa libgl1 libopengl0 libx11-6 libxext6 libxfixes3 libxren
 
 $(VENV)/.installed: $(BIN)/python pyproject.toml
 	$(BIN)/python -m pip install --quiet -e '.[test]'
-	$(BIN)/python -c 'import gmsh' 2>/dev/null || { apt-get update -qq && \
-	  DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends $(GMSH_DEBS); }
+	$(BIN)/python -c 'import gmsh' 2>/dev/null || { $(SUDO) apt-get update -qq && \
+	  DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq --no-install-recommends $(GMSH_DEBS); }
 	$(BIN)/python -c 'import gmsh'
 	touch $@
 
@@ -32,12 +57,20 @@ run: $(VENV)/.installed
 # (CHOLMOD through cholespy uses a reference BLAS, single-threaded; tests/conftest.py sets the same defaults)
 TEST_ENV := OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1 MKL_NUM_THREADS=1 VECLIB_MAXIMUM_THREADS=1 NUMEXPR_NUM_THREADS=1
 
-# `make test`: everything but the tests marked slow (each > ~10 s); CI (.ci/run) runs both targets
-test: $(VENV)/.installed
-	$(TEST_ENV) $(BIN)/python -m pytest -q -n 2 --dist loadfile -m "not slow"
+# `make test`: everything but the tests marked slow (each > ~10 s); CI (.ci/run) runs both targets.
+# It includes the PETSc/MPI tests (tests/mpi, run in .venv-mpi, some through `mpirun -n 2` and
+# `-n 3`), so it depends on `make mpi`; they are never skipped (tests/mpi/conftest.py).
+test: test-serial test-mpi
+
+test-serial: $(VENV)/.installed
+	$(TEST_ENV) $(BIN)/python -m pytest -q -n 2 --dist loadfile -m "not slow" --ignore=tests/mpi
+
+test-mpi: $(MPI_VENV)/.installed
+	$(TEST_ENV) $(MPI_RUN_ENV) $(MPI_VENV)/bin/python -m pytest -q -p no:cacheprovider tests/mpi \
+		tests/unit/test_linalg.py tests/unit/test_linalg_petsc_missing.py
 
 test-slow: $(VENV)/.installed
-	$(TEST_ENV) $(BIN)/python -m pytest -q -n 2 --dist loadfile -m slow
+	$(TEST_ENV) $(BIN)/python -m pytest -q -n 2 --dist loadfile -m slow --ignore=tests/mpi
 
 # Fuzzing (profile "fuzz" in tests/conftest.py): problem files 3 x 40,000 Hypothesis examples, Gmsh files
 # 40,000, Python-API calls 40,000; the algorithm differential test 200 random problems.
@@ -50,4 +83,4 @@ bench: $(VENV)/.installed
 	$(BIN)/alcontact bench
 
 clean:
-	rm -rf $(VENV) $(OUT) build *.egg-info src/*.egg-info
+	rm -rf $(VENV) $(MPI_VENV) $(OUT) build *.egg-info src/*.egg-info

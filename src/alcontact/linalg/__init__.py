@@ -9,7 +9,10 @@ option, besides ``"auto"`` and ``"direct"``.
 
 Built-in names: ``"mkl-pardiso"`` (Intel MKL PARDISO via ``pypardiso``),
 ``"cholmod"`` (SuiteSparse via ``cholespy``), ``"superlu"`` (SciPy), ``"amg"``
-(PyAMG smoothed aggregation + CG; approximate). :class:`SequenceSolver` solves a
+(PyAMG smoothed aggregation + CG; approximate), and, with petsc4py (``make mpi``),
+``"petsc"`` (PETSc KSP CG + GAMG with the rigid-body near-null space; PETSc options
+passed through) and ``"petsc-direct"`` (MUMPS); petsc4py is imported only when one of
+these is built (:func:`petsc`), never by ``import alcontact``. :class:`SequenceSolver` solves a
 sequence of symmetric (possibly indefinite) systems with one of them, keeping the
 analysis of each recent sparsity pattern (the Newton solves of the finite path).
 
@@ -37,6 +40,15 @@ from ._registry import (
     solver_matrix_types,
     unregister_solver,
 )
+from ._petsc import (
+    MPI_SETUP_HINT,
+    PetscDirectSolver,
+    PetscKrylovSolver,
+    configure_ksp,
+    direct_package,
+    near_null_space,
+    petsc,
+)
 from ._sequence import MATRIX_TYPES, PardisoSymmetricFactor, SequenceSolver
 from ._solvers import AMGSolver, CholmodSolver, PardisoSolver, SuperLUSolver
 
@@ -48,16 +60,23 @@ __all__ = [
     "Factor",
     "LinearSolver",
     "MATRIX_TYPES",
+    "MPI_SETUP_HINT",
     "MatrixHints",
     "PardisoSolver",
     "PardisoSymmetricFactor",
+    "PetscDirectSolver",
+    "PetscKrylovSolver",
     "SequenceSolver",
     "SuperLUSolver",
     "available_solvers",
     "choose_solver",
+    "configure_ksp",
     "describe_solvers",
+    "direct_package",
     "is_installed",
     "make_solver",
+    "near_null_space",
+    "petsc",
     "register_solver",
     "registered_solvers",
     "solver_kind",

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import importlib
+import importlib.util
 import logging
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -43,6 +44,7 @@ class _Entry:
     requires: str | None  # module that must import
     install: str | None  # how to get it
     doc: str
+    lazy: bool = False  # probe ``requires`` without importing it (heavy packages: PETSc, MPI)
 
 
 _SOLVERS: dict[str, _Entry] = {}
@@ -50,7 +52,7 @@ _SOLVERS: dict[str, _Entry] = {}
 
 def register_solver(name: str, factory: Callable[..., LinearSolver], *, kind: str = "direct",
                     requires: str | None = None, install: str | None = None, doc: str = "",
-                    overwrite: bool = False, matrix_types: tuple[str, ...] = ("spd",)) -> None:
+                    overwrite: bool = False, matrix_types: tuple[str, ...] = ("spd",), lazy: bool = False) -> None:
     """Register a linear solver under ``name``.
 
     Parameters
@@ -73,6 +75,11 @@ def register_solver(name: str, factory: Callable[..., LinearSolver], *, kind: st
     matrix_types : tuple of str
         Values of :attr:`MatrixHints.matrix_type <alcontact.linalg.MatrixHints>` the solver
         factorizes (``"spd"``, ``"symmetric-indefinite"``, ``"unsymmetric"``).
+    lazy : bool
+        Check that ``requires`` is installed without importing it (``importlib.util.find_spec``):
+        for packages whose import is heavy or starts a runtime (petsc4py initializes MPI), so that
+        :func:`available_solvers` on the serial path never loads them. Whether it then loads is
+        checked by the factory.
     """
     if kind not in ("direct", "iterative"):
         raise InputError(f"linear solver kind={kind!r}; allowed: direct, iterative.")
@@ -85,7 +92,7 @@ def register_solver(name: str, factory: Callable[..., LinearSolver], *, kind: st
     bad = [t for t in matrix_types if t not in MATRIX_TYPES]
     if bad or not matrix_types:
         raise InputError(f"matrix_types={tuple(matrix_types)!r}; allowed: {', '.join(MATRIX_TYPES)}.")
-    _SOLVERS[name] = _Entry(factory, kind, tuple(matrix_types), requires, install, doc)
+    _SOLVERS[name] = _Entry(factory, kind, tuple(matrix_types), requires, install, doc, lazy)
     is_installed.cache_clear()
 
 
@@ -110,6 +117,11 @@ def is_installed(name: str) -> bool:
         raise UnknownNameError("linear solver", name, list(_SOLVERS))
     if entry.requires is None:
         return True
+    if entry.lazy:
+        try:
+            return importlib.util.find_spec(entry.requires) is not None
+        except (ImportError, ValueError):
+            return False
     try:
         importlib.import_module(entry.requires)
     except Exception:  # ImportError, or a binary module that fails to load
@@ -252,6 +264,27 @@ def _register_builtins() -> None:
                     doc="Intel MKL PARDISO supernodal Cholesky, METIS ordering (pypardiso wheels)")
     register_solver("amg", AMGSolver, kind="iterative", requires="pyamg", install="pip install pyamg",
                     doc="PyAMG smoothed aggregation (rigid-body modes) + CG to a relative tolerance")
+    # PETSc (petsc4py) solvers: imported only when named; never chosen by "auto"
+    petsc_hint = ("make mpi (Debian python3-petsc4py, python3-mpi4py and OpenMPI, in .venv-mpi); "
+                  "then use .venv-mpi/bin/python")
+    # GAMG is registered for SPD matrices only (its smoothers need a positive diagonal); indefinite
+    # systems go to "petsc-direct", or to "petsc" with pc_type/ksp_type given in its options
+    register_solver("petsc", _petsc_krylov, kind="iterative", requires="petsc4py", install=petsc_hint, lazy=True,
+                    doc="PETSc KSP (CG / MINRES / GMRES) + GAMG with the rigid-body near-null space; PETSc options")
+    register_solver("petsc-direct", _petsc_direct, requires="petsc4py", install=petsc_hint, lazy=True,
+                    matrix_types=both, doc="PETSc LU / Cholesky through MUMPS (else SuperLU_dist); PETSc options")
+
+
+def _petsc_krylov(**options):
+    from ._petsc import PetscKrylovSolver  # lazy: petsc4py loads only when the solver is named
+
+    return PetscKrylovSolver(**options)
+
+
+def _petsc_direct(**options):
+    from ._petsc import PetscDirectSolver
+
+    return PetscDirectSolver(**options)
 
 
 _register_builtins()

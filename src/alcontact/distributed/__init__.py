@@ -1,0 +1,30 @@
+"""Distributed bodies on PETSc (petsc4py) and MPI (mpi4py): the foundation of ``mpirun -n N``.
+
+Nothing is imported from MPI or PETSc until a distributed object is built, so
+``import alcontact.distributed`` is as light as the serial path. Install the MPI
+environment with ``make mpi`` (see the README) and run scripts with
+``mpirun -n N .venv-mpi/bin/python script.py``.
+
+What is here (no contact yet): the mesh partition (METIS through pymetis,
+:func:`partition_elements`), linear elasticity assembled per rank with scikit-fem into
+a PETSc ``MPIAIJ`` matrix with COO preallocation and solved with KSP
+(:class:`DistributedElasticity`), and the collective error rule (:func:`collective`,
+:class:`DistributedError`): a phase that fails on one rank raises on every rank.
+"""
+
+from ._comm import DistributedError, collective, run_ranks, world
+from ._elasticity import DistributedElasticity, DistributedSolution, LocalPiece
+from ._partition import dual_graph, owner_numbering, partition_elements
+
+__all__ = [
+    "DistributedElasticity",
+    "DistributedError",
+    "DistributedSolution",
+    "LocalPiece",
+    "collective",
+    "dual_graph",
+    "owner_numbering",
+    "partition_elements",
+    "run_ranks",
+    "world",
+]

@@ -1,0 +1,327 @@
+r"""Linear elasticity assembled and solved over MPI ranks on a PETSc ``MPIAIJ`` matrix.
+
+Rank 0 holds the mesh (as the serial path reads it), partitions its elements
+(:func:`~alcontact.distributed._partition.partition_elements`) and sends each rank only
+its elements and their nodes. Each rank assembles the stiffness of its own elements with
+scikit-fem (:class:`alcontact.fem.LinearElasticity` on the local piece of the mesh,
+the bilinear form of the equilibrium (6.18)-(6.20) without contact, :math:`a(u, v) = \int_\Omega \sigma(u):\varepsilon(v)\,dx`)
+and passes the element entries as COO triplets to ``MatSetPreallocationCOO`` /
+``MatSetValuesCOO``, which send the entries of rows owned elsewhere to their owner.
+No rank but rank 0 (while it scatters the mesh) holds an array of the global size.
+
+Numbering: a node belongs to the lowest rank among its elements; each rank owns a
+contiguous range of nodes, and DOF ``dim * node + c`` (block size ``dim``, what GAMG
+wants for its aggregates). Dirichlet rows and columns are eliminated with
+``MatZeroRowsColumns`` (diagonal 1, prescribed value in the right-hand side).
+"""
+
+from __future__ import annotations
+
+import ctypes
+import logging
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import InputError
+from ._comm import collective, world
+from ._partition import owner_numbering, partition_elements
+
+__all__ = ["DistributedElasticity", "LocalPiece", "DistributedSolution"]
+
+logger = logging.getLogger(__name__)
+
+
+@dataclass(frozen=True)
+class LocalPiece:
+    """What one rank holds of the mesh.
+
+    Attributes
+    ----------
+    points : numpy.ndarray, shape (dim, n_local_nodes)
+        Coordinates of the nodes of this rank's elements.
+    elements : numpy.ndarray, shape (nodes_per_element, n_local_elements)
+        Connectivity in local node numbers.
+    global_nodes : numpy.ndarray of int, shape (n_local_nodes,)
+        Distributed (owner-contiguous) number of each local node.
+    node_range : tuple of int
+        ``[start, stop)`` of the distributed node numbers this rank owns.
+    n_nodes : int
+        Number of nodes of the whole mesh.
+    """
+
+    points: np.ndarray
+    elements: np.ndarray
+    global_nodes: np.ndarray
+    node_range: tuple[int, int]
+    n_nodes: int
+
+
+@dataclass
+class DistributedSolution:
+    """The displacement this rank owns and how the solve went.
+
+    Attributes
+    ----------
+    u : numpy.ndarray, shape (n_owned_nodes * dim,)
+        Displacement of the owned nodes, node-major (``u[dim * i + c]``).
+    points : numpy.ndarray, shape (n_owned_nodes, dim)
+        Coordinates of the owned nodes.
+    iterations : int
+        Krylov iterations.
+    reason : int
+        PETSc's converged reason (positive: converged).
+    residual_norm : float
+        Final (preconditioned) residual norm PETSc reports.
+    seconds : dict
+        Wall time of ``distribute``, ``assemble``, ``setup`` and ``solve`` on this rank.
+    """
+
+    u: np.ndarray
+    points: np.ndarray
+    iterations: int
+    reason: int
+    residual_norm: float
+    seconds: dict = field(default_factory=dict)
+
+
+def _coo_calls(PETSc):
+    """``MatSetPreallocationCOO`` / ``MatSetValuesCOO`` from libpetsc (petsc4py 3.18 does not wrap them)."""
+    lib = ctypes.CDLL(PETSc.__file__, mode=ctypes.RTLD_GLOBAL)
+    pre = lib.MatSetPreallocationCOO
+    pre.argtypes = [ctypes.c_void_p, ctypes.c_int64, ctypes.c_void_p, ctypes.c_void_p]  # PetscCount n
+    pre.restype = ctypes.c_int
+    val = lib.MatSetValuesCOO
+    val.argtypes = [ctypes.c_void_p, ctypes.c_void_p, ctypes.c_int]
+    val.restype = ctypes.c_int
+    return pre, val
+
+
+class DistributedElasticity:
+    """Small-strain linear elasticity on P1 triangles/tetrahedra, distributed over the ranks of ``comm``.
+
+    Parameters
+    ----------
+    mesh : skfem.MeshTri or skfem.MeshTet or None
+        The whole mesh on rank 0; ignored on the other ranks (pass None there).
+    material : alcontact.fem.Material
+    comm : mpi4py communicator, optional
+        Default ``MPI.COMM_WORLD``.
+    parts : numpy.ndarray of int, optional
+        Rank of each element (on rank 0), instead of METIS (e.g. to force a cut).
+
+    Examples
+    --------
+    Run with ``mpirun -n 2 .venv-mpi/bin/python script.py``::
+
+        model = DistributedElasticity(mesh if rank == 0 else None, Material(E=1e3, nu=0.3))
+        sol = model.solve(body_force=[0, 0, -1], clamped=lambda x: x[0] < 1e-12)
+    """
+
+    def __init__(self, mesh, material, *, comm=None, parts: np.ndarray | None = None):
+        from ..fem import Material
+
+        self.comm = comm if comm is not None else world()
+        if not isinstance(material, Material):
+            raise InputError(f"material must be an alcontact.fem.Material; got {type(material).__name__}.")
+        self.material = material
+        t0 = time.perf_counter()
+        #: on rank 0: ``numbering[old]`` is the distributed number of the mesh's node ``old`` (None elsewhere)
+        self.numbering: np.ndarray | None = None
+        self.piece, self._mesh_type = self._distribute(mesh, parts)
+        self.dim = int(self.piece.points.shape[0])
+        self.seconds = {"distribute": time.perf_counter() - t0}
+
+    # ---------------------------------------------------------------- mesh
+    def _distribute(self, mesh, parts):
+        comm = self.comm
+        size, rank = comm.size, comm.rank
+        pieces = mesh_type = None
+        with collective(comm, "partitioning the mesh"):
+            if rank == 0:
+                pieces, mesh_type, self.numbering = self._split(mesh, parts, size)
+        mesh_type = comm.bcast(mesh_type, root=0)
+        piece = comm.scatter(pieces, root=0)  # rank 0 sends each rank its piece only
+        return piece, mesh_type
+
+    @staticmethod
+    def _split(mesh, parts, size):
+        import skfem
+
+        if not isinstance(mesh, (skfem.MeshTri1, skfem.MeshTet1)):
+            raise InputError(f"the distributed elasticity needs a linear triangle (MeshTri) or tetrahedron (MeshTet) "
+                             f"mesh on rank 0; got {type(mesh).__name__}.")
+        p, t = np.asarray(mesh.p), np.asarray(mesh.t)
+        if parts is None:
+            parts = partition_elements(t, size)
+        else:
+            parts = np.asarray(parts, dtype=np.int64)
+            if parts.shape != (t.shape[1],) or parts.min() < 0 or parts.max() >= size:
+                raise InputError(f"parts must give each of the {t.shape[1]} elements a rank in 0..{size - 1}; got "
+                                 f"shape {parts.shape} with values {parts.min()}..{parts.max()}.")
+            if np.unique(parts).size != size:
+                raise InputError(f"parts leaves a rank without elements ({np.unique(parts).size} of {size} used).")
+        owner, new = owner_numbering(t, parts, p.shape[1])
+        counts = np.bincount(owner, minlength=size)
+        starts = np.concatenate([[0], np.cumsum(counts)])
+        pieces = []
+        for r in range(size):
+            tr = t[:, parts == r]
+            nodes = np.unique(tr)
+            local = np.searchsorted(nodes, tr)
+            pieces.append(LocalPiece(np.ascontiguousarray(p[:, nodes]), np.ascontiguousarray(local),
+                                     new[nodes], (int(starts[r]), int(starts[r + 1])), int(p.shape[1])))
+        return pieces, type(mesh), new
+
+    # ------------------------------------------------------------ assembly
+    def assemble(self, body_force):
+        """Global stiffness (``MPIAIJ``, block size ``dim``) and body-load vector.
+
+        Parameters
+        ----------
+        body_force : array_like, shape (dim,)
+            Constant force per unit volume.
+
+        Returns
+        -------
+        K : petsc4py.PETSc.Mat
+        f : petsc4py.PETSc.Vec
+        """
+        from ..fem import LinearElasticity
+        from ..linalg import petsc
+
+        PETSc = petsc()
+        comm, dim, piece = self.comm, self.dim, self.piece
+        t0 = time.perf_counter()
+        with collective(comm, "assembling the local stiffness"):
+            local = LinearElasticity(self._mesh_type(piece.points, piece.elements), self.material)
+            K = local.stiffness().tocoo()
+            f_loc = local.body_load(np.asarray(body_force, dtype=float))
+            _, dmap = local.all_node_dofs()  # (n_local_nodes, dim) local vector DOFs
+            gdof = np.empty(local.ndofs, dtype=PETSc.IntType)
+            for c in range(dim):
+                gdof[dmap[:, c]] = dim * piece.global_nodes + c
+        n_own = dim * (piece.node_range[1] - piece.node_range[0])
+        N = dim * piece.n_nodes
+        A = PETSc.Mat().create(comm=comm)
+        A.setSizes(((n_own, N), (n_own, N)), bsize=dim)
+        A.setType(PETSc.Mat.Type.AIJ)
+        rows = np.ascontiguousarray(gdof[K.row], dtype=PETSc.IntType)
+        cols = np.ascontiguousarray(gdof[K.col], dtype=PETSc.IntType)
+        vals = np.ascontiguousarray(K.data, dtype=PETSc.ScalarType)
+        pre, setv = _coo_calls(PETSc)
+        if pre(A.handle, rows.size, rows.ctypes.data, cols.ctypes.data) != 0:
+            raise InputError("MatSetPreallocationCOO failed (see PETSc's message above).")
+        if setv(A.handle, vals.ctypes.data, int(PETSc.InsertMode.ADD_VALUES)) != 0:
+            raise InputError("MatSetValuesCOO failed (see PETSc's message above).")
+        A.assemble()
+        A.setOption(PETSc.Mat.Option.SPD, True)
+        f = A.createVecRight()
+        f.setValues(gdof, f_loc, addv=PETSc.InsertMode.ADD_VALUES)
+        f.assemblyBegin()
+        f.assemblyEnd()
+        self.seconds["assemble"] = time.perf_counter() - t0
+        return A, f
+
+    def owned_points(self) -> np.ndarray:
+        """``(n_owned_nodes, dim)`` coordinates of the nodes this rank owns, in distributed order."""
+        piece = self.piece
+        i = piece.global_nodes - piece.node_range[0]
+        mine = (i >= 0) & (i < piece.node_range[1] - piece.node_range[0])
+        out = np.empty((piece.node_range[1] - piece.node_range[0], self.dim))
+        out[i[mine]] = piece.points[:, mine].T
+        return out
+
+    def rigid_modes(self) -> np.ndarray:
+        """Rigid-body modes at the owned nodes, ``(n_owned * dim, 3 or 6)``, about the global centroid."""
+        from mpi4py import MPI
+
+        x = self.owned_points()
+        c = self.comm.allreduce(x.sum(axis=0), op=MPI.SUM) / self.piece.n_nodes
+        scale = self.comm.allreduce(float(np.max(np.abs(x - c))) if x.size else 0.0, op=MPI.MAX) or 1.0
+        y = (x - c) / scale
+        cols = []
+        for i in range(self.dim):
+            e = np.zeros_like(y)
+            e[:, i] = 1.0
+            cols.append(e)
+        if self.dim == 2:
+            cols.append(np.column_stack([-y[:, 1], y[:, 0]]))
+        else:
+            for ax in range(3):
+                omega = np.zeros(3)
+                omega[ax] = 1.0
+                cols.append(np.cross(omega, y))
+        return np.stack([m.ravel() for m in cols], axis=1)
+
+    # --------------------------------------------------------------- solve
+    def solve(self, body_force, clamped: Callable[[np.ndarray], np.ndarray], *, solver: str = "gamg",
+              rtol: float = 1e-10, options: dict | None = None) -> DistributedSolution:
+        """Assemble, clamp the nodes where ``clamped(x)`` holds, and solve ``K u = f``.
+
+        Parameters
+        ----------
+        body_force : array_like, shape (dim,)
+        clamped : callable
+            ``clamped(x) -> bool array`` for node coordinates ``x`` of shape ``(dim, m)``:
+            all components of these nodes are fixed to zero.
+        solver : {"gamg", "direct"}
+            CG + GAMG with the rigid-body near-null space, or MUMPS (else SuperLU_dist).
+        rtol : float
+            Relative residual of CG.
+        options : dict, optional
+            PETSc options passed through (names without the dash); unused ones raise.
+        """
+        from ..linalg import configure_ksp, direct_package, near_null_space, petsc
+
+        PETSc = petsc()
+        if solver not in ("gamg", "direct"):
+            raise InputError(f"solver={solver!r}; allowed: 'gamg', 'direct'.")
+        A, f = self.assemble(body_force)
+        t0 = time.perf_counter()
+        with collective(self.comm, "finding the clamped nodes"):
+            x = self.owned_points()
+            fixed = np.asarray(clamped(x.T), dtype=bool)
+            if fixed.shape != (x.shape[0],):
+                raise InputError(f"clamped(x) must return one bool per node, shape ({x.shape[0]},); got {fixed.shape}.")
+            start = self.dim * self.piece.node_range[0]
+            rows = (start + self.dim * np.flatnonzero(fixed)[:, None] + np.arange(self.dim)).ravel()
+        from mpi4py import MPI
+
+        if self.comm.allreduce(int(rows.size), op=MPI.SUM) == 0:
+            raise InputError("clamped(x) holds at no node: the body would move freely; clamp a boundary.")
+        u = A.createVecRight()
+        A.zeroRowsColumns(rows.astype(PETSc.IntType), diag=1.0, x=u, b=f)
+        if solver == "gamg":
+            null = near_null_space(self.rigid_modes(), comm=A.getComm())
+            ksp = configure_ksp(A, ksp_type="cg", pc_type="gamg", rtol=rtol, options=options, near_null=null)
+        else:
+            pkg = direct_package()
+            ksp = configure_ksp(A, ksp_type="preonly", pc_type="cholesky" if pkg == "mumps" else "lu", rtol=rtol,
+                                options=options, factor_solver=pkg)
+        t1 = time.perf_counter()
+        self.seconds["setup"] = t1 - t0
+        ksp.solve(f, u)
+        self.seconds["solve"] = time.perf_counter() - t1
+        reason = int(ksp.getConvergedReason())
+        its = int(ksp.getIterationNumber())
+        if reason < 0:
+            raise InputError(f"PETSc KSP {ksp.getType()} / PC {ksp.getPC().getType()} did not converge (reason "
+                             f"{reason}, {its} iterations); pass options (ksp_max_it, pc_gamg_threshold) or "
+                             "solver='direct'.")
+        return DistributedSolution(u.getArray().copy(), x, its, reason, float(ksp.getResidualNorm()),
+                                   dict(self.seconds))
+
+    def gather(self, sol: DistributedSolution):
+        """The whole displacement on rank 0 as ``(n_nodes, dim)`` in the distributed node order, with the points.
+
+        For checks and small output only: it is the one place that builds a global array
+        (on rank 0); the other ranks get ``(None, None)``.
+        """
+        us = self.comm.gather(sol.u.reshape(-1, self.dim), root=0)
+        xs = self.comm.gather(sol.points, root=0)
+        if self.comm.rank != 0:
+            return None, None
+        return np.concatenate(us), np.concatenate(xs)
