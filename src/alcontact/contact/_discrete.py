@@ -80,6 +80,11 @@ SCHUR_MIN_DOFS = 10_000
 #: element keeps a margin for loads that widen the contact zone (a candidate outside the block costs
 #: one triangular solve pair); in 2D the block is the candidates' DOFs (+-2) for any window.
 SCHUR_WINDOW = 0.5
+#: in 2D the contact boundary is a line and a Schur block of its points costs the factorization next to
+#: nothing (2D P1 Hertz, CPU s of factorization + solve: 120k DOFs 0.61 without a block, 0.66 with all
+#: 265 top points; 277k 1.60 / 1.60 with 265 of 457): the block also takes the movable points closest to
+#: the obstacle (predicted gaps) up to this many DOFs, so loads that lift the body need no other block
+SCHUR_2D_DOFS = 1200
 #: time of one right-hand side in a batch of triangular solves over the time of a single solve
 #: (MKL PARDISO, 64 columns, measured: 2D P1 120k DOFs 0.60, 3D P1 39k DOFs 0.23)
 SOLVE_COLUMN_COST = 0.5
@@ -301,7 +306,8 @@ class CondensedContact(ContactPoints):
         near = np.asarray(near, dtype=np.int64)
         self._K = model.stiffness()
         try:
-            self.factor = self._factor_of(self._K + self._spring_matrix(near, kappa))
+            self._stabilized = self._K + self._spring_matrix(near, kappa)
+            self.factor = self._factor_of(self._stabilized)
         except InputError:
             raise InputError(
                 f"{exc} The contact points touching the obstacle do not restrain that motion either: "
@@ -392,8 +398,10 @@ class CondensedContact(ContactPoints):
 
         ``h`` the element size at the contact zone and :math:`c` = :data:`SCHUR_WINDOW`, i.e.
         the candidate threshold of :meth:`_select_candidates` widened by :data:`SCHUR_WINDOW` element sizes
-        for what the loads add. Candidates found later outside the block get triangular
-        solves (:meth:`_condensed`). At most :data:`SCHUR_MAX_DOFS` DOFs (the points
+        for what the loads add; in 2D also the movable points closest to the obstacle up to
+        :data:`SCHUR_2D_DOFS` DOFs. Candidates found later outside the block get triangular
+        solves (:meth:`_condensed`) or a new factorization (:meth:`_reorder_for`). At most
+        :data:`SCHUR_MAX_DOFS` DOFs (the points
         closest to the obstacle). Empty when the model's ``factorize`` takes no Schur block
         or the model has fewer than :data:`SCHUR_MIN_DOFS` DOFs.
         """
@@ -413,6 +421,10 @@ class CondensedContact(ContactPoints):
         gtop = float(np.max(g0[movable]))
         thr = min(gtop, 0.0) - margin * max(gtop, 0.0) - SCHUR_WINDOW * self._element_size()
         near = np.flatnonzero(movable & (g0 >= thr))
+        if self.dim == 2 and near.size < SCHUR_2D_DOFS // 2:  # a line of points: the closest ones too
+            closest = np.flatnonzero(movable)
+            closest = closest[np.argsort(-g0[closest], kind="stable")[: SCHUR_2D_DOFS // 2]]
+            near = np.union1d(near, closest)
         npts = SCHUR_MAX_DOFS // self.dim
         if near.size > npts:
             near = near[np.argsort(-g0[near], kind="stable")[:npts]]
@@ -475,7 +487,7 @@ class CondensedContact(ContactPoints):
         the same matrix solves the same systems, so the contact-free solution stands.
         """
         schur = self._schur
-        if schur is None or self.spring is not None:
+        if schur is None:
             return
         G, k = self._G, self.rows_per_point
         rows = _point_rows(cand, k)
@@ -490,7 +502,7 @@ class CondensedContact(ContactPoints):
                     "with the block of the contact-free gaps", nout)
         t_fac = time.perf_counter()
         self._schur_kw = block
-        self.factor = self._factor_of()
+        self.factor = self._factor_of(None if self.spring is None else self._stabilized)  # same matrix
         self.factorizations = getattr(self, "factorizations", 1) + 1
         self.factor_seconds += time.perf_counter() - t_fac
         self._setup_schur()
