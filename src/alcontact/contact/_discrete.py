@@ -25,8 +25,10 @@ at the end. This is the same discrete problem as the full one, not an approximat
 
 ``S`` comes from the Schur complement when the solver has one (MKL PARDISO): the
 factorization eliminates last the DOFs ``c`` of the contact-boundary points that can
-become candidates (reference gap within SCHUR_WINDOW element sizes of the candidate
-threshold, chosen before the factorization) and returns
+become candidates (predicted gap within SCHUR_WINDOW element sizes of the candidate
+threshold, chosen before the factorization from the gaps under the rigid motion the
+supports prescribe, :meth:`CondensedContact._predicted_gaps`; in 2D also the points closest
+to the obstacle) and returns
 :math:`S_c = K_{cc} - K_{ci} K_{ii}^{-1} K_{ic}`, and since :math:`B` lives on those
 DOFs, :math:`S = B_c (K^{-1})_{cc} B_c^T = B_c S_c^{-1} B_c^T` costs one dense Cholesky
 of :math:`S_c` instead of one triangular solve pair per candidate. Other solvers build
@@ -34,8 +36,11 @@ the columns :math:`B K^{-1} B_j^T` with batched triangular solves; with a Schur 
 the build is hybrid: solves only for candidates outside the block, whose rows on ``c``
 also give their entries with the block points.
 
-Candidates are the points whose free-solution gap exceeds ``-margin``; after a
-solve, points outside the set that penetrate are added and the solve repeated.
+Candidates are the points whose free-solution gap exceeds ``-margin``; when many of them
+fall outside the block (loads, supports that deform the body), the stiffness is factorized
+again with the block of the free-solution gaps if that is cheaper than their solves
+(:meth:`CondensedContact._reorder_for`); after a solve, points outside the set that
+penetrate are added and the solve repeated.
 
 The factorization, the springs of a body held only by the obstacle and the build of
 the condensed operator live in :class:`CondensedContact`, for any row operator
@@ -493,10 +498,12 @@ class CondensedContact(ContactPoints):
         rows = _point_rows(cand, k)
         nout = int(np.count_nonzero(~schur[2][rows] & (G.getnnz(axis=1)[rows] > 0)))
         t_solve = getattr(self, "solve_seconds", 0.0)
-        if nout == 0 or nout * SOLVE_COLUMN_COST * t_solve <= self.factor_seconds:
+        # what a factorization costs (a factor reused from the model's cache took ~0 s here)
+        t_factor = max(self.factor_seconds, getattr(self.factor, "factor_seconds", 0.0))
+        if nout == 0 or nout * SOLVE_COLUMN_COST * t_solve <= t_factor:
             return
         block = self._schur_block(gaps, self._margin)
-        if not block:
+        if not block or np.array_equal(block["schur"], self._schur_kw.get("schur")):
             return
         logger.info("%d candidate rows lie outside the Schur block of the predicted gaps; factorizing again "
                     "with the block of the contact-free gaps", nout)
