@@ -9,9 +9,9 @@ costs a triangular solve pair.
 Reference for the platen drive: the obstacle-driven problem. Moving the bottom up by the
 approach ``delta`` with the obstacle touching is the obstacle-driven problem translated
 rigidly by ``delta``; the only difference is the linearization of the gap (6.15) about the
-two obstacle positions, of relative size :math:`(\\delta/R)^2/2` = 5e-5 (3D, delta/R = 0.01)
-in the normal direction of the contact zone. Tolerance 1e-3 on force, half-width and peak
-pressure (measured 2.1e-4 on the force).
+two obstacle positions (normals and projections taken on the sphere at two heights, delta/R =
+0.01 in 3D), a second-order effect. Tolerance 1e-3 on force, half-width and peak pressure
+(measured 2.1e-4 on the force, 2D 120k DOFs 1.9e-4).
 """
 
 import numpy as np
