@@ -88,8 +88,11 @@ SCHUR_WINDOW = 0.5
 #: in 2D the contact boundary is a line and a Schur block of its points costs the factorization next to
 #: nothing (2D P1 Hertz, CPU s of factorization + solve: 120k DOFs 0.61 without a block, 0.66 with all
 #: 265 top points; 277k 1.60 / 1.60 with 265 of 457): the block also takes the movable points closest to
-#: the obstacle (predicted gaps) up to this many DOFs, so loads that lift the body need no other block
-SCHUR_2D_DOFS = 1200
+#: the obstacle (predicted gaps) up to this many DOFs, so loads that lift the body need no other block.
+#: 1200 left 247 of the 847 candidates of the 984k-DOF Hertz mesh under a body force outside (a second
+#: factorization: 2.37 linear solves); the obstacle drive of that mesh runs with a block of about 1700
+#: DOFs at 1.12-1.17 linear solves, so the whole cap
+SCHUR_2D_DOFS = SCHUR_MAX_DOFS
 #: time of one right-hand side in a batch of triangular solves over the time of a single solve
 #: (MKL PARDISO, 64 columns, measured: 2D P1 120k DOFs 0.60, 3D P1 39k DOFs 0.23)
 SOLVE_COLUMN_COST = 0.5
