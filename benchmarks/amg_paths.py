@@ -13,6 +13,12 @@ Writes ``<out>/<name>.csv``, ``<out>/<name>.json`` and the table ``<out>/<name>_
 Usage::
 
     python benchmarks/amg_paths.py [--out DIR] [--cases 3d-p2-9k 3d-p2-22k 3d-p2-78k] [--name STEM] [--variants ssn simo-laursen ...] [--append]
+        [--drive platen] [--tol-multiplier 1e-11]
+
+``--drive`` (one of :data:`alcontact.problems.hertz.DRIVES`; the case is labelled ``NAME:DRIVE``)
+chooses what moves the block into contact, ``--tol-multiplier`` the multiplier tolerance of both
+paths (a tighter one than the default 1e-8 shows where the AMG path's stopping test meets its
+solve accuracy).
 
 Timings are ratios within one run; machines are shared and noisy.
 """
@@ -67,17 +73,19 @@ FIELDS = ["case", "dofs", "variant", "algorithm", "penalty", "linear_solver", "s
 
 
 def run(out_dir: Path, cases: list[str], variants: list[str] | None = None, name: str = "amg_paths",
-        append: bool = False) -> list[dict]:
+        append: bool = False, drive: str = "obstacle", options: dict | None = None) -> list[dict]:
     chosen = [v for v in VARIANTS if variants is None or v[0] in variants]
-    rows = _previous_rows(out_dir, name, cases, [v[0] for v in chosen]) if append else []
+    labels = [c if drive == "obstacle" else f"{c}:{drive}" for c in cases]
+    rows = _previous_rows(out_dir, name, labels, [v[0] for v in chosen]) if append else []
     for case in cases:
         kwargs, paths = CASES[case]
-        prob = hertz.hertz_3d(order=2, **kwargs)
+        prob = hertz.hertz_3d(order=2, drive=drive, **kwargs)
+        case = case if drive == "obstacle" else f"{case}:{drive}"
         for label, alg, pen in chosen:
             sols = {}
             for path in paths:
                 t0 = time.perf_counter()
-                sol = solve(prob, alg, pen, linear_solver=path)
+                sol = solve(prob, alg, pen, linear_solver=path, **(options or {}))
                 wall = time.perf_counter() - t0
                 sols[path] = sol
                 res = sol.result
@@ -146,9 +154,12 @@ def main(argv=None) -> int:
     ap.add_argument("--name", default="amg_paths", help="stem of the output files")
     ap.add_argument("--append", action="store_true",
                     help="keep the rows of <name>.json of other cases/variants (one process per case and variant)")
+    ap.add_argument("--drive", default="obstacle", choices=list(hertz.DRIVES))
+    ap.add_argument("--tol-multiplier", type=float, default=None, help="tol_multiplier of both paths")
     args = ap.parse_args(argv)
     logging.basicConfig(level=logging.WARNING)
-    run(args.out, args.cases, args.variants, args.name, args.append)
+    options = {} if args.tol_multiplier is None else {"tol_multiplier": args.tol_multiplier}
+    run(args.out, args.cases, args.variants, args.name, args.append, args.drive, options)
     return 0
 
 

@@ -16,10 +16,16 @@ each linear and contact solve is the peak resident set size (``VmHWM``, reset th
 ``/proc/self/clear_refs`` before each measured solve) and one case's allocations do not carry
 over into the next.
 
+Loadings (issue 21): a case ``NAME:DRIVE`` runs the mesh of ``NAME`` with what moves the block into
+contact chosen from :data:`alcontact.problems.hertz.DRIVES` (``obstacle``, the default; ``platen``: a
+prescribed displacement of the bottom; ``force``: a body force; ``pressure``: a pressure on a body held
+by the obstacle; ``mix``); ``--drives`` runs every chosen case with each of them. The contact solve
+should cost the same whatever the drive.
+
 Usage::
 
-    python benchmarks/hertz.py [--out DIR] [--cases 2d-10k 2d-100k ...] [--variants ssn simo-laursen ...]
-        [--issue-variants] [--merge] [--repeats N] [--in-process]
+    python benchmarks/hertz.py [--out DIR] [--cases 2d-10k 2d-100k:platen ...] [--variants ssn simo-laursen ...]
+        [--drives obstacle platen force pressure mix] [--issue-variants] [--merge] [--repeats N] [--in-process]
     python benchmarks/hertz.py --report --out DIR
 
 Timings are ratios within one run; machines are shared and noisy.
@@ -91,8 +97,23 @@ ISSUE_VARIANTS = ["ssn", "penalty", "simo-laursen", "exp-met1", "log-met2", "qua
 MAX_REPEATS = 10
 REPEAT_BUDGET_S = 2.0
 
+def case_spec(case: str):
+    """Builder and keyword arguments of ``case`` (``NAME`` of :data:`CASES` or ``NAME:DRIVE``), and its options."""
+    name, _, drive = case.partition(":")
+    if name not in CASES or (drive and drive not in hertz.DRIVES):
+        raise argparse.ArgumentTypeError(f"unknown case {case!r}: use NAME or NAME:DRIVE with NAME one of "
+                                         f"{', '.join(CASES)} and DRIVE one of {', '.join(hertz.DRIVES)}")
+    builder, kw = CASES[name]
+    return builder, ({**kw, "drive": drive} if drive else kw), CASE_OPTIONS.get(name, {})
+
+
+def _case_arg(case: str) -> str:
+    case_spec(case)
+    return case
+
+
 FIELDS = ["case", "dofs", "candidates", "variant", "algorithm", "penalty", "status", "outer_iterations",
-          "newton_iterations", "linear_solves", "cg_iterations", "wall_s", "linear_solve_s", "plain_linear_s",
+          "newton_iterations", "linear_solves", "factorizations", "cg_iterations", "wall_s", "linear_solve_s", "plain_linear_s",
           "ratio", "cpu_s", "plain_linear_cpu_s", "ratio_cpu", "repeats", "a_err_pct", "p0_err_pct",
           "penetration_over_h", "peak_rss_mb", "base_rss_mb", "plain_linear_peak_rss_mb",
           "plain_linear_base_rss_mb", "model_rss_mb", "ratio_rss"]
@@ -176,6 +197,18 @@ class Timing:
         object.__setattr__(self, "base_rss_mb", base_rss_mb)
 
 
+def linear_reference(prob):
+    """The problem whose linear solve is the denominator: ``prob``, except for a body held only by the
+    obstacle (drive ``pressure``: its stiffness alone is singular), which gets the bottom of the
+    obstacle drive (all components fixed): the same mesh, matrix size and solver."""
+    if prob.meta.get("drive") != "pressure":
+        return prob
+    from alcontact.contact import Support
+
+    return dataclasses.replace(prob, supports=(Support("bottom"),) + tuple(s for s in prob.supports
+                                                                          if s.boundary != "bottom"), loads=())
+
+
 def plain_linear_solve(prob, linear_solver="auto") -> Timing:
     """Wall and CPU seconds of one linear elastic solve of ``prob``'s mesh: a fresh factorization + one solve.
 
@@ -185,6 +218,7 @@ def plain_linear_solve(prob, linear_solver="auto") -> Timing:
     """
     from alcontact.contact._iterative import linear_solver_name
 
+    prob = linear_reference(prob)
     model = prob.model
     fixed, values = prob.dirichlet()
     backend = linear_solver_name(linear_solver, model)  # what the contact solve resolves "auto" to
@@ -210,7 +244,8 @@ def _row(case, label, prob, sol, plain: Timing, timing: Timing, repeats=1, model
         "case": case, "dofs": prob.model.ndofs, "candidates": sol.extra["candidates"], "variant": label,
         "algorithm": r.algorithm, "penalty": r.penalty, "status": r.status.label,
         "outer_iterations": r.outer_iterations, "newton_iterations": r.newton_iterations,
-        "linear_solves": r.linear_solves, "cg_iterations": sol.extra.get("cg_iterations", ""),
+        "linear_solves": r.linear_solves, "factorizations": r.factorizations,
+        "cg_iterations": sol.extra.get("cg_iterations", ""),
         "wall_s": round(timing.wall, 4),
         "linear_solve_s": round(t["linear_solve_s"], 4), "plain_linear_s": round(plain.wall, 4),
         "ratio": round(timing.wall / plain.wall, 3), "cpu_s": round(timing.cpu, 4),
@@ -241,12 +276,12 @@ def _markdown(rows):
                 f"one linear solve: {sub[0]['plain_linear_cpu_s']} s CPU, {sub[0]['plain_linear_s']} s wall "
                 f"(fastest of {sub[0].get('repeats') or 1} before and {sub[0].get('repeats') or 1} after), "
                 f"peak RSS {sub[0].get('plain_linear_peak_rss_mb') or '-'} MiB", "",
-                "| variant | status | outer | Newton | solves | CPU s | contact/linear (CPU) | wall s | "
+                "| variant | status | outer | Newton | solves | factorizations | CPU s | contact/linear (CPU) | wall s | "
                 "contact/linear (wall) | peak RSS MiB | a err % | p0 err % |",
-                "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+                "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
         for r in sub:
             out.append(f"| {r['variant']} | {r['status']} | {r['outer_iterations']} | {r['newton_iterations']} | "
-                       f"{r['linear_solves']} | {r['cpu_s']} | {r['ratio_cpu']} | {r['wall_s']} | {r['ratio']} | "
+                       f"{r['linear_solves']} | {r.get('factorizations') or '-'} | {r['cpu_s']} | {r['ratio_cpu']} | {r['wall_s']} | {r['ratio']} | "
                        f"{r.get('peak_rss_mb') or '-'} | {r['a_err_pct']} | {r['p0_err_pct']} |")
         if any(r["cg_iterations"] not in ("", None) for r in sub):
             out += ["", "No factorization (linear_solver='amg'): solves are AMG-preconditioned CG solves, CG "
@@ -432,6 +467,39 @@ def plot(rows, path: Path, ladder=LADDER_2D, ladder_3d=LADDER_3D) -> None:
     plt.close(fig)
 
 
+def plot_drives(rows, path: Path) -> None:
+    """Contact solve / one linear solve (CPU) against DOFs for the cases ``NAME:DRIVE``: one marker per
+    drive, one colour per variant (2D filled, 3D open)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    drives = list(dict.fromkeys(r["case"].partition(":")[2] or "obstacle" for r in rows))
+    variants = list(dict.fromkeys(r["variant"] for r in rows))
+    markers = dict(zip(drives, "osD^vP*X"))
+    fig, ax = plt.subplots(figsize=(8, 5))
+    for r in rows:
+        if r["status"] != "converged":
+            continue
+        drive = r["case"].partition(":")[2] or "obstacle"
+        three = r["case"].startswith("3d")
+        ax.semilogx(int(r["dofs"]), _num(r, "ratio_cpu"), ls="none", marker=markers[drive],
+                    color=f"C{variants.index(r['variant'])}", mfc="none" if three else None)
+    for d in drives:
+        ax.plot([], [], "k" + markers[d], ls="none", label=d)
+    for i, v in enumerate(variants):
+        ax.plot([], [], color=f"C{i}", label=v)
+    ax.axhline(1.5, color="k", ls=":", lw=1)
+    ax.set(xlabel="DOFs", ylabel="contact solve / one linear solve (CPU s)",
+           title="Hertz: ratio by drive (2D filled, 3D open markers)")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=7, ncol=2)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
 def _timed_solves(prob, chosen, case_opts, repeats, backend, done=None):
     """Per variant of ``chosen``: the solution and the fastest (CPU) timing of ``repeats`` contact solves
     (each with its own factorization); and the fastest of the linear solves between them (none for one repeat).
@@ -476,7 +544,7 @@ def write_report(out: Path, rows) -> None:
     w.writeheader()
     w.writerows(rows)
     write_text_atomic(out / "hertz.csv", buf.getvalue())
-    plot(rows, out / "hertz.png")
+    (plot_drives if any(":" in r["case"] for r in rows) else plot)(rows, out / "hertz.png")
     md = out / "hertz.md"
     text = md.read_text() if md.exists() else ""
     head = text.split("<!-- tables -->")[0] if "<!-- tables -->" in text else "# Hertz benchmark\n\n"
@@ -501,11 +569,10 @@ def run(out_dir=None, cases=None, variants=None, log=print, merge=False, repeats
     chosen = [v for v in VARIANTS if variants is None or v[0] in variants]
     rows = []
     for case in cases:
-        builder, kw = CASES[case]
+        builder, kw, case_opts = case_spec(case)
         t0 = time.perf_counter()
         prob = builder(**kw)
         log(f"{case}: {prob.model.ndofs} DOFs (mesh {time.perf_counter() - t0:.1f} s)")
-        case_opts = CASE_OPTIONS.get(case, {})
         backend = case_opts.get("linear_solver", "auto")
         prob.model.stiffness()  # assembled once, outside both timings
         model_rss = rss_mb()  # interpreter, libraries, mesh, stiffness: what every solve starts from
@@ -535,7 +602,8 @@ def run(out_dir=None, cases=None, variants=None, log=print, merge=False, repeats
             row = _row(case, label, prob, sol, plain, timing, reps, model_rss)
             rows.append(row)
             log(f"  {label:20s} {row['status']:14s} outer={row['outer_iterations']:3d} "
-                f"newton={row['newton_iterations']:4d} solves={row['linear_solves']:5d} cg_its={row['cg_iterations']} "
+                f"newton={row['newton_iterations']:4d} solves={row['linear_solves']:5d} "
+                f"factorizations={row['factorizations']} cg_its={row['cg_iterations']} "
                 f"wall={row['wall_s']:.3f}s ratio={row['ratio']:.3f} cpu={row['cpu_s']:.3f}s "
                 f"ratio_cpu={row['ratio_cpu']:.3f} rss={row['peak_rss_mb']:.0f}MiB ratio_rss={row['ratio_rss']:.3f}")
         if merge:  # written after every case: an interrupted run keeps what it measured
@@ -580,7 +648,10 @@ def run_isolated(out_dir=None, cases=None, variants=None, log=print, merge=False
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--out", default=None)
-    ap.add_argument("--cases", nargs="*", choices=list(CASES), default=None)
+    ap.add_argument("--cases", nargs="*", type=_case_arg, default=None,
+                    help=f"NAME or NAME:DRIVE; NAME one of {', '.join(CASES)}")
+    ap.add_argument("--drives", nargs="*", choices=list(hertz.DRIVES), default=None,
+                    help="run every case with each of these drives (NAME:DRIVE)")
     ap.add_argument("--variants", nargs="*", choices=[v[0] for v in VARIANTS], default=None)
     ap.add_argument("--issue-variants", action="store_true", help="the variants of issue 11 (ISSUE_VARIANTS)")
     ap.add_argument("--merge", action="store_true", help="keep the other cases already in <out>/hertz.csv")
@@ -596,11 +667,14 @@ def main(argv=None) -> int:
         print(f"wrote {out / 'hertz.md'}")
         return 0
     variants = ISSUE_VARIANTS if args.issue_variants else args.variants
+    cases = args.cases
+    if args.drives:
+        cases = [f"{c.partition(':')[0]}:{d}" for c in (cases or DEFAULT_CASES) for d in args.drives]
     if args.in_process:
-        path = run(args.out, args.cases, variants, merge=args.merge, repeats=args.repeats)
+        path = run(args.out, cases, variants, merge=args.merge, repeats=args.repeats)
         failed = []
     else:
-        path, failed = run_isolated(args.out, args.cases, variants, merge=args.merge, repeats=args.repeats,
+        path, failed = run_isolated(args.out, cases, variants, merge=args.merge, repeats=args.repeats,
                                     timeout=args.case_timeout)
     print(f"wrote {path / 'hertz.csv'}, {path / 'hertz.md'} and {path / 'hertz.png'}")
     return 1 if failed else 0

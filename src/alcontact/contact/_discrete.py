@@ -25,8 +25,10 @@ at the end. This is the same discrete problem as the full one, not an approximat
 
 ``S`` comes from the Schur complement when the solver has one (MKL PARDISO): the
 factorization eliminates last the DOFs ``c`` of the contact-boundary points that can
-become candidates (reference gap within SCHUR_WINDOW element sizes of the candidate
-threshold, chosen before the factorization) and returns
+become candidates (predicted gap within SCHUR_WINDOW element sizes of the candidate
+threshold, chosen before the factorization from the gaps under the rigid motion the
+supports prescribe, :meth:`CondensedContact._predicted_gaps`; in 2D also the points closest
+to the obstacle) and returns
 :math:`S_c = K_{cc} - K_{ci} K_{ii}^{-1} K_{ic}`, and since :math:`B` lives on those
 DOFs, :math:`S = B_c (K^{-1})_{cc} B_c^T = B_c S_c^{-1} B_c^T` costs one dense Cholesky
 of :math:`S_c` instead of one triangular solve pair per candidate. Other solvers build
@@ -34,8 +36,11 @@ the columns :math:`B K^{-1} B_j^T` with batched triangular solves; with a Schur 
 the build is hybrid: solves only for candidates outside the block, whose rows on ``c``
 also give their entries with the block points.
 
-Candidates are the points whose free-solution gap exceeds ``-margin``; after a
-solve, points outside the set that penetrate are added and the solve repeated.
+Candidates are the points whose free-solution gap exceeds ``-margin``; when many of them
+fall outside the block (loads, supports that deform the body), the stiffness is factorized
+again with the block of the free-solution gaps if that is cheaper than their solves
+(:meth:`CondensedContact._reorder_for`); after a solve, points outside the set that
+penetrate are added and the solve repeated.
 
 The factorization, the springs of a body held only by the obstacle and the build of
 the condensed operator live in :class:`CondensedContact`, for any row operator
@@ -58,6 +63,7 @@ import scipy.linalg as sla
 import scipy.sparse as sp
 
 from ..errors import InputError
+from ..fem.elasticity import rigid_body_modes
 from ._newton import solve_subproblem
 
 __all__ = ["ContactPoints", "CondensedContact", "DiscreteContact"]
@@ -79,6 +85,20 @@ SCHUR_MIN_DOFS = 10_000
 #: element keeps a margin for loads that widen the contact zone (a candidate outside the block costs
 #: one triangular solve pair); in 2D the block is the candidates' DOFs (+-2) for any window.
 SCHUR_WINDOW = 0.5
+#: in 2D the contact boundary is a line and a Schur block of its points costs the factorization next to
+#: nothing (2D P1 Hertz, CPU s of factorization + solve: 120k DOFs 0.61 without a block, 0.66 with all
+#: 265 top points; 277k 1.60 / 1.60 with 265 of 457): the block also takes the movable points closest to
+#: the obstacle (predicted gaps) up to this many DOFs, so loads that lift the body need no other block.
+#: 1200 left 247 of the 847 candidates of the 984k-DOF Hertz mesh under a body force outside (a second
+#: factorization: 2.37 linear solves); the obstacle drive of that mesh runs with a block of about 1700
+#: DOFs at 1.12-1.17 linear solves, so the whole cap
+SCHUR_2D_DOFS = SCHUR_MAX_DOFS
+#: time of one right-hand side in a batch of triangular solves over the time of a single solve
+#: (MKL PARDISO, 64 columns, measured: 2D P1 120k DOFs 0.60, 3D P1 39k DOFs 0.23)
+SOLVE_COLUMN_COST = 0.5
+#: relative least-squares residual below which the prescribed values of the supports are one rigid
+#: motion (:meth:`CondensedContact._predicted_gaps`)
+RIGID_FIT_TOL = 1e-8
 
 
 def _element_size(model, boundary: str, obstacle) -> float:
@@ -257,6 +277,7 @@ class CondensedContact(ContactPoints):
         self._setup_points(problem, self._free)
         t_fac = time.perf_counter()
         n_fac = getattr(model, "factorization_count", None)
+        self._margin = margin
         self._schur_kw = self._schur_request(problem, margin)
         try:  # checks the rigid motions first
             self.factor = self._factor_of()
@@ -293,7 +314,8 @@ class CondensedContact(ContactPoints):
         near = np.asarray(near, dtype=np.int64)
         self._K = model.stiffness()
         try:
-            self.factor = self._factor_of(self._K + self._spring_matrix(near, kappa))
+            self._stabilized = self._K + self._spring_matrix(near, kappa)
+            self.factor = self._factor_of(self._stabilized)
         except InputError:
             raise InputError(
                 f"{exc} The contact points touching the obstacle do not restrain that motion either: "
@@ -323,12 +345,60 @@ class CondensedContact(ContactPoints):
         """The row operator ``G`` (``rows_per_point`` rows per point, point-major, on the free DOFs)."""
         return self.B
 
+    def _prescribed_states(self) -> list[np.ndarray]:
+        """Values of the supported DOFs ``fixed`` at the states the solve reaches (here the one state)."""
+        return [] if self.fixed_values is None else [np.asarray(self.fixed_values, dtype=float)]
+
+    def _predicted_gaps(self) -> np.ndarray:
+        r"""Gaps (6.15) of the contact points under the displacement the supports prescribe, before factorizing.
+
+        The contact-free displacement :math:`u_{free}` is not known before the factorization,
+        but the part of it that moves the body into contact as a whole is: when the values
+        :math:`\bar u` of the supported DOFs are one rigid motion :math:`R a` (a bonded platen
+        pressing the body, every support moved together), :math:`u = R a` satisfies every
+        support and :math:`K R a = 0`, so without loads it *is* the contact-free solution.
+        With :math:`R_f`, :math:`R_c` the rigid modes on the supported and on the contact
+        DOFs, :math:`a = \arg\min \|R_f a - \bar u\|` and, when the fit is exact (relative
+        residual below :data:`RIGID_FIT_TOL`),
+
+        .. math::
+
+            g^{pred}_i = g^0_i - \nu_i \cdot (R_c a)_i ;
+
+        otherwise (supports that deform the body) :math:`g^0`. With several states (load
+        steps, :meth:`_prescribed_states`) the largest gap over them. Loads are not in the
+        prediction; the block is checked against the contact-free solution once it is
+        known (:meth:`_start_candidates`).
+        """
+        g0 = self.gap0
+        states = [v for v in self._prescribed_states() if v.size]
+        if not states or not any(np.any(v) for v in states):
+            return g0
+        pts, dmap = self.model.all_node_dofs()
+        where = np.empty(self.model.ndofs, dtype=np.int64)
+        where[dmap.ravel()] = np.arange(dmap.size)
+        dofs = np.concatenate([self.fixed, self.dofs.ravel()])
+        node, comp = np.divmod(where[dofs], self.dim)
+        nodes, inv = np.unique(node, return_inverse=True)
+        modes, _ = rigid_body_modes(pts[nodes])  # one frame for both sets
+        R = modes[inv, comp]  # (len(dofs), n_modes)
+        nf = self.fixed.size
+        Rf, Rc = R[:nf], R[nf:]
+        out = np.full(g0.shape, -np.inf)
+        for v in states:
+            a = np.linalg.lstsq(Rf, v, rcond=None)[0]
+            rigid = np.linalg.norm(Rf @ a - v) <= RIGID_FIT_TOL * max(np.linalg.norm(v), 1e-300)
+            g = g0 - np.einsum("ij,ij->i", self.normals, (Rc @ a).reshape(g0.size, self.dim)) if rigid else g0
+            out = np.maximum(out, g)
+        return out
+
     def _schur_request(self, problem, margin: float) -> dict:
         r"""``schur=`` keyword for ``model.factorize``: the free DOFs of the points that can become candidates.
 
-        Known before the factorization, from the reference gaps :math:`g^0` (the gaps of the
-        contact-free solution without loads): with :math:`g^0_{max}` the largest one, the
-        block holds the points with
+        Known before the factorization, from the predicted gaps :math:`g^0` of
+        :meth:`_predicted_gaps` (the reference gaps moved by the rigid motion the supports
+        prescribe: the gaps of the contact-free solution without loads): with
+        :math:`g^0_{max}` the largest one, the block holds the points with
 
         .. math::
 
@@ -336,16 +406,22 @@ class CondensedContact(ContactPoints):
 
         ``h`` the element size at the contact zone and :math:`c` = :data:`SCHUR_WINDOW`, i.e.
         the candidate threshold of :meth:`_select_candidates` widened by :data:`SCHUR_WINDOW` element sizes
-        for what the loads add. Candidates found later outside the block get triangular
-        solves (:meth:`_condensed`). At most :data:`SCHUR_MAX_DOFS` DOFs (the points
+        for what the loads add; in 2D also the movable points closest to the obstacle up to
+        :data:`SCHUR_2D_DOFS` DOFs. Candidates found later outside the block get triangular
+        solves (:meth:`_condensed`) or a new factorization (:meth:`_reorder_for`). At most
+        :data:`SCHUR_MAX_DOFS` DOFs (the points
         closest to the obstacle). Empty when the model's ``factorize`` takes no Schur block
         or the model has fewer than :data:`SCHUR_MIN_DOFS` DOFs.
         """
         model = self.model
         if model.ndofs < SCHUR_MIN_DOFS or "schur" not in inspect.signature(model.factorize).parameters:
             return {}
-        # the points of _setup_points (same problem): their DOFs, free ones (pos >= 0) and reference gaps
-        dofs, g0 = self.dofs, self.gap0
+        return self._schur_block(self._predicted_gaps(), margin)
+
+    def _schur_block(self, g0: np.ndarray, margin: float) -> dict:
+        """``schur=`` keyword of the points whose gap ``g0`` lies within the window of :meth:`_schur_request`."""
+        # the points of _setup_points (same problem): their DOFs, free ones (pos >= 0)
+        dofs = self.dofs
         keep = self.pos >= 0
         movable = keep.any(axis=1)
         if not np.any(movable):
@@ -353,6 +429,10 @@ class CondensedContact(ContactPoints):
         gtop = float(np.max(g0[movable]))
         thr = min(gtop, 0.0) - margin * max(gtop, 0.0) - SCHUR_WINDOW * self._element_size()
         near = np.flatnonzero(movable & (g0 >= thr))
+        if self.dim == 2 and near.size < SCHUR_2D_DOFS // 2:  # a line of points: the closest ones too
+            closest = np.flatnonzero(movable)
+            closest = closest[np.argsort(-g0[closest], kind="stable")[: SCHUR_2D_DOFS // 2]]
+            near = np.union1d(near, closest)
         npts = SCHUR_MAX_DOFS // self.dim
         if near.size > npts:
             near = near[np.argsort(-g0[near], kind="stable")[:npts]]
@@ -387,13 +467,55 @@ class CondensedContact(ContactPoints):
         self._xc_rows = np.empty(0, dtype=np.int64)  # rows of outside-block candidates with kept solves
         self._xc = np.empty((idx.size, 0))
 
-    def _start_candidates(self, cand: np.ndarray) -> None:
-        """The Schur block, then the candidates ``cand`` and the spring points added (:meth:`_add_candidates`)."""
+    def _start_candidates(self, cand: np.ndarray, gaps: np.ndarray | None = None) -> None:
+        """The Schur block, then the candidates ``cand`` and the spring points added (:meth:`_add_candidates`).
+
+        ``gaps`` are the gaps of the contact-free solution the candidates were chosen from;
+        with them the block is checked against the candidates (:meth:`_reorder_for`).
+        """
         if self.spring is not None:  # the spring points must stay candidates (shifted law on them)
             cand = np.union1d(cand, self.spring[0])
         self._setup_schur()
+        if gaps is not None:
+            self._reorder_for(cand, gaps)
         self.cand = np.empty(0, dtype=np.int64)
         self._add_candidates(cand)
+
+    def _reorder_for(self, cand: np.ndarray, gaps: np.ndarray) -> None:
+        r"""Factorize again with the Schur block of the contact-free gaps when that is cheaper than solves.
+
+        The block of :meth:`_schur_request` comes from the gaps that the supports' motion
+        predicts (:meth:`_predicted_gaps`); loads and supports that deform the body can
+        move other points into contact. Each candidate row outside the block costs a
+        triangular solve pair (:meth:`_condensed`), about :data:`SOLVE_COLUMN_COST` times
+        the single solve of the contact-free displacement (batched right-hand sides); when
+        those columns together would take longer than the factorization did, the stiffness
+        is factorized again with the block of ``gaps`` (the gaps of the contact-free
+        solution: the prediction made exact), counted in ``factorizations``. The factor of
+        the same matrix solves the same systems, so the contact-free solution stands.
+        """
+        schur = self._schur
+        if schur is None:
+            return
+        G, k = self._G, self.rows_per_point
+        rows = _point_rows(cand, k)
+        nout = int(np.count_nonzero(~schur[2][rows] & (G.getnnz(axis=1)[rows] > 0)))
+        t_solve = getattr(self, "solve_seconds", 0.0)
+        # what a factorization costs (a factor reused from the model's cache took ~0 s here)
+        t_factor = max(self.factor_seconds, getattr(self.factor, "factor_seconds", 0.0))
+        if nout == 0 or nout * SOLVE_COLUMN_COST * t_solve <= t_factor:
+            return
+        block = self._schur_block(gaps, self._margin)
+        if not block or np.array_equal(block["schur"], self._schur_kw.get("schur")):
+            return
+        logger.info("%d candidate rows lie outside the Schur block of the predicted gaps; factorizing again "
+                    "with the block of the contact-free gaps", nout)
+        t_fac = time.perf_counter()
+        self._schur_kw = block
+        self.factor = self._factor_of(None if self.spring is None else self._stabilized)  # same matrix
+        self.factorizations = getattr(self, "factorizations", 1) + 1
+        self.factor_seconds += time.perf_counter() - t_fac
+        self._setup_schur()
 
     def _condensed(self, M: np.ndarray, new: np.ndarray) -> np.ndarray:
         r""":math:`G K^{-1} G^T` on the candidates' rows: ``M`` (the old candidates') extended by the points ``new``.
@@ -482,7 +604,7 @@ class DiscreteContact(CondensedContact):
 
         self._setup_candidates(self.u_free, margin)
         self.S = np.zeros((0, 0))
-        self._start_candidates(self.cand)
+        self._start_candidates(self.cand, self.g_free)
         self.setup_seconds = time.perf_counter() - t0
 
     def _add_candidates(self, new: np.ndarray) -> None:
@@ -583,9 +705,11 @@ class DiscreteContact(CondensedContact):
         return lam
 
     def timings(self) -> dict:
-        # linear_solve_s: one factorization + one solve, also when the factor was reused (factor_s ~ 0)
+        # linear_solve_s: one factorization + one solve, also when the factor was reused (factor_s ~ 0);
+        # factor_s: every factorization of the solve (two when _reorder_for factorized again)
+        one = self.factor_seconds / max(self.factorizations, 1)
         return {"setup_s": self.setup_seconds, "factor_s": self.factor_seconds,
-                "linear_solve_s": max(self.factor_seconds, self.factor.factor_seconds) + self.solve_seconds}
+                "linear_solve_s": max(one, self.factor.factor_seconds) + self.solve_seconds}
 
     def extra(self) -> dict:
         return {"linear_solver": "direct", "backend": getattr(self.factor, "backend", "superlu")}

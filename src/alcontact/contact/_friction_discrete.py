@@ -144,7 +144,9 @@ class FrictionalContact(CondensedContact):
         self.kappa = np.zeros(self.points.shape[0])  # contact springs of a body held by the obstacle (_stabilize)
         if self.spring is not None:
             self.kappa[self.spring[0]] = self.spring[1]
+        t_sol = time.perf_counter()
         self.u_parts = np.stack([self.factor.solve_full(load, fv) for fv, load in parts])  # (ncomp, ndofs)
+        self.solve_seconds = (time.perf_counter() - t_sol) / len(parts)  # one solve
         self.linear_solves = len(parts)
         if not np.all(np.isfinite(self.u_parts)):
             raise InputError("the contact-free solution is not finite; check loads and supports.")
@@ -163,8 +165,12 @@ class FrictionalContact(CondensedContact):
         cand = self._select_candidates(self.gmax_t, margin, pinned_tol=1e-12 * self.h, when=" at some load step")
         self.C = np.zeros((0, 0))
         self.A = np.zeros((0, 0))
-        self._start_candidates(cand)  # CondensedContact: Schur block, spring points, add()
+        self._start_candidates(cand, self.gmax_t)  # CondensedContact: Schur block, spring points, add()
         self.setup_seconds = time.perf_counter() - t0
+
+    def _prescribed_states(self) -> list[np.ndarray]:
+        """Values of the supported DOFs at every load step (the Schur block sees the supports' motion)."""
+        return [self.amplitudes(t) @ self.fv_parts for t in self.history.times]
 
     @property
     def rows_per_point(self) -> int:
