@@ -159,9 +159,9 @@ def run_case(case: str, variants, *, slide: float = 2.0, repeat: int = 3, log=lo
             "horizontal_jump_over_vertical_max": float(np.max(np.abs(np.diff(fx)) / fv[1:])) if fx.size > 1 else None,
         }
         summaries.append(summary)
-        log(f"ironing {case} {name}: {summary['status']}, Newton per sliding step {summary['newton_mean']:.2f} "
+        log(f"ironing {case} {name}: {summary['status']}, Newton per sliding step {summary['newton_mean']} "
             f"(max {summary['newton_max']}), {summary['cutbacks']} cut-backs, equilibrium <= "
-            f"{summary['equilibrium_max']:.1e}, step / unit {summary['step_cpu_over_unit']:.2f}")
+            f"{summary['equilibrium_max']:.1e}, step / unit {summary['step_cpu_over_unit']}")
     return rows, summaries, problem
 
 
@@ -178,11 +178,14 @@ def report(summaries, cases, command: str) -> str:
              "| case | DOFs | variant | status | Newton / step (mean) | max | cut-backs | equilibrium "
              "| step / unit | max abs(Fx)/Fy | max jump/Fy |",
              "|---|---|---|---|---|---|---|---|---|---|---|"]
+    def fmt(v, spec):
+        return "-" if v is None else format(v, spec)
+
     for s in summaries:
-        lines.append(f"| {s['case']} | {s['dofs']} | {s['variant']} | {s['status']} | {s['newton_mean']:.2f} "
-                     f"| {s['newton_max']} | {s['cutbacks']} | {s['equilibrium_max']:.1e} "
-                     f"| {s['step_cpu_over_unit']:.2f} | {s['horizontal_over_vertical_max']:.2e} "
-                     f"| {s['horizontal_jump_over_vertical_max']:.2e} |")
+        lines.append(f"| {s['case']} | {s['dofs']} | {s['variant']} | {s['status']} | {fmt(s['newton_mean'], '.2f')} "
+                     f"| {s['newton_max']} | {s['cutbacks']} | {fmt(s['equilibrium_max'], '.1e')} "
+                     f"| {fmt(s['step_cpu_over_unit'], '.2f')} | {fmt(s['horizontal_over_vertical_max'], '.2e')} "
+                     f"| {fmt(s['horizontal_jump_over_vertical_max'], '.2e')} |")
     return "\n".join(lines) + "\n"
 
 

@@ -239,6 +239,9 @@ class FiniteContact(ContactPoints):
     #: the last converged state and pressures carried along with the obstacle (:meth:`_slide`): the
     #: steady-sliding prediction :math:`u(X) \leftarrow u(X - \Delta c)`, no assembly
     slide_predictor = True
+    #: after the slide predictor the first subproblem of Algorithms 6.1 / 6.3 starts with multipliers whose
+    #: tractions at the predicted state are the carried pressures (:meth:`entry_multipliers`)
+    consistent_slide_multipliers = True
     #: the pure-penalty start of Algorithm 6.3 (``initial="penalty"``,
     #: :func:`~alcontact.contact._algorithms.run_al`) solves the penalty subproblem of a load step with
     #: the step's predicted pressures as multipliers (:meth:`initial_multipliers`,
@@ -950,6 +953,13 @@ class FiniteContact(ContactPoints):
         :attr:`entry_rule_multipliers` off.
         """
         lam = np.asarray(lam, dtype=float)
+        if self.predictor_used == "slide" and self.consistent_slide_multipliers:
+            # the carried pressures as the starting tractions: lambda_i = p_i - g_i / eta_i on the pressed points
+            g = self.gaps(self.x0)
+            c = 1.0 / np.asarray(law.eta, dtype=float)
+            shifted = np.where(lam > 0, lam - c * g, lam)
+            same = np.asarray(law.traction(g, shifted), dtype=float)
+            return np.where((lam > 0) & np.isclose(same, lam, rtol=1e-12, atol=0.0), shifted, lam)
         if not self.entry_rule_multipliers or self.predicted_approach is None:
             return lam
         g = self.gaps(self.x0)

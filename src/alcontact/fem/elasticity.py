@@ -391,7 +391,7 @@ class LinearElasticity:
         inside : ndarray of bool (n,)
             Which points lie in the mesh (the rows of ``P``, in order).
 
-        Points are located on the straight-sided simplices (mesh vertices) among the ``8``
+        Points are located on the straight-sided simplices (mesh vertices) among the 8 (then 32)
         elements with the nearest centroids; a point in none of them is outside.
         """
         from scipy.spatial import cKDTree
@@ -401,13 +401,9 @@ class LinearElasticity:
         tree = getattr(self, "_centroid_tree", None)
         if tree is None:
             tree = self._centroid_tree = cKDTree(p[:, t].mean(axis=1).T)
-        _, near = tree.query(x, k=min(8, t.shape[1]))
-        near = np.asarray(near).reshape(x.shape[0], -1)
         cells = -np.ones(x.shape[0], dtype=np.int64)
-        for j in range(near.shape[1]):
+        for j, near in self._nearest_cells(tree, x, cells, t.shape[1]):
             todo = np.flatnonzero(cells < 0)
-            if todo.size == 0:
-                break
             c = near[todo, j]
             v0 = p[:, t[0, c]].T  # (k, d)
             A = np.stack([p[:, t[i + 1, c]].T - v0 for i in range(self.dim)], axis=-1)  # (k, d, d)
@@ -428,6 +424,23 @@ class LinearElasticity:
         cols = basis.element_dofs[:, ci].ravel()
         P = sp.csr_matrix((phis.ravel(), (rows, cols)), shape=(ci.size, basis.N))
         return P, inside
+
+    @staticmethod
+    def _nearest_cells(tree, x, cells, ncells):
+        """``(j, near)``: the ``j``-th nearest cell (by centroid) of every point, the first 8, then the next 24
+        for the points :meth:`probe` has not located yet (``cells < 0``; slender elements)."""
+        done = 0
+        for k in (8, 32):
+            k = min(k, ncells)
+            if done >= k or not np.any(cells < 0):
+                return
+            _, near = tree.query(x, k=k)
+            near = np.asarray(near).reshape(x.shape[0], -1)
+            for j in range(done, k):
+                if not np.any(cells < 0):
+                    return
+                yield j, near
+            done = k
 
     def all_node_dofs(self) -> tuple[np.ndarray, np.ndarray]:
         """All scalar DOF locations ``(n_scalar, dim)`` and vector DOFs ``(n_scalar, dim)``."""
