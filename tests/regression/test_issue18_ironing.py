@@ -25,8 +25,6 @@ from alcontact.contact._finite import FiniteContact
 from alcontact.contact.obstacles import translate
 from alcontact.problems.ironing import ironing, ironing_schedule
 
-pytestmark = pytest.mark.slow
-
 
 @pytest.fixture(scope="module")
 def case():
@@ -59,7 +57,7 @@ def ssn_run(case):
     return solve_finite(problem, "ssn", steps=times, obstacle_path=path)
 
 
-@pytest.mark.parametrize("algorithm", ["ssn", "simo-laursen"])
+@pytest.mark.parametrize("algorithm", ["ssn", pytest.param("simo-laursen", marks=pytest.mark.slow)])
 def test_newton_per_sliding_step(case, ssn_run, algorithm):
     problem, times, path = case
     sol = ssn_run if algorithm == "ssn" else solve_finite(problem, algorithm, steps=times, obstacle_path=path)
