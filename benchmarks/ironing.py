@@ -52,12 +52,14 @@ VARIANTS = {
 
 #: preset meshes: name -> (dim, elements per unit length); the block is 5 x 2 (2D) or 5 x 1.5 x 2 (3D)
 CASES = {
-    "2d-s": (2, 10),  # 2 244 DOFs
-    "2d-m": (2, 20),  # 8 484 DOFs
-    "2d-l": (2, 40),  # 32 964 DOFs
-    "3d-s": (3, 4),  # 2 541 DOFs
-    "3d-m": (3, 6),  # 7 581 DOFs
-    "3d-l": (3, 8),  # 17 493 DOFs
+    "2d-s": (2, 10),  # 2 142 DOFs
+    "2d-m": (2, 20),  # 8 282 DOFs
+    "2d-l": (2, 40),  # 32 562 DOFs
+    "2d-100k": (2, 70),  # 98 982 DOFs
+    "3d-s": (3, 4),  # 3 969 DOFs
+    "3d-m": (3, 6),  # 12 090 DOFs
+    "3d-l": (3, 8),  # 27 183 DOFs
+    "3d-100k": (3, 12),  # 86 925 DOFs
 }
 DEFAULT_CASES = ["2d-s", "2d-m", "2d-l", "3d-s", "3d-m", "3d-l"]
 
