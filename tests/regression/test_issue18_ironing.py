@@ -111,3 +111,30 @@ def test_slide_predictor_took_effect_and_is_what_makes_ssn_fast(case):
     n_off = sum(s.newton_iterations for s in _sliding(problem, off))
     assert n_on < n_off
     np.testing.assert_allclose(on.forces, off.forces, rtol=1e-8, atol=1e-8 * np.abs(on.forces).max())
+
+
+def test_consistent_slide_multipliers_took_effect(case):
+    """After a slide prediction the first subproblem's multipliers make the Macaulay traction at the predicted
+    state equal the carried pressures (to round-off); with the option off they are the carried pressures."""
+    from alcontact import penalties
+    from alcontact.contact._laws import make_law
+
+    problem, times, path = case
+    sol = solve_finite(problem, "ssn", steps=times[:5], obstacle_path=path)
+    dc = FiniteContact(problem)
+    last = sol.steps[-1]
+    x = last.u[dc.free]
+    dc.configure(dc.fixed_values, dc.load, translate(problem.obstacle, path(times[4])), x)
+    dc.accept(last.pressure)
+    dc.configure(dc.fixed_values, dc.load, translate(problem.obstacle, path(times[5])), x, predictor_stiffness=1e4)
+    assert dc.predictor_used == "slide"
+    lam = dc.initial_multipliers()
+    law = make_law(penalties.make("rockafellar"), np.full(dc.cand.size, 1e-4))
+    g = dc.gaps(dc.start())
+    pressed = lam > 0
+    assert pressed.sum() >= 3 and np.any(np.abs(g[pressed]) > 1e-6)
+    shifted = dc.entry_multipliers(lam, law)
+    np.testing.assert_allclose(law.traction(g, shifted)[pressed], lam[pressed], rtol=1e-12,
+                               atol=1e-12 * lam.max())
+    dc.consistent_slide_multipliers = False
+    np.testing.assert_array_equal(dc.entry_multipliers(lam, law), lam)
