@@ -161,9 +161,11 @@ def run_case(case: str, variants, *, slide: float = 2.0, repeat: int = 3, log=lo
             "horizontal_jump_over_vertical_max": float(np.max(np.abs(np.diff(fx)) / fv[1:])) if fx.size > 1 else None,
         }
         summaries.append(summary)
-        log(f"ironing {case} {name}: {summary['status']}, Newton per sliding step {summary['newton_mean']} "
-            f"(max {summary['newton_max']}), {summary['cutbacks']} cut-backs, equilibrium <= "
-            f"{summary['equilibrium_max']:.1e}, step / unit {summary['step_cpu_over_unit']}")
+        mean, ratio = summary["newton_mean"], summary["step_cpu_over_unit"]
+        log(f"ironing {case} {name}: {summary['status']}, Newton per sliding step "
+            f"{'-' if mean is None else f'{mean:.2f}'} (max {summary['newton_max']}), {summary['cutbacks']} "
+            f"cut-backs, equilibrium <= {summary['equilibrium_max']:.1e}, step / unit "
+            f"{'-' if ratio is None else f'{ratio:.2f}'}")
     return rows, summaries, problem
 
 
