@@ -565,14 +565,14 @@ def bench_command(
     out: Annotated[Path, typer.Option("--out", "-o", help="Report folder.")] = Path("benchmarks/out"),
     suite: Annotated[
         Optional[list[str]],
-        typer.Option("--suite", "-s", help="hertz, friction, nlp, finite (repeatable; default all)."),
+        typer.Option("--suite", "-s", help="hertz, friction, nlp, finite, ironing (repeatable; default all)."),
     ] = None,
     quick: Annotated[bool, typer.Option("--quick", help="Small sizes and a few variants (1-2 min on a 2-core "
                                                         "machine; the calibrated time is printed at the start).")]
     = False,
     cases: Annotated[
         Optional[list[str]],
-        typer.Option("--case", help="Case of the hertz, friction or finite suite, e.g. 2d-10k, mindlin-2d, "
+        typer.Option("--case", help="Case of the hertz, friction, finite or ironing suite, e.g. 2d-10k, mindlin-2d, "
                                     "3d-100k (repeatable)."),
     ] = None,
     variants: Annotated[

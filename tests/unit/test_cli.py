@@ -229,6 +229,11 @@ def test_bench_runs_scripts_and_writes_report(tmp_path):
         "def run(out_dir=None, cases=None, variants=None, log=print):\n"
         "    Path(out_dir, 'finite.md').write_text(f'# Finite deformation\\n\\ncases={cases} variants={variants}\\n')\n"
         "    return Path(out_dir)\n")
+    (bench / "ironing.py").write_text(
+        "from pathlib import Path\n"
+        "def run(out_dir=None, cases=None, variants=None, log=print):\n"
+        "    Path(out_dir, 'ironing.md').write_text(f'# Ironing\\n\\ncases={cases} variants={variants}\\n')\n"
+        "    return Path(out_dir)\n")
     out = tmp_path / "out"
     result = runner.invoke(app, ["bench", "--out", str(out), "--quick", "--benchmarks-dir", str(bench)])
     assert result.exit_code == 0, result.output
@@ -236,6 +241,7 @@ def test_bench_runs_scripts_and_writes_report(tmp_path):
     assert "## Hertz benchmark" in report and "cases=['2d-10k']" in report and "## NLP" in report
     assert "## Friction benchmark" in report and "cases=['mindlin-2d']" in report
     assert "## Finite deformation" in report and "cases=['2d-5k']" in report
+    assert "## Ironing" in report and "cases=['2d-s']" in report
     result = runner.invoke(app, ["bench", "--out", str(out), "--suite", "nlp", "--variant", "exp-met1",
                                  "--benchmarks-dir", str(bench)])
     assert result.exit_code == 0 and "variants=['exp-met1']" in (out / "bench.md").read_text()

@@ -179,3 +179,40 @@ def test_outer_loop_reads_the_inner_status_not_its_message(monkeypatch):
     monkeypatch.setattr(DiscreteContact, "subproblem", nonfinite)
     res = solve(patch_block(2, 1, n=2), "simo-laursen").result
     assert res.status == ContactStatus.NONFINITE, res.message
+
+
+class _Inconsistent(NewtonSystem):
+    """One unknown; the merit rises along the step while the residual norm halves (a residual that is
+    not the merit's gradient, as where a penalty's active set changes between the two)."""
+
+    def evaluate(self, x):
+        return x, np.array([1.0 - 0.5 * x[0]]), float(x[0])  # merit rises with x, |F| falls
+
+    def residual(self, state):
+        return state[1]
+
+    def merit(self, state):
+        return state[2]
+
+    def slope(self, x, state, dx):
+        return -1.0  # claims descent
+
+    def measure(self, state):
+        return float(abs(state[1][0]))
+
+    def step(self, x, state, history):
+        return np.array([1.0])
+
+
+@pytest.mark.parametrize("slack,accepted", [(np.inf, True), (1e-10, False)])
+def test_residual_test_respects_merit_slack(slack, accepted):
+    """Issue 18: the residual-decrease test accepted steps that raised the energy, and the two tests
+    took turns (the iterates cycled). With ``residual_merit_slack`` the merit may rise by at most that
+    fraction of itself; here it rises by 100 %: the step is refused (the line search fails)."""
+    ls = LineSearch(halvings=3, residual_decrease=True, residual_merit_slack=slack, full_step=False)
+    out = newton(_Inconsistent(), np.array([1.0]), tol=1e-12, maxiter=1, settings=NewtonSettings(ls))
+    assert (out.status != Status.LINE_SEARCH_FAILED) == accepted
+    if accepted:
+        assert out.history[0].step == 1.0 and out.x[0] == 2.0
+    else:
+        assert out.x[0] == 1.0

@@ -92,6 +92,10 @@ _ARMIJO = 1e-4
 _EPS = float(np.finfo(float).eps)
 #: halvings of a Newton step before the line search gives up
 _MAX_HALVINGS = 40
+#: a residual decrease accepts a step of (S) only where the energy rose by at most this fraction of it
+#: (its round-off; :class:`~._newton.LineSearch`): with any rise allowed, the energy and the residual tests
+#: took turns and the Newton iterates of a sliding step cycled (issue 18: 60 iterations, cut-backs)
+_MERIT_SLACK = 1e-10
 #: secant predictor: a point enters the starting active set when its extrapolated penetration
 #: exceeds this fraction of its predicted approach (:meth:`FiniteContact.initial_active`)
 _ENTRY_FRACTION = 0.5
@@ -231,6 +235,13 @@ class FiniteContact(ContactPoints):
     #: (a chord step: one back-substitution, no assembly; counted in :attr:`chord_steps`, not in
     #: :attr:`newton_iterations`) where the factor belongs to the same candidates and active set
     chord_at_floor = True
+    #: a step whose obstacle translates along the contact zone (:meth:`_predictor_obstacle`) starts from
+    #: the last converged state and pressures carried along with the obstacle (:meth:`_slide`): the
+    #: steady-sliding prediction :math:`u(X) \leftarrow u(X - \Delta c)`, no assembly
+    slide_predictor = True
+    #: after the slide predictor the first subproblem of Algorithms 6.1 / 6.3 starts with multipliers whose
+    #: tractions at the predicted state are the carried pressures (:meth:`entry_multipliers`)
+    consistent_slide_multipliers = True
     #: the pure-penalty start of Algorithm 6.3 (``initial="penalty"``,
     #: :func:`~alcontact.contact._algorithms.run_al`) solves the penalty subproblem of a load step with
     #: the step's predicted pressures as multipliers (:meth:`initial_multipliers`,
@@ -347,7 +358,20 @@ class FiniteContact(ContactPoints):
                 x_start, self.start_pressure = secant
                 self.predictor_used = "secant"
             else:
-                x_pred = self._predict(x_start, fixed_values, load, pred_obstacle, float(predictor_stiffness))
+                slid = (self._slide(x_start, obstacle) if self.slide_predictor and pred_obstacle is not obstacle
+                        else None)
+                if slid is not None:
+                    # the contact state travels with the obstacle; the rest of the data change (supports,
+                    # loads) is predicted by the tangent predictor from there
+                    x_start, carried = slid
+                    base = (self._accepted[0], self._accepted[1], obstacle)
+                    self.start_pressure = carried
+                    pred_obstacle = obstacle
+                    self.predictor_used = "slide"
+                else:
+                    base = None
+                x_pred = self._predict(x_start, fixed_values, load, pred_obstacle, float(predictor_stiffness),
+                                       base=base)
                 if (self.first_contact_entry and x_pred is not x_start and pred_obstacle is obstacle
                         and not np.any(self.last_pressure > 0)):
                     # first contact: the predictor has no springs, every predicted penetration is unbalanced
@@ -459,12 +483,70 @@ class FiniteContact(ContactPoints):
             return obstacle
         return old
 
-    def _predict(self, x, fixed_values, load, obstacle, eps) -> np.ndarray:
-        """Tangent predictor of :meth:`configure` (linearized at the last converged state)."""
-        fv_old, load_old, ob_old = self._accepted
+    def _slide(self, x, obstacle):
+        r"""Slide predictor of :meth:`configure`: ``(x, pressures)`` carried along with the obstacle, or ``None``.
+
+        When the obstacle translates by :math:`\Delta c` along the contact zone, steady sliding
+        moves the contact state with it: the prediction is the last converged displacement and
+        pressures translated by :math:`\Delta c`,
+
+        .. math::
+
+            u_{pred}(X_j) = u_k(X_j - \Delta c), \qquad
+            \lambda_{pred}(X_i) = \lambda_k(X_i - \Delta c),
+
+        the finite-element interpolants evaluated at the shifted nodes
+        (:meth:`~alcontact.fem.LinearElasticity.probe`); a node whose shifted position lies outside
+        the body keeps its value, the fixed DOFs keep theirs. Without it a sliding step started from
+        the last state, where the front of the contact zone penetrates and its back pulls: the
+        semi-smooth Newton reference switched most of its active set back and forth (9-11 Newton
+        per step of half an element on the 2D ironing case, 3-4 with it), the subproblems of
+        Algorithms 6.1 / 6.3 cut back. ``None`` for a body without ``probe``, a non-translated
+        obstacle, or a prediction that inverts an element.
+        """
+        probe = getattr(self.body, "probe", None)
+        ob_old = self._accepted[2]
+        d = getattr(obstacle, "offset", None)
+        d0 = getattr(ob_old, "offset", None)
+        if probe is None or d is None or d0 is None or getattr(obstacle, "base", obstacle) is not getattr(
+                ob_old, "base", ob_old):
+            return None
+        shift = np.asarray(d, dtype=float) - np.asarray(d0, dtype=float)
+        if shift.shape != (self.dim,) or not np.any(shift):
+            return None
+        X = np.asarray(self.body.scalar_doflocs, dtype=float)  # (d, n_scalar)
+        P, inside = probe((X - shift[:, None]).T)
+        dof_map = np.asarray(self.body.dof_map)  # (n_scalar, d)
+        u = self.expand(x)
+        u_new = u.copy()
+        for c in range(self.dim):
+            comp = u[dof_map[:, c]]
+            comp[inside] = P @ comp
+            u_new[dof_map[:, c]] = comp
+        # the pressures as a scalar field on the contact-boundary DOFs (zero elsewhere), carried the same way
+        scalar_of = np.full(self.model.ndofs, -1, dtype=np.int64)
+        scalar_of[dof_map[:, 0]] = np.arange(dof_map.shape[0])
+        sp_idx = scalar_of[self.dofs[:, 0]]
+        field = np.zeros(dof_map.shape[0])
+        field[sp_idx] = self.last_pressure
+        field[inside] = P @ field
+        trial = u_new[self.free]
+        try:
+            fint = self.body.internal_force(u_new)
+        except InvertedElementError:
+            return None
+        if not (np.all(np.isfinite(fint)) and np.all(np.isfinite(trial))):
+            return None
+        return trial, np.maximum(field[sp_idx], 0.0)
+
+    def _predict(self, x, fixed_values, load, obstacle, eps, *, base=None) -> np.ndarray:
+        """Tangent predictor of :meth:`configure` (linearized at ``x``: the last converged state, or the
+        slide prediction with ``base`` its data ``(fixed values, load, obstacle)``)."""
+        fv_old, load_old, ob_old = self._accepted if base is None else base
         du_d = fixed_values - fv_old
         df = load - load_old
-        pressed = np.flatnonzero(self.last_pressure > 0)
+        p0 = self.last_pressure if base is None else self.start_pressure
+        pressed = np.flatnonzero(p0 > 0)
         u = np.zeros(self.model.ndofs)
         u[self.free] = x
         u[self.fixed] = fv_old
@@ -490,7 +572,7 @@ class FiniteContact(ContactPoints):
             fint = self.body.internal_force(u_new)  # raises for inverted elements
             if np.all(np.isfinite(fint)) and np.all(np.isfinite(trial)):
                 # predicted pressures: the springs' force change eps_N (dg + B dx) on the pressed points
-                p = self.last_pressure.copy()
+                p = p0.copy()
                 p[pressed] = np.maximum(p[pressed] + eps * (dg + Bm @ dx), 0.0)
                 self.start_pressure = p
                 return trial
@@ -871,6 +953,13 @@ class FiniteContact(ContactPoints):
         :attr:`entry_rule_multipliers` off.
         """
         lam = np.asarray(lam, dtype=float)
+        if self.predictor_used == "slide" and self.consistent_slide_multipliers:
+            # the carried pressures as the starting tractions: lambda_i = p_i - g_i / eta_i on the pressed points
+            g = self.gaps(self.x0)
+            c = 1.0 / np.asarray(law.eta, dtype=float)
+            shifted = np.where(lam > 0, lam - c * g, lam)
+            same = np.asarray(law.traction(g, shifted), dtype=float)
+            return np.where((lam > 0) & np.isclose(same, lam, rtol=1e-12, atol=0.0), shifted, lam)
         if not self.entry_rule_multipliers or self.predicted_approach is None:
             return lam
         g = self.gaps(self.x0)
@@ -968,7 +1057,8 @@ class FiniteContact(ContactPoints):
 
 # ---------------------------------------------------------------------- the Newton systems of FiniteContact
 #: subproblem (S): Armijo on the energy (or |R|^2/2) or a residual decrease, inverted elements halve the step
-_SETTINGS = NewtonSettings(LineSearch(halvings=_MAX_HALVINGS, armijo=_ARMIJO, residual_decrease=True))
+_SETTINGS = NewtonSettings(LineSearch(halvings=_MAX_HALVINGS, armijo=_ARMIJO, residual_decrease=True,
+                                      residual_merit_slack=_MERIT_SLACK))
 #: active-set reference: backtracking on the relative residual, any step below 2**-20 accepted
 _EQUALITY_SETTINGS = NewtonSettings(LineSearch(halvings=_MAX_HALVINGS, armijo=_ARMIJO, merit=False,
                                                measure_decrease=True, accept_below=2.0**-20, full_step=False),

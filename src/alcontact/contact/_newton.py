@@ -115,6 +115,12 @@ class LineSearch:
     residual_decrease : bool
         Accept :math:`\\|F(x + \\alpha d)\\|_2 \\le (1 - c\\alpha)\\|F(x)\\|_2` (near the solution
         the energy decrease drowns in its round-off; or no merit at all).
+    residual_merit_slack : float
+        With ``merit`` on, the residual test accepts a step only where the merit rose by at most this
+        fraction of :math:`|m(x)|` (its round-off): two acceptance tests that each allow an increase
+        of the other's measure let the iterates cycle (a penalty subproblem whose active set changes
+        every iteration went 60 iterations without converging; finite-deformation ironing, issue 18).
+        ``inf``: no limit.
     measure_decrease : bool
         Accept a relative residual (``measure``) below :math:`(1 - c\\alpha)` times the current one.
     accept_below : float
@@ -128,6 +134,7 @@ class LineSearch:
     armijo: float = 1e-4
     merit: bool = True
     residual_decrease: bool = False
+    residual_merit_slack: float = np.inf
     measure_decrease: bool = False
     accept_below: float = 0.0
     full_step: bool = True
@@ -400,6 +407,8 @@ def _accepts(system, ls: LineSearch, trial, alpha, res, merit, slope, nF) -> boo
         return False
     if ls.merit and m_try <= merit + ls.armijo * alpha * slope + 1e-14 * abs(merit):
         return True
+    if ls.merit and np.isfinite(ls.residual_merit_slack) and not m_try <= merit + ls.residual_merit_slack * abs(merit):
+        return False
     return ls.residual_decrease and _norm(F_try) <= (1 - ls.armijo * alpha) * nF
 
 

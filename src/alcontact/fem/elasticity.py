@@ -400,6 +400,75 @@ class LinearElasticity:
         sdofs = self._boundary_scalar_dofs(name)
         return self.scalar_doflocs[:, sdofs].T.copy(), self.dof_map[sdofs]
 
+    def probe(self, points: np.ndarray, *, tol: float = 1e-10) -> tuple[sp.csr_matrix, np.ndarray]:
+        r"""Interpolation of scalar nodal fields at ``points`` of the reference configuration.
+
+        Parameters
+        ----------
+        points : ndarray (n, dim)
+        tol : float
+            Barycentric tolerance of the point location (points on a face or an edge are inside).
+
+        Returns
+        -------
+        P : scipy.sparse.csr_matrix (k, n_scalar)
+            Rows of the ``k`` points inside the mesh: ``P @ v`` is the finite-element
+            interpolant :math:`\sum_j v_j \phi_j(x)` of a scalar field ``v`` (one value per
+            scalar DOF, :attr:`scalar_dofs`) at them.
+        inside : ndarray of bool (n,)
+            Which points lie in the mesh (the rows of ``P``, in order).
+
+        Points are located on the straight-sided simplices (mesh vertices) among the 8 (then 32)
+        elements with the nearest centroids; a point in none of them is outside.
+        """
+        from scipy.spatial import cKDTree
+
+        x = np.asarray(points, dtype=float).reshape(-1, self.dim)
+        p, t = self.mesh.p, self.mesh.t
+        tree = getattr(self, "_centroid_tree", None)
+        if tree is None:
+            tree = self._centroid_tree = cKDTree(p[:, t].mean(axis=1).T)
+        cells = -np.ones(x.shape[0], dtype=np.int64)
+        for j, near in self._nearest_cells(tree, x, cells, t.shape[1]):
+            todo = np.flatnonzero(cells < 0)
+            c = near[todo, j]
+            v0 = p[:, t[0, c]].T  # (k, d)
+            A = np.stack([p[:, t[i + 1, c]].T - v0 for i in range(self.dim)], axis=-1)  # (k, d, d)
+            lam = np.linalg.solve(A, (x[todo] - v0)[..., None])[..., 0]
+            bary = np.concatenate([1.0 - lam.sum(axis=1, keepdims=True), lam], axis=1)
+            ok = np.all(bary >= -tol, axis=1)
+            cells[todo[ok]] = c[ok]
+        inside = cells >= 0
+        if not np.any(inside):
+            return sp.csr_matrix((0, int(self.scalar_dofs.N))), inside
+        # the rows of skfem's Basis.probes, on the cells located here (its own finder raises for a point
+        # outside the mesh or on its boundary within round-off)
+        basis = self.scalar_basis
+        xi, ci = x[inside].T, cells[inside]
+        loc = basis.mapping.invF(xi[:, :, np.newaxis], tind=ci)
+        phis = np.array([basis.elem.gbasis(basis.mapping, loc, k, tind=ci)[0] for k in range(basis.Nbfun)])
+        rows = np.tile(np.arange(ci.size), basis.Nbfun)
+        cols = basis.element_dofs[:, ci].ravel()
+        P = sp.csr_matrix((phis.ravel(), (rows, cols)), shape=(ci.size, basis.N))
+        return P, inside
+
+    @staticmethod
+    def _nearest_cells(tree, x, cells, ncells):
+        """``(j, near)``: the ``j``-th nearest cell (by centroid) of every point, the first 8, then the next 24
+        for the points :meth:`probe` has not located yet (``cells < 0``; slender elements)."""
+        done = 0
+        for k in (8, 32):
+            k = min(k, ncells)
+            if done >= k or not np.any(cells < 0):
+                return
+            _, near = tree.query(x, k=k)
+            near = np.asarray(near).reshape(x.shape[0], -1)
+            for j in range(done, k):
+                if not np.any(cells < 0):
+                    return
+                yield j, near
+            done = k
+
     def all_node_dofs(self) -> tuple[np.ndarray, np.ndarray]:
         """All scalar DOF locations ``(n_scalar, dim)`` and vector DOFs ``(n_scalar, dim)``."""
         return self.scalar_doflocs.T.copy(), self.dof_map.copy()

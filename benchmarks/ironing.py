@@ -1,0 +1,249 @@
+"""Ironing benchmark (issue 18): Newton iterations per sliding step at finite deformation.
+
+A rigid cylinder (2D, plane strain) or sphere (3D, half model) of radius R = 1 is pressed
+0.2 R into a neo-Hookean block (E = 1000, nu = 0.3, P1) in 4 load steps, then slid along it
+in steps of 0.05 R (:func:`alcontact.problems.ironing.ironing`). For every algorithm the
+script records per sliding step the Newton iterations (every Newton system of the step,
+cut-back attempts included), the cut-backs, the CPU time (one thread) and the ratio of that
+time to the CPU cost of one tangent assembly plus one sparse direct solve reusing its analysis
+(measured in the same run, at the final state), and checks each accepted step independently
+of the solver: the equilibrium residual :math:`\\max|f_{int} - f_{ext} + B^T(w\\,t_N)|` on
+the free DOFs relative to the largest nodal contact force, recomputed from the returned
+displacement and pressures. The frictionless horizontal force of steady sliding (the sliding
+steps after the first radius of travel) is reported relative to the vertical one, with its
+largest jump between consecutive steps.
+
+Writes ``<out>/<name>.csv`` (one row per sliding step), ``<out>/<name>.json`` (the summary) and
+``<out>/<name>.md``.
+
+Usage::
+
+    python benchmarks/ironing.py [--out DIR] [--case 2d-s ...] [--variants ssn ...] [--slide 2.0]
+    alcontact bench --suite ironing [--case 2d-s] [--variant ssn ...] [--quick]
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import io
+import json
+import logging
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+from alcontact.contact import solve_finite
+from alcontact.contact._finite import FiniteContact, NewtonSolver, linear_solve
+from alcontact.contact.obstacles import translate
+from alcontact.errors import UnknownNameError
+from alcontact.io.results import write_text_atomic
+from alcontact.problems.ironing import ironing, ironing_schedule
+
+VARIANTS = {
+    "ssn": ("ssn", None),
+    "simo-laursen": ("simo-laursen", None),
+    "exp-met1": ("family-p", "exp-met1"),
+    "log-met1": ("family-p", "log-met1"),
+    "quad-met1": ("family-p", "quad-met1"),
+}
+
+#: preset meshes: name -> (dim, elements per unit length); the block is 5 x 2 (2D) or 5 x 1.5 x 2 (3D)
+CASES = {
+    "2d-s": (2, 10),  # 2 142 DOFs
+    "2d-m": (2, 20),  # 8 282 DOFs
+    "2d-l": (2, 40),  # 32 562 DOFs
+    "2d-100k": (2, 70),  # 98 982 DOFs
+    "3d-s": (3, 4),  # 3 969 DOFs
+    "3d-m": (3, 6),  # 12 090 DOFs
+    "3d-l": (3, 8),  # 27 183 DOFs
+    "3d-100k": (3, 12),  # 86 925 DOFs
+}
+DEFAULT_CASES = ["2d-s", "2d-m", "2d-l", "3d-s", "3d-m", "3d-l"]
+
+FIELDS = ["case", "variant", "step", "t", "newton_iterations", "cutbacks", "outer_iterations", "fx", "fy", "fz",
+          "equilibrium", "cpu_seconds", "ratio"]
+
+
+def unit_cost(problem, u: np.ndarray, repeat: int = 3) -> float:
+    """Best of ``repeat`` CPU timings at ``u`` of one tangent assembly plus one direct solve reusing its analysis."""
+    dc = FiniteContact(problem)
+    solver = NewtonSolver()
+    K = dc._tangent_free(u)
+    linear_solve(K, np.ones(K.shape[0]), solver)  # the analysis, as the first Newton system of a run
+    best = np.inf
+    for _ in range(repeat):
+        t0 = time.process_time()
+        K = dc._tangent_free(u)
+        linear_solve(K, np.ones(K.shape[0]), solver)
+        best = min(best, time.process_time() - t0)
+    return best
+
+
+class EquilibriumCheck:
+    """Relative equilibrium residual of an accepted step, recomputed from its displacement and pressures."""
+
+    def __init__(self, problem, path):
+        model = problem.model
+        self.problem, self.path, self.model = problem, path, model
+        self.points, self.dofs = model.node_dofs(problem.contact_boundary)
+        self.weights = np.asarray(model.boundary_weights(problem.contact_boundary), dtype=float)
+        fixed, _ = problem.dirichlet()
+        free = np.ones(model.ndofs, dtype=bool)
+        free[np.asarray(fixed, dtype=np.int64)] = False
+        self.free = free
+        self.load = np.asarray(problem.load_vector(), dtype=float)
+
+    def __call__(self, t: float, u: np.ndarray, pressure: np.ndarray) -> float:
+        ob = translate(self.problem.obstacle, self.path(t))
+        _, nu = ob.evaluate(self.points + u[self.dofs])
+        f = np.asarray(self.model.internal_force(u), dtype=float) - self.load
+        nodal = self.weights * pressure
+        # the contact force on the body is -nu w t_N at each point (B = -nu^T)
+        np.add.at(f, self.dofs.ravel(), (-(nodal[:, None] * nu)).ravel())
+        scale = max(float(np.max(np.abs(nodal), initial=0.0)), 1e-300)
+        return float(np.max(np.abs(f[self.free]), initial=0.0)) / scale
+
+
+def run_case(case: str, variants, *, slide: float = 2.0, repeat: int = 3, log=logging.info):
+    """Run ``variants`` on the preset mesh ``case``: ``(rows, summaries, problem)``."""
+    dim, n = CASES[case]
+    problem = ironing(dim, n, slide=slide)
+    times, path = ironing_schedule(problem)
+    npress = problem.meta["press_steps"]
+    check = EquilibriumCheck(problem, path)
+    rows, summaries = [], []
+    t_unit = None
+    NewtonSolver()  # the solver registry's one-time library lookup is no step cost
+    for name in variants:
+        algorithm, penalty = VARIANTS[name]
+        marks = [time.process_time()]
+        eq = []
+
+        def on_step(step, u, p, eq=eq, marks=marks):
+            marks.append(time.process_time())
+            eq.append(check(step.t, u, p))
+
+        t0 = time.perf_counter()
+        fs = solve_finite(problem, algorithm, penalty, steps=times, obstacle_path=path, on_step=on_step)
+        wall = time.perf_counter() - t0
+        if t_unit is None:
+            t_unit = unit_cost(problem, fs.u, repeat=repeat)
+        secs = np.diff(marks)
+        slide_rows = []
+        for k, s in enumerate(fs.steps):
+            if s.t <= npress:
+                continue
+            f = np.asarray(s.force, dtype=float)
+            row = {"case": case, "variant": name, "step": k + 1, "t": f"{s.t:.6g}",
+                   "newton_iterations": s.newton_iterations, "cutbacks": s.cutbacks,
+                   "outer_iterations": s.outer_iterations, "fx": f"{f[0]:.10g}", "fy": f"{f[1]:.10g}",
+                   "fz": f"{f[2]:.10g}" if dim == 3 else "", "equilibrium": f"{eq[k]:.3e}",
+                   "cpu_seconds": f"{secs[k]:.4f}", "ratio": f"{secs[k] / t_unit:.2f}"}
+            rows.append(row)
+            slide_rows.append((s, f, eq[k], secs[k]))
+        newton = np.array([s.newton_iterations for s, *_ in slide_rows])
+        # steady sliding: after one radius of travel
+        steady = [(s, f) for s, f, *_ in slide_rows if (s.t - npress) * problem.meta["slide_step"] >= 1.0]
+        fx = np.array([f[0] for _, f in steady])
+        fv = np.array([abs(f[-1]) for _, f in steady])
+        summary = {
+            "case": case, "variant": name, "dofs": int(problem.model.ndofs), "status": fs.status.label,
+            "sliding_steps": len(slide_rows), "newton_mean": float(newton.mean()) if newton.size else None,
+            "newton_max": int(newton.max()) if newton.size else None,
+            "cutbacks": int(sum(s.cutbacks for s, *_ in slide_rows)),
+            "equilibrium_max": float(max((e for *_, e, _ in slide_rows), default=np.nan)),
+            "step_cpu_over_unit": float(np.mean([c for *_, c in slide_rows]) / t_unit) if slide_rows else None,
+            "unit_cpu_seconds": t_unit, "wall_seconds": wall,
+            "horizontal_over_vertical_max": float(np.max(np.abs(fx) / fv)) if fx.size else None,
+            "horizontal_jump_over_vertical_max": float(np.max(np.abs(np.diff(fx)) / fv[1:])) if fx.size > 1 else None,
+        }
+        summaries.append(summary)
+        mean, ratio = summary["newton_mean"], summary["step_cpu_over_unit"]
+        log(f"ironing {case} {name}: {summary['status']}, Newton per sliding step "
+            f"{'-' if mean is None else f'{mean:.2f}'} (max {summary['newton_max']}), {summary['cutbacks']} "
+            f"cut-backs, equilibrium <= {summary['equilibrium_max']:.1e}, step / unit "
+            f"{'-' if ratio is None else f'{ratio:.2f}'}")
+    return rows, summaries, problem
+
+
+def report(summaries, cases, command: str) -> str:
+    lines = ["# Ironing at finite deformation: Newton iterations per sliding step", "",
+             "A rigid cylinder (2D, plane strain) or sphere (3D, half model) of radius R = 1 pressed 0.2 R into a "
+             "neo-Hookean block (E = 1000, nu = 0.3, P1) in 4 steps, then slid in steps of 0.05 R (frictionless). "
+             "Counts over the sliding steps; *equilibrium*: the largest relative equilibrium residual of an accepted "
+             "step, recomputed by the script from the returned state; *step / unit*: CPU time of a sliding step "
+             "over one tangent assembly + one direct solve reusing its analysis (same run, 1 thread); *|Fx|/Fy* "
+             "and *jump*: steady sliding (after 1 R of travel), the horizontal force and its largest change "
+             "between steps relative to the vertical force.",
+             "", f"Generated by `{command}`.", "",
+             "| case | DOFs | variant | status | Newton / step (mean) | max | cut-backs | equilibrium "
+             "| step / unit | max abs(Fx)/Fy | max jump/Fy |",
+             "|---|---|---|---|---|---|---|---|---|---|---|"]
+    def fmt(v, spec):
+        return "-" if v is None else format(v, spec)
+
+    for s in summaries:
+        lines.append(f"| {s['case']} | {s['dofs']} | {s['variant']} | {s['status']} | {fmt(s['newton_mean'], '.2f')} "
+                     f"| {s['newton_max']} | {s['cutbacks']} | {fmt(s['equilibrium_max'], '.1e')} "
+                     f"| {fmt(s['step_cpu_over_unit'], '.2f')} | {fmt(s['horizontal_over_vertical_max'], '.2e')} "
+                     f"| {fmt(s['horizontal_jump_over_vertical_max'], '.2e')} |")
+    return "\n".join(lines) + "\n"
+
+
+def run(out_dir=None, cases=None, variants=None, log=print, repeat: int = 3, slide: float = 2.0,
+        name: str = "ironing", command: str | None = None) -> Path:
+    """``alcontact bench --suite ironing``: run the preset meshes :data:`CASES` (default: all of them).
+
+    Raises
+    ------
+    UnknownNameError
+        A case or variant that is not a preset (the message lists the known ones).
+    """
+    out = Path(out_dir or Path(__file__).parent / "out")
+    cases = list(cases or DEFAULT_CASES)
+    variants = list(variants or VARIANTS)
+    for case in cases:
+        if case not in CASES:
+            raise UnknownNameError("ironing benchmark case", case, list(CASES))
+    for v in variants:
+        if v not in VARIANTS:
+            raise UnknownNameError("ironing benchmark variant", v, list(VARIANTS))
+    all_rows, all_summaries = [], []
+    for case in cases:
+        rows, summaries, _ = run_case(case, variants, slide=slide, repeat=repeat, log=log)
+        all_rows += rows
+        all_summaries += summaries
+    out.mkdir(parents=True, exist_ok=True)
+    buf = io.StringIO()
+    w = csv.DictWriter(buf, fieldnames=FIELDS)
+    w.writeheader()
+    w.writerows(all_rows)
+    write_text_atomic(out / f"{name}.csv", buf.getvalue())
+    write_text_atomic(out / f"{name}.json", json.dumps(all_summaries, indent=1) + "\n")
+    cmd = command or ("alcontact bench --suite ironing" + "".join(f" --case {c}" for c in cases)
+                      + "".join(f" --variant {v}" for v in variants))
+    write_text_atomic(out / f"{name}.md", report(all_summaries, cases, cmd))
+    return out
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--out", default="docs/benchmarks")
+    ap.add_argument("--case", nargs="+", default=DEFAULT_CASES, choices=list(CASES))
+    ap.add_argument("--variants", nargs="+", default=list(VARIANTS), choices=list(VARIANTS))
+    ap.add_argument("--slide", type=float, default=2.0, help="sliding distance in radii (default 2)")
+    ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--name", default="ironing", help="base name of the output files")
+    args = ap.parse_args(argv)
+    logging.basicConfig(level=logging.WARNING, format="%(message)s")
+    run(args.out, args.case, args.variants, repeat=args.repeat, slide=args.slide, name=args.name,
+        command="python benchmarks/ironing.py " + " ".join(argv if argv is not None else sys.argv[1:]))
+    print((Path(args.out) / f"{args.name}.md").read_text())
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
