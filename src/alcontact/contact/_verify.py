@@ -139,6 +139,13 @@ def check_state(gap, pressure, h: float, *, tol_penetration: float, tol_compleme
         tolerance (:func:`equilibrium_tolerance`); checked when given.
     reach : float, optional
         Largest coordinate plus largest displacement of the state (``resolution``).
+
+    Raises
+    ------
+    alcontact.errors.InputError
+        An argument of the wrong type or shape (gaps and pressures of different lengths,
+        ``h <= 0``, a negative tolerance or ``mu``), naming it. Non-finite gaps, pressures,
+        tractions, slips or measures are not errors: the check fails (``finite``).
     """
     g, p, tT, du, h, tol_penetration, tol_complementarity, mu, tol_friction, equilibrium, tol_equilibrium, \
         reach = _checked_args(gap, pressure, h, tol_penetration, tol_complementarity, traction_t, slip, mu,
