@@ -48,6 +48,7 @@ of the algorithms (:mod:`alcontact.contact._algorithms`, Algorithm 6.2):
 from __future__ import annotations
 
 import logging
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -138,9 +139,17 @@ def check_state(gap, pressure, h: float, *, tol_penetration: float, tol_compleme
         tolerance (:func:`equilibrium_tolerance`); checked when given.
     reach : float, optional
         Largest coordinate plus largest displacement of the state (``resolution``).
+
+    Raises
+    ------
+    alcontact.errors.InputError
+        An argument of the wrong type or shape (gaps and pressures of different lengths,
+        ``h <= 0``, a negative tolerance or ``mu``), naming it. Non-finite gaps, pressures,
+        tractions, slips or measures are not errors: the check fails (``finite``).
     """
-    g = np.asarray(gap, dtype=float)
-    p = np.asarray(pressure, dtype=float)
+    g, p, tT, du, h, tol_penetration, tol_complementarity, mu, tol_friction, equilibrium, tol_equilibrium, \
+        reach = _checked_args(gap, pressure, h, tol_penetration, tol_complementarity, traction_t, slip, mu,
+                              tol_friction, equilibrium, tol_equilibrium, reach)
     pref = max(float(np.max(p, initial=0.0)), 1e-300)
     both = np.concatenate([g, p])
     if not np.all(np.isfinite(both)):
@@ -155,9 +164,8 @@ def check_state(gap, pressure, h: float, *, tol_penetration: float, tol_compleme
         measures["equilibrium"] = (float(equilibrium), float(tol_equilibrium))
     if reach is not None:
         measures["resolution"] = (float(np.finfo(float).eps * reach / h), tol_penetration)
-    if traction_t is not None:
-        tT = np.asarray(traction_t, dtype=float).reshape(g.size, -1)
-        du = np.zeros_like(tT) if slip is None else np.asarray(slip, dtype=float).reshape(tT.shape)
+    if tT is not None:
+        du = np.zeros_like(tT) if du is None else du.reshape(tT.shape)
         if not (np.all(np.isfinite(tT)) and np.all(np.isfinite(du))):
             return Check({"finite": (np.inf, 0.0)})
         tol = tol_complementarity if tol_friction is None else tol_friction
@@ -168,6 +176,71 @@ def check_state(gap, pressure, h: float, *, tol_penetration: float, tol_compleme
         scale = pref * max(h, float(np.max(ndu, initial=0.0)))
         measures["slip"] = (float(np.max(defect, initial=0.0)) / scale, tol)
     return Check(measures)
+
+
+def _checked_args(gap, pressure, h, tol_penetration, tol_complementarity, traction_t, slip, mu, tol_friction,
+                  equilibrium, tol_equilibrium, reach) -> tuple:
+    """The arguments of :func:`check_state` as arrays and floats, or an InputError naming the argument.
+
+    Non-finite gaps, pressures, tractions, slips and measures are data (a failed check), not errors;
+    the element size, the coefficient and the tolerances must be numbers in their range.
+    """
+    from alcontact._options import is_real, show
+    from alcontact.errors import InputError
+
+    def fail(name, value, want):
+        return InputError(f"check_state: {name} = {show(value)}: expected {want}, got {type(value).__name__}.")
+
+    def array(name, value, ndims, want):
+        try:
+            a = np.asarray(value)
+        except (TypeError, ValueError, OverflowError):  # ragged nesting, huge integers
+            raise fail(name, value, want) from None
+        if a.dtype.kind not in "iuf" or a.ndim not in ndims:
+            raise fail(name, value, want)
+        return a.astype(float)
+
+    def number(name, value, *, low=None, optional=False, finite=True):
+        if value is None and optional:
+            return None
+        want = "a " + ("finite " if finite else "") + "real number" + ("" if low is None else f" >= {low}")
+        if not is_real(value):
+            raise fail(name, value, want)
+        try:
+            x = float(value)
+        except OverflowError:  # an integer beyond float: infinite
+            x = math.inf if value > 0 else -math.inf
+        if (finite and not math.isfinite(x)) or (low is not None and not x >= low):
+            raise fail(name, value, want)
+        return x
+
+    g = array("gap", gap, (1,), "a 1-D array of gaps")
+    p = array("pressure", pressure, (1,), "a 1-D array of normal tractions")
+    if p.shape != g.shape:
+        raise InputError(f"check_state: pressure has {p.size} entries but gap has {g.size}; pass one normal "
+                         "traction per contact point.")
+    h = number("h", h)
+    if not h > 0:
+        raise fail("h", h, "the element size, a number > 0")
+    tol_penetration = number("tol_penetration", tol_penetration, low=0.0)
+    tol_complementarity = number("tol_complementarity", tol_complementarity, low=0.0)
+    mu = number("mu", mu, low=0.0)
+    tol_friction = number("tol_friction", tol_friction, low=0.0, optional=True)
+    equilibrium = number("equilibrium", equilibrium, optional=True, finite=False)
+    tol_equilibrium = number("tol_equilibrium", tol_equilibrium, low=0.0, optional=equilibrium is None)
+    reach = number("reach", reach, optional=True, finite=False)
+    tT = du = None
+    if traction_t is not None:
+        tT = array("traction_t", traction_t, (1, 2), f"tangential tractions of shape ({g.size}, d-1)")
+        tT = tT[:, None] if tT.ndim == 1 else tT
+        if tT.shape[0] != g.size:
+            raise fail("traction_t", traction_t, f"tangential tractions of shape ({g.size}, d-1)")
+    if slip is not None:
+        du = array("slip", slip, (1, 2), "slips of the shape of traction_t")
+        if tT is not None and du.size != tT.size:
+            raise fail("slip", slip, f"slips of the shape of traction_t {tT.shape}")
+    return g, p, tT, du, h, tol_penetration, tol_complementarity, mu, tol_friction, equilibrium, tol_equilibrium, \
+        reach
 
 
 def verified_status(status: ContactStatus, message: str, check: Check, *, what: str = "contact solve"):

@@ -83,7 +83,7 @@ from __future__ import annotations
 
 import logging
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from typing import Any
 
 import numpy as np
@@ -115,6 +115,9 @@ def _check_parameters(cls, params: dict[str, Any] | None, name: str, *,
 
     decl = tuple(getattr(cls, "PARAMETERS", ()))
     known = [o.name for o in decl]
+    if params is not None and not isinstance(params, Mapping):
+        raise InputError(f"material {name!r}: parameters = {params!r} ({type(params).__name__}): expected a dict "
+                         f"of parameter names to values, e.g. {dict(getattr(cls, 'EXAMPLE_PARAMETERS', {}))!r}.")
     params = dict(params or {})
     issues: list[tuple[str, str]] = []
     values: dict[str, Any] = {}
@@ -661,6 +664,9 @@ class EnergyExpression(InvariantLaw):
                  params_key: str = "parameters"):
         from alcontact.fem._energy_expression import parse_energy
 
+        if parameters is not None and not isinstance(parameters, Mapping):
+            raise InputError(f"{params_key} = {parameters!r} ({type(parameters).__name__}): expected a dict of "
+                             "parameter names to numbers, e.g. {'c10': 0.4, 'K': 50.0}.")
         self.text = text
         self.parameters = dict(parameters or {})
         self._expr = parse_energy(text, self.parameters, key=key, params_key=params_key)

@@ -93,7 +93,7 @@ def register_solver(name: str, factory: Callable[..., LinearSolver], *, kind: st
     if bad or not matrix_types:
         raise InputError(f"matrix_types={tuple(matrix_types)!r}; allowed: {', '.join(MATRIX_TYPES)}.")
     _SOLVERS[name] = _Entry(factory, kind, tuple(matrix_types), requires, install, doc, lazy)
-    is_installed.cache_clear()
+    _installed.cache_clear()
 
 
 def unregister_solver(name: str) -> None:
@@ -101,7 +101,7 @@ def unregister_solver(name: str) -> None:
     if name not in _SOLVERS:
         raise UnknownNameError("linear solver", name, list(_SOLVERS))
     del _SOLVERS[name]
-    is_installed.cache_clear()
+    _installed.cache_clear()
 
 
 def registered_solvers() -> list[str]:
@@ -109,12 +109,23 @@ def registered_solvers() -> list[str]:
     return sorted(_SOLVERS)
 
 
-@lru_cache(maxsize=None)
-def is_installed(name: str) -> bool:
-    """Whether the package the solver ``name`` needs imports (cached)."""
-    entry = _SOLVERS.get(name)
+def _entry(name: str):
+    """The registry entry of ``name`` (:class:`UnknownNameError` listing the names, also for a non-string)."""
+    entry = _SOLVERS.get(name) if isinstance(name, str) else None
     if entry is None:
         raise UnknownNameError("linear solver", name, list(_SOLVERS))
+    return entry
+
+
+def is_installed(name: str) -> bool:
+    """Whether the package the solver ``name`` needs imports (cached; ``is_installed.cache_clear()``)."""
+    _entry(name)  # before the cache, which would hash an unhashable name
+    return _installed(name)
+
+
+@lru_cache(maxsize=None)
+def _installed(name: str) -> bool:
+    entry = _entry(name)
     if entry.requires is None:
         return True
     if entry.lazy:
@@ -127,6 +138,9 @@ def is_installed(name: str) -> bool:
     except Exception:  # ImportError, or a binary module that fails to load
         return False
     return True
+
+
+is_installed.cache_clear = _installed.cache_clear  # type: ignore[attr-defined]
 
 
 def available_solvers() -> list[str]:
@@ -148,9 +162,7 @@ def describe_solvers() -> dict[str, dict]:
 
 def solver_kind(name: str) -> str:
     """``"direct"`` or ``"iterative"`` for a registered name."""
-    entry = _SOLVERS.get(name)
-    if entry is None:
-        raise UnknownNameError("linear solver", name, list(_SOLVERS))
+    entry = _entry(name)
     return entry.kind
 
 
@@ -170,9 +182,7 @@ def make_solver(name: str, **options) -> LinearSolver:
     >>> make_solver("superlu").kind
     'direct'
     """
-    entry = _SOLVERS.get(name)
-    if entry is None:
-        raise UnknownNameError("linear solver", name, list(_SOLVERS))
+    entry = _entry(name)
     if not is_installed(name):
         raise InputError(
             f"linear solver {name!r} is not installed: {entry.install or 'install ' + str(entry.requires)}; "
@@ -190,9 +200,7 @@ DIRECT_PREFERENCE = ("mkl-pardiso", "cholmod", "superlu")
 
 def solver_matrix_types(name: str) -> tuple[str, ...]:
     """Matrix types (``"spd"``, ``"symmetric-indefinite"``, ``"unsymmetric"``) the solver ``name`` factorizes."""
-    entry = _SOLVERS.get(name)
-    if entry is None:
-        raise UnknownNameError("linear solver", name, list(_SOLVERS))
+    entry = _entry(name)
     return entry.matrix_types
 
 
@@ -243,6 +251,18 @@ def choose_solver(dim: int, ndofs: int, *, installed: list[str] | None = None,
     str
         A registry name.
     """
+    from alcontact._options import is_integer, require
+
+    from ._sequence import MATRIX_TYPES
+
+    require("choose_solver", "dim", dim, is_integer(dim) and dim in (1, 2, 3), "1, 2 or 3")
+    require("choose_solver", "ndofs", ndofs, is_integer(ndofs) and ndofs >= 0, "an integer >= 0")
+    require("choose_solver", "installed", installed, installed is None or (
+        isinstance(installed, (list, tuple)) and all(isinstance(n, str) for n in installed)),
+        "None or a list of solver names")
+    require("choose_solver", "allow_iterative", allow_iterative, isinstance(allow_iterative, bool), "True or False")
+    require("choose_solver", "matrix_type", matrix_type, isinstance(matrix_type, str) and matrix_type in MATRIX_TYPES,
+            f"one of {', '.join(MATRIX_TYPES)}")
     names = available_solvers() if installed is None else list(installed)
     names = [n for n in names if n not in _SOLVERS or matrix_type in _SOLVERS[n].matrix_types]
     if allow_iterative and dim == 3 and ndofs > AUTO_AMG_DOFS and "amg" in names:

@@ -50,6 +50,17 @@ def _upper_with_diagonal(A, upper: bool = True) -> sp.csr_matrix:
     return U
 
 
+def _check_square(where: str, A) -> None:
+    """An InputError unless ``A`` is a square real matrix (SciPy sparse or a 2-D NumPy array)."""
+    ok = (sp.issparse(A) or isinstance(A, np.ndarray)) and A.ndim == 2 and A.shape[0] == A.shape[1] \
+        and A.dtype.kind in "iuf"
+    if not ok:
+        from alcontact._options import show
+
+        raise InputError(f"{where}: matrix = {show(A)}: expected a square real matrix (scipy.sparse or a 2-D "
+                         f"NumPy array), got {type(A).__name__}.")
+
+
 def _canonical_csr(A) -> bool:
     return sp.issparse(A) and A.format == "csr" and bool(A.has_canonical_format)
 
@@ -79,8 +90,9 @@ class PardisoSymmetricFactor(PardisoHandle):
     def __init__(self, matrix, matrix_type: str = "symmetric-indefinite"):
         from ._solvers import _mkl_pardiso
 
-        if matrix_type not in _PARDISO_MTYPE:
+        if not isinstance(matrix_type, str) or matrix_type not in _PARDISO_MTYPE:
             raise InputError(f"matrix_type={matrix_type!r}; allowed: {', '.join(_PARDISO_MTYPE)}.")
+        _check_square("PardisoSymmetricFactor", matrix)
         self.name = "mkl-pardiso"
         self.matrix_type = matrix_type
         self._mtype = _PARDISO_MTYPE[matrix_type]
@@ -230,9 +242,13 @@ class SequenceSolver:
                  fallback: str = "superlu"):
         from ._registry import choose_solver, make_solver
 
-        if matrix_type not in MATRIX_TYPES:
+        from alcontact._options import is_integer, require
+
+        if not isinstance(matrix_type, str) or matrix_type not in MATRIX_TYPES:
             raise InputError(f"matrix_type={matrix_type!r}; allowed: {', '.join(MATRIX_TYPES)}.")
-        if name in (None, "auto", "direct"):
+        require("SequenceSolver", "keep", keep, is_integer(keep) and keep >= 1,
+                "the number of factors to keep, an integer >= 1")
+        if name is None or (isinstance(name, str) and name in ("auto", "direct")):
             name = choose_solver(2, 0, allow_iterative=False, matrix_type=matrix_type)
         self.hints = MatrixHints(matrix_type=matrix_type)
         self.backend = name
