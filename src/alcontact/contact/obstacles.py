@@ -622,8 +622,9 @@ class ConvexPolytope(_ObstacleBase):
     :math:`|a_i| = 1`, normal :math:`a_i` of the nearest face, Hessian 0. Outside:
     :math:`\operatorname{gap} = -|x - \bar x|` with the exact Euclidean projection
     :math:`\bar x` onto the polytope, found as the nearest of the candidate points on the
-    faces (plane foot points that satisfy every other constraint), the edges (3D) and
-    the vertices; normal :math:`(x - \bar x)/|x - \bar x|`. The Hessian outside is 0 in
+    faces (plane foot points that satisfy every other constraint to rounding), the edges
+    (3D) and the vertices; every candidate is a point of the polytope, so none can
+    undercut the distance. Normal :math:`(x - \bar x)/|x - \bar x|`. The Hessian outside is 0 in
     face regions, :math:`-(I - t t^T - n n^T)/\operatorname{dist}` near an edge of
     direction :math:`t` and :math:`-(I - n n^T)/\operatorname{dist}` near a vertex.
     Vertices and edges are found once at construction (cost grows like the number of
@@ -772,7 +773,7 @@ class ConvexPolytope(_ObstacleBase):
         """Exact projection of outside points: distance, unit normal, feature kind, edge dir."""
         a, b, d = self.A, self.b, self.dim
         m, k = x.shape[0], a.shape[0]
-        tol = 1e-10 * self._scale
+        b_big = float(np.max(np.abs(b)))
         dist = np.empty(m)
         nrm = np.empty((m, d))
         kind = np.empty(m, dtype=np.intp)
@@ -784,13 +785,24 @@ class ConvexPolytope(_ObstacleBase):
         for lo in range(0, m, chunk):
             xs = x[lo:lo + chunk]
             n_ = xs.shape[0]
-            # faces: foot points on each plane that satisfy all constraints
+            # faces: foot points on each plane that satisfy all constraints. Every candidate
+            # must be a point of the polytope: its distance is then an upper bound of the true
+            # one, and the minimum is the distance. The feasibility test therefore only allows
+            # the rounding error of ``foot @ a.T - b`` (a few eps times |x| + |b| + size); a
+            # looser one accepts feet outside a neighbouring face near an edge and
+            # underestimates the distance by up to that tolerance (a real face foot rejected
+            # by rounding only moves the minimum to a nearby edge or vertex point, a
+            # second-order change).
             s = xs @ a.T - b  # (n, k)
             foot = xs[:, None, :] - s[:, :, None] * a[None, :, :]
-            feas = np.all(foot @ a.T - b <= tol, axis=2)
+            tol = 32.0 * _EPS * (np.linalg.norm(xs, axis=1) + b_big + self._scale)
+            feas = np.all(foot @ a.T - b <= tol[:, None, None], axis=2)
             cand_pts = [foot]
-            # only planes x lies beyond can hold its projection (s > 0)
-            cand_d = [np.where(feas & (s > 0.0), s, np.inf)]
+            # |x - foot| = |s|. Not restricted to s > 0 (the planes x lies beyond): x is
+            # outside because the caller's ``x @ a.T - b`` had a positive entry, and this
+            # product of a different block of rows may round that entry to <= 0; a face
+            # dropped then leaves only farther edge or vertex points (in 2D: vertices).
+            cand_d = [np.where(feas, np.abs(s), np.inf)]
             cand_kind = [np.full(k, _KIND_FACE)]
             cand_t = [np.zeros((k, d))]
             if len(ed):
