@@ -7,7 +7,7 @@ import json
 import numpy as np
 import pytest
 
-from alcontact.errors import OutputExistsError
+from alcontact.errors import OutputExistsError, OutputPathError
 from alcontact.io import (
     HISTORY_COLUMNS,
     POINT_FIELDS,
@@ -55,6 +55,14 @@ def test_atomic_path_keeps_suffix_for_format_sniffing(tmp_path):
         assert tmp.suffix == ".vtu" and tmp.parent == tmp_path and tmp.name.startswith(".")
         tmp.write_text("data")
     assert (tmp_path / "x.vtu").read_text() == "data"
+
+
+def test_atomic_write_onto_a_folder_is_a_clean_error(tmp_path):
+    """API fuzzing: a history path that is an existing folder ended in a raw IsADirectoryError."""
+    (tmp_path / "x").mkdir()
+    with pytest.raises(OutputPathError, match="a folder of that name exists"):
+        write_text_atomic(tmp_path / "x", "data")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["x"] and not any((tmp_path / "x").iterdir())
 
 
 def test_write_json_converts_numpy_and_nonfinite(tmp_path):

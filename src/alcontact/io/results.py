@@ -135,6 +135,9 @@ def atomic_path(path: str | os.PathLike) -> Iterator[Path]:
     """
     require("atomic_path", "path", path, is_path(path), "a file path (str or pathlib.Path)", OutputPathError)
     path = Path(path)
+    if path.is_dir():
+        raise OutputPathError(f"cannot write the file '{path}': a folder of that name exists. Give a file name "
+                              "(e.g. add the file's name to the folder's path) or move the folder away.")
     fd, tmp_name = tempfile.mkstemp(dir=path.parent, prefix=f".{path.stem}.", suffix=f".tmp{path.suffix}")
     os.close(fd)
     tmp = Path(tmp_name)
