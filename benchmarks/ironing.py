@@ -15,8 +15,8 @@ largest jump between consecutive steps.
 
 Coulomb friction (mu = 0.3, :func:`alcontact.contact.solve_finite_friction`): the variants
 :data:`FRICTION_VARIANTS` (not run by default) record the same counts and, per run, the
-largest relative error of the slip law :math:`|t_T| = \mu t_N` at the slipping points, the
-largest :math:`|t_T| / (\mu t_N)` at the sticking points, the stick/slip reversals between
+largest relative error of the slip law :math:`|t_T| = \\mu t_N` at the slipping points, the
+largest :math:`|t_T| / (\\mu t_N)` at the sticking points, the stick/slip reversals between
 Newton iterates (``FiniteFrictionStep.state_reversals``) and the equilibrium residual with the
 tangential tractions included.
 
