@@ -13,6 +13,13 @@ displacement and pressures. The frictionless horizontal force of steady sliding 
 steps after the first radius of travel) is reported relative to the vertical one, with its
 largest jump between consecutive steps.
 
+Coulomb friction (mu = 0.3, :func:`alcontact.contact.solve_finite_friction`): the variants
+:data:`FRICTION_VARIANTS` (not run by default) record the same counts and, per run, the
+largest relative error of the slip law :math:`|t_T| = \\mu t_N` at the slipping points, the
+largest :math:`|t_T| / (\\mu t_N)` at the sticking points, the stick/slip reversals between
+Newton iterates (``FiniteFrictionStep.state_reversals``) and the equilibrium residual with the
+tangential tractions included.
+
 Writes ``<out>/<name>.csv`` (one row per sliding step), ``<out>/<name>.json`` (the summary) and
 ``<out>/<name>.md``.
 
@@ -35,7 +42,7 @@ from pathlib import Path
 
 import numpy as np
 
-from alcontact.contact import solve_finite
+from alcontact.contact import solve_finite, solve_finite_friction
 from alcontact.contact._finite import FiniteContact, NewtonSolver, linear_solve
 from alcontact.contact.obstacles import translate
 from alcontact.errors import UnknownNameError
@@ -49,6 +56,13 @@ VARIANTS = {
     "log-met1": ("family-p", "log-met1"),
     "quad-met1": ("family-p", "quad-met1"),
 }
+
+#: Coulomb friction, mu = MU: name -> algorithm of solve_finite_friction
+FRICTION_VARIANTS = {
+    "ssn-coulomb": "ssn",
+    "simo-laursen-coulomb": "simo-laursen",
+}
+MU = 0.3
 
 #: preset meshes: name -> (dim, elements per unit length); the block is 5 x 2 (2D) or 5 x 1.5 x 2 (3D)
 CASES = {
@@ -64,7 +78,7 @@ CASES = {
 DEFAULT_CASES = ["2d-s", "2d-m", "2d-l", "3d-s", "3d-m", "3d-l"]
 
 FIELDS = ["case", "variant", "step", "t", "newton_iterations", "cutbacks", "outer_iterations", "fx", "fy", "fz",
-          "equilibrium", "cpu_seconds", "ratio"]
+          "equilibrium", "cpu_seconds", "ratio", "slip_law_error", "stick_ratio_max", "state_reversals"]
 
 
 def unit_cost(problem, u: np.ndarray, repeat: int = 3) -> float:
@@ -96,13 +110,16 @@ class EquilibriumCheck:
         self.free = free
         self.load = np.asarray(problem.load_vector(), dtype=float)
 
-    def __call__(self, t: float, u: np.ndarray, pressure: np.ndarray) -> float:
+    def __call__(self, t: float, u: np.ndarray, pressure: np.ndarray, traction_t: np.ndarray | None = None) -> float:
         ob = translate(self.problem.obstacle, self.path(t))
         _, nu = ob.evaluate(self.points + u[self.dofs])
         f = np.asarray(self.model.internal_force(u), dtype=float) - self.load
         nodal = self.weights * pressure
-        # the contact force on the body is -nu w t_N at each point (B = -nu^T)
-        np.add.at(f, self.dofs.ravel(), (-(nodal[:, None] * nu)).ravel())
+        # the contact force on the body is w (t_N nu - t_T) at each point (frictionless: B = -nu^T)
+        contact = nodal[:, None] * nu
+        if traction_t is not None:
+            contact = contact - self.weights[:, None] * traction_t
+        np.add.at(f, self.dofs.ravel(), (-contact).ravel())
         scale = max(float(np.max(np.abs(nodal), initial=0.0)), 1e-300)
         return float(np.max(np.abs(f[self.free]), initial=0.0)) / scale
 
@@ -118,16 +135,24 @@ def run_case(case: str, variants, *, slide: float = 2.0, repeat: int = 3, log=lo
     t_unit = None
     NewtonSolver()  # the solver registry's one-time library lookup is no step cost
     for name in variants:
-        algorithm, penalty = VARIANTS[name]
+        friction = name in FRICTION_VARIANTS
         marks = [time.process_time()]
         eq = []
 
-        def on_step(step, u, p, eq=eq, marks=marks):
+        def on_step(step, u=None, p=None, eq=eq, marks=marks):
             marks.append(time.process_time())
-            eq.append(check(step.t, u, p))
+            if u is None:  # a FiniteFrictionStep
+                eq.append(check(step.t, step.u, step.pressure, step.traction_t))
+            else:
+                eq.append(check(step.t, u, p))
 
         t0 = time.perf_counter()
-        fs = solve_finite(problem, algorithm, penalty, steps=times, obstacle_path=path, on_step=on_step)
+        if friction:
+            fs = solve_finite_friction(problem, MU, FRICTION_VARIANTS[name], steps=times, obstacle_path=path,
+                                       on_step=on_step)
+        else:
+            algorithm, penalty = VARIANTS[name]
+            fs = solve_finite(problem, algorithm, penalty, steps=times, obstacle_path=path, on_step=on_step)
         wall = time.perf_counter() - t0
         if t_unit is None:
             t_unit = unit_cost(problem, fs.u, repeat=repeat)
@@ -142,6 +167,10 @@ def run_case(case: str, variants, *, slide: float = 2.0, repeat: int = 3, log=lo
                    "outer_iterations": s.outer_iterations, "fx": f"{f[0]:.10g}", "fy": f"{f[1]:.10g}",
                    "fz": f"{f[2]:.10g}" if dim == 3 else "", "equilibrium": f"{eq[k]:.3e}",
                    "cpu_seconds": f"{secs[k]:.4f}", "ratio": f"{secs[k] / t_unit:.2f}"}
+            if friction:
+                slip_err, stick_max = coulomb_check(s)
+                row.update(slip_law_error=f"{slip_err:.2e}", stick_ratio_max=f"{stick_max:.6f}",
+                           state_reversals="" if s.state_reversals is None else s.state_reversals)
             rows.append(row)
             slide_rows.append((s, f, eq[k], secs[k]))
         newton = np.array([s.newton_iterations for s, *_ in slide_rows])
@@ -160,6 +189,14 @@ def run_case(case: str, variants, *, slide: float = 2.0, repeat: int = 3, log=lo
             "horizontal_over_vertical_max": float(np.max(np.abs(fx) / fv)) if fx.size else None,
             "horizontal_jump_over_vertical_max": float(np.max(np.abs(np.diff(fx)) / fv[1:])) if fx.size > 1 else None,
         }
+        if friction:
+            law = [coulomb_check(s) for s, *_ in slide_rows]
+            rev = [s.state_reversals for s, *_ in slide_rows]
+            summary.update(
+                mu=MU, slip_law_error_max=float(max((a for a, _ in law), default=np.nan)),
+                stick_ratio_max=float(max((b for _, b in law), default=np.nan)),
+                state_reversals=None if any(r is None for r in rev) else int(sum(rev)),
+                steps_with_reversals=None if any(r is None for r in rev) else int(sum(r > 0 for r in rev)))
         summaries.append(summary)
         mean, ratio = summary["newton_mean"], summary["step_cpu_over_unit"]
         log(f"ironing {case} {name}: {summary['status']}, Newton per sliding step "
@@ -167,6 +204,16 @@ def run_case(case: str, variants, *, slide: float = 2.0, repeat: int = 3, log=lo
             f"cut-backs, equilibrium <= {summary['equilibrium_max']:.1e}, step / unit "
             f"{'-' if ratio is None else f'{ratio:.2f}'}")
     return rows, summaries, problem
+
+
+def coulomb_check(step) -> tuple[float, float]:
+    """``(largest | |t_T| - mu t_N | / (mu t_N) at slipping points, largest |t_T| / (mu t_N) at sticking points)``."""
+    tt = np.linalg.norm(step.traction_t, axis=1)
+    bound = MU * step.pressure
+    slip, stick = step.states == 2, step.states == 1  # SLIP, STICK (alcontact.contact._friction_laws)
+    err = float(np.max(np.abs(tt[slip] - bound[slip]) / bound[slip], initial=0.0))
+    ratio = float(np.max(tt[stick] / bound[stick], initial=0.0))
+    return err, ratio
 
 
 def report(summaries, cases, command: str) -> str:
@@ -185,11 +232,28 @@ def report(summaries, cases, command: str) -> str:
     def fmt(v, spec):
         return "-" if v is None else format(v, spec)
 
-    for s in summaries:
+    for s in (s for s in summaries if "mu" not in s):
         lines.append(f"| {s['case']} | {s['dofs']} | {s['variant']} | {s['status']} | {fmt(s['newton_mean'], '.2f')} "
                      f"| {s['newton_max']} | {s['cutbacks']} | {fmt(s['equilibrium_max'], '.1e')} "
                      f"| {fmt(s['step_cpu_over_unit'], '.2f')} | {fmt(s['horizontal_over_vertical_max'], '.2e')} "
                      f"| {fmt(s['horizontal_jump_over_vertical_max'], '.2e')} |")
+    fric = [s for s in summaries if "mu" in s]
+    if fric:
+        lines += ["", f"Coulomb friction, mu = {MU}: *slip law*: the largest | abs(t_T) - mu t_N | / (mu t_N) at a "
+                  "slipping point; *stick*: the largest abs(t_T) / (mu t_N) at a sticking point; *reversals*: points "
+                  "whose stick/slip/open state went back to one it had left between the Newton iterates of an "
+                  "accepted step (sum over the sliding steps, and the steps with any); *equilibrium* with the "
+                  "tangential tractions.", "",
+                  "| case | DOFs | variant | status | Newton / step (mean) | max | cut-backs | equilibrium "
+                  "| step / unit | max Fx/Fy | slip law | stick | reversals (steps) |",
+                  "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+        for s in fric:
+            rev = "-" if s["state_reversals"] is None else f"{s['state_reversals']} ({s['steps_with_reversals']})"
+            lines.append(f"| {s['case']} | {s['dofs']} | {s['variant']} | {s['status']} "
+                         f"| {fmt(s['newton_mean'], '.2f')} | {s['newton_max']} | {s['cutbacks']} "
+                         f"| {fmt(s['equilibrium_max'], '.1e')} | {fmt(s['step_cpu_over_unit'], '.2f')} "
+                         f"| {fmt(s['horizontal_over_vertical_max'], '.3f')} | {fmt(s['slip_law_error_max'], '.1e')} "
+                         f"| {fmt(s['stick_ratio_max'], '.4f')} | {rev} |")
     return "\n".join(lines) + "\n"
 
 
@@ -209,8 +273,8 @@ def run(out_dir=None, cases=None, variants=None, log=print, repeat: int = 3, sli
         if case not in CASES:
             raise UnknownNameError("ironing benchmark case", case, list(CASES))
     for v in variants:
-        if v not in VARIANTS:
-            raise UnknownNameError("ironing benchmark variant", v, list(VARIANTS))
+        if v not in VARIANTS and v not in FRICTION_VARIANTS:
+            raise UnknownNameError("ironing benchmark variant", v, list(VARIANTS) + list(FRICTION_VARIANTS))
     all_rows, all_summaries = [], []
     for case in cases:
         rows, summaries, _ = run_case(case, variants, slide=slide, repeat=repeat, log=log)
@@ -233,7 +297,7 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--out", default="docs/benchmarks")
     ap.add_argument("--case", nargs="+", default=DEFAULT_CASES, choices=list(CASES))
-    ap.add_argument("--variants", nargs="+", default=list(VARIANTS), choices=list(VARIANTS))
+    ap.add_argument("--variants", nargs="+", default=list(VARIANTS), choices=list(VARIANTS) + list(FRICTION_VARIANTS))
     ap.add_argument("--slide", type=float, default=2.0, help="sliding distance in radii (default 2)")
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--name", default="ironing", help="base name of the output files")

@@ -53,3 +53,21 @@ def test_run_writes_csv_json_and_report(ironing, tmp_path):
     report = (tmp_path / "ironing.md").read_text()
     assert "alcontact bench --suite ironing --case tiny --variant ssn" in report
     assert any(m.startswith("ironing tiny ssn: converged") for m in messages)
+
+
+def test_friction_variant_records_coulomb_law_and_reversals(ironing, tmp_path):
+    """The ``ssn-coulomb`` variant (mu = 0.3) on the tiny preset: the friction columns are filled from
+    the returned steps (slip-law error, stick ratio, reversals) and the friction table is in the report."""
+    ironing["CASES"]["tiny"] = (2, 4)
+    try:
+        ironing["run"](tmp_path, ["tiny"], ["ssn-coulomb"], log=lambda _: None, repeat=1, slide=0.25)
+    finally:
+        del ironing["CASES"]["tiny"]
+    with open(tmp_path / "ironing.csv", newline="") as fh:
+        rows = list(csv.DictReader(fh))
+    assert len(rows) == 5 and all(r["slip_law_error"] and r["state_reversals"] != "" for r in rows)
+    (summary,) = json.loads((tmp_path / "ironing.json").read_text())
+    assert summary["status"] == "converged" and summary["mu"] == 0.3
+    assert summary["slip_law_error_max"] < 1e-8 and summary["stick_ratio_max"] <= 1.0 + 1e-8
+    assert summary["equilibrium_max"] < 1e-9 and isinstance(summary["state_reversals"], int)
+    assert "Coulomb friction, mu = 0.3" in (tmp_path / "ironing.md").read_text()

@@ -135,6 +135,7 @@ class _Local:
     state: np.ndarray
     R: np.ndarray
     r_body: np.ndarray
+    reversals: int | None = None  # see FiniteFrictionStep.state_reversals
 
     @property
     def aux(self) -> tuple:
@@ -367,6 +368,10 @@ class FiniteFrictionStep:
         Newton systems solved in this step (failed tries included).
     requested : bool
         ``t`` is a requested step time; ``False`` for a sub-step a cut-back inserted.
+    state_reversals : int or None
+        Contact points whose OPEN / STICK / SLIP state went back to a state it had left, between
+        the Newton iterates (start included) of the step's accepted solve: ``A -> B -> A``
+        (:func:`state_reversals`); ``None`` where not tracked (only ``ssn`` tracks it).
     """
 
     t: float
@@ -391,6 +396,7 @@ class FiniteFrictionStep:
     normals: np.ndarray | None = None
     linear_solves: int = 0
     requested: bool = True
+    state_reversals: int | None = None
 
     @property
     def state(self) -> np.ndarray:
@@ -544,10 +550,43 @@ class _FiniteALCtx:
             return dc.weights[dc.cand][:, None] * (t[:, :1] * nu - t[:, 1:])
 
 
+def state_reversals(history: Sequence[np.ndarray]) -> int:
+    """Points whose state returned to one it had left along ``history`` (a state per iterate).
+
+    Consecutive repeats count once: a point with states ``STICK, SLIP, SLIP, STICK`` has one
+    reversal, ``STICK, SLIP, OPEN`` none.
+    """
+    if len(history) < 3:
+        return 0
+    H = np.asarray(history)  # (iterates, points)
+    count = 0
+    for col in H.T:
+        seq = col[np.concatenate([[True], col[1:] != col[:-1]])]
+        if seq.size >= 3 and np.any(seq[2:] == seq[:-2]):
+            count += 1
+    return count
+
+
+def _ssn_parameter(dc) -> float:
+    r"""The Alart-Curnier parameter :math:`c` of :func:`_step_ssn`: :math:`E'/h`, the stiffness of the
+    first element row under the contact surface (:func:`~._solve.penalty_stiffness` with scale 1).
+
+    The solution does not depend on :math:`c` (the complementarity functions vanish at the same
+    points for every :math:`c > 0`), its Newton path does. With the AL penalty
+    :math:`\varepsilon_N` (``penalty_scale`` = 100 times :math:`E'/h`) a sliding step at the
+    stick-to-slip transition of the 2D ironing problem (h = 0.1, :math:`\mu` = 0.3) took 41-65
+    Newton iterations and a cut-back: the first full Newton step opened every contact point
+    (:math:`\lambda_N + c\,g < 0` for a small penetration error times a large :math:`c`) and the
+    backtracking on the residual norm rebuilt the contact zone point by point. With
+    :math:`c = E'/h` the same steps take 4-5 (issue 18; ``docs/benchmarks/ironing.md``).
+    """
+    return penalty_stiffness(dc.problem.model, dc.h, 1.0)
+
+
 def _step_ssn(ctx: _FiniteALCtx, penalty_name: str = "none") -> _StepOut:
     r"""Alart-Curnier semi-smooth Newton reference for one load step (no penalty, exact).
 
-    Unknowns :math:`(x, \lambda_N, \lambda_T)`, equations (with :math:`c = \varepsilon_N`,
+    Unknowns :math:`(x, \lambda_N, \lambda_T)`, equations (with :math:`c = E'/h`, :func:`_ssn_parameter`,
     :math:`\hat t_N = \langle\lambda_N + c g\rangle`,
     :math:`\hat t_T = \operatorname{proj}_{|t| \le \mu\hat t_N} (P\lambda_T + c\,\Delta s_T)`)
 
@@ -562,11 +601,10 @@ def _step_ssn(ctx: _FiniteALCtx, penalty_name: str = "none") -> _StepOut:
     starting multipliers and displacements); one outer iteration.
     """
     dc, lamN, lamT, x, opts = ctx.fc, ctx.lamN, ctx.lamT, ctx.start, ctx.opts
-    eps_n = ctx.eps_n
     cand = dc.cand
     k, d = cand.size, dc.dim
     w = dc.weights[cand]
-    c = float(eps_n)
+    c = _ssn_parameter(dc)
     mu = dc.mu
     nf = dc.free.size
     macaulay = make_law(_pen.make("rockafellar"), np.full(k, 1.0 / c))
@@ -575,6 +613,7 @@ def _step_ssn(ctx: _FiniteALCtx, penalty_name: str = "none") -> _StepOut:
     L = np.concatenate([np.maximum(lamN, 0.0)[:, None], lamT], axis=1)
     log: list[float] = []
     dc.residual_log.append(log)
+    states: list[np.ndarray] = []  # the OPEN / STICK / SLIP flags of every iterate
 
     def evaluate(x_, L_):
         u_ = dc.expand(x_)
@@ -651,6 +690,7 @@ def _step_ssn(ctx: _FiniteALCtx, penalty_name: str = "none") -> _StepOut:
                        float(np.max(np.abs(ev[9]) / w[:, None], initial=0.0)) / pref)
 
         def step(self, z, ev, history):
+            states.append(np.where(ev[10][:, 0] > 0, ev[6], OPEN))
             J = jacobian(ev[0], ev[10], ev[2])
             step = dc.friction_solver.solve(J, -self.residual(ev))
             dc.linear_solves += 1
@@ -669,7 +709,9 @@ def _step_ssn(ctx: _FiniteALCtx, penalty_name: str = "none") -> _StepOut:
             return _StepOut(False, f"semi-smooth Newton: {out.message}", ctx.forces(x, L), L, 1, out.iterations,
                             inner_failure(out), z=x)
         u, g, nu, tN, tT, slip, state, rb, Rx, RL, _ = out.state
-        loc = _Local(u, g, nu, L[:, 0].copy(), L[:, 1:].copy(), slip, np.where(L[:, 0] > 0, state, OPEN), Rx, rb)
+        final = np.where(L[:, 0] > 0, state, OPEN)
+        loc = _Local(u, g, nu, L[:, 0].copy(), L[:, 1:].copy(), slip, final, Rx, rb,
+                     reversals=state_reversals(states + [final]))
         return _StepOut(True, "converged", ctx.forces(x, L), L.copy(), 1, out.iterations, z=x, last_state=loc)
     finally:
         dc.eps_t, dc.coupled = saved
@@ -875,6 +917,7 @@ def _record(dc, res, t, mu, opts, cut, newton, seconds, solves=0, *, fixed, load
         force=force, normal_force=float(np.sum(w * pressure)), tangential_force=tang, states=states,
         dissipation=dissipation, stored_energy=float(dc.body.energy(u)), offset=dc.offset.copy(), seconds=seconds,
         message=message, u=u, pressure=pressure, gap=g_all, traction_t=traction_t,
-        slip=np.where(closed[:, None], slip, 0.0), normals=dc.normals.copy(), linear_solves=int(solves))
+        slip=np.where(closed[:, None], slip, 0.0), normals=dc.normals.copy(), linear_solves=int(solves),
+        state_reversals=loc.reversals)
     full = {"u": u, "pressure": pressure, "gap": g_all, "traction_t": traction_t, "normals": dc.normals.copy()}
     return rec, full
