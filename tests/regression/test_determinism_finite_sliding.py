@@ -62,9 +62,21 @@ def runs():
 @pytest.mark.parametrize("algorithm", ALGORITHMS)
 def test_same_counts_and_forces_run_to_run_and_across_thread_counts(runs, algorithm):
     ref = runs[0][algorithm]
-    assert ref["status"] > 0 and len(ref["newton"]) == 6
+    # converged; how many steps it took (a cut-back inserts one) is compared between the runs below
+    # (the slide predictor's cut-back of ssn on this coarse case: test_slide_predictor_coarse_large_step)
+    assert ref["status"] > 0
     scale = float(np.max(np.abs(ref["forces"])))
     for other in runs[1:]:
         o = other[algorithm]
         assert o["newton"] == ref["newton"] and o["outer"] == ref["outer"]
         assert np.max(np.abs(np.subtract(o["forces"], ref["forces"]))) <= 1e-12 * scale
+
+
+@pytest.mark.xfail(strict=True, reason=(
+    "known weakness (issue 18): on this coarse case (cylinder radius = 2 elements, slide steps of "
+    "0.44 R) the slide predictor sends ssn's first full sliding step to 54 Newton and a cut-back; "
+    "without it (FiniteContact.slide_predictor = False) every step takes 4-5. Strict: fix, then drop "
+    "the mark."))
+def test_slide_predictor_coarse_large_step(runs):
+    ref = runs[0]["ssn"]
+    assert len(ref["newton"]) == 6 and max(ref["newton"]) <= 12
