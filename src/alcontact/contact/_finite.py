@@ -247,7 +247,7 @@ class FiniteContact(ContactPoints):
     #: contact edge the carried pressure is interpolated from a pressed neighbour (8-60 on points open by
     #: 0.05-0.25 h, 3d-s ironing); the shift :math:`\lambda_i = p_i + |g_i|/\eta_i` then held such a point
     #: with a multiplier up to 70 times the largest pressure, the start's dual step closed its gap with a
-    #: change of that size, and the next subproblem started at relative residual 0.5-0.65 (issue 18).
+    #: change of that size, and the next subproblem started at relative residual 0.25-0.65 (issue 18).
     #: Measured, Newton per sliding step of exp-met1 (mean / max, 40 steps) for reach None, 0, 0.02, 0.03,
     #: 0.05, 0.07, 0.1: 3d-s 9.85/14, 6.92/10, 6.33/10, 6.28/10, 5.58/10, 6.25/8, 6.25/8; 2d-s 6.55/10,
     #: 5.92/8, 5.25/8, 5.03/6, 5.00/6, 6.40/8, 6.55/10 (a tuned value: ``docs/benchmarks/ironing.md``)
