@@ -53,8 +53,9 @@ def test_penalty_start_zeroes_floor_pressures_before_the_entry_rule():
     seen = {}
     x0 = np.zeros(2)
 
-    def entry_multipliers(lam, law):
+    def entry_multipliers(lam, law, **options):
         seen["entry"] = np.array(lam)
+        seen["options"] = options
         return lam
 
     def subproblem(law, lam, r0, *, tol, maxiter):
@@ -67,6 +68,7 @@ def test_penalty_start_zeroes_floor_pressures_before_the_entry_rule():
     opts = ContactOptions(newton_tol=1e-12, maxiter_newton=60)
     out, lam, r = _penalty_start(dc, opts, 10.0)
     assert np.array_equal(seen["entry"], [1.0, 0.0, 0.5]) and np.array_equal(seen["sub"], [1.0, 0.0, 0.5])
+    assert seen["options"] == {"penalty_start": True}  # the model knows it is Algorithm 6.3's penalty start
     assert np.array_equal(lam, [3.0, 2.0, 1.0]) and np.array_equal(r, x0 + 1.0) and out.iterations == 2
 
 

@@ -385,7 +385,7 @@ def _penalty_solve(dc, opts, eps, r0, lam0=None, *, entry: bool = False, maxiter
 _CARRIED_BUDGET = 10
 
 
-def _entry_subproblem(dc, law, lam, r0, *, tol, maxiter, finish: bool = True):
+def _entry_subproblem(dc, law, lam, r0, *, tol, maxiter, finish: bool = True, penalty_start: bool = False):
     r"""Subproblem (S) with the multipliers ``lam``, its Newton solve started with the model's entry rule.
 
     A model that predicts which points enter contact in a load step
@@ -399,9 +399,16 @@ def _entry_subproblem(dc, law, lam, r0, *, tol, maxiter, finish: bool = True):
     the shift only picks where Newton's method starts. Returns ``(outcome, multipliers)``: the
     multipliers of the returned solution (``lam``, or the shifted ones where ``finish`` is off
     and a shifted point still penetrates: the caller's dual step takes those points in).
+    ``penalty_start`` tells the model that this is the penalty start of Algorithm 6.3
+    (:attr:`FiniteContact.slide_start_reach <alcontact.contact._finite.FiniteContact.slide_start_reach>`).
     """
     entry = getattr(dc, "entry_multipliers", None)
-    shifted = lam if entry is None else np.asarray(entry(lam, law), dtype=float)
+    if entry is None:
+        shifted = lam
+    elif penalty_start:
+        shifted = np.asarray(entry(lam, law, penalty_start=True), dtype=float)
+    else:
+        shifted = np.asarray(entry(lam, law), dtype=float)
     if not np.any(shifted != lam):
         return dc.subproblem(law, lam, r0, tol=tol, maxiter=maxiter), lam
     first = dc.subproblem(law, shifted, r0, tol=tol, maxiter=maxiter)
@@ -520,7 +527,7 @@ def _penalty_start(dc, opts, eps):
     lam0 = np.where(lam0 > opts.multiplier_floor * float(np.max(lam0, initial=0.0)), lam0, 0.0)
     dual = getattr(dc, "start_multiplier_step", None)
     out, lam_used = _entry_subproblem(dc, law, lam0, dc.start(), tol=opts.newton_tol, maxiter=opts.maxiter_newton,
-                                      finish=dual is None)
+                                      finish=dual is None, penalty_start=True)
     better = dual(law, lam_used, out) if dual is not None and out.converged else None
     if isinstance(better, tuple) and lam_used is not lam0:
         # points the entry rule kept out still penetrate: the dual step took them in from its linearization;

@@ -242,6 +242,16 @@ class FiniteContact(ContactPoints):
     #: after the slide predictor the first subproblem of Algorithms 6.1 / 6.3 starts with multipliers whose
     #: tractions at the predicted state are the carried pressures (:meth:`entry_multipliers`)
     consistent_slide_multipliers = True
+    #: with :attr:`consistent_slide_multipliers`, the penalty start of Algorithm 6.3 shifts only the points open
+    #: by at most this fraction of ``h`` at the predicted state (``None``: every pressed point). Beyond the
+    #: contact edge the carried pressure is interpolated from a pressed neighbour (8-60 on points open by
+    #: 0.05-0.25 h, 3d-s ironing); the shift :math:`\lambda_i = p_i + |g_i|/\eta_i` then held such a point
+    #: with a multiplier up to 70 times the largest pressure, the start's dual step closed its gap with a
+    #: change of that size, and the next subproblem started at relative residual 0.25-0.65 (issue 18).
+    #: Measured, Newton per sliding step of exp-met1 (mean / max, 40 steps) for reach None, 0, 0.02, 0.03,
+    #: 0.05, 0.07, 0.1: 3d-s 9.85/14, 6.92/10, 6.33/10, 6.28/10, 5.58/10, 6.25/8, 6.25/8; 2d-s 6.55/10,
+    #: 5.92/8, 5.25/8, 5.03/6, 5.00/6, 6.40/8, 6.55/10 (a tuned value: ``docs/benchmarks/ironing.md``)
+    slide_start_reach = 0.05
     #: the pure-penalty start of Algorithm 6.3 (``initial="penalty"``,
     #: :func:`~alcontact.contact._algorithms.run_al`) solves the penalty subproblem of a load step with
     #: the step's predicted pressures as multipliers (:meth:`initial_multipliers`,
@@ -935,7 +945,7 @@ class FiniteContact(ContactPoints):
         dg = np.maximum(self.predicted_approach[self.cand], 0.0)
         return (lam > 0) & rule | (g > _ENTRY_FRACTION * dg) & (dg > 0)
 
-    def entry_multipliers(self, lam: np.ndarray, law) -> np.ndarray:
+    def entry_multipliers(self, lam: np.ndarray, law, *, penalty_start: bool = False) -> np.ndarray:
         r"""Starting multipliers of Algorithm 6.1 with the entry rule of :meth:`initial_active`.
 
         After the secant predictor the Macaulay law :math:`t_N = \langle\lambda + g/\eta\rangle`
@@ -951,15 +961,26 @@ class FiniteContact(ContactPoints):
         that still penetrates enters with its full penalty force (all at once). Unchanged
         (``lam``) without a predicted approach (secant prediction, first contact) or with
         :attr:`entry_rule_multipliers` off.
+
+        After the slide predictor (:attr:`consistent_slide_multipliers`) the pressed points get
+        :math:`\lambda_i = p_i - g_i/\eta_i` instead, so that the starting traction is the carried
+        pressure :math:`p_i`. With ``penalty_start`` (the penalty start of Algorithm 6.3,
+        :func:`~alcontact.contact._algorithms._penalty_start`) a point open by more than
+        :attr:`slide_start_reach` :math:`h` at the predicted state keeps :math:`\lambda_i = p_i`
+        (its Macaulay traction is zero there).
         """
         lam = np.asarray(lam, dtype=float)
         if self.predictor_used == "slide" and self.consistent_slide_multipliers:
             # the carried pressures as the starting tractions: lambda_i = p_i - g_i / eta_i on the pressed points
             g = self.gaps(self.x0)
             c = 1.0 / np.asarray(law.eta, dtype=float)
-            shifted = np.where(lam > 0, lam - c * g, lam)
+            pressed = lam > 0
+            if penalty_start and self.slide_start_reach is not None:
+                # an open point's carried pressure is interpolated across the contact edge: no start traction
+                pressed &= g > -float(self.slide_start_reach) * self.h
+            shifted = np.where(pressed, lam - c * g, lam)
             same = np.asarray(law.traction(g, shifted), dtype=float)
-            return np.where((lam > 0) & np.isclose(same, lam, rtol=1e-12, atol=0.0), shifted, lam)
+            return np.where(pressed & np.isclose(same, lam, rtol=1e-12, atol=0.0), shifted, lam)
         if not self.entry_rule_multipliers or self.predicted_approach is None:
             return lam
         g = self.gaps(self.x0)
