@@ -148,7 +148,7 @@ def _draw_2d(fig, axes, x, tri, field, values, contact_pressure, facets, unit):
             if k == len(axes) - 1:
                 _colorbar(fig, m, axes, label)
         else:
-            ax.tripcolor(sub, np.zeros(x.shape[0]), shading="flat", cmap="Greys", vmin=0.0, vmax=4.0)
+            ax.tripcolor(sub, np.ones(x.shape[0]), shading="flat", cmap="Greys", vmin=0.0, vmax=4.0)  # light grey body
             if edges:
                 ax.triplot(sub, color="0.45", lw=0.3 if zoom else 0.15, alpha=0.7)
             seg = x[facets.T]  # (m, 2, 2)
