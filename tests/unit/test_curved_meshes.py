@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 import skfem
 
+from _gmsh import msh_text
 from _helpers import assert_check_rejects, runner
 from alcontact.cli import app
 from alcontact.errors import MeshError
@@ -184,24 +185,14 @@ def test_inverted_second_order_elements_are_named():
 
 def _write_msh_p2(path, mesh):
     """Gmsh 2.2 ASCII file of a MeshTri2: triangle6 body and line3 boundary groups (names sorted)."""
-    dofs = skfem.Basis(mesh, skfem.ElementTriP2()).element_dofs  # v0 v1 v2 m01 m12 m02 (Gmsh order)
-    fdofs = skfem.Basis(mesh, skfem.ElementTriP2()).dofs
+    basis = skfem.Basis(mesh, skfem.ElementTriP2())
     names = sorted(mesh.boundaries)
-    lines, tag = [], 0
-    for k, name in enumerate(names):
-        for f in mesh.boundaries[name]:
-            tag += 1
-            a, b = mesh.facets[:, f] + 1
-            m = fdofs.facet_dofs[0][f] + 1
-            lines.append(f"{tag} 8 2 {k + 1} {k + 1} {a} {b} {m}")
-    for e in range(mesh.nelements):
-        tag += 1
-        lines.append(f"{tag} 9 2 {len(names) + 1} 100 " + " ".join(str(i + 1) for i in dofs[:, e]))
-    phys = [f'1 {k + 1} "{n}"' for k, n in enumerate(names)] + [f'2 {len(names) + 1} "body"']
-    nodes = [f"{i + 1} {x:.17g} {y:.17g} 0" for i, (x, y) in enumerate(mesh.doflocs.T)]
-    path.write_text("\n".join(["$MeshFormat", "2.2 0 8", "$EndMeshFormat", "$PhysicalNames", str(len(phys)),
-                               *phys, "$EndPhysicalNames", "$Nodes", str(len(nodes)), *nodes, "$EndNodes",
-                               "$Elements", str(len(lines)), *lines, "$EndElements", ""]))
+    blocks = [("line3", k + 1, np.column_stack([mesh.facets[:, f].T, basis.dofs.facet_dofs[0][f]]))
+              for k, f in enumerate(mesh.boundaries[n] for n in names)]
+    blocks.append(("triangle6", len(names) + 1, basis.element_dofs.T))  # v0 v1 v2 m01 m12 m02 (Gmsh order)
+    phys = [(1, k + 1, n) for k, n in enumerate(names)] + [(2, len(names) + 1, "body")]
+    points = np.column_stack([mesh.doflocs.T, np.zeros(mesh.doflocs.shape[1])])
+    path.write_text(msh_text(points, blocks, phys))
     return path
 
 
