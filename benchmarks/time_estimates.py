@@ -47,6 +47,8 @@ from pathlib import Path
 
 import numpy as np
 
+from alcontact.io.preflight import this_machine
+
 ROOT = Path(__file__).resolve().parents[1]
 EXAMPLES = ROOT / "examples"
 CALIBRATION = ROOT / "src" / "alcontact" / "io" / "time_calibration.json"
@@ -54,16 +56,8 @@ ENV = {**os.environ, "OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1", "MKL_N
 
 
 def machine() -> dict:
-    """CPU model and core count of this machine (the "machine kind" the timings hold for)."""
-    cpu = platform.processor() or platform.machine()
-    try:
-        for line in Path("/proc/cpuinfo").read_text().splitlines():
-            if line.startswith("model name"):
-                cpu = line.split(":", 1)[1].strip()
-                break
-    except OSError:
-        pass
-    return {"cpu": cpu, "cores": os.cpu_count() or 1, "python": platform.python_version()}
+    """This machine's kind (:func:`alcontact.io.preflight.this_machine`) and the Python version."""
+    return {**this_machine(), "python": platform.python_version()}
 
 
 def problem_files(tmp: Path) -> list[Path]:

@@ -49,7 +49,7 @@ from ..errors import ConfigError, InputError, MeshError
 from .config import Issue, _raise, _text_of, load_problem, parse_toml, validate_data
 
 __all__ = ["SizeEstimate", "Preflight", "check_problem", "estimate_size", "exact_size", "size_issues", "setup_issues",
-           "machine_memory", "run_features", "run_seconds", "time_calibration", "machine_kind", "MAX_DOFS", "MAX_SECONDS", "MEMORY_FRACTION", "VALUE_RANGE"]
+           "machine_memory", "run_features", "run_seconds", "time_calibration", "machine_kind", "this_machine", "MAX_DOFS", "MAX_SECONDS", "MEMORY_FRACTION", "VALUE_RANGE"]
 
 logger = logging.getLogger(__name__)
 
@@ -747,13 +747,20 @@ def machine_kind(cal: dict | None = None) -> str:
     m = cal.get("machine") or {}
     if not m:
         return "uncalibrated"
-    here = _this_machine()
+    here = this_machine()
     same = (here.get("cpu"), here.get("cores")) == (m.get("cpu"), m.get("cores"))
     kind = f"{m.get('cpu')}, {m.get('cores')} cores"
     return f"this machine kind ({kind})" if same else f"{kind}; this machine differs, scale accordingly"
 
 
-def _this_machine() -> dict:
+def this_machine() -> dict:
+    """CPU model and core count of this machine: the "machine kind" a time calibration holds for.
+
+    ``benchmarks/time_estimates.py`` records it with the calibration and :func:`machine_kind`
+    compares it with the running machine, so both read it here.
+    """
+    import platform
+
     cpu = ""
     try:
         for line in Path("/proc/cpuinfo").read_text().splitlines():
@@ -762,8 +769,6 @@ def _this_machine() -> dict:
                 break
     except OSError:
         pass
-    import platform
-
     return {"cpu": cpu or platform.processor() or platform.machine(), "cores": os.cpu_count() or 1}
 
 
