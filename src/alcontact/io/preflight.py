@@ -390,6 +390,31 @@ def size_issues(est: SizeEstimate | None, memory: float | None = None) -> list[I
     return [Issue(est.key, f"{head}{est.describe()}: {'; '.join(reasons)}. Use {' or '.join(ways)}.")]
 
 
+def _touching_points(setup, fixed: np.ndarray):
+    """The contact points that touch the obstacle at the start, as ``_stabilize`` finds them.
+
+    Returns ``(dofs, coef, is_fixed, near, gmax, h)``: the points' DOFs ``(m, d)``, the
+    coefficients of their normal motion (zero on fixed components), the fixed-DOF mask, the
+    points that can move and lie within ``h/2`` of the largest gap ``gmax`` (``-inf`` when no
+    point can move), and the contact-zone element size ``h``.
+    """
+    from ..contact._discrete import _element_size
+
+    prob = setup.problem
+    model = prob.model
+    pts, dofs = model.node_dofs(prob.contact_boundary)
+    gap0, nu = prob.obstacle.evaluate(pts)
+    is_fixed = np.zeros(model.ndofs, dtype=bool)
+    is_fixed[fixed] = True
+    coef = np.where(is_fixed[dofs], 0.0, -nu)
+    movable = np.linalg.norm(coef, axis=1) > 1e-12
+    h = _element_size(model, prob.contact_boundary, prob.obstacle)
+    g0 = np.where(movable, gap0, -np.inf)
+    gmax = float(np.max(g0, initial=-np.inf))
+    near = np.flatnonzero(movable & (g0 >= gmax - 0.5 * h)) if movable.any() else np.zeros(0, dtype=np.int64)
+    return dofs, coef, is_fixed, near, gmax, h
+
+
 # --------------------------------------------------------------------------- rigidity
 def _contact_points_restrain(setup, fixed: np.ndarray, null: np.ndarray, R, row_of, *,
                              all_components: bool = False) -> tuple[bool, str]:
@@ -399,25 +424,13 @@ def _contact_points_restrain(setup, fixed: np.ndarray, null: np.ndarray, R, row_
     counts; with friction (``all_components``, ``_friction_discrete.FrictionalContact._stabilize``)
     the pressed points also hold their tangential motion, so every free component counts.
     """
-    prob = setup.problem
-    model = prob.model
-    pts, dofs = model.node_dofs(prob.contact_boundary)
-    gap0, nu = prob.obstacle.evaluate(pts)
-    is_fixed = np.zeros(model.ndofs, dtype=bool)
-    is_fixed[fixed] = True
-    coef = np.where(is_fixed[dofs], 0.0, -nu)
-    movable = np.linalg.norm(coef, axis=1) > 1e-12
-    if not np.any(movable):
-        return False, "no contact point can move toward the obstacle"
-    from ..contact._discrete import _element_size
     from ..fem.elasticity import _rank
 
-    h = _element_size(model, prob.contact_boundary, prob.obstacle)
-    g0 = np.where(movable, gap0, -np.inf)
-    gmax = float(g0.max())
+    dofs, coef, is_fixed, near, gmax, h = _touching_points(setup, fixed)
+    if gmax == -np.inf:
+        return False, "no contact point can move toward the obstacle"
     if gmax < -0.5 * h:
         return False, f"the body does not touch the obstacle either (closest gap {-gmax:.3g})"
-    near = np.flatnonzero(movable & (g0 >= gmax - 0.5 * h))
     if all_components:  # every free component of the touching points: mode_k(X_i, c)
         N = R[row_of[dofs[near]]][~is_fixed[dofs[near]]]
     else:  # normal constraint rows: sum_c coef_ic * mode_k(X_i, c)
@@ -604,20 +617,10 @@ def _piece_issues(setup) -> list[Issue]:
     scalar_of[model.dof_map.ravel()] = np.repeat(np.arange(n), model.dof_map.shape[1])
     comp_of = np.empty(model.ndofs, dtype=np.int64)
     comp_of[model.dof_map.ravel()] = np.tile(np.arange(model.dof_map.shape[1]), n)
-    # contact rows: the points touching the obstacle (as _contact_points_restrain finds them)
-    cpts, cdofs = model.node_dofs(prob.contact_boundary)
-    gap0, nu = prob.obstacle.evaluate(cpts)
-    is_fixed = np.zeros(model.ndofs, dtype=bool)
-    is_fixed[fixed] = True
-    coef = np.where(is_fixed[cdofs], 0.0, -nu)
-    movable = np.linalg.norm(coef, axis=1) > 1e-12
-    from ..contact._discrete import _element_size
     from ..fem.elasticity import _rank
 
-    h = _element_size(model, prob.contact_boundary, prob.obstacle)
-    g0 = np.where(movable, gap0, -np.inf)
-    near = np.flatnonzero(movable & (g0 >= float(np.max(g0, initial=-np.inf)) - 0.5 * h)) if movable.any() else \
-        np.zeros(0, dtype=np.int64)
+    # contact rows: the points touching the obstacle (as _contact_points_restrain finds them)
+    cdofs, coef, is_fixed, near, _, _ = _touching_points(setup, fixed)
     near_scalar = scalar_of[cdofs[near, 0]] if near.size else np.zeros(0, dtype=np.int64)
     for c in range(count):
         sel = fixed[piece[scalar_of[fixed]] == c]
