@@ -127,6 +127,12 @@ def _pattern_interleaved(sdofs: np.ndarray, ns: int, d: int):
     return indptr, indices, pos.reshape(nel, -1), tperm
 
 
+
+def _listed(flags: np.ndarray) -> tuple[np.ndarray, str]:
+    """Elements with a flagged quadrature point (``flags``: (nel, nqp)) and the first 20 of them as text."""
+    elements = np.flatnonzero(flags.any(axis=1))
+    return elements, ", ".join(map(str, elements[:20])) + (", ..." if elements.size > 20 else "")
+
 class Hyperelastic(LinearElasticity):
     r"""Total Lagrangian hyperelastic body with vector P1 or P2 Lagrange elements.
 
@@ -245,8 +251,7 @@ class Hyperelastic(LinearElasticity):
         J = det(F)
         bad = ~(J > 0.0)
         if bad.any():
-            elements = np.flatnonzero(bad.any(axis=1))
-            shown = ", ".join(map(str, elements[:20])) + (", ..." if elements.size > 20 else "")
+            elements, shown = _listed(bad)
             raise InvertedElementError(
                 f"{elements.size} of {F.shape[0]} elements inverted (J = det F <= 0 at a quadrature "
                 f"point, min J = {float(np.nanmin(J)):.3g}): elements {shown}. The displacement is too "
@@ -255,8 +260,7 @@ class Hyperelastic(LinearElasticity):
             )
         out = self.law.domain_violation(F)
         if out is not None and out.any():
-            elements = np.flatnonzero(out.any(axis=1))
-            shown = ", ".join(map(str, elements[:20])) + (", ..." if elements.size > 20 else "")
+            elements, shown = _listed(out)
             raise LawDomainError(
                 f"{elements.size} of {F.shape[0]} elements deformed beyond the domain of material law "
                 f"{self.law.name!r} (e.g. the Gent locking I1b - 3 >= Jm): elements {shown}. Reject the Newton "
