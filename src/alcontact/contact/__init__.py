@@ -39,6 +39,12 @@ from ._finite_friction import (FiniteFrictionSolution, FiniteFrictionStep, finit
                                solve_finite_friction)
 from ._verify import check_state
 
+# the algorithm registry, the merged supports and the element size, for the problem-file loader and the
+# application layer (alcontact.io, alcontact.runner): public names, so no caller reaches into a private module
+from ._algorithms import algorithm_names, describe_algorithms, find_algorithm, friction_only_options
+from ._discrete import _element_size as contact_element_size
+from ._problem import merge_supports
+
 __all__ = [
     "obstacles",
     "ContactProblem",
@@ -76,4 +82,10 @@ __all__ = [
     "FiniteFrictionStep",
     "finite_friction_algorithms",
     "check_state",
+    "algorithm_names",
+    "describe_algorithms",
+    "find_algorithm",
+    "friction_only_options",
+    "contact_element_size",
+    "merge_supports",
 ]

@@ -77,6 +77,7 @@ __all__ = [
     "available",
     "docs",
     "make",
+    "signature",
     "register",
 ]
 
@@ -1426,6 +1427,28 @@ def available() -> list[str]:
 def docs() -> dict[str, str]:
     """``{name: one-line doc}`` for every registered obstacle, sorted by name."""
     return {k: _REGISTRY[k].doc for k in sorted(_REGISTRY)}
+
+
+def signature(name: str) -> inspect.Signature:
+    """The signature of the factory registered as ``name``: the parameters :func:`make` accepts.
+
+    Parameters without a default are required (the problem-file loader checks an
+    ``[obstacle]`` table against it before building).
+
+    Raises
+    ------
+    UnknownNameError
+        ``name`` is not registered (the message lists the known names).
+
+    Examples
+    --------
+    >>> list(signature("half-space").parameters)
+    ['point', 'normal']
+    """
+    try:
+        return inspect.signature(_REGISTRY[name].factory)
+    except (KeyError, TypeError):
+        raise UnknownNameError("obstacle", name, list(_REGISTRY)) from None
 
 
 def make(name: str, **params: Any) -> Obstacle:

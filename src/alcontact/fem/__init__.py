@@ -39,8 +39,9 @@ from alcontact.fem._hyper_laws import (
     check_material_parameters,
 )
 from alcontact.fem._linalg import Factorization, nested_dissection
-from alcontact.fem._material import Material
+from alcontact.fem._material import Material, material_issues
 from alcontact.fem.elasticity import LinearElasticity, rigid_body_modes
+from alcontact.fem.elasticity import _rank as numerical_rank  # public: the rigidity checks of alcontact.io
 from alcontact.fem.hyperelastic import Hyperelastic
 
 __all__ = [
@@ -56,6 +57,8 @@ __all__ = [
     "HyperelasticLaw",
     "LinearElasticity",
     "Material",
+    "material_issues",
+    "numerical_rank",
     "NeoHookean",
     "SaintVenantKirchhoff",
     "SymbolicMaterial",

@@ -34,9 +34,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..contact import ContactProblem
-from ..contact._loading import LoadCase, LoadHistory, Ramp
-from ..contact._problem import Support
+from ..contact import ContactProblem, LoadCase, LoadHistory, Ramp, Support
 from ..contact.obstacles import Circle, HalfSpace, UserObstacle
 from ..fem import LinearElasticity, Material, meshes
 from .hertz import HertzReference
