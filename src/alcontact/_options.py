@@ -34,7 +34,7 @@ from .errors import InputError
 
 __all__ = ["REQUIRED", "TYPES", "BAD", "MAX_STEPS", "VALUE_RANGE", "Option", "check_value", "declared",
            "declarations", "check_dataclass", "as_options", "is_real", "is_integer", "show", "LINEAR_MODEL",
-           "kinematics_option", "material_model_option", "ENERGY_MODEL", "OBSTACLE_PATH", "MAX_CUTBACKS",
+           "ENERGY_MODEL", "OBSTACLE_PATH", "MAX_CUTBACKS",
            "LENGTH_UNITS", "STRESS_UNITS", "FORCE_UNITS", "UNITS_OPTIONS", "derived_force_unit", "units_issues",
            "check_args", "require", "is_path"]
 
@@ -228,120 +228,163 @@ def check_value(opt: Option, value: Any, *, api: bool = False) -> tuple[Any, lis
         ``suffix`` is appended to the key path (``""`` or ``"[2]"`` for a list
         entry), ``message`` starts with ``"= value: "`` and says what to do.
     """
-    issues: list[tuple[str, str]] = []
-    want = opt.expected()
-    fix = opt.default_hint(api)
+    if value is None and opt.default is None:
+        return None, []
+    check = _Check(opt, value, api)
+    return _CHECKS[opt.type](check), check.issues
 
-    def bad_type(x: Any = value, where: str = "") -> Any:
-        hint = ""
+
+class _Check:
+    """One run of :func:`check_value`: the declaration, the value and the issues found so far.
+
+    The methods ``bad_type`` and ``number`` record an issue and return :data:`BAD`, or
+    return the converted value; the per-type checks in ``_CHECKS`` use them.
+    """
+
+    def __init__(self, opt: Option, value: Any, api: bool) -> None:
+        self.opt, self.value, self.api = opt, value, api
+        self.issues: list[tuple[str, str]] = []
+        self.want = opt.expected()
+        self.fix = opt.default_hint(api)
+
+    def _type_hint(self, x: Any) -> str:
+        opt, api = self.opt, self.api
         scalar = opt.type in ("float", "int", "floats", "ints", "number-or-floats")
         if scalar and isinstance(x, str):
-            hint = " Pass a number, not a string." if api else " Write the number without quotes."
-        elif opt.type == "bool" and isinstance(x, str):
-            hint = " Pass True or False." if api else " Write true or false without quotes."
-        elif opt.type in ("int", "ints") and is_real(x) and _finite_real(x):
-            hint = f" Use a whole number, e.g. {max(int(round(x)), 1)}."
-        elif opt.type in ("int", "ints") and isinstance(x, bool):
-            hint = " Booleans are not integers here; pass a whole number."
-        what = want if x is value else _TYPE_TEXT["float" if opt.type != "ints" else "int"]
-        issues.append((where, f"= {show(x)}: expected {what}, got {type(x).__name__}.{hint}{fix}"))
+            return " Pass a number, not a string." if api else " Write the number without quotes."
+        if opt.type == "bool" and isinstance(x, str):
+            return " Pass True or False." if api else " Write true or false without quotes."
+        if opt.type in ("int", "ints") and is_real(x) and _finite_real(x):
+            return f" Use a whole number, e.g. {max(int(round(x)), 1)}."
+        if opt.type in ("int", "ints") and isinstance(x, bool):
+            return " Booleans are not integers here; pass a whole number."
+        return ""
+
+    def bad_type(self, x: Any = None, where: str = "", *, whole: bool = True) -> Any:
+        """Record "expected <type>, got <type>" for the value (``whole``) or the list entry ``x``."""
+        if whole:
+            x = self.value
+        what = self.want if x is self.value else _TYPE_TEXT["float" if self.opt.type != "ints" else "int"]
+        self.issues.append((where, f"= {show(x)}: expected {what}, got {type(x).__name__}.{self._type_hint(x)}"
+                                   f"{self.fix}"))
         return BAD
 
-    def number(x: Any, where: str = "") -> Any:
+    def _out_of_range(self, x: Any, where: str) -> Any:
+        self.issues.append((where, f"= {show(x)}: out of range, must be {self.opt.range_text()}.{self.fix}"))
+        return BAD
+
+    def number(self, x: Any, where: str = "") -> Any:
+        """``x`` as ``int`` or a finite ``float`` in the declared range, or :data:`BAD`."""
+        opt = self.opt
         if opt.type in ("int", "ints"):
             if not is_integer(x):
-                return bad_type(x, where)
-            if not _in_range(opt, x):
-                issues.append((where, f"= {show(x)}: out of range, must be {opt.range_text()}.{fix}"))
-                return BAD
-            return int(x)
+                return self.bad_type(x, where, whole=False)
+            return int(x) if _in_range(opt, x) else self._out_of_range(x, where)
         if not is_real(x):
-            return bad_type(x, where)
+            return self.bad_type(x, where, whole=False)
         try:
             xf = float(x)
         except (OverflowError, ValueError, TypeError):
-            issues.append((where, f"= {show(x)}: too large (the largest number is about 1.8e308); must be "
-                                  f"{opt.range_text() or 'a finite number'}.{fix}"))
+            self.issues.append((where, f"= {show(x)}: too large (the largest number is about 1.8e308); must be "
+                                       f"{opt.range_text() or 'a finite number'}.{self.fix}"))
             return BAD
         if not math.isfinite(xf):
             rng = opt.range_text()
-            issues.append((where, f"= {show(x)}: must be a finite number{' ' + rng if rng else ''}.{fix}"))
+            self.issues.append((where, f"= {show(x)}: must be a finite number{' ' + rng if rng else ''}.{self.fix}"))
             return BAD
-        if not _in_range(opt, x):
-            issues.append((where, f"= {show(x)}: out of range, must be {opt.range_text()}.{fix}"))
-            return BAD
-        return xf
+        return xf if _in_range(opt, x) else self._out_of_range(x, where)
 
-    def seq(v: Any) -> bool:
-        return isinstance(v, (list, tuple))
-
-    def too_long(v: Any) -> bool:
+    def too_long(self, v: Any) -> bool:
         if len(v) > MAX_LIST:
-            issues.append(("", f"= [...] ({len(v)} entries): too long, at most {MAX_LIST} entries."))
+            self.issues.append(("", f"= [...] ({len(v)} entries): too long, at most {MAX_LIST} entries."))
             return True
         return False
 
-    t = opt.type
-    if value is None and opt.default is None:
-        return None, issues
-    if t in ("float", "int"):
-        return number(value), issues
-    if t == "bool":
-        if isinstance(value, bool) or type(value).__name__ == "bool_":
-            return bool(value), issues
-        return bad_type(), issues
-    if t == "str":
-        if not isinstance(value, str):
-            return bad_type(), issues
-        choices = opt.allowed
-        if choices is not None and value not in choices:
-            import difflib
+    def numbers(self, v: Any) -> Any:
+        """Every entry of the list ``v`` checked by :meth:`number` (``[i]`` in the key path)."""
+        out = [self.number(x, f"[{i}]") for i, x in enumerate(v)]
+        return BAD if any(x is BAD for x in out) else out
 
-            close = difflib.get_close_matches(value, [c for c in choices if c], n=1, cutoff=0.6)
-            mean = f" Did you mean {close[0]!r}?" if close else ""
-            allowed = ", ".join(repr(c) for c in choices if c)
-            issues.append(("", f"= {show(value)}: not allowed.{mean} Allowed: {allowed}.{fix}"))
-            return BAD, issues
-        return value, issues
-    if t == "number-or-floats":
-        if is_real(value):
-            return number(value), issues
-        if not seq(value) or not value:
-            return bad_type(), issues
-        if too_long(value):
-            return BAD, issues
-        out = [number(x, f"[{i}]") for i, x in enumerate(value)]
-        return (BAD if any(x is BAD for x in out) else out), issues
-    if t in ("floats", "ints"):
-        if not seq(value):
-            return bad_type(), issues
-        if opt.lengths is not None and len(value) not in opt.lengths:
-            issues.append(("", f"= {show(value)}: needs {' or '.join(map(str, opt.lengths))} entries, "
-                               f"got {len(value)}."))
-            return BAD, issues
-        if too_long(value):
-            return BAD, issues
-        out = [number(x, f"[{i}]") for i, x in enumerate(value)]
-        return (BAD if any(x is BAD for x in out) else out), issues
-    if t == "knots":
-        def finite(x: Any) -> bool:
-            try:
-                return is_real(x) and math.isfinite(float(x))
-            except OverflowError:
-                return False
 
-        ok = seq(value) and value and len(value) <= MAX_LIST and all(
-            seq(k) and len(k) == 2 and all(finite(x) for x in k) for k in value)
-        if not ok:
-            issues.append(("", f"= {show(value)}: expected {want} of finite numbers (at most {MAX_LIST}), "
-                               "e.g. [[0.0, 0.0], [1.0, 1.0]]."))
-            return BAD, issues
-        ts = [float(k[0]) for k in value]
-        if any(b <= a for a, b in zip(ts, ts[1:])):
-            issues.append(("", f"= {show(value)}: the times (first entries) must increase strictly."))
-            return BAD, issues
-        return [(float(k[0]), float(k[1])) for k in value], issues
-    raise AssertionError(t)  # pragma: no cover
+def _seq(v: Any) -> bool:
+    return isinstance(v, (list, tuple))
+
+
+def _check_number(c: _Check) -> Any:
+    return c.number(c.value)
+
+
+def _check_bool(c: _Check) -> Any:
+    v = c.value
+    if isinstance(v, bool) or type(v).__name__ == "bool_":
+        return bool(v)
+    return c.bad_type()
+
+
+def _check_str(c: _Check) -> Any:
+    value = c.value
+    if not isinstance(value, str):
+        return c.bad_type()
+    choices = c.opt.allowed
+    if choices is not None and value not in choices:
+        import difflib
+
+        close = difflib.get_close_matches(value, [x for x in choices if x], n=1, cutoff=0.6)
+        mean = f" Did you mean {close[0]!r}?" if close else ""
+        allowed = ", ".join(repr(x) for x in choices if x)
+        c.issues.append(("", f"= {show(value)}: not allowed.{mean} Allowed: {allowed}.{c.fix}"))
+        return BAD
+    return value
+
+
+def _check_number_or_floats(c: _Check) -> Any:
+    value = c.value
+    if is_real(value):
+        return c.number(value)
+    if not _seq(value) or not value:
+        return c.bad_type()
+    return BAD if c.too_long(value) else c.numbers(value)
+
+
+def _check_list(c: _Check) -> Any:
+    value, opt = c.value, c.opt
+    if not _seq(value):
+        return c.bad_type()
+    if opt.lengths is not None and len(value) not in opt.lengths:
+        c.issues.append(("", f"= {show(value)}: needs {' or '.join(map(str, opt.lengths))} entries, "
+                             f"got {len(value)}."))
+        return BAD
+    return BAD if c.too_long(value) else c.numbers(value)
+
+
+def _finite(x: Any) -> bool:
+    try:
+        return is_real(x) and math.isfinite(float(x))
+    except OverflowError:
+        return False
+
+
+def _check_knots(c: _Check) -> Any:
+    value = c.value
+    ok = _seq(value) and value and len(value) <= MAX_LIST and all(
+        _seq(k) and len(k) == 2 and all(_finite(x) for x in k) for k in value)
+    if not ok:
+        c.issues.append(("", f"= {show(value)}: expected {c.want} of finite numbers (at most {MAX_LIST}), "
+                             "e.g. [[0.0, 0.0], [1.0, 1.0]]."))
+        return BAD
+    ts = [float(k[0]) for k in value]
+    if any(b <= a for a, b in zip(ts, ts[1:])):
+        c.issues.append(("", f"= {show(value)}: the times (first entries) must increase strictly."))
+        return BAD
+    return [(float(k[0]), float(k[1])) for k in value]
+
+
+#: The check of each declared type (:data:`TYPES`).
+_CHECKS: dict[str, Callable[[_Check], Any]] = {
+    "float": _check_number, "int": _check_number, "bool": _check_bool, "str": _check_str,
+    "number-or-floats": _check_number_or_floats, "floats": _check_list, "ints": _check_list,
+    "knots": _check_knots,
+}
 
 
 # --------------------------------------------------------------------------- options dataclasses
@@ -525,25 +568,6 @@ LINEAR_MODEL = "linear"
 
 #: Law name of a user strain energy given as ``[material] energy`` (not a ``model`` choice).
 ENERGY_MODEL = "energy-expression"
-
-
-def kinematics_option() -> Option:
-    """``[contact] kinematics``: the contact kinematics (registry :data:`alcontact.contact._problem.KINEMATICS`)."""
-    from .contact._problem import KINEMATICS
-
-    return Option("kinematics", "str", "small", "`small` (linearized gap, one solve per step) or `finite` (gap at "
-                  "the deformed position, Newton in load steps with cut-backs; needs a hyperelastic "
-                  "`material.model`).", choices=tuple(KINEMATICS))
-
-
-def material_model_option() -> Option:
-    """``[material] model``: ``linear`` or a registered hyperelastic law (:func:`alcontact.fem.available_materials`)."""
-    from .fem._hyper_materials import available_materials
-
-    return Option("model", "str", None, "Constitutive law: `linear` (small strains) or a hyperelastic law for "
-                  "`kinematics = \"finite\"` (default: `linear` for small, `neo-hookean` for finite kinematics); "
-                  "its parameters go in `[material.parameters]`, see the tables below.",
-                  choices=(LINEAR_MODEL,) + tuple(available_materials()))
 
 
 #: ``[obstacle] path``: rigid translation of the obstacle per unit pseudo-time (finite kinematics).

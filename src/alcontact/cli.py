@@ -625,7 +625,7 @@ def docs_command(
     from .io import schema
 
     console, err = _consoles()
-    target = out if out is not None else schema._repo_root() / schema.DOCS_PATH
+    target = out if out is not None else schema.repo_root() / schema.DOCS_PATH
     if check:
         current = target.read_text(encoding="utf-8") if target.is_file() else ""
         if current != schema.render_markdown():

@@ -28,8 +28,8 @@ import sys
 from dataclasses import dataclass
 from pathlib import Path
 
-from .._options import (MAX_CUTBACKS, MAX_STEPS, OBSTACLE_PATH, REQUIRED, TYPES, UNITS_OPTIONS, VALUE_RANGE,
-                        Option, declarations, kinematics_option, material_model_option)
+from .._options import (LINEAR_MODEL, MAX_CUTBACKS, MAX_STEPS, OBSTACLE_PATH, REQUIRED, TYPES, UNITS_OPTIONS,
+                        VALUE_RANGE, Option, declarations)
 
 __all__ = [
     "REQUIRED",
@@ -40,6 +40,7 @@ __all__ = [
     "option",
     "render_markdown",
     "write_markdown",
+    "repo_root",
     "DOCS_PATH",
     "MAX_STEPS",
 ]
@@ -81,7 +82,7 @@ def _solver_options() -> tuple[tuple[Option, ...], tuple[Option, ...]]:
 
 def _algorithms(friction: bool = False) -> tuple[str, ...]:
     """Names of the registered algorithms (frictionless or frictional, small deformation)."""
-    from ..contact._algorithms import algorithm_names
+    from ..contact import algorithm_names
 
     return tuple(algorithm_names(friction=friction))
 
@@ -96,6 +97,25 @@ def _penalties() -> tuple[str, ...]:
     from ..contact import contact_penalties
 
     return tuple(contact_penalties())
+
+
+def _kinematics_option() -> Option:
+    """``[contact] kinematics``: the contact kinematics (registry :data:`alcontact.contact.KINEMATICS`)."""
+    from ..contact import KINEMATICS
+
+    return Option("kinematics", "str", "small", "`small` (linearized gap, one solve per step) or `finite` (gap at "
+                  "the deformed position, Newton in load steps with cut-backs; needs a hyperelastic "
+                  "`material.model`).", choices=tuple(KINEMATICS))
+
+
+def _material_model_option() -> Option:
+    """``[material] model``: ``linear`` or a registered hyperelastic law (:func:`alcontact.fem.available_materials`)."""
+    from ..fem import available_materials
+
+    return Option("model", "str", None, "Constitutive law: `linear` (small strains) or a hyperelastic law for "
+                  "`kinematics = \"finite\"` (default: `linear` for small, `neo-hookean` for finite kinematics); "
+                  "its parameters go in `[material.parameters]`, see the tables below.",
+                  choices=(LINEAR_MODEL,) + tuple(available_materials()))
 
 
 def _build_schema() -> tuple[Table, ...]:
@@ -143,7 +163,7 @@ def _build_schema() -> tuple[Table, ...]:
               high=0.5, low_open=True, high_open=True),
             O("plane", "str", "strain", "2D assumption: `strain` or `stress` (ignored in 3D; hyperelastic: "
               "`strain` only).", choices=("strain", "stress")),
-            material_model_option(),
+            _material_model_option(),
             O("energy", "str", None, "A user hyperelastic law: its strain energy W as an expression of the "
               "invariants `I1`, `I2`, `I3`, `J`, `I1b`, `I2b`, the names of `[material.parameters]`, numbers, "
               "`+ - * / **` and `log`, `exp`, `sqrt`, e.g. `\"c10*(I1b-3) + c01*(I2b-3) + K/2*(J-1)**2\"` "
@@ -201,7 +221,7 @@ def _build_schema() -> tuple[Table, ...]:
             O("boundary", "str", REQUIRED, "Boundary of the body that may touch the obstacle."),
             O("friction", "float", 0.0, "Coulomb coefficient mu (0: frictionless; > 0 uses the frictional "
               "solver over the load steps).", low=0),
-            kinematics_option(),
+            _kinematics_option(),
         ), required=True),
         Table("solver", "Contact algorithm, penalty and their parameters.", (
             O("algorithm", "str", "simo-laursen", "Contact algorithm (friction: "
@@ -421,8 +441,12 @@ def _law_parameter_tables() -> list[str]:
     return lines
 
 
-def _repo_root() -> Path:
+def repo_root() -> Path:
+    """The root of the source checkout (the folder of ``examples/``, ``benchmarks/`` and ``docs/``)."""
     return Path(__file__).resolve().parents[3]
+
+
+_repo_root = repo_root  # the name alcontact.runner still imports
 
 
 #: Where the generated documentation lives in the repository.
@@ -433,7 +457,7 @@ def write_markdown(path: str | Path | None = None) -> Path:
     """Write :func:`render_markdown` to ``path`` (default ``<repository>/docs/problem-file.md``)."""
     from .results import write_text_atomic
 
-    target = Path(path) if path is not None else _repo_root() / DOCS_PATH
+    target = Path(path) if path is not None else repo_root() / DOCS_PATH
     target.parent.mkdir(parents=True, exist_ok=True)
     return write_text_atomic(target, render_markdown())
 
