@@ -82,6 +82,120 @@ def _linear_solve_rows(s: dict) -> list[str]:
     ]
 
 
+def _header_lines(s: dict, description: str, source: str | None) -> list[str]:
+    """Title, description, problem file, status and the one-line description of the run."""
+    ok = s.get("status") == "converged"
+    lines = [f"# {s.get('problem_label') or s.get('problem')}", ""]
+    if description:
+        lines += [description, ""]
+    if source:
+        lines += [f"Problem file: `{source}`", ""]
+    return lines + [
+        f"**Status: {s.get('status')}**" + ("" if ok else f" -- {s.get('message')}"),
+        "",
+        f"{s.get('dim')}D, P{s.get('order')}, {s.get('dofs')} DOFs; algorithm `{s.get('algorithm')}`, "
+        f"penalty `{s.get('penalty')}`"
+        + (f"; Coulomb friction mu = {s['friction']:g}" if s.get("friction") else "; frictionless")
+        + (f"; {s['load_steps']} load steps" if s.get("load_steps", 1) > 1 else "") + ".",
+        "",
+    ]
+
+
+def _reference_rows(s: dict, L: str, S: str, F: str) -> list[str]:
+    """The table head and the rows compared with the analytical reference (Hertz width and peak pressure)."""
+    return [
+        "| quantity | computed | reference | error % |",
+        "|---|---|---|---|",
+        f"| {_half_width_label(s)} ({L}) | {_f(s.get('contact_half_width'))} | "
+        f"{_f(s.get('contact_half_width_exact'))} | {_f(s.get('contact_half_width_error_pct'), '+.2f')} |",
+        f"| peak pressure p0 ({S}) | {_f(s.get('peak_pressure'))} | {_f(s.get('peak_pressure_exact'))} | "
+        f"{_f(s.get('peak_pressure_error_pct'), '+.2f')} |",
+        f"| total contact force P ({F}) | {_f(s.get('total_contact_force'))} | | |",
+    ]
+
+
+def _finite_rows(s: dict, notes: list[str]) -> list[str]:
+    """Finite deformation: Newton iterations per accepted step (sub-steps marked *), cut-backs, residual."""
+    if s.get("kinematics") != "finite":
+        return []
+    newton = s.get("step_newton_iterations", [])
+    asked = s.get("step_requested") or [True] * len(newton)
+    marked = " ".join(f"{n}" if r else f"{n}*" for n, r in zip(newton, asked))
+    lines = [f"| finite deformation ({s.get('material_model')}): Newton iterations per accepted step | "
+             f"{marked} | | |",
+             f"| cut-backs / equilibrium residual | {s.get('cutbacks')} / "
+             f"{_f(s.get('equilibrium_residual'), '.2e')} | | |"]
+    if not all(asked):
+        notes.append(f"Load steps: {sum(1 for r in asked if not r)} of the {len(asked)} accepted steps "
+                     "(marked *) are sub-steps that cut-backs inserted (a failed step's increment halved); "
+                     "`summary.json` lists every accepted step in `step_times`, and `step_requested` says "
+                     "which were requested.")
+    return lines
+
+
+def _friction_rows(s: dict, L: str, F: str, notes: list[str]) -> list[str]:
+    """Coulomb friction: tangential force against mu N, stick/slip/open counts, stick half-width."""
+    if not s.get("friction"):
+        return []
+    lines = [f"| tangential force of the model, resultant \\|Q\\| = \\|sum q_i\\| ({F}) | "
+             f"{_f(s.get('tangential_force'))} | <= mu N = {_f(s.get('coulomb_limit'))} | |"]
+    if s.get("tangential_force_magnitude_sum") is not None:
+        lines.append(f"| sum of the nodal tangential force magnitudes, sum \\|q_i\\| ({F}) | "
+                     f"{_f(s.get('tangential_force_magnitude_sum'))} | <= mu N = {_f(s.get('coulomb_limit'))} | |")
+        notes.append("Friction: every contact point obeys Coulomb's law |q_i| <= mu p_i (= where it "
+                     "slips), so sum |q_i| <= mu N, with equality when every loaded point slips. The "
+                     "resultant |Q| is smaller than sum |q_i| where the tangent directions turn over "
+                     "the contact zone (a curved or deformed surface) or the points slip in different "
+                     "directions; |Q| < mu N is then no sign of sticking.")
+    lines.append(f"| stick / slip / open points | {s.get('stick_points')} / {s.get('slip_points')} / "
+                 f"{s.get('open_points')} | | |")
+    if s.get("stick_half_width_exact") is not None:
+        lines.append(f"| stick half-width c ({L}) | {_f(s.get('stick_half_width'))} | "
+                     f"{_f(s.get('stick_half_width_exact'))} | {_f(s.get('stick_half_width_error_pct'), '+.2f')} |")
+    return lines
+
+
+def _cost_rows(s: dict) -> list[str]:
+    """Iterations, linear solves, penetration and times."""
+    stepped = s.get("load_steps", 1) > 1
+    return [
+        f"| outer / Newton iterations{' (all steps)' if stepped else ''} | {s.get('outer_iterations')} / "
+        f"{s.get('newton_iterations')} | | |",
+        f"| linear solves | {s.get('linear_solves')} | | |",
+        f"| max penetration / h | {_f(s.get('penetration'), '.2e')} | | |",
+        f"| wall time{' of all steps' if stepped else ''} (s) | {_f(s.get('wall_time_s'), '.3f')} | | |",
+    ] + _linear_solve_rows(s)
+
+
+def _figure_lines(files: list[str]) -> list[str]:
+    """The plots present in the folder, then the pictures of the body in their own section."""
+    lines = []
+    for png, caption in (("pressure.png", "Contact pressure"), ("convergence.png", "Convergence"),
+                         ("load_displacement.png", "Load-displacement curve"),
+                         ("reaction_force.png", "Reaction-force curve")):
+        if png in files:
+            lines += [f"![{caption}]({png})", ""]
+    pictures = [(png, caption) for png, caption in _PICTURES if png in files]
+    if pictures:
+        lines += ["## Pictures of the body", "",
+                  "The deformed body (small-deformation runs: displacement magnified, the factor is in the title); "
+                  "2D: the whole body and the mesh near the contact zone; 3D: the boundary surface.", ""]
+        for png, caption in pictures:
+            lines += [f"![{caption}]({png})", ""]
+    return lines
+
+
+def _file_lines(files: list[str], deformed: bool) -> list[str]:
+    """The files of the folder with what each holds (``report.md`` itself left out)."""
+    lines = ["## Files", ""]
+    for name in files:
+        if name == "report.md":
+            continue
+        doc = _FINITE_FILE_DOCS.get(name) if deformed else None
+        lines.append(f"- `{name}`: {doc or _FILE_DOCS.get(name, '')}".rstrip(": "))
+    return lines + [""]
+
+
 def render_report(summary: dict, files: list[str], *, description: str = "", source: str | None = None,
                   units=None) -> str:
     """The markdown text of ``report.md``.
@@ -100,88 +214,13 @@ def render_report(summary: dict, files: list[str], *, description: str = "", sou
     from ..viz.plots import Units
 
     u = units if units is not None else Units()
-    deformed = summary.get("kinematics") == "finite"
-    L, S, F = u.length, u.pressure, u.force(int(summary.get("dim") or 2))
     s = summary
-    stepped = s.get("load_steps", 1) > 1
-    ok = s.get("status") == "converged"
-    lines = [f"# {s.get('problem_label') or s.get('problem')}", ""]
-    if description:
-        lines += [description, ""]
-    if source:
-        lines += [f"Problem file: `{source}`", ""]
-    lines += [
-        f"**Status: {s.get('status')}**" + ("" if ok else f" -- {s.get('message')}"),
-        "",
-        f"{s.get('dim')}D, P{s.get('order')}, {s.get('dofs')} DOFs; algorithm `{s.get('algorithm')}`, "
-        f"penalty `{s.get('penalty')}`"
-        + (f"; Coulomb friction mu = {s['friction']:g}" if s.get("friction") else "; frictionless")
-        + (f"; {s['load_steps']} load steps" if s.get("load_steps", 1) > 1 else "") + ".",
-        "",
-        "| quantity | computed | reference | error % |",
-        "|---|---|---|---|",
-        f"| {_half_width_label(s)} ({L}) | {_f(s.get('contact_half_width'))} | "
-        f"{_f(s.get('contact_half_width_exact'))} | {_f(s.get('contact_half_width_error_pct'), '+.2f')} |",
-        f"| peak pressure p0 ({S}) | {_f(s.get('peak_pressure'))} | {_f(s.get('peak_pressure_exact'))} | "
-        f"{_f(s.get('peak_pressure_error_pct'), '+.2f')} |",
-        f"| total contact force P ({F}) | {_f(s.get('total_contact_force'))} | | |",
-    ]
-    notes = []
-    if s.get("kinematics") == "finite":
-        newton = s.get("step_newton_iterations", [])
-        asked = s.get("step_requested") or [True] * len(newton)
-        marked = " ".join(f"{n}" if r else f"{n}*" for n, r in zip(newton, asked))
-        lines.append(f"| finite deformation ({s.get('material_model')}): Newton iterations per accepted step | "
-                     f"{marked} | | |")
-        lines.append(f"| cut-backs / equilibrium residual | {s.get('cutbacks')} / "
-                     f"{_f(s.get('equilibrium_residual'), '.2e')} | | |")
-        if not all(asked):
-            notes.append(f"Load steps: {sum(1 for r in asked if not r)} of the {len(asked)} accepted steps "
-                         "(marked *) are sub-steps that cut-backs inserted (a failed step's increment halved); "
-                         "`summary.json` lists every accepted step in `step_times`, and `step_requested` says "
-                         "which were requested.")
-    if s.get("friction"):
-        lines.append(f"| tangential force of the model, resultant \\|Q\\| = \\|sum q_i\\| ({F}) | "
-                     f"{_f(s.get('tangential_force'))} | <= mu N = {_f(s.get('coulomb_limit'))} | |")
-        if s.get("tangential_force_magnitude_sum") is not None:
-            lines.append(f"| sum of the nodal tangential force magnitudes, sum \\|q_i\\| ({F}) | "
-                         f"{_f(s.get('tangential_force_magnitude_sum'))} | <= mu N = {_f(s.get('coulomb_limit'))} | |")
-            notes.append("Friction: every contact point obeys Coulomb's law |q_i| <= mu p_i (= where it "
-                         "slips), so sum |q_i| <= mu N, with equality when every loaded point slips. The "
-                         "resultant |Q| is smaller than sum |q_i| where the tangent directions turn over "
-                         "the contact zone (a curved or deformed surface) or the points slip in different "
-                         "directions; |Q| < mu N is then no sign of sticking.")
-        lines.append(f"| stick / slip / open points | {s.get('stick_points')} / {s.get('slip_points')} / "
-                     f"{s.get('open_points')} | | |")
-        if s.get("stick_half_width_exact") is not None:
-            lines.append(f"| stick half-width c ({L}) | {_f(s.get('stick_half_width'))} | "
-                         f"{_f(s.get('stick_half_width_exact'))} | {_f(s.get('stick_half_width_error_pct'), '+.2f')} |")
-    lines += [
-        f"| outer / Newton iterations{' (all steps)' if stepped else ''} | {s.get('outer_iterations')} / "
-        f"{s.get('newton_iterations')} | | |",
-        f"| linear solves | {s.get('linear_solves')} | | |",
-        f"| max penetration / h | {_f(s.get('penetration'), '.2e')} | | |",
-        f"| wall time{' of all steps' if stepped else ''} (s) | {_f(s.get('wall_time_s'), '.3f')} | | |",
-    ] + _linear_solve_rows(s) + [""] + [line for note in notes for line in (note, "")]
-    for png, caption in (("pressure.png", "Contact pressure"), ("convergence.png", "Convergence"),
-                         ("load_displacement.png", "Load-displacement curve"),
-                         ("reaction_force.png", "Reaction-force curve")):
-        if png in files:
-            lines += [f"![{caption}]({png})", ""]
-    pictures = [(png, caption) for png, caption in _PICTURES if png in files]
-    if pictures:
-        lines += ["## Pictures of the body", "",
-                  "The deformed body (small-deformation runs: displacement magnified, the factor is in the title); "
-                  "2D: the whole body and the mesh near the contact zone; 3D: the boundary surface.", ""]
-        for png, caption in pictures:
-            lines += [f"![{caption}]({png})", ""]
-    lines += ["## Files", ""]
-    for name in files:
-        if name == "report.md":
-            continue
-        doc = _FINITE_FILE_DOCS.get(name) if deformed else None
-        lines.append(f"- `{name}`: {doc or _FILE_DOCS.get(name, '')}".rstrip(": "))
-    lines.append("")
+    L, S, F = u.length, u.pressure, u.force(int(s.get("dim") or 2))
+    notes: list[str] = []
+    lines = (_header_lines(s, description, source) + _reference_rows(s, L, S, F) + _finite_rows(s, notes)
+             + _friction_rows(s, L, F, notes) + _cost_rows(s))
+    lines += [""] + [line for note in notes for line in (note, "")]
+    lines += _figure_lines(files) + _file_lines(files, s.get("kinematics") == "finite")
     return "\n".join(lines)
 
 
