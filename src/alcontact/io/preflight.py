@@ -33,9 +33,7 @@ issues name the key path, the value and the way out.
 
 from __future__ import annotations
 
-import contextlib
 import dataclasses
-import io
 import logging
 import math
 import os
@@ -45,7 +43,8 @@ from typing import Any
 import numpy as np
 
 from .._options import VALUE_RANGE
-from ..errors import ConfigError, InputError, MeshError
+from ..errors import ConfigError, InputError
+from ._sections import low_dim_issue
 from .config import Issue, _raise, _text_of, load_problem, parse_toml, validate_data
 
 __all__ = ["SizeEstimate", "Preflight", "check_problem", "estimate_size", "exact_size", "size_issues", "setup_issues",
@@ -398,7 +397,7 @@ def _touching_points(setup, fixed: np.ndarray):
     points that can move and lie within ``h/2`` of the largest gap ``gmax`` (``-inf`` when no
     point can move), and the contact-zone element size ``h``.
     """
-    from ..contact._discrete import _element_size
+    from ..contact import contact_element_size
 
     prob = setup.problem
     model = prob.model
@@ -408,7 +407,7 @@ def _touching_points(setup, fixed: np.ndarray):
     is_fixed[fixed] = True
     coef = np.where(is_fixed[dofs], 0.0, -nu)
     movable = np.linalg.norm(coef, axis=1) > 1e-12
-    h = _element_size(model, prob.contact_boundary, prob.obstacle)
+    h = contact_element_size(model, prob.contact_boundary, prob.obstacle)
     g0 = np.where(movable, gap0, -np.inf)
     gmax = float(np.max(g0, initial=-np.inf))
     near = np.flatnonzero(movable & (g0 >= gmax - 0.5 * h)) if movable.any() else np.zeros(0, dtype=np.int64)
@@ -424,7 +423,7 @@ def _contact_points_restrain(setup, fixed: np.ndarray, null: np.ndarray, R, row_
     counts; with friction (``all_components``, ``_friction_discrete.FrictionalContact._stabilize``)
     the pressed points also hold their tangential motion, so every free component counts.
     """
-    from ..fem.elasticity import _rank
+    from ..fem import numerical_rank
 
     dofs, coef, is_fixed, near, gmax, h = _touching_points(setup, fixed)
     if gmax == -np.inf:
@@ -435,7 +434,7 @@ def _contact_points_restrain(setup, fixed: np.ndarray, null: np.ndarray, R, row_
         N = R[row_of[dofs[near]]][~is_fixed[dofs[near]]]
     else:  # normal constraint rows: sum_c coef_ic * mode_k(X_i, c)
         N = np.einsum("ic,ick->ik", coef[near], R[row_of[dofs[near]]])
-    if _rank(N @ null.T) == null.shape[0]:
+    if numerical_rank(N @ null.T) == null.shape[0]:
         return True, ""
     return False, f"the {near.size} contact point(s) touching the obstacle do not stop it either"
 
@@ -463,7 +462,7 @@ def _rigidity_issues(setup) -> list[Issue]:
 # --------------------------------------------------------------------------- supports, ranges
 def _ramped_support_issues(setup) -> list[Issue]:
     """Fixed and ramped supports that give one DOF different values at some step time."""
-    from ..contact._problem import Support, merge_supports
+    from ..contact import Support, merge_supports
 
     if setup.history is None:
         return []
@@ -571,7 +570,7 @@ def _pinned_issues(setup) -> list[Issue]:
 
 def _fixed_dofs(setup) -> np.ndarray:
     """DOFs fixed by the supports, ramped ones included (as :func:`_rigidity_issues`)."""
-    from ..contact._problem import Support
+    from ..contact import Support
 
     prob = setup.problem
     model = prob.model
@@ -617,7 +616,7 @@ def _piece_issues(setup) -> list[Issue]:
     scalar_of[model.dof_map.ravel()] = np.repeat(np.arange(n), model.dof_map.shape[1])
     comp_of = np.empty(model.ndofs, dtype=np.int64)
     comp_of[model.dof_map.ravel()] = np.tile(np.arange(model.dof_map.shape[1]), n)
-    from ..fem.elasticity import _rank
+    from ..fem import numerical_rank
 
     # contact rows: the points touching the obstacle (as _contact_points_restrain finds them)
     cdofs, coef, is_fixed, near, _, _ = _touching_points(setup, fixed)
@@ -633,7 +632,7 @@ def _piece_issues(setup) -> list[Issue]:
             else:
                 blocks.append((coef[i] @ vals)[None, :])
         held = np.vstack(blocks) if blocks else np.zeros((0, nm))
-        if _rank(held) < nm:
+        if numerical_rank(held) < nm:
             members = np.flatnonzero(piece == c)
             lo, hi = pts[members].min(axis=0), pts[members].max(axis=0)
             box = " x ".join(f"[{a:.4g}, {b:.4g}]" for a, b in zip(lo, hi))
@@ -674,31 +673,6 @@ def setup_issues(setup) -> list[Issue]:
         return issues
     return (_ramped_support_issues(setup) + _pinned_issues(setup) + _tangential_first_step_issues(setup)
             + _piece_issues(setup) + _rigidity_issues(setup))
-
-
-# --------------------------------------------------------------------------- Gmsh files without a body
-def _low_dim_issue(md: dict, base: Path, issue: Issue) -> Issue:
-    """Say which physical groups a Gmsh file has and how to add one for the body."""
-    from ..fem import meshes
-
-    p = Path(md["file"])
-    p = p if p.is_absolute() else base / p
-    try:  # meshio and scikit-fem print on some files: keep it from the user
-        with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):
-            mesh = meshes.read(p)
-    except (MeshError, SystemExit):
-        return issue
-    dim = int(mesh.dim())
-    groups = sorted(set((mesh.boundaries or {}).keys()) | set((mesh.subdomains or {}).keys()))
-    kind = {0: "points", 1: "curves"}.get(dim, "cells")
-    body = "Physical Surface(\"body\") = {...};  (Physical Volume in 3D)"
-    return Issue("mesh.file", f"= {md['file']!r}: the file holds only {dim}D elements ({kind}); its physical "
-                              f"groups are {', '.join(map(repr, groups)) or '(none)'}. Gmsh saves only the "
-                              "elements of physical groups once any is defined, so the body's triangles/"
-                              f"tetrahedra were left out: add a physical group for the body, e.g. {body} in "
-                              "the .geo file (or in the GUI: Modules > Geometry > Physical groups > Add > "
-                              "Surface/Volume), or save all elements (gmsh -save_all, Mesh.SaveAll = 1), "
-                              "then re-mesh.")
 
 
 # --------------------------------------------------------------------------- run time
@@ -866,7 +840,7 @@ def _output_issues(setup) -> list[Issue]:
 def _mesh_issue(md: dict, base: Path, issue: Issue) -> Issue:
     """Rewrite the mesh issues of :func:`load_problem` for the user: the key that fixes them."""
     if md.get("generator") == "file" and issue.path == "mesh" and issue.message.startswith("the mesh is"):
-        return _low_dim_issue(md, base, issue)
+        return low_dim_issue(md, base, issue)
     if issue.path == "mesh.order" and any(w in issue.message for w in (
             "inverted element", "degenerate element", "second-order element")):  # the quality check of the body
         if md.get("generator") == "file":

@@ -1,0 +1,863 @@
+"""One builder per section of a problem file.
+
+:func:`alcontact.io.config.load_problem` validates a file against the schema, then
+builds it here, section by section and in this order (the order of the issues):
+
+====================  ==========================================  =========================
+section               builder                                     builds
+====================  ==========================================  =========================
+``[mesh]``            :func:`build_mesh`                          the mesh, its dimension
+``[contact]``         :func:`build_kinematics`                    kinematics, material model
+``[material]``        :func:`build_material`                      material, hyperelastic law
+``[contact]``         :func:`check_contact_boundary`              the contact boundary
+``[[support]]``       :func:`build_supports`                      fixed and ramped supports
+``[[load]]``          :func:`build_loads`                         fixed and ramped loads
+``[loading]``         :func:`build_loading`                       step times, friction ramp
+``[obstacle]``        :func:`build_obstacle`                      the rigid obstacle
+``[solver]``          :func:`build_solver`                        algorithm, penalty, options
+``[units]``           :func:`build_units`                         the unit labels
+``[reference]``       :func:`build_reference`                     Hertz / Cattaneo-Mindlin
+(all)                 :func:`build_model`, :func:`build_problem`  model, problem, history
+====================  ==========================================  =========================
+
+Every builder takes the section's normalized table (defaults filled in, values
+that failed the schema pass marked :data:`~alcontact._options.BAD`) and the list
+of issues; it appends an :class:`~alcontact.io._issues.Issue` for each problem
+(key path and the way out) and returns what it could build (``None`` where
+nothing could be built), so that one run reports every problem of the file.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import dataclasses
+import io
+import re
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from .._options import BAD, ENERGY_MODEL, LINEAR_MODEL, declarations, units_issues
+from ..errors import InputError, MeshError, UnknownNameError
+from ._issues import Issue, _did_you_mean, _known, _num, _ok
+
+__all__ = ["Sections", "build_sections", "build_model", "build_problem"]
+
+
+def _quiet():
+    """Keep meshio's and scikit-fem's prints (and meshio's ``sys.exit``) away from the user."""
+    stack = contextlib.ExitStack()
+    stack.enter_context(contextlib.redirect_stdout(io.StringIO()))
+    stack.enter_context(contextlib.redirect_stderr(io.StringIO()))
+    return stack
+
+
+# --------------------------------------------------------------------------- [mesh]
+def _read_mesh_file(d: dict, base: Path, issues: list[Issue]):
+    """``generator = "file"``: the mesh read from ``file`` (relative to the problem file's folder)."""
+    from ..fem import meshes
+
+    if d["file"] is BAD:  # the schema pass recorded the issue
+        return None
+    if not d["file"]:
+        issues.append(Issue("mesh.file", "missing: generator = 'file' needs file = 'body.msh'."))
+        return None
+    for key in ("bounds", "cells", "refine"):
+        if d[key] is not None:
+            issues.append(Issue(f"mesh.{key}", "not used with generator = 'file'; remove it (or use "
+                                               "generator = 'rectangle' / 'box')."))
+    p = Path(d["file"])
+    p = p if p.is_absolute() else base / p
+    try:
+        with _quiet():  # meshio prints and calls sys.exit(1) on some unreadable files
+            return meshes.read(p)
+    except MeshError as exc:
+        issues.append(Issue("mesh.file", f"= {d['file']!r}: {exc}"))
+    except SystemExit:
+        issues.append(Issue("mesh.file", f"= {d['file']!r}: cannot read mesh file {str(p)!r} (meshio gave up). "
+                                         "Export it from Gmsh as .msh (format 2.2 or 4.1)."))
+    return None
+
+
+def _grid_ok(d: dict, gen: str, dim: int, issues: list[Issue]) -> bool:
+    """``bounds`` and ``cells`` of a generated mesh: present, of the right length, non-empty ranges."""
+    ok = True
+    if d["file"]:
+        issues.append(Issue("mesh.file", f"not used with generator = {gen!r}; remove it or set "
+                                         "generator = 'file'."))
+        ok = False
+    for key, n, example in (("bounds", 2 * dim, "[0.0, 1.0, 0.0, 1.0]" if dim == 2 else "[0, 1, 0, 1, 0, 1]"),
+                            ("cells", dim, "[8, 8]" if dim == 2 else "[4, 4, 4]")):
+        v = d[key]
+        if v is BAD:
+            ok = False
+        elif v is None:
+            issues.append(Issue(f"mesh.{key}", f"missing: generator = {gen!r} needs {key} = {example}."))
+            ok = False
+        elif len(v) != n:
+            issues.append(Issue(f"mesh.{key}", f"= {v!r}: generator = {gen!r} needs {n} entries, e.g. "
+                                               f"{key} = {example}."))
+            ok = False
+    if ok:
+        b = d["bounds"]
+        for k, ax in enumerate("xyz"[:dim]):
+            if not b[2 * k] < b[2 * k + 1]:
+                issues.append(Issue("mesh.bounds", f"= {b!r}: the {ax} range [{b[2 * k]:g}, {b[2 * k + 1]:g}] is "
+                                                   f"empty; give lower < upper."))
+                ok = False
+    return ok
+
+
+def _refine_ok(refine: dict | None, dim: int, issues: list[Issue]) -> bool:
+    """``[mesh.refine]`` (absent, or valid with a centre of ``dim`` coordinates)."""
+    if refine is None:
+        return True
+    if refine is BAD or any(v is BAD for v in refine.values()):
+        return False
+    if len(refine["center"]) != dim:
+        issues.append(Issue("mesh.refine.center", f"= {refine['center']!r}: needs {dim} coordinates for a "
+                                                  f"{dim}D mesh."))
+        return False
+    return True
+
+
+def _generate_mesh(d: dict, issues: list[Issue]):
+    """``generator = "rectangle"`` / ``"box"``: the structured mesh of ``bounds`` and ``cells``."""
+    from ..fem import meshes
+
+    gen = d["generator"]
+    dim = 2 if gen == "rectangle" else 3
+    grid = _grid_ok(d, gen, dim, issues)
+    refine = d["refine"]
+    if not (_refine_ok(refine, dim, issues) and grid):
+        return None
+    r = None if refine is None else {k: v for k, v in refine.items() if v is not None}
+    fn = meshes.rectangle if dim == 2 else meshes.box
+    return _num(issues, "mesh", fn, *d["bounds"], *d["cells"], refine=r)
+
+
+def low_dim_issue(md: dict, base: Path, issue: Issue) -> Issue:
+    """Say which physical groups a Gmsh file has and how to add one for the body."""
+    from ..fem import meshes
+
+    p = Path(md["file"])
+    p = p if p.is_absolute() else base / p
+    try:
+        with _quiet():
+            mesh = meshes.read(p)
+    except (MeshError, SystemExit):
+        return issue
+    dim = int(mesh.dim())
+    groups = sorted(set((mesh.boundaries or {}).keys()) | set((mesh.subdomains or {}).keys()))
+    kind = {0: "points", 1: "curves"}.get(dim, "cells")
+    body = "Physical Surface(\"body\") = {...};  (Physical Volume in 3D)"
+    return Issue("mesh.file", f"= {md['file']!r}: the file holds only {dim}D elements ({kind}); its physical "
+                              f"groups are {', '.join(map(repr, groups)) or '(none)'}. Gmsh saves only the "
+                              "elements of physical groups once any is defined, so the body's triangles/"
+                              f"tetrahedra were left out: add a physical group for the body, e.g. {body} in "
+                              "the .geo file (or in the GUI: Modules > Geometry > Physical groups > Add > "
+                              "Surface/Volume), or save all elements (gmsh -save_all, Mesh.SaveAll = 1), "
+                              "then re-mesh.")
+
+
+def build_mesh(md: dict | None, base: Path, issues: list[Issue]) -> tuple[Any, int | None]:
+    """``[mesh]``: ``(mesh, dim)``, read (``generator = "file"``) or generated; ``(None, None)`` on an issue.
+
+    A mesh that is not 2D or 3D is an issue too (a Gmsh file: the issue names its
+    physical groups and how to add one for the body, :func:`low_dim_issue`).
+    """
+    if md is None or md is BAD or md["generator"] is BAD:
+        return None, None
+    mesh = _read_mesh_file(md, base, issues) if md["generator"] == "file" else _generate_mesh(md, issues)
+    if mesh is None:
+        return None, None
+    dim = int(mesh.dim())
+    if dim in (2, 3):
+        return mesh, dim
+    issue = Issue("mesh", f"the mesh is {dim}D; contact problems need a 2D or 3D mesh.")
+    if md.get("generator") == "file":  # a Gmsh file without a body group: say which groups it has
+        issue = low_dim_issue(md, base, issue)
+    issues.append(issue)
+    return None, None
+
+
+def boundary_ok(mesh, name: str, path: str, issues: list[Issue]) -> bool:
+    """``name`` is a boundary of ``mesh`` (else an issue at ``path`` with the mesh's boundary names)."""
+    known = sorted((mesh.boundaries or {}).keys())
+    if name in known:
+        return True
+    issues.append(Issue(path, f"= {name!r}: the mesh has no boundary {name!r}.{_did_you_mean(name, known)} "
+                              f"Mesh boundaries: {_known(known)}."))
+    return False
+
+
+def _ramp(knots):
+    from ..contact import Ramp
+
+    return Ramp(tuple(k[0] for k in knots), tuple(k[1] for k in knots), hold_before=True, hold_after=True)
+
+
+# --------------------------------------------------------------------------- kinematics and [material]
+def _model_name(mt: Any, kin: str, issues: list[Issue]) -> tuple[str | None, bool]:
+    """``(material model or None, go on)``: ``model``, or the user law of ``energy`` (which needs finite
+    kinematics: ``go on`` is ``False`` after that issue)."""
+    model = mt.get("model") if isinstance(mt, dict) else None
+    if model is BAD:
+        model = None
+    energy = mt.get("energy") if isinstance(mt, dict) else None
+    if energy is None or energy is BAD:
+        return model, True
+    if model is not None:
+        issues.append(Issue("material.energy", f"given together with model = {model!r}: a user energy is "
+                                               "its own law; remove one of model and energy."))
+    if kin != "finite":
+        issues.append(Issue("contact.kinematics", "= 'small': a user material.energy is a hyperelastic law "
+                                                  "and needs kinematics = 'finite'."))
+        return ENERGY_MODEL, False
+    return ENERGY_MODEL, True
+
+
+def _finite_issues(mt: Any, cd: Any, dim: int | None, data: dict, issues: list[Issue]) -> None:
+    """Finite kinematics: no friction amplitude with friction, plane strain in 2D."""
+    mu = cd.get("friction") if isinstance(cd, dict) else 0.0
+    lo = data.get("loading")
+    ramp = lo.get("friction_ramp") if isinstance(lo, dict) else None
+    if isinstance(mu, float) and mu > 0 and ramp is not None and ramp is not BAD:
+        issues.append(Issue("loading.friction_ramp", "a friction amplitude is not available with "
+                                                     "contact.kinematics = 'finite' (the coefficient is "
+                                                     "constant); remove friction_ramp, or use kinematics = "
+                                                     "'small'."))
+    if dim == 2 and isinstance(mt, dict) and mt.get("plane") == "stress":
+        issues.append(Issue("material.plane", "= 'stress': hyperelastic bodies in 2D are plane strain only; "
+                                              "set plane = 'strain' or use a 3D mesh."))
+
+
+def _path_issues(od: Any, finite: bool, dim: int | None, issues: list[Issue]) -> None:
+    """``[obstacle] path``: finite kinematics only, one entry per space dimension."""
+    path = od.get("path") if isinstance(od, dict) else None
+    if path is None or path is BAD:
+        return
+    if not finite:
+        issues.append(Issue("obstacle.path", "a moving obstacle needs contact.kinematics = 'finite'; remove "
+                                             "path (small kinematics: move the body with a ramped support)."))
+    elif dim is not None and len(path) != dim:
+        issues.append(Issue("obstacle.path", f"= {path!r}: needs {dim} numbers (a translation per unit "
+                                             f"pseudo-time) for a {dim}D mesh."))
+
+
+def build_kinematics(mt, cd, dim, data: dict, issues: list[Issue]) -> tuple[str, str]:
+    """``[contact] kinematics`` and ``[material] model``: ``(kinematics, material model)``, with an issue for
+    each combination that cannot run.
+
+    Finite kinematics needs a hyperelastic law (plane strain in 2D) and, with friction
+    (Coulomb at finite deformation, :func:`~alcontact.contact.solve_finite_friction`), no
+    ``friction_ramp``; a hyperelastic law needs finite kinematics; ``[obstacle] path``
+    needs finite kinematics and one entry per space dimension.
+    """
+    kin = cd.get("kinematics") if isinstance(cd, dict) else "small"
+    kin = "small" if kin is BAD or kin is None else kin
+    model, go_on = _model_name(mt, kin, issues)
+    if not go_on:
+        return kin, model
+    if model is None:
+        model = "neo-hookean" if kin == "finite" else LINEAR_MODEL
+    finite = kin == "finite"
+    if finite and model == LINEAR_MODEL:
+        issues.append(Issue("material.model", "= 'linear': kinematics = 'finite' needs a hyperelastic law; set "
+                                              "model = 'neo-hookean' (or 'saint-venant-kirchhoff'), or use "
+                                              "contact.kinematics = 'small'."))
+    if not finite and model != LINEAR_MODEL:
+        issues.append(Issue("contact.kinematics", f"= 'small': the hyperelastic material.model = {model!r} needs "
+                                                  "kinematics = 'finite'; set it, or use material.model = 'linear'."))
+    if finite:
+        _finite_issues(mt, cd, dim, data, issues)
+    _path_issues(data.get("obstacle"), finite, dim, issues)
+    return kin, model
+
+
+def _split_message(msg: str, default: str) -> Issue:
+    """An :class:`Issue` from an InputError message that starts with its key path (``key = ...`` / ``key: ...``)."""
+    m = re.match(r"^([A-Za-z_][\w.\[\]]*)( = |: )(.*)$", msg, flags=re.S)
+    if m is None or not m.group(1).startswith("material."):
+        return Issue(default, msg)
+    return Issue(m.group(1), ("= " if m.group(2) == " = " else "") + m.group(3))
+
+
+def _require(key: str, why: str, issues: list[Issue]) -> None:
+    issues.append(Issue(f"material.{key}", f"missing (required {why})."))
+
+
+def _linear_law(params: dict, E, nu, issues: list[Issue]):
+    """The linear elastic model: ``E`` and ``nu`` required, no ``[material.parameters]``."""
+    if params:
+        issues.append(Issue("material.parameters", f"= {sorted(params)}: not used by the linear elastic model "
+                                                   "(its constants are E and nu); remove [material.parameters] "
+                                                   "or choose a hyperelastic model."))
+    for key, v in (("E", E), ("nu", nu)):
+        if v is None:
+            _require(key, "for the linear elastic model", issues)
+    return None, E, nu
+
+
+def _hyperelastic_law(mt: dict, law: str, params: dict, issues: list[Issue]):
+    """The law object of ``model`` and ``[material.parameters]`` (or of ``energy``), or ``None``."""
+    from ..fem import EnergyExpression, check_material_parameters, make_material
+
+    if law == ENERGY_MODEL:
+        try:
+            return EnergyExpression(mt["energy"], params, key="material.energy", params_key="material.parameters")
+        except InputError as exc:
+            issues.append(_split_message(str(exc), "material.energy"))
+            return None
+    values, found = check_material_parameters(law, params)
+    issues.extend(_split_message(f"material.parameters.{k} {m}" if m.startswith("= ")
+                                 else f"material.parameters.{k}: {m}", "material.parameters")
+                  for k, m in found)
+    return None if found else make_material(law, **values)
+
+
+def _fixed_moduli(obj, law: str, E, nu, issues: list[Issue]):
+    """``(E, nu)`` completed from the moduli the law fixes and checked against them (``None`` with an issue)."""
+    mu0, K0 = obj.fixed_moduli()
+    if mu0 is None:  # the law takes its moduli from E and nu
+        for key, v in (("E", E), ("nu", nu)):
+            if v is None:
+                _require(key, f"for model {law!r}, which takes its shear and bulk moduli from E and nu", issues)
+        return E, nu
+    if K0 is None:  # mu0 fixed, the bulk modulus from nu
+        if nu is None:
+            _require("nu", f"for model {law!r}: it sets the bulk modulus of the volumetric term", issues)
+            return E, None
+        E0 = 2.0 * mu0 * (1.0 + nu)
+        what = f"model {law!r} with these parameters has initial shear modulus mu0 = {mu0:.6g}"
+    else:  # the user energy fixes both
+        E0 = 9.0 * K0 * mu0 / (3.0 * K0 + mu0)
+        nu0 = (3.0 * K0 - 2.0 * mu0) / (2.0 * (3.0 * K0 + mu0))
+        what = f"the energy has initial moduli mu0 = {mu0:.6g}, K0 = {K0:.6g}"
+        if nu is not None and abs(nu - nu0) > 1e-6:
+            issues.append(Issue("material.nu", f"= {nu!r}: {what}, so nu = {nu0:.9g}; remove nu (it is derived) "
+                                               "or make it agree."))
+            return E, None
+        nu = nu0
+    if E is not None and abs(E - E0) > 1e-6 * E0:
+        issues.append(Issue("material.E", f"= {E!r}: {what}, so E = 2 mu0 (1 + nu) = {E0:.9g} (consistency with "
+                                          "linear elasticity); remove E (it is derived) or make it agree."
+                            if K0 is None else f"= {E!r}: {what}, so E = {E0:.9g}; remove E (it is derived) or "
+                                               "make it agree."))
+        return None, nu
+    return E0 if E is None else E, nu
+
+
+def material_law(mt: dict, law: str, issues: list[Issue]):
+    """``(law instance or None, E, nu)`` of ``[material]``: the law built from ``model`` and
+    ``[material.parameters]`` (or ``energy``), and the constants, completed from the moduli
+    the law fixes (:meth:`~alcontact.fem.HyperelasticLaw.fixed_moduli`) and checked against them.
+
+    ``E`` or ``nu`` is ``None`` (with an issue) when it is missing or cannot be derived.
+    """
+    sub = mt.get("parameters")
+    params = dict(sub.get("params") or {}) if isinstance(sub, dict) else {}
+    E, nu = mt["E"], mt["nu"]
+    if law == LINEAR_MODEL or law is None:
+        return _linear_law(params, E, nu, issues)
+    obj = _hyperelastic_law(mt, law, params, issues)
+    if obj is None:
+        return None, E, nu
+    return (obj, *_fixed_moduli(obj, law, E, nu, issues))
+
+
+def _region_issues(mt: dict, mesh, mat, issues: list[Issue]) -> None:
+    """``[[material.region]]``: a region of the mesh, with the constants of ``[material]`` (one material)."""
+    for i, reg in enumerate(mt["region"] or []):
+        rp = f"material.region[{i + 1}]"
+        if not _ok(reg):
+            continue
+        if mesh is not None:
+            regions = sorted((getattr(mesh, "subdomains", None) or {}).keys())
+            if reg["name"] not in regions:
+                issues.append(Issue(f"{rp}.name", f"= {reg['name']!r}: the mesh has no region {reg['name']!r}."
+                                                  f"{_did_you_mean(reg['name'], regions)} Mesh regions: "
+                                                  f"{_known(regions)} (Gmsh physical groups of cells)."))
+                continue
+        if mat is not None and (reg["E"], reg["nu"], reg["plane"]) != (mat.E, mat.nu, mat.plane):
+            issues.append(Issue(rp, f"region {reg['name']!r} has E={reg['E']:g}, nu={reg['nu']:g}, "
+                                    f"plane={reg['plane']!r}, different from [material]: several materials "
+                                    "in one body are not supported yet (the FEM layer takes one material); "
+                                    "use one [material] for the whole body."))
+
+
+def build_material(mt: dict | None, law: str, mesh, issues: list[Issue]) -> tuple[Any, Any]:
+    """``[material]``: ``(Material or None, hyperelastic law or None)``; the regions checked against the mesh."""
+    from ..fem import Material, material_issues
+
+    mat = law_obj = None
+    if not (_ok({k: v for k, v in (mt or {}).items() if k != "region"}) and mt is not None):
+        return mat, law_obj
+    law_obj, E, nu = material_law(mt, law, issues)
+    bad = [] if E is None or nu is None else material_issues(E, nu, mt["plane"])  # keyed like the file
+    issues.extend(Issue(f"material.{key}", msg) for key, msg in bad)
+    if not bad and E is not None and nu is not None:
+        mat = _num(issues, "material", Material, E=E, nu=nu, plane=mt["plane"])
+    _region_issues(mt, mesh, mat, issues)
+    return mat, law_obj
+
+
+# --------------------------------------------------------------------------- [contact], [[support]], [[load]]
+def check_contact_boundary(cd: dict | None, mesh, issues: list[Issue]) -> bool:
+    """``[contact] boundary``: the table is valid and (with a mesh) names one of its boundaries."""
+    contact_ok = _ok(cd)
+    if contact_ok and mesh is not None:
+        contact_ok = boundary_ok(mesh, cd["boundary"], "contact.boundary", issues)
+    return contact_ok
+
+
+def _support_value(s: dict, dim: int, path: str, issues: list[Issue]):
+    v = s["value"]
+    comps = s["components"]
+    if isinstance(v, float):
+        return v
+    n = len(v)
+    if n == dim:
+        return tuple(v)
+    if comps is not None and n == len(comps):
+        full = [0.0] * dim
+        for c, x in zip(comps, v):
+            full[c] = x
+        return tuple(full)
+    want = f"{dim}" if comps is None else f"{len(comps)} (one per listed component) or {dim}"
+    issues.append(Issue(f"{path}.value", f"= {v!r}: needs a number or {want} numbers, got {n}."))
+    return None
+
+
+def _support(s: dict, sp: str, mesh, dim: int, issues: list[Issue]):
+    """One ``[[support]]`` as a :class:`~alcontact.contact.Support`, or ``None`` (with its issues)."""
+    from ..contact import Support
+
+    good = boundary_ok(mesh, s["boundary"], f"{sp}.boundary", issues)
+    comps = s["components"]
+    if comps is not None:
+        bad = [c for c in comps if c >= dim]
+        if bad or len(set(comps)) != len(comps) or not comps:
+            issues.append(Issue(f"{sp}.components", f"= {comps!r}: give distinct components in 0..{dim - 1} "
+                                                    f"(0 = x, 1 = y{', 2 = z' if dim == 3 else ''}) for a "
+                                                    f"{dim}D mesh."))
+            good = False
+    value = _support_value(s, dim, sp, issues)
+    if value is None or not good:
+        return None
+    return Support(s["boundary"], None if comps is None else tuple(comps), value)
+
+
+def build_supports(entries: list, mesh, dim: int | None, issues: list[Issue]) -> tuple[list, list]:
+    """``[[support]]``: ``(fixed supports, ramped ones as LoadCase)``."""
+    from ..contact import LoadCase
+
+    fixed, cases = [], []
+    for i, s in enumerate(entries or []):
+        sp = f"support[{i + 1}]"
+        if not _ok(s) or dim is None:
+            continue
+        item = _support(s, sp, mesh, dim, issues)
+        if item is None:
+            continue
+        if s["ramp"] is None:
+            fixed.append(item)
+        else:
+            cases.append(LoadCase(item, _ramp(s["ramp"]), tangential=s["tangential"], name=sp))
+    return fixed, cases
+
+
+def _load_boundary_ok(ld: dict, lp: str, mesh, issues: list[Issue]) -> bool:
+    """Tractions and pressures act on a boundary of the mesh; body forces on the whole body (no boundary)."""
+    kind = ld["type"]
+    if kind in ("traction", "pressure"):
+        if not ld["boundary"]:
+            issues.append(Issue(f"{lp}.boundary", f"missing: a {kind} load needs boundary = 'NAME'."))
+            return False
+        return boundary_ok(mesh, ld["boundary"], f"{lp}.boundary", issues)
+    if ld["boundary"]:
+        issues.append(Issue(f"{lp}.boundary", "not used by a body-force load (it acts on the whole body); "
+                                              "remove it."))
+        return False
+    return True
+
+
+def _load_value_ok(ld: dict, lp: str, dim: int, issues: list[Issue]) -> bool:
+    """A pressure has ``value``; a traction or body force has ``vector`` with ``dim`` entries."""
+    kind = ld["type"]
+    good = True
+    if kind == "pressure":
+        if ld["value"] is None:
+            issues.append(Issue(f"{lp}.value", "missing: a pressure load needs value = NUMBER."))
+            good = False
+        if ld["vector"] is not None:
+            issues.append(Issue(f"{lp}.vector", "not used by a pressure load; give value = NUMBER instead."))
+            good = False
+        return good
+    if ld["value"] is not None:
+        issues.append(Issue(f"{lp}.value", f"not used by a {kind} load; give vector = [...] instead."))
+        good = False
+    if ld["vector"] is None:
+        issues.append(Issue(f"{lp}.vector", f"missing: a {kind} load needs vector = [...] with {dim} "
+                                            "numbers."))
+        good = False
+    elif len(ld["vector"]) != dim:
+        issues.append(Issue(f"{lp}.vector", f"= {ld['vector']!r}: needs {dim} numbers for a {dim}D mesh."))
+        good = False
+    return good
+
+
+def _load_item(ld: dict):
+    from ..contact import BodyForce, Pressure, Traction
+
+    if ld["type"] == "traction":
+        return Traction(ld["boundary"], tuple(ld["vector"]))
+    if ld["type"] == "pressure":
+        return Pressure(ld["boundary"], float(ld["value"]))
+    return BodyForce(tuple(ld["vector"]))
+
+
+def build_loads(entries: list, mesh, dim: int | None, issues: list[Issue]) -> tuple[list, list]:
+    """``[[load]]``: ``(fixed loads, ramped ones as LoadCase)``."""
+    from ..contact import LoadCase
+
+    loads, cases = [], []
+    for i, ld in enumerate(entries or []):
+        lp = f"load[{i + 1}]"
+        if not _ok(ld) or dim is None:
+            continue
+        good = _load_boundary_ok(ld, lp, mesh, issues)
+        if not (_load_value_ok(ld, lp, dim, issues) and good):
+            continue
+        item = _load_item(ld)
+        if ld["ramp"] is None:
+            loads.append(item)
+        else:
+            cases.append(LoadCase(item, _ramp(ld["ramp"]), tangential=ld["tangential"], name=lp))
+    return loads, cases
+
+
+# --------------------------------------------------------------------------- [loading], [obstacle]
+def build_loading(lo: dict | None, issues: list[Issue]) -> tuple[tuple[float, ...] | None, Any]:
+    """``[loading]``: ``(step times or None, friction amplitude Ramp or None)``."""
+    from ..contact import LoadHistory
+
+    times: tuple[float, ...] | None = None
+    friction_ramp = None
+    if not _ok(lo):
+        return times, friction_ramp
+    if lo["times"] is not None:
+        t = lo["times"]
+        if not t or t[0] <= 0 or any(b <= a for a, b in zip(t, t[1:])):
+            issues.append(Issue("loading.times", f"= {t!r}: give positive, strictly increasing pseudo-times, "
+                                                 "e.g. [0.25, 0.5, 0.75, 1.0]."))
+        else:
+            times = tuple(float(x) for x in t)
+    else:
+        times = LoadHistory.uniform(lo["steps"], lo["t_end"])
+    if lo["friction_ramp"] is not None:
+        if any(v < 0 for _, v in lo["friction_ramp"]):
+            issues.append(Issue("loading.friction_ramp", f"= {lo['friction_ramp']!r}: factors must be >= 0."))
+        else:
+            friction_ramp = _ramp(lo["friction_ramp"])
+    return times, friction_ramp
+
+
+def _obstacle_type_ok(name: str, issues: list[Issue]) -> bool:
+    """``type`` names a registered obstacle that a problem file can build (not ``user``)."""
+    from ..contact import obstacles
+
+    if name == "user":
+        issues.append(Issue("obstacle.type", "= 'user': a user obstacle needs Python functions; problem files "
+                                             "hold data only. Use a registered shape, or build the problem in "
+                                             "Python with alcontact.contact.obstacles.UserObstacle."))
+        return False
+    if name not in obstacles.available():
+        known = [n for n in obstacles.available() if n != "user"]
+        issues.append(Issue("obstacle.type", f"= {name!r}: unknown obstacle.{_did_you_mean(name, known)} "
+                                             f"Known obstacles: {_known(known)}."))
+        return False
+    return True
+
+
+def _obstacle_params_ok(name: str, params: dict, accepted: list[str], sig, issues: list[Issue]) -> bool:
+    """Every parameter is one the factory accepts, and every required one is given."""
+    import inspect
+
+    ok = True
+    for key in params:
+        if key not in accepted:
+            issues.append(Issue(f"obstacle.{key}", f"unknown parameter of obstacle {name!r}."
+                                                   f"{_did_you_mean(key, accepted)} Accepted: {_known(accepted)}."))
+            ok = False
+    for p in sig.parameters.values():
+        if p.default is inspect.Parameter.empty and p.name not in params:
+            issues.append(Issue(f"obstacle.{p.name}", f"missing: obstacle {name!r} needs {p.name} "
+                                                      f"(parameters: {_known(accepted)})."))
+            ok = False
+    return ok
+
+
+def build_obstacle(od: dict | None, dim: int | None, issues: list[Issue]):
+    """``[obstacle]``: the registered obstacle built from its parameters (checked against the factory's
+    signature, :func:`alcontact.contact.obstacles.signature`), or ``None``."""
+    from ..contact import obstacles
+
+    if od is None or od is BAD:
+        return None
+    name = od["type"]
+    if name is BAD or not _obstacle_type_ok(name, issues):
+        return None
+    params = od["params"]
+    sig = obstacles.signature(name)
+    accepted = [p for p in sig.parameters]
+    if not _obstacle_params_ok(name, params, accepted, sig, issues):
+        return None
+    try:
+        ob = obstacles.make(name, **params)
+    except (InputError, TypeError, ValueError, ArithmeticError) as exc:
+        issues.append(Issue("obstacle", f"{name}: {exc or type(exc).__name__}. Check the parameters "
+                                        f"({_known(accepted)}): finite numbers of a sensible size."))
+        return None
+    if dim is not None:
+        try:
+            ob.check_dim(dim)
+        except InputError as exc:
+            issues.append(Issue("obstacle.type", f"= {name!r}: {exc} (the mesh is {dim}D)."))
+            return None
+    return ob
+
+
+# --------------------------------------------------------------------------- [solver]
+def _algorithm_issues(algorithm: str, penalty: str | None, mu: float, issues: list[Issue]) -> None:
+    """The penalty is the algorithm's to choose (``family-p``) and the algorithm handles friction if needed."""
+    from ..contact import find_algorithm, friction_algorithms
+
+    own_penalty = find_algorithm(algorithm).penalty
+    if penalty is not None and own_penalty is not None and penalty != own_penalty:
+        issues.append(Issue("solver.penalty", f"= {penalty!r}: algorithm {algorithm!r} uses its own penalty; "
+                                              "set algorithm = 'family-p' to choose one, or remove penalty."))
+    if mu > 0 and algorithm not in friction_algorithms():
+        issues.append(Issue("solver.algorithm", f"= {algorithm!r}: not available with friction (contact.friction"
+                                                f" = {mu:g}); use one of {_known(friction_algorithms())}."))
+
+
+def _options_issues(given: dict, algorithm: str, mu: float, kinematics: str, issues: list[Issue]) -> None:
+    """The ``[solver]`` options together, and the linear-solver path against the algorithm's registry entry."""
+    from ..contact import ContactOptions, find_algorithm
+
+    try:
+        ContactOptions(**given).validate()
+    except InputError as exc:
+        issues.append(Issue("solver", str(exc)))
+        return
+    try:  # the linear-solver path must be one the algorithm's registry entry has at these kinematics
+        find_algorithm(algorithm, friction=mu > 0,
+                       kinematics=kinematics if kinematics in ("small", "finite") else "small"
+                       ).check_options(ContactOptions(**given))
+    except UnknownNameError:
+        pass  # an algorithm without friction support is reported by _algorithm_issues
+    except InputError as exc:
+        issues.append(Issue("solver.linear_solver", str(exc)))
+
+
+def _friction_options(sv: dict, given: dict, issues: list[Issue]) -> dict:
+    """The options of frictional runs: every ``[solver]`` key, and the friction-only ones that
+    ``[solver.friction]`` sets (a value other than the default there wins; both set: they must agree)."""
+    from ..contact import ContactOptions, FrictionOptions
+
+    fopts = dict(given)
+    fr = sv.get("friction")
+    defaults = {o.name: o.default for o in declarations(ContactOptions)}
+    if fr is not None and _ok(fr):
+        for k, v in fr.items():
+            if v is None or v == defaults[k]:
+                continue
+            if given.get(k, defaults[k]) not in (defaults[k], v):
+                issues.append(Issue(f"solver.friction.{k}", f"= {v!r}: solver.{k} = {given[k]!r} says "
+                                                            "otherwise; set it once, in [solver]."))
+            fopts[k] = v
+    try:
+        FrictionOptions(**fopts).validate()
+    except InputError as exc:
+        issues.append(Issue("solver.friction", str(exc)))
+    return fopts
+
+
+@dataclass
+class Solver:
+    """The built ``[solver]`` table: algorithm, penalty and the options of frictionless and frictional runs."""
+
+    algorithm: str = "simo-laursen"
+    penalty: str | None = None
+    options: dict = field(default_factory=dict)
+    friction_options: dict = field(default_factory=dict)
+
+
+def build_solver(sv: dict | None, mu: float, kinematics: str, issues: list[Issue]) -> Solver:
+    """``[solver]`` and ``[solver.friction]``: one options type; the frictionless runs' options leave the
+    friction-only fields out (:func:`alcontact.contact.friction_only_options`)."""
+    from ..contact import friction_only_options
+
+    if sv is None or not _ok({k: v for k, v in sv.items() if k != "friction"}):
+        return Solver()
+    algorithm = sv["algorithm"]
+    penalty = sv["penalty"] or None
+    _algorithm_issues(algorithm, penalty, mu, issues)
+    skip = {"algorithm", "penalty", "friction"}
+    given = {k: v for k, v in sv.items() if k not in skip and v is not None}
+    _options_issues(given, algorithm, mu, kinematics, issues)
+    fopts = _friction_options(sv, given, issues)
+    friction_only = set(friction_only_options())
+    options = {k: v for k, v in given.items() if k not in friction_only}  # the frictionless runs' options
+    return Solver(algorithm, penalty, options, fopts)
+
+
+# --------------------------------------------------------------------------- [units], [reference]
+def build_units(ud: dict | None, issues: list[Issue]) -> tuple:
+    """``[units]``: ``(length, stress, force)`` labels (only labels; the set must be consistent)."""
+    if not _ok(ud):
+        return (None, None, None)
+    units = (ud["length"], ud["stress"], ud["force"])
+    issues.extend(Issue(f"units.{key}", msg) for key, msg in units_issues(*units))
+    return units
+
+
+def _reference_ok(rd: dict, dim: int | None, mu: float, issues: list[Issue]) -> bool:
+    """The reference's radius, centre and axis fit the mesh; Cattaneo-Mindlin needs 2D and friction."""
+    if rd["radius"] is None:
+        issues.append(Issue("reference.radius", f"missing: reference kind {rd['kind']!r} needs the indenter "
+                                                "radius, e.g. radius = 10.0."))
+    elif dim is not None and rd["center"] is not None and len(rd["center"]) != dim:
+        issues.append(Issue("reference.center", f"= {rd['center']!r}: needs {dim} coordinates."))
+    elif dim is not None and rd["axis"] >= dim:
+        issues.append(Issue("reference.axis", f"= {rd['axis']}: must be < {dim} for a {dim}D mesh."))
+    elif rd["kind"] == "cattaneo-mindlin" and (dim == 3 or not mu > 0):
+        issues.append(Issue("reference.kind", "= 'cattaneo-mindlin': needs a 2D mesh and contact.friction > 0."))
+    else:
+        return True
+    return False
+
+
+def build_reference(rd: dict | None, dim: int | None, mat, mu: float, issues: list[Issue]) -> tuple[Any, Any]:
+    """``[reference]``: ``(HertzReference or None, MindlinReference or None)``."""
+    if not _ok(rd) or rd["kind"] == "none" or not _reference_ok(rd, dim, mu, issues):
+        return None, None
+    if mat is None or dim is None:
+        return None, None
+    from ..problems.hertz import HertzReference
+
+    e_star = mat.E if (dim == 2 and mat.plane == "stress") else mat.plane_strain_modulus
+    ref = HertzReference("cylinder" if dim == 2 else "sphere", rd["radius"], e_star, rd["symmetry"])
+    if rd["kind"] != "cattaneo-mindlin":
+        return ref, None
+    from ..problems.friction import MindlinReference
+
+    return ref, MindlinReference(ref, float(mu))
+
+
+# --------------------------------------------------------------------------- every section, then the problem
+@dataclass
+class Sections:
+    """What the sections of a problem file built (``None`` where a section could not be built)."""
+
+    mesh: Any = None
+    dim: int | None = None
+    kinematics: str = "small"
+    law: str | None = None
+    material: Any = None
+    law_obj: Any = None
+    contact_ok: bool = False
+    fixed: list = field(default_factory=list)
+    loads: list = field(default_factory=list)
+    cases: list = field(default_factory=list)
+    times: tuple[float, ...] | None = None
+    friction_ramp: Any = None
+    obstacle: Any = None
+    mu: float = 0.0
+    solver: Solver = field(default_factory=Solver)
+    units: tuple = (None, None, None)
+    reference: Any = None
+    mindlin: Any = None
+
+    def complete(self) -> bool:
+        """Every part a problem needs was built."""
+        return not (self.mesh is None or self.material is None or self.obstacle is None or not self.contact_ok
+                    or self.times is None)
+
+
+def build_sections(data: dict, base: Path, issues: list[Issue]) -> Sections:
+    """Build every section of the normalized file ``data`` in order, recording the issues."""
+    s = Sections()
+    s.mesh, s.dim = build_mesh(data.get("mesh"), base, issues)
+    mt, cd = data.get("material"), data.get("contact")
+    s.kinematics, s.law = build_kinematics(mt, cd, s.dim, data, issues)
+    s.material, s.law_obj = build_material(mt, s.law, s.mesh, issues)
+    s.contact_ok = check_contact_boundary(cd, s.mesh, issues)
+    s.fixed, support_cases = build_supports(data.get("support"), s.mesh, s.dim, issues)
+    s.loads, load_cases = build_loads(data.get("load"), s.mesh, s.dim, issues)
+    s.cases = support_cases + load_cases
+    s.times, s.friction_ramp = build_loading(data.get("loading"), issues)
+    s.obstacle = build_obstacle(data.get("obstacle"), s.dim, issues)
+    s.mu = cd["friction"] if isinstance(cd, dict) and isinstance(cd.get("friction"), float) else 0.0
+    s.solver = build_solver(data.get("solver"), s.mu, s.kinematics, issues)
+    s.units = build_units(data.get("units"), issues)
+    s.reference, s.mindlin = build_reference(data.get("reference"), s.dim, s.material, s.mu, issues)
+    return s
+
+
+def build_model(md: dict, s: Sections, issues: list[Issue]):
+    """The body: linear elasticity, or the hyperelastic law at finite kinematics (``[mesh] order``)."""
+    from ..fem import LinearElasticity
+    from ..fem.hyperelastic import Hyperelastic
+
+    if s.law == LINEAR_MODEL:
+        return _num(issues, "mesh.order", LinearElasticity, s.mesh, s.material, order=md["order"],
+                    volumetric=md["volumetric"])
+    if md["volumetric"] != "full":
+        issues.append(Issue("mesh.volumetric", f"= {md['volumetric']!r} applies to linear elasticity only; the "
+                            f"hyperelastic model {s.law!r} uses the standard element: remove mesh.volumetric."))
+        return None
+    # the path of LinearElasticity: its mesh-quality errors are rewritten by alcontact.io.preflight
+    if s.law_obj is None:
+        return None
+    return _num(issues, "mesh.order", Hyperelastic, s.mesh, s.material, order=md["order"], model=s.law_obj)
+
+
+def _proportional(fixed: list, loads: list) -> tuple[list, list]:
+    """Finite kinematics without any ``ramp``: every nonzero support value and every load as a
+    :class:`~alcontact.contact.LoadCase` ramped from 0 at ``t = 0`` to full at ``t = 1``
+    (proportional loading; zero supports stay fixed)."""
+    import numpy as np
+
+    from ..contact import LoadCase
+
+    ramp = _ramp([(0.0, 0.0), (1.0, 1.0)])
+    still = [s for s in fixed if not np.any(np.asarray(s.value, dtype=float) != 0.0)]
+    moving = [s for s in fixed if np.any(np.asarray(s.value, dtype=float) != 0.0)]
+    cases = [LoadCase(item, ramp, name=f"{type(item).__name__.lower()} {i + 1}")
+             for i, item in enumerate(moving + list(loads))]
+    return still, cases
+
+
+def build_problem(data: dict, model, s: Sections, issues: list[Issue]) -> tuple[Any, Any]:
+    """``(ContactProblem, LoadHistory or None)`` of the built sections; finite kinematics without a ramp
+    loads proportionally (:func:`_proportional`)."""
+    from ..contact import ContactProblem, LoadHistory
+
+    rd, cd = data["reference"], data["contact"]
+    center = tuple(rd["center"]) if rd["center"] is not None else (0.0,) * s.dim
+    # the origin is only a default centre unless a reference or [reference] center names it (viz.contact_center)
+    meta = {"symmetry_axis": int(rd["axis"]), "center": center,
+            "center_declared": rd["center"] is not None or rd["kind"] != "none"}
+    problem = _num(issues, "", ContactProblem, model=model, obstacle=s.obstacle, contact_boundary=cd["boundary"],
+                   supports=tuple(s.fixed), loads=tuple(s.loads), friction=float(s.mu),
+                   name=data["problem"]["name"], reference=s.reference, meta=meta, kinematics=s.kinematics)
+    cases = s.cases
+    if s.kinematics == "finite" and not cases and problem is not None:
+        fixed, cases = _proportional(s.fixed, s.loads)
+        problem = dataclasses.replace(problem, supports=tuple(fixed), loads=())
+    history = None
+    if cases or s.friction_ramp is not None or s.mu > 0:
+        history = _num(issues, "loading", LoadHistory, tuple(cases), s.times, s.friction_ramp)
+    return problem, history
