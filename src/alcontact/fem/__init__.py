@@ -40,8 +40,7 @@ from alcontact.fem._hyper_laws import (
 )
 from alcontact.fem._linalg import Factorization, nested_dissection
 from alcontact.fem._material import Material, material_issues
-from alcontact.fem.elasticity import LinearElasticity, rigid_body_modes
-from alcontact.fem.elasticity import _rank as numerical_rank  # public: the rigidity checks of alcontact.io
+from alcontact.fem.elasticity import LinearElasticity, numerical_rank, rigid_body_modes
 from alcontact.fem.hyperelastic import Hyperelastic
 
 __all__ = [

@@ -43,7 +43,7 @@ from alcontact.linalg import MatrixHints
 from alcontact.fem._material import Material
 from alcontact.fem.quality import check_mesh_quality
 
-__all__ = ["VOLUMETRIC_FORMULATIONS", "LinearElasticity", "rigid_body_modes"]
+__all__ = ["VOLUMETRIC_FORMULATIONS", "LinearElasticity", "numerical_rank", "rigid_body_modes"]
 
 logger = logging.getLogger(__name__)
 
@@ -127,6 +127,32 @@ def _rank(a: np.ndarray) -> int:
         return 0
     s = np.linalg.svd(a, compute_uv=False)
     return int(np.sum(s > 1e-9 * s[0])) if s[0] > 0 else 0
+
+
+def numerical_rank(a: Any) -> int:
+    """Numerical rank of a small dense matrix: the singular values above ``1e-9`` times the largest.
+
+    The test of the rigidity checks (supports and contact points against the rigid-body
+    modes, :meth:`LinearElasticity.free_rigid_motions`).
+
+    Raises
+    ------
+    InputError
+        ``a`` is not a 2D array of finite real numbers.
+
+    Examples
+    --------
+    >>> numerical_rank([[1.0, 2.0], [2.0, 4.0]])
+    1
+    """
+    try:
+        arr = np.asarray(a, dtype=float)
+    except (TypeError, ValueError, OverflowError):
+        arr = None
+    if arr is None or arr.ndim != 2 or not np.all(np.isfinite(arr)):
+        raise InputError(f"numerical_rank: a = {show(a)}: expected a 2D array of finite real numbers, e.g. "
+                         "[[1.0, 0.0], [0.0, 1.0]].")
+    return _rank(arr)
 
 
 def describe_motions(null: np.ndarray, names: list[str]) -> str:
