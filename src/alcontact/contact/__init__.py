@@ -41,7 +41,7 @@ from ._verify import check_state
 
 # the algorithm registry, the merged supports and the element size, for the problem-file loader and the
 # application layer (alcontact.io, alcontact.runner): public names, so no caller reaches into a private module
-from ._algorithms import algorithm_names, describe_algorithms, find_algorithm, friction_only_options
+from ._algorithms import describe_algorithms, find_algorithm, friction_only_options
 from ._discrete import _element_size as contact_element_size
 from ._problem import merge_supports
 
@@ -82,7 +82,6 @@ __all__ = [
     "FiniteFrictionStep",
     "finite_friction_algorithms",
     "check_state",
-    "algorithm_names",
     "describe_algorithms",
     "find_algorithm",
     "friction_only_options",

@@ -884,6 +884,14 @@ def algorithm_names(*, friction: bool = False, kinematics: str = "small") -> lis
     return [e.name for e in algorithms(friction=friction, kinematics=kinematics)]
 
 
+def _check_family(where: str, friction: Any, kinematics: Any = "small") -> None:
+    """``friction`` is a bool and ``kinematics`` one of ``small``/``finite`` (else an InputError naming them)."""
+    if not isinstance(friction, bool):
+        raise InputError(f"{where}: friction = {friction!r:.60}: expected True or False.")
+    if not isinstance(kinematics, str) or (friction, kinematics) not in _FAMILY:
+        raise InputError(f"{where}: kinematics = {kinematics!r:.60}: expected 'small' or 'finite'.")
+
+
 def find_algorithm(name: str, *, friction: bool = False, kinematics: str = "small") -> Algorithm:
     """The entry of ``name`` for ``friction`` and ``kinematics``.
 
@@ -891,7 +899,10 @@ def find_algorithm(name: str, *, friction: bool = False, kinematics: str = "smal
     ------
     UnknownNameError
         With the closest match and the names registered for that combination.
+    InputError
+        ``friction`` is not a bool or ``kinematics`` not ``"small"``/``"finite"``.
     """
+    _check_family("find_algorithm", friction, kinematics)
     entry = _REGISTRY.get((name, friction, kinematics)) if isinstance(name, str) else None
     if entry is None:
         raise UnknownNameError(_FAMILY[(friction, kinematics)], str(name),
@@ -901,6 +912,7 @@ def find_algorithm(name: str, *, friction: bool = False, kinematics: str = "smal
 
 def describe_algorithms(*, friction: bool) -> dict[str, str]:
     """``{name: "doc [kinematics: linear solvers; ...]"}``, e.g. ``"... [small: direct, amg; finite: direct]"``."""
+    _check_family("describe_algorithms", friction)
     out: dict[str, list[Algorithm]] = {}
     for e in sorted(algorithms(friction=friction), key=lambda e: (e.name, e.kinematics != "small")):
         out.setdefault(e.name, []).append(e)

@@ -82,9 +82,9 @@ def _solver_options() -> tuple[tuple[Option, ...], tuple[Option, ...]]:
 
 def _algorithms(friction: bool = False) -> tuple[str, ...]:
     """Names of the registered algorithms (frictionless or frictional, small deformation)."""
-    from ..contact import algorithm_names
+    from ..contact import available_algorithms, friction_algorithms
 
-    return tuple(algorithm_names(friction=friction))
+    return tuple(friction_algorithms() if friction else available_algorithms())
 
 
 def _volumetric() -> tuple[str, ...]:
