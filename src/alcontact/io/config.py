@@ -5,7 +5,8 @@ every key against the schema (unknown keys with a "did you mean", wrong types,
 values out of range), builds or reads the mesh, checks the boundary and region
 names against it, builds the material, the obstacle (parameters checked
 against the registered factory), the supports, loads and the load history,
-and checks that algorithm, penalty and friction fit together. All problems
+and checks that algorithm, penalty and friction fit together (one builder per
+section, in a fixed order: :mod:`alcontact.io._sections`). All problems
 found are reported together in one :class:`~alcontact.errors.ConfigError`
 whose ``issues`` list holds ``(key path, message)`` pairs, e.g.::
 
