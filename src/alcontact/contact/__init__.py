@@ -28,15 +28,14 @@ from __future__ import annotations
 from . import obstacles
 from ._algorithms import ContactOptions, algorithm_docs, available_algorithms, contact_penalties
 from ._problem import BodyForce, ContactProblem, Pressure, Support, Traction
-from ._solution import ContactIteration, ContactResult, ContactSolution, ContactStatus
-from ._solve import DEFAULT_ALGORITHM, DEFAULT_PENALTY, solve
-from ._friction import FrictionOptions, friction_algorithm_docs, friction_algorithms, solve_friction
+from ._solution import ContactFrame, ContactIteration, ContactResult, ContactSolution, ContactStatus
+from ._solve import DEFAULT_ALGORITHM, DEFAULT_PENALTY, solve, solve_finite, solve_finite_friction, solve_friction
+from ._friction import FrictionOptions, friction_algorithm_docs, friction_algorithms
 from ._friction_solution import FrictionSolution, FrictionStep
 from ._loading import LoadCase, LoadHistory, Ramp, problem_at
 from ._problem import KINEMATICS
-from ._stepping import FiniteSolution, FiniteStep, solve_finite
-from ._finite_friction import (FiniteFrictionSolution, FiniteFrictionStep, finite_friction_algorithms,
-                               solve_finite_friction)
+from ._stepping import FiniteSolution, FiniteStep
+from ._finite_friction import FiniteFrictionSolution, FiniteFrictionStep, finite_friction_algorithms
 from ._verify import check_state
 
 __all__ = [
@@ -51,6 +50,7 @@ __all__ = [
     "ContactIteration",
     "ContactResult",
     "ContactSolution",
+    "ContactFrame",
     "solve",
     "available_algorithms",
     "algorithm_docs",

@@ -88,7 +88,7 @@ from ._laws import eta_for_stiffness, freezes_at_zero, make_law
 from ._loading import LoadHistory, problem_at
 from ._newton import LineSearch, NewtonResult, NewtonSettings, NewtonSystem, inner_failure, newton
 from ._solution import ContactStatus
-from ._solve import penalty_stiffness
+from ._stiffness import penalty_stiffness
 from ._stepping import Attempt, StepRecord, step_through
 from ._verify import check_state, equilibrium_tolerance, reach, state_equilibrium
 
