@@ -524,196 +524,6 @@ def list_components() -> dict[str, dict[str, str]]:
 
 
 # =========================================================================== problem files
-def _friction_frames(fsol) -> list:
-    """One :class:`~alcontact.contact.ContactSolution` per converged step of a frictional solve.
-
-    The frames carry the frictional fields in ``extra`` (``slip``, ``slip_increment``,
-    ``state``, ``shear``, ``tangential_force``, ``mu``, ``t``) so that the VTU
-    writer, the plots and :func:`summarize` treat both kinds of run alike.
-    """
-    from .contact import ContactResult, ContactSolution, ContactStatus
-
-    problem = fsol.problem
-    m, d = fsol.points.shape
-    steps = list(fsol.steps)
-    frames = []
-    timings = {**fsol.timings, "linear_solve_s": fsol.timings.get("factor_s", float("nan"))}
-    for k, st in enumerate(steps):
-        last = k == len(steps) - 1
-        status = fsol.status if last else ContactStatus.CONVERGED
-        result = ContactResult(
-            status=status, message=fsol.message if last else "converged", algorithm=fsol.algorithm,
-            penalty=fsol.penalty, outer_iterations=int(st.outer_iterations), newton_iterations=int(st.newton_iterations),
-            linear_solves=int(fsol.linear_solves), factorizations=int(fsol.factorizations),
-            penetration=float(st.penetration), complementarity=_complementarity(st.gap, st.pressure, fsol.h),
-            residual=float("nan"), eps_n=float(fsol.eps_n), history=())
-        frames.append(ContactSolution(
-            problem=problem, u=st.u, points=fsol.points, pressure=st.pressure, gap=st.gap, weights=fsol.weights,
-            active=st.state != 0, normals=fsol.normals, total_contact_force=st.contact_force, result=result,
-            timings=timings,
-            extra={"t": float(st.t), "requested": bool(st.requested), "slip": st.slip_total,
-                   "slip_increment": st.slip, "state": st.state, "shear": st.shear,
-                   "tangential_force": np.asarray(st.tangential_force, dtype=float),
-                   "mu": float(fsol.friction) * float(fsol.history.friction_factor(st.t)),
-                   "coulomb": float(st.coulomb), "cutbacks": int(st.cutbacks), "h": fsol.h,
-                   "candidates": fsol.extra.get("candidates"), "dofs": fsol.extra.get("dofs")}))
-    if not frames:  # nothing converged: report the contact-free start
-        z = np.zeros(m)
-        result = ContactResult(status=fsol.status, message=fsol.message, algorithm=fsol.algorithm,
-                               penalty=fsol.penalty, outer_iterations=0, newton_iterations=0,
-                               linear_solves=int(fsol.linear_solves), factorizations=1, penetration=0.0,
-                               complementarity=float("nan"), residual=float("nan"), eps_n=float(fsol.eps_n))
-        frames.append(ContactSolution(
-            problem=problem, u=np.zeros(problem.model.ndofs), points=fsol.points, pressure=z, gap=z,
-            weights=fsol.weights, active=z.astype(bool), normals=fsol.normals, total_contact_force=np.zeros(d),
-            result=result, timings=timings,
-            extra={"t": 0.0, "slip": np.zeros((m, d)), "slip_increment": np.zeros((m, d)),
-                   "state": np.zeros(m, int), "shear": np.zeros((m, d)), "tangential_force": np.zeros(d),
-                   "mu": float(fsol.friction), "h": fsol.h, "dofs": problem.model.ndofs}))
-    return frames
-
-
-def _solve_finite_setup(setup, on_step=None):
-    """Finite-deformation run of a problem file: ``(FiniteSolution, frames)``.
-
-    One :class:`~alcontact.contact.ContactSolution` per accepted step (from the
-    ``on_step`` hook of :func:`~alcontact.contact.solve_finite`); the last frame is
-    the verified solution of the run. Each frame's problem carries the loads of
-    its step time (``problem_at``), so ``frame.equilibrium()`` is that step's balance.
-    """
-    from .contact import ContactSolution, problem_at, solve_finite
-    from .contact.obstacles import translate
-
-    prob = setup.problem
-    model = prob.model
-    _, dofs = model.node_dofs(prob.contact_boundary)
-    states: list[tuple[Any, np.ndarray, np.ndarray]] = []
-    total = len(setup.times)
-
-    def collect(step, u, pressure):
-        states.append((step, u, pressure))
-        if on_step is not None:
-            done = sum(1 for t in setup.times if t <= step.t + 1e-12 * max(1.0, abs(step.t)))
-            on_step(done, total, float(step.t))
-
-    def at(t: float):
-        return problem_at(prob, setup.history, t) if setup.history is not None else prob
-
-    path = None
-    if setup.obstacle_path is not None:
-        path = setup.obstacle_offset
-    if on_step is not None:
-        on_step(0, total, setup.times[0])
-    fs = solve_finite(prob, setup.algorithm, setup.penalty, steps=list(setup.times), history=setup.history,
-                      obstacle_path=path, max_cutbacks=setup.max_cutbacks, on_step=collect, **setup.options)
-    base = fs.solution
-    frames = []
-    for k, (step, u, pressure) in enumerate(states[:-1] if fs.steps else []):
-        ob = prob.obstacle if path is None else translate(prob.obstacle, path(step.t))
-        gap, normals = ob.evaluate(base.points + u[dofs])
-        nodal = base.weights * pressure
-        res = dataclasses.replace(base.result, status=step.status, message=step.message,
-                                  outer_iterations=int(step.outer_iterations),
-                                  newton_iterations=int(step.newton_iterations),
-                                  linear_solves=int(step.linear_solves), history=(),
-                                  penetration=float(max(np.max(gap, initial=0.0), 0.0)) / float(base.extra["h"]))
-        frames.append(ContactSolution(
-            problem=at(step.t), u=u, points=base.points, pressure=pressure, gap=np.asarray(gap, dtype=float),
-            weights=base.weights, active=pressure > 0, normals=np.asarray(normals, dtype=float),
-            total_contact_force=np.asarray(step.force, dtype=float), result=res, nodal_forces=nodal,
-            timings={"total_s": float(step.seconds)},
-            extra={**base.extra, "t": float(step.t), "cutbacks": int(step.cutbacks), "seconds": float(step.seconds),
-                   "requested": bool(getattr(step, "requested", True))}))
-    if fs.steps:
-        last = fs.steps[-1]
-        frames.append(dataclasses.replace(base, problem=at(last.t), extra={
-            **base.extra, "t": float(last.t), "cutbacks": int(last.cutbacks), "seconds": float(last.seconds),
-            "requested": bool(getattr(last, "requested", True)),
-            "step_newton_iterations": int(last.newton_iterations), "step_outer_iterations": int(last.outer_iterations)}))
-        for fr, st in zip(frames[:-1], fs.steps[:-1]):
-            fr.extra.update(step_newton_iterations=int(st.newton_iterations),
-                            step_outer_iterations=int(st.outer_iterations))
-    else:  # no step was accepted: the undeformed start with the failure status
-        frames.append(dataclasses.replace(base, extra={**base.extra, "t": 0.0, "cutbacks": 0}))
-    return fs, frames
-
-
-def _solve_finite_friction_setup(setup, on_step=None):
-    """Finite-deformation run with Coulomb friction: ``(FiniteFrictionSolution, frames)``.
-
-    :func:`~alcontact.contact.solve_friction` dispatches the ``kinematics = "finite"``
-    problem to :func:`~alcontact.contact.solve_finite_friction`. One
-    :class:`~alcontact.contact.ContactSolution` per accepted step, as for frictionless
-    finite runs (deformed configuration, the step's loads in ``problem``), with the
-    frictional fields in ``extra`` (``slip``, ``slip_increment``, ``state``, ``shear``,
-    ``tangential_force``, ``dissipation``) so the VTU writer, the rows and the plots
-    treat it like the other stepped runs.
-    """
-    from .contact import ContactResult, ContactSolution, problem_at, solve_friction
-
-    prob = setup.problem
-    total = len(setup.times)
-    path = setup.obstacle_offset if setup.obstacle_path is not None else None
-    fopts = dict(setup.friction_options)
-    fopts.setdefault("max_cutbacks", setup.max_cutbacks)
-
-    def progress(k: int, t: float, n: int) -> None:
-        if on_step is not None:
-            on_step(k, n, t)
-
-    fs = solve_friction(prob, setup.history, setup.algorithm, setup.penalty, steps=list(setup.times),
-                        obstacle_path=path, on_step=progress, **fopts)
-    if on_step is not None:
-        on_step(total, total, float(fs.steps[-1].t) if fs.steps else 0.0)
-    ex = fs.extra
-    points, weights, h = ex["points"], ex["weights"], float(ex["h"])
-    m, d = points.shape
-
-    def at(t: float):
-        return problem_at(prob, setup.history, t) if setup.history is not None else prob
-
-    frames = []
-    slip_total = np.zeros((m, d))
-    for k, st in enumerate(fs.steps):
-        last = k == len(fs.steps) - 1
-        slip_total = slip_total + st.slip
-        result = ContactResult(
-            status=fs.status if last else st.status, message=fs.message if last else st.message,
-            algorithm=str(ex["algorithm"]), penalty=str(ex["penalty"]), outer_iterations=int(st.outer_iterations),
-            newton_iterations=int(st.newton_iterations), linear_solves=int(st.linear_solves),
-            factorizations=int(st.linear_solves), penetration=float(max(np.max(st.gap, initial=0.0), 0.0)) / h,
-            complementarity=_complementarity(st.gap, st.pressure, h), residual=float("nan"), eps_n=float(ex["eps_n"]))
-        frames.append(ContactSolution(
-            problem=at(st.t), u=st.u, points=points, pressure=st.pressure, gap=st.gap, weights=weights,
-            active=st.states != 0, normals=st.normals, total_contact_force=np.asarray(st.force, dtype=float),
-            result=result, nodal_forces=weights * st.pressure,
-            timings={"total_s": float(ex["total_s"]), "linear_solve_s": float(ex.get("linear_solve_s", float("nan")))}
-            if last else {"total_s": float(st.seconds)},
-            extra={"t": float(st.t), "cutbacks": int(st.cutbacks), "seconds": float(st.seconds),
-                   "requested": bool(getattr(st, "requested", True)),
-                   "step_newton_iterations": int(st.newton_iterations),
-                   "step_outer_iterations": int(st.outer_iterations), "slip": slip_total.copy(),
-                   "slip_increment": st.slip, "state": st.states, "shear": -np.asarray(st.traction_t, dtype=float),
-                   "tangential_force": np.asarray(st.tangential_force, dtype=float), "mu": float(ex["mu"]),
-                   "dissipation": float(st.dissipation), "h": h, "dofs": int(ex["dofs"])}))
-    if not frames:  # nothing converged: the undeformed start with the failure status
-        z = np.zeros(m)
-        result = ContactResult(status=fs.status, message=fs.message, algorithm=str(ex["algorithm"]),
-                               penalty=str(ex["penalty"]), outer_iterations=0, newton_iterations=0,
-                               linear_solves=int(ex["linear_solves"]), factorizations=int(ex["linear_solves"]),
-                               penetration=0.0, complementarity=float("nan"), residual=float("nan"),
-                               eps_n=float(ex["eps_n"]))
-        frames.append(ContactSolution(
-            problem=prob, u=np.asarray(fs.u, dtype=float), points=points, pressure=z, gap=np.asarray(fs.gap),
-            weights=weights, active=z.astype(bool), normals=fs.normals, total_contact_force=np.zeros(d),
-            result=result, timings={"total_s": float(ex["total_s"])},
-            extra={"t": 0.0, "cutbacks": 0, "seconds": 0.0, "slip": np.zeros((m, d)),
-                   "slip_increment": np.zeros((m, d)), "state": np.zeros(m, int), "shear": np.zeros((m, d)),
-                   "tangential_force": np.zeros(d), "mu": float(ex["mu"]), "dissipation": 0.0, "h": h,
-                   "dofs": int(ex["dofs"])}))
-    return fs, frames
-
-
 def _finite_friction_summary(setup, fs, frames) -> dict[str, Any]:
     """``summary.json`` keys of the friction of a finite-deformation run (per accepted step, and the totals)."""
     final = frames[-1]
@@ -1024,6 +834,34 @@ def _override(setup, algorithm, penalty, options):
     return dataclasses.replace(setup, algorithm=alg, penalty=pen, options=opts, friction_options=fopts)
 
 
+def _solving_line(setup) -> str:
+    """The progress line of a problem-file solve."""
+    n = len(setup.times)
+    head = f"solving {setup.name}: {setup.problem.model.ndofs} DOFs, {n} load steps"
+    if setup.finite:
+        law = f", Coulomb mu={setup.friction:g}" if setup.friction > 0 else ""
+        return f"{head}, finite deformation{law} ({setup.algorithm})"
+    if setup.friction > 0:
+        return f"{head}, friction ({setup.algorithm})"
+    return f"{head} ({setup.algorithm})"
+
+
+def _solve_arguments(setup) -> dict[str, Any]:
+    """Keyword arguments of :func:`alcontact.contact.solve` for a problem file: the step times, the
+    history, the obstacle's path, the cut-backs and the options of its kind of run (the friction-only
+    keys only with friction; :func:`~alcontact.contact.solve` decides the engine from the problem)."""
+    frictional = setup.friction > 0
+    options = dict(setup.friction_options if frictional else setup.options)
+    kw: dict[str, Any] = {"history": setup.history}
+    if setup.finite:
+        kw["steps"] = list(setup.times)
+        kw["obstacle_path"] = setup.obstacle_offset if setup.obstacle_path is not None else None
+        kw["max_cutbacks"] = options.pop("max_cutbacks", setup.max_cutbacks)
+    elif not frictional:
+        kw["steps"] = list(setup.times)
+    return {**kw, **options}
+
+
 def run_setup(setup, out: str | os.PathLike | None = None, force: bool = False, *,
               algorithm: str | None = None, penalty: str | None = None,
               progress: Callable[[str], None] | None = None,
@@ -1071,41 +909,10 @@ def run_setup(setup, out: str | os.PathLike | None = None, force: bool = False, 
     n = len(times)
     name = setup.name
     t0 = time.perf_counter()
-    if setup.finite:
-        law = f", Coulomb mu={setup.friction:g}" if setup.friction > 0 else ""
-        report(f"solving {name}: {prob.model.ndofs} DOFs, {n} load steps, finite deformation{law} "
-               f"({setup.algorithm})")
-        if setup.friction > 0:
-            raw, frames = _solve_finite_friction_setup(setup, on_step)
-        else:
-            raw, frames = _solve_finite_setup(setup, on_step)
-    elif setup.friction > 0:
-        from .contact import solve_friction
-
-        report(f"solving {name}: {prob.model.ndofs} DOFs, {n} load steps, friction ({setup.algorithm})")
-        step_cb = None if on_step is None else (lambda k, t, n_steps: on_step(k, n_steps, t))
-        raw = solve_friction(prob, setup.history, algorithm=setup.algorithm, penalty=setup.penalty,
-                             on_step=step_cb, **setup.friction_options)
-        frames = _friction_frames(raw)
-        if on_step is not None:
-            on_step(n, n, times[-1])
-    else:
-        from .contact import problem_at
-
-        raw = []
-        for k, t in enumerate(times):
-            report(f"solving {name}: {prob.model.ndofs} DOFs, step {k + 1}/{n} (t = {t:g}, {setup.algorithm})")
-            if on_step is not None:
-                on_step(k, n, t)
-            p_t = problem_at(prob, setup.history, t) if setup.history is not None else prob
-            sol = solve(p_t, algorithm=setup.algorithm, penalty=setup.penalty, **setup.options)
-            sol.extra["t"] = float(t)
-            raw.append(sol)
-            if on_step is not None:
-                on_step(k + 1, n, t)
-            if not sol.result.success:
-                break
-        frames = raw
+    report(_solving_line(setup))
+    solution = solve(prob, setup.algorithm, setup.penalty, on_step=on_step, **_solve_arguments(setup))
+    frames = list(solution.frame_solutions())
+    raw = solution.record if solution.record is not None else frames
     wall = time.perf_counter() - t0
 
     final = frames[-1]
