@@ -81,14 +81,16 @@ def finite_solution(fs, problem, history, path) -> ContactSolution:
             extra={**base.extra, "t": float(step.t), "cutbacks": int(step.cutbacks), "seconds": float(step.seconds),
                    "requested": bool(getattr(step, "requested", True)),
                    "step_newton_iterations": int(step.newton_iterations),
-                   "step_outer_iterations": int(step.outer_iterations)}))
+                   "step_outer_iterations": int(step.outer_iterations),
+                   "step_linear_solves": int(step.linear_solves)}))
     extra = dict(base.extra, load_steps=fs.steps)
     if steps:
         last = steps[-1]
         views.append(dataclasses.replace(base, problem=_at(problem, history, last.t), extra={
             **extra, "t": float(last.t), "cutbacks": int(last.cutbacks), "seconds": float(last.seconds),
             "requested": bool(getattr(last, "requested", True)),
-            "step_newton_iterations": int(last.newton_iterations), "step_outer_iterations": int(last.outer_iterations)}))
+            "step_newton_iterations": int(last.newton_iterations), "step_outer_iterations": int(last.outer_iterations),
+            "step_linear_solves": int(last.linear_solves)}))
     else:  # no step was accepted: the undeformed start with the failure status
         views.append(dataclasses.replace(base, extra={**extra, "t": 0.0, "cutbacks": 0}))
     return _combine(views, fs)
@@ -110,8 +112,9 @@ def friction_solution(fsol) -> ContactSolution:
             linear_solves=int(fsol.linear_solves), factorizations=int(fsol.factorizations),
             penetration=float(st.penetration), complementarity=_complementarity(st.gap, st.pressure, fsol.h),
             residual=float("nan"), eps_n=float(fsol.eps_n), history=())
-        views.append(ContactSolution(
-            problem=problem, u=st.u, points=fsol.points, pressure=st.pressure, gap=st.gap, weights=fsol.weights,
+        views.append(ContactSolution(  # the loads and supports of the history at the step's time
+            problem=problem_at(problem, fsol.history, st.t), u=st.u, points=fsol.points, pressure=st.pressure,
+            gap=st.gap, weights=fsol.weights,
             active=st.state != 0, normals=fsol.normals, total_contact_force=st.contact_force, result=result,
             timings=timings,
             extra={"t": float(st.t), "requested": bool(st.requested), "slip": st.slip_total,
@@ -119,6 +122,7 @@ def friction_solution(fsol) -> ContactSolution:
                    "tangential_force": np.asarray(st.tangential_force, dtype=float),
                    "mu": float(fsol.friction) * float(fsol.history.friction_factor(st.t)),
                    "coulomb": float(st.coulomb), "cutbacks": int(st.cutbacks), "h": fsol.h,
+                   "step_linear_solves": int(st.linear_solves),
                    "candidates": fsol.extra.get("candidates"), "dofs": fsol.extra.get("dofs")}))
     if not views:  # nothing converged: report the contact-free start
         z = np.zeros(m)

@@ -404,7 +404,7 @@ def frame_of(sol: ContactSolution) -> ContactFrame:
     Reads the typed fields of ``sol`` and the per-step keys its builder put in ``extra``
     (``t``, ``requested``, ``shear``, ``slip``, ``slip_increment``, ``state``,
     ``tangential_force``, ``cutbacks``, ``seconds``, ``step_newton_iterations``,
-    ``step_outer_iterations``).
+    ``step_outer_iterations``, ``step_linear_solves``: a run's result holds its totals).
     """
     from ._friction_laws import OPEN, SLIP
 
@@ -424,7 +424,7 @@ def frame_of(sol: ContactSolution) -> ContactFrame:
         tangential_force=np.asarray(ex.get("tangential_force", np.zeros(d)), dtype=float), status=res.status,
         message=res.message, newton_iterations=int(ex.get("step_newton_iterations", res.newton_iterations)),
         outer_iterations=int(ex.get("step_outer_iterations", res.outer_iterations)),
-        linear_solves=int(res.linear_solves), cutbacks=int(ex.get("cutbacks", 0)),
+        linear_solves=int(ex.get("step_linear_solves", res.linear_solves)), cutbacks=int(ex.get("cutbacks", 0)),
         seconds=float(ex.get("seconds", sol.timings.get("total_s", float("nan")))), view=sol)
 
 

@@ -22,7 +22,6 @@ from ..errors import InputError
 from ._discrete import DiscreteContact
 from ._finite_friction import solve_finite_friction as _finite_friction_engine
 from ._frames import finite_friction_solution, finite_solution, friction_solution, stepped_solution
-from ._friction import friction_algorithms
 from ._friction import solve_friction as _friction_engine
 from ._loading import LoadHistory, problem_at
 from ._solution import ContactResult, ContactSolution, ContactStatus
@@ -173,8 +172,8 @@ def _solve_static(problem, algorithm: str = DEFAULT_ALGORITHM, penalty: str | No
 
 def solve(problem, algorithm: str = DEFAULT_ALGORITHM, penalty: str | None = None,
           options: ContactOptions | dict | None = None, *, steps=None, history: LoadHistory | None = None,
-          obstacle_path=None, friction: float | None = None, max_cutbacks: int | None = None,
-          on_step=None, **option_overrides) -> ContactSolution:
+          obstacle_path=None, friction: float | None = None, on_step=None,
+          **option_overrides) -> ContactSolution:
     r"""Solve a contact problem: small or finite deformation, frictionless or Coulomb, one step or load-stepped.
 
     What runs is decided here, from the problem (module doc):
@@ -213,13 +212,12 @@ def solve(problem, algorithm: str = DEFAULT_ALGORITHM, penalty: str | None = Non
         Finite deformation: the obstacle's translation (or rigid placement) at pseudo-time ``t``.
     friction : float, optional
         Coulomb coefficient; overrides ``problem.friction``.
-    max_cutbacks : int, optional
-        Stepped runs: cut-backs allowed per step (default 6).
     on_step : callable ``(done, total, t) -> None``, optional
         Progress of a stepped run: ``done`` requested steps of ``total`` reached at pseudo-time
         ``t`` (``done = 0`` before the first).
     **option_overrides
-        Fields of :class:`ContactOptions` (e.g. ``penalty_scale=10``).
+        Fields of :class:`ContactOptions` (e.g. ``penalty_scale=10``; ``max_cutbacks``: cut-backs
+        allowed per load step, default 6).
 
     Returns
     -------
@@ -247,8 +245,8 @@ def solve(problem, algorithm: str = DEFAULT_ALGORITHM, penalty: str | None = Non
     if on_step is not None and not callable(on_step):
         raise InputError(f"on_step = {on_step!r:.40}: expected None or a callable (done, total, t).")
     return _solve_any(problem, algorithm, penalty, options, steps=steps, history=history,
-                      obstacle_path=obstacle_path, friction=friction, max_cutbacks=max_cutbacks,
-                      progress=on_step, overrides=option_overrides)
+                      obstacle_path=obstacle_path, friction=friction, progress=on_step,
+                      overrides=option_overrides)
 
 
 def _case(problem, friction) -> tuple[str, float]:
@@ -262,12 +260,16 @@ def _case(problem, friction) -> tuple[str, float]:
     return kinematics, (mu if frictional else 0.0)
 
 
-def _solve_any(problem, algorithm, penalty, options, *, steps, history, obstacle_path, friction, max_cutbacks,
-               progress, overrides, hooks=None) -> ContactSolution:
+def _solve_any(problem, algorithm, penalty, options, *, steps, history, obstacle_path, friction, progress,
+               overrides, hooks=None) -> ContactSolution:
     """:func:`solve` with the engine's own callbacks (``hooks``) for the deprecated wrappers."""
     hooks = hooks or {}
     kinematics, mu = _case(problem, friction)
+    max_cutbacks = None  # an option of the frictional engines (in overrides), an argument of the frictionless one
     if kinematics == "finite" and mu == 0:
+        if "max_cutbacks" in overrides:
+            overrides = dict(overrides)
+            max_cutbacks = overrides.pop("max_cutbacks")
         return _finite(problem, algorithm, penalty, options, steps, history, obstacle_path, max_cutbacks,
                        progress, overrides, hooks)
     if kinematics == "finite":
