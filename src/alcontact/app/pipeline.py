@@ -128,7 +128,8 @@ def list_components() -> dict[str, dict[str, str]]:
         ``family-p`` algorithm are marked ``[contact]``.
     """
     from .. import penalties
-    from ..contact import contact_penalties, describe_algorithms, obstacles
+    from ..contact import contact_penalties, obstacles
+    from ..contact._algorithms import describe_algorithms
 
     usable = set(contact_penalties())
     pens = {name: (f"[contact] {doc}" if name in usable else doc) for name, doc in penalties.describe().items()}
@@ -177,7 +178,7 @@ class RunOutput:
 
 def _override(setup, algorithm, penalty, options):
     """``setup`` with command-line overrides of algorithm, penalty and solver options."""
-    from ..contact import find_algorithm
+    from ..contact._algorithms import find_algorithm
 
     if not (algorithm or penalty or options):
         return setup

@@ -26,8 +26,7 @@ Examples
 from __future__ import annotations
 
 from . import obstacles
-from ._algorithms import (ContactOptions, algorithm_docs, available_algorithms, contact_penalties, describe_algorithms,
-                          find_algorithm)
+from ._algorithms import ContactOptions, algorithm_docs, available_algorithms, contact_penalties
 from ._problem import BodyForce, ContactProblem, Pressure, Support, Traction
 from ._solution import ContactFrame, ContactIteration, ContactResult, ContactSolution, ContactStatus
 from ._solve import DEFAULT_ALGORITHM, DEFAULT_PENALTY, solve, solve_finite, solve_finite_friction, solve_friction
@@ -55,8 +54,6 @@ __all__ = [
     "solve",
     "available_algorithms",
     "algorithm_docs",
-    "describe_algorithms",
-    "find_algorithm",
     "contact_penalties",
     "DEFAULT_ALGORITHM",
     "DEFAULT_PENALTY",

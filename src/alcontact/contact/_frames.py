@@ -56,7 +56,7 @@ def finite_solution(fs, problem, history, path) -> ContactSolution:
     The last frame is the run's verified solution; the others carry the state each step
     accepted (gaps and normals at the current configuration of the moved obstacle).
     """
-    from .obstacles import translate
+    from .obstacles import RigidMotion, move, translate
 
     base = fs.solution
     model = problem.model
@@ -65,7 +65,9 @@ def finite_solution(fs, problem, history, path) -> ContactSolution:
     steps = list(fs.steps)
     for step in steps[:-1]:
         u, pressure = step.u, step.pressure
-        ob = problem.obstacle if path is None else translate(problem.obstacle, path(step.t))
+        off = None if path is None else path(step.t)
+        ob = problem.obstacle if off is None else (move(problem.obstacle, off) if isinstance(off, RigidMotion)
+                                                   else translate(problem.obstacle, off))
         gap, normals = ob.evaluate(base.points + u[dofs])
         nodal = base.weights * pressure
         res = dataclasses.replace(base.result, status=step.status, message=step.message,
