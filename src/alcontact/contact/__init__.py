@@ -1,21 +1,20 @@
-"""Contact of linear elastic bodies with rigid obstacles (chapter 6).
+"""Contact of elastic bodies with rigid obstacles (chapter 6): one entry point, :func:`solve`.
 
-Frictionless contact (small deformation, linearized gap (6.15)) with
+:func:`solve` runs every case and returns one :class:`ContactSolution` with per-step
+:class:`ContactFrame` frames; the problem decides what runs:
 
-- the pure penalty method (6.10),
-- Algorithm 6.1 (Simo & Laursen, Macaulay update (6.13)),
-- Algorithm 6.3 (family-P penalties, the dissertation's proposal),
-- a semi-smooth Newton / primal-dual active-set reference;
+- frictionless contact at small deformation (linearized gap (6.15)) with the pure penalty
+  method (6.10), Algorithm 6.1 (Simo & Laursen, Macaulay update (6.13)), Algorithm 6.3
+  (family-P penalties, the dissertation's proposal) or a semi-smooth Newton / primal-dual
+  active-set reference; one static solve, or one per step time of a ``history``;
+- finite deformation (``ContactProblem(..., kinematics="finite")``: gap at the current
+  configuration, load steps with cut-backs, one full-space Newton for every algorithm);
+- Coulomb friction (``problem.friction > 0`` or ``friction=``) with load stepping:
+  Algorithm 6.2 (Macaulay normal part), Algorithm 6.4 (family-P normal part) and an
+  Alart-Curnier semi-smooth Newton reference, at small or finite deformation.
 
-finite-deformation frictionless contact (gap at the current configuration, load
-steps, one full-space Newton for every algorithm: :func:`solve_finite`, or
-``ContactProblem(..., kinematics="finite")``);
-and Coulomb friction with load stepping (:func:`solve_friction`): Algorithm 6.2
-(Macaulay normal part), Algorithm 6.4 (family-P normal part) and an Alart-Curnier
-semi-smooth Newton reference.
-
-All work on the problem condensed on the contact points (one factorization of
-the stiffness, see :mod:`alcontact.contact._discrete`).
+:func:`solve_friction`, :func:`solve_finite` and :func:`solve_finite_friction` are kept for
+one release as thin wrappers over :func:`solve` returning the stepping engines' own records.
 
 Examples
 --------
