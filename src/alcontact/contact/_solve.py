@@ -205,7 +205,9 @@ def solve(problem, algorithm: str = DEFAULT_ALGORITHM, penalty: str | None = Non
     steps : int or sequence of float, optional
         Number of uniform load steps on ``(0, 1]`` or the step times. Default: the history's
         times; without a history one static step at small deformation, 10 uniform steps at
-        finite deformation.
+        finite deformation. Without a history, finite deformation scales every support value
+        and load by the pseudo-time; small deformation applies the problem's own loads at
+        every step time (a history ramps them).
     history : LoadHistory, optional
         Ramped supports and loads (and a friction amplitude) over pseudo-time.
     obstacle_path : callable ``t -> (d,)`` or ``t -> RigidMotion``, optional
