@@ -17,7 +17,7 @@ What the script does:
 2. writes ``ball.msh`` (Gmsh format 4.1) and a problem file ``ball.toml`` that uses it
    (``[mesh] generator = "file"``, ``order = 2``);
 3. solves it as ``alcontact run ball.toml`` would (:func:`alcontact.io.load_problem`,
-   :func:`alcontact.runner.run_setup`) and writes the results folder ``results/``; the VTU
+   :func:`alcontact.app.run_setup`) and writes the results folder ``results/``; the VTU
    files hold ``tetra10`` cells, so ParaView shows the curved surface.
 
 Run from the repository root::
@@ -171,7 +171,7 @@ def hertz_quarter_force(delta: float = DELTA, radius: float = RADIUS, e: float =
 
 def main(argv: list[str] | None = None) -> int:
     from alcontact.io import load_problem
-    from alcontact.runner import run_setup
+    from alcontact.app import run_setup
 
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--out", default="results-curved-ball", help="folder for ball.msh, ball.toml and results/")

@@ -17,7 +17,7 @@ What the script does:
 2. writes ``punch.msh`` (Gmsh format 4.1) and a problem file ``punch.toml`` that uses it
    (``[mesh] generator = "file"``, supports and contact on the physical group names);
 3. solves it as ``alcontact run punch.toml`` would (:func:`alcontact.io.load_problem`,
-   :func:`alcontact.runner.run_setup`) and writes the results folder ``results/``.
+   :func:`alcontact.app.run_setup`) and writes the results folder ``results/``.
 
 Run from the repository root::
 
@@ -145,7 +145,7 @@ def write_problem(folder: str | Path, *, h: float = 0.02) -> Path:
 
 def main(argv: list[str] | None = None) -> int:
     from alcontact.io import load_problem
-    from alcontact.runner import run_setup
+    from alcontact.app import run_setup
 
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--out", default="results-gmsh-punch", help="folder for punch.msh, punch.toml and results/")

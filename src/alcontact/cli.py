@@ -1,8 +1,8 @@
 """Command line interface: ``alcontact run``, ``check``, ``list``, ``bench``, ``docs``.
 
-Each command is a thin wrapper over one function of :mod:`alcontact.runner`
-(:func:`~alcontact.runner.run_problem`, :func:`~alcontact.runner.run_setup`,
-:func:`~alcontact.runner.list_components`) or :mod:`alcontact.io.config`:
+Each command is a thin wrapper over one function of :mod:`alcontact.app`
+(:func:`~alcontact.app.run_problem`, :func:`~alcontact.app.run_setup`,
+:func:`~alcontact.app.list_components`) or :mod:`alcontact.io.config`:
 this module parses options, shows progress and prints; it is the only module
 of the package that prints.
 
@@ -293,7 +293,7 @@ def run_command(
     replaces the files of an earlier run (listed in its summary.json) and keeps
     other files. Ctrl+C / SIGTERM: exit 130 / 143, the folder left as it was.
     """
-    from .runner import run_problem, what_to_try
+    from .app import run_problem, what_to_try
 
     console, err = _consoles()
     if quiet and verbose:
@@ -368,7 +368,7 @@ def _check_builtin_size(name: str, level: int | None, order: int) -> None:
     """
     from .io import preflight
     from .problems import hertz
-    from .runner import BUILTIN_PROBLEMS
+    from .app import BUILTIN_PROBLEMS
 
     spec, mesh = BUILTIN_PROBLEMS.get(name), _builtin_meshes().get(name)
     if spec is None or mesh is None or order not in (1, 2):
@@ -475,7 +475,7 @@ def _run_file(problem_file: Path, out, console: Console, err: Console, level: in
 
     from .io.preflight import check_problem
     from .io.results import output_lock
-    from .runner import run_setup
+    from .app import run_setup
 
     force = kwargs.pop("force")
     algorithm = kwargs.pop("algorithm")
@@ -591,7 +591,7 @@ def bench_command(
     """
     import time
 
-    from .runner import quick_bench_estimate, run_benchmarks
+    from .app import quick_bench_estimate, run_benchmarks
 
     console, err = _consoles()
     est = quick_bench_estimate(suite) if quick and not cases and not variants else None
@@ -645,7 +645,7 @@ def list_command(
     ] = None,
 ) -> None:
     """List the registered algorithms, penalties, obstacles, built-in problems and example files."""
-    from .runner import list_components
+    from .app import list_components
 
     console, err = _consoles()
     sections = list_components()

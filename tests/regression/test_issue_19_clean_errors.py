@@ -210,7 +210,7 @@ def test_case_6_two_force_runs_at_once_one_wins(tmp_path):
 def test_case_6_a_full_disk_is_a_clean_error_and_the_folder_is_intact(tmp_path, monkeypatch):
     import errno
 
-    import alcontact.runner as runner_mod
+    import alcontact.app.pipeline as pipeline_mod
 
     p = _write(tmp_path, HERTZ)
     assert runner.invoke(app, ["run", str(p), "--out", str(tmp_path / "out"), "-q"]).exit_code == 0
@@ -220,7 +220,7 @@ def test_case_6_a_full_disk_is_a_clean_error_and_the_folder_is_intact(tmp_path, 
         (Path(folder) / "solution.vtu").write_text("partial")
         raise OSError(errno.ENOSPC, "No space left on device")
 
-    monkeypatch.setattr(runner_mod, "write_setup_results", full)
+    monkeypatch.setattr(pipeline_mod, "write_setup_results", full)
     msg = _refused(runner.invoke(app, ["run", str(p), "--out", str(tmp_path / "out"), "-q", "--force"]),
                    "No space left on device", "left as it was", "Free space")
     assert "Traceback" not in msg
@@ -355,7 +355,7 @@ def test_case_12_runtime_warnings_do_not_leak_to_stderr(tmp_path):
 
     script = "\n".join([
         "import sys, warnings, numpy as np",
-        "import alcontact.runner as r",
+        "import alcontact.app.pipeline as r",
         "from alcontact.cli import main",
         "orig = r.write_setup_results",
         "def noisy(*a, **k):",

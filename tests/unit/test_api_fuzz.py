@@ -284,7 +284,8 @@ def _entries() -> dict:
 
 #: public callables of the fuzzed modules that are not called, with the reason
 NOT_CALLED = {
-    **dict.fromkeys(["ContactStatus", "ContactIteration", "ContactResult", "ContactSolution", "FrictionSolution",
+    **dict.fromkeys(["ContactStatus", "ContactIteration", "ContactResult", "ContactSolution", "ContactFrame",
+                     "FrictionSolution",
                      "FrictionStep", "FiniteSolution", "FiniteStep", "FiniteFrictionSolution", "FiniteFrictionStep",
                      "ALResult", "IterationRecord", "Status", "PenaltyFacts", "ProblemSetup", "HertzReference",
                      "MindlinReference"], "a result or record the solvers build, not an input"),

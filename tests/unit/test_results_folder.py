@@ -277,12 +277,12 @@ def test_an_ignored_sigint_stays_ignored():
 
 @pytest.mark.parametrize("signum, code", [(signal.SIGINT, 130), (signal.SIGTERM, 143)])
 def test_cli_reports_an_interrupt_with_its_exit_code(tmp_path, monkeypatch, signum, code):
-    import alcontact.runner as runner_mod
+    import alcontact.app as app_mod
 
     def interrupted(*args, **kwargs):
         raise Interrupted(signum)
 
-    monkeypatch.setattr(runner_mod, "run_problem", interrupted)
+    monkeypatch.setattr(app_mod, "run_problem", interrupted)
     out = tmp_path / "res"
     result = runner.invoke(app, ["run", "--out", str(out), "--quiet"])
     assert result.exit_code == code

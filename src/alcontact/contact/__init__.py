@@ -1,21 +1,20 @@
-"""Contact of linear elastic bodies with rigid obstacles (chapter 6).
+"""Contact of elastic bodies with rigid obstacles (chapter 6): one entry point, :func:`solve`.
 
-Frictionless contact (small deformation, linearized gap (6.15)) with
+:func:`solve` runs every case and returns one :class:`ContactSolution` with per-step
+:class:`ContactFrame` frames; the problem decides what runs:
 
-- the pure penalty method (6.10),
-- Algorithm 6.1 (Simo & Laursen, Macaulay update (6.13)),
-- Algorithm 6.3 (family-P penalties, the dissertation's proposal),
-- a semi-smooth Newton / primal-dual active-set reference;
+- frictionless contact at small deformation (linearized gap (6.15)) with the pure penalty
+  method (6.10), Algorithm 6.1 (Simo & Laursen, Macaulay update (6.13)), Algorithm 6.3
+  (family-P penalties, the dissertation's proposal) or a semi-smooth Newton / primal-dual
+  active-set reference; one static solve, or one per step time of a ``history``;
+- finite deformation (``ContactProblem(..., kinematics="finite")``: gap at the current
+  configuration, load steps with cut-backs, one full-space Newton for every algorithm);
+- Coulomb friction (``problem.friction > 0`` or ``friction=``) with load stepping:
+  Algorithm 6.2 (Macaulay normal part), Algorithm 6.4 (family-P normal part) and an
+  Alart-Curnier semi-smooth Newton reference, at small or finite deformation.
 
-finite-deformation frictionless contact (gap at the current configuration, load
-steps, one full-space Newton for every algorithm: :func:`solve_finite`, or
-``ContactProblem(..., kinematics="finite")``);
-and Coulomb friction with load stepping (:func:`solve_friction`): Algorithm 6.2
-(Macaulay normal part), Algorithm 6.4 (family-P normal part) and an Alart-Curnier
-semi-smooth Newton reference.
-
-All work on the problem condensed on the contact points (one factorization of
-the stiffness, see :mod:`alcontact.contact._discrete`).
+:func:`solve_friction`, :func:`solve_finite` and :func:`solve_finite_friction` are kept for
+one release as thin wrappers over :func:`solve` returning the stepping engines' own records.
 
 Examples
 --------
@@ -28,15 +27,14 @@ from __future__ import annotations
 from . import obstacles
 from ._algorithms import ContactOptions, algorithm_docs, available_algorithms, contact_penalties
 from ._problem import BodyForce, ContactProblem, Pressure, Support, Traction
-from ._solution import ContactIteration, ContactResult, ContactSolution, ContactStatus
-from ._solve import DEFAULT_ALGORITHM, DEFAULT_PENALTY, solve
-from ._friction import FrictionOptions, friction_algorithm_docs, friction_algorithms, solve_friction
+from ._solution import ContactFrame, ContactIteration, ContactResult, ContactSolution, ContactStatus
+from ._solve import DEFAULT_ALGORITHM, DEFAULT_PENALTY, solve, solve_finite, solve_finite_friction, solve_friction
+from ._friction import FrictionOptions, friction_algorithm_docs, friction_algorithms
 from ._friction_solution import FrictionSolution, FrictionStep
 from ._loading import LoadCase, LoadHistory, Ramp, problem_at
 from ._problem import KINEMATICS
-from ._stepping import FiniteSolution, FiniteStep, solve_finite
-from ._finite_friction import (FiniteFrictionSolution, FiniteFrictionStep, finite_friction_algorithms,
-                               solve_finite_friction)
+from ._stepping import FiniteSolution, FiniteStep
+from ._finite_friction import FiniteFrictionSolution, FiniteFrictionStep, finite_friction_algorithms
 from ._verify import check_state
 
 # the algorithm registry, the merged supports and the element size, for the problem-file loader and the
@@ -57,6 +55,7 @@ __all__ = [
     "ContactIteration",
     "ContactResult",
     "ContactSolution",
+    "ContactFrame",
     "solve",
     "available_algorithms",
     "algorithm_docs",

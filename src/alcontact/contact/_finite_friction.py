@@ -108,7 +108,7 @@ from ._laws import make_law
 from ._loading import LoadHistory
 from ._newton import LineSearch, NewtonResult, NewtonSettings, NewtonSystem, inner_failure, newton
 from ._solution import ContactStatus
-from ._solve import penalty_stiffness
+from ._stiffness import penalty_stiffness
 from ._stepping import Attempt, StepRecord, StepRecords, _StepData, _step_times, step_through
 from ._verify import check_state, equilibrium_tolerance, reach, state_equilibrium, verified_status
 from .obstacles import frame, surface_slip, transport_tangent

@@ -88,7 +88,7 @@ from ._laws import eta_for_stiffness, freezes_at_zero, make_law
 from ._loading import LoadHistory, problem_at
 from ._newton import LineSearch, NewtonResult, NewtonSettings, NewtonSystem, inner_failure, newton
 from ._solution import ContactStatus
-from ._solve import penalty_stiffness
+from ._stiffness import penalty_stiffness
 from ._stepping import Attempt, StepRecord, step_through
 from ._verify import check_state, equilibrium_tolerance, reach, state_equilibrium
 
@@ -1106,6 +1106,7 @@ def solve_friction(problem, history: LoadHistory | None, algorithm: str = "simo-
             outer_iterations=int(out.outer), newton_iterations=int(out.newton), cutbacks=rec.step_cutbacks,
             penetration=float(np.max(y_all[:, 0], initial=0.0)) / fc.h,
             coulomb=float(np.max(np.maximum(nT - mu_t * tN, 0.0), initial=0.0)) / pref, seconds=rec.seconds,
+            linear_solves=int(rec.linear_solves),
         )
         records.append(step)
         cur["state"] = _State(float(t), u, y_all, tN, tT, R, slip_total, pred)

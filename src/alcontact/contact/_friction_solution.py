@@ -59,6 +59,8 @@ class FrictionStep:
         Max violation :math:`(|t_T| - \\mu t_N)^+` over the largest pressure.
     seconds : float
         Wall time of the tries since the last accepted step (failed ones included).
+    linear_solves : int
+        Linear solves of the tries since the last accepted step (failed ones included).
     """
 
     t: float
@@ -80,6 +82,7 @@ class FrictionStep:
     penetration: float
     coulomb: float
     seconds: float = float("nan")
+    linear_solves: int = 0
 
     @property
     def force(self) -> np.ndarray:

@@ -11,7 +11,7 @@ import numpy as np
 from ..errors import ConvergenceError
 from ..status import Status
 
-__all__ = ["ContactStatus", "ContactIteration", "ContactResult", "ContactSolution"]
+__all__ = ["ContactStatus", "ContactIteration", "ContactResult", "ContactSolution", "ContactFrame"]
 
 logger = logging.getLogger(__name__)
 
@@ -122,13 +122,47 @@ class ContactSolution:
     timings: dict = field(default_factory=dict)
     extra: dict = field(default_factory=dict)
     nodal_forces: np.ndarray | None = None
+    #: the states of the accepted load steps, in order (:class:`ContactFrame`); the last one is this
+    #: solution's own state. Empty when constructed by hand: one frame of this state is made.
+    frames: tuple = field(default=(), repr=False, compare=False)
+    #: the stepping engine's own record of a load-stepped run (``FiniteSolution``, ``FrictionSolution``,
+    #: ``FiniteFrictionSolution``: what the deprecated wrappers return), ``None`` for one static solve
+    record: Any = field(default=None, repr=False, compare=False)
     #: fitted Hertz profiles by (amplitude, center, axis): the fit costs a boundary
     #: quadrature and a scalar minimization, and a summary asks for p0 and a of each frame
     _fits: dict = field(default_factory=dict, init=False, repr=False, compare=False)
 
+    def __post_init__(self):
+        if len(self.frames) <= 1:
+            # one state (a static solve, a one-step run, a copy made by dataclasses.replace): its own frame
+            object.__setattr__(self, "frames", (frame_of(self),))
+
     @property
     def status(self) -> ContactStatus:
         return self.result.status
+
+    @property
+    def success(self) -> bool:
+        return self.result.success
+
+    def raise_for_status(self) -> None:
+        """Raise :class:`~alcontact.errors.ConvergenceError` unless converged."""
+        self.result.raise_for_status()
+
+    @property
+    def final(self) -> "ContactFrame":
+        """The last accepted frame (this solution's state)."""
+        return self.frames[-1]
+
+    @property
+    def times(self) -> np.ndarray:
+        """Pseudo-time of every frame."""
+        return np.array([f.t for f in self.frames])
+
+    def frame_solutions(self) -> tuple["ContactSolution", ...]:
+        """One :class:`ContactSolution` per frame (the last is this solution): the estimators, the
+        equilibrium and the writers of one state, applied to every step."""
+        return tuple(f.view for f in self.frames[:-1]) + (self,)
 
     # ------------------------------------------------------------ estimators
     @property
@@ -274,6 +308,124 @@ class ContactSolution:
     def peak_pressure_nodal_max(self) -> float:
         """Largest nodal value of the recovered pressure (raw, no fit)."""
         return float(np.max(self.pressure, initial=0.0))
+
+
+@dataclass(frozen=True)
+class ContactFrame:
+    r"""State of one accepted load step of a contact solve (one frame for a static solve).
+
+    Every array is over the ``m`` contact-boundary points; vectors have global components.
+
+    Attributes
+    ----------
+    t : float
+        Pseudo-time of the step (1 for a static solve).
+    requested : bool
+        ``t`` is a requested step time; ``False`` for a sub-step a cut-back inserted.
+    u : ndarray (ndofs,)
+        Displacement.
+    pressure : ndarray (m,)
+        Normal traction :math:`t_N \ge 0`.
+    gap : ndarray (m,)
+        Gap, :math:`g_N \le 0` means no penetration (linearized (6.15) at small deformation,
+        current configuration at finite deformation).
+    normals : ndarray (m, d)
+        Obstacle normals at the points (current projections at finite deformation).
+    traction_t : ndarray (m, d)
+        Tangential traction on the body, **global** components (the one convention of every
+        solve; zeros without friction). The tangential force of point :math:`i` is
+        :math:`w_i\,t_{T,i}`. The frictional solvers' local tangent-basis components
+        (``FrictionStep.traction_t``, :math:`(m, d-1)`, dissertation sign) map to it by
+        :math:`-T\,t_T`.
+    slip : ndarray (m, d)
+        Slip increment of the step at closed points (zeros without friction).
+    slip_total : ndarray (m, d)
+        Slip accumulated over the steps so far.
+    state : ndarray of int (m,)
+        ``OPEN`` (0), ``STICK`` (1), ``SLIP`` (2) of :mod:`alcontact.contact._friction_laws`; without
+        friction a closed point slides freely: ``SLIP`` where active, else ``OPEN``.
+    contact_force : ndarray (d,)
+        Resultant of all contact forces on the body (normal and tangential).
+    normal_force : float
+        :math:`\sum_i w_i t_{N,i}` (the nodal forces the solver applied).
+    tangential_force : ndarray (d,)
+        Resultant of the tangential forces on the body (zeros without friction).
+    status : ContactStatus
+    message : str
+    newton_iterations, outer_iterations, linear_solves, cutbacks : int
+        Counters of the step (``cutbacks``: failed tries before it was accepted).
+    seconds : float
+        Wall time of the step (failed tries included).
+    view : ContactSolution
+        The step's state as a :class:`ContactSolution` (estimators, :meth:`~ContactSolution.equilibrium`
+        with the step's loads, the writers).
+    """
+
+    t: float
+    requested: bool
+    u: np.ndarray
+    pressure: np.ndarray
+    gap: np.ndarray
+    normals: np.ndarray
+    traction_t: np.ndarray
+    slip: np.ndarray
+    slip_total: np.ndarray
+    state: np.ndarray
+    contact_force: np.ndarray
+    normal_force: float
+    tangential_force: np.ndarray
+    status: ContactStatus
+    message: str
+    newton_iterations: int
+    outer_iterations: int
+    linear_solves: int
+    cutbacks: int
+    seconds: float
+    view: Any = field(repr=False, compare=False)
+
+    @property
+    def force(self) -> np.ndarray:
+        """``contact_force`` (the name of the step records)."""
+        return self.contact_force
+
+    @property
+    def reaction_force(self) -> np.ndarray:
+        """Resultant of the support reactions :math:`R` of this step (:meth:`ContactSolution.equilibrium`)."""
+        return np.asarray(self.view.equilibrium().reaction, dtype=float)
+
+    @property
+    def success(self) -> bool:
+        return self.status > 0
+
+
+def frame_of(sol: ContactSolution) -> ContactFrame:
+    """The :class:`ContactFrame` of one state (the one place a frame is made).
+
+    Reads the typed fields of ``sol`` and the per-step keys its builder put in ``extra``
+    (``t``, ``requested``, ``shear``, ``slip``, ``slip_increment``, ``state``,
+    ``tangential_force``, ``cutbacks``, ``seconds``, ``step_newton_iterations``,
+    ``step_outer_iterations``, ``step_linear_solves``: a run's result holds its totals).
+    """
+    from ._friction_laws import OPEN, SLIP
+
+    ex = sol.extra
+    m, d = np.shape(sol.points)
+    zeros = np.zeros((m, d))
+    state = ex.get("state")
+    if state is None:
+        state = np.where(np.asarray(sol.active, dtype=bool), SLIP, OPEN)
+    res = sol.result
+    return ContactFrame(
+        t=float(ex.get("t", 1.0)), requested=bool(ex.get("requested", True)), u=sol.u, pressure=sol.pressure,
+        gap=sol.gap, normals=sol.normals, traction_t=np.asarray(ex.get("shear", zeros), dtype=float),
+        slip=np.asarray(ex.get("slip_increment", zeros), dtype=float),
+        slip_total=np.asarray(ex.get("slip", zeros), dtype=float), state=np.asarray(state, dtype=int),
+        contact_force=np.asarray(sol.total_contact_force, dtype=float), normal_force=sol.normal_force,
+        tangential_force=np.asarray(ex.get("tangential_force", np.zeros(d)), dtype=float), status=res.status,
+        message=res.message, newton_iterations=int(ex.get("step_newton_iterations", res.newton_iterations)),
+        outer_iterations=int(ex.get("step_outer_iterations", res.outer_iterations)),
+        linear_solves=int(ex.get("step_linear_solves", res.linear_solves)), cutbacks=int(ex.get("cutbacks", 0)),
+        seconds=float(ex.get("seconds", sol.timings.get("total_s", float("nan")))), view=sol)
 
 
 def _radius_like(points, x, center, axis):

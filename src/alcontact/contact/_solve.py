@@ -1,7 +1,16 @@
-"""Entry point :func:`solve` for frictionless contact."""
+"""The one entry point :func:`solve` of every contact problem, and the deprecated wrappers.
+
+:func:`solve` decides in one place what runs: the kinematics of the problem
+(``problem.kinematics``: ``"small"`` or ``"finite"``) and its friction (``problem.friction``
+or ``friction=``: Coulomb when positive) pick the stepping engine; ``steps`` / ``history``
+make it a load-stepped run. Every case returns one :class:`ContactSolution` whose
+``frames`` hold the accepted load steps (one frame for a static solve), built by
+:mod:`alcontact.contact._frames`.
+"""
 
 from __future__ import annotations
 
+import dataclasses
 import logging
 import time
 
@@ -9,33 +18,28 @@ import numpy as np
 
 from ._algorithms import DEFAULT_PENALTY, ContactOptions, _Run, available_algorithms, check_solve_args, \
     find_algorithm, options_with
+from ..errors import InputError
 from ._discrete import DiscreteContact
+from ._finite_friction import solve_finite_friction as _finite_friction_engine
+from ._frames import finite_friction_solution, finite_solution, friction_solution, stepped_solution
+from ._friction import solve_friction as _friction_engine
+from ._loading import LoadHistory, problem_at
 from ._solution import ContactResult, ContactSolution, ContactStatus
+from ._stepping import solve_finite as _finite_engine
+from ._stiffness import penalty_stiffness
 from ._verify import check_state, equilibrium_tolerance, reach, state_equilibrium, verified_status
 
-__all__ = ["solve", "DEFAULT_ALGORITHM", "DEFAULT_PENALTY", "penalty_stiffness"]
+__all__ = ["solve", "solve_friction", "solve_finite", "solve_finite_friction", "DEFAULT_ALGORITHM",
+           "DEFAULT_PENALTY", "penalty_stiffness"]
 
 logger = logging.getLogger(__name__)
 
 DEFAULT_ALGORITHM = "simo-laursen"
 
 
-
-def penalty_stiffness(model, h: float, scale: float = 1.0) -> float:
-    """Automatic penalty stiffness ``scale * E' / h`` (pressure per length).
-
-    ``E' = E/(1-nu^2)`` in plane strain and 3D, ``E`` in plane stress: the
-    stiffness of a layer of thickness ``h`` under uniaxial strain, so the
-    penalty spring is as stiff as the first element row under the surface.
-    """
-    mat = model.material
-    e_prime = mat.E if (model.dim == 2 and mat.plane == "stress") else mat.plane_strain_modulus
-    return scale * e_prime / h
-
-
-def solve(problem, algorithm: str = DEFAULT_ALGORITHM, penalty: str | None = None,
-          options: ContactOptions | None = None, **option_overrides) -> ContactSolution:
-    """Solve a frictionless contact problem.
+def _solve_static(problem, algorithm: str = DEFAULT_ALGORITHM, penalty: str | None = None,
+                  options: ContactOptions | None = None, **option_overrides) -> ContactSolution:
+    """One frictionless small-deformation contact solve (the one-step case of :func:`solve`).
 
     Parameters
     ----------
@@ -63,19 +67,8 @@ def solve(problem, algorithm: str = DEFAULT_ALGORITHM, penalty: str | None = Non
         ``problem`` not a :class:`ContactProblem`, unknown algorithm, penalty or
         option (with the closest match), or an option value of the wrong type or
         out of range (naming the key, the value, the allowed range and the default).
-
-    Notes
-    -----
-    A problem with ``kinematics="finite"`` is solved by
-    :func:`~alcontact.contact.solve_finite` (10 uniform load steps unless
-    ``steps=...`` is given, also ``obstacle_path``, ``history``, ``max_cutbacks``);
-    the solution of its last step is returned, with the per-step records in
-    ``solution.extra["load_steps"]``.
     """
     check_solve_args(problem, algorithm, penalty, available_algorithms(), "")
-    kinematics = getattr(problem, "kinematics", "small")
-    if kinematics in _KINEMATICS_SOLVERS:
-        return _KINEMATICS_SOLVERS[kinematics](problem, algorithm, penalty, options, **option_overrides)
     t_start = time.perf_counter()
     entry = find_algorithm(algorithm)
     run = entry.run
@@ -177,13 +170,277 @@ def solve(problem, algorithm: str = DEFAULT_ALGORITHM, penalty: str | None = Non
     )
 
 
-def _solve_finite(problem, algorithm, penalty, options, **kwargs) -> ContactSolution:
-    from ._stepping import solve_finite
+def solve(problem, algorithm: str = DEFAULT_ALGORITHM, penalty: str | None = None,
+          options: ContactOptions | dict | None = None, *, steps=None, history: LoadHistory | None = None,
+          obstacle_path=None, friction: float | None = None, on_step=None,
+          **option_overrides) -> ContactSolution:
+    r"""Solve a contact problem: small or finite deformation, frictionless or Coulomb, one step or load-stepped.
 
-    fs = solve_finite(problem, algorithm, penalty, options, **kwargs)
-    fs.solution.extra["load_steps"] = fs.steps
-    return fs.solution
+    What runs is decided here, from the problem (module doc):
+
+    ========================  ==================  ==================================================
+    ``problem.kinematics``    friction :math:`\mu`  engine
+    ========================  ==================  ==================================================
+    ``"small"``               0                   one static solve (Algorithm 6.1 / 6.3, penalty,
+                                                  ssn); with ``history``/``steps`` one per step time
+                                                  (frictionless contact is path independent)
+    ``"small"``               > 0                 incremental Coulomb friction (Algorithms 6.2 /
+                                                  6.4, ssn) over the history
+    ``"finite"``              0                   load steps from the last state, with cut-backs
+    ``"finite"``              > 0                 load steps with Coulomb friction at the current
+                                                  configuration
+    ========================  ==================  ==================================================
+
+    Parameters
+    ----------
+    problem : ContactProblem
+    algorithm : str
+        ``"penalty"``, ``"simo-laursen"`` (Algorithm 6.1; 6.2 with friction), ``"family-p"``
+        (Algorithm 6.3; 6.4 with friction) or ``"ssn"`` (see :func:`available_algorithms`,
+        :func:`friction_algorithms`).
+    penalty : str, optional
+        Penalty of ``"family-p"`` (one of :func:`contact_penalties`; default ``"exp-met1"``).
+    options : ContactOptions or dict, optional
+        Options; a dict holds :class:`ContactOptions` fields (as ``optim.minimize`` takes them).
+    steps : int or sequence of float, optional
+        Number of uniform load steps on ``(0, 1]`` or the step times. Default: the history's
+        times; without a history one static step at small deformation, 10 uniform steps at
+        finite deformation. Without a history, finite deformation scales every support value
+        and load by the pseudo-time; small deformation applies the problem's own loads at
+        every step time (a history ramps them).
+    history : LoadHistory, optional
+        Ramped supports and loads (and a friction amplitude) over pseudo-time.
+    obstacle_path : callable ``t -> (d,)`` or ``t -> RigidMotion``, optional
+        Finite deformation: the obstacle's translation (or rigid placement) at pseudo-time ``t``.
+    friction : float, optional
+        Coulomb coefficient; overrides ``problem.friction``.
+    on_step : callable ``(done, total, t) -> None``, optional
+        Progress of a stepped run: ``done`` requested steps of ``total`` reached at pseudo-time
+        ``t`` (``done = 0`` before the first).
+    **option_overrides
+        Fields of :class:`ContactOptions` (e.g. ``penalty_scale=10``; ``max_cutbacks``: cut-backs
+        allowed per load step, default 6).
+
+    Returns
+    -------
+    ContactSolution
+        The state of the last accepted step (``u``, ``pressure``, ``gap``, ``result``, ...), with
+        every accepted step in ``frames`` (:class:`ContactFrame`: displacement, pressure, gap,
+        global tangential traction, slip, stick/slip/open state, contact and reaction forces,
+        counters, timing, status). ``solution.result.status`` is negative when the solve failed;
+        a warning is logged saying what to try.
+
+    Raises
+    ------
+    InputError
+        ``problem`` not a :class:`ContactProblem`, unknown algorithm, penalty or option (with
+        the closest match), an option value of the wrong type or out of range (naming the key,
+        the value, the allowed range and the default), or an argument the case does not take
+        (``obstacle_path`` at small deformation).
+
+    Examples
+    --------
+    >>> from alcontact.problems import hertz
+    >>> sol = solve(hertz.hertz_2d(level=0), algorithm="simo-laursen")  # doctest: +SKIP
+    >>> len(sol.frames), sol.final.normal_force                           # doctest: +SKIP
+    """
+    if on_step is not None and not callable(on_step):
+        raise InputError(f"on_step = {on_step!r:.40}: expected None or a callable (done, total, t).")
+    return _solve_any(problem, algorithm, penalty, options, steps=steps, history=history,
+                      obstacle_path=obstacle_path, friction=friction, progress=on_step,
+                      overrides=option_overrides)
 
 
-#: solvers of the kinematics other than the default ``"small"`` (the body of :func:`solve`)
-_KINEMATICS_SOLVERS = {"finite": _solve_finite}
+def _case(problem, friction) -> tuple[str, float]:
+    """``(kinematics, mu)`` of a problem: the one decision of what runs."""
+    kinematics = getattr(problem, "kinematics", "small")
+    mu = getattr(problem, "friction", 0.0) if friction is None else friction
+    try:
+        frictional = float(mu) > 0
+    except (TypeError, ValueError):
+        frictional = True  # the frictional engine names the bad value
+    return kinematics, (mu if frictional else 0.0)
+
+
+def _solve_any(problem, algorithm, penalty, options, *, steps, history, obstacle_path, friction, progress,
+               overrides, hooks=None) -> ContactSolution:
+    """:func:`solve` with the engine's own callbacks (``hooks``) for the deprecated wrappers."""
+    hooks = hooks or {}
+    kinematics, mu = _case(problem, friction)
+    max_cutbacks = None  # an option of the frictional engines (in overrides), an argument of the frictionless one
+    if kinematics == "finite" and mu == 0:
+        if "max_cutbacks" in overrides:
+            overrides = dict(overrides)
+            max_cutbacks = overrides.pop("max_cutbacks")
+        return _finite(problem, algorithm, penalty, options, steps, history, obstacle_path, max_cutbacks,
+                       progress, overrides, hooks)
+    if kinematics == "finite":
+        return _finite_friction(problem, mu, algorithm, penalty, options, steps, history, obstacle_path,
+                                max_cutbacks, progress, overrides, hooks)
+    if obstacle_path is not None:
+        raise InputError("obstacle_path: a moving obstacle needs kinematics='finite' (ContactProblem(..., "
+                         "kinematics='finite') with a hyperelastic body); at small kinematics move the body with "
+                         "a ramped support instead.")
+    if mu != 0:
+        return _small_friction(problem, mu, algorithm, penalty, options, steps, history, max_cutbacks, progress,
+                               overrides, hooks)
+    if steps is None and history is None:
+        return _solve_static(problem, algorithm, penalty, options, **overrides)
+    return _small_stepped(problem, algorithm, penalty, options, steps, history, progress, overrides)
+
+
+def _times(steps, history):
+    if steps is None:
+        return tuple(history.times)
+    if isinstance(steps, (int, np.integer)) and not isinstance(steps, bool):
+        return LoadHistory.uniform(int(steps))
+    return LoadHistory.check_times(steps)
+
+
+def _small_stepped(problem, algorithm, penalty, options, steps, history, progress, overrides):
+    """Frictionless small deformation over step times: one independent static solve per step (the problem is
+    path independent); the run stops at the first failed step."""
+    if history is not None and not isinstance(history, LoadHistory):
+        raise InputError(f"history must be a LoadHistory or None; got {type(history).__name__}.")
+    times = _times(steps, history)
+    n = len(times)
+    views = []
+    for k, t in enumerate(times):
+        if progress is not None:
+            progress(k, n, t)
+        p_t = problem_at(problem, history, t) if history is not None else problem
+        sol = _solve_static(p_t, algorithm, penalty, options, **overrides)
+        views.append(dataclasses.replace(sol, extra={**sol.extra, "t": float(t)}))
+        if progress is not None:
+            progress(k + 1, n, t)
+        if not sol.result.success:
+            break
+    return stepped_solution(views)
+
+
+def _small_friction(problem, mu, algorithm, penalty, options, steps, history, max_cutbacks, progress, overrides,
+                    hooks):
+    if history is None:  # the problem's own loads at every step time
+        history = LoadHistory((), _times(steps, None) if steps is not None else (1.0,))
+        steps = None
+    if max_cutbacks is not None:
+        overrides = dict(overrides, max_cutbacks=max_cutbacks)
+    cb = hooks.get("on_step")
+    if cb is None and progress is not None:
+        def cb(k, t, n):
+            progress(k, n, t)
+    fsol = _friction_engine(problem, history, algorithm, penalty, options, steps=steps, friction=mu, on_step=cb,
+                            **overrides)
+    if progress is not None:
+        times = fsol.history.times
+        progress(len(times), len(times), times[-1])
+    return friction_solution(fsol)
+
+
+def _finite(problem, algorithm, penalty, options, steps, history, obstacle_path, max_cutbacks, progress,
+            overrides, hooks):
+    if steps is None:
+        steps = tuple(history.times) if isinstance(history, LoadHistory) else 10
+    times = _times(steps, None)
+    total = len(times)
+    user = hooks.get("on_step")
+
+    def collect(step, u, pressure):
+        if user is not None:
+            user(step, u, pressure)
+        if progress is not None:
+            done = sum(1 for t in times if t <= step.t + 1e-12 * max(1.0, abs(step.t)))
+            progress(done, total, float(step.t))
+
+    if progress is not None:
+        progress(0, total, times[0])
+    kw = {"max_cutbacks": hooks["max_cutbacks"]} if "max_cutbacks" in hooks else \
+        ({} if max_cutbacks is None else {"max_cutbacks": max_cutbacks})
+    fs = _finite_engine(problem, algorithm, penalty, options, steps=steps, history=history,
+                        obstacle_path=obstacle_path, on_step=user if progress is None else collect, **kw,
+                        **overrides)
+    return finite_solution(fs, problem, history, obstacle_path)
+
+
+def _finite_friction(problem, mu, algorithm, penalty, options, steps, history, obstacle_path, max_cutbacks,
+                     progress, overrides, hooks):
+    if history is not None and not isinstance(history, LoadHistory):
+        raise InputError(f"history must be a LoadHistory or None; got {type(history).__name__}.")
+    if history is not None and history.friction is not None:
+        raise InputError("history: a friction amplitude (friction_ramp) is not available at finite kinematics; "
+                         "remove it (the coefficient is constant) or use kinematics='small'.")
+    if steps is None:
+        steps = history.times if history is not None else 10
+    if max_cutbacks is not None:
+        overrides = dict(overrides, max_cutbacks=max_cutbacks)
+    cb = hooks.get("progress")
+    if cb is None and progress is not None:
+        def cb(k, t, n):
+            progress(k, n, t)
+    fs = _finite_friction_engine(problem, mu, algorithm, penalty, options, steps=steps, history=history,
+                                 obstacle_path=obstacle_path, on_step=hooks.get("on_step"), progress=cb,
+                                 **overrides)
+    if progress is not None:
+        total = len(_times(steps, None))
+        progress(total, total, float(fs.steps[-1].t) if fs.steps else 0.0)
+    return finite_friction_solution(fs, problem, history)
+
+
+# ---------------------------------------------------------------------------------------------------------------
+# the former entry points: thin wrappers over :func:`solve`, kept for one release so that user code keeps running
+# ---------------------------------------------------------------------------------------------------------------
+def solve_friction(problem, history: LoadHistory | None, algorithm: str = "simo-laursen", penalty: str | None = None,
+                   options=None, *, steps=None, friction: float | None = None, on_step=None, obstacle_path=None,
+                   **option_overrides):
+    """Coulomb friction over a load history: a wrapper over :func:`solve`, kept for one release.
+
+    Prefer ``solve(problem, history=history, ...)``, which returns a :class:`ContactSolution`
+    with one frame per step. This wrapper returns the stepping engine's own record
+    (``solution.record``): a :class:`FrictionSolution` at small deformation (tangential
+    tractions ``FrictionStep.traction_t`` in the local tangent bases, ``(m, d-1)``), a
+    :class:`FiniteFrictionSolution` at finite deformation. Parameters as
+    :func:`alcontact.contact._friction.solve_friction` (``on_step(k, t, n)`` before requested step ``k``).
+    A zero coefficient still runs the frictional engine (as before).
+    """
+    kinematics = getattr(problem, "kinematics", "small")
+    mu = getattr(problem, "friction", 0.0) if friction is None else friction
+    if kinematics != "finite":
+        if not isinstance(history, LoadHistory):  # the engine names the error
+            return _friction_engine(problem, history, algorithm, penalty, options, steps=steps, friction=friction,
+                                    on_step=on_step, obstacle_path=obstacle_path, **option_overrides)
+        if obstacle_path is not None:
+            raise InputError("obstacle_path: a moving obstacle needs kinematics='finite' (ContactProblem(..., "
+                             "kinematics='finite') with a hyperelastic body); at small kinematics move the body "
+                             "with a ramped support instead.")
+        return _small_friction(problem, mu, algorithm, penalty, options, steps, history, None, None,
+                               option_overrides, {"on_step": on_step}).record
+    return _finite_friction(problem, mu, algorithm, penalty, options, steps, history, obstacle_path, None, None,
+                            option_overrides, {"progress": on_step}).record
+
+
+def solve_finite(problem, algorithm: str = "simo-laursen", penalty: str | None = None, options=None, *,
+                 steps=10, history: LoadHistory | None = None, obstacle_path=None, max_cutbacks: int = 6,
+                 on_step=None, **option_overrides):
+    """Frictionless finite-deformation load stepping: a wrapper over :func:`solve`, kept for one release.
+
+    Prefer ``solve(problem, steps=..., ...)`` with ``problem.kinematics == "finite"``. Returns
+    the engine's record (``solution.record``, a :class:`FiniteSolution`); parameters as
+    :func:`alcontact.contact._stepping.solve_finite` (``on_step(step, u, pressure)`` after every
+    accepted step). ``problem.kinematics`` is not consulted (a linear body runs too).
+    """
+    return _finite(problem, algorithm, penalty, options, steps, history, obstacle_path, None, None,
+                   option_overrides, {"on_step": on_step, "max_cutbacks": max_cutbacks}).record
+
+
+def solve_finite_friction(problem, mu: float, algorithm: str = "simo-laursen", penalty: str | None = None,
+                          options=None, *, steps=10, history: LoadHistory | None = None, obstacle_path=None,
+                          on_step=None, progress=None, **option_overrides):
+    """Coulomb friction at finite deformation: a wrapper over :func:`solve`, kept for one release.
+
+    Prefer ``solve(problem, friction=mu, steps=..., ...)`` with ``problem.kinematics == "finite"``.
+    Returns the engine's record (``solution.record``, a :class:`FiniteFrictionSolution`, its
+    ``traction_t`` global ``(m, d)``); parameters as
+    :func:`alcontact.contact._finite_friction.solve_finite_friction`.
+    """
+    return _finite_friction(problem, mu, algorithm, penalty, options, steps, history, obstacle_path, None, None,
+                            option_overrides, {"on_step": on_step, "progress": progress}).record

@@ -572,7 +572,7 @@ def solve_finite(problem, algorithm: str = "simo-laursen", penalty: str | None =
         negative status; the steps reached so far are kept.
     """
     from ._finite_iterative import finite_solver
-    from ._solve import penalty_stiffness
+    from ._stiffness import penalty_stiffness
 
     t_start = time.perf_counter()
     entry = find_algorithm(algorithm, kinematics="finite")
