@@ -129,7 +129,7 @@ def list_components() -> dict[str, dict[str, str]]:
     """
     from .. import penalties
     from ..contact import contact_penalties, obstacles
-    from ..contact._algorithms import describe_algorithms
+    from ..contact import describe_algorithms
 
     usable = set(contact_penalties())
     pens = {name: (f"[contact] {doc}" if name in usable else doc) for name, doc in penalties.describe().items()}
@@ -178,7 +178,7 @@ class RunOutput:
 
 def _override(setup, algorithm, penalty, options):
     """``setup`` with command-line overrides of algorithm, penalty and solver options."""
-    from ..contact._algorithms import find_algorithm
+    from ..contact import find_algorithm
 
     if not (algorithm or penalty or options):
         return setup

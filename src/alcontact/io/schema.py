@@ -446,7 +446,6 @@ def repo_root() -> Path:
     return Path(__file__).resolve().parents[3]
 
 
-_repo_root = repo_root  # the name alcontact.runner still imports
 
 
 #: Where the generated documentation lives in the repository.
