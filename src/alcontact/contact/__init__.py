@@ -28,6 +28,8 @@ from __future__ import annotations
 from . import obstacles
 from ._algorithms import ContactOptions, algorithm_docs, available_algorithms, contact_penalties
 from ._problem import BodyForce, ContactProblem, Pressure, Support, Traction
+from ._problem import Boundary, ContactPair
+from ._master import Master
 from ._solution import ContactIteration, ContactResult, ContactSolution, ContactStatus
 from ._solve import DEFAULT_ALGORITHM, DEFAULT_PENALTY, solve
 from ._friction import FrictionOptions, friction_algorithm_docs, friction_algorithms, solve_friction
@@ -42,6 +44,9 @@ from ._verify import check_state
 __all__ = [
     "obstacles",
     "ContactProblem",
+    "ContactPair",
+    "Boundary",
+    "Master",
     "Support",
     "Traction",
     "Pressure",
