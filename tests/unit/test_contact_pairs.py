@@ -78,6 +78,8 @@ def test_views_of_the_one_body_and_pair():
     full = _pair_form(short)
     assert full.model is short.model and full.obstacle is short.obstacle
     assert isinstance(full.bodies, tuple) and isinstance(full.pairs, tuple)
+    assert full == short  # same body, same master, same boundary and coefficient: equal problems
+    assert full != dataclasses.replace(short, friction=0.1)
 
 
 def test_problem_is_frozen():

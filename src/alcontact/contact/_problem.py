@@ -149,7 +149,7 @@ def _check_friction(kind: str, friction: Any) -> None:
         raise InputError(f"friction coefficient must be >= 0; got {friction!r}. Use 0 for frictionless contact.")
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True)
 class Boundary:
     """A named boundary of a discretized body: the slave side of a :class:`ContactPair`.
 
@@ -180,7 +180,7 @@ class Boundary:
                                                       "'bottom'")
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True)
 class ContactPair:
     r"""Points of a body's boundary (the slave) that must not penetrate a master: :math:`g_N \le 0` (6.15).
 

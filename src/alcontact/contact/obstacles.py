@@ -93,7 +93,12 @@ _CENTER_TOL = 1e-12
 
 @runtime_checkable
 class Obstacle(Protocol):
-    """What the contact code needs from a rigid obstacle (see the module docstring)."""
+    """The geometry of a rigid obstacle (see the module docstring).
+
+    :class:`alcontact.contact.Master` is the full protocol of the master side of a contact
+    pair (this one plus ``rigid``, ``surface_slip`` and ``bounding_box``); every obstacle
+    of this module satisfies it.
+    """
 
     @property
     def dim(self) -> int | None: ...
