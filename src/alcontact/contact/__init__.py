@@ -26,10 +26,10 @@ Examples
 from __future__ import annotations
 
 from . import obstacles
+from ._master import Master
+from ._problem import Boundary, ContactPair
 from ._algorithms import ContactOptions, algorithm_docs, available_algorithms, contact_penalties
 from ._problem import BodyForce, ContactProblem, Pressure, Support, Traction
-from ._problem import Boundary, ContactPair
-from ._master import Master
 from ._solution import ContactIteration, ContactResult, ContactSolution, ContactStatus
 from ._solve import DEFAULT_ALGORITHM, DEFAULT_PENALTY, solve
 from ._friction import FrictionOptions, friction_algorithm_docs, friction_algorithms, solve_friction
