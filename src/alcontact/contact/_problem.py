@@ -362,11 +362,16 @@ class ContactProblem:
     def _from_pairs(bodies: Any, pairs: Any) -> dict[str, Any]:
         """The one body and pair of the pair form; a clear refusal of what is not supported yet."""
         kind = "ContactProblem"
-        bodies = _sequence(kind, "bodies", bodies if bodies is not None else (), _is_body, "[body]")
+        for name, value, other in (("bodies", bodies, "pairs"), ("pairs", pairs, "bodies")):
+            if value is None:
+                raise InputError(f"{kind}: {other} given without {name}: the pair form needs both, "
+                                 "ContactProblem(bodies=[body], pairs=[ContactPair(Boundary(body, 'contact'), "
+                                 "obstacle)], ...).")
+        bodies = _sequence(kind, "bodies", bodies, _is_body, "[body]")
         for i, b in enumerate(bodies):
             if not _is_body(b):
                 raise _bad(kind, f"bodies[{i}]", b, _BODY_WANT)
-        pairs = _sequence(kind, "pairs", pairs if pairs is not None else (), lambda p: isinstance(p, ContactPair),
+        pairs = _sequence(kind, "pairs", pairs, lambda p: isinstance(p, ContactPair),
                           "[ContactPair(Boundary(body, 'contact'), obstacle)]")
         for i, p in enumerate(pairs):
             if not isinstance(p, ContactPair):
