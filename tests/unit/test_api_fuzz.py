@@ -116,6 +116,16 @@ def _finite_problem():
                           supports=[Support("top", (1,), -0.01), Support("left", (0,))], kinematics="finite")
 
 
+def _pair_form():
+    """Arguments of the pair form of ``ContactProblem`` (one body, one pair against a plane)."""
+    from alcontact.contact import Boundary, ContactPair, Support
+    from alcontact.contact.obstacles import HalfSpace
+
+    body = _model()
+    pair = ContactPair(Boundary(body, "bottom"), HalfSpace((0.0, 0.0), (0.0, 1.0)))
+    return (), dict(bodies=[body], pairs=[pair], supports=[Support("top")])
+
+
 def _spd():
     """A 4 x 4 symmetric positive definite tridiagonal matrix."""
     import scipy.sparse as sp
@@ -151,6 +161,11 @@ def _entries() -> dict:
         "contact.ContactProblem": (contact.ContactProblem, lambda: ((), dict(
             model=_model(), obstacle=half(), contact_boundary="bottom", supports=[contact.Support("top")])),
             ["model", "obstacle", "contact_boundary", "supports", "loads", "friction", "name", "kinematics", "meta"]),
+        "contact.Boundary": (contact.Boundary, lambda: ((_model(), "bottom"), {}), [0, 1]),
+        "contact.ContactPair": (contact.ContactPair, lambda: ((contact.Boundary(_model(), "bottom"), half()), {}),
+                                [0, 1, "friction"]),
+        "contact.ContactProblem(bodies, pairs)": (contact.ContactProblem, _pair_form, ["bodies", "pairs", "supports",
+                                                                                       "friction", "kinematics"]),
         "contact.ContactOptions": (contact.ContactOptions, lambda: ((), {}), ["maxiter", "penalty_scale", "eps_n"]),
         "contact.solve": (contact.solve, lambda: ((_problem(),), {}), [0, "algorithm", "penalty", "options",
                                                                        "maxiter"]),
@@ -289,7 +304,8 @@ NOT_CALLED = {
                      "FrictionStep", "FiniteSolution", "FiniteStep", "FiniteFrictionSolution", "FiniteFrictionStep",
                      "ALResult", "IterationRecord", "Status", "PenaltyFacts", "ProblemSetup", "HertzReference",
                      "MindlinReference"], "a result or record the solvers build, not an input"),
-    **dict.fromkeys(["Body", "HyperelasticLaw", "Obstacle", "Penalty", "PenaltyBase", "Generator"],
+    **dict.fromkeys(["Body", "HyperelasticLaw", "Obstacle", "Penalty", "PenaltyBase", "Generator",
+                     "Master"],
                     "a protocol or abstract base class"),
     **dict.fromkeys(["available_algorithms", "contact_penalties", "friction_algorithms", "friction_algorithm_docs",
                      "finite_friction_algorithms", "available_materials", "available_methods", "available_strategies",

@@ -25,6 +25,8 @@ Examples
 from __future__ import annotations
 
 from . import obstacles
+from ._master import Master
+from ._problem import Boundary, ContactPair
 from ._algorithms import ContactOptions, algorithm_docs, available_algorithms, contact_penalties
 from ._problem import BodyForce, ContactProblem, Pressure, Support, Traction
 from ._solution import ContactFrame, ContactIteration, ContactResult, ContactSolution, ContactStatus
@@ -46,6 +48,9 @@ from ._problem import merge_supports
 __all__ = [
     "obstacles",
     "ContactProblem",
+    "ContactPair",
+    "Boundary",
+    "Master",
     "Support",
     "Traction",
     "Pressure",

@@ -1,4 +1,4 @@
-"""The contact problem as data: body, supports, loads, obstacle, contact boundary.
+"""The contact problem as data: bodies, contact pairs (slave boundary, master), supports, loads.
 
 A :class:`ContactProblem` holds no solver state; :func:`alcontact.contact.solve`
 turns it into a discrete problem and runs one of the registered algorithms.
@@ -12,8 +12,10 @@ from typing import Any, Callable, Sequence
 import numpy as np
 
 from ..errors import InputError, UnknownNameError
+from ._master import Master
 
-__all__ = ["Support", "Traction", "Pressure", "BodyForce", "ContactProblem", "merge_supports", "KINEMATICS"]
+__all__ = ["Support", "Traction", "Pressure", "BodyForce", "Boundary", "ContactPair", "ContactProblem", "merge_supports",
+           "KINEMATICS"]
 
 #: Contact kinematics a problem can ask for (see :class:`ContactProblem`)
 KINEMATICS = {
@@ -120,57 +122,311 @@ class BodyForce:
                                                            "callable x -> (dim, m) array")
 
 
+#: Where a refusal of what is not supported yet points the user (the pieces and the plan for a second body).
+ROADMAP = "docs/architecture.md, section 'Add a second body'"
+
+
+def _is_body(value: Any) -> bool:
+    """A discretized body: what :class:`ContactProblem` needs from ``model`` (not a class check: any fem body)."""
+    return hasattr(value, "facets") and hasattr(value, "dim") and hasattr(value, "ndofs")
+
+
+def _is_obstacle(value: Any) -> bool:
+    """A master as :class:`ContactProblem` has accepted it since the first release: it evaluates and checks its dimension."""
+    return hasattr(value, "evaluate") and hasattr(value, "check_dim")
+
+
+_BODY_WANT = "a discretized body: alcontact.fem.LinearElasticity(mesh, material) or a hyperelastic alcontact.fem.Body"
+_MASTER_WANT = ("a rigid obstacle (an alcontact.contact.Master), e.g. alcontact.contact.obstacles.make('half-space', "
+                "point=..., normal=...)")
+
+
+def _check_friction(kind: str, friction: Any) -> None:
+    """A Coulomb coefficient: a finite real number ``>= 0`` (the two messages of :class:`ContactProblem`)."""
+    if not _is_real(friction) or abs(float(friction)) > 1e100:
+        raise _bad(kind, "friction", friction, "a finite number in [0, 1e100] (0 = frictionless)")
+    if not np.isfinite(friction) or friction < 0:
+        raise InputError(f"friction coefficient must be >= 0; got {friction!r}. Use 0 for frictionless contact.")
+
+
 @dataclass(frozen=True)
-class ContactProblem:
-    """Elastic body against a rigid obstacle (small deformation, ch. 6.2, or finite deformation).
+class Boundary:
+    """A named boundary of a discretized body: the slave side of a :class:`ContactPair`.
 
     Parameters
     ----------
-    model : alcontact.fem.LinearElasticity
-        Discretized body.
-    obstacle : Obstacle
-        Rigid obstacle (see :mod:`alcontact.contact.obstacles`).
-    contact_boundary : str
-        Name of the candidate contact boundary :math:`\\Gamma`.
+    body : alcontact.fem.LinearElasticity or alcontact.fem.Body
+        The discretized body.
+    name : str
+        One of the body's boundary names (checked against the mesh by
+        :class:`ContactProblem`, whose error lists the known names).
+
+    Examples
+    --------
+    >>> from alcontact.problems import hertz
+    >>> body = hertz.hertz_2d(level=0).model
+    >>> Boundary(body, "top").name
+    'top'
+    """
+
+    body: Any
+    name: str
+
+    def __post_init__(self) -> None:
+        if not _is_body(self.body):
+            raise _bad("Boundary", "body", self.body, _BODY_WANT)
+        if not isinstance(self.name, str):
+            raise _bad("Boundary", "name", self.name, "the name of a boundary of the body's mesh (a string), e.g. "
+                                                      "'bottom'")
+
+
+@dataclass(frozen=True)
+class ContactPair:
+    r"""Points of a body's boundary (the slave) that must not penetrate a master: :math:`g_N \le 0` (6.15).
+
+    Parameters
+    ----------
+    slave : Boundary
+        The candidate contact boundary :math:`\Gamma` of a body (its nodes or quadrature
+        points are the contact points).
+    master : Master
+        What the slave points are measured against: a rigid obstacle of
+        :mod:`alcontact.contact.obstacles` (any object satisfying :class:`~alcontact.contact.Master`,
+        or the older :class:`~alcontact.contact.obstacles.Obstacle` protocol, which is rigid).
+        A deformable body's surface (``master.rigid`` false) is refused by
+        :class:`ContactProblem` until two-body contact lands.
+    friction : float
+        Coulomb coefficient :math:`\mu \ge 0` of the pair (0 = frictionless).
+
+    Examples
+    --------
+    >>> from alcontact.contact import obstacles
+    >>> from alcontact.problems import hertz
+    >>> body = hertz.hertz_2d(level=0).model
+    >>> pair = ContactPair(Boundary(body, "top"), obstacles.make("half-space", point=[0, 0], normal=[0, 1]))
+    >>> pair.master.rigid, pair.friction
+    (True, 0.0)
+    """
+
+    slave: Boundary
+    master: Any
+    friction: float = 0.0
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.slave, Boundary):
+            raise _bad("ContactPair", "slave", self.slave, "a body's boundary, alcontact.contact.Boundary(body, "
+                                                           "'contact')")
+        if not _is_obstacle(self.master):
+            raise _bad("ContactPair", "master", self.master, _MASTER_WANT)
+        _check_friction("ContactPair", self.friction)
+
+    @property
+    def rigid(self) -> bool:
+        """``True`` when the master does not move with the unknowns (every master before two-body contact)."""
+        return bool(self.master.rigid) if isinstance(self.master, Master) else True
+
+
+class _Unset:
+    """Marker of a shorthand argument that was not given (``None`` is a value the checks refuse)."""
+
+    def __repr__(self) -> str:
+        return "<from bodies and pairs>"
+
+
+_UNSET: Any = _Unset()
+
+
+def _sequence(kind: str, name: str, items: Any, single: Callable[[Any], bool], example: str) -> tuple[Any, ...]:
+    """``items`` as a tuple; an :class:`InputError` naming ``name`` for a non-list (``single`` item) or an empty one."""
+    if single(items):
+        raise InputError(f"{kind}: {name} = {type(items).__name__}(...): expected a list; wrap the single item in "
+                         f"a list, e.g. {name}={example}.")
+    if isinstance(items, (str, bytes, dict, np.ndarray)) or not np.iterable(items):
+        raise _bad(kind, name, items, f"a non-empty list, e.g. {example}")
+    out = tuple(items)
+    if not out:
+        raise InputError(f"{kind}: {name} = []: expected at least one item, e.g. {name}={example}.")
+    return out
+
+
+@dataclass(frozen=True, init=False)
+class ContactProblem:
+    """Bodies and contact pairs, supports and loads (small deformation, ch. 6.2, or finite deformation).
+
+    Two equivalent ways to build one:
+
+    - the pair form ``ContactProblem(bodies=[body], pairs=[ContactPair(Boundary(body, "contact"),
+      obstacle, friction=mu)], supports=..., loads=...)``;
+    - the single-body shorthand ``ContactProblem(model, obstacle, contact_boundary, supports=...,
+      loads=..., friction=mu)``, which builds that one body and that one pair.
+
+    Both give the same problem (and the same solution, to the last bit). Today a problem has
+    exactly one body and one pair whose master is rigid; several bodies, several pairs or a
+    deformable master are refused with an :class:`~alcontact.errors.InputError` until
+    two-body contact lands (see ``docs/architecture.md``).
+
+    Parameters
+    ----------
+    model : alcontact.fem.LinearElasticity or alcontact.fem.Body, optional
+        Shorthand: the one discretized body.
+    obstacle : Master, optional
+        Shorthand: the rigid obstacle (see :mod:`alcontact.contact.obstacles`), master of the pair.
+    contact_boundary : str, optional
+        Shorthand: name of the candidate contact boundary :math:`\\Gamma` of ``model``, slave of the pair.
     supports : sequence of Support
     loads : sequence of Traction, Pressure or BodyForce
-    friction : float
-        Coulomb coefficient (0 = frictionless).
+    friction : float, optional
+        Shorthand: Coulomb coefficient of the pair (default 0 = frictionless).
     name : str
         Label used in reports.
     reference : object, optional
         Analytical reference (e.g. :class:`alcontact.problems.hertz.HertzReference`).
+    meta : dict, optional
     kinematics : {"small", "finite"}
         ``"small"`` (default): linearized gap (6.15). ``"finite"``: gap at the current
         position, solved in load steps by :func:`alcontact.contact.solve_finite`; needs a
         geometrically nonlinear body (a hyperelastic one), a linear body is refused.
+    bodies : sequence, keyword-only
+        Pair form: the discretized bodies (one today).
+    pairs : sequence of ContactPair, keyword-only
+        Pair form: the contact pairs (one today).
+
+    Attributes
+    ----------
+    bodies : tuple
+    pairs : tuple of ContactPair
+    model, obstacle, contact_boundary, friction
+        Views of the one body and the one pair: ``bodies[0]``, ``pairs[0].master``,
+        ``pairs[0].slave.name``, ``pairs[0].friction``.
+
+    Notes
+    -----
+    Given with ``bodies`` and ``pairs`` (as :func:`dataclasses.replace` does), a shorthand
+    argument replaces that part of the one body or pair:
+    ``dataclasses.replace(problem, obstacle=other)`` swaps the master of the pair.
+
+    Examples
+    --------
+    >>> from alcontact.contact import obstacles
+    >>> from alcontact.problems import hertz
+    >>> short = hertz.hertz_2d(level=0)
+    >>> pair = ContactPair(Boundary(short.model, "top"), short.obstacle)
+    >>> full = ContactProblem(bodies=[short.model], pairs=[pair], supports=short.supports, loads=short.loads)
+    >>> full.model is short.model, full.contact_boundary
+    (True, 'top')
     """
 
-    model: Any
-    obstacle: Any
-    contact_boundary: str
+    bodies: tuple[Any, ...]
+    pairs: tuple[ContactPair, ...]
     supports: Sequence[Support] = ()
     loads: Sequence[Any] = ()
-    friction: float = 0.0
     name: str = "contact"
     reference: Any = None
     meta: dict = field(default_factory=dict)
     kinematics: str = "small"
 
-    def __post_init__(self) -> None:
-        self._check_types()
+    def __init__(self, model: Any = _UNSET, obstacle: Any = _UNSET, contact_boundary: Any = _UNSET,
+                 supports: Sequence[Support] = (), loads: Sequence[Any] = (), friction: Any = _UNSET,
+                 name: str = "contact", reference: Any = None, meta: Any = _UNSET, kinematics: str = "small",
+                 *, bodies: Any = None, pairs: Any = None) -> None:
+        given = {k: v for k, v in (("model", model), ("obstacle", obstacle), ("contact_boundary", contact_boundary),
+                                   ("friction", friction)) if v is not _UNSET}
+        if bodies is None and pairs is None:
+            missing = [k for k in ("model", "obstacle", "contact_boundary") if k not in given]
+            if missing:
+                raise InputError(f"ContactProblem: missing {', '.join(missing)}: give ContactProblem(model, obstacle, "
+                                 "contact_boundary, ...) or ContactProblem(bodies=[body], pairs=[ContactPair("
+                                 "Boundary(body, 'contact'), obstacle)], ...).")
+            base = {"friction": 0.0}
+        else:
+            base = self._from_pairs(bodies, pairs)
+        raw = {**base, **given}
+        object.__setattr__(self, "supports", supports)
+        object.__setattr__(self, "loads", loads)
+        object.__setattr__(self, "name", name)
+        object.__setattr__(self, "reference", reference)
+        object.__setattr__(self, "meta", {} if meta is _UNSET else meta)
+        object.__setattr__(self, "kinematics", kinematics)
+        self._check_types(raw)
+        self._check_kinematics(raw["model"])
+        old = base.get("pair")
+        if old is not None and all(raw[k] is base[k] for k in ("model", "obstacle", "contact_boundary", "friction")):
+            pair = old  # nothing replaced: keep the caller's pair
+        else:
+            pair = ContactPair(Boundary(raw["model"], raw["contact_boundary"]), raw["obstacle"], raw["friction"])
+        object.__setattr__(self, "bodies", (raw["model"],))
+        object.__setattr__(self, "pairs", (pair,))
+        self._validate()
+
+    @staticmethod
+    def _from_pairs(bodies: Any, pairs: Any) -> dict[str, Any]:
+        """The one body and pair of the pair form; a clear refusal of what is not supported yet."""
+        kind = "ContactProblem"
+        for name, value, other in (("bodies", bodies, "pairs"), ("pairs", pairs, "bodies")):
+            if value is None:
+                raise InputError(f"{kind}: {other} given without {name}: the pair form needs both, "
+                                 "ContactProblem(bodies=[body], pairs=[ContactPair(Boundary(body, 'contact'), "
+                                 "obstacle)], ...).")
+        bodies = _sequence(kind, "bodies", bodies, _is_body, "[body]")
+        for i, b in enumerate(bodies):
+            if not _is_body(b):
+                raise _bad(kind, f"bodies[{i}]", b, _BODY_WANT)
+        pairs = _sequence(kind, "pairs", pairs, lambda p: isinstance(p, ContactPair),
+                          "[ContactPair(Boundary(body, 'contact'), obstacle)]")
+        for i, p in enumerate(pairs):
+            if not isinstance(p, ContactPair):
+                raise _bad(kind, f"pairs[{i}]", p, "a ContactPair(slave=Boundary(body, name), master=obstacle)")
+        if len(bodies) > 1:
+            raise InputError(f"{kind}: bodies has {len(bodies)} bodies: contact between several bodies is not "
+                             f"supported yet; give one body and rigid obstacles as masters. See {ROADMAP}.")
+        if len(pairs) > 1:
+            raise InputError(f"{kind}: pairs has {len(pairs)} contact pairs: several contact pairs are not supported "
+                             f"yet; give one pair (one contact boundary against one rigid obstacle). See {ROADMAP}.")
+        pair = pairs[0]
+        if pair.slave.body is not bodies[0]:
+            raise InputError(f"{kind}: pairs[0].slave is the boundary {pair.slave.name!r} of a body that is not in "
+                             "bodies; build it as Boundary(body, name) with a body of bodies.")
+        if not pair.rigid:
+            raise InputError(f"{kind}: pairs[0].master = {pair.master.describe()} is not rigid: a deformable master "
+                             f"(contact between two bodies) is not supported yet; use a rigid obstacle of "
+                             f"alcontact.contact.obstacles. See {ROADMAP}.")
+        return {"model": bodies[0], "obstacle": pair.master, "contact_boundary": pair.slave.name,
+                "friction": pair.friction, "pair": pair}
+
+    # ------------------------------------------------------------ views of the one body and pair
+    @property
+    def model(self) -> Any:
+        """The discretized body: ``bodies[0]``."""
+        return self.bodies[0]
+
+    @property
+    def obstacle(self) -> Any:
+        """The rigid obstacle, master of the contact pair: ``pairs[0].master``."""
+        return self.pairs[0].master
+
+    @property
+    def contact_boundary(self) -> str:
+        """Name of the candidate contact boundary of the body, slave of the pair: ``pairs[0].slave.name``."""
+        return self.pairs[0].slave.name
+
+    @property
+    def friction(self) -> float:
+        """Coulomb coefficient of the contact pair: ``pairs[0].friction``."""
+        return self.pairs[0].friction
+
+    def _check_kinematics(self, model: Any) -> None:
+        """A known kinematics, and finite deformation only with a geometrically nonlinear body."""
         if self.kinematics not in KINEMATICS:
             raise UnknownNameError("kinematics", self.kinematics, list(KINEMATICS))
-        if self.kinematics == "finite" and getattr(self.model, "linear", False):
+        if self.kinematics == "finite" and getattr(model, "linear", False):
             raise InputError(
-                f"kinematics='finite' needs a geometrically nonlinear body; got {type(self.model).__name__} "
+                f"kinematics='finite' needs a geometrically nonlinear body; got {type(model).__name__} "
                 "(linear, small strains: a finite-deformation gap with it is not finite deformation). "
                 "Use a hyperelastic body (alcontact.fem.hyperelastic) or kinematics='small'."
             )
-        if not np.isfinite(self.friction) or self.friction < 0:
-            raise InputError(
-                f"friction coefficient must be >= 0; got {self.friction!r}. Use 0 for frictionless contact."
-            )
+
+    def _validate(self) -> None:
+        """Values that need the mesh: boundary names, dimensions, supports."""
         self.model.facets(self.contact_boundary)  # MeshError naming the known boundaries
         for s in self.supports:
             self.model.facets(s.boundary)
@@ -180,17 +436,16 @@ class ContactProblem:
         self.obstacle.check_dim(self.model.dim)
         self.dirichlet()  # InputError on two supports prescribing different values to one DOF
 
-    def _check_types(self) -> None:
+    def _check_types(self, raw: dict[str, Any]) -> None:
         """Wrong types of the fields: an :class:`InputError` naming the field and the fix (not an AttributeError)."""
         kind = "ContactProblem"
-        if not (hasattr(self.model, "facets") and hasattr(self.model, "dim") and hasattr(self.model, "ndofs")):
-            raise _bad(kind, "model", self.model, "a discretized body: alcontact.fem.LinearElasticity(mesh, "
-                                                  "material) or a hyperelastic alcontact.fem.Body")
-        if not (hasattr(self.obstacle, "evaluate") and hasattr(self.obstacle, "check_dim")):
-            raise _bad(kind, "obstacle", self.obstacle, "a rigid obstacle, e.g. alcontact.contact.obstacles."
-                                                        "make('half-space', point=..., normal=...)")
-        if not isinstance(self.contact_boundary, str):
-            raise _bad(kind, "contact_boundary", self.contact_boundary, "the name of a boundary of the mesh")
+        if not _is_body(raw["model"]):
+            raise _bad(kind, "model", raw["model"], _BODY_WANT)
+        if not _is_obstacle(raw["obstacle"]):
+            raise _bad(kind, "obstacle", raw["obstacle"], "a rigid obstacle, e.g. alcontact.contact.obstacles."
+                                                          "make('half-space', point=..., normal=...)")
+        if not isinstance(raw["contact_boundary"], str):
+            raise _bad(kind, "contact_boundary", raw["contact_boundary"], "the name of a boundary of the mesh")
         for name, items, types, example in (("supports", self.supports, (Support,), "[Support('bottom')]"),
                                             ("loads", self.loads, (Traction, Pressure, BodyForce),
                                              "[Pressure('top', 1.0)]")):
@@ -202,8 +457,8 @@ class ContactProblem:
             for i, item in enumerate(items):
                 if not isinstance(item, types):
                     raise _bad(kind, f"{name}[{i}]", item, f"a {' / '.join(t.__name__ for t in types)}")
-        if not _is_real(self.friction) or abs(float(self.friction)) > 1e100:
-            raise _bad(kind, "friction", self.friction, "a finite number in [0, 1e100] (0 = frictionless)")
+        if not _is_real(raw["friction"]) or abs(float(raw["friction"])) > 1e100:
+            raise _bad(kind, "friction", raw["friction"], "a finite number in [0, 1e100] (0 = frictionless)")
         if not isinstance(self.name, str):
             raise _bad(kind, "name", self.name, "a string")
         if not isinstance(self.kinematics, str):

@@ -94,7 +94,12 @@ _CENTER_TOL = 1e-12
 
 @runtime_checkable
 class Obstacle(Protocol):
-    """What the contact code needs from a rigid obstacle (see the module docstring)."""
+    """The geometry of a rigid obstacle (see the module docstring).
+
+    :class:`alcontact.contact.Master` is the full protocol of the master side of a contact
+    pair (this one plus ``rigid``, ``surface_slip`` and ``bounding_box``); every obstacle
+    of this module satisfies it.
+    """
 
     @property
     def dim(self) -> int | None: ...
@@ -233,6 +238,33 @@ class _ObstacleBase(abc.ABC):
     @abc.abstractmethod
     def _hessian(self, x: FloatArray) -> FloatArray: ...
 
+    @property
+    def rigid(self) -> bool:
+        """``True``: a rigid obstacle's position never depends on the unknowns (:class:`~alcontact.contact.Master`)."""
+        return True
+
+    def bounding_box(self, d: int) -> tuple[FloatArray, FloatArray]:
+        """Axis-aligned box ``(lo, hi)``, each of shape ``(d,)``, that contains the obstacle's surface.
+
+        ``-inf`` / ``+inf`` along the directions in which the surface is unbounded (a
+        half-space not normal to an axis, a cylinder along its axis, a user gap function).
+        Candidate search: a point far outside the box cannot touch the obstacle.
+
+        Examples
+        --------
+        >>> Circle(center=[0.0, 2.0], radius=1.0).bounding_box(2)
+        (array([-1.,  1.]), array([1., 3.]))
+        """
+        if not (is_integer(d) and d in (2, 3)):
+            raise InputError(f"bounding_box: d = {show(d)}: expected the space dimension, 2 or 3.")
+        self.check_dim(d)
+        lo, hi = self._extent(int(d))
+        return np.array(lo, dtype=float), np.array(hi, dtype=float)
+
+    def _extent(self, d: int) -> tuple[FloatArray, FloatArray]:
+        """``(lo, hi)`` of :meth:`bounding_box`; unbounded unless a subclass knows better."""
+        return np.full(d, -np.inf), np.full(d, np.inf)
+
     def check_dim(self, d: int) -> None:
         """Raise :class:`InputError` unless the obstacle can be used with a ``d``-D body."""
         if self.dim is not None and int(d) != self.dim:
@@ -334,6 +366,12 @@ class HalfSpace(_ObstacleBase):
     def _hessian(self, x: FloatArray) -> FloatArray:
         return np.zeros((x.shape[0], self.dim, self.dim))
 
+    def _extent(self, d: int) -> tuple[FloatArray, FloatArray]:
+        # the plane is bounded along axis i only when it is normal to e_i (n = +-e_i)
+        n, p = self.normal_vector, self.point
+        bounded = np.array([np.count_nonzero(np.delete(n, i)) == 0 for i in range(d)])
+        return np.where(bounded, p, -np.inf), np.where(bounded, p, np.inf)
+
 
 # --------------------------------------------------------------------------- balls
 
@@ -403,6 +441,9 @@ class _Ball(_ObstacleBase):
         h = proj / np.where(deg, 1.0, r)[:, None, None]
         h[deg] = 0.0
         return h if self.inside else -h
+
+    def _extent(self, d: int) -> tuple[FloatArray, FloatArray]:
+        return self.center - self.radius, self.center + self.radius
 
     def surface_slip(self, x: ArrayLike, y_prev: ArrayLike, *,
                      jacobian: bool = True) -> tuple[FloatArray, FloatArray | None]:
@@ -519,6 +560,12 @@ class Cylinder(_ObstacleBase):
         h = proj / np.where(deg, 1.0, r)[:, None, None]
         h[deg] = 0.0
         return h if self.inside else -h
+
+    def _extent(self, d: int) -> tuple[FloatArray, FloatArray]:
+        # unbounded along every axis the cylinder's axis is not perpendicular to; else centre +- R
+        bounded = self.axis == 0.0
+        return (np.where(bounded, self.center - self.radius, -np.inf),
+                np.where(bounded, self.center + self.radius, np.inf))
 
     def surface_slip(self, x: ArrayLike, y_prev: ArrayLike, *,
                      jacobian: bool = True) -> tuple[FloatArray, FloatArray | None]:
@@ -841,6 +888,9 @@ class ConvexPolytope(_ObstacleBase):
             kind[lo:lo + n_] = kd
             tdir[lo:lo + n_] = np.concatenate(cand_t, axis=0)[best]
         return dist, nrm, kind, tdir
+
+    def _extent(self, d: int) -> tuple[FloatArray, FloatArray]:
+        return self.vertices.min(axis=0), self.vertices.max(axis=0)
 
     def _gap_normal(self, x: FloatArray) -> tuple[FloatArray, FloatArray]:
         s = x @ self.A.T - self.b
@@ -1188,12 +1238,23 @@ class Translated(_PlacedObstacle):
     def _hessian(self, x: FloatArray) -> FloatArray:
         return self.base.gap_hessian(x - self.offset)
 
+    def _extent(self, d: int) -> tuple[FloatArray, FloatArray]:
+        lo, hi = _base_extent(self.base, d)
+        return lo + self.offset, hi + self.offset
+
     def surface_slip(self, x: ArrayLike, y_prev: ArrayLike, *,
                      jacobian: bool = True) -> tuple[FloatArray, FloatArray | None]:
         """:func:`surface_slip` of the base obstacle in its own frame (a translation keeps tangents)."""
         pts = _points(x, self.dim)
         yp = _previous(y_prev, pts)
         return surface_slip(self.base, pts - self.offset, yp - self.offset, jacobian=jacobian)
+
+
+def _base_extent(base: Any, d: int) -> tuple[FloatArray, FloatArray]:
+    """Bounding box of the base of a placed obstacle; unbounded for a user object without one."""
+    if isinstance(base, _ObstacleBase):
+        return base.bounding_box(d)
+    return np.full(d, -np.inf), np.full(d, np.inf)
 
 
 def _check_obstacle(obstacle: Any, where: str, name: str = "obstacle") -> None:
@@ -1338,6 +1399,17 @@ class Moved(_PlacedObstacle):
     def _hessian(self, x: FloatArray) -> FloatArray:
         q = self.motion.rotation
         return np.einsum("ij,mjk,lk->mil", q, self.base.gap_hessian(self._local(x)), q)
+
+    def _extent(self, d: int) -> tuple[FloatArray, FloatArray]:
+        # box of the rotated box: half-widths |Q| h (0 * inf = 0: an axis the rotation does not mix in)
+        lo, hi = _base_extent(self.base, d)
+        finite = np.isfinite(lo) & np.isfinite(hi)
+        lo, hi = np.where(finite, lo, 0.0), np.where(finite, hi, 0.0)
+        mid, half = 0.5 * (lo + hi), 0.5 * (hi - lo)
+        q = np.abs(self.motion.rotation)
+        h = q @ half + np.where(q[:, ~finite].any(axis=1), np.inf, 0.0)
+        c = self.motion.rotation @ mid + self.motion.offset
+        return c - h, c + h
 
     def surface_slip(self, x: ArrayLike, y_prev: ArrayLike, *,
                      jacobian: bool = True) -> tuple[FloatArray, FloatArray | None]:
