@@ -399,9 +399,7 @@ def minimize(fun, x0, *, jac=None, hess=None, constraints=(), bounds=None, metho
     strat_name = opts.strategy or spec.strategy
     sopts = dict(spec.strategy_options) if opts.strategy is None else {}
     sopts.update(opts.strategy_options or {})
-    if strat_name in ("infeasibility", "kkt"):
-        sopts.setdefault("feas_tol", opts.feas_tol)
-    strategy = make_strategy(strat_name, **sopts)
+    strategy = make_strategy(strat_name, {"feas_tol": opts.feas_tol}, **sopts)
     inner = make_inner(opts.inner, **(opts.inner_options or {}))
 
     try:
