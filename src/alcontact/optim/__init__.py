@@ -18,7 +18,8 @@ are read from the Lagrangian gradient.
 
 Penalty-parameter update rules (:func:`available_strategies`, :func:`register_strategy`;
 shared with the contact algorithms) and inner solvers
-(:func:`available_inner_solvers`) are registries too. Throughout, ``eta -> 0``
+(:func:`available_inner_solvers`) are registries too. :func:`newton` is the one globalized Newton method of the package (contact
+subproblems and the hyperelastic body's solves). Throughout, ``eta -> 0``
 is the constrained limit: a smaller ``eta`` is a stronger AL penalty.
 """
 
@@ -26,6 +27,7 @@ from __future__ import annotations
 
 from ._inner import available_inner_solvers
 from ._minimize import Options, available_methods, minimize
+from ._newton import LineSearch, NewtonRecord, NewtonResult, NewtonSettings, NewtonSystem, inner_failure, newton
 from ._result import ALResult, IterationRecord, Status
 from ._strategies import (PenaltyUpdate, StrategyState, available_strategies, describe_strategies, make_strategy,
                           register_strategy, unregister_strategy)
@@ -44,5 +46,12 @@ __all__ = [
     "unregister_strategy",
     "PenaltyUpdate",
     "StrategyState",
+    "newton",
+    "NewtonSystem",
+    "NewtonSettings",
+    "LineSearch",
+    "NewtonRecord",
+    "NewtonResult",
+    "inner_failure",
     "available_inner_solvers",
 ]
