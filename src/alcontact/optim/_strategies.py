@@ -26,12 +26,14 @@ Examples
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from typing import Any, Protocol, runtime_checkable
 
 import numpy as np
 
+from .._options import is_real, show
 from ..errors import InputError, UnknownNameError
 
 __all__ = ["make_strategy", "available_strategies", "describe_strategies", "register_strategy",
@@ -82,6 +84,24 @@ class StrategyState:
     prev_violation: np.ndarray | None = None
 
 
+def _real(rule: str, name: str, value, ok, what: str) -> float:
+    """``value`` as a float if it is a finite real number (not a bool) with ``ok(value)``; else InputError."""
+    try:
+        good = is_real(value) and math.isfinite(value) and bool(ok(float(value)))
+    except OverflowError:  # an integer no float holds
+        good = False
+    if not good:
+        raise InputError(f"strategy {rule!r}: {name} = {show(value)} must be {what}")
+    return float(value)
+
+
+def _tau_factor_tol(rule: str, tau, factor, feas_tol) -> tuple[float, float, float]:
+    """The checked ``(tau, factor, feas_tol)`` of the rules that compare with a required drop."""
+    return (_real(rule, "tau", tau, lambda v: 0 < v < 1, "a number in (0, 1)"),
+            _real(rule, "factor", factor, lambda v: v > 1, "a number > 1"),
+            _real(rule, "feas_tol", feas_tol, lambda v: v >= 0, "a number >= 0"))
+
+
 class _Fixed:
     """Keep ``eta`` (the convergence theory of Algorithm 5.4 allows a constant ``eta``)."""
 
@@ -100,10 +120,8 @@ class _Always:
     name = "always"
 
     def __init__(self, factor: float = 2.0):
-        if not factor > 0 or factor == 1:
-            raise InputError(f"strategy 'always': factor = {factor!r} must be > 0 and != 1 "
-                             "(> 1 tightens, < 1 weakens)")
-        self.factor = float(factor)
+        self.factor = _real("always", "factor", factor, lambda v: v > 0 and v != 1,
+                            "> 0 and != 1 (> 1 tightens, < 1 weakens)")
 
     def __call__(self, s: StrategyState) -> float:
         return self.factor
@@ -121,11 +139,7 @@ class _Infeasibility:
     name = "infeasibility"
 
     def __init__(self, tau: float = 0.25, factor: float = 10.0, feas_tol: float = 0.0):
-        if not 0 < tau < 1:
-            raise InputError(f"strategy 'infeasibility': tau = {tau!r} must lie in (0, 1)")
-        if not factor > 1:
-            raise InputError(f"strategy 'infeasibility': factor = {factor!r} must be > 1")
-        self.tau, self.factor, self.feas_tol = float(tau), float(factor), float(feas_tol)
+        self.tau, self.factor, self.feas_tol = _tau_factor_tol(self.name, tau, factor, feas_tol)
 
     def _measure(self, s):
         return s.feasibility, s.prev_feasibility
@@ -166,11 +180,7 @@ class _PerConstraint:
     name = "per-constraint"
 
     def __init__(self, tau: float = 0.5, factor: float = 10.0, feas_tol: float = 0.0):
-        if not 0 < tau < 1:
-            raise InputError(f"strategy 'per-constraint': tau = {tau!r} must lie in (0, 1)")
-        if not factor > 1:
-            raise InputError(f"strategy 'per-constraint': factor = {factor!r} must be > 1")
-        self.tau, self.factor, self.feas_tol = float(tau), float(factor), float(feas_tol)
+        self.tau, self.factor, self.feas_tol = _tau_factor_tol(self.name, tau, factor, feas_tol)
 
     def __call__(self, s: StrategyState):
         v, vp = s.violation, s.prev_violation
@@ -277,6 +287,9 @@ def make_strategy(name: str, offered: Mapping[str, Any] | None = None, **params)
         For an unknown or out-of-range parameter.
     """
     entry = _entry(name)
+    if offered is not None and not isinstance(offered, Mapping):
+        raise InputError(f"strategy {name!r}: offered = {show(offered)} must be a mapping of loop parameters "
+                         "(or None)")
     kwargs = {k: v for k, v in (offered or {}).items() if k in entry.loop_parameters}
     kwargs.update(params)
     try:
