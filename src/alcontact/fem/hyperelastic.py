@@ -144,19 +144,23 @@ class _BodyNewton(NewtonSystem):
     r"""Equilibrium :math:`f_{int}(u) - f_{ext} = 0` on the free DOFs of one load increment.
 
     The state at ``u`` is ``(r, |r_free|)``; the measure is the absolute free residual,
-    compared with ``tol`` times :attr:`scale` (the larger of the load and the first residual
-    of the increment). Each step factorizes the tangent :math:`K_T(u)` on the free DOFs.
+    compared with ``tol`` times :attr:`scale` (the larger of the load and the residual at
+    the start of the increment, set by the first :meth:`evaluate`). Each step factorizes the
+    tangent :math:`K_T(u)` on the free DOFs.
     """
 
     domain_errors = (InvertedElementError,)
 
     def __init__(self, body: "Hyperelastic", fext: np.ndarray, dofs: np.ndarray, free: np.ndarray):
         self.body, self.fext, self.dofs, self.free = body, fext, dofs, free
-        self.scale = 1.0
+        self.scale: float | None = None
 
     def evaluate(self, x):
         r = self.body.internal_force(x) - self.fext
-        return r, float(np.linalg.norm(r[self.free]))
+        norm = float(np.linalg.norm(r[self.free]))
+        if self.scale is None:  # the start of the increment
+            self.scale = max(float(np.linalg.norm(self.fext[self.free])), norm, 1e-300)
+        return r, norm
 
     def residual(self, state):
         return state[0][self.free]
@@ -458,14 +462,14 @@ class Hyperelastic(LinearElasticity):
         """One load increment by :func:`alcontact.optim.newton` on :class:`_BodyNewton`."""
         system = _BodyNewton(self, fext, dofs, free)
         try:
-            state = system.evaluate(u)
+            out = newton(system, u, tol=rtol, maxiter=max_iter, settings=_BODY_NEWTON)
         except InvertedElementError as exc:
+            if system.scale is not None:  # not the start (inside newton an inverted trial only halves the step)
+                raise
             raise ConvergenceError(
                 f"load step {step}/{steps}: the prescribed displacements invert elements "
                 f"({exc.elements.size}); use more load steps (steps={2 * steps})."
             ) from exc
-        system.scale = max(float(np.linalg.norm(fext[free])), state[1], 1e-300)
-        out = newton(system, u, tol=rtol, maxiter=max_iter, settings=_BODY_NEWTON)
         if out.converged:
             return out.x
         msg = (f"hyperelastic Newton did not converge in load step {step}/{steps} "
