@@ -419,8 +419,9 @@ class Hyperelastic(LinearElasticity):
         r"""Solve :math:`f_{int}(u) = f_{ext}` by Newton's method with load steps.
 
         The load and the Dirichlet values are applied in ``steps`` equal increments;
-        each increment runs Newton from the previous solution, halving the update
-        while it inverts an element or raises the residual.
+        each increment runs Newton (:func:`alcontact.optim.newton`, the one Newton of the
+        contact algorithms) from the previous solution, halving the update while it
+        inverts an element or raises the residual.
 
         Parameters
         ----------
@@ -439,7 +440,9 @@ class Hyperelastic(LinearElasticity):
         Raises
         ------
         alcontact.errors.ConvergenceError
-            If an increment does not converge (the message says what to try).
+            If an increment does not converge: iteration limit, failed line search,
+            a tangent that is singular inside the increment, or prescribed displacements
+            that invert elements at its start (the message says what to try).
         """
         load = np.asarray(load, dtype=float)
         if load.shape != (self.ndofs,):
