@@ -391,3 +391,16 @@ def test_solve_failures_raise_convergence_error_with_advice(caplog):
         body.solve(np.zeros(body.ndofs), dirichlet=pull, steps=0)
     with pytest.raises(InputError, match="rigid-body"):
         body.solve(np.zeros(body.ndofs), dirichlet=[body.dirichlet("left", components=[0])])
+
+
+def test_singular_tangent_inside_a_load_step_is_a_convergence_error():
+    """A restrained Saint Venant-Kirchhoff strip bent by a dead load loses the definiteness of its tangent in step 2.
+
+    The supports are fine (checked before the first step): the failure is the Newton
+    solve's, reported as a ConvergenceError naming the singular matrix and the way out,
+    not as an input error about rigid-body motions.
+    """
+    body = Hyperelastic(meshes.rectangle(0, 2.0, 0, 1.0, 6, 3), Material(E=100.0, nu=0.3), order=1,
+                        model="saint-venant-kirchhoff")
+    with pytest.raises(ConvergenceError, match=r"load step 2/4 \(singular Newton matrix.*steps=8"):
+        body.solve(body.traction_load("right", [0.0, -12.0]), dirichlet=[body.dirichlet("left")], steps=4)

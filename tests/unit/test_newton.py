@@ -1,4 +1,4 @@
-"""The one Newton driver of the contact algorithms (:func:`alcontact.contact._newton.newton`).
+"""The one Newton driver of the contact algorithms and the hyperelastic body (:func:`alcontact.optim.newton`).
 
 Small systems with known solutions: quadratic convergence on a smooth problem, each
 failure status (line search, NaN, singular matrix, iteration limit, interrupt),
@@ -14,7 +14,7 @@ import pytest
 
 from alcontact.contact import ContactStatus, solve
 from alcontact.contact._discrete import DiscreteContact
-from alcontact.contact._newton import LineSearch, NewtonSettings, NewtonSystem, newton
+from alcontact.optim import LineSearch, NewtonSettings, NewtonSystem, newton
 from alcontact.problems.blocks import patch_block
 from alcontact.status import Status
 

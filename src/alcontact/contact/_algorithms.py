@@ -38,6 +38,7 @@ from .. import penalties as _pen
 from .._options import as_options, check_dataclass, declarations, declared
 from ..errors import InputError, UnknownNameError
 from ..linalg import registered_solvers, solver_kind
+from ..optim import StrategyState, available_strategies, make_strategy
 from ._laws import eta_for_stiffness, freezes_at_zero, make_law
 from ._solution import ContactIteration, ContactStatus
 
@@ -100,11 +101,16 @@ class ContactOptions:
     maxiter_newton : int or None
         Newton iterations per subproblem; ``None``: the algorithm's default, ``60``
         frictionless, ``200`` with friction.
-    strategy : {"fixed", "infeasibility"}
-        Frictionless penalty update: keep :math:`\\varepsilon_N`, or multiply it by ``alpha`` when
-        the penetration did not drop by the factor ``tau``.
+    strategy : str
+        Frictionless penalty update between the outer iterations of Algorithms 6.1 / 6.3: a
+        rule of the registry shared with :mod:`alcontact.optim`
+        (:func:`alcontact.optim.available_strategies`); the rule's factor multiplies
+        :math:`\\varepsilon_N` (never beyond ``eps_max``). ``"fixed"`` keeps it,
+        ``"infeasibility"`` multiplies it by ``alpha`` when the penetration did not drop by the
+        factor ``tau``.
     tau, alpha : float
-        Parameters of ``"infeasibility"`` (and ``alpha`` of the pure penalty).
+        Parameters offered to the rule (``tau``, ``factor``; ``feas_tol`` is
+        ``tol_penetration``); ``alpha`` is also the growth of the pure penalty.
     eps_max : float
         Largest :math:`\\varepsilon_N` relative to the initial one.
     eta_scaling : {"adaptive", "fixed"}
@@ -186,8 +192,8 @@ class ContactOptions:
     maxiter_newton: int | None = declared(
         "int", None, "Newton iterations per subproblem (default: the algorithm's, 60 frictionless, 200 with "
         "friction).", low=1, high=MAX_NEWTON)
-    strategy: str = declared("str", "fixed", "Frictionless penalty update: `fixed` or `infeasibility`.",
-                             choices=("fixed", "infeasibility"))
+    strategy: str = declared("str", "fixed", "Frictionless penalty update rule (shared with `alcontact.optim`): "
+                             "`fixed`, `infeasibility`, ...", choices=available_strategies)
     tau: float = declared("float", 0.25, "`infeasibility`: required drop of the penetration per iteration.",
                           low=0, high=1, low_open=True, high_open=True)
     alpha: float = declared("float", 10.0, "Penalty growth factor (`infeasibility`, pure penalty).",
@@ -640,7 +646,8 @@ def run_al(dc, opts, eps0, penalty_name="rockafellar") -> _Run:
         return _Run(r, lam, dc.gaps(r), ContactStatus.NEWTON_FAILED,
                     f"no starting point inside the domain of penalty {penalty_name!r}; use eta_scaling='adaptive' "
                     "or a penalty with unbounded domain (exp-met1)", 0, newton, eps, np.inf, hist)
-    pen_prev = np.inf
+    update = make_strategy(opts.strategy, {"tau": opts.tau, "factor": opts.alpha, "feas_tol": opts.tol_penetration})
+    pen_prev = compl_prev = np.inf
     out = None
     # inexact subproblems (a model that asks for them, e.g. finite deformation): the Newton
     # tolerance of (S) follows the last multiplier change (forcing term _INEXACT_FORCING); the
@@ -687,12 +694,13 @@ def run_al(dc, opts, eps0, penalty_name="rockafellar") -> _Run:
             inner_tol = max(opts.newton_tol, min(_INEXACT_FORCING * dlam, dlam * dlam))
             if _converged(opts, pen_k, compl, dlam):
                 inner_tol = opts.newton_tol
-        if (opts.strategy == "infeasibility" and pen_k > opts.tau * pen_prev and pen_k > opts.tol_penetration
-                and eps * opts.alpha <= opts.eps_max * eps0):
-            eps *= opts.alpha
+        # one stiffness: the largest factor of a per-constraint rule
+        factor = float(np.max(update(StrategyState(outer0 + k, pen_k, pen_prev, compl, compl_prev))))
+        if factor != 1.0 and eps * factor <= opts.eps_max * eps0:
+            eps *= factor
             if opts.eta_scaling == "fixed":
-                eta = eta / opts.alpha
-        pen_prev = pen_k
+                eta = eta / factor
+        pen_prev, compl_prev = pen_k, compl
         if opts.eta_scaling == "adaptive":
             eta_new = eta_for_stiffness(pen, lam, eps)
             # stay inside the domain of barrier-type penalties at the warm start

@@ -40,6 +40,7 @@ from alcontact.fem._assembly import default_intorder
 from alcontact.fem._hyper_materials import HyperelasticLaw, det, make_material
 from alcontact.fem._material import Material
 from alcontact.fem.elasticity import LinearElasticity
+from alcontact.optim import LineSearch, NewtonSettings, NewtonSystem, newton
 
 __all__ = ["Hyperelastic"]
 
@@ -132,6 +133,51 @@ def _listed(flags: np.ndarray) -> tuple[np.ndarray, str]:
     """Elements with a flagged quadrature point (``flags``: (nel, nqp)) and the first 20 of them as text."""
     elements = np.flatnonzero(flags.any(axis=1))
     return elements, ", ".join(map(str, elements[:20])) + (", ..." if elements.size > 20 else "")
+
+#: Line search of the body's own solves: halve the step (at most down to 2**-13) while it inverts an
+#: element or does not lower the free residual; a step below 2e-4 is taken as it is.
+_BODY_NEWTON = NewtonSettings(line_search=LineSearch(halvings=14, armijo=0.0, merit=False, measure_decrease=True,
+                                                     accept_below=2e-4, full_step=False), stall=0.0)
+
+
+class _BodyNewton(NewtonSystem):
+    r"""Equilibrium :math:`f_{int}(u) - f_{ext} = 0` on the free DOFs of one load increment.
+
+    The state at ``u`` is ``(r, |r_free|)``; the measure is the absolute free residual,
+    compared with ``tol`` times :attr:`scale` (the larger of the load and the residual at
+    the start of the increment, set by the first :meth:`evaluate`). Each step factorizes the
+    tangent :math:`K_T(u)` on the free DOFs.
+    """
+
+    domain_errors = (InvertedElementError,)
+
+    def __init__(self, body: "Hyperelastic", fext: np.ndarray, dofs: np.ndarray, free: np.ndarray):
+        self.body, self.fext, self.dofs, self.free = body, fext, dofs, free
+        self.scale: float | None = None
+
+    def evaluate(self, x):
+        r = self.body.internal_force(x) - self.fext
+        norm = float(np.linalg.norm(r[self.free]))
+        if self.scale is None:  # the start of the increment
+            self.scale = max(float(np.linalg.norm(self.fext[self.free])), norm, 1e-300)
+        return r, norm
+
+    def residual(self, state):
+        return state[0][self.free]
+
+    def measure(self, state):
+        return state[1]
+
+    def tolerance(self, state, tol):
+        return tol * self.scale
+
+    def step(self, x, state, history):
+        logger.debug("hyperelastic Newton it %d: |R| = %.3e", len(history) - 1, state[1])
+        fac = self.body.factorize(self.dofs, matrix=self.body.tangent(x), check=False)
+        du = np.zeros(self.body.ndofs)
+        du[self.free] = fac.solve(-state[0][self.free])
+        return du
+
 
 class Hyperelastic(LinearElasticity):
     r"""Total Lagrangian hyperelastic body with vector P1 or P2 Lagrange elements.
@@ -373,8 +419,9 @@ class Hyperelastic(LinearElasticity):
         r"""Solve :math:`f_{int}(u) = f_{ext}` by Newton's method with load steps.
 
         The load and the Dirichlet values are applied in ``steps`` equal increments;
-        each increment runs Newton from the previous solution, halving the update
-        while it inverts an element or raises the residual.
+        each increment runs Newton (:func:`alcontact.optim.newton`, the one Newton of the
+        contact algorithms) from the previous solution, halving the update while it
+        inverts an element or raises the residual.
 
         Parameters
         ----------
@@ -393,7 +440,9 @@ class Hyperelastic(LinearElasticity):
         Raises
         ------
         alcontact.errors.ConvergenceError
-            If an increment does not converge (the message says what to try).
+            If an increment does not converge: iteration limit, failed line search,
+            a tangent that is singular inside the increment, or prescribed displacements
+            that invert elements at its start (the message says what to try).
         """
         load = np.asarray(load, dtype=float)
         if load.shape != (self.ndofs,):
@@ -413,43 +462,21 @@ class Hyperelastic(LinearElasticity):
         return u
 
     def _newton(self, u, fext, dofs, free, rtol, max_iter, step, steps) -> np.ndarray:
-        def residual(v):
-            r = self.internal_force(v) - fext
-            return r, float(np.linalg.norm(r[free]))
-
+        """One load increment by :func:`alcontact.optim.newton` on :class:`_BodyNewton`."""
+        system = _BodyNewton(self, fext, dofs, free)
         try:
-            r, norm = residual(u)
+            out = newton(system, u, tol=rtol, maxiter=max_iter, settings=_BODY_NEWTON)
         except InvertedElementError as exc:
+            if system.scale is not None:  # not the start (inside newton an inverted trial only halves the step)
+                raise
             raise ConvergenceError(
                 f"load step {step}/{steps}: the prescribed displacements invert elements "
                 f"({exc.elements.size}); use more load steps (steps={2 * steps})."
             ) from exc
-        scale = max(float(np.linalg.norm(fext[free])), norm, 1e-300)
-        for it in range(max_iter + 1):
-            logger.debug("newton step %d/%d it %d: |R| = %.3e", step, steps, it, norm)
-            if norm <= rtol * scale:
-                return u
-            if it == max_iter:
-                break
-            fac = self.factorize(dofs, matrix=self.tangent(u), check=False)
-            du = np.zeros(self.ndofs)
-            du[free] = fac.solve(-r[free])
-            t = 1.0
-            while t > 1e-4:
-                try:
-                    r_new, norm_new = residual(u + t * du)
-                except InvertedElementError:
-                    t *= 0.5
-                    continue
-                if norm_new < norm or t < 2e-4:
-                    break
-                t *= 0.5
-            else:
-                break
-            u = u + t * du
-            r, norm = r_new, norm_new
+        if out.converged:
+            return out.x
         msg = (f"hyperelastic Newton did not converge in load step {step}/{steps} "
-               f"(|R| = {norm:.3e} > {rtol:.1e} * {scale:.3e}); use more load steps "
+               f"({out.message}; |R| = {out.residual:.3e} > {rtol:.1e} * {system.scale:.3e}); use more load steps "
                f"(steps={2 * steps}) or a larger max_iter.")
         logger.warning(msg)
         raise ConvergenceError(msg)

@@ -16,8 +16,10 @@ LANCELOT style, option ``bounds_as``): the inner solver is then Bertsekas'
 projected Newton method, iterates never leave the box and the bound multipliers
 are read from the Lagrangian gradient.
 
-Penalty-parameter strategies (:func:`available_strategies`) and inner solvers
-(:func:`available_inner_solvers`) are registries too. Throughout, ``eta -> 0``
+Penalty-parameter update rules (:func:`available_strategies`, :func:`register_strategy`;
+shared with the contact algorithms) and inner solvers
+(:func:`available_inner_solvers`) are registries too. :func:`newton` is the one globalized Newton method of the package (contact
+subproblems and the hyperelastic body's solves). Throughout, ``eta -> 0``
 is the constrained limit: a smaller ``eta`` is a stronger AL penalty.
 """
 
@@ -25,8 +27,10 @@ from __future__ import annotations
 
 from ._inner import available_inner_solvers
 from ._minimize import Options, available_methods, minimize
+from ._newton import LineSearch, NewtonRecord, NewtonResult, NewtonSettings, NewtonSystem, inner_failure, newton
 from ._result import ALResult, IterationRecord, Status
-from ._strategies import available_strategies
+from ._strategies import (PenaltyUpdate, StrategyState, available_strategies, describe_strategies, make_strategy,
+                          register_strategy, unregister_strategy)
 
 __all__ = [
     "minimize",
@@ -36,5 +40,18 @@ __all__ = [
     "Options",
     "available_methods",
     "available_strategies",
+    "describe_strategies",
+    "make_strategy",
+    "register_strategy",
+    "unregister_strategy",
+    "PenaltyUpdate",
+    "StrategyState",
+    "newton",
+    "NewtonSystem",
+    "NewtonSettings",
+    "LineSearch",
+    "NewtonRecord",
+    "NewtonResult",
+    "inner_failure",
     "available_inner_solvers",
 ]

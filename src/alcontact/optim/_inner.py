@@ -561,33 +561,9 @@ class TrustRegion:
                     steps = (lambda r, d=d: r * d)
                 else:
                     steps = (lambda r: _tr_step(lam, Q, g, r))
-                accepted = False
                 sub.last_nonfinite = None
-                for _ in range(self.max_rejections):
-                    p = steps(radius)
-                    bound = sub.max_step(x, p)
-                    if bound < 1.0:
-                        p = bound * p
-                    pnorm = float(np.linalg.norm(p))
-                    pred = float(g @ p + 0.5 * p @ (H @ p))
-                    if not pred < 0 or pnorm <= 4 * _EPS * max(1.0, float(np.linalg.norm(x))):
-                        break
-                    xt = x + p
-                    ft = sub.value(xt)
-                    rho = (ft - fx) / pred if math.isfinite(ft) else -math.inf
-                    if rho < 0.25:
-                        radius = 0.25 * pnorm
-                    elif rho > 0.75 and pnorm >= 0.99 * radius:
-                        radius = 2.0 * radius
-                    if rho > self.eta1:
-                        accepted = True
-                        break
-                    if math.isfinite(ft) and abs(ft - fx) <= 100 * _EPS * max(1.0, abs(fx)):
-                        gt, _ = sub.gradient(xt)
-                        if _norm_inf(gt) < _norm_inf(g):
-                            accepted = True
-                            break
-                if not accepted:
+                xt, ft, radius, pnorm = self._ratio_test(sub, x, fx, g, H, steps, radius)
+                if xt is None:
                     if small:  # negative curvature below roundoff: a second-order point
                         return InnerResult(x, fx, it, "converged", measure)
                     status = "small-step" if math.isfinite(fx) else "line-search"
@@ -601,6 +577,39 @@ class TrustRegion:
         except NonFiniteValue as exc:
             return InnerResult(x, math.nan, it, "nonfinite", math.inf, exc.callback)
         return InnerResult(x, fx, maxiter, "maxiter", measure)  # pragma: no cover
+
+    def _ratio_test(self, sub, x, fx, g, H, steps, radius):
+        """Trial steps ``steps(radius)`` with the radius updated by the ratio :math:`\\rho` (class doc).
+
+        Returns ``(x_trial, f_trial, radius, |p|)`` of the accepted step (:math:`\\rho > \\eta_1`,
+        or a value flat to round-off with a smaller gradient), or ``(None, None, radius, |p|)``
+        when no step is accepted: the model predicts no decrease, the step is at round-off
+        level, or ``max_rejections`` reductions failed.
+        """
+        pnorm = math.nan
+        for _ in range(self.max_rejections):
+            p = steps(radius)
+            bound = sub.max_step(x, p)
+            if bound < 1.0:
+                p = bound * p
+            pnorm = float(np.linalg.norm(p))
+            pred = float(g @ p + 0.5 * p @ (H @ p))
+            if not pred < 0 or pnorm <= 4 * _EPS * max(1.0, float(np.linalg.norm(x))):
+                break
+            xt = x + p
+            ft = sub.value(xt)
+            rho = (ft - fx) / pred if math.isfinite(ft) else -math.inf
+            if rho < 0.25:
+                radius = 0.25 * pnorm
+            elif rho > 0.75 and pnorm >= 0.99 * radius:
+                radius = 2.0 * radius
+            if rho > self.eta1:
+                return xt, ft, radius, pnorm
+            if math.isfinite(ft) and abs(ft - fx) <= 100 * _EPS * max(1.0, abs(fx)):
+                gt, _ = sub.gradient(xt)
+                if _norm_inf(gt) < _norm_inf(g):
+                    return xt, ft, radius, pnorm
+        return None, None, radius, pnorm
 
     @staticmethod
     def _initial_radius(lam, Q, g, x):

@@ -10,6 +10,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .. import penalties as _penalties
 from .._options import is_integer, is_real, show
 from ..errors import InputError, NonFiniteError, UnknownNameError
 from ._inner import make_inner
@@ -185,57 +186,90 @@ class Options:
                 raise UnknownNameError("option", key, known + list(cls._ALIASES))
             kw[name] = value
         o = cls(**kw)
-        for name in ("maxiter", "maxiter_inner", "polish_maxiter", "stall_iter"):
-            v = getattr(o, name)
-            if not is_integer(v) or v < 1:
-                raise InputError(f"options[{name!r}] = {show(v)} must be a positive integer (got "
-                                 f"{type(v).__name__}); e.g. {{{name!r}: {getattr(cls, name)}}}")
-        for name in ("gtol", "feas_tol", "ctol", "inner_tol0", "mu_max", "eta_min", "eta_max",
-                     "exp_cap") + (("eta0_factor",) if o.eta0_factor is not None else ()):
-            v = getattr(o, name)
-            if not (is_real(v) and v > 0 and math.isfinite(v)):
-                raise InputError(f"options[{name!r}] = {show(v)} must be a positive finite number (got "
-                                 f"{type(v).__name__}); e.g. {{{name!r}: {getattr(cls, name) or 1.0}}}")
-        if o.mu_min is not None and not (is_real(o.mu_min) and math.isfinite(o.mu_min) and o.mu_min >= 0):
-            raise InputError(f"options['mu_min'] = {show(o.mu_min)} must be a finite number >= 0 or None "
-                             "(automatic)")
-        if not (is_real(o.unbounded_below) and not math.isnan(o.unbounded_below)):
-            raise InputError(f"options['unbounded_below'] = {show(o.unbounded_below)} must be a number, e.g. -1e20")
-        if not (is_real(o.bound_push) and 0 <= o.bound_push < 0.5):
-            raise InputError(f"options['bound_push'] = {show(o.bound_push)} must lie in [0, 0.5)")
-        for name in ("polish", "extrapolate", "project_x0", "scale_eta0", "scale"):
-            v = getattr(o, name)
-            if not isinstance(v, (bool, np.bool_)):
-                raise InputError(f"options[{name!r}] = {show(v)} must be True or False (got {type(v).__name__})")
-        for name, allowed in (("strategy", None), ("inner", None), ("bounds_as", ("box", "constraints"))):
-            v = getattr(o, name)
-            if v is None and name == "strategy":
-                continue
-            if not isinstance(v, str) or (allowed and v not in allowed):
-                what = f"one of {', '.join(map(repr, allowed))}" if allowed else "a name (str)"
-                raise InputError(f"options[{name!r}] = {show(v)} must be {what}")
-        for name in ("eta0", "mu0", "lam0"):
-            v = getattr(o, name)
-            if v is None and name == "eta0":
-                continue
-            a = _numbers(v, name)
-            if name == "eta0" and not np.all(a > 0):
-                raise InputError(f"options['eta0'] = {show(v)} must be positive (a smaller eta0 is a stronger "
-                                 "penalty), or None for the automatic value")
-        for name in ("strategy_options", "inner_options", "penalty_options"):
-            v = getattr(o, name)
-            if v is not None and not isinstance(v, dict):
-                raise InputError(f"options[{name!r}] = {show(v)} must be a dict of parameters or None "
-                                 f"(got {type(v).__name__})")
-        if not o.eta_min < o.eta_max:
-            raise InputError("options: eta_min must be smaller than eta_max")
+        for check in _OPTION_CHECKS:
+            check(o)
         return o
+
+
+def _check_counts(o: Options) -> None:
+    """Iteration limits: positive integers."""
+    for name in ("maxiter", "maxiter_inner", "polish_maxiter", "stall_iter"):
+        v = getattr(o, name)
+        if not is_integer(v) or v < 1:
+            raise InputError(f"options[{name!r}] = {show(v)} must be a positive integer (got "
+                             f"{type(v).__name__}); e.g. {{{name!r}: {getattr(Options, name)}}}")
+
+
+def _check_positive(o: Options) -> None:
+    """Tolerances, bounds of ``eta`` and ``mu``, caps: positive finite numbers."""
+    for name in ("gtol", "feas_tol", "ctol", "inner_tol0", "mu_max", "eta_min", "eta_max",
+                 "exp_cap") + (("eta0_factor",) if o.eta0_factor is not None else ()):
+        v = getattr(o, name)
+        if not (is_real(v) and v > 0 and math.isfinite(v)):
+            raise InputError(f"options[{name!r}] = {show(v)} must be a positive finite number (got "
+                             f"{type(v).__name__}); e.g. {{{name!r}: {getattr(Options, name) or 1.0}}}")
+
+
+def _check_ranges(o: Options) -> None:
+    """``mu_min``, ``unbounded_below`` and ``bound_push`` in their ranges."""
+    if o.mu_min is not None and not (is_real(o.mu_min) and math.isfinite(o.mu_min) and o.mu_min >= 0):
+        raise InputError(f"options['mu_min'] = {show(o.mu_min)} must be a finite number >= 0 or None "
+                         "(automatic)")
+    if not (is_real(o.unbounded_below) and not math.isnan(o.unbounded_below)):
+        raise InputError(f"options['unbounded_below'] = {show(o.unbounded_below)} must be a number, e.g. -1e20")
+    if not (is_real(o.bound_push) and 0 <= o.bound_push < 0.5):
+        raise InputError(f"options['bound_push'] = {show(o.bound_push)} must lie in [0, 0.5)")
+
+
+def _check_flags(o: Options) -> None:
+    """Switches: ``True`` or ``False``."""
+    for name in ("polish", "extrapolate", "project_x0", "scale_eta0", "scale"):
+        v = getattr(o, name)
+        if not isinstance(v, (bool, np.bool_)):
+            raise InputError(f"options[{name!r}] = {show(v)} must be True or False (got {type(v).__name__})")
+
+
+def _check_names(o: Options) -> None:
+    """Registry names are strings (looked up when used); ``bounds_as`` one of its two values."""
+    for name, allowed in (("strategy", None), ("inner", None), ("bounds_as", ("box", "constraints"))):
+        v = getattr(o, name)
+        if v is None and name == "strategy":
+            continue
+        if not isinstance(v, str) or (allowed and v not in allowed):
+            what = f"one of {', '.join(map(repr, allowed))}" if allowed else "a name (str)"
+            raise InputError(f"options[{name!r}] = {show(v)} must be {what}")
+
+
+def _check_starts(o: Options) -> None:
+    """Starting ``eta0`` (positive, or None), ``mu0`` and ``lam0``: finite numbers or 1-D arrays."""
+    for name in ("eta0", "mu0", "lam0"):
+        v = getattr(o, name)
+        if v is None and name == "eta0":
+            continue
+        a = _numbers(v, name)
+        if name == "eta0" and not np.all(a > 0):
+            raise InputError(f"options['eta0'] = {show(v)} must be positive (a smaller eta0 is a stronger "
+                             "penalty), or None for the automatic value")
+
+
+def _check_parameter_dicts(o: Options) -> None:
+    """Parameters of the strategy, the inner solver and the penalty: dicts or None; ``eta_min < eta_max``."""
+    for name in ("strategy_options", "inner_options", "penalty_options"):
+        v = getattr(o, name)
+        if v is not None and not isinstance(v, dict):
+            raise InputError(f"options[{name!r}] = {show(v)} must be a dict of parameters or None "
+                             f"(got {type(v).__name__})")
+    if not o.eta_min < o.eta_max:
+        raise InputError("options: eta_min must be smaller than eta_max")
+
+
+#: The checks of :meth:`Options.from_dict`, in the order they run (the first failing one raises).
+_OPTION_CHECKS = (_check_counts, _check_positive, _check_ranges, _check_flags, _check_names, _check_starts,
+                  _check_parameter_dicts)
 
 
 def _accepted(spec) -> list[str]:
     """Registered penalties whose declared facts the method ``spec`` accepts."""
-    from .. import penalties as _penalties
-
     out = []
     for name in _penalties.available():
         try:
@@ -380,50 +414,19 @@ def minimize(fun, x0, *, jac=None, hess=None, constraints=(), bounds=None, metho
     >>> bool(res.success), np.round(res.x, 6).tolist()
     (True, [-0.5, -0.5])
     """
-    from .. import penalties as _penalties
-
     try:
         spec = METHODS[method]
     except (KeyError, TypeError):
         raise UnknownNameError("method", method, list(METHODS)) from None
     opts = Options.from_dict(options)
-    pen_name = spec.default_penalty if penalty is None else penalty
-    known_pen = list(_penalties.available())
-    if not isinstance(pen_name, str) or pen_name not in known_pen:
-        raise UnknownNameError("penalty", pen_name, known_pen)
-    pen = _penalties.make(pen_name, **(opts.penalty_options or {}))
-    known = _penalties.facts(pen)
-    if not spec.accepts(known):
-        raise InputError(f"method {method!r} does not take penalty {pen_name!r}; "
-                         f"allowed: {', '.join(_accepted(spec))}")
+    pen_name, pen, known = _penalty(spec, method, penalty, opts)
     strat_name = opts.strategy or spec.strategy
     sopts = dict(spec.strategy_options) if opts.strategy is None else {}
     sopts.update(opts.strategy_options or {})
-    if strat_name in ("infeasibility", "kkt"):
-        sopts.setdefault("feas_tol", opts.feas_tol)
-    strategy = make_strategy(strat_name, **sopts)
+    strategy = make_strategy(strat_name, {"feas_tol": opts.feas_tol}, **sopts)
     inner = make_inner(opts.inner, **(opts.inner_options or {}))
-
-    try:
-        box = spec.box and opts.bounds_as == "box"
-        nlp = NLP(fun, x0, jac=jac, hess=hess, constraints=constraints, bounds=bounds,
-                  box=box)
-        projected = opts.project_x0 and spec.scaled and \
-            nlp.project_into_bounds(opts.bound_push)
-        projected = projected or nlp.x0_clipped  # box: x0 is clipped in any case
-        if opts.scale and spec.autoscale:
-            nlp.set_scaling()
-        f0 = nlp.f(nlp.x0)
-        g0, h0 = nlp.constraints(nlp.x0)
-    except NonFiniteValue as exc:
-        raise NonFiniteError(f"{exc} at x0; the starting point must give finite values"
-                             ) from None
-    if nlp.m and not spec.inequalities:
-        raise InputError(f"method {method!r} handles equality constraints only but the "
-                         f"problem has {nlp.m} inequalities; use method='al'")
-    if nlp.p and not spec.equalities:
-        raise InputError(f"method {method!r} handles inequality constraints only but the "
-                         f"problem has {nlp.p} equalities; use method='al'")
+    nlp, projected, f0, g0, h0 = _problem(fun, x0, jac, hess, constraints, bounds, spec, opts)
+    _check_constraint_kinds(nlp, spec, method)
     explicit = ("eta_min" in options) if isinstance(options, Mapping) else \
         (options is not None and opts.eta_min != Options.eta_min)
     if known.eta_min is not None and not explicit:
@@ -442,28 +445,15 @@ def minimize(fun, x0, *, jac=None, hess=None, constraints=(), bounds=None, metho
     eta = initial_eta(nlp, spec, pen, opts, f0, g0, h0, mu)
 
     out = run_outer(nlp, spec, pen, hp, strategy, inner, opts, eta, mu, lam)
+    message = _message(out, projected, nlp.has_fd)
+    if out.status <= 0:
+        log.warning("minimize(method=%r, penalty=%r) failed: %s", method, pen_name, message)
     try:
         fx = nlp.f_unscaled(out.x)
     except NonFiniteValue:
         fx = math.nan
     g_out, h_out, mu_out, lam_out = nlp.unscale(out.g, out.h, out.mu, out.lam)
-    message = out.message
-    if projected:
-        message += " (x0 was moved into the bounds)"
-    if nlp.has_fd:
-        message += " (some derivatives by finite differences)"
-    if out.status <= 0:
-        message += f"; try: {_HINTS[out.status]}"
-        log.warning("minimize(method=%r, penalty=%r) failed: %s", method, pen_name,
-                    message)
-    per_block = nlp.block_weights(mu_out, lam_out)
-    user_blocks = [v for b, v in zip(nlp.blocks, per_block) if not b.is_bounds]
-    mb = next((v for b, v in zip(nlp.blocks, per_block) if b.is_bounds), None)
-    if nlp.has_box:
-        # weights on x: grad f + sum mu grad g + sum lam grad h + mb = 0 (user's units)
-        mb = -np.asarray(out.box_multipliers, float) / nlp.f_scale
-    if mb is None and bounds is not None:
-        mb = np.zeros(nlp.n)
+    user_blocks, mb = _block_multipliers(nlp, out, mu_out, lam_out, bounds)
     return ALResult(
         x=out.x, fun=fx, success=bool(out.status > 0), status=Status(out.status),
         message=message, nit=out.nit, nit_inner=out.nit_inner, nfev=nlp.nfev,
@@ -473,3 +463,71 @@ def minimize(fun, x0, *, jac=None, hess=None, constraints=(), bounds=None, metho
         feasibility=out.feasibility, complementarity=out.complementarity, eta=out.eta,
         method=method, penalty=pen_name, strategy=strat_name, inner=opts.inner,
         history=tuple(out.history))
+
+
+def _penalty(spec, method, penalty, opts):
+    """``(name, penalty, facts)`` of the inequality penalty: the method's default or ``penalty``, accepted by it."""
+    pen_name = spec.default_penalty if penalty is None else penalty
+    known_pen = list(_penalties.available())
+    if not isinstance(pen_name, str) or pen_name not in known_pen:
+        raise UnknownNameError("penalty", pen_name, known_pen)
+    pen = _penalties.make(pen_name, **(opts.penalty_options or {}))
+    known = _penalties.facts(pen)
+    if not spec.accepts(known):
+        raise InputError(f"method {method!r} does not take penalty {pen_name!r}; "
+                         f"allowed: {', '.join(_accepted(spec))}")
+    return pen_name, pen, known
+
+
+def _problem(fun, x0, jac, hess, constraints, bounds, spec, opts):
+    """``(nlp, projected, f0, g0, h0)``: the NLP, whether ``x0`` was moved into the bounds, values at ``x0``."""
+    try:
+        box = spec.box and opts.bounds_as == "box"
+        nlp = NLP(fun, x0, jac=jac, hess=hess, constraints=constraints, bounds=bounds,
+                  box=box)
+        projected = opts.project_x0 and spec.scaled and \
+            nlp.project_into_bounds(opts.bound_push)
+        projected = projected or nlp.x0_clipped  # box: x0 is clipped in any case
+        if opts.scale and spec.autoscale:
+            nlp.set_scaling()
+        f0 = nlp.f(nlp.x0)
+        g0, h0 = nlp.constraints(nlp.x0)
+    except NonFiniteValue as exc:
+        raise NonFiniteError(f"{exc} at x0; the starting point must give finite values"
+                             ) from None
+    return nlp, projected, f0, g0, h0
+
+
+def _check_constraint_kinds(nlp, spec, method) -> None:
+    """The method handles the problem's kinds of constraints (inequalities, equalities)."""
+    if nlp.m and not spec.inequalities:
+        raise InputError(f"method {method!r} handles equality constraints only but the "
+                         f"problem has {nlp.m} inequalities; use method='al'")
+    if nlp.p and not spec.equalities:
+        raise InputError(f"method {method!r} handles inequality constraints only but the "
+                         f"problem has {nlp.p} equalities; use method='al'")
+
+
+def _message(out, projected, has_fd) -> str:
+    """The outer loop's message with what was changed or approximated, and a hint on failure."""
+    message = out.message
+    if projected:
+        message += " (x0 was moved into the bounds)"
+    if has_fd:
+        message += " (some derivatives by finite differences)"
+    if out.status <= 0:
+        message += f"; try: {_HINTS[out.status]}"
+    return message
+
+
+def _block_multipliers(nlp, out, mu_out, lam_out, bounds):
+    """Multipliers of the user's constraint blocks, and of the variable bounds (None without bounds)."""
+    per_block = nlp.block_weights(mu_out, lam_out)
+    user_blocks = [v for b, v in zip(nlp.blocks, per_block) if not b.is_bounds]
+    mb = next((v for b, v in zip(nlp.blocks, per_block) if b.is_bounds), None)
+    if nlp.has_box:
+        # weights on x: grad f + sum mu grad g + sum lam grad h + mb = 0 (user's units)
+        mb = -np.asarray(out.box_multipliers, float) / nlp.f_scale
+    if mb is None and bounds is not None:
+        mb = np.zeros(nlp.n)
+    return user_blocks, mb

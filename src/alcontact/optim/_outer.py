@@ -22,7 +22,8 @@ from __future__ import annotations
 import logging
 import math
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 import scipy.sparse as sp
@@ -357,6 +358,59 @@ def _merit(stat, feas, comp):
     return max(stat, feas, comp)
 
 
+@dataclass
+class _Loop:
+    """State of :func:`run_outer` between its steps (one outer iteration is split over small functions)."""
+
+    nlp: NLP
+    spec: MethodSpec
+    pen: Any
+    sub: Subproblem
+    opts: Any
+    mu_min: float
+    restart: bool
+    mu_start: np.ndarray
+    x: np.ndarray
+    eta: np.ndarray
+    mu: np.ndarray
+    lam: np.ndarray
+    g: np.ndarray
+    h: np.ndarray
+    prev_feas: float
+    history: list = field(default_factory=list)
+    k: int = 0
+    nit_inner: int = 0
+    status: Status = Status.MAXITER
+    message: str = ""
+    stat: float = math.inf
+    feas: float = math.inf
+    comp: float = math.inf
+    prev_comp: float = math.inf
+    prev_kkt: float = math.inf
+    prev_v: np.ndarray | None = None
+    prev_active: np.ndarray | None = None
+    best_merit: float = math.inf
+    stalled: int = 0
+    inner_failures: int = 0
+    unbounded_retries: int = 0
+    at_limit: int = 0
+    mu_rep: np.ndarray | None = None
+    lam_rep: np.ndarray | None = None
+    wg: np.ndarray | None = None
+    wh: np.ndarray | None = None
+
+    def record(self, res, tol, factor, **kw):
+        _record(self.history, self.k, self.nlp, self.x, self.stat, self.feas, self.comp, self.eta, res, tol,
+                factor, **kw)
+
+    def stop(self, status, message, res=None, tol=None) -> bool:
+        """End the loop with ``status``; with ``res`` the iteration is recorded first. Returns True."""
+        if res is not None:
+            self.record(res, tol, 1.0)
+        self.status, self.message = status, message
+        return True
+
+
 def run_outer(nlp: NLP, spec: MethodSpec, pen, hp, strategy, inner, opts, eta, mu, lam):
     """Outer loop shared by all methods; returns an :class:`OuterOutcome`.
 
@@ -364,183 +418,209 @@ def run_outer(nlp: NLP, spec: MethodSpec, pen, hp, strategy, inner, opts, eta, m
     ``clip(mu_est, mu_min, mu_max)`` (Birgin & Martinez), the KKT tests the
     unsafeguarded estimates ``mu_est = p'(g/eta, mu)``. With ``spec.polish`` and
     ``opts.polish`` a Newton-KKT polish (:mod:`._polish`) is tried whenever the
-    active-set estimate repeats.
+    active-set estimate repeats. One iteration: the subproblem (:func:`_measure`), an
+    unbounded retry (:func:`_unbounded`), the bounds-only case (:func:`_box_only`), the KKT
+    test, the polish (:func:`_polish_step`), the inner-failure count, the multiplier update
+    (:func:`_update_multipliers`) and the penalty update by ``strategy`` (:func:`_update_eta`).
     """
     m, p = nlp.m, nlp.p
-    sub = Subproblem(nlp, pen, hp, spec.scaled, eta, mu, lam, opts.unbounded_below)
     known = facts(pen)
     freezes = m > 0 and spec.update_multipliers and known.freezes_at_zero
-    mu_min = opts.mu_min if opts.mu_min is not None else (1e-12 if freezes else 0.0)
-    restart = freezes and not known.family_p
-    mu_start = np.array(mu, dtype=float)
-    polish = bool(spec.polish and opts.polish and m + p > 0)
     x = nlp.project(nlp.x0.copy())
-    history: list[IterationRecord] = []
-    nit_inner = 0
     g0, h0 = nlp.constraints(x)
-    prev_feas = max(float(np.max(g0 / nlp.g_scale, initial=0.0)),
-                    float(np.max(np.abs(h0 / nlp.h_scale), initial=0.0)))
-    prev_comp = math.inf
-    prev_kkt = math.inf
-    prev_v = None
-    prev_active = None
-    best_merit, stalled = math.inf, 0
-    status, message = Status.MAXITER, f"outer iteration limit maxiter={opts.maxiter} reached"
-    inner_failures = 0
-    unbounded_retries = 0
-    at_limit = 0
-    stat = feas = comp = math.inf
-    mu_rep, lam_rep = np.zeros(m), np.zeros(p)
-    g, h = g0, h0
-    k = 0
+    st = _Loop(nlp, spec, pen, Subproblem(nlp, pen, hp, spec.scaled, eta, mu, lam, opts.unbounded_below), opts,
+               mu_min=opts.mu_min if opts.mu_min is not None else (1e-12 if freezes else 0.0),
+               restart=freezes and not known.family_p, mu_start=np.array(mu, dtype=float), x=x, eta=eta, mu=mu,
+               lam=lam, g=g0, h=h0,
+               prev_feas=max(float(np.max(g0 / nlp.g_scale, initial=0.0)),
+                             float(np.max(np.abs(h0 / nlp.h_scale), initial=0.0))),
+               message=f"outer iteration limit maxiter={opts.maxiter} reached", mu_rep=np.zeros(m),
+               lam_rep=np.zeros(p))
+    polish = bool(spec.polish and opts.polish and m + p > 0)
     for k in range(1, opts.maxiter + 1):
+        st.k = k
         if spec.scaled and m:
-            eta = _keep_in_domain(nlp, sub, pen, x, eta, mu)
-        sub.set(eta, mu, lam)
-        tol = max(0.1 * opts.gtol, min(opts.inner_tol0, 0.1 * prev_kkt))
+            st.eta = _keep_in_domain(nlp, st.sub, pen, st.x, st.eta, st.mu)
+        st.sub.set(st.eta, st.mu, st.lam)
+        tol = max(0.1 * opts.gtol, min(opts.inner_tol0, 0.1 * st.prev_kkt))
         if m + p == 0:
             # only a box (or nothing): one subproblem, refined if the KKT test fails
             tol = opts.gtol * 0.01 ** (k - 1)
-        x_prev = x.copy()
-        res: InnerResult = inner.solve(sub, x, tol, opts.maxiter_inner)
-        nit_inner += res.nit
-        if res.code == Status.NONFINITE:
-            x = res.x
-            status = Status.NONFINITE
-            message = f"non-finite value from {res.nonfinite or 'a callback'}"
-            _record(history, k, nlp, x, stat, feas, comp, eta, res, tol, 1.0)
+        x_prev = st.x.copy()
+        res: InnerResult = inner.solve(st.sub, st.x, tol, opts.maxiter_inner)
+        st.nit_inner += res.nit
+        if _measure(st, res, tol):
             break
-        x = res.x
-        try:
-            g, h = nlp.constraints(x)
-            wg, wh = sub.weights(g, h)
-            mu_rep = np.maximum(np.nan_to_num(wg, nan=0.0, posinf=opts.mu_max), 0.0)
-            lam_rep = wh
-            stat, feas, comp, g, h = kkt_measures(nlp, x, mu_rep, lam_rep)
-        except NonFiniteValue as exc:
-            status, message = Status.NONFINITE, f"non-finite value from {exc.callback}"
-            break
-        if res.code == Status.UNBOUNDED and unbounded_retries < 8 and \
-                np.all(eta > opts.eta_min):
-            # too weak a penalty for the scale of f: restart the subproblem stronger
-            unbounded_retries += 1
-            x = x_prev
-            eta = np.clip(eta / 100.0, opts.eta_min, opts.eta_max)
-            log.debug("subproblem unbounded below: eta decreased 100x and retried")
+        action = _unbounded(st, res, tol, x_prev)
+        if action is None and m + p == 0:
+            action = _box_only(st, res, tol)
+        if action == "continue":
             continue
-        if res.code == Status.UNBOUNDED:
-            status = Status.UNBOUNDED
-            message = (f"subproblem unbounded below (L < {opts.unbounded_below:g}) at "
-                       f"outer iteration {k}")
-            _record(history, k, nlp, x, stat, feas, comp, eta, res, tol, 1.0)
+        if action == "break":
             break
-        if m + p == 0:
-            _record(history, k, nlp, x, stat, feas, comp, eta, res, tol, 1.0)
-            if nlp.has_box and stat <= opts.gtol and comp <= opts.ctol:
-                status, message = Status.CONVERGED_KKT, "KKT tolerances met (bounds only)"
-            elif nlp.has_box and res.ok and k < min(opts.maxiter, 4):
-                continue
-            elif stat <= opts.gtol and not nlp.has_box:
-                status, message = Status.UNCONSTRAINED_CONVERGED, "gradient norm below gtol"
-            else:
-                status = Status.INNER_FAILED
-                message = f"unconstrained Newton solve stopped: {res.status}"
-            break
-        converged = stat <= opts.gtol and feas <= opts.feas_tol and comp <= opts.ctol
-        if converged:
-            _record(history, k, nlp, x, stat, feas, comp, eta, res, tol, 1.0)
-            status, message = Status.CONVERGED_KKT, "KKT tolerances met"
+        if st.stat <= opts.gtol and st.feas <= opts.feas_tol and st.comp <= opts.ctol:
+            st.stop(Status.CONVERGED_KKT, "KKT tolerances met", res, tol)
             break
         if polish:
-            active = mu_rep > -g
-            fix = None
-            if nlp.has_box:
-                at_lo, at_up = box_active(nlp, x, mu_rep, lam_rep)
-                active = np.concatenate([active, at_lo, at_up])
-                fix = (at_lo, at_up)
-            if prev_active is not None and np.array_equal(active, prev_active):
-                ok, xp, mup, lamp, meas, pit = kkt_polish(
-                    nlp, x, g, mu_rep, lam_rep, opts, kkt_measures, opts.polish_maxiter,
-                    box_fixed=fix)
-                nit_inner += pit
-                if ok:
-                    x, mu_rep, lam_rep = xp, mup, lamp
-                    stat, feas, comp, g, h = meas
-                    _record(history, k, nlp, x, stat, feas, comp, eta, res, tol, 1.0,
-                            extra_inner=pit, tag="+kkt-polish")
-                    status = Status.CONVERGED_KKT
-                    nact = int(np.sum(active[:m]))
-                    message = (f"KKT tolerances met after {pit} Newton-KKT polish step(s) "
-                               f"on the active set ({nact} of {m} inequalities active"
-                               + (f", {int(np.sum(active[m:]))} bounds" if fix else "")
-                               + ")")
-                    break
-                res = InnerResult(res.x, res.value, res.nit + pit, res.status, res.measure,
-                                  res.nonfinite)
-            prev_active = active
-        inner_failures = 0 if res.ok or res.code == Status.MAXITER else inner_failures + 1
-        if inner_failures >= 3:
-            _record(history, k, nlp, x, stat, feas, comp, eta, res, tol, 1.0)
-            status = Status.INNER_FAILED
-            message = (f"inner solver failed {inner_failures} times in a row "
-                       f"({res.status}; scaled gradient {res.measure:.3g})")
+            res = _polish_step(st, res, tol)
+            if res is None:
+                break
+        st.inner_failures = 0 if res.ok or res.code == Status.MAXITER else st.inner_failures + 1
+        if st.inner_failures >= 3:
+            st.stop(Status.INNER_FAILED, f"inner solver failed {st.inner_failures} times in a row "
+                    f"({res.status}; scaled gradient {res.measure:.3g})", res, tol)
             break
-        # multiplier update mu <- p'(g/eta, mu) (Algorithm 5.4 corrected), safeguarded
-        # into [mu_min, mu_max] for the next subproblem (the KKT test used mu_rep)
-        if spec.update_multipliers:
-            if m:
-                mu = np.clip(np.nan_to_num(wg, nan=mu_min, posinf=opts.mu_max),
-                             mu_min, opts.mu_max)
-                if restart:
-                    # quadratic theta (5.27) with Matioli's safeguard is PHR with the
-                    # penalty rho_i = mu_i^2/eta_i: a multiplier at the floor kills the
-                    # penalty of its constraint. Keep every multiplier above a floor
-                    # relative to the largest one, and restart violated constraints
-                    # whose multiplier is frozen anyway (all multipliers tiny)
-                    mu = np.maximum(mu, QUAD_MU_FLOOR * float(np.max(mu)))
-                    frozen = (g > opts.feas_tol) & (mu < 1e-6 * max(1.0, float(np.max(mu))))
-                    mu[frozen] = np.maximum(mu[frozen], mu_start[frozen])
-            if p:
-                lam = np.clip(wh, -opts.mu_max, opts.mu_max)
-        with np.errstate(all="ignore"):
-            v = np.concatenate([np.abs(np.maximum(g, -eta[:m] * mu_rep)), np.abs(h)])
-        factor = strategy(StrategyState(k, feas, prev_feas, comp, prev_comp, v, prev_v))
-        factor = np.broadcast_to(np.asarray(factor, dtype=float), np.shape(eta))
-        new_eta = np.clip(eta / factor, opts.eta_min, opts.eta_max)
-        applied = float(np.max(eta / new_eta))
-        _record(history, k, nlp, x, stat, feas, comp, eta, res, tol, applied)
-        tight = factor > 1
-        if np.any(tight) and np.all(new_eta[tight] == eta[tight]) and feas > opts.feas_tol:
-            at_limit += 1
-            if at_limit >= 3:
-                status = Status.PENALTY_LIMIT
-                message = (f"penalty parameter at its limit eta_min={opts.eta_min:g} and "
-                           f"constraints still violated by {feas:.3g}")
-                break
-        else:
-            at_limit = 0
-        merit = _merit(stat, feas, comp)
-        if merit < 0.5 * best_merit:
-            best_merit, stalled = merit, 0
-        else:
-            stalled += 1
-            if stalled >= opts.stall_iter:
-                message = (f"no progress: the KKT error max(stationarity, feasibility, "
-                           f"complementarity) = {merit:.3g} did not halve in "
-                           f"{opts.stall_iter} outer iterations (stopped at {k})")
-                break
-        eta = new_eta
-        prev_feas, prev_comp, prev_v = feas, comp, v
-        prev_kkt = max(feas, comp, stat)
+        _update_multipliers(st)
+        if _update_eta(st, strategy, res, tol):
+            break
     zb = np.zeros(nlp.n)
     if nlp.has_box:
         try:
-            gf, r = _lagrangian_gradient(nlp, x, mu_rep, lam_rep)
-            zb = box_multipliers(nlp, x, r, gf)
+            gf, r = _lagrangian_gradient(nlp, st.x, st.mu_rep, st.lam_rep)
+            zb = box_multipliers(nlp, st.x, r, gf)
         except NonFiniteValue:
             zb = np.full(nlp.n, math.nan)
-    return OuterOutcome(x, status, message, k, nit_inner, mu_rep, lam_rep, g, h, stat,
-                        feas, comp, np.asarray(eta, float), history, zb)
+    return OuterOutcome(st.x, st.status, st.message, st.k, st.nit_inner, st.mu_rep, st.lam_rep, st.g, st.h, st.stat,
+                        st.feas, st.comp, np.asarray(st.eta, float), st.history, zb)
+
+
+def _measure(st: _Loop, res: InnerResult, tol) -> bool:
+    """Take the subproblem's solution; the multiplier estimates and the KKT measures there. True: stop."""
+    if res.code == Status.NONFINITE:
+        st.x = res.x
+        return st.stop(Status.NONFINITE, f"non-finite value from {res.nonfinite or 'a callback'}", res, tol)
+    st.x = res.x
+    try:
+        st.g, st.h = st.nlp.constraints(st.x)
+        st.wg, st.wh = st.sub.weights(st.g, st.h)
+        st.mu_rep = np.maximum(np.nan_to_num(st.wg, nan=0.0, posinf=st.opts.mu_max), 0.0)
+        st.lam_rep = st.wh
+        st.stat, st.feas, st.comp, st.g, st.h = kkt_measures(st.nlp, st.x, st.mu_rep, st.lam_rep)
+    except NonFiniteValue as exc:
+        return st.stop(Status.NONFINITE, f"non-finite value from {exc.callback}")
+    return False
+
+
+def _unbounded(st: _Loop, res: InnerResult, tol, x_prev) -> str | None:
+    """A subproblem unbounded below: retry with a 100x stronger penalty (8 times), then stop."""
+    if res.code != Status.UNBOUNDED:
+        return None
+    opts = st.opts
+    if st.unbounded_retries < 8 and np.all(st.eta > opts.eta_min):
+        # too weak a penalty for the scale of f: restart the subproblem stronger
+        st.unbounded_retries += 1
+        st.x = x_prev
+        st.eta = np.clip(st.eta / 100.0, opts.eta_min, opts.eta_max)
+        log.debug("subproblem unbounded below: eta decreased 100x and retried")
+        return "continue"
+    st.stop(Status.UNBOUNDED, f"subproblem unbounded below (L < {opts.unbounded_below:g}) at outer iteration "
+            f"{st.k}", res, tol)
+    return "break"
+
+
+def _box_only(st: _Loop, res: InnerResult, tol) -> str:
+    """No constraints but (maybe) a box: one subproblem, refined (up to 4) while the KKT test fails."""
+    opts, nlp = st.opts, st.nlp
+    st.record(res, tol, 1.0)
+    if nlp.has_box and st.stat <= opts.gtol and st.comp <= opts.ctol:
+        st.stop(Status.CONVERGED_KKT, "KKT tolerances met (bounds only)")
+    elif nlp.has_box and res.ok and st.k < min(opts.maxiter, 4):
+        return "continue"
+    elif st.stat <= opts.gtol and not nlp.has_box:
+        st.stop(Status.UNCONSTRAINED_CONVERGED, "gradient norm below gtol")
+    else:
+        st.stop(Status.INNER_FAILED, f"unconstrained Newton solve stopped: {res.status}")
+    return "break"
+
+
+def _polish_step(st: _Loop, res: InnerResult, tol) -> InnerResult | None:
+    """Newton-KKT polish when the active-set estimate repeats (:mod:`._polish`).
+
+    Returns None when the polished point meets every tolerance (the loop stops converged),
+    else ``res`` with the polish iterations added.
+    """
+    nlp, m = st.nlp, st.nlp.m
+    active = st.mu_rep > -st.g
+    fix = None
+    if nlp.has_box:
+        at_lo, at_up = box_active(nlp, st.x, st.mu_rep, st.lam_rep)
+        active = np.concatenate([active, at_lo, at_up])
+        fix = (at_lo, at_up)
+    if st.prev_active is not None and np.array_equal(active, st.prev_active):
+        ok, xp, mup, lamp, meas, pit = kkt_polish(
+            nlp, st.x, st.g, st.mu_rep, st.lam_rep, st.opts, kkt_measures, st.opts.polish_maxiter, box_fixed=fix)
+        st.nit_inner += pit
+        if ok:
+            st.x, st.mu_rep, st.lam_rep = xp, mup, lamp
+            st.stat, st.feas, st.comp, st.g, st.h = meas
+            st.record(res, tol, 1.0, extra_inner=pit, tag="+kkt-polish")
+            nact = int(np.sum(active[:m]))
+            st.stop(Status.CONVERGED_KKT, f"KKT tolerances met after {pit} Newton-KKT polish step(s) "
+                    f"on the active set ({nact} of {m} inequalities active"
+                    + (f", {int(np.sum(active[m:]))} bounds" if fix else "") + ")")
+            return None
+        res = InnerResult(res.x, res.value, res.nit + pit, res.status, res.measure, res.nonfinite)
+    st.prev_active = active
+    return res
+
+
+def _update_multipliers(st: _Loop) -> None:
+    """``mu <- p'(g/eta, mu)`` (Algorithm 5.4 corrected) into ``[mu_min, mu_max]``; ``lam <- lam + h/eta``."""
+    if not st.spec.update_multipliers:
+        return
+    opts, g = st.opts, st.g
+    # the next subproblem's multipliers are safeguarded (the KKT test used mu_rep)
+    if st.nlp.m:
+        mu = np.clip(np.nan_to_num(st.wg, nan=st.mu_min, posinf=opts.mu_max), st.mu_min, opts.mu_max)
+        if st.restart:
+            # quadratic theta (5.27) with Matioli's safeguard is PHR with the
+            # penalty rho_i = mu_i^2/eta_i: a multiplier at the floor kills the
+            # penalty of its constraint. Keep every multiplier above a floor
+            # relative to the largest one, and restart violated constraints
+            # whose multiplier is frozen anyway (all multipliers tiny)
+            mu = np.maximum(mu, QUAD_MU_FLOOR * float(np.max(mu)))
+            frozen = (g > opts.feas_tol) & (mu < 1e-6 * max(1.0, float(np.max(mu))))
+            mu[frozen] = np.maximum(mu[frozen], st.mu_start[frozen])
+        st.mu = mu
+    if st.nlp.p:
+        st.lam = np.clip(st.wh, -opts.mu_max, opts.mu_max)
+
+
+def _update_eta(st: _Loop, strategy, res: InnerResult, tol) -> bool:
+    """The penalty update ``eta <- eta / factor`` of the strategy; records the iteration. True: stop.
+
+    Stops at the penalty limit (``eta_min`` reached three times with the constraints still
+    violated) or when the KKT error did not halve in ``stall_iter`` iterations.
+    """
+    opts, eta, m = st.opts, st.eta, st.nlp.m
+    with np.errstate(all="ignore"):
+        v = np.concatenate([np.abs(np.maximum(st.g, -eta[:m] * st.mu_rep)), np.abs(st.h)])
+    factor = strategy(StrategyState(st.k, st.feas, st.prev_feas, st.comp, st.prev_comp, v, st.prev_v))
+    factor = np.broadcast_to(np.asarray(factor, dtype=float), np.shape(eta))
+    new_eta = np.clip(eta / factor, opts.eta_min, opts.eta_max)
+    st.record(res, tol, float(np.max(eta / new_eta)))
+    tight = factor > 1
+    if np.any(tight) and np.all(new_eta[tight] == eta[tight]) and st.feas > opts.feas_tol:
+        st.at_limit += 1
+        if st.at_limit >= 3:
+            return st.stop(Status.PENALTY_LIMIT, f"penalty parameter at its limit eta_min={opts.eta_min:g} and "
+                           f"constraints still violated by {st.feas:.3g}")
+    else:
+        st.at_limit = 0
+    merit = _merit(st.stat, st.feas, st.comp)
+    if merit < 0.5 * st.best_merit:
+        st.best_merit, st.stalled = merit, 0
+    else:
+        st.stalled += 1
+        if st.stalled >= opts.stall_iter:
+            st.message = (f"no progress: the KKT error max(stationarity, feasibility, "
+                          f"complementarity) = {merit:.3g} did not halve in "
+                          f"{opts.stall_iter} outer iterations (stopped at {st.k})")
+            return True
+    st.eta = new_eta
+    st.prev_feas, st.prev_comp, st.prev_v = st.feas, st.comp, v
+    st.prev_kkt = max(st.feas, st.comp, st.stat)
+    return False
 
 
 def _keep_in_domain(nlp, sub, pen, x, eta, mu):

@@ -1,23 +1,58 @@
-"""Penalty-parameter strategies (a registry).
+r"""Penalty-parameter update rules (one registry for :mod:`alcontact.optim` and :mod:`alcontact.contact`).
 
 Every method keeps one parameter vector ``eta`` whose limit ``eta -> 0`` is the
 constrained problem: the AL parameter of (5.28) (a smaller ``eta`` is a stronger
 penalty, because it divides ``g``), the barrier weight ``rho`` of (5.1), and
-``1/t`` for the exterior penalty (5.10). A strategy returns a factor
-``alpha``; the outer loop applies ``eta <- eta / alpha`` ("tighten" when
+``1/t`` for the exterior penalty (5.10). A rule (a *strategy*, :class:`PenaltyUpdate`)
+returns a factor ``alpha``; the outer loop applies ``eta <- eta / alpha`` ("tighten" when
 ``alpha > 1``, keep when ``alpha == 1``; ``alpha < 1`` weakens, which is how the
 printed Algorithm 5.4, ``eta <- 2 eta``, is reproduced).
+
+The contact algorithms (:func:`alcontact.contact.solve`, option ``strategy``) read the
+same factor as the growth of the penalty stiffness between outer iterations,
+:math:`\varepsilon_N \leftarrow \alpha\,\varepsilon_N` (Algorithms 6.1 / 6.3), with the
+penetration over ``h`` as the feasibility measure.
+
+Rules are registered by name (:func:`register_strategy`), built by :func:`make_strategy`,
+listed by :func:`available_strategies`; the name is looked up here and nowhere else.
+
+Examples
+--------
+>>> rule = make_strategy("infeasibility", tau=0.5, factor=10.0)
+>>> rule(StrategyState(k=2, feasibility=0.9, prev_feasibility=1.0,
+...                    complementarity=0.0, prev_complementarity=0.0))
+10.0
 """
 
 from __future__ import annotations
 
+import math
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
+from typing import Any, Protocol, runtime_checkable
 
 import numpy as np
 
+from .._options import is_real, show
 from ..errors import InputError, UnknownNameError
 
-__all__ = ["make_strategy", "available_strategies", "StrategyState"]
+__all__ = ["make_strategy", "available_strategies", "describe_strategies", "register_strategy",
+           "unregister_strategy", "StrategyState", "PenaltyUpdate"]
+
+
+@runtime_checkable
+class PenaltyUpdate(Protocol):
+    r"""What a penalty-parameter update rule provides.
+
+    ``rule(state)`` returns the factor ``alpha`` (a float, or one per constraint) by which
+    the penalty is tightened after an outer iteration: ``eta <- eta / alpha`` in
+    :mod:`alcontact.optim`, :math:`\varepsilon_N \leftarrow \alpha\varepsilon_N` in contact
+    (which has one stiffness and takes the largest factor of a vector).
+    """
+
+    name: str
+
+    def __call__(self, state: "StrategyState") -> Any: ...
 
 
 @dataclass(frozen=True)
@@ -49,6 +84,24 @@ class StrategyState:
     prev_violation: np.ndarray | None = None
 
 
+def _real(rule: str, name: str, value, ok, what: str) -> float:
+    """``value`` as a float if it is a finite real number (not a bool) with ``ok(value)``; else InputError."""
+    try:
+        good = is_real(value) and math.isfinite(value) and bool(ok(float(value)))
+    except OverflowError:  # an integer no float holds
+        good = False
+    if not good:
+        raise InputError(f"strategy {rule!r}: {name} = {show(value)} must be {what}")
+    return float(value)
+
+
+def _tau_factor_tol(rule: str, tau, factor, feas_tol) -> tuple[float, float, float]:
+    """The checked ``(tau, factor, feas_tol)`` of the rules that compare with a required drop."""
+    return (_real(rule, "tau", tau, lambda v: 0 < v < 1, "a number in (0, 1)"),
+            _real(rule, "factor", factor, lambda v: v > 1, "a number > 1"),
+            _real(rule, "feas_tol", feas_tol, lambda v: v >= 0, "a number >= 0"))
+
+
 class _Fixed:
     """Keep ``eta`` (the convergence theory of Algorithm 5.4 allows a constant ``eta``)."""
 
@@ -67,10 +120,8 @@ class _Always:
     name = "always"
 
     def __init__(self, factor: float = 2.0):
-        if not factor > 0 or factor == 1:
-            raise InputError(f"strategy 'always': factor = {factor!r} must be > 0 and != 1 "
-                             "(> 1 tightens, < 1 weakens)")
-        self.factor = float(factor)
+        self.factor = _real("always", "factor", factor, lambda v: v > 0 and v != 1,
+                            "> 0 and != 1 (> 1 tightens, < 1 weakens)")
 
     def __call__(self, s: StrategyState) -> float:
         return self.factor
@@ -88,11 +139,7 @@ class _Infeasibility:
     name = "infeasibility"
 
     def __init__(self, tau: float = 0.25, factor: float = 10.0, feas_tol: float = 0.0):
-        if not 0 < tau < 1:
-            raise InputError(f"strategy 'infeasibility': tau = {tau!r} must lie in (0, 1)")
-        if not factor > 1:
-            raise InputError(f"strategy 'infeasibility': factor = {factor!r} must be > 1")
-        self.tau, self.factor, self.feas_tol = float(tau), float(factor), float(feas_tol)
+        self.tau, self.factor, self.feas_tol = _tau_factor_tol(self.name, tau, factor, feas_tol)
 
     def _measure(self, s):
         return s.feasibility, s.prev_feasibility
@@ -133,11 +180,7 @@ class _PerConstraint:
     name = "per-constraint"
 
     def __init__(self, tau: float = 0.5, factor: float = 10.0, feas_tol: float = 0.0):
-        if not 0 < tau < 1:
-            raise InputError(f"strategy 'per-constraint': tau = {tau!r} must lie in (0, 1)")
-        if not factor > 1:
-            raise InputError(f"strategy 'per-constraint': factor = {factor!r} must be > 1")
-        self.tau, self.factor, self.feas_tol = float(tau), float(factor), float(feas_tol)
+        self.tau, self.factor, self.feas_tol = _tau_factor_tol(self.name, tau, factor, feas_tol)
 
     def __call__(self, s: StrategyState):
         v, vp = s.violation, s.prev_violation
@@ -152,17 +195,89 @@ class _PerConstraint:
         return np.where(bad, self.factor, 1.0)
 
 
-_REGISTRY = {c.name: c for c in (_Fixed, _Always, _Infeasibility, _KKT, _PerConstraint)}
+@dataclass(frozen=True)
+class _Entry:
+    factory: Callable[..., PenaltyUpdate]
+    doc: str
+    loop_parameters: tuple[str, ...]
+
+
+_REGISTRY: dict[str, _Entry] = {}
 
 
 def available_strategies() -> list[str]:
-    """Names of the registered penalty-parameter strategies."""
+    """Sorted names of the registered penalty-parameter update rules."""
     return sorted(_REGISTRY)
 
 
-def make_strategy(name: str, **params):
-    """Build a strategy by registry name (``"fixed"``, ``"always"``, ``"infeasibility"``,
-    ``"kkt"``, ``"per-constraint"``).
+def describe_strategies() -> dict[str, str]:
+    """Map each registered rule name to its one-line description."""
+    return {name: _REGISTRY[name].doc for name in available_strategies()}
+
+
+def register_strategy(name: str, factory: Callable[..., PenaltyUpdate], *, doc: str,
+                      loop_parameters: tuple[str, ...] = (), overwrite: bool = False) -> None:
+    """Register a penalty-parameter update rule under ``name``.
+
+    Parameters
+    ----------
+    name : str
+        Registry name; it becomes a valid ``strategy`` of :func:`alcontact.optim.minimize`
+        and of the contact options.
+    factory : callable
+        Returns a :class:`PenaltyUpdate`; the keyword arguments of :func:`make_strategy` are
+        forwarded to it.
+    doc : str
+        One-line description (:func:`describe_strategies`).
+    loop_parameters : tuple of str
+        Factory parameters taken from the outer loop that runs the rule when it offers them
+        (``offered`` of :func:`make_strategy`: ``tau``, ``factor``, ``feas_tol``).
+    overwrite : bool
+        Replace an existing registration instead of raising.
+
+    Raises
+    ------
+    InputError
+        ``name`` is empty or already registered (and ``overwrite`` is false), or ``factory``
+        is not callable.
+    """
+    if not isinstance(name, str) or not name:
+        raise InputError(f"strategy name must be a non-empty string, got {name!r}")
+    if not callable(factory):
+        raise InputError(f"factory for strategy {name!r} must be callable, got {factory!r}")
+    if name in _REGISTRY and not overwrite:
+        raise InputError(f"strategy {name!r} is already registered; pass overwrite=True to replace it")
+    _REGISTRY[name] = _Entry(factory, str(doc), tuple(loop_parameters))
+
+
+def unregister_strategy(name: str) -> None:
+    """Remove a registered rule (raises :class:`UnknownNameError` if absent)."""
+    if name not in _REGISTRY:
+        raise UnknownNameError("strategy", name, available_strategies())
+    del _REGISTRY[name]
+
+
+def _entry(name: str) -> _Entry:
+    try:
+        return _REGISTRY[name]
+    except (KeyError, TypeError):
+        raise UnknownNameError("strategy", name, available_strategies()) from None
+
+
+def make_strategy(name: str, offered: Mapping[str, Any] | None = None, **params) -> PenaltyUpdate:
+    """Build a rule by registry name (``"fixed"``, ``"always"``, ``"infeasibility"``,
+    ``"kkt"``, ``"per-constraint"``, or a registered one).
+
+    Parameters
+    ----------
+    name : str
+    offered : mapping, optional
+        Values of the outer loop that runs the rule (:mod:`alcontact.optim` offers
+        ``feas_tol``; contact offers ``tau``, ``factor`` = ``alpha`` and ``feas_tol`` =
+        ``tol_penetration``); the rule gets those of its registered ``loop_parameters``.
+        ``params`` override them.
+    **params
+        Parameters given by the user: every one must be accepted by the factory.
 
     Raises
     ------
@@ -171,11 +286,21 @@ def make_strategy(name: str, **params):
     InputError
         For an unknown or out-of-range parameter.
     """
+    entry = _entry(name)
+    if offered is not None and not isinstance(offered, Mapping):
+        raise InputError(f"strategy {name!r}: offered = {show(offered)} must be a mapping of loop parameters "
+                         "(or None)")
+    kwargs = {k: v for k, v in (offered or {}).items() if k in entry.loop_parameters}
+    kwargs.update(params)
     try:
-        cls = _REGISTRY[name]
-    except (KeyError, TypeError):
-        raise UnknownNameError("strategy", name, list(_REGISTRY)) from None
-    try:
-        return cls(**params)
+        return entry.factory(**kwargs)
     except TypeError as exc:
         raise InputError(f"strategy {name!r}: bad parameters {sorted(params)}: {exc}") from None
+
+
+# the loop parameters: (C4)-type rules stop at the caller's feasibility tolerance; the
+# per-constraint test is relative (ALGENCAN) and keeps feas_tol = 0 unless it is given
+for _cls, _loop in ((_Fixed, ()), (_Always, ("factor",)), (_Infeasibility, ("tau", "factor", "feas_tol")),
+                    (_KKT, ("tau", "factor", "feas_tol")), (_PerConstraint, ("tau", "factor"))):
+    register_strategy(_cls.name, _cls, doc=(_cls.__doc__ or "").strip().splitlines()[0], loop_parameters=_loop)
+del _cls, _loop
