@@ -25,7 +25,7 @@ Examples
 True
 """
 
-from ._base import Factor, LinearSolver, MatrixHints
+from ._base import MATRIX_TYPES, Factor, LinearSolver, MatrixHints
 from ._registry import (
     AUTO_AMG_DOFS,
     DIRECT_PREFERENCE,
@@ -49,8 +49,9 @@ from ._petsc import (
     near_null_space,
     petsc,
 )
-from ._sequence import MATRIX_TYPES, PardisoSymmetricFactor, SequenceSolver
-from ._solvers import AMGSolver, CholmodSolver, PardisoSolver, SuperLUSolver
+from ._pardiso import PardisoSolver, PardisoSymmetricFactor
+from ._sequence import SequenceSolver
+from ._solvers import AMGSolver, CholmodSolver, SuperLUSolver
 
 __all__ = [
     "AUTO_AMG_DOFS",

@@ -8,7 +8,10 @@ from typing import Protocol, runtime_checkable
 
 import numpy as np
 
-__all__ = ["Factor", "LinearSolver", "MatrixHints"]
+__all__ = ["Factor", "LinearSolver", "MATRIX_TYPES", "MatrixHints"]
+
+#: matrix types of :attr:`MatrixHints.matrix_type`
+MATRIX_TYPES = ("spd", "symmetric-indefinite", "unsymmetric")
 
 
 @dataclass(frozen=True)

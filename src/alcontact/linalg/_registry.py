@@ -10,8 +10,9 @@ from dataclasses import dataclass
 from functools import lru_cache
 
 from ..errors import InputError, UnknownNameError
-from ._base import LinearSolver
-from ._solvers import AMGSolver, CholmodSolver, PardisoSolver, SuperLUSolver
+from ._base import MATRIX_TYPES, LinearSolver
+from ._pardiso import PardisoSolver
+from ._solvers import AMGSolver, CholmodSolver, SuperLUSolver
 
 __all__ = [
     "AUTO_AMG_DOFS",
@@ -87,8 +88,6 @@ def register_solver(name: str, factory: Callable[..., LinearSolver], *, kind: st
         raise InputError(f"linear solver {name!r} is already registered; pass overwrite=True to replace it.")
     if name in ("auto", "direct"):
         raise InputError(f"{name!r} is reserved for the automatic choice; register the solver under another name.")
-    from ._sequence import MATRIX_TYPES
-
     bad = [t for t in matrix_types if t not in MATRIX_TYPES]
     if bad or not matrix_types:
         raise InputError(f"matrix_types={tuple(matrix_types)!r}; allowed: {', '.join(MATRIX_TYPES)}.")
@@ -252,8 +251,6 @@ def choose_solver(dim: int, ndofs: int, *, installed: list[str] | None = None,
         A registry name.
     """
     from alcontact._options import is_integer, require
-
-    from ._sequence import MATRIX_TYPES
 
     require("choose_solver", "dim", dim, is_integer(dim) and dim in (1, 2, 3), "1, 2 or 3")
     require("choose_solver", "ndofs", ndofs, is_integer(ndofs) and ndofs >= 0, "an integer >= 0")
