@@ -37,7 +37,7 @@ import numpy as np
 from .. import penalties as _pen
 from .._options import as_options, check_dataclass, declarations, declared
 from ..errors import InputError, UnknownNameError
-from ..linalg import registered_solvers, solver_kind
+from ..linalg import registered_solvers
 from ._laws import eta_for_stiffness, freezes_at_zero, make_law
 from ._solution import ContactIteration, ContactStatus
 
@@ -53,14 +53,12 @@ MAX_NEWTON = 10_000
 
 
 def _solver_names() -> tuple[str, ...]:
-    """Allowed ``linear_solver`` values: the rules, ``"amg"`` and every registered direct solver (at check time).
+    """Allowed ``linear_solver`` values: the rules and every registered solver (at check time).
 
-    Registered iterative solvers other than ``"amg"`` (``"petsc"``) are left out: the contact
-    path's factorization-free wing runs its own PyAMG preconditioner, so naming them would not
-    run them.
+    Each runs where it is named (:func:`alcontact.linalg.select_solver`): an exact one factorizes,
+    an approximate one (``kind="iterative"``) preconditions the Krylov solves.
     """
-    direct = [n for n in registered_solvers() if solver_kind(n) == "direct"]
-    return tuple(dict.fromkeys(("auto", "direct", "amg", *direct)))
+    return tuple(dict.fromkeys(("auto", "direct", "amg", *registered_solvers())))
 
 
 #: Largest ``max_cutbacks`` an option accepts (0.5**50 of an increment is below round-off).

@@ -102,6 +102,7 @@ from ..status import Status
 from ._algorithms import (FRICTION_DEFAULTS, _first_push, algorithm_names, find_algorithm, options_with,
                           register_family)
 from ._finite import FiniteContact
+from ._finite_iterative import finite_solver
 from ._friction import FrictionOptions, _step_al, _StepOut
 from ._friction_laws import OPEN, SLIP, STICK, return_mapping
 from ._laws import make_law
@@ -154,10 +155,11 @@ class FiniteFrictionContact(FiniteContact):
 
     @property
     def friction_solver(self) -> SequenceSolver:
-        """Solver of the non-symmetric Newton matrices of friction (registry's choice, analyses kept by pattern)."""
+        """Solver of the non-symmetric Newton matrices of friction: the one of the symmetric systems
+        (:attr:`solver`, the ``linear_solver`` option), analyses kept by pattern."""
         solver = getattr(self, "_friction_solver", None)
         if solver is None:
-            solver = self._friction_solver = SequenceSolver(matrix_type="unsymmetric")
+            solver = self._friction_solver = SequenceSolver(self.solver.backend, matrix_type="unsymmetric")
         return solver
 
     def set_history(self, y_prev: np.ndarray, mu: float, eps_t: float, radius: str) -> None:
@@ -789,7 +791,7 @@ def solve_finite_friction(problem, mu: float, algorithm: str = "simo-laursen", p
     times = _step_times(steps)
     step_fn = entry.run
     data = _StepData(problem, history, obstacle_path)
-    dc = FiniteFrictionContact(problem, fixed=data.fixed)
+    dc = FiniteFrictionContact(problem, fixed=data.fixed, solver=finite_solver(opts.linear_solver, entry, problem.model))
     d = dc.dim
     m = dc.points.shape[0]
     eps_n = opts.eps_n if opts.eps_n is not None else penalty_stiffness(problem.model, dc.h, opts.penalty_scale)
@@ -847,6 +849,8 @@ def solve_finite_friction(problem, mu: float, algorithm: str = "simo-laursen", p
                "dofs": int(problem.model.ndofs), "residual_log": dc.residual_log,
                "newton_total": int(dc.newton_iterations), "linear_solves": int(dc.linear_solves),
                "cutbacks": int(run.cutbacks), "total_s": time.perf_counter() - t_start,
+               "linear_solver": "direct" if dc.friction_solver.exact else "amg",
+               "direct_solver": dc.friction_solver.backend,
                "linear_solve_s": float(dc.solve_seconds)})  # all Newton linear solves together
 
 

@@ -52,10 +52,12 @@ import time
 
 import numpy as np
 
+from .. import linalg as _linalg
 from ..fem.elasticity import rigid_body_modes
+from ..linalg import krylov
 from ._finite import NewtonSolver
 
-__all__ = ["AMGNewtonSolver", "finite_solver", "finite_solver_path"]
+__all__ = ["AMGNewtonSolver", "finite_solver"]
 
 logger = logging.getLogger(__name__)
 
@@ -96,46 +98,6 @@ _REBUILD_FACTOR = 1.0
 _MODES = "current"
 #: CG iteration limit of one solve (the hierarchy is rebuilt and the solve repeated once)
 _MAXITER = 1000
-#: largest coarsest level of a hierarchy (solved by sparse LU)
-_MAX_COARSE = 500
-#: relaxation of every level (pyamg's default for smoothed aggregation)
-_SMOOTHER = ("block_gauss_seidel", {"sweep": "symmetric"})
-
-
-def _pcg(A, b, M, rtol: float, maxiter: int):
-    """Preconditioned CG for ``A x = b`` until ``|r| <= rtol |b|``.
-
-    Returns ``(x, iterations, why)`` with ``why`` ``""`` (converged), ``"negative curvature"``
-    (:math:`p^T A p \\le 0`: ``A`` is not positive definite), ``"indefinite preconditioner"``
-    or ``"maxiter"``.
-    """
-    x = np.zeros_like(b)
-    nb = float(np.linalg.norm(b))
-    if nb == 0.0:
-        return x, 0, ""
-    r = b.copy()
-    z = M @ r
-    rz = float(r @ z)
-    if not rz > 0.0:
-        return x, 0, "indefinite preconditioner"
-    p = z.copy()
-    for k in range(1, maxiter + 1):
-        Ap = A @ p
-        pAp = float(p @ Ap)
-        if not pAp > 0.0:
-            return x, k, "negative curvature"
-        a = rz / pAp
-        x += a * p
-        r -= a * Ap
-        if float(np.linalg.norm(r)) <= rtol * nb:
-            return x, k, ""
-        z = M @ r
-        rz_new = float(r @ z)
-        if not rz_new > 0.0:
-            return x, k, "indefinite preconditioner"
-        p = z + (rz_new / rz) * p
-        rz = rz_new
-    return x, maxiter, "maxiter"
 
 
 class AMGNewtonSolver:
@@ -150,6 +112,10 @@ class AMGNewtonSolver:
     fc : FiniteContact
         The model whose systems are solved (its free DOFs and current configuration give the
         rigid-body near-null space).
+    solver : alcontact.linalg.SolverChoice, optional
+        The approximate solver whose factors precondition CG (:func:`alcontact.linalg.select_solver`;
+        default ``"amg"``, PyAMG smoothed aggregation with sparse LU on a coarsest level of at most
+        500 rows).
     rtol : float
         CG tolerance of :meth:`solve` and :meth:`resolve`.
     forcing_max : float
@@ -171,10 +137,10 @@ class AMGNewtonSolver:
     """
 
     path = "amg"
-    backend = "amg"
 
-    def __init__(self, fc, *, rtol: float = _RTOL, forcing_max: float = _FORCING_MAX,
-                 rebuild_factor: float | None = None, modes: str | None = None, fallback: bool = True):
+    def __init__(self, fc, *, solver: _linalg.SolverChoice | None = None, rtol: float = _RTOL,
+                 forcing_max: float = _FORCING_MAX, rebuild_factor: float | None = None, modes: str | None = None,
+                 fallback: bool = True):
         rebuild_factor = _REBUILD_FACTOR if rebuild_factor is None else rebuild_factor
         modes = _MODES if modes is None else modes
         if modes not in ("current", "reference"):
@@ -182,6 +148,10 @@ class AMGNewtonSolver:
 
             raise InputError(f"modes={modes!r}; allowed: current, reference.")
         self.fc = fc
+        model = fc.model
+        self.solver = _linalg.select_solver("amg", dim=model.dim, ndofs=model.ndofs) if solver is None else solver
+        self.backend = self.solver.name
+        self._hints = _linalg.MatrixHints(dim=model.dim, near_null=self.near_null)
         self.rtol = float(rtol)
         self.resolve_rtol = _RESOLVE_RTOL
         self.forcing_max = float(forcing_max)
@@ -191,7 +161,7 @@ class AMGNewtonSolver:
         self.amg_setups = self.cg_iterations = self.cg_solves = 0
         self.newton_steps = self.newton_cg = self.direct_fallbacks = 0
         self.amg_seconds = self.cg_seconds = 0.0
-        self._ml = None
+        self._factor = None
         self._M = None
         self._rate_ref: float | None = None
         self._stale = True
@@ -228,13 +198,10 @@ class AMGNewtonSolver:
         return np.ascontiguousarray(R[self.fc.free])
 
     def _build(self, A) -> None:
-        import pyamg  # a dependency of the AMG paths only
-
-        self._ml = self._M = None
+        self._factor = self._M = None
         t0 = time.perf_counter()
-        self._ml = pyamg.smoothed_aggregation_solver(A, B=self.near_null(), max_coarse=_MAX_COARSE, coarse_solver="splu",
-                                                     presmoother=_SMOOTHER, postsmoother=_SMOOTHER)
-        self._M = self._ml.aspreconditioner(cycle="V")
+        self._factor = self.solver.factorize(A, self._hints)
+        self._M = krylov.preconditioner(self._factor)
         self.amg_seconds += time.perf_counter() - t0
         self.amg_setups += 1
         self._rate_ref = None
@@ -250,11 +217,11 @@ class AMGNewtonSolver:
     # ------------------------------------------------------------------ solves
     def _cg(self, A, rhs: np.ndarray, rtol: float) -> np.ndarray:
         A = A.tocsr()
-        if self._stale or self._ml is None or self._ml.levels[0].A.shape != A.shape:
+        if self._stale or self._factor is None or self._factor.n != A.shape[0]:
             self._build(A)
         for attempt in range(2):
             t0 = time.perf_counter()
-            x, nit, why = _pcg(A, rhs, self._M, rtol, _MAXITER)
+            x, nit, why = krylov.pcg(A, rhs, self._M, rtol, _MAXITER)
             self.cg_seconds += time.perf_counter() - t0
             self.cg_iterations += nit
             self.cg_solves += 1
@@ -344,7 +311,7 @@ class AMGNewtonSolver:
         if self._A is None or self._A.shape[0] != b.shape[0]:
             return None
         t0 = time.perf_counter()
-        x, nit, why = _pcg(self._A, b, self._M, self.resolve_rtol, _MAXITER)
+        x, nit, why = krylov.pcg(self._A, b, self._M, self.resolve_rtol, _MAXITER)
         self.cg_seconds += time.perf_counter() - t0
         self.cg_iterations += nit
         self.cg_solves += 1
@@ -352,36 +319,34 @@ class AMGNewtonSolver:
 
     def release(self) -> None:
         """Drop the hierarchy and the last matrix."""
-        self._ml = self._M = self._A = None
+        self._factor = self._M = self._A = None
         self._stale = True
 
     def info(self) -> dict:
-        """Path and counters for ``solution.extra``: ``linear_solver="amg"``, setups, CG iterations."""
-        return {"linear_solver": "amg", "amg_setups": int(self.amg_setups), "analyses": int(self.amg_setups),
+        """Path and counters for ``solution.extra``: ``linear_solver="amg"``, the solver, setups, CG iterations."""
+        return {"linear_solver": "amg", "backend": self.backend, "amg_setups": int(self.amg_setups),
+                "analyses": int(self.amg_setups),
                 "cg_iterations": int(self.cg_iterations), "cg_solves": int(self.cg_solves),
                 "newton_cg_iterations": int(self.newton_cg),
                 "cg_per_newton": self.newton_cg / self.newton_steps if self.newton_steps else 0.0,
                 "direct_fallbacks": int(self.direct_fallbacks),
-                "amg_levels": len(self._ml.levels) if self._ml is not None else 0, "amg_setup_s": float(self.amg_seconds),
+                "amg_levels": krylov.hierarchy_levels(self._factor), "amg_setup_s": float(self.amg_seconds),
                 "cg_s": float(self.cg_seconds), "near_null": self.modes}
 
 
-def finite_solver_path(linear_solver: str, entry, model) -> str:
-    """``"amg"`` or ``"direct"``: the path of the ``linear_solver`` option for a finite-deformation ``entry``.
-
-    The one rule of the small-deformation path (:func:`~alcontact.contact._iterative.resolve_linear_solver`:
-    ``"auto"`` takes AMG for 3D models above :data:`~alcontact.linalg.AUTO_AMG_DOFS` DOFs), restricted to
-    entries whose registry lists ``amg`` (an explicit ``"amg"`` for another entry was refused by
-    :meth:`Algorithm.check_options <alcontact.contact._algorithms.Algorithm.check_options>`).
-    """
-    from ._iterative import resolve_linear_solver
-
-    path = resolve_linear_solver(linear_solver, model)
-    return path if path in entry.linear_solvers else "direct"
-
-
 def finite_solver(linear_solver: str, entry, model, **options):
-    """Factory ``fc -> solver`` for :class:`~alcontact.contact._finite.FiniteContact`, or ``None`` (direct)."""
-    if finite_solver_path(linear_solver, entry, model) != "amg":
-        return None
-    return lambda fc: AMGNewtonSolver(fc, **options)
+    """Factory ``fc -> solver`` of the Newton systems of :class:`~alcontact.contact._finite.FiniteContact`.
+
+    The solver of the ``linear_solver`` option is :func:`alcontact.linalg.select_solver`'s (its
+    ``"auto"`` size rule where the algorithm ``entry`` has a Krylov path, :attr:`Algorithm.linear_solvers
+    <alcontact.contact._algorithms.Algorithm>` listing ``amg``; an exact solver registered for
+    symmetric indefinite matrices otherwise). An exact solver factorizes every Newton matrix
+    (:class:`~alcontact.contact._finite.NewtonSolver`); an approximate one preconditions CG with an
+    inexact-Newton forcing term (:class:`AMGNewtonSolver`) where the entry has a Krylov path, else
+    GMRES around its factor of each matrix (:class:`~alcontact.linalg.SequenceSolver`).
+    """
+    solver = _linalg.select_solver(linear_solver, dim=model.dim, ndofs=model.ndofs, matrix_type="symmetric-indefinite",
+                                   allow_iterative="amg" in entry.linear_solvers)
+    if solver.exact or "amg" not in entry.linear_solvers:
+        return lambda fc: NewtonSolver(solver.name)
+    return lambda fc: AMGNewtonSolver(fc, solver=solver, **options)

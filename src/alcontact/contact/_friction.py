@@ -78,12 +78,12 @@ import scipy.linalg as sla
 from .. import penalties as _pen
 from .._options import MAX_STEPS, VALUE_RANGE, is_integer, is_real, show
 from ..errors import InputError
+from ..linalg import select_solver
 from ._algorithms import (DEFAULT_PENALTY, FRICTION_DEFAULTS, ContactOptions, algorithm_docs, algorithm_names,
-                          check_solve_args, direct_backend, find_algorithm, options_with, register_family)
+                          check_solve_args, find_algorithm, options_with, register_family)
 from ._friction_discrete import FrictionalContact
 from ._friction_laws import OPEN, SLIP, STICK, Macaulay, block_diag, local_law, tangential_energy
 from ._friction_solution import FrictionSolution, FrictionStep
-from ._iterative import resolve_linear_solver
 from ._laws import eta_for_stiffness, freezes_at_zero, make_law
 from ._loading import LoadHistory, problem_at
 from ._newton import LineSearch, NewtonResult, NewtonSettings, NewtonSystem, inner_failure, newton
@@ -1029,8 +1029,9 @@ def solve_friction(problem, history: LoadHistory | None, algorithm: str = "simo-
                          f"{VALUE_RANGE[1]:g}). Use 0 for frictionless contact.")
     mu = float(mu)
 
-    path = resolve_linear_solver(opts.linear_solver, problem.model)
-    fc, advance = _FRICTION_PATHS[path](problem, history, opts)
+    solver = select_solver(opts.linear_solver, dim=problem.model.dim, ndofs=problem.model.ndofs)
+    path = "direct" if solver.exact else "amg"  # the label of the strategy in solution.extra
+    fc, advance = _FRICTION_PATHS[solver.exact](problem, history, opts, solver)
     eps_n = opts.eps_n if opts.eps_n is not None else penalty_stiffness(problem.model, fc.h, opts.penalty_scale)
     eps_t = opts.eps_t if opts.eps_t is not None else opts.tangential_scale * eps_n
     m, d = fc.points.shape
@@ -1140,7 +1141,7 @@ def solve_friction(problem, history: LoadHistory | None, algorithm: str = "simo-
         timings={"setup_s": fc.setup_seconds, "factor_s": fc.factor_seconds, "solve_s": t_end - t_solve,
                  "total_s": t_end - t_start},
         extra={"candidates": fc.ncand, "dofs": int(problem.model.ndofs), "linear_solver": path,
-               **getattr(fc, "stats", dict)()},
+               "backend": solver.name, **getattr(fc, "stats", dict)()},
     )
 
 
@@ -1161,18 +1162,18 @@ def _solve_finite(problem, history, algorithm, penalty, options, *, steps, frict
                                  obstacle_path=obstacle_path, progress=on_step, **option_overrides)
 
 
-def _direct_path(problem, history, opts):
-    """The condensed problem (:class:`FrictionalContact`) and its step."""
-    return FrictionalContact(problem, history, margin=opts.margin,
-                             linear_solver=direct_backend(opts.linear_solver)), _advance
+def _direct_path(problem, history, opts, solver):
+    """The condensed problem (:class:`FrictionalContact`) on the exact factorization of ``solver``, and its step."""
+    return FrictionalContact(problem, history, margin=opts.margin, linear_solver=solver.name), _advance
 
 
-def _amg_path(problem, history, opts):
-    """The full-space problem solved with AMG-preconditioned Krylov methods, and its step."""
+def _amg_path(problem, history, opts, solver):
+    """The full-space problem solved by Krylov methods preconditioned by the approximate ``solver``, and its step."""
     from ._friction_iterative import IterativeFrictionalContact, advance
 
-    return IterativeFrictionalContact(problem, history, margin=opts.margin), advance
+    return IterativeFrictionalContact(problem, history, margin=opts.margin, solver=solver), advance
 
 
-#: Solution path of :func:`~alcontact.contact._iterative.resolve_linear_solver` -> (contact problem, step).
-_FRICTION_PATHS = {"direct": _direct_path, "amg": _amg_path}
+#: :attr:`SolverChoice.exact <alcontact.linalg.SolverChoice>` -> (contact problem, step): the condensed
+#: problem needs an exact factorization, an approximate solver preconditions the full-space Krylov solves.
+_FRICTION_PATHS = {True: _direct_path, False: _amg_path}

@@ -19,7 +19,7 @@ import scipy.sparse as sp
 
 from ..errors import InputError
 from ._base import MATRIX_TYPES, MatrixHints
-from ._registry import choose_solver, make_solver
+from ._registry import choose_solver, make_solver, solver_kind
 
 __all__ = ["SequenceSolver"]
 
@@ -27,6 +27,36 @@ logger = logging.getLogger(__name__)
 
 def _pattern(A: sp.csr_matrix) -> tuple:
     return A.shape[0], A.indptr, A.indices
+
+
+#: relative residual of the Krylov loop around an approximate solver (then the round-off check of
+#: :meth:`SequenceSolver.solve` decides)
+_KRYLOV_RTOL = 1e-13
+_KRYLOV_RESTART = 200
+_KRYLOV_MAXITER = 5
+
+
+class _KrylovFactor:
+    """An approximate solver's factor of ``A`` used as the preconditioner of GMRES on ``A`` (any matrix type)."""
+
+    exact = False
+
+    def __init__(self, A, factor):
+        from .krylov import preconditioner
+
+        self.name, self.n, self.A, self.factor = factor.name, A.shape[0], A, factor
+        self._M = preconditioner(factor)
+        self.iterations = 0
+
+    def solve(self, rhs: np.ndarray) -> np.ndarray:
+        from .krylov import gmres
+
+        b = np.asarray(rhs, dtype=float)
+        if b.ndim == 2:
+            return np.column_stack([self.solve(b[:, j]) for j in range(b.shape[1])]) if b.shape[1] else b.copy()
+        x, nit, _ = gmres(self.A, b, self._M, rtol=_KRYLOV_RTOL, restart=_KRYLOV_RESTART, maxiter=_KRYLOV_MAXITER)
+        self.iterations += nit
+        return x
 
 
 class SequenceSolver:
@@ -53,6 +83,15 @@ class SequenceSolver:
         Symbolic analyses and numerical factorizations of the kept (refactorizable) factors.
     backend : str
         Registry name of the first solver.
+    requested : str
+        ``name`` as given (``"auto"`` when None).
+    exact : bool
+        Whether the first solver factorizes exactly (registered with ``kind="direct"``).
+    fallback_solves : int
+        Systems solved by the fallback solver (refused by the first one, or not at round-off level).
+    krylov_iterations : int
+        GMRES iterations of an approximate first solver (``kind="iterative"``: its factor of each
+        matrix preconditions GMRES to a relative residual of 1e-13, then the round-off check applies).
     """
 
     def __init__(self, name: str | None = None, *, matrix_type: str = "symmetric-indefinite", keep: int = 3,
@@ -63,11 +102,16 @@ class SequenceSolver:
             raise InputError(f"matrix_type={matrix_type!r}; allowed: {', '.join(MATRIX_TYPES)}.")
         require("SequenceSolver", "keep", keep, is_integer(keep) and keep >= 1,
                 "the number of factors to keep, an integer >= 1")
+        self.requested = "auto" if name is None else name
         if name is None or (isinstance(name, str) and name in ("auto", "direct")):
             name = choose_solver(2, 0, allow_iterative=False, matrix_type=matrix_type)
         self.hints = MatrixHints(matrix_type=matrix_type)
         self.backend = name
         self._solver = make_solver(name)
+        self.exact = solver_kind(name) == "direct"
+        self._approximate = not self.exact
+        self.fallback_solves = 0
+        self.krylov_iterations = 0
         self._fallback = make_solver(fallback)
         self.keep = int(keep)
         self.analyses = 0
@@ -92,6 +136,8 @@ class SequenceSolver:
                 self.factorizations += 1
                 return f
         f = self._solver.factorize(A, self.hints)
+        if self._approximate:  # a preconditioner: GMRES on A around it
+            return _KrylovFactor(A, f)
         if hasattr(f, "refactorize"):
             self.analyses += 1
             self.factorizations += 1
@@ -113,7 +159,10 @@ class SequenceSolver:
         if A.shape[0]:
             try:
                 f = self._factor(A)
+                it0 = f.iterations if isinstance(f, _KrylovFactor) else 0
                 x = f.solve(rhs)
+                if isinstance(f, _KrylovFactor):
+                    self.krylov_iterations += f.iterations - it0
             except InputError as exc:
                 logger.debug("%s refused the matrix (%s); %s solves it", self.backend, exc, self._fallback.name)
             else:
@@ -129,6 +178,7 @@ class SequenceSolver:
             f = self._fallback.factorize(A, self.hints)
         except InputError as exc:
             raise np.linalg.LinAlgError(str(exc)) from exc
+        self.fallback_solves += A.shape[0] > 0
         self._last = f
         return f.solve(rhs)
 
