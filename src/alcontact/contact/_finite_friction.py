@@ -851,6 +851,8 @@ def solve_finite_friction(problem, mu: float, algorithm: str = "simo-laursen", p
                "cutbacks": int(run.cutbacks), "total_s": time.perf_counter() - t_start,
                "linear_solver": "direct" if dc.friction_solver.exact else "amg",
                "direct_solver": dc.friction_solver.backend,
+               "fallback_solves": int(dc.friction_solver.fallback_solves + dc.solver.fallback_solves),
+               "krylov_iterations": int(dc.friction_solver.krylov_iterations + dc.solver.krylov_iterations),
                "linear_solve_s": float(dc.solve_seconds)})  # all Newton linear solves together
 
 
