@@ -35,6 +35,7 @@ from ._friction_solution import FrictionSolution, FrictionStep
 from ._loading import LoadCase, LoadHistory, Ramp, problem_at
 from ._problem import KINEMATICS
 from ._stepping import FiniteSolution, FiniteStep, solve_finite
+from . import _friction_iterative  # noqa: F401  (registers the Krylov strategy of solve_friction)
 from ._finite_friction import (FiniteFrictionSolution, FiniteFrictionStep, finite_friction_algorithms,
                                solve_finite_friction)
 from ._verify import check_state

@@ -103,7 +103,7 @@ from ._algorithms import (FRICTION_DEFAULTS, _first_push, algorithm_names, find_
                           register_family)
 from ._finite import FiniteContact
 from ._finite_iterative import finite_solver
-from ._friction import FrictionOptions, _step_al, _StepOut
+from ._friction import FrictionOptions, _step_al, _StepOut, register_friction_kinematics
 from ._friction_laws import OPEN, SLIP, STICK, return_mapping
 from ._laws import make_law
 from ._loading import LoadHistory
@@ -927,3 +927,6 @@ def _record(dc, res, t, mu, opts, cut, newton, seconds, solves=0, *, fixed, load
         state_reversals=loc.reversals)
     full = {"u": u, "pressure": pressure, "gap": g_all, "traction_t": traction_t, "normals": dc.normals.copy()}
     return rec, full
+
+
+register_friction_kinematics("finite", solve_finite_friction)

@@ -1147,9 +1147,9 @@ def solve_friction(problem, history: LoadHistory | None, algorithm: str = "simo-
 
 def _solve_finite(problem, history, algorithm, penalty, options, *, steps, friction, on_step, obstacle_path,
                   **option_overrides):
-    """:func:`solve_friction` of a ``kinematics="finite"`` problem: :func:`solve_finite_friction`."""
-    from ._finite_friction import solve_finite_friction
-
+    """:func:`solve_friction` of a ``kinematics="finite"`` problem: :func:`solve_finite_friction`
+    (registered by :mod:`._finite_friction`, :func:`register_friction_kinematics`)."""
+    solve_finite_friction = _KINEMATICS_SOLVERS["finite"]
     if history is not None and not isinstance(history, LoadHistory):
         raise InputError(f"history must be a LoadHistory or None; got {type(history).__name__}.")
     if history is not None and history.friction is not None:
@@ -1167,13 +1167,23 @@ def _direct_path(problem, history, opts, solver):
     return FrictionalContact(problem, history, margin=opts.margin, linear_solver=solver.name), _advance
 
 
-def _amg_path(problem, history, opts, solver):
-    """The full-space problem solved by Krylov methods preconditioned by the approximate ``solver``, and its step."""
-    from ._friction_iterative import IterativeFrictionalContact, advance
+#: :attr:`SolverChoice.exact <alcontact.linalg.SolverChoice>` -> ``(problem, history, opts, solver) ->
+#: (contact problem, step)``: the condensed problem needs an exact factorization; the full-space problem whose
+#: Krylov solves an approximate solver preconditions is registered by :mod:`._friction_iterative`
+_FRICTION_PATHS = {True: _direct_path}
+#: :func:`solve_friction` of the kinematics other than ``"small"``, registered by their modules
+_KINEMATICS_SOLVERS: dict = {}
 
-    return IterativeFrictionalContact(problem, history, margin=opts.margin, solver=solver), advance
+
+def register_friction_strategy(exact: bool, make) -> None:
+    """Register how :func:`solve_friction` builds its problem for solvers that factorize exactly (``exact``) or not.
+
+    The modules that build on this one (:mod:`._friction_iterative`) register themselves, so that the
+    imports run one way (the package imports them).
+    """
+    _FRICTION_PATHS[bool(exact)] = make
 
 
-#: :attr:`SolverChoice.exact <alcontact.linalg.SolverChoice>` -> (contact problem, step): the condensed
-#: problem needs an exact factorization, an approximate solver preconditions the full-space Krylov solves.
-_FRICTION_PATHS = {True: _direct_path, False: _amg_path}
+def register_friction_kinematics(kinematics: str, solver) -> None:
+    """Register the frictional solver of ``kinematics`` (``"finite"``: :mod:`._finite_friction`)."""
+    _KINEMATICS_SOLVERS[kinematics] = solver

@@ -80,7 +80,8 @@ import scipy.sparse as sp
 from .. import linalg as _linalg
 from ..errors import InputError
 from ..linalg import krylov
-from ._friction import _CondensedPath, _Point, _PointSystem, _step_ssn, _StepOut, _StepPath
+from ._friction import _CondensedPath, _Point, _PointSystem, _step_ssn, _StepOut, _StepPath, \
+    register_friction_strategy
 from ._friction_discrete import FrictionalContact
 from ._friction_laws import local_law, tangential_energy
 from ._iterative import _FORCING_MAX, _FORCING_MIN, _FORCING_SLOW, _FORCING_START, _NEWTON_TOL_FLOOR, \
@@ -554,3 +555,11 @@ _FULL_SPACE = _FullSpacePath()
 def advance(fc: IterativeFrictionalContact, prev, t: float, step_fn, pen_name, eps_n, eps_t, mu, opts):
     """One load step on the AMG path (the contract of :meth:`alcontact.contact._friction._StepPath.advance`)."""
     return _STEP_PATHS.get(step_fn, _FULL_SPACE).advance(fc, prev, t, step_fn, pen_name, eps_n, eps_t, mu, opts)
+
+
+def _krylov_path(problem, history, opts, solver):
+    """The full-space problem solved by Krylov methods preconditioned by the approximate ``solver``, and its step."""
+    return IterativeFrictionalContact(problem, history, margin=opts.margin, solver=solver), advance
+
+
+register_friction_strategy(False, _krylov_path)
