@@ -126,8 +126,10 @@ class ContactOptions:
         :mod:`alcontact.contact._friction_iterative`), for meshes whose factor does not
         fit in memory; at finite deformation (penalty, Algorithm 6.1, Algorithm 6.3) each Newton
         system by CG with an AMG hierarchy kept across iterations and an inexact-Newton forcing term
-        (:mod:`alcontact.contact._finite_iterative`). A direct solver's registry name (:func:`alcontact.linalg.registered_solvers`)
-        picks that solver for the factorization. ``"auto"``: :func:`alcontact.linalg.choose_solver`
+        (:mod:`alcontact.contact._finite_iterative`). Any registry name (:func:`alcontact.linalg.registered_solvers`)
+        runs that solver on every path (:func:`alcontact.linalg.select_solver`): a direct one factorizes,
+        an iterative one (``kind="iterative"``) preconditions the Krylov solves (GMRES around its factor of
+        each Newton matrix where an algorithm has no AMG path). ``"auto"``: :func:`alcontact.linalg.choose_solver`
         (``"amg"`` for 3D models with more than :data:`~alcontact.linalg.AUTO_AMG_DOFS` = 250k DOFs,
         else ``"direct"``). Only the algorithms
         whose registry entry lists the ``amg`` path (:attr:`Algorithm.linear_solvers`) take
@@ -200,7 +202,8 @@ class ContactOptions:
     linear_solver: str = declared(
         "str", "auto", "Linear solver: `direct` (one factorization by the fastest installed solver), `amg` "
         "(PyAMG + CG/GMRES, no factorization; at finite kinematics penalty, simo-laursen and family-p), `auto` (amg where available for 3D above "
-        "250k DOFs, else direct), or a registered direct solver by name.", choices=_solver_names)
+        "250k DOFs, else direct), or any registered solver by name (a direct one factorizes, an iterative one "
+        "preconditions the Krylov solves).", choices=_solver_names)
     # ---- read by the frictional solvers only
     eps_t: float | None = declared("float", None, "Friction: tangential penalty stiffness (default: "
                                    "`tangential_scale` eps_n).", low=0, low_open=True, only="friction")
