@@ -310,15 +310,6 @@ def check_solve_args(problem, algorithm, penalty, known, kind: str) -> None:
                          f"{', '.join(contact_penalties())}.")
 
 
-def direct_backend(linear_solver: str) -> str:
-    """``backend`` of ``model.factorize`` for the ``linear_solver`` option of a direct-only algorithm.
-
-    ``"auto"`` and ``"direct"`` give ``"auto"`` (the fastest installed direct solver); a
-    registry name is passed on (``"amg"`` was refused by :meth:`Algorithm.check_options`).
-    """
-    return "auto" if linear_solver in ("auto", "direct") else linear_solver
-
-
 def resolve_penalty(algorithm, penalty: str | None, default: str | None = None) -> str:
     """Penalty name an algorithm runs with: its fixed one, or ``penalty`` (its default) for family-p.
 
