@@ -115,6 +115,10 @@ def test_registered_solver_is_called_and_agrees(counting, path, which):
     key = RECORD[path] or ("direct_solver" if which == DIRECT else "backend")
     assert extra[key] == which, extra
     assert extra.get("fallback_solves", 0) == 0 and extra.get("direct_fallbacks", 0) == 0  # no system went elsewhere
+    # an approximate solver runs inside Krylov iterations (CG on the AMG paths, GMRES around its factor on
+    # finite Coulomb); an exact one factorizes (the condensed or direct Newton strategy, no Krylov loop)
+    krylov = extra.get("cg_iterations", 0) + extra.get("krylov_iterations", 0)
+    assert (krylov > 0) == (which == ITERATIVE), extra
     tol = 1e-10 if which == DIRECT else 1e-6
     assert np.max(np.abs(u - u_ref)) <= tol * np.max(np.abs(u_ref))
 
