@@ -11,7 +11,8 @@ from skfem import Basis, BilinearForm, asm
 from skfem.helpers import ddot, sym_grad, trace
 
 from alcontact.contact._iterative import _abs_matvec, principal_submatrix
-from alcontact.linalg import MatrixHints, add_on_pattern, krylov, make_solver
+from alcontact.linalg import MatrixHints, krylov, make_solver
+from alcontact.linalg.krylov import add_on_pattern
 from alcontact.fem import LinearElasticity, Material, meshes
 from alcontact.fem._assembly import elasticity_stiffness
 from alcontact.problems import hertz

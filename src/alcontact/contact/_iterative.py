@@ -78,7 +78,7 @@ updates of :func:`~alcontact.linalg._amg.updated_hierarchy`.
 
 Memory: ``K`` on the free DOFs is extracted in one pass (:func:`principal_submatrix`)
 and the model's stiffness is dropped again if the setup assembled it; every :math:`J`
-shares the index arrays of ``K`` (:func:`~alcontact.linalg.add_on_pattern`); the round-off bound of the residual
+shares the index arrays of ``K`` (:func:`~alcontact.linalg.krylov.add_on_pattern`); the round-off bound of the residual
 reads :math:`|K|` in row chunks.
 """
 
@@ -93,7 +93,7 @@ import scipy.sparse as sp
 from .. import linalg as _linalg
 from ..errors import InputError
 from ..fem.elasticity import rigid_body_modes
-from ..linalg import MatrixHints, add_on_pattern, krylov
+from ..linalg import MatrixHints, krylov
 from ._discrete import ContactPoints
 from ._newton import NewtonOutcome, NewtonSystem, newton, subproblem_outcome
 
@@ -416,7 +416,7 @@ class IterativeContact(ContactPoints):
         """``K + delta`` on the index arrays of ``K`` (the hierarchy of the last matrix is released first)."""
         if self.precond is not None:
             self.precond.release()
-        return add_on_pattern(self.K, delta)
+        return krylov.add_on_pattern(self.K, delta)
 
     # ------------------------------------------- interface of the outer loops
     # (see DiscreteContact; the state here is the free displacement x)

@@ -28,7 +28,6 @@ Examples
 True
 """
 
-from ._amg import add_on_pattern
 from ._base import MATRIX_TYPES, Factor, LinearSolver, MatrixHints
 from ._registry import (
     AUTO_AMG_DOFS,
@@ -61,7 +60,6 @@ from ._solvers import AMGSolver, CholmodSolver, SuperLUSolver
 from . import krylov
 
 __all__ = [
-    "add_on_pattern",
     "AUTO_AMG_DOFS",
     "AMGSolver",
     "CholmodSolver",

@@ -347,6 +347,13 @@ def select_solver(linear_solver: str, *, dim: int, ndofs: int, matrix_type: str 
     >>> select_solver("amg", dim=3, ndofs=100).exact
     False
     """
+    from alcontact._options import is_integer, require
+
+    require("select_solver", "dim", dim, is_integer(dim) and dim in (1, 2, 3), "1, 2 or 3")
+    require("select_solver", "ndofs", ndofs, is_integer(ndofs) and ndofs >= 0, "an integer >= 0")
+    require("select_solver", "matrix_type", matrix_type, isinstance(matrix_type, str) and matrix_type in MATRIX_TYPES,
+            f"one of {', '.join(MATRIX_TYPES)}")
+    require("select_solver", "allow_iterative", allow_iterative, isinstance(allow_iterative, bool), "True or False")
     if isinstance(linear_solver, str) and linear_solver in ("auto", "direct"):
         name = None
         if linear_solver == "auto" and allow_iterative:

@@ -20,7 +20,8 @@ through the functions of this module, which read the optional facilities a facto
 ``levels``
     levels of a multigrid hierarchy (reported in ``solution.extra``).
 
-The Krylov loops count their iterations: :func:`cg` and :func:`gmres` (SciPy's methods) and
+:func:`add_on_pattern` forms :math:`A + \Delta` on the index arrays of ``A`` (the Newton matrices of the
+full-space contact paths). The Krylov loops count their iterations: :func:`cg` and :func:`gmres` (SciPy's methods) and
 :func:`pcg`, a preconditioned CG that reports negative curvature (an indefinite matrix)
 instead of iterating on.
 """
@@ -32,9 +33,11 @@ from scipy.sparse.linalg import LinearOperator
 from scipy.sparse.linalg import cg as _scipy_cg
 from scipy.sparse.linalg import gmres as _scipy_gmres
 
+from ._amg import add_on_pattern
 from ._base import Factor, LinearSolver, MatrixHints
 
-__all__ = ["cg", "gmres", "pcg", "preconditioner", "updated_factor", "reflected_factor", "hierarchy_levels"]
+__all__ = ["cg", "gmres", "pcg", "preconditioner", "updated_factor", "reflected_factor", "hierarchy_levels",
+           "add_on_pattern"]
 
 
 def cg(A, b: np.ndarray, M=None, *, rtol: float, atol: float = 0.0, x0=None, maxiter: int = 5000):
