@@ -298,6 +298,8 @@ NOT_CALLED = {
                     "a result, record or exception the distributed solver builds, not an input"),
     **dict.fromkeys(["Factor", "LinearSolver"], "a protocol or abstract base class"),
     **dict.fromkeys(["SolverChoice"], "a result select_solver builds, not an input"),
+    **dict.fromkeys(["NewtonKrylovSolver"], "takes the SolverChoice of select_solver (fuzzed there); its solves are "
+                                            "checked in tests/verification/test_finite_amg.py"),
     **dict.fromkeys(["CholmodSolver", "PardisoSolver", "available_solvers", "registered_solvers",
                      "describe_solvers"], "takes no argument"),
     **dict.fromkeys(["register_solver", "unregister_solver"],

@@ -56,6 +56,7 @@ from ._petsc import (
 )
 from ._pardiso import PardisoSolver, PardisoSymmetricFactor
 from ._sequence import SequenceSolver
+from ._newton_krylov import NewtonKrylovSolver
 from ._solvers import AMGSolver, CholmodSolver, SuperLUSolver
 from . import krylov
 
@@ -69,6 +70,7 @@ __all__ = [
     "MATRIX_TYPES",
     "MPI_SETUP_HINT",
     "MatrixHints",
+    "NewtonKrylovSolver",
     "PardisoSolver",
     "PardisoSymmetricFactor",
     "PetscDirectSolver",

@@ -18,6 +18,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..errors import InputError
+from . import krylov
 from ._base import MATRIX_TYPES, MatrixHints
 from ._registry import choose_solver, make_solver, solver_kind
 
@@ -42,19 +43,15 @@ class _KrylovFactor:
     exact = False
 
     def __init__(self, A, factor):
-        from .krylov import preconditioner
-
         self.name, self.n, self.A, self.factor = factor.name, A.shape[0], A, factor
-        self._M = preconditioner(factor)
+        self._M = krylov.preconditioner(factor)
         self.iterations = 0
 
     def solve(self, rhs: np.ndarray) -> np.ndarray:
-        from .krylov import gmres
-
         b = np.asarray(rhs, dtype=float)
         if b.ndim == 2:
             return np.column_stack([self.solve(b[:, j]) for j in range(b.shape[1])]) if b.shape[1] else b.copy()
-        x, nit, _ = gmres(self.A, b, self._M, rtol=_KRYLOV_RTOL, restart=_KRYLOV_RESTART, maxiter=_KRYLOV_MAXITER)
+        x, nit, _ = krylov.gmres(self.A, b, self._M, rtol=_KRYLOV_RTOL, restart=_KRYLOV_RESTART, maxiter=_KRYLOV_MAXITER)
         self.iterations += nit
         return x
 
