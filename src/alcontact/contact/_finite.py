@@ -143,7 +143,8 @@ class NewtonSolver(SequenceSolver):
     @property
     def path(self) -> str:
         """The linear-solver path this solver is (``solution.extra["linear_solver"]``): ``"direct"`` for an exact
-        solver, ``"amg"`` for an approximate one (its factors precondition GMRES, :class:`~alcontact.linalg.SequenceSolver`)."""
+        solver, ``"amg"`` for an approximate one (its factors precondition GMRES,
+        :class:`~alcontact.linalg.SequenceSolver`)."""
         return "direct" if self.exact else "amg"
 
     def __init__(self, name: str | None = None, *, use_pardiso: bool = True, keep: int = 3):

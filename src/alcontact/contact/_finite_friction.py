@@ -791,7 +791,8 @@ def solve_finite_friction(problem, mu: float, algorithm: str = "simo-laursen", p
     times = _step_times(steps)
     step_fn = entry.run
     data = _StepData(problem, history, obstacle_path)
-    dc = FiniteFrictionContact(problem, fixed=data.fixed, solver=finite_solver(opts.linear_solver, entry, problem.model))
+    dc = FiniteFrictionContact(problem, fixed=data.fixed,
+                               solver=finite_solver(opts.linear_solver, entry, problem.model))
     d = dc.dim
     m = dc.points.shape[0]
     eps_n = opts.eps_n if opts.eps_n is not None else penalty_stiffness(problem.model, dc.h, opts.penalty_scale)

@@ -97,7 +97,7 @@ class AMGNewtonSolver(_linalg.NewtonKrylovSolver):
         return np.ascontiguousarray(R[self.fc.free])
 
     def info(self) -> dict:
-        """:meth:`NewtonKrylovSolver.info <alcontact.linalg.NewtonKrylovSolver.info>` and the near-null configuration."""
+        """:meth:`alcontact.linalg.NewtonKrylovSolver.info` and the near-null configuration."""
         return {**super().info(), "near_null": self.modes}
 
 

@@ -166,7 +166,8 @@ class _Preconditioner:
     :meth:`solve`) each matrix gets the hierarchy of :func:`~alcontact.linalg._amg.updated_hierarchy`: the
     prolongators of the hierarchy of ``K`` (built once, in the setup) with Galerkin coarse
     operators of ``J``, counted in ``amg_updates``; with springs that dominate their node,
-    the reflected one of :func:`~alcontact.linalg._amg.reflected_hierarchy`. A fresh setup per slow solve cost about one linear solve each and
+    the reflected one of :func:`~alcontact.linalg._amg.reflected_hierarchy`. A fresh setup per slow solve cost
+    about one linear solve each and
     preconditioned no better (3D P1 Hertz, 38k DOFs: simo-laursen 295 CG iterations with
     6 fresh setups, 160 with updates only). Without ``delta`` (callers that do not know
     the contact term) a fresh factor of the solver (``solver.factorize``, counted in ``amg_setups``) is built
@@ -396,7 +397,8 @@ class IterativeContact(ContactPoints):
         return x, nit
 
     def updated(self, J, delta):
-        r"""The solver's factor of :math:`J = K + \Delta` from that of ``K`` (:func:`alcontact.linalg.krylov.updated_factor`:
+        r"""The solver's factor of :math:`J = K + \Delta` from that of ``K``
+        (:func:`alcontact.linalg.krylov.updated_factor`:
         the AMG hierarchy of ``K`` with Galerkin coarse operators of ``J``, counted in ``amg_updates``; a
         solver without that update factorizes ``J``, counted in ``amg_setups``)."""
         t0 = time.perf_counter()

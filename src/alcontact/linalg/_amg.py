@@ -432,7 +432,7 @@ def reflected_hierarchy(ml_K, J, delta, Bs, *, overwrite: bool = False):
     :func:`normal_reflections`, :math:`\hat J = Q J Q` carries each stiff spring on the
     diagonal of one DOF (no coupling left for the pointwise relaxation), and :math:`\hat P = Q P` keeps the
     coarse operators :math:`\hat P^T \hat J \hat P = P^T J P` of :func:`updated_hierarchy`.
-    CG runs on :math:`\hat J y = Q r`, :math:`dx = Q y` (:meth:`alcontact.contact._iterative._Preconditioner.solve`), i.e. with the
+    CG runs on :math:`\hat J y = Q r`, :math:`dx = Q y` (the AMG paths of :mod:`alcontact.contact`), i.e. with the
     preconditioner :math:`Q\,V(\hat J)\,Q` of :math:`J`, symmetric positive definite as the V-cycle is;
     :math:`Q - I` lives on the stiff points' DOFs, so :math:`\hat J` and :math:`\hat P` are
     corrections of a few rows and columns on the index arrays of :math:`J` and :math:`P`.

@@ -51,7 +51,8 @@ class _KrylovFactor:
         b = np.asarray(rhs, dtype=float)
         if b.ndim == 2:
             return np.column_stack([self.solve(b[:, j]) for j in range(b.shape[1])]) if b.shape[1] else b.copy()
-        x, nit, _ = krylov.gmres(self.A, b, self._M, rtol=_KRYLOV_RTOL, restart=_KRYLOV_RESTART, maxiter=_KRYLOV_MAXITER)
+        x, nit, _ = krylov.gmres(self.A, b, self._M, rtol=_KRYLOV_RTOL, restart=_KRYLOV_RESTART,
+                                 maxiter=_KRYLOV_MAXITER)
         self.iterations += nit
         return x
 
