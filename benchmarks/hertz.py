@@ -216,12 +216,12 @@ def plain_linear_solve(prob, linear_solver="auto") -> Timing:
     for large 3D models, else the fast direct one), no Schur block, no reuse: this is the
     "one linear solve" the contact solve is compared with.
     """
-    from alcontact.contact._iterative import linear_solver_name
+    from alcontact.linalg import select_solver
 
     prob = linear_reference(prob)
     model = prob.model
     fixed, values = prob.dirichlet()
-    backend = linear_solver_name(linear_solver, model)  # what the contact solve resolves "auto" to
+    backend = select_solver(linear_solver, dim=model.dim, ndofs=model.ndofs).name  # what the contact solve runs
     model.clear_factorization()
     reset_peak_rss()
     base = rss_mb()

@@ -55,7 +55,7 @@ def test_stiff_penalty_preconditioner_is_penalty_independent(sphere_p2):
     ``eps = E'/h``, where no spring dominates its node. Tolerance: at ``eps = 1e2, 1e4, 1e7
     E'/h`` (the default initial penalty, and up to the last level of the pure penalty: every
     candidate's spring is more than 10 times its node's normal stiffness, so the reflected
-    hierarchy of ``_rotated_hierarchy`` is used) at most 1.5 times those iterations plus 5,
+    hierarchy of ``linalg._amg.reflected_hierarchy`` is used) at most 1.5 times those iterations plus 5,
     and the residual reaches 1e-8. The Galerkin hierarchy of ``K`` alone needed 206 and 748
     against 30 iterations at ``1e5`` and ``1e7 E'/h`` on this mesh (pointwise Gauss-Seidel on
     the oblique stiff node blocks).

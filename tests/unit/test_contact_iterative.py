@@ -2,13 +2,11 @@
 
 from __future__ import annotations
 
-from types import SimpleNamespace
-
 import pytest
 
 from _helpers import assert_same_contact_solution
 from alcontact.contact import ContactOptions, ContactStatus, solve
-from alcontact.contact._iterative import AUTO_AMG_DOFS, resolve_linear_solver
+from alcontact.linalg import AUTO_AMG_DOFS, select_solver
 from alcontact.errors import InputError
 from alcontact.problems import blocks, hertz
 
@@ -59,11 +57,18 @@ def test_linear_solver_option_is_validated():
 
 
 def test_auto_chooses_amg_only_for_large_3d():
-    assert resolve_linear_solver("auto", SimpleNamespace(dim=3, ndofs=AUTO_AMG_DOFS + 1)) == "amg"
-    assert resolve_linear_solver("auto", SimpleNamespace(dim=3, ndofs=AUTO_AMG_DOFS)) == "direct"
-    assert resolve_linear_solver("auto", SimpleNamespace(dim=2, ndofs=10 * AUTO_AMG_DOFS)) == "direct"
-    assert resolve_linear_solver("direct", SimpleNamespace(dim=3, ndofs=10 * AUTO_AMG_DOFS)) == "direct"
-    assert resolve_linear_solver("amg", SimpleNamespace(dim=2, ndofs=10)) == "amg"
+    """``select_solver`` is the one rule: "auto" is approximate (AMG, a Krylov path) only for 3D above
+    AUTO_AMG_DOFS; "direct" always factorizes; a name runs that solver."""
+    def exact(name, dim, ndofs):
+        return select_solver(name, dim=dim, ndofs=ndofs).exact
+
+    assert select_solver("auto", dim=3, ndofs=AUTO_AMG_DOFS + 1).name == "amg"
+    assert not exact("auto", 3, AUTO_AMG_DOFS + 1)
+    assert exact("auto", 3, AUTO_AMG_DOFS)
+    assert exact("auto", 2, 10 * AUTO_AMG_DOFS)
+    assert exact("direct", 3, 10 * AUTO_AMG_DOFS)
+    assert not exact("amg", 2, 10)
+    assert select_solver("superlu", dim=3, ndofs=10 * AUTO_AMG_DOFS).name == "superlu"
 
 
 def test_amg_failure_branches_are_reported():

@@ -10,7 +10,9 @@ import scipy.sparse as sp
 from skfem import Basis, BilinearForm, asm
 from skfem.helpers import ddot, sym_grad, trace
 
-from alcontact.contact._iterative import (_abs_matvec, _amg, _contact_hierarchy, _plus, principal_submatrix)
+from alcontact.contact._iterative import _abs_matvec, principal_submatrix
+from alcontact.linalg import MatrixHints, krylov, make_solver
+from alcontact.linalg.krylov import add_on_pattern
 from alcontact.fem import LinearElasticity, Material, meshes
 from alcontact.fem._assembly import elasticity_stiffness
 from alcontact.problems import hertz
@@ -135,17 +137,17 @@ def test_principal_submatrix_and_abs_matvec():
 
 
 def test_plus_in_pattern_and_outside():
-    """``_plus`` equals scipy's sum, on the pattern of ``A`` when possible (shared indices) and otherwise."""
+    """``add_on_pattern`` equals scipy's sum, on the pattern of ``A`` when possible (shared indices) and otherwise."""
     A = sp.csr_matrix(np.array([[4.0, 1, 0], [1, 4, 0], [0, 0, 4]]))
     D = sp.csr_matrix(([2.0, 3.0], ([0, 1], [1, 1])), shape=(3, 3))
-    S = _plus(A, D)
+    S = add_on_pattern(A, D)
     assert np.shares_memory(S.indices, A.indices) and np.array_equal(S.toarray(), (A + D).toarray())
     D2 = sp.csr_matrix(([5.0], ([0], [2])), shape=(3, 3))  # outside the pattern
-    assert np.array_equal(_plus(A, D2).toarray(), (A + D2).toarray())
+    assert np.array_equal(add_on_pattern(A, D2).toarray(), (A + D2).toarray())
     B = sp.bsr_matrix(sp.random(12, 12, density=0.6, random_state=3) + sp.eye(12), blocksize=(3, 3))
     B.sort_indices()
     D3 = sp.csr_matrix(([1.5, -2.0], ([4, 5], [4, 3])), shape=(12, 12))
-    assert np.allclose(_plus(B, D3).toarray(), (B + D3).toarray(), rtol=0, atol=0)
+    assert np.allclose(add_on_pattern(B, D3).toarray(), (B + D3).toarray(), rtol=0, atol=0)
 
 
 def test_contact_hierarchy_preconditions_like_a_fresh_setup():
@@ -163,7 +165,10 @@ def test_contact_hierarchy_preconditions_like_a_fresh_setup():
     assert abs(J - (ic.K + delta)).max() <= 1e-15 * abs(J).max()
     rhs = np.random.default_rng(2).standard_normal(J.shape[0])
     counts = []
-    for ml in (_contact_hierarchy(ic.ml_K, J, delta), _amg(J, ic.R)):
-        _, it = ic.pcg(J, rhs, ml.aspreconditioner(cycle="V"), rtol=1e-8)
+    updated, reused = krylov.updated_factor(ic.solver.solver, ic.factor_K, J, delta)
+    assert reused  # the AMG factor of K offers the Galerkin update
+    fresh = make_solver("amg").factorize(J, MatrixHints(near_null=lambda: ic.R))
+    for factor in (updated, fresh):
+        _, it = ic.pcg(J, rhs, krylov.preconditioner(factor), rtol=1e-8)
         counts.append(it)
     assert counts[0] <= 1.3 * counts[1] + 2, counts

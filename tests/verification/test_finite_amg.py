@@ -28,6 +28,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from alcontact import linalg
 from alcontact.contact import solve_finite
 from alcontact.contact import _finite_iterative as fi
 from alcontact.problems.half_cylinder import half_cylinder
@@ -47,10 +48,23 @@ FAST = {("cylinder-p1", "simo-laursen"), ("cylinder-p2", "exp-met1"), ("hemisphe
 RUNS = [pytest.param(c, a, marks=() if (c, a) in FAST else pytest.mark.slow) for c in CASES for a in ALGORITHMS]
 
 
+#: a registered AMG solver whose coarsest level has at most 40 rows (the built-in "amg": 500)
+MULTILEVEL = "amg-multilevel"
+
+
 @pytest.fixture
-def multilevel(monkeypatch):
-    """Coarsest AMG level at most 40 rows: hierarchies of several levels on the small test meshes."""
-    monkeypatch.setattr(fi, "_MAX_COARSE", 40)
+def multilevel():
+    """Coarsest AMG level at most 40 rows: hierarchies of several levels on the small test meshes
+    (a registered iterative solver, ``linear_solver = MULTILEVEL``)."""
+    linalg.register_solver(MULTILEVEL, lambda: linalg.AMGSolver(max_coarse=40), kind="iterative")
+    yield MULTILEVEL
+    linalg.unregister_solver(MULTILEVEL)
+
+
+def _amg_newton(fc, **kw):
+    """The AMG + CG Newton solver of ``fc`` with the :data:`MULTILEVEL` solver."""
+    solver = linalg.select_solver(MULTILEVEL, dim=fc.model.dim, ndofs=fc.model.ndofs)
+    return fi.AMGNewtonSolver(fc, solver=solver, **kw)
 
 
 @pytest.mark.parametrize("case,algorithm", RUNS)
@@ -59,12 +73,12 @@ def test_amg_path_reproduces_the_direct_path(multilevel, case, algorithm):
     make, steps = CASES[case]
     alg, pen = ALGORITHMS[algorithm]
     direct = solve_finite(make(), alg, pen, steps=steps, linear_solver="direct")
-    amg = solve_finite(make(), alg, pen, steps=steps, linear_solver="amg")
+    amg = solve_finite(make(), alg, pen, steps=steps, linear_solver=multilevel)
     assert direct.success, direct.message
     assert amg.success, amg.message
     assert direct.solution.extra["linear_solver"] == "direct"
     ex = amg.solution.extra
-    assert ex["linear_solver"] == "amg"
+    assert ex["linear_solver"] == "amg" and ex["backend"] == MULTILEVEL
     assert ex["amg_levels"] >= 2 and ex["amg_setups"] >= 1 and ex["cg_iterations"] > 0
     assert ex["direct_fallbacks"] == 0
     # same load steps, no cut-back
@@ -86,7 +100,7 @@ def test_amg_path_reproduces_the_direct_path(multilevel, case, algorithm):
 def test_hierarchy_is_reused_across_newton_iterations(multilevel):
     """One AMG hierarchy serves several Newton systems: setups <= half the Newton iterations
     (half-cylinder P1 n = 8, simo-laursen, 4 steps; measured 5 setups for 21 Newton steps)."""
-    fs = solve_finite(half_cylinder(8), "simo-laursen", steps=4, linear_solver="amg")
+    fs = solve_finite(half_cylinder(8), "simo-laursen", steps=4, linear_solver=multilevel)
     assert fs.success, fs.message
     ex = fs.solution.extra
     assert 1 <= ex["amg_setups"] <= ex["newton_total"] / 2
@@ -134,7 +148,7 @@ def test_cg_solves_an_spd_system_to_its_tolerance(multilevel):
     """A solve of the stiffness matrix (SPD) reaches the CG tolerance 1e-10 relative (residual 2-norm),
     a re-solve with the same matrix (dual step) 1e-2."""
     fc = _fc(8)
-    solver = fi.AMGNewtonSolver(fc)
+    solver = _amg_newton(fc)
     K, _ = _spd_and_indefinite(fc)
     b = np.random.default_rng(0).standard_normal(K.shape[0])
     x = solver.solve(K, b)
@@ -152,13 +166,13 @@ def test_indefinite_newton_matrix_falls_back_to_direct_or_fails_the_step(multile
     fc = _fc(8)
     _, A = _spd_and_indefinite(fc)
     b = np.random.default_rng(1).standard_normal(A.shape[0])
-    solver = fi.AMGNewtonSolver(fc)
+    solver = _amg_newton(fc)
     with caplog.at_level("WARNING", logger="alcontact.contact._finite_iterative"):
         x = solver.solve(A, b)
     assert np.linalg.norm(A @ x - b) <= 1e-8 * np.linalg.norm(b)
     assert solver.info()["direct_fallbacks"] == 1
     assert "linear_solver = 'direct'" in caplog.text
-    strict = fi.AMGNewtonSolver(fc, fallback=False)
+    strict = _amg_newton(fc, fallback=False)
     with pytest.raises(np.linalg.LinAlgError, match="linear_solver = 'direct'"):
         strict.solve(A, b)
 

@@ -37,6 +37,7 @@ from ._loading import LoadCase, LoadHistory, Ramp, problem_at
 from ._problem import KINEMATICS
 from ._stepping import FiniteSolution, FiniteStep
 from ._finite_friction import FiniteFrictionSolution, FiniteFrictionStep, finite_friction_algorithms
+from . import _friction_iterative  # noqa: F401  (registers the Krylov strategy of solve_friction)
 from ._verify import check_state
 
 # the algorithm registry, the merged supports and the element size, for the problem-file loader and the

@@ -37,7 +37,7 @@ import numpy as np
 from .. import penalties as _pen
 from .._options import as_options, check_dataclass, declarations, declared
 from ..errors import InputError, UnknownNameError
-from ..linalg import registered_solvers, solver_kind
+from ..linalg import registered_solvers
 from ..optim import StrategyState, available_strategies, make_strategy
 from ._laws import eta_for_stiffness, freezes_at_zero, make_law
 from ._solution import ContactIteration, ContactStatus
@@ -54,14 +54,12 @@ MAX_NEWTON = 10_000
 
 
 def _solver_names() -> tuple[str, ...]:
-    """Allowed ``linear_solver`` values: the rules, ``"amg"`` and every registered direct solver (at check time).
+    """Allowed ``linear_solver`` values: the rules and every registered solver (at check time).
 
-    Registered iterative solvers other than ``"amg"`` (``"petsc"``) are left out: the contact
-    path's factorization-free wing runs its own PyAMG preconditioner, so naming them would not
-    run them.
+    Each runs where it is named (:func:`alcontact.linalg.select_solver`): an exact one factorizes,
+    an approximate one (``kind="iterative"``) preconditions the Krylov solves.
     """
-    direct = [n for n in registered_solvers() if solver_kind(n) == "direct"]
-    return tuple(dict.fromkeys(("auto", "direct", "amg", *direct)))
+    return tuple(dict.fromkeys(("auto", "direct", "amg", *registered_solvers())))
 
 
 #: Largest ``max_cutbacks`` an option accepts (0.5**50 of an increment is below round-off).
@@ -134,8 +132,10 @@ class ContactOptions:
         :mod:`alcontact.contact._friction_iterative`), for meshes whose factor does not
         fit in memory; at finite deformation (penalty, Algorithm 6.1, Algorithm 6.3) each Newton
         system by CG with an AMG hierarchy kept across iterations and an inexact-Newton forcing term
-        (:mod:`alcontact.contact._finite_iterative`). A direct solver's registry name (:func:`alcontact.linalg.registered_solvers`)
-        picks that solver for the factorization. ``"auto"``: :func:`alcontact.linalg.choose_solver`
+        (:mod:`alcontact.contact._finite_iterative`). Any registry name (:func:`alcontact.linalg.registered_solvers`)
+        runs that solver on every path (:func:`alcontact.linalg.select_solver`): a direct one factorizes,
+        an iterative one (``kind="iterative"``) preconditions the Krylov solves (GMRES around its factor of
+        each Newton matrix where an algorithm has no AMG path). ``"auto"``: :func:`alcontact.linalg.choose_solver`
         (``"amg"`` for 3D models with more than :data:`~alcontact.linalg.AUTO_AMG_DOFS` = 250k DOFs,
         else ``"direct"``). Only the algorithms
         whose registry entry lists the ``amg`` path (:attr:`Algorithm.linear_solvers`) take
@@ -208,7 +208,8 @@ class ContactOptions:
     linear_solver: str = declared(
         "str", "auto", "Linear solver: `direct` (one factorization by the fastest installed solver), `amg` "
         "(PyAMG + CG/GMRES, no factorization; at finite kinematics penalty, simo-laursen and family-p), `auto` (amg where available for 3D above "
-        "250k DOFs, else direct), or a registered direct solver by name.", choices=_solver_names)
+        "250k DOFs, else direct), or any registered solver by name (a direct one factorizes, an iterative one "
+        "preconditions the Krylov solves).", choices=_solver_names)
     # ---- read by the frictional solvers only
     eps_t: float | None = declared("float", None, "Friction: tangential penalty stiffness (default: "
                                    "`tangential_scale` eps_n).", low=0, low_open=True, only="friction")
@@ -313,15 +314,6 @@ def check_solve_args(problem, algorithm, penalty, known, kind: str) -> None:
     if penalty is not None and not isinstance(penalty, str):
         raise InputError(f"penalty = {show(penalty)}: expected a name or None, got {type(penalty).__name__}; one of "
                          f"{', '.join(contact_penalties())}.")
-
-
-def direct_backend(linear_solver: str) -> str:
-    """``backend`` of ``model.factorize`` for the ``linear_solver`` option of a direct-only algorithm.
-
-    ``"auto"`` and ``"direct"`` give ``"auto"`` (the fastest installed direct solver); a
-    registry name is passed on (``"amg"`` was refused by :meth:`Algorithm.check_options`).
-    """
-    return "auto" if linear_solver in ("auto", "direct") else linear_solver
 
 
 def resolve_penalty(algorithm, penalty: str | None, default: str | None = None) -> str:

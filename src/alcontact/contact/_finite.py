@@ -126,21 +126,29 @@ class NewtonSolver(SequenceSolver):
     each pattern once and refactorizes by a gather. A
     :class:`~alcontact.linalg.SequenceSolver` for ``"symmetric-indefinite"`` matrices: the
     registry's choice (MKL PARDISO when installed, analyses of the ``keep`` most recent
-    patterns kept, else SuperLU), with the residual check and the SuperLU fallback there.
+    patterns kept, else SuperLU) or the solver named by the ``linear_solver`` option, with the
+    residual check and the SuperLU fallback there.
 
     Parameters
     ----------
+    name : str, optional
+        ``"auto"``, ``"direct"`` (the registry's choice) or a registry name (that solver runs;
+        :func:`alcontact.linalg.select_solver`). Default: the registry's choice.
     use_pardiso : bool
         False: SuperLU only (no analysis kept).
     keep : int
         Sparsity patterns whose analyses are kept.
     """
 
-    #: the linear-solver path this solver is (``solution.extra["linear_solver"]``)
-    path = "direct"
+    @property
+    def path(self) -> str:
+        """The linear-solver path this solver is (``solution.extra["linear_solver"]``): ``"direct"`` for an exact
+        solver, ``"amg"`` for an approximate one (its factors precondition GMRES,
+        :class:`~alcontact.linalg.SequenceSolver`)."""
+        return "direct" if self.exact else "amg"
 
-    def __init__(self, use_pardiso: bool = True, keep: int = 3):
-        super().__init__(None if use_pardiso else "superlu", matrix_type="symmetric-indefinite", keep=keep)
+    def __init__(self, name: str | None = None, *, use_pardiso: bool = True, keep: int = 3):
+        super().__init__(name if use_pardiso else "superlu", matrix_type="symmetric-indefinite", keep=keep)
 
     def newton_step(self, A, rhs: np.ndarray, history) -> np.ndarray:
         """The Newton correction ``A dx = rhs`` (exact; ``history`` serves inexact solvers'
@@ -149,7 +157,8 @@ class NewtonSolver(SequenceSolver):
 
     def info(self) -> dict:
         """Path and counters for ``solution.extra``."""
-        return {"linear_solver": self.path, "direct_solver": self.backend, "analyses": int(self.analyses)}
+        return {"linear_solver": self.path, "direct_solver": self.backend, "analyses": int(self.analyses),
+                "fallback_solves": int(self.fallback_solves)}
 
 
 _DEFAULT_SOLVER: NewtonSolver | None = None

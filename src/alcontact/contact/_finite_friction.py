@@ -102,7 +102,8 @@ from ..status import Status
 from ._algorithms import (FRICTION_DEFAULTS, _first_push, algorithm_names, find_algorithm, options_with,
                           register_family)
 from ._finite import FiniteContact
-from ._friction import FrictionOptions, _step_al, _StepOut
+from ._finite_iterative import finite_solver
+from ._friction import FrictionOptions, _step_al, _StepOut, register_friction_kinematics
 from ._friction_laws import OPEN, SLIP, STICK, return_mapping
 from ._laws import make_law
 from ._loading import LoadHistory
@@ -154,10 +155,11 @@ class FiniteFrictionContact(FiniteContact):
 
     @property
     def friction_solver(self) -> SequenceSolver:
-        """Solver of the non-symmetric Newton matrices of friction (registry's choice, analyses kept by pattern)."""
+        """Solver of the non-symmetric Newton matrices of friction: the one of the symmetric systems
+        (:attr:`solver`, the ``linear_solver`` option), analyses kept by pattern."""
         solver = getattr(self, "_friction_solver", None)
         if solver is None:
-            solver = self._friction_solver = SequenceSolver(matrix_type="unsymmetric")
+            solver = self._friction_solver = SequenceSolver(self.solver.backend, matrix_type="unsymmetric")
         return solver
 
     def set_history(self, y_prev: np.ndarray, mu: float, eps_t: float, radius: str) -> None:
@@ -789,7 +791,8 @@ def solve_finite_friction(problem, mu: float, algorithm: str = "simo-laursen", p
     times = _step_times(steps)
     step_fn = entry.run
     data = _StepData(problem, history, obstacle_path)
-    dc = FiniteFrictionContact(problem, fixed=data.fixed)
+    dc = FiniteFrictionContact(problem, fixed=data.fixed,
+                               solver=finite_solver(opts.linear_solver, entry, problem.model))
     d = dc.dim
     m = dc.points.shape[0]
     eps_n = opts.eps_n if opts.eps_n is not None else penalty_stiffness(problem.model, dc.h, opts.penalty_scale)
@@ -847,6 +850,10 @@ def solve_finite_friction(problem, mu: float, algorithm: str = "simo-laursen", p
                "dofs": int(problem.model.ndofs), "residual_log": dc.residual_log,
                "newton_total": int(dc.newton_iterations), "linear_solves": int(dc.linear_solves),
                "cutbacks": int(run.cutbacks), "total_s": time.perf_counter() - t_start,
+               "linear_solver": "direct" if dc.friction_solver.exact else "amg",
+               "direct_solver": dc.friction_solver.backend,
+               "fallback_solves": int(dc.friction_solver.fallback_solves + dc.solver.fallback_solves),
+               "krylov_iterations": int(dc.friction_solver.krylov_iterations + dc.solver.krylov_iterations),
                "linear_solve_s": float(dc.solve_seconds)})  # all Newton linear solves together
 
 
@@ -921,3 +928,6 @@ def _record(dc, res, t, mu, opts, cut, newton, seconds, solves=0, *, fixed, load
         state_reversals=loc.reversals)
     full = {"u": u, "pressure": pressure, "gap": g_all, "traction_t": traction_t, "normals": dc.normals.copy()}
     return rec, full
+
+
+register_friction_kinematics("finite", solve_finite_friction)

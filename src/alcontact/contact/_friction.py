@@ -78,12 +78,12 @@ import scipy.linalg as sla
 from .. import penalties as _pen
 from .._options import MAX_STEPS, VALUE_RANGE, is_integer, is_real, show
 from ..errors import InputError
+from ..linalg import select_solver
 from ._algorithms import (DEFAULT_PENALTY, FRICTION_DEFAULTS, ContactOptions, algorithm_docs, algorithm_names,
-                          check_solve_args, direct_backend, find_algorithm, options_with, register_family)
+                          check_solve_args, find_algorithm, options_with, register_family)
 from ._friction_discrete import FrictionalContact
 from ._friction_laws import OPEN, SLIP, STICK, Macaulay, block_diag, local_law, tangential_energy
 from ._friction_solution import FrictionSolution, FrictionStep
-from ._iterative import resolve_linear_solver
 from ._laws import eta_for_stiffness, freezes_at_zero, make_law
 from ._loading import LoadHistory, problem_at
 from ._newton import LineSearch, NewtonResult, NewtonSettings, NewtonSystem, inner_failure, newton
@@ -1029,8 +1029,9 @@ def solve_friction(problem, history: LoadHistory | None, algorithm: str = "simo-
                          f"{VALUE_RANGE[1]:g}). Use 0 for frictionless contact.")
     mu = float(mu)
 
-    path = resolve_linear_solver(opts.linear_solver, problem.model)
-    fc, advance = _FRICTION_PATHS[path](problem, history, opts)
+    solver = select_solver(opts.linear_solver, dim=problem.model.dim, ndofs=problem.model.ndofs)
+    path = "direct" if solver.exact else "amg"  # the label of the strategy in solution.extra
+    fc, advance = _FRICTION_PATHS[solver.exact](problem, history, opts, solver)
     eps_n = opts.eps_n if opts.eps_n is not None else penalty_stiffness(problem.model, fc.h, opts.penalty_scale)
     eps_t = opts.eps_t if opts.eps_t is not None else opts.tangential_scale * eps_n
     m, d = fc.points.shape
@@ -1141,15 +1142,15 @@ def solve_friction(problem, history: LoadHistory | None, algorithm: str = "simo-
         timings={"setup_s": fc.setup_seconds, "factor_s": fc.factor_seconds, "solve_s": t_end - t_solve,
                  "total_s": t_end - t_start},
         extra={"candidates": fc.ncand, "dofs": int(problem.model.ndofs), "linear_solver": path,
-               **getattr(fc, "stats", dict)()},
+               "backend": solver.name, **getattr(fc, "stats", dict)()},
     )
 
 
 def _solve_finite(problem, history, algorithm, penalty, options, *, steps, friction, on_step, obstacle_path,
                   **option_overrides):
-    """:func:`solve_friction` of a ``kinematics="finite"`` problem: :func:`solve_finite_friction`."""
-    from ._finite_friction import solve_finite_friction
-
+    """:func:`solve_friction` of a ``kinematics="finite"`` problem: :func:`solve_finite_friction`
+    (registered by :mod:`._finite_friction`, :func:`register_friction_kinematics`)."""
+    solve_finite_friction = _KINEMATICS_SOLVERS["finite"]
     if history is not None and not isinstance(history, LoadHistory):
         raise InputError(f"history must be a LoadHistory or None; got {type(history).__name__}.")
     if history is not None and history.friction is not None:
@@ -1162,18 +1163,28 @@ def _solve_finite(problem, history, algorithm, penalty, options, *, steps, frict
                                  obstacle_path=obstacle_path, progress=on_step, **option_overrides)
 
 
-def _direct_path(problem, history, opts):
-    """The condensed problem (:class:`FrictionalContact`) and its step."""
-    return FrictionalContact(problem, history, margin=opts.margin,
-                             linear_solver=direct_backend(opts.linear_solver)), _advance
+def _direct_path(problem, history, opts, solver):
+    """The condensed problem (:class:`FrictionalContact`) on the exact factorization of ``solver``, and its step."""
+    return FrictionalContact(problem, history, margin=opts.margin, linear_solver=solver.name), _advance
 
 
-def _amg_path(problem, history, opts):
-    """The full-space problem solved with AMG-preconditioned Krylov methods, and its step."""
-    from ._friction_iterative import IterativeFrictionalContact, advance
+#: :attr:`SolverChoice.exact <alcontact.linalg.SolverChoice>` -> ``(problem, history, opts, solver) ->
+#: (contact problem, step)``: the condensed problem needs an exact factorization; the full-space problem whose
+#: Krylov solves an approximate solver preconditions is registered by :mod:`._friction_iterative`
+_FRICTION_PATHS = {True: _direct_path}
+#: :func:`solve_friction` of the kinematics other than ``"small"``, registered by their modules
+_KINEMATICS_SOLVERS: dict = {}
 
-    return IterativeFrictionalContact(problem, history, margin=opts.margin), advance
+
+def register_friction_strategy(exact: bool, make) -> None:
+    """Register how :func:`solve_friction` builds its problem for solvers that factorize exactly (``exact``) or not.
+
+    The modules that build on this one (:mod:`._friction_iterative`) register themselves, so that the
+    imports run one way (the package imports them).
+    """
+    _FRICTION_PATHS[bool(exact)] = make
 
 
-#: Solution path of :func:`~alcontact.contact._iterative.resolve_linear_solver` -> (contact problem, step).
-_FRICTION_PATHS = {"direct": _direct_path, "amg": _amg_path}
+def register_friction_kinematics(kinematics: str, solver) -> None:
+    """Register the frictional solver of ``kinematics`` (``"finite"``: :mod:`._finite_friction`)."""
+    _KINEMATICS_SOLVERS[kinematics] = solver

@@ -76,10 +76,12 @@ from typing import ClassVar
 
 import numpy as np
 import scipy.sparse as sp
-from scipy.sparse.linalg import cg, gmres
 
+from .. import linalg as _linalg
 from ..errors import InputError
-from ._friction import _CondensedPath, _Point, _PointSystem, _step_ssn, _StepOut, _StepPath
+from ..linalg import krylov
+from ._friction import _CondensedPath, _Point, _PointSystem, _step_ssn, _StepOut, _StepPath, \
+    register_friction_strategy
 from ._friction_discrete import FrictionalContact
 from ._friction_laws import local_law, tangential_energy
 from ._iterative import _FORCING_MAX, _FORCING_MIN, _FORCING_SLOW, _FORCING_START, _NEWTON_TOL_FLOOR, \
@@ -126,18 +128,22 @@ class IterativeFrictionalContact(FrictionalContact):
         hierarchies built.
     """
 
-    def __init__(self, problem, history, *, margin: float = 0.25):
+    def __init__(self, problem, history, *, margin: float = 0.25, solver: _linalg.SolverChoice | None = None):
         t0 = time.perf_counter()
+        model = problem.model
+        # the approximate solver whose factors precondition the Krylov solves (alcontact.linalg.select_solver)
+        self.solver = _linalg.select_solver("amg", dim=model.dim, ndofs=model.ndofs) if solver is None else solver
         self.condensed = False  # the compliance A is built only for the semi-smooth Newton reference
         self.S = self.Z = self.ZSZ = None  # contact springs of a held body (_spring_matrix, _factor_of)
         # the setup of the direct path; its factorization hook builds the AMG hierarchy (_factor_of)
-        super().__init__(problem, history, margin=margin, linear_solver="amg")
+        super().__init__(problem, history, margin=margin, linear_solver=self.solver.name)
         model = self.model
         free = self.free = self._free
         self.K = self._K[free][:, free].tocsr()
         self.K_abs = abs(self.K).tocsr()  # round-off bound of the residual
         self.R = model._free_rigid_modes(free)  # near-null space of the hierarchies (that of ``factor``)
-        self.ml_K = self.factor.factor.ml
+        self.hints = _linalg.MatrixHints(dim=model.dim, near_null=lambda: self.R)
+        self.factor_K = self.factor.factor
         self.cg_iterations = 0
         self.amg_setups = 1
         self.amg_seconds = self.factor_seconds
@@ -179,8 +185,8 @@ class IterativeFrictionalContact(FrictionalContact):
             self.ZSZ = springs_hold(self.Z, self.S)
             if self.ZSZ is None:
                 raise InputError("the contact springs do not stop the rigid motions left free by the supports.")
-        return model.factorize(self.fixed, matrix=self._K if matrix is None else matrix, check=False, backend="amg",
-                               reuse=False)
+        return model.factorize(self.fixed, matrix=self._K if matrix is None else matrix, check=False,
+                               backend=self.solver.name, reuse=False)
 
     def _spring_matrix(self, near: np.ndarray, kappa: float) -> sp.csr_matrix:
         """The springs of :meth:`FrictionalContact._spring_matrix`; kept on the free DOFs as ``S``."""
@@ -203,10 +209,9 @@ class IterativeFrictionalContact(FrictionalContact):
             return
         cand, self.cand = self.cand, np.empty(0, dtype=np.int64)
         self.condensed = True
-        solves = self.factor.factor.solves
         super().add(cand)
-        logger.info("semi-smooth Newton reference on the AMG path: compliance of %d candidate points by %d CG "
-                    "solves", cand.size, self.factor.factor.solves - solves)
+        logger.info("semi-smooth Newton reference on the AMG path: compliance of %d candidate points by %s solves",
+                    cand.size, self.solver.name)
 
     # ------------------------------------------------------------------ full-space pieces
     def rows(self, cand: np.ndarray) -> sp.csr_matrix:
@@ -230,27 +235,23 @@ class IterativeFrictionalContact(FrictionalContact):
 
     def krylov(self, J, rhs, M, *, rtol: float, symmetric: bool):
         """CG (``symmetric``) or GMRES for ``J x = rhs`` to ``|r| <= rtol |rhs|``; counted."""
-        it = [0]
-
-        def count(_):
-            it[0] += 1
-
         if symmetric:
-            x, info = cg(J, rhs, rtol=rtol, atol=0.0, M=M, maxiter=5000, callback=count)
+            x, nit, info = krylov.cg(J, rhs, M, rtol=rtol, maxiter=5000)
         else:
-            x, info = gmres(J, rhs, rtol=rtol, atol=0.0, M=M, restart=_GMRES_RESTART, maxiter=_GMRES_MAXITER,
-                            callback=count, callback_type="pr_norm")
+            x, nit, info = krylov.gmres(J, rhs, M, rtol=rtol, restart=_GMRES_RESTART, maxiter=_GMRES_MAXITER)
         self.linear_solves += 1
-        self.cg_iterations += it[0]
+        self.cg_iterations += nit
         if info != 0:
             logger.warning("%s stopped after %d iterations without reaching rtol %.1e", "CG" if symmetric else
-                           "GMRES", it[0], rtol)
-        return x, it[0]
+                           "GMRES", nit, rtol)
+        return x, nit
 
     def stats(self) -> dict:
         """Solver counters for the solution's ``extra``."""
-        f = self.factor.factor
-        return {"linear_solver": "amg", "cg_iterations": int(self.cg_iterations + f.iterations),
+        # the Krylov iterations of the solver's own solves (the contact-free solutions, the compliance of the
+        # semi-smooth Newton reference), where its factor counts them (the AMG factor's CG)
+        inner = int(getattr(self.factor.factor, "iterations", 0))
+        return {"linear_solver": "amg", "backend": self.solver.name, "cg_iterations": int(self.cg_iterations + inner),
                 "amg_setups": int(self.amg_setups), "krylov_solves": int(self.linear_solves)}
 
 
@@ -554,3 +555,11 @@ _FULL_SPACE = _FullSpacePath()
 def advance(fc: IterativeFrictionalContact, prev, t: float, step_fn, pen_name, eps_n, eps_t, mu, opts):
     """One load step on the AMG path (the contract of :meth:`alcontact.contact._friction._StepPath.advance`)."""
     return _STEP_PATHS.get(step_fn, _FULL_SPACE).advance(fc, prev, t, step_fn, pen_name, eps_n, eps_t, mu, opts)
+
+
+def _krylov_path(problem, history, opts, solver):
+    """The full-space problem solved by Krylov methods preconditioned by the approximate ``solver``, and its step."""
+    return IterativeFrictionalContact(problem, history, margin=opts.margin, solver=solver), advance
+
+
+register_friction_strategy(False, _krylov_path)

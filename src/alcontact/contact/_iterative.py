@@ -42,13 +42,13 @@ entries are about ``penalty_scale`` times those of ``K``: with the hierarchy of
 :math:`K` alone CG needed about 3 times more iterations (measured on the 3D Hertz
 problem at 110k DOFs: 614 against 193 for Algorithm 6.1), and a fresh hierarchy for
 every :math:`J` costs about one linear solve each (the setup is 50-85 % of the
-reference solve). So every :math:`J` gets the hierarchy of :func:`_contact_hierarchy`:
+reference solve). So every :math:`J` gets the hierarchy of :func:`~alcontact.linalg._amg.updated_hierarchy`:
 the prolongators of the hierarchy of :math:`K`, built once, with the Galerkin coarse
 operators of :math:`J` (the contact term only touches the coarse DOFs next to the
 contact zone); it preconditions as well as a fresh setup (tests/unit/test_fem_assembly.py).
 Springs that dominate the stiffness of their node (the default penalty on the 3D P2 Hertz
 mesh already; the pure penalty raises it 1e5-fold) are moved onto one coordinate each by
-Householder reflections at their nodes (:func:`_rotated_hierarchy`), where they no longer
+Householder reflections at their nodes (:func:`~alcontact.linalg._amg.reflected_hierarchy`), where they no longer
 couple the DOFs that the pointwise Gauss-Seidel smoother relaxes one by one: with the plain
 update the CG iterations per Newton step grew with the penalty (3D P2
 Hertz, 9k DOFs, pure penalty: 968 CG iterations, 117-201 per Newton step at the last three
@@ -74,11 +74,11 @@ iteration with penalty :math:`c = \varepsilon_N`, whose error contracts by about
 
 Counters: ``linear_solves`` counts CG solves, ``cg_iterations`` their iterations,
 ``amg_setups`` the hierarchies built from scratch, ``amg_updates`` the Galerkin
-updates of :func:`_contact_hierarchy`.
+updates of :func:`~alcontact.linalg._amg.updated_hierarchy`.
 
 Memory: ``K`` on the free DOFs is extracted in one pass (:func:`principal_submatrix`)
 and the model's stiffness is dropped again if the setup assembled it; every :math:`J`
-shares the index arrays of ``K`` (:func:`_plus`); the round-off bound of the residual
+shares the index arrays of ``K`` (:func:`~alcontact.linalg.krylov.add_on_pattern`); the round-off bound of the residual
 reads :math:`|K|` in row chunks.
 """
 
@@ -89,18 +89,16 @@ import time
 
 import numpy as np
 import scipy.sparse as sp
-from scipy.sparse.linalg import cg
 
 from .. import linalg as _linalg
 from ..errors import InputError
 from ..fem.elasticity import rigid_body_modes
-from ..linalg._amg import SMOOTHER as AMG_SMOOTHER
-from ..linalg._amg import smoothed_aggregation
+from ..linalg import MatrixHints, krylov
 from ._discrete import ContactPoints
 from ._newton import NewtonOutcome, NewtonSystem, newton, subproblem_outcome
 
 
-__all__ = ["IterativeContact", "full_newton", "AUTO_AMG_DOFS", "INEXACT_DOFS", "resolve_linear_solver"]
+__all__ = ["IterativeContact", "full_newton", "AUTO_AMG_DOFS", "INEXACT_DOFS"]
 
 logger = logging.getLogger(__name__)
 
@@ -136,131 +134,8 @@ _REBUILD_STIFFNESS = 5.0
 INEXACT_DOFS = AUTO_AMG_DOFS
 
 
-#: relaxation of every level: pyamg's default for smoothed aggregation, named so that the
-#: hierarchies of :func:`_contact_hierarchy` use the same
-_SMOOTHER = AMG_SMOOTHER
-
-
-def _amg(A, B):
-    """Smoothed-aggregation hierarchy of ``A`` (near-null space ``B``), sparse LU on the coarsest level.
-
-    :func:`alcontact.linalg._amg.smoothed_aggregation`: PyAMG's method with a first level built
-    by blocks of rows (no strength matrix, ``P`` stored once with ``R = P^T`` a view of it,
-    Galerkin product by blocks): 3D P1 Hertz, 188k DOFs, setup peak 940 instead of 1,750
-    bytes per DOF above ``A``, hierarchy 560 instead of 730, same CG iterations.
-    The coarsening of graded 3D meshes can stop well above ``max_coarse`` (a 1752-row coarse
-    level for the 3D sphere friction benchmark at 17k DOFs), where PyAMG's default dense
-    pseudo-inverse took 6.2 s per hierarchy (70 % of that run) against 0.3 s for ``splu``.
-    """
-    return smoothed_aggregation(A, B, max_coarse=500, coarse_solver="splu", smoother=_SMOOTHER)
-
-
-def _entry_positions(A, rows: np.ndarray, cols: np.ndarray) -> np.ndarray | None:
-    """Positions of the entries ``(rows, cols)`` in the data of ``A`` (CSR or BSR, sorted indices).
-
-    Returns ``(block, r, c)`` index arrays into ``A.data`` for BSR (``(pos,)`` for CSR),
-    or ``None`` when an entry is not in the sparsity pattern of ``A``. Only the rows
-    of ``A`` that hold entries are searched (a contact update touches few rows).
-    """
-    br, bc = A.blocksize if sp.issparse(A) and A.format == "bsr" else (1, 1)
-    brow, bcol = rows // br, cols // bc
-    ncol_b = A.shape[1] // bc
-    ur, inv = np.unique(brow, return_inverse=True)
-    starts = A.indptr[ur].astype(np.int64)
-    lens = A.indptr[ur + 1].astype(np.int64) - starts
-    if lens.sum() == 0:
-        return None
-    seg = np.repeat(np.arange(ur.size, dtype=np.int64), lens)
-    pos = np.repeat(starts - np.concatenate([[0], np.cumsum(lens)[:-1]]), lens) + np.arange(lens.sum())
-    keys = seg * ncol_b + A.indices[pos]  # sorted: segments ascending, sorted indices within each
-    q = inv.astype(np.int64) * ncol_b + bcol
-    k = np.minimum(np.searchsorted(keys, q), keys.size - 1)
-    if not np.array_equal(keys[k], q):
-        return None
-    if br == 1 and bc == 1 and A.format != "bsr":
-        return (pos[k],)
-    return pos[k], rows % br, cols % bc
-
-
-def _plus(A, D):
-    """``A + D`` for a sparse ``D`` with few rows: a new data array on the index arrays of ``A``.
-
-    Falls back to scipy's sum (in the format of ``A``) when ``D`` has an entry outside
-    the pattern of ``A`` (e.g. an entry of a node block that assembled to exactly zero).
-    """
-    D = sp.coo_matrix(D)
-    D.sum_duplicates()
-    if D.nnz == 0:
-        return A
-    where = _entry_positions(A, D.row.astype(np.int64), D.col.astype(np.int64))
-    if where is None:
-        out = (A + D).asformat(A.format, copy=False)
-        if A.format == "bsr":
-            out = sp.bsr_matrix(out, blocksize=A.blocksize)
-        out.sort_indices()
-        return out
-    data = A.data.copy()
-    np.add.at(data, where, D.data)
-    kind = sp.bsr_matrix if A.format == "bsr" else sp.csr_matrix
-    out = kind((data, A.indices, A.indptr), shape=A.shape)
-    out.has_sorted_indices = True
-    return out
-
-
-def _row_slice(P, rows: np.ndarray):
-    """Rows ``rows`` (sorted, unique) of a CSR or BSR matrix as a CSR matrix ``(rows.size, ncols)``."""
-    if P.format != "bsr":
-        return sp.csr_matrix(P)[rows]
-    br, bc = P.blocksize
-    blk = rows // br
-    starts = P.indptr[blk].astype(np.int64)
-    lens = P.indptr[blk + 1].astype(np.int64) - starts
-    seg = np.repeat(np.arange(rows.size, dtype=np.int64), lens)
-    pos = np.repeat(starts - np.concatenate([[0], np.cumsum(lens)[:-1]]), lens) + np.arange(lens.sum())
-    vals = P.data[pos, np.repeat(rows % br, lens), :]  # (nblocks, bc)
-    cols = (P.indices[pos].astype(np.int64)[:, None] * bc + np.arange(bc)).ravel()
-    return sp.csr_matrix((vals.ravel(), (np.repeat(seg, bc), cols)), shape=(rows.size, P.shape[1]))
-
-
-def _contact_hierarchy(ml_K, J, delta):
-    r"""AMG hierarchy of :math:`J = K + \Delta` on the prolongators of the hierarchy ``ml_K`` of :math:`K`.
-
-    The contact term :math:`\Delta = B_c^T \operatorname{diag}(k) B_c` is block diagonal on
-    the few contact DOFs. Its Galerkin coarse versions :math:`\Delta_{l+1} = P_l^T \Delta_l P_l`
-    touch only the coarse DOFs whose prolongator rows meet the contact DOFs, so the coarse
-    operators :math:`A_l(K) + \Delta_l` of :math:`J` cost a copy of the coarse data plus a
-    small product, instead of a new aggregation, prolongator smoothing and Galerkin product
-    of the whole matrix (a fresh setup of :func:`_amg`, about 85 % of one linear solve on the
-    3D Hertz problem). The smoothers are set up again on the new operators.
-    """
-    from pyamg.multilevel import MultilevelSolver
-    from pyamg.relaxation.smoothing import change_smoothers
-
-    levels = []
-    D = sp.csr_matrix(delta)
-    last = len(ml_K.levels) - 1
-    for i, lk in enumerate(ml_K.levels):
-        lvl = MultilevelSolver.Level()
-        lvl.A = J if i == 0 else _plus(lk.A, D)
-        lvl.A.symmetry = getattr(lk.A, "symmetry", "hermitian")
-        lvl.B = lk.B
-        if i < last:
-            lvl.P, lvl.R = lk.P, lk.R
-            D.eliminate_zeros()
-            rows = np.unique(D.tocoo().row)
-            if rows.size:
-                Pc = _row_slice(lk.P, rows)
-                D = (Pc.T @ (D[rows][:, rows] @ Pc)).tocsr()
-            else:
-                D = sp.csr_matrix((lk.P.shape[1], lk.P.shape[1]))
-        levels.append(lvl)
-    ml = MultilevelSolver(levels, coarse_solver="splu")
-    change_smoothers(ml, _SMOOTHER, _SMOOTHER)
-    return ml
-
-
 #: a contact point whose spring :math:`k_i` exceeds this many times the normal stiffness of its
-#: node in ``K`` gets its own coordinate (:func:`_rotated_hierarchy`)
+#: node in ``K`` gets its own coordinate (:func:`~alcontact.linalg._amg.reflected_hierarchy`)
 _STIFF_RATIO = 10.0
 
 
@@ -284,105 +159,18 @@ def _stiff_points(K, Bc, k) -> np.ndarray:
     return ratio > _STIFF_RATIO
 
 
-def _normal_reflections(Bs, n: int):
-    r"""Householder reflections :math:`H_i` that map a coordinate of each node onto its normal.
-
-    ``Bs`` holds one row per point on disjoint DOFs (the rows :math:`-\nu_i^T` on the free
-    DOFs of its node). :math:`H_i = I - 2 v v^T / v^T v`, :math:`v = u - s\,e_j` with
-    :math:`u = B_i^T/|B_i|`, ``j`` its largest component and :math:`s` its sign, so that
-    :math:`H_i u = s\,e_j`. Returns ``Q - I`` (``n x n``, symmetric; :math:`Q = Q^T = Q^{-1}`
-    is block diagonal with :math:`H_i` on the DOFs of point ``i``) and the sorted DOFs it touches.
-    """
-    Bs = sp.csr_matrix(Bs)
-    rows_out, cols_out, vals_out = [], [], []
-    lens = np.diff(Bs.indptr)
-    for d in np.unique(lens[lens > 0]):
-        pts = np.flatnonzero(lens == d)
-        pos = Bs.indptr[pts][:, None] + np.arange(d)
-        dofs = Bs.indices[pos]  # (p, d)
-        u = Bs.data[pos]
-        u = u / np.linalg.norm(u, axis=1, keepdims=True)
-        j = np.argmax(np.abs(u), axis=1)
-        v = u.copy()
-        v[np.arange(pts.size), j] -= np.sign(u[np.arange(pts.size), j])
-        vv = np.einsum("pi,pi->p", v, v)
-        ok = vv > 1e-30  # the normal is a coordinate already: H = I
-        E = -2.0 * v[ok, :, None] * v[ok, None, :] / vv[ok, None, None]  # H - I, (p, d, d)
-        dd = dofs[ok]
-        rows_out.append(np.repeat(dd, d, axis=1).ravel())
-        cols_out.append(np.tile(dd, (1, d)).ravel())
-        vals_out.append(E.ravel())
-    rows = np.concatenate(rows_out) if rows_out else np.zeros(0, dtype=np.int64)
-    cols = np.concatenate(cols_out) if cols_out else np.zeros(0, dtype=np.int64)
-    vals = np.concatenate(vals_out) if vals_out else np.zeros(0)
-    E = sp.csr_matrix((vals, (rows, cols)), shape=(n, n))
-    return E, np.unique(rows)
-
-
-def _rotated_hierarchy(ml_K, J, delta, Bs, *, overwrite: bool = False):
-    r"""Preconditioner of :math:`J = K + \Delta` whose first level sees each stiff spring on one coordinate.
-
-    A spring much stiffer than its node (the default :math:`\varepsilon_N^0 = 100 E'/h` is
-    about 20 times the node's normal stiffness on the 3D P2 Hertz mesh, the pure penalty
-    raises it 1e5-fold) puts :math:`k_i \nu_i \nu_i^T` into the node block of
-    :math:`J`. The first level of the hierarchy of ``K`` is a CSR matrix smoothed by pointwise
-    Gauss-Seidel; on an oblique normal (the sphere away from its axis) the spring couples the
-    node's DOFs, and pointwise relaxation barely moves the node's tangential motion: the CG
-    iterations per Newton step grew with the penalty (3D P2 Hertz, 9k DOFs, a random
-    right-hand side to 1e-8: 31, 206 and 748 iterations at 1e3, 1e5 and 1e7 :math:`E'/h`;
-    keeping the stiff normals out of the coarse spaces, as for a support, did not help:
-    182 and 715 at the last two; with the reflections: 30, 30, 31). With the reflections :math:`Q` of
-    :func:`_normal_reflections`, :math:`\hat J = Q J Q` carries each stiff spring on the
-    diagonal of one DOF (no coupling left for the pointwise relaxation), and :math:`\hat P = Q P` keeps the
-    coarse operators :math:`\hat P^T \hat J \hat P = P^T J P` of :func:`_contact_hierarchy`.
-    CG runs on :math:`\hat J y = Q r`, :math:`dx = Q y` (:meth:`_Preconditioner.solve`), i.e. with the
-    preconditioner :math:`Q\,V(\hat J)\,Q` of :math:`J`, symmetric positive definite as the V-cycle is;
-    :math:`Q - I` lives on the stiff points' DOFs, so :math:`\hat J` and :math:`\hat P` are
-    corrections of a few rows and columns on the index arrays of :math:`J` and :math:`P`.
-
-    With ``overwrite`` the data of ``J`` become those of :math:`\hat J` where its pattern
-    allows (always, for the node blocks of a finite element matrix); the first level's
-    matrix is :math:`\hat J` either way. Returns ``(hierarchy, Q - I)``; ``Q = I`` for a
-    one-level hierarchy (a direct solve).
-    """
-    ml = _contact_hierarchy(ml_K, J, delta)
-    if len(ml.levels) == 1:  # one level: the coarse solver factorizes J, nothing to relax
-        return ml, sp.csr_matrix(J.shape)
-    E, r = _normal_reflections(Bs, J.shape[0])
-    Er = E[:, r]  # (n, |r|), nonzero rows only in r
-    EJ = (Er @ sp.csr_matrix(J)[r]).tocsr()  # (Q - I) J
-    EJE = (EJ[:, r] @ E[r]).tocsr()  # (Q - I) J (Q - I)
-    corr = (EJ + EJ.T + EJE).tocoo()  # Q J Q - J, J symmetric
-    corr.sum_duplicates()
-    l0 = ml.levels[0]
-    where = _entry_positions(J, corr.row.astype(np.int64), corr.col.astype(np.int64)) if overwrite else None
-    if where is not None:  # in the pattern of J (the node blocks): in place
-        np.add.at(J.data, where, corr.data)
-        Jh = J
-    else:
-        Jh = _plus(J, corr)
-    Jh.symmetry = getattr(l0.A, "symmetry", "hermitian")
-    P = l0.P
-    Ph = _plus(P, (Er @ _row_slice(P, r)).tocoo())  # Q P
-    l0.A, l0.P = Jh, Ph
-    l0.R = Ph.T.tocsr() if Ph.format != "bsr" else Ph.T
-    from pyamg.relaxation.smoothing import change_smoothers
-
-    change_smoothers(ml, _SMOOTHER, _SMOOTHER)
-    return ml, E
-
-
 class _Preconditioner:
     """AMG preconditioner of the Newton matrices ``J = K + B_c^T diag(k) B_c``.
 
     With the contact term ``delta`` (as :func:`full_newton` passes it, through
-    :meth:`solve`) each matrix gets the hierarchy of :func:`_contact_hierarchy`: the
+    :meth:`solve`) each matrix gets the hierarchy of :func:`~alcontact.linalg._amg.updated_hierarchy`: the
     prolongators of the hierarchy of ``K`` (built once, in the setup) with Galerkin coarse
     operators of ``J``, counted in ``amg_updates``; with springs that dominate their node,
-    the reflected one of :func:`_rotated_hierarchy`. A fresh setup per slow solve cost about one linear solve each and
+    the reflected one of :func:`~alcontact.linalg._amg.reflected_hierarchy`. A fresh setup per slow solve cost
+    about one linear solve each and
     preconditioned no better (3D P1 Hertz, 38k DOFs: simo-laursen 295 CG iterations with
     6 fresh setups, 160 with updates only). Without ``delta`` (callers that do not know
-    the contact term) a fresh hierarchy (:func:`_amg`, counted in ``amg_setups``) is built
+    the contact term) a fresh factor of the solver (``solver.factorize``, counted in ``amg_setups``) is built
     when the scheme is stale: when a solve needs more than ``1.5 * rate_ref + 1`` CG
     iterations per decimal digit (``rate_ref``: the first solve after a build), or the
     largest contact stiffness grew by more than :data:`_REBUILD_STIFFNESS`.
@@ -390,57 +178,58 @@ class _Preconditioner:
 
     def __init__(self, ic):
         self.ic = ic
-        self.ml = ic.ml_K
+        self.factor = ic.factor_K
         self.rate_ref = None
         self.stale = False
         self.k_built = 0.0
 
     def release(self) -> None:
         """Forget the hierarchy of the last matrix (frees it before the next one is built)."""
-        self.ml = self.ic.ml_K
+        self.factor = self.ic.factor_K
 
     def get(self, J, kmax: float = 0.0, delta=None):
         """Preconditioner for ``J``; ``kmax`` is its largest contact stiffness ``w_i dt_N/dg``.
 
         ``delta`` is ``J - K`` (the contact term): with it, the hierarchy of ``K`` is
-        updated for ``J`` (:func:`_contact_hierarchy`).
+        updated for ``J`` (:func:`~alcontact.linalg._amg.updated_hierarchy`).
         """
         if delta is not None:
-            t0 = time.perf_counter()
-            self.ml = _contact_hierarchy(self.ic.ml_K, J, delta)
-            self.ic.amg_updates += 1
-            self.ic.amg_seconds += time.perf_counter() - t0
-            return self.ml.aspreconditioner(cycle="V")
+            self.factor = self.ic.updated(J, delta)
+            return krylov.preconditioner(self.factor)
         if self.k_built > 0 and kmax > _REBUILD_STIFFNESS * self.k_built:
             self.stale = True
         if self.stale:
             self.k_built = kmax
-            self.ml = None
+            self.factor = None
             t0 = time.perf_counter()
             S = getattr(self.ic, "S", None)  # contact springs of a body held by the obstacle
-            self.ml = _amg(J if S is None else (J + S).tocsr(), self.ic.R)
+            self.factor = self.ic.solver.factorize(J if S is None else (J + S).tocsr(), self.ic.hints)
             self.ic.amg_setups += 1
             self.ic.amg_seconds += time.perf_counter() - t0
             self.rate_ref = None
             self.stale = False
-        return self.ml.aspreconditioner(cycle="V")
+        return krylov.preconditioner(self.factor)
 
     def solve(self, J, rhs, *, rtol: float, delta, Bc, k):
         r"""``J dx = rhs`` by CG (counted, recorded), :math:`J = K + B_c^T \operatorname{diag}(k) B_c`.
 
         Without stiff springs (:func:`_stiff_points`) the preconditioner is that of :meth:`get`.
         With them, CG runs in the reflected coordinates :math:`y = Q\,dx` on :math:`QJQ` with the
-        hierarchy of :func:`_rotated_hierarchy` (same residual norms: :math:`Q` is orthogonal).
+        hierarchy of :func:`~alcontact.linalg._amg.reflected_hierarchy` (same residual norms: :math:`Q` is orthogonal).
         ``J`` must be a fresh matrix (:meth:`IterativeContact.with_contact`): it is overwritten by
         :math:`QJQ`, so that no second copy of the matrix is held.
         """
         stiff = _stiff_points(self.ic.K, Bc, k)
+        reflected = None
         if np.any(stiff) and J is not self.ic.K:
             t0 = time.perf_counter()
-            self.ml, E = _rotated_hierarchy(self.ic.ml_K, J, delta, sp.csr_matrix(Bc)[stiff], overwrite=True)
-            self.ic.amg_updates += 1
-            self.ic.amg_seconds += time.perf_counter() - t0
-            y, nit = self.ic.pcg(self.ml.levels[0].A, rhs + E @ rhs, self.ml.aspreconditioner(cycle="V"), rtol=rtol)
+            reflected = krylov.reflected_factor(self.ic.factor_K, J, delta, sp.csr_matrix(Bc)[stiff], overwrite=True)
+            if reflected is not None:  # a solver without the reflected update: the plain update below
+                self.ic.amg_updates += 1
+                self.ic.amg_seconds += time.perf_counter() - t0
+        if reflected is not None:
+            self.factor, E = reflected
+            y, nit = self.ic.pcg(self.factor.A, rhs + E @ rhs, krylov.preconditioner(self.factor), rtol=rtol)
             dx = y + E @ y
         else:
             M = self.get(J, float(np.max(k, initial=0.0)), delta=delta)
@@ -477,15 +266,22 @@ class IterativeContact(ContactPoints):
     x_free : ndarray
         Contact-free solution on the free DOFs.
     linear_solves, cg_iterations, amg_setups : int
-        CG solves, their iterations, AMG hierarchies built.
+        CG solves, their iterations, AMG hierarchies built (factors of the solver made from scratch).
+    solver : alcontact.linalg.SolverChoice
+        The approximate solver whose factors precondition CG (default: ``"amg"``).
+    factor_K : alcontact.linalg.Factor
+        Its factor of ``K`` (of ``K + S`` for a body held by the obstacle).
     reference_seconds : float
         AMG setup for ``K`` plus one CG solve of a linear elastic problem of this mesh.
     """
 
-    def __init__(self, problem, *, margin: float = 0.25):
+    def __init__(self, problem, *, margin: float = 0.25, solver: _linalg.SolverChoice | None = None):
         t0 = time.perf_counter()
         self._setup_problem(problem)
         model = self.model
+        # the approximate solver whose factors precondition the Krylov solves (alcontact.linalg.select_solver)
+        self.solver = _linalg.select_solver("amg", dim=model.dim, ndofs=model.ndofs) if solver is None else solver
+        self.hints = MatrixHints(dim=model.dim, near_null=lambda: self.R)
         n = model.ndofs
         mask = np.ones(n, dtype=bool)
         mask[self.fixed] = False
@@ -537,13 +333,13 @@ class IterativeContact(ContactPoints):
         # load, else (displacement driven by the obstacle) a unit pressure on the contact boundary
         t_ref = time.perf_counter()
         Kt = self.K if self.S is None else (self.K + self.S).tocsr()
-        self.ml_K = _amg(Kt, self.R)
+        self.factor_K = self.solver.factorize(Kt, self.hints)
         self.amg_setups += 1
         self.factor_seconds = time.perf_counter() - t_ref
         self.amg_seconds += self.factor_seconds
         has_load = float(np.linalg.norm(self.b)) > 0
         rhs = self.b if has_load else self.B.T @ w
-        x_ref, _ = self.pcg(Kt, rhs, self.ml_K.aspreconditioner(cycle="V"), rtol=_REF_RTOL)
+        x_ref, _ = self.pcg(Kt, rhs, krylov.preconditioner(self.factor_K), rtol=_REF_RTOL)
         self.reference_seconds = time.perf_counter() - t_ref
         self.solve_seconds = self.reference_seconds - self.factor_seconds
         self.x_free = x_ref if has_load else np.zeros(self.free.size)
@@ -593,17 +389,26 @@ class IterativeContact(ContactPoints):
     # ------------------------------------------------------------------
     def pcg(self, A, rhs, M, *, rtol: float, atol: float = 0.0, x0=None, maxiter: int = 5000):
         """Preconditioned CG for ``A x = rhs`` until ``|r| <= max(rtol |rhs|, atol)``; counted."""
-        it = [0]
-
-        def count(_xk):
-            it[0] += 1
-
-        x, info = cg(A, rhs, x0=x0, rtol=rtol, atol=atol, M=M, maxiter=maxiter, callback=count)
+        x, nit, info = krylov.cg(A, rhs, M, rtol=rtol, atol=atol, x0=x0, maxiter=maxiter)
         self.linear_solves += 1
-        self.cg_iterations += it[0]
+        self.cg_iterations += nit
         if info != 0:
-            logger.warning("CG stopped after %d iterations without reaching rtol %.1e", it[0], rtol)
-        return x, it[0]
+            logger.warning("CG stopped after %d iterations without reaching rtol %.1e", nit, rtol)
+        return x, nit
+
+    def updated(self, J, delta):
+        r"""The solver's factor of :math:`J = K + \Delta` from that of ``K``
+        (:func:`alcontact.linalg.krylov.updated_factor`:
+        the AMG hierarchy of ``K`` with Galerkin coarse operators of ``J``, counted in ``amg_updates``; a
+        solver without that update factorizes ``J``, counted in ``amg_setups``)."""
+        t0 = time.perf_counter()
+        factor, reused = krylov.updated_factor(self.solver, self.factor_K, J, delta, self.hints)
+        if reused:
+            self.amg_updates += 1
+        else:
+            self.amg_setups += 1
+        self.amg_seconds += time.perf_counter() - t0
+        return factor
 
     def contact_delta(self, Bc, k):
         """The contact term ``Bc^T diag(k) Bc`` (block diagonal, one block per contact point)."""
@@ -613,7 +418,7 @@ class IterativeContact(ContactPoints):
         """``K + delta`` on the index arrays of ``K`` (the hierarchy of the last matrix is released first)."""
         if self.precond is not None:
             self.precond.release()
-        return _plus(self.K, delta)
+        return krylov.add_on_pattern(self.K, delta)
 
     # ------------------------------------------- interface of the outer loops
     # (see DiscreteContact; the state here is the free displacement x)
@@ -681,7 +486,8 @@ class IterativeContact(ContactPoints):
                 "linear_solve_s": self.reference_seconds, "assembly_s": self.assembly_seconds}
 
     def extra(self) -> dict:
-        return {"linear_solver": "amg", "cg_iterations": int(self.cg_iterations), "amg_setups": int(self.amg_setups),
+        return {"linear_solver": "amg", "backend": self.solver.name, "cg_iterations": int(self.cg_iterations),
+                "amg_setups": int(self.amg_setups),
                 "amg_updates": int(self.amg_updates)}
 
 
@@ -860,11 +666,7 @@ def _equality_solve(ic, A, mu, c, x0, *, maxiter=None, moves=None):
     gfA = ic.g_fix[ic.cand[A]]
     delta = ic.contact_delta(BA, c * wA)
     J = ic.with_contact(delta)
-    t0 = time.perf_counter()
-    ml = _contact_hierarchy(ic.ml_K, J, delta)  # the hierarchy of K with Galerkin coarse operators of J
-    ic.amg_updates += 1
-    ic.amg_seconds += time.perf_counter() - t0
-    M = ml.aspreconditioner(cycle="V")
+    M = krylov.preconditioner(ic.updated(J, delta))  # the hierarchy of K with Galerkin coarse operators of J
     maxiter = _UZAWA_MAXITER if maxiter is None else int(maxiter)
     x = x0
     mu = mu.copy()
@@ -919,31 +721,3 @@ def springs_hold(Z: np.ndarray, S) -> np.ndarray | None:
     G = Z.T @ (S @ Z)
     ev = np.linalg.eigvalsh(0.5 * (G + G.T))
     return G if ev.size and ev.min() > 1e-8 * max(float(ev.max()), 1e-300) else None
-
-
-def linear_solver_name(name: str, model) -> str:
-    """Registry name of the solver for the ``linear_solver`` option ``name`` on ``model``.
-
-    ``"auto"`` asks :func:`alcontact.linalg.choose_solver` (AMG for 3D models above
-    :data:`AUTO_AMG_DOFS` DOFs, else the fastest installed direct solver); ``"direct"``
-    asks it for a direct solver; a registry name is returned as is (checked).
-    """
-    if name == "auto":
-        return _linalg.choose_solver(model.dim, model.ndofs)
-    if name == "direct":
-        return _linalg.choose_solver(model.dim, model.ndofs, allow_iterative=False)
-    if name not in _linalg.registered_solvers():
-        raise InputError(f"contact option linear_solver={name!r}; allowed: auto, direct, "
-                         f"{', '.join(_linalg.registered_solvers())}.")
-    return name
-
-
-def resolve_linear_solver(name: str, model) -> str:
-    """The solution path of the ``linear_solver`` option: ``"direct"`` or ``"amg"``.
-
-    ``"amg"`` (the factorization-free path of this module) when the solver of
-    :func:`linear_solver_name` is iterative, else ``"direct"`` (the condensed path of
-    :mod:`alcontact.contact._discrete`, with that solver's factorization).
-    """
-    kind = _linalg.solver_kind(linear_solver_name(name, model))
-    return "amg" if kind == "iterative" else "direct"

@@ -16,6 +16,7 @@ import time
 
 import numpy as np
 
+from ..linalg import select_solver
 from ._algorithms import DEFAULT_PENALTY, ContactOptions, _Run, available_algorithms, check_solve_args, \
     find_algorithm, options_with
 from ..errors import InputError
@@ -75,13 +76,15 @@ def _solve_static(problem, algorithm: str = DEFAULT_ALGORITHM, penalty: str | No
     pen_name = entry.penalty_for(penalty)
     opts = options_with(options, ContactOptions, option_overrides, "contact", entry)
 
-    from ._iterative import IterativeContact, linear_solver_name, resolve_linear_solver
+    from ._iterative import IterativeContact
 
-    # both paths offer the interface the outer loops use (start, gaps, subproblem, solve_active, ...)
-    if resolve_linear_solver(opts.linear_solver, problem.model) == "amg":
-        dc = IterativeContact(problem)
+    # both strategies offer the interface the outer loops use (start, gaps, subproblem, solve_active, ...):
+    # the condensed (Delassus) one needs an exact factorization, an approximate solver preconditions CG
+    solver = select_solver(opts.linear_solver, dim=problem.model.dim, ndofs=problem.model.ndofs)
+    if solver.exact:
+        dc = DiscreteContact(problem, linear_solver=solver.name)
     else:
-        dc = DiscreteContact(problem, linear_solver=linear_solver_name(opts.linear_solver, problem.model))
+        dc = IterativeContact(problem, solver=solver)
     eps0 = opts.eps_n if opts.eps_n is not None else penalty_stiffness(problem.model, dc.h, opts.penalty_scale)
     t_solve = time.perf_counter()
 

@@ -232,13 +232,21 @@ def _size_key(data: dict) -> tuple[str, Any]:
 
 
 def _resolve_solver(data: dict, dim: int, ndofs: int) -> str:
-    from ..contact._iterative import AUTO_AMG_DOFS
-
     sv = data.get("solver") or {}
-    name = sv.get("linear_solver", "auto") if isinstance(sv, dict) else "auto"
-    if name == "auto":
-        return "amg" if (dim == 3 and ndofs > AUTO_AMG_DOFS) else "direct"
-    return name if name in ("direct", "amg") else "direct"
+    return _solver_path(sv.get("linear_solver", "auto") if isinstance(sv, dict) else "auto", dim, ndofs)
+
+
+def _solver_path(name, dim: int, ndofs: int) -> str:
+    """Cost model of the solver :func:`alcontact.linalg.select_solver` makes of ``name``: ``"direct"`` (it
+    factorizes) or ``"amg"`` (an approximate solver preconditioning Krylov solves); ``"direct"`` for a name
+    the problem-file check refuses anyway (or a solver that is not installed)."""
+    from ..errors import InputError
+    from ..linalg import select_solver
+
+    try:
+        return "direct" if select_solver(name, dim=dim, ndofs=ndofs).exact else "amg"
+    except InputError:
+        return "direct"
 
 
 _HUGE_AXIS = 50_000_000
@@ -357,9 +365,7 @@ def exact_size(setup) -> SizeEstimate:
     model = setup.problem.model
     solver = _resolve_solver(setup.data, model.dim, model.ndofs)
     if setup.options.get("linear_solver"):
-        from ..contact._iterative import resolve_linear_solver
-
-        solver = resolve_linear_solver(setup.options["linear_solver"], model)
+        solver = _solver_path(setup.options["linear_solver"], model.dim, model.ndofs)
     key, value = _size_key(setup.data)
     est = _cost(model.dim, model.order, model.ndofs // model.dim, model.mesh.nelements, solver, exact=True)
     return _finite_cost(dataclasses.replace(est, key=key, value=value), setup.data)

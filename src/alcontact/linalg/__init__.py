@@ -4,8 +4,11 @@ A :class:`LinearSolver` factorizes a symmetric positive definite matrix and retu
 a :class:`Factor` whose ``solve`` accepts one or many right-hand sides. Solvers are
 looked up by name (:func:`make_solver`); :func:`choose_solver` is the single place
 where the default is decided (from the dimension and size of the problem and from
-what is installed). The registry names are also the values of the ``linear_solver``
-option, besides ``"auto"`` and ``"direct"``.
+what is installed), and :func:`select_solver` the one place where a ``linear_solver``
+option becomes the solver that runs (a :class:`SolverChoice`: the solver object and
+whether it factorizes exactly or preconditions a Krylov loop, :mod:`.krylov`). The
+registry names are also the values of the ``linear_solver`` option, besides ``"auto"``
+and ``"direct"``.
 
 Built-in names: ``"mkl-pardiso"`` (Intel MKL PARDISO via ``pypardiso``),
 ``"cholmod"`` (SuiteSparse via ``cholespy``), ``"superlu"`` (SciPy), ``"amg"``
@@ -25,10 +28,11 @@ Examples
 True
 """
 
-from ._base import Factor, LinearSolver, MatrixHints
+from ._base import MATRIX_TYPES, Factor, LinearSolver, MatrixHints
 from ._registry import (
     AUTO_AMG_DOFS,
     DIRECT_PREFERENCE,
+    SolverChoice,
     available_solvers,
     choose_solver,
     describe_solvers,
@@ -36,6 +40,7 @@ from ._registry import (
     make_solver,
     register_solver,
     registered_solvers,
+    select_solver,
     solver_kind,
     solver_matrix_types,
     unregister_solver,
@@ -49,8 +54,11 @@ from ._petsc import (
     near_null_space,
     petsc,
 )
-from ._sequence import MATRIX_TYPES, PardisoSymmetricFactor, SequenceSolver
-from ._solvers import AMGSolver, CholmodSolver, PardisoSolver, SuperLUSolver
+from ._pardiso import PardisoSolver, PardisoSymmetricFactor
+from ._sequence import SequenceSolver
+from ._newton_krylov import NewtonKrylovSolver
+from ._solvers import AMGSolver, CholmodSolver, SuperLUSolver
+from . import krylov
 
 __all__ = [
     "AUTO_AMG_DOFS",
@@ -62,11 +70,13 @@ __all__ = [
     "MATRIX_TYPES",
     "MPI_SETUP_HINT",
     "MatrixHints",
+    "NewtonKrylovSolver",
     "PardisoSolver",
     "PardisoSymmetricFactor",
     "PetscDirectSolver",
     "PetscKrylovSolver",
     "SequenceSolver",
+    "SolverChoice",
     "SuperLUSolver",
     "available_solvers",
     "choose_solver",
@@ -74,11 +84,13 @@ __all__ = [
     "describe_solvers",
     "direct_package",
     "is_installed",
+    "krylov",
     "make_solver",
     "near_null_space",
     "petsc",
     "register_solver",
     "registered_solvers",
+    "select_solver",
     "solver_kind",
     "solver_matrix_types",
     "unregister_solver",

@@ -37,7 +37,8 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.linalg import LinearOperator
 
-__all__ = ["smoothed_aggregation", "SMOOTHER", "ROW_BLOCK_NNZ"]
+__all__ = ["smoothed_aggregation", "updated_hierarchy", "reflected_hierarchy", "normal_reflections",
+           "add_on_pattern", "entry_positions", "row_slice", "SMOOTHER", "ROW_BLOCK_NNZ"]
 
 #: relaxation of every level: PyAMG's default for smoothed aggregation
 SMOOTHER = ("block_gauss_seidel", {"sweep": "symmetric"})
@@ -274,3 +275,195 @@ def smoothed_aggregation(A, B=None, *, max_coarse: int = 500, coarse_solver: str
     change_smoothers(ml, smoother, smoother)
     return ml
 
+
+# ---------------------------------------------------------------------- reuse for K + a contact term
+def entry_positions(A, rows: np.ndarray, cols: np.ndarray) -> np.ndarray | None:
+    """Positions of the entries ``(rows, cols)`` in the data of ``A`` (CSR or BSR, sorted indices).
+
+    Returns ``(block, r, c)`` index arrays into ``A.data`` for BSR (``(pos,)`` for CSR),
+    or ``None`` when an entry is not in the sparsity pattern of ``A``. Only the rows
+    of ``A`` that hold entries are searched (a contact update touches few rows).
+    """
+    br, bc = A.blocksize if sp.issparse(A) and A.format == "bsr" else (1, 1)
+    brow, bcol = rows // br, cols // bc
+    ncol_b = A.shape[1] // bc
+    ur, inv = np.unique(brow, return_inverse=True)
+    starts = A.indptr[ur].astype(np.int64)
+    lens = A.indptr[ur + 1].astype(np.int64) - starts
+    if lens.sum() == 0:
+        return None
+    seg = np.repeat(np.arange(ur.size, dtype=np.int64), lens)
+    pos = np.repeat(starts - np.concatenate([[0], np.cumsum(lens)[:-1]]), lens) + np.arange(lens.sum())
+    keys = seg * ncol_b + A.indices[pos]  # sorted: segments ascending, sorted indices within each
+    q = inv.astype(np.int64) * ncol_b + bcol
+    k = np.minimum(np.searchsorted(keys, q), keys.size - 1)
+    if not np.array_equal(keys[k], q):
+        return None
+    if br == 1 and bc == 1 and A.format != "bsr":
+        return (pos[k],)
+    return pos[k], rows % br, cols % bc
+
+
+def add_on_pattern(A, D):
+    """``A + D`` for a sparse ``D`` with few rows: a new data array on the index arrays of ``A``.
+
+    Falls back to scipy's sum (in the format of ``A``) when ``D`` has an entry outside
+    the pattern of ``A`` (e.g. an entry of a node block that assembled to exactly zero).
+    """
+    D = sp.coo_matrix(D)
+    D.sum_duplicates()
+    if D.nnz == 0:
+        return A
+    where = entry_positions(A, D.row.astype(np.int64), D.col.astype(np.int64))
+    if where is None:
+        out = (A + D).asformat(A.format, copy=False)
+        if A.format == "bsr":
+            out = sp.bsr_matrix(out, blocksize=A.blocksize)
+        out.sort_indices()
+        return out
+    data = A.data.copy()
+    np.add.at(data, where, D.data)
+    kind = sp.bsr_matrix if A.format == "bsr" else sp.csr_matrix
+    out = kind((data, A.indices, A.indptr), shape=A.shape)
+    out.has_sorted_indices = True
+    return out
+
+
+def row_slice(P, rows: np.ndarray):
+    """Rows ``rows`` (sorted, unique) of a CSR or BSR matrix as a CSR matrix ``(rows.size, ncols)``."""
+    if P.format != "bsr":
+        return sp.csr_matrix(P)[rows]
+    br, bc = P.blocksize
+    blk = rows // br
+    starts = P.indptr[blk].astype(np.int64)
+    lens = P.indptr[blk + 1].astype(np.int64) - starts
+    seg = np.repeat(np.arange(rows.size, dtype=np.int64), lens)
+    pos = np.repeat(starts - np.concatenate([[0], np.cumsum(lens)[:-1]]), lens) + np.arange(lens.sum())
+    vals = P.data[pos, np.repeat(rows % br, lens), :]  # (nblocks, bc)
+    cols = (P.indices[pos].astype(np.int64)[:, None] * bc + np.arange(bc)).ravel()
+    return sp.csr_matrix((vals.ravel(), (np.repeat(seg, bc), cols)), shape=(rows.size, P.shape[1]))
+
+
+def updated_hierarchy(ml_K, J, delta):
+    r"""AMG hierarchy of :math:`J = K + \Delta` on the prolongators of the hierarchy ``ml_K`` of :math:`K`.
+
+    The contact term :math:`\Delta = B_c^T \operatorname{diag}(k) B_c` is block diagonal on
+    the few contact DOFs. Its Galerkin coarse versions :math:`\Delta_{l+1} = P_l^T \Delta_l P_l`
+    touch only the coarse DOFs whose prolongator rows meet the contact DOFs, so the coarse
+    operators :math:`A_l(K) + \Delta_l` of :math:`J` cost a copy of the coarse data plus a
+    small product, instead of a new aggregation, prolongator smoothing and Galerkin product
+    of the whole matrix (a fresh setup of :func:`smoothed_aggregation`, about 85 % of one linear solve on the
+    3D Hertz problem). The smoothers are set up again on the new operators.
+    """
+    from pyamg.multilevel import MultilevelSolver
+    from pyamg.relaxation.smoothing import change_smoothers
+
+    levels = []
+    D = sp.csr_matrix(delta)
+    last = len(ml_K.levels) - 1
+    for i, lk in enumerate(ml_K.levels):
+        lvl = MultilevelSolver.Level()
+        lvl.A = J if i == 0 else add_on_pattern(lk.A, D)
+        lvl.A.symmetry = getattr(lk.A, "symmetry", "hermitian")
+        lvl.B = lk.B
+        if i < last:
+            lvl.P, lvl.R = lk.P, lk.R
+            D.eliminate_zeros()
+            rows = np.unique(D.tocoo().row)
+            if rows.size:
+                Pc = row_slice(lk.P, rows)
+                D = (Pc.T @ (D[rows][:, rows] @ Pc)).tocsr()
+            else:
+                D = sp.csr_matrix((lk.P.shape[1], lk.P.shape[1]))
+        levels.append(lvl)
+    ml = MultilevelSolver(levels, coarse_solver="splu")
+    change_smoothers(ml, SMOOTHER, SMOOTHER)
+    return ml
+
+
+def normal_reflections(Bs, n: int):
+    r"""Householder reflections :math:`H_i` that map a coordinate of each node onto its normal.
+
+    ``Bs`` holds one row per point on disjoint DOFs (the rows :math:`-\nu_i^T` on the free
+    DOFs of its node). :math:`H_i = I - 2 v v^T / v^T v`, :math:`v = u - s\,e_j` with
+    :math:`u = B_i^T/|B_i|`, ``j`` its largest component and :math:`s` its sign, so that
+    :math:`H_i u = s\,e_j`. Returns ``Q - I`` (``n x n``, symmetric; :math:`Q = Q^T = Q^{-1}`
+    is block diagonal with :math:`H_i` on the DOFs of point ``i``) and the sorted DOFs it touches.
+    """
+    Bs = sp.csr_matrix(Bs)
+    rows_out, cols_out, vals_out = [], [], []
+    lens = np.diff(Bs.indptr)
+    for d in np.unique(lens[lens > 0]):
+        pts = np.flatnonzero(lens == d)
+        pos = Bs.indptr[pts][:, None] + np.arange(d)
+        dofs = Bs.indices[pos]  # (p, d)
+        u = Bs.data[pos]
+        u = u / np.linalg.norm(u, axis=1, keepdims=True)
+        j = np.argmax(np.abs(u), axis=1)
+        v = u.copy()
+        v[np.arange(pts.size), j] -= np.sign(u[np.arange(pts.size), j])
+        vv = np.einsum("pi,pi->p", v, v)
+        ok = vv > 1e-30  # the normal is a coordinate already: H = I
+        E = -2.0 * v[ok, :, None] * v[ok, None, :] / vv[ok, None, None]  # H - I, (p, d, d)
+        dd = dofs[ok]
+        rows_out.append(np.repeat(dd, d, axis=1).ravel())
+        cols_out.append(np.tile(dd, (1, d)).ravel())
+        vals_out.append(E.ravel())
+    rows = np.concatenate(rows_out) if rows_out else np.zeros(0, dtype=np.int64)
+    cols = np.concatenate(cols_out) if cols_out else np.zeros(0, dtype=np.int64)
+    vals = np.concatenate(vals_out) if vals_out else np.zeros(0)
+    E = sp.csr_matrix((vals, (rows, cols)), shape=(n, n))
+    return E, np.unique(rows)
+
+
+def reflected_hierarchy(ml_K, J, delta, Bs, *, overwrite: bool = False):
+    r"""Preconditioner of :math:`J = K + \Delta` whose first level sees each stiff spring on one coordinate.
+
+    A spring much stiffer than its node (the default :math:`\varepsilon_N^0 = 100 E'/h` is
+    about 20 times the node's normal stiffness on the 3D P2 Hertz mesh, the pure penalty
+    raises it 1e5-fold) puts :math:`k_i \nu_i \nu_i^T` into the node block of
+    :math:`J`. The first level of the hierarchy of ``K`` is a CSR matrix smoothed by pointwise
+    Gauss-Seidel; on an oblique normal (the sphere away from its axis) the spring couples the
+    node's DOFs, and pointwise relaxation barely moves the node's tangential motion: the CG
+    iterations per Newton step grew with the penalty (3D P2 Hertz, 9k DOFs, a random
+    right-hand side to 1e-8: 31, 206 and 748 iterations at 1e3, 1e5 and 1e7 :math:`E'/h`;
+    keeping the stiff normals out of the coarse spaces, as for a support, did not help:
+    182 and 715 at the last two; with the reflections: 30, 30, 31). With the reflections :math:`Q` of
+    :func:`normal_reflections`, :math:`\hat J = Q J Q` carries each stiff spring on the
+    diagonal of one DOF (no coupling left for the pointwise relaxation), and :math:`\hat P = Q P` keeps the
+    coarse operators :math:`\hat P^T \hat J \hat P = P^T J P` of :func:`updated_hierarchy`.
+    CG runs on :math:`\hat J y = Q r`, :math:`dx = Q y` (the AMG paths of :mod:`alcontact.contact`), i.e. with the
+    preconditioner :math:`Q\,V(\hat J)\,Q` of :math:`J`, symmetric positive definite as the V-cycle is;
+    :math:`Q - I` lives on the stiff points' DOFs, so :math:`\hat J` and :math:`\hat P` are
+    corrections of a few rows and columns on the index arrays of :math:`J` and :math:`P`.
+
+    With ``overwrite`` the data of ``J`` become those of :math:`\hat J` where its pattern
+    allows (always, for the node blocks of a finite element matrix); the first level's
+    matrix is :math:`\hat J` either way. Returns ``(hierarchy, Q - I)``; ``Q = I`` for a
+    one-level hierarchy (a direct solve).
+    """
+    ml = updated_hierarchy(ml_K, J, delta)
+    if len(ml.levels) == 1:  # one level: the coarse solver factorizes J, nothing to relax
+        return ml, sp.csr_matrix(J.shape)
+    E, r = normal_reflections(Bs, J.shape[0])
+    Er = E[:, r]  # (n, |r|), nonzero rows only in r
+    EJ = (Er @ sp.csr_matrix(J)[r]).tocsr()  # (Q - I) J
+    EJE = (EJ[:, r] @ E[r]).tocsr()  # (Q - I) J (Q - I)
+    corr = (EJ + EJ.T + EJE).tocoo()  # Q J Q - J, J symmetric
+    corr.sum_duplicates()
+    l0 = ml.levels[0]
+    where = entry_positions(J, corr.row.astype(np.int64), corr.col.astype(np.int64)) if overwrite else None
+    if where is not None:  # in the pattern of J (the node blocks): in place
+        np.add.at(J.data, where, corr.data)
+        Jh = J
+    else:
+        Jh = add_on_pattern(J, corr)
+    Jh.symmetry = getattr(l0.A, "symmetry", "hermitian")
+    P = l0.P
+    Ph = add_on_pattern(P, (Er @ row_slice(P, r)).tocoo())  # Q P
+    l0.A, l0.P = Jh, Ph
+    l0.R = Ph.T.tocsr() if Ph.format != "bsr" else Ph.T
+    from pyamg.relaxation.smoothing import change_smoothers
+
+    change_smoothers(ml, SMOOTHER, SMOOTHER)
+    return ml, E

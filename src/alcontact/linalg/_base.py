@@ -8,7 +8,10 @@ from typing import Protocol, runtime_checkable
 
 import numpy as np
 
-__all__ = ["Factor", "LinearSolver", "MatrixHints"]
+__all__ = ["Factor", "LinearSolver", "MATRIX_TYPES", "MatrixHints"]
+
+#: matrix types of :attr:`MatrixHints.matrix_type`
+MATRIX_TYPES = ("spd", "symmetric-indefinite", "unsymmetric")
 
 
 @dataclass(frozen=True)
@@ -67,6 +70,14 @@ class Factor(Protocol):
         Wall time of the factorization (or preconditioner setup).
     exact : bool
         False for iterative solvers, whose :meth:`solve` reaches a tolerance only.
+
+    Notes
+    -----
+    A factor of an iterative solver may also offer what the Krylov paths use
+    (:mod:`alcontact.linalg.krylov`): ``preconditioner()`` (the operator applied inside CG or
+    GMRES; default: :meth:`solve`), ``updated(J, delta)`` (the factor of ``A + delta`` reusing
+    this setup; default: a new factorization), ``reflected(J, delta, Bs, overwrite=...)`` and
+    ``levels``. Contact code never asks which solver made a factor.
     """
 
     name: str
@@ -94,7 +105,9 @@ class LinearSolver(Protocol):
     name : str
         Registry name.
     kind : {"direct", "iterative"}
-        ``"iterative"`` solvers give approximate solves (to a tolerance).
+        ``"iterative"`` solvers give approximate solves (to a tolerance); the contact paths use
+        their factors as preconditioners of Krylov methods
+        (:attr:`SolverChoice.exact <alcontact.linalg.SolverChoice>`, :func:`~alcontact.linalg.select_solver`).
     """
 
     name: str

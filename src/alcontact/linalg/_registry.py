@@ -10,11 +10,14 @@ from dataclasses import dataclass
 from functools import lru_cache
 
 from ..errors import InputError, UnknownNameError
-from ._base import LinearSolver
-from ._solvers import AMGSolver, CholmodSolver, PardisoSolver, SuperLUSolver
+from ._base import MATRIX_TYPES, LinearSolver
+from ._pardiso import PardisoSolver
+from ._solvers import AMGSolver, CholmodSolver, SuperLUSolver
 
 __all__ = [
     "AUTO_AMG_DOFS",
+    "SolverChoice",
+    "select_solver",
     "available_solvers",
     "choose_solver",
     "describe_solvers",
@@ -87,8 +90,6 @@ def register_solver(name: str, factory: Callable[..., LinearSolver], *, kind: st
         raise InputError(f"linear solver {name!r} is already registered; pass overwrite=True to replace it.")
     if name in ("auto", "direct"):
         raise InputError(f"{name!r} is reserved for the automatic choice; register the solver under another name.")
-    from ._sequence import MATRIX_TYPES
-
     bad = [t for t in matrix_types if t not in MATRIX_TYPES]
     if bad or not matrix_types:
         raise InputError(f"matrix_types={tuple(matrix_types)!r}; allowed: {', '.join(MATRIX_TYPES)}.")
@@ -253,8 +254,6 @@ def choose_solver(dim: int, ndofs: int, *, installed: list[str] | None = None,
     """
     from alcontact._options import is_integer, require
 
-    from ._sequence import MATRIX_TYPES
-
     require("choose_solver", "dim", dim, is_integer(dim) and dim in (1, 2, 3), "1, 2 or 3")
     require("choose_solver", "ndofs", ndofs, is_integer(ndofs) and ndofs >= 0, "an integer >= 0")
     require("choose_solver", "installed", installed, installed is None or (
@@ -271,6 +270,104 @@ def choose_solver(dim: int, ndofs: int, *, installed: list[str] | None = None,
         if name in names:
             return name
     return "superlu"
+
+
+@dataclass(frozen=True)
+class SolverChoice:
+    """The linear solver that runs for a ``linear_solver`` option on a model, and what it can do.
+
+    Made by :func:`select_solver`, the one place that turns the option into a solver; code
+    outside :mod:`alcontact.linalg` asks this object what the solver can do
+    (:attr:`exact`, :meth:`handles`) and never branches on its name or kind.
+
+    Attributes
+    ----------
+    requested : str
+        The option value (``"auto"``, ``"direct"`` or a registry name).
+    name : str
+        Registry name of the solver that runs (recorded in ``solution.extra``).
+    solver : LinearSolver
+        The solver object (built by the registry's factory).
+    exact : bool
+        True: it factorizes exactly (a direct solver; the condensed contact strategies
+        and exact Newton steps use it). False: its solves are approximate (registered with
+        ``kind="iterative"``) and it preconditions a Krylov outer loop
+        (:mod:`alcontact.linalg.krylov`).
+    matrix_types : tuple of str
+        :data:`MATRIX_TYPES` it factorizes (``register_solver(..., matrix_types=...)``).
+    """
+
+    requested: str
+    name: str
+    solver: LinearSolver
+    exact: bool
+    matrix_types: tuple[str, ...]
+
+    def handles(self, matrix_type: str) -> bool:
+        """Whether the solver is registered for matrices of ``matrix_type``."""
+        return matrix_type in self.matrix_types
+
+    def factorize(self, matrix, hints=None):
+        """``solver.factorize(matrix, hints)``: a :class:`~alcontact.linalg.Factor`."""
+        return self.solver.factorize(matrix, hints)
+
+
+def select_solver(linear_solver: str, *, dim: int, ndofs: int, matrix_type: str = "spd",
+                  allow_iterative: bool = True) -> SolverChoice:
+    """The solver of the ``linear_solver`` option for a model of dimension ``dim`` with ``ndofs`` DOFs.
+
+    ``"auto"``: :func:`choose_solver`'s size rule (AMG for 3D models above :data:`AUTO_AMG_DOFS`
+    DOFs, where the caller has a Krylov loop, ``allow_iterative``), else the fastest installed
+    direct solver registered for ``matrix_type``; ``"direct"``: that direct solver; a registry
+    name: that solver, whatever its kind (the one that runs on every path).
+
+    Parameters
+    ----------
+    linear_solver : str
+        ``"auto"``, ``"direct"`` or a name of :func:`registered_solvers`.
+    dim, ndofs : int
+        Space dimension and DOFs of the model (used by ``"auto"``).
+    matrix_type : {"spd", "symmetric-indefinite", "unsymmetric"}
+        The matrices the caller factorizes (``"auto"`` and ``"direct"`` choose the direct solver
+        among those registered for them; a named solver is returned as named). The size rule of
+        ``"auto"`` is that of SPD matrices: an approximate solver preconditions a Krylov loop.
+    allow_iterative : bool
+        False where the caller has no Krylov loop of its own: ``"auto"`` then chooses a direct solver.
+
+    Raises
+    ------
+    InputError
+        An unknown name (the message lists ``auto``, ``direct`` and the registered names) or
+        a solver that is not installed.
+
+    Examples
+    --------
+    >>> select_solver("superlu", dim=2, ndofs=100).exact
+    True
+    >>> select_solver("amg", dim=3, ndofs=100).exact
+    False
+    """
+    from alcontact._options import is_integer, require
+
+    require("select_solver", "dim", dim, is_integer(dim) and dim in (1, 2, 3), "1, 2 or 3")
+    require("select_solver", "ndofs", ndofs, is_integer(ndofs) and ndofs >= 0, "an integer >= 0")
+    require("select_solver", "matrix_type", matrix_type, isinstance(matrix_type, str) and matrix_type in MATRIX_TYPES,
+            f"one of {', '.join(MATRIX_TYPES)}")
+    require("select_solver", "allow_iterative", allow_iterative, isinstance(allow_iterative, bool), "True or False")
+    if isinstance(linear_solver, str) and linear_solver in ("auto", "direct"):
+        name = None
+        if linear_solver == "auto" and allow_iterative:
+            name = choose_solver(dim, ndofs)
+            name = name if _entry(name).kind == "iterative" else None
+        if name is None:
+            name = choose_solver(dim, ndofs, allow_iterative=False, matrix_type=matrix_type)
+    elif isinstance(linear_solver, str) and linear_solver in _SOLVERS:
+        name = linear_solver
+    else:
+        raise InputError(f"linear_solver = {linear_solver!r:.60}: not a linear solver; allowed: auto, direct, "
+                         f"{', '.join(registered_solvers())} (alcontact.linalg.register_solver adds others).")
+    entry = _entry(name)
+    return SolverChoice(linear_solver, name, make_solver(name), entry.kind == "direct", entry.matrix_types)
 
 
 def _register_builtins() -> None:

@@ -1,0 +1,144 @@
+r"""Krylov methods and the preconditioners that approximate solvers offer them.
+
+An *approximate* solver (:attr:`SolverChoice.exact <alcontact.linalg.SolverChoice>` false:
+registered with ``kind="iterative"``, e.g. ``"amg"``) is used inside a preconditioned Krylov
+loop: its factor of a matrix, applied as an operator, preconditions CG (symmetric positive
+definite systems) or GMRES (unsymmetric ones). What the contact paths ask of a factor goes
+through the functions of this module, which read the optional facilities a factor declares:
+
+``preconditioner()``
+    the operator to apply inside the Krylov loop (the AMG factor: one V-cycle); without it,
+    :meth:`~alcontact.linalg.Factor.solve` itself (an inner solve to the solver's own tolerance);
+``updated(J, delta)``
+    the factor of :math:`J = A + \Delta` for a small symmetric term :math:`\Delta`, reusing the
+    setup of :math:`A` (the AMG factor: :func:`~alcontact.linalg._amg.updated_hierarchy`); without
+    it, a new factorization of :math:`J`;
+``reflected(J, delta, Bs, overwrite=...)``
+    the factor of :math:`QJQ` with the Householder reflections :math:`Q` that put each row of
+    ``Bs`` on one coordinate (:func:`~alcontact.linalg._amg.reflected_hierarchy`), for springs
+    that dominate their node; without it, nothing (the caller uses :func:`updated_factor`);
+``levels``
+    levels of a multigrid hierarchy (reported in ``solution.extra``).
+
+:func:`add_on_pattern` forms :math:`A + \Delta` on the index arrays of ``A`` (the Newton matrices of the
+full-space contact paths). The Krylov loops count their iterations: :func:`cg` and :func:`gmres` (SciPy's methods) and
+:func:`pcg`, a preconditioned CG that reports negative curvature (an indefinite matrix)
+instead of iterating on.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.sparse.linalg import LinearOperator
+from scipy.sparse.linalg import cg as _scipy_cg
+from scipy.sparse.linalg import gmres as _scipy_gmres
+
+from ._amg import add_on_pattern
+from ._base import Factor, LinearSolver, MatrixHints
+
+__all__ = ["cg", "gmres", "pcg", "preconditioner", "updated_factor", "reflected_factor", "hierarchy_levels",
+           "add_on_pattern"]
+
+
+def cg(A, b: np.ndarray, M=None, *, rtol: float, atol: float = 0.0, x0=None, maxiter: int = 5000):
+    """SciPy's preconditioned CG for ``A x = b`` until ``|r| <= max(rtol |b|, atol)``.
+
+    Returns
+    -------
+    x : ndarray
+    iterations : int
+    info : int
+        SciPy's flag: 0 converged, > 0 stopped at ``maxiter``.
+    """
+    it = [0]
+
+    def count(_xk):
+        it[0] += 1
+
+    x, info = _scipy_cg(A, b, x0=x0, rtol=rtol, atol=atol, M=M, maxiter=maxiter, callback=count)
+    return x, it[0], info
+
+
+def gmres(A, b: np.ndarray, M=None, *, rtol: float, restart: int, maxiter: int):
+    """SciPy's restarted GMRES for ``A x = b`` until ``|r| <= rtol |b|``; returns ``(x, iterations, info)``."""
+    it = [0]
+
+    def count(_):
+        it[0] += 1
+
+    x, info = _scipy_gmres(A, b, rtol=rtol, atol=0.0, M=M, restart=restart, maxiter=maxiter, callback=count,
+                           callback_type="pr_norm")
+    return x, it[0], info
+
+
+def pcg(A, b: np.ndarray, M, rtol: float, maxiter: int):
+    r"""Preconditioned CG for ``A x = b`` until ``|r| <= rtol |b|``, stopping at negative curvature.
+
+    Returns ``(x, iterations, why)`` with ``why`` ``""`` (converged), ``"negative curvature"``
+    (:math:`p^T A p \le 0`: ``A`` is not positive definite), ``"indefinite preconditioner"``
+    or ``"maxiter"``.
+    """
+    x = np.zeros_like(b)
+    nb = float(np.linalg.norm(b))
+    if nb == 0.0:
+        return x, 0, ""
+    r = b.copy()
+    z = M @ r
+    rz = float(r @ z)
+    if not rz > 0.0:
+        return x, 0, "indefinite preconditioner"
+    p = z.copy()
+    for k in range(1, maxiter + 1):
+        Ap = A @ p
+        pAp = float(p @ Ap)
+        if not pAp > 0.0:
+            return x, k, "negative curvature"
+        a = rz / pAp
+        x += a * p
+        r -= a * Ap
+        if float(np.linalg.norm(r)) <= rtol * nb:
+            return x, k, ""
+        z = M @ r
+        rz_new = float(r @ z)
+        if not rz_new > 0.0:
+            return x, k, "indefinite preconditioner"
+        p = z + (rz_new / rz) * p
+        rz = rz_new
+    return x, maxiter, "maxiter"
+
+
+def preconditioner(factor: Factor):
+    """The operator applying ``factor`` inside a Krylov loop (module doc)."""
+    own = getattr(factor, "preconditioner", None)
+    if own is not None:
+        return own()
+    n = factor.n
+    return LinearOperator((n, n), matvec=factor.solve, matmat=factor.solve, dtype=float)
+
+
+def updated_factor(solver: LinearSolver, factor: Factor, J, delta, hints: MatrixHints | None = None):
+    r"""The factor of :math:`J = A + \Delta` given the factor of :math:`A` (module doc).
+
+    Returns ``(factor_J, reused)``: ``reused`` is True when the setup of :math:`A` was reused
+    (``factor.updated``), False for a new ``solver.factorize(J, hints)``.
+    """
+    own = getattr(factor, "updated", None)
+    if own is not None:
+        return own(J, delta), True
+    return solver.factorize(J, hints), False
+
+
+def reflected_factor(factor: Factor, J, delta, Bs, *, overwrite: bool = False):
+    """``(factor of QJQ, Q - I)`` when ``factor`` offers the reflected update (module doc), else ``None``.
+
+    The returned factor's ``A`` is the reflected matrix :math:`QJQ` the Krylov loop runs on.
+    """
+    own = getattr(factor, "reflected", None)
+    return None if own is None else own(J, delta, Bs, overwrite=overwrite)
+
+
+def hierarchy_levels(factor: Factor | None) -> int:
+    """Levels of a multigrid factor's hierarchy; 0 without a factor, 1 for a factor without levels."""
+    if factor is None:
+        return 0
+    return int(getattr(factor, "levels", 1))
