@@ -789,7 +789,8 @@ def solve_finite_friction(problem, mu: float, algorithm: str = "simo-laursen", p
     times = _step_times(steps)
     step_fn = entry.run
     data = _StepData(problem, history, obstacle_path)
-    dc = FiniteFrictionContact(problem, fixed=data.fixed)
+    dc = FiniteFrictionContact(problem, fixed=data.fixed, predictor=opts.predictor,
+                               slide_start_reach=opts.slide_start_reach)
     d = dc.dim
     m = dc.points.shape[0]
     eps_n = opts.eps_n if opts.eps_n is not None else penalty_stiffness(problem.model, dc.h, opts.penalty_scale)

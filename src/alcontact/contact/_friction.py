@@ -1140,7 +1140,7 @@ def solve_friction(problem, history: LoadHistory | None, algorithm: str = "simo-
         timings={"setup_s": fc.setup_seconds, "factor_s": fc.factor_seconds, "solve_s": t_end - t_solve,
                  "total_s": t_end - t_start},
         extra={"candidates": fc.ncand, "dofs": int(problem.model.ndofs), "linear_solver": path,
-               **getattr(fc, "stats", dict)()},
+               **fc.stats()},
     )
 
 
