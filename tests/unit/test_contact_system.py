@@ -3,8 +3,11 @@
 - every model class the frictionless algorithms run on (small deformation: condensed direct and
   AMG; finite deformation, and its frictional subclass) is a :class:`ContactSystem`: every member
   present, every method callable with the protocol's arguments, the declared capabilities booleans;
-- the algorithm module asks no model whether it has a member (no ``getattr`` / ``hasattr`` /
-  ``isinstance`` on the system): a capability is a declared member with a "not available" value;
+- the algorithm modules (frictionless and frictional) ask no model whether it has a member (no
+  ``getattr`` / ``hasattr`` / ``isinstance`` on the system): a capability is a declared member with a
+  "not available" value;
+- the frictional Algorithms 6.2 / 6.4 drive every step system (condensed direct, AMG, finite
+  deformation) through the declared ``_ALSystem`` protocol of :mod:`alcontact.contact._friction`;
 - the options that replaced the hidden class switches of the finite-deformation model reach it and
   take effect (``subproblems``, ``predictor``; ``slide_start_reach`` in
   ``tests/regression/test_issue18_ironing.py``).
@@ -166,3 +169,37 @@ def test_predictor_option_takes_effect(pressed):
     assert sum(s.linear_solves for s in tangent.steps) > sum(s.linear_solves for s in auto.steps)
     ref = auto.forces[:, 1]
     assert np.max(np.abs(tangent.forces[:, 1] - ref) / ref) <= 1e-8
+
+
+def _step_systems():
+    from alcontact.contact._finite_friction import _FiniteALCtx
+    from alcontact.contact._friction import _Ctx
+    from alcontact.contact._friction_iterative import _FullCtx
+
+    return {"_Ctx": _Ctx, "_FullCtx": _FullCtx, "_FiniteALCtx": _FiniteALCtx}
+
+
+@pytest.mark.parametrize("name", sorted(_step_systems()))
+def test_friction_step_systems_declare_the_al_system(name):
+    """Algorithms 6.2 / 6.4 drive a load step through the declared ``_ALSystem`` protocol: each of the three step
+    systems (condensed direct, AMG, finite deformation) has every attribute (a dataclass field or a class member)
+    and every method and property of it, the methods callable with the protocol's arguments."""
+    import dataclasses
+
+    from alcontact.contact._friction import _ALSystem
+
+    cls = _step_systems()[name]
+    fields = {f.name for f in dataclasses.fields(cls)}
+    missing = [a for a in _ALSystem.__annotations__ if a not in fields and not hasattr(cls, a)]
+    assert missing == [], missing
+    for member, value in vars(_ALSystem).items():
+        if member.startswith("_"):
+            continue
+        if isinstance(value, property):
+            # a property, a dataclass field or a class constant (a declared fact of that step system)
+            assert member in fields or hasattr(cls, member), member
+            assert not inspect.isfunction(getattr(cls, member, None)), member
+        elif inspect.isfunction(value):
+            params = list(inspect.signature(value).parameters.values())
+            args = [object() for p in params if p.kind == p.POSITIONAL_OR_KEYWORD and p.default is p.empty]
+            inspect.signature(getattr(cls, member)).bind(*args)
