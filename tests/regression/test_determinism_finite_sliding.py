@@ -75,7 +75,7 @@ def test_same_counts_and_forces_run_to_run_and_across_thread_counts(runs, algori
 @pytest.mark.xfail(strict=True, reason=(
     "known weakness (issue 18): on this coarse case (cylinder radius = 2 elements, slide steps of "
     "0.44 R) the slide predictor sends ssn's first full sliding step to 54 Newton and a cut-back; "
-    "without it (FiniteContact.slide_predictor = False) every step takes 4-5. Strict: fix, then drop "
+    "with the option predictor = 'tangent' every step takes 4-5. Strict: fix, then drop "
     "the mark."))
 def test_slide_predictor_coarse_large_step(runs):
     ref = runs[0]["ssn"]

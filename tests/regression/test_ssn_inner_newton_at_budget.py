@@ -62,8 +62,9 @@ def test_run_ssn_refuses_an_unconverged_active_set_solve():
     """The acceptance logic alone: a model whose active-set solve reports it did not converge gets NEWTON_FAILED
     at once, even though its active set repeats and the gaps look closed."""
     from alcontact.contact._algorithms import ContactOptions, run_ssn
+    from alcontact.contact._discrete import ContactPoints
 
-    class Model:
+    class Model(ContactPoints):  # the declared "not available" members of every model (contact.system)
         h = 1.0
         cand = np.arange(3)
         active_residual = 6e-2

@@ -15,7 +15,6 @@ import numpy as np
 import pytest
 
 from alcontact.contact import ContactProblem, Support, obstacles, solve_finite
-from alcontact.contact._finite import FiniteContact
 from alcontact.fem import Material, meshes
 from alcontact.fem.hyperelastic import Hyperelastic
 from alcontact.io import load_problem
@@ -51,19 +50,15 @@ boundary = "bottom"
 kinematics = "finite"
 [solver]
 maxiter_newton = 4
+subproblems = "exact"
 """
-
-
-@pytest.fixture(autouse=True)
-def exact_subproblems(monkeypatch):
-    monkeypatch.setattr(FiniteContact, "inexact_subproblems", False)
 
 
 def test_times_holds_the_substeps_and_requested_marks_them():
     body = Hyperelastic(meshes.rectangle(0.0, 1.0, 0.0, 1.0, 2, 2), Material(E=1000.0, nu=0.3, plane="strain"))
     problem = ContactProblem(body, obstacles.HalfSpace([0.0, 0.0], [0.0, 1.0]), "bottom",
                              supports=(Support("left", (0,), 0.0), Support("top", (1,), -0.6)), kinematics="finite")
-    fs = solve_finite(problem, "simo-laursen", steps=1, maxiter_newton=4)
+    fs = solve_finite(problem, "simo-laursen", steps=1, maxiter_newton=4, subproblems="exact")
     assert fs.success, fs.message
     assert len(fs.times) >= 2 and np.isclose(fs.times[-1], 1.0)
     assert list(fs.requested) == [False] * (len(fs.times) - 1) + [True]

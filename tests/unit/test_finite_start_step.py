@@ -5,6 +5,7 @@ from __future__ import annotations
 from types import SimpleNamespace
 
 from alcontact.contact import _finite
+from alcontact.contact._discrete import ContactPoints
 from alcontact.contact._finite import FiniteContact
 
 
@@ -12,32 +13,37 @@ class _Model(SimpleNamespace):
     start_multiplier_step = FiniteContact.start_multiplier_step
 
 
-def _model(dual: bool, solver):
+class _StandIn(ContactPoints):
+    """A stand-in model: the declared "not available" members of every model, the rest given."""
+
+    def __init__(self, **members):
+        self.__dict__.update(members)
+
+
+def _model(solver):
     seen = []
 
     def multiplier_step(law, lam, out):
         seen.append(getattr(solver, "resolve_rtol", None))
         return ("lam", "x")
 
-    return _Model(dual_penalty_start=dual, solver=solver, multiplier_step=multiplier_step), seen
+    return _Model(solver=solver, multiplier_step=multiplier_step), seen
 
 
 def test_iterative_products_are_tightened_then_restored():
     """An AMG-type solver (``resolve_rtol`` 1e-2) solves the start's dual step to _START_RESOLVE_RTOL (1e-8)
     and gets its own tolerance back; the dual step's result is returned."""
     solver = SimpleNamespace(resolve_rtol=1e-2)
-    model, seen = _model(True, solver)
+    model, seen = _model(solver)
     assert model.start_multiplier_step(None, None, None) == ("lam", "x")
     assert seen == [_finite._START_RESOLVE_RTOL] and _finite._START_RESOLVE_RTOL == 1e-8
     assert solver.resolve_rtol == 1e-2
 
 
-def test_direct_solver_and_switch_off():
-    """A direct solver (no ``resolve_rtol``) is used as it is; with dual_penalty_start off: None (no dual step)."""
-    model, seen = _model(True, SimpleNamespace())
+def test_direct_solver():
+    """A direct solver (no ``resolve_rtol``) is used as it is."""
+    model, seen = _model(SimpleNamespace())
     assert model.start_multiplier_step(None, None, None) == ("lam", "x") and seen == [None]
-    model, seen = _model(False, SimpleNamespace(resolve_rtol=1e-2))
-    assert model.start_multiplier_step(None, None, None) is None and seen == []
 
 
 def test_penalty_start_zeroes_floor_pressures_before_the_entry_rule():
@@ -62,9 +68,9 @@ def test_penalty_start_zeroes_floor_pressures_before_the_entry_rule():
         seen["sub"] = np.array(lam)
         return NewtonOutcome(r0 + 1.0, np.zeros(3), np.array([3.0, 2.0, 1.0]), 2, Status.CONVERGED, 0.0, "ok")
 
-    dc = SimpleNamespace(cand=np.arange(3), warm_penalty_start=True, start=lambda: x0,
-                         initial_multipliers=lambda: np.array([1.0, 1e-12, 0.5]),
-                         entry_multipliers=entry_multipliers, subproblem=subproblem)
+    dc = _StandIn(cand=np.arange(3), h=1.0, warm_penalty_start=True, start=lambda: x0,
+                  initial_multipliers=lambda: np.array([1.0, 1e-12, 0.5]),
+                  entry_multipliers=entry_multipliers, subproblem=subproblem)
     opts = ContactOptions(newton_tol=1e-12, maxiter_newton=60)
     out, lam, r = _penalty_start(dc, opts, 10.0)
     assert np.array_equal(seen["entry"], [1.0, 0.0, 0.5]) and np.array_equal(seen["sub"], [1.0, 0.0, 0.5])
@@ -92,8 +98,8 @@ def test_penalty_continuation_restarts_from_eps0_after_a_failed_first_solve():
         g = np.full(2, 5e-5 / eps)  # penetration falls with the stiffness: <= 1e-8 from eps = 1e4 on
         return NewtonOutcome(r0, g, eps * g, 2, Status.CONVERGED, 0.0, "ok")
 
-    dc = SimpleNamespace(cand=np.arange(2), h=1.0, start=lambda: np.zeros(2), subproblem=subproblem,
-                         penalty_continuation=True, penalty_entry=False, carried_stiffness=1e4)
+    dc = _StandIn(cand=np.arange(2), h=1.0, start=lambda: np.zeros(2), subproblem=subproblem,
+                  penalty_continuation=True, carried_stiffness=1e4)
     opts = ContactOptions(newton_tol=1e-12, maxiter_newton=60, tol_penetration=1e-8)
     run = run_penalty(dc, opts, 10.0)
     assert run.status > 0, run.message

@@ -63,7 +63,7 @@ def _quadratic_pairs(log):
 
 
 @pytest.mark.parametrize("algorithm", ["ssn", "simo-laursen"])
-def test_newton_converges_quadratically(algorithm, monkeypatch):
+def test_newton_converges_quadratically(algorithm):
     r"""Ratio test on every Newton solve (reference active-set steps, Algorithm 6.1 subproblems).
 
     Near the solution, quadratic convergence means :math:`e_{k+1} \le C e_k^2` with a
@@ -74,14 +74,11 @@ def test_newton_converges_quadratically(algorithm, monkeypatch):
     :math:`\log e_{k+1}/\log e_k \ge 1.5`, with at least 2 such pairs (curved obstacle:
     without the curvature term of the tangent this fails).
     """
-    from alcontact.contact._finite import FiniteContact
-
-    # every subproblem to newton_tol (inexact ones stop after one or two quadratic steps)
-    monkeypatch.setattr(FiniteContact, "inexact_subproblems", False)
-    # the tangent predictor: step 2 of the secant predictor starts too close for two pairs
-    monkeypatch.setattr(FiniteContact, "secant_predictor", False)
     problem = _finite(hertz.hertz_2d(n_per_a=4, growth=1.3))
-    fs = solve_finite(problem, algorithm, steps=2, obstacle_path=_press(problem.meta["delta"]))
+    # every subproblem to newton_tol (inexact ones stop after one or two quadratic steps), and the
+    # tangent predictor (step 2 of the secant predictor starts too close for two pairs)
+    fs = solve_finite(problem, algorithm, steps=2, obstacle_path=_press(problem.meta["delta"]), subproblems="exact",
+                      predictor="tangent")
     assert fs.success, fs.message
     pairs = [p for log in fs.extra["residual_log"] for p in _quadratic_pairs(log)]
     assert_quadratic_pairs(pairs)

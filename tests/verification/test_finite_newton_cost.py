@@ -12,18 +12,20 @@ load step on average for the reference and for Algorithm 6.1):
   ``min(1e-3 dlam, dlam**2)`` of the last multiplier change, the last one to
   ``newton_tol``) and the second-order multiplier update
   (:meth:`FiniteContact.multiplier_step`): 4.55 per step; asserted: mean <= 5. Every
-  subproblem to ``newton_tol``: 5.9; first-order (Macaulay) updates as well: more
-  (11.2 at n=24). All give the same force at every step within 1e-9 relative, and the
+  subproblem to ``newton_tol`` (option ``subproblems = "exact"``): 5.9 (asserted: more, same
+  forces within 1e-8, the stopping tolerance); first-order (Macaulay) updates as well: more
+  (11.2 at n=24, not asserted). All give the same force at every step within 1e-8 relative, and the
   reference's within 1e-6;
 - the secant predictor (:meth:`FiniteContact.configure`: linear extrapolation of the state and
   the pressures from the last two converged steps, no assembly) with the entry rule of the
   starting active set (:meth:`FiniteContact.initial_active`), the primal correction of the
   dual step and the physical stopping test of Algorithm 6.1: 3.75 Newton and 3.80 assembly +
   solves per load step for both algorithms (the first step runs the tangent predictor);
-  asserted: both means <= 4. With the tangent predictor: 3.25 Newton but 4.25 assembly + solves
-  per step (asserted: more assembly + solves, forces within 1e-9 relative); without the primal
-  correction Algorithm 6.1 needs 4.2 Newton per step (asserted: more). On the n=24 mesh the
-  entry rule takes the reference from 4.6 to 4.1 Newton per step (asserted, slow: more without it);
+  asserted: both means <= 4. With the tangent predictor (option ``predictor = "tangent"``): 3.25
+  Newton but 4.25 assembly + solves per step (asserted: more assembly + solves, forces within 1e-9
+  relative); without the primal correction Algorithm 6.1 needed 4.2 Newton per step (that variant
+  was removed). On the n=24 mesh the entry rule takes the reference from 4.6 to 4.1 Newton per step
+  (asserted, slow: <= 4.5);
 - the entry rule on the secant prediction for Algorithm 6.1
   (:meth:`FiniteContact.entry_multipliers`: a point predicted to penetrate without predicted
   pressure that :meth:`FiniteContact.initial_active` keeps out of the starting set starts the
@@ -31,25 +33,22 @@ load step on average for the reference and for Algorithm 6.1):
   in 8 steps of the 20-step path (:math:`\delta/R = 0.16`) Algorithm 6.1 takes 6 Newton systems
   in step 1 (tangent predictor) and 4 in each later step, 4.25 on average (without the
   rule: 5.125, 5 per later step); asserted: mean <= 4.5 and <= 4 per step from step 2 on,
-  fewer than without it, forces within 1e-9 relative of those without it and 1e-6 of the
-  reference. Over the whole 20-step path on ``n=24`` (measured, not asserted, to keep the
+  forces within 1e-6 of the reference. Over the whole 20-step path on ``n=24`` (measured, not asserted, to keep the
   suite short): 4.15 (4.65 without);
-- the semi-smooth dual step (:attr:`FiniteContact.dual_entry`: the points the entry shift kept
-  out that still penetrate after the first subproblem enter the active set of
-  :meth:`FiniteContact.multiplier_step` and its primal correction): on ``n=8`` 3.65 Newton per
-  step (3.75 without); asserted: fewer, forces within 1e-9 relative. At n=88 (62 658 DOFs)
+- the semi-smooth dual step (the points the entry shift kept out that still penetrate after the
+  first subproblem enter the active set of :meth:`FiniteContact.multiplier_step` and its primal
+  correction): on ``n=8`` 3.65 Newton per step (3.75 without). At n=88 (62 658 DOFs)
   6.65 -> 5.45 (``docs/benchmarks/finite.md``);
-- chord steps near convergence (:attr:`FiniteContact.chord_at_floor`: a subproblem whose relative
+- chord steps near convergence (a subproblem whose relative
   residual is already below 1e-9 takes its next correction with the factor at hand, one
   back-substitution and no assembly, counted in ``chord_steps`` and not as a Newton system):
   Algorithm 6.1 on ``n=8`` (20 steps) 3.10 Newton systems per step (3.65 without: the last
   subproblem of a step, started at 1e-10 relative by the primal correction, took a Newton
-  system); asserted: mean <= 3.25, more without, forces within 1e-9 relative. At n=88
+  system); asserted: mean <= 3.25 and chord steps recorded. At n=88
   (62 658 DOFs) 5.45 -> 4.75 (``docs/benchmarks/finite.md``);
-- the entry rule on the tangent prediction of a first contact
-  (:attr:`FiniteContact.first_contact_entry`: in step 1 no point is pressed, the predictor has
-  no springs and every predicted penetration was loaded): step 1 on ``n=8`` takes 4 Newton
-  systems for both algorithms (5 without); asserted: <= 4, more without, same forces within 1e-9;
+- the entry rule on the tangent prediction of a first contact (in step 1 no point is pressed,
+  the predictor has no springs and every predicted penetration was loaded): step 1 on ``n=8``
+  takes 4 Newton systems for both algorithms (5 without); asserted: <= 4;
 - a 3D case, :func:`alcontact.problems.hemisphere.hemisphere` ``(n=4, order=1)`` (375 DOFs,
   delta/R = 0.2 in 5 steps): both algorithms converge with at most 4 assembly + solves per
   step on average (measured 3.2 and 3.2) and the same force within 1e-6 relative;
@@ -108,31 +107,18 @@ def test_algorithm_6_1_needs_at_most_five_newton_per_step(algorithm_6_1, half_cy
 
 
 @pytest.mark.slow
-def test_exact_subproblems_and_first_order_updates_cost_more(half_cylinder_8, algorithm_6_1, monkeypatch):
-    """Exact subproblems, then first-order updates: more Newton per step, same forces within 1e-9 (module doc).
+def test_exact_subproblems_cost_more(half_cylinder_8, algorithm_6_1):
+    """Option ``subproblems = "exact"``: more Newton per step, same forces within 1e-8 (module doc).
 
-    The exact-subproblem run leaves out the semi-smooth dual step (``dual_entry``): with it, that
-    run stops step 3 at a penetration of 5.1e-9 h (tolerance 1e-8 h) and its force lies 3.7e-9
-    relative from the others (asserted separately: within 1e-8, the stopping tolerance, and it
-    still costs more than the default).
+    1e-8 is the stopping tolerance: the exact run stops step 3 at a penetration of 5.1e-9 h
+    (tolerance 1e-8 h), its force 3.7e-9 relative from the inexact one.
     """
-    from alcontact.contact._finite import FiniteContact
-
     fs = algorithm_6_1
     mean = np.mean([s.newton_iterations for s in fs.steps])
-    monkeypatch.setattr(FiniteContact, "inexact_subproblems", False)
-    semi_smooth = solve_finite(half_cylinder_8, "simo-laursen", steps=STEPS)
-    assert semi_smooth.success, semi_smooth.message
-    assert np.mean([s.newton_iterations for s in semi_smooth.steps]) > mean
-    assert np.max(np.abs(fs.forces[:, 1] - semi_smooth.forces[:, 1]) / semi_smooth.forces[:, 1]) <= 1e-8
-    monkeypatch.setattr(FiniteContact, "dual_entry", False)
-    exact = solve_finite(half_cylinder_8, "simo-laursen", steps=STEPS)
-    monkeypatch.setattr(FiniteContact, "multiplier_step", None)
-    first = solve_finite(half_cylinder_8, "simo-laursen", steps=STEPS)
-    for other in (exact, first):
-        assert other.success, other.message
-        assert np.mean([s.newton_iterations for s in other.steps]) > mean
-        assert np.max(np.abs(fs.forces[:, 1] - other.forces[:, 1]) / other.forces[:, 1]) <= 1e-9
+    exact = solve_finite(half_cylinder_8, "simo-laursen", steps=STEPS, subproblems="exact")
+    assert exact.success, exact.message
+    assert np.mean([s.newton_iterations for s in exact.steps]) > mean
+    assert np.max(np.abs(fs.forces[:, 1] - exact.forces[:, 1]) / exact.forces[:, 1]) <= 1e-8
 
 
 @pytest.mark.parametrize("use_pardiso", [True, False])
@@ -178,43 +164,23 @@ def test_at_most_four_assembly_and_solves_per_step(half_cylinder_8_ssn, algorith
 
 
 @pytest.mark.parametrize("algorithm", ["ssn", "simo-laursen"])
-def test_tangent_predictor_costs_more_solves(half_cylinder_8, half_cylinder_8_ssn, algorithm_6_1, algorithm,
-                                             monkeypatch):
-    """Tangent instead of secant predictor: more assembly + solves per step, forces within 1e-9 (module doc)."""
-    from alcontact.contact._finite import FiniteContact
-
+def test_tangent_predictor_costs_more_solves(half_cylinder_8, half_cylinder_8_ssn, algorithm_6_1, algorithm):
+    """Option ``predictor = "tangent"`` instead of the secant predictor: more assembly + solves per step,
+    forces within 1e-9 (module doc)."""
     fs = half_cylinder_8_ssn if algorithm == "ssn" else algorithm_6_1
-    monkeypatch.setattr(FiniteContact, "secant_predictor", False)
-    tangent = solve_finite(half_cylinder_8, algorithm, steps=STEPS)
+    tangent = solve_finite(half_cylinder_8, algorithm, steps=STEPS, predictor="tangent")
     assert tangent.success, tangent.message
     assert _mean(tangent, "linear_solves") > _mean(fs, "linear_solves")
     assert np.max(np.abs(fs.forces[:, 1] - tangent.forces[:, 1]) / tangent.forces[:, 1]) <= 1e-9
 
 
-def test_primal_correction_saves_newton(half_cylinder_8, algorithm_6_1, monkeypatch):
-    """Algorithm 6.1 without the primal correction of the dual step: more Newton per step (module doc)."""
-    from alcontact.contact._finite import FiniteContact
-
-    monkeypatch.setattr(FiniteContact, "primal_correction", False)
-    plain = solve_finite(half_cylinder_8, "simo-laursen", steps=STEPS)
-    assert plain.success, plain.message
-    assert _mean(plain, "newton_iterations") > _mean(algorithm_6_1, "newton_iterations")
-    assert np.max(np.abs(plain.forces[:, 1] - algorithm_6_1.forces[:, 1]) / plain.forces[:, 1]) <= 1e-9
-
-
 @pytest.mark.slow
-def test_entry_rule_saves_active_set_steps(monkeypatch):
-    """n=24: the reference without the entry rule of the starting active set needs more Newton per step."""
-    from alcontact.contact._finite import FiniteContact
-
+def test_entry_rule_saves_active_set_steps():
+    """n=24: the reference with the entry rule of the starting active set: <= 4.5 Newton per step (module doc)."""
     fine = half_cylinder(24, order=2, curved=False)  # the mesh of the measured costs (conftest)
     ruled = solve_finite(fine, "ssn", steps=STEPS)
-    monkeypatch.setattr(FiniteContact, "initial_active", None)
-    plain = solve_finite(fine, "ssn", steps=STEPS)
-    assert ruled.success and plain.success
-    assert _mean(ruled, "newton_iterations") < _mean(plain, "newton_iterations")
+    assert ruled.success, ruled.message
     assert _mean(ruled, "newton_iterations") <= 4.5, _mean(ruled, "newton_iterations")
-    assert np.max(np.abs(ruled.forces[:, 1] - plain.forces[:, 1]) / plain.forces[:, 1]) <= 1e-9
 
 
 def test_hemisphere_3d_costs_at_most_four_solves_per_step():
@@ -232,86 +198,39 @@ def test_hemisphere_3d_costs_at_most_four_solves_per_step():
     assert np.max(np.abs(f_al - f_ref) / f_ref) <= 1e-6
 
 
-def _entry_runs(problem, algorithm, steps, monkeypatch):
-    from alcontact.contact._finite import FiniteContact
-
-    ruled = solve_finite(problem, algorithm, steps=steps)
-    monkeypatch.setattr(FiniteContact, "entry_rule_multipliers", False)
-    plain = solve_finite(problem, algorithm, steps=steps)
-    monkeypatch.undo()
-    for fs in (ruled, plain):
-        assert fs.success, fs.message
-        assert len(fs.steps) == steps
-    assert np.max(np.abs(ruled.forces[:, 1] - plain.forces[:, 1]) / plain.forces[:, 1]) <= 1e-9
-    return ruled, plain
-
-
-def test_entry_rule_on_the_prediction_saves_newton_in_algorithm_6_1(monkeypatch):
+def test_entry_rule_on_the_prediction_saves_newton_in_algorithm_6_1():
     """n=24, 8 of the 20 steps: Algorithm 6.1 <= 4.5 Newton per step, <= 4 from step 2 on (module doc)."""
     prob = half_cylinder(24, order=2, delta=0.4 * 8 / STEPS, curved=False)  # as measured (conftest)
-    ruled, plain = _entry_runs(prob, "simo-laursen", 8, monkeypatch)
+    ruled = solve_finite(prob, "simo-laursen", steps=8)
+    assert ruled.success, ruled.message
+    assert len(ruled.steps) == 8
     newton = np.array([s.newton_iterations for s in ruled.steps])
     assert newton.mean() <= 4.5, newton
     assert newton[1:].mean() <= 4.0, newton
-    assert newton.mean() < _mean(plain, "newton_iterations")
     ref = solve_finite(prob, "ssn", steps=8)
     assert ref.success, ref.message
     assert np.max(np.abs(ruled.forces[:, 1] - ref.forces[:, 1]) / ref.forces[:, 1]) <= 1e-6
 
 
 
-def test_semi_smooth_dual_step_saves_newton_in_algorithm_6_1(half_cylinder_8, algorithm_6_1, monkeypatch):
-    """Algorithm 6.1 without the semi-smooth dual step (``dual_entry``): more Newton per step (module doc).
-
-    Reference: the run with the step (fixture, measured 3.65 Newton per step on ``n=8``, 20
-    steps) against the same run with the points kept out by the entry shift left out of
-    :meth:`FiniteContact.multiplier_step` (measured 3.75). Asserted: fewer Newton systems with
-    the step, and the same forces within 1e-9 relative.
-    """
-    from alcontact.contact._finite import FiniteContact
-
-    monkeypatch.setattr(FiniteContact, "dual_entry", False)
-    plain = solve_finite(half_cylinder_8, "simo-laursen", steps=STEPS)
-    assert plain.success, plain.message
-    assert _mean(algorithm_6_1, "newton_iterations") < _mean(plain, "newton_iterations")
-    assert np.max(np.abs(plain.forces[:, 1] - algorithm_6_1.forces[:, 1]) / plain.forces[:, 1]) <= 1e-9
-
-
-def test_chord_steps_near_convergence_save_newton_systems(half_cylinder_8, algorithm_6_1, monkeypatch):
+def test_chord_steps_near_convergence_save_newton_systems(algorithm_6_1):
     """Algorithm 6.1 with chord steps below 1e-9 relative: <= 3.25 Newton systems per step on n=8 (module doc).
 
     Reference: the fixture run (measured 3.10 Newton systems per step, 20 steps, some chord
-    steps) against the same run with :attr:`FiniteContact.chord_at_floor` off (measured 3.65).
-    Asserted: mean <= 3.25 with the chord steps, more without, chord steps recorded, and the
-    same forces within 1e-9 relative (both runs stop on the same tolerances).
+    steps; 3.65 without chord steps, a variant since removed). Asserted: mean <= 3.25 and chord
+    steps recorded.
     """
-    from alcontact.contact._finite import FiniteContact
-
     mean = _mean(algorithm_6_1, "newton_iterations")
     assert mean <= 3.25, mean
     assert algorithm_6_1.solution.extra["chord_steps"] > 0
-    monkeypatch.setattr(FiniteContact, "chord_at_floor", False)
-    plain = solve_finite(half_cylinder_8, "simo-laursen", steps=STEPS)
-    assert plain.success, plain.message
-    assert plain.solution.extra["chord_steps"] == 0
-    assert _mean(plain, "newton_iterations") > mean
-    assert np.max(np.abs(plain.forces[:, 1] - algorithm_6_1.forces[:, 1]) / plain.forces[:, 1]) <= 1e-9
 
 
 @pytest.mark.parametrize("algorithm", ["ssn", "simo-laursen"])
-def test_entry_rule_on_the_first_contact_saves_newton(half_cylinder_8, half_cylinder_8_ssn, algorithm_6_1, algorithm,
-                                                      monkeypatch):
-    """Step 1 (first contact, tangent predictor) on n=8: <= 4 Newton systems, more without the entry rule (module doc).
+def test_entry_rule_on_the_first_contact_saves_newton(half_cylinder_8_ssn, algorithm_6_1, algorithm):
+    """Step 1 (first contact, tangent predictor) on n=8: <= 4 Newton systems (module doc).
 
-    Reference: measured 4 with :attr:`FiniteContact.first_contact_entry` and 5 without, for both
-    algorithms. Asserted: step 1 <= 4, more without, forces of every step within 1e-9 relative.
+    Reference: measured 4 with the entry rule at the first contact and 5 without (a variant since
+    removed), for both algorithms. Asserted: step 1 <= 4.
     """
-    from alcontact.contact._finite import FiniteContact
-
     fs = half_cylinder_8_ssn if algorithm == "ssn" else algorithm_6_1
     assert fs.steps[0].newton_iterations <= 4, fs.steps[0].newton_iterations
-    monkeypatch.setattr(FiniteContact, "first_contact_entry", False)
-    plain = solve_finite(half_cylinder_8, algorithm, steps=STEPS)
-    assert plain.success, plain.message
-    assert plain.steps[0].newton_iterations > fs.steps[0].newton_iterations
-    assert np.max(np.abs(plain.forces[:, 1] - fs.forces[:, 1]) / plain.forces[:, 1]) <= 1e-9

@@ -41,6 +41,7 @@ from ..linalg import registered_solvers
 from ..optim import StrategyState, available_strategies, make_strategy
 from ._laws import eta_for_stiffness, freezes_at_zero, make_law
 from ._solution import ContactIteration, ContactStatus
+from .system import ContactSystem
 
 __all__ = ["ContactOptions", "Algorithm", "register", "algorithms", "find_algorithm", "available_algorithms",
            "algorithm_docs", "contact_penalties"]
@@ -119,8 +120,8 @@ class ContactOptions:
         uniform value ``eps_n * h``. At finite deformation (load steps) the penalty solve
         of a step starts from the step's predicted pressures with the entry rule, and its
         dual Newton step gives the initial multipliers (``_penalty_start``,
-        :attr:`FiniteContact.warm_penalty_start
-        <alcontact.contact._finite.FiniteContact.warm_penalty_start>`).
+        :attr:`ContactSystem.warm_penalty_start
+        <alcontact.contact.system.ContactSystem.warm_penalty_start>`).
     multiplier_floor : float
         Relative lower bound keeping MET multipliers positive.
     linear_solver : {"auto", "direct", "amg", "mkl-pardiso", "cholmod", "superlu", ...}
@@ -140,6 +141,30 @@ class ContactOptions:
         else ``"direct"``). Only the algorithms
         whose registry entry lists the ``amg`` path (:attr:`Algorithm.linear_solvers`) take
         ``"amg"``; the others run on a direct factorization (``"auto"``: the fastest installed one).
+    subproblems : {"inexact", "exact"}
+        Frictionless Algorithms 6.1 / 6.3: ``"inexact"``: where the model declares it
+        (:attr:`ContactSystem.inexact_subproblems <alcontact.contact.system.ContactSystem.inexact_subproblems>`:
+        finite deformation, the AMG path above ``INEXACT_DOFS`` free DOFs) the Newton tolerance of each
+        subproblem (S) follows the last multiplier change, ``min(1e-3 dlam, dlam**2)`` (the first one
+        ``1e-2``), and the loop stops only after a subproblem solved to ``newton_tol``; ``"exact"``:
+        every subproblem to ``newton_tol`` (e.g. to observe Newton's quadratic convergence; half-cylinder
+        P2 n = 8, 20 steps, Algorithm 6.1: 3.10 Newton per step inexact, more exact).
+    predictor : {"auto", "tangent"}
+        Finite deformation: the start of a load step. ``"auto"``: the secant predictor (the last two
+        converged steps extrapolated, no assembly) where the loading is proportional, the slide predictor
+        (state and pressures carried along with an obstacle that translates along the contact zone,
+        :math:`u(X) \\leftarrow u(X - \\Delta c)`) where it slides, else the tangent predictor (one assembly
+        and solve); ``"tangent"``: the tangent predictor in every step. Same solutions; ``"auto"`` costs
+        fewer assembly + solves (``docs/benchmarks/finite.md``, ``docs/benchmarks/ironing.md``).
+    slide_start_reach : float
+        Finite deformation, Algorithm 6.3 after the slide predictor: the penalty start shifts the
+        multipliers of the pressed points so that their starting tractions are the carried pressures,
+        but only at points open by at most ``slide_start_reach`` times ``h`` at the predicted state
+        (beyond the contact edge the carried pressure is interpolated from a pressed neighbour). A value
+        above the candidate margin (2) shifts every pressed point. Measured, Newton per sliding step of
+        exp-met1 (mean / max, 40 steps) for every pressed point, 0, 0.02, 0.03, 0.05, 0.07, 0.1: ironing
+        3d-s 9.85/14, 6.92/10, 6.33/10, 6.28/10, 5.58/10, 6.25/8, 6.25/8; 2d-s 6.55/10, 5.92/8, 5.25/8,
+        5.03/6, 5.00/6, 6.40/8, 6.55/10 (``docs/benchmarks/ironing.md``, issue 18).
     eps_t : float or None
         Friction: tangential penalty stiffness :math:`\\varepsilon_T`; ``None``: ``tangential_scale * eps_n``.
     tangential_scale : float
@@ -210,6 +235,16 @@ class ContactOptions:
         "(PyAMG + CG/GMRES, no factorization; at finite kinematics penalty, simo-laursen and family-p), `auto` (amg where available for 3D above "
         "250k DOFs, else direct), or any registered solver by name (a direct one factorizes, an iterative one "
         "preconditions the Krylov solves).", choices=_solver_names)
+    subproblems: str = declared(
+        "str", "inexact", "Algorithms 6.1/6.3: `inexact` (Newton tolerance of a subproblem from the last multiplier "
+        "change where the model offers it: finite deformation, large AMG models) or `exact` (every subproblem to "
+        "newton_tol).", choices=("inexact", "exact"))
+    predictor: str = declared(
+        "str", "auto", "Finite deformation: load-step predictor: `auto` (secant where the loading is proportional, "
+        "slide where the obstacle slides, else tangent) or `tangent`.", choices=("auto", "tangent"))
+    slide_start_reach: float = declared(
+        "float", 0.05, "Finite deformation, family-p after the slide predictor: the penalty start shifts the pressed "
+        "points open by at most this x h.", low=0)
     # ---- read by the frictional solvers only
     eps_t: float | None = declared("float", None, "Friction: tangential penalty stiffness (default: "
                                    "`tangential_scale` eps_n).", low=0, low_open=True, only="friction")
@@ -355,10 +390,9 @@ def _converged(opts, pen, compl, dlam):
     return pen <= opts.tol_penetration and compl <= opts.tol_complementarity and dlam <= opts.tol_multiplier
 
 
-def _initial_multipliers(dc) -> np.ndarray:
-    """Starting multipliers: zero, or the warm start a load-stepped problem offers (``dc.initial_multipliers``)."""
-    warm = getattr(dc, "initial_multipliers", None)
-    return np.zeros(dc.cand.size) if warm is None else np.asarray(warm(), dtype=float)
+def _initial_multipliers(dc: ContactSystem) -> np.ndarray:
+    """Starting multipliers: zero, or the warm start of a load-stepped model (``dc.initial_multipliers``)."""
+    return np.asarray(dc.initial_multipliers(), dtype=float)
 
 
 def _penalty_solve(dc, opts, eps, r0, lam0=None, *, entry: bool = False, maxiter: int | None = None):
@@ -398,15 +432,9 @@ def _entry_subproblem(dc, law, lam, r0, *, tol, maxiter, finish: bool = True, pe
     multipliers of the returned solution (``lam``, or the shifted ones where ``finish`` is off
     and a shifted point still penetrates: the caller's dual step takes those points in).
     ``penalty_start`` tells the model that this is the penalty start of Algorithm 6.3
-    (:attr:`FiniteContact.slide_start_reach <alcontact.contact._finite.FiniteContact.slide_start_reach>`).
+    (option ``slide_start_reach``).
     """
-    entry = getattr(dc, "entry_multipliers", None)
-    if entry is None:
-        shifted = lam
-    elif penalty_start:
-        shifted = np.asarray(entry(lam, law, penalty_start=True), dtype=float)
-    else:
-        shifted = np.asarray(entry(lam, law), dtype=float)
+    shifted = np.asarray(dc.entry_multipliers(lam, law, penalty_start=penalty_start), dtype=float)
     if not np.any(shifted != lam):
         return dc.subproblem(law, lam, r0, tol=tol, maxiter=maxiter), lam
     first = dc.subproblem(law, shifted, r0, tol=tol, maxiter=maxiter)
@@ -424,34 +452,36 @@ def _solve_on(dc, law, lam, first, r0, *, tol, maxiter):
     return dataclasses.replace(out, iterations=out.iterations + first.iterations)
 
 
-def run_penalty(dc, opts, eps0, penalty_name=None) -> _Run:
+def run_penalty(dc: ContactSystem, opts, eps0, penalty_name=None) -> _Run:
     """Pure penalty (6.10), stiffness raised by ``alpha`` until the penetration tolerance is met.
 
     A load-stepped model with ``dc.penalty_continuation`` (finite deformation,
-    :attr:`FiniteContact.penalty_continuation <alcontact.contact._finite.FiniteContact.penalty_continuation>`)
+    :attr:`ContactSystem.penalty_continuation <alcontact.contact.system.ContactSystem.penalty_continuation>`)
     starts each step at the stiffness its last converged step ended with (``dc.carried_stiffness``,
     at least ``eps0``, at most ``eps_max * eps0``) instead of ``eps0``: the sequence of (6.10) of
     Algorithm 5.2 continued over the load steps, the same stopping test (penetration at most
     ``tol_penetration``). It starts one growth factor below that stiffness (``/ alpha``): the
     last solve then starts from the solution one stiffness below, as within a step (a solve at
     :math:`10^6\varepsilon_N` from the predicted state stalls at the round-off floor of its contact
-    forces: on the AMG path 1.4e-6 off in force). With ``dc.penalty_entry`` the first solve of a
-    step starts Newton with the model's entry rule (:func:`_entry_subproblem`). Taking the
+    forces: on the AMG path 1.4e-6 off in force). The first solve of a step starts Newton with the
+    model's entry rule (:func:`_entry_subproblem`); Newton per step with / without it (20 steps,
+    half-cylinder P2): n = 8 4.80 / 4.45, n = 24 5.00 / 4.95, n = 56 5.10 / 5.90, n = 88 6.20 / 6.85;
+    3D hemisphere n = 12 (10 steps) 5.30 / 4.80: it pays on the finer 2D meshes, where the contact
+    edge has more points to release. Taking the
     entry-shifted solution as the start of the full-stiffness solve instead (no re-solve where a
     kept-out point still penetrates) saved 0.6-1.3 Newton per step but left that solve 1e-7 to
     3e-7 apart in force on the AMG and direct paths (the round-off floor again), so it is not done.
     A first solve at the carried stiffness that fails, or takes more than :data:`_CARRIED_BUDGET`
     Newton iterations, restarts the step's sequence from ``eps0``.
     """
-    carry = bool(getattr(dc, "penalty_continuation", False))
-    entry = carry and bool(getattr(dc, "penalty_entry", False))
-    carried = getattr(dc, "carried_stiffness", None) if carry else None
+    carry = bool(dc.penalty_continuation)
+    carried = dc.carried_stiffness if carry else None
     eps = eps0 if carried is None else min(max(eps0, float(carried) / opts.alpha), opts.eps_max * eps0)
     r = dc.start()
     hist, newton = [], 0
     lam_old = np.zeros(dc.cand.size)
     for k in range(1, opts.maxiter + 1):
-        out = _penalty_solve(dc, opts, eps, r, entry=entry and k == 1,
+        out = _penalty_solve(dc, opts, eps, r, entry=carry and k == 1,
                              maxiter=_CARRIED_BUDGET if (carried is not None and k == 1) else None)
         newton += out.iterations
         r = out.state
@@ -500,12 +530,12 @@ def _penalty_start(dc, opts, eps):
     r"""The pure-penalty start of Algorithm 6.3 (``initial="penalty"``): ``(outcome, multipliers, state)``.
 
     One penalty solve (6.10), its tractions the initial multipliers. A load-stepped model with
-    ``dc.warm_penalty_start`` (:attr:`FiniteContact.warm_penalty_start
-    <alcontact.contact._finite.FiniteContact.warm_penalty_start>`) gives it what Algorithm 6.1
+    ``dc.warm_penalty_start`` (:attr:`ContactSystem.warm_penalty_start
+    <alcontact.contact.system.ContactSystem.warm_penalty_start>`) gives it what Algorithm 6.1
     starts a step with: the step's predicted pressures as multipliers
     (:math:`t_N = \langle\lambda_{pred} + \varepsilon_N g\rangle`, the first subproblem of Algorithm
-    6.1) and its entry rule (:func:`_entry_subproblem`); with ``dc.start_multiplier_step`` the
-    initial multipliers are then the second-order update of that subproblem
+    6.1) and its entry rule (:func:`_entry_subproblem`); the initial multipliers are then the
+    second-order update of that subproblem
     (:meth:`FiniteContact.start_multiplier_step
     <alcontact.contact._finite.FiniteContact.start_multiplier_step>`, a Newton step on the dual
     with its primal correction, which takes in the points the entry rule kept out that still
@@ -515,7 +545,7 @@ def _penalty_start(dc, opts, eps):
     6.3 leaves :math:`\lambda^0 > 0` free; its iterations (the first-order update (6.66)) are
     unchanged.
     """
-    if not getattr(dc, "warm_penalty_start", False):
+    if not dc.warm_penalty_start:
         out = _penalty_solve(dc, opts, eps, dc.start())
         return out, out.t.copy(), out.state.copy()
     law = make_law(_pen.make("rockafellar"), np.full(dc.cand.size, 1.0 / eps))
@@ -523,10 +553,10 @@ def _penalty_start(dc, opts, eps):
     # pressures at or below the multiplier floor are MET's positive floor (barrier penalties keep a tiny traction
     # at every open point), not contact: zero, so that the entry rule sees those points as not pressed
     lam0 = np.where(lam0 > opts.multiplier_floor * float(np.max(lam0, initial=0.0)), lam0, 0.0)
-    dual = getattr(dc, "start_multiplier_step", None)
+    dual = dc.start_multiplier_step
     out, lam_used = _entry_subproblem(dc, law, lam0, dc.start(), tol=opts.newton_tol, maxiter=opts.maxiter_newton,
-                                      finish=dual is None, penalty_start=True)
-    better = dual(law, lam_used, out) if dual is not None and out.converged else None
+                                      finish=False, penalty_start=True)
+    better = dual(law, lam_used, out) if out.converged else None
     if isinstance(better, tuple) and lam_used is not lam0:
         # points the entry rule kept out still penetrate: the dual step took them in from its linearization;
         # the next subproblem of Algorithm 6.1 (its multipliers, from its primal correction) and a second
@@ -576,64 +606,109 @@ def _first_push(g, g_doubled, bound) -> float:
     return float(min(0.5, max(_PUSH_MARGIN * need, 1e-12)))
 
 
-def run_al(dc, opts, eps0, penalty_name="rockafellar") -> _Run:
-    """Algorithms 6.1 / 6.3 (outer loop; see module doc).
+@dataclass
+class _ALStart:
+    """Where the outer loop of Algorithms 6.1 / 6.3 starts (:func:`_al_start`)."""
 
-    A model may ask for inexact subproblems (``dc.inexact_subproblems``: the Newton
-    tolerance of (S) follows the last multiplier change, and the loop stops only after a
-    subproblem solved to ``newton_tol``) and offer a second-order multiplier update for
-    penalties that do not freeze at zero (``dc.multiplier_step(law, lam, out)``, a Newton
-    step on the dual with the same fixed point, optionally with the primal correction it implies as
-    ``(multipliers, next starting state)``; ``None`` keeps the first-order update).
-    The stopping tests measure the first-order update's change; a model with
-    ``dc.physical_stopping`` and the second-order update (Algorithm 6.1 at finite deformation) also stops as soon as the
-    penetration and complementarity tolerances hold at a subproblem solved to ``newton_tol``
-    (the KKT conditions at the returned state, the measures of :mod:`alcontact.contact._verify`).
+    lam: np.ndarray
+    r: Any
+    floor: float
+    newton: int = 0
+    outer0: int = 0
+    history: list = field(default_factory=list)
+
+
+def _al_start(dc: ContactSystem, opts, eps: float, needs_positive: bool) -> _ALStart:
+    r"""Initial multipliers and starting state of :func:`run_al`.
+
+    Algorithm 6.1 starts from :math:`\lambda = 0` (or the load step's warm start); Algorithm 6.3
+    from one penalty solve (``initial="penalty"``, :func:`_penalty_start`) or the uniform value
+    ``eps * h``, floored at ``multiplier_floor`` times the largest one (MET 1/2 freeze at zero).
     """
-    pen = _pen.make(penalty_name)
-    n = dc.cand.size
-    eps = eps0
-    hist, newton, outer0 = [], 0, 0
-    needs_positive = freezes_at_zero(pen)  # MET 1/2: a zero multiplier would never revive
-    # ---- initial multipliers and starting point
-    if not needs_positive:  # Algorithm 6.1: start from lambda = 0 (or the last load step's pressures)
-        lam = _initial_multipliers(dc)
-        r = dc.start()
+    if not needs_positive:
+        start = _ALStart(_initial_multipliers(dc), dc.start(), 0.0)
     elif opts.initial == "penalty":
         out, lam, r = _penalty_start(dc, opts, eps)
-        newton += out.iterations
-        outer0 = 1
-        hist.append(ContactIteration(0, float(np.max(out.g, initial=0)) / dc.h, np.nan, np.nan, out.residual,
-                                     out.iterations, eps, int(np.sum(lam > 0))))
+        start = _ALStart(lam, r, 0.0, out.iterations, 1)
+        start.history.append(ContactIteration(0, float(np.max(out.g, initial=0)) / dc.h, np.nan, np.nan, out.residual,
+                                              out.iterations, eps, int(np.sum(lam > 0))))
     else:
-        lam = np.full(n, eps * dc.h)
-        r = dc.start()
-    pref = max(float(np.max(lam, initial=0.0)), eps * dc.h * 1e-6)
-    floor = opts.multiplier_floor * pref
+        start = _ALStart(np.full(dc.cand.size, eps * dc.h), dc.start(), 0.0)
+    pref = max(float(np.max(start.lam, initial=0.0)), eps * dc.h * 1e-6)
+    start.floor = opts.multiplier_floor * pref
     if needs_positive:
-        lam = np.maximum(lam, floor)
-    eta = eta_for_stiffness(pen, lam, eps)
-    law = make_law(pen, eta)
-    entry = getattr(dc, "entry_multipliers", None)  # a model may keep predicted points out of the first (S)
-    if entry is not None and not needs_positive:
-        lam = np.asarray(entry(lam, law), dtype=float)
-    # barrier-type penalties: the start must lie inside the domain g < eta b; pushing
-    # harder (scaling the contact forces up) closes the penetrations
-    bound = law.gap_bound(lam)
-    scale = 0.5
+        start.lam = np.maximum(start.lam, start.floor)
+    return start
+
+
+def _inside_domain(dc: ContactSystem, r, bound):
+    r"""A starting state inside the domain :math:`g < 0.99\,\eta b` of a barrier-type penalty (Algorithm 6.3).
+
+    Pushing harder (contact forces times :math:`1 + s`, :func:`_first_push`, ``s`` doubled while
+    still outside) closes the penetrations; a Macaulay law (Algorithm 6.1) has no bound: no solve.
+    """
     g_start = dc.gaps(r)
-    outside = np.any(g_start >= 0.99 * bound)  # a Macaulay law (Algorithm 6.1) has no bound: no solve
-    pushed = False
-    if outside:
-        doubled = dc.scale_forces(r, 2.0)
-        pushed = not np.array_equal(doubled, r)  # any contact force to scale up?
-        scale = _first_push(g_start, dc.gaps(doubled), bound)
-    while outside and np.any(dc.gaps(r) >= 0.99 * bound) and pushed and scale < 1e6:
+    if not np.any(g_start >= 0.99 * bound):
+        return r
+    doubled = dc.scale_forces(r, 2.0)
+    if np.array_equal(doubled, r):  # no contact force to scale up
+        return r
+    scale = _first_push(g_start, dc.gaps(doubled), bound)
+    while np.any(dc.gaps(r) >= 0.99 * bound) and scale < 1e6:
         trial = dc.scale_forces(r, 1 + scale)
         if not np.any(dc.gaps(trial) >= 0.99 * bound):
-            r = trial
-            break
+            return trial
         scale *= 2
+    return r
+
+
+def _next_eta(pen, lam, eps, eta, g):
+    r"""Scale :math:`\eta` of the next subproblem (``eta_scaling``), inside a barrier's domain at the warm start."""
+    eta_new = eta_for_stiffness(pen, lam, eps)
+    bnd = eta_new * np.asarray(pen.domain_upper(lam), dtype=float)
+    return np.where(g < 0.99 * bnd, eta_new, eta)
+
+
+def _subproblem_failure(out, lam, r, k, outer, newton, eps, hist, penalty_name) -> _Run | None:
+    """The failed run of outer iteration ``k`` (non-finite tractions, Newton failure), or ``None``."""
+    if out.status == ContactStatus.NONFINITE or not np.all(np.isfinite(out.t)):
+        return _Run(r, lam, out.g, ContactStatus.NONFINITE,
+                    f"penalty {penalty_name!r} produced non-finite (NaN/inf) tractions in iteration {k}; "
+                    "check the penalty's formulas, lower penalty_scale or use another penalty",
+                    outer, newton, eps, out.residual, hist)
+    if not out.converged:
+        return _Run(out.state, lam, out.g, ContactStatus.NEWTON_FAILED,
+                    f"Newton failed in outer iteration {k}: {out.message}; try penalty_scale < 1 or "
+                    "algorithm='ssn'", outer, newton, eps, out.residual, hist)
+    return None
+
+
+def run_al(dc: ContactSystem, opts, eps0, penalty_name="rockafellar") -> _Run:
+    """Algorithms 6.1 / 6.3 (outer loop; see module doc) on a :class:`~alcontact.contact.system.ContactSystem`.
+
+    With ``opts.subproblems == "inexact"`` a model that declares ``dc.inexact_subproblems`` has
+    its subproblems solved inexactly (the Newton tolerance of (S) follows the last multiplier
+    change, and the loop stops only after a subproblem solved to ``newton_tol``). After each
+    subproblem of a penalty that does not freeze at zero, ``dc.multiplier_step(law, lam, out)``
+    may give a second-order multiplier update (a Newton step on the dual with the same fixed
+    point, optionally with the primal correction it implies as ``(multipliers, next starting
+    state)``; ``None`` keeps the first-order update). The stopping tests measure the first-order
+    update's change; a model with ``dc.physical_stopping`` (Algorithm 6.1 at finite deformation)
+    also stops as soon as the penetration and complementarity tolerances hold at a subproblem
+    solved to ``newton_tol`` (the KKT conditions at the returned state, the measures of
+    :mod:`alcontact.contact._verify`).
+    """
+    pen = _pen.make(penalty_name)
+    eps = eps0
+    needs_positive = freezes_at_zero(pen)  # MET 1/2: a zero multiplier would never revive
+    start = _al_start(dc, opts, eps, needs_positive)
+    lam, r, floor, newton, outer0, hist = start.lam, start.r, start.floor, start.newton, start.outer0, start.history
+    eta = eta_for_stiffness(pen, lam, eps)
+    law = make_law(pen, eta)
+    if not needs_positive:  # a model may keep predicted points out of the first (S)
+        lam = np.asarray(dc.entry_multipliers(lam, law), dtype=float)
+    bound = law.gap_bound(lam)
+    r = _inside_domain(dc, r, bound)
     if np.any(dc.gaps(r) >= bound):
         return _Run(r, lam, dc.gaps(r), ContactStatus.NEWTON_FAILED,
                     f"no starting point inside the domain of penalty {penalty_name!r}; use eta_scaling='adaptive' "
@@ -641,34 +716,24 @@ def run_al(dc, opts, eps0, penalty_name="rockafellar") -> _Run:
     update = make_strategy(opts.strategy, {"tau": opts.tau, "factor": opts.alpha, "feas_tol": opts.tol_penetration})
     pen_prev = compl_prev = np.inf
     out = None
-    # inexact subproblems (a model that asks for them, e.g. finite deformation): the Newton
-    # tolerance of (S) follows the last multiplier change (forcing term _INEXACT_FORCING); the
-    # loop stops only after a subproblem solved to newton_tol
-    inexact = bool(getattr(dc, "inexact_subproblems", False))
-    second_order = getattr(dc, "multiplier_step", None)
+    inexact = bool(dc.inexact_subproblems) and opts.subproblems == "inexact"
     # a model with the second-order update may stop on the physical tolerances alone: the returned
     # tractions t = p'(g/eta, lambda) balance the state to newton_tol, so penetration and
     # complementarity are the KKT conditions
-    physical = bool(getattr(dc, "physical_stopping", False)) and not needs_positive and second_order is not None
+    physical = bool(dc.physical_stopping) and not needs_positive
     inner_tol = max(opts.newton_tol, _INEXACT_FIRST) if inexact else opts.newton_tol
     for k in range(1, opts.maxiter + 1):
         out = dc.subproblem(law, lam, r, tol=inner_tol, maxiter=opts.maxiter_newton)
         newton += out.iterations
-        if out.status == ContactStatus.NONFINITE or not np.all(np.isfinite(out.t)):
-            return _Run(r, lam, out.g, ContactStatus.NONFINITE,
-                        f"penalty {penalty_name!r} produced non-finite (NaN/inf) tractions in iteration {k}; "
-                        "check the penalty's formulas, lower penalty_scale or use another penalty",
-                        outer0 + k, newton, eps, out.residual, hist)
-        if not out.converged:
-            return _Run(out.state, lam, out.g, ContactStatus.NEWTON_FAILED,
-                        f"Newton failed in outer iteration {k}: {out.message}; try penalty_scale < 1 or "
-                        "algorithm='ssn'", outer0 + k, newton, eps, out.residual, hist)
+        failed = _subproblem_failure(out, lam, r, k, outer0 + k, newton, eps, hist, penalty_name)
+        if failed is not None:
+            return failed
         r = r_next = out.state
         lam_new = out.t.copy()  # multiplier update: lambda <- p'(g/eta, lambda)
         if needs_positive:
             lam_new = np.maximum(lam_new, floor)
-        elif second_order is not None:  # a model may offer a Newton step on the dual (same fixed point)
-            lam_new, r_next = _after_dual_step(second_order(law, lam, out), lam_new, r_next)
+        else:  # a model may offer a Newton step on the dual (same fixed point)
+            lam_new, r_next = _after_dual_step(dc.multiplier_step(law, lam, out), lam_new, r_next)
         # the change from the clipped multipliers (an entry shift lambda_i < 0 is no multiplier change)
         pen_k, compl, dlam = _measures(dc, out.t, out.g, np.maximum(lam, 0.0))
         hist.append(ContactIteration(outer0 + k, pen_k, compl, dlam, out.residual, out.iterations, eps,
@@ -694,10 +759,7 @@ def run_al(dc, opts, eps0, penalty_name="rockafellar") -> _Run:
                 eta = eta / factor
         pen_prev, compl_prev = pen_k, compl
         if opts.eta_scaling == "adaptive":
-            eta_new = eta_for_stiffness(pen, lam, eps)
-            # stay inside the domain of barrier-type penalties at the warm start
-            bnd = eta_new * np.asarray(pen.domain_upper(lam), dtype=float)
-            eta = np.where(out.g < 0.99 * bnd, eta_new, eta)
+            eta = _next_eta(pen, lam, eps, eta, out.g)
         law = make_law(pen, eta)
         r = r_next
     return _Run(out.state, out.t, out.g, ContactStatus.MAXITER,
@@ -705,7 +767,7 @@ def run_al(dc, opts, eps0, penalty_name="rockafellar") -> _Run:
                 "or a larger penalty_scale", outer0 + opts.maxiter, newton, eps, out.residual, hist)
 
 
-def run_ssn(dc, opts, eps0, penalty_name=None) -> _Run:
+def run_ssn(dc: ContactSystem, opts, eps0, penalty_name=None) -> _Run:
     r"""Primal-dual active set / semi-smooth Newton on :math:`\lambda = \max(0, \lambda + c g)`.
 
     Each step enforces :math:`g_A = 0` on the active set and zero pressure elsewhere
@@ -716,8 +778,8 @@ def run_ssn(dc, opts, eps0, penalty_name=None) -> _Run:
     state = dc.start()
     lam = _initial_multipliers(dc)
     g = dc.gaps(state)
-    rule = getattr(dc, "initial_active", None)  # a model may predict the starting set (finite deformation)
-    active = (lam + c * g) > 0 if rule is None else np.asarray(rule(lam, g, c), dtype=bool)
+    # the rule lam + c g > 0, or the model's prediction of the starting set (finite deformation)
+    active = np.asarray(dc.initial_active(lam, g, c), dtype=bool)
     hist = []
     seen = set()
     for k in range(1, opts.maxiter + 1):
@@ -727,14 +789,14 @@ def run_ssn(dc, opts, eps0, penalty_name=None) -> _Run:
             return _Run(state, lam, g, ContactStatus.NEWTON_FAILED,
                         f"singular active-set system at iteration {k} ({int(active.sum())} active points); use "
                         "algorithm='simo-laursen'", k, k, c, 0.0, hist)
-        if not getattr(dc, "active_converged", True):
+        if not dc.active_converged:
             # an inner Newton that stopped at its budget (or stalled) is a failure, whatever its active set:
             # the load step is cut back, its state is never accepted
             return _Run(state, lam, g, ContactStatus.NEWTON_FAILED,
                         f"the Newton solve of active-set iteration {k} stopped at relative residual "
-                        f"{getattr(dc, 'active_residual', np.nan):.2e} (newton_tol {opts.newton_tol:.1e}); use "
+                        f"{dc.active_residual:.2e} (newton_tol {opts.newton_tol:.1e}); use "
                         "more load steps or algorithm='simo-laursen'", k, k, c,
-                        float(getattr(dc, "active_residual", np.inf)), hist)
+                        float(dc.active_residual), hist)
         new_active = (lam_new + c * g) > 0
         pen, compl, dlam = _measures(dc, lam_new, g, lam)
         hist.append(ContactIteration(k, pen, compl, dlam, 0.0, 1, c, int(active.sum())))

@@ -130,7 +130,40 @@ class ContactPoints:
     factorization-free one (:class:`~alcontact.contact._iterative.IterativeContact`)
     and finite deformation. Subclasses call :meth:`_setup_points` with their free
     DOFs, then :meth:`_setup_candidates` (or :meth:`_select_candidates`).
+
+    It also holds the *not available* values of the optional members of
+    :class:`~alcontact.contact.system.ContactSystem` (no warm start, the plain semi-smooth
+    rule, no multiplier shift, no second-order update); a model with the capability overrides them.
     """
+
+    # ---- ContactSystem: declared capabilities, "not available" on a model without them
+    inexact_subproblems = False
+    physical_stopping = False
+    warm_penalty_start = False
+    penalty_continuation = False
+    carried_stiffness: float | None = None
+    active_converged = True
+    active_residual = float("nan")
+
+    def initial_multipliers(self) -> np.ndarray:
+        """No warm start: zero multipliers on the candidates (:class:`~alcontact.contact.system.ContactSystem`)."""
+        return np.zeros(self.cand.size)
+
+    def initial_active(self, lam: np.ndarray, g: np.ndarray, c: float) -> np.ndarray:
+        r"""The semi-smooth rule :math:`\lambda + c\,g > 0` (no prediction of the entering points)."""
+        return (np.asarray(lam, dtype=float) + c * np.asarray(g, dtype=float)) > 0
+
+    def entry_multipliers(self, lam: np.ndarray, law, *, penalty_start: bool = False) -> np.ndarray:
+        """``lam`` unchanged: no prediction of the points entering contact."""
+        return lam
+
+    def multiplier_step(self, law, lam: np.ndarray, out):
+        """``None``: no second-order multiplier update (the first-order one (6.13) / (6.66) runs)."""
+        return None
+
+    def start_multiplier_step(self, law, lam: np.ndarray, out):
+        """``None``: no warm penalty start of Algorithm 6.3."""
+        return None
 
     def _setup_problem(self, problem) -> None:
         """Model, supports and load of ``problem``."""

@@ -76,7 +76,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
-from ..errors import InvertedElementError
+from ..errors import InputError, InvertedElementError
 from ..linalg import SequenceSolver
 from ..status import Status
 from ._discrete import ContactPoints
@@ -111,6 +111,10 @@ _MAX_CHORDS = 3
 #: relative tolerance of iterative back-substitutions in the dual step of Algorithm 6.3's start
 #: (:meth:`FiniteContact.start_multiplier_step`)
 _START_RESOLVE_RTOL = 1e-8
+#: values of the ``predictor`` option (:meth:`FiniteContact.configure`): ``"auto"`` the secant predictor where
+#: the loading is proportional, the slide predictor where the obstacle translates along the contact zone, the
+#: tangent predictor otherwise; ``"tangent"`` the tangent predictor in every step
+PREDICTORS = ("auto", "tangent")
 
 
 class NewtonSolver(SequenceSolver):
@@ -198,6 +202,12 @@ class FiniteContact(ContactPoints):
         Candidates of a step are the points whose gap at the step's starting state
         exceeds ``-max(margin * h, 2 * max_penetration)``; points that penetrate
         after a solve are added (:meth:`extend`).
+    predictor : {"auto", "tangent"}
+        The load-step predictor of :meth:`configure` (:data:`PREDICTORS`; option ``predictor``
+        of :class:`~alcontact.contact.ContactOptions`).
+    slide_start_reach : float
+        After the slide predictor, the penalty start of Algorithm 6.3 shifts only the points open by
+        at most this fraction of ``h`` (:meth:`entry_multipliers`; option ``slide_start_reach``).
 
     Attributes
     ----------
@@ -217,75 +227,37 @@ class FiniteContact(ContactPoints):
     """
 
     factorizations = 0
-    #: the outer loop of Algorithms 6.1 / 6.3 solves its subproblems inexactly
-    #: (:func:`~alcontact.contact._algorithms.run_al`): each Newton iteration costs an assembly and a factorization
+    # ---- ContactSystem (:mod:`alcontact.contact.system`): what finite deformation declares
+    #: each Newton iteration costs an assembly and a factorization: the subproblems (S) of Algorithms
+    #: 6.1 / 6.3 are solved inexactly (:func:`~alcontact.contact._algorithms.run_al`; option
+    #: ``subproblems = "exact"`` turns it off)
     inexact_subproblems = True
-    #: :meth:`configure` extrapolates the last two converged steps (no assembly) where the loading
-    #: is proportional, instead of the tangent predictor (one assembly + solve)
-    secant_predictor = True
-    #: Algorithm 6.1 stops as soon as the tolerances of penetration and complementarity hold at a
-    #: subproblem solved to ``newton_tol`` (the KKT conditions at the returned state), without
-    #: waiting for the multiplier change (:func:`~alcontact.contact._algorithms.run_al`)
+    #: :meth:`multiplier_step` is a second-order update: Algorithm 6.1 stops as soon as penetration and
+    #: complementarity hold at a subproblem solved to ``newton_tol`` (the KKT conditions at the returned state)
     physical_stopping = True
-    #: :meth:`multiplier_step` also returns the primal correction of its dual step (the next
-    #: subproblem starts there instead of at the last state with changed multipliers)
-    primal_correction = True
-    #: Algorithm 6.1 applies the entry rule of :meth:`initial_active` to the secant prediction
-    #: (:meth:`entry_multipliers`): over-predicted edge points start without penalty force
-    entry_rule_multipliers = True
-    #: :meth:`multiplier_step` is a semi-smooth step: the points the entry shift kept out that still
-    #: penetrate at the subproblem's solution enter its active set (and its primal correction)
-    dual_entry = True
-    #: the entry rule (:meth:`initial_active`, :meth:`entry_multipliers`) also applies to the tangent
-    #: prediction of a first contact (no point pressed yet, e.g. the first load step)
-    first_contact_entry = True
-    #: a subproblem whose relative residual is already near convergence (below ``_CHORD_LEVEL``,
-    #: above its tolerance) takes its next correction with the factor at hand
-    #: (a chord step: one back-substitution, no assembly; counted in :attr:`chord_steps`, not in
-    #: :attr:`newton_iterations`) where the factor belongs to the same candidates and active set
-    chord_at_floor = True
-    #: a step whose obstacle translates along the contact zone (:meth:`_predictor_obstacle`) starts from
-    #: the last converged state and pressures carried along with the obstacle (:meth:`_slide`): the
-    #: steady-sliding prediction :math:`u(X) \leftarrow u(X - \Delta c)`, no assembly
-    slide_predictor = True
-    #: after the slide predictor the first subproblem of Algorithms 6.1 / 6.3 starts with multipliers whose
-    #: tractions at the predicted state are the carried pressures (:meth:`entry_multipliers`)
-    consistent_slide_multipliers = True
-    #: with :attr:`consistent_slide_multipliers`, the penalty start of Algorithm 6.3 shifts only the points open
-    #: by at most this fraction of ``h`` at the predicted state (``None``: every pressed point). Beyond the
-    #: contact edge the carried pressure is interpolated from a pressed neighbour (8-60 on points open by
-    #: 0.05-0.25 h, 3d-s ironing); the shift :math:`\lambda_i = p_i + |g_i|/\eta_i` then held such a point
-    #: with a multiplier up to 70 times the largest pressure, the start's dual step closed its gap with a
-    #: change of that size, and the next subproblem started at relative residual 0.25-0.65 (issue 18).
-    #: Measured, Newton per sliding step of exp-met1 (mean / max, 40 steps) for reach None, 0, 0.02, 0.03,
-    #: 0.05, 0.07, 0.1: 3d-s 9.85/14, 6.92/10, 6.33/10, 6.28/10, 5.58/10, 6.25/8, 6.25/8; 2d-s 6.55/10,
-    #: 5.92/8, 5.25/8, 5.03/6, 5.00/6, 6.40/8, 6.55/10 (a tuned value: ``docs/benchmarks/ironing.md``)
-    slide_start_reach = 0.05
     #: the pure-penalty start of Algorithm 6.3 (``initial="penalty"``,
     #: :func:`~alcontact.contact._algorithms.run_al`) solves the penalty subproblem of a load step with
     #: the step's predicted pressures as multipliers (:meth:`initial_multipliers`,
     #: :math:`t_N = \langle\lambda_{pred} + \varepsilon_N g\rangle`, the first subproblem of Algorithm 6.1),
-    #: its Newton solve started with the entry rule (:meth:`entry_multipliers`,
-    #: :func:`~alcontact.contact._algorithms._entry_subproblem`), instead of :math:`\lambda = 0` from the
-    #: extrapolated state (whose over-predicted contact edge Newton released one point per iteration)
+    #: its Newton solve started with the entry rule (:meth:`entry_multipliers`), and takes the second-order
+    #: update of that start (:meth:`start_multiplier_step`) as its initial multipliers; the MET iterations
+    #: themselves stay first order (``docs/benchmarks/finite_met_penalty.md``)
     warm_penalty_start = True
-    #: with :attr:`warm_penalty_start`, the initial multipliers of Algorithm 6.3 are the
-    #: second-order update of that start (:meth:`start_multiplier_step`, a Newton step on the dual and its
-    #: primal correction) instead of its tractions; the MET iterations themselves stay first order
-    dual_penalty_start = True
     #: the pure penalty method starts each load step at the stiffness the last converged step ended
-    #: with (:attr:`carried_stiffness`; :func:`~alcontact.contact._algorithms.run_penalty`) instead of
-    #: ``eps_n``: Algorithm 5.2's increasing sequence continued over the load steps
+    #: with (:attr:`carried_stiffness`; :func:`~alcontact.contact._algorithms.run_penalty`), its first
+    #: solve started with the entry rule: Algorithm 5.2's increasing sequence continued over the load steps
     penalty_continuation = True
-    #: with :attr:`penalty_continuation`, the first penalty solve of a load step starts Newton with the entry
-    #: rule (:func:`~alcontact.contact._algorithms._entry_subproblem`). Newton per step with / without it
-    #: (20 steps, half-cylinder P2): n = 8 4.80 / 4.45, n = 24 5.00 / 4.95, n = 56 5.10 / 5.90, n = 88
-    #: 6.20 / 6.85; 3D hemisphere n = 12 (10 steps) 5.30 / 4.80: it pays on the finer 2D meshes, where the
-    #: contact edge has more points to release
-    penalty_entry = True
 
-    def __init__(self, problem, *, margin: float = 2.0, fixed=None, solver=None):
+    def __init__(self, problem, *, margin: float = 2.0, fixed=None, solver=None, predictor: str = "auto",
+                 slide_start_reach: float = 0.05):
         t0 = time.perf_counter()
+        if predictor not in PREDICTORS:
+            raise InputError(f"predictor = {predictor!r:.40}: expected one of {', '.join(PREDICTORS)}.")
+        #: the load-step predictor (option ``predictor``, :meth:`configure`)
+        self.predictor = predictor
+        #: the reach of the consistent shift at Algorithm 6.3's penalty start (option ``slide_start_reach``,
+        #: :meth:`entry_multipliers`)
+        self.slide_start_reach = float(slide_start_reach)
         self._setup_problem(problem)
         if fixed is not None:  # fixed DOFs of a load history (values set by configure)
             self.fixed = np.asarray(fixed, dtype=np.int64)
@@ -350,7 +322,7 @@ class FiniteContact(ContactPoints):
             Penalty stiffness :math:`\varepsilon_N` of the tangent predictor. With it the
             step starts from the secant predictor (:meth:`_secant`: the last two converged
             steps extrapolated, no assembly) where the loading is proportional and the obstacle
-            does not slide (:attr:`secant_predictor`, :attr:`predictor_used`), else from the
+            does not slide (option ``predictor = "auto"``, :attr:`predictor_used`), else from the
             tangent predictor: the starting state is ``x_start`` plus one linearized step for
             the changes of the prescribed values, loads and obstacle position, with the points
             that carried pressure
@@ -372,12 +344,12 @@ class FiniteContact(ContactPoints):
             pred_obstacle = self._predictor_obstacle(obstacle)
             # a sliding obstacle moves the contact zone: no extrapolation of its pressures and gaps
             secant = (self._secant(x_start, fixed_values, load, obstacle)
-                      if self.secant_predictor and pred_obstacle is obstacle else None)
+                      if self.predictor == "auto" and pred_obstacle is obstacle else None)
             if secant is not None:
                 x_start, self.start_pressure = secant
                 self.predictor_used = "secant"
             else:
-                slid = (self._slide(x_start, obstacle) if self.slide_predictor and pred_obstacle is not obstacle
+                slid = (self._slide(x_start, obstacle) if self.predictor == "auto" and pred_obstacle is not obstacle
                         else None)
                 if slid is not None:
                     # the contact state travels with the obstacle; the rest of the data change (supports,
@@ -391,7 +363,7 @@ class FiniteContact(ContactPoints):
                     base = None
                 x_pred = self._predict(x_start, fixed_values, load, pred_obstacle, float(predictor_stiffness),
                                        base=base)
-                if (self.first_contact_entry and x_pred is not x_start and pred_obstacle is obstacle
+                if (x_pred is not x_start and pred_obstacle is obstacle
                         and not np.any(self.last_pressure > 0)):
                     # first contact: the predictor has no springs, every predicted penetration is unbalanced
                     self.predicted_approach = self._approach(x_start, x_pred, fixed_values, obstacle)
@@ -807,7 +779,7 @@ class FiniteContact(ContactPoints):
         for the update solved here by conjugate gradients preconditioned with the
         first-order step :math:`(\varepsilon_N W_A)^{-1}` (the Macaulay update (6.13) is one
         Richardson step of this system; its contraction :math:`1/(1 + \varepsilon_N \sigma)`
-        per outer iteration becomes a few back-substitutions). With :attr:`dual_entry` the step
+        per outer iteration becomes a few back-substitutions). The step
         is semi-smooth: a point the entry shift (:meth:`entry_multipliers`) kept out that still
         penetrates (:math:`\lambda_i < 0`, :math:`t_{N,i} = 0`, :math:`g_i > 0`: with the clipped
         multiplier :math:`\langle\lambda_i\rangle + g_i/\eta_i > 0`) enters :math:`A` with
@@ -816,8 +788,7 @@ class FiniteContact(ContactPoints):
         subproblem with its full penalty force, and that Newton released such points one per
         iteration); an entering point whose multiplier comes out negative leaves :math:`A`
         again and the system is re-solved. Returns the new multipliers
-        on the candidates (zero off :math:`A`, clipped at zero) with, when
-        :attr:`primal_correction` is set, the next starting state :math:`x - J^{-1} B_A^T W_A
+        on the candidates (zero off :math:`A`, clipped at zero) with the next starting state :math:`x - J^{-1} B_A^T W_A
         \Delta\lambda_A` (the primal change of the dual step), or ``None`` when no factor of
         the current candidates is at hand or the subproblem took no Newton iteration (the
         caller keeps the first-order update).
@@ -832,7 +803,7 @@ class FiniteContact(ContactPoints):
         eps_all = np.asarray(law.stiffness(g_all, lam_all), dtype=float)
         # points kept out by the entry shift (lambda_i < 0, no traction) that still penetrate: a
         # semi-smooth step takes them into A with the clipped multiplier 0 (lambda + g/eta > 0)
-        enter = (t <= 0) & (lam_all < 0) & (g_all > 0) if self.dual_entry else np.zeros(t.size, dtype=bool)
+        enter = (t <= 0) & (lam_all < 0) & (g_all > 0)
         eta = getattr(law, "eta", None)
         if np.any(enter) and eta is not None:
             eps_enter = 1.0 / np.broadcast_to(np.asarray(eta, dtype=float), t.shape)
@@ -856,8 +827,6 @@ class FiniteContact(ContactPoints):
             enter[act[pulls]] = False
         new = np.zeros_like(t)
         new[act] = np.maximum(lam_a + y / w, 0.0)
-        if not self.primal_correction:
-            return new
         # the primal change the dual step implies at fixed Newton matrix: J dx = -B_A^T W_A dlam_A
         dx = self.solver.resolve(-(Bm.T @ (w * (new[act] - lam_a))))
         if dx is None or not np.all(np.isfinite(dx)):
@@ -865,20 +834,18 @@ class FiniteContact(ContactPoints):
         return new, np.asarray(out.state, dtype=float) + dx
 
     def start_multiplier_step(self, law, lam, out):
-        r"""Initial multipliers of Algorithm 6.3 from its penalty start (:attr:`dual_penalty_start`), or ``None``.
+        r"""Initial multipliers of Algorithm 6.3 from its penalty start (:attr:`warm_penalty_start`), or ``None``.
 
         :meth:`multiplier_step` on the start's subproblem (the Macaulay law of
         :func:`~alcontact.contact._algorithms._penalty_start`): the Newton step on the dual with
-        its primal correction, the entering points of :attr:`dual_entry` included. Its products
+        its primal correction, the entering points of the semi-smooth step included. Its products
         are solved to ``_START_RESOLVE_RTOL`` where the solver's back-substitutions are iterative
         (``solver.resolve_rtol``, AMG + CG: 1e-2 for the dual steps of Algorithm 6.1, which the
         next subproblem corrects): the first-order MET iterations that follow keep the start's error
         for several outer iterations (half-cylinder P2 ``n = 4``, 4 steps, exp-met1: 11 11 9 10 Newton
-        per step with 1e-2, 7 7 6 7 with 1e-8 as on the direct path). ``None`` with
-        :attr:`dual_penalty_start` off (the caller keeps the start's tractions).
+        per step with 1e-2, 7 7 6 7 with 1e-8 as on the direct path). ``None`` where
+        :meth:`multiplier_step` gives none (the caller keeps the start's tractions).
         """
-        if not self.dual_penalty_start:
-            return None
         rtol = getattr(self.solver, "resolve_rtol", None)
         if rtol is None:
             return self.multiplier_step(law, lam, out)
@@ -938,7 +905,7 @@ class FiniteContact(ContactPoints):
 
         The semi-smooth rule :math:`\lambda_i + c\,g_i > 0` at the starting state, except after
         the secant predictor (:meth:`configure`) or the tangent predictor of a first contact
-        (:attr:`first_contact_entry`): there a point without predicted pressure
+        (no point pressed yet): there a point without predicted pressure
         starts active only when its extrapolated gap exceeds ``_ENTRY_FRACTION`` of its predicted
         approach :math:`\Delta g_i` (it crosses the obstacle in the first half of the step).
         Linear extrapolation overestimates the approach of the points beyond the contact edge
@@ -968,29 +935,28 @@ class FiniteContact(ContactPoints):
         only: the multiplier update (6.13) or :meth:`multiplier_step` gives it
         :math:`\langle\lambda_i + g_i/\eta_i\rangle \ge 0` at the subproblem's solution, where a point
         that still penetrates enters with its full penalty force (all at once). Unchanged
-        (``lam``) without a predicted approach (secant prediction, first contact) or with
-        :attr:`entry_rule_multipliers` off.
+        (``lam``) without a predicted approach (secant prediction, first contact).
 
-        After the slide predictor (:attr:`consistent_slide_multipliers`) the pressed points get
+        After the slide predictor the pressed points get
         :math:`\lambda_i = p_i - g_i/\eta_i` instead, so that the starting traction is the carried
         pressure :math:`p_i`. With ``penalty_start`` (the penalty start of Algorithm 6.3,
         :func:`~alcontact.contact._algorithms._penalty_start`) a point open by more than
-        :attr:`slide_start_reach` :math:`h` at the predicted state keeps :math:`\lambda_i = p_i`
+        :attr:`slide_start_reach` :math:`h` at the predicted state (option ``slide_start_reach``) keeps :math:`\lambda_i = p_i`
         (its Macaulay traction is zero there).
         """
         lam = np.asarray(lam, dtype=float)
-        if self.predictor_used == "slide" and self.consistent_slide_multipliers:
+        if self.predictor_used == "slide":
             # the carried pressures as the starting tractions: lambda_i = p_i - g_i / eta_i on the pressed points
             g = self.gaps(self.x0)
             c = 1.0 / np.asarray(law.eta, dtype=float)
             pressed = lam > 0
-            if penalty_start and self.slide_start_reach is not None:
+            if penalty_start:
                 # an open point's carried pressure is interpolated across the contact edge: no start traction
-                pressed &= g > -float(self.slide_start_reach) * self.h
+                pressed &= g > -self.slide_start_reach * self.h
             shifted = np.where(pressed, lam - c * g, lam)
             same = np.asarray(law.traction(g, shifted), dtype=float)
             return np.where(pressed & np.isclose(same, lam, rtol=1e-12, atol=0.0), shifted, lam)
-        if not self.entry_rule_multipliers or self.predicted_approach is None:
+        if self.predicted_approach is None:
             return lam
         g = self.gaps(self.x0)
         c = 1.0 / np.asarray(law.eta, dtype=float)
@@ -1177,7 +1143,7 @@ class _Subproblem(NewtonSystem):
         fc = self.fc
         rec = getattr(fc, "_factor_stiffness", None)
         res = history[-1].residual if history else np.inf
-        if not fc.chord_at_floor or rec is None or self.chords >= _MAX_CHORDS:
+        if rec is None or self.chords >= _MAX_CHORDS:
             return False
         if not (self.tol < res <= _CHORD_LEVEL):
             return False

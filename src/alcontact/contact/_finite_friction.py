@@ -791,7 +791,8 @@ def solve_finite_friction(problem, mu: float, algorithm: str = "simo-laursen", p
     times = _step_times(steps)
     step_fn = entry.run
     data = _StepData(problem, history, obstacle_path)
-    dc = FiniteFrictionContact(problem, fixed=data.fixed,
+    dc = FiniteFrictionContact(problem, fixed=data.fixed, predictor=opts.predictor,
+                               slide_start_reach=opts.slide_start_reach,
                                solver=finite_solver(opts.linear_solver, entry, problem.model))
     d = dc.dim
     m = dc.points.shape[0]

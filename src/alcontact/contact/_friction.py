@@ -1142,7 +1142,7 @@ def solve_friction(problem, history: LoadHistory | None, algorithm: str = "simo-
         timings={"setup_s": fc.setup_seconds, "factor_s": fc.factor_seconds, "solve_s": t_end - t_solve,
                  "total_s": t_end - t_start},
         extra={"candidates": fc.ncand, "dofs": int(problem.model.ndofs), "linear_solver": path,
-               "backend": solver.name, **getattr(fc, "stats", dict)()},
+               "backend": solver.name, **fc.stats()},
     )
 
 

@@ -132,6 +132,10 @@ class FrictionalContact(CondensedContact):
     linear_solves : int
     """
 
+    def stats(self) -> dict:
+        """Solver counters for the solution's ``extra``: none on the direct path (the AMG path adds its own)."""
+        return {}
+
     def __init__(self, problem, history: LoadHistory, *, margin: float = 0.25, linear_solver: str = "auto"):
         t0 = time.perf_counter()
         self.history = history

@@ -587,7 +587,8 @@ def solve_finite(problem, algorithm: str = "simo-laursen", penalty: str | None =
     max_cutbacks = int(max_cutbacks)
     times = _step_times(steps)
     data = _StepData(problem, history, obstacle_path)
-    dc = FiniteContact(problem, fixed=data.fixed, solver=finite_solver(opts.linear_solver, entry, problem.model))
+    dc = FiniteContact(problem, fixed=data.fixed, solver=finite_solver(opts.linear_solver, entry, problem.model),
+                       predictor=opts.predictor, slide_start_reach=opts.slide_start_reach)
     eps0 = opts.eps_n if opts.eps_n is not None else penalty_stiffness(problem.model, dc.h, opts.penalty_scale)
     state = {"x": np.zeros(dc.free.size), "last": None}
     dc.configure(*data(0.0), state["x"])  # the undeformed state belongs to t = 0
