@@ -56,6 +56,18 @@ def _consoles() -> tuple[Console, Console]:
     return Console(), Console(stderr=True)
 
 
+def _check_launch(err: Console) -> None:
+    """Refuse `alcontact run` started as several MPI ranks (alcontact.distributed.check_launch); rank 0 says why."""
+    from .distributed import check_launch, launch_rank
+
+    try:
+        check_launch("alcontact run")
+    except InputError as exc:
+        if launch_rank() == 0:
+            raise _fail(err, exc, EXIT_USAGE) from None
+        raise typer.Exit(EXIT_USAGE) from None
+
+
 class _NoteWarnings(logging.Filter):
     """Appends ``note`` to the warnings shown (e.g. that a benchmark's failed solve is expected)."""
 
@@ -299,6 +311,7 @@ def run_command(
     if quiet and verbose:
         raise _fail(err, InputError("--quiet and --verbose exclude each other; give one."), EXIT_USAGE)
     level_ = logging.INFO if verbose else logging.ERROR if quiet else logging.WARNING
+    _check_launch(err)
     if problem_file is not None:
         if problem != "hertz-2d" or level is not None or order is not None:
             raise _fail(err, InputError("--problem, --level and --order select a built-in problem; with a problem "

@@ -29,7 +29,8 @@ logger = logging.getLogger(__name__)
 
 def run_problem(problem=None, out: str | os.PathLike | None = None, algorithm: str | None = None,
                 penalty: str | None = None, force: bool = False, *, level: int | None = None,
-                order: int = 1, progress: Callable[[str], None] | None = None, **options):
+                order: int = 1, progress: Callable[[str], None] | None = None, petsc_options: dict | None = None,
+                **options):
     """Solve a contact problem and (optionally) write its results folder.
 
     Parameters
@@ -49,6 +50,9 @@ def run_problem(problem=None, out: str | os.PathLike | None = None, algorithm: s
         Refinement level and polynomial order of a built-in problem.
     progress : callable, optional
         Called with a short phase description ("building", "solving", ...).
+    petsc_options : dict, optional
+        PETSc options of ``linear_solver="petsc"`` / ``"petsc-direct"``
+        (:func:`alcontact.linalg.backend_options`), e.g. ``{"ksp_rtol": 1e-10}``.
     **options
         Fields of :class:`alcontact.contact.ContactOptions` (``None`` values are ignored).
 
@@ -72,6 +76,7 @@ def run_problem(problem=None, out: str | os.PathLike | None = None, algorithm: s
     """
     from ..contact import DEFAULT_ALGORITHM, available_algorithms, solve
     from ..io import ResultsFolder, check_output_dir
+    from ..linalg import backend_options
 
     def report(msg: str) -> None:
         logger.info(msg)
@@ -97,7 +102,8 @@ def run_problem(problem=None, out: str | os.PathLike | None = None, algorithm: s
     build_time = time.perf_counter() - t0
 
     report(f"solving {name} with {prob.model.ndofs} DOFs ({algorithm})")
-    solution = solve(prob, algorithm=algorithm, penalty=penalty, **options)
+    with backend_options(petsc_options):
+        solution = solve(prob, algorithm=algorithm, penalty=penalty, **options)
     summary = summarize(prob, solution, problem_name=name, level=lvl, options=options, build_time_s=build_time)
     units = None
     if spec is not None and spec.units:
@@ -221,7 +227,8 @@ def _solve_arguments(setup) -> dict[str, Any]:
 def run_setup(setup, out: str | os.PathLike | None = None, force: bool = False, *,
               algorithm: str | None = None, penalty: str | None = None,
               progress: Callable[[str], None] | None = None,
-              on_step: Callable[[int, int, float], None] | None = None, **options) -> RunOutput:
+              on_step: Callable[[int, int, float], None] | None = None, petsc_options: dict | None = None,
+              **options) -> RunOutput:
     """Solve a problem file (:class:`alcontact.io.ProblemSetup`) and write its results folder.
 
     Frictionless problems are solved at every step time (independently: the
@@ -240,6 +247,9 @@ def run_setup(setup, out: str | os.PathLike | None = None, force: bool = False, 
     on_step : callable, optional
         ``on_step(done, total, t)`` when load step ``done`` (1-based) starts
         (``done = 0``) or ends.
+    petsc_options : dict, optional
+        PETSc options (:func:`alcontact.linalg.backend_options`); given, they replace the
+        file's ``[solver.petsc_options]``.
 
     Returns
     -------
@@ -247,6 +257,7 @@ def run_setup(setup, out: str | os.PathLike | None = None, force: bool = False, 
     """
     from ..contact import available_algorithms, solve
     from ..io import ResultsFolder, check_output_dir
+    from ..linalg import backend_options
 
     options = {k: v for k, v in options.items() if v is not None}
     if algorithm is not None and algorithm not in available_algorithms():
@@ -262,7 +273,8 @@ def run_setup(setup, out: str | os.PathLike | None = None, force: bool = False, 
 
     t0 = time.perf_counter()
     report(_solving_line(setup))
-    solution = solve(setup.problem, setup.algorithm, setup.penalty, on_step=on_step, **_solve_arguments(setup))
+    with backend_options(setup.petsc_options if petsc_options is None else petsc_options):
+        solution = solve(setup.problem, setup.algorithm, setup.penalty, on_step=on_step, **_solve_arguments(setup))
     frames = list(solution.frame_solutions())
     raw = solution.record if solution.record is not None else frames
     wall = time.perf_counter() - t0

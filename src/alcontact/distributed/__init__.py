@@ -9,11 +9,13 @@ What is here (no contact yet): the mesh partition (METIS through pymetis,
 :func:`partition_elements`), linear elasticity assembled per rank with scikit-fem into
 a PETSc ``MPIAIJ`` matrix with COO preallocation and solved with KSP
 (:class:`DistributedElasticity`), and the collective error rule (:func:`collective`,
-:class:`DistributedError`): a phase that fails on one rank raises on every rank.
+:class:`DistributedError`): a phase that fails on one rank raises on every rank; and
+:func:`check_launch`, the clear refusal of a serial command started as several MPI ranks.
 """
 
 from ._comm import DistributedError, collective, run_ranks, world
 from ._elasticity import DistributedElasticity, DistributedSolution, LocalPiece
+from ._launch import check_launch, launch_rank, launch_size
 from ._partition import dual_graph, owner_numbering, partition_elements
 
 __all__ = [
@@ -21,8 +23,11 @@ __all__ = [
     "DistributedError",
     "DistributedSolution",
     "LocalPiece",
+    "check_launch",
     "collective",
     "dual_graph",
+    "launch_rank",
+    "launch_size",
     "owner_numbering",
     "partition_elements",
     "run_ranks",

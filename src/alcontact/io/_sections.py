@@ -692,6 +692,32 @@ class Solver:
     penalty: str | None = None
     options: dict = field(default_factory=dict)
     friction_options: dict = field(default_factory=dict)
+    petsc_options: dict = field(default_factory=dict)
+
+
+def _petsc_options(sv: dict, given: dict, issues: list[Issue]) -> dict:
+    """``[solver.petsc_options]``: names and values checked; they must go to a solver that takes them."""
+    from ..linalg import check_backend_options, takes_backend_options
+
+    params = dict((sv.get("petsc_options") or {}).get("params", {}))
+    if not params:
+        return {}
+    try:
+        check_backend_options(params)
+    except InputError as exc:
+        issues.append(Issue("solver.petsc_options", str(exc)))
+        return {}
+    solver = given.get("linear_solver", "auto")
+    try:
+        takes = takes_backend_options(solver)
+    except UnknownNameError:  # "auto", "direct", or an unknown name (reported with [solver])
+        takes = False
+    if not takes:
+        issues.append(Issue("solver.petsc_options", f"given, but linear_solver = {solver!r} does not run PETSc, so "
+                                                    "they would have no effect; set linear_solver = \"petsc\" (KSP + "
+                                                    "GAMG) or \"petsc-direct\" (MUMPS), or remove petsc_options."))
+        return {}
+    return params
 
 
 def build_solver(sv: dict | None, mu: float, kinematics: str, issues: list[Issue]) -> Solver:
@@ -704,13 +730,13 @@ def build_solver(sv: dict | None, mu: float, kinematics: str, issues: list[Issue
     algorithm = sv["algorithm"]
     penalty = sv["penalty"] or None
     _algorithm_issues(algorithm, penalty, mu, issues)
-    skip = {"algorithm", "penalty", "friction"}
+    skip = {"algorithm", "penalty", "friction", "petsc_options"}
     given = {k: v for k, v in sv.items() if k not in skip and v is not None}
     _options_issues(given, algorithm, mu, kinematics, issues)
     fopts = _friction_options(sv, given, issues)
     friction_only = set(friction_only_options())
     options = {k: v for k, v in given.items() if k not in friction_only}  # the frictionless runs' options
-    return Solver(algorithm, penalty, options, fopts)
+    return Solver(algorithm, penalty, options, fopts, _petsc_options(sv, given, issues))
 
 
 # --------------------------------------------------------------------------- [units], [reference]

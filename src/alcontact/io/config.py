@@ -157,6 +157,9 @@ class ProblemSetup:
         :class:`~alcontact.contact.ContactOptions` fields of frictionless runs (the friction-only ones left out).
     friction_options : dict
         :class:`~alcontact.contact.ContactOptions` fields of frictional runs (``[solver]`` and ``[solver.friction]``).
+    petsc_options : dict
+        ``[solver.petsc_options]``: PETSc options of the PETSc linear solver
+        (:func:`alcontact.linalg.backend_options`); empty when not given.
     reference : HertzReference or None
     mindlin : MindlinReference or None
     output : dict
@@ -188,6 +191,7 @@ class ProblemSetup:
     obstacle_path: tuple[float, ...] | None = None
     max_cutbacks: int = 6
     units: tuple[str | None, str | None, str | None] = (None, None, None)
+    petsc_options: dict = field(default_factory=dict)
 
     @property
     def finite(self) -> bool:
@@ -322,5 +326,5 @@ def _build(data: dict, base: Path, issues: list[Issue], source) -> ProblemSetup 
         friction_options=sv.friction_options, reference=parts.reference, mindlin=parts.mindlin,
         output=dict(data["output"]), kinematics=parts.kinematics,
         obstacle_path=tuple(od["path"]) if od.get("path") is not None else None,
-        max_cutbacks=int(data["loading"]["max_cutbacks"]), units=parts.units,
+        max_cutbacks=int(data["loading"]["max_cutbacks"]), units=parts.units, petsc_options=sv.petsc_options,
     )

@@ -230,6 +230,11 @@ def _build_schema() -> tuple[Table, ...]:
             O("penalty", "str", "", "Penalty of `family-p` (default `exp-met1`); the other algorithms fix it.",
               choices=("",) + _penalties()),
         ) + contact),
+        Table("solver.petsc_options", "PETSc options passed through to the PETSc linear solver that runs "
+              "(`linear_solver = \"petsc\"` or `\"petsc-direct\"`), names without the leading dash, e.g. "
+              "`petsc_options = { ksp_type = \"cg\", pc_type = \"gamg\", ksp_rtol = 1e-10 }`; values are strings, "
+              "numbers or `true` (a flag). An option PETSc does not use (a typo) is reported as a warning.", (),
+              open=True),
         Table("solver.friction", "The friction-only options of `[solver]` (used when `contact.friction > 0`), "
               "also accepted here; a key set in both tables must have the same value.", friction),
         Table("reference", "Analytical reference drawn in the plots and compared in the summary.", (

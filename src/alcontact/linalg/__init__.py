@@ -14,7 +14,7 @@ Built-in names: ``"mkl-pardiso"`` (Intel MKL PARDISO via ``pypardiso``),
 ``"cholmod"`` (SuiteSparse via ``cholespy``), ``"superlu"`` (SciPy), ``"amg"``
 (PyAMG smoothed aggregation + CG; approximate), and, with petsc4py (``make mpi``),
 ``"petsc"`` (PETSc KSP CG + GAMG with the rigid-body near-null space; PETSc options
-passed through) and ``"petsc-direct"`` (MUMPS); petsc4py is imported only when one of
+passed through: :func:`backend_options`) and ``"petsc-direct"`` (MUMPS); petsc4py is imported only when one of
 these is built (:func:`petsc`), never by ``import alcontact``. :class:`SequenceSolver` solves a
 sequence of symmetric (possibly indefinite) systems with one of them, keeping the
 analysis of each recent sparsity pattern (the Newton solves of the finite path).
@@ -34,6 +34,8 @@ from ._registry import (
     DIRECT_PREFERENCE,
     SolverChoice,
     available_solvers,
+    backend_options,
+    check_backend_options,
     choose_solver,
     describe_solvers,
     is_installed,
@@ -43,6 +45,7 @@ from ._registry import (
     select_solver,
     solver_kind,
     solver_matrix_types,
+    takes_backend_options,
     unregister_solver,
 )
 from ._petsc import (
@@ -53,6 +56,7 @@ from ._petsc import (
     direct_package,
     near_null_space,
     petsc,
+    report_unused_options,
 )
 from ._pardiso import PardisoSolver, PardisoSymmetricFactor
 from ._sequence import SequenceSolver
@@ -79,6 +83,8 @@ __all__ = [
     "SolverChoice",
     "SuperLUSolver",
     "available_solvers",
+    "backend_options",
+    "check_backend_options",
     "choose_solver",
     "configure_ksp",
     "describe_solvers",
@@ -89,9 +95,11 @@ __all__ = [
     "near_null_space",
     "petsc",
     "register_solver",
+    "report_unused_options",
     "registered_solvers",
     "select_solver",
     "solver_kind",
     "solver_matrix_types",
+    "takes_backend_options",
     "unregister_solver",
 ]

@@ -9,8 +9,11 @@ Install: Debian's ``python3-petsc4py`` (3.18, OpenMPI, with MUMPS, SuperLU_dist 
 hypre) in the virtual environment ``.venv-mpi`` that ``make mpi`` creates (see the
 README). PETSc options are data: a dict ``{"ksp_rtol": 1e-12, "pc_gamg_threshold":
 0.02}`` (names without the leading dash) passed through to PETSc's options database
-under a prefix private to each solver; an option PETSc did not use (a typo) raises
-:class:`~alcontact.errors.InputError` naming it.
+under a prefix private to each solver; an option PETSc did not use (a typo, or an option
+of another solver) is reported as PETSc's ``-options_left`` does, as a logged warning
+naming it (:func:`report_unused_options`; the command line prints it), checked after
+the first solve so that options PETSc reads only while solving (``ksp_view``,
+``ksp_converged_reason``) count as used.
 """
 
 from __future__ import annotations
@@ -26,8 +29,8 @@ import scipy.sparse as sp
 from ..errors import InputError
 from ._base import MatrixHints
 
-__all__ = ["MPI_SETUP_HINT", "PetscDirectSolver", "PetscKrylovSolver", "apply_options", "check_options_used", "checked_options",
-           "configure_ksp", "direct_package", "near_null_space", "petsc", "petsc_matrix"]
+__all__ = ["MPI_SETUP_HINT", "PetscDirectSolver", "PetscKrylovSolver", "apply_options", "checked_options", "configure_ksp",
+           "direct_package", "near_null_space", "petsc", "petsc_matrix", "report_unused_options", "unused_options"]
 
 logger = logging.getLogger(__name__)
 
@@ -66,14 +69,23 @@ def _libpetsc():
 
 
 def checked_options(options) -> dict:
-    """``options`` as a dict of PETSc option names (no leading dash) to values; InputError otherwise."""
+    """``options`` as a dict of PETSc option names (no leading dash) to values; InputError otherwise.
+
+    A value is a string, a number or a boolean (``True``: a flag without value; ``False``:
+    left out); a table, list or non-finite number is refused, naming the option.
+    """
     if options is None:
         return {}
     if not isinstance(options, dict):
         raise InputError(f"PETSc options must be a table of name = value; got {type(options).__name__}.")
-    for name in options:
+    for name, value in options.items():
         if not isinstance(name, str) or not name or name.startswith("-") or any(c.isspace() for c in name):
             raise InputError(f"PETSc option name {name!r}: give the name without the leading dash, e.g. 'ksp_rtol'.")
+        ok = value is None or isinstance(value, (bool, str)) or (
+            isinstance(value, (int, float, np.integer, np.floating)) and np.isfinite(value))
+        if not ok or (isinstance(value, str) and any(c.isspace() for c in value)):
+            raise InputError(f"PETSc option {name} = {value!r:.60}: a value is a string without spaces, a finite "
+                             "number or true/false (true: a flag without value), e.g. ksp_rtol = 1e-10.")
     return dict(options)
 
 
@@ -97,13 +109,9 @@ def apply_options(options: dict | None) -> str:
     return prefix
 
 
-def check_options_used(prefix: str, options: dict | None) -> None:
-    """Raise :class:`InputError` naming every option of ``options`` that PETSc did not read.
-
-    PETSc's own ``-options_left`` report, made an error: a misspelled option would
-    otherwise be ignored silently. Called after ``setFromOptions`` and ``setUp``.
-    """
-    PETSc = petsc()
+def unused_options(prefix: str, options: dict | None) -> list[str]:
+    """Names of ``options`` (given under ``prefix``) that PETSc has not read so far (``PetscOptionsUsed``)."""
+    petsc()
     lib = _libpetsc()
     lib.PetscOptionsUsed.argtypes = [ctypes.c_void_p, ctypes.c_char_p, ctypes.POINTER(ctypes.c_int)]
     lib.PetscOptionsUsed.restype = ctypes.c_int
@@ -116,14 +124,46 @@ def check_options_used(prefix: str, options: dict | None) -> None:
             raise InputError(f"PETSc could not check option {name!r}.")
         if not flag.value:
             unused.append(name)
+    return unused
+
+
+def report_unused_options(prefix: str, options: dict | None, *, reported: set | None = None) -> list[str]:
+    """Log a warning naming every option of ``options`` PETSc did not use; clear them from its database.
+
+    PETSc's own ``-options_left`` report (``WARNING! There are options you set that were not
+    used!``), made a warning of the ``alcontact`` logger, which the command line prints: a
+    misspelled option would otherwise be ignored silently. Called once PETSc has read what
+    it will read (after the first solve).
+
+    Parameters
+    ----------
+    prefix : str
+        The prefix :func:`apply_options` returned.
+    options : dict or None
+        The options given.
+    reported : set, optional
+        Names already reported (by another factorization of the same solver): not repeated;
+        the names reported here are added to it.
+
+    Returns
+    -------
+    list of str
+        The unused names (also those reported before).
+    """
+    PETSc = petsc()
+    unused = unused_options(prefix, options)
     db = PETSc.Options()
     for name in (options or {}):  # leave nothing behind in the global database
         if db.hasName(f"-{prefix}{name}"):
             db.delValue(f"-{prefix}{name}")
-    if unused:
-        raise InputError(f"PETSc did not use the option(s) {', '.join(repr(u) for u in unused)} (misspelled, or not "
-                         "for this solver): see the options of KSP, PC and the chosen preconditioner in the PETSc "
-                         "manual, e.g. 'ksp_rtol', 'ksp_max_it', 'pc_gamg_threshold'.")
+    new = [u for u in unused if reported is None or u not in reported]
+    if new:
+        logger.warning("PETSc did not use the option(s) %s (misspelled, or not for this solver): see the options of "
+                       "KSP, PC and the chosen preconditioner in the PETSc manual, e.g. 'ksp_rtol', 'ksp_max_it', "
+                       "'pc_gamg_threshold'.", ", ".join(repr(u) for u in new))
+        if reported is not None:
+            reported.update(new)
+    return unused
 
 
 def petsc_matrix(matrix, comm=None):
@@ -165,8 +205,10 @@ def near_null_space(modes: np.ndarray, rows: tuple[int, int] | None = None, comm
 class _KSPFactor:
     """A configured KSP: :meth:`solve` runs it for each right-hand side."""
 
-    def __init__(self, name, ksp, M, n, seconds, exact):
+    def __init__(self, name, ksp, M, n, seconds, exact, options=None, reported=None):
         self.name, self._ksp, self._M, self.n = name, ksp, M, n
+        #: the PETSc options given, checked for unused ones after the first solve (then None)
+        self._options, self._reported = options, reported
         self.factor_seconds = seconds
         self.exact = exact
         self.iterations = 0  # Krylov iterations, all solves together
@@ -195,6 +237,9 @@ class _KSPFactor:
         self.last_reason = int(self._ksp.getConvergedReason())
         self.iterations += self.last_iterations
         self.solves += 1
+        if self._options is not None:  # PETSc has read every option it will read: report the others
+            report_unused_options(self._ksp.getOptionsPrefix() or "", self._options, reported=self._reported)
+            self._options = None
         if self.last_reason < 0:
             raise InputError(f"PETSc KSP {self._ksp.getType()} with PC {self._ksp.getPC().getType()} did not "
                              f"converge (reason {self.last_reason}, {self.last_iterations} iterations): the matrix "
@@ -215,11 +260,14 @@ _KRYLOV_FOR = {"spd": "cg", "symmetric-indefinite": "minres", "unsymmetric": "gm
 
 
 def configure_ksp(M, *, ksp_type: str, pc_type: str, rtol: float, options: dict | None,
-                  near_null=None, factor_solver: str | None = None):
+                  near_null=None, factor_solver: str | None = None, defer_check: bool = False):
     """A KSP on the PETSc matrix ``M`` set from arguments, then from ``options`` (which win).
 
-    Returns the set-up KSP; unused ``options`` raise :class:`InputError` (see
-    :func:`check_options_used`).
+    Returns the set-up KSP. Options PETSc did not use are reported by
+    :func:`report_unused_options` (a logged warning) after the set-up, or, with
+    ``defer_check``, by the caller after its first solve (the KSP's options prefix is
+    ``ksp.getOptionsPrefix()``). A set-up that fails raises :class:`InputError` naming the
+    options PETSc did not use.
     """
     PETSc = petsc()
     ksp = PETSc.KSP().create(comm=M.getComm())
@@ -243,10 +291,13 @@ def configure_ksp(M, *, ksp_type: str, pc_type: str, rtol: float, options: dict 
         ksp.setFromOptions()
         ksp.setUp()
     except PETSc.Error as exc:
-        check_options_used(prefix, options)
-        raise InputError(f"PETSc could not set up KSP {ksp_type} / PC {pc_type} with options {options or {}}: "
+        unused = unused_options(prefix, options)
+        report_unused_options(prefix, options, reported=set(unused))  # clears the database; named below
+        hint = f" (PETSc did not use {', '.join(map(repr, unused))}: misspelled?)" if unused else ""
+        raise InputError(f"PETSc could not set up KSP {ksp_type} / PC {pc_type} with options {options or {}}{hint}: "
                          f"{exc}; the matrix may be singular (restrain every rigid-body motion).") from None
-    check_options_used(prefix, options)
+    if not defer_check:
+        report_unused_options(prefix, options)
     return ksp
 
 
@@ -264,7 +315,8 @@ class PetscKrylovSolver:
         PETSc KSP and PC types; default from the matrix type and ``"gamg"``.
     options : dict, optional
         PETSc options passed through, names without the dash (``{"pc_gamg_threshold": 0.02}``);
-        a name PETSc does not use raises :class:`~alcontact.errors.InputError`.
+        a name PETSc does not use is logged as a warning after the first solve
+        (:func:`report_unused_options`, once per name and solver).
 
     Examples
     --------
@@ -281,6 +333,7 @@ class PetscKrylovSolver:
             raise InputError(f"rtol={rtol!r}; allowed: 0 < rtol < 1.")
         self.rtol, self.ksp_type, self.pc_type = float(rtol), ksp_type, pc_type
         self.options = checked_options(options)
+        self.unused: set[str] = set()  # options PETSc did not use (reported once each)
 
     def factorize(self, matrix, hints: MatrixHints | None = None) -> _KSPFactor:
         hints = hints or MatrixHints()
@@ -288,8 +341,9 @@ class PetscKrylovSolver:
         M = petsc_matrix(matrix)
         null = near_null_space(hints.near_null()) if (hints.near_null is not None and self.pc_type == "gamg") else None
         ksp = configure_ksp(M, ksp_type=self.ksp_type or _KRYLOV_FOR[hints.matrix_type], pc_type=self.pc_type,
-                            rtol=self.rtol, options=self.options, near_null=null)
-        return _KSPFactor(self.name, ksp, M, M.getSize()[0], time.perf_counter() - t0, exact=False)
+                            rtol=self.rtol, options=self.options, near_null=null, defer_check=True)
+        return _KSPFactor(self.name, ksp, M, M.getSize()[0], time.perf_counter() - t0, exact=False,
+                          options=self.options, reported=self.unused)
 
 
 def direct_package() -> str:
@@ -309,7 +363,8 @@ class PetscDirectSolver:
     package : str, optional
         ``"mumps"``, ``"superlu_dist"`` or ``"petsc"``; default :func:`direct_package`.
     options : dict, optional
-        PETSc options passed through (``{"mat_mumps_icntl_14": 50}``); unused ones raise.
+        PETSc options passed through (``{"mat_mumps_icntl_14": 50}``); unused ones are logged
+        as a warning after the first solve.
     """
 
     name = "petsc-direct"
@@ -322,6 +377,7 @@ class PetscDirectSolver:
                              f"{direct_package()!r} (see PETSc.Sys.hasExternalPackage).")
         self.package = package or direct_package()
         self.options = checked_options(options)
+        self.unused: set[str] = set()  # options PETSc did not use (reported once each)
 
     def factorize(self, matrix, hints: MatrixHints | None = None) -> _KSPFactor:
         hints = hints or MatrixHints()
@@ -329,5 +385,6 @@ class PetscDirectSolver:
         M = petsc_matrix(matrix)
         pc = "cholesky" if (hints.matrix_type == "spd" and self.package == "mumps") else "lu"
         ksp = configure_ksp(M, ksp_type="preonly", pc_type=pc, rtol=1e-12, options=self.options,
-                            factor_solver=self.package)
-        return _KSPFactor(self.name, ksp, M, M.getSize()[0], time.perf_counter() - t0, exact=True)
+                            factor_solver=self.package, defer_check=True)
+        return _KSPFactor(self.name, ksp, M, M.getSize()[0], time.perf_counter() - t0, exact=True,
+                          options=self.options, reported=self.unused)

@@ -2,10 +2,12 @@
 
 from __future__ import annotations
 
+import contextlib
+import contextvars
 import importlib
 import importlib.util
 import logging
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from functools import lru_cache
 
@@ -17,6 +19,9 @@ from ._solvers import AMGSolver, CholmodSolver, SuperLUSolver
 __all__ = [
     "AUTO_AMG_DOFS",
     "SolverChoice",
+    "backend_options",
+    "check_backend_options",
+    "takes_backend_options",
     "select_solver",
     "available_solvers",
     "choose_solver",
@@ -48,6 +53,7 @@ class _Entry:
     install: str | None  # how to get it
     doc: str
     lazy: bool = False  # probe ``requires`` without importing it (heavy packages: PETSc, MPI)
+    backend_options: bool = False  # the factory takes ``options``, passed through to the backend (PETSc)
 
 
 _SOLVERS: dict[str, _Entry] = {}
@@ -55,7 +61,8 @@ _SOLVERS: dict[str, _Entry] = {}
 
 def register_solver(name: str, factory: Callable[..., LinearSolver], *, kind: str = "direct",
                     requires: str | None = None, install: str | None = None, doc: str = "",
-                    overwrite: bool = False, matrix_types: tuple[str, ...] = ("spd",), lazy: bool = False) -> None:
+                    overwrite: bool = False, matrix_types: tuple[str, ...] = ("spd",), lazy: bool = False,
+                    backend_options: bool = False) -> None:
     """Register a linear solver under ``name``.
 
     Parameters
@@ -83,6 +90,10 @@ def register_solver(name: str, factory: Callable[..., LinearSolver], *, kind: st
         for packages whose import is heavy or starts a runtime (petsc4py initializes MPI), so that
         :func:`available_solvers` on the serial path never loads them. Whether it then loads is
         checked by the factory.
+    backend_options : bool
+        The factory takes ``options``, a dict passed through to the backend (PETSc's options
+        database): inside a :func:`backend_options` block, :func:`make_solver` passes that
+        block's options when the caller gives none.
     """
     if kind not in ("direct", "iterative"):
         raise InputError(f"linear solver kind={kind!r}; allowed: direct, iterative.")
@@ -93,7 +104,7 @@ def register_solver(name: str, factory: Callable[..., LinearSolver], *, kind: st
     bad = [t for t in matrix_types if t not in MATRIX_TYPES]
     if bad or not matrix_types:
         raise InputError(f"matrix_types={tuple(matrix_types)!r}; allowed: {', '.join(MATRIX_TYPES)}.")
-    _SOLVERS[name] = _Entry(factory, kind, tuple(matrix_types), requires, install, doc, lazy)
+    _SOLVERS[name] = _Entry(factory, kind, tuple(matrix_types), requires, install, doc, lazy, bool(backend_options))
     _installed.cache_clear()
 
 
@@ -189,10 +200,83 @@ def make_solver(name: str, **options) -> LinearSolver:
             f"linear solver {name!r} is not installed: {entry.install or 'install ' + str(entry.requires)}; "
             f"installed solvers: {', '.join(available_solvers())}."
         )
+    scoped = _BACKEND_OPTIONS.get()
+    if entry.backend_options and scoped is not None and "options" not in options:
+        options = {**options, "options": dict(scoped.options)}
+        scoped.used_by.add(name)
     try:
         return entry.factory(**options)
     except TypeError as exc:
         raise InputError(f"linear solver {name!r} does not take options {sorted(options)}: {exc}") from exc
+
+
+class _Scoped:
+    """The options of one :func:`backend_options` block and the solvers that took them."""
+
+    def __init__(self, options: dict):
+        self.options, self.used_by = options, set()
+
+
+_BACKEND_OPTIONS: contextvars.ContextVar[_Scoped | None] = contextvars.ContextVar("alcontact_backend_options",
+                                                                                  default=None)
+
+
+def takes_backend_options(name: str) -> bool:
+    """Whether the solver registered as ``name`` takes backend options (``register_solver(backend_options=True)``)."""
+    return _entry(name).backend_options
+
+
+def check_backend_options(options) -> dict:
+    """``options`` checked as backend (PETSc) options: a dict of names without the leading dash to strings,
+    finite numbers or booleans; :class:`InputError` naming the bad entry otherwise. Imports no backend."""
+    from ._petsc import checked_options
+
+    return checked_options(options)
+
+
+@contextlib.contextmanager
+def backend_options(options: dict | None) -> Iterator[None]:
+    """Pass ``options`` to the backend of every solver built in the block that takes them.
+
+    The solvers registered with ``backend_options=True`` (``"petsc"`` and ``"petsc-direct"``:
+    the options go to PETSc's options database, names without the leading dash) receive
+    them wherever the contact solvers build them (:func:`select_solver`, :func:`make_solver`),
+    on every path. This is how a problem file's ``[solver] petsc_options`` reach PETSc, and
+    how the Python API passes them to :func:`alcontact.contact.solve`. Options given while
+    no solver that takes them runs are not dropped silently: a warning says so at the end
+    of the block.
+
+    Parameters
+    ----------
+    options : dict or None
+        ``{name: value}`` (``{"ksp_rtol": 1e-10, "pc_gamg_threshold": 0.02}``); strings,
+        finite numbers or booleans. ``None`` or ``{}``: nothing to pass (the block is a no-op).
+
+    Raises
+    ------
+    InputError
+        A name with a leading dash or blanks, or a value that is not a string, a finite
+        number or a boolean.
+
+    Examples
+    --------
+    >>> with backend_options({"ksp_rtol": 1e-10}):  # doctest: +SKIP
+    ...     solution = alcontact.contact.solve(problem, linear_solver="petsc")
+    """
+    options = check_backend_options(options)
+    if not options:
+        yield
+        return
+    scoped = _Scoped(options)
+    token = _BACKEND_OPTIONS.set(scoped)
+    try:
+        yield
+    finally:
+        _BACKEND_OPTIONS.reset(token)
+    if not scoped.used_by:
+        logger.warning("the backend options %s were given, but no linear solver that takes them ran (they go to "
+                       "linear_solver = %s); they had no effect.", sorted(options),
+                       " or ".join(repr(n) for n, e in sorted(_SOLVERS.items()) if e.backend_options))
 
 
 #: preference of the direct solvers, fastest first (see :func:`choose_solver`)
@@ -387,9 +471,9 @@ def _register_builtins() -> None:
     # GAMG is registered for SPD matrices only (its smoothers need a positive diagonal); indefinite
     # systems go to "petsc-direct", or to "petsc" with pc_type/ksp_type given in its options
     register_solver("petsc", _petsc_krylov, kind="iterative", requires="petsc4py", install=petsc_hint, lazy=True,
-                    doc="PETSc KSP (CG / MINRES / GMRES) + GAMG with the rigid-body near-null space; PETSc options")
+                    backend_options=True, doc="PETSc KSP (CG / MINRES / GMRES) + GAMG with the rigid-body near-null space; PETSc options")
     register_solver("petsc-direct", _petsc_direct, requires="petsc4py", install=petsc_hint, lazy=True,
-                    matrix_types=both, doc="PETSc LU / Cholesky through MUMPS (else SuperLU_dist); PETSc options")
+                    backend_options=True, matrix_types=both, doc="PETSc LU / Cholesky through MUMPS (else SuperLU_dist); PETSc options")
 
 
 def _petsc_krylov(**options):
