@@ -128,3 +128,36 @@ def test_alcontact_run_under_mpirun_is_refused_with_one_clear_message(tmp_path, 
     assert ("make mpi" in text) != extras
     assert ("runs as one process" in text) == extras
     assert not (tmp_path / "r").exists()
+
+
+DISTRIBUTED = """
+import json, logging, sys
+from alcontact.distributed import DistributedElasticity, run_ranks, world
+from alcontact.fem import Material, meshes
+
+logging.basicConfig(level=logging.WARNING, format="%(levelname)s %(message)s")
+comm = world()
+mesh = meshes.rectangle(0, 3, 0, 1, 24, 8) if comm.rank == 0 else None
+model = DistributedElasticity(mesh, Material(E=200.0, nu=0.3), comm=comm)
+sol = run_ranks(model.solve, [0.0, -1.0], lambda x: x[0] < 1e-12, rtol=1e-13,
+                options={"ksp_rtoll": 1e-3, "ksp_max_it": int(sys.argv[2])})
+if comm.rank == 0:
+    json.dump({"iterations": sol.iterations, "reason": sol.reason}, open(sys.argv[1], "w"))
+"""
+
+
+def test_distributed_solve_options_take_effect_and_a_typo_is_reported_once(tmp_path):
+    """On 2 ranks: ksp_max_it = 3 stops CG at 3 iterations (the solve is then refused as not converged,
+    on every rank, no hang); the misspelled ksp_rtoll is one warning (rank 0), with or without success."""
+    import json
+
+    script = tmp_path / "d.py"
+    script.write_text(DISTRIBUTED)
+    ok = mpirun(2, str(script), str(tmp_path / "ok.json"), "1000", timeout=120)
+    assert ok.returncode == 0, ok.stderr
+    res = json.loads((tmp_path / "ok.json").read_text())
+    assert res["reason"] > 0 and res["iterations"] > 3
+    assert ok.stderr.count("'ksp_rtoll'") == 1 and "did not use" in ok.stderr
+    capped = mpirun(2, str(script), str(tmp_path / "capped.json"), "3", timeout=120)
+    assert capped.returncode != 0 and "3 iterations" in capped.stderr
+    assert not (tmp_path / "capped.json").exists()

@@ -272,9 +272,10 @@ class DistributedElasticity:
         rtol : float
             Relative residual of CG.
         options : dict, optional
-            PETSc options passed through (names without the dash); unused ones raise.
+            PETSc options passed through (names without the dash); the ones PETSc did not use
+            are logged as a warning by rank 0 after the solve (:func:`alcontact.linalg.report_unused_options`).
         """
-        from ..linalg import configure_ksp, direct_package, near_null_space, petsc
+        from ..linalg import configure_ksp, direct_package, near_null_space, petsc, report_unused_options
 
         PETSc = petsc()
         if solver not in ("gamg", "direct"):
@@ -296,15 +297,19 @@ class DistributedElasticity:
         A.zeroRowsColumns(rows.astype(PETSc.IntType), diag=1.0, x=u, b=f)
         if solver == "gamg":
             null = near_null_space(self.rigid_modes(), comm=A.getComm())
-            ksp = configure_ksp(A, ksp_type="cg", pc_type="gamg", rtol=rtol, options=options, near_null=null)
+            ksp = configure_ksp(A, ksp_type="cg", pc_type="gamg", rtol=rtol, options=options, near_null=null,
+                                defer_check=True)
         else:
             pkg = direct_package()
             ksp = configure_ksp(A, ksp_type="preonly", pc_type="cholesky" if pkg == "mumps" else "lu", rtol=rtol,
-                                options=options, factor_solver=pkg)
+                                options=options, factor_solver=pkg, defer_check=True)
         t1 = time.perf_counter()
         self.seconds["setup"] = t1 - t0
         ksp.solve(f, u)
         self.seconds["solve"] = time.perf_counter() - t1
+        # every rank clears its options database; rank 0 alone reports (the ranks read the same options)
+        report_unused_options(ksp.getOptionsPrefix() or "", options,
+                              reported=None if self.comm.rank == 0 else set(options or {}))
         reason = int(ksp.getConvergedReason())
         its = int(ksp.getIterationNumber())
         if reason < 0:
