@@ -284,6 +284,9 @@ def _entries() -> dict:
         "linalg.is_installed": (linalg.is_installed, lambda: (("superlu",), {}), [0]),
         "linalg.make_solver": (linalg.make_solver, lambda: (("superlu",), {}), [0]),
         "linalg.solver_kind": (linalg.solver_kind, lambda: (("superlu",), {}), [0]),
+        "linalg.check_backend_options": (linalg.check_backend_options, lambda: (({"ksp_rtol": 1e-9},), {}), [0]),
+        "linalg.takes_backend_options": (linalg.takes_backend_options, lambda: (("petsc",), {}), [0]),
+        "distributed.check_launch": (distributed.check_launch, lambda: (("alcontact run",), {}), [0]),
         "linalg.solver_matrix_types": (linalg.solver_matrix_types, lambda: (("superlu",), {}), [0]),
         "distributed.dual_graph": (distributed.dual_graph, lambda: ((_mesh().t,), {}), [0]),
         "distributed.owner_numbering": (distributed.owner_numbering,
@@ -327,6 +330,9 @@ NOT_CALLED = {
                     "the one Newton loop and its settings, for code that writes a NewtonSystem (not checked as user "
                     "input; its statuses are tested in tests/unit/test_newton.py)"),
     **dict.fromkeys(["atomic_path"], "a context manager (its path argument is the one of write_text_atomic)"),
+    **dict.fromkeys(["backend_options"], "a context manager (its argument is checked by check_backend_options, "
+                                         "fuzzed)"),
+    **dict.fromkeys(["launch_rank", "launch_size"], "takes no argument (reads the MPI launcher's environment)"),
     **dict.fromkeys(["SaintVenantKirchhoff", "Rockafellar", "HestenesPowell", "ExteriorQuadratic", "LogBarrier",
                      "InverseBarrier"], "optional name/doc strings only, like NeoHookean (which is called)"),
     **dict.fromkeys(["DistributedSolution", "LocalPiece", "DistributedError"],
@@ -340,7 +346,7 @@ NOT_CALLED = {
     **dict.fromkeys(["register_solver", "unregister_solver"],
                     "changes a process-wide registry: a fuzzed call that succeeds would leak into other tests"),
     **dict.fromkeys(["PetscKrylovSolver", "PetscDirectSolver", "configure_ksp", "near_null_space", "petsc",
-                     "direct_package", "DistributedElasticity", "run_ranks", "world"],
+                     "direct_package", "DistributedElasticity", "run_ranks", "world", "report_unused_options"],
                     "needs petsc4py/mpi4py, which only .venv-mpi has (make mpi); in this environment every one "
                     "raises the InputError with the set-up command before reading its arguments "
                     "(tests/unit/test_linalg_petsc_missing.py, tests/mpi)"),
