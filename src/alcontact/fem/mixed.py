@@ -70,7 +70,7 @@ from skfem import Basis, ElementTetP1, ElementTriP1
 from alcontact.errors import ConvergenceError, InputError, InvertedElementError
 from alcontact.fem._assembly import default_intorder
 from alcontact.fem._hyper_laws import InvariantLaw, _isochoric
-from alcontact.fem._hyper_materials import HyperelasticLaw, det, inv, make_material
+from alcontact.fem._hyper_materials import HyperelasticLaw, NeoHookean, det, inv, make_material
 from alcontact.fem._material import Material, material_issues
 from alcontact.fem.elasticity import LinearElasticity
 from alcontact.fem.hyperelastic import _listed, _scalar_gradients
@@ -104,18 +104,20 @@ def _isochoric_law(model: str | HyperelasticLaw, mu: float) -> tuple[Hyperelasti
     :math:`K = \lambda + 2\mu/3`: evaluated at :math:`\lambda = -2\mu/3` they are purely
     isochoric. The compressible ``"neo-hookean"`` of :mod:`~alcontact.fem._hyper_materials` is
     not split; its isochoric counterpart :class:`IsochoricNeoHookean` is used. Any other law is
-    checked: its energy at a pure dilatation must vanish.
+    checked: with :math:`K = 0` its energy must not change under a dilatation :math:`F \to sF`.
     """
     lam_iso = -2.0 * mu / 3.0
-    if isinstance(model, str) and model == "neo-hookean":
+    if (isinstance(model, str) and model == "neo-hookean") or type(model) is NeoHookean:
         return IsochoricNeoHookean(), lam_iso
     law = make_material(model)
-    dil = np.array([1.2, 0.8])[:, None, None] * np.eye(3)
-    W = np.asarray(law.energy(dil, lam_iso, mu), dtype=float)
-    if not np.all(np.abs(W) <= 1e-12 * mu):
+    # W_iso(F_bar) does not change under a dilatation F -> s F
+    F0 = np.array([[1.1, 0.2, 0.0], [-0.1, 0.9, 0.05], [0.0, 0.1, 1.05]])
+    F = np.array([1.0, 1.2, 0.8])[:, None, None] * F0
+    W = np.asarray(law.energy(F, lam_iso, mu), dtype=float)
+    if not np.all(np.abs(W - W[0]) <= 1e-12 * mu):
         raise InputError(
-            f"material law {law.name!r} is not in isochoric/volumetric split form (its energy at a pure "
-            f"dilatation is {float(np.max(np.abs(W))):.3g}, not 0, once K = lambda + 2 mu / 3 = 0): the mixed "
+            f"material law {law.name!r} is not in isochoric/volumetric split form (its energy changes by "
+            f"{float(np.max(np.abs(W - W[0]))):.3g} under a dilatation once K = lambda + 2 mu / 3 = 0): the mixed "
             "formulation needs W = W_iso(F_bar) + U(J). Use 'neo-hookean', 'mooney-rivlin', 'yeoh', 'gent', "
             "'arruda-boyce' or 'ogden', or formulation = 'displacement'."
         )
@@ -155,6 +157,8 @@ class MixedHyperelastic:
         Newton iterations of each load step of the last :meth:`solve`.
     linear_solves : int
         Saddle-point factorizations of the last :meth:`solve`.
+    linear_solver_used : str or None
+        Registry name of the direct solver of the last :meth:`solve`.
     """
 
     #: the internal force is nonlinear in x
@@ -203,11 +207,12 @@ class MixedHyperelastic:
         self._dx = np.ascontiguousarray(qb.dx)
         self._sdofs = np.ascontiguousarray(qb.element_dofs.T)
         self._vdofs = self.geometry.dof_map[self._sdofs].reshape(self._sdofs.shape[0], -1)  # a-major
-        self._N = np.ascontiguousarray(np.stack([np.asarray(phi[0].value) for phi in pb.basis], axis=-1))  # (e, q, m)
+        self._N = np.ascontiguousarray(np.stack([np.asarray(phi[0]) for phi in pb.basis], axis=-1))  # (e, q, m)
         self._pdofs = np.ascontiguousarray(pb.element_dofs.T) + self.ndofs_u  # (nel, m) in x
         self._linear_solver = linear_solver
         self.newton_iterations: list[int] = []
         self.linear_solves = 0
+        self.linear_solver_used: str | None = None
 
     # ------------------------------------------------------------ geometry (displacement part)
     def __getattr__(self, name):
@@ -349,6 +354,7 @@ class MixedHyperelastic:
         free[dofs] = False
         solver = SequenceSolver(self._linear_solver, matrix_type="symmetric-indefinite")
         self.newton_iterations, self.linear_solves = [], 0
+        self.linear_solver_used = solver.backend
         x = np.zeros(self.ndofs)
         try:
             for step in range(1, int(steps) + 1):
