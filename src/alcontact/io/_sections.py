@@ -271,8 +271,21 @@ def build_kinematics(mt, cd, dim, data: dict, issues: list[Issue]) -> tuple[str,
                                                   "kinematics = 'finite'; set it, or use material.model = 'linear'."))
     if finite:
         _finite_issues(mt, cd, dim, data, issues)
+    _formulation_issues(mt, issues)
     _path_issues(data.get("obstacle"), finite, dim, issues)
     return kin, model
+
+
+def _formulation_issues(mt: Any, issues: list[Issue]) -> None:
+    """``[material] formulation = "mixed"``: the mixed u-p body is not coupled to contact yet."""
+    form = mt.get("formulation") if isinstance(mt, dict) else None
+    if form == "mixed":
+        issues.append(Issue("material.formulation", "= 'mixed': the mixed displacement-pressure body is not yet "
+                                                    "coupled to contact, and a problem file is a contact problem; "
+                                                    "use formulation = 'displacement' (near nu = 0.5 with small "
+                                                    "kinematics: mesh.volumetric = 'p0'), or the Python API "
+                                                    "alcontact.fem.mixed.MixedHyperelastic for a body without "
+                                                    "contact."))
 
 
 def _split_message(msg: str, default: str) -> Issue:
