@@ -50,7 +50,7 @@ def test_tangent_matches_finite_differences(nu, model):
 def test_residual_is_gradient_of_functional():
     body = MixedHyperelastic(meshes.rectangle(0, 1, 0, 1, 2, 2), E=3.0, nu=0.45)
     x = _random_state(body, 1)
-    g = _fd_columns(lambda v: np.array([body.energy(v)]), x)[0]
+    g = _fd_columns(lambda v: np.array([body.functional(v)]), x)[0]
     assert np.abs(g - body.internal_force(x)).max() <= 1e-7 * np.abs(g).max()
 
 
@@ -98,3 +98,10 @@ def test_named_indefinite_solver_runs(name):
     r = body.internal_force(x) - body.pad(body.traction_load("right", [0.2, 0.05]))
     free = np.setdiff1d(np.arange(body.ndofs), body.dirichlet("left")[0])
     assert np.linalg.norm(r[free]) <= 1e-9 * np.linalg.norm(body.traction_load("right", [0.2, 0.05]))
+
+
+def test_energy_is_no_merit():
+    """A saddle-point functional is no line-search merit: ``energy`` is nan (Body protocol), ``functional`` finite."""
+    body = MixedHyperelastic(meshes.rectangle(0, 1, 0, 1, 2, 2), E=3.0, nu=0.5)
+    x = _random_state(body, 0)
+    assert np.isnan(body.energy(x)) and np.isfinite(body.functional(x))

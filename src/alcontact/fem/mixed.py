@@ -177,9 +177,11 @@ class MixedHyperelastic:
         self.E, self.nu = E, nu
         self.mu = E / (2.0 * (1.0 + nu))
         self.kappa = math.inf if incompressible else E / (3.0 * (1.0 - 2.0 * nu))
-        # geometry, DOF numbering, boundaries, loads and Dirichlet data of the P2 displacement field; its
-        # material (nu capped below 1/2) is never used for a stiffness here
-        self.geometry = LinearElasticity(mesh, Material(E=E, nu=min(nu, 0.49), plane="strain"), order=2)
+        #: the linearized constants (nu = 1/2 held as 1/2 - 1e-9, which Material accepts): the contact
+        #: layer's automatic penalty reads E / (1 - nu^2) from it; no stiffness is built from it
+        self.material = Material(E=E, nu=min(nu, 0.5 - 1e-9), plane="strain")
+        # geometry, DOF numbering, boundaries, loads and Dirichlet data of the P2 displacement field
+        self.geometry = LinearElasticity(mesh, self.material, order=2)
         if type(self.geometry.mesh) is not type(mesh) or self.geometry.mesh.nvertices != mesh.nvertices:
             raise InputError("MixedHyperelastic needs a straight-sided (first-order) mesh; curved second-order "
                              "meshes are not supported by the mixed formulation yet.")
@@ -271,6 +273,13 @@ class MixedHyperelastic:
 
     # -------------------------------------------------------------------- forms
     def energy(self, x) -> float:
+        """``nan``: the two-field functional is stationary at a saddle point, not a minimum, so it is no
+        merit function for a line search (the :class:`~alcontact.fem.Body` protocol's "no stored energy";
+        the contact layer then globalizes on the residual). Its value is :meth:`functional`."""
+        self._check_x(x)
+        return float("nan")
+
+    def functional(self, x) -> float:
         r"""Value of the two-field functional :math:`\int \bar W + p(J-1) - p^2/(2\kappa)\,dV` (a saddle point)."""
         F, J, p = self._state(x)
         W = self.law.energy(F, self._lam_iso, self.mu) + p * (J - 1.0) - 0.5 * self._inv_kappa() * p * p
