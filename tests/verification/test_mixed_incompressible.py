@@ -70,6 +70,14 @@ def test_incompressible_block_compression_exact(lam):
     assert np.abs(p - p_exact).max() <= 1e-10 * abs(p_exact)
     assert abs(reaction - force_exact) <= 1e-10 * abs(force_exact)
     assert max(body.newton_iterations) <= 6  # quadratic convergence from the consistent tangent
+    # nodal Cauchy stress (L2 projection of an exact constant field): sigma_xx = 0 (free sides),
+    # sigma_yy = P_yy lambda / J = mu (lambda^2 - lambda^-2), sigma_xy = 0, sigma_zz = mu (1 - I1/3) + p
+    s = body.stress(x, include_zz=True)
+    scale = MU * max(lam**2, lam**-2)
+    assert np.abs(s[:, 0]).max() <= 1e-9 * scale
+    assert np.abs(s[:, 1] - MU * (lam**2 - lam**-2)).max() <= 1e-9 * scale
+    assert np.abs(s[:, 2]).max() <= 1e-9 * scale
+    assert np.abs(s[:, 3] - (MU * (1.0 - I1 / 3.0) + p_exact)).max() <= 1e-9 * scale
 
 
 def test_compressible_block_compression_exact():

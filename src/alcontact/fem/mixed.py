@@ -222,7 +222,9 @@ class MixedHyperelastic:
         # displacement field (same numbers in x): delegated to the P2 geometry
         if name in ("boundary_names", "facets", "node_dofs", "all_node_dofs", "boundary_weights",
                     "traction_load", "pressure_load", "body_load", "dirichlet", "dof_map", "scalar_doflocs",
-                    "scalar_basis", "basis", "interpolate", "check_restrained", "probe"):
+                    "scalar_basis", "basis", "interpolate", "check_restrained", "probe", "free_rigid_motions",
+                    "boundary_pressure", "boundary_field_at_quadrature", "release_geometry", "scalar_element",
+                    "element", "scalar_dofs"):
             return getattr(self.__dict__["geometry"], name)
         raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
 
@@ -249,11 +251,13 @@ class MixedHyperelastic:
         return x
 
     # ----------------------------------------------------------------- kinematics
-    def _state(self, x):
+    def _state(self, x, where=None):
+        """``F, J, p`` at the quadrature points of the forms, or of ``where = (G, sdofs, N, pdofs)``."""
         x = self._check_x(x)
+        G, sdofs, N, pdofs = (self._G, self._sdofs, self._N, self._pdofs) if where is None else where
         u = x[: self.ndofs_u]
-        uloc = np.swapaxes(u[self.geometry.dof_map[self._sdofs]], 1, 2)  # (nel, dim, nloc)
-        F = uloc[:, None] @ self._G + np.eye(self.dim)
+        uloc = np.swapaxes(u[self.geometry.dof_map[sdofs]], 1, 2)  # (nel, dim, nloc)
+        F = uloc[:, None] @ G + np.eye(self.dim)
         J = det(F)
         bad = ~(J > 0.0)
         if bad.any():
@@ -261,12 +265,45 @@ class MixedHyperelastic:
             raise InvertedElementError(
                 f"{elements.size} of {F.shape[0]} elements inverted (J = det F <= 0 at a quadrature point, "
                 f"min J = {float(np.nanmin(J)):.3g}): elements {shown}. Cut the load step.", elements=elements)
-        p = np.einsum("eqm,em->eq", self._N, x[self._pdofs])
+        p = np.einsum("eqm,em->eq", N, x[pdofs])
         return F, J, p
 
     def deformation_gradient(self, x) -> np.ndarray:
         """:math:`F` at the quadrature points, shape ``(nel, nqp, dim, dim)``."""
         return self._state(x)[0]
+
+    # ------------------------------------------------------------- postprocess
+    @cached_property
+    def _output_points(self):
+        """``(G, sdofs, N, pdofs)`` at the quadrature points of the stress projection (:attr:`scalar_basis`)."""
+        sb = self.geometry.scalar_basis
+        pb = Basis(self.mesh, self.pressure_basis.elem, quadrature=sb.quadrature)
+        N = np.ascontiguousarray(np.stack([np.asarray(phi[0]) for phi in pb.basis], axis=-1))
+        return (_scalar_gradients(sb), np.ascontiguousarray(sb.element_dofs.T), N,
+                np.ascontiguousarray(pb.element_dofs.T) + self.ndofs_u)
+
+    def _quadrature_stress(self, x) -> list[np.ndarray]:
+        r"""Cauchy stress :math:`\sigma = J^{-1}\bar P F^T + p I` at the projection's quadrature points
+        (Voigt order, plus zz in 2D: :math:`J^{-1}\bar P_{33} + p`)."""
+        F, J, p = self._state(x, self._output_points)
+        P = self.law.stress(F, self._lam_iso, self.mu)
+        s = np.einsum("eqiJ,eqkJ->eqik", P, F) / J[..., None, None] + p[..., None, None] * np.eye(self.dim)
+        if self.dim == 2:
+            szz = self.law.stress_zz(F, self._lam_iso, self.mu) / J + p
+            return [s[..., 0, 0], s[..., 1, 1], 0.5 * (s[..., 0, 1] + s[..., 1, 0]), szz]
+        return [s[..., 0, 0], s[..., 1, 1], s[..., 2, 2], 0.5 * (s[..., 1, 2] + s[..., 2, 1]),
+                0.5 * (s[..., 0, 2] + s[..., 2, 0]), 0.5 * (s[..., 0, 1] + s[..., 1, 0])]
+
+    def stress(self, x, *, include_zz: bool = False) -> np.ndarray:
+        """Nodal Cauchy stress by L2 projection, columns as :meth:`~alcontact.fem.LinearElasticity.stress`."""
+        comps = self._quadrature_stress(x)
+        if self.dim == 2 and not include_zz:
+            comps = comps[:3]
+        return self.geometry._project(comps)
+
+    def von_mises(self, x) -> np.ndarray:
+        """Nodal von Mises stress of the Cauchy stress (plane strain includes ``zz``), shape ``(n_scalar,)``."""
+        return LinearElasticity.von_mises(self, x)
 
     def _inv_kappa(self) -> float:
         return 0.0 if math.isinf(self.kappa) else 1.0 / self.kappa

@@ -170,10 +170,10 @@ def _build_schema() -> tuple[Table, ...]:
             O("plane", "str", "strain", "2D assumption: `strain` or `stress` (ignored in 3D; hyperelastic: "
               "`strain` only).", choices=("strain", "stress")),
             _material_model_option(),
-            O("formulation", "str", "displacement", "Finite-element formulation of a hyperelastic body: "
-              "`displacement` (the displacement element) or `mixed` (Taylor-Hood P2/P1 displacement-pressure "
-              "element for nearly incompressible rubber; `alcontact.fem.mixed.MixedHyperelastic` in the Python API). "
-              "`mixed` is not yet coupled to contact and is refused in problem files for now.",
+            O("formulation", "str", None, "Finite-element formulation of a hyperelastic body: `displacement` "
+              "(the displacement element) or `mixed` (Taylor-Hood: P2 displacement and P1 pressure, for nearly "
+              "incompressible rubber; finite kinematics, `mesh.order = 2`, straight-sided mesh). Default: `mixed` "
+              "where those hold and nu >= 0.49, else `displacement`.",
               choices=_formulations()),
             O("energy", "str", None, "A user hyperelastic law: its strain energy W as an expression of the "
               "invariants `I1`, `I2`, `I3`, `J`, `I1b`, `I2b`, the names of `[material.parameters]`, numbers, "
