@@ -287,7 +287,7 @@ def build_formulation(mt: Any, md: Any, s: "Sections", issues: list[Issue]) -> s
     (:data:`MIXED_DEFAULT_NU`: nearly incompressible rubber, where the displacement element locks),
     else ``displacement``.
     """
-    from ..fem._assembly import is_curved
+    from ..fem.quality import is_curved
 
     form = mt.get("formulation") if isinstance(mt, dict) else None
     form = None if form is BAD else form
