@@ -196,8 +196,9 @@ class MixedHyperelastic:
             )
         if intorder is None:
             intorder = default_intorder(mesh, 2)
-        if isinstance(intorder, bool) or not isinstance(intorder, (int, np.integer)) or intorder < 1:
-            raise InputError(f"intorder={intorder!r} must be a positive integer (quadrature degree).")
+        if isinstance(intorder, bool) or not isinstance(intorder, (int, np.integer)) or not 1 <= intorder <= 10:
+            raise InputError(f"intorder={intorder!r} must be an integer in 1..10 (quadrature degree; default 2, "
+                             "exact for the linearized Taylor-Hood matrices).")
         self.intorder = int(intorder)
         self.ndofs_u = self.geometry.ndofs
         qb = Basis(mesh, self.geometry.scalar_element, intorder=self.intorder)
