@@ -105,3 +105,15 @@ def test_energy_is_no_merit():
     body = MixedHyperelastic(meshes.rectangle(0, 1, 0, 1, 2, 2), E=3.0, nu=0.5)
     x = _random_state(body, 0)
     assert np.isnan(body.energy(x)) and np.isfinite(body.functional(x))
+
+
+def test_failures_are_named():
+    from alcontact.errors import ConvergenceError, NonFiniteError
+
+    body = MixedHyperelastic(meshes.rectangle(0, 1, 0, 1, 2, 2), E=3.0, nu=0.5)
+    with pytest.raises(NonFiniteError):
+        body.internal_force(np.full(body.ndofs, np.nan))
+    with pytest.raises(InputError, match="shape"):
+        body.tangent(np.zeros(3))
+    with pytest.raises(ConvergenceError, match="load steps"):  # one Newton iteration cannot reach 1e-10
+        body.solve(body.traction_load("right", [0.5, 0.2]), [body.dirichlet("left")], max_iter=1)

@@ -67,7 +67,7 @@ import numpy as np
 import scipy.sparse as sp
 from skfem import Basis, ElementTetP1, ElementTriP1
 
-from alcontact.errors import ConvergenceError, InputError, InvertedElementError
+from alcontact.errors import ConvergenceError, InputError, InvertedElementError, NonFiniteError
 from alcontact.fem._assembly import default_intorder
 from alcontact.fem._hyper_laws import InvariantLaw, _isochoric
 from alcontact.fem._hyper_materials import HyperelasticLaw, NeoHookean, det, inv, make_material
@@ -247,8 +247,8 @@ class MixedHyperelastic:
         x = np.asarray(x, dtype=float)
         if x.shape != (self.ndofs,):
             raise InputError(f"x must have shape ({self.ndofs},) (displacement then pressure); got {x.shape}.")
-        if not np.all(np.isfinite(x)):
-            raise InputError("x contains NaN or infinity; the previous step diverged.")
+        if not np.all(np.isfinite(x)):  # the error the contact layer's step control handles, as for Hyperelastic
+            raise NonFiniteError("x contains NaN or infinity; the previous step diverged.")
         return x
 
     # ----------------------------------------------------------------- kinematics
