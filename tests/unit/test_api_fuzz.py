@@ -152,6 +152,8 @@ def _entries() -> dict:
         "fem.LinearElasticity": (fem.LinearElasticity, lambda: ((_mesh(), _material()), {}),
                                  [0, 1, "order", "volumetric"]),
         "fem.Hyperelastic": (fem.Hyperelastic, lambda: ((_mesh(), _material()), {}), [0, 1, "order", "model"]),
+        "fem.MixedHyperelastic": (fem.MixedHyperelastic, lambda: ((_mesh(),), {"E": 3.0, "nu": 0.5}),
+                                  [0, "E", "nu", "model", "intorder", "linear_solver"]),
         "fem.make_material": (fem.make_material, lambda: (("neo-hookean",), {}), [0]),
         "fem.rigid_body_modes": (fem.rigid_body_modes, lambda: ((np.zeros((3, 2)),), {}), [0]),
         "contact.Support": (contact.Support, lambda: (("top",), {}), [0, "components", "value"]),

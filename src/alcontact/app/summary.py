@@ -274,6 +274,13 @@ _FINITE_SOLVER_KEYS = ("linear_solver", "direct_solver", "amg_setups", "cg_itera
                        "direct_fallbacks")
 
 
+def _formulation(model) -> str:
+    """``"mixed"`` for the Taylor-Hood u-p body, else ``"displacement"`` (``[material] formulation``)."""
+    from ..fem import MixedHyperelastic
+
+    return "mixed" if isinstance(model, MixedHyperelastic) else "displacement"
+
+
 def _finite_summary(setup, fs, frames, wall: float) -> dict[str, Any]:
     """``summary.json`` keys of a finite-deformation run (the per-step lists have one entry per accepted step)."""
     final = frames[-1]
@@ -282,6 +289,7 @@ def _finite_summary(setup, fs, frames, wall: float) -> dict[str, Any]:
     out: dict[str, Any] = {
         "kinematics": "finite",
         "material_model": getattr(setup.problem.model.law, "name", None),
+        "formulation": _formulation(setup.problem.model),
         "status": res.status.label, "status_code": int(res.status), "message": res.message,
         "converged_steps": sum(1 for t in setup.times if steps and t <= steps[-1].t + 1e-12 * max(1.0, abs(t))),
         "accepted_steps": len(steps),

@@ -107,11 +107,12 @@ class Equilibrium:
 
 
 def _dof_components(body) -> np.ndarray:
-    """Component (0..d-1) of every DOF of ``body`` (interleaved numbering without ``all_node_dofs``)."""
+    """Component (0..d-1) of every DOF of ``body`` (interleaved numbering without ``all_node_dofs``);
+    -1 for a DOF that is no displacement component (the pressure of a mixed u-p body)."""
     if not hasattr(body, "all_node_dofs"):
         return np.arange(body.ndofs, dtype=np.int64) % int(body.dim)
     _, dofs = body.all_node_dofs()
-    comp = np.empty(body.ndofs, dtype=np.int64)
+    comp = np.full(body.ndofs, -1, dtype=np.int64)
     for c in range(dofs.shape[1]):
         comp[dofs[:, c]] = c
     return comp
@@ -174,9 +175,11 @@ def equilibrium(body, u, fixed, load, contact_forces, *, length: float | None = 
     res = fint - fext - fc
     free = np.ones(body.ndofs, dtype=bool)
     free[fixed] = False
-    Fc = np.bincount(comp, weights=fc, minlength=d)
-    Fe = np.bincount(comp, weights=fext, minlength=d)
-    R = np.bincount(comp[fixed], weights=res[fixed], minlength=d)
+    disp = comp >= 0  # force components (a mixed body's pressure rows are constraint residuals)
+    fixed_disp = fixed[disp[fixed]]
+    Fc = np.bincount(comp[disp], weights=fc[disp], minlength=d)
+    Fe = np.bincount(comp[disp], weights=fext[disp], minlength=d)
+    R = np.bincount(comp[fixed_disp], weights=res[fixed_disp], minlength=d)
     with np.errstate(over="ignore", invalid="ignore"):
         scale = max(float(np.linalg.norm(Fc)), float(np.linalg.norm(Fe)), float(np.linalg.norm(R)),
                     float(np.max(np.abs(fint), initial=0.0)), float(np.max(np.abs(fext), initial=0.0)),

@@ -42,6 +42,7 @@ from alcontact.fem._linalg import Factorization, nested_dissection
 from alcontact.fem._material import Material, material_issues
 from alcontact.fem.elasticity import LinearElasticity, numerical_rank, rigid_body_modes
 from alcontact.fem.hyperelastic import Hyperelastic
+from alcontact.fem.mixed import MixedHyperelastic
 
 __all__ = [
     "ArrudaBoyce",
@@ -56,6 +57,7 @@ __all__ = [
     "HyperelasticLaw",
     "LinearElasticity",
     "Material",
+    "MixedHyperelastic",
     "material_issues",
     "numerical_rank",
     "NeoHookean",

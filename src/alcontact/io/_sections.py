@@ -275,6 +275,47 @@ def build_kinematics(mt, cd, dim, data: dict, issues: list[Issue]) -> tuple[str,
     return kin, model
 
 
+#: Poisson's ratio from which a finite-deformation P2 body defaults to ``formulation = "mixed"``
+MIXED_DEFAULT_NU = 0.49
+
+
+def build_formulation(mt: Any, md: Any, s: "Sections", issues: list[Issue]) -> str:
+    """``[material] formulation``: ``"mixed"`` (Taylor-Hood P2/P1 u-p body) or ``"displacement"``.
+
+    Given, ``mixed`` needs finite kinematics with a hyperelastic law, ``[mesh] order = 2`` and a
+    straight-sided mesh. Not given, it is ``mixed`` where all of that holds and ``nu >= 0.49``
+    (:data:`MIXED_DEFAULT_NU`: nearly incompressible rubber, where the displacement element locks),
+    else ``displacement``.
+    """
+    from ..fem.quality import is_curved
+
+    form = mt.get("formulation") if isinstance(mt, dict) else None
+    form = None if form is BAD else form
+    order = md.get("order") if isinstance(md, dict) else None
+    hyper = s.kinematics == "finite" and s.law not in (None, LINEAR_MODEL)
+    curved = s.mesh is not None and is_curved(s.mesh)
+    if form is None:
+        nu = getattr(s.material, "nu", None)
+        auto = hyper and order == 2 and not curved and nu is not None and nu >= MIXED_DEFAULT_NU
+        return "mixed" if auto else "displacement"
+    if form != "mixed":
+        return form
+    if not hyper:
+        issues.append(Issue("material.formulation", "= 'mixed': the mixed displacement-pressure body is a "
+                                                    "hyperelastic body; set contact.kinematics = 'finite' with a "
+                                                    "hyperelastic material.model, or use formulation = "
+                                                    "'displacement' (small kinematics near nu = 0.5: "
+                                                    "mesh.volumetric = 'p0')."))
+    if order is not None and order is not BAD and order != 2:
+        issues.append(Issue("mesh.order", f"= {order!r}: formulation = 'mixed' is the Taylor-Hood element "
+                                          "(P2 displacement, P1 pressure); set mesh.order = 2."))
+    if curved:
+        issues.append(Issue("material.formulation", "= 'mixed' on a curved second-order mesh: not supported "
+                                                    "yet; use a first-order mesh (order = 2 still gives P2) or "
+                                                    "formulation = 'displacement'."))
+    return form
+
+
 def _split_message(msg: str, default: str) -> Issue:
     """An :class:`Issue` from an InputError message that starts with its key path (``key = ...`` / ``key: ...``)."""
     m = re.match(r"^([A-Za-z_][\w.\[\]]*)( = |: )(.*)$", msg, flags=re.S)
@@ -791,6 +832,7 @@ class Sections:
     dim: int | None = None
     kinematics: str = "small"
     law: str | None = None
+    formulation: str = "displacement"
     material: Any = None
     law_obj: Any = None
     contact_ok: bool = False
@@ -819,6 +861,7 @@ def build_sections(data: dict, base: Path, issues: list[Issue]) -> Sections:
     mt, cd = data.get("material"), data.get("contact")
     s.kinematics, s.law = build_kinematics(mt, cd, s.dim, data, issues)
     s.material, s.law_obj = build_material(mt, s.law, s.mesh, issues)
+    s.formulation = build_formulation(mt, data.get("mesh"), s, issues)
     s.contact_ok = check_contact_boundary(cd, s.mesh, issues)
     s.fixed, support_cases = build_supports(data.get("support"), s.mesh, s.dim, issues)
     s.loads, load_cases = build_loads(data.get("load"), s.mesh, s.dim, issues)
@@ -847,6 +890,11 @@ def build_model(md: dict, s: Sections, issues: list[Issue]):
     # the path of LinearElasticity: its mesh-quality errors are rewritten by alcontact.io.preflight
     if s.law_obj is None:
         return None
+    if s.formulation == "mixed":
+        from ..fem.mixed import MixedHyperelastic
+
+        return _num(issues, "material.formulation", MixedHyperelastic, s.mesh, E=s.material.E, nu=s.material.nu,
+                    model=s.law_obj)
     return _num(issues, "mesh.order", Hyperelastic, s.mesh, s.material, order=md["order"], model=s.law_obj)
 
 

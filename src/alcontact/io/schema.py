@@ -108,6 +108,12 @@ def _kinematics_option() -> Option:
                   "`material.model`).", choices=tuple(KINEMATICS))
 
 
+def _formulations() -> tuple[str, ...]:
+    from ..fem.mixed import FORMULATIONS
+
+    return FORMULATIONS
+
+
 def _material_model_option() -> Option:
     """``[material] model``: ``linear`` or a registered hyperelastic law (:func:`alcontact.fem.available_materials`)."""
     from ..fem import available_materials
@@ -164,6 +170,11 @@ def _build_schema() -> tuple[Table, ...]:
             O("plane", "str", "strain", "2D assumption: `strain` or `stress` (ignored in 3D; hyperelastic: "
               "`strain` only).", choices=("strain", "stress")),
             _material_model_option(),
+            O("formulation", "str", None, "Finite-element formulation of a hyperelastic body: `displacement` "
+              "(the displacement element) or `mixed` (Taylor-Hood: P2 displacement and P1 pressure, for nearly "
+              "incompressible rubber; finite kinematics, `mesh.order = 2`, straight-sided mesh). Default: `mixed` "
+              "where those hold and nu >= 0.49, else `displacement`.",
+              choices=_formulations()),
             O("energy", "str", None, "A user hyperelastic law: its strain energy W as an expression of the "
               "invariants `I1`, `I2`, `I3`, `J`, `I1b`, `I2b`, the names of `[material.parameters]`, numbers, "
               "`+ - * / **` and `log`, `exp`, `sqrt`, e.g. `\"c10*(I1b-3) + c01*(I2b-3) + K/2*(J-1)**2\"` "
