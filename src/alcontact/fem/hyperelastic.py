@@ -400,7 +400,7 @@ class Hyperelastic(LinearElasticity):
             raise InputError(f"load must have shape ({self.ndofs},); got {load.shape}.")
         if isinstance(steps, bool) or not isinstance(steps, (int, np.integer)) or steps < 1:
             raise InputError(f"steps={steps!r} must be a positive integer.")
-        dofs, vals = self._collect(dirichlet)
+        dofs, vals = self._collect_fixed(dirichlet)
         self.check_restrained(dofs)
         free = np.ones(self.ndofs, dtype=bool)
         free[dofs] = False
