@@ -311,7 +311,7 @@ def _axisymmetric_stiffness(model: LinearElasticity) -> sp.csr_matrix:
     def axi(u, v, w):
         r = w.x[0]
         eu, ev = sym_grad(u), sym_grad(v)
-        hu, hv = u.value[0] / r, v.value[0] / r
+        hu, hv = u[0] / r, v[0] / r
         tu, tv = trace(eu) + hu, trace(ev) + hv
         return TWO_PI * r * (2.0 * mu * (ddot(eu, ev) + hu * hv) + lam * tu * tv)
 
@@ -1238,7 +1238,7 @@ class LinearElasticity:
         return out
 
     def stress(self, u, *, include_zz: bool = False) -> np.ndarray:
-        """Nodal stresses by L2 projection onto the scalar P1/P2 space.
+        r"""Nodal stresses by L2 projection onto the scalar P1/P2 space.
 
         Parameters
         ----------
