@@ -337,6 +337,23 @@ def _tolerances(options: dict) -> dict[str, float]:
     }
 
 
+def _per_radian(model, summary: dict) -> dict[str, Any]:
+    """A body of revolution (``geometry = "axisymmetric"``): its forces are totals over the revolution
+    (2 pi integrated); the summary adds ``geometry`` and every force key again per radian (``<key>_per_radian``)."""
+    if not model.axisymmetric:
+        return {}
+    out: dict[str, Any] = {"geometry": "axisymmetric",
+                           "forces": "totals over the revolution (2 pi integrated); *_per_radian: divided by 2 pi"}
+    for key, v in summary.items():
+        if "force" not in key or isinstance(v, bool):
+            continue
+        if isinstance(v, (int, float)):
+            out[f"{key}_per_radian"] = float(v) / (2.0 * math.pi)
+        elif isinstance(v, list) and v and all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in v):
+            out[f"{key}_per_radian"] = [float(x) / (2.0 * math.pi) for x in v]
+    return out
+
+
 def write_results(out: str | os.PathLike, problem, solution, summary: dict, *,
                   tolerances: dict | None = None, units=None, description: str = "") -> dict[str, Path]:
     """Write the result files of :data:`RESULT_FILES` into the existing folder ``out``.
@@ -359,7 +376,7 @@ def write_results(out: str | os.PathLike, problem, solution, summary: dict, *,
     save_convergence_plot(solution.result, paths["convergence.png"], tolerances=tolerances)
     save_body_pictures(solution, out, units=units, title=summary.get("problem_label") or summary.get("problem"))
     write_report(paths["report.md"], summary, list(RESULT_FILES), description=description, units=units)
-    write_json(paths["summary.json"], {**summary, "files": list(RESULT_FILES)})
+    write_json(paths["summary.json"], {**summary, **_per_radian(problem.model, summary), "files": list(RESULT_FILES)})
     logger.info("results written to %s", out)
     return paths
 
@@ -1260,7 +1277,7 @@ def write_setup_results(folder: Path, setup, frames, summary: dict) -> list[str]
                      description=setup.data["problem"]["description"],
                      source=str(setup.source) if setup.source else None, units=units)
     files.append("summary.json")
-    write_json(folder / "summary.json", {**summary, "files": files})
+    write_json(folder / "summary.json", {**summary, **_per_radian(setup.problem.model, summary), "files": files})
     logger.info("results written to %s", folder)
     return files
 

@@ -808,12 +808,15 @@ def build_sections(data: dict, base: Path, issues: list[Issue]) -> Sections:
 
 def build_model(md: dict, s: Sections, issues: list[Issue]):
     """The body: linear elasticity, or the hyperelastic law at finite kinematics (``[mesh] order``)."""
-    from ..fem import LinearElasticity
+    from ..fem import LinearElasticity, check_geometry
     from ..fem.hyperelastic import Hyperelastic
 
+    if s.material is not None and _num(issues, "mesh.geometry", check_geometry, md["geometry"], s.dim, s.mesh.p,
+                                       plane=s.material.plane) is None:
+        return None
     if s.law == LINEAR_MODEL:
         return _num(issues, "mesh.order", LinearElasticity, s.mesh, s.material, order=md["order"],
-                    volumetric=md["volumetric"])
+                    volumetric=md["volumetric"], geometry=md["geometry"])
     if md["volumetric"] != "full":
         issues.append(Issue("mesh.volumetric", f"= {md['volumetric']!r} applies to linear elasticity only; the "
                             f"hyperelastic model {s.law!r} uses the standard element: remove mesh.volumetric."))
@@ -821,7 +824,8 @@ def build_model(md: dict, s: Sections, issues: list[Issue]):
     # the path of LinearElasticity: its mesh-quality errors are rewritten by alcontact.io.preflight
     if s.law_obj is None:
         return None
-    return _num(issues, "mesh.order", Hyperelastic, s.mesh, s.material, order=md["order"], model=s.law_obj)
+    return _num(issues, "mesh.order", Hyperelastic, s.mesh, s.material, order=md["order"], model=s.law_obj,
+                geometry=md["geometry"])
 
 
 def _proportional(fixed: list, loads: list) -> tuple[list, list]:
