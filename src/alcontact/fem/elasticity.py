@@ -328,7 +328,7 @@ def _stiffness_basis(model: LinearElasticity) -> Basis:
 
 
 class LinearElasticity:
-    """Linear elastic body discretized with vector P1 or P2 Lagrange elements.
+    r"""Linear elastic body discretized with vector P1 or P2 Lagrange elements.
 
     Parameters
     ----------
@@ -436,7 +436,7 @@ class LinearElasticity:
         return np.sort(self.dof_map[on, 0])
 
     def _weight(self, x: np.ndarray):
-        """The measure's weight at points ``x`` (dim, ...): :math:`2\pi r` (axisymmetric) or 1."""
+        r"""The measure's weight at points ``x`` (dim, ...): :math:`2\pi r` (axisymmetric) or 1."""
         return TWO_PI * x[0] if self.geometry == AXISYMMETRIC else 1.0
 
     @cached_property
@@ -1202,7 +1202,7 @@ class LinearElasticity:
         eps = 0.5 * (G + np.swapaxes(G, 0, 1))
         tr = np.trace(eps, axis1=0, axis2=1)
         if self.geometry == AXISYMMETRIC:  # hoop strain u_r / r; "zz" is the hoop stress
-            hoop = field.value[0] / np.asarray(self.basis.global_coordinates())[0]
+            hoop = np.asarray(field)[0] / np.asarray(self.basis.global_coordinates())[0]
             iso = self.lam * (tr + hoop)
             s = 2.0 * self.mu * eps
             for i in range(self.dim):

@@ -56,8 +56,12 @@ def _scalar_gradients(basis: Basis) -> np.ndarray:
 def _hoop_values(basis: Basis) -> tuple[np.ndarray, np.ndarray]:
     """Axisymmetric bodies: ``N_a / r`` at the quadrature points ``(nel, nqp, nloc)`` and the radius ``(nel, nqp)``."""
     r = np.asarray(basis.global_coordinates())[0]
-    N = np.stack([np.asarray(phi[0].value) for phi in basis.basis], axis=-1)  # (nel, nqp, nloc)
+    N = np.stack([np.asarray(phi[0]) for phi in basis.basis], axis=-1)  # (nel, nqp, nloc)
     return np.ascontiguousarray(N / r[..., None]), r
+
+
+#: the entries of the flattened 3x3 gradient an axisymmetric displacement reaches: rr, rz, zr, zz, hoop
+_AXI_USED = np.array([0, 1, 3, 4, 8])
 
 
 def _axisymmetric_operators(G: np.ndarray, hoop: np.ndarray) -> np.ndarray:
@@ -401,10 +405,19 @@ class Hyperelastic(LinearElasticity):
         r"""Element tangents of a body of revolution, :math:`K^e_{aibk} = \sum_q w_q\,B_{ai} : \mathbb{A}(F) : B_{bk}`
         with the 3x3 operators :math:`B` of :func:`_axisymmetric_operators` and :math:`w_q` including :math:`2\pi r`."""
         nel, nqp, nloc, _ = self._G.shape
-        B = _axisymmetric_operators(self._G, self._hoop).reshape(nel, nqp, nloc * 2, 9)
-        A = self.law.tangent(F, self.lam, self.mu).reshape(nel, nqp, 9, 9) * self._dx[:, :, None, None]
-        K = (B @ A @ np.swapaxes(B, -1, -2)).sum(axis=1)
+        B, Bt = self._axisymmetric_B
+        A = self.law.tangent(F, self.lam, self.mu).reshape(nel, nqp, 9, 9)[:, :, _AXI_USED[:, None], _AXI_USED]
+        A *= self._dx[:, :, None, None]
+        K = (np.matmul(B, A) @ Bt).sum(axis=1)
         return K.reshape(nel, nloc, 2, nloc, 2)
+
+    @cached_property
+    def _axisymmetric_B(self) -> tuple[np.ndarray, np.ndarray]:
+        """The operators of :func:`_axisymmetric_operators` at the quadrature points and their transposes
+        (constant: computed once)."""
+        nel, nqp, nloc, _ = self._G.shape
+        B = _axisymmetric_operators(self._G, self._hoop).reshape(nel, nqp, nloc * 2, 9)[..., _AXI_USED]
+        return np.ascontiguousarray(B), np.ascontiguousarray(np.swapaxes(B, -1, -2))
 
     def tangent(self, u) -> sp.csr_matrix:
         r"""Tangent stiffness :math:`K_T(u) = \partial f_{int}/\partial u` (symmetric CSR, material + geometric)."""
