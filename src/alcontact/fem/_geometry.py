@@ -48,15 +48,24 @@ def check_geometry(geometry, dim: int, points: np.ndarray, *, plane: str = "stra
     """
     if not isinstance(geometry, str) or geometry not in GEOMETRIES:
         raise InputError(f"geometry={show(geometry)} is not known; use one of {', '.join(map(repr, GEOMETRIES))}.")
+    if isinstance(dim, bool) or not isinstance(dim, (int, np.integer)) or dim not in (1, 2, 3):
+        raise InputError(f"check_geometry: dim = {show(dim)} must be the space dimension of the mesh, 2 or 3.")
     if geometry != AXISYMMETRIC:
         return geometry
     if dim != 2:
         raise InputError(f"geometry='axisymmetric' needs a 2D mesh in the r-z half-plane (r = x >= 0); this mesh "
                          f"is {dim}D. Use geometry='cartesian' for a 3D mesh, or mesh the half cross-section.")
-    if plane != "strain":
-        raise InputError(f"material plane={plane!r} does not apply to geometry='axisymmetric' (a body of "
+    if not isinstance(plane, str) or plane != "strain":
+        raise InputError(f"material plane={show(plane)} does not apply to geometry='axisymmetric' (a body of "
                          "revolution has the hoop strain u_r/r, not a plane assumption); leave plane='strain'.")
-    r = np.asarray(points, dtype=float)[0]
+    try:
+        r = np.asarray(points, dtype=float)
+    except (TypeError, ValueError, OverflowError):
+        r = None
+    if r is None or r.ndim != 2 or r.shape[0] != 2 or r.shape[1] == 0 or not np.all(np.isfinite(r)):
+        raise InputError(f"geometry='axisymmetric': points = {show(points)} must be the (2, n) finite mesh "
+                         "coordinates (x = r, y = z).")
+    r = r[0]
     tol = 1e-12 * max(float(np.ptp(r)), 1e-300)
     if np.min(r) < -tol:
         raise InputError(f"geometry='axisymmetric': the mesh reaches r = x = {float(np.min(r)):g} < 0; an "
