@@ -344,13 +344,17 @@ def _per_radian(model, summary: dict) -> dict[str, Any]:
         return {}
     out: dict[str, Any] = {"geometry": "axisymmetric",
                            "forces": "totals over the revolution (2 pi integrated); *_per_radian: divided by 2 pi"}
+    def numbers(v):  # a number or a (nested) list of numbers
+        if isinstance(v, (int, float)) and not isinstance(v, bool):
+            return True
+        return isinstance(v, list) and bool(v) and all(numbers(x) for x in v)
+
+    def per_radian(v):
+        return [per_radian(x) for x in v] if isinstance(v, list) else float(v) / (2.0 * math.pi)
+
     for key, v in summary.items():
-        if "force" not in key or isinstance(v, bool):
-            continue
-        if isinstance(v, (int, float)):
-            out[f"{key}_per_radian"] = float(v) / (2.0 * math.pi)
-        elif isinstance(v, list) and v and all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in v):
-            out[f"{key}_per_radian"] = [float(x) / (2.0 * math.pi) for x in v]
+        if "force" in key and numbers(v):
+            out[f"{key}_per_radian"] = per_radian(v)
     return out
 
 

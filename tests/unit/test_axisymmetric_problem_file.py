@@ -72,6 +72,7 @@ def test_summary_has_totals_and_per_radian_forces(tmp_path):
     assert s["geometry"] == "axisymmetric" and s["status"] == "converged"
     assert s["total_contact_force_per_radian"] * 2 * math.pi == s["total_contact_force"]
     assert s["model_contact_force"] > 0
+    assert s["contact_force_vector_per_radian"][1] * 2 * math.pi == s["contact_force_vector"][1]
     # the same file as a plane-strain body carries another force: the option took effect
     flat_out = tmp_path / "flat"
     plane = _file(tmp_path, HERTZ.replace('geometry = "axisymmetric"\n', ""))
