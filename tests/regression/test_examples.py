@@ -15,7 +15,8 @@ from alcontact.runner import run_setup
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 NAMES = ["hertz_2d", "hertz_3d", "flat_punch", "signorini_liftoff", "sliding_block", "cattaneo_mindlin",
-         "finite_half_cylinder", "finite_ironing", "finite_ironing_friction", "finite_mooney_rivlin"]
+         "finite_half_cylinder", "finite_ironing", "finite_ironing_friction", "finite_mooney_rivlin",
+         "rubber_ball_axisym"]
 
 
 def _run(name):
@@ -228,3 +229,20 @@ def test_finite_ironing_with_friction_slides_at_the_coulomb_limit_and_balances_e
     final = res.frames[-1]
     assert final.equilibrium().reaction[0] == pytest.approx(-F[-1, 0], rel=1e-8)
 
+
+
+def test_rubber_ball_axisym_equals_the_python_api():
+    """The axisymmetric rubber ball runs the Python API's problem, ``hemisphere_axisym(n=12, order=2,
+    delta=0.25)`` solved by ``solve_finite`` in 10 steps, on the mesh written from it (triangle6, 17-digit
+    text): the same Newton iterations and contact force per step (1e-9 relative); the body is axisymmetric."""
+    from alcontact.contact import solve_finite
+    from alcontact.problems.hemisphere import hemisphere_axisym
+
+    setup, res = _run("rubber_ball_axisym")
+    s = res.summary
+    assert setup.problem.model.axisymmetric
+    api = solve_finite(hemisphere_axisym(12, order=2, delta=0.25), steps=10)
+    assert api.success
+    assert s["step_newton_iterations"] == [st.newton_iterations for st in api.steps]
+    np.testing.assert_allclose(s["step_contact_force"], api.forces, rtol=1e-9, atol=1e-9 * abs(api.forces).max())
+    assert s["cutbacks"] == 0 and len(res.frames) == 10

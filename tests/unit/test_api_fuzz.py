@@ -199,6 +199,8 @@ def _entries() -> dict:
         "hertz.hertz_2d": (hertz.hertz_2d, lambda: ((0,), {}), [0, "order", "E", "nu", "radius", "n_per_a"]),
         "hertz.hertz_3d": (hertz.hertz_3d, lambda: ((0,), dict(n_per_a=1, size=4.0, growth=1.6)),
                            [0, "order", "radius", "n_per_a"]),
+        "hertz.hertz_axisym": (hertz.hertz_axisym, lambda: ((0,), dict(n_per_a=2, size=4.0, growth=1.6)),
+                               [0, "order", "radius", "n_per_a"]),
         "hertz.mesh_spec": (hertz.mesh_spec, lambda: ((2, 4), {}), [0, 1, "order"]),
         "blocks.patch_block": (blocks.patch_block, lambda: ((2, 1), dict(n=2)), [0, 1, "n", "E", "nu", "d"]),
         "blocks.signorini_block": (blocks.signorini_block, lambda: ((), dict(n=2)), ["order", "n", "gap"]),
@@ -298,6 +300,8 @@ def _entries() -> dict:
                                    [0, "friction", "kinematics"]),
         "contact.describe_algorithms": (contact.describe_algorithms, lambda: ((), dict(friction=False)), ["friction"]),
         "fem.material_issues": (fem.material_issues, lambda: ((1000.0, 0.3), {}), [0, 1, "plane"]),
+        "fem.check_geometry": (fem.check_geometry, lambda: (("axisymmetric", 2, np.ones((2, 3))), {}),
+                               [0, 1, 2, "plane"]),
         "fem.numerical_rank": (fem.numerical_rank, lambda: ((np.eye(2),), {}), [0]),
         "obstacles.signature": (obstacles.signature, lambda: (("half-space",), {}), [0]),
         # one part: no METIS call (pymetis is in .venv-mpi only), the argument checks still run

@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 import logging
+import math
 import os
 import re
 from pathlib import Path
@@ -21,6 +22,29 @@ logger = logging.getLogger(__name__)
 #: Files :func:`write_results` writes (``summary.json`` last).
 RESULT_FILES: tuple[str, ...] = ("solution.vtu", "history.csv", "pressure.png", "convergence.png",
                                  "body_pressure.png", "body_von_mises.png", "report.md", "summary.json")
+
+
+
+def _per_radian(model, summary: dict) -> dict[str, Any]:
+    """A body of revolution (``geometry = "axisymmetric"``): its forces are totals over the revolution
+    (2 pi integrated); the summary adds ``geometry`` and every force key again per radian (``<key>_per_radian``)."""
+    if not model.axisymmetric:
+        return {}
+    out: dict[str, Any] = {"geometry": "axisymmetric",
+                           "forces": "totals over the revolution (2 pi integrated); *_per_radian: divided by 2 pi"}
+
+    def numbers(v):  # a number or a (nested) list of numbers
+        if isinstance(v, (int, float)) and not isinstance(v, bool):
+            return True
+        return isinstance(v, list) and bool(v) and all(numbers(x) for x in v)
+
+    def per_radian(v):
+        return [per_radian(x) for x in v] if isinstance(v, list) else float(v) / (2.0 * math.pi)
+
+    for key, v in summary.items():
+        if "force" in key and numbers(v):
+            out[f"{key}_per_radian"] = per_radian(v)
+    return out
 
 
 def write_results(out: str | os.PathLike, problem, solution, summary: dict, *,
@@ -45,7 +69,7 @@ def write_results(out: str | os.PathLike, problem, solution, summary: dict, *,
     save_convergence_plot(solution.result, paths["convergence.png"], tolerances=tolerances)
     save_body_pictures(solution, out, units=units, title=summary.get("problem_label") or summary.get("problem"))
     write_report(paths["report.md"], summary, list(RESULT_FILES), description=description, units=units)
-    write_json(paths["summary.json"], {**summary, "files": list(RESULT_FILES)})
+    write_json(paths["summary.json"], {**summary, **_per_radian(problem.model, summary), "files": list(RESULT_FILES)})
     logger.info("results written to %s", out)
     return paths
 
@@ -334,6 +358,6 @@ def write_setup_results(folder: Path, setup, frames, summary: dict) -> list[str]
                      description=setup.data["problem"]["description"],
                      source=str(setup.source) if setup.source else None, units=units)
     files.append("summary.json")
-    write_json(folder / "summary.json", {**summary, "files": files})
+    write_json(folder / "summary.json", {**summary, **_per_radian(setup.problem.model, summary), "files": files})
     logger.info("results written to %s", folder)
     return files

@@ -260,6 +260,8 @@ def component_fields(problem, history: LoadHistory):
     """
     model = problem.model
     entries = []  # (dofs, vals, owner)
+    if model.axis_dofs.size:  # u_r = 0 on the axis of a body of revolution (fem._geometry)
+        entries.append((model.axis_dofs, np.zeros(model.axis_dofs.size), 0))
     for s in problem.supports:
         d, v = model.dirichlet(s.boundary, None if s.components is None else list(s.components), s.value)
         entries.append((d, v, 0))

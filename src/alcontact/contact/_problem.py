@@ -528,7 +528,7 @@ def merge_supports(model, supports: Sequence[Support], labels: Sequence[str] | N
         the largest prescribed value) to the same component of a node.
     """
     if not supports:
-        return np.empty(0, dtype=np.int64), np.empty(0)
+        return _with_axis(model, np.empty(0, dtype=np.int64), np.empty(0))
     labels = list(labels) if labels is not None else [f"support on {s.boundary!r}" for s in supports]
     scales = list(scales) if scales is not None else [1.0] * len(supports)
     dofs_l, vals_l, own_l = [], [], []
@@ -560,4 +560,16 @@ def merge_supports(model, supports: Sequence[Support], labels: Sequence[str] | N
             f"{vals[j]:g} on {b.boundary!r} ({n_bad} DOF(s) in conflict). Make the values agree, or restrict "
             "one support to other components (components = [...]) so that the boundaries do not overlap."
         )
-    return uniq, vals[first]
+    return _with_axis(model, uniq, vals[first])
+
+
+def _with_axis(model, dofs: np.ndarray, vals: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``dofs, vals`` plus the body's own zero DOFs: :math:`u_r = 0` on the axis of a body of revolution
+    (``model.axis_dofs``, empty for a Cartesian body; a support prescribing another value there is refused
+    by ``model.dirichlet``)."""
+    axis = np.setdiff1d(np.asarray(model.axis_dofs, dtype=np.int64), dofs)
+    if axis.size == 0:
+        return dofs, vals
+    out = np.concatenate([dofs, axis])
+    order = np.argsort(out, kind="stable")
+    return out[order], np.concatenate([vals, np.zeros(axis.size)])[order]

@@ -18,6 +18,7 @@ Examples
 
 from alcontact.fem import meshes, model_problems
 from alcontact.fem._body import Body
+from alcontact.fem._geometry import GEOMETRIES, check_geometry
 from alcontact.fem._hyper_materials import (
     HyperelasticLaw,
     NeoHookean,
@@ -53,6 +54,8 @@ __all__ = [
     "Ogden",
     "Yeoh",
     "Factorization",
+    "GEOMETRIES",
+    "check_geometry",
     "Hyperelastic",
     "HyperelasticLaw",
     "LinearElasticity",

@@ -41,11 +41,19 @@ class Body(Protocol):
     linear : bool
         ``True`` when the internal force is linear in ``u`` (constant tangent):
         the condensed (Delassus) contact path applies.
+    axisymmetric : bool
+        ``True`` for a body of revolution in the r-z half-plane (:mod:`alcontact.fem._geometry`):
+        forces are totals over the revolution and only the axial force is a global balance.
+    axis_dofs : numpy.ndarray of int
+        DOFs the body itself fixes to zero (:math:`u_r` on the axis of a body of revolution;
+        empty otherwise): every solve adds them to the supports.
     """
 
     dim: int
     ndofs: int
     linear: bool
+    axisymmetric: bool
+    axis_dofs: np.ndarray
 
     def internal_force(self, u: np.ndarray) -> np.ndarray:
         """Internal force vector :math:`f_{int}(u)`, shape ``(ndofs,)``."""

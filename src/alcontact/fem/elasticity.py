@@ -38,6 +38,7 @@ from skfem.helpers import ddot, dot, sym_grad, trace
 from alcontact._options import VALUE_RANGE, show
 from alcontact.errors import InputError, MeshError
 from alcontact.fem._assembly import default_intorder, elasticity_stiffness, is_curved, scalar_doflocs, straight_mesh
+from alcontact.fem._geometry import AXISYMMETRIC, TWO_PI, axis_points, check_geometry
 from alcontact.fem._linalg import Factorization, nested_dissection
 from alcontact.linalg import MatrixHints
 from alcontact.fem._material import Material
@@ -292,13 +293,42 @@ class _ProjectedP0Volumetric:
 VOLUMETRIC_FORMULATIONS = {f.name: f for f in (_FullVolumetric(), _ProjectedP0Volumetric())}
 
 
+def _axisymmetric_stiffness(model: LinearElasticity) -> sp.csr_matrix:
+    r"""Stiffness of a body of revolution (``geometry="axisymmetric"``, :mod:`alcontact.fem._geometry`).
+
+    .. math::
+        a(u, v) = \int_\Omega \left[2\mu\,\varepsilon(u):\varepsilon(v) + \lambda\,
+        \operatorname{tr}\varepsilon(u)\,\operatorname{tr}\varepsilon(v)\right] 2\pi r\,dr\,dz,
+        \qquad \varepsilon_{\theta\theta} = u_r / r,
+
+    with the hoop strain in the double contraction and in the trace. The integrand is rational
+    in r (the hoop terms :math:`u_r v_r / r`): the quadrature (degree ``2 order``, at least the
+    default) has interior points only, so it never evaluates :math:`1/r` on the axis.
+    """
+    lam, mu = model.lam, model.mu
+
+    @BilinearForm
+    def axi(u, v, w):
+        r = w.x[0]
+        eu, ev = sym_grad(u), sym_grad(v)
+        hu, hv = u[0] / r, v[0] / r
+        tu, tv = trace(eu) + hu, trace(ev) + hv
+        return TWO_PI * r * (2.0 * mu * (ddot(eu, ev) + hu * hv) + lam * tu * tv)
+
+    K = asm(axi, model.basis).tocsr()
+    K = (0.5 * (K + K.T)).tocsr()  # remove round-off asymmetry
+    K.sum_duplicates()
+    K.sort_indices()
+    return K
+
+
 def _stiffness_basis(model: LinearElasticity) -> Basis:
     # strains are of degree order-1 on affine simplices: intorder 2(order-1) is exact (curved: 4 or 5)
     return Basis(model.mesh, model.element, intorder=default_intorder(model.mesh, model.order))
 
 
 class LinearElasticity:
-    """Linear elastic body discretized with vector P1 or P2 Lagrange elements.
+    r"""Linear elastic body discretized with vector P1 or P2 Lagrange elements.
 
     Parameters
     ----------
@@ -318,6 +348,11 @@ class LinearElasticity:
         the volumetric strain projected onto element-wise constants, the
         locking-free P2-P0 element with the pressure condensed element by element
         (still symmetric positive definite): use it for :math:`\nu` near 1/2.
+    geometry : {"cartesian", "axisymmetric"}
+        ``"axisymmetric"``: a 2D mesh in the r-z half-plane (``x = r >= 0``) is a body of
+        revolution (:mod:`alcontact.fem._geometry`): the hoop strain :math:`u_r/r` enters the
+        energy, every integral carries :math:`2\pi r` (stiffness, loads, boundary weights: forces
+        are totals over the revolution), and :math:`u_r = 0` on the axis (:attr:`axis_dofs`).
 
     Examples
     --------
@@ -329,7 +364,8 @@ class LinearElasticity:
     1.0
     """
 
-    def __init__(self, mesh, material: Material, order: int = 1, volumetric: str = "full"):
+    def __init__(self, mesh, material: Material, order: int = 1, volumetric: str = "full",
+                 geometry: str = "cartesian"):
         if not isinstance(material, Material):
             raise InputError(f"material must be an alcontact.fem.Material; got {type(material).__name__}.")
         if not (isinstance(order, (int, np.integer)) and not isinstance(order, bool) and order in (1, 2)):
@@ -352,6 +388,10 @@ class LinearElasticity:
                 "with triangles/tetrahedra (first or second order)."
             )
         check_mesh_quality(mesh)  # MeshError naming inverted or degenerate elements
+        self.geometry = check_geometry(geometry, mesh.dim(), mesh.p, plane=material.plane)
+        if self.geometry == AXISYMMETRIC and volumetric != "full":
+            raise InputError(f"volumetric={volumetric!r} is not available with geometry='axisymmetric'; use "
+                             "volumetric='full' (P2 for nu near 0.5).")
         self.mesh = mesh
         self.material = material
         self.order = int(order)
@@ -364,7 +404,8 @@ class LinearElasticity:
         # quadrature point of every element are built on first use (:attr:`basis`, :attr:`scalar_basis`)
         self.scalar_dofs = Dofs(mesh, self.scalar_element)
         self.ndofs = self.dim * int(self.scalar_dofs.N)
-        self.lam, self.mu = material.lame(self.dim)
+        # axisymmetric: the 3D constants (the hoop direction is a third, strained direction)
+        self.lam, self.mu = material.lame(3 if self.geometry == AXISYMMETRIC else self.dim)
         self._stiffness: sp.csr_matrix | None = None
         self._facet_cache: dict[str, Any] = {}
 
@@ -372,7 +413,31 @@ class LinearElasticity:
     @cached_property
     def basis(self) -> Basis:
         """Vector basis (built on first use: it holds every basis function at every quadrature point)."""
+        if self.geometry == AXISYMMETRIC:  # the hoop terms are rational in r: one degree more
+            return Basis(self.mesh, self.element, intorder=max(default_intorder(self.mesh, self.order),
+                                                                2 * self.order))
         return Basis(self.mesh, self.element)
+
+    @property
+    def axisymmetric(self) -> bool:
+        """``True`` for a body of revolution (``geometry="axisymmetric"``)."""
+        return self.geometry == AXISYMMETRIC
+
+    @cached_property
+    def axis_dofs(self) -> np.ndarray:
+        """Radial DOFs on the axis ``r = 0`` of an axisymmetric body (:math:`u_r = 0` there); empty otherwise.
+
+        Every solve prescribes them to zero (:func:`alcontact.contact.merge_supports`), whatever the supports.
+        """
+        if self.geometry != AXISYMMETRIC:
+            return np.empty(0, dtype=np.int64)
+        r = self.scalar_doflocs[0]
+        on = axis_points(r, float(np.ptp(self.mesh.p, axis=1).max()))
+        return np.sort(self.dof_map[on, 0])
+
+    def _weight(self, x: np.ndarray):
+        r"""The measure's weight at points ``x`` (dim, ...): :math:`2\pi r` (axisymmetric) or 1."""
+        return TWO_PI * x[0] if self.geometry == AXISYMMETRIC else 1.0
 
     @cached_property
     def scalar_basis(self) -> Basis:
@@ -528,7 +593,8 @@ class LinearElasticity:
     def boundary_weights(self, name: str) -> np.ndarray:
         r"""Tributary length/area of each DOF location of boundary ``name``.
 
-        ``w_i = \int_\Gamma \phi_i\,ds``, aligned with :meth:`node_dofs`. For 3D P2 that
+        ``w_i = \int_\Gamma \phi_i\,ds`` (axisymmetric: :math:`\int_\Gamma \phi_i\,2\pi r\,ds`, the
+        area of the surface of revolution), aligned with :meth:`node_dofs`. For 3D P2 that
         integral vanishes at vertices, so the weights of the P1 sub-triangulation
         of each quadratic face are returned instead (each face split into four;
         a vertex gets ``area/12``, an edge midpoint ``area/4`` per face). The
@@ -552,30 +618,58 @@ class LinearElasticity:
             np.add.at(w, vdofs.ravel(), np.tile(area / 12.0, 3))
             np.add.at(w, edofs.ravel(), np.tile(area / 4.0, 3))
             return w[sdofs]
+        if self.axisymmetric and self.order == 2:
+            return self._axisymmetric_p2_weights(name)[sdofs]
+
+        weight = self._weight
 
         @LinearForm
         def one(v, w):
-            return v
+            return weight(w.x) * v
 
         return asm(one, self._facet_basis(name, vector=False))[sdofs]
+
+    def _axisymmetric_p2_weights(self, name: str) -> np.ndarray:
+        r"""P2 boundary weights of a body of revolution, on the P1 sub-segments of each edge.
+
+        :math:`\int_\Gamma \phi_i\,2\pi r\,ds` vanishes at a P2 vertex on the axis (the vertex
+        function times r integrates to zero), so, as for 3D P2, each edge (vertex, midpoint, vertex)
+        is split into its two straight halves and every node gets the integral of the P1 hat
+        functions there: a half from :math:`r_p` to :math:`r_q` of length L gives
+        :math:`2\pi L (2r_p + r_q)/6` to p and :math:`2\pi L (r_p + 2r_q)/6` to q. They sum to the
+        area of the revolved polygon through the nodes (exact on straight edges).
+        """
+        f = self.facets(name)
+        x = self.scalar_doflocs
+        vdofs = self.scalar_dofs.nodal_dofs[0][self.mesh.facets[:, f]]  # (2, nf)
+        mdofs = self.scalar_dofs.facet_dofs[0][f]  # (nf,)
+        w = np.zeros(self.scalar_dofs.N)
+        for v in vdofs:
+            L = np.linalg.norm(x[:, v] - x[:, mdofs], axis=0)
+            rp, rq = x[0, v], x[0, mdofs]
+            np.add.at(w, v, TWO_PI * L * (2.0 * rp + rq) / 6.0)
+            np.add.at(w, mdofs, TWO_PI * L * (rp + 2.0 * rq) / 6.0)
+        return w
 
     def boundary_pressure(self, name: str, forces) -> np.ndarray:
         r"""Pressure at the DOF locations of boundary ``name`` from nodal normal forces.
 
         ``forces`` aligned with :meth:`node_dofs`. The forces of a pressure field ``p``
         are :math:`\int_\Gamma p\,\phi_i`, so normally ``forces / boundary_weights``.
-        For 3D P2 the vertex integrals vanish and the sub-triangle weights are not
+        For 3D P2 (and axisymmetric P2 on the axis) the vertex integrals vanish and the sub-triangle weights are not
         consistent (a uniform pressure would read 0 at vertices, 4/3 p at edge
         midpoints), so the boundary mass matrix is solved instead, :math:`M_\Gamma p = r`.
         """
         forces = np.asarray(forces, dtype=float)
-        if not (self.dim == 3 and self.order == 2):
+        if not (self.order == 2 and (self.dim == 3 or self.axisymmetric)):
             return forces / self.boundary_weights(name)
         from scipy.sparse.linalg import spsolve
 
+        weight = self._weight
+
         @BilinearForm
         def mass(u, v, w):
-            return u * v
+            return weight(w.x) * u * v
 
         sdofs = self._boundary_scalar_dofs(name)
         M = asm(mass, self._facet_basis(name, vector=False)).tocsr()[sdofs][:, sdofs]
@@ -601,7 +695,8 @@ class LinearElasticity:
         x : ndarray (nq, dim)
             Quadrature points.
         dx : ndarray (nq,)
-            Quadrature weights (facet measure included): :math:`\int_\Gamma f\,ds \approx \sum_q dx_q f(x_q)`.
+            Quadrature weights (facet measure included): :math:`\int_\Gamma f\,ds \approx \sum_q dx_q f(x_q)`
+            (axisymmetric: the :math:`2\pi r` of the surface of revolution included).
         v : ndarray (nq,)
             The field :math:`\sum_i v_i \phi_i` at the points.
         """
@@ -616,8 +711,9 @@ class LinearElasticity:
         full = np.zeros(self.scalar_dofs.N)
         full[sdofs] = np.asarray(values, dtype=float)
         val = np.asarray(fb.interpolate(full))  # (nf, nqp)
-        x = np.asarray(fb.global_coordinates()).reshape(self.dim, -1).T
-        dx = np.broadcast_to(np.asarray(fb.dx), val.shape).ravel()
+        xq = np.asarray(fb.global_coordinates())
+        x = xq.reshape(self.dim, -1).T
+        dx = (np.broadcast_to(np.asarray(fb.dx), val.shape) * self._weight(xq)).ravel()
         return x, dx, val.ravel()
 
     # ---------------------------------------------------------------- matrices
@@ -630,7 +726,10 @@ class LinearElasticity:
         """
         if self._stiffness is None:
             t0 = time.perf_counter()
-            K = self._volumetric.stiffness(self).tocsr()
+            if self.geometry == AXISYMMETRIC:
+                K = _axisymmetric_stiffness(self)
+            else:
+                K = self._volumetric.stiffness(self).tocsr()
             K.eliminate_zeros()
             self._stiffness = K
             logger.debug("assembled stiffness (%s volumetric term): %d DOFs, nnz=%d in %.3f s",
@@ -667,7 +766,7 @@ class LinearElasticity:
         return np.broadcast_to(vec.reshape((self.dim,) + (1,) * (x.ndim - 1)), x.shape)
 
     def traction_load(self, name: str, traction) -> np.ndarray:
-        r"""Load vector :math:`\int_{\Gamma} t\cdot v\,ds` on boundary ``name``.
+        r"""Load vector :math:`\int_{\Gamma} t\cdot v\,ds` on boundary ``name`` (axisymmetric: times :math:`2\pi r`).
 
         Parameters
         ----------
@@ -679,10 +778,11 @@ class LinearElasticity:
         """
         fb = self._facet_basis(name, vector=True, intorder=None if not callable(traction) else 2 * self.order + 2)
         t = self._vector_field(traction, np.asarray(fb.global_coordinates()), "traction")
+        weight = self._weight
 
         @LinearForm
         def form(v, w):
-            return dot(w.t, v)
+            return weight(w.x) * dot(w.t, v)
 
         return asm(form, fb, t=np.ascontiguousarray(t))
 
@@ -702,20 +802,24 @@ class LinearElasticity:
                 raise InputError(f"pressure must be a finite number or a callable; got {show(p)}.")
             pv = np.full(x.shape[1:], float(pf))
 
+        weight = self._weight
+
         @LinearForm
         def form(v, w):
-            return -w.p * dot(w.n, v)
+            return -weight(w.x) * w.p * dot(w.n, v)
 
         return asm(form, fb, p=np.ascontiguousarray(pv))
 
     def body_load(self, f) -> np.ndarray:
-        r"""Load vector :math:`\int_\Omega f\cdot v\,dx` (constant vector or callable ``x -> (dim, ...)``)."""
+        r"""Load vector :math:`\int_\Omega f\cdot v\,dx` (constant vector or callable ``x -> (dim, ...)``;
+        axisymmetric: times :math:`2\pi r`)."""
         basis = self.basis
         fv = self._vector_field(f, np.asarray(basis.global_coordinates()), "body force")
+        weight = self._weight
 
         @LinearForm
         def form(v, w):
-            return dot(w.f, v)
+            return weight(w.x) * dot(w.f, v)
 
         return asm(form, basis, f=np.ascontiguousarray(fv))
 
@@ -760,7 +864,26 @@ class LinearElasticity:
                 raise InputError(f"Dirichlet value must be a number, {self.dim} numbers or a callable; got {value!r}.")
         if not np.all(np.isfinite(vals)):
             raise InputError(f"Dirichlet values on {name!r} contain NaN or infinity.")
+        if self.geometry == AXISYMMETRIC and 0 in comps:
+            on = np.isin(dofs[:, 0], self.axis_dofs)
+            bad = on & (np.abs(vals[:, 0]) > 0.0)
+            if np.any(bad):
+                i = int(np.flatnonzero(bad)[0])
+                raise InputError(f"support on {name!r}: radial displacement u_r = {vals[i, 0]:g} prescribed on the "
+                                 f"axis (node at r = 0, z = {points[i, 1]:g}); a body of revolution has u_r = 0 on "
+                                 "its axis (imposed automatically). Prescribe component 0 = 0 there, or leave it "
+                                 "free (components = [1]).")
         return dofs[:, comps].ravel().copy(), vals[:, comps].ravel().copy()
+
+    def _collect_fixed(self, dirichlet) -> tuple[np.ndarray, np.ndarray]:
+        """:meth:`_collect` plus :math:`u_r = 0` on the axis of a body of revolution (:attr:`axis_dofs`)."""
+        dofs, vals = self._collect(dirichlet)
+        axis = np.setdiff1d(self.axis_dofs, dofs)
+        if axis.size == 0:
+            return dofs, vals
+        out = np.concatenate([dofs, axis])
+        order = np.argsort(out)
+        return out[order], np.concatenate([vals, np.zeros(axis.size)])[order]
 
     @staticmethod
     def _collect(dirichlet) -> tuple[np.ndarray, np.ndarray]:
@@ -789,7 +912,7 @@ class LinearElasticity:
         """
         fixed = np.unique(np.asarray(dirichlet_dofs, dtype=np.int64).ravel())
         pts, _ = self.all_node_dofs()
-        modes, names = rigid_body_modes(pts)
+        modes, names = self._rigid_modes(pts)
         R = modes.reshape(-1, modes.shape[-1])  # (n_scalar*dim, n_modes), row = scalar*dim + c
         # map vector DOF -> row of R
         row_of = np.empty(self.ndofs, dtype=np.int64)
@@ -1007,10 +1130,17 @@ class LinearElasticity:
         """Drop the cached factorization of :meth:`factorize` (frees its memory)."""
         self._factor_cache = None
 
+    def _rigid_modes(self, pts: np.ndarray) -> tuple[np.ndarray, list[str]]:
+        """:func:`rigid_body_modes` of this geometry: a body of revolution keeps the translation along the axis only."""
+        modes, names = rigid_body_modes(pts)
+        if self.geometry == AXISYMMETRIC:  # u_r = const or a rotation would strain the hoop direction
+            return modes[..., 1:2], ["translation along the axis (y)"]
+        return modes, names
+
     def _free_rigid_modes(self, free: np.ndarray) -> np.ndarray:
         """Rigid-body modes restricted to the DOFs ``free`` (near-null space for AMG)."""
         pts, dofs = self.all_node_dofs()
-        modes, _ = rigid_body_modes(pts)
+        modes, _ = self._rigid_modes(pts)
         R = np.zeros((self.ndofs, modes.shape[-1]))
         R[dofs.ravel()] = modes.reshape(-1, modes.shape[-1])
         return np.ascontiguousarray(R[free])
@@ -1036,7 +1166,7 @@ class LinearElasticity:
         load = np.asarray(load, dtype=float)
         if load.shape != (self.ndofs,):
             raise InputError(f"load must have shape ({self.ndofs},); got {load.shape}.")
-        dofs, vals = self._collect(dirichlet)
+        dofs, vals = self._collect_fixed(dirichlet)
         fac = self.factorize(dofs)
         return fac.solve_full(load, vals)
 
@@ -1067,9 +1197,17 @@ class LinearElasticity:
         u = np.asarray(u, dtype=float)
         if u.shape != (self.ndofs,):
             raise InputError(f"u must have shape ({self.ndofs},); got {u.shape}.")
-        G = self.basis.interpolate(u).grad  # (dim, dim, nel, nqp)
+        field = self.basis.interpolate(u)
+        G = field.grad  # (dim, dim, nel, nqp)
         eps = 0.5 * (G + np.swapaxes(G, 0, 1))
         tr = np.trace(eps, axis1=0, axis2=1)
+        if self.geometry == AXISYMMETRIC:  # hoop strain u_r / r; "zz" is the hoop stress
+            hoop = np.asarray(field)[0] / np.asarray(self.basis.global_coordinates())[0]
+            iso = self.lam * (tr + hoop)
+            s = 2.0 * self.mu * eps
+            for i in range(self.dim):
+                s[i, i] += iso
+            return [s[0, 0], s[1, 1], s[0, 1], 2.0 * self.mu * hoop + iso]
         iso = self._volumetric.isotropic_stress(self, tr, np.broadcast_to(np.asarray(self.basis.dx), tr.shape))
         s = 2.0 * self.mu * eps
         for i in range(self.dim):
@@ -1100,14 +1238,15 @@ class LinearElasticity:
         return out
 
     def stress(self, u, *, include_zz: bool = False) -> np.ndarray:
-        """Nodal stresses by L2 projection onto the scalar P1/P2 space.
+        r"""Nodal stresses by L2 projection onto the scalar P1/P2 space.
 
         Parameters
         ----------
         u : numpy.ndarray, shape (ndofs,)
         include_zz : bool
             2D only: append the out-of-plane stress ``zz`` as a 4th column
-            (``lambda * tr(eps)`` in plane strain, zero in plane stress).
+            (``lambda * tr(eps)`` in plane strain, zero in plane stress; axisymmetric: the
+            hoop stress :math:`\sigma_{\theta\theta}`, and ``xx, yy, xy`` are ``rr, zz, rz``).
 
         Returns
         -------

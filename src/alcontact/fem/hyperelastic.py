@@ -37,6 +37,7 @@ from skfem import Basis
 
 from alcontact.errors import ConvergenceError, InputError, InvertedElementError, LawDomainError, NonFiniteError
 from alcontact.fem._assembly import default_intorder
+from alcontact.fem._geometry import TWO_PI
 from alcontact.fem._hyper_materials import HyperelasticLaw, det, make_material
 from alcontact.fem._material import Material
 from alcontact.fem.elasticity import LinearElasticity
@@ -51,6 +52,29 @@ def _scalar_gradients(basis: Basis) -> np.ndarray:
     """Reference gradients of the local scalar shape functions, ``(nel, nqp, nloc, dim)``."""
     grads = np.stack([np.asarray(phi[0].grad) for phi in basis.basis])  # (nloc, dim, nel, nqp)
     return np.ascontiguousarray(grads.transpose(2, 3, 0, 1))
+
+
+def _hoop_values(basis: Basis) -> tuple[np.ndarray, np.ndarray]:
+    """Axisymmetric bodies: ``N_a / r`` at the quadrature points ``(nel, nqp, nloc)`` and the radius ``(nel, nqp)``."""
+    r = np.asarray(basis.global_coordinates())[0]
+    N = np.stack([np.asarray(phi[0]) for phi in basis.basis], axis=-1)  # (nel, nqp, nloc)
+    return np.ascontiguousarray(N / r[..., None]), r
+
+
+#: the entries of the flattened 3x3 gradient an axisymmetric displacement reaches: rr, rz, zr, zz, hoop
+_AXI_USED = np.array([0, 1, 3, 4, 8])
+
+
+def _axisymmetric_operators(G: np.ndarray, hoop: np.ndarray) -> np.ndarray:
+    r"""``B[e, q, a, k, :]``: the 3x3 gradient :math:`\partial H / \partial u_{ak}` (flattened, row-major) of
+    node ``a``'s component ``k`` (0 = r, 1 = z): :math:`e_k \otimes \nabla N_a` in the r-z block, plus
+    :math:`N_a / r` at the hoop entry ``(2, 2)`` for ``k = 0``."""
+    nel, nqp, nloc, _ = G.shape
+    B = np.zeros((nel, nqp, nloc, 2, 9))
+    for k in range(2):
+        B[..., k, 3 * k: 3 * k + 2] = G
+    B[..., 0, 8] = hoop
+    return B
 
 
 def _transpose_positions(indptr: np.ndarray, indices: np.ndarray) -> np.ndarray:
@@ -230,8 +254,8 @@ class Hyperelastic(LinearElasticity):
     linear = False
 
     def __init__(self, mesh, material: Material, order: int = 1, model: str | HyperelasticLaw = "neo-hookean",
-                 intorder: int | None = None):
-        super().__init__(mesh, material, order)
+                 intorder: int | None = None, geometry: str = "cartesian"):
+        super().__init__(mesh, material, order, geometry=geometry)
         mesh = self.mesh  # a curved mesh with order=1 is replaced by its straight-sided vertices
         if self.dim == 2 and material.plane != "strain":
             raise InputError(
@@ -242,14 +266,20 @@ class Hyperelastic(LinearElasticity):
         # Material already holds -1 < nu < 0.5, which every compressible law needs
         self.law = make_material(model)
         self._check_moduli(material)
-        if intorder is None:
+        if intorder is None:  # axisymmetric: the degree of the linear stiffness there (rational in r)
             intorder = default_intorder(mesh, self.order)
+            if self.axisymmetric:
+                intorder = max(intorder, 2 * self.order)
         if isinstance(intorder, bool) or not isinstance(intorder, (int, np.integer)) or intorder < 1:
             raise InputError(f"intorder={intorder!r} must be a positive integer (quadrature degree).")
         self.intorder = int(intorder)
         self.quadrature_basis = Basis(mesh, self.scalar_element, intorder=self.intorder)
         self._G = _scalar_gradients(self.quadrature_basis)
         self._dx = np.ascontiguousarray(self.quadrature_basis.dx)
+        self._hoop = None
+        if self.axisymmetric:  # N_a / r at the points and the 2 pi r of the measure
+            self._hoop, r = _hoop_values(self.quadrature_basis)
+            self._dx = np.ascontiguousarray(self._dx * TWO_PI * r)
         sdofs = np.ascontiguousarray(self.quadrature_basis.element_dofs.T)  # (nel, nloc)
         self._sdofs = sdofs
         self._vdofs = self.dof_map[sdofs].reshape(sdofs.shape[0], -1)  # (nel, nloc*dim), a-major
@@ -289,11 +319,21 @@ class Hyperelastic(LinearElasticity):
             raise NonFiniteError("displacement u contains NaN or infinity; the previous step diverged.")
         return u
 
-    def _gradient(self, u: np.ndarray, G: np.ndarray, sdofs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """``F`` and ``J`` at the quadrature points of ``G``; raises if some ``J <= 0``."""
+    def _gradient(self, u: np.ndarray, G: np.ndarray, sdofs: np.ndarray,
+                  hoop: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """``F`` and ``J`` at the quadrature points of ``G``; raises if some ``J <= 0``.
+
+        Axisymmetric (``hoop``: ``N_a / r`` at the points): the 3x3
+        :math:`F = [[F_{rr}, F_{rz}, 0], [F_{zr}, F_{zz}, 0], [0, 0, 1 + u_r/r]]`.
+        """
         uloc = np.swapaxes(u[self.dof_map[sdofs]], 1, 2)  # (nel, dim, nloc)
         F = uloc[:, None] @ G  # F_iJ = u_ai dN_a/dX_J at every point: (nel, nqp, dim, dim)
         F += np.eye(self.dim)
+        if hoop is not None:
+            F3 = np.zeros(F.shape[:2] + (3, 3))
+            F3[..., :2, :2] = F
+            F3[..., 2, 2] = 1.0 + np.einsum("eqa,ea->eq", hoop, uloc[:, 0])
+            F = F3
         J = det(F)
         bad = ~(J > 0.0)
         if bad.any():
@@ -325,7 +365,7 @@ class Hyperelastic(LinearElasticity):
         kept = self._kept_gradient
         if kept is not None and np.array_equal(kept[0], u):
             return kept[1], kept[2]
-        F, J = self._gradient(u, self._G, self._sdofs)
+        F, J = self._gradient(u, self._G, self._sdofs, self._hoop)
         F.flags.writeable = False
         J.flags.writeable = False
         self._kept_gradient = (u.copy(), F, J)
@@ -337,13 +377,14 @@ class Hyperelastic(LinearElasticity):
         Returns
         -------
         numpy.ndarray, shape (nel, nqp, dim, dim)
+            (axisymmetric: ``(nel, nqp, 3, 3)`` with the hoop stretch :math:`1 + u_r/r` at ``[2, 2]``)
 
         Raises
         ------
         alcontact.errors.InvertedElementError
             If :math:`J = \det F \le 0` at some quadrature point (``.elements`` lists them).
         """
-        return self._gradient(self._check_u(u), self._G, self._sdofs)[0]
+        return self._gradient(self._check_u(u), self._G, self._sdofs, self._hoop)[0]
 
     # ------------------------------------------------- Body protocol (fem._body)
     def energy(self, u) -> float:
@@ -360,6 +401,11 @@ class Hyperelastic(LinearElasticity):
         r"""Internal force :math:`f_{int}(u) = \int_{\Omega_0} P(F) : \nabla_X \delta u\,dV`, shape ``(ndofs,)``."""
         F, _ = self._state_gradient(self._check_u(u))
         P = self.law.stress(F, self.lam, self.mu)
+        if self._hoop is not None:  # P_iJ dN_a/dX_J in the r-z block, plus P_33 N_a / r for the radial component
+            Pw = P * self._dx[:, :, None, None]
+            fe = (self._G @ np.swapaxes(Pw[..., :2, :2], -1, -2)).sum(axis=1)
+            fe[..., 0] += np.einsum("eqa,eq->ea", self._hoop, Pw[..., 2, 2])
+            return np.bincount(self._vdofs.ravel(), weights=fe.ravel(), minlength=self.ndofs)
         fe = (self._G @ np.swapaxes(P * self._dx[:, :, None, None], -1, -2)).sum(axis=1)  # (nel, a, i)
         return np.bincount(self._vdofs.ravel(), weights=fe.ravel(), minlength=self.ndofs)
 
@@ -393,10 +439,31 @@ class Hyperelastic(LinearElasticity):
         r"""Values of :meth:`tangent` at ``u`` in the CSR order of :attr:`tangent_pattern` (a new array)."""
         u = self._check_u(u)
         F, _ = self._state_gradient(u)
-        Ke = self.law.element_tangent(F, self._G, self._dx, self.lam, self.mu)  # (nel, a, i, b, k)
+        if self._hoop is not None:
+            Ke = self._axisymmetric_element_tangent(F)
+        else:
+            Ke = self.law.element_tangent(F, self._G, self._dx, self.lam, self.mu)  # (nel, a, i, b, k)
         indptr, indices, pos, tperm = self._pattern
         data = np.bincount(pos, weights=Ke.ravel(), minlength=int(indptr[-1]))
         return 0.5 * (data + data[tperm])  # remove round-off asymmetry (exactly symmetric CSR)
+
+    def _axisymmetric_element_tangent(self, F: np.ndarray) -> np.ndarray:
+        r"""Element tangents of a body of revolution, :math:`K^e_{aibk} = \sum_q w_q\,B_{ai} : \mathbb{A}(F) : B_{bk}`
+        with the 3x3 operators :math:`B` of :func:`_axisymmetric_operators` and :math:`w_q` including :math:`2\pi r`."""
+        nel, nqp, nloc, _ = self._G.shape
+        B, Bt = self._axisymmetric_B
+        A = self.law.tangent(F, self.lam, self.mu).reshape(nel, nqp, 9, 9)[:, :, _AXI_USED[:, None], _AXI_USED]
+        A *= self._dx[:, :, None, None]
+        K = (np.matmul(B, A) @ Bt).sum(axis=1)
+        return K.reshape(nel, nloc, 2, nloc, 2)
+
+    @cached_property
+    def _axisymmetric_B(self) -> tuple[np.ndarray, np.ndarray]:
+        """The operators of :func:`_axisymmetric_operators` at the quadrature points and their transposes
+        (constant: computed once)."""
+        nel, nqp, nloc, _ = self._G.shape
+        B = _axisymmetric_operators(self._G, self._hoop).reshape(nel, nqp, nloc * 2, 9)[..., _AXI_USED]
+        return np.ascontiguousarray(B), np.ascontiguousarray(np.swapaxes(B, -1, -2))
 
     def tangent(self, u) -> sp.csr_matrix:
         r"""Tangent stiffness :math:`K_T(u) = \partial f_{int}/\partial u` (symmetric CSR, material + geometric)."""
@@ -449,7 +516,7 @@ class Hyperelastic(LinearElasticity):
             raise InputError(f"load must have shape ({self.ndofs},); got {load.shape}.")
         if isinstance(steps, bool) or not isinstance(steps, (int, np.integer)) or steps < 1:
             raise InputError(f"steps={steps!r} must be a positive integer.")
-        dofs, vals = self._collect(dirichlet)
+        dofs, vals = self._collect_fixed(dirichlet)
         self.check_restrained(dofs)
         free = np.ones(self.ndofs, dtype=bool)
         free[dofs] = False
@@ -483,15 +550,18 @@ class Hyperelastic(LinearElasticity):
 
     # ----------------------------------------------------------- postprocess
     @cached_property
-    def _output_geometry(self) -> tuple[np.ndarray, np.ndarray]:
+    def _output_geometry(self) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
         sb = self.scalar_basis
-        return _scalar_gradients(sb), np.ascontiguousarray(sb.element_dofs.T)
+        hoop = _hoop_values(sb)[0] if self.axisymmetric else None
+        return _scalar_gradients(sb), np.ascontiguousarray(sb.element_dofs.T), hoop
 
     def _quadrature_tensors(self, u) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray | None]:
         """``F, J, P`` and (2D) ``P33`` at the quadrature points of the output basis."""
-        G, sdofs = self._output_geometry
-        F, J = self._gradient(self._check_u(u), G, sdofs)
+        G, sdofs, hoop = self._output_geometry
+        F, J = self._gradient(self._check_u(u), G, sdofs, hoop)
         P = self.law.stress(F, self.lam, self.mu)
+        if hoop is not None:  # the hoop stress P_33
+            return F, J, P, P[..., 2, 2]
         P33 = self.law.stress_zz(F, self.lam, self.mu) if self.dim == 2 else None
         return F, J, P, P33
 
@@ -499,8 +569,9 @@ class Hyperelastic(LinearElasticity):
         r"""Cauchy stress :math:`\sigma = J^{-1} P F^T` at quadrature points (Voigt order, plus zz in 2D)."""
         F, J, P, P33 = self._quadrature_tensors(u)
         s = np.einsum("eqiJ,eqkJ->eqik", P, F) / J[..., None, None]
-        if self.dim == 2:
-            return [s[..., 0, 0], s[..., 1, 1], 0.5 * (s[..., 0, 1] + s[..., 1, 0]), P33 / J]
+        if self.dim == 2:  # zz: plane strain P_33 / J (F_33 = 1); axisymmetric the hoop sigma_33 = P_33 F_33 / J
+            zz = s[..., 2, 2] if F.shape[-1] == 3 else P33 / J
+            return [s[..., 0, 0], s[..., 1, 1], 0.5 * (s[..., 0, 1] + s[..., 1, 0]), zz]
         return [s[..., 0, 0], s[..., 1, 1], s[..., 2, 2], 0.5 * (s[..., 1, 2] + s[..., 2, 1]),
                 0.5 * (s[..., 0, 2] + s[..., 2, 0]), 0.5 * (s[..., 0, 1] + s[..., 1, 0])]
 

@@ -225,7 +225,7 @@ class MixedHyperelastic:
                     "traction_load", "pressure_load", "body_load", "dirichlet", "dof_map", "scalar_doflocs",
                     "scalar_basis", "basis", "interpolate", "check_restrained", "probe", "free_rigid_motions",
                     "boundary_pressure", "boundary_field_at_quadrature", "release_geometry", "scalar_element",
-                    "element", "scalar_dofs"):
+                    "element", "scalar_dofs", "axisymmetric", "axis_dofs"):
             return getattr(self.__dict__["geometry"], name)
         raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
 

@@ -294,9 +294,10 @@ def build_formulation(mt: Any, md: Any, s: "Sections", issues: list[Issue]) -> s
     order = md.get("order") if isinstance(md, dict) else None
     hyper = s.kinematics == "finite" and s.law not in (None, LINEAR_MODEL)
     curved = s.mesh is not None and is_curved(s.mesh)
+    revolution = isinstance(md, dict) and md.get("geometry") == "axisymmetric"
     if form is None:
         nu = getattr(s.material, "nu", None)
-        auto = hyper and order == 2 and not curved and nu is not None and nu >= MIXED_DEFAULT_NU
+        auto = hyper and order == 2 and not curved and not revolution and nu is not None and nu >= MIXED_DEFAULT_NU
         return "mixed" if auto else "displacement"
     if form != "mixed":
         return form
@@ -313,6 +314,10 @@ def build_formulation(mt: Any, md: Any, s: "Sections", issues: list[Issue]) -> s
         issues.append(Issue("material.formulation", "= 'mixed' on a curved second-order mesh: not supported "
                                                     "yet; use a first-order mesh (order = 2 still gives P2) or "
                                                     "formulation = 'displacement'."))
+    if revolution:
+        issues.append(Issue("material.formulation", "= 'mixed' with mesh.geometry = 'axisymmetric': not supported "
+                                                    "yet; use formulation = 'displacement' (nu <= 0.49) or a "
+                                                    "plane-strain or 3D model."))
     return form
 
 
@@ -877,12 +882,15 @@ def build_sections(data: dict, base: Path, issues: list[Issue]) -> Sections:
 
 def build_model(md: dict, s: Sections, issues: list[Issue]):
     """The body: linear elasticity, or the hyperelastic law at finite kinematics (``[mesh] order``)."""
-    from ..fem import LinearElasticity
+    from ..fem import LinearElasticity, check_geometry
     from ..fem.hyperelastic import Hyperelastic
 
+    if s.material is not None and _num(issues, "mesh.geometry", check_geometry, md["geometry"], s.dim, s.mesh.p,
+                                       plane=s.material.plane) is None:
+        return None
     if s.law == LINEAR_MODEL:
         return _num(issues, "mesh.order", LinearElasticity, s.mesh, s.material, order=md["order"],
-                    volumetric=md["volumetric"])
+                    volumetric=md["volumetric"], geometry=md["geometry"])
     if md["volumetric"] != "full":
         issues.append(Issue("mesh.volumetric", f"= {md['volumetric']!r} applies to linear elasticity only; the "
                             f"hyperelastic model {s.law!r} uses the standard element: remove mesh.volumetric."))
@@ -895,7 +903,8 @@ def build_model(md: dict, s: Sections, issues: list[Issue]):
 
         return _num(issues, "material.formulation", MixedHyperelastic, s.mesh, E=s.material.E, nu=s.material.nu,
                     model=s.law_obj)
-    return _num(issues, "mesh.order", Hyperelastic, s.mesh, s.material, order=md["order"], model=s.law_obj)
+    return _num(issues, "mesh.order", Hyperelastic, s.mesh, s.material, order=md["order"], model=s.law_obj,
+                geometry=md["geometry"])
 
 
 def _proportional(fixed: list, loads: list) -> tuple[list, list]:

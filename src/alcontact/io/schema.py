@@ -93,6 +93,12 @@ def _volumetric() -> tuple[str, ...]:
     return tuple(VOLUMETRIC_FORMULATIONS)
 
 
+def _geometries() -> tuple[str, ...]:
+    from ..fem import GEOMETRIES
+
+    return tuple(GEOMETRIES)
+
+
 def _penalties() -> tuple[str, ...]:
     from ..contact import contact_penalties
 
@@ -148,6 +154,11 @@ def _build_schema() -> tuple[Table, ...]:
             O("volumetric", "str", "full", "Volumetric term of linear elasticity: `full` (standard element) or "
               "`p0` (order 2 only: the volumetric strain projected onto element-wise constants, the locking-free "
               "P2-P0 element; use it for nu near 0.5).", choices=_volumetric()),
+            O("geometry", "str", "cartesian", "`cartesian` or `axisymmetric`: a 2D mesh in the r-z half-plane "
+              "(x = r >= 0, y = z the axis) as a body of revolution, with the hoop strain u_r/r and 2 pi r in "
+              "every integral; u_r = 0 on the axis is imposed, forces are totals over the revolution (the summary "
+              "adds them per radian). Obstacles are then surfaces of revolution (a `circle` is a sphere, a "
+              "`half-space` a plane normal to the axis or a cylinder). 2D only.", choices=_geometries()),
         ), required=True),
         Table("mesh.refine", "Optional grading of a generated mesh toward a point of its top face "
               "(the contact zone).", (

@@ -35,7 +35,7 @@ from ..contact.obstacles import HalfSpace
 from ..fem import Material, meshes
 from ..fem.hyperelastic import Hyperelastic
 
-__all__ = ["hemisphere"]
+__all__ = ["hemisphere", "hemisphere_axisym"]
 
 
 def _curved(mesh, radius: float, tol: float):
@@ -104,6 +104,52 @@ def hemisphere(n: int = 6, *, order: int = 1, radius: float = 1.0, delta: float 
         supports=(Support("symmetry_x", components=(0,)), Support("symmetry_z", components=(2,)),
                   Support("top", components=(1,), value=-delta)),
         name=f"hemisphere quarter (R={radius:g}, delta/R={delta / radius:g}, n={n}, P{order}, {model})",
+        kinematics="finite",
+        meta={"radius": radius, "delta": delta, "n": n, "curved": bool(order == 2 and curved)},
+    )
+
+
+def hemisphere_axisym(n: int = 12, *, order: int = 1, radius: float = 1.0, delta: float = 0.2,
+                      E: float = 1000.0, nu: float = 0.3, model: str = "neo-hookean",
+                      curved: bool = True) -> ContactProblem:
+    """The hemisphere of :func:`hemisphere` as a body of revolution (``geometry="axisymmetric"``).
+
+    The quarter disc :math:`r = x \in [0, R]`, :math:`y \in [0, R]`, :math:`r^2 + (y - R)^2 \le R^2`
+    in the r-z half-plane, meshed by the 2D elliptical-grid map of the unit square
+    :math:`(a, b) \mapsto R\,(b\sqrt{1 - a^2/2},\; 1 - a\sqrt{1 - b^2/2})` (``2 n^2``
+    triangles; P2: a second-order mesh with the edge nodes of the arc on the circle when
+    ``curved``). Boundaries ``"top"`` (pushed down by ``delta``), ``"axis"`` (:math:`u_r = 0`,
+    imposed by the body) and ``"curved"`` (contact). The force is the total over the
+    revolution: four times the quarter model's of :func:`hemisphere`. Parameters as :func:`hemisphere`.
+    """
+    sq = meshes.rectangle(0.0, 1.0, 0.0, 1.0, n, n)
+    a, b = sq.doflocs
+    r = radius * b * np.sqrt(np.maximum(1.0 - a**2 / 2, 0.0))
+    y = radius * (1.0 - a * np.sqrt(np.maximum(1.0 - b**2 / 2, 0.0)))  # (a, b) -> (b, -a): a rotation
+    mesh = dataclasses.replace(sq, doflocs=np.vstack([r, y]), _boundaries=None)
+    tol = 1e-9 * radius
+    if order == 2 and curved:
+        m2 = skfem.MeshTri2.from_mesh(mesh)
+        x = np.array(m2.doflocs, dtype=float)
+        bf = mesh.boundary_facets()
+        mid = mesh.p[:, mesh.facets[:, bf]].mean(axis=1)
+        arc = bf[(mid[1] < radius - tol) & (mid[0] > tol)]
+        centre = np.array([0.0, radius])
+        d = x[:, mesh.nvertices + arc] - centre[:, None]
+        x[:, mesh.nvertices + arc] = centre[:, None] + radius * d / np.linalg.norm(d, axis=0)
+        mesh = dataclasses.replace(m2, doflocs=x)
+    mesh = mesh.with_boundaries({
+        "top": lambda x: x[1] > radius - tol,
+        "axis": lambda x: x[0] < tol,
+        "curved": lambda x: (x[1] < radius - tol) & (x[0] > tol),
+    })
+    body = Hyperelastic(mesh, Material(E=E, nu=nu), order=order, model=model, geometry="axisymmetric")
+    return ContactProblem(
+        model=body,
+        obstacle=HalfSpace([0.0, 0.0], [0.0, 1.0]),
+        contact_boundary="curved",
+        supports=(Support("axis", components=(0,)), Support("top", components=(1,), value=-delta)),
+        name=f"hemisphere axisymmetric (R={radius:g}, delta/R={delta / radius:g}, n={n}, P{order}, {model})",
         kinematics="finite",
         meta={"radius": radius, "delta": delta, "n": n, "curved": bool(order == 2 and curved)},
     )

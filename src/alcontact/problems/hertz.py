@@ -38,7 +38,8 @@ from ..contact.obstacles import Circle, Sphere
 from ..errors import UnknownNameError
 from ..fem import LinearElasticity, Material, meshes
 
-__all__ = ["HertzReference", "hertz_2d", "hertz_3d", "LEVELS_2D", "LEVELS_3D", "mesh_spec", "DRIVES"]
+__all__ = ["HertzReference", "hertz_2d", "hertz_3d", "hertz_axisym", "LEVELS_2D", "LEVELS_3D", "LEVELS_AXISYM",
+           "mesh_spec", "DRIVES"]
 
 
 @dataclass(frozen=True)
@@ -76,6 +77,7 @@ class HertzReference:
 #: elements per contact half-width ``a`` on the fine zone, by refinement level
 LEVELS_2D = (8, 16, 32, 64, 128, 256)
 LEVELS_3D = (4, 6, 8, 12, 16, 24)
+LEVELS_AXISYM = LEVELS_2D
 
 
 #: what moves the block into contact (``drive`` of :func:`hertz_2d` / :func:`hertz_3d`); the approach
@@ -248,4 +250,39 @@ def hertz_3d(level: int = 1, *, order: int = 1, E: float = 200e3, nu: float = 0.
         name=f"hertz-3d (R={radius:g}, {n} elements per a, P{order})" + ("" if drive == "obstacle" else f", {drive}"),
         reference=ref,
         meta={"delta": delta, "h": h, "symmetry_axis": 0, "center": (0.0, 0.0), "drive": drive},
+    )
+
+
+def hertz_axisym(level: int = 1, *, order: int = 1, E: float = 200e3, nu: float = 0.3, radius: float = 10.0,
+                 a_target: float = 1.0, size: float = 20.0, n_per_a: int | None = None,
+                 growth: float = 1.15) -> ContactProblem:
+    r"""Rigid sphere on an elastic cylinder as a body of revolution (``geometry="axisymmetric"``).
+
+    The r-z half cross-section ``0 <= r <= size a``, ``-size a <= z <= 0`` of the graded mesh of
+    :func:`hertz_2d` (the same levels, :data:`LEVELS_AXISYM`), bottom fixed, :math:`u_r = 0` on
+    the axis ``r = 0`` (the boundary ``"left"``); the obstacle is the circle of radius R in the
+    r-z plane, i.e. the sphere. The approach is the half-space one, :math:`\delta = a^2/R`
+    (Johnson eq. 4.23). Forces are totals over the revolution, so the reference takes the
+    model's force as the load (``symmetry = 1``): Johnson eq. 4.22-4.23,
+    :math:`a = (3PR/4E^*)^{1/3}`, :math:`p_0 = 3P/(2\pi a^2)`. Parameters as :func:`hertz_2d`.
+    """
+    level, order, n_per_a, radius, a_target, size, growth = _checked("hertz_axisym", LEVELS_AXISYM, level, order,
+                                                                     n_per_a, radius, a_target, size, growth,
+                                                                     integer=True)
+    mat = Material(E=E, nu=nu)
+    e_star = mat.plane_strain_modulus
+    n = n_per_a or LEVELS_AXISYM[level]
+    a = a_target
+    md = mesh_spec(2, n, order, a_target=a, size=size, growth=growth)
+    mesh = meshes.rectangle(*md["bounds"], *md["cells"], refine=md["refine"])
+    model = LinearElasticity(mesh, mat, order=order, geometry="axisymmetric")
+    delta = a * a / radius
+    return ContactProblem(
+        model=model,
+        obstacle=Circle(center=(0.0, radius - delta), radius=radius),
+        contact_boundary="top",
+        supports=(Support("bottom"), Support("left", components=(0,))),
+        name=f"hertz-axisym (R={radius:g}, {n} elements per a, P{order})",
+        reference=HertzReference("sphere", radius, e_star, symmetry=1.0),
+        meta={"delta": delta, "h": a / n, "symmetry_axis": 0, "center": (0.0, 0.0), "drive": "obstacle"},
     )
