@@ -78,3 +78,12 @@ def test_run_nearly_incompressible_half_cylinder(tmp_path):
     assert s["formulation"] == "mixed" and s["status_code"] > 0
     assert max(s["step_newton_iterations"]) <= 8 and s["converged_steps"] == 4
     assert (out / "solution.vtu").is_file()
+
+
+def test_mixed_body_of_revolution_is_refused_by_name():
+    """The mixed body is Cartesian only: an axisymmetric mesh with ``formulation = 'mixed'`` is named, not run."""
+    text = _text(formulation="mixed").replace('file = "half_cylinder.msh"', 'file = "half_cylinder.msh"\ngeometry = "axisymmetric"', 1)
+    with pytest.raises(ConfigError) as info:
+        load_problem_text(text, base_dir=EXAMPLE.parent)
+    msg = str(info.value)
+    assert "material.formulation" in msg and "axisymmetric" in msg and "'displacement'" in msg, msg
