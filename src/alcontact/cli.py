@@ -179,6 +179,7 @@ def _root(
     file) and writes a results folder; `alcontact check FILE` validates a
     problem file; `alcontact list` shows the registered algorithms, penalties,
     obstacles and problems; `alcontact bench` runs the benchmarks; `alcontact
+    study` measures every method over problems and penalty parameters; `alcontact
     docs` regenerates docs/problem-file.md.
     """
 

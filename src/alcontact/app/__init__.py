@@ -3,7 +3,8 @@
 Modules: :mod:`~alcontact.app.builtin` (built-in problems), :mod:`~alcontact.app.pipeline`
 (:func:`run_problem`, :func:`run_setup`: problem -> :func:`alcontact.contact.solve` -> summary
 -> results folder), :mod:`~alcontact.app.summary` (``summary.json``), :mod:`~alcontact.app.writer`
-(the results folder), :mod:`~alcontact.app.bench` (``alcontact bench``).
+(the results folder), :mod:`~alcontact.app.bench` (``alcontact bench``), :mod:`~alcontact.app.study`
+and :mod:`~alcontact.app.study_report` (``alcontact study``: the method x penalty-parameter matrix).
 
 :func:`run_problem` is ``alcontact run``: build (or take) a contact problem,
 solve it, summarize it against its analytical reference and, given a folder,
@@ -43,6 +44,7 @@ Examples
 from .bench import BENCH_SUITES, BenchSuite, quick_bench_estimate, run_benchmarks
 from .builtin import BUILTIN_PROBLEMS, DEFAULT_PROBLEM, BuiltinProblem, build_problem
 from .pipeline import RunOutput, list_components, run_problem, run_setup
+from .study import StudyRun, run_study
 from .summary import equilibrium_keys, setup_summary, summarize, what_to_try
 from .writer import RESULT_FILES, write_results, write_setup_results
 
@@ -66,4 +68,6 @@ __all__ = [
     "BenchSuite",
     "write_setup_results",
     "RunOutput",
+    "run_study",
+    "StudyRun",
 ]

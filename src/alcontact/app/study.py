@@ -59,6 +59,7 @@ __all__ = [
     "FULL_SCALES",
     "QUICK_SCALES",
     "StudyProblem",
+    "StudyRun",
     "Method",
     "Cell",
     "methods",
