@@ -104,6 +104,24 @@ def tables(rows: list[dict]) -> dict:
     return {"sweep": sweep, "robustness": robustness, "rules": rules}
 
 
+def identical_methods(rows: list[dict]) -> list[list[str]]:
+    """Groups of methods whose status, outer and Newton counts agree in every cell they share."""
+    per: dict = OrderedDict()
+    for r in rows:
+        cell = (r["problem"], r["mesh"], r["eps_scale"], r["rule"])
+        per.setdefault(r["method"], {})[cell] = (r["status"], r["outer"], r["newton"])
+    groups: list[list[str]] = []
+    for m, cells in per.items():
+        for g in groups:
+            ref = per[g[0]]
+            if cells.keys() == ref.keys() and all(cells[c] == ref[c] for c in cells):
+                g.append(m)
+                break
+        else:
+            groups.append([m])
+    return [g for g in groups if len(g) > 1]
+
+
 def _fmt_mean(x: float) -> str:
     return "-" if math.isnan(x) else f"{x:.1f}"
 
@@ -118,7 +136,9 @@ def render(rows: list[dict], *, title: str = "alcontact study", images: dict | N
              f"{len(rows)} cells; status: " + ", ".join(f"{k} {v}" for k, v in status.items()) + ".", "",
              "Every number below is read from `results.csv` of this folder. Newton: Newton iterations of the "
              "whole solve (all load steps); `[status]`: the cell did not converge. eps scale: multiplier of the "
-             "automatic penalty parameter. Update rule `fixed` (friction solvers: none).", ""]
+             "automatic penalty parameter. Update rule `fixed` (friction solvers: none). `converged` is the "
+             "solver's status: every invariant it checks holds at the returned state (the pure penalty stops "
+             "on its penetration tolerance, see the `eps_final` column).", ""]
     lines += ["## Which method needs no tuning", "",
               "Converged cells of the eps sweep, over every problem and mesh; the cost across the sweep as "
               "medians over the converged cells (time / linear solve: CPU time of the solve over one sparse "
@@ -132,12 +152,29 @@ def render(rows: list[dict], *, title: str = "alcontact study", images: dict | N
     best = [m for m, ok, n, _, _ in t["robustness"] if n and ok == n]
     if best:
         lines += ["Converged in every cell of the sweep: " + ", ".join(best) + ".", ""]
+    tuned = [(ok / n, m, ok, n) for m, ok, n, _, _ in t["robustness"] if n and m not in best]
+    if tuned:
+        top = max(f for f, *_ in tuned)
+        names = [f"{m} ({ok}/{n})" for f, m, ok, n in tuned if f == top]
+        lines += ["Of the methods that failed somewhere, the most robust to the penalty parameter: "
+                  + ", ".join(names) + ".", ""]
+    same = identical_methods(rows)
+    if same:
+        lines += ["Methods with the same status, outer and Newton iterations in every cell they share: "
+                  + "; ".join(" = ".join(g) for g in same) + ".", ""]
     lines += ["## Penalty update rules", "",
               "At eps scale 1, frictionless problems; outer and Newton: means over the converged cells.", "",
               "| method | rule | cells | converged | outer | Newton |", "|---|---|---:|---:|---:|---:|"]
     for m, rule, n, ok, outer, newton in t["rules"]:
         lines.append(f"| {m} | {rule} | {n} | {ok} | {_fmt_mean(outer)} | {_fmt_mean(newton)} |")
     lines.append("")
+    fewest = OrderedDict()
+    for m, rule, n, ok, outer, newton in t["rules"]:
+        if n and ok == n and not math.isnan(newton) and (m not in fewest or newton < fewest[m][1]):
+            fewest[m] = (rule, newton)
+    if fewest:
+        lines += ["Rule with the fewest Newton iterations (every cell converged): "
+                  + ", ".join(f"{m}: {r}" for m, (r, _) in fewest.items()) + ".", ""]
     lines += ["## Newton iterations per method and eps scale", ""]
     for (p, mesh), tab in t["sweep"].items():
         lines += [f"### {p}, mesh {mesh} ({tab['dofs']} DOFs)", ""]
