@@ -44,7 +44,6 @@ Examples
 from .bench import BENCH_SUITES, BenchSuite, quick_bench_estimate, run_benchmarks
 from .builtin import BUILTIN_PROBLEMS, DEFAULT_PROBLEM, BuiltinProblem, build_problem
 from .pipeline import RunOutput, list_components, run_problem, run_setup
-from .study import StudyRun, run_study
 from .summary import equilibrium_keys, setup_summary, summarize, what_to_try
 from .writer import RESULT_FILES, write_results, write_setup_results
 
@@ -68,6 +67,4 @@ __all__ = [
     "BenchSuite",
     "write_setup_results",
     "RunOutput",
-    "run_study",
-    "StudyRun",
 ]
