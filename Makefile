@@ -5,7 +5,7 @@ VENV   := .venv
 BIN    := $(VENV)/bin
 OUT    ?= results
 
-.PHONY: run test test-serial test-mpi test-slow install mpi bench fuzz clean
+.PHONY: run test test-serial test-mpi test-slow install mpi bench study fuzz clean
 
 $(BIN)/python:
 	$(PYTHON) -m venv $(VENV)
@@ -81,6 +81,12 @@ fuzz: $(VENV)/.installed
 
 bench: $(VENV)/.installed
 	$(BIN)/alcontact bench
+
+# `make study`: the full study (resumable: a re-run skips finished cells); STUDY_ARGS=--quick for the short one
+STUDY_OUT  ?= study
+STUDY_JOBS ?= 2
+study: $(VENV)/.installed
+	$(TEST_ENV) $(BIN)/alcontact study --out $(STUDY_OUT) --jobs $(STUDY_JOBS) $(STUDY_ARGS)
 
 clean:
 	rm -rf $(VENV) $(MPI_VENV) $(OUT) build *.egg-info src/*.egg-info

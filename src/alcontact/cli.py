@@ -1,4 +1,4 @@
-"""Command line interface: ``alcontact run``, ``check``, ``list``, ``bench``, ``docs``.
+"""Command line interface: ``alcontact run``, ``check``, ``list``, ``bench``, ``study``, ``docs``.
 
 Each command is a thin wrapper over one function of :mod:`alcontact.app`
 (:func:`~alcontact.app.run_problem`, :func:`~alcontact.app.run_setup`,
@@ -191,6 +191,7 @@ def _root(
     file) and writes a results folder; `alcontact check FILE` validates a
     problem file; `alcontact list` shows the registered algorithms, penalties,
     obstacles and problems; `alcontact bench` runs the benchmarks; `alcontact
+    study` measures every method over problems and penalty parameters; `alcontact
     docs` regenerates docs/problem-file.md.
     """
 
@@ -623,6 +624,65 @@ def bench_command(
     took = time.perf_counter() - t0
     console.print(f"report written to [bold]{report}[/] ({_clock(took)} h:mm:ss"
                   + (f", estimated {_clock(est[0])})" if est is not None else ")"), highlight=False)
+
+
+@app.command("study")
+def study_command(
+    out: Annotated[Path, typer.Option("--out", "-o", help="Study folder (resumed if it holds a study).")]
+    = Path("study"),
+    quick: Annotated[bool, typer.Option("--quick", help="Two meshes per problem, three eps scales, two update "
+                                                        "rules (about 10 min on 2 cores with --jobs 2).")] = False,
+    only: Annotated[
+        Optional[list[str]],
+        typer.Option("--only", help="A problem or a method (label or algorithm) to keep (repeatable), e.g. "
+                                    "--only hertz-2d --only ssn --only exp-met1."),
+    ] = None,
+    jobs: Annotated[int, typer.Option("--jobs", "-j", help="Cells solved at once, each in its own process.")] = 1,
+    timeout: Annotated[
+        Optional[float], typer.Option("--timeout", help="Seconds per cell (default 60 with --quick, else 600).")
+    ] = None,
+) -> None:
+    """Run the study: problems x methods x eps scales x update rules; results.csv, report.md, heat maps.
+
+    A re-run into the same folder skips the cells already in results.csv; an interrupted
+    study keeps every finished cell.
+    """
+    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn, \
+        TimeRemainingColumn
+
+    from .app.study import run_study
+
+    console, err = _consoles()
+    bar = Progress(TextColumn("study"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn(),
+                   TextColumn("ETA"), TimeRemainingColumn(), TextColumn("{task.description}"), console=err)
+    task = bar.add_task("", total=None)
+    started: dict = {}
+
+    def progress(done: int, total: int, row: dict) -> None:
+        if not started:  # cells already in the CSV do not count for the ETA; the bar starts once the input is valid
+            started["skipped"] = done
+            bar.start()
+            bar.update(task, total=total - done, completed=0)
+            return
+        bar.update(task, completed=done - started["skipped"],
+                   description=f"{row.get('problem')} {row.get('method')} {row.get('status')}")
+
+    try:
+        with _cli_logging(err, logging.WARNING), _signals_raise():
+            try:
+                run = run_study(out, quick=quick, only=only, jobs=jobs, timeout=timeout, progress=progress)
+            finally:
+                bar.stop()
+    except KeyboardInterrupt as exc:
+        err.print(Text(f"interrupted: every finished cell is in {out / 'results.csv'}; run the same command again "
+                       "to resume.", style="bold red"), highlight=False)
+        raise typer.Exit(128 + getattr(exc, "signum", int(signal.SIGINT))) from None
+    except InputError as exc:
+        raise _fail(err, exc, EXIT_USAGE) from None
+    except AlcontactError as exc:
+        raise _fail(err, exc, EXIT_FAILED) from None
+    console.print(f"{run.planned} cells: {run.skipped} already done, {run.solved} solved; report written to "
+                  f"[bold]{run.report}[/]", highlight=False)
 
 
 @app.command("docs")

@@ -257,7 +257,7 @@ def test_list_shows_friction_algorithms_and_examples():
     assert "friction-algorithms" in result.output and "examples/hertz_2d.toml" in result.output
 
 
-@pytest.mark.parametrize("cmd", ["run", "check", "list", "bench", "docs"])
+@pytest.mark.parametrize("cmd", ["run", "check", "list", "bench", "study", "docs"])
 def test_help_of_every_command(cmd):
     result = runner.invoke(app, [cmd, "--help"])
     assert result.exit_code == 0 and "Usage" in result.output

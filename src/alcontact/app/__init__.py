@@ -3,7 +3,8 @@
 Modules: :mod:`~alcontact.app.builtin` (built-in problems), :mod:`~alcontact.app.pipeline`
 (:func:`run_problem`, :func:`run_setup`: problem -> :func:`alcontact.contact.solve` -> summary
 -> results folder), :mod:`~alcontact.app.summary` (``summary.json``), :mod:`~alcontact.app.writer`
-(the results folder), :mod:`~alcontact.app.bench` (``alcontact bench``).
+(the results folder), :mod:`~alcontact.app.bench` (``alcontact bench``), :mod:`~alcontact.app.study`
+and :mod:`~alcontact.app.study_report` (``alcontact study``: the method x penalty-parameter matrix).
 
 :func:`run_problem` is ``alcontact run``: build (or take) a contact problem,
 solve it, summarize it against its analytical reference and, given a folder,

@@ -1,0 +1,257 @@
+"""``report.md`` and the heat maps of a study folder, generated from its ``results.csv`` only.
+
+Every number in the report is read from the CSV of the same folder (:func:`tables` builds the
+tables from the rows; :func:`write_report` renders them), so a re-run of the report on the same
+CSV gives the same text. Tables:
+
+- per problem and mesh: method x :math:`\\varepsilon` scale -> Newton iterations with the base rule
+  (``fixed``; friction solvers: none), a failure shown as its status in brackets;
+- per method: converged cells of the :math:`\\varepsilon` sweep over all problems and meshes, as
+  ``converged/cells`` and a percentage ("which method needs no tuning");
+- per method and update rule (scale 1, frictionless problems): cells, converged, and the mean outer
+  and Newton iterations of the converged cells.
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+import os
+from collections import OrderedDict
+from pathlib import Path
+
+__all__ = ["CSV_NAME", "read_rows", "tables", "render", "write_report", "heat_maps"]
+
+#: The CSV of a study folder.
+CSV_NAME = "results.csv"
+
+
+def read_rows(path: str | os.PathLike) -> list[dict]:
+    """The rows of a study CSV (strings, as written); ``[]`` when there is none."""
+    p = Path(path)
+    if not p.is_file():
+        return []
+    with p.open(newline="", encoding="utf-8") as fh:
+        return list(csv.DictReader(fh))
+
+
+def _num(x: str) -> float:
+    try:
+        return float(x)
+    except (TypeError, ValueError):
+        return math.nan
+
+
+def _scale_key(s: str) -> float:
+    return _num(s) if s != "-" else 0.0
+
+
+def _mesh_key(m: str):
+    v = _num(m)
+    return (0, v, "") if not math.isnan(v) else (1, 0.0, m)
+
+
+def _median(values) -> float:
+    v = sorted(x for x in values if not math.isnan(x))
+    if not v:
+        return math.nan
+    k = len(v) // 2
+    return v[k] if len(v) % 2 else 0.5 * (v[k - 1] + v[k])
+
+
+def _order(values):
+    return list(OrderedDict.fromkeys(values))
+
+
+def tables(rows: list[dict]) -> dict:
+    """The report's tables from the CSV rows (strings as in the CSV).
+
+    Returns ``{"sweep": {(problem, mesh): {"dofs", "scales", "methods", "cells": {(method, scale): text}}},
+    "robustness": [(method, converged, cells, median Newton, median time / linear solve)],
+    "rules": [(method, rule, cells, converged, outer, newton)]}``.
+    """
+    sweep: dict = OrderedDict()
+    problems = _order(r["problem"] for r in rows)
+    method_order = _order(r["method"] for r in rows)
+    for p in problems:
+        prow = [r for r in rows if r["problem"] == p]
+        for mesh in sorted(_order(r["mesh"] for r in prow), key=_mesh_key):
+            mrows = [r for r in prow if r["mesh"] == mesh and r["rule"] in ("fixed", "-")]
+            if not mrows:
+                continue
+            scales = sorted(_order(r["eps_scale"] for r in mrows if r["eps_scale"] != "-"), key=_scale_key)
+            cells = {}
+            for r in mrows:
+                text = r["newton"] if r["status"] == "converged" else f"[{r['status']}]"
+                cells[(r["method"], r["eps_scale"])] = text
+            sweep[(p, mesh)] = {"dofs": mrows[0]["dofs"] or "-", "scales": scales,
+                                "methods": [m for m in method_order if any(r["method"] == m for r in mrows)],
+                                "cells": cells}
+    robustness = []
+    for m in method_order:
+        mrows = [r for r in rows if r["method"] == m and r["rule"] in ("fixed", "-")]
+        ok = [r for r in mrows if r["status"] == "converged"]
+        robustness.append((m, len(ok), len(mrows), _median([_num(r["newton"]) for r in ok]),
+                           _median([_num(r["time_per_linear_solve"]) for r in ok])))
+    rules = []
+    for m in method_order:
+        for rule in _order(r["rule"] for r in rows if r["method"] == m and r["rule"] != "-"):
+            rr = [r for r in rows if r["method"] == m and r["rule"] == rule and _num(r["eps_scale"]) == 1.0]
+            ok = [r for r in rr if r["status"] == "converged"]
+            outer = sum(_num(r["outer"]) for r in ok) / len(ok) if ok else math.nan
+            newton = sum(_num(r["newton"]) for r in ok) / len(ok) if ok else math.nan
+            rules.append((m, rule, len(rr), len(ok), outer, newton))
+    return {"sweep": sweep, "robustness": robustness, "rules": rules}
+
+
+def identical_methods(rows: list[dict]) -> list[list[str]]:
+    """Groups of methods whose status, outer and Newton counts agree in every cell they share."""
+    per: dict = OrderedDict()
+    for r in rows:
+        cell = (r["problem"], r["mesh"], r["eps_scale"], r["rule"])
+        per.setdefault(r["method"], {})[cell] = (r["status"], r["outer"], r["newton"])
+    groups: list[list[str]] = []
+    for m, cells in per.items():
+        for g in groups:
+            ref = per[g[0]]
+            if cells.keys() == ref.keys() and all(cells[c] == ref[c] for c in cells):
+                g.append(m)
+                break
+        else:
+            groups.append([m])
+    return [g for g in groups if len(g) > 1]
+
+
+def _fmt_mean(x: float) -> str:
+    return "-" if math.isnan(x) else f"{x:.1f}"
+
+
+def render(rows: list[dict], *, title: str = "alcontact study", images: dict | None = None) -> str:
+    """The markdown report of ``rows`` (see the module doc)."""
+    t = tables(rows)
+    status = OrderedDict()
+    for r in rows:
+        status[r["status"]] = status.get(r["status"], 0) + 1
+    lines = [f"# {title}", "",
+             f"{len(rows)} cells; status: " + ", ".join(f"{k} {v}" for k, v in status.items()) + ".", "",
+             "Every number below is read from `results.csv` of this folder. Newton: Newton iterations of the "
+             "whole solve (all load steps); `[status]`: the cell did not converge. eps scale: multiplier of the "
+             "automatic penalty parameter. Update rule `fixed` (friction solvers: none). `converged` is the "
+             "solver's status: every invariant it checks holds at the returned state (the pure penalty stops "
+             "on its penetration tolerance, see the `eps_final` column).", ""]
+    lines += ["## Which method needs no tuning", "",
+              "Converged cells of the eps sweep, over every problem and mesh; the cost across the sweep as "
+              "medians over the converged cells (time / linear solve: CPU time of the solve over one sparse "
+              "factorization + solve of the same mesh's stiffness, measured in the same process).", "",
+              "| method | converged | cells | fraction | median Newton | median time / linear solve |",
+              "|---|---:|---:|---:|---:|---:|"]
+    for m, ok, n, newton, ratio in t["robustness"]:
+        frac = f"{100.0 * ok / n:.0f}%" if n else "-"
+        lines.append(f"| {m} | {ok} | {n} | {frac} | {_fmt_mean(newton)} | {_fmt_mean(ratio)} |")
+    lines.append("")
+    best = [m for m, ok, n, _, _ in t["robustness"] if n and ok == n]
+    if best:
+        lines += ["Converged in every cell of the sweep: " + ", ".join(best) + ".", ""]
+    tuned = [(ok / n, m, ok, n) for m, ok, n, _, _ in t["robustness"] if n and m not in best]
+    if tuned:
+        top = max(f for f, *_ in tuned)
+        names = [f"{m} ({ok}/{n})" for f, m, ok, n in tuned if f == top]
+        lines += ["Of the methods that failed somewhere, the most robust to the penalty parameter: "
+                  + ", ".join(names) + ".", ""]
+    same = identical_methods(rows)
+    if same:
+        lines += ["Methods with the same status, outer and Newton iterations in every cell they share: "
+                  + "; ".join(" = ".join(g) for g in same) + ".", ""]
+    lines += ["## Penalty update rules", "",
+              "At eps scale 1, frictionless problems; outer and Newton: means over the converged cells.", "",
+              "| method | rule | cells | converged | outer | Newton |", "|---|---|---:|---:|---:|---:|"]
+    for m, rule, n, ok, outer, newton in t["rules"]:
+        lines.append(f"| {m} | {rule} | {n} | {ok} | {_fmt_mean(outer)} | {_fmt_mean(newton)} |")
+    lines.append("")
+    fewest = OrderedDict()
+    for m, rule, n, ok, outer, newton in t["rules"]:
+        if n and ok == n and not math.isnan(newton) and (m not in fewest or newton < fewest[m][1]):
+            fewest[m] = (rule, newton)
+    if fewest:
+        lines += ["Rule with the fewest Newton iterations (every cell converged): "
+                  + ", ".join(f"{m}: {r}" for m, (r, _) in fewest.items()) + ".", ""]
+    lines += ["## Newton iterations per method and eps scale", ""]
+    for (p, mesh), tab in t["sweep"].items():
+        lines += [f"### {p}, mesh {mesh} ({tab['dofs']} DOFs)", ""]
+        if images and (p, mesh) in images:
+            lines += [f"![{p}]({images[(p, mesh)]})", ""]
+        scales = tab["scales"] or ["-"]
+        lines.append("| method | " + " | ".join(f"eps x{s}" for s in scales) + " |")
+        lines.append("|---|" + "---:|" * len(scales))
+        for m in tab["methods"]:
+            vals = []
+            for s in scales:
+                v = tab["cells"].get((m, s))
+                if v is None:
+                    v = tab["cells"].get((m, "-"), "")  # ssn: no penalty parameter, the same in every column
+                vals.append(v)
+            lines.append(f"| {m} | " + " | ".join(vals) + " |")
+        lines.append("")
+    return "\n".join(lines)
+
+
+def heat_maps(rows: list[dict], out: Path) -> dict:
+    """One PNG per problem (its largest mesh): method x eps scale -> Newton, failures marked ``x``.
+
+    Returns ``{(problem, mesh): file name}``.
+    """
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    import numpy as np
+
+    t = tables(rows)
+    last: dict = OrderedDict()
+    for (p, mesh), tab in t["sweep"].items():
+        last[p] = (mesh, tab)  # meshes are sorted: the last is the largest
+    images = {}
+    for p, (mesh, tab) in last.items():
+        scales, meths = tab["scales"] or ["-"], tab["methods"]
+        z = np.full((len(meths), len(scales)), np.nan)
+        fail = []
+        for i, m in enumerate(meths):
+            for j, s in enumerate(scales):
+                v = tab["cells"].get((m, s), tab["cells"].get((m, "-")))
+                if v is None:
+                    continue
+                if v.startswith("["):
+                    fail.append((i, j))
+                else:
+                    z[i, j] = float(v)
+        fig, ax = plt.subplots(figsize=(1.2 + 0.9 * len(scales), 0.9 + 0.4 * len(meths)))
+        im = ax.imshow(z, aspect="auto", cmap="viridis")
+        for i, j in fail:
+            ax.text(j, i, "x", ha="center", va="center", color="red", fontsize=12, fontweight="bold")
+        for i in range(len(meths)):
+            for j in range(len(scales)):
+                if not math.isnan(z[i, j]):
+                    ax.text(j, i, f"{z[i, j]:.0f}", ha="center", va="center", color="w", fontsize=7)
+        ax.set_xticks(range(len(scales)), [f"x{s}" for s in scales])
+        ax.set_yticks(range(len(meths)), meths)
+        ax.set_xlabel("eps scale")
+        ax.set_title(f"{p}, mesh {mesh}: Newton iterations (x = failed)", fontsize=9)
+        fig.colorbar(im, ax=ax)
+        fig.tight_layout()
+        name = f"heatmap-{p}.png"
+        fig.savefig(out / name, dpi=90)
+        plt.close(fig)
+        images[(p, mesh)] = name
+    return images
+
+
+def write_report(out: str | os.PathLike, *, title: str = "alcontact study") -> Path:
+    """Write ``report.md`` and the heat maps of the study folder ``out`` from its ``results.csv``."""
+    from ..io import write_text_atomic
+
+    out = Path(out)
+    rows = read_rows(out / CSV_NAME)
+    images = heat_maps(rows, out) if rows else {}
+    path = out / "report.md"
+    write_text_atomic(path, render(rows, title=title, images=images) + "\n")
+    return path
