@@ -41,7 +41,7 @@ from pathlib import Path
 import numpy as np
 
 from alcontact.contact import solve
-from alcontact.contact._estimators import fit_hertz, radial_coordinate
+from alcontact.contact.solution._estimators import fit_hertz, radial_coordinate
 from alcontact.io.results import write_text_atomic
 from alcontact.problems import hertz
 

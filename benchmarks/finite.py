@@ -47,7 +47,8 @@ from pathlib import Path
 import numpy as np
 
 from alcontact.contact import solve_finite
-from alcontact.contact._finite import FiniteContact, NewtonSolver, linear_solve
+from alcontact.contact.systems import FiniteContact, NewtonSolver
+from alcontact.contact.systems._full_space import linear_solve
 from alcontact.errors import UnknownNameError
 from alcontact.io.results import write_text_atomic
 from alcontact.problems.half_cylinder import half_cylinder
@@ -149,12 +150,12 @@ def breakdown(prof: cProfile.Profile, total: float) -> tuple[dict, dict]:
     seq = _cum(st, "solve", "_sequence")[0]
     tan = _cum(st, "tangent_data", "hyperelastic")[0] or _cum(st, "tangent", "hyperelastic")[0]
     tan_pred = _cum(st, "tangent", "hyperelastic", "_predict")[0]
-    steps = _cum(st, "step", "_finite.py")[0]
-    solve_steps = _cum(st, "linear_solve", "_finite.py", "step")[0]
-    ev, nev = _cum(st, "evaluate", "_finite.py")
-    mult = _cum(st, "multiplier_step", "_finite.py")[0]
-    conf = _cum(st, "configure", "_finite.py")[0]
-    solve_pred = _cum(st, "linear_solve", "_finite.py", "_predict")[0]
+    steps = _cum(st, "step", "_full_space.py")[0]
+    solve_steps = _cum(st, "linear_solve", "_full_space.py", "step")[0]
+    ev, nev = _cum(st, "evaluate", "_full_space.py")
+    mult = _cum(st, "multiplier_step", "_full_space.py")[0]
+    conf = _cum(st, "configure", "_full_space.py")[0]
+    solve_pred = _cum(st, "linear_solve", "_full_space.py", "_predict")[0]
     out = {
         "factorization": fact, "solve": solve, "back-substitutions": back, "solver overhead": seq - fact - solve,
         "tangent assembly": tan, "Newton matrix": steps - solve_steps - (tan - tan_pred),

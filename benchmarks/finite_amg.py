@@ -2,7 +2,7 @@
 
 Runs :func:`alcontact.contact.solve_finite` on one case with ``linear_solver="direct"``
 (MKL PARDISO per Newton matrix) and ``linear_solver="amg"``
-(:class:`~alcontact.contact._finite_iterative.AMGNewtonSolver`), each in its own process
+(:class:`~alcontact.contact.systems._full_space.AMGNewtonSolver`), each in its own process
 (peak resident memory from ``getrusage``), and records per load step the Newton
 iterations, the CG iterations (Newton steps and all solves), the AMG setups and the CPU
 seconds of the step (one thread), plus the largest relative difference of the force and of
@@ -62,7 +62,7 @@ def child(args) -> None:
                      cgn=int(info.get("newton_cg_iterations", 0)), setups=int(info.get("amg_setups", 0)))
 
     # the solver object of the run (for per-step counters): wrap the FiniteContact constructor
-    from alcontact.contact import _finite
+    from alcontact.contact.systems import _full_space as _finite
 
     init = _finite.FiniteContact.__init__
 

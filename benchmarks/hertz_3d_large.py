@@ -4,7 +4,7 @@ For each requested size (``--dofs 250k 1M 5M``, P1 tetrahedra; the graded quarte
 block of :func:`alcontact.problems.hertz.hertz_3d` with ``growth`` 1.04 and the
 elements per contact radius chosen to reach the size) a fresh subprocess builds the
 problem, assembles the stiffness, sets up the factorization-free contact path
-(:class:`alcontact.contact._iterative.IterativeContact`: AMG of ``K`` plus one CG
+(:class:`alcontact.contact.systems._krylov.IterativeContact`: AMG of ``K`` plus one CG
 solve, which is also the reference "one linear solve") and runs the requested
 variants. Memory: the resident set is sampled every 10 ms in a thread; the peak of each
 stage is reported, and the process peak (``resource.getrusage`` ``ru_maxrss``) divided
@@ -196,7 +196,7 @@ def one_size(dofs_target: int, variants: list[str], log=print, solve_only: bool 
 
 def _setup_stages(prob, rec: dict, mem: "_Memory", log=print) -> None:
     """The stiffness and contact-setup stages of :func:`one_size` (memory and the reference solve)."""
-    from alcontact.contact._iterative import IterativeContact
+    from alcontact.contact.systems import IterativeContact
 
     model = prob.model
     t0 = time.perf_counter()

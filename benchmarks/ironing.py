@@ -43,7 +43,8 @@ from pathlib import Path
 import numpy as np
 
 from alcontact.contact import solve_finite, solve_finite_friction
-from alcontact.contact._finite import FiniteContact, NewtonSolver, linear_solve
+from alcontact.contact.systems import FiniteContact, NewtonSolver
+from alcontact.contact.systems._full_space import linear_solve
 from alcontact.contact.obstacles import translate
 from alcontact.errors import UnknownNameError
 from alcontact.io.results import write_text_atomic
@@ -210,7 +211,7 @@ def coulomb_check(step) -> tuple[float, float]:
     """``(largest | |t_T| - mu t_N | / (mu t_N) at slipping points, largest |t_T| / (mu t_N) at sticking points)``."""
     tt = np.linalg.norm(step.traction_t, axis=1)
     bound = MU * step.pressure
-    slip, stick = step.states == 2, step.states == 1  # SLIP, STICK (alcontact.contact._friction_laws)
+    slip, stick = step.states == 2, step.states == 1  # SLIP, STICK (alcontact.contact.laws._coulomb)
     err = float(np.max(np.abs(tt[slip] - bound[slip]) / bound[slip], initial=0.0))
     ratio = float(np.max(tt[stick] / bound[stick], initial=0.0))
     return err, ratio

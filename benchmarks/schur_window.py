@@ -4,7 +4,7 @@ For one Hertz mesh, each window in turn: the contact solve (ssn and family-p/exp
 with its own PARDISO factorization) over one linear solve (factorization + solve, no Schur
 block), the fastest of ``reps`` runs in CPU seconds of the process, the Schur block size and
 the candidates outside the block. Used to choose
-:data:`alcontact.contact._discrete.SCHUR_WINDOW` (``docs/benchmarks/hertz.md``).
+:data:`alcontact.contact.systems._condensed.SCHUR_WINDOW` (``docs/benchmarks/hertz.md``).
 
 Usage::
 
@@ -17,7 +17,7 @@ from __future__ import annotations
 import sys
 import time
 
-import alcontact.contact._discrete as D
+import alcontact.contact.systems._condensed as D
 from alcontact.contact import solve
 from alcontact.problems import hertz
 

@@ -18,8 +18,8 @@ from typer.testing import CliRunner
 
 from alcontact import penalties as P
 from alcontact.contact import ContactProblem
-from alcontact.contact._loading import LoadCase, LoadHistory, Ramp
-from alcontact.contact._problem import Pressure, Traction
+from alcontact.contact.problem import LoadCase, LoadHistory, Ramp
+from alcontact.contact.problem import Pressure, Traction
 from alcontact.contact.obstacles import HalfSpace
 from alcontact.fem import LinearElasticity, Material, meshes, rigid_body_modes
 

@@ -194,7 +194,7 @@ def test_finite_ironing_with_friction_slides_at_the_coulomb_limit_and_balances_e
       dissipation, stick/slip counts, the tangential reaction in reaction_force.csv.
     """
     from alcontact.contact import FrictionOptions
-    from alcontact.contact._friction_laws import SLIP
+    from alcontact.contact.laws import SLIP
 
     setup, res = _run("finite_ironing_friction")
     s = res.summary

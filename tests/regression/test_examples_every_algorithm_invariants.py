@@ -2,7 +2,7 @@
 
 ``summary.json`` / ``report.md`` print the equilibrium residuals (global balance and the largest
 free-DOF residual, relative to the non-vanishing force scale of
-:func:`alcontact.contact._estimators.equilibrium`), the penetration and the complementarity of the
+:func:`alcontact.contact.solution._estimators.equilibrium`), the penetration and the complementarity of the
 returned state. On a converged result each must be below its tolerance (the defaults; no example
 sets them):
 

@@ -18,7 +18,8 @@ import numpy as np
 import pytest
 
 from _helpers import assert_same_friction_steps
-from alcontact.contact import _friction, solve_friction
+from alcontact.contact import solve_friction
+from alcontact.contact.algorithms import _coulomb as _friction
 from alcontact.problems import friction as fp
 
 #: as in tests/regression/test_friction_outer_iterations.py: tractions of two solvers of the

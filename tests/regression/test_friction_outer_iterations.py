@@ -73,7 +73,7 @@ def test_bad_second_order_update_falls_back_to_first_order(monkeypatch):
     must still converge by the first-order fallback to the SSN tractions
     (TRACTION_TOL = 1e-7 of the largest pressure), with more outer iterations.
     """
-    from alcontact.contact import _friction
+    from alcontact.contact.algorithms import _coulomb as _friction
 
     good = _friction._second_order_update
 

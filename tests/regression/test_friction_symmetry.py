@@ -31,8 +31,8 @@ import numpy as np
 import pytest
 
 from alcontact.contact import ContactProblem, Support, contact_penalties, solve_friction
-from alcontact.contact._friction_discrete import FrictionalContact
-from alcontact.contact._loading import LoadHistory
+from alcontact.contact.systems import FrictionalContact
+from alcontact.contact.problem import LoadHistory
 from alcontact.contact.obstacles import Circle, Sphere
 from alcontact.fem import LinearElasticity, Material, meshes
 

@@ -22,7 +22,7 @@ import numpy as np
 import pytest
 
 from alcontact.contact import solve_finite
-from alcontact.contact._finite import FiniteContact
+from alcontact.contact.systems import FiniteContact
 from alcontact.contact.obstacles import translate
 from alcontact.problems.ironing import ironing, ironing_schedule
 
@@ -96,7 +96,7 @@ def test_slide_predictor_took_effect_and_is_what_makes_ssn_fast(case):
             super().configure(*args, **kwargs)
             used.append(self.predictor_used)
 
-    import alcontact.contact._stepping as stepping
+    import alcontact.contact.stepping._frictionless as stepping
 
     original = stepping.FiniteContact
     stepping.FiniteContact = Recording
@@ -120,7 +120,7 @@ def test_consistent_slide_multipliers_took_effect(case):
     """After a slide prediction the first subproblem's multipliers make the Macaulay traction at the predicted
     state equal the carried pressures (to round-off)."""
     from alcontact import penalties
-    from alcontact.contact._laws import make_law
+    from alcontact.contact.laws import make_law
 
     problem, times, path = case
     sol = solve_finite(problem, "ssn", steps=times[:5], obstacle_path=path)
@@ -161,7 +161,7 @@ def test_slide_start_reach_took_effect(case):
     predicted state keeps its carried pressure as multiplier (Macaulay traction zero there); the nearer pressed
     points get the consistent shift; outside the penalty start (Algorithm 6.1) every pressed point is shifted."""
     from alcontact import penalties
-    from alcontact.contact._laws import make_law
+    from alcontact.contact.laws import make_law
 
     problem, times, path = case
     # the second sliding step: the obstacle has moved by a whole element, the next step's carried pressures reach

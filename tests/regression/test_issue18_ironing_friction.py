@@ -30,7 +30,7 @@ from alcontact.contact.obstacles import translate
 from alcontact.problems.ironing import ironing, ironing_schedule
 
 MU = 0.3
-SLIP, STICK = 2, 1  # FiniteFrictionStep.states (alcontact.contact._friction_laws)
+SLIP, STICK = 2, 1  # FiniteFrictionStep.states (alcontact.contact.laws._coulomb)
 
 
 @pytest.fixture(scope="module")

@@ -23,9 +23,9 @@ import pytest
 
 from alcontact import penalties as _pen
 from alcontact.contact import ContactStatus, solve
-from alcontact.contact._discrete import DiscreteContact
-from alcontact.contact._laws import make_law
-from alcontact.contact._newton import CondensedSubproblem, NewtonSystem, newton
+from alcontact.contact.systems import DiscreteContact
+from alcontact.contact.laws import make_law
+from alcontact.contact.algorithms._subproblem import CondensedSubproblem, NewtonSystem, newton
 from alcontact.problems import hertz
 from alcontact.status import Status
 

@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from alcontact.contact import ContactProblem, ContactStatus, Ramp, Support, obstacles, solve_finite
-from alcontact.contact._finite import FiniteContact
+from alcontact.contact.systems import FiniteContact
 from alcontact.fem import Material, meshes
 from alcontact.fem.hyperelastic import Hyperelastic
 
@@ -61,8 +61,8 @@ def test_converged_ssn_steps_are_in_equilibrium():
 def test_run_ssn_refuses_an_unconverged_active_set_solve():
     """The acceptance logic alone: a model whose active-set solve reports it did not converge gets NEWTON_FAILED
     at once, even though its active set repeats and the gaps look closed."""
-    from alcontact.contact._algorithms import ContactOptions, run_ssn
-    from alcontact.contact._discrete import ContactPoints
+    from alcontact.contact.algorithms import ContactOptions, run_ssn
+    from alcontact.contact.kinematics import ContactPoints
 
     class Model(ContactPoints):  # the declared "not available" members of every model (contact.system)
         h = 1.0
@@ -87,7 +87,8 @@ def test_run_ssn_refuses_an_unconverged_active_set_solve():
 def test_amg_active_set_solve_out_of_budget_fails(monkeypatch):
     """The factorization-free path (small deformation): an inner Uzawa iteration stopped at its budget (one
     update) is a failure of run_ssn too; with its budget (60) the same solve converges."""
-    from alcontact.contact import _iterative, solve
+    from alcontact.contact import solve
+    from alcontact.contact.systems import _krylov as _iterative
     from alcontact.problems import hertz
 
     problem = hertz.hertz_2d(0, n_per_a=4)

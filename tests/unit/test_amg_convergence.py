@@ -60,8 +60,8 @@ def test_stiff_penalty_preconditioner_is_penalty_independent(sphere_p2):
     against 30 iterations at ``1e5`` and ``1e7 E'/h`` on this mesh (pointwise Gauss-Seidel on
     the oblique stiff node blocks).
     """
-    from alcontact.contact import _iterative as it
-    from alcontact.contact._solve import penalty_stiffness
+    from alcontact.contact.systems import _krylov as it
+    from alcontact.contact.laws import penalty_stiffness
 
     ic = it.IterativeContact(sphere_p2)
     Bc, w = ic.B[ic.cand], ic.weights[ic.cand]

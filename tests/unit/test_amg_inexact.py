@@ -5,7 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from alcontact.contact import _iterative, solve
+from alcontact.contact import solve
+from alcontact.contact.systems import _krylov as _iterative
 from alcontact.problems import hertz
 
 

@@ -19,7 +19,7 @@ import pytest
 import scipy.sparse as sp
 from scipy.sparse.linalg import cg
 
-from alcontact.contact._iterative import IterativeContact
+from alcontact.contact.systems import IterativeContact
 from alcontact.linalg import make_solver
 from alcontact.linalg._amg import SMOOTHER, smoothed_aggregation
 from alcontact.problems import hertz

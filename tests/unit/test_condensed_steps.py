@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 
 from alcontact.contact import solve
-from alcontact.contact._algorithms import _PUSH_MARGIN, _first_push
-from alcontact.contact._discrete import DiscreteContact
-from alcontact.contact._newton import newton_step
+from alcontact.contact.algorithms._frictionless import _PUSH_MARGIN, _first_push
+from alcontact.contact.systems import DiscreteContact
+from alcontact.contact.algorithms._subproblem import newton_step
 from alcontact.problems import hertz
 
 

@@ -6,7 +6,7 @@ import dataclasses
 from pathlib import Path
 
 from alcontact.contact import ContactOptions
-from alcontact.contact._friction import FrictionOptions
+from alcontact.contact.algorithms import FrictionOptions
 from alcontact.io import schema
 from alcontact.io.config import load_problem_text
 

@@ -7,7 +7,7 @@ import pytest
 import scipy.sparse as sp
 
 from alcontact.contact import solve
-from alcontact.contact._discrete import DiscreteContact
+from alcontact.contact.systems import DiscreteContact
 from alcontact.linalg import MatrixHints, is_installed, make_solver
 from alcontact.problems import hertz
 
@@ -25,7 +25,7 @@ CASES = {
 def _schur_for_small_problems(monkeypatch):
     """These meshes are smaller than the default SCHUR_MIN_DOFS: lift the limit. The window is pinned
     at two element sizes so that the block holds non-candidate points for the ``extend`` checks."""
-    import alcontact.contact._discrete as discrete
+    import alcontact.contact.systems._condensed as discrete
 
     monkeypatch.setattr(discrete, "SCHUR_MIN_DOFS", 0)
     monkeypatch.setattr(discrete, "SCHUR_WINDOW", 2.0)
@@ -103,7 +103,7 @@ def test_small_models_are_factorized_without_schur_block(monkeypatch):
 
     Reference: one solve per candidate plus the contact-free solve (exact count).
     """
-    import alcontact.contact._discrete as discrete
+    import alcontact.contact.systems._condensed as discrete
 
     prob = CASES["2d-p1"]()
     monkeypatch.setattr(discrete, "SCHUR_MIN_DOFS", prob.model.ndofs + 1)
@@ -119,7 +119,7 @@ def test_candidates_outside_a_capped_schur_block_fall_back_to_triangular_solves(
     with triangular solves (one per candidate, hybrid build), the block keeps the points
     closest to the obstacle. Reference: the SuperLU triangular-solve build; tolerance relative 1e-9.
     """
-    import alcontact.contact._discrete as discrete
+    import alcontact.contact.systems._condensed as discrete
 
     prob = CASES["2d-p1"]()
     monkeypatch.setattr(discrete, "SCHUR_MAX_DOFS", 3 * prob.model.dim)

@@ -7,9 +7,10 @@ import dataclasses
 import numpy as np
 import pytest
 
-import alcontact.contact._algorithms as algorithms
-from alcontact.contact._algorithms import contact_penalties, find_algorithm
-from alcontact.contact._discrete import DiscreteContact, _element_size
+import alcontact.contact.algorithms._frictionless as algorithms
+from alcontact.contact.algorithms import contact_penalties, find_algorithm
+from alcontact.contact.systems import DiscreteContact
+from alcontact.contact.kinematics._points import _element_size
 from alcontact.errors import UnknownNameError
 from alcontact.problems import hertz
 

@@ -18,10 +18,10 @@ import pytest
 
 from alcontact.contact import ContactProblem, ContactStatus, Ramp, Support, obstacles, solve, solve_finite
 from alcontact.contact import solve_friction, solve_finite_friction
-from alcontact.contact import _algorithms
-from alcontact.contact._discrete import DiscreteContact
-from alcontact.contact._estimators import equilibrium
-from alcontact.contact._iterative import IterativeContact
+from alcontact.contact.algorithms import _frictionless as _algorithms
+from alcontact.contact.systems import DiscreteContact
+from alcontact.contact.solution import equilibrium
+from alcontact.contact.systems import IterativeContact
 from alcontact.contact._verify import check_state
 from alcontact.fem import LinearElasticity, Material, meshes
 from alcontact.fem.hyperelastic import Hyperelastic

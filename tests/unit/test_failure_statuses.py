@@ -18,11 +18,11 @@ import pytest
 from _helpers import sq, sq_grad, sq_hess
 from alcontact import penalties
 from alcontact.contact import ContactProblem, ContactStatus, LoadCase, LoadHistory, Ramp, Support, solve, solve_friction
-from alcontact.contact._problem import Pressure, Traction
+from alcontact.contact.problem import Pressure, Traction
 from alcontact.contact.obstacles import HalfSpace
 from alcontact.errors import ConvergenceError
 from alcontact.fem import LinearElasticity, Material, meshes
-from alcontact.contact import _algorithms
+from alcontact.contact.algorithms import _frictionless as _algorithms
 from alcontact.optim import Status, minimize
 from alcontact.status import CONTACT_CODES, OPTIM_CODES
 from alcontact.penalties._classical import Rockafellar

@@ -10,7 +10,7 @@ import scipy.sparse as sp
 from skfem import Basis, BilinearForm, asm
 from skfem.helpers import ddot, sym_grad, trace
 
-from alcontact.contact._iterative import _abs_matvec, principal_submatrix
+from alcontact.contact.systems._krylov import _abs_matvec, principal_submatrix
 from alcontact.linalg import MatrixHints, krylov, make_solver
 from alcontact.linalg.krylov import add_on_pattern
 from alcontact.fem import LinearElasticity, Material, meshes
@@ -155,7 +155,7 @@ def test_contact_hierarchy_preconditions_like_a_fresh_setup():
     iterations of a fresh AMG setup of that matrix (3D P1 Hertz, 3.6k DOFs, springs 10 times the
     largest stiffness entry on the whole top face, random right-hand side, relative tolerance 1e-8;
     measured 85 against 83)."""
-    from alcontact.contact._iterative import IterativeContact
+    from alcontact.contact.systems import IterativeContact
 
     prob = hertz.hertz_3d(n_per_a=2, growth=1.3)
     ic = IterativeContact(prob)

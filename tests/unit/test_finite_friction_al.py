@@ -1,9 +1,9 @@
 """Finite-deformation friction runs on the one AL loop of the small-deformation solvers.
 
 * The registry's finite ``simo-laursen`` / ``family-p`` entries run
-  :func:`alcontact.contact._friction._step_al` itself, on the step's system
-  :class:`~alcontact.contact._finite_friction._FiniteALCtx`.
-* The stopping test of that loop (:func:`~alcontact.contact._friction._measures`) reads the
+  :func:`alcontact.contact.algorithms._coulomb._step_al` itself, on the step's system
+  :class:`~alcontact.contact.algorithms._coulomb._FiniteALCtx`.
+* The stopping test of that loop (:func:`~alcontact.contact.algorithms._coulomb._measures`) reads the
   finite state through ``_Local.aux``; on a real finite subproblem it gives the definitions
   of the finite stopping test exactly: penetration ``max g / h``, complementarity
   ``max |t_N min(g, 0)| / (p_ref h)``, multiplier change ``max(|t_N - lamN|, |t_T - lamT|) / p_ref``
@@ -23,14 +23,14 @@ import pytest
 
 from alcontact import penalties as P
 from alcontact.contact import ContactProblem, FrictionOptions, Support, obstacles
-from alcontact.contact import _algorithms as A
-from alcontact.contact import _finite_friction as FF
-from alcontact.contact import _friction as F
-from alcontact.contact._friction_laws import SLIP, STICK
-from alcontact.contact._laws import eta_for_stiffness, make_law
-from alcontact.contact._newton import NewtonResult
-from alcontact.contact._solution import ContactStatus
-from alcontact.contact._stepping import _StepData
+from alcontact.contact.algorithms import _coulomb as F
+from alcontact.contact.algorithms import _frictionless as A
+from alcontact.contact.systems import _full_space as FF
+from alcontact.contact.laws import SLIP, STICK
+from alcontact.contact.laws import eta_for_stiffness, make_law
+from alcontact.contact.algorithms._subproblem import NewtonResult
+from alcontact.contact.solution import ContactStatus
+from alcontact.contact.stepping._steps import _StepData
 from alcontact.fem import Material, meshes
 from alcontact.fem.hyperelastic import Hyperelastic
 from alcontact.status import Status
@@ -42,7 +42,7 @@ def test_finite_al_entries_run_the_one_friction_loop():
         small = A.find_algorithm(name, friction=True, kinematics="small").run
         finite = A.find_algorithm(name, friction=True, kinematics="finite").run
         assert small is F._step_al and finite is F._step_al
-    assert A.find_algorithm("ssn", friction=True, kinematics="finite").run is FF._step_ssn
+    assert A.find_algorithm("ssn", friction=True, kinematics="finite").run is F._step_ssn_finite
     assert not hasattr(FF, "_measures") and not hasattr(FF, "_StepResult")
 
 
@@ -66,7 +66,7 @@ def _pressed_block_ctx():
     c = dc.cand.size
     opts = A.options_with(None, FrictionOptions, {}, "friction",
                           A.find_algorithm("simo-laursen", friction=True, kinematics="finite"))
-    return FF._FiniteALCtx(dc, np.full(c, 100.0), np.zeros((c, d)), dc.x0, eps_n, opts)
+    return F._FiniteALCtx(dc, np.full(c, 100.0), np.zeros((c, d)), dc.x0, eps_n, opts)
 
 
 def test_measures_read_the_finite_state_by_its_definitions():

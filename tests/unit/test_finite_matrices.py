@@ -1,7 +1,7 @@
 r"""Reuse in the finite-deformation Newton iterations: fixed matrix structures, kept states.
 
 References: the Newton matrices built on the fixed structure of
-:class:`~alcontact.contact._finite_matrices.NewtonLayout` equal the sparse-algebra
+:class:`~alcontact.contact.systems._layout.NewtonLayout` equal the sparse-algebra
 construction :math:`K_{ff} + B^T \operatorname{diag}(wD) B + \sum_i w_i t_i H_i` (and the
 saddle-point matrix of ``sp.bmat``) exactly (difference 0: the same products added in the
 same order); a run analyses each matrix pattern once (PARDISO symbolic analyses counted by
@@ -17,8 +17,8 @@ import scipy.sparse as sp
 
 from alcontact import penalties
 from alcontact.contact import ContactProblem, Support, obstacles, solve_finite
-from alcontact.contact._finite import FiniteContact
-from alcontact.contact._laws import make_law
+from alcontact.contact.systems import FiniteContact
+from alcontact.contact.laws import make_law
 from alcontact.fem import Material, meshes
 from alcontact.fem.hyperelastic import Hyperelastic
 from alcontact.linalg import PardisoSymmetricFactor, available_solvers

@@ -4,9 +4,9 @@ from __future__ import annotations
 
 from types import SimpleNamespace
 
-from alcontact.contact import _finite
-from alcontact.contact._discrete import ContactPoints
-from alcontact.contact._finite import FiniteContact
+from alcontact.contact.systems import _full_space as _finite
+from alcontact.contact.kinematics import ContactPoints
+from alcontact.contact.systems import FiniteContact
 
 
 class _Model(SimpleNamespace):
@@ -52,8 +52,9 @@ def test_penalty_start_zeroes_floor_pressures_before_the_entry_rule():
     unchanged; without a dual step the start's tractions are the initial multipliers."""
     import numpy as np
 
-    from alcontact.contact._algorithms import ContactOptions, _penalty_start
-    from alcontact.contact._newton import NewtonOutcome
+    from alcontact.contact.algorithms import ContactOptions
+    from alcontact.contact.algorithms._frictionless import _penalty_start
+    from alcontact.contact.algorithms._subproblem import NewtonOutcome
     from alcontact.status import Status
 
     seen = {}
@@ -84,8 +85,8 @@ def test_penalty_continuation_restarts_from_eps0_after_a_failed_first_solve():
     converges with is carried on."""
     import numpy as np
 
-    from alcontact.contact._algorithms import ContactOptions, run_penalty
-    from alcontact.contact._newton import NewtonOutcome
+    from alcontact.contact.algorithms import ContactOptions, run_penalty
+    from alcontact.contact.algorithms._subproblem import NewtonOutcome
     from alcontact.status import Status
 
     eps_seen = []

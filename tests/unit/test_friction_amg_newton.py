@@ -1,8 +1,8 @@
 """The friction AMG path on the one Newton driver (issues 9/10): outcomes are statuses.
 
 Each subproblem of Algorithms 6.2 / 6.4 on the AMG path is a
-:class:`~alcontact.contact._newton.NewtonSystem` (``_FullSpaceFriction``) solved by
-:func:`~alcontact.contact._newton.newton`; a failed subproblem reaches the solution as a
+:class:`~alcontact.contact.algorithms._subproblem.NewtonSystem` (``_FullSpaceFriction``) solved by
+:func:`~alcontact.contact.algorithms._subproblem.newton`; a failed subproblem reaches the solution as a
 negative status (``NEWTON_FAILED``, or ``NONFINITE`` for a NaN residual) with a logged
 warning, as on the direct path. Reference for the converged case: the relative residual
 tolerance ``max(newton_tol, 1e-11)`` of the module doc.
@@ -16,10 +16,11 @@ import numpy as np
 
 from alcontact import penalties
 from alcontact.contact import ContactStatus, solve_friction
-from alcontact.contact._friction_iterative import IterativeFrictionalContact, _FullCtx, friction_newton
-from alcontact.contact._laws import make_law
-from alcontact.contact._newton import NewtonResult
-from alcontact.contact._algorithms import ContactOptions
+from alcontact.contact.systems import IterativeFrictionalContact
+from alcontact.contact.systems._krylov import _FullCtx, friction_newton
+from alcontact.contact.laws import make_law
+from alcontact.contact.algorithms._subproblem import NewtonResult
+from alcontact.contact.algorithms import ContactOptions
 from alcontact.problems import friction as fp
 from alcontact.status import Status
 

@@ -3,8 +3,8 @@
 import numpy as np
 import pytest
 
-from alcontact.contact._friction_discrete import tangent_bases
-from alcontact.contact._friction_laws import Macaulay, local_law, tangential_energy
+from alcontact.contact.kinematics import tangent_bases
+from alcontact.contact.laws import Macaulay, local_law, tangential_energy
 
 
 @pytest.mark.parametrize("case", ["stick", "slip"])

@@ -10,9 +10,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from alcontact.contact._discrete import CondensedContact, DiscreteContact
-from alcontact.contact._friction_discrete import FrictionalContact
-from alcontact.contact._loading import LoadHistory, problem_at
+from alcontact.contact.systems import CondensedContact, DiscreteContact
+from alcontact.contact.systems import FrictionalContact
+from alcontact.contact.problem import LoadHistory, problem_at
 from alcontact.linalg import is_installed
 from alcontact.problems import friction as fp
 
@@ -31,7 +31,7 @@ def test_both_setups_share_the_condensed_base():
 
 @pytest.mark.parametrize("case", list(CASES))
 def test_normal_block_of_the_frictional_compliance_is_the_delassus_operator(case):
-    """A_NN = S = B K^{-1} B^T on the same candidates (module doc of _friction_discrete).
+    """A_NN = S = B K^{-1} B^T on the same candidates (module doc of alcontact.contact.systems._condensed).
 
     Reference: the frictionless DiscreteContact of the problem at the last step time
     (``problem_at``: the same supported DOFs, so the same K), its S extended to the
@@ -80,7 +80,7 @@ def test_frictional_compliance_from_the_schur_complement(case, cap, monkeypatch)
     Reference: the SuperLU triangular-solve build; tolerance relative 1e-9 in the max norm
     (round-off of two direct factorizations of the same SPD matrix).
     """
-    import alcontact.contact._discrete as discrete
+    import alcontact.contact.systems._condensed as discrete
 
     monkeypatch.setattr(discrete, "SCHUR_MIN_DOFS", 0)
     monkeypatch.setattr(discrete, "SCHUR_WINDOW", 2.0)  # a block wide enough to hold every candidate uncapped

@@ -7,12 +7,14 @@ import dataclasses
 import numpy as np
 import pytest
 
-from alcontact.contact import Support
-from alcontact.contact._algorithms import _REGISTRY, find_algorithm
-from alcontact.contact._friction import FrictionOptions, friction_algorithms, solve_friction
-from alcontact.contact._friction_discrete import tangent_bases
-from alcontact.contact._friction_laws import OPEN, SLIP, STICK, Macaulay, local_law, tangential_energy
-from alcontact.contact._loading import LoadCase, LoadHistory, Ramp
+from alcontact.contact import ContactStatus, Support
+from alcontact.contact.algorithms._frictionless import _REGISTRY
+from alcontact.contact.algorithms import find_algorithm
+from alcontact.contact.algorithms import FrictionOptions, friction_algorithms
+from alcontact.contact.stepping._coulomb import solve_friction
+from alcontact.contact.kinematics import tangent_bases
+from alcontact.contact.laws import OPEN, SLIP, STICK, Macaulay, local_law, tangential_energy
+from alcontact.contact.problem import LoadCase, LoadHistory, Ramp
 from alcontact.errors import ConvergenceError, InputError, UnknownNameError
 from alcontact.problems import friction as fp
 
@@ -133,7 +135,7 @@ def test_failed_step_is_cut_back_then_reported():
 
 
 def test_cut_back_recovers_and_keeps_steps(monkeypatch):
-    import alcontact.contact._friction as F
+    import alcontact.contact.algorithms._coulomb as F
 
     entry = find_algorithm("simo-laursen", friction=True)
     real = entry.run
@@ -142,7 +144,7 @@ def test_cut_back_recovers_and_keeps_steps(monkeypatch):
     def flaky(ctx, pen):  # the first two attempts of the shearing phase fail
         if calls["n"] < 2 and np.max(np.abs(ctx.yf[:, 1:] - ctx.uTn)) > 1e-12:
             calls["n"] += 1
-            return F._StepOut(False, "injected failure", ctx.R0, ctx.R0, 1, 0, F.ContactStatus.NEWTON_FAILED)
+            return F._StepOut(False, "injected failure", ctx.R0, ctx.R0, 1, 0, ContactStatus.NEWTON_FAILED)
         return real(ctx, pen)
 
     monkeypatch.setitem(_REGISTRY, entry.key, dataclasses.replace(entry, run=flaky))

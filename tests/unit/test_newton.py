@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from alcontact.contact import ContactStatus, solve
-from alcontact.contact._discrete import DiscreteContact
+from alcontact.contact.systems import DiscreteContact
 from alcontact.optim import LineSearch, NewtonSettings, NewtonSystem, newton
 from alcontact.problems.blocks import patch_block
 from alcontact.status import Status

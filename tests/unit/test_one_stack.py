@@ -19,7 +19,7 @@ from alcontact._options import declarations
 from alcontact import linalg
 from alcontact.cli import app
 from alcontact.contact import ContactOptions, FrictionOptions, solve, solve_friction
-from alcontact.contact import _algorithms as A
+from alcontact.contact.algorithms import _frictionless as A
 from alcontact.errors import InputError, UnknownNameError
 from alcontact.io import schema
 from alcontact.io.config import load_problem_text

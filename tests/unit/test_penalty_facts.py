@@ -24,7 +24,7 @@ from scipy.optimize import NonlinearConstraint
 from alcontact import errors
 from alcontact import penalties as P
 from alcontact.contact import contact_penalties
-from alcontact.contact._laws import freezes_at_zero, make_law
+from alcontact.contact.laws import freezes_at_zero, make_law
 from alcontact.optim import Options, Status, minimize
 from alcontact.optim._safeguards import safeguard_penalty
 

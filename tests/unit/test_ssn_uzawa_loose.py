@@ -14,7 +14,8 @@ from __future__ import annotations
 import pytest
 
 from _helpers import assert_same_contact_solution
-from alcontact.contact import _iterative, solve
+from alcontact.contact import solve
+from alcontact.contact.systems import _krylov as _iterative
 from alcontact.problems import blocks
 
 

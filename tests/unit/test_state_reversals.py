@@ -2,7 +2,7 @@
 
 import numpy as np
 
-from alcontact.contact._finite_friction import state_reversals
+from alcontact.contact.algorithms._coulomb import state_reversals
 
 O, T, S = 0, 1, 2  # OPEN, STICK, SLIP
 

@@ -1,5 +1,5 @@
-"""The one load-stepping driver (:func:`alcontact.contact._stepping.step_through`) and the one step-record
-shape (:class:`~alcontact.contact._stepping.Frame`) of the three stepped solves.
+"""The one load-stepping driver (:func:`alcontact.contact.stepping._steps.step_through`) and the one step-record
+shape (:class:`~alcontact.contact.solution._records.Frame`) of the three stepped solves.
 
 The driver is exercised with scripted attempts whose outcome depends only on the increment, so the
 cut-back schedule is known exactly; the solvers on the smallest problems that reach each path.
@@ -14,7 +14,8 @@ import pytest
 
 from alcontact.contact import (ContactProblem, FiniteFrictionSolution, LoadHistory, Ramp, Support, obstacles,
                                solve_finite, solve_finite_friction, solve_friction)
-from alcontact.contact._stepping import Attempt, Frame, step_through
+from alcontact.contact.stepping import Attempt, step_through
+from alcontact.contact.solution import Frame
 from alcontact.errors import ConvergenceError, InputError, InvertedElementError
 from alcontact.fem import Material, meshes
 from alcontact.fem.hyperelastic import Hyperelastic

@@ -8,7 +8,7 @@ and P2 ``n = 4``, pressed to :math:`\delta/R = 0.4` in 4 load steps) and
 preconditions CG.
 
 Reference: the same run on the direct path (MKL PARDISO factor of every Newton matrix).
-CG tolerances of :class:`~alcontact.contact._finite_iterative.AMGNewtonSolver`: the Newton
+CG tolerances of :class:`~alcontact.contact.systems._full_space.AMGNewtonSolver`: the Newton
 steps to the Eisenstat-Walker forcing term (at least 1e-12 relative, at most 0.1), the products
 of the dual multiplier step to 1e-2, the other solves (predictor) to 1e-10 relative; the Newton tolerance is the
 default 1e-12. Asserted for Algorithm 6.1 (``simo-laursen``), Algorithm 6.3 with
@@ -30,7 +30,7 @@ import pytest
 
 from alcontact import linalg
 from alcontact.contact import solve_finite
-from alcontact.contact import _finite_iterative as fi
+from alcontact.contact.systems import _full_space as fi
 from alcontact.problems.half_cylinder import half_cylinder
 from alcontact.problems.hemisphere import hemisphere
 
@@ -120,7 +120,7 @@ def test_ssn_has_no_amg_path():
 
 def test_registry_lists_the_finite_amg_path():
     """Registry: penalty, simo-laursen and family-p run on ``direct, amg`` at finite deformation; ssn on ``direct``."""
-    from alcontact.contact._algorithms import describe_algorithms, find_algorithm
+    from alcontact.contact.algorithms import describe_algorithms, find_algorithm
 
     for name in ("penalty", "simo-laursen", "family-p"):
         assert find_algorithm(name, kinematics="finite").linear_solvers == ("direct", "amg")
@@ -131,7 +131,7 @@ def test_registry_lists_the_finite_amg_path():
 
 
 def _fc(n=4):
-    from alcontact.contact._finite import FiniteContact
+    from alcontact.contact.systems import FiniteContact
 
     return FiniteContact(half_cylinder(n))
 
@@ -167,7 +167,7 @@ def test_indefinite_newton_matrix_falls_back_to_direct_or_fails_the_step(multile
     _, A = _spd_and_indefinite(fc)
     b = np.random.default_rng(1).standard_normal(A.shape[0])
     solver = _amg_newton(fc)
-    with caplog.at_level("WARNING", logger="alcontact.contact._finite_iterative"):
+    with caplog.at_level("WARNING", logger="alcontact.contact.systems._full_space"):
         x = solver.solve(A, b)
     assert np.linalg.norm(A @ x - b) <= 1e-8 * np.linalg.norm(b)
     assert solver.info()["direct_fallbacks"] == 1
@@ -181,7 +181,7 @@ def test_forcing_terms_are_loose_far_from_the_solution_and_tight_near_it():
     """Eisenstat-Walker forcing (module doc of _finite_iterative): the first step of a run gets 1e-3,
     after a contraction c the EW choice 2 value 0.9 c^2, but never more than the relative residual
     (quadratic local convergence) and never below 1e-12."""
-    from alcontact.contact._newton import NewtonRecord
+    from alcontact.optim import NewtonRecord
 
     solver = fi.AMGNewtonSolver(_fc())
     first = solver.forcing([NewtonRecord(1.0)])

@@ -33,7 +33,7 @@ import pytest
 
 from alcontact.contact import ContactProblem, FrictionOptions, Ramp, Support, obstacles, solve_finite
 from alcontact.contact import solve_finite_friction
-from alcontact.contact._friction_laws import OPEN, SLIP, STICK
+from alcontact.contact.laws import OPEN, SLIP, STICK
 from alcontact.errors import InputError, UnknownNameError
 from alcontact.fem import Material, meshes
 from alcontact.fem.hyperelastic import Hyperelastic

@@ -15,7 +15,7 @@ References:
    displacements agree to 1e-6 relative at every step.
 
 What this guards: the barrier start of the finite frictional step
-(:meth:`~alcontact.contact._finite_friction._FiniteALCtx.inside_domain`, the contact forces of
+(:meth:`~alcontact.contact.algorithms._coulomb._FiniteALCtx.inside_domain`, the contact forces of
 the Simo-Laursen predictor scaled up until every gap lies inside the barrier's domain). Without
 it the first log-met1 subproblem started outside the domain and every load step failed with
 non-finite tractions.
@@ -27,7 +27,7 @@ import numpy as np
 
 from _helpers import assert_same_finite_solution
 from alcontact.contact import ContactProblem, FrictionOptions, Ramp, Support, obstacles, solve_finite_friction
-from alcontact.contact._friction_laws import OPEN, SLIP
+from alcontact.contact.laws import OPEN, SLIP
 from alcontact.fem import Material, meshes
 from alcontact.fem.hyperelastic import Hyperelastic
 

@@ -37,7 +37,7 @@ import pytest
 from _helpers import assert_same_finite_solution
 from alcontact.contact import ContactProblem, FrictionOptions, Ramp, Support, obstacles, solve_finite
 from alcontact.contact import solve_finite_friction
-from alcontact.contact._friction_laws import OPEN, SLIP
+from alcontact.contact.laws import OPEN, SLIP
 from alcontact.errors import InputError
 from alcontact.fem import Material, meshes
 from alcontact.fem.hyperelastic import Hyperelastic

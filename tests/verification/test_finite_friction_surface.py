@@ -52,7 +52,7 @@ import pytest
 from _helpers import assert_quadratic_pairs, assert_same_finite_solution
 from alcontact.contact import ContactProblem, FrictionOptions, Ramp, Support, obstacles, solve_finite
 from alcontact.contact import solve_finite_friction
-from alcontact.contact._friction_laws import OPEN, SLIP, STICK
+from alcontact.contact.laws import OPEN, SLIP, STICK
 from alcontact.fem import Material, meshes
 from alcontact.fem.hyperelastic import Hyperelastic
 
@@ -223,9 +223,9 @@ def test_friction_jacobian_matches_finite_differences_on_a_curved_obstacle(radiu
     entry) for both Coulomb radii; asserted to 1e-5 relative.
     """
     from alcontact import penalties
-    from alcontact.contact._finite_friction import FiniteFrictionContact
-    from alcontact.contact._laws import make_law
-    from alcontact.contact._stepping import _StepData
+    from alcontact.contact.systems import FiniteFrictionContact
+    from alcontact.contact.laws import make_law
+    from alcontact.contact.stepping._steps import _StepData
 
     problem, path, _ = _ironing_2d()
     data = _StepData(problem, None, path)

@@ -1,7 +1,7 @@
 r"""Finite-deformation contact kinematics: consistent linearization and moving obstacles.
 
 References: the tangent :math:`J = \partial R/\partial x` of
-:class:`~alcontact.contact._finite.FiniteContact` (body tangent, contact stiffness and the
+:class:`~alcontact.contact.systems._full_space.FiniteContact` (body tangent, contact stiffness and the
 curvature term :math:`\sum_i w_i t_{N,i} \nabla^2 g_i`) equals the central finite
 difference of the residual to 1e-6 relative (the difference error is
 :math:`O(h^2)`, about 1e-8 here); a translated obstacle has the gap, normal, projection
@@ -15,8 +15,8 @@ import pytest
 
 from alcontact import penalties
 from alcontact.contact import ContactProblem, Support, obstacles
-from alcontact.contact._finite import FiniteContact
-from alcontact.contact._laws import make_law
+from alcontact.contact.systems import FiniteContact
+from alcontact.contact.laws import make_law
 from alcontact.fem import Material, meshes
 from alcontact.fem.hyperelastic import Hyperelastic
 

@@ -8,7 +8,7 @@ Reference: the semi-smooth Newton reference (``ssn``, the exact discrete solutio
 step). ``log-met1`` and ``log-met2`` reach the end of the loading and reproduce the reference's
 contact force at every load step within 1e-6 relative.
 
-What this guards: the barrier start of :func:`~alcontact.contact._algorithms.run_al` (the contact
+What this guards: the barrier start of :func:`~alcontact.contact.algorithms._frictionless.run_al` (the contact
 forces of the penalty solution scaled up until every gap lies inside the barrier's domain).
 With the former fixed first scale (50 % more contact force, before ``_first_push``) the first
 MET subproblem of a load step had to undo that push with line-search steps cut by the barrier's

@@ -8,7 +8,7 @@ Algorithm 6.1 on it). Reference forces: the semi-smooth Newton reference ``ssn``
 References (measured, then asserted):
 
 - pure penalty, its stiffness sequence continued over the load steps
-  (:attr:`ContactSystem.penalty_continuation <alcontact.contact.system.ContactSystem.penalty_continuation>`:
+  (:attr:`ContactSystem.penalty_continuation <alcontact.contact.systems._protocol.ContactSystem.penalty_continuation>`:
   each step starts one growth factor below the stiffness the last step ended with, instead of at
   ``eps_n``): 4.80 Newton per step (step 1: 10, 6 penalty iterations; from step 3 on 2 penalty
   iterations per step); starting every step at ``eps_n`` took 12.10 (6-7 penalty iterations per step;
@@ -16,7 +16,7 @@ References (measured, then asserted):
   step after step 1 (mean <= 2.5), forces within 1e-6 of the reference (measured 2.5e-8: the
   penalty's own error at a penetration <= 1e-8 h);
 - Algorithm 6.3 (``exp-met1``, ``quad-met1``, ``log-met1``) with the warm penalty start
-  (:attr:`ContactSystem.warm_penalty_start <alcontact.contact.system.ContactSystem.warm_penalty_start>`:
+  (:attr:`ContactSystem.warm_penalty_start <alcontact.contact.systems._protocol.ContactSystem.warm_penalty_start>`:
   the start solves :math:`t_N = \langle\lambda_{pred} + \varepsilon_N g\rangle` with the step's predicted
   pressures, Newton started with the entry rule, and its dual step): 5.40 / 5.40 / 5.35 Newton per
   step (the pure-penalty start from zero multipliers took 13.30 / 9.75 / 15.95, the same start without

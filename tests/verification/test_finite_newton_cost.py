@@ -52,7 +52,7 @@ load step on average for the reference and for Algorithm 6.1):
 - a 3D case, :func:`alcontact.problems.hemisphere.hemisphere` ``(n=4, order=1)`` (375 DOFs,
   delta/R = 0.2 in 5 steps): both algorithms converge with at most 4 assembly + solves per
   step on average (measured 3.2 and 3.2) and the same force within 1e-6 relative;
-- :class:`~alcontact.contact._finite.NewtonSolver` (MKL PARDISO, symmetric indefinite)
+- :class:`~alcontact.contact.systems._full_space.NewtonSolver` (MKL PARDISO, symmetric indefinite)
   solves symmetric positive definite and saddle-point systems to the residual of a
   direct solve (1e-10 relative asserted) and analyses a pattern once: the saddle-point
   matrix of the reference has one pattern for the whole run (a row per movable contact
@@ -67,7 +67,7 @@ import pytest
 import scipy.sparse as sp
 
 from alcontact.contact import solve_finite
-from alcontact.contact._finite import NewtonSolver
+from alcontact.contact.systems import NewtonSolver
 from alcontact.problems.half_cylinder import half_cylinder
 
 STEPS = 20

@@ -14,9 +14,9 @@ import numpy as np
 import pytest
 
 from alcontact.contact import solve
-from alcontact.contact._friction import solve_friction
-from alcontact.contact._friction_solution import SLIP, STICK
-from alcontact.contact._loading import problem_at
+from alcontact.contact.stepping._coulomb import solve_friction
+from alcontact.contact.laws import SLIP, STICK
+from alcontact.contact.problem import problem_at
 from alcontact.problems import friction as fp
 
 ALGS = ("simo-laursen", "family-p", "ssn")

@@ -1,7 +1,7 @@
 """Friction on the AMG path (issue 9): full-space Newton with AMG-preconditioned Krylov solves.
 
 Reference: the direct (condensed) path of the same discrete problem. Both paths solve the
-same equations (:mod:`alcontact.contact._friction_iterative`), so every converged step must
+same equations (:mod:`alcontact.contact.systems._krylov`), so every converged step must
 agree: displacements within 1e-6 of the largest displacement, pressures and tangential
 tractions within 1e-6 of the largest pressure (the Newton tolerance is 1e-11 and the CG
 solves stop at 1e-10, so the observed differences are about 1e-9), and the same
@@ -24,8 +24,8 @@ import pytest
 from _helpers import HELD_MU, HELD_P, assert_same_friction_steps, held_block, held_block_toml, runner
 from alcontact.cli import app
 from alcontact.contact import ContactStatus
-from alcontact.contact._friction import solve_friction
-from alcontact.contact._friction_solution import SLIP, STICK
+from alcontact.contact.stepping._coulomb import solve_friction
+from alcontact.contact.laws import SLIP, STICK
 from alcontact.problems import friction as fp
 
 MU, P = HELD_MU, HELD_P
@@ -73,7 +73,7 @@ def test_coupled_disc_radius_takes_gmres_and_matches(caplog):
     the solution is the direct path's to 1e-6."""
     prob, hist = _curved(3)
     direct = solve_friction(prob, hist, linear_solver="direct", radius="traction")
-    with caplog.at_level(logging.DEBUG, logger="alcontact.contact._friction_iterative"):
+    with caplog.at_level(logging.DEBUG, logger="alcontact.contact.systems._krylov"):
         amg = solve_friction(prob, hist, linear_solver="amg", radius="traction")
     assert any("GMRES" in r.getMessage() for r in caplog.records)
     _assert_same(direct, amg)

@@ -21,10 +21,10 @@ import pytest
 from _helpers import HELD_MU, HELD_P, held_block, held_block_toml, runner
 from alcontact.cli import app
 from alcontact.contact import ContactProblem, ContactStatus
-from alcontact.contact._friction import solve_friction
-from alcontact.contact._friction_solution import STICK
-from alcontact.contact._loading import LoadCase, LoadHistory, Ramp
-from alcontact.contact._problem import Traction
+from alcontact.contact.stepping._coulomb import solve_friction
+from alcontact.contact.laws import STICK
+from alcontact.contact.problem import LoadCase, LoadHistory, Ramp
+from alcontact.contact.problem import Traction
 
 ALGS = ("simo-laursen", "family-p", "ssn")
 MU, P = HELD_MU, HELD_P

@@ -17,7 +17,7 @@ two obstacle positions (normals and projections taken on the sphere at two heigh
 import numpy as np
 import pytest
 
-import alcontact.contact._discrete as discrete
+import alcontact.contact.systems._condensed as discrete
 from alcontact.contact import solve
 from alcontact.linalg import is_installed
 from alcontact.problems import hertz

@@ -37,7 +37,7 @@ def _complementarity(gap, pressure, h: float) -> float:
 
 
 def equilibrium_keys(eq) -> dict[str, Any]:
-    """``summary.json`` keys of an :class:`~alcontact.contact._estimators.Equilibrium`."""
+    """``summary.json`` keys of an :class:`~alcontact.contact.solution._estimators.Equilibrium`."""
     return {
         "equilibrium_residual": float(eq.residual),
         "equilibrium_free_residual": float(eq.free_residual),
@@ -104,7 +104,7 @@ def summarize(problem, solution, *, problem_name: str | None = None, level: int 
     ``equilibrium_residual`` is :math:`|F_c + F_{ext} + R|` (contact force, applied loads,
     support reactions; ``contact_force_vector``, ``applied_load_vector``,
     ``reaction_force_vector``) and ``equilibrium_free_residual`` the largest imbalance on a
-    free DOF, both over the force scale of :func:`alcontact.contact._estimators.equilibrium`
+    free DOF, both over the force scale of :func:`alcontact.contact.solution._estimators.equilibrium`
     (which does not vanish with the contact force); a converged result has both below its
     equilibrium tolerance (``newton_tol``, at least 1e-11; see :mod:`alcontact.contact._verify`),
     as ``penetration`` and ``complementarity``, the measures the verification checked on the

@@ -16,6 +16,16 @@
 :func:`solve_friction`, :func:`solve_finite` and :func:`solve_finite_friction` are kept for
 one release as thin wrappers over :func:`solve` returning the stepping engines' own records.
 
+The package is organized by concept, one subpackage each: :mod:`~alcontact.contact.problem`
+(problem, pairs, supports, loads, load histories), :mod:`~alcontact.contact.masters` (the master
+protocol and the rigid obstacles, also :mod:`alcontact.contact.obstacles`),
+:mod:`~alcontact.contact.kinematics` (linearized gap (6.15)), :mod:`~alcontact.contact.laws`
+(normal and family-P laws, Coulomb return mapping), :mod:`~alcontact.contact.algorithms`
+(penalty, Algorithms 6.1-6.4, semi-smooth Newton references, the registry),
+:mod:`~alcontact.contact.systems` (the :class:`~alcontact.contact.systems.ContactSystem`
+protocol and its condensed, Krylov and full-space strategies), :mod:`~alcontact.contact.stepping`
+(load steps and cut-backs) and :mod:`~alcontact.contact.solution` (solutions, frames, estimators).
+
 Examples
 --------
 >>> from alcontact.problems import hertz
@@ -24,27 +34,18 @@ Examples
 
 from __future__ import annotations
 
-from . import obstacles
-from ._master import Master
-from ._problem import Boundary, ContactPair
-from ._algorithms import ContactOptions, algorithm_docs, available_algorithms, contact_penalties
-from ._problem import BodyForce, ContactProblem, Pressure, Support, Traction
-from ._solution import ContactFrame, ContactIteration, ContactResult, ContactSolution, ContactStatus
-from ._solve import DEFAULT_ALGORITHM, DEFAULT_PENALTY, solve, solve_finite, solve_finite_friction, solve_friction
-from ._friction import FrictionOptions, friction_algorithm_docs, friction_algorithms
-from ._friction_solution import FrictionSolution, FrictionStep
-from ._loading import LoadCase, LoadHistory, Ramp, problem_at
-from ._problem import KINEMATICS
-from ._stepping import FiniteSolution, FiniteStep
-from ._finite_friction import FiniteFrictionSolution, FiniteFrictionStep, finite_friction_algorithms
-from . import _friction_iterative  # noqa: F401  (registers the Krylov strategy of solve_friction)
+from .algorithms import (DEFAULT_PENALTY, ContactOptions, FrictionOptions, algorithm_docs, available_algorithms,
+                         contact_penalties, describe_algorithms, find_algorithm, finite_friction_algorithms,
+                         friction_algorithm_docs, friction_algorithms, friction_only_options)
+from .kinematics._points import _element_size as contact_element_size
+from .masters import Master, obstacles
+from .problem import (KINEMATICS, BodyForce, Boundary, ContactPair, ContactProblem, LoadCase, LoadHistory, Pressure,
+                      Ramp, Support, Traction, merge_supports, problem_at)
+from .solution import (ContactFrame, ContactIteration, ContactResult, ContactSolution, ContactStatus,
+                       FiniteFrictionSolution, FiniteFrictionStep, FiniteSolution, FiniteStep, FrictionSolution,
+                       FrictionStep)
+from ._solve import DEFAULT_ALGORITHM, solve, solve_finite, solve_finite_friction, solve_friction
 from ._verify import check_state
-
-# the algorithm registry, the merged supports and the element size, for the problem-file loader and the
-# application layer (alcontact.io, alcontact.runner): public names, so no caller reaches into a private module
-from ._algorithms import describe_algorithms, find_algorithm, friction_only_options
-from ._discrete import _element_size as contact_element_size
-from ._problem import merge_supports
 
 __all__ = [
     "obstacles",

@@ -5,7 +5,7 @@
 or ``friction=``: Coulomb when positive) pick the stepping engine; ``steps`` / ``history``
 make it a load-stepped run. Every case returns one :class:`ContactSolution` whose
 ``frames`` hold the accepted load steps (one frame for a static solve), built by
-:mod:`alcontact.contact._frames`.
+:mod:`alcontact.contact.solution._frames`.
 """
 
 from __future__ import annotations
@@ -16,22 +16,19 @@ import time
 
 import numpy as np
 
-from ..linalg import select_solver
-from ._algorithms import DEFAULT_PENALTY, ContactOptions, _Run, available_algorithms, check_solve_args, \
-    find_algorithm, options_with
 from ..errors import InputError
-from ._discrete import DiscreteContact
-from ._finite_friction import solve_finite_friction as _finite_friction_engine
-from ._frames import finite_friction_solution, finite_solution, friction_solution, stepped_solution
-from ._friction import solve_friction as _friction_engine
-from ._loading import LoadHistory, problem_at
-from ._solution import ContactResult, ContactSolution, ContactStatus
-from ._stepping import solve_finite as _finite_engine
-from ._stiffness import penalty_stiffness
+from ..linalg import select_solver
 from ._verify import check_state, equilibrium_tolerance, reach, state_equilibrium, verified_status
+from .algorithms._frictionless import (ContactOptions, _Run, available_algorithms, check_solve_args,
+                                       find_algorithm, options_with)
+from .laws._stiffness import penalty_stiffness
+from .problem._loading import LoadHistory, problem_at
+from .solution._frames import finite_friction_solution, finite_solution, friction_solution, stepped_solution
+from .solution._solution import ContactResult, ContactSolution, ContactStatus
+from .stepping._coulomb import solve_finite_friction as _finite_friction_engine, solve_friction as _friction_engine
+from .stepping._frictionless import solve_finite as _finite_engine
+from .systems._condensed import DiscreteContact
 
-__all__ = ["solve", "solve_friction", "solve_finite", "solve_finite_friction", "DEFAULT_ALGORITHM",
-           "DEFAULT_PENALTY", "penalty_stiffness"]
 
 logger = logging.getLogger(__name__)
 
@@ -76,7 +73,7 @@ def _solve_static(problem, algorithm: str = DEFAULT_ALGORITHM, penalty: str | No
     pen_name = entry.penalty_for(penalty)
     opts = options_with(options, ContactOptions, option_overrides, "contact", entry)
 
-    from ._iterative import IterativeContact
+    from .systems._krylov import IterativeContact
 
     # both strategies offer the interface the outer loops use (start, gaps, subproblem, solve_active, ...):
     # the condensed (Delassus) one needs an exact factorization, an approximate solver preconditions CG
@@ -402,7 +399,7 @@ def solve_friction(problem, history: LoadHistory | None, algorithm: str = "simo-
     (``solution.record``): a :class:`FrictionSolution` at small deformation (tangential
     tractions ``FrictionStep.traction_t`` in the local tangent bases, ``(m, d-1)``), a
     :class:`FiniteFrictionSolution` at finite deformation. Parameters as
-    :func:`alcontact.contact._friction.solve_friction` (``on_step(k, t, n)`` before requested step ``k``).
+    :func:`alcontact.contact.stepping._coulomb.solve_friction` (``on_step(k, t, n)`` before requested step ``k``).
     A zero coefficient still runs the frictional engine (as before).
     """
     kinematics = getattr(problem, "kinematics", "small")
@@ -428,7 +425,7 @@ def solve_finite(problem, algorithm: str = "simo-laursen", penalty: str | None =
 
     Prefer ``solve(problem, steps=..., ...)`` with ``problem.kinematics == "finite"``. Returns
     the engine's record (``solution.record``, a :class:`FiniteSolution`); parameters as
-    :func:`alcontact.contact._stepping.solve_finite` (``on_step(step, u, pressure)`` after every
+    :func:`alcontact.contact.stepping._frictionless.solve_finite` (``on_step(step, u, pressure)`` after every
     accepted step). ``problem.kinematics`` is not consulted (a linear body runs too).
     """
     return _finite(problem, algorithm, penalty, options, steps, history, obstacle_path, None, None,
@@ -443,7 +440,7 @@ def solve_finite_friction(problem, mu: float, algorithm: str = "simo-laursen", p
     Prefer ``solve(problem, friction=mu, steps=..., ...)`` with ``problem.kinematics == "finite"``.
     Returns the engine's record (``solution.record``, a :class:`FiniteFrictionSolution`, its
     ``traction_t`` global ``(m, d)``); parameters as
-    :func:`alcontact.contact._finite_friction.solve_finite_friction`.
+    :func:`alcontact.contact.stepping._coulomb.solve_finite_friction`.
     """
     return _finite_friction(problem, mu, algorithm, penalty, options, steps, history, obstacle_path, None, None,
                             option_overrides, {"on_step": on_step, "progress": progress}).record

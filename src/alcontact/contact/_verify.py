@@ -11,7 +11,7 @@ at small deformation with friction and at finite deformation without, a step who
 state fails is cut back like a failed Newton solve (``NOT_VERIFIED`` when the smallest
 increment fails too); at finite deformation with friction a failing step ends the run
 ``NOT_VERIFIED``. The measures are dimensionless, as in the stopping tests
-of the algorithms (:mod:`alcontact.contact._algorithms`, Algorithm 6.2):
+of the algorithms (:mod:`alcontact.contact.algorithms._frictionless`, Algorithm 6.2):
 
 ``penetration``
     :math:`\max_i g_i^+ / h` (gap (6.15), :math:`g \le 0` feasible).
@@ -33,7 +33,7 @@ of the algorithms (:mod:`alcontact.contact._algorithms`, Algorithm 6.2):
     The largest residual :math:`|f_{int}(u) - f_{ext} - f_c|` on the free DOFs of the
     returned displacement with the returned contact forces (normal and tangential), or the
     global balance :math:`|F_c + F_{ext} + R|` if larger (the two residuals ``summary.json`` prints),
-    relative to the force scale of :func:`~alcontact.contact._estimators.equilibrium`
+    relative to the force scale of :func:`~alcontact.contact.solution._estimators.equilibrium`
     (the largest of the applied load, the reactions, the contact and internal forces and
     a stiffness times the displacement, so that it does not vanish with the contact
     force): :func:`state_equilibrium`. Its tolerance is the Newton tolerance, not below the
@@ -53,9 +53,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._solution import ContactStatus
+from .solution._solution import ContactStatus
 
-__all__ = ["Check", "check_state", "verified_status", "state_equilibrium", "equilibrium_tolerance", "ROUNDOFF_FLOOR"]
 
 logger = logging.getLogger(__name__)
 
@@ -265,7 +264,7 @@ def equilibrium_tolerance(opts, *, multipliers: bool = False, floor: float = 0.0
     most ``tol_multiplier`` of the largest pressure at a converged step: ``max(newton_tol,
     tol_multiplier)``. ``floor``: the lowest Newton tolerance of the linear-solver path (the
     factorization-free paths: ``1e-11``, what inexact CG solves and the round-off of :math:`K x`
-    reach, :data:`alcontact.contact._iterative._NEWTON_TOL_FLOOR`, to which their Newton
+    reach, :data:`alcontact.contact.systems._krylov._NEWTON_TOL_FLOOR`, to which their Newton
     iterations are held). Never below :data:`ROUNDOFF_FLOOR`. Options with no ``newton_tol``
     (not resolved against an algorithm) take the frictionless default ``1e-12``.
     """
@@ -275,7 +274,7 @@ def equilibrium_tolerance(opts, *, multipliers: bool = False, floor: float = 0.0
 
 def state_equilibrium(model, u, fixed, load, contact_dofs, point_forces, h: float, *, pressure=None,
                       weights=None):
-    r"""Equilibrium of a returned state (:func:`~alcontact.contact._estimators.equilibrium`).
+    r"""Equilibrium of a returned state (:func:`~alcontact.contact.solution._estimators.equilibrium`).
 
     Parameters
     ----------
@@ -306,7 +305,7 @@ def state_equilibrium(model, u, fixed, load, contact_dofs, point_forces, h: floa
     Equilibrium
         Its ``largest`` residual is the ``equilibrium`` measure.
     """
-    from ._estimators import equilibrium, nodal_force_vector
+    from .solution._estimators import equilibrium, nodal_force_vector
 
     fc = nodal_force_vector(model.ndofs, contact_dofs, point_forces)
     extra = 0.0

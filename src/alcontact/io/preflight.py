@@ -13,10 +13,10 @@ runs before it solves. On top of :func:`~alcontact.io.config.load_problem`
   again with the exact counts once the mesh is built.
 - **rigidity**: the contact points touching the obstacle may stop the motions
   the supports leave free, on the direct and on the AMG path: without friction
-  through their normal motion (as :meth:`~alcontact.contact._discrete.DiscreteContact._stabilize`
-  and :meth:`~alcontact.contact._iterative.IterativeContact._stabilize` do), with
+  through their normal motion (as :meth:`~alcontact.contact.systems._condensed.DiscreteContact._stabilize`
+  and :meth:`~alcontact.contact.systems._krylov.IterativeContact._stabilize` do), with
   friction through all their components (normal contact plus friction, as
-  :meth:`~alcontact.contact._friction_discrete.FrictionalContact._stabilize`;
+  :meth:`~alcontact.contact.systems._condensed.FrictionalContact._stabilize`;
   a load beyond the friction limit is then reported by ``run`` as sliding away).
   The message names the free motions and a ``[[support]]`` that stops them.
 - **mesh quality** (inverted or degenerate elements, :mod:`alcontact.fem.quality`,

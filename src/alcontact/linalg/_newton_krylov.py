@@ -24,7 +24,7 @@ of a nonlinear solve (and a few more with the same matrix) without a factorizati
   with ``fallback=False`` the Newton step fails (:class:`numpy.linalg.LinAlgError`).
 
 The measurements quoted below are those of the finite-deformation contact path
-(:mod:`alcontact.contact._finite_iterative`).
+(:mod:`alcontact.contact.systems._full_space`).
 """
 
 from __future__ import annotations
@@ -83,7 +83,7 @@ class NewtonKrylovSolver:
     r"""Newton systems by CG preconditioned by an approximate solver's factors, reused while they stay good.
 
     The surface of a Newton-system solver (module doc; that of
-    :class:`~alcontact.contact._finite.NewtonSolver`): :meth:`newton_step` (inexact,
+    :class:`~alcontact.contact.systems._full_space.NewtonSolver`): :meth:`newton_step` (inexact,
     Eisenstat-Walker forcing), :meth:`solve` (to ``rtol``), :meth:`resolve` (the last matrix
     again), :meth:`info`.
 

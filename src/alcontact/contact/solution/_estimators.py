@@ -49,21 +49,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = [
-    "Equilibrium",
-    "HertzFit",
-    "equilibrium",
-    "stiffness_scale",
-    "nodal_force_vector",
-    "radial_coordinate",
-    "fit_hertz",
-    "fit_hertz_field",
-    "AMPLITUDES",
-    "edge_from_profile",
-    "has_hertz_profile",
-    "load_center",
-]
-
 
 @dataclass(frozen=True)
 class Equilibrium:
@@ -340,7 +325,7 @@ def fit_hertz_field(r_q, dx, v, r_nodes, p_nodes, *, amplitude: str = "free") ->
     try:
         amp = AMPLITUDES[amplitude]
     except KeyError:
-        from ..errors import InputError
+        from ...errors import InputError
 
         raise InputError(f"amplitude = {amplitude!r} is not known; use one of {sorted(AMPLITUDES)}") from None
     r_q, dx, v = (np.asarray(x, dtype=float) for x in (r_q, dx, v))

@@ -33,7 +33,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["Macaulay", "local_law", "OPEN", "STICK", "SLIP"]
 
 OPEN, STICK, SLIP = 0, 1, 2
 
@@ -111,7 +110,7 @@ def local_law(normal, lamN, lamT, y, uTn, eps_t, mu, *, with_lam=False, rho=None
         Tangent directions in which the point can move (default all). A held
         direction (supported DOF) carries no contact traction: its friction force
         is part of the support reaction, and the Coulomb disc acts on the free
-        directions (:mod:`alcontact.contact._friction_discrete`).
+        directions (:mod:`alcontact.contact.systems._condensed`).
     drho : (c,), optional
         :math:`\\partial\\rho/\\partial\\lambda_N` of a fixed radius (e.g. :math:`\\mu` for
         :math:`\\rho = \\mu\\lambda_N`); enters ``Dl`` at slip points (default 0).

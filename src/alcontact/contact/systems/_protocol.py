@@ -1,20 +1,20 @@
 r"""The contact system: everything the frictionless contact algorithms may call.
 
-:func:`~alcontact.contact._algorithms.run_penalty` (pure penalty (6.10), Algorithm 5.2),
-:func:`~alcontact.contact._algorithms.run_al` (Algorithms 6.1 and 6.3) and
-:func:`~alcontact.contact._algorithms.run_ssn` (the semi-smooth Newton reference) see a model
+:func:`~alcontact.contact.algorithms._frictionless.run_penalty` (pure penalty (6.10), Algorithm 5.2),
+:func:`~alcontact.contact.algorithms._frictionless.run_al` (Algorithms 6.1 and 6.3) and
+:func:`~alcontact.contact.algorithms._frictionless.run_ssn` (the semi-smooth Newton reference) see a model
 only through :class:`ContactSystem`. Every model class implements all of it:
 
-- :class:`~alcontact.contact._discrete.DiscreteContact` (small deformation, the problem
+- :class:`~alcontact.contact.systems._condensed.DiscreteContact` (small deformation, the problem
   condensed on the contact points of one sparse factorization),
-- :class:`~alcontact.contact._iterative.IterativeContact` (small deformation, full space,
+- :class:`~alcontact.contact.systems._krylov.IterativeContact` (small deformation, full space,
   AMG + CG),
-- :class:`~alcontact.contact._finite.FiniteContact` (finite deformation, gap at the deformed
+- :class:`~alcontact.contact.systems._full_space.FiniteContact` (finite deformation, gap at the deformed
   position) and, through it, the frictional finite-deformation model.
 
 A capability a model does not have is a member with a declared *not available* value (a
 warm start of zeros, the plain semi-smooth rule, no multiplier shift, no second-order update
-(``None``), ``False``), defined once on :class:`~alcontact.contact._discrete.ContactPoints`,
+(``None``), ``False``), defined once on :class:`~alcontact.contact.kinematics._points.ContactPoints`,
 the base of every model; the algorithms never ask whether a member exists. What differs between
 small and finite deformation is therefore visible here, as declared members, and the user's
 choices are options (:class:`~alcontact.contact.ContactOptions`).
@@ -30,8 +30,6 @@ from __future__ import annotations
 from typing import Any, Protocol, runtime_checkable
 
 import numpy as np
-
-__all__ = ["ContactSystem", "SYSTEM_MEMBERS"]
 
 
 @runtime_checkable
@@ -67,7 +65,7 @@ class ContactSystem(Protocol):
         step started with :meth:`entry_multipliers`.
     carried_stiffness : float or None
         The stiffness the last converged penalty step ended with (written by
-        :func:`~alcontact.contact._algorithms.run_penalty` where
+        :func:`~alcontact.contact.algorithms._frictionless.run_penalty` where
         :attr:`penalty_continuation`); ``None`` before, and always on models without it.
     active_converged : bool
         Whether the inner solve of the last :meth:`solve_active` met its tolerance
@@ -107,7 +105,7 @@ class ContactSystem(Protocol):
         :math:`\langle\lambda_N + \varepsilon_N g\rangle` (6.12) for Algorithm 6.1 and the
         pure penalty (6.10) (:math:`\lambda = 0`), :math:`p'(g/\eta, \lambda_N)` (6.66) for
         Algorithm 6.3. ``tol`` is the relative residual, ``maxiter`` the Newton budget.
-        Returns a :class:`~alcontact.contact._newton.NewtonOutcome` (``state``, ``g``, ``t``,
+        Returns a :class:`~alcontact.contact.algorithms._subproblem.NewtonOutcome` (``state``, ``g``, ``t``,
         ``iterations``, ``status``, ``converged``, ``residual``, ``message``).
         """
 

@@ -3,10 +3,10 @@ r"""The contact systems of the one globalized Newton method, and the condensed s
 Every inner solve of the contact algorithms is Newton's method on a system
 :math:`F(x) = 0`: the condensed subproblem (S) of Algorithms 6.1 / 6.3
 (:class:`CondensedSubproblem`), its full-space form with AMG-preconditioned CG
-(:mod:`alcontact.contact._iterative`), the finite-deformation subproblem and its
-active-set reference (:mod:`alcontact.contact._finite`), and the frictional
-subproblems (6.2a) and Alart-Curnier systems (:mod:`alcontact.contact._friction`,
-:mod:`alcontact.contact._finite_friction`). The loop is :func:`alcontact.optim.newton`
+(:mod:`alcontact.contact.systems._krylov`), the finite-deformation subproblem and its
+active-set reference (:mod:`alcontact.contact.systems._full_space`), and the frictional
+subproblems (6.2a) and Alart-Curnier systems (:mod:`alcontact.contact.algorithms._coulomb`,
+:mod:`alcontact.contact.systems._full_space`). The loop is :func:`alcontact.optim.newton`
 (shared with the hyperelastic body's own solves); its names are re-exported here for
 the contact modules. A problem is a :class:`~alcontact.optim.NewtonSystem`.
 
@@ -62,18 +62,14 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.linalg as sla
 
-from ..optim import LineSearch, NewtonRecord, NewtonResult, NewtonSettings, NewtonSystem, inner_failure, newton
-from ..status import Status
-
-__all__ = ["LineSearch", "NewtonSettings", "NewtonSystem", "NewtonRecord", "NewtonResult", "newton",
-           "NewtonOutcome", "CondensedSubproblem", "newton_step", "solve_subproblem", "subproblem_outcome",
-           "inner_failure"]
+from ...optim import LineSearch, NewtonResult, NewtonSettings, NewtonSystem, inner_failure, newton
+from ...status import Status
 
 
 # ---------------------------------------------------------------------- subproblem (S) of the outer loops
 @dataclass(frozen=True)
 class NewtonOutcome:
-    """Outcome of one subproblem (S) for the outer loops of :mod:`alcontact.contact._algorithms`.
+    """Outcome of one subproblem (S) for the outer loops of :mod:`alcontact.contact.algorithms._frictionless`.
 
     ``state`` is the iterate of the outer loops: the contact forces ``r`` of the
     condensed path, the free displacement ``x`` of the AMG and finite-deformation paths;
@@ -262,3 +258,25 @@ def solve_subproblem(dc, law, lam, r0, *, tol=1e-12, maxiter=60) -> NewtonOutcom
     """Solve ``r = w t_N(g_free - S r; lam)`` by :func:`newton` (:class:`CondensedSubproblem`)."""
     out = newton(CondensedSubproblem(dc, law, lam), r0, tol=tol, maxiter=maxiter)
     return subproblem_outcome(out, out.state[1], out.state[2])
+
+
+@dataclass(frozen=True)
+class _Point:
+    """State of :class:`_CondensedSystem` at one iterate: residual, the caller's ``aux``, energy."""
+
+    x: np.ndarray
+    F: np.ndarray
+    aux: tuple
+    energy: float
+
+
+class _PointSystem(NewtonSystem):
+    """A Newton system whose states are :class:`_Point`: the residual ``F``, the merit its ``energy``
+    (the subproblems of both paths: :class:`_CondensedSystem`,
+    :class:`~alcontact.contact.systems._krylov._FullSpaceFriction`)."""
+
+    def residual(self, state):
+        return state.F
+
+    def merit(self, state):
+        return state.energy

@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-__all__ = ["penalty_stiffness"]
-
 
 def penalty_stiffness(model, h: float, scale: float = 1.0) -> float:
     """Automatic penalty stiffness ``scale * E' / h`` (pressure per length).

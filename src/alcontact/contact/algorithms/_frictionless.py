@@ -34,17 +34,15 @@ from typing import Any, Callable, ClassVar, Mapping
 
 import numpy as np
 
-from .. import penalties as _pen
-from .._options import as_options, check_dataclass, declarations, declared
-from ..errors import InputError, UnknownNameError
-from ..linalg import registered_solvers
-from ..optim import StrategyState, available_strategies, make_strategy
-from ._laws import eta_for_stiffness, freezes_at_zero, make_law
-from ._solution import ContactIteration, ContactStatus
-from .system import ContactSystem
+from ... import penalties as _pen
+from ..._options import as_options, check_dataclass, declarations, declared
+from ...errors import InputError, UnknownNameError
+from ...linalg import registered_solvers
+from ...optim import StrategyState, available_strategies, make_strategy
+from ..laws._normal import eta_for_stiffness, freezes_at_zero, make_law
+from ..solution._solution import ContactIteration, ContactStatus
+from ..systems._protocol import ContactSystem
 
-__all__ = ["ContactOptions", "Algorithm", "register", "algorithms", "find_algorithm", "available_algorithms",
-           "algorithm_docs", "contact_penalties"]
 
 logger = logging.getLogger(__name__)
 
@@ -113,7 +111,7 @@ class ContactOptions:
     eps_max : float
         Largest :math:`\\varepsilon_N` relative to the initial one.
     eta_scaling : {"adaptive", "fixed"}
-        Scale of family-P penalties (see :mod:`alcontact.contact._laws`).
+        Scale of family-P penalties (see :mod:`alcontact.contact.laws._normal`).
     initial : {"penalty", "uniform"}
         Frictionless: initial multipliers of family-P penalties: from one pure-penalty
         solve (floored at ``multiplier_floor`` times its largest pressure), or the
@@ -121,19 +119,19 @@ class ContactOptions:
         of a step starts from the step's predicted pressures with the entry rule, and its
         dual Newton step gives the initial multipliers (``_penalty_start``,
         :attr:`ContactSystem.warm_penalty_start
-        <alcontact.contact.system.ContactSystem.warm_penalty_start>`).
+        <alcontact.contact.systems._protocol.ContactSystem.warm_penalty_start>`).
     multiplier_floor : float
         Relative lower bound keeping MET multipliers positive.
     linear_solver : {"auto", "direct", "amg", "mkl-pardiso", "cholmod", "superlu", ...}
         ``"direct"``: one sparse factorization of the stiffness (the fastest
         installed direct solver), problem condensed on the contact points
-        (:mod:`alcontact.contact._discrete`). ``"amg"``: no factorization;
+        (:mod:`alcontact.contact.systems._condensed`). ``"amg"``: no factorization;
         full-space Newton with conjugate gradients preconditioned by smoothed-aggregation
-        AMG (PyAMG; :mod:`alcontact.contact._iterative`, with friction
-        :mod:`alcontact.contact._friction_iterative`), for meshes whose factor does not
+        AMG (PyAMG; :mod:`alcontact.contact.systems._krylov`, with friction
+        :mod:`alcontact.contact.systems._krylov`), for meshes whose factor does not
         fit in memory; at finite deformation (penalty, Algorithm 6.1, Algorithm 6.3) each Newton
         system by CG with an AMG hierarchy kept across iterations and an inexact-Newton forcing term
-        (:mod:`alcontact.contact._finite_iterative`). Any registry name (:func:`alcontact.linalg.registered_solvers`)
+        (:mod:`alcontact.contact.systems._full_space`). Any registry name (:func:`alcontact.linalg.registered_solvers`)
         runs that solver on every path (:func:`alcontact.linalg.select_solver`): a direct one factorizes,
         an iterative one (``kind="iterative"``) preconditions the Krylov solves (GMRES around its factor of
         each Newton matrix where an algorithm has no AMG path). ``"auto"``: :func:`alcontact.linalg.choose_solver`
@@ -143,7 +141,7 @@ class ContactOptions:
         ``"amg"``; the others run on a direct factorization (``"auto"``: the fastest installed one).
     subproblems : {"inexact", "exact"}
         Frictionless Algorithms 6.1 / 6.3: ``"inexact"``: where the model declares it
-        (:attr:`ContactSystem.inexact_subproblems <alcontact.contact.system.ContactSystem.inexact_subproblems>`:
+        (:attr:`ContactSystem.inexact_subproblems <alcontact.contact.systems._protocol.ContactSystem.inexact_subproblems>`:
         finite deformation, the AMG path above ``INEXACT_DOFS`` free DOFs) the Newton tolerance of each
         subproblem (S) follows the last multiplier change, ``min(1e-3 dlam, dlam**2)`` (the first one
         ``1e-2``), and the loop stops only after a subproblem solved to ``newton_tol``; ``"exact"``:
@@ -334,8 +332,8 @@ def check_solve_args(problem, algorithm, penalty, known, kind: str) -> None:
     UnknownNameError
         ``algorithm`` is not one of ``known`` (with the closest match).
     """
-    from .._options import show
-    from ._problem import ContactProblem
+    from ..._options import show
+    from ..problem._problem import ContactProblem
 
     if not isinstance(problem, ContactProblem):
         raise InputError(f"problem = {show(problem)}: expected a ContactProblem, got {type(problem).__name__}; build "
@@ -422,7 +420,7 @@ def _entry_subproblem(dc, law, lam, r0, *, tol, maxiter, finish: bool = True, pe
 
     A model that predicts which points enter contact in a load step
     (``dc.entry_multipliers``, :meth:`FiniteContact.entry_multipliers
-    <alcontact.contact._finite.FiniteContact.entry_multipliers>`) first solves (S) with the
+    <alcontact.contact.systems._full_space.FiniteContact.entry_multipliers>`) first solves (S) with the
     points it keeps out shifted to zero traction at the start (over-predicted edge points start
     without penalty force, so the primal Newton does not release them one per iteration). Where
     no shifted point penetrates at that solution its traction is zero under both multipliers
@@ -456,7 +454,7 @@ def run_penalty(dc: ContactSystem, opts, eps0, penalty_name=None) -> _Run:
     """Pure penalty (6.10), stiffness raised by ``alpha`` until the penetration tolerance is met.
 
     A load-stepped model with ``dc.penalty_continuation`` (finite deformation,
-    :attr:`ContactSystem.penalty_continuation <alcontact.contact.system.ContactSystem.penalty_continuation>`)
+    :attr:`ContactSystem.penalty_continuation <alcontact.contact.systems._protocol.ContactSystem.penalty_continuation>`)
     starts each step at the stiffness its last converged step ended with (``dc.carried_stiffness``,
     at least ``eps0``, at most ``eps_max * eps0``) instead of ``eps0``: the sequence of (6.10) of
     Algorithm 5.2 continued over the load steps, the same stopping test (penetration at most
@@ -531,13 +529,13 @@ def _penalty_start(dc, opts, eps):
 
     One penalty solve (6.10), its tractions the initial multipliers. A load-stepped model with
     ``dc.warm_penalty_start`` (:attr:`ContactSystem.warm_penalty_start
-    <alcontact.contact.system.ContactSystem.warm_penalty_start>`) gives it what Algorithm 6.1
+    <alcontact.contact.systems._protocol.ContactSystem.warm_penalty_start>`) gives it what Algorithm 6.1
     starts a step with: the step's predicted pressures as multipliers
     (:math:`t_N = \langle\lambda_{pred} + \varepsilon_N g\rangle`, the first subproblem of Algorithm
     6.1) and its entry rule (:func:`_entry_subproblem`); the initial multipliers are then the
     second-order update of that subproblem
     (:meth:`FiniteContact.start_multiplier_step
-    <alcontact.contact._finite.FiniteContact.start_multiplier_step>`, a Newton step on the dual
+    <alcontact.contact.systems._full_space.FiniteContact.start_multiplier_step>`, a Newton step on the dual
     with its primal correction, which takes in the points the entry rule kept out that still
     penetrate; ``None``: its tractions, as without it) instead of its tractions. Where such
     points entered, one more subproblem with those multipliers and a second dual step follow
@@ -684,7 +682,7 @@ def _subproblem_failure(out, lam, r, k, outer, newton, eps, hist, penalty_name) 
 
 
 def run_al(dc: ContactSystem, opts, eps0, penalty_name="rockafellar") -> _Run:
-    """Algorithms 6.1 / 6.3 (outer loop; see module doc) on a :class:`~alcontact.contact.system.ContactSystem`.
+    """Algorithms 6.1 / 6.3 (outer loop; see module doc) on a :class:`~alcontact.contact.systems._protocol.ContactSystem`.
 
     With ``opts.subproblems == "inexact"`` a model that declares ``dc.inexact_subproblems`` has
     its subproblems solved inexactly (the Newton tolerance of (S) follows the last multiplier
@@ -842,8 +840,8 @@ class Algorithm:
         Registry name (``"simo-laursen"``).
     run : callable
         The algorithm: ``run(dc, opts, eps0, penalty)`` (frictionless, outer loop of
-        :mod:`alcontact.contact._algorithms`) or the step function of the frictional
-        solvers (:mod:`alcontact.contact._friction`, :mod:`alcontact.contact._finite_friction`).
+        :mod:`alcontact.contact.algorithms._frictionless`) or the step function of the frictional
+        solvers (:mod:`alcontact.contact.algorithms._coulomb`, :mod:`alcontact.contact.systems._full_space`).
     doc : str
         One line, with the dissertation's algorithm or equation number.
     friction : bool
@@ -924,7 +922,7 @@ def register(entry: Algorithm) -> Algorithm:
     ValueError
         Unknown kinematics or linear-solver path.
     """
-    from ._problem import KINEMATICS
+    from ..problem._problem import KINEMATICS
 
     if entry.kinematics not in KINEMATICS:
         raise ValueError(f"algorithm {entry.name!r}: unknown kinematics {entry.kinematics!r}")
@@ -1021,7 +1019,7 @@ _FRICTIONLESS = (
 register_family(_FRICTIONLESS, friction=False, kinematics="small", linear_solvers=("direct", "amg"),
                 defaults=FRICTIONLESS_DEFAULTS)
 # finite deformation: the augmented-Lagrangian algorithms (symmetric Newton matrices) also run on AMG + CG
-# (:mod:`alcontact.contact._finite_iterative`); the reference solves saddle-point systems, direct only
+# (:mod:`alcontact.contact.systems._full_space`); the reference solves saddle-point systems, direct only
 register_family(_FRICTIONLESS[:3], friction=False, kinematics="finite", linear_solvers=("direct", "amg"),
                 defaults=FRICTIONLESS_DEFAULTS)
 register_family(_FRICTIONLESS[3:], friction=False, kinematics="finite", linear_solvers=("direct",),

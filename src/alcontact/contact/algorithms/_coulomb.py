@@ -1,6 +1,6 @@
-r"""Coulomb friction with incremental loading, small deformation, 2D and 3D (section 6.2).
+r"""Coulomb friction algorithms (section 6.2): Algorithms 6.2 and 6.4 and the Alart-Curnier reference.
 
-Registered algorithms (entries of the registry of :mod:`alcontact.contact._algorithms` with
+Registered algorithms (entries of the registry of :mod:`alcontact.contact.algorithms._frictionless` with
 ``friction=True``, :func:`friction_algorithms`):
 
 ``simo-laursen``
@@ -13,7 +13,7 @@ Registered algorithms (entries of the registry of :mod:`alcontact.contact._algor
 ``family-p``
     Algorithm 6.4: the same with the normal traction of a family-P penalty,
     :math:`t_N = p'(g/\eta, \lambda_N)`, update :math:`\lambda_N \leftarrow p'(g/\eta, \lambda_N)`
-    (scaling :math:`\eta` as in :mod:`alcontact.contact._laws`).
+    (scaling :math:`\eta` as in :mod:`alcontact.contact.laws._normal`).
 ``ssn``
     Reference: Alart-Curnier semi-smooth Newton on the multipliers
     :math:`(\lambda_N, \lambda_T)` of the same discrete problem (no penalty),
@@ -45,54 +45,48 @@ step on Cattaneo-Mindlin with friction from the first step instead of 3-5);
 ``"traction"`` takes the coupled radius in every subproblem.
 
 Every subproblem is solved by a semi-smooth Newton method in the condensed
-variables (see :mod:`alcontact.contact._friction_discrete`) with the consistent
+variables (see :mod:`alcontact.contact.systems._condensed`) with the consistent
 tangent of the return mapping and backtracking on the residual norm (the
 frictional problem is non-symmetric: there is no energy to descend).
-On the AMG path (:mod:`alcontact.contact._friction_iterative`) the same loop
+On the AMG path (:mod:`alcontact.contact.systems._krylov`) the same loop
 :func:`_step_al` drives the subproblems in the free displacements instead (the step's
 system, :class:`_ALSystem`, is the only difference; that path declares first-order
 multiplier updates), and the same load step (:class:`_StepPath`) adds candidates and
 checks a held body's equilibrium.
 
-The steps are walked by :func:`~alcontact.contact._stepping.step_through`: a step
+The steps are walked by :func:`~alcontact.contact.stepping._steps.step_through`: a step
 that fails is retried from the last converged state with the increment times
 ``cutback_factor``, down to ``cutback_factor**max_cutbacks`` times the requested
 one; the converged steps are kept. A problem with ``kinematics="finite"`` goes to
 :func:`~alcontact.contact.solve_finite_friction` (same algorithms in the current
 configuration, driven by the same loop :func:`_step_al` through the step's system
-:class:`~alcontact.contact._finite_friction._FiniteALCtx`).
+:class:`~alcontact.contact.algorithms._coulomb._FiniteALCtx`).
 """
 
 from __future__ import annotations
 
 import logging
-import time
 import warnings
-from abc import ABC, abstractmethod
 from dataclasses import dataclass
-from typing import Any, ClassVar, Protocol
+from typing import Any, ClassVar, Protocol, Sequence
 
 import numpy as np
 import scipy.linalg as sla
+import scipy.sparse as sp
 
-from .. import penalties as _pen
-from .._options import MAX_STEPS, VALUE_RANGE, is_integer, is_real, show
-from ..errors import InputError
-from ..linalg import select_solver
-from ._algorithms import (DEFAULT_PENALTY, FRICTION_DEFAULTS, ContactOptions, algorithm_docs, algorithm_names,
-                          check_solve_args, find_algorithm, options_with, register_family)
-from ._friction_discrete import FrictionalContact
-from ._friction_laws import OPEN, SLIP, STICK, Macaulay, block_diag, local_law, tangential_energy
-from ._friction_solution import FrictionSolution, FrictionStep
-from ._laws import eta_for_stiffness, freezes_at_zero, make_law
-from ._loading import LoadHistory, problem_at
-from ._newton import LineSearch, NewtonResult, NewtonSettings, NewtonSystem, inner_failure, newton
-from ._solution import ContactStatus
-from ._stiffness import penalty_stiffness
-from ._stepping import Attempt, StepRecord, step_through
-from ._verify import check_state, equilibrium_tolerance, reach, state_equilibrium
+from ... import penalties as _pen
+from ...errors import InvertedElementError
+from ..laws._coulomb import OPEN, STICK, Macaulay, block_diag, local_law, return_mapping, tangential_energy
+from ..laws._normal import eta_for_stiffness, freezes_at_zero, make_law
+from ..laws._stiffness import penalty_stiffness
+from ..solution._solution import ContactStatus
+from ..systems._condensed import FrictionalContact
+from ..systems._full_space import _FRICTION_SSN_SETTINGS, FiniteFrictionContact, _Local
+from ._frictionless import (DEFAULT_PENALTY, FRICTION_DEFAULTS, ContactOptions, _first_push, algorithm_docs,
+                            algorithm_names, register_family)
+from ._subproblem import (LineSearch, NewtonResult, NewtonSettings, NewtonSystem, _Point, _PointSystem,
+                          inner_failure, newton)
 
-__all__ = ["FrictionOptions", "solve_friction", "friction_algorithms", "friction_algorithm_docs"]
 
 logger = logging.getLogger(__name__)
 
@@ -134,28 +128,6 @@ def _solve(J, b):
         else:
             warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
     return x
-
-
-@dataclass(frozen=True)
-class _Point:
-    """State of :class:`_CondensedSystem` at one iterate: residual, the caller's ``aux``, energy."""
-
-    x: np.ndarray
-    F: np.ndarray
-    aux: tuple
-    energy: float
-
-
-class _PointSystem(NewtonSystem):
-    """A Newton system whose states are :class:`_Point`: the residual ``F``, the merit its ``energy``
-    (the subproblems of both paths: :class:`_CondensedSystem`,
-    :class:`~alcontact.contact._friction_iterative._FullSpaceFriction`)."""
-
-    def residual(self, state):
-        return state.F
-
-    def merit(self, state):
-        return state.energy
 
 
 class _CondensedSystem(_PointSystem):
@@ -225,8 +197,8 @@ class _ALSystem(Protocol):
 
     Its unknowns ``z`` are the condensed contact forces ``R`` ``(c, d)`` on the direct path
     (:class:`_Ctx`), the free displacements ``x`` on the AMG path
-    (:class:`~alcontact.contact._friction_iterative._FullCtx`) or the free displacements at
-    finite deformation (:class:`~alcontact.contact._finite_friction._FiniteALCtx`); the
+    (:class:`~alcontact.contact.systems._krylov._FullCtx`) or the free displacements at
+    finite deformation (:class:`~alcontact.contact.algorithms._coulomb._FiniteALCtx`); the
     multipliers, the stopping test (:func:`_measures`) and the updates (6.2b)/(6.2c) are the same.
 
     A subproblem's state carries ``aux = (y, t, Dy, state)``: ``y`` ``(c, 1 + k)`` the gaps and
@@ -442,7 +414,7 @@ def _inside_domain(ctx: _Ctx, law, lamN, R):
 class _WithDlam:
     """A normal law plus :math:`\\partial t_N/\\partial\\lambda_N` by central differences.
 
-    The laws of :mod:`alcontact.contact._laws` give :math:`t_N` and
+    The laws of :mod:`alcontact.contact.laws._normal` give :math:`t_N` and
     :math:`\\partial t_N/\\partial g` only; the second-order multiplier update needs the
     multiplier derivative too (an approximation only changes its convergence rate,
     never the fixed point it converges to).
@@ -600,8 +572,8 @@ def _step_al(ctx: _ALSystem, penalty_name: str) -> _StepOut:
 
     ``ctx`` is the step's system (:class:`_ALSystem`: the condensed forces of the direct
     path, :class:`_Ctx`, the free displacements of the AMG path,
-    :class:`~alcontact.contact._friction_iterative._FullCtx`, or those of a finite-deformation
-    step, :class:`~alcontact.contact._finite_friction._FiniteALCtx`); the loop, the multiplier
+    :class:`~alcontact.contact.systems._krylov._FullCtx`, or those of a finite-deformation
+    step, :class:`~alcontact.contact.algorithms._coulomb._FiniteALCtx`); the loop, the multiplier
     updates and the stopping test are the same on all three. The outer update is
     (6.2b)/(6.2c) (``multiplier_update="first-order"``, or a system without the
     second-order update, ``ctx.second_order`` false) or, by default, the second-order
@@ -770,421 +742,289 @@ def friction_algorithm_docs() -> dict[str, str]:
     return algorithm_docs(friction=True)
 
 
-def _checked_steps(steps):
-    """``steps`` of :func:`solve_friction`: a count in [1, MAX_STEPS] or increasing positive times."""
-    if is_integer(steps):
-        if not 1 <= steps <= MAX_STEPS:
-            raise InputError(f"steps = {show(steps)}: out of range, must be in [1, {MAX_STEPS}] (or a sequence of "
-                             "step times).")
-        return int(steps)
-    ok = isinstance(steps, (list, tuple, np.ndarray)) and 0 < len(steps) <= MAX_STEPS and all(
-        is_real(t) and np.isfinite(t) and t > 0 for t in steps)
-    if not ok or any(b <= a for a, b in zip(steps, steps[1:])):
-        raise InputError(f"steps = {show(steps)}: expected a number of steps or positive, strictly increasing step "
-                         "times, e.g. steps=[0.25, 0.5, 1.0].")
-    return tuple(float(t) for t in steps)
-
-
-def _resolve(algorithm: str, penalty: str | None):
-    """Step function and penalty of the frictional ``algorithm`` (registry entry)."""
-    entry = find_algorithm(algorithm, friction=True)
-    return entry.run, entry.penalty_for(penalty)
-
-
 # ---------------------------------------------------------------------------
-# load stepping
+# one load step: Algorithms 6.2 / 6.4
 # ---------------------------------------------------------------------------
 @dataclass
-class _State:
-    """Converged state over all m contact-boundary points."""
+class _FiniteALCtx:
+    r"""The :class:`~alcontact.contact.algorithms._coulomb._ALSystem` of a finite-deformation load step.
 
-    t: float
-    u: np.ndarray
-    y: np.ndarray  # (m, d) gap and u_T
-    tN: np.ndarray  # (m,)
-    tT: np.ndarray  # (m, d-1)
-    R: np.ndarray  # (m, d)
-    slip_total: np.ndarray  # (m, d)
-    predictor: tuple | None = None  # (candidates, d lambda*/d y_free) of the last step, for the next start
+    The one AL loop :func:`~alcontact.contact.algorithms._coulomb._step_al` (Algorithms 6.2 / 6.4)
+    drives it; its unknowns are the free displacements ``x``, a subproblem is
+    :meth:`FiniteFrictionContact.friction_subproblem` and its state the :class:`_Local` of the
+    last iterate (``aux``: gaps and slips, tractions). The reference ``ssn``
+    (:func:`_step_ssn_finite`) takes the same system. What differs from the small-deformation
+    paths, each by a declaration here:
 
-
-def _closed(fc, tN, g, opts):
-    return (tN > 0) & (g >= -max(1e-6, 10 * opts.tol_penetration) * fc.h)
-
-
-class _StepPath(ABC):
-    """How a solution path sets up one load step; the step itself (:meth:`advance`) is shared.
-
-    A path gives the system of a step (:meth:`context`, an :class:`_ALSystem` for the AL
-    algorithms), the step without candidates (:meth:`without_candidates`) and the
-    displacement of a solved step (:meth:`displacement`); :meth:`advance` adds the
-    candidates that penetrate, assembles the state over all points and accepts a step of a
-    body held by the obstacle only in equilibrium.
+    - the multipliers ``lamT`` are ambient vectors ``(c, d)`` tangent to the obstacle, the
+      tractions ``t = [t_N, t_T]`` have ``d + 1`` columns (:attr:`d`);
+    - the slip of the stopping test is the step's slip on the obstacle's surface
+      (``aux[0][:, 1:]``, :func:`~alcontact.contact.obstacles.surface_slip`), measured
+      from the previous surface point: the reference :attr:`uTn` is zero, and no tangent
+      direction is held by a support (:attr:`tfree` is ``None``);
+    - first-order multiplier updates only (:attr:`second_order` false: the second-order
+      update needs the dense sensitivity of the condensed small-deformation subproblem),
+      so the hybrid Coulomb radius of the first subproblem is not taken either; the radius
+      is the one :meth:`FiniteFrictionContact.set_history` set from ``radius``;
+    - the family-P predictor is a full Simo-Laursen outer iteration (:attr:`full_predictor`):
+      both multipliers are taken from it and it is counted (its tangential traction, in the
+      tangent planes of the predicted state, starts the family-P iterations);
+    - the inside-domain move of a barrier-type penalty (:meth:`inside_domain`) is that of the
+      frictionless finite solver (first-order scaling of the contact forces); before it the
+      finite path had none and ``family-p`` with ``log-met1`` failed at its first load step.
     """
 
-    @abstractmethod
-    def context(self, fc, prev: _State, t: float, last: _StepOut | None, step_fn, eps_n, eps_t, mu, opts):
-        """The step's system on the candidates ``fc.cand`` and the Newton iterations spent to set it up.
+    fc: FiniteFrictionContact
+    lamN: np.ndarray  # (c,)
+    lamT: np.ndarray  # (c, d), tangent to the obstacle
+    x0: np.ndarray  # free displacements the step starts from
+    eps_n: float
+    opts: Any
 
-        ``last`` is the previous attempt of the same step (before candidates were added), or ``None``.
+    label: ClassVar[str] = "finite friction AL"
+    second_order: ClassVar[bool] = False
+    full_predictor: ClassVar[bool] = True
+    tfree: ClassVar[None] = None
+
+    @property
+    def c(self) -> int:
+        return int(self.fc.cand.size)
+
+    @property
+    def d(self) -> int:
+        """Columns of the tractions ``[t_N, t_T]`` (``t_T`` ambient, ``dim`` components)."""
+        return self.fc.dim + 1
+
+    @property
+    def mu(self) -> float:
+        return self.fc.mu
+
+    @property
+    def uTn(self) -> np.ndarray:
+        """Zero: the slip ``aux[0][:, 1:]`` is already measured from the previous surface point."""
+        return np.zeros((self.c, self.fc.dim))
+
+    @property
+    def start(self) -> np.ndarray:
+        return self.x0.copy()
+
+    def subproblem(self, law, lamN, lamT, x, coupled: bool = False) -> NewtonResult:
+        """:meth:`FiniteFrictionContact.friction_subproblem` (``coupled`` is never asked: first-order updates)."""
+        return self.fc.friction_subproblem(law, lamN, lamT, x, tol=self.opts.newton_tol,
+                                           maxiter=self.opts.maxiter_newton)
+
+    def iterate(self, out: NewtonResult) -> np.ndarray:
+        return out.x
+
+    def inside_domain(self, law, lamN, x) -> np.ndarray:
+        """Start for barrier-type penalties: contact forces scaled up until every gap is inside ``g < eta b``.
+
+        The barrier start of the frictionless finite-deformation solver
+        (:func:`~alcontact.contact.algorithms._frictionless.run_al`): the forces are scaled to first order
+        (:meth:`~alcontact.contact.systems._full_space.FiniteContact.scale_forces`), first by the scale that
+        just closes the penetrations (:func:`~alcontact.contact.algorithms._frictionless._first_push`), doubled
+        while the start is still outside; ``x`` unchanged when it is inside or no force can be scaled.
         """
+        dc = self.fc
+        bound = law.gap_bound(lamN)
+        g = dc.gaps(x)
+        if not np.any(g >= 0.99 * bound):
+            return x
+        doubled = dc.scale_forces(x, 2.0)
+        if np.array_equal(doubled, x):  # no contact force to scale up
+            return x
+        scale = _first_push(g, dc.gaps(doubled), bound)
+        while scale < 1e6:
+            trial = dc.scale_forces(x, 1.0 + scale)
+            if not np.any(dc.gaps(trial) >= 0.99 * bound):
+                return trial
+            scale *= 2
+        return x
 
-    @abstractmethod
-    def without_candidates(self, fc, t: float) -> tuple[_StepOut, np.ndarray]:
-        """The step without contact candidates and its displacement."""
-
-    @abstractmethod
-    def displacement(self, fc, t: float, out: _StepOut) -> np.ndarray:
-        """The displacement of the solved step ``out``."""
-
-    def advance(self, fc, prev: _State, t: float, step_fn, pen_name, eps_n, eps_t, mu, opts):
-        """Solve one step from ``prev`` to time ``t`` (adding candidates that penetrate).
-
-        Returns ``(result, out, outer, newton)`` with ``result = (u, y_all, tN, tT, R, predictor)``
-        over all points (``None`` when the step failed; ``out`` says why).
-        """
-        outer = newton = 0
-        last = None
-        for _attempt in range(8):
-            cand = fc.cand
-            d = fc.dim
-            if cand.size == 0:
-                out, u = self.without_candidates(fc, t)
-            else:
-                ctx, pre = self.context(fc, prev, t, last, step_fn, eps_n, eps_t, mu, opts)
-                newton += pre
-                out = step_fn(ctx, pen_name)
-                outer += out.outer
-                newton += out.newton
-                if not out.ok:
-                    return None, out, outer, newton
-                u = self.displacement(fc, t, out)
-            y_all = fc.all_local(u)
-            outside = np.ones(fc.points.shape[0], bool)
-            outside[cand] = False
-            add = fc.add(np.flatnonzero(outside & (y_all[:, 0] > opts.tol_penetration * fc.h)))
-            if add.size:
-                logger.info("t=%g: adding %d contact candidates that penetrate", t, add.size)
-                last = out
-                continue
-            m = fc.points.shape[0]
-            tN = np.zeros(m)
-            tT = np.zeros((m, d - 1))
-            R = np.zeros((m, d))
-            tN[cand], tT[cand], R[cand] = out.t[:, 0], out.t[:, 1:], out.R
-            if fc.spring is not None:  # held by the obstacle: accept only a step in equilibrium
-                R_phys = np.zeros((m, d))
-                R_phys[cand] = fc.weights[cand, None] * out.t
-                defect = fc.equilibrium_defect(t, u, R_phys)
-                if not defect <= _EQUILIBRIUM_TOL:
-                    return None, _StepOut(False, f"no equilibrium found (relative residual {defect:.2e}): the "
-                                                 "obstacle and friction do not hold the body there", prev.R, prev.R,
-                                          outer, newton, ContactStatus.NEWTON_FAILED), outer, newton
-            pred = (cand.copy(), out.predictor) if out.predictor is not None else None
-            return (u, y_all, tN, tT, R, pred), out, outer, newton
-        return None, _StepOut(False, "candidate set did not settle", prev.R, prev.R, 0, 0, ContactStatus.MAXITER), \
-            outer, newton
+    def forces(self, x, t) -> np.ndarray:
+        r"""Force of the obstacle on the body at each candidate, :math:`w_i (t_{N,i}\nu_i - t_{T,i})` ``(c, d)``."""
+        dc = self.fc
+        nu = dc.obstacle.normal(dc._current(dc.expand(x), dc.cand))
+        with np.errstate(invalid="ignore", over="ignore"):  # the non-finite tractions of a failed step as they are
+            return dc.weights[dc.cand][:, None] * (t[:, :1] * nu - t[:, 1:])
 
 
-class _CondensedPath(_StepPath):
-    """The direct path: steps on the condensed forces of :class:`FrictionalContact` (:class:`_Ctx`).
+def state_reversals(history: Sequence[np.ndarray]) -> int:
+    """Points whose state returned to one it had left along ``history`` (a state per iterate).
 
-    A body held by the obstacle starts each step sticking (:meth:`FrictionalContact.frozen_start`),
-    at first contact from the semi-smooth Newton solution; the multipliers start from the tangent
-    predictor of the last step where it has the same candidates.
+    Consecutive repeats count once: a point with states ``STICK, SLIP, SLIP, STICK`` has one
+    reversal, ``STICK, SLIP, OPEN`` none.
     """
-
-    def context(self, fc, prev, t, last, step_fn, eps_n, eps_t, mu, opts):
-        cand = fc.cand
-        c, d = cand.size, fc.dim
-        newton = 0
-        ctx = _Ctx(fc, fc.y_free(t)[cand], fc.weights[cand], fc.A.reshape(c, d, c, d), prev.tN[cand].copy(),
-                   prev.tT[cand].copy(), prev.y[cand, 1:].copy(), prev.R[cand].copy(), eps_n, eps_t, mu, opts,
-                   fc.tfree[cand])
-        if fc.spring is not None:  # held by the obstacle only
-            closed = prev.tN[cand] > 0
-            if np.any(closed):  # start sticking (FrictionalContact.frozen_start)
-                R0 = fc.frozen_start(prev.t, t, ctx.R0, closed)
-                ctx.R0 = ctx.R0 if R0 is None else R0
-            elif step_fn is not _step_ssn:
-                # first contact: with zero multipliers the Coulomb discs of the AL subproblem have radius 0
-                # and nothing holds the tangential rigid motion; start from the semi-smooth Newton solution
-                # of the same discrete problem (a predictor: the AL stopping test decides)
-                pre = _step_ssn(ctx)
-                newton += pre.newton
-                if pre.ok:
-                    ctx.R0, ctx.lamN, ctx.lamT = pre.R, pre.t[:, 0].copy(), pre.t[:, 1:].copy()
-        if prev.predictor is not None and np.array_equal(prev.predictor[0], cand):
-            # tangent predictor: lambda_n + (d lambda*/d y_free) (y_free(t) - y_free(t_n))
-            dyf = (ctx.yf - fc.y_free(prev.t)[cand]).ravel()
-            lam0 = np.concatenate([ctx.lamN[:, None], ctx.lamT], axis=1) + (prev.predictor[1] @ dyf).reshape(c, d)
-            if np.all(np.isfinite(lam0)):
-                ctx.lamN, ctx.lamT = _admissible(ctx, lam0)
-        return ctx, newton
-
-    def without_candidates(self, fc, t):
-        d = fc.dim
-        return _StepOut(True, "no candidate points", np.zeros((0, d)), np.zeros((0, d)), 0, 0), fc.u_free(t)
-
-    def displacement(self, fc, t, out):
-        return fc.displacement(t, out.R)
+    if len(history) < 3:
+        return 0
+    H = np.asarray(history)  # (iterates, points)
+    count = 0
+    for col in H.T:
+        seq = col[np.concatenate([[True], col[1:] != col[:-1]])]
+        if seq.size >= 3 and np.any(seq[2:] == seq[:-2]):
+            count += 1
+    return count
 
 
-#: The direct path's step (:meth:`_StepPath.advance` of :class:`_CondensedPath`).
-_advance = _CondensedPath().advance
+def _ssn_parameter(dc) -> float:
+    r"""The Alart-Curnier parameter :math:`c` of :func:`_step_ssn_finite`: :math:`E'/h`, the stiffness of the
+    first element row under the contact surface (:func:`~._solve.penalty_stiffness` with scale 1).
 
-
-def solve_friction(problem, history: LoadHistory | None, algorithm: str = "simo-laursen", penalty: str | None = None,
-                   options: FrictionOptions | None = None, *, steps=None, friction: float | None = None,
-                   on_step=None, obstacle_path=None, **option_overrides) -> FrictionSolution:
-    r"""Quasi-static frictional contact over a load history.
-
-    Parameters
-    ----------
-    problem : ContactProblem
-        Body, obstacle, contact boundary; its own supports and loads act at full
-        value at every step; ``problem.friction`` is the Coulomb coefficient :math:`\mu`.
-    history : LoadHistory
-        Scaled supports/loads and the step times.
-    algorithm : {"simo-laursen", "family-p", "ssn"}
-        Algorithm 6.2, Algorithm 6.4, or the semi-smooth Newton reference.
-    penalty : str, optional
-        Family-P penalty of ``"family-p"`` (default ``"exp-met1"``).
-    options : FrictionOptions or dict, optional
-        Options; a dict holds :class:`FrictionOptions` fields.
-    steps : int or sequence of float, optional
-        Overrides ``history.times`` (an int: that many equal steps).
-    friction : float, optional
-        Overrides ``problem.friction``.
-    on_step : callable, optional
-        ``on_step(k, t, n)`` is called before requested step ``k`` (0-based) of ``n``,
-        at pseudo-time ``t`` (for progress bars).
-    obstacle_path : callable ``t -> (d,)``, optional
-        Finite kinematics only: translation of the obstacle at pseudo-time ``t``.
-    **option_overrides
-        Fields of :class:`FrictionOptions`.
-
-    Returns
-    -------
-    FrictionSolution or FiniteFrictionSolution
-        A problem with ``kinematics="finite"`` is solved by
-        :func:`~alcontact.contact.solve_finite_friction` (Algorithms 6.2 / 6.4 in the
-        current configuration) over ``steps`` (default: the history's times, or 10
-        uniform steps without a history, every support and load then scaled by the
-        pseudo-time); both solutions share the per-step views
-        (:class:`~alcontact.contact._stepping.StepRecords`: ``times``, ``forces``,
-        ``frames``, ...).
-
-        Small kinematics: per-step states; ``status`` negative (and a logged warning) when a step
-        failed after ``max_cutbacks`` cut-backs, or ``NOT_VERIFIED`` when a recorded
-        step fails the penetration, complementarity or Coulomb check of
-        :mod:`alcontact.contact._verify`. ``UNBOUNDED`` when a body held only by
-        the obstacle has no static equilibrium at a step (the free tangential load
-        exceeds :math:`\mu N`, or the loads pull it off a flat obstacle,
-        :meth:`FrictionalContact.slides_away`); the steps before it are kept.
-
-    Raises
-    ------
-    InputError
-        Bad options, a negative friction coefficient, a load history not
-        defined at some step, or a tangential load case that is non-zero at a
-        step that starts without contact.
-
-    Notes
-    -----
-    Supports may leave rigid motions free when the obstacle holds the body:
-    springs on all components of the touching points make the stiffness regular
-    and the frictional law is shifted by the same springs, an exact rewriting
-    (:meth:`FrictionalContact._stabilize`). Each step of such a body starts from
-    sticking (:meth:`FrictionalContact.frozen_start`; at first contact the AL
-    algorithms start from the semi-smooth Newton solution, since zero
-    multipliers give Coulomb discs of radius 0) and is accepted only in global
-    equilibrium (relative residual ``1e-7``).
-
-    Examples
-    --------
-    >>> from alcontact.problems import friction as fp
-    >>> prob, hist = fp.block_on_plane(dim=2, n=4)
-    >>> sol = solve_friction(prob, hist)  # doctest: +SKIP
+    The solution does not depend on :math:`c` (the complementarity functions vanish at the same
+    points for every :math:`c > 0`), its Newton path does. With the AL penalty
+    :math:`\varepsilon_N` (``penalty_scale`` = 100 times :math:`E'/h`) a sliding step at the
+    stick-to-slip transition of the 2D ironing problem (h = 0.1, :math:`\mu` = 0.3) took 41-65
+    Newton iterations and a cut-back: the first full Newton step opened every contact point
+    (:math:`\lambda_N + c\,g < 0` for a small penetration error times a large :math:`c`) and the
+    backtracking on the residual norm rebuilt the contact zone point by point. With
+    :math:`c = E'/h` the same steps take 4-5 (issue 18; ``docs/benchmarks/ironing.md``).
     """
-    t_start = time.perf_counter()
-    check_solve_args(problem, algorithm, penalty, friction_algorithms(), "friction ")
-    step_fn, pen_name = _resolve(algorithm, penalty)
-    if getattr(problem, "kinematics", "small") == "finite":
-        return _solve_finite(problem, history, algorithm, penalty, options, steps=steps, friction=friction,
-                             on_step=on_step, obstacle_path=obstacle_path, **option_overrides)
-    opts = options_with(options, FrictionOptions, option_overrides, "friction",
-                        find_algorithm(algorithm, friction=True))
-    if not isinstance(history, LoadHistory):
-        raise InputError(f"history must be a LoadHistory; got {type(history).__name__}.")
-    if obstacle_path is not None:
-        raise InputError("obstacle_path: a moving obstacle needs kinematics='finite' (ContactProblem(..., "
-                         "kinematics='finite') with a hyperelastic body); at small kinematics move the body with "
-                         "a ramped support instead.")
-    if steps is not None:
-        history = history.with_times(_checked_steps(steps))
-    mu = problem.friction if friction is None else friction
-    if not (is_real(mu) and 0 <= mu <= VALUE_RANGE[1]):  # comparisons, not isfinite: a huge int is no float
-        raise InputError(f"friction = {show(mu)}: the friction coefficient must be a finite number >= 0 (at most "
-                         f"{VALUE_RANGE[1]:g}). Use 0 for frictionless contact.")
-    mu = float(mu)
-
-    solver = select_solver(opts.linear_solver, dim=problem.model.dim, ndofs=problem.model.ndofs)
-    path = "direct" if solver.exact else "amg"  # the label of the strategy in solution.extra
-    fc, advance = _FRICTION_PATHS[solver.exact](problem, history, opts, solver)
-    eps_n = opts.eps_n if opts.eps_n is not None else penalty_stiffness(problem.model, fc.h, opts.penalty_scale)
-    eps_t = opts.eps_t if opts.eps_t is not None else opts.tangential_scale * eps_n
-    m, d = fc.points.shape
-    u0 = fc.u_free(0.0)
-    y0 = fc.all_local(u0)
-    state = _State(0.0, u0, y0, np.zeros(m), np.zeros((m, d - 1)), np.zeros((m, d)), np.zeros((m, d)))
-    tangential = [c for c in history.cases if c.tangential]
-    contact_dofs = problem.model.node_dofs(problem.contact_boundary)[1]
-    records: list[FrictionStep] = []
-    cur = {"state": state}
-    t_solve = time.perf_counter()
-
-    def attempt(t: float) -> Attempt:
-        prev = cur["state"]
-        if tangential and not np.any(_closed(fc, prev.tN, prev.y[:, 0], opts)):
-            active = [c.label for c in tangential if c.value(t) != 0.0]
-            if active:
-                raise InputError(
-                    f"tangential load {', '.join(active)} is applied at t={t:g} but no point is in contact at "
-                    f"the start of that step (t={prev.t:g}); apply the normal load first (start the tangential "
-                    "amplitude at 0 until contact exists).")
-        away = fc.slides_away(t, mu * history.friction_factor(t))  # body held by the obstacle only
-        if away is not None:
-            return Attempt(False, ContactStatus.UNBOUNDED, away, final=True)
-        solves0 = fc.linear_solves
-        res, out, o, nw = advance(fc, prev, t, step_fn, pen_name, eps_n, eps_t, mu * history.friction_factor(t),
-                                   opts)
-        counts = dict(newton=nw, outer=o, linear_solves=fc.linear_solves - solves0)
-        if res is not None:  # a step is accepted only when its returned state passes every measure (cut back if not)
-            check = verify(t, prev, res)
-            if not check.ok:
-                return Attempt(False, ContactStatus.NOT_VERIFIED, f"{algorithm} reported {out.message!r} but the "
-                               f"state fails verification: {check.describe()}", **counts)
-        return Attempt(res is not None, out.status, out.message, value=(res, out), **counts)
-
-    def verify(t: float, prev: _State, res):
-        """Every measure of the step's returned state (:mod:`alcontact.contact._verify`)."""
-        u, y_all, tN, tT = res[:4]
-        closed = _closed(fc, tN, y_all[:, 0], opts)
-        duT = y_all[:, 1:] - prev.y[:, 1:]
-        w = fc.weights
-        shear = -np.einsum("ijk,ik->ij", fc.tangents, tT)
-        # equilibrium of the step's displacement with the forces it reports (loads and supports at t)
-        p_t = problem_at(problem, history, t)
-        eq = state_equilibrium(problem.model, u, p_t.dirichlet()[0], p_t.load_vector(), contact_dofs,
-                               w[:, None] * (tN[:, None] * fc.normals + shear), fc.h, pressure=tN, weights=w)
-        return check_state(y_all[:, 0], tN, fc.h, tol_penetration=opts.tol_penetration,
-                           tol_complementarity=opts.tol_complementarity, traction_t=tT,
-                           slip=np.where(closed[:, None] & fc.tfree, duT, 0.0), mu=mu * history.friction_factor(t),
-                           tol_friction=max(opts.tol_multiplier, opts.tol_slip), equilibrium=eq.largest,
-                           tol_equilibrium=equilibrium_tolerance(opts, multipliers=True), reach=reach(fc.points, u))
-
-    def commit(t: float, att: Attempt, rec: StepRecord) -> FrictionStep:
-        prev = cur["state"]
-        (u, y_all, tN, tT, R, pred), out = att.value
-        closed = _closed(fc, tN, y_all[:, 0], opts)
-        duT = y_all[:, 1:] - prev.y[:, 1:]
-        slip = np.where(closed[:, None], np.einsum("ijk,ik->ij", fc.tangents, duT), 0.0)
-        nT = np.linalg.norm(tT, axis=1)
-        pref = max(float(np.max(tN, initial=0.0)), 1e-300)
-        mu_t = mu * history.friction_factor(t)
-        saturated = nT >= mu_t * tN - 1e-6 * max(mu_t, 1e-300) * pref
-        st = np.where(~closed, OPEN, np.where(saturated, SLIP, STICK))
-        shear = -np.einsum("ijk,ik->ij", fc.tangents, tT)
-        w = fc.weights
-        tang_force = np.sum(w[:, None] * shear, axis=0)
-        normal_force = float(np.sum(w * tN))
-        slip_total = prev.slip_total + slip
-        step = FrictionStep(
-            t=float(t), requested=rec.requested, u=u, pressure=tN, traction_t=tT, shear=shear, slip=slip,
-            slip_total=slip_total, gap=y_all[:, 0], state=st, normal_force=normal_force,
-            tangential_force=tang_force, contact_force=tang_force + np.sum((w * tN)[:, None] * fc.normals, axis=0),
-            outer_iterations=int(out.outer), newton_iterations=int(out.newton), cutbacks=rec.step_cutbacks,
-            penetration=float(np.max(y_all[:, 0], initial=0.0)) / fc.h,
-            coulomb=float(np.max(np.maximum(nT - mu_t * tN, 0.0), initial=0.0)) / pref, seconds=rec.seconds,
-            linear_solves=int(rec.linear_solves),
-        )
-        records.append(step)
-        cur["state"] = _State(float(t), u, y_all, tN, tT, R, slip_total, pred)
-        return step
-
-    def advice() -> str:
-        tip = "use more load steps, a smaller penalty_scale or algorithm='ssn'"
-        if fc.spring is not None:
-            tip += ("; the body is held by the obstacle only: if contact and friction cannot balance the loads it "
-                    "slides or turns away (no static equilibrium), so prescribe that motion as a displacement or "
-                    "add a support")
-        return tip
-
-    run = step_through(history.times, attempt, commit, max_cutbacks=opts.max_cutbacks, factor=opts.cutback_factor,
-                       before_step=on_step, recoverable=(), what=f"frictional contact {algorithm}", advice=advice,
-                       done_message="converged")
-    status, message = run.status, run.message
-    n_outer, n_newton, n_cut = run.outer_iterations, run.newton_iterations, run.cutbacks
-    if fc.ncand == 0 and status > 0:
-        i = int(np.argmax(np.where(fc.movable, fc.gmax_t, -np.inf)))
-        status = ContactStatus.NO_CONTACT
-        message = (f"the body never reaches the obstacle: smallest clearance {-fc.gmax_t[i]:.4g} at point "
-                   f"{np.round(fc.points[i], 6).tolist()}; check the loads, the obstacle or the contact boundary")
-    if status < 0 and status != run.status:  # a step failure was logged by step_through
-        logger.warning("frictional contact %s failed (%s): %s", algorithm, status.label, message)
-    t_end = time.perf_counter()
-    return FrictionSolution(
-        problem=problem, history=history, algorithm=algorithm, penalty=pen_name, friction=mu, points=fc.points,
-        normals=fc.normals, tangents=fc.tangents, weights=fc.weights, steps=tuple(records), status=status,
-        message=message, outer_iterations=n_outer, newton_iterations=n_newton, cutbacks=n_cut,
-        linear_solves=fc.linear_solves, eps_n=float(eps_n), eps_t=float(eps_t), h=fc.h,
-        timings={"setup_s": fc.setup_seconds, "factor_s": fc.factor_seconds, "solve_s": t_end - t_solve,
-                 "total_s": t_end - t_start},
-        extra={"candidates": fc.ncand, "dofs": int(problem.model.ndofs), "linear_solver": path,
-               "backend": solver.name, **fc.stats()},
-    )
+    return penalty_stiffness(dc.problem.model, dc.h, 1.0)
 
 
-def _solve_finite(problem, history, algorithm, penalty, options, *, steps, friction, on_step, obstacle_path,
-                  **option_overrides):
-    """:func:`solve_friction` of a ``kinematics="finite"`` problem: :func:`solve_finite_friction`
-    (registered by :mod:`._finite_friction`, :func:`register_friction_kinematics`)."""
-    solve_finite_friction = _KINEMATICS_SOLVERS["finite"]
-    if history is not None and not isinstance(history, LoadHistory):
-        raise InputError(f"history must be a LoadHistory or None; got {type(history).__name__}.")
-    if history is not None and history.friction is not None:
-        raise InputError("history: a friction amplitude (friction_ramp) is not available at finite kinematics; "
-                         "remove it (the coefficient is constant) or use kinematics='small'.")
-    if steps is None:
-        steps = history.times if history is not None else 10
-    mu = problem.friction if friction is None else friction
-    return solve_finite_friction(problem, mu, algorithm, penalty, options, steps=steps, history=history,
-                                 obstacle_path=obstacle_path, progress=on_step, **option_overrides)
+def _step_ssn_finite(ctx: _FiniteALCtx, penalty_name: str = "none") -> _StepOut:
+    r"""Alart-Curnier semi-smooth Newton reference for one load step (no penalty, exact).
 
+    Unknowns :math:`(x, \lambda_N, \lambda_T)`, equations (with :math:`c = E'/h`, :func:`_ssn_parameter`,
+    :math:`\hat t_N = \langle\lambda_N + c g\rangle`,
+    :math:`\hat t_T = \operatorname{proj}_{|t| \le \mu\hat t_N} (P\lambda_T + c\,\Delta s_T)`)
 
-def _direct_path(problem, history, opts, solver):
-    """The condensed problem (:class:`FrictionalContact`) on the exact factorization of ``solver``, and its step."""
-    return FrictionalContact(problem, history, margin=opts.margin, linear_solver=solver.name), _advance
+    .. math::
 
+        f_{int} - f_{ext} - \sum_i w_i(\lambda_{N,i}\nu_i - \lambda_{T,i}) = 0, \qquad
+        w_i(\lambda_{N,i} - \hat t_{N,i}) = 0, \qquad w_i(\lambda_{T,i} - \hat t_{T,i}) = 0,
 
-#: :attr:`SolverChoice.exact <alcontact.linalg.SolverChoice>` -> ``(problem, history, opts, solver) ->
-#: (contact problem, step)``: the condensed problem needs an exact factorization; the full-space problem whose
-#: Krylov solves an approximate solver preconditions is registered by :mod:`._friction_iterative`
-_FRICTION_PATHS = {True: _direct_path}
-#: :func:`solve_friction` of the kinematics other than ``"small"``, registered by their modules
-_KINEMATICS_SOLVERS: dict = {}
-
-
-def register_friction_strategy(exact: bool, make) -> None:
-    """Register how :func:`solve_friction` builds its problem for solvers that factorize exactly (``exact``) or not.
-
-    The modules that build on this one (:mod:`._friction_iterative`) register themselves, so that the
-    imports run one way (the package imports them).
+    solved by Newton's method with the generalized Jacobian (the return-mapping
+    derivatives of the module doc with the coupled radius) and backtracking on the residual norm.
+    ``ctx`` is the step's system of the AL algorithms (:class:`_FiniteALCtx`: candidates,
+    starting multipliers and displacements); one outer iteration.
     """
-    _FRICTION_PATHS[bool(exact)] = make
+    dc, lamN, lamT, x, opts = ctx.fc, ctx.lamN, ctx.lamT, ctx.start, ctx.opts
+    cand = dc.cand
+    k, d = cand.size, dc.dim
+    w = dc.weights[cand]
+    c = _ssn_parameter(dc)
+    mu = dc.mu
+    nf = dc.free.size
+    macaulay = make_law(_pen.make("rockafellar"), np.full(k, 1.0 / c))
+    saved = dc.eps_t, dc.coupled
+    dc.eps_t, dc.coupled = c, True
+    L = np.concatenate([np.maximum(lamN, 0.0)[:, None], lamT], axis=1)
+    log: list[float] = []
+    dc.residual_log.append(log)
+    states: list[np.ndarray] = []  # the OPEN / STICK / SLIP flags of every iterate
+
+    def evaluate(x_, L_):
+        u_ = dc.expand(x_)
+        rb, _ = dc._body_state(u_, False)
+        g, nu, tN, tT, slip, state, _ = dc._local(macaulay, L_[:, 0], L_[:, 1:], u_, cand, blocks=False)
+        Rx = rb[dc.free] + dc._assemble_points(cand, w[:, None] * (L_[:, 1:] - L_[:, :1] * nu))
+        RL = w[:, None] * (L_ - np.concatenate([tN[:, None], tT], axis=1))
+        return u_, g, nu, tN, tT, slip, state, rb, Rx, RL, L_
+
+    def jacobian(u_, L_, nu):
+        lN, lT = L_[:, 0], L_[:, 1:]
+        xc = dc._current(u_, cand)
+        g = dc.obstacle.gap(xc)
+        P = np.eye(d)[None] - nu[:, :, None] * nu[:, None, :]
+        z, _, dz_dx, H = dc._trial(lT, xc, nu, cand, blocks=True)
+        act = (lN + c * g) > 0
+        tN = np.where(act, lN + c * g, 0.0)
+        rho = mu * tN
+        _, _, _, slipping, n, M = return_mapping(z, rho)
+        dtN_dx = -np.where(act, c, 0.0)[:, None] * nu  # (k, d)
+        dtN_dl = act.astype(float)
+        dtT_dx = M @ dz_dx + np.where(slipping[:, None, None], mu * n[:, :, None] * dtN_dx[:, None, :], 0.0)
+        dtT_dlT = M @ P
+        dtT_dlN = np.where(slipping[:, None], mu * dtN_dl[:, None] * n, 0.0)
+        # x-x block, x-L block, L-x block, L-L block
+        Kxx = dc._tangent_free(u_) + dc._point_blocks(cand, (w * lN)[:, None, None] * H)
+        nl = d + 1
+        pos = dc.pos[cand]  # (k, d)
+        rows, cols, vals = [], [], []
+        lrow = nf + np.arange(k)[:, None] * nl  # first L index of each point
+        for j in range(d):  # dRx/dL: -w nu (lambda_N), +w I (lambda_T)
+            keep = pos[:, j] >= 0
+            rows += [pos[keep, j], pos[keep, j]]
+            cols += [lrow[keep, 0], lrow[keep, 0] + 1 + j]
+            vals += [-w[keep] * nu[keep, j], w[keep]]
+        Dx = np.concatenate([dtN_dx[:, None, :], dtT_dx], axis=1)  # (k, nl, d)
+        for r in range(nl):  # dRL/dx = -w dt/dx
+            for j in range(d):
+                keep = pos[:, j] >= 0
+                rows.append(lrow[keep, 0] + r)
+                cols.append(pos[keep, j])
+                vals.append(-w[keep] * Dx[keep, r, j])
+        DL = np.zeros((k, nl, nl))
+        DL[:, 0, 0] = dtN_dl
+        DL[:, 1:, 0] = dtT_dlN
+        DL[:, 1:, 1:] = dtT_dlT
+        DL = w[:, None, None] * (np.eye(nl)[None] - DL)
+        for r in range(nl):
+            for q in range(nl):
+                rows.append(lrow[:, 0] + r)
+                cols.append(lrow[:, 0] + q)
+                vals.append(DL[:, r, q])
+        ntot = nf + k * nl
+        rest = sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
+                             shape=(ntot, ntot))
+        return (sp.block_diag([Kxx, sp.csr_matrix((k * nl, k * nl))]) + rest).tocsc()
+
+    class AlartCurnier(NewtonSystem):
+        """Unknowns ``z = (x, L)``; relative residual: the larger of the force and multiplier parts."""
+
+        domain_errors = (InvertedElementError,)
+
+        def evaluate(self, z):
+            return evaluate(z[:nf], z[nf:].reshape(k, d + 1))
+
+        def residual(self, ev):
+            return np.concatenate([ev[8], ev[9].ravel()])
+
+        def measure(self, ev):
+            L_ = ev[10]
+            pref = max(float(np.max(L_[:, 0], initial=0.0)), 1e-300)
+            scale = dc.force_scale(ev[7], w * L_[:, 0])
+            return max(float(np.max(np.abs(ev[8]), initial=0.0)) / scale,
+                       float(np.max(np.abs(ev[9]) / w[:, None], initial=0.0)) / pref)
+
+        def step(self, z, ev, history):
+            states.append(np.where(ev[10][:, 0] > 0, ev[6], OPEN))
+            J = jacobian(ev[0], ev[10], ev[2])
+            step = dc.friction_solver.solve(J, -self.residual(ev))
+            dc.linear_solves += 1
+            dc.newton_iterations += 1
+            return step
+
+    try:
+        try:
+            out = newton(AlartCurnier(), np.concatenate([x, L.ravel()]), tol=opts.newton_tol,
+                         maxiter=max(opts.maxiter_newton, 100), settings=_FRICTION_SSN_SETTINGS, log=log)
+        except InvertedElementError as exc:
+            return _StepOut(False, f"inverted element at the start ({exc})", ctx.forces(x, L), L, 1, 0,
+                            ContactStatus.NEWTON_FAILED, z=x)
+        x, L = out.x[:nf], out.x[nf:].reshape(k, d + 1)
+        if not out.converged:
+            return _StepOut(False, f"semi-smooth Newton: {out.message}", ctx.forces(x, L), L, 1, out.iterations,
+                            inner_failure(out), z=x)
+        u, g, nu, tN, tT, slip, state, rb, Rx, RL, _ = out.state
+        final = np.where(L[:, 0] > 0, state, OPEN)
+        loc = _Local(u, g, nu, L[:, 0].copy(), L[:, 1:].copy(), slip, final, Rx, rb,
+                     reversals=state_reversals(states + [final]))
+        return _StepOut(True, "converged", ctx.forces(x, L), L.copy(), 1, out.iterations, z=x, last_state=loc)
+    finally:
+        dc.eps_t, dc.coupled = saved
 
 
-def register_friction_kinematics(kinematics: str, solver) -> None:
-    """Register the frictional solver of ``kinematics`` (``"finite"``: :mod:`._finite_friction`)."""
-    _KINEMATICS_SOLVERS[kinematics] = solver
+register_family((
+    ("simo-laursen", _step_al, "rockafellar", "Algorithm 6.2 at finite deformation: AL, Macaulay normal law (6.52), "
+                                              "return mapping onto the Coulomb cone in the current configuration"),
+    ("family-p", _step_al, None, "Algorithm 6.4 at finite deformation: Algorithm 6.2 with a family-P normal penalty"),
+    ("ssn", _step_ssn_finite, "none",
+     "reference: Alart-Curnier semi-smooth Newton on (u, lambda_N, lambda_T), exact (no penalty)"),
+), friction=True, kinematics="finite", linear_solvers=("direct",), defaults=FRICTION_DEFAULTS)
+
+
+def finite_friction_algorithms() -> list[str]:
+    """Names of the finite-deformation frictional algorithms."""
+    return algorithm_names(friction=True, kinematics="finite")

@@ -26,7 +26,6 @@ from typing import Protocol, runtime_checkable
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-__all__ = ["Master"]
 
 FloatArray = NDArray[np.float64]
 

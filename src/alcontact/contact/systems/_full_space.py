@@ -1,4 +1,4 @@
-r"""Frictionless contact at finite deformation: one full-space Newton for every algorithm.
+r"""Contact systems at finite deformation: one full-space Newton for every algorithm, frictionless and Coulomb.
 
 Kinematics (current configuration). Contact point ``i`` is a DOF location of the
 candidate boundary with reference position :math:`X_i` and reference tributary
@@ -18,7 +18,7 @@ plane); the small-deformation gap (6.15) is its linearization at :math:`u = 0`. 
 sliding needs nothing more: the projection is recomputed at every evaluation.
 
 Subproblem (S) of Algorithms 6.1 / 6.3 and the pure penalty (same laws
-:math:`t_N = p'(g/\eta, \lambda)` as :mod:`alcontact.contact._laws`): with the free
+:math:`t_N = p'(g/\eta, \lambda)` as :mod:`alcontact.contact.laws._normal`): with the free
 DOFs :math:`x` and :math:`u = u(x)` (prescribed values on the fixed DOFs),
 
 .. math::
@@ -36,7 +36,7 @@ body has no stored energy; a trial step that inverts an element
 (:class:`~alcontact.errors.InvertedElementError`) is rejected like one that raises
 :math:`\Pi` (the step is halved).
 
-The semi-smooth Newton reference (:func:`~alcontact.contact._algorithms.run_ssn`) enforces
+The semi-smooth Newton reference (:func:`~alcontact.contact.algorithms._frictionless.run_ssn`) enforces
 :math:`g_A(u) = 0` on its active set by Newton's method on the saddle-point system
 
 .. math::
@@ -58,17 +58,131 @@ loop of Algorithm 6.1 solves its subproblems inexactly (``inexact_subproblems``)
 last iteration); the tangent predictor of a load step also predicts the pressures.
 
 :class:`FiniteContact` offers the interface of the outer loops of
-:mod:`alcontact.contact._algorithms` (``cand``, ``h``, ``start``, ``gaps``,
+:mod:`alcontact.contact.algorithms._frictionless` (``cand``, ``h``, ``start``, ``gaps``,
 ``scale_forces``, ``subproblem``, ``solve_active``, ``extend``, ``all_gaps``,
 ``final_displacement``, ``timings``, ``extra``), so penalty, Algorithm 6.1, Algorithm
 6.3 with every contact penalty and the reference run unchanged; the state is the
 free displacement. :meth:`FiniteContact.configure` sets the data of one load step
 (prescribed values, loads, obstacle position, starting state): see
-:mod:`alcontact.contact._stepping`.
+:mod:`alcontact.contact.stepping._steps`.
+
+AMG + CG solver of the Newton systems of finite-deformation contact (``linear_solver="amg"``).
+
+:class:`~alcontact.contact.systems._full_space.FiniteContact` solves one symmetric system per Newton
+iteration of subproblem (S) (module doc of :mod:`alcontact.contact.systems._full_space`),
+
+.. math::
+
+    J(x_k)\,\Delta x = -R(x_k), \qquad
+    J = K_T + B^T \operatorname{diag}(w \circ dt_N/dg)\, B + \sum_i w_i t_{N,i} H_i,
+
+and a few more with the same matrix (the dual Newton step of Algorithm 6.1,
+:meth:`~alcontact.contact.systems._full_space.FiniteContact.multiplier_step`). The direct path
+factorizes every :math:`J` (:class:`~alcontact.contact.systems._full_space.NewtonSolver`, MKL PARDISO).
+:class:`AMGNewtonSolver` offers the same surface (``newton_step``, ``solve``, ``resolve``,
+``info``) without a factorization: it is :class:`alcontact.linalg.NewtonKrylovSolver`
+(preconditioned CG with the factors of an approximate solver, reused across Newton iterations
+and load steps while they stay good, an Eisenstat-Walker forcing term, a symmetric-indefinite
+factorization for a system with negative curvature, counted in ``direct_fallbacks``; the
+measurements of its constants are those of this path) with the near-null space of the body:
+the rigid-body modes at the *current configuration* :math:`x = X + u` of the load step's start
+(:meth:`AMGNewtonSolver.near_null`); at finite rotations the modes of the reference
+configuration are no longer the kernel of the tangent's elastic part. The curvature term
+:math:`w_i t_{N,i} H_i` of a convex obstacle is negative semidefinite, so a buckling or strongly
+curved contact state can make :math:`J` indefinite: with ``fallback=False`` that Newton step
+fails (:class:`numpy.linalg.LinAlgError`) and the load step is cut back.
+
+The semi-smooth reference ``ssn`` solves saddle-point systems (indefinite by construction)
+and stays direct-only (its registry entry lists ``direct`` only).
+
+Coulomb friction at finite deformation: Algorithms 6.2 and 6.4 in the current configuration.
+
+Kinematics (current configuration, nodal collocation as in
+:mod:`alcontact.contact.systems._full_space`). Contact point ``i`` has the current position
+:math:`x_i = X_i + u_i`, the gap :math:`g_i = \operatorname{gap}(x_i)`, the obstacle
+normal :math:`\nu_i` and the projection :math:`\bar x_i = x_i + g_i\nu_i` onto the obstacle.
+The obstacle moves rigidly, :math:`x = Q(t)\,y + c(t)` (``obstacle_path``: a translation
+:math:`c`, or an :class:`~alcontact.contact.obstacles.RigidMotion` with a rotation :math:`Q`);
+the point of the obstacle's *own* surface that contact point ``i`` touches is
+:math:`y_i = Q^T(\bar x_i - c)` (its surface coordinate,
+:meth:`FiniteFrictionContact.surface_points`). The slip of a load step :math:`n \to n+1` is
+measured *on the obstacle's surface*, from the previous surface point :math:`y_{i,n}`
+(carried with the obstacle: :math:`Q y_{i,n} + c`) to the current projection, as a vector of
+the current tangent plane,
+
+.. math::
+
+    \Delta s_{T,i} = \operatorname{slip}(x_i;\ Q y_{i,n} + c)
+    \qquad (:func:`~alcontact.contact.obstacles.surface_slip`):
+
+the geodesic for the analytic obstacles (exact for a plane; great-circle arc
+:math:`\frac{\theta}{\sin\theta} P_i (x_i - Q y_{i,n} - c)` on a circle/sphere,
+:math:`\theta` the turn of the normal; axial part plus arc on a cylinder) and, for a general
+signed-distance obstacle, the chord projected onto the current tangent plane,
+:math:`P_i (x_i - Q y_{i,n} - c)`, :math:`P_i = I - \nu_i\nu_i^T`, a first-order consistent
+choice (relative error :math:`\theta^2/6`). The tangential traction of the last step,
+tangent to the obstacle at the old normal, is transported into the current tangent plane
+by the minimal rotation of the normals
+(:func:`~alcontact.contact.obstacles.transport_tangent`, the parallel transport for the
+analytic obstacles) before it starts the step's multipliers; within the step the
+multiplier is projected, :math:`P\lambda_T`, onto the tangent plane of the current iterate.
+
+Local law of one AL subproblem with multipliers :math:`(\lambda_N, \lambda_T)` (the
+dissertation's (6.46)-(6.50) with the corrected (6.49), see
+:mod:`alcontact.contact.laws._coulomb`; vectors in the ambient space, tangent to the
+obstacle):
+
+.. math::
+
+    t_N &= t_N(g; \lambda_N) \quad (\langle\lambda_N + \varepsilon_N g\rangle \text{ (6.52), Algorithm 6.2; }
+          p'(g/\eta, \lambda_N) \text{, Algorithm 6.4}),\\
+    z &= P\,\lambda_T + \varepsilon_T \Delta s_T
+         \quad (\lambda_T \text{ projected onto the current tangent plane}),\\
+    t_T &= \operatorname{proj}_{\{|t| \le \rho\}}(z), \qquad \rho = \mu\lambda_N \text{ (radius ``multiplier'')
+          or } \mu t_N \text{ (``traction'')},
+
+with the dissertation's sign: :math:`t_T` points along the slip, the friction force on
+the body is :math:`-w_i t_{T,i}`. The force of the obstacle on the body at point ``i`` is
+:math:`w_i (t_{N,i}\nu_i - t_{T,i})`, and the subproblem is
+
+.. math::
+
+    R(x) = f_{int}(u) - f_{ext} - \sum_i w_i\,(t_{N,i}\nu_i - t_{T,i}) = 0,
+
+solved by Newton's method with the consistent (non-symmetric) point blocks
+
+.. math::
+
+    \frac{\partial}{\partial x_i} w_i(t_T - t_N\nu) = w_i\Big(k_N \nu\nu^T + t_N H + \frac{\partial t_T}{\partial z}
+      \Big(\varepsilon_T \frac{\partial\Delta s_T}{\partial x} + (\nu\cdot\lambda_T) H + \nu (H \lambda_T)^T\Big)
+      + n\,\frac{\partial\rho}{\partial x}\Big),
+
+:math:`\partial\Delta s_T/\partial x` from :func:`~alcontact.contact.obstacles.surface_slip`
+(for the chord :math:`P + (\nu\cdot b) H + \nu (H b)^T`, :math:`b = x - Q y_n - c`; the arc adds
+the derivative of :math:`\theta/\sin\theta`), :math:`H` the Hessian of the gap
+(:math:`\partial\nu/\partial x = -H`), :math:`\partial t_T/\partial z` the derivative of the
+return mapping (identity at stick, :math:`\rho/|z|\,(I - nn^T)` at slip, :math:`n = z/|z|`),
+:math:`\partial\rho/\partial x = -\mu k_N \nu^T` for the coupled radius at slip. The
+line search backtracks on the residual norm (a frictional step has no potential) and
+halves a step that inverts an element.
+
+Outer loop (Algorithm 6.2, resp. 6.4 with a family-P penalty): the one loop of the
+small-deformation solvers, :func:`alcontact.contact.algorithms._coulomb._step_al`, on the step's
+system :class:`_FiniteALCtx` (first-order updates :math:`\lambda_N \leftarrow t_N`,
+:math:`\lambda_T \leftarrow t_T` ((6.2b), (6.2c)) until the penetration, complementarity,
+multiplier change and the slip of the sticking points are below their tolerances; what
+the finite system declares differently is listed there). A step starts from
+:math:`\lambda_T = t_{T,n}` (transported into the current tangent plane).
+The reference ``"ssn"`` (:func:`_step_ssn_finite`) solves the Alart-Curnier equations of the same
+time-discrete law exactly, in :math:`(u, \lambda_N, \lambda_T)`, by a semi-smooth Newton method.
+Every accepted step is verified by :func:`~alcontact.contact._verify.check_state`
+(penetration, complementarity, Coulomb bound and slip direction) before it is
+reported converged.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import logging
 import time
 from dataclasses import dataclass
@@ -76,14 +190,18 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
-from ..errors import InputError, InvertedElementError
-from ..linalg import SequenceSolver
-from ..status import Status
-from ._discrete import ContactPoints
-from ._finite_matrices import NewtonLayout
-from ._newton import LineSearch, NewtonOutcome, NewtonSettings, NewtonSystem, newton, subproblem_outcome
+from ... import linalg as _linalg
+from ...errors import InputError, InvertedElementError
+from ...fem.elasticity import rigid_body_modes
+from ...linalg import SequenceSolver
+from ...status import Status
+from ..algorithms._subproblem import (LineSearch, NewtonOutcome, NewtonResult, NewtonSettings, NewtonSystem,
+                                      newton, subproblem_outcome)
+from ..kinematics._points import ContactPoints
+from ..laws._coulomb import OPEN, SLIP, STICK, return_mapping
+from ..masters.obstacles import frame, surface_slip
+from ._layout import NewtonLayout
 
-__all__ = ["FiniteContact", "NewtonSolver", "linear_solve"]
 
 logger = logging.getLogger(__name__)
 
@@ -156,7 +274,7 @@ class NewtonSolver(SequenceSolver):
 
     def newton_step(self, A, rhs: np.ndarray, history) -> np.ndarray:
         """The Newton correction ``A dx = rhs`` (exact; ``history`` serves inexact solvers'
-        forcing terms, :class:`~alcontact.contact._finite_iterative.AMGNewtonSolver`)."""
+        forcing terms, :class:`~alcontact.contact.systems._full_space.AMGNewtonSolver`)."""
         return self.solve(A, rhs)
 
     def info(self) -> dict:
@@ -197,7 +315,7 @@ class FiniteContact(ContactPoints):
     solver : callable, optional
         ``solver(fc)`` returns the solver of the Newton systems (the surface of
         :class:`NewtonSolver`: ``newton_step``, ``solve``, ``resolve``, ``info``), e.g.
-        :class:`~alcontact.contact._finite_iterative.AMGNewtonSolver`; default a :class:`NewtonSolver`.
+        :class:`~alcontact.contact.systems._full_space.AMGNewtonSolver`; default a :class:`NewtonSolver`.
     margin : float
         Candidates of a step are the points whose gap at the step's starting state
         exceeds ``-max(margin * h, 2 * max_penetration)``; points that penetrate
@@ -227,16 +345,16 @@ class FiniteContact(ContactPoints):
     """
 
     factorizations = 0
-    # ---- ContactSystem (:mod:`alcontact.contact.system`): what finite deformation declares
+    # ---- ContactSystem (:mod:`alcontact.contact.systems._protocol`): what finite deformation declares
     #: each Newton iteration costs an assembly and a factorization: the subproblems (S) of Algorithms
-    #: 6.1 / 6.3 are solved inexactly (:func:`~alcontact.contact._algorithms.run_al`; option
+    #: 6.1 / 6.3 are solved inexactly (:func:`~alcontact.contact.algorithms._frictionless.run_al`; option
     #: ``subproblems = "exact"`` turns it off)
     inexact_subproblems = True
     #: :meth:`multiplier_step` is a second-order update: Algorithm 6.1 stops as soon as penetration and
     #: complementarity hold at a subproblem solved to ``newton_tol`` (the KKT conditions at the returned state)
     physical_stopping = True
     #: the pure-penalty start of Algorithm 6.3 (``initial="penalty"``,
-    #: :func:`~alcontact.contact._algorithms.run_al`) solves the penalty subproblem of a load step with
+    #: :func:`~alcontact.contact.algorithms._frictionless.run_al`) solves the penalty subproblem of a load step with
     #: the step's predicted pressures as multipliers (:meth:`initial_multipliers`,
     #: :math:`t_N = \langle\lambda_{pred} + \varepsilon_N g\rangle`, the first subproblem of Algorithm 6.1),
     #: its Newton solve started with the entry rule (:meth:`entry_multipliers`), and takes the second-order
@@ -244,7 +362,7 @@ class FiniteContact(ContactPoints):
     #: themselves stay first order (``docs/benchmarks/finite_met_penalty.md``)
     warm_penalty_start = True
     #: the pure penalty method starts each load step at the stiffness the last converged step ended
-    #: with (:attr:`carried_stiffness`; :func:`~alcontact.contact._algorithms.run_penalty`), its first
+    #: with (:attr:`carried_stiffness`; :func:`~alcontact.contact.algorithms._frictionless.run_penalty`), its first
     #: solve started with the entry rule: Algorithm 5.2's increasing sequence continued over the load steps
     penalty_continuation = True
 
@@ -837,7 +955,7 @@ class FiniteContact(ContactPoints):
         r"""Initial multipliers of Algorithm 6.3 from its penalty start (:attr:`warm_penalty_start`), or ``None``.
 
         :meth:`multiplier_step` on the start's subproblem (the Macaulay law of
-        :func:`~alcontact.contact._algorithms._penalty_start`): the Newton step on the dual with
+        :func:`~alcontact.contact.algorithms._frictionless._penalty_start`): the Newton step on the dual with
         its primal correction, the entering points of the semi-smooth step included. Its products
         are solved to ``_START_RESOLVE_RTOL`` where the solver's back-substitutions are iterative
         (``solver.resolve_rtol``, AMG + CG: 1e-2 for the dual steps of Algorithm 6.1, which the
@@ -901,7 +1019,7 @@ class FiniteContact(ContactPoints):
 
     # ------------------------------------------------------------------ reference (active set)
     def initial_active(self, lam: np.ndarray, g: np.ndarray, c: float) -> np.ndarray:
-        r"""Starting active set of :func:`~alcontact.contact._algorithms.run_ssn` on the candidates.
+        r"""Starting active set of :func:`~alcontact.contact.algorithms._frictionless.run_ssn` on the candidates.
 
         The semi-smooth rule :math:`\lambda_i + c\,g_i > 0` at the starting state, except after
         the secant predictor (:meth:`configure`) or the tangent predictor of a first contact
@@ -940,7 +1058,7 @@ class FiniteContact(ContactPoints):
         After the slide predictor the pressed points get
         :math:`\lambda_i = p_i - g_i/\eta_i` instead, so that the starting traction is the carried
         pressure :math:`p_i`. With ``penalty_start`` (the penalty start of Algorithm 6.3,
-        :func:`~alcontact.contact._algorithms._penalty_start`) a point open by more than
+        :func:`~alcontact.contact.algorithms._frictionless._penalty_start`) a point open by more than
         :attr:`slide_start_reach` :math:`h` at the predicted state (option ``slide_start_reach``) keeps :math:`\lambda_i = p_i`
         (its Macaulay traction is zero there).
         """
@@ -1253,3 +1371,286 @@ class _EqualityNewton(NewtonSystem):
                 self.switched = True
                 return "the predicted active set changed"
         return None
+
+
+#: configuration of the rigid-body near-null modes (:meth:`AMGNewtonSolver.near_null`). The reference
+#: configuration's gave the same CG and Newton counts on both cases of the rebuild factor of
+#: :class:`alcontact.linalg.NewtonKrylovSolver` (half-cylinder to delta/R = 0.4: 26.4 CG per Newton step
+#: either way); the current one costs nothing more
+_MODES = "current"
+
+
+class AMGNewtonSolver(_linalg.NewtonKrylovSolver):
+    r"""Solver of the Newton systems of :class:`~alcontact.contact.systems._full_space.FiniteContact` by AMG + CG.
+
+    :class:`alcontact.linalg.NewtonKrylovSolver` (module doc) with the near-null space of the body:
+    its rigid-body modes on the free DOFs at the configuration of :attr:`modes`.
+
+    Parameters
+    ----------
+    fc : FiniteContact
+        The model whose systems are solved (its free DOFs and current configuration give the
+        rigid-body near-null space).
+    solver : alcontact.linalg.SolverChoice, optional
+        The approximate solver whose factors precondition CG (:func:`alcontact.linalg.select_solver`;
+        default ``"amg"``, PyAMG smoothed aggregation with sparse LU on a coarsest level of at most
+        500 rows).
+    modes : {"current", "reference"}, optional
+        Configuration of the rigid-body near-null modes; default ``_MODES`` (``"current"``).
+    **options
+        ``rtol``, ``forcing_max``, ``rebuild_factor``, ``fallback`` of :class:`~alcontact.linalg.NewtonKrylovSolver`.
+    """
+
+    def __init__(self, fc, *, solver: _linalg.SolverChoice | None = None, modes: str | None = None, **options):
+        modes = _MODES if modes is None else modes
+        if modes not in ("current", "reference"):
+            raise InputError(f"modes={modes!r}; allowed: current, reference.")
+        model = fc.model
+        solver = _linalg.select_solver("amg", dim=model.dim, ndofs=model.ndofs) if solver is None else solver
+        self.fc = fc
+        self.modes = modes
+        pts, dofs = model.all_node_dofs()
+        self._pts = np.asarray(pts, dtype=float)
+        self._dofs = np.asarray(dofs, dtype=np.int64)
+        super().__init__(solver, near_null=self.near_null, dim=model.dim, **options)
+
+    def near_null(self) -> np.ndarray:
+        """Rigid-body modes ``(n_free, k)`` of the body at the configuration of :attr:`modes`.
+
+        ``"current"``: at :math:`X + u` with ``u`` the displacement of the load step's start
+        (:attr:`FiniteContact.u_free <alcontact.contact.systems._full_space.FiniteContact>`).
+        """
+        pts = self._pts
+        if self.modes == "current":
+            u = getattr(self.fc, "u_free", None)
+            if u is not None:
+                pts = pts + np.asarray(u, dtype=float)[self._dofs]
+        modes, _ = rigid_body_modes(pts)
+        R = np.zeros((self.fc.model.ndofs, modes.shape[-1]))
+        R[self._dofs.ravel()] = modes.reshape(-1, modes.shape[-1])
+        return np.ascontiguousarray(R[self.fc.free])
+
+    def info(self) -> dict:
+        """:meth:`alcontact.linalg.NewtonKrylovSolver.info` and the near-null configuration."""
+        return {**super().info(), "near_null": self.modes}
+
+
+def finite_solver(linear_solver: str, entry, model, **options):
+    """Factory ``fc -> solver`` of the Newton systems of :class:`~alcontact.contact.systems._full_space.FiniteContact`.
+
+    The solver of the ``linear_solver`` option is :func:`alcontact.linalg.select_solver`'s (its
+    ``"auto"`` size rule where the algorithm ``entry`` has a Krylov path, :attr:`Algorithm.linear_solvers
+    <alcontact.contact.algorithms._frictionless.Algorithm>` listing ``amg``; an exact solver registered for
+    symmetric indefinite matrices otherwise). An exact solver factorizes every Newton matrix
+    (:class:`~alcontact.contact.systems._full_space.NewtonSolver`); an approximate one preconditions CG with an
+    inexact-Newton forcing term (:class:`AMGNewtonSolver`) where the entry has a Krylov path, else
+    GMRES around its factor of each matrix (:class:`~alcontact.linalg.SequenceSolver`).
+    """
+    solver = _linalg.select_solver(linear_solver, dim=model.dim, ndofs=model.ndofs, matrix_type="symmetric-indefinite",
+                                   allow_iterative="amg" in entry.linear_solvers)
+    if solver.exact or "amg" not in entry.linear_solvers:
+        return lambda fc: NewtonSolver(solver.name)
+    return lambda fc: AMGNewtonSolver(fc, solver=solver, **options)
+
+
+@dataclass
+class _Local:
+    """Local kinematics and tractions of the candidates at one state."""
+
+    u: np.ndarray
+    g: np.ndarray
+    nu: np.ndarray
+    tN: np.ndarray
+    tT: np.ndarray  # (c, d), tangent to the obstacle
+    slip: np.ndarray  # (c, d), slip on the obstacle surface (obstacles.surface_slip)
+    state: np.ndarray
+    R: np.ndarray
+    r_body: np.ndarray
+    reversals: int | None = None  # see FiniteFrictionStep.state_reversals
+
+    @property
+    def aux(self) -> tuple:
+        """``(y, t, Dy, state)`` of the AL loop (:class:`_FiniteALCtx`): ``y = [g, slip]``,
+        ``t = [t_N, t_T]`` (``(c, 1 + d)`` each), no tangent ``Dy`` (first-order updates only)."""
+        return np.column_stack([self.g, self.slip]), np.column_stack([self.tN, self.tT]), None, self.state
+
+
+class FiniteFrictionContact(FiniteContact):
+    """:class:`~alcontact.contact.systems._full_space.FiniteContact` with Coulomb friction (module doc).
+
+    The frictional history of a step is set by :meth:`set_history`: the surface coordinates
+    of all contact points at the last converged step (:meth:`surface_points`), the obstacle
+    translation of the current step, :math:`\\mu` and :math:`\\varepsilon_T`.
+    """
+
+    @property
+    def friction_solver(self) -> SequenceSolver:
+        """Solver of the non-symmetric Newton matrices of friction: the one of the symmetric systems
+        (:attr:`solver`, the ``linear_solver`` option), analyses kept by pattern."""
+        solver = getattr(self, "_friction_solver", None)
+        if solver is None:
+            solver = self._friction_solver = SequenceSolver(self.solver.backend, matrix_type="unsymmetric")
+        return solver
+
+    def set_history(self, y_prev: np.ndarray, mu: float, eps_t: float, radius: str) -> None:
+        """Frictional history of the step (call after :meth:`configure` placed the obstacle).
+
+        Parameters
+        ----------
+        y_prev : ndarray (m, d)
+            Surface coordinates of all contact points at the last converged step: their
+            projections onto the obstacle in the obstacle's own frame (:meth:`surface_points`).
+        mu, eps_t : float
+            Coulomb coefficient and tangential penalty.
+        radius : {"multiplier", "traction"}
+            Radius of the Coulomb disc (module doc).
+        """
+        self.y_prev = np.asarray(y_prev, dtype=float)
+        self.place()
+        self.mu = float(mu)
+        self.eps_t = float(eps_t)
+        self.coupled = radius == "traction"
+
+    def place(self) -> None:
+        """Read the placement :math:`x = Qy + b` of the current obstacle (:func:`~.obstacles.frame`)."""
+        self.rotation, self.offset = frame(self.obstacle, self.dim)
+
+    def surface_points(self, u: np.ndarray) -> np.ndarray:
+        """Obstacle-fixed surface coordinates :math:`y_i = Q^T(\\bar x_i - b)` of all contact points.
+
+        The projection :math:`\\bar x_i` of :math:`x_i = X_i + u_i` onto the current obstacle,
+        taken back to the obstacle's own frame (placement :math:`(Q, b)`, a translation
+        :math:`b = c` for ``obstacle_path`` vectors): the point of the obstacle's own
+        surface the contact point touches (or faces).
+        """
+        return (self.obstacle.project(self.points + u[self.dofs]) - self.offset) @ self.rotation
+
+    def _trial(self, lamT, xc, nu, idx, *, blocks: bool):
+        r"""Trial tangential traction :math:`z = P\lambda_T + \varepsilon_T\Delta s_T` and the slip.
+
+        :math:`\Delta s_T` is the slip on the obstacle's surface from the previous surface
+        point to the projection of :math:`x` (:func:`~alcontact.contact.obstacles.surface_slip`).
+        With ``blocks``, also :math:`\partial z/\partial x = (\nu\cdot\lambda_T) H +
+        \nu (H\lambda_T)^T + \varepsilon_T\,\partial\Delta s_T/\partial x`.
+        """
+        y_prev = self.y_prev[idx] @ self.rotation.T + self.offset
+        slip, dslip = surface_slip(self.obstacle, xc, y_prev, jacobian=blocks)
+        nl = np.einsum("ij,ij->i", nu, lamT)
+        z = lamT - nl[:, None] * nu + self.eps_t * slip
+        if not blocks:
+            return z, slip, None, None
+        H = self.obstacle.gap_hessian(xc)
+        Hl = np.einsum("ijk,ik->ij", H, lamT)
+        dz = nl[:, None, None] * H + nu[:, :, None] * Hl[:, None, :] + self.eps_t * dslip
+        return z, slip, dz, H
+
+    # ------------------------------------------------------------------ local law
+    def _local(self, law, lamN, lamT, u, idx, *, blocks: bool):
+        xc = self._current(u, idx)
+        g, nu = self.obstacle.evaluate(xc)
+        tN = np.asarray(law.traction(g, lamN), dtype=float)
+        kN = np.asarray(law.stiffness(g, lamN), dtype=float)
+        z, slip, dz, H = self._trial(lamT, xc, nu, idx, blocks=blocks)
+        if not blocks and not np.all(np.isfinite(tN)):
+            # outside the domain of a barrier-type penalty (a line-search trial that its non-finite
+            # residual rejects, or a start the AL loop reports): no tangential traction
+            return g, nu, tN, np.full_like(z, np.nan), slip, np.full(idx.size, OPEN), None
+        rho = self.mu * (tN if self.coupled else np.maximum(lamN, 0.0))
+        tT, opened, stick, slipping, n, dproj = return_mapping(z, rho)
+        state = np.where(opened, OPEN, np.where(stick, STICK, SLIP))
+        if not blocks:
+            return g, nu, tN, tT, slip, state, None
+        dT = dproj @ dz
+        if self.coupled:
+            dT = dT - np.where(slipping[:, None, None], self.mu * kN[:, None, None] * n[:, :, None] * nu[:, None, :],
+                               0.0)
+        K = kN[:, None, None] * nu[:, :, None] * nu[:, None, :] + tN[:, None, None] * H + dT
+        return g, nu, tN, tT, slip, state, K
+
+    def _assemble_points(self, idx, vec: np.ndarray) -> np.ndarray:
+        """Sum of the point vectors ``vec`` (k, d) onto the free DOFs."""
+        out = np.zeros(self.free.size)
+        pos = self.pos[idx].ravel()
+        keep = pos >= 0
+        np.add.at(out, pos[keep], vec.ravel()[keep])
+        return out
+
+    def evaluate(self, law, lamN, lamT, x) -> _Local:
+        """Residual (module doc) and local state of the candidates at the free displacement ``x``."""
+        cand = self.cand
+        w = self.weights[cand]
+        u = self.expand(x)
+        rb, _ = self._body_state(u, False)
+        g, nu, tN, tT, slip, state, _ = self._local(law, lamN, lamT, u, cand, blocks=False)
+        if np.all(np.isfinite(tN)):
+            R = rb[self.free] + self._assemble_points(cand, w[:, None] * (tT - tN[:, None] * nu))
+        else:  # outside a barrier's domain (see _local)
+            R = np.full(self.free.size, np.nan)
+        return _Local(u, g, nu, tN, tT, slip, state, R, rb)
+
+    def friction_jacobian(self, law, lamN, lamT, u) -> sp.csr_matrix:
+        """Consistent, non-symmetric Newton matrix of the frictional subproblem (module doc)."""
+        cand = self.cand
+        w = self.weights[cand]
+        *_, K = self._local(law, lamN, lamT, u, cand, blocks=True)
+        return (self._tangent_free(u) + self._point_blocks(cand, w[:, None, None] * K)).tocsr()
+
+    def friction_subproblem(self, law, lamN, lamT, x0, *, tol: float, maxiter: int) -> NewtonResult:
+        """Newton's method for :math:`R(x) = 0` (module doc, :class:`_FrictionSubproblem`).
+
+        Returns the :class:`~alcontact.contact.algorithms._subproblem.NewtonResult`; its ``state`` is the
+        :class:`_Local` state of the last iterate (``None`` when the start inverts an element).
+        """
+        log: list[float] = []
+        self.residual_log.append(log)
+        system = _FrictionSubproblem(self, law, lamN, lamT)
+        try:
+            return newton(system, x0, tol=tol, maxiter=maxiter, settings=_FRICTION_SETTINGS, log=log)
+        except InvertedElementError as exc:
+            return NewtonResult(np.array(x0, dtype=float), None, Status.NEWTON_FAILED,
+                                f"inverted element at the starting state ({exc})", 0, np.inf)
+
+
+#: a frictional step has no potential: backtracking on the residual norm, inverted elements halve the step
+_FRICTION_SETTINGS = NewtonSettings(LineSearch(halvings=_MAX_HALVINGS, armijo=_ARMIJO, merit=False, residual_decrease=True,
+                                      full_step=False), stall=1e-9)
+#: the semi-smooth reference: the same, the stall test from the third iterate on
+_FRICTION_SSN_SETTINGS = dataclasses.replace(_FRICTION_SETTINGS, stall_from=3)
+
+
+class _FrictionSubproblem(NewtonSystem):
+    """The frictional subproblem of :class:`FiniteFrictionContact` for :func:`~._newton.newton`.
+
+    State: :class:`_Local`. Relative residual :math:`\\max|R|` over the running force unit
+    (:meth:`~alcontact.contact.systems._full_space.FiniteContact.force_scale` with the contact tractions).
+    """
+
+    domain_errors = (InvertedElementError,)
+
+    def __init__(self, dc, law, lamN, lamT):
+        self.dc, self.law, self.lamN, self.lamT = dc, law, lamN, lamT
+        self.w = dc.weights[dc.cand]
+        self.scale = 0.0
+
+    def evaluate(self, x):
+        return self.dc.evaluate(self.law, self.lamN, self.lamT, x)
+
+    def residual(self, state):
+        return state.R
+
+    def measure(self, state):
+        tabs = np.hypot(state.tN, np.linalg.norm(state.tT, axis=1))
+        self.scale = max(self.scale, self.dc.force_scale(state.r_body, self.w * tabs))
+        return float(np.max(np.abs(state.R), initial=0.0)) / self.scale
+
+    def step(self, x, state, history):
+        dc = self.dc
+        ta = time.perf_counter()
+        J = dc.friction_jacobian(self.law, self.lamN, self.lamT, state.u)
+        tb = time.perf_counter()
+        dc.assembly_seconds += tb - ta
+        dx = dc.friction_solver.solve(J, -state.R)
+        dc.solve_seconds += time.perf_counter() - tb
+        dc.linear_solves += 1
+        dc.newton_iterations += 1
+        return dx

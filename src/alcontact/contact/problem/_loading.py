@@ -18,7 +18,7 @@ of prescribed DOFs is the same at every step, only the values change).
 Examples
 --------
 >>> from alcontact.contact import Support
->>> from alcontact.contact._loading import LoadCase, LoadHistory, Ramp
+>>> from alcontact.contact.problem._loading import LoadCase, LoadHistory, Ramp
 >>> press = LoadCase(Support("top", value=(0.0, -1e-3)), Ramp((0.0, 0.5, 1.0), (0.0, 1.0, 1.0)))
 >>> shear = LoadCase(Support("top", components=(0,), value=1e-3), Ramp((0.5, 1.0), (0.0, 1.0)),
 ...                  tangential=True)
@@ -35,8 +35,8 @@ from typing import Any, Callable, Sequence
 
 import numpy as np
 
-from .._options import MAX_STEPS, is_integer, is_real, show
-from ..errors import InputError
+from ..._options import MAX_STEPS, is_integer, is_real, show
+from ...errors import InputError
 from ._problem import BodyForce, Pressure, Support, Traction
 
 
@@ -45,8 +45,6 @@ def _finite_number(x) -> bool:
         return math.isfinite(x)
     except OverflowError:
         return False
-
-__all__ = ["Ramp", "LoadCase", "LoadHistory"]
 
 
 @dataclass(frozen=True)

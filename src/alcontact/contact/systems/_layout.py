@@ -1,4 +1,4 @@
-r"""Fixed sparse structures of the Newton matrices of :class:`~alcontact.contact._finite.FiniteContact`.
+r"""Fixed sparse structures of the Newton matrices of :class:`~alcontact.contact.systems._full_space.FiniteContact`.
 
 Every Newton matrix of the finite-deformation path is built on the CSR pattern of the
 body's tangent (:attr:`Hyperelastic.tangent_pattern
@@ -29,8 +29,6 @@ from __future__ import annotations
 
 import numpy as np
 import scipy.sparse as sp
-
-__all__ = ["NewtonLayout"]
 
 
 def _frozen(a: np.ndarray, dtype) -> np.ndarray:

@@ -11,11 +11,9 @@ from typing import Any, Callable, Sequence
 
 import numpy as np
 
-from ..errors import InputError, UnknownNameError
-from ._master import Master
+from ...errors import InputError, UnknownNameError
+from ..masters._master import Master
 
-__all__ = ["Support", "Traction", "Pressure", "BodyForce", "Boundary", "ContactPair", "ContactProblem", "merge_supports",
-           "KINEMATICS"]
 
 #: Contact kinematics a problem can ask for (see :class:`ContactProblem`)
 KINEMATICS = {

@@ -38,9 +38,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .. import penalties as _pen
-
-__all__ = ["NormalLaw", "eta_for_stiffness", "make_law", "freezes_at_zero"]
+from ... import penalties as _pen
 
 
 def freezes_at_zero(penalty) -> bool:

@@ -2,18 +2,13 @@
 
 from __future__ import annotations
 
-import logging
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
-from ..errors import ConvergenceError
-from ..status import Status
-
-__all__ = ["ContactStatus", "ContactIteration", "ContactResult", "ContactSolution", "ContactFrame"]
-
-logger = logging.getLogger(__name__)
+from ...errors import ConvergenceError
+from ...status import Status
 
 
 #: Termination reason of a contact solve: the project's one status table
@@ -99,7 +94,7 @@ class ContactSolution:
         them, :meth:`~alcontact.fem.LinearElasticity.boundary_pressure`). ``None``:
         ``weights * pressure``.
 
-    Estimators (documented in :mod:`alcontact.contact._estimators` and
+    Estimators (documented in :mod:`alcontact.contact.solution._estimators` and
     ``docs/estimators.md``): :attr:`normal_force` and :attr:`total_contact_force`
     sum the nodal forces; :attr:`peak_pressure` and :meth:`contact_half_width`
     come from least-squares Hertz fits when the problem's reference is a Hertz
@@ -187,7 +182,7 @@ class ContactSolution:
         return f
 
     def equilibrium(self, problem=None):
-        """Global equilibrium of this state, :func:`alcontact.contact._estimators.equilibrium`.
+        """Global equilibrium of this state, :func:`alcontact.contact.solution._estimators.equilibrium`.
 
         ``problem`` defaults to :attr:`problem`; pass the problem frozen at the
         state's load level for a stepped run (``problem_at(problem, history, t)``).
@@ -342,7 +337,7 @@ class ContactFrame:
     slip_total : ndarray (m, d)
         Slip accumulated over the steps so far.
     state : ndarray of int (m,)
-        ``OPEN`` (0), ``STICK`` (1), ``SLIP`` (2) of :mod:`alcontact.contact._friction_laws`; without
+        ``OPEN`` (0), ``STICK`` (1), ``SLIP`` (2) of :mod:`alcontact.contact.laws._coulomb`; without
         friction a closed point slides freely: ``SLIP`` where active, else ``OPEN``.
     contact_force : ndarray (d,)
         Resultant of all contact forces on the body (normal and tangential).
@@ -406,7 +401,7 @@ def frame_of(sol: ContactSolution) -> ContactFrame:
     ``tangential_force``, ``cutbacks``, ``seconds``, ``step_newton_iterations``,
     ``step_outer_iterations``, ``step_linear_solves``: a run's result holds its totals).
     """
-    from ._friction_laws import OPEN, SLIP
+    from ..laws._coulomb import OPEN, SLIP
 
     ex = sol.extra
     m, d = np.shape(sol.points)
@@ -436,4 +431,3 @@ def _radius_like(points, x, center, axis):
     # append the nodes so that the flat direction is decided by the same point cloud
     r = radial_coordinate(np.vstack([x, pts]), center, axis)
     return r[: x.shape[0]]
-

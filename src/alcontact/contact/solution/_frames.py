@@ -1,8 +1,8 @@
 """The one place the per-step states of a load-stepped solve become :class:`ContactSolution` frames.
 
-Each stepping engine (:func:`~alcontact.contact._stepping.solve_finite`,
-:func:`~alcontact.contact._friction.solve_friction`,
-:func:`~alcontact.contact._finite_friction.solve_finite_friction`, and the independent static
+Each stepping engine (:func:`~alcontact.contact.stepping._frictionless.solve_finite`,
+:func:`~alcontact.contact.stepping._coulomb.solve_friction`,
+:func:`~alcontact.contact.stepping._coulomb.solve_finite_friction`, and the independent static
 solves of a path-independent frictionless history) records its accepted steps in its own
 shape; the functions here turn them into one :class:`~alcontact.contact.ContactSolution` per
 step (the step's state, its loads in ``problem`` so that ``equilibrium()`` is that step's
@@ -10,7 +10,7 @@ balance, its counters in ``result``, the frictional fields in ``extra``) and ret
 one carrying every step as a :class:`~alcontact.contact.ContactFrame`. Nothing built here is
 changed afterwards.
 
-Frictional fields in ``extra`` (read by :func:`~alcontact.contact._solution.frame_of`, the
+Frictional fields in ``extra`` (read by :func:`~alcontact.contact.solution._solution.frame_of`, the
 VTU writer and the summaries): ``slip`` (accumulated), ``slip_increment``, ``state``, ``shear``
 (tangential traction on the body, global components, :math:`(m, d)`), ``tangential_force``,
 ``mu``, ``coulomb`` (small) or ``dissipation`` (finite), ``t``, ``requested``, ``cutbacks``.
@@ -22,11 +22,9 @@ import dataclasses
 
 import numpy as np
 
-from ._loading import problem_at
+from .._verify import check_state
+from ..problem._loading import problem_at
 from ._solution import ContactResult, ContactSolution, ContactStatus, frame_of
-from ._verify import check_state
-
-__all__ = ["stepped_solution", "finite_solution", "friction_solution", "finite_friction_solution"]
 
 
 def _complementarity(gap, pressure, h: float) -> float:
@@ -56,7 +54,7 @@ def finite_solution(fs, problem, history, path) -> ContactSolution:
     The last frame is the run's verified solution; the others carry the state each step
     accepted (gaps and normals at the current configuration of the moved obstacle).
     """
-    from .obstacles import RigidMotion, move, translate
+    from ..masters.obstacles import RigidMotion, move, translate
 
     base = fs.solution
     model = problem.model

@@ -1,0 +1,242 @@
+r"""Contact points at small deformation: the linearized gap (6.15) and its data.
+
+At contact point ``i`` (a DOF location of the candidate boundary, reference position
+:math:`X_i`)
+
+.. math::
+
+    g_i(u) = g^0_i - \nu_i \cdot u_i \le 0,
+
+where :math:`g^0_i` is the signed gap of :math:`X_i` and :math:`\nu_i` the obstacle's
+normal at its projection (pointing out of the obstacle); ``B`` has the rows
+:math:`-\nu_i^T` on the DOFs of point ``i`` and ``w_i`` is the tributary length/area.
+:class:`ContactPoints` holds this geometry and the candidates for every contact system
+(:mod:`alcontact.contact.systems`); :func:`tangent_bases` gives the orthonormal tangent
+directions of the Coulomb law (section 6.2) at each point.
+"""
+
+from __future__ import annotations
+
+import logging
+
+import numpy as np
+import scipy.sparse as sp
+
+from ...errors import InputError
+
+
+logger = logging.getLogger(__name__)
+
+
+def _element_size(model, boundary: str, obstacle) -> float:
+    """Median facet size of the contact boundary near the obstacle (the facets closest to it set the scale)."""
+    f = model.facets(boundary)
+    p = model.mesh.p
+    v = model.mesh.facets[:, f]
+    if model.dim == 2:
+        size = np.linalg.norm(p[:, v[1]] - p[:, v[0]], axis=0)
+    else:
+        size = np.sqrt(np.linalg.norm(np.cross((p[:, v[1]] - p[:, v[0]]).T, (p[:, v[2]] - p[:, v[0]]).T), axis=1))
+    g = obstacle.gap(p[:, v].mean(axis=1).T)
+    # facets closest to the obstacle set the scale (graded meshes are fine there)
+    near = g >= np.quantile(g, 0.9) if g.size > 10 else np.ones(g.size, bool)
+    return float(np.median(size[near]))
+
+
+def _point_rows(points: np.ndarray, k: int) -> np.ndarray:
+    """Rows ``i*k .. i*k + k - 1`` of every point ``i`` (point-major)."""
+    return (np.asarray(points, dtype=np.int64)[:, None] * k + np.arange(k)).ravel()
+
+
+class ContactPoints:
+    """Contact points of a problem: geometry, linearized gaps (6.15), candidates.
+
+    Shared by the condensed direct paths (:class:`CondensedContact`: frictionless
+    :class:`DiscreteContact`, frictional
+    :class:`~alcontact.contact.systems._condensed.FrictionalContact`), the
+    factorization-free one (:class:`~alcontact.contact.systems._krylov.IterativeContact`)
+    and finite deformation. Subclasses call :meth:`_setup_points` with their free
+    DOFs, then :meth:`_setup_candidates` (or :meth:`_select_candidates`).
+
+    It also holds the *not available* values of the optional members of
+    :class:`~alcontact.contact.systems._protocol.ContactSystem` (no warm start, the plain semi-smooth
+    rule, no multiplier shift, no second-order update); a model with the capability overrides them.
+    """
+
+    # ---- ContactSystem: declared capabilities, "not available" on a model without them
+    inexact_subproblems = False
+    physical_stopping = False
+    warm_penalty_start = False
+    penalty_continuation = False
+    carried_stiffness: float | None = None
+    active_converged = True
+    active_residual = float("nan")
+
+    def initial_multipliers(self) -> np.ndarray:
+        """No warm start: zero multipliers on the candidates (:class:`~alcontact.contact.systems._protocol.ContactSystem`)."""
+        return np.zeros(self.cand.size)
+
+    def initial_active(self, lam: np.ndarray, g: np.ndarray, c: float) -> np.ndarray:
+        r"""The semi-smooth rule :math:`\lambda + c\,g > 0` (no prediction of the entering points)."""
+        return (np.asarray(lam, dtype=float) + c * np.asarray(g, dtype=float)) > 0
+
+    def entry_multipliers(self, lam: np.ndarray, law, *, penalty_start: bool = False) -> np.ndarray:
+        """``lam`` unchanged: no prediction of the points entering contact."""
+        return lam
+
+    def multiplier_step(self, law, lam: np.ndarray, out):
+        """``None``: no second-order multiplier update (the first-order one (6.13) / (6.66) runs)."""
+        return None
+
+    def start_multiplier_step(self, law, lam: np.ndarray, out):
+        """``None``: no warm penalty start of Algorithm 6.3."""
+        return None
+
+    def _setup_problem(self, problem) -> None:
+        """Model, supports and load of ``problem``."""
+        self._setup_model(problem, *problem.dirichlet())
+        self.load = problem.load_vector()
+
+    def _setup_model(self, problem, fixed: np.ndarray, fixed_values: np.ndarray | None = None) -> None:
+        """Problem, model, dimension and the supported DOFs ``fixed`` (with their values)."""
+        self.problem = problem
+        self.model = problem.model
+        self.dim = self.model.dim
+        self.fixed, self.fixed_values = fixed, fixed_values
+
+    def applied_pressure(self, out) -> np.ndarray:
+        """Pressures the solution reports for the final run ``out``: its multipliers."""
+        return out.lam
+
+    def expand(self, x: np.ndarray) -> np.ndarray:
+        """Full displacement from the values ``x`` of the free DOFs and the prescribed values."""
+        u = np.zeros(self.model.ndofs)
+        u[self.free] = x
+        if self.fixed.size:
+            u[self.fixed] = self.fixed_values
+        return u
+
+    def _setup_points(self, problem, free: np.ndarray) -> None:
+        """Points, DOFs, weights, obstacle normals and gaps; ``pos``, ``B`` and ``movable`` for the DOFs ``free``.
+
+        ``pos`` (m, d): position of each point DOF in the free numbering (-1 when
+        supported); ``B``: rows :math:`-\\nu_i^T` on the free DOFs; ``movable``: the
+        normal motion is not fully supported (the point may be a candidate).
+        """
+        model = problem.model
+        pts, dofs = model.node_dofs(problem.contact_boundary)
+        w = model.boundary_weights(problem.contact_boundary)
+        gap0, nu = problem.obstacle.evaluate(pts)
+        self.points, self.dofs, self.weights = pts, dofs, w
+        self.normals, self.gap0 = nu, gap0
+        # position of each DOF in the free vector (-1 when fixed)
+        free_pos = -np.ones(model.ndofs, dtype=np.int64)
+        free_pos[free] = np.arange(free.size)
+        pos = free_pos[dofs]  # (m, d)
+        self.pos = pos
+        coef = np.where(pos >= 0, -nu, 0.0)
+        self.movable = np.linalg.norm(coef, axis=1) > 1e-12
+        m = pts.shape[0]
+        rows = np.repeat(np.arange(m), self.dim)
+        cols = pos.ravel()
+        keep = cols >= 0
+        self.B = sp.csr_matrix((coef.ravel()[keep], (rows[keep], cols[keep])), shape=(m, free.size))
+
+    def _setup_candidates(self, u_free: np.ndarray, margin: float) -> None:
+        self.g_free = self.all_gaps(u_free)
+        self.h = self._element_size()
+        self.cand = self._select_candidates(self.g_free, margin)
+
+    def _select_candidates(self, g: np.ndarray, margin: float, *, pinned_tol: float = 0.0,
+                           when: str = "") -> np.ndarray:
+        """Candidate points: movable, with ``g`` above ``-margin`` times the largest free penetration.
+
+        ``g`` are the gaps of the contact-free solution (their maximum over the load
+        steps with a history); sets ``max_free_penetration``.
+
+        Raises
+        ------
+        InputError
+            A point whose normal motion is supported penetrates (``g > pinned_tol``);
+            ``when`` completes the message (``" at some load step"``).
+        """
+        pinned = ~self.movable & (g > pinned_tol)
+        if np.any(pinned):
+            i = int(np.flatnonzero(pinned)[0])
+            raise InputError(
+                f"contact point {self.points[i].tolist()} is held by a Dirichlet condition in the normal "
+                f"direction but penetrates the obstacle by {g[i]:.3e}{when}; move the obstacle "
+                "or release that support."
+            )
+        gmax = float(np.max(g[self.movable], initial=-np.inf))
+        self.max_free_penetration = gmax
+        if gmax > 0:
+            thr = -max(margin * gmax, 1e-12 * self.h)
+            return np.flatnonzero(self.movable & (g > thr))
+        return np.empty(0, dtype=np.int64)
+
+    def _element_size(self) -> float:
+        """Median facet size of the contact boundary near the obstacle (kept for the same obstacle and boundary)."""
+        key = (self.model, self.problem.obstacle, self.problem.contact_boundary)
+        cached = getattr(self, "_h_of", None)
+        if cached is None or cached[0][0] is not key[0] or cached[0][1] is not key[1] or cached[0][2] != key[2]:
+            cached = self._h_of = (key, _element_size(key[0], key[2], key[1]))
+        return cached[1]
+
+    def all_gaps(self, u: np.ndarray) -> np.ndarray:
+        """Linearized gaps (6.15) of every contact-boundary point for displacement ``u``."""
+        return self.gap0 - np.einsum("ij,ij->i", self.normals, u[self.dofs])
+
+    def extend(self, g_all: np.ndarray, tol: float) -> np.ndarray:
+        """Add the non-candidate points whose gap exceeds ``tol``; return the added ones."""
+        outside = np.ones(self.points.shape[0], bool)
+        outside[self.cand] = False
+        add = np.flatnonzero(outside & self.movable & (g_all > tol))
+        if add.size:
+            logger.info("adding %d contact candidates that penetrate", add.size)
+            self._add_candidates(add)
+        return add
+
+    def _add_candidates(self, new: np.ndarray) -> None:
+        self.cand = np.concatenate([self.cand, new])
+
+    def _new_points(self, new: np.ndarray) -> np.ndarray:
+        """The movable points of ``new`` that are not candidates yet (sorted)."""
+        new = np.setdiff1d(np.asarray(new, dtype=np.int64), self.cand)
+        return new[self.movable[new]]
+
+
+def tangent_bases(normals: np.ndarray, held: np.ndarray | None = None) -> np.ndarray:
+    """Orthonormal tangent bases ``T`` of shape ``(m, d, d-1)`` for unit normals ``(m, d)``.
+
+    One reference axis ``e`` (the global axis least aligned with the mean
+    normal) is projected on every tangent plane, so neighbouring points of a
+    curved obstacle get consistent, smoothly varying bases; points where ``e``
+    is nearly normal use the next axis. 3D: ``T_2 = nu x T_1``.
+
+    ``held`` (bool ``(m, d)``, optional) marks supported global axes of each
+    point. A held axis orthogonal to the normal (to round-off) becomes the first
+    tangent of that point, so that the supported tangential motion is one
+    tangent direction exactly (in 3D, ``T_2 = nu x e_k`` is then the other held
+    axis too when both tangential axes are supported).
+    """
+    nu = np.asarray(normals, dtype=float)
+    m, d = nu.shape
+    mean = nu.mean(axis=0) if m else np.eye(d)[-1]
+    order = np.argsort(np.abs(mean))
+    e = np.zeros((m, d))
+    e[:, order[0]] = 1.0
+    bad = np.abs(nu[:, order[0]]) > 0.9
+    e[bad] = 0.0
+    e[bad, order[1]] = 1.0
+    if held is not None:
+        tangential = np.asarray(held, bool) & (np.abs(nu) <= 1e-12)
+        rows = np.flatnonzero(tangential.any(axis=1))
+        e[rows] = 0.0
+        e[rows, np.argmax(tangential[rows], axis=1)] = 1.0
+    t1 = e - np.einsum("ij,ij->i", e, nu)[:, None] * nu
+    t1 /= np.linalg.norm(t1, axis=1, keepdims=True)
+    if d == 2:
+        return t1[:, :, None]
+    t2 = np.cross(nu, t1)
+    return np.stack([t1, t2], axis=2)
