@@ -64,7 +64,7 @@ def test_run_ssn_refuses_an_unconverged_active_set_solve():
     from alcontact.contact.algorithms import ContactOptions, run_ssn
     from alcontact.contact.kinematics import ContactPoints
 
-    class Model(ContactPoints):  # the declared "not available" members of every model (contact.system)
+    class Model(ContactPoints):  # the declared "not available" members of every model (contact.systems)
         h = 1.0
         cand = np.arange(3)
         active_residual = 6e-2
