@@ -25,7 +25,8 @@ from .laws._stiffness import penalty_stiffness
 from .problem._loading import LoadHistory, problem_at
 from .solution._frames import finite_friction_solution, finite_solution, friction_solution, stepped_solution
 from .solution._solution import ContactResult, ContactSolution, ContactStatus
-from .stepping._coulomb import solve_finite_friction as _finite_friction_engine, solve_friction as _friction_engine
+from .stepping._coulomb import finite_friction_steps, solve_finite_friction as _finite_friction_engine, \
+    solve_friction as _friction_engine
 from .stepping._frictionless import solve_finite as _finite_engine
 from .systems._condensed import DiscreteContact
 
@@ -364,13 +365,7 @@ def _finite(problem, algorithm, penalty, options, steps, history, obstacle_path,
 
 def _finite_friction(problem, mu, algorithm, penalty, options, steps, history, obstacle_path, max_cutbacks,
                      progress, overrides, hooks):
-    if history is not None and not isinstance(history, LoadHistory):
-        raise InputError(f"history must be a LoadHistory or None; got {type(history).__name__}.")
-    if history is not None and history.friction is not None:
-        raise InputError("history: a friction amplitude (friction_ramp) is not available at finite kinematics; "
-                         "remove it (the coefficient is constant) or use kinematics='small'.")
-    if steps is None:
-        steps = history.times if history is not None else 10
+    steps = finite_friction_steps(history, steps)
     if max_cutbacks is not None:
         overrides = dict(overrides, max_cutbacks=max_cutbacks)
     cb = hooks.get("progress")

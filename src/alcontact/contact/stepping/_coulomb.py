@@ -424,11 +424,15 @@ def solve_friction(problem, history: LoadHistory | None, algorithm: str = "simo-
     )
 
 
-def _solve_finite(problem, history, algorithm, penalty, options, *, steps, friction, on_step, obstacle_path,
-                  **option_overrides):
-    """:func:`solve_friction` of a ``kinematics="finite"`` problem: :func:`solve_finite_friction`
-    (registered by :mod:`._finite_friction`, :func:`register_friction_kinematics`)."""
-    solve_finite_friction = _KINEMATICS_SOLVERS["finite"]
+def finite_friction_steps(history, steps):
+    """The load steps of a finite-deformation Coulomb solve: ``steps``, else the history's times, else 10.
+
+    Raises
+    ------
+    InputError
+        ``history`` not a :class:`LoadHistory`, or one with a friction amplitude (the coefficient is
+        constant at finite kinematics).
+    """
     if history is not None and not isinstance(history, LoadHistory):
         raise InputError(f"history must be a LoadHistory or None; got {type(history).__name__}.")
     if history is not None and history.friction is not None:
@@ -436,6 +440,15 @@ def _solve_finite(problem, history, algorithm, penalty, options, *, steps, frict
                          "remove it (the coefficient is constant) or use kinematics='small'.")
     if steps is None:
         steps = history.times if history is not None else 10
+    return steps
+
+
+def _solve_finite(problem, history, algorithm, penalty, options, *, steps, friction, on_step, obstacle_path,
+                  **option_overrides):
+    """:func:`solve_friction` of a ``kinematics="finite"`` problem: :func:`solve_finite_friction`
+    (registered by :mod:`._finite_friction`, :func:`register_friction_kinematics`)."""
+    solve_finite_friction = _KINEMATICS_SOLVERS["finite"]
+    steps = finite_friction_steps(history, steps)
     mu = problem.friction if friction is None else friction
     return solve_finite_friction(problem, mu, algorithm, penalty, options, steps=steps, history=history,
                                  obstacle_path=obstacle_path, progress=on_step, **option_overrides)
