@@ -22,7 +22,7 @@ from alcontact.contact.algorithms import _frictionless as _algorithms
 from alcontact.contact.systems import DiscreteContact
 from alcontact.contact.solution import equilibrium
 from alcontact.contact.systems import IterativeContact
-from alcontact.contact._verify import check_state
+from alcontact.contact import check_state
 from alcontact.fem import LinearElasticity, Material, meshes
 from alcontact.fem.hyperelastic import Hyperelastic
 from alcontact.problems import friction as fp

@@ -11,7 +11,7 @@ from alcontact.contact import ContactStatus, Support
 from alcontact.contact.algorithms._frictionless import _REGISTRY
 from alcontact.contact.algorithms import find_algorithm
 from alcontact.contact.algorithms import FrictionOptions, friction_algorithms
-from alcontact.contact.stepping._coulomb import solve_friction
+from alcontact.contact import solve_friction
 from alcontact.contact.kinematics import tangent_bases
 from alcontact.contact.laws import OPEN, SLIP, STICK, Macaulay, local_law, tangential_energy
 from alcontact.contact.problem import LoadCase, LoadHistory, Ramp
