@@ -7,7 +7,7 @@ import dataclasses
 import numpy as np
 import pytest
 
-import alcontact.contact.algorithms._frictionless as algorithms
+import alcontact.penalties as penalties
 from alcontact.contact import contact_element_size
 from alcontact.contact.algorithms import contact_penalties, find_algorithm
 from alcontact.contact.systems import DiscreteContact
@@ -18,8 +18,8 @@ from alcontact.problems import hertz
 def test_penalty_for_makes_only_the_named_penalty(monkeypatch):
     """``penalty_for`` checks the named penalty only (making every registered one cost ~1 ms per solve)."""
     made = []
-    real = algorithms._pen.make
-    monkeypatch.setattr(algorithms._pen, "make", lambda name, *a, **k: made.append(name) or real(name, *a, **k))
+    real = penalties.make
+    monkeypatch.setattr(penalties, "make", lambda name, *a, **k: made.append(name) or real(name, *a, **k))
     assert find_algorithm("family-p").penalty_for("log-met2") == "log-met2"
     assert made == ["log-met2"]
 
