@@ -16,7 +16,7 @@ for _var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS"):
 def pytest_configure(config):
     missing = []
     try:
-        from alcontact.linalg._petsc import petsc
+        from alcontact.linalg import petsc
 
         petsc()
     except Exception as exc:  # the InputError that names `make mpi`

@@ -25,7 +25,8 @@ from alcontact import penalties as _pen
 from alcontact.contact import ContactStatus, solve
 from alcontact.contact.systems import DiscreteContact
 from alcontact.contact.laws import make_law
-from alcontact.contact.algorithms._subproblem import CondensedSubproblem, NewtonSystem, newton
+from alcontact.contact.algorithms._subproblem import CondensedSubproblem
+from alcontact.optim import NewtonSystem, newton
 from alcontact.problems import hertz
 from alcontact.status import Status
 

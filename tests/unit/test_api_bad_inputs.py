@@ -22,7 +22,7 @@ from alcontact import errors
 from alcontact._options import declarations
 from alcontact.contact import ContactOptions, Support, solve
 from alcontact.contact.algorithms import FrictionOptions
-from alcontact.contact.stepping._coulomb import solve_friction
+from alcontact.contact import solve_friction
 from alcontact.fem import meshes
 from alcontact.optim import minimize
 from alcontact.problems import friction as fp

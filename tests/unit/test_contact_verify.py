@@ -10,7 +10,8 @@ import pytest
 from alcontact.contact import ContactStatus, solve, solve_friction
 from alcontact.contact.algorithms import _coulomb as _friction
 from alcontact.contact.algorithms import _frictionless as _algorithms
-from alcontact.contact._verify import check_state, verified_status
+from alcontact.contact import check_state
+from alcontact.contact._verify import verified_status
 from alcontact.problems import friction as fp
 from alcontact.problems import hertz
 

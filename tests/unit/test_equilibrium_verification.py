@@ -18,17 +18,32 @@ import pytest
 
 from alcontact.contact import ContactProblem, ContactStatus, Ramp, Support, obstacles, solve, solve_finite
 from alcontact.contact import solve_friction, solve_finite_friction
-from alcontact.contact.algorithms import _frictionless as _algorithms
+from alcontact.contact.algorithms import find_algorithm, register
 from alcontact.contact.systems import DiscreteContact
 from alcontact.contact.solution import equilibrium
 from alcontact.contact.systems import IterativeContact
-from alcontact.contact._verify import check_state
+from alcontact.contact import check_state
 from alcontact.fem import LinearElasticity, Material, meshes
 from alcontact.fem.hyperelastic import Hyperelastic
 from alcontact.problems import friction as fp
 from alcontact.problems import hertz
 
 MAT = Material(E=1000.0, nu=0.3, plane="strain")
+
+
+@pytest.fixture
+def stand_in():
+    """``stand_in(entry, run)`` registers ``entry`` with another ``run`` (:func:`alcontact.contact.algorithms.register`,
+    the public registry); the real entries are registered again at teardown."""
+    real = []
+
+    def put(entry, run):
+        real.append(entry)
+        register(dataclasses.replace(entry, run=run))
+
+    yield put
+    for entry in reversed(real):
+        register(entry)
 
 
 def _interior_dof(problem, exclude=()) -> int:
@@ -98,11 +113,11 @@ def _ironing():
 
 @pytest.mark.parametrize("algorithm, linear_solver", [("ssn", "direct"), ("penalty", "direct"),
                                                       ("simo-laursen", "direct"), ("simo-laursen", "amg")])
-def test_finite_fake_solve_is_not_verified(monkeypatch, algorithm, linear_solver):
+def test_finite_fake_solve_is_not_verified(stand_in, algorithm, linear_solver):
     problem, kw = _ironing()
     good = solve_finite(problem, algorithm, linear_solver=linear_solver, **kw)
     assert good.status == ContactStatus.CONVERGED, good.message
-    entry = _algorithms.find_algorithm(algorithm, kinematics="finite")
+    entry = find_algorithm(algorithm, kinematics="finite")
     model_dof = _interior_dof(problem)
 
     def fake(dc, opts, eps0, pen):
@@ -111,7 +126,7 @@ def test_finite_fake_solve_is_not_verified(monkeypatch, algorithm, linear_solver
         out.r = _kick(out.r, k)  # the free-DOF state with one interior DOF off equilibrium, "converged"
         return out
 
-    monkeypatch.setitem(_algorithms._REGISTRY, entry.key, dataclasses.replace(entry, run=fake))
+    stand_in(entry, fake)
     fs = solve_finite(problem, algorithm, linear_solver=linear_solver, max_cutbacks=1, **kw)
     assert fs.status == ContactStatus.NOT_VERIFIED and not fs.success
     assert fs.solution.status == ContactStatus.NOT_VERIFIED
@@ -120,26 +135,26 @@ def test_finite_fake_solve_is_not_verified(monkeypatch, algorithm, linear_solver
 
 # ------------------------------------------------------------------ Coulomb friction
 @pytest.mark.parametrize("linear_solver", ["direct", "amg"])
-def test_small_friction_fake_tractions_are_not_verified(monkeypatch, linear_solver):
+def test_small_friction_fake_tractions_are_not_verified(stand_in, linear_solver):
     """Tractions 0.1 % above the forces the displacement balances (both components: the Coulomb and slip
     measures still hold)."""
     prob, hist = fp.block_on_plane(dim=2, n=4)
     hist = hist.with_times((0.5, 1.0))
     good = solve_friction(prob, hist, "simo-laursen", linear_solver=linear_solver)
     assert good.status == ContactStatus.CONVERGED, good.message
-    entry = _algorithms.find_algorithm("simo-laursen", friction=True)
+    entry = find_algorithm("simo-laursen", friction=True)
 
     def fake(ctx, pen):
         out = entry.run(ctx, pen)
         return dataclasses.replace(out, t=out.t * 1.001)
 
-    monkeypatch.setitem(_algorithms._REGISTRY, entry.key, dataclasses.replace(entry, run=fake))
+    stand_in(entry, fake)
     sol = solve_friction(prob, hist, "simo-laursen", linear_solver=linear_solver)
     assert sol.status == ContactStatus.NOT_VERIFIED
     assert "equilibrium" in sol.message and "coulomb" not in sol.message
 
 
-def test_finite_friction_fake_solve_is_not_verified(monkeypatch):
+def test_finite_friction_fake_solve_is_not_verified(stand_in):
     mesh = meshes.rectangle(0.0, 1.0, 0.0, 1.0, 4, 4)
     problem = ContactProblem(Hyperelastic(mesh, MAT), obstacles.HalfSpace(point=(0.0, 0.0), normal=(0.0, 1.0)),
                              "bottom", supports=(Support("top"),), kinematics="finite")
@@ -148,7 +163,7 @@ def test_finite_friction_fake_solve_is_not_verified(monkeypatch):
     kw = dict(steps=[0.25, 0.5, 0.75, 1.0], obstacle_path=lambda t: np.array([slide(t), press(t)]))
     good = solve_finite_friction(problem, 0.3, "simo-laursen", **kw)
     assert good.status == ContactStatus.CONVERGED, good.message
-    entry = _algorithms.find_algorithm("simo-laursen", friction=True, kinematics="finite")
+    entry = find_algorithm("simo-laursen", friction=True, kinematics="finite")
     model_dof = _interior_dof(problem)
 
     def fake(ctx, pen):
@@ -156,7 +171,7 @@ def test_finite_friction_fake_solve_is_not_verified(monkeypatch):
         k = int(np.searchsorted(ctx.fc.free, model_dof))
         return dataclasses.replace(res, z=_kick(res.z, k))
 
-    monkeypatch.setitem(_algorithms._REGISTRY, entry.key, dataclasses.replace(entry, run=fake))
+    stand_in(entry, fake)
     fs = solve_finite_friction(problem, 0.3, "simo-laursen", **kw)
     assert fs.status == ContactStatus.NOT_VERIFIED
     assert "equilibrium" in fs.message

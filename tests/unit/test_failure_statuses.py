@@ -25,7 +25,7 @@ from alcontact.fem import LinearElasticity, Material, meshes
 from alcontact.contact.algorithms import _frictionless as _algorithms
 from alcontact.optim import Status, minimize
 from alcontact.status import CONTACT_CODES, OPTIM_CODES
-from alcontact.penalties._classical import Rockafellar
+from alcontact.penalties import Rockafellar
 from alcontact.problems.blocks import patch_block
 
 

@@ -27,11 +27,12 @@ from alcontact.fem import (
     Material,
     SymbolicMaterial,
     available_materials,
+    example_material_parameters,
     make_material,
     meshes,
     register_material,
 )
-from alcontact.fem._hyper_materials import _REGISTRY, det, example_material_parameters
+from alcontact.fem._hyper_materials import _REGISTRY, det
 from alcontact.fem.hyperelastic import _pattern_generic, _pattern_interleaved
 
 LAM, MU = 1.7, 0.9

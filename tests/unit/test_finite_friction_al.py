@@ -28,7 +28,7 @@ from alcontact.contact.algorithms import _frictionless as A
 from alcontact.contact.systems import _full_space as FF
 from alcontact.contact.laws import SLIP, STICK
 from alcontact.contact.laws import eta_for_stiffness, make_law
-from alcontact.contact.algorithms._subproblem import NewtonResult
+from alcontact.optim import NewtonResult
 from alcontact.contact.solution import ContactStatus
 from alcontact.contact.stepping._steps import _StepData
 from alcontact.fem import Material, meshes

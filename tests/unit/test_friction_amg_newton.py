@@ -19,7 +19,7 @@ from alcontact.contact import ContactStatus, solve_friction
 from alcontact.contact.systems import IterativeFrictionalContact
 from alcontact.contact.systems._krylov import _FullCtx, friction_newton
 from alcontact.contact.laws import make_law
-from alcontact.contact.algorithms._subproblem import NewtonResult
+from alcontact.optim import NewtonResult
 from alcontact.contact.algorithms import ContactOptions
 from alcontact.problems import friction as fp
 from alcontact.status import Status

@@ -1,11 +1,11 @@
-"""The L2 Hertz fits of ``alcontact.contact.solution._estimators`` on synthetic fields (no solve)."""
+"""The L2 Hertz fit :func:`alcontact.contact.solution.fit_hertz_field` on synthetic fields (no solve)."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
-from alcontact.contact.solution._estimators import fit_hertz_field
+from alcontact.contact.solution import fit_hertz_field
 from alcontact.errors import InputError
 
 

@@ -238,7 +238,7 @@ BAD_TEXTS = [
 @pytest.mark.parametrize("text, fragment", BAD_TEXTS)
 def test_bad_energy_expressions_are_refused_with_the_token_and_the_allowed_names(text, fragment):
     with pytest.raises(InputError) as info:
-        parse_energy(text, {"c10": 0.5}, key="material.energy")
+        EnergyExpression(text, {"c10": 0.5}, key="material.energy")
     msg = str(info.value)
     assert msg.startswith("material.energy"), msg
     assert fragment in msg, msg

@@ -19,7 +19,8 @@ from alcontact._options import declarations
 from alcontact import linalg
 from alcontact.cli import app
 from alcontact.contact import ContactOptions, FrictionOptions, solve, solve_friction
-from alcontact.contact.algorithms import _frictionless as A
+from alcontact.contact.algorithms import Algorithm, algorithms, find_algorithm, friction_only_options, register, run_al
+from alcontact.contact.algorithms._frictionless import options_with
 from alcontact.errors import InputError, UnknownNameError
 from alcontact.io import schema
 from alcontact.io.config import load_problem_text
@@ -39,7 +40,7 @@ def test_friction_options_is_contact_options_under_its_old_name():
 
 
 def test_friction_only_fields_are_declared_as_such():
-    only = set(A.friction_only_options())
+    only = set(friction_only_options())
     assert only == {"eps_t", "tangential_scale", "tol_slip", "max_cutbacks", "cutback_factor", "eta_floor",
                     "margin", "radius", "multiplier_update"}
     for opt in declarations(ContactOptions):
@@ -52,10 +53,10 @@ def test_friction_only_fields_are_declared_as_such():
 ])
 def test_automatic_newton_options_take_the_entry_defaults(friction, kinematics, tol, iters):
     """The former defaults of ContactOptions (frictionless) and FrictionOptions (frictional), exactly."""
-    entry = A.find_algorithm("simo-laursen", friction=friction, kinematics=kinematics)
-    opts = A.options_with(None, ContactOptions, {}, "contact", entry)
+    entry = find_algorithm("simo-laursen", friction=friction, kinematics=kinematics)
+    opts = options_with(None, ContactOptions, {}, "contact", entry)
     assert (opts.newton_tol, opts.maxiter_newton) == (tol, iters)
-    given = A.options_with({"newton_tol": 1e-9}, ContactOptions, {"maxiter_newton": 7}, "contact", entry)
+    given = options_with({"newton_tol": 1e-9}, ContactOptions, {"maxiter_newton": 7}, "contact", entry)
     assert (given.newton_tol, given.maxiter_newton) == (1e-9, 7)
 
 
@@ -75,31 +76,31 @@ def test_unknown_friction_option_keeps_its_kind():
 
 
 def test_registry_holds_every_family_and_what_it_supports():
-    keys = {e.key for e in A.algorithms()}
+    keys = {e.key for e in algorithms()}
     for name in ("simo-laursen", "family-p", "ssn"):
         for friction in (False, True):
             for kin in ("small", "finite"):
                 assert (name, friction, kin) in keys
     assert ("penalty", True, "small") not in keys  # no frictional pure penalty
-    small = A.find_algorithm("ssn")
+    small = find_algorithm("ssn")
     assert "amg" in small.linear_solvers and small.penalty == "none"
-    assert A.find_algorithm("family-p", friction=True).penalty is None
+    assert find_algorithm("family-p", friction=True).penalty is None
 
 
 def test_registry_lookup_names_the_family():
     with pytest.raises(UnknownNameError, match="unknown friction algorithm 'penalty'.*Known friction algorithms: "
                                                "family-p, simo-laursen, ssn"):
-        A.find_algorithm("penalty", friction=True)
+        find_algorithm("penalty", friction=True)
     with pytest.raises(UnknownNameError, match="finite-deformation friction algorithm 'simo-laursn'"):
-        A.find_algorithm("simo-laursn", friction=True, kinematics="finite")
+        find_algorithm("simo-laursn", friction=True, kinematics="finite")
 
 
 def test_register_checks_what_an_entry_declares():
     with pytest.raises(ValueError, match="kinematics"):
-        A.register(A.Algorithm("x", A.run_al, "doc", kinematics="large"))
+        register(Algorithm("x", run_al, "doc", kinematics="large"))
     with pytest.raises(ValueError, match="linear-solver paths"):
-        A.register(A.Algorithm("x", A.run_al, "doc", linear_solvers=("gmres",)))
-    assert ("x", False, "large") not in A._REGISTRY
+        register(Algorithm("x", run_al, "doc", linear_solvers=("gmres",)))
+    assert ("x", False, "large") not in {e.key for e in algorithms()}
 
 
 def test_a_linear_solver_path_an_entry_lacks_is_refused():
@@ -116,8 +117,8 @@ def test_a_linear_solver_path_an_entry_lacks_is_refused():
                                          "'simo-laursen' has no AMG path.*'direct'"):
         solve_friction(prob, None, steps=1, linear_solver="amg")
     for name in ("simo-laursen", "family-p", "ssn"):
-        assert "amg" in A.find_algorithm(name, friction=True).linear_solvers
-        assert A.find_algorithm(name, friction=True, kinematics="finite").linear_solvers == ("direct",)
+        assert "amg" in find_algorithm(name, friction=True).linear_solvers
+        assert find_algorithm(name, friction=True, kinematics="finite").linear_solvers == ("direct",)
 
 
 def test_direct_only_algorithms_take_a_direct_backend():
@@ -138,7 +139,7 @@ def test_list_reads_the_registry():
     result = CliRunner().invoke(app, ["list", "friction-algorithms"])
     assert result.exit_code == 0
     out = " ".join(result.output.split())
-    for e in A.algorithms(friction=True):
+    for e in algorithms(friction=True):
         assert e.name in out
     assert "[small: direct, amg; finite: direct]" in out  # the AMG path of issue 9/10 at small kinematics
 

@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 from alcontact.contact import solve
-from alcontact.contact.stepping._coulomb import solve_friction
+from alcontact.contact import solve_friction
 from alcontact.contact.laws import SLIP, STICK
 from alcontact.contact.problem import problem_at
 from alcontact.problems import friction as fp

@@ -24,7 +24,7 @@ import pytest
 from _helpers import HELD_MU, HELD_P, assert_same_friction_steps, held_block, held_block_toml, runner
 from alcontact.cli import app
 from alcontact.contact import ContactStatus
-from alcontact.contact.stepping._coulomb import solve_friction
+from alcontact.contact import solve_friction
 from alcontact.contact.laws import SLIP, STICK
 from alcontact.problems import friction as fp
 

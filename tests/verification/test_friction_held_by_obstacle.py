@@ -21,7 +21,7 @@ import pytest
 from _helpers import HELD_MU, HELD_P, held_block, held_block_toml, runner
 from alcontact.cli import app
 from alcontact.contact import ContactProblem, ContactStatus
-from alcontact.contact.stepping._coulomb import solve_friction
+from alcontact.contact import solve_friction
 from alcontact.contact.laws import STICK
 from alcontact.contact.problem import LoadCase, LoadHistory, Ramp
 from alcontact.contact.problem import Traction
