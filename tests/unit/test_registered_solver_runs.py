@@ -100,8 +100,9 @@ def _finite_friction(linear_solver):
 
 
 PATHS = {"small": _small, "small-coulomb": _small_friction, "finite": _finite, "finite-coulomb": _finite_friction}
-#: the key of ``solution.extra`` naming the solver that ran, per path
-RECORD = {"small": "backend", "small-coulomb": "backend", "finite": None, "finite-coulomb": "direct_solver"}
+#: ``solution.extra["strategy"]`` of each path for an exact / an approximate solver
+STRATEGY = {"small": ("condensed", "krylov"), "small-coulomb": ("condensed", "krylov"),
+            "finite": ("full-space-newton",) * 2, "finite-coulomb": ("full-space-newton",) * 2}
 
 
 @pytest.mark.parametrize("path", list(PATHS))
@@ -112,8 +113,9 @@ def test_registered_solver_is_called_and_agrees(counting, path, which):
     assert counting[which] == 0
     u, extra = run(which)
     assert counting[which] > 0, f"{which} was never called on the {path} path"
-    key = RECORD[path] or ("direct_solver" if which == DIRECT else "backend")
-    assert extra[key] == which, extra
+    # one key, one meaning on every path: the registry name of the solver that ran, and how it ran
+    assert extra["linear_solver"] == which, extra
+    assert extra["strategy"] == STRATEGY[path][which == ITERATIVE], extra
     assert extra.get("fallback_solves", 0) == 0 and extra.get("direct_fallbacks", 0) == 0  # no system went elsewhere
     # an approximate solver runs inside Krylov iterations (CG on the AMG paths, GMRES around its factor on
     # finite Coulomb); an exact one factorizes (the condensed or direct Newton strategy, no Krylov loop)
@@ -126,14 +128,14 @@ def test_registered_solver_is_called_and_agrees(counting, path, which):
 @pytest.mark.parametrize("name", [n for n in ("superlu", "cholmod", "mkl-pardiso") if linalg.is_installed(n)])
 def test_named_direct_solver_runs_at_finite_deformation(name):
     """At finite deformation ``linear_solver = <direct solver>`` is the solver of the Newton systems
-    (``extra["direct_solver"]``), not the registry's default; the answer is PARDISO/"direct"'s to 1e-8
+    (``extra["linear_solver"]``), not the registry's default; the answer is PARDISO/"direct"'s to 1e-8
     relative. CHOLMOD factorizes SPD matrices only: a Newton matrix it refuses is solved by the SuperLU
     fallback, counted in ``fallback_solves``."""
     ref = solve_finite(half_cylinder(4), "simo-laursen", steps=2, linear_solver="direct")
     fs = solve_finite(half_cylinder(4), "simo-laursen", steps=2, linear_solver=name)
     assert fs.success, fs.message
     ex = fs.solution.extra
-    assert ex["linear_solver"] == "direct" and ex["direct_solver"] == name
+    assert ex["linear_solver"] == name and ex["strategy"] == "full-space-newton"
     if name != "cholmod":
         assert ex["fallback_solves"] == 0
     u_ref = ref.solution.u

@@ -192,6 +192,8 @@ def summarize(problem, solution, *, problem_name: str | None = None, level: int 
         "residual": float(res.residual),
         "eps_n": float(res.eps_n),
         "factorizations": int(res.factorizations),
+        "linear_solver": solution.extra.get("linear_solver"),
+        "linear_solver_strategy": solution.extra.get("strategy"),
         "time_ratio_contact_to_linear": ratio,
         "build_time_s": build_time_s,
         "element_size_h": solution.extra.get("h"),
@@ -270,7 +272,7 @@ def _finite_friction_summary(setup, fs, frames) -> dict[str, Any]:
 
 
 #: keys of ``solution.extra`` of a finite-deformation run copied to ``summary.json``
-_FINITE_SOLVER_KEYS = ("linear_solver", "direct_solver", "amg_setups", "cg_iterations", "cg_per_newton",
+_FINITE_SOLVER_KEYS = ("amg_setups", "cg_iterations", "cg_per_newton",
                        "direct_fallbacks")
 
 
@@ -365,6 +367,9 @@ def setup_summary(setup, solution, raw, options: dict, wall: float) -> dict[str,
             summary.update(_finite_friction_summary(setup, raw, frames))
     elif setup.friction > 0:
         summary.update(_small_friction_summary(setup, raw, final, wall))
+    record = getattr(raw, "extra", None)  # the solution's own record (the frames of a stepped run lack it)
+    if isinstance(record, dict) and record.get("linear_solver") is not None:
+        summary.update(linear_solver=record["linear_solver"], linear_solver_strategy=record.get("strategy"))
     elif len(setup.times) > 1:
         summary.update(_stepped_summary(summary, frames, len(setup.times)))
     if setup.friction > 0 and "shear" in final.extra:
