@@ -367,11 +367,11 @@ def setup_summary(setup, solution, raw, options: dict, wall: float) -> dict[str,
             summary.update(_finite_friction_summary(setup, raw, frames))
     elif setup.friction > 0:
         summary.update(_small_friction_summary(setup, raw, final, wall))
+    elif len(setup.times) > 1:
+        summary.update(_stepped_summary(summary, frames, len(setup.times)))
     record = getattr(raw, "extra", None)  # the solution's own record (the frames of a stepped run lack it)
     if isinstance(record, dict) and record.get("linear_solver") is not None:
         summary.update(linear_solver=record["linear_solver"], linear_solver_strategy=record.get("strategy"))
-    elif len(setup.times) > 1:
-        summary.update(_stepped_summary(summary, frames, len(setup.times)))
     if setup.friction > 0 and "shear" in final.extra:
         # |Q| = |sum of q_i| <= sum of |q_i| <= mu N: the two differ where the tangents turn over the zone
         q = np.linalg.norm(np.asarray(final.extra["shear"], dtype=float), axis=1)
