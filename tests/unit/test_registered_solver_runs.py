@@ -15,6 +15,8 @@ to round-off (asserted to 1e-10).
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -145,3 +147,32 @@ def test_named_direct_solver_runs_at_finite_deformation(name):
 def test_unknown_linear_solver_is_refused_with_the_names():
     with pytest.raises(InputError, match="linear_solver = 'no-such-solver'.*allowed: auto, direct"):
         linalg.select_solver("no-such-solver", dim=2, ndofs=10)
+
+
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
+
+
+@pytest.mark.parametrize("example,anchor,strategy", [
+    ("signorini_liftoff.toml", '[solver]\nalgorithm = "family-p"\n', ("condensed", "krylov")),
+    ("finite_half_cylinder.toml", '[contact]\nboundary = "curved"\n', ("full-space-newton",) * 2),
+])
+@pytest.mark.parametrize("which", [DIRECT, ITERATIVE])
+def test_summary_records_the_solver_that_ran(counting, tmp_path, example, anchor, strategy, which):
+    """``summary.json`` of a problem-file run names the configured solver (registry name), how it ran and the
+    PETSc options it got (none here); the solver was called."""
+    from alcontact.app import run_setup
+    from alcontact.io.config import load_problem_text
+
+    text = (EXAMPLES / example).read_text()
+    assert anchor in text
+    if anchor.startswith("[contact]"):  # the finite example has no [solver] table
+        text += f'\n[solver]\nlinear_solver = "{which}"\n'
+    else:
+        text = text.replace(anchor, f'{anchor}linear_solver = "{which}"\n')
+    setup = load_problem_text(text, base_dir=EXAMPLES)
+    out = run_setup(setup)
+    assert out.summary["status"] == "converged"
+    assert counting[which] > 0
+    assert out.summary["linear_solver"] == which
+    assert out.summary["linear_solver_strategy"] == strategy[which == ITERATIVE]
+    assert out.summary["petsc_options"] == {}
