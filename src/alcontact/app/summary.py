@@ -110,6 +110,13 @@ def summarize(problem, solution, *, problem_name: str | None = None, level: int 
     as ``penetration`` and ``complementarity``, the measures the verification checked on the
     returned state, are below theirs.
 
+    ``linear_solver`` is the registry name of the linear solver that ran
+    (``solution.extra["linear_solver"]``, e.g. ``"mkl-pardiso"`` for ``linear_solver = "auto"``),
+    ``linear_solver_strategy`` how its systems were solved (``"condensed"`` on the contact points,
+    ``"krylov"`` in the full space, ``"full-space-newton"`` at finite deformation); a problem-file run
+    (:func:`setup_summary` through :func:`~alcontact.app.pipeline.run_setup`) adds ``petsc_options``,
+    the PETSc options the solve ran with.
+
     Exact values and errors are ``None`` when the problem has no analytical reference.
     Extras: ``problem``, ``problem_label``, ``level``, ``dim``, ``order``,
     ``status_code``, ``message``, the errors in percent, ``penetration``,
