@@ -49,6 +49,8 @@ def _run(petsc_options: str, factors: list):
     out = run_setup(setup)
     assert out.summary["status"] == "converged"
     assert factors, "the contact solve did not run PETSc's KSP"
+    # what ran is recorded: the solver's registry name and the options it was given
+    assert out.summary["linear_solver"] == "petsc" and out.summary["petsc_options"] == setup.petsc_options
     return out, list(factors)
 
 

@@ -17,6 +17,7 @@ from pathlib import Path
 import numpy as np
 from typer.testing import CliRunner
 
+from alcontact import linalg
 from alcontact.cli import app
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
@@ -43,7 +44,8 @@ def test_finite_problem_file_runs_on_the_amg_path(tmp_path):
     """Summary names the path; forces of every step within 1e-8 relative of the direct run (module doc)."""
     amg = _run(tmp_path, 'linear_solver = "amg"\n', "amg")
     direct = _run(tmp_path, 'linear_solver = "direct"\n', "direct")
-    assert amg["linear_solver"] == "amg" and direct["linear_solver"] == "direct"
+    assert amg["linear_solver"] == "amg" and linalg.solver_kind(direct["linear_solver"]) == "direct"
+    assert amg["linear_solver_strategy"] == direct["linear_solver_strategy"] == "full-space-newton"
     assert amg["cg_iterations"] > 0 and amg["amg_setups"] >= 1 and amg["direct_fallbacks"] == 0
     assert amg["step_times"] == direct["step_times"] == [0.25, 0.5, 0.75, 1.0]
     fa, fd = np.array(amg["step_contact_force"]), np.array(direct["step_contact_force"])

@@ -123,7 +123,7 @@ def test_registered_solver_is_accepted_by_factorize_and_the_contact_option():
         prob = blocks.signorini_block(n=4)
         ref = solve(prob, "simo-laursen", linear_solver="superlu")
         sol = solve(prob, "simo-laursen", linear_solver="counting-superlu")
-        assert Counting.calls == 1 and sol.extra["backend"] == "counting-superlu"
+        assert Counting.calls == 1 and sol.extra["linear_solver"] == "counting-superlu"
         assert np.allclose(sol.u, ref.u, rtol=0, atol=1e-10 * np.abs(ref.u).max())
     finally:
         linalg.unregister_solver("counting-superlu")

@@ -104,21 +104,25 @@ def test_register_checks_what_an_entry_declares():
 
 
 def test_a_linear_solver_path_an_entry_lacks_is_refused():
-    """The finite-deformation frictional entries declare no AMG path: asking for it is an error naming the
-    way out. The small-kinematics ones have one since issue 9/10 (``test_friction_amg``)."""
-    from alcontact.contact import ContactProblem, Support, obstacles
-    from alcontact.fem import Hyperelastic, Material, meshes
+    """An approximate solver (``SolverChoice.exact`` False) is refused by an entry that declares no path for
+    one, whatever its name: the finite-deformation frictionless ``ssn`` (saddle-point systems) refuses ``"amg"``
+    and a user-registered iterative solver alike, naming the way out. The finite-deformation frictional entries
+    declare ``factor-gmres`` (the approximate solver's factors precondition GMRES; run and compared with the
+    direct answer in ``test_registered_solver_runs``); the small-kinematics ones ``amg`` since issue 9/10."""
+    from alcontact import linalg
+    from alcontact.contact import solve_finite
+    from alcontact.problems.half_cylinder import half_cylinder
 
-    mesh = meshes.rectangle(0.0, 1.0, 0.0, 1.0, 2, 2)
-    prob = ContactProblem(Hyperelastic(mesh, Material(E=1000.0, nu=0.3, plane="strain")),
-                          obstacles.HalfSpace(point=(0.0, 0.0), normal=(0.0, 1.0)), "bottom",
-                          supports=(Support("top"),), kinematics="finite", friction=0.3)
-    with pytest.raises(InputError, match="linear_solver = 'amg'.*finite-deformation frictional algorithm "
-                                         "'simo-laursen' has no AMG path.*'direct'"):
-        solve_friction(prob, None, steps=1, linear_solver="amg")
+    linalg.register_solver("test-approximate", linalg.AMGSolver, kind="iterative")
+    try:
+        for name in ("amg", "test-approximate"):
+            with pytest.raises(InputError, match=f"linear_solver = '{name}'.*algorithm 'ssn' has no AMG path.*'direct'"):
+                solve_finite(half_cylinder(2), "ssn", steps=1, linear_solver=name)
+    finally:
+        linalg.unregister_solver("test-approximate")
     for name in ("simo-laursen", "family-p", "ssn"):
         assert "amg" in find_algorithm(name, friction=True).linear_solvers
-        assert find_algorithm(name, friction=True, kinematics="finite").linear_solvers == ("direct",)
+        assert find_algorithm(name, friction=True, kinematics="finite").linear_solvers == ("direct", "factor-gmres")
 
 
 def test_direct_only_algorithms_take_a_direct_backend():
@@ -131,7 +135,7 @@ def test_direct_only_algorithms_take_a_direct_backend():
     a = solve_friction(prob, hist, linear_solver="superlu")
     b = solve_friction(prob, hist)
     assert a.success and b.success
-    assert a.extra["backend"] == "superlu" and b.extra["backend"] == linalg.choose_solver(2, prob.model.ndofs)
+    assert a.extra["linear_solver"] == "superlu" and b.extra["linear_solver"] == linalg.choose_solver(2, prob.model.ndofs)
     assert abs(a.steps[-1].normal_force - b.steps[-1].normal_force) <= 1e-10 * abs(b.steps[-1].normal_force)
 
 
@@ -141,7 +145,8 @@ def test_list_reads_the_registry():
     out = " ".join(result.output.split())
     for e in algorithms(friction=True):
         assert e.name in out
-    assert "[small: direct, amg; finite: direct]" in out  # the AMG path of issue 9/10 at small kinematics
+    # the AMG path of issue 9/10 at small kinematics; approximate solvers precondition GMRES at finite ones
+    assert "[small: direct, amg; finite: direct, factor-gmres]" in out
 
 
 def _friction_file(solver: str = "", friction_table: str = "") -> str:

@@ -15,6 +15,8 @@ to round-off (asserted to 1e-10).
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -100,8 +102,9 @@ def _finite_friction(linear_solver):
 
 
 PATHS = {"small": _small, "small-coulomb": _small_friction, "finite": _finite, "finite-coulomb": _finite_friction}
-#: the key of ``solution.extra`` naming the solver that ran, per path
-RECORD = {"small": "backend", "small-coulomb": "backend", "finite": None, "finite-coulomb": "direct_solver"}
+#: ``solution.extra["strategy"]`` of each path for an exact / an approximate solver
+STRATEGY = {"small": ("condensed", "krylov"), "small-coulomb": ("condensed", "krylov"),
+            "finite": ("full-space-newton",) * 2, "finite-coulomb": ("full-space-newton",) * 2}
 
 
 @pytest.mark.parametrize("path", list(PATHS))
@@ -112,8 +115,9 @@ def test_registered_solver_is_called_and_agrees(counting, path, which):
     assert counting[which] == 0
     u, extra = run(which)
     assert counting[which] > 0, f"{which} was never called on the {path} path"
-    key = RECORD[path] or ("direct_solver" if which == DIRECT else "backend")
-    assert extra[key] == which, extra
+    # one key, one meaning on every path: the registry name of the solver that ran, and how it ran
+    assert extra["linear_solver"] == which, extra
+    assert extra["strategy"] == STRATEGY[path][which == ITERATIVE], extra
     assert extra.get("fallback_solves", 0) == 0 and extra.get("direct_fallbacks", 0) == 0  # no system went elsewhere
     # an approximate solver runs inside Krylov iterations (CG on the AMG paths, GMRES around its factor on
     # finite Coulomb); an exact one factorizes (the condensed or direct Newton strategy, no Krylov loop)
@@ -126,14 +130,14 @@ def test_registered_solver_is_called_and_agrees(counting, path, which):
 @pytest.mark.parametrize("name", [n for n in ("superlu", "cholmod", "mkl-pardiso") if linalg.is_installed(n)])
 def test_named_direct_solver_runs_at_finite_deformation(name):
     """At finite deformation ``linear_solver = <direct solver>`` is the solver of the Newton systems
-    (``extra["direct_solver"]``), not the registry's default; the answer is PARDISO/"direct"'s to 1e-8
+    (``extra["linear_solver"]``), not the registry's default; the answer is PARDISO/"direct"'s to 1e-8
     relative. CHOLMOD factorizes SPD matrices only: a Newton matrix it refuses is solved by the SuperLU
     fallback, counted in ``fallback_solves``."""
     ref = solve_finite(half_cylinder(4), "simo-laursen", steps=2, linear_solver="direct")
     fs = solve_finite(half_cylinder(4), "simo-laursen", steps=2, linear_solver=name)
     assert fs.success, fs.message
     ex = fs.solution.extra
-    assert ex["linear_solver"] == "direct" and ex["direct_solver"] == name
+    assert ex["linear_solver"] == name and ex["strategy"] == "full-space-newton"
     if name != "cholmod":
         assert ex["fallback_solves"] == 0
     u_ref = ref.solution.u
@@ -143,3 +147,32 @@ def test_named_direct_solver_runs_at_finite_deformation(name):
 def test_unknown_linear_solver_is_refused_with_the_names():
     with pytest.raises(InputError, match="linear_solver = 'no-such-solver'.*allowed: auto, direct"):
         linalg.select_solver("no-such-solver", dim=2, ndofs=10)
+
+
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
+
+
+@pytest.mark.parametrize("example,anchor,strategy", [
+    ("signorini_liftoff.toml", '[solver]\nalgorithm = "family-p"\n', ("condensed", "krylov")),
+    ("finite_half_cylinder.toml", '[contact]\nboundary = "curved"\n', ("full-space-newton",) * 2),
+])
+@pytest.mark.parametrize("which", [DIRECT, ITERATIVE])
+def test_summary_records_the_solver_that_ran(counting, tmp_path, example, anchor, strategy, which):
+    """``summary.json`` of a problem-file run names the configured solver (registry name), how it ran and the
+    PETSc options it got (none here); the solver was called."""
+    from alcontact.app import run_setup
+    from alcontact.io.config import load_problem_text
+
+    text = (EXAMPLES / example).read_text()
+    assert anchor in text
+    if anchor.startswith("[contact]"):  # the finite example has no [solver] table
+        text += f'\n[solver]\nlinear_solver = "{which}"\n'
+    else:
+        text = text.replace(anchor, f'{anchor}linear_solver = "{which}"\n')
+    setup = load_problem_text(text, base_dir=EXAMPLES)
+    out = run_setup(setup)
+    assert out.summary["status"] == "converged"
+    assert counting[which] > 0
+    assert out.summary["linear_solver"] == which
+    assert out.summary["linear_solver_strategy"] == strategy[which == ITERATIVE]
+    assert out.summary["petsc_options"] == {}

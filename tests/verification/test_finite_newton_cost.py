@@ -83,7 +83,7 @@ def test_reference_needs_at_most_five_newton_per_step(half_cylinder_8_ssn):
 def test_reference_analyses_once_per_candidate_set(half_cylinder_8_ssn):
     """The direct solver's symbolic analysis is reused inside a load step (module doc)."""
     extra = half_cylinder_8_ssn.solution.extra
-    if extra["direct_solver"] != "mkl-pardiso":
+    if extra["linear_solver"] != "mkl-pardiso":
         pytest.skip("MKL PARDISO not installed: SuperLU factorizes every system")
     assert extra["analyses"] <= STEPS + 1, extra["analyses"]
     assert extra["analyses"] <= 2, extra["analyses"]

@@ -22,6 +22,7 @@ import numpy as np
 import pytest
 
 from _helpers import HELD_MU, HELD_P, assert_same_friction_steps, held_block, held_block_toml, runner
+from alcontact import linalg
 from alcontact.cli import app
 from alcontact.contact import ContactStatus
 from alcontact.contact import solve_friction
@@ -42,7 +43,8 @@ def _curved(dim: int):
 def _assert_same(direct, amg):
     assert direct.status == ContactStatus.CONVERGED, direct.message
     assert amg.status == ContactStatus.CONVERGED, amg.message
-    assert amg.extra["linear_solver"] == "amg" and direct.extra["linear_solver"] == "direct"
+    assert amg.extra["linear_solver"] == "amg" and linalg.solver_kind(direct.extra["linear_solver"]) == "direct"
+    assert amg.extra["strategy"] == "krylov" and direct.extra["strategy"] == "condensed"
     assert [s.t for s in amg.steps] == [s.t for s in direct.steps]
     assert_same_friction_steps(amg, direct, RTOL, displacements=True)
 
@@ -84,10 +86,11 @@ def test_auto_picks_the_amg_path_for_large_3d_models(monkeypatch):
     import alcontact.linalg._registry as reg
 
     prob, hist, *_ = held_block(3, 0.5)
-    assert solve_friction(prob, hist).extra["linear_solver"] == "direct"
+    assert solve_friction(prob, hist).extra["strategy"] == "condensed"
     monkeypatch.setattr(reg, "AUTO_AMG_DOFS", prob.model.ndofs - 1)
     sol = solve_friction(prob, hist)
     assert sol.status == ContactStatus.CONVERGED and sol.extra["linear_solver"] == "amg"
+    assert sol.extra["strategy"] == "krylov"
     assert sol.extra["cg_iterations"] > 0 and sol.extra["amg_setups"] >= 1
 
 

@@ -273,12 +273,14 @@ def run_setup(setup, out: str | os.PathLike | None = None, force: bool = False, 
 
     t0 = time.perf_counter()
     report(_solving_line(setup))
-    with backend_options(setup.petsc_options if petsc_options is None else petsc_options):
+    petsc = dict(setup.petsc_options if petsc_options is None else petsc_options or {})
+    with backend_options(petsc):
         solution = solve(setup.problem, setup.algorithm, setup.penalty, on_step=on_step, **_solve_arguments(setup))
     frames = list(solution.frame_solutions())
     raw = solution.record if solution.record is not None else frames
     wall = time.perf_counter() - t0
     summary = setup_summary(setup, solution, raw, options, wall)
+    summary["petsc_options"] = petsc  # the backend options the solve ran with (empty: none)
     logger.info("%s: %s", setup.name, summary["status"])
 
     files: list[str] = []

@@ -110,6 +110,13 @@ def summarize(problem, solution, *, problem_name: str | None = None, level: int 
     as ``penetration`` and ``complementarity``, the measures the verification checked on the
     returned state, are below theirs.
 
+    ``linear_solver`` is the registry name of the linear solver that ran
+    (``solution.extra["linear_solver"]``, e.g. ``"mkl-pardiso"`` for ``linear_solver = "auto"``),
+    ``linear_solver_strategy`` how its systems were solved (``"condensed"`` on the contact points,
+    ``"krylov"`` in the full space, ``"full-space-newton"`` at finite deformation); a problem-file run
+    (:func:`setup_summary` through :func:`~alcontact.app.pipeline.run_setup`) adds ``petsc_options``,
+    the PETSc options the solve ran with.
+
     Exact values and errors are ``None`` when the problem has no analytical reference.
     Extras: ``problem``, ``problem_label``, ``level``, ``dim``, ``order``,
     ``status_code``, ``message``, the errors in percent, ``penetration``,
@@ -192,6 +199,8 @@ def summarize(problem, solution, *, problem_name: str | None = None, level: int 
         "residual": float(res.residual),
         "eps_n": float(res.eps_n),
         "factorizations": int(res.factorizations),
+        "linear_solver": solution.extra.get("linear_solver"),
+        "linear_solver_strategy": solution.extra.get("strategy"),
         "time_ratio_contact_to_linear": ratio,
         "build_time_s": build_time_s,
         "element_size_h": solution.extra.get("h"),
@@ -270,7 +279,7 @@ def _finite_friction_summary(setup, fs, frames) -> dict[str, Any]:
 
 
 #: keys of ``solution.extra`` of a finite-deformation run copied to ``summary.json``
-_FINITE_SOLVER_KEYS = ("linear_solver", "direct_solver", "amg_setups", "cg_iterations", "cg_per_newton",
+_FINITE_SOLVER_KEYS = ("amg_setups", "cg_iterations", "cg_per_newton",
                        "direct_fallbacks")
 
 
@@ -367,6 +376,9 @@ def setup_summary(setup, solution, raw, options: dict, wall: float) -> dict[str,
         summary.update(_small_friction_summary(setup, raw, final, wall))
     elif len(setup.times) > 1:
         summary.update(_stepped_summary(summary, frames, len(setup.times)))
+    record = getattr(raw, "extra", None)  # the solution's own record (the frames of a stepped run lack it)
+    if isinstance(record, dict) and record.get("linear_solver") is not None:
+        summary.update(linear_solver=record["linear_solver"], linear_solver_strategy=record.get("strategy"))
     if setup.friction > 0 and "shear" in final.extra:
         # |Q| = |sum of q_i| <= sum of |q_i| <= mu N: the two differ where the tangents turn over the zone
         q = np.linalg.norm(np.asarray(final.extra["shear"], dtype=float), axis=1)

@@ -273,8 +273,8 @@ class NewtonKrylovSolver:
         self._stale = True
 
     def info(self) -> dict:
-        """Path and counters for ``solution.extra``: ``linear_solver="amg"``, the solver, setups, CG iterations."""
-        return {"linear_solver": "amg", "backend": self.backend, "amg_setups": int(self.amg_setups),
+        """Counters for ``solution.extra``: ``linear_solver`` (registry name of the solver), setups, CG iterations."""
+        return {"linear_solver": self.backend, "amg_setups": int(self.amg_setups),
                 "analyses": int(self.amg_setups),
                 "cg_iterations": int(self.cg_iterations), "cg_solves": int(self.cg_solves),
                 "newton_cg_iterations": int(self.newton_cg),

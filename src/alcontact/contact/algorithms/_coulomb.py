@@ -1022,7 +1022,7 @@ register_family((
     ("family-p", _step_al, None, "Algorithm 6.4 at finite deformation: Algorithm 6.2 with a family-P normal penalty"),
     ("ssn", _step_ssn_finite, "none",
      "reference: Alart-Curnier semi-smooth Newton on (u, lambda_N, lambda_T), exact (no penalty)"),
-), friction=True, kinematics="finite", linear_solvers=("direct",), defaults=FRICTION_DEFAULTS)
+), friction=True, kinematics="finite", linear_solvers=("direct", "factor-gmres"), defaults=FRICTION_DEFAULTS)
 
 
 def finite_friction_algorithms() -> list[str]:

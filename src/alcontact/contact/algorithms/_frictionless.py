@@ -37,7 +37,7 @@ import numpy as np
 from ... import penalties as _pen
 from ..._options import as_options, check_dataclass, declarations, declared
 from ...errors import InputError, UnknownNameError
-from ...linalg import registered_solvers
+from ...linalg import registered_solvers, select_solver
 from ...optim import StrategyState, available_strategies, make_strategy
 from ..laws._normal import eta_for_stiffness, freezes_at_zero, make_law
 from ..solution._solution import ContactIteration, ContactStatus
@@ -821,8 +821,13 @@ FRICTIONLESS_DEFAULTS = {"newton_tol": 1e-12, "maxiter_newton": 60}
 #: Defaults of the automatic Newton options of the frictional algorithms.
 FRICTION_DEFAULTS = {"newton_tol": 1e-11, "maxiter_newton": 200}
 #: Linear-solver paths an entry may declare: ``direct`` (sparse factorization; at small deformation the
-#: problem is condensed on the contact points), ``amg`` (factorization-free, PyAMG + CG).
-LINEAR_SOLVER_PATHS = ("direct", "amg")
+#: problem is condensed on the contact points), ``amg`` (factorization-free, PyAMG + CG), ``factor-gmres`` (the
+#: factors of an approximate solver precondition GMRES on each Newton system, :class:`~alcontact.linalg.SequenceSolver`).
+#: An approximate solver (:attr:`alcontact.linalg.SolverChoice.exact` False) runs only on an entry with ``amg``
+#: or ``factor-gmres``.
+LINEAR_SOLVER_PATHS = ("direct", "amg", "factor-gmres")
+#: the paths on which an approximate solver runs
+_APPROXIMATE_PATHS = ("amg", "factor-gmres")
 
 
 @dataclass(frozen=True)
@@ -849,8 +854,8 @@ class Algorithm:
     kinematics : {"small", "finite"}
         Linearized gap (6.15) or gap at the deformed position.
     linear_solvers : tuple of str
-        Linear-solver paths it runs on (:data:`LINEAR_SOLVER_PATHS`); ``linear_solver="amg"``
-        is refused by an entry without ``"amg"``.
+        Linear-solver paths it runs on (:data:`LINEAR_SOLVER_PATHS`); an approximate ``linear_solver``
+        (e.g. ``"amg"``) is refused by an entry without ``"amg"`` or ``"factor-gmres"``.
     penalty : str or None
         Its fixed penalty, or ``None`` when it takes one (family-P, ``default_penalty``).
     default_penalty : str or None
@@ -894,13 +899,19 @@ class Algorithm:
         return name
 
     def check_options(self, opts: ContactOptions) -> None:
-        """Refuse options this entry cannot honour (``linear_solver="amg"`` without an AMG path)."""
-        if opts.linear_solver == "amg" and "amg" not in self.linear_solvers:
+        """Refuse options this entry cannot honour (an approximate ``linear_solver``, e.g. ``"amg"``, without
+        an AMG path: the solver choice says whether the named solver is exact,
+        :func:`alcontact.linalg.select_solver`)."""
+        name = opts.linear_solver
+        if set(_APPROXIMATE_PATHS) & set(self.linear_solvers) or name in ("auto", "direct"):
+            return
+        if not select_solver(name, dim=3, ndofs=0, allow_iterative=False).exact:
             kin = "" if self.kinematics == "small" else f"{self.kinematics}-deformation "
             raise InputError(
-                f"{type(opts)._KIND} option linear_solver = 'amg': the {kin}{'frictional' if self.friction else ''}"
-                f"{' ' if self.friction else ''}algorithm {self.name!r} has no AMG path (it runs on: "
-                f"{', '.join(self.linear_solvers)}); use linear_solver='auto' or 'direct'.")
+                f"{type(opts)._KIND} option linear_solver = {name!r} (an approximate solver): the {kin}"
+                f"{'frictional' if self.friction else ''}{' ' if self.friction else ''}algorithm {self.name!r} has "
+                f"no AMG path (it runs on: {', '.join(self.linear_solvers)}); use linear_solver='auto', 'direct' "
+                "or a direct solver.")
 
     def supports(self) -> str:
         """``"small: direct, amg"``: its kinematics and linear-solver paths (for ``alcontact list``)."""

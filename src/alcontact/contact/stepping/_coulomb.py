@@ -308,7 +308,6 @@ def solve_friction(problem, history: LoadHistory | None, algorithm: str = "simo-
     mu = float(mu)
 
     solver = select_solver(opts.linear_solver, dim=problem.model.dim, ndofs=problem.model.ndofs)
-    path = "direct" if solver.exact else "amg"  # the label of the strategy in solution.extra
     fc, advance = _FRICTION_PATHS[solver.exact](problem, history, opts, solver)
     eps_n = opts.eps_n if opts.eps_n is not None else penalty_stiffness(problem.model, fc.h, opts.penalty_scale)
     eps_t = opts.eps_t if opts.eps_t is not None else opts.tangential_scale * eps_n
@@ -419,8 +418,8 @@ def solve_friction(problem, history: LoadHistory | None, algorithm: str = "simo-
         linear_solves=fc.linear_solves, eps_n=float(eps_n), eps_t=float(eps_t), h=fc.h,
         timings={"setup_s": fc.setup_seconds, "factor_s": fc.factor_seconds, "solve_s": t_end - t_solve,
                  "total_s": t_end - t_start},
-        extra={"candidates": fc.ncand, "dofs": int(problem.model.ndofs), "linear_solver": path,
-               "backend": solver.name, **fc.stats()},
+        extra={"candidates": fc.ncand, "dofs": int(problem.model.ndofs), "linear_solver": solver.name,
+               "strategy": fc.strategy, **fc.stats()},
     )
 
 
@@ -650,8 +649,7 @@ def solve_finite_friction(problem, mu: float, algorithm: str = "simo-laursen", p
                "dofs": int(problem.model.ndofs), "residual_log": dc.residual_log,
                "newton_total": int(dc.newton_iterations), "linear_solves": int(dc.linear_solves),
                "cutbacks": int(run.cutbacks), "total_s": time.perf_counter() - t_start,
-               "linear_solver": "direct" if dc.friction_solver.exact else "amg",
-               "direct_solver": dc.friction_solver.backend,
+               "linear_solver": dc.friction_solver.backend, "strategy": dc.strategy,
                "fallback_solves": int(dc.friction_solver.fallback_solves + dc.solver.fallback_solves),
                "krylov_iterations": int(dc.friction_solver.krylov_iterations + dc.solver.krylov_iterations),
                "linear_solve_s": float(dc.solve_seconds)})  # all Newton linear solves together

@@ -242,11 +242,9 @@ def _check(problem, dc, out, u, opts, *, fixed, load):
 
 
 def _tol_floor(dc) -> float:
-    """Lowest Newton tolerance of the model's linear-solver path (AMG + CG: ``_NEWTON_TOL_FLOOR``)."""
-    from ..systems._full_space import AMGNewtonSolver
-    from ..systems._krylov import _NEWTON_TOL_FLOOR
-
-    return _NEWTON_TOL_FLOOR if isinstance(getattr(dc, "solver", None), AMGNewtonSolver) else 0.0
+    """Lowest Newton tolerance of the model's Newton solver (its declared ``tol_floor``: 0 for exact solves,
+    the AMG + CG floor ``_NEWTON_TOL_FLOOR`` for inexact ones)."""
+    return float(getattr(getattr(dc, "solver", None), "tol_floor", 0.0))
 
 
 def _solution(problem, dc, out, u, algorithm, pen_name, opts, status, message, records, t_start, *, fixed, load):

@@ -162,6 +162,9 @@ class CondensedContact(ContactPoints):
     and triangular solves (module doc).
     """
 
+    #: how the linear systems are solved (``solution.extra["strategy"]``): condensed on the contact points
+    strategy = "condensed"
+
     #: rows of the row operator G per contact point
     rows_per_point = 1
 
@@ -615,7 +618,7 @@ class DiscreteContact(CondensedContact):
                 "linear_solve_s": max(one, self.factor.factor_seconds) + self.solve_seconds}
 
     def extra(self) -> dict:
-        return {"linear_solver": "direct", "backend": getattr(self.factor, "backend", "superlu")}
+        return {"linear_solver": self.factor.backend, "strategy": self.strategy}
 
     # ------------------------------------------------------------------
     def gaps(self, r: np.ndarray) -> np.ndarray:

@@ -200,6 +200,7 @@ from ..algorithms._subproblem import (LineSearch, NewtonOutcome, NewtonResult, N
 from ..kinematics._points import ContactPoints
 from ..laws._coulomb import OPEN, SLIP, STICK, return_mapping
 from ..masters.obstacles import frame, surface_slip
+from ._krylov import _NEWTON_TOL_FLOOR
 from ._layout import NewtonLayout
 
 
@@ -262,12 +263,8 @@ class NewtonSolver(SequenceSolver):
         Sparsity patterns whose analyses are kept.
     """
 
-    @property
-    def path(self) -> str:
-        """The linear-solver path this solver is (``solution.extra["linear_solver"]``): ``"direct"`` for an exact
-        solver, ``"amg"`` for an approximate one (its factors precondition GMRES,
-        :class:`~alcontact.linalg.SequenceSolver`)."""
-        return "direct" if self.exact else "amg"
+    #: lowest Newton tolerance its solves reach (exact solves: none)
+    tol_floor = 0.0
 
     def __init__(self, name: str | None = None, *, use_pardiso: bool = True, keep: int = 3):
         super().__init__(name if use_pardiso else "superlu", matrix_type="symmetric-indefinite", keep=keep)
@@ -278,8 +275,8 @@ class NewtonSolver(SequenceSolver):
         return self.solve(A, rhs)
 
     def info(self) -> dict:
-        """Path and counters for ``solution.extra``."""
-        return {"linear_solver": self.path, "direct_solver": self.backend, "analyses": int(self.analyses),
+        """Counters for ``solution.extra``: ``linear_solver`` (registry name of the solver that ran)."""
+        return {"linear_solver": self.backend, "analyses": int(self.analyses),
                 "fallback_solves": int(self.fallback_solves)}
 
 
@@ -343,6 +340,9 @@ class FiniteContact(ContactPoints):
         Stiffness the pure penalty method's last converged load step ended with
         (:attr:`penalty_continuation`); ``None`` before.
     """
+
+    #: how the linear systems are solved (``solution.extra["strategy"]``): Newton on the full displacement space
+    strategy = "full-space-newton"
 
     factorizations = 0
     # ---- ContactSystem (:mod:`alcontact.contact.systems._protocol`): what finite deformation declares
@@ -831,7 +831,7 @@ class FiniteContact(ContactPoints):
                 "linear_solve_s": self.solve_seconds}
 
     def extra(self) -> dict:
-        return {**self.solver.info(), "kinematics": "finite", "newton_total": int(self.newton_iterations),
+        return {**self.solver.info(), "strategy": self.strategy, "kinematics": "finite", "newton_total": int(self.newton_iterations),
                 "chord_steps": int(self.chord_steps)}
 
     def force_scale(self, r_body: np.ndarray, contact: np.ndarray) -> float:
@@ -1400,6 +1400,9 @@ class AMGNewtonSolver(_linalg.NewtonKrylovSolver):
     **options
         ``rtol``, ``forcing_max``, ``rebuild_factor``, ``fallback`` of :class:`~alcontact.linalg.NewtonKrylovSolver`.
     """
+
+    #: lowest Newton tolerance its inexact solves reach (:data:`~alcontact.contact.systems._krylov._NEWTON_TOL_FLOOR`)
+    tol_floor = _NEWTON_TOL_FLOOR
 
     def __init__(self, fc, *, solver: _linalg.SolverChoice | None = None, modes: str | None = None, **options):
         modes = _MODES if modes is None else modes

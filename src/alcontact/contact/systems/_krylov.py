@@ -346,6 +346,9 @@ class IterativeContact(ContactPoints):
         AMG setup for ``K`` plus one CG solve of a linear elastic problem of this mesh.
     """
 
+    #: how the linear systems are solved (``solution.extra["strategy"]``): Krylov iterations in the full space
+    strategy = "krylov"
+
     def __init__(self, problem, *, margin: float = 0.25, solver: _linalg.SolverChoice | None = None):
         t0 = time.perf_counter()
         self._setup_problem(problem)
@@ -557,7 +560,7 @@ class IterativeContact(ContactPoints):
                 "linear_solve_s": self.reference_seconds, "assembly_s": self.assembly_seconds}
 
     def extra(self) -> dict:
-        return {"linear_solver": "amg", "backend": self.solver.name, "cg_iterations": int(self.cg_iterations),
+        return {"linear_solver": self.solver.name, "strategy": self.strategy, "cg_iterations": int(self.cg_iterations),
                 "amg_setups": int(self.amg_setups),
                 "amg_updates": int(self.amg_updates)}
 
@@ -830,6 +833,9 @@ class IterativeFrictionalContact(FrictionalContact):
         hierarchies built.
     """
 
+    #: how the linear systems are solved (``solution.extra["strategy"]``): Krylov iterations in the full space
+    strategy = "krylov"
+
     def __init__(self, problem, history, *, margin: float = 0.25, solver: _linalg.SolverChoice | None = None):
         t0 = time.perf_counter()
         model = problem.model
@@ -953,7 +959,8 @@ class IterativeFrictionalContact(FrictionalContact):
         # the Krylov iterations of the solver's own solves (the contact-free solutions, the compliance of the
         # semi-smooth Newton reference), where its factor counts them (the AMG factor's CG)
         inner = int(getattr(self.factor.factor, "iterations", 0))
-        return {"linear_solver": "amg", "backend": self.solver.name, "cg_iterations": int(self.cg_iterations + inner),
+        return {"linear_solver": self.solver.name, "strategy": self.strategy,
+                "cg_iterations": int(self.cg_iterations + inner),
                 "amg_setups": int(self.amg_setups), "krylov_solves": int(self.linear_solves)}
 
 
