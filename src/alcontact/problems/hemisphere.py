@@ -112,7 +112,7 @@ def hemisphere(n: int = 6, *, order: int = 1, radius: float = 1.0, delta: float 
 def hemisphere_axisym(n: int = 12, *, order: int = 1, radius: float = 1.0, delta: float = 0.2,
                       E: float = 1000.0, nu: float = 0.3, model: str = "neo-hookean",
                       curved: bool = True) -> ContactProblem:
-    """The hemisphere of :func:`hemisphere` as a body of revolution (``geometry="axisymmetric"``).
+    r"""The hemisphere of :func:`hemisphere` as a body of revolution (``geometry="axisymmetric"``).
 
     The quarter disc :math:`r = x \in [0, R]`, :math:`y \in [0, R]`, :math:`r^2 + (y - R)^2 \le R^2`
     in the r-z half-plane, meshed by the 2D elliptical-grid map of the unit square
