@@ -319,6 +319,14 @@ def _small_stepped(problem, algorithm, penalty, options, steps, history, progres
     return stepped_solution(views)
 
 
+def _engine_progress(given, progress):
+    """The Coulomb engines' step callback ``(k, t, n)``: ``given`` as it is, else ``progress(k, n, t)`` of
+    :func:`solve` (``None`` without either)."""
+    if given is not None or progress is None:
+        return given
+    return lambda k, t, n: progress(k, n, t)
+
+
 def _small_friction(problem, mu, algorithm, penalty, options, steps, history, max_cutbacks, progress, overrides,
                     hooks):
     if history is None:  # the problem's own loads at every step time
@@ -326,10 +334,7 @@ def _small_friction(problem, mu, algorithm, penalty, options, steps, history, ma
         steps = None
     if max_cutbacks is not None:
         overrides = dict(overrides, max_cutbacks=max_cutbacks)
-    cb = hooks.get("on_step")
-    if cb is None and progress is not None:
-        def cb(k, t, n):
-            progress(k, n, t)
+    cb = _engine_progress(hooks.get("on_step"), progress)
     fsol = _friction_engine(problem, history, algorithm, penalty, options, steps=steps, friction=mu, on_step=cb,
                             **overrides)
     if progress is not None:
@@ -368,10 +373,7 @@ def _finite_friction(problem, mu, algorithm, penalty, options, steps, history, o
     steps = finite_friction_steps(history, steps)
     if max_cutbacks is not None:
         overrides = dict(overrides, max_cutbacks=max_cutbacks)
-    cb = hooks.get("progress")
-    if cb is None and progress is not None:
-        def cb(k, t, n):
-            progress(k, n, t)
+    cb = _engine_progress(hooks.get("progress"), progress)
     fs = _finite_friction_engine(problem, mu, algorithm, penalty, options, steps=steps, history=history,
                                  obstacle_path=obstacle_path, on_step=hooks.get("on_step"), progress=cb,
                                  **overrides)
