@@ -42,7 +42,7 @@ from alcontact.fem._geometry import AXISYMMETRIC, TWO_PI, axis_points, check_geo
 from alcontact.fem._linalg import Factorization, nested_dissection
 from alcontact.linalg import MatrixHints
 from alcontact.fem._material import Material
-from alcontact.fem.quality import check_mesh_quality
+from alcontact.fem.quality import check_mesh_quality, element_mapping
 
 __all__ = ["VOLUMETRIC_FORMULATIONS", "LinearElasticity", "numerical_rank", "rigid_body_modes"]
 
@@ -536,7 +536,7 @@ class LinearElasticity:
         # outside the mesh or on its boundary within round-off)
         basis = self.scalar_basis
         xi, ci = x[inside].T, cells[inside]
-        loc = basis.mapping.invF(xi[:, :, np.newaxis], tind=ci)
+        loc = self._element_mapping.invF(xi[:, :, np.newaxis], tind=ci)
         phis = np.array([basis.elem.gbasis(basis.mapping, loc, k, tind=ci)[0] for k in range(basis.Nbfun)])
         rows = np.tile(np.arange(ci.size), basis.Nbfun)
         cols = basis.element_dofs[:, ci].ravel()
@@ -571,12 +571,18 @@ class LinearElasticity:
             self._facet_cache[key] = np.unique(self.scalar_dofs.get_facet_dofs(f).flatten()).astype(np.int64)
         return self._facet_cache[key]
 
+    @cached_property
+    def _element_mapping(self):
+        """The element map of the mesh, whose inverse the facet bases and probes use (:func:`~alcontact.fem.quality.element_mapping`)."""
+        return element_mapping(self.mesh)
+
     def _facet_basis(self, name: str, *, vector: bool, intorder: int | None = None) -> FacetBasis:
         key = ("fb", name, vector, intorder)
         if key not in self._facet_cache:
             elem = self.element if vector else self.scalar_element
             kw = {} if intorder is None else {"intorder": intorder}
-            self._facet_cache[key] = FacetBasis(self.mesh, elem, facets=self.facets(name), **kw)
+            self._facet_cache[key] = FacetBasis(self.mesh, elem, mapping=self._element_mapping, facets=self.facets(name),
+                                                **kw)
         return self._facet_cache[key]
 
     def release_geometry(self) -> None:
@@ -589,6 +595,7 @@ class LinearElasticity:
             del self._facet_cache[key]
         if hasattr(self.mesh, "_cached_mapping"):  # scikit-fem's cache of Mesh.mapping()
             del self.mesh._cached_mapping
+        self.__dict__.pop("_element_mapping", None)
 
     def boundary_weights(self, name: str) -> np.ndarray:
         r"""Tributary length/area of each DOF location of boundary ``name``.
@@ -707,7 +714,7 @@ class LinearElasticity:
             mark[sdofs[np.asarray(near, dtype=bool)]] = True
             facet_dofs = np.asarray(self._facet_basis(name, vector=False).element_dofs)  # (nloc, nf)
             f = f[np.any(mark[facet_dofs], axis=0)]
-        fb = FacetBasis(self.mesh, self.scalar_element, facets=f, intorder=intorder)
+        fb = FacetBasis(self.mesh, self.scalar_element, mapping=self._element_mapping, facets=f, intorder=intorder)
         full = np.zeros(self.scalar_dofs.N)
         full[sdofs] = np.asarray(values, dtype=float)
         val = np.asarray(fb.interpolate(full))  # (nf, nqp)
