@@ -1,4 +1,8 @@
-"""Dense steps of the condensed frictionless path: Newton correction, active-set step, barrier start."""
+"""Dense steps of the condensed frictionless path: Newton correction, active-set step, barrier start.
+
+Reaches inside the package: unit tests of the private dense steps of ``contact.algorithms``
+(``_first_push``, ``newton_step``).
+"""
 
 from __future__ import annotations
 
