@@ -46,7 +46,7 @@ from pathlib import Path
 
 import numpy as np
 
-from alcontact.contact import solve_finite
+from alcontact.contact import solve
 from alcontact.contact.systems import FiniteContact, NewtonSolver
 from alcontact.contact.systems._full_space import linear_solve
 from alcontact.errors import UnknownNameError
@@ -184,35 +184,37 @@ def run_case(args, log=logging.info, command: str | None = None) -> str:
     for name in args.variants:
         algorithm, penalty = VARIANTS[name]
         prof = cProfile.Profile(time.process_time) if args.profile else None
-        marks = [time.process_time()]  # CPU time at the start and after every accepted step
+        marks = []  # CPU time at the start (done = 0) and after every accepted step (solve's progress callback)
         t0 = time.perf_counter()
         if prof is not None:
             prof.enable()
-        fs = solve_finite(problem, algorithm, penalty, steps=args.steps,
-                          on_step=lambda *_: marks.append(time.process_time()))
+        sol = solve(problem, algorithm, penalty, steps=args.steps,
+                    on_step=lambda done, total, t: marks.append(time.process_time()))
         if prof is not None:
             prof.disable()
-            profiles.append((name, len(fs.steps), int(sum(s.newton_iterations for s in fs.steps)),
+        frames = [f for f in sol.frames if f.t > 0]  # the accepted load steps (a run that reached none: the start)
+        if prof is not None:
+            profiles.append((name, len(frames), int(sum(f.newton_iterations for f in frames)),
                              *breakdown(prof, marks[-1] - marks[0])))
         wall = time.perf_counter() - t0
         if t_ref is None:
-            t_asm, t_first, t_again = assembly_and_solve_seconds(problem, fs.u, repeat=args.repeat)
+            t_asm, t_first, t_again = assembly_and_solve_seconds(problem, sol.u, repeat=args.repeat)
             t_ref = t_asm + t_first
             t_ref2 = t_asm + t_again
-        newton = [s.newton_iterations for s in fs.steps]
+        newton = [f.newton_iterations for f in frames]
         secs = list(np.diff(marks))
-        solves = [s.linear_solves for s in fs.steps]
-        for k, s in enumerate(fs.steps, 1):
-            rows.append({"variant": name, "step": k, "t": f"{s.t:.4f}", "newton_iterations": s.newton_iterations,
-                         "assembly_solves": s.linear_solves, "outer_iterations": s.outer_iterations,
-                         "cutbacks": s.cutbacks, "force": f"{s.force[1]:.10g}", "cpu_seconds": f"{secs[k - 1]:.4f}",
-                         "ratio": f"{secs[k - 1] / t_ref2:.2f}"})
-        summary.append((name, fs.status.label, len(fs.steps), float(np.mean(newton)) if newton else np.nan,
+        solves = [f.linear_solves for f in frames]
+        for k, f in enumerate(frames, 1):
+            rows.append({"variant": name, "step": k, "t": f"{f.t:.4f}", "newton_iterations": f.newton_iterations,
+                         "assembly_solves": f.linear_solves, "outer_iterations": f.outer_iterations,
+                         "cutbacks": f.cutbacks, "force": f"{f.contact_force[1]:.10g}",
+                         "cpu_seconds": f"{secs[k - 1]:.4f}", "ratio": f"{secs[k - 1] / t_ref2:.2f}"})
+        summary.append((name, sol.status.label, len(frames), float(np.mean(newton)) if newton else np.nan,
                         max(newton, default=0), float(np.mean(solves)) if solves else np.nan,
                         float(np.mean(secs)) / t_ref if secs else np.nan,
                         float(np.mean(secs)) / t_ref2 if secs else np.nan, wall,
-                        float(fs.forces[-1, 1]) if len(fs.steps) else np.nan))
-        log(f"{name}: {fs.status.label}, {summary[-1][3]:.2f} Newton per step, {summary[-1][5]:.2f} assembly+solves "
+                        float(frames[-1].contact_force[1]) if frames else np.nan))
+        log(f"{name}: {sol.status.label}, {summary[-1][3]:.2f} Newton per step, {summary[-1][5]:.2f} assembly+solves "
             f"per step, time ratios {summary[-1][6]:.2f} / {summary[-1][7]:.2f}")
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)

@@ -1,6 +1,6 @@
 """Finite-deformation contact on the AMG + CG path against the direct path (``linear_solver``).
 
-Runs :func:`alcontact.contact.solve_finite` on one case with ``linear_solver="direct"``
+Runs :func:`alcontact.contact.solve` (finite deformation) on one case with ``linear_solver="direct"``
 (MKL PARDISO per Newton matrix) and ``linear_solver="amg"``
 (:class:`~alcontact.contact.systems._full_space.AMGNewtonSolver`), each in its own process
 (peak resident memory from ``getrusage``), and records per load step the Newton
@@ -29,6 +29,10 @@ from pathlib import Path
 
 import numpy as np
 
+#: the keys the final frame adds to ``ContactSolution.extra`` (the step's own record, not the run's)
+FRAME_KEYS = ("t", "cutbacks", "seconds", "requested", "step_newton_iterations", "step_outer_iterations",
+              "step_linear_solves")
+
 FIELDS = ["problem", "n", "order", "dofs", "algorithm", "penalty", "linear_solver", "step", "newton", "cg_newton",
           "cg_all", "amg_setups", "cpu_s", "wall_s", "force", "peak_rss_mb", "max_rel_force_diff", "max_rel_u_diff"]
 
@@ -42,22 +46,24 @@ def _problem(name: str, n: int, order: int):
 
 def child(args) -> None:
     """One run (one path) in this process; prints a JSON record."""
-    from alcontact.contact import solve_finite
+    from alcontact.contact import solve
 
     prob = _problem(args.problem, args.n, args.order)
     steps = []
     state = {"cpu": time.process_time(), "wall": time.perf_counter(), "cg": 0, "cgn": 0, "setups": 0}
     holder = {}
 
-    def on_step(st, u, p):
+    def on_step(done, total, t):  # solve's progress: before the first step (done = 0), after every accepted one
         solver = holder.get("solver")
-        info = solver.info() if solver is not None else {}
+        if solver is None:
+            return
+        info = solver.info()
         cpu, wall = time.process_time(), time.perf_counter()
-        steps.append({"step": len(steps) + 1, "newton": int(st.newton_iterations),
+        steps.append({"step": len(steps) + 1,
                       "cg_newton": int(info.get("newton_cg_iterations", 0)) - state["cgn"],
                       "cg_all": int(info.get("cg_iterations", 0)) - state["cg"],
                       "amg_setups": int(info.get("amg_setups", 0)) - state["setups"],
-                      "cpu_s": cpu - state["cpu"], "wall_s": wall - state["wall"], "force": float(st.force[1])})
+                      "cpu_s": cpu - state["cpu"], "wall_s": wall - state["wall"]})
         state.update(cpu=cpu, wall=wall, cg=int(info.get("cg_iterations", 0)),
                      cgn=int(info.get("newton_cg_iterations", 0)), setups=int(info.get("amg_setups", 0)))
 
@@ -72,13 +78,18 @@ def child(args) -> None:
 
     _finite.FiniteContact.__init__ = spy
     state.update(cpu=time.process_time(), wall=time.perf_counter())
-    fs = solve_finite(prob, args.algorithm, args.penalty, steps=args.steps, linear_solver=args.linear_solver,
-                      on_step=on_step)
-    np.save(args.u_file, fs.solution.u)
-    print(json.dumps({"success": bool(fs.success), "message": fs.message, "dofs": int(prob.model.ndofs),
-                      "steps": steps, "extra": {k: v for k, v in fs.solution.extra.items()
-                                                if isinstance(v, (int, float, str))},
-                      "timings": {k: float(v) for k, v in fs.solution.timings.items()},
+    sol = solve(prob, args.algorithm, args.penalty, steps=args.steps, linear_solver=args.linear_solver,
+                on_step=on_step)
+    frames = [f for f in sol.frames if f.t > 0]  # the accepted load steps (a run that reached none: the start)
+    for row, f in zip(steps, frames):
+        row.update(newton=int(f.newton_iterations), force=float(f.contact_force[1]))
+    steps = [{k: row[k] for k in ("step", "newton", "cg_newton", "cg_all", "amg_setups", "cpu_s", "wall_s", "force")}
+             for row in steps]
+    np.save(args.u_file, sol.u)
+    print(json.dumps({"success": bool(sol.success), "message": sol.result.message, "dofs": int(prob.model.ndofs),
+                      "steps": steps, "extra": {k: v for k, v in sol.extra.items()
+                                                if isinstance(v, (int, float, str)) and k not in FRAME_KEYS},
+                      "timings": {k: float(v) for k, v in sol.timings.items()},
                       "peak_rss_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0}))
 
 

@@ -68,7 +68,7 @@ def main(argv=None) -> int:
     parser.add_argument("--quick", action="store_true", help="default options only, no 3D ironing")
     parser.add_argument("--only", default=None, help="run only the problems whose name contains this")
     args = parser.parse_args(argv)
-    from alcontact.contact import solve_finite_friction
+    from alcontact.contact import solve
 
     for name, mu, make in cases(args.quick):
         if args.only and args.only not in name:
@@ -79,12 +79,12 @@ def main(argv=None) -> int:
                 if (algorithm == "ssn" or args.quick) and oname != "default":
                     continue
                 problem, path, times = make()
-                fs = solve_finite_friction(problem, mu, algorithm, penalty or None, steps=times, obstacle_path=path,
-                                           **opts)
-                ex = fs.extra
-                print(f"{name} {alg} {oname}: {fs.status.label} steps={len(fs.steps)} newton={ex['newton_total']} "
+                sol = solve(problem, algorithm, penalty or None, friction=mu, steps=times, obstacle_path=path, **opts)
+                ex = sol.record.extra  # the run's totals (failed tries that cut-backs repeated included)
+                frames = sol.frames if sol.record.steps else ()  # no accepted step: one frame of the start
+                print(f"{name} {alg} {oname}: {sol.status.label} steps={len(frames)} newton={ex['newton_total']} "
                       f"solves={ex['linear_solves']} cutbacks={ex['cutbacks']}", flush=True)
-                for s in fs.steps:
+                for s in frames:
                     T = " ".join(f"{v:.10g}" for v in s.tangential_force)
                     print(f"  t={s.t:.10g} {s.status.label} outer={s.outer_iterations} newton={s.newton_iterations} "
                           f"N={s.normal_force:.10g} T=[{T}] max|u|={float(np.max(np.abs(s.u))):.10g}", flush=True)

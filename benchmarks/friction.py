@@ -33,7 +33,7 @@ from pathlib import Path
 
 import numpy as np
 
-from alcontact.contact import problem_at, solve_friction
+from alcontact.contact import problem_at, solve
 from alcontact.io.results import write_text_atomic
 from alcontact.problems import friction as fp
 
@@ -85,7 +85,7 @@ def _mindlin_errors(prob, sol):
     the next point outward, averaged over both sides (as in tests/verification/test_friction.py).
     """
     ref = getattr(prob, "reference", None)
-    f = sol.steps[-1] if sol.steps else None
+    f = sol.final if sol.record.steps else None
     if f is None or not hasattr(ref, "stick_half_width") or not np.any(f.state == 1):
         return float("nan"), float("nan")
     x = sol.points[:, 0]
@@ -98,7 +98,7 @@ def _mindlin_errors(prob, sol):
         last = xx[stick & (xx >= 0)].max()
         edges.append(0.5 * (last + xx[xx > last].min()))
     dc = (0.5 * sum(edges) - ref.stick_half_width(P, Q)) / a
-    q = f.shear[:, 0] * np.sign(f.shear[np.argmin(np.abs(x)), 0])
+    q = f.traction_t[:, 0] * np.sign(f.traction_t[np.argmin(np.abs(x)), 0])  # global components on the body
     qex = ref.shear(x, P, Q)
     inside = np.abs(x) < a
     w = sol.weights[inside]
@@ -107,7 +107,8 @@ def _mindlin_errors(prob, sol):
 
 
 def _step_seconds(stamps, t_end):
-    """Wall time of every requested step (its cut-back sub-steps included), from ``on_step`` stamps."""
+    """Wall time of every requested step (its cut-back sub-steps included), from ``on_step`` stamps (one before
+    each requested step)."""
     ends = stamps[1:] + [t_end]
     return [b - a for a, b in zip(stamps, ends)]
 
@@ -147,10 +148,10 @@ def accuracy(log=print) -> list[str]:
     for label, kw, ns in ACCURACY:
         for n in ns:
             prob, hist = fp.cattaneo_mindlin_2d(n_per_a=n, **kw)
-            sol = solve_friction(prob, hist, "ssn")
+            sol = solve(prob, "ssn", history=hist)
             dc, err = _mindlin_errors(prob, sol)
-            f = sol.steps[-1]
-            q = float(np.linalg.norm(f.tangential_force)) / (sol.friction * f.normal_force)
+            f = sol.final
+            q = float(np.linalg.norm(f.tangential_force)) / (prob.friction * f.normal_force)
             log(f"  {label}: {n}/a dofs={prob.model.ndofs} {sol.status.label} dc={dc:+.4f} shear L2={err:.4f}")
             md.append(f"| {label} | {n} | {prob.model.ndofs} | {q:.3f} | {dc:+.4f} | {err:.4f} |")
     return md + [""]
@@ -170,20 +171,24 @@ def run(out_dir=None, cases=None, variants=None, log=print, with_accuracy=False)
         ref_outer = None
         for label, alg, pen, over in chosen:
             stamps = []
-            sol = solve_friction(prob, hist, alg, pen, on_step=lambda k, t, n: stamps.append(time.perf_counter()),
-                                 **over)
+            # the progress callback (done, total, t) runs before each requested step and once at the end
+            sol = solve(prob, alg, pen, history=hist,
+                        on_step=lambda done, total, t: done < total and stamps.append(time.perf_counter()), **over)
             t_end = time.perf_counter()
+            # the run's totals count the failed tries that cut-backs repeated too: the engine record holds them
+            run = sol.record
             if alg == "ssn":
-                ref_outer = sol.outer_iterations
+                ref_outer = run.outer_iterations
             per_step = _step_seconds(stamps, t_end)
             wall = sol.timings["total_s"]
-            fin = sol.steps[-1] if sol.steps else None
-            ok = fin is not None and fin.normal_force > 0 and sol.friction > 0
-            q = float(np.linalg.norm(fin.tangential_force)) / (sol.friction * fin.normal_force) if ok else float("nan")
+            frames = sol.frames if run.steps else ()  # a run that converged no step: one frame of the start
+            fin = frames[-1] if frames else None
+            ok = fin is not None and fin.normal_force > 0 and prob.friction > 0
+            q = float(np.linalg.norm(fin.tangential_force)) / (prob.friction * fin.normal_force) if ok else float("nan")
             req = 0
             outer = newton = cuts = 0
             tang = []
-            for st in sol.steps:
+            for st in frames:
                 outer += st.outer_iterations
                 newton += st.newton_iterations
                 cuts += st.cutbacks
@@ -204,10 +209,10 @@ def run(out_dir=None, cases=None, variants=None, log=print, with_accuracy=False)
                 outer = newton = cuts = 0
             row = {
                 "case": case, "dofs": prob.model.ndofs, "variant": label, "status": sol.status.label,
-                "steps": len(sol.steps), "outer_iterations": sol.outer_iterations,
-                "outer_over_ssn": round(sol.outer_iterations / ref_outer, 3) if ref_outer else float("nan"),
-                "newton_iterations": sol.newton_iterations, "linear_solves": sol.linear_solves,
-                "cutbacks": sol.cutbacks, "wall_s": round(wall, 3), "linear_solve_s": round(t_lin, 4),
+                "steps": len(frames), "outer_iterations": run.outer_iterations,
+                "outer_over_ssn": round(run.outer_iterations / ref_outer, 3) if ref_outer else float("nan"),
+                "newton_iterations": run.newton_iterations, "linear_solves": run.linear_solves,
+                "cutbacks": run.cutbacks, "wall_s": round(wall, 3), "linear_solve_s": round(t_lin, 4),
                 "ratio": round(wall / t_lin, 2), "ratio_per_step": round(wall / t_lin / max(req, 1), 3),
                 "tangential_step_ratio": round(float(np.mean(tang)), 3) if tang else float("nan"),
                 "Q_over_muP": round(q, 4),

@@ -6,8 +6,9 @@ the obstacle only in 2D / 3D below and beyond the Coulomb limit) with Algorithm 
 Algorithm 6.4 (exp-met1 and log-met1), and the semi-smooth Newton reference, on the direct
 and the AMG path, with the default options, ``multiplier_update="first-order"`` (direct
 path; the AMG path is first order anyway) and ``radius="traction"``: 170 runs, about 6
-minutes on one core. Records per run the status, message and counters and per step the
-iteration counts, forces, tractions, displacements and open/stick/slip states.
+minutes on one core. Records per run (``contact.solve``) the status, message and counters and
+per step (its frames) the iteration counts, forces, tractions (global components on the body),
+displacements and open/stick/slip states.
 
 The AMG path is made deterministic for the comparison: pyamg's spectral radius estimates
 start from random vectors (the legacy NumPy generator is seeded before every run), and the
@@ -64,7 +65,7 @@ def cases():
 
 def record() -> dict:
     """Solve every run; the fingerprint keyed by (problem, algorithm, path, options)."""
-    from alcontact.contact import solve_friction
+    from alcontact.contact import solve
 
     tick = itertools.count()
     time.perf_counter = lambda: next(tick) * 1e-3  # the AMG rebuild rule weighs wall time
@@ -78,16 +79,17 @@ def record() -> dict:
                         continue
                     prob, hist = make()
                     np.random.seed(0)  # pyamg's spectral radius estimates start from random vectors
-                    sol = solve_friction(prob, hist, algorithm=algorithm, penalty=penalty or None, linear_solver=path,
-                                         **opts)
+                    sol = solve(prob, algorithm, penalty or None, history=hist, linear_solver=path, **opts)
+                    run = sol.record  # the run's totals (failed tries that cut-backs repeated included)
+                    frames = sol.frames if run.steps else ()  # no converged step: one frame of the start
                     out[(name, alg, path, oname)] = dict(
-                        status=int(sol.status), message=sol.message, outer=sol.outer_iterations,
-                        newton=sol.newton_iterations, cutbacks=sol.cutbacks, linear_solves=sol.linear_solves,
-                        extra={k: v for k, v in sol.extra.items() if isinstance(v, (int, str))},
-                        steps=[dict(t=s.t, outer=s.outer_iterations, newton=s.newton_iterations,
-                                    state=np.array(s.state), **{f: np.array(getattr(s, f)) for f in FIELDS})
-                               for s in sol.steps])
-                    print(name, alg, path, oname, sol.status.label, sol.outer_iterations, sol.newton_iterations,
+                        status=int(sol.status), message=sol.result.message, outer=run.outer_iterations,
+                        newton=run.newton_iterations, cutbacks=run.cutbacks, linear_solves=run.linear_solves,
+                        extra={k: v for k, v in run.extra.items() if isinstance(v, (int, str))},
+                        steps=[dict(t=f.t, outer=f.outer_iterations, newton=f.newton_iterations,
+                                    state=np.array(f.state), **{k: np.array(getattr(f, k)) for k in FIELDS})
+                               for f in frames])
+                    print(name, alg, path, oname, sol.status.label, run.outer_iterations, run.newton_iterations,
                           flush=True)
     return out
 

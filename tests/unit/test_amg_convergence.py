@@ -4,6 +4,9 @@ Reference: the direct path (one factorization, exact Newton on the condensed pro
 same mesh. Tolerances: the AMG path needs at most twice the direct path's outer iterations,
 and its total contact force agrees with the direct one to a relative 1e-6 (the Newton
 residuals of both paths are below 1e-8 of the contact forces).
+
+Reaches inside the package: one unit check of the private stiff-point rule of
+``contact.systems._krylov``.
 """
 
 from __future__ import annotations

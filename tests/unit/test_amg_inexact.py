@@ -1,4 +1,9 @@
-"""Decisions of the AMG path for large problems, checked on a small one (thresholds lowered)."""
+"""Decisions of the AMG path for large problems, checked on a small one (thresholds lowered).
+
+Reaches inside the package: the size above which the AMG path solves inexactly
+(``contact.systems._krylov.INEXACT_DOFS``) is an internal rule, no option; the test sets it to 0 to
+reach the inexact path on a small model.
+"""
 
 from __future__ import annotations
 

@@ -7,6 +7,8 @@ from ``numpy.random``, seeded identically, so the hierarchies agree to round-off
 level sizes and block patterns exactly, prolongators and coarse matrices to 1e-12
 relative (the Galerkin product is summed in another order), CG iterations to 1e-10
 within one iteration.
+
+Reaches inside the package: unit test of the private module ``linalg._amg`` against PyAMG.
 """
 
 from __future__ import annotations

@@ -1,6 +1,6 @@
 """Python API bad inputs: every one raises a project error naming the key and the value (issue 8).
 
-The table is generated from the option declarations (``alcontact._options``): for every
+The table is generated from the option declarations (``alcontact.io.schema.declarations``): for every
 field of ``ContactOptions`` and ``FrictionOptions``, a value of the wrong type, a bool
 for an int, a string for a number, NaN/inf where a finite number is needed and values
 outside the declared range. Each is passed three ways (keyword override, ``options=``
@@ -19,11 +19,11 @@ import pytest
 
 from _helpers import sq, sq_grad
 from alcontact import errors
-from alcontact._options import declarations
 from alcontact.contact import ContactOptions, Support, solve
 from alcontact.contact.algorithms import FrictionOptions
 from alcontact.contact import solve_friction
 from alcontact.fem import meshes
+from alcontact.io.schema import declarations
 from alcontact.optim import minimize
 from alcontact.problems import friction as fp
 from alcontact.problems.blocks import patch_block

@@ -19,12 +19,12 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from alcontact import errors
-from alcontact._options import MAX_STEPS, VALUE_RANGE
 from alcontact.contact import (ContactProblem, ContactSolution, LoadHistory, Pressure, Support, Traction, solve,
                                solve_friction)
 from alcontact.contact.obstacles import Circle, ConvexPolytope, Cylinder, HalfSpace, Sphere
 from alcontact.fem import LinearElasticity, Material, meshes
 from alcontact.io.config import load_problem
+from alcontact.io.schema import MAX_STEPS, VALUE_RANGE
 
 # ------------------------------------------------------------------ table: value -> InputError naming it
 BAD = [

@@ -7,6 +7,8 @@
   calibration is within a factor 2 of the measured time on every example, and the code computes
   what the calibration recorded); ``bench --quick`` prints its calibrated time and marks the
   warnings of expected failed solves as expected.
+
+Reaches inside the package: unit tests of the CLI's private progress-bar helpers.
 """
 
 from __future__ import annotations

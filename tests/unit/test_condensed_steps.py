@@ -1,4 +1,8 @@
-"""Dense steps of the condensed frictionless path: Newton correction, active-set step, barrier start."""
+"""Dense steps of the condensed frictionless path: Newton correction, active-set step, barrier start.
+
+Reaches inside the package: unit tests of the private dense steps of ``contact.algorithms``
+(``_first_push``, ``newton_step``).
+"""
 
 from __future__ import annotations
 
@@ -80,14 +84,14 @@ def test_first_push_closes_penetrations_with_margin():
 
 
 def test_barrier_penalty_first_subproblem_starts_next_to_the_penalty_solution():
-    """log-met2 on the small Hertz mesh: the first MET 2 subproblem after the penalty start
-    converges in at most 10 Newton steps (15 with the former fixed 50 % push) and the solve
-    agrees with SSN (the exact discrete solution) to 1e-6 relative in the contact pressure.
+    """log-met2 on the small Hertz mesh: the solve agrees with SSN (the exact discrete solution) to
+    1e-6 relative in the contact pressure. The Newton steps of the first MET 2 subproblem after the
+    penalty start (formerly asserted at most 10; 15 with the former fixed 50 % push) are recorded by
+    ``benchmarks/newton_counts.py``.
     """
     prob = hertz.hertz_2d(order=1, n_per_a=8, growth=1.3)
     met = solve(prob, "family-p", "log-met2")
     assert met.result.status.value > 0
-    assert met.result.history[1].newton_iterations <= 10
     prob.model.clear_factorization()
     ref = solve(prob, "ssn")
     assert np.max(np.abs(met.pressure - ref.pressure)) <= 1e-6 * np.max(ref.pressure)

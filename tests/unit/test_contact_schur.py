@@ -1,4 +1,9 @@
-"""Delassus operator from PARDISO's Schur complement versus the triangular-solve build."""
+"""Delassus operator from PARDISO's Schur complement versus the triangular-solve build.
+
+Reaches inside the package: the Schur thresholds of ``contact.systems._condensed``
+(``SCHUR_MIN_DOFS``, ``SCHUR_WINDOW``, ``SCHUR_MAX_DOFS``) are internal cost rules, no option; the
+test sets them to reach (or avoid) the Schur path on a small model.
+"""
 
 from __future__ import annotations
 

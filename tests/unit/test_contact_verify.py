@@ -1,4 +1,10 @@
-"""Unit tests of the result verifier: a wrong state never leaves a solver as ``converged``."""
+"""Unit tests of the result verifier: a wrong state never leaves a solver as ``converged``.
+
+Reaches inside the package: unit test of ``contact._verify.verified_status`` (invariants to status),
+and fake algorithms registered for the test's duration in the private registry table
+(``monkeypatch.setitem``) returning the private run records, so that nothing stays registered after
+it.
+"""
 
 from __future__ import annotations
 

@@ -5,6 +5,10 @@ status, that ``success`` is false / the status is negative, that the message say
 to try, that a warning is logged, and that ``raise_for_status`` raises
 ``ConvergenceError``. A last test checks the tables cover every negative member of
 ``ContactStatus`` and ``optim.Status``, so a new failure status needs a test here.
+
+Reaches inside the package: a fake algorithm registered for the test's duration in the private
+registry table (``monkeypatch.setitem``) returning the private run record, so that nothing stays
+registered after it.
 """
 
 from __future__ import annotations

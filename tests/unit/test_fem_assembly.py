@@ -1,4 +1,8 @@
-"""Chunked stiffness assembly (fem._assembly) and the sparse helpers of the AMG contact path."""
+"""Chunked stiffness assembly (fem._assembly) and the sparse helpers of the AMG contact path.
+
+Reaches inside the package: unit tests of the chunked assembly ``fem._assembly`` and the sparse
+helpers of ``contact.systems._krylov``.
+"""
 
 from __future__ import annotations
 

@@ -3,6 +3,10 @@
 Stress, tangent, internal force and tangent stiffness are checked against
 central finite differences (step h, relative error below a bound that the
 O(h^2) truncation and the round-off of the chosen h comfortably meet).
+
+Reaches inside the package: ``fem._hyper_materials`` (the law registry's table and its ``det``) to
+generate one check per registered law, and the private sparsity-pattern builders of
+``fem.hyperelastic`` to compare them.
 """
 
 from __future__ import annotations

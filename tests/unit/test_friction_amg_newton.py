@@ -6,6 +6,9 @@ Each subproblem of Algorithms 6.2 / 6.4 on the AMG path is a
 negative status (``NEWTON_FAILED``, or ``NONFINITE`` for a NaN residual) with a logged
 warning, as on the direct path. Reference for the converged case: the relative residual
 tolerance ``max(newton_tol, 1e-11)`` of the module doc.
+
+Reaches inside the package: unit test of the AMG friction Newton (``contact.systems._krylov``),
+reached directly to feed it failing subproblems.
 """
 
 from __future__ import annotations

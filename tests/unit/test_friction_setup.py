@@ -3,6 +3,10 @@
 ``FrictionalContact`` derives from ``CondensedContact`` like ``DiscreteContact``: the same
 points, candidates, factorization (backend, Schur block) and condensed-operator build, with
 the row operator ``P`` (every free component of a point) instead of ``B`` (its normal).
+
+Reaches inside the package: the Schur thresholds of ``contact.systems._condensed``
+(``SCHUR_MIN_DOFS``, ``SCHUR_WINDOW``, ``SCHUR_MAX_DOFS``) are internal cost rules, no option; the
+test sets them to reach the Schur path on a small model.
 """
 
 from __future__ import annotations

@@ -1,4 +1,8 @@
-"""Unit tests of the frictional contact pieces: return mapping, tangents, load history, errors."""
+"""Unit tests of the frictional contact pieces: return mapping, tangents, load history, errors.
+
+Reaches inside the package: unit tests of the private Coulomb pieces (return mapping, tangents) of
+``contact.algorithms._coulomb``.
+"""
 
 from __future__ import annotations
 

@@ -5,6 +5,9 @@ energy expression (alcontact.fem._hyper_laws, alcontact.fem._energy_expression).
 The finite-difference checks of stress and tangent of every registered law (generated from the
 registry) are in test_fem_hyperelastic.py; here: the branches those random F do not reach (equal
 principal stretches of Ogden), and what is specific to parameters and user expressions.
+
+Reaches inside the package: unit tests of private modules (``fem._hyper_laws``, the user energy-
+expression parser ``fem._energy_expression``), which have no public names.
 """
 
 from __future__ import annotations

@@ -1,7 +1,8 @@
 """One ``contact.solve`` for every case, one ``ContactSolution`` with per-step ``ContactFrame`` frames.
 
 Each case is checked against the stepping engine it dispatches to (reached through the
-former entry points, which are now wrappers returning the engine's record): the frames
+former entry points, now deprecated wrappers returning the engine's record, each checked to
+warn with a DeprecationWarning that names ``contact.solve``): the frames
 hold the engine's per-step states exactly (same arrays, tolerance 0), the tangential
 traction in the one global ``(m, d)`` convention, and the decision of what runs follows
 the problem (kinematics, friction coefficient). Tiny meshes: a few seconds in all.
@@ -83,7 +84,8 @@ def test_friction_is_decided_by_the_problem_and_frames_hold_the_engine_steps():
     prob, hist = fp.block_on_plane(dim=2, n=4)
     assert prob.friction > 0
     sol = solve(prob, history=hist)
-    rec = contact.solve_friction(prob, hist)  # the wrapper: the engine's own record
+    with pytest.warns(DeprecationWarning, match=r"solve_friction is deprecated.*contact\.solve\(problem, history="):
+        rec = contact.solve_friction(prob, hist)  # the wrapper: the engine's own record
     assert isinstance(rec, contact.FrictionSolution) and isinstance(sol.record, contact.FrictionSolution)
     assert len(sol.frames) == len(rec.steps) > 1
     # per step; the run's total also counts the set-up solves (the stiffness condensed on the contact points)
@@ -122,7 +124,8 @@ def test_frictional_problem_without_history_is_one_step_of_its_own_loads():
 def test_finite_deformation_frames_are_the_accepted_load_steps():
     prob = _finite_problem()
     sol = solve(prob, steps=2)
-    rec = contact.solve_finite(prob, steps=2)
+    with pytest.warns(DeprecationWarning, match=r"solve_finite is deprecated.*contact\.solve\(problem, steps="):
+        rec = contact.solve_finite(prob, steps=2)
     assert isinstance(sol.record, contact.FiniteSolution) and sol.result.success
     assert [f.t for f in sol.frames] == [s.t for s in rec.steps] == [0.5, 1.0]
     for fr, st in zip(sol.frames, rec.steps):
@@ -137,7 +140,8 @@ def test_finite_deformation_frames_are_the_accepted_load_steps():
 def test_finite_friction_frames_use_the_same_global_convention():
     prob = _finite_problem(friction=0.2)
     sol = solve(prob, steps=2)
-    rec = contact.solve_finite_friction(prob, 0.2, steps=2)
+    with pytest.warns(DeprecationWarning, match=r"solve_finite_friction is deprecated.*solve\(problem, friction=mu"):
+        rec = contact.solve_finite_friction(prob, 0.2, steps=2)
     assert isinstance(sol.record, contact.FiniteFrictionSolution)
     assert len(sol.frames) == len(rec.steps) == 2
     for fr, st in zip(sol.frames, rec.steps):

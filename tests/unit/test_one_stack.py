@@ -6,6 +6,9 @@
   algorithm keeps its former behaviour (1e-12 / 60 frictionless, 1e-11 / 200 with friction).
 * One registry holds the frictionless, frictional and finite-deformation algorithms with what
   they support; ``alcontact list`` and the problem-file checks read it.
+
+Reaches inside the package: the option merge of the algorithm registry
+(``contact.algorithms._frictionless.options_with``) is checked directly (no public name).
 """
 
 from __future__ import annotations
@@ -15,7 +18,6 @@ import dataclasses
 import pytest
 from typer.testing import CliRunner
 
-from alcontact._options import declarations
 from alcontact import linalg
 from alcontact.cli import app
 from alcontact.contact import ContactOptions, FrictionOptions, solve, solve_friction
@@ -24,6 +26,7 @@ from alcontact.contact.algorithms._frictionless import options_with
 from alcontact.errors import InputError, UnknownNameError
 from alcontact.io import schema
 from alcontact.io.config import load_problem_text
+from alcontact.io.schema import declarations
 from alcontact.problems import friction as fp
 from alcontact.problems.blocks import patch_block
 

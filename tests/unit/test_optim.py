@@ -1,4 +1,8 @@
-"""Unit tests of alcontact.optim: methods, penalties, KKT measures, failure branches."""
+"""Unit tests of alcontact.optim: methods, penalties, KKT measures, failure branches.
+
+Reaches inside the package: one spy on ``optim._inner._sparse_direction`` to check the sparse path
+ran (no result field records it).
+"""
 
 import dataclasses
 import logging

@@ -6,6 +6,9 @@
 - ``minimize(method="al")``: bound multipliers recovered from the gradient, x0 moved
   into the box, the Newton-KKT polish with active bounds, ``bounds_as="constraints"``
   still available and equivalent.
+
+Reaches inside the package: unit tests of the inner solver classes ``optim._inner.Newton`` /
+``TrustRegion`` (no public names; ``minimize`` is tested through its public name).
 """
 
 from __future__ import annotations

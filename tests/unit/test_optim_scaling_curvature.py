@@ -6,6 +6,9 @@
 - with ``scale=True`` (ALGENCAN's scaling) every reported quantity is in the user's
   units and agrees with the unscaled run;
 - ``x0`` outside the bounds is pushed inside by IPOPT's margin.
+
+Reaches inside the package: unit tests of the inner solvers and the trust-region step
+(``optim._inner``, ``optim._problem.NLP``), which have no public names.
 """
 
 import logging

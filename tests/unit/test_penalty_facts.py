@@ -6,6 +6,9 @@ automatically: each fact an algorithm branches on (``needs_multiplier_safeguard`
 ``minimizer``) must agree with what ``p``, ``p'`` and ``p''`` do on a probe grid, and
 the one Matioli safeguard (:func:`alcontact.penalties.safeguarded`) must give
 ``p' >= 0`` while leaving ``p`` unchanged right of its minimizer.
+
+Reaches inside the package: ``optim._safeguards``, ``optim._minimize`` and ``optim._outer``: each
+fact is checked against the internal branch that reads it.
 """
 
 from __future__ import annotations

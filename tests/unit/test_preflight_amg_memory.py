@@ -8,6 +8,9 @@ run on ``main``). Tolerance: the estimate
 run) lies within 20 % of every measured peak, so ``alcontact check`` refuses or admits a
 size on a number that was measured, and a change of the model constants without a new
 measurement fails here.
+
+Reaches inside the package: unit test of the preflight cost model ``io.preflight._cost`` against
+measured memory.
 """
 
 from __future__ import annotations

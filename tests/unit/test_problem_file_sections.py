@@ -3,6 +3,9 @@
 References: the issue order is the order of the sections in :mod:`alcontact.io._sections`
 (mesh, material, supports, loads, loading, obstacle, solver, reference); the obstacle
 parameters come from the registered factory's own signature (``inspect.signature``).
+
+Reaches inside the package: ``alcontact._options.check_value`` (the one value check that every
+section calls) is not public.
 """
 
 from __future__ import annotations
@@ -11,10 +14,11 @@ import inspect
 
 import pytest
 
-from alcontact._options import TYPES, Option, check_value
+from alcontact._options import check_value
 from alcontact.contact import obstacles
 from alcontact.errors import ConfigError, InputError, UnknownNameError
 from alcontact.io.config import load_problem_text
+from alcontact.io.schema import TYPES, Option
 
 GOOD = """
 [problem]

@@ -1,4 +1,8 @@
-"""Results folders are whole or absent: staging, --force, foreign files, bad --out, signals."""
+"""Results folders are whole or absent: staging, --force, foreign files, bad --out, signals.
+
+Reaches inside the package: the CLI's and the results folder's private signal helpers, to test an
+interrupted run without sending signals to the test process.
+"""
 
 from __future__ import annotations
 

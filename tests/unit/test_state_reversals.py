@@ -1,4 +1,8 @@
-"""Counting stick/slip reversals between Newton iterates (issue 18, ``FiniteFrictionStep.state_reversals``)."""
+"""Counting stick/slip reversals between Newton iterates (issue 18, ``FiniteFrictionStep.state_reversals``).
+
+Reaches inside the package: unit test of the private counting helper ``state_reversals`` of
+``contact.algorithms._coulomb``.
+"""
 
 import numpy as np
 

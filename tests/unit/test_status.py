@@ -3,6 +3,9 @@
 The old member names of both enums keep working, the same failure has the same code
 in both, the contact codes recorded in results folders are unchanged, labels are
 unchanged, and the inner solvers' reason strings map onto the table.
+
+Reaches inside the package: builds ``optim._inner.InnerResult`` to map every inner solver reason
+onto the status table (no public constructor).
 """
 
 from __future__ import annotations

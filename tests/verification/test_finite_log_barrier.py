@@ -15,7 +15,9 @@ MET subproblem of a load step had to undo that push with line-search steps cut b
 domain: on this mesh the load steps took up to 295 Newton iterations (57 at :math:`t = 0.75`)
 and the run failed at :math:`t = 0.99` (``n = 16`` at 0.75, ``n = 24`` at 0.70: the log rows of
 ``docs/benchmarks/finite.md`` before this test). With the scale that just closes the penetrations
-(times 1.5) every step takes at most 21 Newton iterations here; asserted: at most 40.
+(times 1.5) every step takes at most 21 Newton iterations here (formerly asserted: at most 40; now
+recorded with that bound by ``benchmarks/newton_counts.py``, ``docs/benchmarks/newton_counts.md``).
+Asserted: every step converges, with the reference's force.
 """
 
 from __future__ import annotations
@@ -27,8 +29,6 @@ from alcontact.contact import solve_finite
 from alcontact.problems.half_cylinder import half_cylinder
 
 N, ORDER, STEPS = 8, 2, 20
-#: Newton iterations of one load step (measured at most 21; the fixed 50 % push: up to 295 before failing)
-MAX_NEWTON_PER_STEP = 40
 
 
 @pytest.fixture(scope="module")
@@ -41,7 +41,7 @@ def reference():
 # log-met2 has the same Newton history as log-met1 here (identical counts per step): slow, to keep the suite short
 @pytest.mark.parametrize("penalty", ["log-met1", pytest.param("log-met2", marks=pytest.mark.slow)])
 def test_log_barrier_reaches_delta_04_with_reference_force(reference, penalty):
-    """All 20 steps converge; force at every step within 1e-6 relative of ssn; <= 40 Newton per step (module doc)."""
+    """All 20 steps converge; force at every step within 1e-6 relative of ssn (module doc)."""
     fs = solve_finite(half_cylinder(N, order=ORDER), "family-p", penalty, steps=STEPS)
     assert fs.success, fs.message
     assert len(fs.steps) == STEPS
@@ -49,4 +49,3 @@ def test_log_barrier_reaches_delta_04_with_reference_force(reference, penalty):
     assert fs.times[-1] == pytest.approx(1.0)
     ref = reference.forces[:, 1]
     assert np.max(np.abs(fs.forces[:, 1] - ref) / ref) <= 1e-6
-    assert max(s.newton_iterations for s in fs.steps) <= MAX_NEWTON_PER_STEP

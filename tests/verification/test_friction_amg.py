@@ -11,6 +11,10 @@ Bodies held only by the obstacle: the analytical reference of
 ``test_friction_held_by_obstacle`` (statics of the rigid motions and Coulomb's law: the
 obstacle carries N = P A and the tangential force Q A; below Q = mu P every point sticks,
 beyond it there is no static equilibrium, status UNBOUNDED).
+
+Reaches inside the package: once, to lower ``linalg._registry.AUTO_AMG_DOFS`` (the size at which
+``linear_solver = "auto"`` picks AMG, no option) so that ``auto`` reaches the AMG path on a small
+model.
 """
 
 from __future__ import annotations

@@ -47,6 +47,7 @@ def _solve_all(penalty: str) -> tuple[list[int], dict[int, str], float]:
 def test_al_penalty_solves_hock_schittkowski(penalty, record_property):
     solved, failed, seconds = _solve_all(penalty)
     total = len(solved) + len(failed)
+    assert total == len(hs.problems()) >= 50, f"the selection has {total} problems; expected all of them, >= 50"
     record_property("solved", f"{len(solved)}/{total}")
     record_property("failures", {hs.get(k).name: why for k, why in failed.items()})
     print(f"\n{penalty}: {len(solved)}/{total} solved in {seconds:.1f} s")

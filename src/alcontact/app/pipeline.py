@@ -232,9 +232,9 @@ def run_setup(setup, out: str | os.PathLike | None = None, force: bool = False, 
     """Solve a problem file (:class:`alcontact.io.ProblemSetup`) and write its results folder.
 
     Frictionless problems are solved at every step time (independently: the
-    problem is path independent); with friction, :func:`solve_friction` follows
+    problem is path independent); with friction, :func:`~alcontact.contact.solve` follows
     the load history; finite-deformation problems (``kinematics = "finite"``) are
-    solved by :func:`~alcontact.contact.solve_finite` over the step times, each step
+    solved by :func:`~alcontact.contact.solve` over the step times, each step
     from the last, with cut-backs (frames: one per accepted step). ``algorithm``, ``penalty`` and ``**options`` (fields of
     ``ContactOptions``) override the file.
 

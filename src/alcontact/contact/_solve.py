@@ -13,6 +13,7 @@ from __future__ import annotations
 import dataclasses
 import logging
 import time
+import warnings
 
 import numpy as np
 
@@ -384,12 +385,22 @@ def _finite_friction(problem, mu, algorithm, penalty, options, steps, history, o
 
 
 # ---------------------------------------------------------------------------------------------------------------
-# the former entry points: thin wrappers over :func:`solve`, kept for one release so that user code keeps running
+# the former entry points: deprecated thin wrappers over :func:`solve`, kept for one release so that user code keeps
+# running. They keep returning the engines' records (what their callers read); new code calls solve() and reads the
+# ContactSolution and its frames, which have one convention for every case.
 # ---------------------------------------------------------------------------------------------------------------
+def _deprecated(name: str, instead: str) -> None:
+    """Warn once per call site that ``name`` is deprecated, naming the :func:`solve` call that replaces it."""
+    warnings.warn(f"alcontact.contact.{name} is deprecated and will be removed in the next release; call "
+                  f"alcontact.contact.solve({instead}) instead: it returns a ContactSolution with one ContactFrame "
+                  f"per step (solution.frames; the engine record this function returned is solution.record).",
+                  DeprecationWarning, stacklevel=3)
+
+
 def solve_friction(problem, history: LoadHistory | None, algorithm: str = "simo-laursen", penalty: str | None = None,
                    options=None, *, steps=None, friction: float | None = None, on_step=None, obstacle_path=None,
                    **option_overrides):
-    """Coulomb friction over a load history: a wrapper over :func:`solve`, kept for one release.
+    """Coulomb friction over a load history: deprecated, a wrapper over :func:`solve` kept for one release.
 
     Prefer ``solve(problem, history=history, ...)``, which returns a :class:`ContactSolution`
     with one frame per step. This wrapper returns the stepping engine's own record
@@ -398,7 +409,12 @@ def solve_friction(problem, history: LoadHistory | None, algorithm: str = "simo-
     :class:`FiniteFrictionSolution` at finite deformation. Parameters as
     :func:`alcontact.contact.stepping._coulomb.solve_friction` (``on_step(k, t, n)`` before requested step ``k``).
     A zero coefficient still runs the frictional engine (as before).
+
+    .. deprecated::
+        Emits a :class:`DeprecationWarning`; use ``solve(problem, history=history,
+        friction=mu, ...)``.
     """
+    _deprecated("solve_friction", "problem, history=history, friction=mu, algorithm=..., penalty=..., **options")
     kinematics = getattr(problem, "kinematics", "small")
     mu = getattr(problem, "friction", 0.0) if friction is None else friction
     if kinematics != "finite":
@@ -418,13 +434,19 @@ def solve_friction(problem, history: LoadHistory | None, algorithm: str = "simo-
 def solve_finite(problem, algorithm: str = "simo-laursen", penalty: str | None = None, options=None, *,
                  steps=10, history: LoadHistory | None = None, obstacle_path=None, max_cutbacks: int = 6,
                  on_step=None, **option_overrides):
-    """Frictionless finite-deformation load stepping: a wrapper over :func:`solve`, kept for one release.
+    """Frictionless finite-deformation load stepping: deprecated, a wrapper over :func:`solve` kept for one release.
 
     Prefer ``solve(problem, steps=..., ...)`` with ``problem.kinematics == "finite"``. Returns
     the engine's record (``solution.record``, a :class:`FiniteSolution`); parameters as
     :func:`alcontact.contact.stepping._frictionless.solve_finite` (``on_step(step, u, pressure)`` after every
     accepted step). ``problem.kinematics`` is not consulted (a linear body runs too).
+
+    .. deprecated::
+        Emits a :class:`DeprecationWarning`; use ``solve(problem, steps=..., history=...,
+        obstacle_path=..., max_cutbacks=...)`` on a ``kinematics="finite"`` problem.
     """
+    _deprecated("solve_finite", "problem, steps=..., history=..., obstacle_path=..., max_cutbacks=... (a problem with "
+                "kinematics='finite')")
     return _finite(problem, algorithm, penalty, options, steps, history, obstacle_path, None, None,
                    option_overrides, {"on_step": on_step, "max_cutbacks": max_cutbacks}).record
 
@@ -432,12 +454,18 @@ def solve_finite(problem, algorithm: str = "simo-laursen", penalty: str | None =
 def solve_finite_friction(problem, mu: float, algorithm: str = "simo-laursen", penalty: str | None = None,
                           options=None, *, steps=10, history: LoadHistory | None = None, obstacle_path=None,
                           on_step=None, progress=None, **option_overrides):
-    """Coulomb friction at finite deformation: a wrapper over :func:`solve`, kept for one release.
+    """Coulomb friction at finite deformation: deprecated, a wrapper over :func:`solve` kept for one release.
 
     Prefer ``solve(problem, friction=mu, steps=..., ...)`` with ``problem.kinematics == "finite"``.
     Returns the engine's record (``solution.record``, a :class:`FiniteFrictionSolution`, its
     ``traction_t`` global ``(m, d)``); parameters as
     :func:`alcontact.contact.stepping._coulomb.solve_finite_friction`.
+
+    .. deprecated::
+        Emits a :class:`DeprecationWarning`; use ``solve(problem, friction=mu, steps=...,
+        history=..., obstacle_path=..., on_step=...)`` on a ``kinematics="finite"`` problem.
     """
+    _deprecated("solve_finite_friction", "problem, friction=mu, steps=..., history=..., obstacle_path=... (a problem "
+                "with kinematics='finite')")
     return _finite_friction(problem, mu, algorithm, penalty, options, steps, history, obstacle_path, None, None,
                             option_overrides, {"on_step": on_step, "progress": progress}).record

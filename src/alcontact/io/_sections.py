@@ -250,7 +250,7 @@ def build_kinematics(mt, cd, dim, data: dict, issues: list[Issue]) -> tuple[str,
     each combination that cannot run.
 
     Finite kinematics needs a hyperelastic law (plane strain in 2D) and, with friction
-    (Coulomb at finite deformation, :func:`~alcontact.contact.solve_finite_friction`), no
+    (Coulomb at finite deformation, :func:`~alcontact.contact.solve`), no
     ``friction_ramp``; a hyperelastic law needs finite kinematics; ``[obstacle] path``
     needs finite kinematics and one entry per space dimension.
     """

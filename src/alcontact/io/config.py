@@ -195,7 +195,7 @@ class ProblemSetup:
 
     @property
     def finite(self) -> bool:
-        """Finite-deformation run (:func:`alcontact.contact.solve_finite`)."""
+        """Finite-deformation run (:func:`alcontact.contact.solve` of a ``kinematics="finite"`` problem)."""
         return self.kinematics == "finite"
 
     def obstacle_offset(self, t: float):

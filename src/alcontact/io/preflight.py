@@ -655,7 +655,7 @@ def _tangential_first_step_issues(setup) -> list[Issue]:
 
     At the start of the first step no point carries a contact pressure, so no point is
     in contact there (``_friction._closed`` needs ``t_N > 0``) and
-    :func:`alcontact.contact.solve_friction` raises for any tangential case with a non-zero
+    :func:`alcontact.contact.solve` with friction raises for any tangential case with a non-zero
     value at the first step: known without solving.
     """
     if setup.friction <= 0 or setup.history is None or getattr(setup.problem, "kinematics", "small") != "small":

@@ -43,6 +43,8 @@ __all__ = [
     "repo_root",
     "DOCS_PATH",
     "MAX_STEPS",
+    "VALUE_RANGE",
+    "declarations",
 ]
 
 

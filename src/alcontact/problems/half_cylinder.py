@@ -13,7 +13,7 @@ rotated by 180 degrees and shifted up by :math:`R`. For P2 the mesh is of second
 order by default (the map applied to the edge midpoints too): the boundary edges are
 arcs of the isoparametric map through three points of the circle. The flat face (``"top"``) is pushed
 down by :math:`\delta` (``u_y = -\delta``, lateral motion free): with
-:func:`alcontact.contact.solve_finite` the approach is ramped over the load steps.
+:func:`alcontact.contact.solve` (``steps=``) the approach is ramped over the load steps.
 The contact boundary is ``"curved"``.
 """
 

@@ -17,7 +17,7 @@ rotated by 180 degrees about the :math:`z` axis and shifted up by :math:`R`. For
 mesh is of second order by default: the edge nodes of the spherical face are projected
 onto the sphere (the others stay at the edge midpoints), so the contact surface is curved. The flat
 face (``"top"``) is pushed down by :math:`\delta` (``u_y = -\delta``, lateral motion
-free): with :func:`alcontact.contact.solve_finite` the approach is ramped over the load
+free): with :func:`alcontact.contact.solve` (``steps=``) the approach is ramped over the load
 steps. The contact boundary is ``"curved"``. A benchmark case (no closed-form reference
 at finite deformation; for small :math:`\delta/R` the force tends to Hertz's
 :math:`F = \tfrac{4}{3} E^* R^{1/2} \delta^{3/2}` of the whole sphere, a quarter of it here).

@@ -7,7 +7,7 @@ The block :math:`[0, L] \times [0, H]` (plane strain) or :math:`[0, L] \times [0
 indenter of radius :math:`R` touches the top face at :math:`x = x_0` at :math:`t = 0`, is pressed
 down by ``depth`` in ``press_steps`` equal load steps, then slid along :math:`x` by ``slide_step``
 per load step for ``slide_steps`` steps (the obstacle path of :func:`ironing_schedule`, for
-:func:`alcontact.contact.solve_finite`). Frictionless steady sliding of an elastic body dissipates
+:func:`alcontact.contact.solve`). Frictionless steady sliding of an elastic body dissipates
 nothing: the horizontal force tends to zero far from the block's ends (a benchmark property,
 no closed-form reference at finite deformation).
 """
