@@ -118,8 +118,7 @@ def _solve_static(problem, algorithm: str = DEFAULT_ALGORITHM, penalty: str | No
     # from the tractions u balances by the last multiplier change (the ssn reference's inner Uzawa iteration
     # stops at a relative update of 1e-8): its equilibrium tolerance has tol_multiplier in it
     fixed, _ = problem.dirichlet()
-    eq = state_equilibrium(problem.model, u, fixed, problem.load_vector(),
-                           problem.model.node_dofs(problem.contact_boundary)[1], nodal[:, None] * dc.normals, dc.h,
+    eq = state_equilibrium(problem.model, u, fixed, problem.load_vector(), *dc.force_points(nodal), dc.h,
                            pressure=pressure, weights=dc.weights)
     check = check_state(g_all, pressure, dc.h, tol_penetration=opts.tol_penetration,
                         tol_complementarity=opts.tol_complementarity, equilibrium=eq.largest,

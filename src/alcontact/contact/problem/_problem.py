@@ -352,7 +352,15 @@ class ContactProblem:
             pair = old  # nothing replaced: keep the caller's pair
         else:
             pair = ContactPair(Boundary(raw["model"], raw["contact_boundary"]), raw["obstacle"], raw["friction"])
-        object.__setattr__(self, "bodies", (raw["model"],))
+        if "bodies" in base:  # several bodies (a deformable master): the model is their stack
+            if any(k in given for k in ("model", "contact_boundary")):
+                raise InputError("ContactProblem: model or contact_boundary given with several bodies; give the "
+                                 "bodies and pairs only.")
+            object.__setattr__(self, "_model", raw["model"])
+            object.__setattr__(self, "_contact_boundary", raw["contact_boundary"])
+            object.__setattr__(self, "bodies", base["bodies"])
+        else:
+            object.__setattr__(self, "bodies", (raw["model"],))
         object.__setattr__(self, "pairs", (pair,))
         self._validate()
 
@@ -374,28 +382,27 @@ class ContactProblem:
         for i, p in enumerate(pairs):
             if not isinstance(p, ContactPair):
                 raise _bad(kind, f"pairs[{i}]", p, "a ContactPair(slave=Boundary(body, name), master=obstacle)")
-        if len(bodies) > 1:
-            raise InputError(f"{kind}: bodies has {len(bodies)} bodies: contact between several bodies is not "
-                             f"supported yet; give one body and rigid obstacles as masters. See {ROADMAP}.")
+        if len(bodies) > 1 and all(p.rigid for p in pairs):
+            raise InputError(f"{kind}: bodies has {len(bodies)} bodies but no pair joins two of them: give a pair "
+                             "whose master is a boundary of another body, ContactPair(Boundary(a, 'bottom'), "
+                             f"BodySurface(b, 'top')). See {ROADMAP}.")
         if len(pairs) > 1:
             raise InputError(f"{kind}: pairs has {len(pairs)} contact pairs: several contact pairs are not supported "
                              f"yet; give one pair (one contact boundary against one rigid obstacle). See {ROADMAP}.")
         pair = pairs[0]
-        if pair.slave.body is not bodies[0]:
+        if not any(pair.slave.body is b for b in bodies):
             raise InputError(f"{kind}: pairs[0].slave is the boundary {pair.slave.name!r} of a body that is not in "
                              "bodies; build it as Boundary(body, name) with a body of bodies.")
-        if not pair.rigid:
-            raise InputError(f"{kind}: pairs[0].master = {pair.master.describe()} is not rigid: a deformable master "
-                             f"(contact between two bodies) is not supported yet; use a rigid obstacle of "
-                             f"alcontact.contact.obstacles. See {ROADMAP}.")
-        return {"model": bodies[0], "obstacle": pair.master, "contact_boundary": pair.slave.name,
-                "friction": pair.friction, "pair": pair}
+        if pair.rigid:
+            return {"model": bodies[0], "obstacle": pair.master, "contact_boundary": pair.slave.name,
+                    "friction": pair.friction, "pair": pair}
+        return _two_body(kind, bodies, pair)
 
     # ------------------------------------------------------------ views of the one body and pair
     @property
     def model(self) -> Any:
-        """The discretized body: ``bodies[0]``."""
-        return self.bodies[0]
+        """The discretized body: ``bodies[0]``; with several bodies their :class:`~alcontact.fem.MultiBody`."""
+        return self.__dict__.get("_model", self.bodies[0])
 
     @property
     def obstacle(self) -> Any:
@@ -404,8 +411,9 @@ class ContactProblem:
 
     @property
     def contact_boundary(self) -> str:
-        """Name of the candidate contact boundary of the body, slave of the pair: ``pairs[0].slave.name``."""
-        return self.pairs[0].slave.name
+        """Name of the candidate contact boundary of the body, slave of the pair: ``pairs[0].slave.name``
+        (with several bodies, qualified by the slave body's name in :attr:`model`: ``"body0/bottom"``)."""
+        return self.__dict__.get("_contact_boundary", self.pairs[0].slave.name)
 
     @property
     def friction(self) -> float:
@@ -493,6 +501,29 @@ class ContactProblem:
             else:
                 raise InputError(f"unknown load {ld!r}; use Traction, Pressure or BodyForce.")
         return f
+
+
+def _two_body(kind: str, bodies: tuple, pair: ContactPair) -> dict[str, Any]:
+    """The model (the bodies' :class:`~alcontact.fem.MultiBody`) and names of a pair with a deformable master."""
+    from ...fem import MultiBody
+
+    master_body = getattr(pair.master, "body", None)
+    if not any(master_body is b for b in bodies):
+        raise InputError(f"{kind}: pairs[0].master = {pair.master.describe()} belongs to a body that is not in "
+                         "bodies; add that body to bodies.")
+    if master_body is pair.slave.body and getattr(pair.master, "boundary", None) == pair.slave.name:
+        raise InputError(f"{kind}: pairs[0] uses the boundary {pair.slave.name!r} as both slave and master; give "
+                         "the master another boundary (of another body).")
+    if pair.friction > 0:
+        raise InputError(f"{kind}: pairs[0].friction = {pair.friction!r}: friction between two deformable bodies "
+                         "is not supported yet; use friction = 0.")
+    if len(bodies) == 1:
+        model, slave = bodies[0], pair.slave.name
+    else:
+        model = MultiBody(bodies)
+        slave = model.qualify(pair.slave.body, pair.slave.name)
+    return {"model": model, "obstacle": pair.master, "contact_boundary": slave, "friction": pair.friction,
+            "pair": pair, "bodies": bodies}
 
 
 _AXES = "xyz"
