@@ -153,6 +153,7 @@ def _solve_static(problem, algorithm: str = DEFAULT_ALGORITHM, penalty: str | No
         logger.warning("contact solve %s/%s failed (%s): %s", algorithm, pen_name, out.status.label, out.message)
     t_end = time.perf_counter()
     timings = dict(dc.timings(), solve_s=t_end - t_solve, total_s=t_end - t_start)
+    two_body = {} if dc.mortar is None else _force_balance(dc, nodal)
     return ContactSolution(
         problem=problem,
         u=u,
@@ -166,8 +167,27 @@ def _solve_static(problem, algorithm: str = DEFAULT_ALGORITHM, penalty: str | No
         result=result,
         timings=timings,
         nodal_forces=nodal,
-        extra={"h": dc.h, "candidates": int(dc.cand.size), "dofs": int(problem.model.ndofs), **dc.extra()},
+        extra={"h": dc.h, "candidates": int(dc.cand.size), "dofs": int(problem.model.ndofs), **dc.extra(),
+               **two_body},
     )
+
+
+def _force_balance(dc, nodal: np.ndarray) -> dict:
+    r"""Contact forces on the slave and master sides of a two-body (mortar) pair and their balance.
+
+    ``slave_contact_force`` / ``master_contact_force``: the resultant of :math:`-B^T r` on the DOFs of each
+    side; ``contact_force_balance`` :math:`|F_s + F_m| / |F_s|` (action = reaction: zero to round-off, since
+    the master weights of every slave node sum to its own, :mod:`alcontact.contact.kinematics._mortar`).
+    """
+    fc = dc.mortar.contact_force(nodal)
+    d = dc.dim
+    slave = fc[dc.dofs].sum(axis=0)
+    master = fc[dc.mortar.master_dofs].sum(axis=0) if not np.array_equal(dc.dofs, dc.mortar.master_dofs) else \
+        np.zeros(d)
+    norm = float(np.linalg.norm(slave))
+    balance = float(np.linalg.norm(slave + master)) / norm if norm > 0 else 0.0
+    return {"slave_contact_force": slave.tolist(), "master_contact_force": master.tolist(),
+            "contact_force_balance": balance}
 
 
 def solve(problem, algorithm: str = DEFAULT_ALGORITHM, penalty: str | None = None,

@@ -12,9 +12,13 @@ For a slave boundary :math:`\Gamma_s` with P1 shape functions :math:`N_j` and th
     D_j = \int N_j\,ds, \quad M_{jk} = \int \Phi_j\, N^m_k\circ\chi \, ds,
 
 with :math:`\chi` the projection of the slave segment onto the master segments (along the
-slave segment's normal), :math:`n_j` the slave node's unit normal (the normalized mean of its
-segments' outward normals), :math:`x_j`, :math:`y_k` the current slave and master node
-positions. ``D`` is diagonal thanks to the dual basis, so the constraints stay one per slave
+slave segment's normal), :math:`x_j`, :math:`y_k` the current slave and master node
+positions and :math:`n_j = -\nu_j` one unit normal per slave node: :math:`\nu_j` the master's
+outward nodal normals averaged with the weights :math:`M_{jk}` (the master normal seen by node
+``j``; constant over the support of :math:`\Phi_j`, which keeps ``D`` diagonal). Against a
+flat master, :math:`g_j` is then exactly the distance of slave node ``j`` to the master line
+(the integrand is linear on each slave segment), i.e. the node-to-surface gap (6.15) of a
+rigid obstacle of the same shape: the rigid limit is exact. ``D`` is diagonal thanks to the dual basis, so the constraints stay one per slave
 node and the nodal augmented Lagrangian of chapter 6 carries over: the normalized gap
 :math:`g_j = \tilde g_j / D_j \le 0` (a length, feasible when non-positive) with the
 tributary length :math:`w_j = D_j` as the weight of the pressure :math:`\lambda_j`. At small
@@ -69,7 +73,8 @@ class MortarGap:
     weights : ndarray (m,)
         :math:`D_j`, the slave tributary lengths.
     normals : ndarray (m, 2)
-        :math:`\\nu_j = -n_j`, pointing out of the master towards the slave (the obstacle convention).
+        :math:`\\nu_j = -n_j`, the master normal at each slave node, pointing out of the master towards
+        the slave (the obstacle convention); the slave's own normal at an uncovered node.
     covered : ndarray of bool (m,)
         Slave nodes whose support the master covers (:data:`COVER_MIN`).
     h : float
@@ -165,6 +170,9 @@ def mortar_gap(model, slave_body, slave_name: str, master: BodySurface) -> Morta
     scale = np.where(covered, 1.0 / np.where(covered, total, 1.0), 0.0)
     P = sp.diags(scale) @ M  # rows of covered nodes sum to 1: a weighted master point per slave node
     y_bar = P @ ms.points  # (m, 2)
+    nu = P @ ms.node_normals()  # the master normal carried to each slave node
+    norm = np.linalg.norm(nu, axis=1, keepdims=True)
+    n_node = np.where(covered[:, None] & (norm > 0), -nu / np.where(norm > 0, norm, 1.0), n_node)
     gap0 = np.where(covered, np.einsum("ij,ij->i", ss.points - y_bar, n_node), -search)
     # B: n_j on the slave node's DOFs, -P_jk n_j on the master nodes' DOFs
     ndofs = int(model.ndofs)

@@ -78,6 +78,8 @@ class ContactPoints:
 
     # ---- ContactSystem: declared capabilities, "not available" on a model without them
     inexact_subproblems = False
+    #: the weighted gaps of a pair with a deformable master (:func:`mortar_of`); None against a rigid one
+    mortar = None
     physical_stopping = False
     warm_penalty_start = False
     penalty_continuation = False
@@ -168,7 +170,7 @@ class ContactPoints:
         ``nodal`` (:math:`r = w\circ\lambda`), per node it acts on: :math:`r_i \nu_i` on the contact points
         against a rigid master; on the slave and master nodes of a mortar pair (:math:`-B^T r`)."""
         nodal = np.asarray(nodal, dtype=float)
-        if getattr(self, "mortar", None) is None:
+        if self.mortar is None:
             return self.dofs, nodal[:, None] * self.normals
         fc = self.mortar.contact_force(nodal)
         nodes = np.unique(np.vstack([self.dofs, self.mortar.master_dofs]), axis=0)
@@ -209,7 +211,7 @@ class ContactPoints:
 
     def _element_size(self) -> float:
         """Median facet size of the contact boundary near the obstacle (kept for the same obstacle and boundary)."""
-        if getattr(self, "mortar", None) is not None:
+        if self.mortar is not None:
             return self.mortar.h
         key = (self.model, self.problem.obstacle, self.problem.contact_boundary)
         cached = getattr(self, "_h_of", None)
@@ -219,7 +221,7 @@ class ContactPoints:
 
     def all_gaps(self, u: np.ndarray) -> np.ndarray:
         """Linearized gaps (6.15) of every contact-boundary point for displacement ``u``."""
-        if getattr(self, "mortar", None) is not None:
+        if self.mortar is not None:
             return self.gap0 + self.mortar.B @ u
         return self.gap0 - np.einsum("ij,ij->i", self.normals, u[self.dofs])
 
