@@ -28,6 +28,7 @@ import scipy.sparse as sp
 
 from alcontact.errors import InputError, MeshError
 from alcontact.fem._linalg import Factorization
+from alcontact.fem.elasticity import rigid_body_modes
 from alcontact.linalg import MatrixHints
 
 logger = logging.getLogger(__name__)
@@ -220,6 +221,14 @@ class MultiBody:
             self._stiffness = sp.block_diag([b.stiffness() for b in self.bodies], format="csr")
         return self._stiffness
 
+    def clear_stiffness(self) -> None:
+        """Drop the cached stiffness (and the bodies' own), and a factorization of it."""
+        if self._factor_cache is not None and self._factor_cache[0] is self._stiffness:
+            self._factor_cache = None
+        self._stiffness = None
+        for b in self.bodies:
+            b.clear_stiffness()
+
     def internal_force(self, u) -> np.ndarray:
         """Internal force :math:`K u`."""
         return self.stiffness() @ np.asarray(u, dtype=float)
@@ -252,22 +261,25 @@ class MultiBody:
             except InputError as exc:
                 raise InputError(f"body {self.names[i]!r}: {exc}") from None
 
-    def free_rigid_motions_count(self, dirichlet_dofs) -> int:
-        """Number of rigid motions the supports leave free, all bodies together."""
-        fixed = np.asarray(dirichlet_dofs, dtype=np.int64).ravel()
-        n = 0
-        for i, b in enumerate(self.bodies):
-            lo, hi = self.offsets[i], self.offsets[i + 1]
-            n += b.free_rigid_motions(fixed[(fixed >= lo) & (fixed < hi)] - lo)[0].shape[0]
-        return n
+    def rigid_modes(self) -> np.ndarray:
+        """``(ndofs, k)`` rigid-body modes of every body, each zero on the other bodies (block by block)."""
+        blocks = []
+        for b, off in zip(self.bodies, self.offsets[:-1]):
+            pts, dofs = b.all_node_dofs()
+            modes, _ = b._rigid_modes(pts) if hasattr(b, "_rigid_modes") else rigid_body_modes(pts)
+            R = np.zeros((self.ndofs, modes.shape[-1]))
+            R[dofs.ravel() + off] = modes.reshape(-1, modes.shape[-1])
+            blocks.append(R)
+        return np.hstack(blocks)
 
     def factorize(self, dirichlet_dofs, *, matrix=None, check: bool = True, backend: str = "auto",
-                  reuse: bool = True):
+                  reuse: bool = True, schur=None):
         """Factorize the (block-diagonal) matrix condensed on the free DOFs; see ``LinearElasticity.factorize``.
 
         One factorization of the whole block-diagonal matrix (a direct solver treats the
         independent blocks at no extra cost); the last one is kept for the same matrix object
-        and the same fixed DOFs.
+        and the same fixed DOFs. ``schur``: free DOFs (stacked numbering) to eliminate last, for
+        a solver with a Schur facility (:class:`alcontact.linalg.MatrixHints`).
         """
         from alcontact.linalg import choose_solver, registered_solvers
 
@@ -282,12 +294,20 @@ class MultiBody:
         if backend == "auto":
             backend = choose_solver(self.dim, self.ndofs, allow_iterative=False)
         fixed = np.unique(np.asarray(dirichlet_dofs, dtype=np.int64).ravel())
-        key = (backend, bool(check), fixed.tobytes())
+        schur = None if schur is None else np.unique(np.asarray(schur, dtype=np.int64).ravel())
+        key = (backend, bool(check), fixed.tobytes(), None if schur is None else schur.tobytes())
         cached = self._factor_cache
         if reuse and cached is not None and cached[0] is matrix and cached[1] == key:
             return cached[2]
         self._factor_cache = None
-        fac = Factorization(matrix, fixed, check=check, backend=backend, hints=MatrixHints(dim=self.dim))
+        mask = np.ones(self.ndofs, dtype=bool)
+        mask[fixed] = False
+        free = np.flatnonzero(mask)
+        if schur is not None:  # positions in the free numbering (fixed DOFs dropped)
+            schur = np.searchsorted(free, schur[~np.isin(schur, fixed)])
+        hints = MatrixHints(dim=self.dim, near_null=lambda: np.ascontiguousarray(self.rigid_modes()[free]),
+                            schur=schur)
+        fac = Factorization(matrix, fixed, check=check, backend=backend, hints=hints)
         self.factorization_count += 1
         if reuse:
             self._factor_cache = (matrix, key, fac)
