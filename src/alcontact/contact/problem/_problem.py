@@ -509,8 +509,9 @@ def _two_body(kind: str, bodies: tuple, pair: ContactPair) -> dict[str, Any]:
 
     master_body = getattr(pair.master, "body", None)
     if not any(master_body is b for b in bodies):
-        raise InputError(f"{kind}: pairs[0].master = {pair.master.describe()} belongs to a body that is not in "
-                         "bodies; add that body to bodies.")
+        raise InputError(f"{kind}: pairs[0].master = {pair.master.describe()} is not rigid and is not the surface "
+                         "of a body in bodies: a deformable master is alcontact.contact.BodySurface(body, "
+                         f"boundary) with that body in bodies. See {ROADMAP}.")
     if master_body is pair.slave.body and getattr(pair.master, "boundary", None) == pair.slave.name:
         raise InputError(f"{kind}: pairs[0] uses the boundary {pair.slave.name!r} as both slave and master; give "
                          "the master another boundary (of another body).")
