@@ -138,3 +138,33 @@ def test_unqualified_boundary_of_several_bodies_is_refused():
     with pytest.raises(MeshError, match="several bodies"):
         ContactProblem(bodies=[base, top], pairs=[ContactPair(Boundary(top, "bottom"), BodySurface(base, "top"))],
                        supports=[Support("bottom")], loads=[Pressure("body1/top", 1.0)])
+
+
+# ------------------------------------------------------------------------------------------ outputs
+def test_outputs_of_two_bodies(tmp_path):
+    import meshio
+
+    from alcontact.app.summary import summarize
+    from alcontact.app.writer import write_results
+
+    prob = two_body.stacked_blocks(2, 3)
+    sol = solve(prob, "ssn")
+    base, top = prob.bodies
+    # per-body displacement: the stack split body by body
+    u_base, u_top = prob.model.split(sol.u)
+    assert u_base.size == base.ndofs and u_top.size == top.ndofs
+    summary = summarize(prob, sol)
+    assert summary["contact_force_balance"] <= 1e-10
+    np.testing.assert_allclose(np.add(summary["slave_contact_force"], summary["master_contact_force"]), 0.0,
+                               atol=1e-10 * 10.0)
+    assert summary["equilibrium_residual"] <= 1e-10  # the master's contact forces are in the balance
+    paths = write_results(tmp_path, prob, sol, summary)
+    grid = meshio.read(paths["solution.vtu"])
+    body = grid.point_data["body"]
+    assert grid.points.shape[0] == base.mesh.nvertices + top.mesh.nvertices
+    assert np.count_nonzero(body == 0) == base.mesh.nvertices and np.count_nonzero(body == 1) == top.mesh.nvertices
+    p = grid.point_data["contact_pressure"]
+    assert np.all(p[body == 0] == 0.0)
+    np.testing.assert_allclose(np.sort(p[body == 1])[-4:], 10.0, rtol=1e-8)  # the 4 slave nodes
+    np.testing.assert_allclose(grid.point_data["displacement"][body == 1][:, :2].ravel(),
+                               u_top[top.dof_map].ravel(), rtol=1e-12, atol=1e-15)

@@ -176,7 +176,8 @@ def _force_balance(dc, nodal: np.ndarray) -> dict:
     r"""Contact forces on the slave and master sides of a two-body (mortar) pair and their balance.
 
     ``slave_contact_force`` / ``master_contact_force``: the resultant of :math:`-B^T r` on the DOFs of each
-    side; ``contact_force_balance`` :math:`|F_s + F_m| / |F_s|` (action = reaction: zero to round-off, since
+    side; ``contact_force_points``: ``(dofs, forces)`` of every node it acts on (what
+    :meth:`ContactSolution.equilibrium` balances); ``contact_force_balance`` :math:`|F_s + F_m| / |F_s|` (action = reaction: zero to round-off, since
     the master weights of every slave node sum to its own, :mod:`alcontact.contact.kinematics._mortar`).
     """
     fc = dc.mortar.contact_force(nodal)
@@ -187,7 +188,7 @@ def _force_balance(dc, nodal: np.ndarray) -> dict:
     norm = float(np.linalg.norm(slave))
     balance = float(np.linalg.norm(slave + master)) / norm if norm > 0 else 0.0
     return {"slave_contact_force": slave.tolist(), "master_contact_force": master.tolist(),
-            "contact_force_balance": balance}
+            "contact_force_balance": balance, "contact_force_points": dc.force_points(nodal)}
 
 
 def solve(problem, algorithm: str = DEFAULT_ALGORITHM, penalty: str | None = None,

@@ -191,9 +191,13 @@ class ContactSolution:
 
         prob = self.problem if problem is None else problem
         model = prob.model
-        _, dofs = model.node_dofs(prob.contact_boundary)
         fixed, _ = prob.dirichlet()
-        fc = nodal_force_vector(model.ndofs, dofs, self.contact_point_forces())
+        if "contact_force_points" in self.extra:  # two bodies: the forces on the slave and master nodes
+            dofs, forces = self.extra["contact_force_points"]
+            fc = nodal_force_vector(model.ndofs, dofs, forces)
+        else:
+            _, dofs = model.node_dofs(prob.contact_boundary)
+            fc = nodal_force_vector(model.ndofs, dofs, self.contact_point_forces())
         return equilibrium(model, self.u, fixed, prob.load_vector(), fc, length=self.extra.get("h"))
 
     def _geometry(self, axis: int, center):
