@@ -70,11 +70,14 @@ class MultiBody:
     linear = True
 
     def __init__(self, bodies: Sequence[Any], names: Sequence[str] | None = None):
+        if isinstance(bodies, (str, bytes, dict, np.ndarray)) or not np.iterable(bodies):
+            raise InputError(f"MultiBody: bodies = {type(bodies).__name__}: expected a list of bodies "
+                             "(alcontact.fem.LinearElasticity).")
         bodies = tuple(bodies)
         if len(bodies) < 1:
             raise InputError("MultiBody: bodies = []: give at least one body.")
         for i, b in enumerate(bodies):
-            if not getattr(b, "linear", False) or not hasattr(b, "stiffness"):
+            if getattr(b, "linear", False) is not True or not hasattr(b, "stiffness") or not hasattr(b, "dim"):
                 raise InputError(f"MultiBody: bodies[{i}] is a {type(b).__name__}: several bodies are solved "
                                  "together at small deformation with linear elastic bodies "
                                  "(alcontact.fem.LinearElasticity); finite deformation is not supported yet.")
@@ -89,9 +92,11 @@ class MultiBody:
         self.axisymmetric = axi.pop()
         if names is None:
             names = [f"body{i}" for i in range(len(bodies))]
+        if isinstance(names, (str, bytes, dict)) or not np.iterable(names):
+            raise InputError(f"MultiBody: names = {type(names).__name__}: expected a list of names, one per body.")
         names = tuple(names)
         if len(names) != len(bodies) or not all(isinstance(n, str) and n and SEP not in n for n in names):
-            raise InputError(f"MultiBody: names = {list(names)!r}: expected one non-empty name per body, "
+            raise InputError(f"MultiBody: names = {list(names)!r:.80}: expected one non-empty name per body, "
                              f"without {SEP!r}.")
         if len(set(names)) != len(names):
             raise InputError(f"MultiBody: names = {list(names)!r}: two bodies have the same name; give each its "

@@ -21,6 +21,7 @@ from typing import Any
 import numpy as np
 from scipy.spatial import cKDTree
 
+from ..._options import VALUE_RANGE, Option, check_args
 from ...errors import InputError
 
 
@@ -133,10 +134,9 @@ class BodySurface:
                              "(alcontact.fem.LinearElasticity).")
         if not isinstance(name, str):
             raise InputError(f"BodySurface: name = {name!r:.40}: expected the name of a boundary of the body.")
-        if search_distance is not None and not (np.isscalar(search_distance) and np.isfinite(search_distance)
-                                                and search_distance > 0):
-            raise InputError(f"BodySurface: search_distance = {search_distance!r:.40}: expected a positive "
-                             "length, or None for the default.")
+        (search_distance,) = check_args("BodySurface", [
+            (Option("search_distance", "float", None, "Search distance of the master segments (None: default).",
+                    low=0.0, high=VALUE_RANGE[1], low_open=True), search_distance)])
         self.body = body
         self.boundary = name
         self.search_distance = None if search_distance is None else float(search_distance)
