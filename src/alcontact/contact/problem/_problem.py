@@ -190,9 +190,9 @@ class ContactPair:
     master : Master
         What the slave points are measured against: a rigid obstacle of
         :mod:`alcontact.contact.obstacles` (any object satisfying :class:`~alcontact.contact.Master`,
-        or the older :class:`~alcontact.contact.obstacles.Obstacle` protocol, which is rigid).
-        A deformable body's surface (``master.rigid`` false) is refused by
-        :class:`ContactProblem` until two-body contact lands.
+        or the older :class:`~alcontact.contact.obstacles.Obstacle` protocol, which is rigid),
+        or a boundary of another body, :class:`~alcontact.contact.BodySurface` (deformable:
+        ``master.rigid`` false; two-body mortar contact).
     friction : float
         Coulomb coefficient :math:`\mu \ge 0` of the pair (0 = frictionless).
 
@@ -258,10 +258,12 @@ class ContactProblem:
     - the single-body shorthand ``ContactProblem(model, obstacle, contact_boundary, supports=...,
       loads=..., friction=mu)``, which builds that one body and that one pair.
 
-    Both give the same problem (and the same solution, to the last bit). Today a problem has
-    exactly one body and one pair whose master is rigid; several bodies, several pairs or a
-    deformable master are refused with an :class:`~alcontact.errors.InputError` until
-    two-body contact lands (see ``docs/architecture.md``).
+    Both give the same problem (and the same solution, to the last bit). A problem has one
+    pair: a rigid master (one body), or the :class:`~alcontact.contact.BodySurface` of a body
+    of ``bodies`` (two-body mortar contact at small deformation, frictionless, 2D P1; the
+    model is then the bodies' :class:`~alcontact.fem.MultiBody` and boundary names are
+    ``"body0/top"``, ``"body1/bottom"``, ...). Several pairs are refused with an
+    :class:`~alcontact.errors.InputError` (see ``docs/architecture.md``).
 
     Parameters
     ----------
@@ -285,7 +287,8 @@ class ContactProblem:
         position, solved in load steps by :func:`alcontact.contact.solve_finite`; needs a
         geometrically nonlinear body (a hyperelastic one), a linear body is refused.
     bodies : sequence, keyword-only
-        Pair form: the discretized bodies (one today).
+        Pair form: the discretized bodies (one, or two or more joined by a pair with a
+        :class:`~alcontact.contact.BodySurface` master).
     pairs : sequence of ContactPair, keyword-only
         Pair form: the contact pairs (one today).
 
