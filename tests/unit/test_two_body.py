@@ -168,3 +168,25 @@ def test_outputs_of_two_bodies(tmp_path):
     np.testing.assert_allclose(np.sort(p[body == 1])[-4:], 10.0, rtol=1e-8)  # the 4 slave nodes
     np.testing.assert_allclose(grid.point_data["displacement"][body == 1][:, :2].ravel(),
                                u_top[top.dof_map].ravel(), rtol=1e-12, atol=1e-15)
+
+
+def test_pair_out_of_reach_and_overlap_are_named(caplog):
+    import logging
+
+    base, _ = _blocks()
+    far = LinearElasticity(meshes.rectangle(0, 1, 5, 6, 2, 2), Material(E=500.0, nu=0.2))
+    prob = ContactProblem(bodies=[base, far], pairs=[ContactPair(Boundary(far, "bottom"),
+                                                                 BodySurface(base, "top", search_distance=1.0))],
+                          supports=[Support("body0/bottom"), Support("body1/top")])
+    with caplog.at_level(logging.WARNING):
+        sol = solve(prob, "ssn")
+    assert "no slave node has a master segment within the search distance" in caplog.text
+    assert sol.result.status.label == "no-contact"  # not a silent success
+    caplog.clear()
+    inside = LinearElasticity(meshes.rectangle(0, 1, 0.9, 1.9, 3, 3), Material(E=500.0, nu=0.2))
+    prob = ContactProblem(bodies=[base, inside], pairs=[ContactPair(Boundary(inside, "bottom"),
+                                                                    BodySurface(base, "top"))],
+                          supports=[Support("body0/bottom"), Support("body1/top")])
+    with caplog.at_level(logging.WARNING):
+        solve(prob, "ssn")
+    assert "overlap at the start by 0.1" in caplog.text

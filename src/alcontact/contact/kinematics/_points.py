@@ -44,6 +44,10 @@ def _element_size(model, boundary: str, obstacle) -> float:
     return float(np.median(size[near]))
 
 
+#: initial overlap of two bodies (in element sizes of the slave) beyond which a warning names it
+OVERLAP_TOL = 1e-3
+
+
 def mortar_of(problem):
     """The :class:`~alcontact.contact.kinematics._mortar.MortarGap` of a problem whose pair has a deformable
     master (``None`` against a rigid one)."""
@@ -53,7 +57,20 @@ def mortar_of(problem):
     if problem.kinematics != "small":
         raise InputError("contact between two bodies is available at small deformation (kinematics='small'); "
                          "finite deformation is not supported yet.")
-    return mortar_gap(problem.model, pair.slave.body, pair.slave.name, pair.master)
+    mg = mortar_gap(problem.model, pair.slave.body, pair.slave.name, pair.master)
+    where = f"contact pair {problem.contact_boundary!r} / {pair.master.describe()}"
+    if not np.any(mg.covered):
+        logger.warning("%s: no slave node has a master segment within the search distance, so the pair cannot "
+                       "come into contact; check the boundaries, or give BodySurface(..., search_distance=...)", where)
+    else:
+        g = np.where(mg.covered, mg.gap0, -np.inf)
+        i = int(np.argmax(g))
+        if g[i] > OVERLAP_TOL * mg.h:
+            pts, _ = problem.model.node_dofs(problem.contact_boundary)
+            logger.warning("%s: the bodies overlap at the start by %.3g at slave node %s (%.2g element sizes); "
+                           "check the geometry, or expect the contact to push them apart", where, g[i],
+                           np.round(pts[i], 6).tolist(), g[i] / mg.h)
+    return mg
 
 
 def _point_rows(points: np.ndarray, k: int) -> np.ndarray:
