@@ -107,7 +107,12 @@ def _offset(model, body) -> int:
 
 
 def mortar_gap(model, slave_body, slave_name: str, master: BodySurface) -> MortarGap:
-    """The mortar weighted gap (module doc) of the slave boundary against a :class:`BodySurface`.
+    """The weighted gap (module doc) of the slave boundary against a :class:`BodySurface`.
+
+    With ``master.method == "node-to-segment"`` the master point of slave node ``j`` is its
+    closest point on the master segments (collocation at the slave nodes, :func:`_node_to_segment`)
+    instead of the mortar integrals: the simpler discretization that does not pass the contact
+    patch test on non-matching meshes.
 
     Parameters
     ----------
@@ -120,19 +125,56 @@ def mortar_gap(model, slave_body, slave_name: str, master: BodySurface) -> Morta
     """
     ss = boundary_segments(slave_body, slave_name)
     ms = master.segments
-    off_s, off_m = _offset(model, slave_body), _offset(model, master.body)
-    m, km = ss.points.shape[0], ms.points.shape[0]
-    n_node = ss.node_normals()
-    xa, xb = ss.points[ss.ends[:, 0]], ss.points[ss.ends[:, 1]]
-    ya, yb = ms.points[ms.ends[:, 0]], ms.points[ms.ends[:, 1]]
     extent = max(float(np.ptp(ss.points, axis=0).max()), float(np.ptp(ms.points, axis=0).max()))
     search = master.search_distance if master.search_distance is not None else 0.25 * extent
+    D = np.zeros(ss.points.shape[0])
+    np.add.at(D, ss.ends[:, 0], 0.5 * ss.lengths)
+    np.add.at(D, ss.ends[:, 1], 0.5 * ss.lengths)
+    if getattr(master, "method", "mortar") == "node-to-segment":
+        P, covered = _node_to_segment(ss, ms, search)
+    else:
+        P, covered = _mortar_weights(ss, ms, search, D)
+    return _assemble(model, slave_body, master, ss, ms, P, covered, D, search)
+
+
+def _node_to_segment(ss, ms, search: float):
+    """Collocation: each slave node's closest point on the facing master segments within ``search``."""
+    m = ss.points.shape[0]
+    ya, yb = ms.points[ms.ends[:, 0]], ms.points[ms.ends[:, 1]]
+    radius = search + 0.5 * float(ms.lengths.max())
+    cands = cKDTree(0.5 * (ya + yb)).query_ball_point(ss.points, r=radius)
+    n_slave = ss.node_normals()
+    rows, cols, vals = [], [], []
+    covered = np.zeros(m, dtype=bool)
+    for j, cand in enumerate(cands):
+        c = np.asarray(cand, dtype=np.int64)
+        c = c[ms.normals[c] @ n_slave[j] < 0.0] if c.size else c
+        if c.size == 0:
+            continue
+        t = yb[c] - ya[c]
+        eta = np.einsum("ij,ij->i", ss.points[j] - ya[c], t) / np.einsum("ij,ij->i", t, t)
+        inside = (eta >= -1e-9) & (eta <= 1 + 1e-9)
+        if not np.any(inside):
+            continue
+        c, eta = c[inside], np.clip(eta[inside], 0.0, 1.0)
+        y = ya[c] + eta[:, None] * (yb[c] - ya[c])
+        k = int(np.argmin(np.linalg.norm(ss.points[j] - y, axis=1)))
+        rows += [j, j]
+        cols += [ms.ends[c[k], 0], ms.ends[c[k], 1]]
+        vals += [1.0 - eta[k], eta[k]]
+        covered[j] = True
+    P = sp.csr_matrix((vals, (rows, cols)), shape=(m, ms.points.shape[0]))
+    return P, covered
+
+
+def _mortar_weights(ss, ms, search: float, D: np.ndarray):
+    """The mortar matrix ``M`` (dual basis, segment-to-segment integrals) normalized by its row sums."""
+    m, km = ss.points.shape[0], ms.points.shape[0]
+    xa, xb = ss.points[ss.ends[:, 0]], ss.points[ss.ends[:, 1]]
+    ya, yb = ms.points[ms.ends[:, 0]], ms.points[ms.ends[:, 1]]
     radius = search + 0.5 * (float(ss.lengths.max()) + float(ms.lengths.max()))
     tree = cKDTree(0.5 * (ya + yb))
     cands = tree.query_ball_point(0.5 * (xa + xb), r=radius)
-    D = np.zeros(m)
-    np.add.at(D, ss.ends[:, 0], 0.5 * ss.lengths)
-    np.add.at(D, ss.ends[:, 1], 0.5 * ss.lengths)
     rows, cols, vals = [], [], []
     for s, cand in enumerate(cands):
         if not cand:
@@ -168,7 +210,14 @@ def mortar_gap(model, slave_body, slave_name: str, master: BodySurface) -> Morta
     total = np.asarray(M.sum(axis=1)).ravel()
     covered = total >= COVER_MIN * D
     scale = np.where(covered, 1.0 / np.where(covered, total, 1.0), 0.0)
-    P = sp.diags(scale) @ M  # rows of covered nodes sum to 1: a weighted master point per slave node
+    return sp.diags(scale) @ M, covered  # rows of covered nodes sum to 1: a weighted master point per slave node
+
+
+def _assemble(model, slave_body, master, ss, ms, P, covered, D, search: float) -> MortarGap:
+    """:class:`MortarGap` of the master weights ``P`` (rows summing to 1 on the ``covered`` slave nodes)."""
+    m = ss.points.shape[0]
+    off_s, off_m = _offset(model, slave_body), _offset(model, master.body)
+    n_node = ss.node_normals()
     y_bar = P @ ms.points  # (m, 2)
     nu = P @ ms.node_normals()  # the master normal carried to each slave node
     norm = np.linalg.norm(nu, axis=1, keepdims=True)

@@ -22,7 +22,16 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from ..._options import VALUE_RANGE, Option, check_args
-from ...errors import InputError
+from ...errors import InputError, UnknownNameError
+
+
+#: discretizations of the gap between two bodies (``BodySurface(method=...)``)
+METHODS = {
+    "mortar": "segment-to-segment mortar weighted gap, dual (biorthogonal) multipliers: one constraint per slave "
+              "node, passes the contact patch test on non-matching meshes (default)",
+    "node-to-segment": "collocation: each slave node against its closest master point (fails the contact patch "
+                       "test on non-matching meshes; for comparison)",
+}
 
 
 @dataclass(frozen=True)
@@ -108,6 +117,10 @@ class BodySurface:
         mortar integrals (:mod:`alcontact.contact.kinematics._mortar`); default a quarter of the
         larger of the two boundaries' extents. A slave node with no candidate master segment
         over its support is open (it cannot come into contact).
+    method : {"mortar", "node-to-segment"}
+        The discretization of the gap (:data:`METHODS`): the mortar weighted gap with dual
+        multipliers (default), or collocation at the slave nodes (each node's closest master point),
+        the simpler one that fails the contact patch test on non-matching meshes.
 
     Notes
     -----
@@ -128,18 +141,21 @@ class BodySurface:
     rigid = False
     name = "body-surface"
 
-    def __init__(self, body: Any, name: str, *, search_distance: float | None = None):
+    def __init__(self, body: Any, name: str, *, search_distance: float | None = None, method: str = "mortar"):
         if not (hasattr(body, "facets") and hasattr(body, "node_dofs") and hasattr(body, "dim")):
             raise InputError(f"BodySurface: body = {type(body).__name__}: expected a discretized body "
                              "(alcontact.fem.LinearElasticity).")
         if not isinstance(name, str):
             raise InputError(f"BodySurface: name = {name!r:.40}: expected the name of a boundary of the body.")
+        if not isinstance(method, str) or method not in METHODS:
+            raise UnknownNameError("method", method, list(METHODS))
         (search_distance,) = check_args("BodySurface", [
             (Option("search_distance", "float", None, "Search distance of the master segments (None: default).",
                     low=0.0, high=VALUE_RANGE[1], low_open=True), search_distance)])
         self.body = body
         self.boundary = name
         self.search_distance = None if search_distance is None else float(search_distance)
+        self.method = method
         self.segments = boundary_segments(body, name)
         self._tree = cKDTree(0.5 * (self.segments.points[self.segments.ends[:, 0]]
                                     + self.segments.points[self.segments.ends[:, 1]]))
@@ -149,7 +165,8 @@ class BodySurface:
         return 2
 
     def describe(self) -> str:
-        return f"the boundary {self.boundary!r} of a deformable body ({self.segments.ends.shape[0]} segments)"
+        how = "" if self.method == "mortar" else f", {self.method}"
+        return f"the boundary {self.boundary!r} of a deformable body ({self.segments.ends.shape[0]} segments{how})"
 
     def check_dim(self, d: int) -> None:
         if d != 2:
