@@ -79,10 +79,14 @@ def test_body_surface_is_a_deformable_master():
         surface.check_dim(3)
 
 
-def test_body_surface_refuses_p2_bodies():
+def test_body_surface_of_p2_and_3d_bodies():
     body = LinearElasticity(meshes.rectangle(0, 1, 0, 1, 2, 2), Material(E=1.0, nu=0.3), order=2)
-    with pytest.raises(InputError, match="P1"):
-        BodySurface(body, "top")
+    seg = BodySurface(body, "top").segments
+    assert seg.nodes.shape == (2, 3)  # two edges: their ends and midpoints
+    np.testing.assert_allclose(seg.points[seg.nodes[:, 2], 0], [0.25, 0.75])
+    cube = LinearElasticity(meshes.box(0, 1, 0, 1, 0, 1, 1, 1, 1), Material(E=1.0, nu=0.3))
+    with pytest.raises(InputError, match="2D"):
+        BodySurface(cube, "top")
 
 
 # ------------------------------------------------------------------------------------------ mortar gap

@@ -39,6 +39,18 @@ def test_patch_test_non_matching(ratio, algorithm, penalty):
     np.testing.assert_allclose(sol.pressure, p, rtol=1e-8, atol=0.0)
 
 
+@pytest.mark.parametrize("ratio", [(2, 2), (2, 3), (3, 7), (7, 3)])
+@pytest.mark.parametrize("algorithm,penalty", PATCH_ALGORITHMS)
+def test_patch_test_non_matching_p2(ratio, algorithm, penalty):
+    """P2 edges: the quadratic dual basis (A = D M^-1 per segment) passes the patch test too."""
+    prob = two_body.stacked_blocks(*ratio, pressure=10.0, order=2)
+    sol = solve(prob, algorithm, penalty)
+    assert sol.result.success, sol.result.message
+    assert sol.pressure.size == 2 * ratio[1] + 1  # vertices and edge midpoints of the slave
+    np.testing.assert_allclose(sol.pressure, prob.meta["pressure_exact"], rtol=1e-8, atol=0.0)
+    assert sol.extra["contact_force_balance"] <= 1e-10
+
+
 @pytest.mark.parametrize("ratio", [(2, 3), (3, 7), (7, 3)])
 def test_node_to_segment_fails_the_patch_test(ratio):
     """Collocation at the slave nodes (the simpler discretization) transmits the uniform pressure only on
@@ -123,6 +135,20 @@ def test_hertz_two_cylinders_algorithms_agree():
         sol = solve(prob, algorithm, penalty)
         assert sol.result.success, sol.result.message
         np.testing.assert_allclose(sol.pressure, ref.pressure, atol=1e-6 * ref.pressure.max())
+
+
+def test_hertz_two_cylinders_p2_converges():
+    """P2 edges: half-width within 2 %, the nodal peak pressure (the dual multiplier at the centre node)
+    converging; measured p0 errors 4.7 %, 2.4 %, 1.2 % at levels 0, 1, 2 (32k, 72k, 186k DOFs)."""
+    errs = []
+    for level in (0, 1):
+        prob = two_body.hertz_cylinders(level, order=2)
+        sol = solve(prob, "ssn")
+        assert sol.result.success, sol.result.message
+        errs.append(_hertz_errors(prob, sol))
+    assert all(abs(e["a"]) <= 0.02 for e in errs), errs
+    assert abs(errs[1]["p0"]) < abs(errs[0]["p0"]) <= 0.05, errs
+    assert all(e["balance"] <= 1e-10 for e in errs)
 
 
 def test_rigid_limit():

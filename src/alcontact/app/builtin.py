@@ -35,9 +35,7 @@ def _hertz(kind: str):
 def _two_cylinders(level: int, order: int):
     from ..problems import two_body
 
-    if order != 1:
-        raise InputError(f"--order {order}: two-body (mortar) contact is available with P1 elements; use --order 1.")
-    return two_body.hertz_cylinders(level=level)
+    return two_body.hertz_cylinders(level=level, order=order)
 
 
 #: Built-in problems by name. Default levels: about 10k DOFs, a few seconds.

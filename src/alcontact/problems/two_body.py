@@ -50,18 +50,19 @@ def _block(x: np.ndarray, y: np.ndarray) -> skfem.MeshTri:
 
 
 def stacked_blocks(n_base: int = 2, n_top: int = 3, *, pressure: float = 10.0, E=(1000.0, 500.0), nu=(0.3, 0.2),
-                   width: float = 1.0, height: float = 1.0) -> ContactProblem:
+                   width: float = 1.0, height: float = 1.0, order: int = 1) -> ContactProblem:
     """Contact patch test: a block of ``n_top`` x ``n_top`` cells on one of ``n_base`` x ``n_base`` cells.
 
     The base ``[0, width] x [0, height]`` stands on rollers (``u_y = 0`` on its bottom); the top
     block ``[0, width] x [height, 2 height]`` is held by the contact only (its vertical motion), a
     uniform ``pressure`` pushes its top down; rollers ``u_x = 0`` on both left sides. Slave: the top
-    block's bottom; master: the base's top. The exact interface pressure is ``pressure``.
+    block's bottom; master: the base's top. The exact interface pressure is ``pressure``. ``order``:
+    P1 or P2 elements in both blocks.
     """
     base = LinearElasticity(_block(np.linspace(0, width, n_base + 1), np.linspace(0, height, n_base + 1)),
-                            Material(E=E[0], nu=nu[0]))
+                            Material(E=E[0], nu=nu[0]), order=order)
     top = LinearElasticity(_block(np.linspace(0, width, n_top + 1), np.linspace(height, 2 * height, n_top + 1)),
-                           Material(E=E[1], nu=nu[1]))
+                           Material(E=E[1], nu=nu[1]), order=order)
     pair = ContactPair(Boundary(top, "bottom"), BodySurface(base, "top"))
     return ContactProblem(bodies=[base, top], pairs=[pair],
                           supports=[Support("body0/bottom", components=[1]), Support("body0/left", components=[0]),
@@ -87,7 +88,7 @@ def _curved(mesh: skfem.MeshTri, radius: float, depth: float, sign: float) -> sk
 
 def hertz_cylinders(level: int = 1, *, E=(200e3, 70e3), nu=(0.3, 0.35), radii=(20.0, 20.0), a_target: float = 1.0,
                     size: float = 20.0, master_ratio: float = 0.75, growth: float = 1.15,
-                    rigid_master: bool = False) -> ContactProblem:
+                    order: int = 1) -> ContactProblem:
     """Two elastic cylinders pressed together (plane strain, half model ``x >= 0``), module doc.
 
     Parameters
@@ -106,9 +107,9 @@ def hertz_cylinders(level: int = 1, *, E=(200e3, 70e3), nu=(0.3, 0.35), radii=(2
         Elements per ``a`` of the master over the slave's (non-matching meshes).
     growth : float
         Grading ratio away from the contact.
-    rigid_master : bool
-        Build the same geometry with the lower body as a rigid obstacle
-        (:func:`rigid_limit_pair` compares the two).
+    order : {1, 2}
+        P1 or P2 elements (straight edges; the fine zone keeps ``n / order`` elements per ``a``, so
+        that P2 has the same nodes on the interface as P1).
     """
     (E1, E2), (nu1, nu2), (R1, R2) = E, nu, radii
     e_star = 1.0 / ((1 - nu1 ** 2) / E1 + (1 - nu2 ** 2) / E2)
@@ -118,14 +119,16 @@ def hertz_cylinders(level: int = 1, *, E=(200e3, 70e3), nu=(0.3, 0.35), radii=(2
     H = size * a
 
     def grid(n_per_a):
-        md = mesh_spec(2, n_per_a, 1, a_target=a, size=size, growth=growth)
+        md = mesh_spec(2, n_per_a, order, a_target=a, size=size, growth=growth)
         m = meshes.rectangle(*md["bounds"], *md["cells"], refine=md["refine"])
         return np.unique(m.p[0]), np.unique(m.p[1])  # x in [0, H], y in [-H, 0], fine near (0, 0)
 
     xs, ys = grid(n)
     xm, ym = grid(max(1.0, master_ratio * n))
-    base = LinearElasticity(_curved(_block(xm, ym), R1, H, -1.0), Material(E=E1, nu=nu1, plane="strain"))
-    top = LinearElasticity(_curved(_block(xs, -ys[::-1]), R2, H, +1.0), Material(E=E2, nu=nu2, plane="strain"))
+    base = LinearElasticity(_curved(_block(xm, ym), R1, H, -1.0), Material(E=E1, nu=nu1, plane="strain"),
+                            order=order)
+    top = LinearElasticity(_curved(_block(xs, -ys[::-1]), R2, H, +1.0), Material(E=E2, nu=nu2, plane="strain"),
+                           order=order)
     load = math.pi * a * a * e_star / (4 * R)  # the full Hertz load of a_target
     delta = 2 * load / (math.pi * e_star) * (math.log(2 * H / a) + 0.1)
     pair = ContactPair(Boundary(top, "bottom"), BodySurface(base, "top"))
@@ -134,7 +137,7 @@ def hertz_cylinders(level: int = 1, *, E=(200e3, 70e3), nu=(0.3, 0.35), radii=(2
     ref = HertzReference("cylinder", R, e_star, symmetry=2.0)
     meta = {"delta": delta, "h": a / n, "symmetry_axis": 0, "center": (0.0, 0.0), "e_star": e_star, "radius": R}
     return ContactProblem(bodies=[base, top], pairs=[pair], supports=supports, reference=ref, meta=meta,
-                          name=f"two elastic cylinders (R={R:g}, E*={e_star:g}, {n} elements per a)")
+                          name=f"two elastic cylinders (R={R:g}, E*={e_star:g}, {n} elements per a, P{order})")
 
 
 def rigid_limit_pair(level: int = 0, *, E: float = 200e3, nu: float = 0.3, radius: float = 10.0,

@@ -1,9 +1,10 @@
-r"""Mortar weighted gaps between two bodies (2D, P1 segments, dual multipliers), small deformation.
+r"""Mortar weighted gaps between two bodies (2D, P1 or P2 straight segments, dual multipliers), small deformation.
 
-For a slave boundary :math:`\Gamma_s` with P1 shape functions :math:`N_j` and the dual
-(biorthogonal) basis :math:`\Phi_j` (on a segment with nodes ``a, b`` and parameter
-:math:`\xi \in [0, 1]`: :math:`\Phi_a = 2 - 3\xi`, :math:`\Phi_b = 3\xi - 1`, so that
-:math:`\int \Phi_j N_k\,ds = \delta_{jk} \int N_j\,ds`), the weighted gap of slave node ``j`` is
+For a slave boundary :math:`\Gamma_s` with shape functions :math:`N_j` and the dual
+(biorthogonal) basis :math:`\Phi_j` (P1, on a segment with nodes ``a, b`` and parameter
+:math:`\xi \in [0, 1]`: :math:`\Phi_a = 2 - 3\xi`, :math:`\Phi_b = 3\xi - 1`; P2:
+:func:`dual_coefficients`; so that :math:`\int \Phi_j N_k\,ds = \delta_{jk} \int N_j\,ds`),
+the weighted gap of slave node ``j`` is
 
 .. math::
 
@@ -51,7 +52,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.spatial import cKDTree
 
-from ..masters._mortar import BodySurface, boundary_segments
+from ..masters._mortar import BodySurface, boundary_segments, shape_functions
 
 #: a slave node counts as covered by the master when the master overlaps at least this part of its support
 COVER_MIN = 0.5
@@ -96,6 +97,25 @@ class MortarGap:
         return -(self.B.T @ np.asarray(nodal, dtype=float))
 
 
+def _integrals(k: int) -> np.ndarray:
+    """:math:`\\int_0^1 N_i\\,d\\xi` of the ``k`` shape functions of a segment (ends, then midpoint)."""
+    return np.array([0.5, 0.5]) if k == 2 else np.array([1.0, 1.0, 4.0]) / 6.0
+
+
+def dual_coefficients(k: int) -> np.ndarray:
+    r"""``A`` with :math:`\Phi_i = \sum_k A_{ik} N_k` biorthogonal to the ``k`` shape functions of a segment.
+
+    :math:`A = D \hat M^{-1}`, :math:`\hat M_{ik} = \int_0^1 N_i N_k\,d\xi`, :math:`D = \mathrm{diag}(\int_0^1
+    N_i\,d\xi)`, so that :math:`\int \Phi_i N_k = \delta_{ik} \int N_i` and :math:`\sum_i \Phi_i = 1`.
+    P1: :math:`\Phi_a = 2 - 3\xi`, :math:`\Phi_b = 3\xi - 1`.
+    """
+    xg, wg = np.polynomial.legendre.leggauss(4)
+    xg, wg = 0.5 * (xg + 1.0), 0.5 * wg
+    N = np.array(shape_functions(xg, k))  # (k, q)
+    M = (N * wg) @ N.T
+    return np.diag(_integrals(k)) @ np.linalg.inv(M)
+
+
 def _offset(model, body) -> int:
     """First DOF of ``body`` in the numbering of ``model`` (the body itself, or a stack of bodies)."""
     if body is model:
@@ -127,9 +147,9 @@ def mortar_gap(model, slave_body, slave_name: str, master: BodySurface) -> Morta
     ms = master.segments
     extent = max(float(np.ptp(ss.points, axis=0).max()), float(np.ptp(ms.points, axis=0).max()))
     search = master.search_distance if master.search_distance is not None else 0.25 * extent
-    D = np.zeros(ss.points.shape[0])
-    np.add.at(D, ss.ends[:, 0], 0.5 * ss.lengths)
-    np.add.at(D, ss.ends[:, 1], 0.5 * ss.lengths)
+    D = np.zeros(ss.points.shape[0])  # D_j = int N_j ds, the tributary lengths
+    for i, w in enumerate(_integrals(ss.nodes.shape[1])):
+        np.add.at(D, ss.nodes[:, i], w * ss.lengths)
     if getattr(master, "method", "mortar") == "node-to-segment":
         P, covered = _node_to_segment(ss, ms, search)
     else:
@@ -159,9 +179,10 @@ def _node_to_segment(ss, ms, search: float):
         c, eta = c[inside], np.clip(eta[inside], 0.0, 1.0)
         y = ya[c] + eta[:, None] * (yb[c] - ya[c])
         k = int(np.argmin(np.linalg.norm(ss.points[j] - y, axis=1)))
-        rows += [j, j]
-        cols += [ms.ends[c[k], 0], ms.ends[c[k], 1]]
-        vals += [1.0 - eta[k], eta[k]]
+        N = shape_functions(np.array([eta[k]]), ms.nodes.shape[1])
+        rows += [j] * len(N)
+        cols += [int(n) for n in ms.nodes[c[k]]]
+        vals += [float(v[0]) for v in N]
         covered[j] = True
     P = sp.csr_matrix((vals, (rows, cols)), shape=(m, ms.points.shape[0]))
     return P, covered
@@ -175,6 +196,8 @@ def _mortar_weights(ss, ms, search: float, D: np.ndarray):
     radius = search + 0.5 * (float(ss.lengths.max()) + float(ms.lengths.max()))
     tree = cKDTree(0.5 * (ya + yb))
     cands = tree.query_ball_point(0.5 * (xa + xb), r=radius)
+    ks, km_loc = ss.nodes.shape[1], ms.nodes.shape[1]
+    A = dual_coefficients(ks)
     rows, cols, vals = [], [], []
     for s, cand in enumerate(cands):
         if not cand:
@@ -196,12 +219,13 @@ def _mortar_weights(ss, ms, search: float, D: np.ndarray):
         xq = lo[:, None] + (hi - lo)[:, None] * _GAUSS_X[None, :]  # (k, 3) slave parameters
         wq = (L * (hi - lo))[:, None] * _GAUSS_W[None, :]
         eta = (xq - xi_a[:, None]) / (xi_b - xi_a)[:, None]  # master parameter from end a to end b
-        phi = (2.0 - 3.0 * xq, 3.0 * xq - 1.0)
-        nm = (1.0 - eta, eta)
-        for i in range(2):
-            for k in range(2):
-                rows.append(np.full(c.size, ss.ends[s, i]))
-                cols.append(ms.ends[c, k])
+        Ns = shape_functions(xq, ks)
+        phi = [sum(A[i, k] * Ns[k] for k in range(ks)) for i in range(ks)]
+        nm = shape_functions(eta, km_loc)
+        for i in range(ks):
+            for k in range(km_loc):
+                rows.append(np.full(c.size, ss.nodes[s, i]))
+                cols.append(ms.nodes[c, k])
                 vals.append(np.sum(phi[i] * nm[k] * wq, axis=1))
     if rows:
         M = sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(m, km))

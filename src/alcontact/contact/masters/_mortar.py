@@ -1,4 +1,4 @@
-r"""A deformable master: a boundary of a discretized body (two-body contact, 2D, P1 edges).
+r"""A deformable master: a boundary of a discretized body (two-body contact, 2D, P1 or P2 straight edges).
 
 :class:`BodySurface` is the master side of a :class:`~alcontact.contact.ContactPair` between
 two bodies: its position moves with that body's displacement (``rigid = False``), so the gap
@@ -23,6 +23,7 @@ from scipy.spatial import cKDTree
 
 from ..._options import VALUE_RANGE, Option, check_args
 from ...errors import InputError, UnknownNameError
+from ...fem.quality import is_curved
 
 
 #: discretizations of the gap between two bodies (``BodySurface(method=...)``)
@@ -36,7 +37,7 @@ METHODS = {
 
 @dataclass(frozen=True)
 class Segments:
-    """The straight boundary segments of a body's boundary (2D, P1), reference configuration.
+    """The straight boundary segments of a body's boundary (2D, P1 or P2), reference configuration.
 
     Attributes
     ----------
@@ -49,6 +50,8 @@ class Segments:
     normals : ndarray (s, 2)
         Outward unit normal of every segment (out of the body).
     lengths : ndarray (s,)
+    nodes : ndarray of int (s, k)
+        The nodes of every segment: its two ends (P1, ``k = 2``), then its midpoint (P2, ``k = 3``).
     """
 
     points: np.ndarray
@@ -56,32 +59,43 @@ class Segments:
     ends: np.ndarray
     normals: np.ndarray
     lengths: np.ndarray
+    nodes: np.ndarray
 
     def node_normals(self) -> np.ndarray:
         """Unit normal at each node: the normalized sum of the normals of its segments (``(m, 2)``)."""
         acc = np.zeros_like(self.points)
-        for k in range(2):
-            np.add.at(acc, self.ends[:, k], self.normals)
+        for k in range(self.nodes.shape[1]):
+            np.add.at(acc, self.nodes[:, k], self.normals)
         norm = np.linalg.norm(acc, axis=1, keepdims=True)
         return acc / np.where(norm > 0, norm, 1.0)
 
 
+def shape_functions(xi: np.ndarray, k: int) -> tuple[np.ndarray, ...]:
+    """Lagrange shape functions of a segment at parameters ``xi`` in [0, 1]: ends, then midpoint (``k = 3``)."""
+    if k == 2:
+        return 1.0 - xi, xi
+    return (1.0 - xi) * (1.0 - 2.0 * xi), xi * (2.0 * xi - 1.0), 4.0 * xi * (1.0 - xi)
+
+
 def boundary_segments(body: Any, name: str) -> Segments:
-    """:class:`Segments` of boundary ``name`` of a 2D P1 body.
+    """:class:`Segments` of boundary ``name`` of a 2D P1 or P2 body (straight edges).
 
     Raises
     ------
     alcontact.errors.InputError
-        The body is not 2D, not P1 or a body of revolution (mortar contact is 2D P1 for now).
+        The body is not 2D, a body of revolution, or P2 on a curved (second-order) mesh (mortar
+        contact is 2D with straight edges for now).
     alcontact.errors.MeshError
         No boundary of that name (the message lists the known ones).
     """
     if getattr(body, "dim", None) != 2:
         raise InputError(f"mortar contact between bodies is available in 2D; the body of boundary {name!r} is "
                          f"{getattr(body, 'dim', '?')}D.")
-    if getattr(body, "order", 1) != 1:
-        raise InputError(f"mortar contact between bodies is available for P1 bodies (order=1); the body of "
-                         f"boundary {name!r} has order={body.order}.")
+    order = getattr(body, "order", 1)
+    if order not in (1, 2) or (order == 2 and is_curved(body.mesh)):
+        raise InputError(f"mortar contact between bodies is available for P1 and P2 bodies with straight edges; "
+                         f"the body of boundary {name!r} has order={order} on a "
+                         f"{'curved' if is_curved(body.mesh) else 'straight'} mesh: use order=1.")
     if getattr(body, "axisymmetric", False):
         raise InputError(f"mortar contact between bodies is available for Cartesian bodies; the body of boundary "
                          f"{name!r} is axisymmetric.")
@@ -92,6 +106,10 @@ def boundary_segments(body: Any, name: str) -> Segments:
     verts = mesh.facets[:, facets]  # (2, s)
     vdof = body.dof_map[body.scalar_dofs.nodal_dofs[0][verts], 0]  # (2, s)
     ends = np.array([[where[int(a)], where[int(b)]] for a, b in vdof.T], dtype=np.int64).reshape(-1, 2)
+    nodes = ends
+    if order == 2:  # the edge midpoints
+        mdof = body.dof_map[body.scalar_dofs.facet_dofs[0][facets], 0]
+        nodes = np.column_stack([ends, [where[int(d)] for d in mdof]]).astype(np.int64)
     x0, x1 = pts[ends[:, 0]], pts[ends[:, 1]]
     t = x1 - x0
     lengths = np.linalg.norm(t, axis=1)
@@ -100,7 +118,7 @@ def boundary_segments(body: Any, name: str) -> Segments:
     centroid = mesh.p[:, mesh.t[:, cells]].mean(axis=1).T  # (s, 2)
     inward = np.einsum("ij,ij->i", centroid - 0.5 * (x0 + x1), n) > 0
     n[inward] *= -1.0
-    return Segments(pts, dofs, ends, n, lengths)
+    return Segments(pts, dofs, ends, n, lengths, nodes)
 
 
 class BodySurface:
@@ -109,7 +127,7 @@ class BodySurface:
     Parameters
     ----------
     body : alcontact.fem.LinearElasticity
-        A 2D P1 body (the master body).
+        A 2D P1 or P2 body with straight edges (the master body).
     name : str
         One of its boundary names.
     search_distance : float, optional

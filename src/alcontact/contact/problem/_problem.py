@@ -260,7 +260,7 @@ class ContactProblem:
 
     Both give the same problem (and the same solution, to the last bit). A problem has one
     pair: a rigid master (one body), or the :class:`~alcontact.contact.BodySurface` of a body
-    of ``bodies`` (two-body mortar contact at small deformation, frictionless, 2D P1; the
+    of ``bodies`` (two-body mortar contact at small deformation, frictionless, 2D P1/P2; the
     model is then the bodies' :class:`~alcontact.fem.MultiBody` and boundary names are
     ``"body0/top"``, ``"body1/bottom"``, ...). Several pairs are refused with an
     :class:`~alcontact.errors.InputError` (see ``docs/architecture.md``).
