@@ -194,3 +194,13 @@ def test_pair_out_of_reach_and_overlap_are_named(caplog):
     with caplog.at_level(logging.WARNING):
         solve(prob, "ssn")
     assert "overlap at the start by 0.1" in caplog.text
+
+
+def test_load_steps_reuse_the_stack_and_its_factorization():
+    import dataclasses
+
+    prob = two_body.hertz_cylinders(0)
+    assert dataclasses.replace(prob, name="again").model is prob.model  # the same stack of the same bodies
+    sol = solve(prob, "ssn", steps=3)
+    assert sol.result.success and len(sol.frames) == 3
+    assert prob.model.factorization_count == 1  # one factorization for the three steps, as for one body

@@ -6,6 +6,7 @@ turns it into a discrete problem and runs one of the registered algorithms.
 
 from __future__ import annotations
 
+import weakref
 from dataclasses import dataclass, field
 from typing import Any, Callable, Sequence
 
@@ -506,6 +507,11 @@ class ContactProblem:
         return f
 
 
+#: the stack of the same bodies is the same object (its stiffness and factorization are kept): a problem
+#: rebuilt by dataclasses.replace (load steps, problem_at) reuses it
+_STACKS: weakref.WeakValueDictionary = weakref.WeakValueDictionary()
+
+
 def _two_body(kind: str, bodies: tuple, pair: ContactPair) -> dict[str, Any]:
     """The model (the bodies' :class:`~alcontact.fem.MultiBody`) and names of a pair with a deformable master."""
     from ...fem import MultiBody
@@ -524,7 +530,11 @@ def _two_body(kind: str, bodies: tuple, pair: ContactPair) -> dict[str, Any]:
     if len(bodies) == 1:
         model, slave = bodies[0], pair.slave.name
     else:
-        model = MultiBody(bodies)
+        key = tuple(id(b) for b in bodies)
+        model = _STACKS.get(key)
+        if model is None or any(a is not b for a, b in zip(model.bodies, bodies)):
+            model = MultiBody(bodies)
+            _STACKS[key] = model
         slave = model.qualify(pair.slave.body, pair.slave.name)
     return {"model": model, "obstacle": pair.master, "contact_boundary": slave, "friction": pair.friction,
             "pair": pair, "bodies": bodies}
