@@ -204,3 +204,9 @@ def test_load_steps_reuse_the_stack_and_its_factorization():
     sol = solve(prob, "ssn", steps=3)
     assert sol.result.success and len(sol.frames) == 3
     assert prob.model.factorization_count == 1  # one factorization for the three steps, as for one body
+
+
+def test_friction_override_between_bodies_is_refused():
+    prob = two_body.stacked_blocks(2, 3)
+    with pytest.raises(InputError, match="friction between two deformable bodies is not supported yet"):
+        solve(prob, "simo-laursen", friction=0.3)

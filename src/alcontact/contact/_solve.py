@@ -288,6 +288,9 @@ def _solve_any(problem, algorithm, penalty, options, *, steps, history, obstacle
     """:func:`solve` with the engine's own callbacks (``hooks``) for the deprecated wrappers."""
     hooks = hooks or {}
     kinematics, mu = _case(problem, friction)
+    if mu != 0 and not all(getattr(p, "rigid", True) for p in getattr(problem, "pairs", ())):
+        raise InputError(f"friction = {mu!r}: friction between two deformable bodies is not supported yet; solve "
+                         "the two-body problem frictionless (friction=0).")
     max_cutbacks = None  # an option of the frictional engines (in overrides), an argument of the frictionless one
     if kinematics == "finite" and mu == 0:
         if "max_cutbacks" in overrides:
