@@ -164,6 +164,8 @@ def _entries() -> dict:
             model=_model(), obstacle=half(), contact_boundary="bottom", supports=[contact.Support("top")])),
             ["model", "obstacle", "contact_boundary", "supports", "loads", "friction", "name", "kinematics", "meta"]),
         "contact.Boundary": (contact.Boundary, lambda: ((_model(), "bottom"), {}), [0, 1]),
+        "contact.BodySurface": (contact.BodySurface, lambda: ((_model(), "top"), {}), [0, 1, "search_distance"]),
+        "fem.MultiBody": (fem.MultiBody, lambda: (([_model(), _model()],), {}), [0, "names"]),
         "contact.ContactPair": (contact.ContactPair, lambda: ((contact.Boundary(_model(), "bottom"), half()), {}),
                                 [0, 1, "friction"]),
         "contact.ContactProblem(bodies, pairs)": (contact.ContactProblem, _pair_form, ["bodies", "pairs", "supports",

@@ -32,6 +32,12 @@ def _hertz(kind: str):
     return factory
 
 
+def _two_cylinders(level: int, order: int):
+    from ..problems import two_body
+
+    return two_body.hertz_cylinders(level=level, order=order)
+
+
 #: Built-in problems by name. Default levels: about 10k DOFs, a few seconds.
 BUILTIN_PROBLEMS: dict[str, BuiltinProblem] = {
     "hertz-2d": BuiltinProblem(
@@ -41,6 +47,11 @@ BUILTIN_PROBLEMS: dict[str, BuiltinProblem] = {
     "hertz-3d": BuiltinProblem(
         "hertz-3d", "rigid sphere on an elastic block, quarter model (Hertz point contact)",
         _hertz("3d"), default_level=0, levels=6, units=("mm", "MPa"),
+    ),
+    "hertz-2body": BuiltinProblem(
+        "hertz-2body", "two elastic cylinders of different E and nu pressed together, plane strain, half model "
+        "(mortar contact between two bodies; Hertz with the effective modulus and radius)",
+        _two_cylinders, default_level=2, levels=6, units=("mm", "MPa"),
     ),
 }
 

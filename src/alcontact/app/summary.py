@@ -14,6 +14,10 @@ from .. import __version__
 
 __all__ = ["summarize", "setup_summary", "equilibrium_keys", "what_to_try", "ADVICE"]
 
+#: keys of ``solution.extra`` of a two-body (mortar) pair copied to ``summary.json``: the contact force on each
+#: side and ``contact_force_balance`` = |F_slave + F_master| / |F_slave| (action = reaction)
+TWO_BODY_KEYS = ("slave_contact_force", "master_contact_force", "contact_force_balance")
+
 
 def _finite_or_none(x) -> float | None:
     if x is None:
@@ -189,6 +193,7 @@ def summarize(problem, solution, *, problem_name: str | None = None, level: int 
         "peak_pressure_error_pct": _error_pct(p_num, p_ex),
         "model_contact_force": f_model,
         "contact_force_vector": np.asarray(solution.total_contact_force, dtype=float).tolist(),
+        **{k: solution.extra[k] for k in TWO_BODY_KEYS if k in solution.extra},
         **equilibrium_keys(eq),
         "peak_pressure_nodal_max": p_max,
         "peak_pressure_nodal_max_error_pct": _error_pct(p_max, p_ex),

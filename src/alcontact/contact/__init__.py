@@ -38,7 +38,7 @@ from .algorithms import (DEFAULT_PENALTY, ContactOptions, FrictionOptions, algor
                          contact_penalties, describe_algorithms, find_algorithm, finite_friction_algorithms,
                          friction_algorithm_docs, friction_algorithms, friction_only_options)
 from .kinematics._points import _element_size as contact_element_size
-from .masters import Master, obstacles
+from .masters import BodySurface, Master, obstacles
 from .problem import (KINEMATICS, BodyForce, Boundary, ContactPair, ContactProblem, LoadCase, LoadHistory, Pressure,
                       Ramp, Support, Traction, merge_supports, problem_at)
 from .solution import (ContactFrame, ContactIteration, ContactResult, ContactSolution, ContactStatus,
@@ -53,6 +53,7 @@ __all__ = [
     "ContactPair",
     "Boundary",
     "Master",
+    "BodySurface",
     "Support",
     "Traction",
     "Pressure",

@@ -119,8 +119,7 @@ def _solve_static(problem, algorithm: str = DEFAULT_ALGORITHM, penalty: str | No
     # from the tractions u balances by the last multiplier change (the ssn reference's inner Uzawa iteration
     # stops at a relative update of 1e-8): its equilibrium tolerance has tol_multiplier in it
     fixed, _ = problem.dirichlet()
-    eq = state_equilibrium(problem.model, u, fixed, problem.load_vector(),
-                           problem.model.node_dofs(problem.contact_boundary)[1], nodal[:, None] * dc.normals, dc.h,
+    eq = state_equilibrium(problem.model, u, fixed, problem.load_vector(), *dc.force_points(nodal), dc.h,
                            pressure=pressure, weights=dc.weights)
     check = check_state(g_all, pressure, dc.h, tol_penetration=opts.tol_penetration,
                         tol_complementarity=opts.tol_complementarity, equilibrium=eq.largest,
@@ -155,6 +154,7 @@ def _solve_static(problem, algorithm: str = DEFAULT_ALGORITHM, penalty: str | No
         logger.warning("contact solve %s/%s failed (%s): %s", algorithm, pen_name, out.status.label, out.message)
     t_end = time.perf_counter()
     timings = dict(dc.timings(), solve_s=t_end - t_solve, total_s=t_end - t_start)
+    two_body = {} if dc.mortar is None else _force_balance(dc, nodal)
     return ContactSolution(
         problem=problem,
         u=u,
@@ -168,8 +168,28 @@ def _solve_static(problem, algorithm: str = DEFAULT_ALGORITHM, penalty: str | No
         result=result,
         timings=timings,
         nodal_forces=nodal,
-        extra={"h": dc.h, "candidates": int(dc.cand.size), "dofs": int(problem.model.ndofs), **dc.extra()},
+        extra={"h": dc.h, "candidates": int(dc.cand.size), "dofs": int(problem.model.ndofs), **dc.extra(),
+               **two_body},
     )
+
+
+def _force_balance(dc, nodal: np.ndarray) -> dict:
+    r"""Contact forces on the slave and master sides of a two-body (mortar) pair and their balance.
+
+    ``slave_contact_force`` / ``master_contact_force``: the resultant of :math:`-B^T r` on the DOFs of each
+    side; ``contact_force_points``: ``(dofs, forces)`` of every node it acts on (what
+    :meth:`ContactSolution.equilibrium` balances); ``contact_force_balance`` :math:`|F_s + F_m| / |F_s|` (action = reaction: zero to round-off, since
+    the master weights of every slave node sum to its own, :mod:`alcontact.contact.kinematics._mortar`).
+    """
+    fc = dc.mortar.contact_force(nodal)
+    d = dc.dim
+    slave = fc[dc.dofs].sum(axis=0)
+    master = fc[dc.mortar.master_dofs].sum(axis=0) if not np.array_equal(dc.dofs, dc.mortar.master_dofs) else \
+        np.zeros(d)
+    norm = float(np.linalg.norm(slave))
+    balance = float(np.linalg.norm(slave + master)) / norm if norm > 0 else 0.0
+    return {"slave_contact_force": slave.tolist(), "master_contact_force": master.tolist(),
+            "contact_force_balance": balance, "contact_force_points": dc.force_points(nodal)}
 
 
 def solve(problem, algorithm: str = DEFAULT_ALGORITHM, penalty: str | None = None,
@@ -269,6 +289,9 @@ def _solve_any(problem, algorithm, penalty, options, *, steps, history, obstacle
     """:func:`solve` with the engine's own callbacks (``hooks``) for the deprecated wrappers."""
     hooks = hooks or {}
     kinematics, mu = _case(problem, friction)
+    if mu != 0 and not all(getattr(p, "rigid", True) for p in getattr(problem, "pairs", ())):
+        raise InputError(f"friction = {mu!r}: friction between two deformable bodies is not supported yet; solve "
+                         "the two-body problem frictionless (friction=0).")
     max_cutbacks = None  # an option of the frictional engines (in overrides), an argument of the frictionless one
     if kinematics == "finite" and mu == 0:
         if "max_cutbacks" in overrides:

@@ -18,6 +18,7 @@ Examples
 
 from alcontact.fem import meshes, model_problems
 from alcontact.fem._body import Body
+from alcontact.fem._multibody import MultiBody
 from alcontact.fem._geometry import GEOMETRIES, check_geometry
 from alcontact.fem._hyper_materials import (
     HyperelasticLaw,
@@ -61,6 +62,7 @@ __all__ = [
     "LinearElasticity",
     "Material",
     "MixedHyperelastic",
+    "MultiBody",
     "material_issues",
     "numerical_rank",
     "NeoHookean",

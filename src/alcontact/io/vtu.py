@@ -31,6 +31,11 @@ Point fields (:data:`POINT_FIELDS`):
     L2-projected nodal stress tensor in ParaView's symmetric-tensor order
     ``xx, yy, zz, xy, yz, xz`` (2D: ``zz`` is the out-of-plane stress, ``yz = xz = 0``).
 
+Several bodies (a :class:`~alcontact.fem.MultiBody`, two-body contact) are written as one grid with
+the point field ``body`` (the index of the body each point belongs to; filter by it in ParaView
+with "Threshold"); the contact fields are those of the slave boundary, ``0`` / NaN on the other
+bodies.
+
 Frictional runs add (:data:`FRICTION_FIELDS`, from ``solution.extra``):
 
 ``slip`` (n, 3)
@@ -118,6 +123,8 @@ def solution_point_data(solution, deformed: bool | None = None
     require("solution_point_data", "deformed", deformed, deformed is None or isinstance(deformed, (bool, np.bool_)),
             "None, True or False")
     model = solution.problem.model
+    if hasattr(model, "bodies") and hasattr(model, "split"):  # several bodies: one grid, a `body` field
+        return _bodies_point_data(solution, deformed)
     mesh = model.mesh
     dim = model.dim
     cell_type = _CELL_TYPES.get((dim, mesh.t.shape[0]))
@@ -191,6 +198,46 @@ def solution_point_data(solution, deformed: bool | None = None
         point_data["contact_state"] = state
     cells = [(cell_type, np.ascontiguousarray(conn))]
     return points, cells, point_data
+
+
+def _bodies_point_data(solution, deformed):
+    """:func:`solution_point_data` of a solution of several bodies (:class:`alcontact.fem.MultiBody`).
+
+    Each body's grid and fields as for one body (the contact fields on the slave boundary; ``0`` /
+    NaN on the other bodies), stacked into one grid with the point field ``body`` (the body's index).
+    """
+    from types import SimpleNamespace
+
+    problem = solution.problem
+    model = problem.model
+    slave, local = model.locate(problem.contact_boundary)
+    kinematics = getattr(problem, "kinematics", "small")
+    extra = {k: v for k, v in (getattr(solution, "extra", None) or {}).items() if k != "state"}
+    points, conns, fields, index = [], [], [], []
+    cell_type = None
+    for i, (body, u) in enumerate(zip(model.bodies, model.split(solution.u))):
+        if i == slave:
+            view = SimpleNamespace(problem=SimpleNamespace(model=body, contact_boundary=local, kinematics=kinematics),
+                                   u=u, points=solution.points, pressure=solution.pressure, gap=solution.gap,
+                                   active=solution.active, extra=extra)
+        else:  # no contact field of its own: the first boundary, zero pressure, no gap
+            name = body.boundary_names[0]
+            pts, _ = body.node_dofs(name)
+            m = pts.shape[0]
+            view = SimpleNamespace(problem=SimpleNamespace(model=body, contact_boundary=name, kinematics=kinematics),
+                                   u=u, points=pts, pressure=np.zeros(m), gap=np.full(m, np.nan),
+                                   active=np.zeros(m, dtype=bool), extra={})
+        p, cells, data = solution_point_data(view, deformed)
+        if cell_type not in (None, cells[0][0]):
+            raise InputError(f"VTU output of several bodies needs one cell type; got {cell_type} and {cells[0][0]}.")
+        cell_type = cells[0][0]
+        conns.append(cells[0][1] + sum(q.shape[0] for q in points))
+        points.append(p)
+        fields.append(data)
+        index.append(np.full(p.shape[0], float(i)))
+    point_data = {k: np.concatenate([f[k] for f in fields]) for k in fields[0]}
+    point_data["body"] = np.concatenate(index)
+    return np.vstack(points), [(cell_type, np.vstack(conns))], point_data
 
 
 def write_solution_vtu(path: str | os.PathLike, solution, *, deformed: bool | None = None) -> Path:

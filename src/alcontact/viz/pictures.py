@@ -90,10 +90,15 @@ def _body_data(solution):
     model = problem.model
     dim = int(model.dim)
     points, cells, pd = solution_point_data(solution, deformed=False)
-    mesh = model.mesh
-    names = mesh.boundaries or {}
     cb = problem.contact_boundary
-    facets = mesh.facets[:, names[cb]] if cb in names else np.zeros((dim, 0), dtype=np.int64)
+    if hasattr(model, "bodies") and hasattr(model, "locate"):  # several bodies, stacked body after body
+        i, cb = model.locate(cb)
+        mesh = model.bodies[i].mesh
+        shift = sum(b.mesh.nvertices for b in model.bodies[:i])
+    else:
+        mesh, shift = model.mesh, 0
+    names = mesh.boundaries or {}
+    facets = mesh.facets[:, names[cb]] + shift if cb in names else np.zeros((dim, 0), dtype=np.int64)
     finite = getattr(problem, "kinematics", "small") == "finite"
     conn = cells[0][1]
     if conn.shape[1] == 6:  # curved triangle6 (v0 v1 v2 m01 m12 m20): four sub-triangles through the edge nodes

@@ -23,6 +23,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from ...errors import InputError
+from ._mortar import mortar_gap
 
 
 logger = logging.getLogger(__name__)
@@ -41,6 +42,35 @@ def _element_size(model, boundary: str, obstacle) -> float:
     # facets closest to the obstacle set the scale (graded meshes are fine there)
     near = g >= np.quantile(g, 0.9) if g.size > 10 else np.ones(g.size, bool)
     return float(np.median(size[near]))
+
+
+#: initial overlap of two bodies (in element sizes of the slave) beyond which a warning names it
+OVERLAP_TOL = 1e-3
+
+
+def mortar_of(problem):
+    """The :class:`~alcontact.contact.kinematics._mortar.MortarGap` of a problem whose pair has a deformable
+    master (``None`` against a rigid one)."""
+    pair = problem.pairs[0]
+    if pair.rigid:
+        return None
+    if problem.kinematics != "small":
+        raise InputError("contact between two bodies is available at small deformation (kinematics='small'); "
+                         "finite deformation is not supported yet.")
+    mg = mortar_gap(problem.model, pair.slave.body, pair.slave.name, pair.master)
+    where = f"contact pair {problem.contact_boundary!r} / {pair.master.describe()}"
+    if not np.any(mg.covered):
+        logger.warning("%s: no slave node has a master segment within the search distance, so the pair cannot "
+                       "come into contact; check the boundaries, or give BodySurface(..., search_distance=...)", where)
+    else:
+        g = np.where(mg.covered, mg.gap0, -np.inf)
+        i = int(np.argmax(g))
+        if g[i] > OVERLAP_TOL * mg.h:
+            pts, _ = problem.model.node_dofs(problem.contact_boundary)
+            logger.warning("%s: the bodies overlap at the start by %.3g at slave node %s (%.2g element sizes); "
+                           "check the geometry, or expect the contact to push them apart", where, g[i],
+                           np.round(pts[i], 6).tolist(), g[i] / mg.h)
+    return mg
 
 
 def _point_rows(points: np.ndarray, k: int) -> np.ndarray:
@@ -65,6 +95,8 @@ class ContactPoints:
 
     # ---- ContactSystem: declared capabilities, "not available" on a model without them
     inexact_subproblems = False
+    #: the weighted gaps of a pair with a deformable master (:func:`mortar_of`); None against a rigid one
+    mortar = None
     physical_stopping = False
     warm_penalty_start = False
     penalty_continuation = False
@@ -125,8 +157,12 @@ class ContactPoints:
         """
         model = problem.model
         pts, dofs = model.node_dofs(problem.contact_boundary)
-        w = model.boundary_weights(problem.contact_boundary)
-        gap0, nu = problem.obstacle.evaluate(pts)
+        self.mortar = mortar_of(problem)
+        if self.mortar is None:
+            w = model.boundary_weights(problem.contact_boundary)
+            gap0, nu = problem.obstacle.evaluate(pts)
+        else:  # a deformable master: the weighted gaps couple both bodies (kinematics._mortar)
+            w, gap0, nu = self.mortar.weights, self.mortar.gap0, self.mortar.normals
         self.points, self.dofs, self.weights = pts, dofs, w
         self.normals, self.gap0 = nu, gap0
         # position of each DOF in the free vector (-1 when fixed)
@@ -137,10 +173,25 @@ class ContactPoints:
         coef = np.where(pos >= 0, -nu, 0.0)
         self.movable = np.linalg.norm(coef, axis=1) > 1e-12
         m = pts.shape[0]
+        if self.mortar is not None:
+            self.B = self.mortar.B[:, free].tocsr()
+            self.movable = self.mortar.covered & (self.B.getnnz(axis=1) > 0)
+            return
         rows = np.repeat(np.arange(m), self.dim)
         cols = pos.ravel()
         keep = cols >= 0
         self.B = sp.csr_matrix((coef.ravel()[keep], (rows[keep], cols[keep])), shape=(m, free.size))
+
+    def force_points(self, nodal: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        r"""``(dofs, forces)``, each ``(k, d)``: the contact force on the bodies of the normal nodal forces
+        ``nodal`` (:math:`r = w\circ\lambda`), per node it acts on: :math:`r_i \nu_i` on the contact points
+        against a rigid master; on the slave and master nodes of a mortar pair (:math:`-B^T r`)."""
+        nodal = np.asarray(nodal, dtype=float)
+        if self.mortar is None:
+            return self.dofs, nodal[:, None] * self.normals
+        fc = self.mortar.contact_force(nodal)
+        nodes = np.unique(np.vstack([self.dofs, self.mortar.master_dofs]), axis=0)
+        return nodes, fc[nodes]
 
     def _setup_candidates(self, u_free: np.ndarray, margin: float) -> None:
         self.g_free = self.all_gaps(u_free)
@@ -177,6 +228,8 @@ class ContactPoints:
 
     def _element_size(self) -> float:
         """Median facet size of the contact boundary near the obstacle (kept for the same obstacle and boundary)."""
+        if self.mortar is not None:
+            return self.mortar.h
         key = (self.model, self.problem.obstacle, self.problem.contact_boundary)
         cached = getattr(self, "_h_of", None)
         if cached is None or cached[0][0] is not key[0] or cached[0][1] is not key[1] or cached[0][2] != key[2]:
@@ -185,6 +238,8 @@ class ContactPoints:
 
     def all_gaps(self, u: np.ndarray) -> np.ndarray:
         """Linearized gaps (6.15) of every contact-boundary point for displacement ``u``."""
+        if self.mortar is not None:
+            return self.gap0 + self.mortar.B @ u
         return self.gap0 - np.einsum("ij,ij->i", self.normals, u[self.dofs])
 
     def extend(self, g_all: np.ndarray, tol: float) -> np.ndarray:

@@ -10,10 +10,11 @@ cylinders, polygons, convex hulls, rigid motions) implement it; they are also im
 
 Public names
 ------------
-Master, obstacles
+Master, obstacles, BodySurface (a boundary of another body: the deformable master of two-body contact)
 """
 
 from . import obstacles
 from ._master import Master
+from ._mortar import BodySurface
 
-__all__ = ["Master", "obstacles"]
+__all__ = ["BodySurface", "Master", "obstacles"]

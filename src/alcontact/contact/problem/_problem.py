@@ -6,6 +6,7 @@ turns it into a discrete problem and runs one of the registered algorithms.
 
 from __future__ import annotations
 
+import weakref
 from dataclasses import dataclass, field
 from typing import Any, Callable, Sequence
 
@@ -190,9 +191,9 @@ class ContactPair:
     master : Master
         What the slave points are measured against: a rigid obstacle of
         :mod:`alcontact.contact.obstacles` (any object satisfying :class:`~alcontact.contact.Master`,
-        or the older :class:`~alcontact.contact.obstacles.Obstacle` protocol, which is rigid).
-        A deformable body's surface (``master.rigid`` false) is refused by
-        :class:`ContactProblem` until two-body contact lands.
+        or the older :class:`~alcontact.contact.obstacles.Obstacle` protocol, which is rigid),
+        or a boundary of another body, :class:`~alcontact.contact.BodySurface` (deformable:
+        ``master.rigid`` false; two-body mortar contact).
     friction : float
         Coulomb coefficient :math:`\mu \ge 0` of the pair (0 = frictionless).
 
@@ -258,10 +259,12 @@ class ContactProblem:
     - the single-body shorthand ``ContactProblem(model, obstacle, contact_boundary, supports=...,
       loads=..., friction=mu)``, which builds that one body and that one pair.
 
-    Both give the same problem (and the same solution, to the last bit). Today a problem has
-    exactly one body and one pair whose master is rigid; several bodies, several pairs or a
-    deformable master are refused with an :class:`~alcontact.errors.InputError` until
-    two-body contact lands (see ``docs/architecture.md``).
+    Both give the same problem (and the same solution, to the last bit). A problem has one
+    pair: a rigid master (one body), or the :class:`~alcontact.contact.BodySurface` of a body
+    of ``bodies`` (two-body mortar contact at small deformation, frictionless, 2D P1/P2; the
+    model is then the bodies' :class:`~alcontact.fem.MultiBody` and boundary names are
+    ``"body0/top"``, ``"body1/bottom"``, ...). Several pairs are refused with an
+    :class:`~alcontact.errors.InputError` (see ``docs/architecture.md``).
 
     Parameters
     ----------
@@ -285,7 +288,8 @@ class ContactProblem:
         position, solved in load steps by :func:`alcontact.contact.solve_finite`; needs a
         geometrically nonlinear body (a hyperelastic one), a linear body is refused.
     bodies : sequence, keyword-only
-        Pair form: the discretized bodies (one today).
+        Pair form: the discretized bodies (one, or two or more joined by a pair with a
+        :class:`~alcontact.contact.BodySurface` master).
     pairs : sequence of ContactPair, keyword-only
         Pair form: the contact pairs (one today).
 
@@ -352,7 +356,15 @@ class ContactProblem:
             pair = old  # nothing replaced: keep the caller's pair
         else:
             pair = ContactPair(Boundary(raw["model"], raw["contact_boundary"]), raw["obstacle"], raw["friction"])
-        object.__setattr__(self, "bodies", (raw["model"],))
+        if "bodies" in base:  # several bodies (a deformable master): the model is their stack
+            if any(k in given for k in ("model", "contact_boundary")):
+                raise InputError("ContactProblem: model or contact_boundary given with several bodies; give the "
+                                 "bodies and pairs only.")
+            object.__setattr__(self, "_model", raw["model"])
+            object.__setattr__(self, "_contact_boundary", raw["contact_boundary"])
+            object.__setattr__(self, "bodies", base["bodies"])
+        else:
+            object.__setattr__(self, "bodies", (raw["model"],))
         object.__setattr__(self, "pairs", (pair,))
         self._validate()
 
@@ -374,28 +386,27 @@ class ContactProblem:
         for i, p in enumerate(pairs):
             if not isinstance(p, ContactPair):
                 raise _bad(kind, f"pairs[{i}]", p, "a ContactPair(slave=Boundary(body, name), master=obstacle)")
-        if len(bodies) > 1:
-            raise InputError(f"{kind}: bodies has {len(bodies)} bodies: contact between several bodies is not "
-                             f"supported yet; give one body and rigid obstacles as masters. See {ROADMAP}.")
+        if len(bodies) > 1 and all(p.rigid for p in pairs):
+            raise InputError(f"{kind}: bodies has {len(bodies)} bodies but no pair joins two of them: give a pair "
+                             "whose master is a boundary of another body, ContactPair(Boundary(a, 'bottom'), "
+                             f"BodySurface(b, 'top')). See {ROADMAP}.")
         if len(pairs) > 1:
             raise InputError(f"{kind}: pairs has {len(pairs)} contact pairs: several contact pairs are not supported "
                              f"yet; give one pair (one contact boundary against one rigid obstacle). See {ROADMAP}.")
         pair = pairs[0]
-        if pair.slave.body is not bodies[0]:
+        if not any(pair.slave.body is b for b in bodies):
             raise InputError(f"{kind}: pairs[0].slave is the boundary {pair.slave.name!r} of a body that is not in "
                              "bodies; build it as Boundary(body, name) with a body of bodies.")
-        if not pair.rigid:
-            raise InputError(f"{kind}: pairs[0].master = {pair.master.describe()} is not rigid: a deformable master "
-                             f"(contact between two bodies) is not supported yet; use a rigid obstacle of "
-                             f"alcontact.contact.obstacles. See {ROADMAP}.")
-        return {"model": bodies[0], "obstacle": pair.master, "contact_boundary": pair.slave.name,
-                "friction": pair.friction, "pair": pair}
+        if pair.rigid:
+            return {"model": bodies[0], "obstacle": pair.master, "contact_boundary": pair.slave.name,
+                    "friction": pair.friction, "pair": pair}
+        return _two_body(kind, bodies, pair)
 
     # ------------------------------------------------------------ views of the one body and pair
     @property
     def model(self) -> Any:
-        """The discretized body: ``bodies[0]``."""
-        return self.bodies[0]
+        """The discretized body: ``bodies[0]``; with several bodies their :class:`~alcontact.fem.MultiBody`."""
+        return self.__dict__.get("_model", self.bodies[0])
 
     @property
     def obstacle(self) -> Any:
@@ -404,8 +415,9 @@ class ContactProblem:
 
     @property
     def contact_boundary(self) -> str:
-        """Name of the candidate contact boundary of the body, slave of the pair: ``pairs[0].slave.name``."""
-        return self.pairs[0].slave.name
+        """Name of the candidate contact boundary of the body, slave of the pair: ``pairs[0].slave.name``
+        (with several bodies, qualified by the slave body's name in :attr:`model`: ``"body0/bottom"``)."""
+        return self.__dict__.get("_contact_boundary", self.pairs[0].slave.name)
 
     @property
     def friction(self) -> float:
@@ -493,6 +505,39 @@ class ContactProblem:
             else:
                 raise InputError(f"unknown load {ld!r}; use Traction, Pressure or BodyForce.")
         return f
+
+
+#: the stack of the same bodies is the same object (its stiffness and factorization are kept): a problem
+#: rebuilt by dataclasses.replace (load steps, problem_at) reuses it
+_STACKS: weakref.WeakValueDictionary = weakref.WeakValueDictionary()
+
+
+def _two_body(kind: str, bodies: tuple, pair: ContactPair) -> dict[str, Any]:
+    """The model (the bodies' :class:`~alcontact.fem.MultiBody`) and names of a pair with a deformable master."""
+    from ...fem import MultiBody
+
+    master_body = getattr(pair.master, "body", None)
+    if not any(master_body is b for b in bodies):
+        raise InputError(f"{kind}: pairs[0].master = {pair.master.describe()} is not rigid and is not the surface "
+                         "of a body in bodies: a deformable master is alcontact.contact.BodySurface(body, "
+                         f"boundary) with that body in bodies. See {ROADMAP}.")
+    if master_body is pair.slave.body and getattr(pair.master, "boundary", None) == pair.slave.name:
+        raise InputError(f"{kind}: pairs[0] uses the boundary {pair.slave.name!r} as both slave and master; give "
+                         "the master another boundary (of another body).")
+    if pair.friction > 0:
+        raise InputError(f"{kind}: pairs[0].friction = {pair.friction!r}: friction between two deformable bodies "
+                         "is not supported yet; use friction = 0.")
+    if len(bodies) == 1:
+        model, slave = bodies[0], pair.slave.name
+    else:
+        key = tuple(id(b) for b in bodies)
+        model = _STACKS.get(key)
+        if model is None or any(a is not b for a, b in zip(model.bodies, bodies)):
+            model = MultiBody(bodies)
+            _STACKS[key] = model
+        slave = model.qualify(pair.slave.body, pair.slave.name)
+    return {"model": model, "obstacle": pair.master, "contact_boundary": slave, "friction": pair.friction,
+            "pair": pair, "bodies": bodies}
 
 
 _AXES = "xyz"

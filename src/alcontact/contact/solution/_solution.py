@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import dataclasses
+
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -191,8 +193,15 @@ class ContactSolution:
 
         prob = self.problem if problem is None else problem
         model = prob.model
-        _, dofs = model.node_dofs(prob.contact_boundary)
         fixed, _ = prob.dirichlet()
+        if "contact_force_points" in self.extra:
+            # two bodies: the forces on the slave and master nodes balance with the loads and reactions (their
+            # resultant is zero, action = reaction); the contact force reported is the one on the slave body
+            dofs, forces = self.extra["contact_force_points"]
+            fc = nodal_force_vector(model.ndofs, dofs, forces)
+            eq = equilibrium(model, self.u, fixed, prob.load_vector(), fc, length=self.extra.get("h"))
+            return dataclasses.replace(eq, contact_force=np.asarray(self.extra["slave_contact_force"], dtype=float))
+        _, dofs = model.node_dofs(prob.contact_boundary)
         fc = nodal_force_vector(model.ndofs, dofs, self.contact_point_forces())
         return equilibrium(model, self.u, fixed, prob.load_vector(), fc, length=self.extra.get("h"))
 

@@ -277,6 +277,8 @@ class CondensedContact(ContactPoints):
         known (:meth:`_start_candidates`).
         """
         g0 = self.gap0
+        if self.mortar is not None:  # two bodies: a rigid motion of the supports is not one of the pair
+            return g0
         states = [v for v in self._prescribed_states() if v.size]
         if not states or not any(np.any(v) for v in states):
             return g0
@@ -342,6 +344,8 @@ class CondensedContact(ContactPoints):
         npts = SCHUR_MAX_DOFS // self.dim
         if near.size > npts:
             near = near[np.argsort(-g0[near], kind="stable")[:npts]]
+        if self.mortar is not None:  # a two-body row lives on the slave node's and the master nodes' DOFs
+            return {"schur": np.unique(self.mortar.B[near].indices)}
         return {"schur": np.unique(dofs[near][keep[near]])}
 
     def _setup_schur(self) -> None:

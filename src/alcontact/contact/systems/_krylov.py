@@ -383,12 +383,7 @@ class IterativeContact(ContactPoints):
         del Kfull
         if assembled_here:
             model.clear_stiffness()
-        pts_all, dofs_all = model.all_node_dofs()
-        modes, _ = rigid_body_modes(pts_all)
-        del pts_all
-        R = np.zeros((n, modes.shape[-1]))
-        R[dofs_all.ravel()] = modes.reshape(-1, modes.shape[-1])
-        del modes, dofs_all
+        R = _rigid_modes(model)
         self.R = np.ascontiguousarray(R[self.free])
         del R
         self.linear_solves = 0
@@ -776,12 +771,21 @@ def _equality_solve(ic, A, mu, c, x0, *, maxiter=None, moves=None):
     return x, mu, g, maxiter + 1  # more than maxiter: stopped at its budget, not converged
 
 
-def free_rigid_motions(model, fixed: np.ndarray, free: np.ndarray) -> np.ndarray:
-    """Rigid motions ``(free.size, k)`` on the free DOFs that vanish on every fixed DOF (``k`` may be 0)."""
+def _rigid_modes(model) -> np.ndarray:
+    """Rigid-body modes ``(ndofs, k)`` of the model: its own (``model.rigid_modes()``, one set per body of a
+    :class:`~alcontact.fem.MultiBody`) or those of all its nodes as one body."""
+    if hasattr(model, "rigid_modes"):
+        return model.rigid_modes()
     pts_all, dofs_all = model.all_node_dofs()
     modes, _ = rigid_body_modes(pts_all)
     R = np.zeros((model.ndofs, modes.shape[-1]))
     R[dofs_all.ravel()] = modes.reshape(-1, modes.shape[-1])
+    return R
+
+
+def free_rigid_motions(model, fixed: np.ndarray, free: np.ndarray) -> np.ndarray:
+    """Rigid motions ``(free.size, k)`` on the free DOFs that vanish on every fixed DOF (``k`` may be 0)."""
+    R = _rigid_modes(model)
     if fixed.size:
         _, sv, vt = np.linalg.svd(R[fixed], full_matrices=True)
         rank = int(np.sum(sv > 1e-10 * max(float(sv.max(initial=0.0)), 1e-300)))
