@@ -53,7 +53,10 @@ class DistributedContactSolution:
         Closed points with a positive pressure.
     total_contact_force : ndarray (dim,)
         :math:`\\sum_i w_i \\lambda_i \\nu_i` over all ranks.
+    model_contact_force : float
+        :math:`\\sum_i w_i \\lambda_i` over all ranks (``model_contact_force`` of the serial summary).
     peak_pressure : float
+        The largest nodal pressure (``peak_pressure_nodal_max`` of the serial summary).
     contact_extent : ndarray (dim, 2)
         Smallest and largest coordinate of the active points along each axis (all ranks).
     equilibrium : dict
@@ -61,6 +64,10 @@ class DistributedContactSolution:
         ``balance``: :math:`|\\sum (f + f_c + r)|` per component over :math:`|\\sum f_c|`, with
         :math:`r` the support reactions (contact force = reactions + loads).
     timings, extra : dict
+    piece : alcontact.distributed.LocalPiece
+        This rank's elements and their nodes (for output).
+    point_nodes : ndarray of int (m_r,)
+        Owned node (index into ``u.reshape(-1, dim)``) of each contact point of this rank.
     """
 
     result: ContactResult
@@ -74,11 +81,14 @@ class DistributedContactSolution:
     normals: np.ndarray
     active: np.ndarray
     total_contact_force: np.ndarray
+    model_contact_force: float
     peak_pressure: float
     contact_extent: np.ndarray
     equilibrium: dict
     timings: dict = field(default_factory=dict)
     extra: dict = field(default_factory=dict)
+    piece: object = None
+    point_nodes: np.ndarray | None = None
 
 
 def _ksp_kind(linear_solver: str) -> str:
@@ -223,9 +233,10 @@ def _build(dc, out, opts, algorithm, pen_name) -> DistributedContactSolution:
     return DistributedContactSolution(
         result=result, u=u, nodes=body.owned_points(), global_nodes=_owned_mesh_nodes(body),
         points=dc.points, gap=g, pressure=pressure, weights=dc.weights, normals=dc.normals, active=active,
-        total_contact_force=force, peak_pressure=pmax, contact_extent=extent,
+        total_contact_force=force, model_contact_force=dc.allsum(float(np.sum(nodal))), peak_pressure=pmax, contact_extent=extent,
         equilibrium={"residual": residual, "balance": balance, "loads": loads, "reactions": reactions},
-        extra={"h": dc.h, "candidates": int(dc.cand.size), "dofs": int(dc.n_global), **dc.extra()})
+        extra={"h": dc.h, "candidates": int(dc.cand.size), "dofs": int(dc.n_global), **dc.extra()},
+        piece=body.piece, point_nodes=dc.point_node)
 
 
 def _reduce(comm, a, op) -> np.ndarray:

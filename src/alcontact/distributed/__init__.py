@@ -15,7 +15,7 @@ a PETSc ``MPIAIJ`` matrix with COO preallocation and solved with KSP
 
 from ._comm import DistributedError, collective, run_ranks, world
 from ._elasticity import DistributedElasticity, DistributedSolution, LocalPiece
-from ._launch import check_launch, launch_rank, launch_size
+from ._launch import check_launch, launch_rank, launch_size, mpi_extras_missing
 from ._partition import dual_graph, owner_numbering, partition_elements
 
 __all__ = [
@@ -28,6 +28,7 @@ __all__ = [
     "dual_graph",
     "launch_rank",
     "launch_size",
+    "mpi_extras_missing",
     "owner_numbering",
     "partition_elements",
     "run_ranks",
