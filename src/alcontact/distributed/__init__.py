@@ -5,12 +5,14 @@ Nothing is imported from MPI or PETSc until a distributed object is built, so
 environment with ``make mpi`` (see the README) and run scripts with
 ``mpirun -n N .venv-mpi/bin/python script.py``.
 
-What is here (no contact yet): the mesh partition (METIS through pymetis,
+What is here: the mesh partition (METIS through pymetis,
 :func:`partition_elements`), linear elasticity assembled per rank with scikit-fem into
 a PETSc ``MPIAIJ`` matrix with COO preallocation and solved with KSP
 (:class:`DistributedElasticity`), and the collective error rule (:func:`collective`,
 :class:`DistributedError`): a phase that fails on one rank raises on every rank; and
 :func:`check_launch`, the clear refusal of a serial command started as several MPI ranks.
+The distributed contact solve built on these pieces is :func:`alcontact.contact.solve_distributed`
+(``mpirun -n N alcontact run problem.toml``).
 """
 
 from ._comm import DistributedError, collective, run_ranks, world
