@@ -68,6 +68,11 @@ def _check_launch(err: Console) -> None:
         raise typer.Exit(EXIT_USAGE) from None
 
 
+#: names of the exceptions of bad input (a DistributedError carries the failed ranks' messages as text)
+_INPUT_ERRORS = ("InputError", "UnknownNameError", "DomainError", "ConfigError", "MeshError", "OutputPathError",
+                 "OutputExistsError", "OutputInUseError")
+
+
 def _distributed_launch() -> bool:
     """Started as several MPI ranks in an environment with the MPI extras (the distributed path runs)."""
     from .distributed import launch_size, mpi_extras_missing
@@ -88,12 +93,17 @@ def _run_mpi(problem_file: Path, out, console: Console, err: Console, level: int
             summary = run_distributed(problem_file, out, force, algorithm=algorithm, penalty=penalty,
                                       overrides=overrides, comm=comm)
     except DistributedError as exc:
-        code = EXIT_USAGE if all(m.startswith(("InputError", "UnknownNameError", "OutputExistsError",
-                                               "OutputPathError", "MeshError", "ConfigError"))
-                                 for m in exc.failures.values()) else EXIT_FAILED
+        # bad input on every failed rank (the messages start with the exception's name): the usage code
+        code = EXIT_USAGE if all(m.startswith(_INPUT_ERRORS) for m in exc.failures.values()) else EXIT_FAILED
         if comm.rank == 0:
             raise _fail(err, exc, code) from None
         raise typer.Exit(code) from None
+    except KeyboardInterrupt:
+        raise
+    except Exception as exc:  # noqa: BLE001 - one rank failed outside the agreed phases: stop every rank
+        err.print(f"error on MPI rank {comm.rank}: {type(exc).__name__}: {exc}", highlight=False)
+        comm.Abort(EXIT_FAILED)
+        raise
     if comm.rank == 0 and not quiet:
         console.print(f"{summary['problem']}: {summary['status']} on {summary['ranks']} MPI ranks "
                       f"({summary['dofs']} DOFs); contact force {summary['model_contact_force']:.10g}, largest nodal "

@@ -86,10 +86,12 @@ def run_distributed(problem_file, out=None, force: bool = False, *, algorithm: s
     staging = Path(comm.bcast(staging, root=0))
     failed = None
     try:
-        with collective(comm, "writing the results"):
-            pieces = _write_piece(staging, sol, comm)
+        values = _piece_values(sol, comm)  # collective: the ghost nodes' values from their owners
+        with collective(comm, "writing the VTU pieces"):
+            _write_piece(staging, sol, values, comm.rank)
+        with collective(comm, "writing summary.json and report.md"):
             if comm.rank == 0:
-                _write_master(staging, pieces, summary)
+                _write_master(staging, [f"solution_{k}.vtu" for k in range(comm.size)], summary)
     except BaseException as exc:  # noqa: BLE001 - rank 0 discards the staging folder, then re-raises
         failed = exc
     if comm.rank == 0:
@@ -121,22 +123,20 @@ def _summary(sol, name, algorithm, options, petsc_options, problem_file, comm) -
     }
 
 
-def _write_piece(staging: Path, sol, comm) -> list[str]:
-    """This rank's ``solution_<rank>.vtu``: its elements, their nodes (ghost values fetched from the owners)."""
-    import meshio
-
+def _piece_values(sol, comm) -> np.ndarray:
+    """Displacement, pressure, gap and owner rank at every node of this rank's piece, ``(n_local, dim + 3)``:
+    owned values and the ghost nodes' from their owners (one PETSc scatter)."""
     from ..linalg import petsc
 
     PETSc = petsc()
     piece = sol.piece
     dim = piece.points.shape[0]
-    k = dim + 3  # displacement, pressure, gap, owner rank
+    k = dim + 3
     n_own = piece.node_range[1] - piece.node_range[0]
     vals = np.zeros((n_own, k))
     vals[:, :dim] = sol.u.reshape(-1, dim)
-    node = sol.point_nodes
-    vals[node, dim] = sol.pressure
-    vals[node, dim + 1] = sol.gap
+    vals[sol.point_nodes, dim] = sol.pressure
+    vals[sol.point_nodes, dim + 1] = sol.gap
     vals[:, dim + 2] = comm.rank
     v = PETSc.Vec().createMPI((n_own * k, piece.n_nodes * k), comm=comm)
     v.array[:] = vals.ravel()
@@ -145,7 +145,18 @@ def _write_piece(staging: Path, sol, comm) -> list[str]:
     local = PETSc.Vec().createSeq(idx.size, comm=PETSc.COMM_SELF)
     scatter = PETSc.Scatter().create(v, iset, local, None)
     scatter.scatter(v, local, addv=PETSc.InsertMode.INSERT_VALUES, mode=PETSc.ScatterMode.FORWARD)
-    got = local.getArray().reshape(-1, k)
+    out = local.getArray().reshape(-1, k).copy()
+    for obj in (scatter, local, iset, v):
+        obj.destroy()
+    return out
+
+
+def _write_piece(staging: Path, sol, got: np.ndarray, rank: int) -> None:
+    """This rank's ``solution_<rank>.vtu``: its elements and their nodes."""
+    import meshio
+
+    piece = sol.piece
+    dim = piece.points.shape[0]
     pts = np.zeros((piece.points.shape[1], 3))
     pts[:, :dim] = piece.points.T
     disp = np.zeros((pts.shape[0], 3))
@@ -153,10 +164,8 @@ def _write_piece(staging: Path, sol, comm) -> list[str]:
     cell = "triangle" if dim == 2 else "tetra"
     data = {"displacement": disp, "contact_pressure": got[:, dim].copy(), "gap": got[:, dim + 1].copy(),
             "rank": got[:, dim + 2].copy()}
-    name = f"solution_{comm.rank}.vtu"
-    meshio.write(os.fspath(staging / name), meshio.Mesh(pts, [(cell, piece.elements.T.astype(np.int64))],
-                                                        point_data=data))
-    return comm.gather(name, root=0)
+    meshio.write(os.fspath(staging / f"solution_{rank}.vtu"),
+                 meshio.Mesh(pts, [(cell, piece.elements.T.astype(np.int64))], point_data=data))
 
 
 def _write_master(staging: Path, pieces: list[str], summary: dict) -> None:

@@ -158,9 +158,11 @@ def solve_distributed(problem, algorithm: str = "simo-laursen", penalty: str | N
     entry = find_algorithm(algorithm)
     dc = DistributedContact(problem, comm=comm, parts=parts, ksp=_ksp_kind(opts.linear_solver),
                             options=petsc_options)
-    eps0 = comm.bcast((opts.eps_n if opts.eps_n is not None else penalty_stiffness(problem.model, dc.h,
-                                                                                    opts.penalty_scale))
-                      if comm.rank == 0 else None, root=0)
+    eps0 = None
+    with collective(comm, "computing the penalty stiffness"):
+        if comm.rank == 0:
+            eps0 = opts.eps_n if opts.eps_n is not None else penalty_stiffness(problem.model, dc.h, opts.penalty_scale)
+    eps0 = float(comm.bcast(eps0, root=0))
     t_solve = time.perf_counter()
     if dc.cand.size == 0:
         out = _Run(dc.start(), np.zeros(0), np.zeros(0), ContactStatus.NO_CONTACT,

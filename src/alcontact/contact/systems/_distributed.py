@@ -41,6 +41,7 @@ local maxima (the full step on a flat merit) is switched off.
 from __future__ import annotations
 
 import logging
+import pickle
 import time
 
 import numpy as np
@@ -138,11 +139,15 @@ class DistributedContact:
         self.linear_solves = 0
         self.ksp_iterations = 0
         self.ksp_setups = 0
+        # every collective call (bcast, scatter) sits between guarded blocks: a rank that fails inside a block
+        # reaches the block's agreement, never leaves the others waiting in a call it skipped
         head = None
         with collective(comm, "checking the problem for the distributed path"):
             if comm.rank == 0:
-                head = self._check(problem)
-        material, obstacle = comm.bcast(head, root=0)
+                head = pickle.dumps(self._check(problem))  # an obstacle that cannot be sent fails here
+        head = comm.bcast(head, root=0)
+        with collective(comm, "receiving the material and the obstacle"):
+            material, obstacle = pickle.loads(head)
         self.body = DistributedElasticity(problem.model.mesh if comm.rank == 0 else None, material, comm=comm,
                                           parts=parts)
         self.dim = dim = self.body.dim
@@ -151,8 +156,14 @@ class DistributedContact:
         self.dof_start = dim * piece.node_range[0]
         self.n_global = dim * piece.n_nodes
         ranges = comm.allgather(piece.node_range)
+        pieces = h = None
         with collective(comm, "distributing loads, supports and contact points"):
-            mine = comm.scatter(self._pieces(problem, ranges) if comm.rank == 0 else None, root=0)
+            if comm.rank == 0:
+                pieces = self._pieces(problem, ranges)
+                h = _element_size(problem.model, problem.contact_boundary, problem.obstacle)
+        mine = comm.scatter(pieces, root=0)
+        del pieces
+        self.h = float(comm.bcast(h, root=0))
         self.f = mine["f"]
         self.fixed = mine["fixed"]  # local DOF numbers
         self.fixed_values = mine["values"]
@@ -172,8 +183,6 @@ class DistributedContact:
         counts = np.array(comm.allgather(self.points.shape[0]), dtype=np.int64)
         self.point_offset = int(np.sum(counts[:comm.rank]))
         self.n_points = int(counts.sum())
-        self.h = float(comm.bcast(_element_size(problem.model, problem.contact_boundary, problem.obstacle)
-                                  if comm.rank == 0 else None, root=0))
         self._setup_matrices()
         self.u_free = self._solve_free()
         self.x_free = self.u_free
