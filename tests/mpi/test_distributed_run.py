@@ -3,7 +3,8 @@
 Reference: the serial ``alcontact run`` of the same file (examples/hertz_2d.toml, default linear
 solver). With ``linear_solver = "petsc-direct"`` the distributed run on 2 ranks gives the same
 contact force (``model_contact_force``, the sum of w * lambda), the same largest nodal pressure and
-the same displacement at every node of the VTU pieces (ghost nodes included) to 1e-8 relative.
+the same displacement at every node of the VTU pieces (ghost nodes included) to 1e-8 relative;
+a misspelt PETSc option is reported once by name.
 The pieces are one per rank, listed by ``solution.pvtu``; ``summary.json`` and ``report.md``
 are written once. What is not distributed yet is refused with one message and the usage exit code.
 """
@@ -31,11 +32,11 @@ def _mpirun(n: int, *args: str, cwd: Path, timeout: float = 240.0) -> subprocess
                           timeout=timeout, env=env, cwd=cwd)
 
 
-def _with_solver(tmp_path: Path, name: str) -> Path:
+def _with_solver(tmp_path: Path, name: str, extra: str = "") -> Path:
     text = (ROOT / "examples" / "hertz_2d.toml").read_text()
     assert "\n[solver]\n" in text
     path = tmp_path / f"hertz_{name}.toml"
-    path.write_text(text.replace("\n[solver]\n", f'\n[solver]\nlinear_solver = "{name}"\n', 1))
+    path.write_text(text.replace("\n[solver]\n", f'\n[solver]\nlinear_solver = "{name}"\n{extra}', 1))
     return path
 
 
@@ -45,7 +46,9 @@ def test_mpirun_alcontact_run_gives_the_serial_answer(tmp_path):
     serial = subprocess.run([CLI, "run", str(ROOT / "examples" / "hertz_2d.toml"), "--out", "serial", "-q"],
                             capture_output=True, text=True, timeout=240, cwd=tmp_path)
     assert serial.returncode == 0, serial.stderr
-    proc = _mpirun(2, "run", str(_with_solver(tmp_path, "petsc-direct")), "--out", "dist", cwd=tmp_path)
+    # a misspelt PETSc option (ksp_rtoll) runs and is reported once, by name (PETSc's unused-option check)
+    toml = _with_solver(tmp_path, "petsc-direct", "petsc_options = { ksp_rtoll = 1e-9 }\n")
+    proc = _mpirun(2, "run", str(toml), "--out", "dist", cwd=tmp_path)
     assert proc.returncode == 0, proc.stdout + proc.stderr
     a = json.loads((tmp_path / "serial" / "summary.json").read_text())
     b = json.loads((tmp_path / "dist" / "summary.json").read_text())
@@ -54,6 +57,8 @@ def test_mpirun_alcontact_run_gives_the_serial_answer(tmp_path):
     assert b["peak_pressure_nodal_max"] == pytest.approx(a["peak_pressure_nodal_max"], rel=1e-8)
     assert b["equilibrium"]["residual"] <= 1e-8 and b["equilibrium"]["balance"] <= 1e-8
     assert "converged" in proc.stdout and proc.stdout.count("converged") == 1  # rank 0 prints, once
+    assert (proc.stdout + proc.stderr).count("ksp_rtoll") == 1, proc.stdout + proc.stderr
+    assert b["petsc_options"] == {"ksp_rtoll": 1e-9}
     # the pieces: one per rank, listed by the .pvtu, the displacement the serial one at every node
     files = sorted(p.name for p in (tmp_path / "dist").iterdir())
     assert files == ["report.md", "solution.pvd", "solution.pvtu", "solution_0.vtu", "solution_1.vtu",
