@@ -154,7 +154,8 @@ def worker_contact_petsc(n: float, out: Path) -> None:
             out.write_text(json.dumps({"path": "distributed (petsc cg + gamg)", "ranks": comm.size,
                                        "ndofs": int(sol.extra["dofs"]), "status": r.status.label,
                                        "outer": r.outer_iterations, "newton": r.newton_iterations,
-                                       "linear_solves": r.linear_solves, "krylov_iterations": sol.extra["ksp_iterations"],
+                                       "linear_solves": r.linear_solves,
+                                       "krylov_iterations": sol.extra["ksp_iterations"],
                                        "build_s": t1 - t0, "solve_s": t2 - t1,
                                        "force": float(sol.total_contact_force[-1]), "peak_mb_per_rank": max(peaks),
                                        "peak_mb_ranks": peaks}))
@@ -182,7 +183,8 @@ def contact_main(a, me) -> int:
             r.pop("peak_mb_ranks", None)
             rows.append(r)
             print(f"n={n:g} {tag}: {r['ndofs']} DOFs, {r['outer']} outer, {r['newton']} Newton, "
-                  f"{r['krylov_iterations']} Krylov its, solve {r['solve_s']:.2f} s, {r['peak_mb_per_rank']:.0f} MB/rank",
+                  f"{r['krylov_iterations']} Krylov its, solve {r['solve_s']:.2f} s, "
+                  f"{r['peak_mb_per_rank']:.0f} MB/rank",
                   flush=True)
     keys = ["n_per_a", "ndofs", "path", "ranks", "status", "outer", "newton", "linear_solves", "krylov_iterations",
             "build_s", "solve_s", "process_wall_s", "peak_mb_per_rank", "force", "rel_diff_force"]
@@ -198,7 +200,8 @@ def contact_main(a, me) -> int:
         base = next(x for x in rows if x["n_per_a"] == r["n_per_a"] and x["ranks"] == 1 and "serial" in x["path"])
         lines.append(f"| {r['ndofs']:,} | {r['path']} | {r['ranks']} | {r['outer']} | {r['newton']} | "
                      f"{r['linear_solves']} | {r['krylov_iterations']} | {r['solve_s']:.2f} | "
-                     f"{r['solve_s'] / base['solve_s']:.2f} | {r['peak_mb_per_rank']:.0f} | {r['rel_diff_force']:.1e} |")
+                     f"{r['solve_s'] / base['solve_s']:.2f} | {r['peak_mb_per_rank']:.0f} | "
+                     f"{r['rel_diff_force']:.1e} |")
     (a.out / "distributed_contact.md").write_text("\n".join(lines) + "\n")
     print("\n".join(lines))
     return 0

@@ -235,7 +235,8 @@ def _build(dc, out, opts, algorithm, pen_name) -> DistributedContactSolution:
     return DistributedContactSolution(
         result=result, u=u, nodes=body.owned_points(), global_nodes=_owned_mesh_nodes(body),
         points=dc.points, gap=g, pressure=pressure, weights=dc.weights, normals=dc.normals, active=active,
-        total_contact_force=force, model_contact_force=dc.allsum(float(np.sum(nodal))), peak_pressure=pmax, contact_extent=extent,
+        total_contact_force=force, model_contact_force=dc.allsum(float(np.sum(nodal))), peak_pressure=pmax,
+        contact_extent=extent,
         equilibrium={"residual": residual, "balance": balance, "loads": loads, "reactions": reactions},
         extra={"h": dc.h, "candidates": int(dc.cand.size), "dofs": int(dc.n_global), **dc.extra()},
         piece=body.piece, point_nodes=dc.point_node)
