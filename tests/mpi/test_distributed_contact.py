@@ -131,3 +131,29 @@ def test_unknown_linear_solver_is_refused_with_the_choices():
     with pytest.raises(DistributedError, match="'amg' does not run on the distributed path; use 'petsc' or "
                                                "'petsc-direct'"):
         solve_distributed(hertz.hertz_2d(n_per_a=2), options={"linear_solver": "amg"})
+
+
+def test_distributed_contact_is_a_contact_system():
+    """The distributed model satisfies the declared protocol the serial algorithms call (as the serial models do in
+    tests/unit/test_contact_system.py): every member present, every method binds the protocol's call, the declared
+    capabilities booleans; here on one rank of this process."""
+    import inspect
+
+    from alcontact.contact.systems import ContactSystem, DistributedContact
+    from alcontact.distributed import world
+    from alcontact.problems import hertz
+
+    model = DistributedContact(hertz.hertz_2d(n_per_a=2), comm=world())
+    assert isinstance(model, ContactSystem)
+    for member, fn in vars(ContactSystem).items():
+        if inspect.isfunction(fn) and not member.startswith("_"):
+            params = list(inspect.signature(fn).parameters.values())[1:]
+            args = [object() for p in params if p.kind == p.POSITIONAL_OR_KEYWORD]
+            kwargs = {p.name: object() for p in params if p.kind == p.KEYWORD_ONLY}
+            inspect.signature(getattr(model, member)).bind(*args, **kwargs)
+    for flag in ("inexact_subproblems", "physical_stopping", "warm_penalty_start", "penalty_continuation",
+                 "active_converged"):
+        assert isinstance(getattr(model, flag), bool), flag
+    assert model.h > 0 and model.cand.dtype.kind == "i" and model.cand.size > 0
+    # the candidates' gaps are one array over all of them (replicated), the state the owned displacement
+    assert model.gaps(model.start()).shape == model.cand.shape
