@@ -58,9 +58,10 @@ def check_launch(what: str) -> None:
 
     Started by ``mpirun -n N`` with N > 1, every rank would run the same serial solve and
     write the same results folder. Without the MPI extras (mpi4py, petsc4py) the message
-    gives the ``make mpi`` command; with them, it says that the contact solve runs on one
-    process (where ``linear_solver = "petsc"`` uses PETSc's KSP), the distributed path
-    being the linear elasticity of :mod:`alcontact.distributed`.
+    gives the ``make mpi`` command; with them (the CLI calls it only for a run without a
+    problem file: ``mpirun -n N alcontact run problem.toml`` runs the distributed path,
+    :func:`alcontact.contact.solve_distributed`), it says that a built-in problem runs as one
+    process and the distributed path takes problem files.
 
     Raises
     ------
@@ -79,5 +80,5 @@ def check_launch(what: str) -> None:
                          "without mpirun, as one process.")
     raise InputError(f"{what} was started by an MPI launcher as {size} processes without a problem file: the "
                      "distributed path runs problem files (mpirun -n N alcontact run problem.toml; frictionless "
-                     "small-deformation contact in one load step), the built-in problems run as one process; give a "
+                     "small-deformation contact in one load step); a built-in problem runs as one process: give a "
                      "problem file or run it without mpirun.")
