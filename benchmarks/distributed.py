@@ -20,6 +20,14 @@ Usage::
 
 writes ``distributed.csv``, ``distributed.json`` and ``distributed.md`` (copy the report to
 ``docs/benchmarks/distributed.md``).
+
+With ``--contact`` (sizes: elements per contact half-width ``a`` of :func:`alcontact.problems.hertz.hertz_3d`,
+e.g. ``--sizes 2,3``) it measures the distributed contact solve instead: 3D Hertz, Algorithm 6.1
+(``simo-laursen``), serially with the factorization-free Krylov path (``linear_solver = "amg"``,
+PyAMG + CG) and with :func:`alcontact.contact.solve_distributed` (CG + GAMG, ``"petsc"``) under
+``mpirun -n 1`` and ``-n 2``: outer and Newton iterations, linear solves and Krylov iterations,
+solve time, peak memory per rank, and the contact force against the serial one; written to
+``distributed_contact.csv``, ``.json`` and ``.md``.
 """
 
 from __future__ import annotations
@@ -107,6 +115,98 @@ def worker_petsc(k: int, out: Path) -> None:
     run_ranks(main)
 
 
+def _hertz(n: float):
+    from alcontact.problems import hertz
+
+    return hertz.hertz_3d(n_per_a=n)
+
+
+def worker_contact_serial(n: float, out: Path) -> None:
+    from alcontact.contact import solve
+
+    t0 = time.perf_counter()
+    problem = _hertz(n)
+    t1 = time.perf_counter()
+    sol = solve(problem, "simo-laursen", options={"linear_solver": "amg"})
+    t2 = time.perf_counter()
+    r = sol.result
+    out.write_text(json.dumps({"path": "serial amg (pyamg + cg)", "ranks": 1, "ndofs": int(problem.model.ndofs),
+                               "status": r.status.label, "outer": r.outer_iterations, "newton": r.newton_iterations,
+                               "linear_solves": r.linear_solves, "krylov_iterations": sol.extra.get("cg_iterations"),
+                               "build_s": t1 - t0, "solve_s": t2 - t1, "force": float(sol.total_contact_force[-1]),
+                               "peak_mb_per_rank": _peak_mb()}))
+
+
+def worker_contact_petsc(n: float, out: Path) -> None:
+    from alcontact.contact import solve_distributed
+    from alcontact.distributed import run_ranks, world
+
+    def main():
+        comm = world()
+        t0 = time.perf_counter()
+        problem = _hertz(n) if comm.rank == 0 else None
+        t1 = time.perf_counter()
+        sol = solve_distributed(problem, "simo-laursen", options={"linear_solver": "petsc"}, comm=comm)
+        t2 = time.perf_counter()
+        peaks = comm.gather(_peak_mb(), root=0)
+        if comm.rank == 0:
+            r = sol.result
+            out.write_text(json.dumps({"path": "distributed (petsc cg + gamg)", "ranks": comm.size,
+                                       "ndofs": int(sol.extra["dofs"]), "status": r.status.label,
+                                       "outer": r.outer_iterations, "newton": r.newton_iterations,
+                                       "linear_solves": r.linear_solves,
+                                       "krylov_iterations": sol.extra["ksp_iterations"],
+                                       "build_s": t1 - t0, "solve_s": t2 - t1,
+                                       "force": float(sol.total_contact_force[-1]), "peak_mb_per_rank": max(peaks),
+                                       "peak_mb_ranks": peaks}))
+
+    run_ranks(main)
+
+
+def contact_main(a, me) -> int:
+    rows = []
+    for n in [float(s) for s in a.sizes.split(",")]:
+        runs = [("serial", me + ["--worker", "contact-serial"])] + \
+            [(f"petsc{r}", ["mpirun", "-n", str(r), "--oversubscribe"] + me + ["--worker", "contact-petsc"])
+             for r in (1, 2)]
+        res = {}
+        for tag, cmd in runs:
+            f = a.out / f"distributed_contact_{n:g}_{tag}.json"
+            t0 = time.perf_counter()
+            _run(cmd + ["--k", f"{n:g}", "--file", str(f)], a.timeout)
+            res[tag] = json.loads(f.read_text())
+            res[tag]["process_wall_s"] = time.perf_counter() - t0
+        ref = res["serial"]["force"]
+        for tag, r in res.items():
+            r["n_per_a"] = n
+            r["rel_diff_force"] = abs(r["force"] - ref) / abs(ref)
+            r.pop("peak_mb_ranks", None)
+            rows.append(r)
+            print(f"n={n:g} {tag}: {r['ndofs']} DOFs, {r['outer']} outer, {r['newton']} Newton, "
+                  f"{r['krylov_iterations']} Krylov its, solve {r['solve_s']:.2f} s, "
+                  f"{r['peak_mb_per_rank']:.0f} MB/rank",
+                  flush=True)
+    keys = ["n_per_a", "ndofs", "path", "ranks", "status", "outer", "newton", "linear_solves", "krylov_iterations",
+            "build_s", "solve_s", "process_wall_s", "peak_mb_per_rank", "force", "rel_diff_force"]
+    with open(a.out / "distributed_contact.csv", "w", newline="") as fh:
+        w = csv.DictWriter(fh, fieldnames=keys, extrasaction="ignore")
+        w.writeheader()
+        w.writerows(rows)
+    meta = {"machine": platform.platform(), "cpus": os.cpu_count(), "rows": rows}
+    (a.out / "distributed_contact.json").write_text(json.dumps(meta, indent=1))
+    lines = ["| DOFs | path | ranks | outer | Newton | linear solves | Krylov its | solve s | ratio to serial | "
+             "peak MB/rank | force rel. diff. |", "|" + "---|" * 11]
+    for r in rows:
+        base = next(x for x in rows if x["n_per_a"] == r["n_per_a"] and x["ranks"] == 1 and "serial" in x["path"])
+        lines.append(f"| {r['ndofs']:,} | {r['path']} | {r['ranks']} | {r['outer']} | {r['newton']} | "
+                     f"{r['linear_solves']} | {r['krylov_iterations']} | {r['solve_s']:.2f} | "
+                     f"{r['solve_s'] / base['solve_s']:.2f} | {r['peak_mb_per_rank']:.0f} | "
+                     f"{r['rel_diff_force']:.1e} |")
+    (a.out / "distributed_contact.md").write_text("\n".join(lines) + "\n")
+    print("\n".join(lines))
+    return 0
+
+
 def _run(cmd, timeout):
     env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1", OMP_NUM_THREADS="1",
                OPENBLAS_NUM_THREADS="1")
@@ -120,19 +220,29 @@ def main(argv=None) -> int:
     ap.add_argument("--out", type=Path, default=Path("benchmarks/out"))
     ap.add_argument("--sizes", default="6,12,18", help="k: the mesh is 4k x k x k cubes of 6 tetrahedra")
     ap.add_argument("--timeout", type=float, default=900)
-    ap.add_argument("--worker", choices=["serial", "petsc"], help=argparse.SUPPRESS)
-    ap.add_argument("--k", type=int, help=argparse.SUPPRESS)
+    ap.add_argument("--contact", action="store_true", help="the distributed contact solve (3D Hertz; sizes: elements "
+                    "per contact half-width)")
+    ap.add_argument("--worker", choices=["serial", "petsc", "contact-serial", "contact-petsc"], help=argparse.SUPPRESS)
+    ap.add_argument("--k", type=float, help=argparse.SUPPRESS)
     ap.add_argument("--file", type=Path, help=argparse.SUPPRESS)
     a = ap.parse_args(argv)
     if a.worker == "serial":
-        worker_serial(a.k, a.file)
+        worker_serial(int(a.k), a.file)
         return 0
     if a.worker == "petsc":
-        worker_petsc(a.k, a.file)
+        worker_petsc(int(a.k), a.file)
+        return 0
+    if a.worker == "contact-serial":
+        worker_contact_serial(a.k, a.file)
+        return 0
+    if a.worker == "contact-petsc":
+        worker_contact_petsc(a.k, a.file)
         return 0
     a.out.mkdir(parents=True, exist_ok=True)
     rows = []
     me = [sys.executable, str(Path(__file__).resolve())]
+    if a.contact:
+        return contact_main(a, me)
     for k in [int(s) for s in a.sizes.split(",")]:
         runs = [("serial", me + ["--worker", "serial"])] + \
             [(f"petsc{n}", ["mpirun", "-n", str(n), "--oversubscribe"] + me + ["--worker", "petsc"]) for n in (1, 2)]

@@ -68,6 +68,51 @@ def _check_launch(err: Console) -> None:
         raise typer.Exit(EXIT_USAGE) from None
 
 
+#: names of the exceptions of bad input (a DistributedError carries the failed ranks' messages as text)
+_INPUT_ERRORS = ("InputError", "UnknownNameError", "DomainError", "ConfigError", "MeshError", "OutputPathError",
+                 "OutputExistsError", "OutputInUseError")
+
+
+def _distributed_launch() -> bool:
+    """Started as several MPI ranks in an environment with the MPI extras (the distributed path runs)."""
+    from .distributed import launch_size, mpi_extras_missing
+
+    return launch_size() > 1 and not mpi_extras_missing()
+
+
+def _run_mpi(problem_file: Path, out, console: Console, err: Console, level: int, quiet: bool, *, force: bool,
+             algorithm, penalty, overrides) -> None:
+    """``mpirun -n N alcontact run PROBLEM.toml``: the distributed contact path; rank 0 prints, every rank exits
+    with the one status (:func:`alcontact.app.distributed.run_distributed`)."""
+    from .app.distributed import run_distributed
+    from .distributed import DistributedError, world
+
+    comm = world()
+    try:
+        with _cli_logging(err, level if comm.rank == 0 else logging.ERROR):
+            summary = run_distributed(problem_file, out, force, algorithm=algorithm, penalty=penalty,
+                                      overrides=overrides, comm=comm)
+    except DistributedError as exc:
+        # bad input on every failed rank (the messages start with the exception's name): the usage code
+        code = EXIT_USAGE if all(m.startswith(_INPUT_ERRORS) for m in exc.failures.values()) else EXIT_FAILED
+        if comm.rank == 0:
+            raise _fail(err, exc, code) from None
+        raise typer.Exit(code) from None
+    except KeyboardInterrupt:
+        raise
+    except Exception as exc:  # noqa: BLE001 - one rank failed outside the agreed phases: stop every rank
+        err.print(f"error on MPI rank {comm.rank}: {type(exc).__name__}: {exc}", highlight=False)
+        comm.Abort(EXIT_FAILED)
+        raise
+    if comm.rank == 0 and not quiet:
+        console.print(f"{summary['problem']}: {summary['status']} on {summary['ranks']} MPI ranks "
+                      f"({summary['dofs']} DOFs); contact force {summary['model_contact_force']:.10g}, largest nodal "
+                      f"pressure {summary['peak_pressure_nodal_max']:.10g}; results in {summary['out']}",
+                      highlight=False)
+    if summary["status_code"] < 0:
+        raise typer.Exit(EXIT_FAILED)
+
+
 class _NoteWarnings(logging.Filter):
     """Appends ``note`` to the warnings shown (e.g. that a benchmark's failed solve is expected)."""
 
@@ -312,6 +357,10 @@ def run_command(
     if quiet and verbose:
         raise _fail(err, InputError("--quiet and --verbose exclude each other; give one."), EXIT_USAGE)
     level_ = logging.INFO if verbose else logging.ERROR if quiet else logging.WARNING
+    if problem_file is not None and _distributed_launch():
+        overrides = {k: v for k, v in (("maxiter", maxiter), ("penalty_scale", penalty_scale)) if v is not None}
+        return _run_mpi(problem_file, out, console, err, level_, quiet, force=force, algorithm=algorithm,
+                        penalty=penalty, overrides=overrides)
     _check_launch(err)
     if problem_file is not None:
         if problem != "hertz-2d" or level is not None or order is not None:

@@ -340,7 +340,11 @@ NOT_CALLED = {
     **dict.fromkeys(["atomic_path"], "a context manager (its path argument is the one of write_text_atomic)"),
     **dict.fromkeys(["backend_options"], "a context manager (its argument is checked by check_backend_options, "
                                          "fuzzed)"),
-    **dict.fromkeys(["launch_rank", "launch_size"], "takes no argument (reads the MPI launcher's environment)"),
+    **dict.fromkeys(["launch_rank", "launch_size", "mpi_extras_missing"],
+                    "takes no argument (reads the MPI launcher's environment)"),
+    **dict.fromkeys(["solve_distributed"], "runs on every rank of an MPI program (its argument checks: "
+                                           "tests/mpi/test_distributed_contact.py, through mpirun)"),
+    **dict.fromkeys(["DistributedContactSolution"], "a result the distributed solve builds, not an input"),
     **dict.fromkeys(["SaintVenantKirchhoff", "Rockafellar", "HestenesPowell", "ExteriorQuadratic", "LogBarrier",
                      "InverseBarrier"], "optional name/doc strings only, like NeoHookean (which is called)"),
     **dict.fromkeys(["DistributedSolution", "LocalPiece", "DistributedError"],

@@ -44,6 +44,7 @@ from .problem import (KINEMATICS, BodyForce, Boundary, ContactPair, ContactProbl
 from .solution import (ContactFrame, ContactIteration, ContactResult, ContactSolution, ContactStatus,
                        FiniteFrictionSolution, FiniteFrictionStep, FiniteSolution, FiniteStep, FrictionSolution,
                        FrictionStep)
+from ._distributed import DistributedContactSolution, solve_distributed
 from ._solve import DEFAULT_ALGORITHM, solve, solve_finite, solve_finite_friction, solve_friction
 from ._verify import check_state
 
@@ -65,6 +66,8 @@ __all__ = [
     "ContactSolution",
     "ContactFrame",
     "solve",
+    "solve_distributed",
+    "DistributedContactSolution",
     "available_algorithms",
     "algorithm_docs",
     "contact_penalties",

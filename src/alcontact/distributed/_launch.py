@@ -13,7 +13,7 @@ import os
 
 from ..errors import InputError
 
-__all__ = ["check_launch", "launch_rank", "launch_size"]
+__all__ = ["check_launch", "launch_rank", "launch_size", "mpi_extras_missing"]
 
 #: (size, rank) environment variables of the MPI launchers, first match wins
 _LAUNCHER_VARS = (("OMPI_COMM_WORLD_SIZE", "OMPI_COMM_WORLD_RANK"), ("PMI_SIZE", "PMI_RANK"))
@@ -48,14 +48,20 @@ def _installed(module: str) -> bool:
         return False
 
 
+def mpi_extras_missing() -> list[str]:
+    """The MPI extras (mpi4py, petsc4py) this environment lacks (empty: the distributed path can run)."""
+    return [m for m in ("mpi4py", "petsc4py") if not _installed(m)]
+
+
 def check_launch(what: str) -> None:
     """Refuse to run ``what`` (e.g. ``"alcontact run"``) as several MPI ranks, with the way out.
 
     Started by ``mpirun -n N`` with N > 1, every rank would run the same serial solve and
     write the same results folder. Without the MPI extras (mpi4py, petsc4py) the message
-    gives the ``make mpi`` command; with them, it says that the contact solve runs on one
-    process (where ``linear_solver = "petsc"`` uses PETSc's KSP), the distributed path
-    being the linear elasticity of :mod:`alcontact.distributed`.
+    gives the ``make mpi`` command; with them (the CLI calls it only for a run without a
+    problem file: ``mpirun -n N alcontact run problem.toml`` runs the distributed path,
+    :func:`alcontact.contact.solve_distributed`), it says that a built-in problem runs as one
+    process and the distributed path takes problem files.
 
     Raises
     ------
@@ -67,11 +73,12 @@ def check_launch(what: str) -> None:
     size = launch_size()
     if size <= 1:
         return
-    missing = [m for m in ("mpi4py", "petsc4py") if not _installed(m)]
+    missing = mpi_extras_missing()
     if missing:
         raise InputError(f"{what} was started by an MPI launcher as {size} processes, but this environment has no "
                          f"MPI extras ({' and '.join(missing)} not installed): {MPI_SETUP_HINT}; or run it "
                          "without mpirun, as one process.")
-    raise InputError(f"{what} was started by an MPI launcher as {size} processes: the contact solve runs as one "
-                     "process (linear_solver = \"petsc\" solves with PETSc's KSP there; alcontact.distributed "
-                     "distributes linear elasticity only); run it without mpirun.")
+    raise InputError(f"{what} was started by an MPI launcher as {size} processes without a problem file: the "
+                     "distributed path runs problem files (mpirun -n N alcontact run problem.toml; frictionless "
+                     "small-deformation contact in one load step); a built-in problem runs as one process: give a "
+                     "problem file or run it without mpirun.")

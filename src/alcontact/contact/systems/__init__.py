@@ -14,16 +14,19 @@ implement it, each for frictionless contact and Coulomb friction:
 - full space (:mod:`~alcontact.contact.systems._full_space`): finite deformation, one
   full-space Newton per subproblem with a direct (:class:`NewtonSolver`) or AMG
   (:class:`AMGNewtonSolver`) linear solver (:class:`FiniteContact`,
-  :class:`FiniteFrictionContact`), on the fixed sparse structure of :class:`NewtonLayout`.
+  :class:`FiniteFrictionContact`), on the fixed sparse structure of :class:`NewtonLayout`;
+- distributed (:mod:`~alcontact.contact.systems._distributed`): small deformation, frictionless,
+  over MPI ranks on PETSc ``MPIAIJ`` matrices and KSP solves (:class:`DistributedContact`).
 
 Public names
 ------------
 ContactSystem, CondensedContact, DiscreteContact, FrictionalContact, IterativeContact,
 IterativeFrictionalContact, FiniteContact, FiniteFrictionContact, NewtonSolver, AMGNewtonSolver,
-finite_solver, NewtonLayout
+finite_solver, NewtonLayout, DistributedContact
 """
 
 from ._condensed import CondensedContact, DiscreteContact, FrictionalContact
+from ._distributed import DistributedContact
 from ._full_space import AMGNewtonSolver, FiniteContact, FiniteFrictionContact, NewtonSolver, finite_solver
 from ._krylov import IterativeContact, IterativeFrictionalContact
 from ._layout import NewtonLayout
@@ -31,4 +34,4 @@ from ._protocol import ContactSystem
 
 __all__ = ["ContactSystem", "CondensedContact", "DiscreteContact", "FrictionalContact", "IterativeContact",
            "IterativeFrictionalContact", "FiniteContact", "FiniteFrictionContact", "NewtonSolver", "AMGNewtonSolver",
-           "finite_solver", "NewtonLayout"]
+           "finite_solver", "NewtonLayout", "DistributedContact"]

@@ -1,0 +1,558 @@
+r"""Frictionless contact at small deformation distributed over MPI ranks on PETSc.
+
+The same discrete problem as :mod:`alcontact.contact.systems._krylov` (linearized gap
+(6.15), nodal weights, the laws :math:`t_N = p'(g/\eta, \lambda)` of the outer loops),
+with the displacement a distributed vector and every linear solve a PETSc KSP on an
+``MPIAIJ`` matrix:
+
+.. math::
+
+    R(u) = K u - f + B^T (w \circ t_N(g(u))) \;(\text{free rows}), \qquad
+    J = K + B^T \operatorname{diag}(w \circ dt_N/dg)\, B ,
+
+with Dirichlet rows and columns of ``K`` and ``J`` eliminated (``MatZeroRowsColumns``,
+the prescribed values held in ``u``). The contact term of ``J`` is one ``d x d`` block
+per contact point at its own node, so every rank adds the blocks of the points it owns
+to rows it owns: no communication.
+
+Ownership: the mesh is read and partitioned on rank 0
+(:class:`alcontact.distributed.DistributedElasticity`: METIS, each rank assembles its
+elements with scikit-fem into the ``MPIAIJ`` stiffness); a contact point belongs to the
+rank that owns its node, which evaluates its gap and normal (the obstacle is sent to
+every rank) and holds its weight. The state the outer loops iterate on is the owned
+part of ``u`` (a NumPy array of ``dim * n_owned`` entries): opaque to them.
+
+What the :class:`~alcontact.contact.systems._protocol.ContactSystem` protocol assumes, and
+how it is met here: the outer loops (:func:`~alcontact.contact.algorithms._frictionless.run_al`,
+``run_penalty``, ``run_ssn``) handle the candidates' multipliers, gaps and tractions as
+NumPy arrays over *all* candidates (``cand``, :meth:`gaps`, ``out.g``, ``out.t``,
+:meth:`initial_multipliers`) and take their maxima, sums and "any" tests with NumPy. These
+arrays are therefore replicated on every rank: each rank computes its own candidates'
+gaps and an ``Allgatherv`` assembles the candidate vector (a surface array, ``O(n^{(d-1)/d})``
+entries, never one of the volume's ``n``). Every rank then takes the same decisions from
+the same numbers, which is what the MPI reductions of a distributed loop would give, and
+the serial loops run unchanged. The Newton solve of each subproblem
+(:func:`alcontact.optim.newton`) sees the owned part of ``u``; every number it decides on
+(:meth:`_Subproblem.measure`, ``merit``, ``slope``, the finiteness tests, the
+"negligible step" test) is reduced over the ranks first, and the step that would compare
+local maxima (the full step on a flat merit) is switched off.
+"""
+
+from __future__ import annotations
+
+import logging
+import pickle
+import time
+
+import numpy as np
+
+from ...errors import InputError
+from ...optim import LineSearch, NewtonSettings, NewtonSystem, newton
+from ..algorithms._subproblem import NewtonOutcome, subproblem_outcome
+from ..kinematics._points import _element_size
+
+__all__ = ["DistributedContact"]
+
+logger = logging.getLogger(__name__)
+
+#: Newton tolerance floor of the distributed subproblems (KSP solves and round-off of :math:`Ku`, as on
+#: the serial Krylov path)
+_NEWTON_TOL_FLOOR = 1e-11
+#: the Newton settings: no full step on a flat merit (it compares local maxima of the residual)
+_SETTINGS = NewtonSettings(line_search=LineSearch(full_step=False))
+#: the inner augmented Lagrangian of the semi-smooth Newton reference: relative update and budget
+_UZAWA_TOL = 1e-10
+#: relative (true) residual of the CG + GAMG solves of the Newton systems
+_KSP_RTOL = 1e-10
+_UZAWA_MAXITER = 200
+
+
+class _EqualityLaw:
+    r"""The law of the active-set step: :math:`t = \mu + c\,g` on the active candidates, 0 elsewhere."""
+
+    def __init__(self, active: np.ndarray, c: float):
+        self.active, self.c = np.asarray(active, dtype=bool), float(c)
+
+    def traction(self, g, mu):
+        return np.where(self.active, mu + self.c * g, 0.0)
+
+    def energy(self, g, mu):
+        return np.where(self.active, mu * g + 0.5 * self.c * g * g, 0.0)
+
+    def stiffness(self, g, mu):
+        return np.where(self.active, self.c, 0.0)
+
+
+class DistributedContact:
+    """Frictionless small-deformation contact of a linear elastic P1 body against a rigid master, on N ranks.
+
+    Implements :class:`~alcontact.contact.systems._protocol.ContactSystem` (module doc for the
+    arrays that are replicated).
+
+    Parameters
+    ----------
+    problem : ContactProblem or None
+        The problem on rank 0 (one linear elastic body with a P1 triangle or tetrahedron
+        mesh, one rigid master, small kinematics); ``None`` on the other ranks.
+    comm : mpi4py communicator
+    parts : ndarray of int, optional
+        Rank of each element (on rank 0) instead of METIS (e.g. to force a cut through the contact zone).
+    ksp : {"gamg", "direct"}
+        CG + GAMG with the rigid-body near-null space, or PETSc's direct solver (MUMPS, else SuperLU_dist).
+    options : dict, optional
+        PETSc options passed through (names without the dash).
+    margin : float
+        Candidate rule of :class:`~alcontact.contact.kinematics._points.ContactPoints`.
+
+    Attributes
+    ----------
+    h : float
+    cand : ndarray of int
+        Candidates, global contact-point numbers (replicated on every rank).
+    linear_solves, ksp_iterations : int
+        KSP solves on this system and their iterations.
+    """
+
+    # ---- ContactSystem: declared capabilities ("not available" values, as ContactPoints declares them)
+    inexact_subproblems = False
+    physical_stopping = False
+    warm_penalty_start = False
+    penalty_continuation = False
+    factorizations = 0
+
+    def __init__(self, problem, *, comm, parts=None, ksp: str = "gamg", options: dict | None = None,
+                 margin: float = 0.25):
+        from mpi4py import MPI
+
+        from ...distributed import DistributedElasticity, collective
+        from ...linalg import petsc
+
+        PETSc = petsc()
+        t0 = time.perf_counter()
+        self.comm, self.MPI, self.PETSc = comm, MPI, PETSc
+        if ksp not in ("gamg", "direct"):
+            raise InputError(f"ksp={ksp!r}; allowed: 'gamg', 'direct'.")
+        self.ksp_kind, self.options = ksp, dict(options or {})
+        self.carried_stiffness = None
+        self.active_converged = True
+        self.active_residual = float("nan")
+        self.linear_solves = 0
+        self.ksp_iterations = 0
+        self.ksp_setups = 0
+        # every collective call (bcast, scatter) sits between guarded blocks: a rank that fails inside a block
+        # reaches the block's agreement, never leaves the others waiting in a call it skipped
+        head = None
+        with collective(comm, "checking the problem for the distributed path"):
+            if comm.rank == 0:
+                head = pickle.dumps(self._check(problem))  # an obstacle that cannot be sent fails here
+        head = comm.bcast(head, root=0)
+        with collective(comm, "receiving the material and the obstacle"):
+            material, obstacle = pickle.loads(head)
+        self.body = DistributedElasticity(problem.model.mesh if comm.rank == 0 else None, material, comm=comm,
+                                          parts=parts)
+        self.dim = dim = self.body.dim
+        piece = self.body.piece
+        self.n_own = piece.node_range[1] - piece.node_range[0]
+        self.dof_start = dim * piece.node_range[0]
+        self.n_global = dim * piece.n_nodes
+        ranges = comm.allgather(piece.node_range)
+        pieces = h = None
+        with collective(comm, "distributing loads, supports and contact points"):
+            if comm.rank == 0:
+                pieces = self._pieces(problem, ranges)
+                h = _element_size(problem.model, problem.contact_boundary, problem.obstacle)
+        mine = comm.scatter(pieces, root=0)
+        del pieces
+        self.h = float(comm.bcast(h, root=0))
+        self.f = mine["f"]
+        self.fixed = mine["fixed"]  # local DOF numbers
+        self.fixed_values = mine["values"]
+        self.point_node = mine["node"]  # local node of each owned contact point
+        self.points = mine["points"]  # (m_r, dim) coordinates
+        self.weights = mine["weights"]
+        free = np.ones(dim * self.n_own, dtype=bool)
+        free[self.fixed] = False
+        self.free = free
+        with collective(comm, "evaluating the obstacle at the contact points"):
+            gap0, nu = obstacle.evaluate(self.points) if self.points.shape[0] else (np.zeros(0), np.zeros((0, dim)))
+            self.gap0 = np.asarray(gap0, dtype=float).reshape(-1)
+            self.normals = np.asarray(nu, dtype=float).reshape(-1, dim)
+        self.point_dofs = dim * self.point_node[:, None] + np.arange(dim)  # (m_r, dim) local DOFs
+        self.coef = np.where(free[self.point_dofs], -self.normals, 0.0)  # the rows -nu_i^T on the free DOFs
+        self.movable = np.linalg.norm(self.coef, axis=1) > 1e-12
+        counts = np.array(comm.allgather(self.points.shape[0]), dtype=np.int64)
+        self.point_offset = int(np.sum(counts[:comm.rank]))
+        self.n_points = int(counts.sum())
+        self._setup_matrices()
+        self.u_free = self._solve_free()
+        self.x_free = self.u_free
+        self._select_candidates(self.local_gaps(self.u_free), margin)
+        self.setup_seconds = time.perf_counter() - t0
+
+    # ------------------------------------------------------------ set-up (rank 0 reads, all ranks own)
+    @staticmethod
+    def _check(problem):
+        from ...fem import LinearElasticity
+        from ..problem import ContactProblem
+
+        if not isinstance(problem, ContactProblem):
+            raise InputError(f"the distributed contact solve needs a ContactProblem on rank 0; got "
+                             f"{type(problem).__name__}.")
+        model = problem.model
+        what = []
+        if not isinstance(model, LinearElasticity) or getattr(model, "order", 1) != 1 or \
+                getattr(model, "axisymmetric", False) or getattr(model, "volumetric", "full") != "full":
+            what.append("a linear elastic body with P1 elements (no P2, mixed, axisymmetric or hyperelastic "
+                        "body)")
+        if getattr(problem, "kinematics", "small") != "small":
+            what.append("small deformation (kinematics = 'small')")
+        if float(problem.friction or 0.0) > 0:
+            what.append("frictionless contact (friction = 0)")
+        if what:
+            raise InputError("the distributed (MPI) contact path solves " + "; ".join(what) + " so far; run this "
+                             "problem as one process (without mpirun).")
+        return model.material, problem.obstacle
+
+    def _pieces(self, problem, ranges):
+        """On rank 0: the loads, supports and contact points of every rank, in its local numbering."""
+        model, dim = problem.model, self.body.dim
+        new = self.body.numbering
+        _, dmap = model.all_node_dofs()  # (n_nodes, dim) model DOFs of the mesh's nodes
+        dist = np.empty(model.ndofs, dtype=np.int64)
+        for c in range(dim):
+            dist[dmap[:, c]] = dim * new + c
+        f = np.zeros(model.ndofs)
+        f[dist] = problem.load_vector()
+        fixed, values = problem.dirichlet()
+        fixed = np.asarray(fixed, dtype=np.int64)
+        values = np.zeros(fixed.size) if values is None else np.broadcast_to(np.asarray(values, float), fixed.shape)
+        fixed_d = dist[fixed]
+        pts, cdofs = model.node_dofs(problem.contact_boundary)
+        w = model.boundary_weights(problem.contact_boundary)
+        cnode = dist[cdofs[:, 0]] // dim  # distributed node of each contact point
+        order = np.argsort(cnode, kind="stable")
+        pieces = []
+        for (a, b) in ranges:
+            sel = (fixed_d >= dim * a) & (fixed_d < dim * b)
+            on = order[(cnode[order] >= a) & (cnode[order] < b)]
+            pieces.append({"f": f[dim * a:dim * b].copy(), "fixed": fixed_d[sel] - dim * a,
+                           "values": np.array(values[sel], dtype=float), "node": cnode[on] - a,
+                           "points": np.ascontiguousarray(pts[on], dtype=float), "weights": np.asarray(w[on], float)})
+        return pieces
+
+    def _rows(self, local: np.ndarray) -> np.ndarray:
+        return (self.dof_start + np.asarray(local, dtype=np.int64)).astype(self.PETSc.IntType)
+
+    def _setup_matrices(self) -> None:
+        """``K`` (``MPIAIJ``), ``K`` with the supported rows and columns eliminated, the KSP and the near-null space."""
+        from ...linalg import configure_ksp, direct_package, near_null_space
+
+        PETSc = self.PETSc
+        t0 = time.perf_counter()
+        K, _ = self.body.assemble(np.zeros(self.dim))
+        self.K = K
+        self.Kc = K.duplicate(copy=True)
+        # the d x d block of every contact point in the pattern (an entry of K that cancels exactly, e.g. the
+        # x-y coupling of a node of a structured tetrahedral mesh, is not stored by the assembly)
+        self.Kc.setOption(PETSc.Mat.Option.NEW_NONZERO_ALLOCATION_ERR, False)
+        for dofs in self.point_dofs:
+            rows = self._rows(dofs)
+            self.Kc.setValues(rows, rows, np.zeros(rows.size * rows.size), addv=PETSc.InsertMode.ADD_VALUES)
+        self.Kc.assemble()
+        self.Kc.setOption(PETSc.Mat.Option.NEW_NONZERO_ALLOCATION_ERR, True)
+        self.Kc.zeroRowsColumns(self._rows(self.fixed), diag=1.0)
+        self.Kc.setOption(PETSc.Mat.Option.SPD, True)
+        self.assembly_seconds = time.perf_counter() - t0
+        n = self.comm.allreduce(int(self.fixed.size), op=self.MPI.SUM)
+        if n == 0:
+            raise InputError("no support holds the body: the distributed path needs supports that stop every "
+                             "rigid motion (a body held by the obstacle alone runs as one process).")
+        t1 = time.perf_counter()
+        self.null = near_null_space(self.body.rigid_modes(), comm=K.getComm()) if self.ksp_kind == "gamg" else None
+        if self.ksp_kind == "gamg":
+            self.ksp = configure_ksp(self.Kc, ksp_type="cg", pc_type="gamg", rtol=1e-10, options=self.options,
+                                     near_null=self.null, defer_check=True)
+        else:
+            pkg = direct_package()
+            self.ksp = configure_ksp(self.Kc, ksp_type="preonly", pc_type="cholesky" if pkg == "mumps" else "lu",
+                                     rtol=1e-12, options=self.options, factor_solver=pkg, defer_check=True)
+        self.ksp_setups += 1
+        self.factor_seconds = time.perf_counter() - t1
+        self._vx, self._vy = K.createVecRight(), K.createVecRight()
+
+    def _ksp_solve(self, rhs: np.ndarray, rtol: float) -> np.ndarray:
+        """Solve with the current operator of the KSP; counted; a failed solve raises (collectively)."""
+        ksp = self.ksp
+        if self.ksp_kind == "gamg":
+            ksp.setTolerances(rtol=float(rtol), atol=0.0, max_it=10_000)
+        self._vy.array[:] = rhs
+        self._vx.set(0.0)
+        ksp.solve(self._vy, self._vx)
+        its, reason = int(ksp.getIterationNumber()), int(ksp.getConvergedReason())
+        self.linear_solves += 1
+        self.ksp_iterations += its
+        if self.linear_solves == 1:
+            from ...linalg import report_unused_options
+
+            report_unused_options(ksp.getOptionsPrefix() or "", self.options,
+                                  reported=None if self.comm.rank == 0 else set(self.options))
+        if reason < 0:
+            raise np.linalg.LinAlgError(f"PETSc KSP {ksp.getType()} / PC {ksp.getPC().getType()} did not converge "
+                                        f"(reason {reason}, {its} iterations)")
+        return self._vx.array.copy()
+
+    def matvec(self, x: np.ndarray) -> np.ndarray:
+        """``K x`` (owned rows) for the owned part ``x`` of a distributed vector."""
+        self._vx.array[:] = x
+        self.K.mult(self._vx, self._vy)
+        return self._vy.array.copy()
+
+    def _solve_free(self) -> np.ndarray:
+        """The contact-free displacement (owned part), prescribed values included."""
+        ud = np.zeros(self.dim * self.n_own)
+        ud[self.fixed] = self.fixed_values
+        b = self.f - self.matvec(ud)
+        b[self.fixed] = self.fixed_values
+        t0 = time.perf_counter()
+        self.ksp.setOperators(self.Kc)
+        x = self._ksp_solve(b, 1e-12)
+        x[self.fixed] = self.fixed_values
+        self.reference_seconds = time.perf_counter() - t0 + self.factor_seconds
+        self.b_lifted = self.allmax(np.abs(b[self.free]))
+        self.load_scale = self.allmax(np.abs(self.f[self.free]))
+        if not self.allbool(np.all(np.isfinite(x))):
+            raise InputError("the contact-free solution is not finite; check loads and supports.")
+        return x
+
+    # ------------------------------------------------------------ reductions and replicated arrays
+    def allmax(self, a) -> float:
+        return float(self.comm.allreduce(float(np.max(a, initial=0.0)), op=self.MPI.MAX))
+
+    def allsum(self, value: float) -> float:
+        return float(self.comm.allreduce(float(value), op=self.MPI.SUM))
+
+    def allbool(self, ok: bool) -> bool:
+        """``ok`` on every rank."""
+        return bool(self.comm.allreduce(bool(ok), op=self.MPI.LAND))
+
+    def allgather_points(self, local: np.ndarray) -> np.ndarray:
+        """The values of every contact point (rank-major global numbering) from the owned ones."""
+        parts = self.comm.allgather(np.asarray(local))
+        return np.concatenate(parts) if parts else np.zeros(0)
+
+    def local_gaps(self, x: np.ndarray) -> np.ndarray:
+        """Linearized gaps (6.15) of the owned contact points for the owned displacement ``x``."""
+        return self.gap0 - np.einsum("ij,ij->i", self.normals, x[self.point_dofs])
+
+    def _select_candidates(self, g: np.ndarray, margin: float) -> None:
+        """The candidate rule of :meth:`ContactPoints._select_candidates` with global maxima."""
+        pinned = ~self.movable & (g > 0.0)
+        bad = self.comm.allgather(self.points[np.flatnonzero(pinned)[0]].tolist() if np.any(pinned) else None)
+        bad = [b for b in bad if b is not None]
+        if bad:
+            raise InputError(f"contact point {bad[0]} is held by a Dirichlet condition in the normal direction but "
+                             "penetrates the obstacle; move the obstacle or release that support.")
+        gmax = float(self.comm.allreduce(float(np.max(g[self.movable], initial=-np.inf)), op=self.MPI.MAX))
+        self.max_free_penetration = gmax
+        self.g_free = g
+        if gmax > 0:
+            thr = -max(margin * gmax, 1e-12 * self.h)
+            local = np.flatnonzero(self.movable & (g > thr))
+        else:
+            local = np.empty(0, dtype=np.int64)
+        self.cand = np.empty(0, dtype=np.int64)
+        self._add_candidates(local)
+
+    def _add_candidates(self, local_new: np.ndarray) -> None:
+        """Append the owned points ``local_new`` of every rank (rank-major) to the replicated ``cand``."""
+        new = self.allgather_points(self.point_offset + np.asarray(local_new, dtype=np.int64)).astype(np.int64)
+        self.cand = np.concatenate([self.cand, new]).astype(np.int64)
+        mine = (self.cand >= self.point_offset) & (self.cand < self.point_offset + self.points.shape[0])
+        self._my_pos = np.flatnonzero(mine)  # where this rank's candidates sit in cand
+        self._my_pt = self.cand[mine] - self.point_offset  # their owned point numbers
+        # the order in which Allgatherv returns the candidates' values: rank-major, by position in cand
+        self._perm = self.allgather_points(self._my_pos).astype(np.int64)
+
+    def extend(self, x: np.ndarray, tol: float) -> int:
+        """Add the non-candidate points whose gap at ``x`` exceeds ``tol`` (as the serial driver); their number."""
+        outside = np.ones(self.points.shape[0], dtype=bool)
+        outside[self._my_pt] = False
+        add = np.flatnonzero(outside & self.movable & (self.local_gaps(x) > tol))
+        total = int(self.comm.allreduce(int(add.size), op=self.MPI.SUM))
+        if total:
+            logger.info("adding %d contact candidates that penetrate", total)
+            self._add_candidates(add)
+        return total
+
+    def replicate(self, mine: np.ndarray) -> np.ndarray:
+        """The candidate vector (replicated) from this rank's candidates' values."""
+        out = np.empty(self.cand.size)
+        out[self._perm] = self.allgather_points(mine)
+        return out
+
+    def contact_force(self, x_shape: int, wt_cand: np.ndarray) -> np.ndarray:
+        r"""``B^T (w t)``, owned part: the forces :math:`-\nu_i w_i t_i` on the free DOFs of the candidates."""
+        out = np.zeros(x_shape)
+        np.add.at(out, self.point_dofs[self._my_pt].ravel(),
+                  (self.coef[self._my_pt] * wt_cand[self._my_pos][:, None]).ravel())
+        return out
+
+    def newton_matrix(self, k_cand: np.ndarray):
+        r""":math:`J = K + B^T \operatorname{diag}(k) B`, supported rows and columns eliminated (a new ``MPIAIJ``)."""
+        PETSc = self.PETSc
+        J = self.Kc.duplicate(copy=True)
+        pts = self._my_pt
+        k = k_cand[self._my_pos]
+        c = self.coef[pts]
+        blocks = k[:, None, None] * c[:, :, None] * c[:, None, :]
+        for i in np.flatnonzero(k != 0.0):
+            rows = self._rows(self.point_dofs[pts[i]])
+            J.setValues(rows, rows, blocks[i].ravel(), addv=PETSc.InsertMode.ADD_VALUES)
+        J.assemble()
+        if self.null is not None:
+            J.setNearNullSpace(self.null)
+        return J
+
+    def solve_newton(self, J, rhs: np.ndarray, rtol: float) -> np.ndarray:
+        t0 = time.perf_counter()
+        self.ksp.setOperators(J)
+        self.ksp_setups += 1
+        try:
+            return self._ksp_solve(rhs, rtol)
+        finally:
+            self.solve_seconds_total = getattr(self, "solve_seconds_total", 0.0) + time.perf_counter() - t0
+
+    # ------------------------------------------------------------ the ContactSystem protocol
+    def start(self) -> np.ndarray:
+        return self.x_free.copy()
+
+    def gaps(self, x: np.ndarray) -> np.ndarray:
+        return self.replicate(self.local_gaps(x)[self._my_pt])
+
+    def subproblem(self, law, lam, x0, *, tol: float, maxiter: int) -> NewtonOutcome:
+        tol = max(tol, _NEWTON_TOL_FLOOR)
+        out = newton(_Subproblem(self, law, np.asarray(lam, dtype=float)), x0, tol=tol, maxiter=maxiter,
+                     settings=_SETTINGS)
+        return subproblem_outcome(out, out.state[0], out.state[1])
+
+    def scale_forces(self, x: np.ndarray, factor: float) -> np.ndarray:
+        """Contact forces scaled by ``factor``: ``x_free + factor (x - x_free)`` (linearity)."""
+        return self.x_free + factor * (x - self.x_free)
+
+    def solve_active(self, active, lam, x, c):
+        r"""Active-set step of the semi-smooth Newton reference: :math:`g_A = 0` by an inner augmented
+        Lagrangian (Uzawa) iteration with penalty ``c`` (as the serial Krylov path), each step a Newton
+        solve of the equality-constrained subproblem."""
+        active = np.asarray(active, dtype=bool)
+        lam_new = np.zeros(self.cand.size)
+        if not np.any(active):
+            self.active_converged = True
+            x = self.x_free.copy()
+            return x, lam_new, self.gaps(x)
+        law = _EqualityLaw(active, c)
+        mu = np.where(active, np.maximum(lam, 0.0), 0.0)
+        change = np.inf
+        for _ in range(_UZAWA_MAXITER):
+            out = self.subproblem(law, mu, x, tol=1e-12, maxiter=20)
+            if not out.converged:
+                break
+            x = out.state
+            mu_next = np.where(active, mu + c * out.g, 0.0)
+            change = float(np.max(np.abs(mu_next - mu), initial=0.0)) / max(float(np.max(np.abs(mu_next),
+                                                                                      initial=0.0)), 1e-300)
+            mu = mu_next
+            if change <= _UZAWA_TOL:
+                break
+        self.active_converged = bool(change <= _UZAWA_TOL)
+        self.active_residual = change
+        return x, mu, self.gaps(x)
+
+    def initial_multipliers(self) -> np.ndarray:
+        return np.zeros(self.cand.size)
+
+    def initial_active(self, lam, g, c) -> np.ndarray:
+        return (np.asarray(lam, dtype=float) + c * np.asarray(g, dtype=float)) > 0
+
+    def entry_multipliers(self, lam, law, *, penalty_start: bool = False):
+        return lam
+
+    def multiplier_step(self, law, lam, out):
+        return None
+
+    def start_multiplier_step(self, law, lam, out):
+        return None
+
+    # ------------------------------------------------------------ reporting
+    def timings(self) -> dict:
+        return {"setup_s": self.setup_seconds, "factor_s": self.factor_seconds, "assembly_s": self.assembly_seconds,
+                "linear_solve_s": self.reference_seconds}
+
+    def extra(self) -> dict:
+        return {"linear_solver": "petsc" if self.ksp_kind == "gamg" else "petsc-direct", "strategy": "distributed",
+                "ranks": int(self.comm.size), "ksp_iterations": int(self.ksp_iterations),
+                "ksp_setups": int(self.ksp_setups)}
+
+
+class _Subproblem(NewtonSystem):
+    r"""Subproblem (S) on the owned displacement: :math:`R(u) = Ku - f + B^T(w \circ t_N(g(u)))` (module doc).
+
+    State ``(g, t, R, Pi)`` with ``g``, ``t`` replicated over the candidates. Relative residual
+    :math:`\max|R|` (over every rank) over the largest applied load or contact force, as
+    :class:`~alcontact.contact.systems._krylov._FullSpaceSubproblem`.
+    """
+
+    def __init__(self, dc: DistributedContact, law, lam):
+        self.dc, self.law, self.lam = dc, law, lam
+        self.w = dc.replicate(dc.weights[dc._my_pt])
+        self.scale = None
+        self.fscale = 1e-300
+
+    def evaluate(self, x):
+        dc = self.dc
+        Kx = dc.matvec(x)
+        g = dc.gaps(x)
+        t = np.asarray(self.law.traction(g, self.lam), dtype=float)
+        R = Kx - dc.f + dc.contact_force(x.size, self.w * t)
+        R[dc.fixed] = 0.0
+        energy = float(np.sum(self.w * self.law.energy(g, self.lam)))  # replicated: the same on every rank
+        local = 0.5 * float(x @ Kx) - float(dc.f @ x)
+        pi = dc.allsum(local) + energy
+        if not dc.allbool(bool(np.all(np.isfinite(R)))):
+            R = np.full_like(R, np.nan)  # every rank sees the non-finite residual of one
+        return g, t, R, pi
+
+    def residual(self, state):
+        return state[2]
+
+    def merit(self, state):
+        return state[3]
+
+    def slope(self, x, state, dx):
+        return self.dc.allsum(float(state[2] @ dx))
+
+    def measure(self, state):
+        dc = self.dc
+        wt = float(np.max(np.abs(self.w * state[1]), initial=0.0))
+        if self.scale is None:  # neither contact forces nor loads: the right-hand side with the supports
+            self.scale = max(wt, dc.load_scale) or dc.b_lifted
+        self.fscale = max(self.scale, wt, 1e-300)
+        return dc.allmax(np.abs(state[2])) / self.fscale
+
+    def step(self, x, state, history):
+        dc = self.dc
+        # tight Krylov solves: a loose CG step (forcing 1e-3) on the stiff contact directions was no descent
+        # direction of the merit (2D Hertz, 1144 DOFs, Algorithm 6.1: 60 damped Newton steps in outer iteration 3)
+        rtol = _KSP_RTOL
+        k = self.w * np.asarray(self.law.stiffness(state[0], self.lam), dtype=float)
+        J = dc.newton_matrix(k)
+        try:
+            dx = dc.solve_newton(J, -state[2], rtol)
+        finally:
+            J.destroy()
+        if not dc.allbool(bool(np.all(np.isfinite(dx)))):
+            dx = np.full_like(dx, np.nan)
+        return dx
+
+    def negligible(self, x, state, dx):
+        dc = self.dc
+        return dc.allmax(np.abs(dx)) <= 1e-14 * max(dc.allmax(np.abs(x)), 1e-300)
