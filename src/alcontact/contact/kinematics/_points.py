@@ -20,9 +20,9 @@ from __future__ import annotations
 import logging
 
 import numpy as np
-import scipy.sparse as sp
 
 from ...errors import InputError
+from ._gap import LinearizedGap
 
 
 logger = logging.getLogger(__name__)
@@ -125,22 +125,15 @@ class ContactPoints:
         """
         model = problem.model
         pts, dofs = model.node_dofs(problem.contact_boundary)
-        w = model.boundary_weights(problem.contact_boundary)
-        gap0, nu = problem.obstacle.evaluate(pts)
-        self.points, self.dofs, self.weights = pts, dofs, w
-        self.normals, self.gap0 = nu, gap0
         # position of each DOF in the free vector (-1 when fixed)
         free_pos = -np.ones(model.ndofs, dtype=np.int64)
         free_pos[free] = np.arange(free.size)
         pos = free_pos[dofs]  # (m, d)
-        self.pos = pos
-        coef = np.where(pos >= 0, -nu, 0.0)
-        self.movable = np.linalg.norm(coef, axis=1) > 1e-12
-        m = pts.shape[0]
-        rows = np.repeat(np.arange(m), self.dim)
-        cols = pos.ravel()
-        keep = cols >= 0
-        self.B = sp.csr_matrix((coef.ravel()[keep], (rows[keep], cols[keep])), shape=(m, free.size))
+        #: the linearized gap (6.15) against the master: gaps, normals and constraint rows
+        self.kinematics = kin = LinearizedGap(pts, dofs, pos, problem.obstacle, free.size)
+        self.points, self.dofs, self.weights = pts, dofs, model.boundary_weights(problem.contact_boundary)
+        self.normals, self.gap0, self.pos, self.B = kin.normals, kin.gap0, pos, kin.rows
+        self.movable = np.linalg.norm(np.where(pos >= 0, -kin.normals, 0.0), axis=1) > 1e-12
 
     def _setup_candidates(self, u_free: np.ndarray, margin: float) -> None:
         self.g_free = self.all_gaps(u_free)
@@ -185,7 +178,7 @@ class ContactPoints:
 
     def all_gaps(self, u: np.ndarray) -> np.ndarray:
         """Linearized gaps (6.15) of every contact-boundary point for displacement ``u``."""
-        return self.gap0 - np.einsum("ij,ij->i", self.normals, u[self.dofs])
+        return self.kinematics.gaps(u)
 
     def extend(self, g_all: np.ndarray, tol: float) -> np.ndarray:
         """Add the non-candidate points whose gap exceeds ``tol``; return the added ones."""
