@@ -199,7 +199,7 @@ from ..algorithms._subproblem import (LineSearch, NewtonOutcome, NewtonResult, N
                                       newton, subproblem_outcome)
 from ..kinematics._gap import CurrentGap, point_blocks
 from ..kinematics._points import ContactPoints
-from ..laws._coulomb import OPEN, SLIP, STICK, return_mapping
+from ..laws._coulomb import OPEN, SLIP, STICK, CoulombLaw, return_mapping
 from ..masters.obstacles import frame, surface_slip
 from ._krylov import _NEWTON_TOL_FLOOR
 from ._layout import NewtonLayout
@@ -1504,9 +1504,8 @@ class FiniteFrictionContact(FiniteContact):
         """
         self.y_prev = np.asarray(y_prev, dtype=float)
         self.place()
-        self.mu = float(mu)
-        self.eps_t = float(eps_t)
-        self.coupled = radius == "traction"
+        #: the tangential part of the contact law (Coulomb, the return mapping (6.47)-(6.50))
+        self.coulomb = CoulombLaw(mu, eps_t, radius)
 
     def place(self) -> None:
         """Read the placement :math:`x = Qy + b` of the current obstacle (:func:`~.obstacles.frame`)."""
@@ -1533,12 +1532,12 @@ class FiniteFrictionContact(FiniteContact):
         y_prev = self.y_prev[idx] @ self.rotation.T + self.offset
         slip, dslip = surface_slip(self.obstacle, xc, y_prev, jacobian=blocks)
         nl = np.einsum("ij,ij->i", nu, lamT)
-        z = lamT - nl[:, None] * nu + self.eps_t * slip
+        z = lamT - nl[:, None] * nu + self.coulomb.eps_t * slip
         if not blocks:
             return z, slip, None, None
         H = self.obstacle.gap_hessian(xc)
         Hl = np.einsum("ijk,ik->ij", H, lamT)
-        dz = nl[:, None, None] * H + nu[:, :, None] * Hl[:, None, :] + self.eps_t * dslip
+        dz = nl[:, None, None] * H + nu[:, :, None] * Hl[:, None, :] + self.coulomb.eps_t * dslip
         return z, slip, dz, H
 
     # ------------------------------------------------------------------ local law
@@ -1552,14 +1551,14 @@ class FiniteFrictionContact(FiniteContact):
             # outside the domain of a barrier-type penalty (a line-search trial that its non-finite
             # residual rejects, or a start the AL loop reports): no tangential traction
             return g, nu, tN, np.full_like(z, np.nan), slip, np.full(idx.size, OPEN), None
-        rho = self.mu * (tN if self.coupled else np.maximum(lamN, 0.0))
+        rho = self.coulomb.disc_radius(tN, lamN)
         tT, opened, stick, slipping, n, dproj = return_mapping(z, rho)
         state = np.where(opened, OPEN, np.where(stick, STICK, SLIP))
         if not blocks:
             return g, nu, tN, tT, slip, state, None
         dT = dproj @ dz
-        if self.coupled:
-            dT = dT - np.where(slipping[:, None, None], self.mu * kN[:, None, None] * n[:, :, None] * nu[:, None, :],
+        if self.coulomb.coupled:
+            dT = dT - np.where(slipping[:, None, None], self.coulomb.mu * kN[:, None, None] * n[:, :, None] * nu[:, None, :],
                                0.0)
         K = kN[:, None, None] * nu[:, :, None] * nu[:, None, :] + tN[:, None, None] * H + dT
         return g, nu, tN, tT, slip, state, K
