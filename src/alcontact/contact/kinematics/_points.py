@@ -1,18 +1,22 @@
-r"""Contact points at small deformation: the linearized gap (6.15) and its data.
+r"""The common base of the contact systems: contact points, candidates, declared capabilities.
 
 At contact point ``i`` (a DOF location of the candidate boundary, reference position
-:math:`X_i`)
+:math:`X_i`, tributary length/area :math:`w_i`) the systems measure the gap with a
+:class:`~alcontact.contact.kinematics.ContactKinematics` object they hold as ``kinematics``:
+at small deformation the linearized gap (6.15)
 
 .. math::
 
-    g_i(u) = g^0_i - \nu_i \cdot u_i \le 0,
+    g_i(u) = g^0_i - \nu_i \cdot u_i \le 0
 
-where :math:`g^0_i` is the signed gap of :math:`X_i` and :math:`\nu_i` the obstacle's
-normal at its projection (pointing out of the obstacle); ``B`` has the rows
-:math:`-\nu_i^T` on the DOFs of point ``i`` and ``w_i`` is the tributary length/area.
-:class:`ContactPoints` holds this geometry and the candidates for every contact system
-(:mod:`alcontact.contact.systems`); :func:`tangent_bases` gives the orthonormal tangent
-directions of the Coulomb law (section 6.2) at each point.
+(:class:`~alcontact.contact.kinematics.LinearizedGap`; :class:`ContactPoints` keeps its
+reference gaps ``gap0``, normals and constant constraint rows ``B``, rows
+:math:`-\nu_i^T` on the free DOFs of point ``i``), at finite deformation the gap in the current
+configuration (:class:`~alcontact.contact.kinematics.CurrentGap`, set up by
+:class:`~alcontact.contact.systems.FiniteContact`). :class:`ContactPoints` also selects the
+candidates and holds the "not available" values of the optional members of
+:class:`~alcontact.contact.systems.ContactSystem`; :func:`tangent_bases` gives the orthonormal
+tangent directions of the Coulomb law (section 6.2) at each point.
 """
 
 from __future__ import annotations
@@ -117,11 +121,12 @@ class ContactPoints:
         return u
 
     def _setup_points(self, problem, free: np.ndarray) -> None:
-        """Points, DOFs, weights, obstacle normals and gaps; ``pos``, ``B`` and ``movable`` for the DOFs ``free``.
+        """Points, DOFs, weights and the linearized gap (6.15) (``kinematics``) for the DOFs ``free``.
 
         ``pos`` (m, d): position of each point DOF in the free numbering (-1 when
-        supported); ``B``: rows :math:`-\\nu_i^T` on the free DOFs; ``movable``: the
-        normal motion is not fully supported (the point may be a candidate).
+        supported); ``gap0``, ``normals``, ``B``: the reference gaps, normals and constraint
+        rows :math:`-\\nu_i^T` of the kinematics (constant: its configuration is the reference
+        one); ``movable``: the normal motion is not fully supported (the point may be a candidate).
         """
         model = problem.model
         pts, dofs = model.node_dofs(problem.contact_boundary)
@@ -129,11 +134,13 @@ class ContactPoints:
         free_pos = -np.ones(model.ndofs, dtype=np.int64)
         free_pos[free] = np.arange(free.size)
         pos = free_pos[dofs]  # (m, d)
-        #: the linearized gap (6.15) against the master: gaps, normals and constraint rows
+        #: the linearized gap (6.15) against the master (:class:`~alcontact.contact.kinematics.ContactKinematics`)
         self.kinematics = kin = LinearizedGap(pts, dofs, pos, problem.obstacle, free.size)
+        # its configuration is the reference one: gaps, normals and constraint rows at u = 0 hold for every u
+        ref = kin.evaluate(np.zeros(model.ndofs))
         self.points, self.dofs, self.weights = pts, dofs, model.boundary_weights(problem.contact_boundary)
-        self.normals, self.gap0, self.pos, self.B = kin.normals, kin.gap0, pos, kin.rows
-        self.movable = np.linalg.norm(np.where(pos >= 0, -kin.normals, 0.0), axis=1) > 1e-12
+        self.normals, self.gap0, self.pos, self.B = ref.normals, ref.g, pos, ref.gradient()
+        self.movable = np.linalg.norm(np.where(pos >= 0, -ref.normals, 0.0), axis=1) > 1e-12
 
     def _setup_candidates(self, u_free: np.ndarray, margin: float) -> None:
         self.g_free = self.all_gaps(u_free)

@@ -14,7 +14,8 @@ integral, as on the small-deformation path). Its current position is
 
 with :math:`\nu` the obstacle normal at the projection of :math:`x_i` and :math:`H` the
 Hessian of the signed distance (the curvature of the obstacle surface, zero for a
-plane); the small-deformation gap (6.15) is its linearization at :math:`u = 0`. Large
+plane); the small-deformation gap (6.15) is its linearization at :math:`u = 0`. These are
+evaluated by the system's :class:`~alcontact.contact.kinematics.CurrentGap` (``kinematics``). Large
 sliding needs nothing more: the projection is recomputed at every evaluation.
 
 Subproblem (S) of Algorithms 6.1 / 6.3 and the pure penalty (same laws
@@ -327,6 +328,12 @@ class FiniteContact(ContactPoints):
 
     Attributes
     ----------
+    kinematics : ~alcontact.contact.kinematics.CurrentGap
+        The gap in the current configuration, its constraint rows and curvature (module doc),
+        measured against the step's master :attr:`obstacle`. A kinematics that declares
+        ``pointwise = False`` (its gaps couple several points, e.g. mortar) is assembled from
+        its sparse gradient and curvature; a pointwise one fills its ``d x d`` blocks into the
+        fixed structure of :class:`NewtonLayout`.
     points, dofs, weights : ndarray
         Reference positions, DOFs and reference tributary weights of all contact-boundary points.
     normals : ndarray (m, d)
