@@ -203,3 +203,24 @@ def test_a_coupling_kinematics_plugs_in_through_its_sparse_rows():
     out = fc2.subproblem(law, lam, fc2.x0, tol=1e-10, maxiter=30)
     assert out.converged and out_point.converged
     np.testing.assert_allclose(out.state, out_point.state, rtol=0, atol=1e-10 * np.abs(out_point.state).max())
+
+
+def test_one_subproblem_at_small_and_finite_deformation():
+    """Subproblem (S) of Algorithm 6.1 is one problem: the full-space Newton of finite deformation holding the
+    linearized gap (6.15) solves it as the condensed small-deformation system does (displacements and gaps
+    to 1e-8 relative; a linear elastic cantilever pressed onto a plane with the Macaulay law)."""
+    body = LinearElasticity(meshes.rectangle(0.0, 1.0, 0.0, 0.25, 16, 4), Material(E=1000.0, nu=0.3))
+    plane = obstacles.make("half-space", point=[0.0, -0.01], normal=[0.0, 1.0])
+    problem = ContactProblem(body, plane, "bottom", supports=[Support("left")], loads=[Pressure("top", 2.0)])
+    small = DiscreteContact(problem)
+    full = FiniteContact(problem, kinematics=LinearizedGap)
+    assert full.kinematics.configuration == "reference" and small.cand.size > 3
+    full.cand = small.cand.copy()
+    law = make_law(penalties.make("rockafellar"), np.full(small.cand.size, 1e-5))  # eps_N = 1e5
+    lam = np.full(small.cand.size, 1.0)
+    out_small = small.subproblem(law, lam, small.start(), tol=1e-12, maxiter=50)
+    out_full = full.subproblem(law, lam, full.start(), tol=1e-12, maxiter=50)
+    assert out_small.converged and out_full.converged and np.any(out_full.t > 0)
+    u_small, u_full = small.final_displacement(out_small.state), full.final_displacement(out_full.state)
+    np.testing.assert_allclose(u_full, u_small, rtol=0, atol=1e-8 * np.abs(u_small).max())
+    np.testing.assert_allclose(out_full.g, out_small.g, rtol=0, atol=1e-8 * np.abs(u_small).max())

@@ -325,6 +325,12 @@ class FiniteContact(ContactPoints):
     slide_start_reach : float
         After the slide predictor, the penalty start of Algorithm 6.3 shifts only the points open by
         at most this fraction of ``h`` (:meth:`entry_multipliers`; option ``slide_start_reach``).
+    kinematics : callable, optional
+        ``kinematics(points, dofs, pos, master, n_free)`` returns the
+        :class:`~alcontact.contact.kinematics.ContactKinematics` of the contact points (default
+        :class:`~alcontact.contact.kinematics.CurrentGap`; with
+        :class:`~alcontact.contact.kinematics.LinearizedGap` the same Newton solves the
+        small-deformation contact problem).
 
     Attributes
     ----------
@@ -375,7 +381,7 @@ class FiniteContact(ContactPoints):
     penalty_continuation = True
 
     def __init__(self, problem, *, margin: float = 2.0, fixed=None, solver=None, predictor: str = "auto",
-                 slide_start_reach: float = 0.05):
+                 slide_start_reach: float = 0.05, kinematics=CurrentGap):
         t0 = time.perf_counter()
         if predictor not in PREDICTORS:
             raise InputError(f"predictor = {predictor!r:.40}: expected one of {', '.join(PREDICTORS)}.")
@@ -405,7 +411,7 @@ class FiniteContact(ContactPoints):
         self.movable = np.any(self.pos >= 0, axis=1)
         self._movable_pts = np.flatnonzero(self.movable)
         #: the gap in the current configuration against the master (:attr:`obstacle`, moved by :meth:`configure`)
-        self.kinematics = CurrentGap(pts, dofs, self.pos, problem.obstacle, self.free.size)
+        self.kinematics = kinematics(pts, dofs, self.pos, problem.obstacle, self.free.size)
         self.h = self._element_size()
         self.linear_solves = 0
         self.newton_iterations = 0
