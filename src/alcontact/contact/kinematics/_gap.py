@@ -75,6 +75,11 @@ def point_blocks(pos: np.ndarray, blocks: np.ndarray, nfree: int) -> sp.csr_matr
 class GapEvaluation:
     r"""The gap of some contact points at one displacement, with its derivatives.
 
+    What :meth:`ContactKinematics.evaluate` returns for the pointwise kinematics here; a
+    kinematics whose gaps couple several points (mortar) returns an object with the same
+    members (``idx``, ``g``, ``normals``, ``hessian``, :meth:`gradient`, :meth:`curvature`),
+    whose gradient and curvature it assembles itself.
+
     Attributes
     ----------
     idx : ndarray of int (k,)
