@@ -48,13 +48,13 @@ def test_newton_matrix_equals_sparse_construction(order):
     law = make_law(penalties.make("rockafellar"), np.full(dc.cand.size, 0.04))
     lam = np.full(dc.cand.size, 10.0)
     u = dc.expand(x)
-    g, nu, H = dc._kinematics(u, dc.cand, True)
+    ev = dc.kinematics.evaluate(u, dc.cand, hessian=True)
+    g, H = ev.g, ev.hessian
     t, D = law.traction(g, lam), law.stiffness(g, lam)
     assert np.all(t > 0) and np.any(H != 0)
     w = dc.weights[dc.cand]
-    Bm = dc._B(nu, dc.cand)
-    ref = (_sparse_free_tangent(dc, u) + Bm.T @ sp.diags(w * D) @ Bm
-           + dc._point_blocks(dc.cand, (w * t)[:, None, None] * H)).tocsr()
+    Bm = ev.gradient()  # the kinematics' constraint rows and curvature as sparse matrices
+    ref = (_sparse_free_tangent(dc, u) + Bm.T @ sp.diags(w * D) @ Bm + ev.curvature(w * t)).tocsr()
     J = dc.jacobian(law, lam, x)
     assert dc._layout.built_here(J)  # the fixed structure, shared by every Newton matrix
     assert abs(J - ref).max() == 0.0
@@ -72,15 +72,14 @@ def test_saddle_matrix_equals_block_construction():
     active = np.zeros(dc.cand.size, dtype=bool)
     active[::2] = True
     A = dc.cand[active]
-    _, _, H = dc._kinematics(u, A, True)
+    H = dc.kinematics.evaluate(u, A, hessian=True).hessian
     r = np.linspace(1.0, 2.0, A.size)
     Kt = dc._tangent_blocks(u, A, r[:, None, None] * H)
     S = dc._saddle_matrix(u, Kt, active)
     pts = dc._movable_pts
     on = np.zeros(pts.size, dtype=bool)
     on[dc._saddle_rows()] = active
-    _, nu, _ = dc._kinematics(u, pts, False)
-    Bc = dc._B(nu * on[:, None], pts)
+    Bc = dc.kinematics.evaluate(u, pts).gradient(on)
     Dg = sp.diags((~on).astype(float))
     Kref = _sparse_free_tangent(dc, u) + dc._point_blocks(A, r[:, None, None] * H)
     ref = sp.bmat([[Kref, Bc.T], [Bc, Dg]], format="csr")

@@ -210,3 +210,22 @@ def test_friction_override_between_bodies_is_refused():
     prob = two_body.stacked_blocks(2, 3)
     with pytest.raises(InputError, match="friction between two deformable bodies is not supported yet"):
         solve(prob, "simo-laursen", friction=0.3)
+
+
+def test_mortar_gap_is_a_contact_kinematics_and_gives_the_constraint_rows():
+    """The mortar gap plugs in as a third ContactKinematics (not pointwise, reference configuration)."""
+    from alcontact.contact.kinematics import ContactKinematics, MortarKinematics
+    from alcontact.contact.kinematics._mortar import mortar_gap  # the pair's weighted gaps, no public name yet
+
+    prob = two_body.stacked_blocks(2, 3)
+    pair = prob.pairs[0]
+    mg = mortar_gap(prob.model, pair.slave.body, pair.slave.name, pair.master)
+    pts, dofs = prob.model.node_dofs(prob.contact_boundary)
+    free = np.arange(prob.model.ndofs)
+    kin = MortarKinematics(mg, pts, dofs, dofs, pair.master, free)
+    assert isinstance(kin, ContactKinematics) and not kin.pointwise and kin.configuration == "reference"
+    u = np.random.default_rng(1).normal(size=prob.model.ndofs)
+    ev = kin.evaluate(u)
+    np.testing.assert_allclose(ev.g, mg.gap0 + mg.B @ u, rtol=0, atol=1e-14)
+    np.testing.assert_allclose(ev.gradient().toarray(), mg.B.toarray(), rtol=0, atol=0)
+    assert kin.gaps(u, np.array([1])) == pytest.approx(ev.g[1], abs=1e-14)

@@ -797,7 +797,7 @@ class _FiniteALCtx:
 
     @property
     def mu(self) -> float:
-        return self.fc.mu
+        return self.fc.coulomb.mu
 
     @property
     def uTn(self) -> np.ndarray:
@@ -904,11 +904,11 @@ def _step_ssn_finite(ctx: _FiniteALCtx, penalty_name: str = "none") -> _StepOut:
     k, d = cand.size, dc.dim
     w = dc.weights[cand]
     c = _ssn_parameter(dc)
-    mu = dc.mu
+    mu = dc.coulomb.mu
     nf = dc.free.size
     macaulay = make_law(_pen.make("rockafellar"), np.full(k, 1.0 / c))
-    saved = dc.eps_t, dc.coupled
-    dc.eps_t, dc.coupled = c, True
+    saved = dc.coulomb
+    dc.coulomb = saved.with_radius("traction", eps_t=c)  # the semi-smooth law: eps_T = c, radius mu t_N
     L = np.concatenate([np.maximum(lamN, 0.0)[:, None], lamT], axis=1)
     log: list[float] = []
     dc.residual_log.append(log)
@@ -1013,7 +1013,7 @@ def _step_ssn_finite(ctx: _FiniteALCtx, penalty_name: str = "none") -> _StepOut:
                      reversals=state_reversals(states + [final]))
         return _StepOut(True, "converged", ctx.forces(x, L), L.copy(), 1, out.iterations, z=x, last_state=loc)
     finally:
-        dc.eps_t, dc.coupled = saved
+        dc.coulomb = saved
 
 
 register_family((

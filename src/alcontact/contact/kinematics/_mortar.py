@@ -53,6 +53,7 @@ import scipy.sparse as sp
 from scipy.spatial import cKDTree
 
 from ..masters._mortar import BodySurface, boundary_segments, shape_functions
+from ._gap import GapEvaluation
 
 #: a slave node counts as covered by the master when the master overlaps at least this part of its support
 COVER_MIN = 0.5
@@ -265,3 +266,53 @@ def _assemble(model, slave_body, master, ss, ms, P, covered, D, search: float) -
     h = float(np.median(ss.lengths[seg_near]))
     return MortarGap(gap0=gap0, B=B, weights=D, normals=-n_node, covered=covered, h=h,
                      master_dofs=ms.dofs + off_m)
+
+
+class MortarKinematics:
+    r"""The mortar weighted gap as a :class:`~alcontact.contact.kinematics.ContactKinematics`.
+
+    Linearized at the reference configuration (small deformation), like
+    :class:`~alcontact.contact.kinematics.LinearizedGap`, but not pointwise: the row of slave
+    node ``j`` couples its own DOFs with those of the master segment nodes it sees
+    (:math:`g = g^0 + B u`, module doc). No Hessian: the gap is linear in ``u``.
+
+    Parameters
+    ----------
+    gap : MortarGap
+        The pair's weighted gaps and gap operator on every DOF of the model.
+    points, dofs, pos : ndarray
+        The slave nodes, their DOFs and the DOFs' positions in the free vector (``-1`` when fixed).
+    master : BodySurface
+        The master surface.
+    free : ndarray of int
+        The free DOFs (columns of :meth:`evaluate`'s gradient).
+    """
+
+    configuration = "reference"
+    pointwise = False
+
+    def __init__(self, gap: MortarGap, points, dofs, pos, master, free: np.ndarray):
+        self.mortar, self.points, self.dofs, self.pos, self.master = gap, points, dofs, pos, master
+        self._rows = gap.B[:, free].tocsr()
+        self._nfree = int(free.size)
+
+    def gaps(self, u: np.ndarray, idx: np.ndarray | None = None) -> np.ndarray:
+        if idx is None:
+            return self.mortar.gap0 + self.mortar.B @ u
+        return self.mortar.gap0[idx] + self.mortar.B[idx] @ u
+
+    def evaluate(self, u: np.ndarray, idx: np.ndarray | None = None, *, hessian: bool = False) -> GapEvaluation:
+        idx = np.arange(self.points.shape[0]) if idx is None else np.asarray(idx, dtype=np.int64)
+        d = self.pos.shape[1]
+        H = np.zeros((idx.size, d, d)) if hessian else None
+        return GapEvaluation(idx, self.gaps(u, idx), self.mortar.normals[idx], H, self.pos[idx], self._nfree,
+                             gradient=self._rows[idx])
+
+    def current(self, u: np.ndarray, idx: np.ndarray | None = None) -> np.ndarray:
+        if idx is None:
+            return self.points + u[self.dofs]
+        return self.points[idx] + u[self.dofs[idx]]
+
+    def against(self, master):
+        """A mortar gap is built for its master surface: another master needs a new pair."""
+        raise ValueError("a mortar gap belongs to its master surface; build the pair again for another master")

@@ -1,18 +1,22 @@
-r"""Contact points at small deformation: the linearized gap (6.15) and its data.
+r"""The common base of the contact systems: contact points, candidates, declared capabilities.
 
 At contact point ``i`` (a DOF location of the candidate boundary, reference position
-:math:`X_i`)
+:math:`X_i`, tributary length/area :math:`w_i`) the systems measure the gap with a
+:class:`~alcontact.contact.kinematics.ContactKinematics` object they hold as ``kinematics``:
+at small deformation the linearized gap (6.15)
 
 .. math::
 
-    g_i(u) = g^0_i - \nu_i \cdot u_i \le 0,
+    g_i(u) = g^0_i - \nu_i \cdot u_i \le 0
 
-where :math:`g^0_i` is the signed gap of :math:`X_i` and :math:`\nu_i` the obstacle's
-normal at its projection (pointing out of the obstacle); ``B`` has the rows
-:math:`-\nu_i^T` on the DOFs of point ``i`` and ``w_i`` is the tributary length/area.
-:class:`ContactPoints` holds this geometry and the candidates for every contact system
-(:mod:`alcontact.contact.systems`); :func:`tangent_bases` gives the orthonormal tangent
-directions of the Coulomb law (section 6.2) at each point.
+(:class:`~alcontact.contact.kinematics.LinearizedGap`; :class:`ContactPoints` keeps its
+reference gaps ``gap0``, normals and constant constraint rows ``B``, rows
+:math:`-\nu_i^T` on the free DOFs of point ``i``), at finite deformation the gap in the current
+configuration (:class:`~alcontact.contact.kinematics.CurrentGap`, set up by
+:class:`~alcontact.contact.systems.FiniteContact`). :class:`ContactPoints` also selects the
+candidates and holds the "not available" values of the optional members of
+:class:`~alcontact.contact.systems.ContactSystem`; :func:`tangent_bases` gives the orthonormal
+tangent directions of the Coulomb law (section 6.2) at each point.
 """
 
 from __future__ import annotations
@@ -20,10 +24,10 @@ from __future__ import annotations
 import logging
 
 import numpy as np
-import scipy.sparse as sp
 
 from ...errors import InputError
-from ._mortar import mortar_gap
+from ._gap import LinearizedGap
+from ._mortar import MortarKinematics, mortar_gap
 
 
 logger = logging.getLogger(__name__)
@@ -149,38 +153,35 @@ class ContactPoints:
         return u
 
     def _setup_points(self, problem, free: np.ndarray) -> None:
-        """Points, DOFs, weights, obstacle normals and gaps; ``pos``, ``B`` and ``movable`` for the DOFs ``free``.
+        """Points, DOFs, weights and the linearized gap (6.15) (``kinematics``) for the DOFs ``free``.
 
         ``pos`` (m, d): position of each point DOF in the free numbering (-1 when
-        supported); ``B``: rows :math:`-\\nu_i^T` on the free DOFs; ``movable``: the
-        normal motion is not fully supported (the point may be a candidate).
+        supported); ``gap0``, ``normals``, ``B``: the reference gaps, normals and constraint
+        rows :math:`-\\nu_i^T` of the kinematics (constant: its configuration is the reference
+        one); ``movable``: the normal motion is not fully supported (the point may be a candidate).
         """
         model = problem.model
         pts, dofs = model.node_dofs(problem.contact_boundary)
         self.mortar = mortar_of(problem)
-        if self.mortar is None:
-            w = model.boundary_weights(problem.contact_boundary)
-            gap0, nu = problem.obstacle.evaluate(pts)
-        else:  # a deformable master: the weighted gaps couple both bodies (kinematics._mortar)
-            w, gap0, nu = self.mortar.weights, self.mortar.gap0, self.mortar.normals
-        self.points, self.dofs, self.weights = pts, dofs, w
-        self.normals, self.gap0 = nu, gap0
         # position of each DOF in the free vector (-1 when fixed)
         free_pos = -np.ones(model.ndofs, dtype=np.int64)
         free_pos[free] = np.arange(free.size)
         pos = free_pos[dofs]  # (m, d)
-        self.pos = pos
-        coef = np.where(pos >= 0, -nu, 0.0)
-        self.movable = np.linalg.norm(coef, axis=1) > 1e-12
-        m = pts.shape[0]
+        #: the linearized gap (6.15) against the master, or a deformable master's mortar gap
+        #: (:class:`~alcontact.contact.kinematics.ContactKinematics`)
+        if self.mortar is None:
+            self.kinematics = kin = LinearizedGap(pts, dofs, pos, problem.obstacle, free.size)
+            w = model.boundary_weights(problem.contact_boundary)
+        else:  # the weighted gaps couple both bodies (kinematics._mortar)
+            self.kinematics = kin = MortarKinematics(self.mortar, pts, dofs, pos, problem.obstacle, free)
+            w = self.mortar.weights
+        # its configuration is the reference one: gaps, normals and constraint rows at u = 0 hold for every u
+        ref = kin.evaluate(np.zeros(model.ndofs))
+        self.points, self.dofs, self.weights = pts, dofs, w
+        self.normals, self.gap0, self.pos, self.B = ref.normals, ref.g, pos, ref.gradient()
+        self.movable = np.linalg.norm(np.where(pos >= 0, -ref.normals, 0.0), axis=1) > 1e-12
         if self.mortar is not None:
-            self.B = self.mortar.B[:, free].tocsr()
             self.movable = self.mortar.covered & (self.B.getnnz(axis=1) > 0)
-            return
-        rows = np.repeat(np.arange(m), self.dim)
-        cols = pos.ravel()
-        keep = cols >= 0
-        self.B = sp.csr_matrix((coef.ravel()[keep], (rows[keep], cols[keep])), shape=(m, free.size))
 
     def force_points(self, nodal: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         r"""``(dofs, forces)``, each ``(k, d)``: the contact force on the bodies of the normal nodal forces
@@ -238,9 +239,7 @@ class ContactPoints:
 
     def all_gaps(self, u: np.ndarray) -> np.ndarray:
         """Linearized gaps (6.15) of every contact-boundary point for displacement ``u``."""
-        if self.mortar is not None:
-            return self.gap0 + self.mortar.B @ u
-        return self.gap0 - np.einsum("ij,ij->i", self.normals, u[self.dofs])
+        return self.kinematics.gaps(u)
 
     def extend(self, g_all: np.ndarray, tol: float) -> np.ndarray:
         """Add the non-candidate points whose gap exceeds ``tol``; return the added ones."""

@@ -8,18 +8,20 @@
   penalty.
 - Coulomb: the return mapping (6.47)-(6.50) of the tangential traction onto the disc
   :math:`|t_T| \\le \\mu t_N` (:func:`return_mapping`, :func:`local_law`; states
-  ``OPEN`` / ``STICK`` / ``SLIP``).
+  ``OPEN`` / ``STICK`` / ``SLIP``); :class:`CoulombLaw` holds its data (:math:`\\mu`,
+  :math:`\\varepsilon_T`, the disc radius): the tangential part of a contact law, held by the
+  frictional system at finite deformation.
 - :func:`penalty_stiffness`: the automatic penalty :math:`E'/h` shared by every solve.
 
 Public names
 ------------
-NormalLaw, make_law, eta_for_stiffness, freezes_at_zero, Macaulay, return_mapping, local_law,
+NormalLaw, make_law, eta_for_stiffness, freezes_at_zero, Macaulay, CoulombLaw, return_mapping, local_law,
 tangential_energy, OPEN, STICK, SLIP, penalty_stiffness
 """
 
-from ._coulomb import OPEN, SLIP, STICK, Macaulay, local_law, return_mapping, tangential_energy
+from ._coulomb import OPEN, SLIP, STICK, CoulombLaw, Macaulay, local_law, return_mapping, tangential_energy
 from ._normal import NormalLaw, eta_for_stiffness, freezes_at_zero, make_law
 from ._stiffness import penalty_stiffness
 
-__all__ = ["NormalLaw", "make_law", "eta_for_stiffness", "freezes_at_zero", "Macaulay", "return_mapping", "local_law",
-           "tangential_energy", "OPEN", "STICK", "SLIP", "penalty_stiffness"]
+__all__ = ["NormalLaw", "make_law", "eta_for_stiffness", "freezes_at_zero", "Macaulay", "CoulombLaw", "return_mapping",
+           "local_law", "tangential_energy", "OPEN", "STICK", "SLIP", "penalty_stiffness"]

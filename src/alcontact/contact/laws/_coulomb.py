@@ -33,6 +33,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ...errors import InputError
+
 
 OPEN, STICK, SLIP = 0, 1, 2
 
@@ -51,6 +53,61 @@ class Macaulay:
 
     def dlam(self, g, lam):
         return np.where(lam + self.c * g > 0, 1.0, 0.0)
+
+
+#: radii of the Coulomb disc: ``"traction"`` :math:`\\mu t_N` (coupled to the normal law), ``"multiplier"``
+#: :math:`\\mu\\langle\\lambda_N\\rangle` (fixed within a subproblem)
+RADII = ("traction", "multiplier")
+
+
+@dataclass(frozen=True)
+class CoulombLaw:
+    r"""Coulomb's law as a return mapping (6.47)-(6.50): the tangential part of a contact law.
+
+    Parameters
+    ----------
+    mu : float
+        Friction coefficient :math:`\mu \ge 0`.
+    eps_t : float
+        Tangential penalty :math:`\varepsilon_T` of the trial traction
+        :math:`z = \lambda_T + \varepsilon_T \Delta u_T` (module doc).
+    radius : {"traction", "multiplier"}
+        Radius of the disc the trial traction is projected on: :math:`\mu t_N` (coupled to
+        the normal traction: the slip tangent has the :math:`\partial t_T/\partial g` term of the
+        module doc) or :math:`\mu\langle\lambda_N\rangle` (fixed within a subproblem of Algorithm 6.2).
+
+    Examples
+    --------
+    >>> law = CoulombLaw(mu=0.5, eps_t=100.0)
+    >>> law.disc_radius(tN=np.array([2.0, 0.0]), lamN=np.array([1.0, 1.0]))
+    array([1., 0.])
+    >>> law.with_radius("multiplier").disc_radius(tN=np.array([2.0, 0.0]), lamN=np.array([1.0, -1.0]))
+    array([0.5, 0. ])
+    """
+
+    mu: float
+    eps_t: float
+    radius: str = "traction"
+
+    def __post_init__(self):
+        if self.radius not in RADII:
+            raise InputError(f"radius = {self.radius!r:.40}: the Coulomb disc radius is one of {', '.join(RADII)} "
+                             "(option radius).")
+        object.__setattr__(self, "mu", float(self.mu))
+        object.__setattr__(self, "eps_t", float(self.eps_t))
+
+    @property
+    def coupled(self) -> bool:
+        """Whether the disc radius is :math:`\\mu t_N` (it moves with the normal traction)."""
+        return self.radius == "traction"
+
+    def disc_radius(self, tN: np.ndarray, lamN: np.ndarray) -> np.ndarray:
+        """Radius :math:`\\rho` of the Coulomb disc per point: :math:`\\mu t_N` or :math:`\\mu\\langle\\lambda_N\\rangle`."""
+        return self.mu * (tN if self.coupled else np.maximum(lamN, 0.0))
+
+    def with_radius(self, radius: str, eps_t: float | None = None) -> "CoulombLaw":
+        """The same law with another disc ``radius`` (and tangential penalty ``eps_t``)."""
+        return CoulombLaw(self.mu, self.eps_t if eps_t is None else eps_t, radius)
 
 
 def return_mapping(z: np.ndarray, rho: np.ndarray):

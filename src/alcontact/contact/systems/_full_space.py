@@ -14,7 +14,8 @@ integral, as on the small-deformation path). Its current position is
 
 with :math:`\nu` the obstacle normal at the projection of :math:`x_i` and :math:`H` the
 Hessian of the signed distance (the curvature of the obstacle surface, zero for a
-plane); the small-deformation gap (6.15) is its linearization at :math:`u = 0`. Large
+plane); the small-deformation gap (6.15) is its linearization at :math:`u = 0`. These are
+evaluated by the system's :class:`~alcontact.contact.kinematics.CurrentGap` (``kinematics``). Large
 sliding needs nothing more: the projection is recomputed at every evaluation.
 
 Subproblem (S) of Algorithms 6.1 / 6.3 and the pure penalty (same laws
@@ -197,8 +198,9 @@ from ...linalg import SequenceSolver
 from ...status import Status
 from ..algorithms._subproblem import (LineSearch, NewtonOutcome, NewtonResult, NewtonSettings, NewtonSystem,
                                       newton, subproblem_outcome)
+from ..kinematics._gap import CurrentGap, point_blocks
 from ..kinematics._points import ContactPoints
-from ..laws._coulomb import OPEN, SLIP, STICK, return_mapping
+from ..laws._coulomb import OPEN, SLIP, STICK, CoulombLaw, return_mapping
 from ..masters.obstacles import frame, surface_slip
 from ._krylov import _NEWTON_TOL_FLOOR
 from ._layout import NewtonLayout
@@ -323,9 +325,21 @@ class FiniteContact(ContactPoints):
     slide_start_reach : float
         After the slide predictor, the penalty start of Algorithm 6.3 shifts only the points open by
         at most this fraction of ``h`` (:meth:`entry_multipliers`; option ``slide_start_reach``).
+    kinematics : callable, optional
+        ``kinematics(points, dofs, pos, master, n_free)`` returns the
+        :class:`~alcontact.contact.kinematics.ContactKinematics` of the contact points (default
+        :class:`~alcontact.contact.kinematics.CurrentGap`; with
+        :class:`~alcontact.contact.kinematics.LinearizedGap` the same Newton solves the
+        small-deformation contact problem).
 
     Attributes
     ----------
+    kinematics : ~alcontact.contact.kinematics.CurrentGap
+        The gap in the current configuration, its constraint rows and curvature (module doc),
+        measured against the step's master :attr:`obstacle`. A kinematics that declares
+        ``pointwise = False`` (its gaps couple several points, e.g. mortar) is assembled from
+        its sparse gradient and curvature; a pointwise one fills its ``d x d`` blocks into the
+        fixed structure of :class:`NewtonLayout`.
     points, dofs, weights : ndarray
         Reference positions, DOFs and reference tributary weights of all contact-boundary points.
     normals : ndarray (m, d)
@@ -367,7 +381,7 @@ class FiniteContact(ContactPoints):
     penalty_continuation = True
 
     def __init__(self, problem, *, margin: float = 2.0, fixed=None, solver=None, predictor: str = "auto",
-                 slide_start_reach: float = 0.05):
+                 slide_start_reach: float = 0.05, kinematics=CurrentGap):
         t0 = time.perf_counter()
         if predictor not in PREDICTORS:
             raise InputError(f"predictor = {predictor!r:.40}: expected one of {', '.join(PREDICTORS)}.")
@@ -396,7 +410,8 @@ class FiniteContact(ContactPoints):
         self.pos = free_pos[dofs]  # (m, d), -1 on fixed DOFs
         self.movable = np.any(self.pos >= 0, axis=1)
         self._movable_pts = np.flatnonzero(self.movable)
-        self.obstacle = problem.obstacle
+        #: the gap in the current configuration against the master (:attr:`obstacle`, moved by :meth:`configure`)
+        self.kinematics = kinematics(pts, dofs, self.pos, problem.obstacle, self.free.size)
         self.h = self._element_size()
         self.linear_solves = 0
         self.newton_iterations = 0
@@ -567,7 +582,7 @@ class FiniteContact(ContactPoints):
         uk = np.zeros(self.model.ndofs)
         uk[self.free] = x
         uk[self.fixed] = fv_old
-        return obstacle.gap(self.points + u[self.dofs]) - ob_old.gap(self.points + uk[self.dofs])
+        return self.kinematics.against(obstacle).gaps(u) - self.kinematics.against(ob_old).gaps(uk)
 
     def _predictor_obstacle(self, obstacle):
         """The obstacle the tangent predictor linearizes with: ``obstacle``, or the last accepted one
@@ -659,15 +674,14 @@ class FiniteContact(ContactPoints):
         u = np.zeros(self.model.ndofs)
         u[self.free] = x
         u[self.fixed] = fv_old
-        xc = self._current(u, pressed)
-        dg = obstacle.gap(xc) - ob_old.gap(xc)  # gap change from the obstacle motion alone
+        old = self.kinematics.against(ob_old)
+        dg = self.kinematics.against(obstacle).gaps(u, pressed) - old.gaps(u, pressed)  # from the obstacle motion alone
         if not (np.any(du_d) or np.any(df) or np.any(dg)):
             return x
         try:
             K = self.body.tangent(u).tocsr()
             Kf = K[self.free]
-            _, nu = ob_old.evaluate(xc)
-            Bm = self._B(nu, pressed)
+            Bm = old.evaluate(u, pressed).gradient()
             k = eps * self.weights[pressed]
             J = Kf[:, self.free] + Bm.T @ sp.diags(k) @ Bm
             rhs = df[self.free] - Kf[:, self.fixed] @ du_d - Bm.T @ (k * dg)
@@ -691,44 +705,31 @@ class FiniteContact(ContactPoints):
         return x
 
     # ------------------------------------------------------------------ kinematics
+    @property
+    def obstacle(self):
+        """The master of the load step (that of :attr:`kinematics`; :meth:`configure` moves it)."""
+        return self.kinematics.master
+
+    @obstacle.setter
+    def obstacle(self, master) -> None:
+        self.kinematics.master = master
+
     def _current(self, u: np.ndarray, idx: np.ndarray) -> np.ndarray:
-        return self.points[idx] + u[self.dofs[idx]]
+        return self.kinematics.current(u, idx)
 
     def all_gaps(self, u: np.ndarray) -> np.ndarray:
         """Gaps :math:`\\operatorname{gap}(X_i + u_i)` of every contact-boundary point (normals updated)."""
-        g, nu = self.obstacle.evaluate(self.points + u[self.dofs])
-        self.normals = nu
-        return g
+        ev = self.kinematics.evaluate(u)
+        self.normals = ev.normals
+        return ev.g
 
     def gaps(self, x: np.ndarray) -> np.ndarray:
         """Gaps of the candidates for the free displacement ``x``."""
-        return self.obstacle.gap(self._current(self.expand(x), self.cand))
-
-    def _kinematics(self, u: np.ndarray, idx: np.ndarray, hessian: bool):
-        xc = self._current(u, idx)
-        g, nu = self.obstacle.evaluate(xc)
-        H = self.obstacle.gap_hessian(xc) if hessian else None
-        return g, nu, H
-
-    def _B(self, nu: np.ndarray, idx: np.ndarray) -> sp.csr_matrix:
-        """Rows :math:`-\\nu_i^T` on the free DOFs of the points ``idx``."""
-        pos = self.pos[idx]
-        k = idx.size
-        rows = np.repeat(np.arange(k), self.dim)
-        cols = pos.ravel()
-        keep = cols >= 0
-        return sp.csr_matrix(((-nu).ravel()[keep], (rows[keep], cols[keep])), shape=(k, self.free.size))
+        return self.kinematics.gaps(self.expand(x), self.cand)
 
     def _point_blocks(self, idx: np.ndarray, blocks: np.ndarray) -> sp.csr_matrix:
         """Sparse sum of the ``d x d`` blocks of the points ``idx`` on their free DOFs."""
-        d = self.dim
-        pos = self.pos[idx]  # (k, d)
-        r = np.repeat(pos, d, axis=1).ravel()
-        c = np.tile(pos, (1, d)).ravel()
-        v = blocks.reshape(idx.size, d * d).ravel()
-        keep = (r >= 0) & (c >= 0) & (v != 0)
-        nf = self.free.size
-        return sp.csr_matrix((v[keep], (r[keep], c[keep])), shape=(nf, nf))
+        return point_blocks(self.pos[idx], blocks, self.free.size)
 
     # ------------------------------------------------------------------ body
     def _body_state(self, u: np.ndarray, energy: bool):
@@ -848,25 +849,28 @@ class FiniteContact(ContactPoints):
         r""":math:`R(x) = f_{int}(u) - f_{ext} + B(u)^T (w \circ t_N(g(u)))` on the free DOFs (module doc)."""
         u = self.expand(x)
         rb, _ = self._body_state(u, False)
-        g, nu, _ = self._kinematics(u, self.cand, False)
-        t = law.traction(g, lam)
-        return rb[self.free] + self._B(nu, self.cand).T @ (self.weights[self.cand] * t)
+        ev = self.kinematics.evaluate(u, self.cand)
+        t = law.traction(ev.g, lam)
+        return rb[self.free] + ev.gradient().T @ (self.weights[self.cand] * t)
 
     def jacobian(self, law, lam, x: np.ndarray) -> sp.csr_matrix:
         r"""Consistent tangent :math:`J(x) = \partial R/\partial x` with the curvature term (module doc)."""
         u = self.expand(x)
-        g = self.obstacle.gap(self._current(u, self.cand))
+        g = self.kinematics.gaps(u, self.cand)
         return self._newton_matrix(u, law.traction(g, lam), law.stiffness(g, lam))
 
     def _newton_matrix(self, u, t, D) -> sp.csr_matrix:
         r""":math:`K_T + B^T \operatorname{diag}(w D) B + \sum_i w_i t_i H_i` at ``u`` (candidates)."""
         cand = self.cand
         w = self.weights[cand]
-        _, nu, H = self._kinematics(u, cand, True)
+        ev = self.kinematics.evaluate(u, cand, hessian=True)
+        nu, H = ev.normals, ev.hessian
         layout, data = self._free_tangent_data(u)
-        if layout is None:
-            Bm = self._B(nu, cand)
-            return (data + Bm.T @ sp.diags(w * D) @ Bm + self._point_blocks(cand, (w * t)[:, None, None] * H)).tocsr()
+        if layout is None or not self.kinematics.pointwise:
+            # the gap's gradient and curvature as sparse matrices (a kinematics coupling several points)
+            Bm = ev.gradient()
+            K = data if layout is None else layout.matrix(data)
+            return (K + Bm.T @ sp.diags(w * D) @ Bm + ev.curvature(w * t)).tocsr()
         # B^T diag(w D) B is the block (-nu_i w_i D_i)(-nu_i)^T of every point (the products of the sparse
         # product, in its order), added before the curvature blocks as the sparse sum did
         layout.add_blocks(data, cand, ((-nu) * (w * D)[:, None])[:, :, None] * (-nu)[:, None, :])
@@ -980,8 +984,7 @@ class FiniteContact(ContactPoints):
         factor is at hand or the iteration breaks down.
         """
         pts = self.cand[act]
-        _, nu, _ = self._kinematics(u_state, pts, False)
-        Bm = self._B(nu, pts)
+        Bm = self.kinematics.evaluate(u_state, pts).gradient()
         w = self.weights[pts]
 
         def S(v):
@@ -1140,11 +1143,11 @@ class FiniteContact(ContactPoints):
         pts = self._movable_pts
         on = np.zeros(pts.size, dtype=bool)
         on[self._saddle_rows()] = active
-        _, nu, _ = self._kinematics(u, pts, False)
+        ev = self.kinematics.evaluate(u, pts)
         layout = getattr(self, "_layout", None)
-        if layout is not None and layout.built_here(Kt):
-            return layout.saddle(Kt.data, nu, on)  # the same matrix on its fixed structure
-        Bc = self._B(nu * on[:, None], pts)
+        if layout is not None and layout.built_here(Kt) and self.kinematics.pointwise:
+            return layout.saddle(Kt.data, ev.normals, on)  # the same matrix on its fixed structure
+        Bc = ev.gradient(on)
         nc = pts.size
         D = sp.csr_matrix(((~on).astype(float), np.arange(nc), np.arange(nc + 1)), shape=(nc, nc))
         return sp.bmat([[Kt, Bc.T], [Bc, D]], format="csc")
@@ -1219,9 +1222,10 @@ class _Subproblem(NewtonSystem):
         need_energy = self.use_energy is not False
         u = fc.expand(x)
         r_body, e_body = fc._body_state(u, need_energy)
-        g, nu, _ = fc._kinematics(u, cand, False)
+        ev = fc.kinematics.evaluate(u, cand)
+        g = ev.g
         t = self.law.traction(g, self.lam)
-        R = r_body[fc.free] + fc._B(nu, cand).T @ (w * t)
+        R = r_body[fc.free] + ev.gradient().T @ (w * t)
         inside = True
         pi = np.nan
         if need_energy:
@@ -1331,8 +1335,9 @@ class _EqualityNewton(NewtonSystem):
         x, r = self.split(z)
         u = fc.expand(x)
         rb, _ = fc._body_state(u, False)
-        gA, nu, _ = fc._kinematics(u, self.A, False)
-        R = rb[fc.free] + fc._B(nu, self.A).T @ r
+        ev = fc.kinematics.evaluate(u, self.A)
+        gA = ev.g
+        R = rb[fc.free] + ev.gradient().T @ r
         return u, gA, R, r, rb, np.concatenate([R, gA])
 
     def residual(self, state):
@@ -1349,8 +1354,10 @@ class _EqualityNewton(NewtonSystem):
         fc, A = self.fc, self.A
         u, gA, R, r, _, _ = state
         ta = time.perf_counter()
-        _, _, H = fc._kinematics(u, A, True)
-        J = fc._saddle_matrix(u, fc._tangent_blocks(u, A, r[:, None, None] * H), self.active)
+        ev = fc.kinematics.evaluate(u, A, hessian=True)
+        Kt = (fc._tangent_blocks(u, A, r[:, None, None] * ev.hessian) if fc.kinematics.pointwise
+              else (fc._tangent_free(u) + ev.curvature(r)).tocsr())
+        J = fc._saddle_matrix(u, Kt, self.active)
         tb = time.perf_counter()
         fc.assembly_seconds += tb - ta
         rhs_g = np.zeros(J.shape[0] - self.nf)
@@ -1510,9 +1517,8 @@ class FiniteFrictionContact(FiniteContact):
         """
         self.y_prev = np.asarray(y_prev, dtype=float)
         self.place()
-        self.mu = float(mu)
-        self.eps_t = float(eps_t)
-        self.coupled = radius == "traction"
+        #: the tangential part of the contact law (Coulomb, the return mapping (6.47)-(6.50))
+        self.coulomb = CoulombLaw(mu, eps_t, radius)
 
     def place(self) -> None:
         """Read the placement :math:`x = Qy + b` of the current obstacle (:func:`~.obstacles.frame`)."""
@@ -1539,12 +1545,12 @@ class FiniteFrictionContact(FiniteContact):
         y_prev = self.y_prev[idx] @ self.rotation.T + self.offset
         slip, dslip = surface_slip(self.obstacle, xc, y_prev, jacobian=blocks)
         nl = np.einsum("ij,ij->i", nu, lamT)
-        z = lamT - nl[:, None] * nu + self.eps_t * slip
+        z = lamT - nl[:, None] * nu + self.coulomb.eps_t * slip
         if not blocks:
             return z, slip, None, None
         H = self.obstacle.gap_hessian(xc)
         Hl = np.einsum("ijk,ik->ij", H, lamT)
-        dz = nl[:, None, None] * H + nu[:, :, None] * Hl[:, None, :] + self.eps_t * dslip
+        dz = nl[:, None, None] * H + nu[:, :, None] * Hl[:, None, :] + self.coulomb.eps_t * dslip
         return z, slip, dz, H
 
     # ------------------------------------------------------------------ local law
@@ -1558,14 +1564,14 @@ class FiniteFrictionContact(FiniteContact):
             # outside the domain of a barrier-type penalty (a line-search trial that its non-finite
             # residual rejects, or a start the AL loop reports): no tangential traction
             return g, nu, tN, np.full_like(z, np.nan), slip, np.full(idx.size, OPEN), None
-        rho = self.mu * (tN if self.coupled else np.maximum(lamN, 0.0))
+        rho = self.coulomb.disc_radius(tN, lamN)
         tT, opened, stick, slipping, n, dproj = return_mapping(z, rho)
         state = np.where(opened, OPEN, np.where(stick, STICK, SLIP))
         if not blocks:
             return g, nu, tN, tT, slip, state, None
         dT = dproj @ dz
-        if self.coupled:
-            dT = dT - np.where(slipping[:, None, None], self.mu * kN[:, None, None] * n[:, :, None] * nu[:, None, :],
+        if self.coulomb.coupled:
+            dT = dT - np.where(slipping[:, None, None], self.coulomb.mu * kN[:, None, None] * n[:, :, None] * nu[:, None, :],
                                0.0)
         K = kN[:, None, None] * nu[:, :, None] * nu[:, None, :] + tN[:, None, None] * H + dT
         return g, nu, tN, tT, slip, state, K

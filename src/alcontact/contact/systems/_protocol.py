@@ -19,6 +19,19 @@ the base of every model; the algorithms never ask whether a member exists. What 
 small and finite deformation is therefore visible here, as declared members, and the user's
 choices are options (:class:`~alcontact.contact.ContactOptions`).
 
+What the kinematics declares and what the strategy declares. Every model holds its gap as a
+:class:`~alcontact.contact.kinematics.ContactKinematics` object (``kinematics``: the linearized
+gap (6.15) at small deformation, the gap in the current configuration at finite deformation)
+and takes every gap, constraint row and curvature term from it; Algorithms 6.1 / 6.3 are the
+same code on both. The capabilities below are not facts of the gap but of the strategy that
+solves the subproblems, and stay declared by the model: :attr:`ContactSystem.physical_stopping`
+holds where :meth:`ContactSystem.multiplier_step` is a second-order update (it needs the factor
+of the full Newton matrix of (S), which the full-space Newton keeps);
+:attr:`ContactSystem.warm_penalty_start` and :attr:`ContactSystem.penalty_continuation` need a
+load-step predictor and the state of the last accepted step (the load-stepped full-space model);
+:attr:`ContactSystem.inexact_subproblems` holds where a Newton iteration costs an assembly or a
+V-cycle (the full-space Newton, and the large AMG model at small deformation as well).
+
 Sign convention: :math:`g \le 0` is feasible (no penetration); multipliers and tractions are
 pressures :math:`\lambda_N, t_N \ge 0`. Arrays over "the candidates" have one entry per
 point of :attr:`ContactSystem.cand`; a *state* is whatever the model iterates on (condensed
