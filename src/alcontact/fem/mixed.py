@@ -32,8 +32,11 @@ incompressible solid, :math:`p` the Lagrange multiplier of :math:`J = 1`
 (positive in tension, :math:`\sigma = \bar\sigma + p I`).
 
 The discretization is Taylor-Hood: vector P2 displacement and continuous P1 pressure
-on triangles (plane strain, :math:`F_{33} = 1`) or tetrahedra, inf-sup stable, so
-the pressure neither locks nor oscillates. The unknown vector is
+on triangles (plane strain, :math:`F_{33} = 1`; or a body of revolution in the r-z
+half-plane, :math:`F_{33} = 1 + u_r/r` and the weight :math:`2\pi r`,
+:mod:`alcontact.fem._geometry`) or tetrahedra, inf-sup stable, so the pressure neither
+locks nor oscillates. On a curved second-order mesh (``MeshTri2``/``MeshTet2``) both
+fields live on its isoparametric map (the P1 pressure on the vertices). The unknown vector is
 ``x = [u, p]``, the displacement DOFs (numbered as in a P2
 :class:`~alcontact.fem.Hyperelastic` on the same mesh) first, then ``npressure``
 pressure DOFs (one per vertex): Dirichlet data, node DOFs, boundary weights and load
