@@ -1,6 +1,6 @@
 """Verification: the mixed u-p body on curved second-order meshes and on bodies of revolution.
 
-1. Curved (isoparametric) P2 geometry: homogeneous plane-strain compression of an incompressible
+1. Curved (isoparametric) P2 geometry (and, in 3D, a curved MeshTet2 cube): homogeneous compression of an incompressible
    neo-Hookean block (the problem of ``test_mixed_incompressible.py``) on a ``MeshTri2`` whose interior
    edge nodes are moved off the midpoints by a smooth bump (curved elements, straight boundary).
    Linear displacements lie in the isoparametric P2 space and the constant pressure in P1, so the
@@ -74,6 +74,35 @@ def test_incompressible_block_on_curved_mesh_exact(lam):
     assert np.abs(F[..., 0, 1]).max() <= 1e-10 and np.abs(F[..., 1, 0]).max() <= 1e-10
     assert np.abs(p - p_exact).max() <= 1e-10 * abs(p_exact)
     assert abs(force - MU * (lam - lam**-3) * W) <= 1e-10 * abs(MU * (lam - lam**-3) * W)
+
+
+def test_incompressible_block_on_curved_tetra10_mesh_exact():
+    """3D: a unit cube of ``MeshTet2`` with its interior edge nodes moved (curved tetrahedra), rollers on
+    x = 0, y = 0, z = 0, the top y = 1 moved by ``lambda - 1``: ``F = diag(a, lambda, a)``,
+    ``a = lambda^(-1/2)``, ``p = mu (I1/3 - a^2)``, top force ``mu (lambda - lambda^-2)``; to 1e-10."""
+    lam = 0.8
+    m2 = skfem.MeshTet2.from_mesh(skfem.MeshTet.init_tensor(*(np.linspace(0.0, 1.0, 3),) * 3))
+    p = m2.doflocs.copy()
+    nv = int(m2.t.max()) + 1
+    x = p[:, nv:]
+    p[:, nv:] += 0.04 * np.prod(np.sin(np.pi * x), axis=0) * np.array([[1.0], [0.6], [-0.8]])
+    tol = 1e-9
+    mesh = dataclasses.replace(m2, doflocs=p, _boundaries=None).with_boundaries({
+        "x0": lambda X: X[0] < tol, "y0": lambda X: X[1] < tol, "z0": lambda X: X[2] < tol,
+        "top": lambda X: X[1] > 1 - tol})
+    body = MixedHyperelastic(mesh, E=3.0 * MU, nu=0.5)
+    assert type(body.mesh) is skfem.MeshTet2 and body.npressure == 27
+    top = body.dirichlet("top", [1], lam - 1.0)
+    x = body.solve(np.zeros(body.ndofs_u), [body.dirichlet("x0", [0]), body.dirichlet("y0", [1]),
+                                            body.dirichlet("z0", [2]), top], steps=2)
+    F = body.deformation_gradient(x)
+    _, pr = body.split(x)
+    a = lam**-0.5
+    p_exact = MU * ((2.0 * a * a + lam * lam) / 3.0 - a * a)
+    assert np.abs(F - np.diag([a, lam, a])).max() <= 1e-10
+    assert np.abs(pr - p_exact).max() <= 1e-10 * abs(p_exact)
+    force = MU * (lam - lam**-2)
+    assert abs(float(body.internal_force(x)[top[0]].sum()) - force) <= 1e-10 * abs(force)
 
 
 @pytest.mark.parametrize("lam", [0.7, 1.2])
