@@ -16,7 +16,7 @@ from alcontact.runner import run_setup
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 NAMES = ["hertz_2d", "hertz_3d", "flat_punch", "signorini_liftoff", "sliding_block", "cattaneo_mindlin",
          "finite_half_cylinder", "finite_ironing", "finite_ironing_friction", "finite_mooney_rivlin",
-         "rubber_ball_axisym"]
+         "rubber_ball_axisym", "seal_oring"]
 
 
 def _run(name):
@@ -246,3 +246,24 @@ def test_rubber_ball_axisym_equals_the_python_api():
     assert s["step_newton_iterations"] == [st.newton_iterations for st in api.steps]
     np.testing.assert_allclose(s["step_contact_force"], api.forces, rtol=1e-9, atol=1e-9 * abs(api.forces).max())
     assert s["cutbacks"] == 0 and len(res.frames) == 10
+
+
+def test_seal_oring_mixed_axisymmetric_squeeze_without_cutback():
+    """The O-ring in its groove (issue 25): nu = 0.4999 Mooney-Rivlin, mixed u-p body of revolution on the
+    curved mesh, squeezed 25 % by the cover in ten steps: at most 8 Newton iterations per step and no
+    cut-back (measured 6 6 4 3 4 3 3 4 3 3); the cover (axial force) and the outer wall (radial force,
+    inwards) both carry load, the axial force grows at every step."""
+    setup, res = _run("seal_oring")
+    s = res.summary
+    body = setup.problem.model
+    assert s["formulation"] == "mixed" and body.axisymmetric and body.nu == 0.4999
+    assert type(body.mesh).__name__ == "MeshTri2"
+    from alcontact.problems.oring import oring_mesh  # the file is written from it (the example's header)
+
+    np.testing.assert_allclose(body.mesh.doflocs, oring_mesh(8).doflocs, rtol=0, atol=1e-14)
+    assert s["cutbacks"] == 0 and len(s["step_newton_iterations"]) == 10
+    assert max(s["step_newton_iterations"]) <= 8, s["step_newton_iterations"]
+    fz = np.array([f[1] for f in s["step_contact_force"]])
+    assert np.all(np.diff(fz) < 0) and fz[0] < 0  # the cover pushes down (-z), more at every step
+    fr, fz_end = s["final_contact_force"]
+    assert fr < -0.01 * abs(fz_end)  # the outer wall pushes the ring inwards

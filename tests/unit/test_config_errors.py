@@ -63,7 +63,9 @@ CASES = [
      ["solver.maxiter", "'ten'", "expected an integer", "without quotes"]),
     ("float-for-int", BASE + "maxiter = 10.5\n", ["solver.maxiter", "10.5", "whole number"]),
     ("out-of-range", BASE + "penalty_scale = -1.0\n", ["solver.penalty_scale", "-1.0", "out of range", "> 0"]),
-    ("nu-half", _sub("nu = 0.3", "nu = 0.5"), ["material.nu", "0.5", "out of range", "(-1, 0.5)"]),
+    # nu = 0.5 is the exactly incompressible solid: the mixed body only (finite kinematics, P2)
+    ("nu-half", _sub("nu = 0.3", "nu = 0.5"), ["material.nu", "0.5", "mixed", "use nu < 0.5"]),
+    ("nu-above-half", _sub("nu = 0.3", "nu = 0.6"), ["material.nu", "0.6", "out of range", "(-1, 0.5]"]),
     ("E-zero", _sub("E = 1000.0", "E = 0"), ["material.E", "out of range", "> 0"]),
     ("E-inf", _sub("E = 1000.0", "E = inf"), ["material.E", "finite"]),
     ("bad-choice", _sub('algorithm = "simo-laursen"', 'algorithm = "simo-laursn"'),

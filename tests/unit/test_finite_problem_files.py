@@ -46,8 +46,10 @@ def _tangled(tmp_path: Path) -> str:
 
 
 CASES = {
-    "nu": (lambda tmp: EXAMPLE.replace("nu = 0.3", "nu = 0.5"),
-           ["material.nu = 0.5", "out of range, must be in (-1, 0.5)"]),
+    "nu": (lambda tmp: EXAMPLE.replace("nu = 0.3", "nu = 0.5"),  # exactly incompressible: mixed P2 body only
+           ["material.nu = 0.5", "mixed", "mesh.order = 2", "use nu < 0.5"]),
+    "nu-above-half": (lambda tmp: EXAMPLE.replace("nu = 0.3", "nu = 0.6"),
+                      ["material.nu = 0.6", "out of range, must be in (-1, 0.5]"]),
     "model": (lambda tmp: EXAMPLE.replace('model = "neo-hookean"', 'model = "neo-hooke"'),
               ["material.model = 'neo-hooke'", "Did you mean 'neo-hookean'?", "'saint-venant-kirchhoff'"]),
     "kinematics": (lambda tmp: EXAMPLE.replace(KIN, '\nkinematics = "large"\n'),

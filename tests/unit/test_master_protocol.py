@@ -30,6 +30,8 @@ SAMPLES = {
     "cylinder-cavity": dict(center=[0.0, 0.1, 0.0], axis=[0.0, 0.0, 1.0], radius=1.0),
     "convex-polygon": dict(vertices=[[-1.0, -1.5], [1.0, -1.0], [0.5, 0.5], [-0.8, 0.2]]),
     "convex-polyhedron": dict(vertices=CUBE),
+    "convex-polygon-cavity": dict(vertices=[[-1.0, -1.5], [1.0, -1.0], [0.5, 0.5], [-0.8, 0.2]]),
+    "convex-polyhedron-cavity": dict(vertices=CUBE),
     "user": dict(gap=lambda x: x[:, 1] - 0.3, dim=2),
 }
 
@@ -141,3 +143,20 @@ def test_bounding_box_of_an_axis_normal_plane_is_flat_along_that_axis():
 def test_bounding_box_bad_dimension_is_an_input_error(d):
     with pytest.raises(InputError, match="bounding_box: d ="):
         obstacles.make("circle", center=[0.0, 0.0], radius=1.0).bounding_box(d)
+
+
+@pytest.mark.parametrize("d, kw", [(2, SAMPLES["convex-polygon-cavity"]), (3, SAMPLES["convex-polyhedron-cavity"])])
+def test_cavity_is_the_complement_of_the_polytope(d, kw):
+    """A polytope cavity (body inside) has minus the polytope's signed distance, normal and Hessian
+    everywhere: inside (free, gap <= 0) and outside (penetration, the exact distance to the polytope)."""
+    base = "convex-polygon" if d == 2 else "convex-polyhedron"
+    solid, cavity = obstacles.make(base, **kw), obstacles.make(f"{base}-cavity", **kw)
+    assert cavity.name == f"{base}-cavity" and "body inside" in cavity.describe()
+    x = np.random.default_rng(3).uniform(-2.5, 2.5, size=(500, d))
+    g, n = cavity.evaluate(x)
+    g0, n0 = solid.evaluate(x)
+    assert np.any(g < 0) and np.any(g > 0)
+    np.testing.assert_array_equal(g, -g0)
+    np.testing.assert_array_equal(n, -n0)
+    np.testing.assert_array_equal(cavity.gap_hessian(x), -solid.gap_hessian(x))
+    np.testing.assert_array_equal(cavity.bounding_box(d)[0], solid.bounding_box(d)[0])

@@ -117,3 +117,62 @@ def test_failures_are_named():
         body.tangent(np.zeros(3))
     with pytest.raises(ConvergenceError, match="load steps"):  # one Newton iteration cannot reach 1e-10
         body.solve(body.traction_load("right", [0.5, 0.2]), [body.dirichlet("left")], max_iter=1)
+
+
+def _curved_square(n=2, amplitude=0.06):
+    """A second-order mesh of the unit square whose interior edge nodes are moved off the edge
+    midpoints (curved elements, straight boundary), with the rectangle's boundary names."""
+    import dataclasses
+
+    m2 = skfem.MeshTri2.from_mesh(meshes.rectangle(0, 1, 0, 1, n, n))
+    p = m2.doflocs.copy()
+    nv = int(m2.t.max()) + 1
+    bump = amplitude * np.sin(np.pi * p[0, nv:]) * np.sin(np.pi * p[1, nv:])
+    p[:, nv:] += bump * np.array([[1.0], [0.6]])
+    tol = 1e-9
+    return dataclasses.replace(m2, doflocs=p, _boundaries=None).with_boundaries({
+        "left": lambda x: x[0] < tol, "right": lambda x: x[0] > 1 - tol,
+        "bottom": lambda x: x[1] < tol, "top": lambda x: x[1] > 1 - tol})
+
+
+@pytest.mark.parametrize("nu", [0.5, 0.45])
+@pytest.mark.parametrize("model", ["neo-hookean", MooneyRivlin(c10=0.35, c01=0.15)])
+def test_axisymmetric_tangent_matches_finite_differences(nu, model):
+    """Body of revolution: the hoop terms of the residual and tangent (3x3 F, 2 pi r weights)."""
+    mesh = meshes.rectangle(0.0, 1.0, 0.0, 1.0, 2, 2)  # touches the axis r = 0
+    body = MixedHyperelastic(mesh, E=2.0 * (1 + nu), nu=nu, model=model, geometry="axisymmetric")
+    assert body.axisymmetric and body.intorder == 4 and body.axis_dofs.size == 5
+    x = _random_state(body, 3)
+    # a smooth nonlinear displacement with u_r = 0 on the axis (the hoop stretch 1 + u_r / r stays positive)
+    x[: body.ndofs_u] = body.interpolate(lambda X: np.stack([X[0] * (0.1 * np.sin(2 * X[1]) - 0.05 * X[0]),
+                                                             0.08 * X[0] ** 2 - 0.1 * X[1] * X[0]]))
+    assert body.deformation_gradient(x).shape[-2:] == (3, 3)
+    K = body.tangent(x).toarray()
+    assert np.abs(K - _fd_columns(body.internal_force, x)).max() <= 1e-7 * np.abs(K).max()
+    assert np.array_equal(K, K.T)
+    g = _fd_columns(lambda v: np.array([body.functional(v)]), x)[0]
+    assert np.abs(g - body.internal_force(x)).max() <= 1e-7 * np.abs(g).max()
+
+
+def test_axisymmetric_weights_are_the_revolved_volume():
+    """The pressure rows at x = 0 are -(1/kappa) int p q dV = 0 and at p = 0 give int (J - 1) q 2 pi r dr dz:
+    with a uniform radial stretch u_r = e r (J = (1 + e)^2), their sum is ((1 + e)^2 - 1) pi R^2 H."""
+    R, H, e = 2.0, 0.5, 0.01
+    body = MixedHyperelastic(meshes.rectangle(0.0, R, 0.0, H, 3, 2), E=3.0, nu=0.5, geometry="axisymmetric")
+    x = np.zeros(body.ndofs)
+    x[: body.ndofs_u] = body.interpolate(lambda X: np.stack([e * X[0], 0.0 * X[1]]))
+    rp = body.internal_force(x)[body.ndofs_u:]
+    assert rp.sum() == pytest.approx(((1 + e) ** 2 - 1) * np.pi * R**2 * H, rel=1e-12)
+
+
+def test_curved_mesh_keeps_its_map():
+    mesh = _curved_square()
+    body = MixedHyperelastic(mesh, E=3.0, nu=0.5)
+    assert type(body.mesh) is skfem.MeshTri2 and body.intorder == 4
+    assert body.npressure == 9 and body.ndofs_u == 50  # pressure on the vertices only
+    x = _random_state(body, 4)
+    x[: body.ndofs_u] *= 0.3  # the curved elements' gradients are larger: keep J > 0
+    K = body.tangent(x).toarray()
+    assert np.abs(K - _fd_columns(body.internal_force, x)).max() <= 1e-7 * np.abs(K).max()
+    # the measure is the curved map's: the area is still 1 (interior nodes moved, boundary straight)
+    assert float(body.pressure_basis.dx.sum()) == pytest.approx(1.0, rel=1e-12)

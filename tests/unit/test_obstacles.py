@@ -45,6 +45,9 @@ EXAMPLES: dict[str, tuple[dict, list, list]] = {
     "convex-polygon": (dict(vertices=_PENTAGON), [[0.6, 0.6]], [[3.0, 3.0], [0.6, -1.0]]),
     "convex-polyhedron": (dict(A=_POLY_A, b=_POLY_B), [[0.5, 0.5, 0.5]],
                           [[1.0, 1.0, 1.0], [2.0, -1.0, 0.5], [0.5, 0.5, -0.3]]),
+    "convex-polygon-cavity": (dict(vertices=_PENTAGON), [[3.0, 3.0], [0.6, -1.0]], [[0.6, 0.6]]),
+    "convex-polyhedron-cavity": (dict(A=_POLY_A, b=_POLY_B), [[1.0, 1.0, 1.0], [2.0, -1.0, 0.5], [0.5, 0.5, -0.3]],
+                                 [[0.5, 0.5, 0.5]]),
     "user": (dict(gap=_user_sphere_gap, dim=3, length_scale=0.8),
              [[0.2, -0.1, 0.5]], [[2.0, 2.0, 2.0]]),
 }

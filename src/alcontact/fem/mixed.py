@@ -32,8 +32,11 @@ incompressible solid, :math:`p` the Lagrange multiplier of :math:`J = 1`
 (positive in tension, :math:`\sigma = \bar\sigma + p I`).
 
 The discretization is Taylor-Hood: vector P2 displacement and continuous P1 pressure
-on triangles (plane strain, :math:`F_{33} = 1`) or tetrahedra, inf-sup stable, so
-the pressure neither locks nor oscillates. The unknown vector is
+on triangles (plane strain, :math:`F_{33} = 1`; or a body of revolution in the r-z
+half-plane, :math:`F_{33} = 1 + u_r/r` and the weight :math:`2\pi r`,
+:mod:`alcontact.fem._geometry`) or tetrahedra, inf-sup stable, so the pressure neither
+locks nor oscillates. On a curved second-order mesh (``MeshTri2``/``MeshTet2``) both
+fields live on its isoparametric map (the P1 pressure on the vertices). The unknown vector is
 ``x = [u, p]``, the displacement DOFs (numbered as in a P2
 :class:`~alcontact.fem.Hyperelastic` on the same mesh) first, then ``npressure``
 pressure DOFs (one per vertex): Dirichlet data, node DOFs, boundary weights and load
@@ -73,7 +76,8 @@ from alcontact.fem._hyper_laws import InvariantLaw, _isochoric
 from alcontact.fem._hyper_materials import HyperelasticLaw, NeoHookean, det, inv, make_material
 from alcontact.fem._material import Material, material_issues
 from alcontact.fem.elasticity import LinearElasticity
-from alcontact.fem.hyperelastic import _listed, _scalar_gradients
+from alcontact.fem._geometry import TWO_PI
+from alcontact.fem.hyperelastic import _AXI_USED, _axisymmetric_operators, _hoop_values, _listed, _scalar_gradients
 
 __all__ = ["FORMULATIONS", "IsochoricNeoHookean", "MixedHyperelastic"]
 
@@ -129,8 +133,10 @@ class MixedHyperelastic:
 
     Parameters
     ----------
-    mesh : skfem.MeshTri or skfem.MeshTet
-        Mesh with named boundaries (straight-sided), e.g. from :mod:`alcontact.fem.meshes`.
+    mesh : skfem.MeshTri, skfem.MeshTet, skfem.MeshTri2 or skfem.MeshTet2
+        Mesh with named boundaries, e.g. from :mod:`alcontact.fem.meshes`; on a second-order
+        (curved) mesh both fields use its isoparametric map (the P2 displacement on every node, the
+        P1 pressure on the vertices).
     E : float
         Young's modulus of the linearized material, ``> 0``.
     nu : float
@@ -141,11 +147,18 @@ class MixedHyperelastic:
         (``"mooney-rivlin"``, ``"yeoh"``, ... with its parameters already set); its
         volumetric term is replaced by the pressure's.
     intorder : int, optional
-        Quadrature degree; default that of a P2 :class:`~alcontact.fem.Hyperelastic` (2),
-        exact for the linearized Taylor-Hood matrices.
+        Quadrature degree; default that of a P2 :class:`~alcontact.fem.Hyperelastic` on the same
+        mesh and geometry (2 on straight-sided meshes, exact for the linearized Taylor-Hood matrices;
+        4 or 5 on curved ones; at least 4 for a body of revolution, whose hoop terms are rational in r).
     linear_solver : str, optional
         Registry name of a direct solver for symmetric indefinite matrices
         (:class:`~alcontact.linalg.SequenceSolver`); default: the preferred installed one.
+    geometry : {"cartesian", "axisymmetric"}
+        ``"axisymmetric"``: a body of revolution in the r-z half-plane
+        (:mod:`alcontact.fem._geometry`). :math:`F` is then 3x3 with the hoop stretch
+        :math:`F_{33} = 1 + u_r/r`, so :math:`J = F_{33}\det F_{rz}` and the pressure term
+        :math:`p\,J F^{-T}:\nabla\delta u` has the hoop part :math:`p\,J F_{33}^{-1}\,\delta u_r/r`;
+        every volume integral carries :math:`2\pi r` (forces are totals over the revolution).
 
     Attributes
     ----------
@@ -166,7 +179,7 @@ class MixedHyperelastic:
     order = 2
 
     def __init__(self, mesh, E: float, nu: float, *, model: str | HyperelasticLaw = "neo-hookean",
-                 intorder: int | None = None, linear_solver: str | None = None):
+                 intorder: int | None = None, linear_solver: str | None = None, geometry: str = "cartesian"):
         incompressible = isinstance(nu, (int, float, np.floating)) and not isinstance(nu, bool) and nu == 0.5
         issues = material_issues(E, 0.25 if incompressible else nu)
         if issues:
@@ -181,11 +194,8 @@ class MixedHyperelastic:
         #: layer's automatic penalty reads E / (1 - nu^2) from it; no stiffness is built from it
         self.material = Material(E=E, nu=min(nu, 0.5 - 1e-9), plane="strain")
         # geometry, DOF numbering, boundaries, loads and Dirichlet data of the P2 displacement field
-        self.geometry = LinearElasticity(mesh, self.material, order=2)
-        if type(self.geometry.mesh) is not type(mesh) or self.geometry.mesh.nvertices != mesh.nvertices:
-            raise InputError("MixedHyperelastic needs a straight-sided (first-order) mesh; curved second-order "
-                             "meshes are not supported by the mixed formulation yet.")
-        self.mesh = mesh
+        self.geometry = LinearElasticity(mesh, self.material, order=2, geometry=geometry)
+        self.mesh = mesh = self.geometry.mesh
         self.dim = self.geometry.dim
         self.law, self._lam_iso = _isochoric_law(model, self.mu)
         lam0, mu0 = self.law.reference_moduli(self._lam_iso, self.mu)
@@ -194,8 +204,10 @@ class MixedHyperelastic:
                 f"material law {self.law.name!r} has initial shear modulus {mu0:.6g}, but E={E:g}, nu={nu:g} give "
                 f"mu = {self.mu:.6g}; use E = {2.0 * mu0 * (1.0 + nu):.12g} for these law parameters."
             )
-        if intorder is None:
+        if intorder is None:  # as a P2 Hyperelastic: axisymmetric, the degree of the linear stiffness there
             intorder = default_intorder(mesh, 2)
+            if self.geometry.axisymmetric:
+                intorder = max(intorder, 4)
         if isinstance(intorder, bool) or not isinstance(intorder, (int, np.integer)) or not 1 <= intorder <= 10:
             raise InputError(f"intorder={intorder!r} must be an integer in 1..10 (quadrature degree; default 2, "
                              "exact for the linearized Taylor-Hood matrices).")
@@ -204,14 +216,23 @@ class MixedHyperelastic:
         qb = Basis(mesh, self.geometry.scalar_element, intorder=self.intorder)
         pb = Basis(mesh, ElementTriP1() if self.dim == 2 else ElementTetP1(), intorder=self.intorder)
         self.pressure_basis = pb
-        self.npressure = int(pb.N)
+        # the P1 pressure lives on the vertices: on a curved mesh scikit-fem numbers its DOFs over every
+        # node of the mesh (mesh.p holds the edge nodes too); the vertices are numbered first
+        self.npressure = int(mesh.t.max()) + 1
         self.ndofs = self.ndofs_u + self.npressure
         self._G = _scalar_gradients(qb)  # (nel, nqp, nloc, dim)
         self._dx = np.ascontiguousarray(qb.dx)
+        self._hoop = None
+        if self.geometry.axisymmetric:  # N_a / r at the points and the 2 pi r of the measure
+            self._hoop, r = _hoop_values(qb)
+            self._dx = np.ascontiguousarray(self._dx * TWO_PI * r)
         self._sdofs = np.ascontiguousarray(qb.element_dofs.T)
         self._vdofs = self.geometry.dof_map[self._sdofs].reshape(self._sdofs.shape[0], -1)  # a-major
         self._N = np.ascontiguousarray(np.stack([np.asarray(phi[0]) for phi in pb.basis], axis=-1))  # (e, q, m)
         self._pdofs = np.ascontiguousarray(pb.element_dofs.T) + self.ndofs_u  # (nel, m) in x
+        if int(pb.element_dofs.max()) + 1 != self.npressure:
+            raise InputError("MixedHyperelastic: the P1 pressure DOFs are not the mesh vertices (an unexpected "
+                             "node numbering of this mesh); renumber the mesh with its vertices first.")
         self._linear_solver = linear_solver
         self.newton_iterations: list[int] = []
         self.linear_solves = 0
@@ -253,12 +274,19 @@ class MixedHyperelastic:
 
     # ----------------------------------------------------------------- kinematics
     def _state(self, x, where=None):
-        """``F, J, p`` at the quadrature points of the forms, or of ``where = (G, sdofs, N, pdofs)``."""
+        """``F, J, p`` at the quadrature points of the forms, or of ``where = (G, sdofs, N, pdofs, hoop)``
+        (axisymmetric: ``F`` 3x3 with the hoop stretch :math:`1 + u_r/r` at ``[2, 2]``)."""
         x = self._check_x(x)
-        G, sdofs, N, pdofs = (self._G, self._sdofs, self._N, self._pdofs) if where is None else where
+        G, sdofs, N, pdofs, hoop = (self._G, self._sdofs, self._N, self._pdofs, self._hoop) if where is None \
+            else where
         u = x[: self.ndofs_u]
         uloc = np.swapaxes(u[self.geometry.dof_map[sdofs]], 1, 2)  # (nel, dim, nloc)
         F = uloc[:, None] @ G + np.eye(self.dim)
+        if hoop is not None:
+            F3 = np.zeros(F.shape[:2] + (3, 3))
+            F3[..., :2, :2] = F
+            F3[..., 2, 2] = 1.0 + np.einsum("eqa,ea->eq", hoop, uloc[:, 0])
+            F = F3
         J = det(F)
         bad = ~(J > 0.0)
         if bad.any():
@@ -270,27 +298,28 @@ class MixedHyperelastic:
         return F, J, p
 
     def deformation_gradient(self, x) -> np.ndarray:
-        """:math:`F` at the quadrature points, shape ``(nel, nqp, dim, dim)``."""
+        """:math:`F` at the quadrature points, shape ``(nel, nqp, dim, dim)`` (axisymmetric ``(nel, nqp, 3, 3)``)."""
         return self._state(x)[0]
 
     # ------------------------------------------------------------- postprocess
     @cached_property
     def _output_points(self):
-        """``(G, sdofs, N, pdofs)`` at the quadrature points of the stress projection (:attr:`scalar_basis`)."""
+        """``(G, sdofs, N, pdofs, hoop)`` at the quadrature points of the stress projection (:attr:`scalar_basis`)."""
         sb = self.geometry.scalar_basis
         pb = Basis(self.mesh, self.pressure_basis.elem, quadrature=sb.quadrature)
         N = np.ascontiguousarray(np.stack([np.asarray(phi[0]) for phi in pb.basis], axis=-1))
+        hoop = _hoop_values(sb)[0] if self._hoop is not None else None
         return (_scalar_gradients(sb), np.ascontiguousarray(sb.element_dofs.T), N,
-                np.ascontiguousarray(pb.element_dofs.T) + self.ndofs_u)
+                np.ascontiguousarray(pb.element_dofs.T) + self.ndofs_u, hoop)
 
     def _quadrature_stress(self, x) -> list[np.ndarray]:
         r"""Cauchy stress :math:`\sigma = J^{-1}\bar P F^T + p I` at the projection's quadrature points
-        (Voigt order, plus zz in 2D: :math:`J^{-1}\bar P_{33} + p`)."""
+        (Voigt order, plus zz in 2D: :math:`J^{-1}\bar P_{33} + p`; axisymmetric: the hoop stress)."""
         F, J, p = self._state(x, self._output_points)
         P = self.law.stress(F, self._lam_iso, self.mu)
-        s = np.einsum("eqiJ,eqkJ->eqik", P, F) / J[..., None, None] + p[..., None, None] * np.eye(self.dim)
+        s = np.einsum("eqiJ,eqkJ->eqik", P, F) / J[..., None, None] + p[..., None, None] * np.eye(F.shape[-1])
         if self.dim == 2:
-            szz = self.law.stress_zz(F, self._lam_iso, self.mu) / J + p
+            szz = s[..., 2, 2] if F.shape[-1] == 3 else self.law.stress_zz(F, self._lam_iso, self.mu) / J + p
             return [s[..., 0, 0], s[..., 1, 1], 0.5 * (s[..., 0, 1] + s[..., 1, 0]), szz]
         return [s[..., 0, 0], s[..., 1, 1], s[..., 2, 2], 0.5 * (s[..., 1, 2] + s[..., 2, 1]),
                 0.5 * (s[..., 0, 2] + s[..., 2, 0]), 0.5 * (s[..., 0, 1] + s[..., 1, 0])]
@@ -328,7 +357,12 @@ class MixedHyperelastic:
         F, J, p = self._state(x)
         Fi = inv(F, J)
         P = self.law.stress(F, self._lam_iso, self.mu) + (p * J)[..., None, None] * np.swapaxes(Fi, -1, -2)
-        fe = (self._G @ np.swapaxes(P * self._dx[:, :, None, None], -1, -2)).sum(axis=1)  # (nel, a, i)
+        Pw = P * self._dx[:, :, None, None]
+        if self._hoop is not None:  # P_iJ dN_a/dX_J in the r-z block, plus P_33 N_a / r for the radial component
+            fe = (self._G @ np.swapaxes(Pw[..., :2, :2], -1, -2)).sum(axis=1)
+            fe[..., 0] += np.einsum("eqa,eq->ea", self._hoop, Pw[..., 2, 2])
+        else:
+            fe = (self._G @ np.swapaxes(Pw, -1, -2)).sum(axis=1)  # (nel, a, i)
         out = np.bincount(self._vdofs.ravel(), weights=fe.ravel(), minlength=self.ndofs)
         rp = ((J - 1.0 - self._inv_kappa() * p) * self._dx)[..., None] * self._N
         out += np.bincount(self._pdofs.ravel(), weights=rp.sum(axis=1).ravel(), minlength=self.ndofs)
@@ -345,11 +379,14 @@ class MixedHyperelastic:
         r"""Consistent tangent :math:`\partial[R_u; R_p]/\partial[u; p]` (symmetric indefinite CSR, module doc)."""
         F, J, p = self._state(x)
         nel, nqp, nloc, d = self._G.shape
-        Kuu = self.law.element_tangent(F, self._G, self._dx, self._lam_iso, self.mu)  # (nel, a, i, b, k)
-        g = self._G @ inv(F, J)  # g_ai = G_aJ Fi_Ji: J F^{-T} : grad(N_a e_i) = J g_ai
-        w = p * J * self._dx
-        Kuu = Kuu + np.einsum("eq,eqai,eqbk->eaibk", w, g, g) - np.einsum("eq,eqak,eqbi->eaibk", w, g, g)
-        Kup = np.einsum("eq,eqai,eqm->eaim", J * self._dx, g, self._N).reshape(nel, nloc * d, -1)
+        if self._hoop is not None:
+            Kuu, Kup = self._axisymmetric_blocks(F, J, p)
+        else:
+            Kuu = self.law.element_tangent(F, self._G, self._dx, self._lam_iso, self.mu)  # (nel, a, i, b, k)
+            g = self._G @ inv(F, J)  # g_ai = G_aJ Fi_Ji: J F^{-T} : grad(N_a e_i) = J g_ai
+            w = p * J * self._dx
+            Kuu = Kuu + np.einsum("eq,eqai,eqbk->eaibk", w, g, g) - np.einsum("eq,eqak,eqbi->eaibk", w, g, g)
+            Kup = np.einsum("eq,eqai,eqm->eaim", J * self._dx, g, self._N).reshape(nel, nloc * d, -1)
         Kpp = -self._inv_kappa() * np.einsum("eq,eqm,eqn->emn", self._dx, self._N, self._N)
         m = nloc * d + Kpp.shape[1]
         Ke = np.zeros((nel, m, m))
@@ -361,6 +398,34 @@ class MixedHyperelastic:
         K = sp.csr_matrix((Ke.ravel(), (rows, cols)), shape=(self.ndofs, self.ndofs))
         K.sum_duplicates()
         return ((K + K.T) * 0.5).tocsr()  # exactly symmetric (round-off of the isochoric tangent)
+
+    @cached_property
+    def _axisymmetric_B(self) -> np.ndarray:
+        """The 3x3 gradient operators of the displacement DOFs (:func:`~alcontact.fem.hyperelastic`'s
+        ``_axisymmetric_operators``) restricted to the entries ``rr, rz, zr, zz, hoop``: ``(nel, nqp, 2 nloc, 5)``."""
+        nel, nqp, nloc, _ = self._G.shape
+        B = _axisymmetric_operators(self._G, self._hoop).reshape(nel, nqp, nloc * 2, 9)[..., _AXI_USED]
+        return np.ascontiguousarray(B)
+
+    def _axisymmetric_blocks(self, F, J, p) -> tuple[np.ndarray, np.ndarray]:
+        r""":math:`K_{uu}` ``(nel, a, i, b, k)`` and :math:`K_{up}` ``(nel, 2 nloc, m)`` of a body of revolution.
+
+        With the 3x3 operators :math:`B` (:math:`\nabla\delta u` including the hoop entry
+        :math:`\delta u_r / r`): :math:`K_{uu} = \sum_q w_q B : (\bar{\mathbb A} + pJ(F^{-T}\otimes F^{-T}
+        - F^{-T}\bar\otimes F^{-T})) : B^T`, :math:`K_{up} = \sum_q w_q (B : J F^{-T}) N_m`,
+        :math:`w_q` including :math:`2\pi r`.
+        """
+        nel, nqp, nloc, _ = self._G.shape
+        B = self._axisymmetric_B
+        FiT = np.swapaxes(inv(F, J), -1, -2)  # F^{-T}
+        A = self.law.tangent(F, self._lam_iso, self.mu)  # (nel, nqp, 3, 3, 3, 3): dP_iJ / dF_kL
+        pJ = (p * J)[..., None, None, None, None]
+        A = A + pJ * (np.einsum("eqij,eqkl->eqijkl", FiT, FiT) - np.einsum("eqil,eqkj->eqijkl", FiT, FiT))
+        A = A.reshape(nel, nqp, 9, 9)[:, :, _AXI_USED[:, None], _AXI_USED] * self._dx[:, :, None, None]
+        Kuu = (np.matmul(B, A) @ np.swapaxes(B, -1, -2)).sum(axis=1).reshape(nel, nloc, 2, nloc, 2)
+        a = (FiT * (J * self._dx)[..., None, None]).reshape(nel, nqp, 9)[..., _AXI_USED]
+        Kup = np.einsum("eqas,eqs,eqm->eam", B, a, self._N)
+        return Kuu, Kup
 
     # ------------------------------------------------------------------ solving
     def solve(self, load, dirichlet=(), *, steps: int = 1, rtol: float = 1e-10, max_iter: int = 25) -> np.ndarray:
@@ -395,7 +460,7 @@ class MixedHyperelastic:
         fext_full = self.pad(load)
         if isinstance(steps, bool) or not isinstance(steps, (int, np.integer)) or steps < 1:
             raise InputError(f"steps={steps!r} must be a positive integer.")
-        dofs, vals = LinearElasticity._collect(dirichlet)
+        dofs, vals = self.geometry._collect_fixed(dirichlet)  # plus u_r = 0 on the axis of a body of revolution
         self.geometry.check_restrained(dofs)
         free = np.ones(self.ndofs, dtype=bool)
         free[dofs] = False

@@ -277,29 +277,40 @@ def build_kinematics(mt, cd, dim, data: dict, issues: list[Issue]) -> tuple[str,
 
 #: Poisson's ratio from which a finite-deformation P2 body defaults to ``formulation = "mixed"``
 MIXED_DEFAULT_NU = 0.49
+#: ``material.nu`` of the exactly incompressible solid (the mixed body's Lagrange-multiplier pressure)
+INCOMPRESSIBLE_NU = 0.5
 
 
 def build_formulation(mt: Any, md: Any, s: "Sections", issues: list[Issue]) -> str:
     """``[material] formulation``: ``"mixed"`` (Taylor-Hood P2/P1 u-p body) or ``"displacement"``.
 
-    Given, ``mixed`` needs finite kinematics with a hyperelastic law, ``[mesh] order = 2`` and a
-    straight-sided mesh. Not given, it is ``mixed`` where all of that holds and ``nu >= 0.49``
-    (:data:`MIXED_DEFAULT_NU`: nearly incompressible rubber, where the displacement element locks),
-    else ``displacement``.
+    Given, ``mixed`` needs finite kinematics with a hyperelastic law and ``[mesh] order = 2`` (straight-sided
+    or curved second-order meshes, Cartesian or axisymmetric). Not given, it is ``mixed`` where that holds and
+    ``nu >= 0.49`` (:data:`MIXED_DEFAULT_NU`: nearly incompressible rubber, where the displacement element
+    locks), else ``displacement``. ``nu = 0.5`` (:data:`INCOMPRESSIBLE_NU`, exactly incompressible) needs the
+    mixed body: with any other formulation it is an issue naming ``material.nu`` and the way out.
     """
-    from ..fem.quality import is_curved
-
     form = mt.get("formulation") if isinstance(mt, dict) else None
     form = None if form is BAD else form
     order = md.get("order") if isinstance(md, dict) else None
     hyper = s.kinematics == "finite" and s.law not in (None, LINEAR_MODEL)
-    curved = s.mesh is not None and is_curved(s.mesh)
-    revolution = isinstance(md, dict) and md.get("geometry") == "axisymmetric"
+    nu = mt.get("nu") if isinstance(mt, dict) else None
+    exact = isinstance(nu, float) and nu == INCOMPRESSIBLE_NU
     if form is None:
         nu = getattr(s.material, "nu", None)
-        auto = hyper and order == 2 and not curved and not revolution and nu is not None and nu >= MIXED_DEFAULT_NU
+        auto = hyper and order == 2 and nu is not None and nu >= MIXED_DEFAULT_NU
+        if exact and not auto:
+            issues.append(Issue("material.nu", "= 0.5: the exactly incompressible solid needs the mixed "
+                                               "displacement-pressure body (its pressure is the Lagrange multiplier "
+                                               "of J = 1), which is a hyperelastic body with contact.kinematics = "
+                                               "'finite' and mesh.order = 2; set those, or use nu < 0.5 (e.g. "
+                                               "0.4999; small kinematics: mesh.volumetric = 'p0')."))
         return "mixed" if auto else "displacement"
     if form != "mixed":
+        if exact:
+            issues.append(Issue("material.nu", f"= 0.5 with formulation = {form!r}: a displacement element cannot "
+                                               "hold J = 1 (infinite bulk modulus); set formulation = 'mixed' (or "
+                                               "leave it out), or use nu < 0.5, e.g. 0.4999."))
         return form
     if not hyper:
         issues.append(Issue("material.formulation", "= 'mixed': the mixed displacement-pressure body is a "
@@ -310,14 +321,6 @@ def build_formulation(mt: Any, md: Any, s: "Sections", issues: list[Issue]) -> s
     if order is not None and order is not BAD and order != 2:
         issues.append(Issue("mesh.order", f"= {order!r}: formulation = 'mixed' is the Taylor-Hood element "
                                           "(P2 displacement, P1 pressure); set mesh.order = 2."))
-    if curved:
-        issues.append(Issue("material.formulation", "= 'mixed' on a curved second-order mesh: not supported "
-                                                    "yet; use a first-order mesh (order = 2 still gives P2) or "
-                                                    "formulation = 'displacement'."))
-    if revolution:
-        issues.append(Issue("material.formulation", "= 'mixed' with mesh.geometry = 'axisymmetric': not supported "
-                                                    "yet; use formulation = 'displacement' (nu <= 0.49) or a "
-                                                    "plane-strain or 3D model."))
     return form
 
 
@@ -440,10 +443,14 @@ def build_material(mt: dict | None, law: str, mesh, issues: list[Issue]) -> tupl
     if not (_ok({k: v for k, v in (mt or {}).items() if k != "region"}) and mt is not None):
         return mat, law_obj
     law_obj, E, nu = material_law(mt, law, issues)
-    bad = [] if E is None or nu is None else material_issues(E, nu, mt["plane"])  # keyed like the file
+    # nu = 0.5 (exactly incompressible) is for the mixed body only (build_formulation checks that it is the one
+    # built); the linearized constants it carries hold 0.5 - 1e-9, as MixedHyperelastic.material does
+    exact = nu == INCOMPRESSIBLE_NU
+    bad = [] if E is None or nu is None else material_issues(E, 0.25 if exact else nu, mt["plane"])  # keyed as the file
     issues.extend(Issue(f"material.{key}", msg) for key, msg in bad)
     if not bad and E is not None and nu is not None:
-        mat = _num(issues, "material", Material, E=E, nu=nu, plane=mt["plane"])
+        mat = _num(issues, "material", Material, E=E, nu=INCOMPRESSIBLE_NU - 1e-9 if exact else nu,
+                   plane=mt["plane"])
     _region_issues(mt, mesh, mat, issues)
     return mat, law_obj
 
@@ -838,6 +845,8 @@ class Sections:
     kinematics: str = "small"
     law: str | None = None
     formulation: str = "displacement"
+    #: ``material.nu = 0.5``: the mixed body gets the exact 0.5 (``material`` holds 0.5 - 1e-9)
+    incompressible: bool = False
     material: Any = None
     law_obj: Any = None
     contact_ok: bool = False
@@ -867,6 +876,7 @@ def build_sections(data: dict, base: Path, issues: list[Issue]) -> Sections:
     s.kinematics, s.law = build_kinematics(mt, cd, s.dim, data, issues)
     s.material, s.law_obj = build_material(mt, s.law, s.mesh, issues)
     s.formulation = build_formulation(mt, data.get("mesh"), s, issues)
+    s.incompressible = isinstance(mt, dict) and isinstance(mt.get("nu"), float) and mt["nu"] == INCOMPRESSIBLE_NU
     s.contact_ok = check_contact_boundary(cd, s.mesh, issues)
     s.fixed, support_cases = build_supports(data.get("support"), s.mesh, s.dim, issues)
     s.loads, load_cases = build_loads(data.get("load"), s.mesh, s.dim, issues)
@@ -901,8 +911,9 @@ def build_model(md: dict, s: Sections, issues: list[Issue]):
     if s.formulation == "mixed":
         from ..fem.mixed import MixedHyperelastic
 
-        return _num(issues, "material.formulation", MixedHyperelastic, s.mesh, E=s.material.E, nu=s.material.nu,
-                    model=s.law_obj)
+        nu = INCOMPRESSIBLE_NU if s.incompressible else s.material.nu
+        return _num(issues, "material.formulation", MixedHyperelastic, s.mesh, E=s.material.E, nu=nu,
+                    model=s.law_obj, geometry=md["geometry"])
     return _num(issues, "mesh.order", Hyperelastic, s.mesh, s.material, order=md["order"], model=s.law_obj,
                 geometry=md["geometry"])
 

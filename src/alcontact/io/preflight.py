@@ -367,8 +367,11 @@ def exact_size(setup) -> SizeEstimate:
     if setup.options.get("linear_solver"):
         solver = _solver_path(setup.options["linear_solver"], model.dim, model.ndofs)
     key, value = _size_key(setup.data)
-    est = _cost(model.dim, model.order, model.ndofs // model.dim, model.mesh.nelements, solver, exact=True)
-    return _finite_cost(dataclasses.replace(est, key=key, value=value), setup.data)
+    # a mixed u-p body's unknowns are its displacement DOFs and one pressure per vertex: the cost model counts
+    # the nodes of the displacement field, the size reported is every unknown
+    nodes = getattr(model, "ndofs_u", model.ndofs) // model.dim
+    est = _cost(model.dim, model.order, nodes, model.mesh.nelements, solver, exact=True)
+    return _finite_cost(dataclasses.replace(est, key=key, value=value, ndofs=int(model.ndofs)), setup.data)
 
 
 def size_issues(est: SizeEstimate | None, memory: float | None = None) -> list[Issue]:

@@ -177,16 +177,18 @@ def _build_schema() -> tuple[Table, ...]:
             O("E", "float", None, "Young's modulus (stress units, e.g. MPa). Required, except for a law whose "
               "parameters fix the shear modulus mu0 (`mooney-rivlin`, `yeoh`, `ogden`: default E = 2 mu0 (1 + nu), "
               "and a given E must equal it) and for `energy` (E and nu follow from it).", low=0, low_open=True),
-            O("nu", "float", None, "Poisson's ratio (< 0.5: every law is compressible; it sets the bulk modulus "
-              "K = E / (3 (1 - 2 nu)) of the volumetric term). Required, except with `energy`.", low=-1,
-              high=0.5, low_open=True, high_open=True),
+            O("nu", "float", None, "Poisson's ratio (it sets the bulk modulus K = E / (3 (1 - 2 nu)) of the "
+              "volumetric term). `0.5` is the exactly incompressible solid, whose pressure is a Lagrange "
+              "multiplier: `formulation = \"mixed\"` only (finite kinematics, `mesh.order = 2`); every other "
+              "body needs nu < 0.5. Required, except with `energy`.", low=-1, high=0.5, low_open=True),
             O("plane", "str", "strain", "2D assumption: `strain` or `stress` (ignored in 3D; hyperelastic: "
               "`strain` only).", choices=("strain", "stress")),
             _material_model_option(),
             O("formulation", "str", None, "Finite-element formulation of a hyperelastic body: `displacement` "
               "(the displacement element) or `mixed` (Taylor-Hood: P2 displacement and P1 pressure, for nearly "
-              "incompressible rubber; finite kinematics, `mesh.order = 2`, straight-sided mesh). Default: `mixed` "
-              "where those hold and nu >= 0.49, else `displacement`.",
+              "incompressible rubber and nu = 0.5; finite kinematics, `mesh.order = 2`; straight-sided or curved "
+              "second-order meshes, Cartesian or axisymmetric). Default: `mixed` where those hold and "
+              "nu >= 0.49, else `displacement`.",
               choices=_formulations()),
             O("energy", "str", None, "A user hyperelastic law: its strain energy W as an expression of the "
               "invariants `I1`, `I2`, `I3`, `J`, `I1b`, `I2b`, the names of `[material.parameters]`, numbers, "

@@ -898,6 +898,41 @@ class ConvexPolytope(_ObstacleBase):
         return h
 
 
+@dataclass(frozen=True, eq=False)
+class ConvexPolytopeCavity(ConvexPolytope):
+    r"""Convex polygon (2D) or polyhedron (3D) cavity :math:`\{x : A x \le b\}`: the body lives *inside* it.
+
+    The obstacle is the complement of :class:`ConvexPolytope`'s, so its signed distance is minus the
+    polytope's: inside (free), :math:`\operatorname{gap} = \max_i (a_i\cdot x - b_i) \le 0` with the
+    normal :math:`-a_i` of the nearest face (pointing into the cavity) and Hessian 0; outside
+    (penetration), the exact Euclidean distance to the polytope with the normal back towards it and
+    the Hessian :math:`+(I - n n^T)/\operatorname{dist}` near a vertex (its edge form in 3D). A
+    rectangular groove with its cover, a die, a closed gland: one rigid master for several walls.
+
+    Examples
+    --------
+    >>> box = ConvexPolytopeCavity.from_vertices([[0, 0], [2, 0], [2, 1], [0, 1]])
+    >>> box.gap([[0.5, 0.6], [2.5, 0.5]]).round(6)
+    array([-0.4,  0.5])
+    >>> box.normal([[0.5, 0.6]]).round(6) + 0.0  # the top face's: back into the cavity
+    array([[ 0., -1.]])
+    """
+
+    @property
+    def name(self) -> str:
+        return "convex-polygon-cavity" if self.dim == 2 else "convex-polyhedron-cavity"
+
+    def describe(self) -> str:
+        return super().describe().replace("convex ", "cavity (body inside) of the convex ", 1)
+
+    def _gap_normal(self, x: FloatArray) -> tuple[FloatArray, FloatArray]:
+        g, n = super()._gap_normal(x)
+        return -g, -n
+
+    def _hessian(self, x: FloatArray) -> FloatArray:
+        return -super()._hessian(x)
+
+
 # --------------------------------------------------------------------------- user obstacle
 
 
@@ -1528,10 +1563,10 @@ def make(name: str, **params: Any) -> Obstacle:
     return entry.factory(**params)
 
 
-def _polytope_factory(d: int) -> Callable[..., ConvexPolytope]:
+def _polytope_factory(d: int, cls: type[ConvexPolytope] = ConvexPolytope) -> Callable[..., ConvexPolytope]:
     def factory(vertices: ArrayLike | None = None, A: ArrayLike | None = None,
                 b: ArrayLike | None = None) -> ConvexPolytope:
-        kind = "convex-polygon" if d == 2 else "convex-polyhedron"
+        kind = ("convex-polygon" if d == 2 else "convex-polyhedron") + ("-cavity" if cls is not ConvexPolytope else "")
         if (vertices is None) == (A is None and b is None) or (A is None) != (b is None):
             raise InputError(f"{kind} needs either vertices or both A and b")
         if vertices is not None:
@@ -1539,10 +1574,10 @@ def _polytope_factory(d: int) -> Callable[..., ConvexPolytope]:
             if v.ndim != 2 or v.shape[1] != d:
                 raise InputError(
                     f"vertices of a {kind} must have shape (n, {d}), got shape {v.shape}")
-            return ConvexPolytope.from_vertices(v)
+            return cls.from_vertices(v)
         if np.ndim(A) != 2 or np.shape(A)[1] != d:
             raise InputError(f"A of a {kind} must have shape (k, {d}), got shape {np.shape(A)}")
-        return ConvexPolytope(A, b)
+        return cls(A, b)
 
     return factory
 
@@ -1584,6 +1619,12 @@ def _register_builtin() -> None:
         "convex-polyhedron": (
             _polytope_factory(3),
             "convex polyhedron obstacle (3D): vertices (convex hull), or A, b with A x <= b"),
+        "convex-polygon-cavity": (
+            _polytope_factory(2, ConvexPolytopeCavity),
+            "convex polygonal cavity, body inside (2D; e.g. a groove with its cover): ccw vertices, or A, b"),
+        "convex-polyhedron-cavity": (
+            _polytope_factory(3, ConvexPolytopeCavity),
+            "convex polyhedral cavity, body inside (3D): vertices (convex hull), or A, b with A x <= b"),
         "user": (
             UserObstacle,
             "user signed gap (> 0 inside the obstacle): gap, optional normal, hessian, dim, "
