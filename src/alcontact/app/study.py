@@ -107,6 +107,7 @@ class StudyProblem:
     full_meshes: tuple
     analytical: bool
     frictional: bool
+    kinematics: str = "small"
 
 
 def _hertz_2d(n):
@@ -163,13 +164,13 @@ PROBLEMS: dict[str, StudyProblem] = {p.name: p for p in (
     StudyProblem("signorini", "cantilever block pressed onto a plane: contact with lift-off (cells across)",
                  _signorini, (2, 4), (2, 4, 8, 16), False, False),
     StudyProblem("half-cylinder", "neo-Hookean half-cylinder pressed to delta/R = 0.4, 8 load steps (n)",
-                 _half_cylinder, (4, 6), (4, 6, 8, 12), False, False),
+                 _half_cylinder, (4, 6), (4, 6, 8, 12), False, False, "finite"),
     StudyProblem("hemisphere", "neo-Hookean quarter hemisphere to delta/R = 0.2, 5 load steps (n)",
-                 _hemisphere, (2, 3), (2, 3, 4, 6), False, False),
+                 _hemisphere, (2, 3), (2, 3, 4, 6), False, False, "finite"),
     StudyProblem("cattaneo-mindlin", "Cattaneo-Mindlin: Hertz load then shear, Coulomb mu = 0.3 (elements per a)",
                  _mindlin, (2, 4), (2, 4, 8, 16), False, True),
     StudyProblem("ironing", "finite-deformation frictional ironing, mu = 0.3, press then slide 0.5 (elements "
-                 "per unit length)", _ironing, (4, 6), (4, 6, 8, 12), False, True),
+                 "per unit length)", _ironing, (4, 6), (4, 6, 8, 12), False, True, "finite"),
 )}
 
 
@@ -205,6 +206,8 @@ def methods() -> list[Method]:
         met = "1" if name.endswith("-met1") else "2" if name.endswith("-met2") else "-"
         out.append(Method(name, "family-p", name, met, bool(f.family_p)))
     out.append(Method("ssn", "ssn", None, "-", False))
+    # the barrier anchor (modified log barrier, fixed multipliers): no multiplier update, no update rule
+    out.append(Method("log-barrier", "log-barrier", None, "-", False))
     known = set(available_algorithms())
     return [m for m in out if m.algorithm in known]
 
@@ -226,11 +229,11 @@ class Cell:
 
 
 def _applicable(problem: StudyProblem, method: Method) -> bool:
-    if not problem.frictional:
-        return True
-    from ..contact import friction_algorithms
+    """Whether the solver registers ``method`` for the problem's friction and kinematics (else: no cell)."""
+    from ..contact.algorithms import algorithms as registered
 
-    return method.algorithm in friction_algorithms()
+    return any(e.name == method.algorithm for e in registered(friction=problem.frictional,
+                                                                kinematics=problem.kinematics))
 
 
 def _select(only: Iterable[str] | None) -> tuple[list[StudyProblem], list[Method]]:
