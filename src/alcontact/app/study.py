@@ -87,8 +87,9 @@ FULL_SCALES = (1e-3, 1e-2, 1e-1, 1.0, 1e1, 1e2, 1e3)
 QUICK_SCALES = (1e-2, 1.0, 1e2)
 #: The rule swept at every scale (the others run at scale 1).
 BASE_RULE = "fixed"
-#: Rules of ``--quick`` (the full run takes every registered rule).
-QUICK_RULES = ("fixed", "infeasibility")
+#: Rules of ``--quick`` (the full run takes every registered rule): the base rule, the infeasibility rule and
+#: Algorithm 5.4's rule as printed and as corrected.
+QUICK_RULES = ("fixed", "infeasibility", "alg54-printed", "alg54-corrected")
 #: Coulomb coefficient of the frictional ironing problem.
 IRONING_MU = 0.3
 
