@@ -14,13 +14,17 @@ Cells
   ``--quick``, four in the full run;
 - methods (:func:`methods`): ``penalty``, ``simo-laursen``, ``rockafellar`` and every MET 1 /
   MET 2 penalty of :func:`alcontact.contact.contact_penalties` under Algorithm 6.3 / 6.4
-  (``family-p``), and the semi-smooth Newton reference ``ssn``; a method the problem's solver
-  does not offer (the pure penalty with friction) is not a cell;
+  (``family-p``), the semi-smooth Newton reference ``ssn`` and the barrier anchor ``log-barrier``
+  (modified log barrier with fixed multipliers, no update rule); a method the solver does not register
+  for the problem's friction and kinematics (the pure penalty with friction, the barrier with friction)
+  is not a cell. Under the study's ``eta_scaling = "adaptive"`` MET 1 and MET 2 are the same traction
+  law (see :mod:`alcontact.contact.laws`), so their rows agree up to rounding;
 - the scale of the automatic :math:`\\varepsilon_N` (``penalty_scale``): :data:`FULL_SCALES`
   (six decades) or :data:`QUICK_SCALES`; ``ssn`` has no penalty parameter (one cell);
-- the frictionless penalty update rule (:func:`alcontact.optim.available_strategies`) of the
-  multiplier methods, at scale 1 (the rule ``fixed`` at every scale); friction solvers have no
-  rule (``-``).
+- the frictionless penalty update rule (:func:`alcontact.optim.available_strategies`: ``fixed``,
+  ``infeasibility``, Algorithm 5.4 as printed ``alg54-printed`` and as corrected ``alg54-corrected``, ...)
+  of the multiplier methods, at scale 1 (the rule ``fixed`` at every scale); friction solvers and the
+  barrier have no rule (``-``).
 
 A cell is keyed by all its parameters and :data:`STUDY_VERSION`; a re-run skips the keys already
 in ``results.csv``, and each finished row is appended and flushed, so an interrupted study keeps
