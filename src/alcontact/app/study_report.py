@@ -276,7 +276,7 @@ def render(rows: list[dict], *, title: str = "alcontact study", images: dict | N
               "At eps scale 1, frictionless problems; outer and Newton: means over the converged cells. "
               "`alg54-printed`: Algorithm 5.4 as printed, eta <- 2 eta (eps_N halved) after every outer "
               "iteration; `alg54-corrected`: eta <- eta / 2 (eps_N doubled); `infeasibility`: eps_N times 10 "
-              "when the penetration did not drop by 1/4.", "",
+              "when the penetration did not fall below 1/4 of its previous value.", "",
               "| method | rule | cells | converged | outer | Newton |", "|---|---|---:|---:|---:|---:|"]
     for m, rule, n, ok, outer, newton in t["rules"]:
         lines.append(f"| {m} | {rule} | {n} | {ok} | {_fmt_mean(outer)} | {_fmt_mean(newton)} |")
