@@ -141,6 +141,11 @@ def test_answers_are_the_csv(study):
     assert f"as printed (eta <- 2 eta, i.e. eps_N halved every outer iteration) converged in {len(printed)} of 4" \
         in " ".join(answers.split())
     assert f"as corrected (eps_N doubled) in {len(corrected)} of 4" in " ".join(answers.split())
+    # the sweep per eps scale: every method with a penalty parameter, rule fixed (or none)
+    for scale in ("0.01", "1", "100"):
+        sel = [r for r in rows if r["eps_scale"] == scale and r["rule"] in ("fixed", "-")]
+        ok = sum(r["status"] == "converged" for r in sel)
+        assert len(sel) == 2 * 3 and f"eps x{scale} converged {ok} of {len(sel)}" in answers
     # the barrier anchor against exp-met1 on the same sweep cells
     bar = [r for r in rows if r["method"] == "log-barrier"]
     al = [r for r in rows if r["method"] == "exp-met1" and r["rule"] == "fixed"]

@@ -11,7 +11,8 @@ CSV gives the same text. Tables:
 - per method and update rule (scale 1, frictionless problems): cells, converged, and the mean outer
   and Newton iterations of the converged cells.
 
-An "Answers" section states the findings in sentences, each figure computed from the same rows: MET 1
+An "Answers" section states the findings in sentences, each figure computed from the same rows: the
+convergence of the sweep per eps scale (:func:`scale_totals`), MET 1
 against MET 2 (:func:`met_pairs`), the update rules over all methods (:func:`rule_totals`, Algorithm 5.4
 as printed and as corrected), the barrier anchor against the family-P methods (:func:`barrier_vs_al`).
 """
@@ -25,7 +26,7 @@ from collections import OrderedDict
 from pathlib import Path
 
 __all__ = ["CSV_NAME", "read_rows", "tables", "render", "write_report", "heat_maps", "met_pairs", "rule_totals",
-           "barrier_vs_al"]
+           "barrier_vs_al", "scale_totals"]
 
 #: The CSV of a study folder.
 CSV_NAME = "results.csv"
@@ -149,6 +150,17 @@ def met_pairs(rows: list[dict]) -> list[tuple[str, int, int, list[tuple]]]:
     return out
 
 
+def scale_totals(rows: list[dict]) -> list[tuple[str, int, int]]:
+    """Per eps scale of the sweep (rule ``fixed`` or none, methods with a penalty parameter): ``(scale, cells,
+    converged)``."""
+    sweep = [r for r in rows if r["rule"] in ("fixed", "-") and r["eps_scale"] != "-"]
+    out = []
+    for s in sorted(_order(r["eps_scale"] for r in sweep), key=_scale_key):
+        sel = [r for r in sweep if r["eps_scale"] == s]
+        out.append((s, len(sel), sum(r["status"] == "converged" for r in sel)))
+    return out
+
+
 def rule_totals(rows: list[dict]) -> list[tuple[str, int, int, float, float]]:
     """Per update rule, over every method with a rule at eps scale 1: ``(rule, cells, converged, mean outer,
     mean Newton)`` (means over the converged cells)."""
@@ -189,6 +201,11 @@ def _mean(values) -> float:
 def _answers(rows: list[dict]) -> list[str]:
     """The "Answers" section: plain sentences whose every figure is computed here from ``rows``."""
     lines = ["## Answers", ""]
+    by_scale = scale_totals(rows)
+    if by_scale:
+        lines += ["- **Where the penalty sweep fails** (rule `fixed`, every method with a penalty parameter): "
+                  + ", ".join(f"eps x{s} converged {ok} of {n}" for s, n, ok in by_scale) + ". Per method: "
+                  "the table below.", ""]
     pairs = met_pairs(rows)
     if pairs:
         lines += ["- **MET 1 vs MET 2.** Cells with the same status, outer and Newton iterations: "
