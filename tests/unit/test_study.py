@@ -1,7 +1,8 @@
 """``alcontact study``: the report is generated from the CSV, resume, timeouts, bad input (issue 26).
 
 The tiniest configuration: the Signorini block (two quick meshes, 54 and 170 DOFs) with the ssn
-reference, Algorithm 6.1 and Algorithm 6.3 with exp-met1; 3 eps scales and 2 update rules, 18 cells.
+reference, Algorithm 6.1 and Algorithm 6.3 with exp-met1 (3 eps scales and 4 update rules) and the
+log-barrier anchor (3 eps scales, no rule), 32 cells.
 """
 
 from __future__ import annotations
@@ -18,7 +19,7 @@ from typer.testing import CliRunner
 from alcontact.app.study import COLUMNS, CSV_NAME, STUDY_VERSION, plan, read_rows, run_study
 from alcontact.cli import app
 
-ONLY = ["signorini", "ssn", "simo-laursen", "exp-met1"]
+ONLY = ["signorini", "ssn", "simo-laursen", "exp-met1", "log-barrier"]
 ARGS = ["study", "--quick", "--jobs", "2"] + [x for n in ONLY for x in ("--only", n)]
 
 
@@ -54,13 +55,13 @@ def test_every_cell_of_the_plan_is_one_csv_row(study):
     out, output = study
     rows = read_rows(out / CSV_NAME)
     keys = [c.key for c in plan(quick=True, only=ONLY)]
-    assert len(keys) == 18
+    assert len(keys) == 32
     assert sorted(r["key"] for r in rows) == sorted(keys)
     assert list(rows[0]) == list(COLUMNS)
     assert {r["study_version"] for r in rows} == {str(STUDY_VERSION)}
     assert json.loads((out / "study.json").read_text())["study_version"] == STUDY_VERSION
     assert (out / "heatmap-signorini.png").stat().st_size > 1000
-    assert "18 solved" in output
+    assert "32 solved" in output
     for r in rows:  # the ssn reference converged on both meshes, so every converged AL cell has its error
         assert r["status"] in {"converged", "maxiter", "newton-failed", "penalty-limit"}, r
         if r["status"] == "converged" and r["method"] != "ssn":
@@ -103,6 +104,10 @@ def test_report_figures_are_the_csv(study):
                 sel = [r for r in rows if r["method"] == m and r["rule"] == rule and float(r["eps_scale"]) == 1.0]
                 conv = [r for r in sel if r["status"] == "converged"]
                 assert (int(n), int(ok)) == (len(sel), len(conv))
+                if not conv:  # no converged cell: no mean
+                    assert outer == newton == "-"
+                    checked += 1
+                    continue
                 assert float(outer) == pytest.approx(sum(int(r["outer"]) for r in conv) / len(conv), abs=0.05)
                 assert float(newton) == pytest.approx(sum(int(r["newton"]) for r in conv) / len(conv), abs=0.05)
                 checked += 1
@@ -116,7 +121,41 @@ def test_report_figures_are_the_csv(study):
                             and r["eps_scale"] in (s, "-") and r["rule"] in ("fixed", "-")]
                     assert text == (r["newton"] if r["status"] == "converged" else f"[{r['status']}]")
                     checked += 1
-    assert checked >= 3 + 4 + 2 * 3 * 3  # the robustness rows, rule rows and both sweep tables were read
+    assert checked >= 4 + 8 + 2 * 4 * 3  # the robustness rows, rule rows and both sweep tables were read
+
+
+def test_answers_are_the_csv(study):
+    """The sentences of the "Answers" section carry figures recomputed here from the CSV."""
+    out, _ = study
+    rows = read_rows(out / CSV_NAME)
+    md = (out / "report.md").read_text()
+    answers = md.split("## Answers", 1)[1].split("\n## ", 1)[0]
+    # the update rules: converged / cells at eps scale 1 over every method with a rule
+    for rule in ("fixed", "infeasibility", "alg54-printed", "alg54-corrected"):
+        sel = [r for r in rows if r["rule"] == rule and r["eps_scale"] == "1"]
+        ok = [r for r in sel if r["status"] == "converged"]
+        assert len(sel) == 4  # two methods x two meshes
+        assert f"`{rule}` converged {len(ok)} of {len(sel)}" in answers
+    printed = [r for r in rows if r["rule"] == "alg54-printed" and r["status"] == "converged"]
+    corrected = [r for r in rows if r["rule"] == "alg54-corrected" and r["status"] == "converged"]
+    assert f"as printed (eta <- 2 eta, i.e. eps_N halved every outer iteration) converged in {len(printed)} of 4" \
+        in " ".join(answers.split())
+    assert f"as corrected (eps_N doubled) in {len(corrected)} of 4" in " ".join(answers.split())
+    # the sweep per eps scale: every method with a penalty parameter, rule fixed (or none)
+    for scale in ("0.01", "1", "100"):
+        sel = [r for r in rows if r["eps_scale"] == scale and r["rule"] in ("fixed", "-")]
+        ok = sum(r["status"] == "converged" for r in sel)
+        assert len(sel) == 2 * 3 and f"eps x{scale} converged {ok} of {len(sel)}" in answers
+    # the barrier anchor against exp-met1 on the same sweep cells
+    bar = [r for r in rows if r["method"] == "log-barrier"]
+    al = [r for r in rows if r["method"] == "exp-met1" and r["rule"] == "fixed"]
+    nb, na = (sum(r["status"] == "converged" for r in x) for x in (bar, al))
+    text = " ".join(answers.split())
+    assert f"converged in {nb} of {len(bar)} cells of the eps sweep" in text and len(bar) == 6
+    assert f"methods converged in {na} of {len(al)}" in text
+    newton = sorted(float(r["newton"]) for r in bar if r["status"] == "converged")
+    if newton:
+        assert f"/ {_median(newton):.1f} Newton iterations; on the same cells" in text
 
 
 def _median(v):
@@ -128,19 +167,19 @@ def test_resume_solves_nothing_new_and_completes_an_interrupted_study(study, tmp
     out, _ = study
     again = CliRunner().invoke(app, ARGS + ["--out", str(out)])
     assert again.exit_code == 0, again.output
-    assert "18 already done, 0 solved" in again.output
-    assert len(read_rows(out / CSV_NAME)) == 18
+    assert "32 already done, 0 solved" in again.output
+    assert len(read_rows(out / CSV_NAME)) == 32
     # an interrupted study: the CSV holds the header and the first rows only
     part = tmp_path / "part"
     part.mkdir()
     (part / "study.json").write_text((out / "study.json").read_text())
     lines = (out / CSV_NAME).read_text().splitlines(keepends=True)
-    (part / CSV_NAME).write_text("".join(lines[:6]))  # header + 5 cells
+    (part / CSV_NAME).write_text("".join(lines[:21]))  # header + 20 cells
     for f in (out / "ssn").iterdir():  # the references of the finished ssn cells stay in the folder
         (part / "ssn").mkdir(exist_ok=True)
         (part / "ssn" / f.name).write_bytes(f.read_bytes())
     run = run_study(part, quick=True, only=ONLY, jobs=1, report=False)
-    assert (run.skipped, run.solved) == (5, 13)
+    assert (run.skipped, run.solved) == (20, 12)
     assert sorted(r["key"] for r in read_rows(part / CSV_NAME)) == sorted(r["key"] for r in read_rows(out / CSV_NAME))
 
 

@@ -14,13 +14,17 @@ Cells
   ``--quick``, four in the full run;
 - methods (:func:`methods`): ``penalty``, ``simo-laursen``, ``rockafellar`` and every MET 1 /
   MET 2 penalty of :func:`alcontact.contact.contact_penalties` under Algorithm 6.3 / 6.4
-  (``family-p``), and the semi-smooth Newton reference ``ssn``; a method the problem's solver
-  does not offer (the pure penalty with friction) is not a cell;
+  (``family-p``), the semi-smooth Newton reference ``ssn`` and the barrier anchor ``log-barrier``
+  (modified log barrier with fixed multipliers, no update rule); a method the solver does not register
+  for the problem's friction and kinematics (the pure penalty with friction, the barrier with friction)
+  is not a cell. Under the study's ``eta_scaling = "adaptive"`` MET 1 and MET 2 are the same traction
+  law (see :mod:`alcontact.contact.laws`), so their rows agree up to rounding;
 - the scale of the automatic :math:`\\varepsilon_N` (``penalty_scale``): :data:`FULL_SCALES`
   (six decades) or :data:`QUICK_SCALES`; ``ssn`` has no penalty parameter (one cell);
-- the frictionless penalty update rule (:func:`alcontact.optim.available_strategies`) of the
-  multiplier methods, at scale 1 (the rule ``fixed`` at every scale); friction solvers have no
-  rule (``-``).
+- the frictionless penalty update rule (:func:`alcontact.optim.available_strategies`: ``fixed``,
+  ``infeasibility``, Algorithm 5.4 as printed ``alg54-printed`` and as corrected ``alg54-corrected``, ...)
+  of the multiplier methods, at scale 1 (the rule ``fixed`` at every scale); friction solvers and the
+  barrier have no rule (``-``).
 
 A cell is keyed by all its parameters and :data:`STUDY_VERSION`; a re-run skips the keys already
 in ``results.csv``, and each finished row is appended and flushed, so an interrupted study keeps
@@ -87,8 +91,9 @@ FULL_SCALES = (1e-3, 1e-2, 1e-1, 1.0, 1e1, 1e2, 1e3)
 QUICK_SCALES = (1e-2, 1.0, 1e2)
 #: The rule swept at every scale (the others run at scale 1).
 BASE_RULE = "fixed"
-#: Rules of ``--quick`` (the full run takes every registered rule).
-QUICK_RULES = ("fixed", "infeasibility")
+#: Rules of ``--quick`` (the full run takes every registered rule): the base rule, the infeasibility rule and
+#: Algorithm 5.4's rule as printed and as corrected.
+QUICK_RULES = ("fixed", "infeasibility", "alg54-printed", "alg54-corrected")
 #: Coulomb coefficient of the frictional ironing problem.
 IRONING_MU = 0.3
 
@@ -107,6 +112,7 @@ class StudyProblem:
     full_meshes: tuple
     analytical: bool
     frictional: bool
+    kinematics: str = "small"
 
 
 def _hertz_2d(n):
@@ -163,13 +169,13 @@ PROBLEMS: dict[str, StudyProblem] = {p.name: p for p in (
     StudyProblem("signorini", "cantilever block pressed onto a plane: contact with lift-off (cells across)",
                  _signorini, (2, 4), (2, 4, 8, 16), False, False),
     StudyProblem("half-cylinder", "neo-Hookean half-cylinder pressed to delta/R = 0.4, 8 load steps (n)",
-                 _half_cylinder, (4, 6), (4, 6, 8, 12), False, False),
+                 _half_cylinder, (4, 6), (4, 6, 8, 12), False, False, "finite"),
     StudyProblem("hemisphere", "neo-Hookean quarter hemisphere to delta/R = 0.2, 5 load steps (n)",
-                 _hemisphere, (2, 3), (2, 3, 4, 6), False, False),
+                 _hemisphere, (2, 3), (2, 3, 4, 6), False, False, "finite"),
     StudyProblem("cattaneo-mindlin", "Cattaneo-Mindlin: Hertz load then shear, Coulomb mu = 0.3 (elements per a)",
                  _mindlin, (2, 4), (2, 4, 8, 16), False, True),
     StudyProblem("ironing", "finite-deformation frictional ironing, mu = 0.3, press then slide 0.5 (elements "
-                 "per unit length)", _ironing, (4, 6), (4, 6, 8, 12), False, True),
+                 "per unit length)", _ironing, (4, 6), (4, 6, 8, 12), False, True, "finite"),
 )}
 
 
@@ -205,6 +211,8 @@ def methods() -> list[Method]:
         met = "1" if name.endswith("-met1") else "2" if name.endswith("-met2") else "-"
         out.append(Method(name, "family-p", name, met, bool(f.family_p)))
     out.append(Method("ssn", "ssn", None, "-", False))
+    # the barrier anchor (modified log barrier, fixed multipliers): no multiplier update, no update rule
+    out.append(Method("log-barrier", "log-barrier", None, "-", False))
     known = set(available_algorithms())
     return [m for m in out if m.algorithm in known]
 
@@ -226,11 +234,11 @@ class Cell:
 
 
 def _applicable(problem: StudyProblem, method: Method) -> bool:
-    if not problem.frictional:
-        return True
-    from ..contact import friction_algorithms
+    """Whether the solver registers ``method`` for the problem's friction and kinematics (else: no cell)."""
+    from ..contact.algorithms import algorithms as registered
 
-    return method.algorithm in friction_algorithms()
+    return any(e.name == method.algorithm for e in registered(friction=problem.frictional,
+                                                                kinematics=problem.kinematics))
 
 
 def _select(only: Iterable[str] | None) -> tuple[list[StudyProblem], list[Method]]:

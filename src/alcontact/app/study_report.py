@@ -10,6 +10,11 @@ CSV gives the same text. Tables:
   ``converged/cells`` and a percentage ("which method needs no tuning");
 - per method and update rule (scale 1, frictionless problems): cells, converged, and the mean outer
   and Newton iterations of the converged cells.
+
+An "Answers" section states the findings in sentences, each figure computed from the same rows: the
+convergence of the sweep per eps scale (:func:`scale_totals`), MET 1
+against MET 2 (:func:`met_pairs`), the update rules over all methods (:func:`rule_totals`, Algorithm 5.4
+as printed and as corrected), the barrier anchor against the family-P methods (:func:`barrier_vs_al`).
 """
 
 from __future__ import annotations
@@ -20,7 +25,8 @@ import os
 from collections import OrderedDict
 from pathlib import Path
 
-__all__ = ["CSV_NAME", "read_rows", "tables", "render", "write_report", "heat_maps"]
+__all__ = ["CSV_NAME", "read_rows", "tables", "render", "write_report", "heat_maps", "met_pairs", "rule_totals",
+           "barrier_vs_al", "scale_totals"]
 
 #: The CSV of a study folder.
 CSV_NAME = "results.csv"
@@ -122,6 +128,126 @@ def identical_methods(rows: list[dict]) -> list[list[str]]:
     return [g for g in groups if len(g) > 1]
 
 
+def met_pairs(rows: list[dict]) -> list[tuple[str, int, int, list[tuple]]]:
+    """Per generator ``theta`` with both ``theta-met1`` and ``theta-met2`` in ``rows``: ``(theta, identical, shared,
+    differing cells)``, a cell identical when status, outer and Newton iterations agree."""
+    by = {(r["problem"], r["mesh"], r["method"], r["eps_scale"], r["rule"]): r for r in rows}
+    out = []
+    for theta in _order(r["method"].removesuffix("-met1") for r in rows if r["method"].endswith("-met1")):
+        shared, same, differ = 0, 0, []
+        for (p, mesh, m, s, rule), r1 in by.items():
+            r2 = by.get((p, mesh, f"{theta}-met2", s, rule))
+            if m != f"{theta}-met1" or r2 is None:
+                continue
+            shared += 1
+            a, b = (r1["status"], r1["outer"], r1["newton"]), (r2["status"], r2["outer"], r2["newton"])
+            if a == b:
+                same += 1
+            else:
+                differ.append((p, mesh, s, rule, a, b))
+        if shared:
+            out.append((theta, same, shared, differ))
+    return out
+
+
+def scale_totals(rows: list[dict]) -> list[tuple[str, int, int]]:
+    """Per eps scale of the sweep (rule ``fixed`` or none, methods with a penalty parameter): ``(scale, cells,
+    converged)``."""
+    sweep = [r for r in rows if r["rule"] in ("fixed", "-") and r["eps_scale"] != "-"]
+    out = []
+    for s in sorted(_order(r["eps_scale"] for r in sweep), key=_scale_key):
+        sel = [r for r in sweep if r["eps_scale"] == s]
+        out.append((s, len(sel), sum(r["status"] == "converged" for r in sel)))
+    return out
+
+
+def rule_totals(rows: list[dict]) -> list[tuple[str, int, int, float, float]]:
+    """Per update rule, over every method with a rule at eps scale 1: ``(rule, cells, converged, mean outer,
+    mean Newton)`` (means over the converged cells)."""
+    out = []
+    for rule in _order(r["rule"] for r in rows if r["rule"] != "-"):
+        sel = [r for r in rows if r["rule"] == rule and _num(r["eps_scale"]) == 1.0]
+        ok = [r for r in sel if r["status"] == "converged"]
+        out.append((rule, len(sel), len(ok), _mean([_num(r["outer"]) for r in ok]),
+                    _mean([_num(r["newton"]) for r in ok])))
+    return out
+
+
+def barrier_vs_al(rows: list[dict], barrier: str = "log-barrier") -> dict | None:
+    """The barrier anchor against the family-P AL methods on the same sweep cells (problem, mesh, eps scale).
+
+    ``{"cells", "converged", "outer", "newton"}`` for the barrier and ``{"al_cells", "al_converged",
+    "al_outer", "al_newton"}`` for the family-P methods (medians over the converged cells); ``None`` without
+    barrier rows.
+    """
+    bar = [r for r in rows if r["method"] == barrier]
+    if not bar:
+        return None
+    where = {(r["problem"], r["mesh"], r["eps_scale"]) for r in bar}
+    al = [r for r in rows if r["family_p"] == "1" and r["rule"] in ("fixed", "-")
+          and (r["problem"], r["mesh"], r["eps_scale"]) in where]
+    ok, al_ok = [r for r in bar if r["status"] == "converged"], [r for r in al if r["status"] == "converged"]
+    return {"cells": len(bar), "converged": len(ok), "outer": _median([_num(r["outer"]) for r in ok]),
+            "newton": _median([_num(r["newton"]) for r in ok]), "al_cells": len(al), "al_converged": len(al_ok),
+            "al_outer": _median([_num(r["outer"]) for r in al_ok]),
+            "al_newton": _median([_num(r["newton"]) for r in al_ok])}
+
+
+def _mean(values) -> float:
+    v = [x for x in values if not math.isnan(x)]
+    return sum(v) / len(v) if v else math.nan
+
+
+def _answers(rows: list[dict]) -> list[str]:
+    """The "Answers" section: plain sentences whose every figure is computed here from ``rows``."""
+    lines = ["## Answers", ""]
+    by_scale = scale_totals(rows)
+    if by_scale:
+        lines += ["- **Where the penalty sweep fails** (rule `fixed`, every method with a penalty parameter): "
+                  + ", ".join(f"eps x{s} converged {ok} of {n}" for s, n, ok in by_scale) + ". Per method: "
+                  "the table below.", ""]
+    pairs = met_pairs(rows)
+    if pairs:
+        lines += ["- **MET 1 vs MET 2.** Cells with the same status, outer and Newton iterations: "
+                  + ", ".join(f"{t}-met1 / {t}-met2 {same} of {n}" for t, same, n, _ in pairs) + ". This is "
+                  "not a switch that fails to take effect: the study scales every family-P law to the "
+                  "stiffness eps_N at zero gap from the current multipliers (`eta_scaling = \"adaptive\"`, "
+                  "eta = p''(0, lambda)/eps_N), and then MET 1, lambda theta'(g/eta_1) with eta_1 = lambda "
+                  "theta''(0)/eps_N, and MET 2, lambda theta'(lambda g/eta_2) with eta_2 = lambda^2 "
+                  "theta''(0)/eps_N, are the same function lambda theta'(g eps_N/(lambda theta''(0))) of the gap: "
+                  "one traction law, one sequence of iterates. They can differ only where eta is not recomputed "
+                  "from the multiplier it is used with (`eta_scaling = \"fixed\"`; the frictional solvers' eta "
+                  "floor at tiny multipliers) and by rounding near a stopping test (`tests/unit/test_met_variants.py`"
+                  " shows both).", ""]
+        differ = [(t, *d) for t, _, _, ds in pairs for d in ds]
+        if differ:
+            lines[-2] += " Cells that differ (problem, mesh, eps scale, rule: MET 1 / MET 2 status, outer, Newton): " + \
+                "; ".join(f"{t} {p} {mesh} x{sc} {rule}: {'/'.join(a)} vs {'/'.join(b)}"
+                          for t, p, mesh, sc, rule, a, b in differ[:8]) + ("" if len(differ) <= 8 else
+                                                                           f"; and {len(differ) - 8} more") + "."
+    rules = rule_totals(rows)
+    if rules:
+        lines += ["- **Penalty update rules** (eps scale 1, every method with a rule): "
+                  + "; ".join(f"`{rule}` converged {ok} of {n}, mean {_fmt_mean(outer)} outer / "
+                              f"{_fmt_mean(newton)} Newton" for rule, n, ok, outer, newton in rules) + "."]
+        named = {rule: (n, ok) for rule, n, ok, _, _ in rules}
+        if "alg54-printed" in named and "alg54-corrected" in named:
+            (n1, ok1), (n2, ok2) = named["alg54-printed"], named["alg54-corrected"]
+            lines += ["  Algorithm 5.4 as printed (eta <- 2 eta, i.e. eps_N halved every outer iteration) "
+                      f"converged in {ok1} of {n1} cells, as corrected (eps_N doubled) in {ok2} of {n2}: a larger "
+                      "eta weakens the penalty, since eta divides g in (5.28)."]
+        lines.append("")
+    bar = barrier_vs_al(rows)
+    if bar:
+        lines += ["- **Barrier anchor** (`log-barrier`: modified log barrier with fixed multipliers, eta -> 0, no "
+                  f"multiplier update): converged in {bar['converged']} of {bar['cells']} cells of the eps sweep, "
+                  f"median {_fmt_mean(bar['outer'])} outer / {_fmt_mean(bar['newton'])} Newton iterations; on "
+                  f"the same cells the family-P augmented Lagrangian methods converged in {bar['al_converged']} of "
+                  f"{bar['al_cells']}, median {_fmt_mean(bar['al_outer'])} outer / {_fmt_mean(bar['al_newton'])} "
+                  "Newton.", ""]
+    return lines if len(lines) > 2 else []
+
+
 def _fmt_mean(x: float) -> str:
     return "-" if math.isnan(x) else f"{x:.1f}"
 
@@ -139,6 +265,7 @@ def render(rows: list[dict], *, title: str = "alcontact study", images: dict | N
              "automatic penalty parameter. Update rule `fixed` (friction solvers: none). `converged` is the "
              "solver's status: every invariant it checks holds at the returned state (the pure penalty stops "
              "on its penetration tolerance, see the `eps_final` column).", ""]
+    lines += _answers(rows)
     lines += ["## Which method needs no tuning", "",
               "Converged cells of the eps sweep, over every problem and mesh; the cost across the sweep as "
               "medians over the converged cells (time / linear solve: CPU time of the solve over one sparse "
@@ -163,7 +290,10 @@ def render(rows: list[dict], *, title: str = "alcontact study", images: dict | N
         lines += ["Methods with the same status, outer and Newton iterations in every cell they share: "
                   + "; ".join(" = ".join(g) for g in same) + ".", ""]
     lines += ["## Penalty update rules", "",
-              "At eps scale 1, frictionless problems; outer and Newton: means over the converged cells.", "",
+              "At eps scale 1, frictionless problems; outer and Newton: means over the converged cells. "
+              "`alg54-printed`: Algorithm 5.4 as printed, eta <- 2 eta (eps_N halved) after every outer "
+              "iteration; `alg54-corrected`: eta <- eta / 2 (eps_N doubled); `infeasibility`: eps_N times 10 "
+              "when the penetration did not fall below 1/4 of its previous value.", "",
               "| method | rule | cells | converged | outer | Newton |", "|---|---|---:|---:|---:|---:|"]
     for m, rule, n, ok, outer, newton in t["rules"]:
         lines.append(f"| {m} | {rule} | {n} | {ok} | {_fmt_mean(outer)} | {_fmt_mean(newton)} |")

@@ -195,6 +195,38 @@ class _PerConstraint:
         return np.where(bad, self.factor, 1.0)
 
 
+class _Alg54Printed:
+    """Algorithm 5.4 as printed: ``eta <- alpha * eta`` (``alpha > 1``) after every outer iteration.
+
+    ``eta`` divides ``g`` in (5.28), so this *weakens* the penalty every iteration (in contact:
+    :math:`\\varepsilon_N \\leftarrow \\varepsilon_N / \\alpha`), the opposite of section 6.3.1
+    (see SEED_NOTES, "Inconsistency" of Algorithm 5.4). Returns the factor ``1 / alpha``.
+    Kept so that the printed rule can be measured against its correction.
+    """
+
+    name = "alg54-printed"
+
+    def __init__(self, alpha: float = 2.0):
+        self.alpha = _real(self.name, "alpha", alpha, lambda v: v > 1, "a number > 1")
+
+    def __call__(self, s: StrategyState) -> float:
+        return 1.0 / self.alpha
+
+
+class _Alg54Corrected(_Alg54Printed):
+    """Algorithm 5.4 corrected: ``eta <- eta / alpha`` (``alpha > 1``) after every outer iteration.
+
+    The direction of section 6.3.1: a stronger penalty each iteration (in contact
+    :math:`\\varepsilon_N \\leftarrow \\alpha\\,\\varepsilon_N`). Returns the factor ``alpha``; the
+    same ``alpha`` as :class:`_Alg54Printed`, so the two differ only in the direction.
+    """
+
+    name = "alg54-corrected"
+
+    def __call__(self, s: StrategyState) -> float:
+        return self.alpha
+
+
 @dataclass(frozen=True)
 class _Entry:
     factory: Callable[..., PenaltyUpdate]
@@ -266,7 +298,7 @@ def _entry(name: str) -> _Entry:
 
 def make_strategy(name: str, offered: Mapping[str, Any] | None = None, **params) -> PenaltyUpdate:
     """Build a rule by registry name (``"fixed"``, ``"always"``, ``"infeasibility"``,
-    ``"kkt"``, ``"per-constraint"``, or a registered one).
+    ``"kkt"``, ``"per-constraint"``, ``"alg54-printed"``, ``"alg54-corrected"``, or a registered one).
 
     Parameters
     ----------
@@ -301,6 +333,8 @@ def make_strategy(name: str, offered: Mapping[str, Any] | None = None, **params)
 # the loop parameters: (C4)-type rules stop at the caller's feasibility tolerance; the
 # per-constraint test is relative (ALGENCAN) and keeps feas_tol = 0 unless it is given
 for _cls, _loop in ((_Fixed, ()), (_Always, ("factor",)), (_Infeasibility, ("tau", "factor", "feas_tol")),
-                    (_KKT, ("tau", "factor", "feas_tol")), (_PerConstraint, ("tau", "factor"))):
+                    (_KKT, ("tau", "factor", "feas_tol")), (_PerConstraint, ("tau", "factor")),
+                    # Algorithm 5.4's own alpha (default 2), not the loop's factor: one meaning in optim and contact
+                    (_Alg54Printed, ()), (_Alg54Corrected, ())):
     register_strategy(_cls.name, _cls, doc=(_cls.__doc__ or "").strip().splitlines()[0], loop_parameters=_loop)
 del _cls, _loop

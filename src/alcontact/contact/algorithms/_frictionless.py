@@ -107,7 +107,8 @@ class ContactOptions:
         factor ``tau``.
     tau, alpha : float
         Parameters offered to the rule (``tau``, ``factor``; ``feas_tol`` is
-        ``tol_penetration``); ``alpha`` is also the growth of the pure penalty.
+        ``tol_penetration``); ``alpha`` is also the growth of the pure penalty and of the
+        ``log-barrier`` stiffness (its barrier parameter falls by ``alpha``).
     eps_max : float
         Largest :math:`\\varepsilon_N` relative to the initial one.
     eta_scaling : {"adaptive", "fixed"}
@@ -219,7 +220,7 @@ class ContactOptions:
                              "`fixed`, `infeasibility`, ...", choices=available_strategies)
     tau: float = declared("float", 0.25, "`infeasibility`: required drop of the penetration per iteration.",
                           low=0, high=1, low_open=True, high_open=True)
-    alpha: float = declared("float", 10.0, "Penalty growth factor (`infeasibility`, pure penalty).",
+    alpha: float = declared("float", 10.0, "Penalty growth factor (`infeasibility`, pure penalty, `log-barrier`).",
                             low=1, low_open=True)
     eps_max: float = declared("float", 1e10, "Largest penalty stiffness over the initial one.", low=1)
     eta_scaling: str = declared("str", "adaptive", "Scale of family-P penalties: `adaptive` or `fixed`.",
