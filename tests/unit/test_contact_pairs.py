@@ -134,13 +134,24 @@ def test_two_bodies_are_refused_until_two_body_contact():
     assert "2 bodies" in msg and "not supported yet" in msg and "docs/architecture.md" in msg
 
 
-def test_two_pairs_are_refused():
+def test_two_pairs_with_different_friction_coefficients_are_refused():
     body, pair, short = _parts()
-    second = ContactPair(Boundary(body, "bottom"), obstacles.make("half-space", point=[0, -20], normal=[0, 1]))
+    second = ContactPair(Boundary(body, "bottom"), obstacles.make("half-space", point=[0, -20], normal=[0, 1]),
+                         friction=0.3)
     with pytest.raises(InputError) as info:
         ContactProblem(bodies=[body], pairs=[pair, second], supports=short.supports)
     msg = str(info.value)
-    assert "2 contact pairs" in msg and "not supported yet" in msg and "docs/architecture.md" in msg
+    assert "different friction coefficients (0, 0.3)" in msg and "same coefficient" in msg
+
+
+def test_two_pairs_at_finite_deformation_are_refused():
+    body = Hyperelastic(meshes.rectangle(0.0, 1.0, 0.0, 1.0, 2, 2), Material(E=1000.0, nu=0.3, plane="strain"))
+    pairs = [ContactPair(Boundary(body, "bottom"), obstacles.HalfSpace((0.0, 0.0), (0.0, 1.0))),
+             ContactPair(Boundary(body, "top"), obstacles.HalfSpace((0.0, 1.0), (0.0, -1.0)))]
+    with pytest.raises(InputError) as info:
+        ContactProblem(bodies=[body], pairs=pairs, kinematics="finite")
+    msg = str(info.value)
+    assert "2 contact pairs" in msg and "kinematics='small'" in msg
 
 
 def test_a_deformable_master_is_refused():

@@ -189,6 +189,7 @@ def summarize(problem, solution, *, problem_name: str | None = None, level: int 
         "peak_pressure_error_pct": _error_pct(p_num, p_ex),
         "model_contact_force": f_model,
         "contact_force_vector": np.asarray(solution.total_contact_force, dtype=float).tolist(),
+        "pair_contact_forces": _pair_forces(problem, solution),
         **equilibrium_keys(eq),
         "peak_pressure_nodal_max": p_max,
         "peak_pressure_nodal_max_error_pct": _error_pct(p_max, p_ex),
@@ -212,6 +213,14 @@ def summarize(problem, solution, *, problem_name: str | None = None, level: int 
         "created_utc": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
     }
     return summary
+
+
+def _pair_forces(problem, solution) -> list[dict[str, Any]]:
+    """Per contact pair: its slave boundary, its master and the contact force it puts on the body."""
+    pairs = getattr(problem, "pairs", ())
+    forces = solution.pair_contact_forces()
+    return [{"slave": p.slave.name, "master": p.master.describe(), "force": [float(x) for x in f]}
+            for p, f in zip(pairs, forces)]
 
 
 def _tolerances(options: dict) -> dict[str, float]:

@@ -119,7 +119,7 @@ def _solve_static(problem, algorithm: str = DEFAULT_ALGORITHM, penalty: str | No
     # stops at a relative update of 1e-8): its equilibrium tolerance has tol_multiplier in it
     fixed, _ = problem.dirichlet()
     eq = state_equilibrium(problem.model, u, fixed, problem.load_vector(),
-                           problem.model.node_dofs(problem.contact_boundary)[1], nodal[:, None] * dc.normals, dc.h,
+                           problem.slave_nodes()[1], nodal[:, None] * dc.normals, dc.h,
                            pressure=pressure, weights=dc.weights)
     check = check_state(g_all, pressure, dc.h, tol_penetration=opts.tol_penetration,
                         tol_complementarity=opts.tol_complementarity, equilibrium=eq.largest,
@@ -129,7 +129,7 @@ def _solve_static(problem, algorithm: str = DEFAULT_ALGORITHM, penalty: str | No
     pressure = np.maximum(pressure, 0.0)
     force = np.sum(nodal[:, None] * dc.normals, axis=0)
     if np.any(pressure > 0):  # pressure field of the nodal forces (differs from lambda for 3D P2)
-        pressure = problem.model.boundary_pressure(problem.contact_boundary, nodal)
+        pressure = problem.slave_pressure(nodal)
     closed = g_all > -max(1e-6, 10 * opts.tol_penetration) * dc.h
     active = closed & (pressure > 1e-12 * max(float(pressure.max(initial=0.0)), 1e-300))
     # the printed invariants are the checked ones (of the applied pressures, not of the recovered field)

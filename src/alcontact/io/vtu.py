@@ -81,7 +81,7 @@ def _contact_scalar_dofs(solution) -> np.ndarray:
     """Scalar DOF index of each contact point of ``solution`` (same order as ``solution.points``)."""
     problem = solution.problem
     model = problem.model
-    pts, dofs = model.node_dofs(problem.contact_boundary)
+    pts, dofs = problem.slave_nodes()
     if pts.shape != solution.points.shape or not np.allclose(pts, solution.points):
         raise InputError(
             "the solution's contact points do not match the contact boundary "

@@ -124,8 +124,8 @@ class ContactPoints:
         normal motion is not fully supported (the point may be a candidate).
         """
         model = problem.model
-        pts, dofs = model.node_dofs(problem.contact_boundary)
-        w = model.boundary_weights(problem.contact_boundary)
+        pts, dofs = problem.slave_nodes()
+        w = problem.slave_weights()
         gap0, nu = problem.obstacle.evaluate(pts)
         self.points, self.dofs, self.weights = pts, dofs, w
         self.normals, self.gap0 = nu, gap0
@@ -180,7 +180,8 @@ class ContactPoints:
         key = (self.model, self.problem.obstacle, self.problem.contact_boundary)
         cached = getattr(self, "_h_of", None)
         if cached is None or cached[0][0] is not key[0] or cached[0][1] is not key[1] or cached[0][2] != key[2]:
-            cached = self._h_of = (key, _element_size(key[0], key[2], key[1]))
+            cached = self._h_of = (key, min(_element_size(key[0], p.slave.name, p.master)
+                                            for p in self.problem.pairs))
         return cached[1]
 
     def all_gaps(self, u: np.ndarray) -> np.ndarray:

@@ -352,9 +352,14 @@ class ContactProblem:
             pair = old  # nothing replaced: keep the caller's pair
         else:
             pair = ContactPair(Boundary(raw["model"], raw["contact_boundary"]), raw["obstacle"], raw["friction"])
+        others = tuple(base.get("others", ()))
+        if others and raw["friction"] is not base["friction"]:
+            raise InputError("ContactProblem: friction given with several pairs: set the coefficient of each "
+                             "ContactPair(..., friction=mu) instead.")
         object.__setattr__(self, "bodies", (raw["model"],))
-        object.__setattr__(self, "pairs", (pair,))
+        object.__setattr__(self, "pairs", (pair,) + others)
         self._validate()
+        object.__setattr__(self, "_stacked", self._stack())
 
     @staticmethod
     def _from_pairs(bodies: Any, pairs: Any) -> dict[str, Any]:
@@ -377,19 +382,22 @@ class ContactProblem:
         if len(bodies) > 1:
             raise InputError(f"{kind}: bodies has {len(bodies)} bodies: contact between several bodies is not "
                              f"supported yet; give one body and rigid obstacles as masters. See {ROADMAP}.")
-        if len(pairs) > 1:
-            raise InputError(f"{kind}: pairs has {len(pairs)} contact pairs: several contact pairs are not supported "
-                             f"yet; give one pair (one contact boundary against one rigid obstacle). See {ROADMAP}.")
+        for i, pair in enumerate(pairs):
+            if pair.slave.body is not bodies[0]:
+                raise InputError(f"{kind}: pairs[{i}].slave is the boundary {pair.slave.name!r} of a body that is not "
+                                 "in bodies; build it as Boundary(body, name) with a body of bodies.")
+            if not pair.rigid:
+                raise InputError(f"{kind}: pairs[{i}].master = {pair.master.describe()} is not rigid: a deformable "
+                                 f"master (contact between two bodies) is not supported yet; use a rigid obstacle of "
+                                 f"alcontact.contact.obstacles. See {ROADMAP}.")
+        mus = [float(p.friction) for p in pairs]
+        if len(set(mus)) > 1:
+            raise InputError(f"{kind}: the pairs have different friction coefficients ({', '.join(f'{m:g}' for m in mus)}"
+                             "): a friction coefficient per pair is not supported yet; give every pair the same "
+                             "coefficient (0 for frictionless contact).")
         pair = pairs[0]
-        if pair.slave.body is not bodies[0]:
-            raise InputError(f"{kind}: pairs[0].slave is the boundary {pair.slave.name!r} of a body that is not in "
-                             "bodies; build it as Boundary(body, name) with a body of bodies.")
-        if not pair.rigid:
-            raise InputError(f"{kind}: pairs[0].master = {pair.master.describe()} is not rigid: a deformable master "
-                             f"(contact between two bodies) is not supported yet; use a rigid obstacle of "
-                             f"alcontact.contact.obstacles. See {ROADMAP}.")
         return {"model": bodies[0], "obstacle": pair.master, "contact_boundary": pair.slave.name,
-                "friction": pair.friction, "pair": pair}
+                "friction": pair.friction, "pair": pair, "others": pairs[1:]}
 
     # ------------------------------------------------------------ views of the one body and pair
     @property
@@ -399,8 +407,60 @@ class ContactProblem:
 
     @property
     def obstacle(self) -> Any:
-        """The rigid obstacle, master of the contact pair: ``pairs[0].master``."""
-        return self.pairs[0].master
+        """The rigid obstacle, master of the contact pair: ``pairs[0].master``.
+
+        With several pairs, the master of the stacked contact points
+        (:class:`~alcontact.contact.masters._stacked.StackedMaster`: each pair's block of
+        points against that pair's master).
+        """
+        if len(self.pairs) == 1:
+            return self.pairs[0].master
+        return self._stacked[2]
+
+    # ------------------------------------------------------------ the stacked contact points of all pairs
+    def _stack(self):
+        """Points, DOFs and weights of every pair's slave boundary, stacked in the pairs' order; their master."""
+        if len(self.pairs) == 1:
+            return None
+        from ..masters._stacked import StackedMaster
+
+        nodes = [self.model.node_dofs(p.slave.name) for p in self.pairs]
+        pts = np.concatenate([n[0] for n in nodes])
+        dofs = np.concatenate([n[1] for n in nodes])
+        sizes = [n[0].shape[0] for n in nodes]
+        return pts, dofs, StackedMaster([p.master for p in self.pairs], sizes)
+
+    def slave_nodes(self) -> tuple[np.ndarray, np.ndarray]:
+        """Contact points ``(points (m, d), dofs (m, d))`` of all pairs, stacked in the pairs' order.
+
+        One pair: ``model.node_dofs(contact_boundary)``. Several pairs: the points of
+        ``pairs[0].slave``, then those of ``pairs[1].slave``, ... (one constraint per slave
+        point and pair; :meth:`pair_of_points` gives the pair of each).
+        """
+        if len(self.pairs) == 1:
+            return self.model.node_dofs(self.contact_boundary)
+        return self._stacked[0].copy(), self._stacked[1].copy()
+
+    def slave_weights(self) -> np.ndarray:
+        """Tributary length/area of each stacked contact point (:meth:`slave_nodes` order)."""
+        if len(self.pairs) == 1:
+            return self.model.boundary_weights(self.contact_boundary)
+        return np.concatenate([self.model.boundary_weights(p.slave.name) for p in self.pairs])
+
+    def slave_pressure(self, forces: Any) -> np.ndarray:
+        """Pressure at the stacked contact points from their nodal normal forces (per pair's boundary)."""
+        if len(self.pairs) == 1:
+            return self.model.boundary_pressure(self.contact_boundary, forces)
+        forces = np.asarray(forces, dtype=float)
+        b = self._stacked[2].bounds
+        return np.concatenate([self.model.boundary_pressure(p.slave.name, forces[b[k]:b[k + 1]])
+                               for k, p in enumerate(self.pairs)])
+
+    def pair_of_points(self) -> np.ndarray:
+        """Index of the pair of each stacked contact point, shape ``(m,)`` (all 0 for one pair)."""
+        if len(self.pairs) == 1:
+            return np.zeros(self.model.node_dofs(self.contact_boundary)[0].shape[0], dtype=np.int64)
+        return self._stacked[2].owner.copy()
 
     @property
     def contact_boundary(self) -> str:
@@ -425,13 +485,18 @@ class ContactProblem:
 
     def _validate(self) -> None:
         """Values that need the mesh: boundary names, dimensions, supports."""
-        self.model.facets(self.contact_boundary)  # MeshError naming the known boundaries
+        for p in self.pairs:
+            self.model.facets(p.slave.name)  # MeshError naming the known boundaries
+            p.master.check_dim(self.model.dim)
+        if len(self.pairs) > 1 and self.kinematics != "small":
+            raise InputError(f"ContactProblem: {len(self.pairs)} contact pairs with kinematics={self.kinematics!r}: "
+                             "several contact pairs are supported at small deformation only so far; use "
+                             "kinematics='small' or one pair.")
         for s in self.supports:
             self.model.facets(s.boundary)
         for ld in self.loads:
             if hasattr(ld, "boundary"):
                 self.model.facets(ld.boundary)
-        self.obstacle.check_dim(self.model.dim)
         self.dirichlet()  # InputError on two supports prescribing different values to one DOF
 
     def _check_types(self, raw: dict[str, Any]) -> None:

@@ -181,6 +181,19 @@ class ContactSolution:
             f = f + self.weights[:, None] * np.asarray(shear, dtype=float)
         return f
 
+    def pair_contact_forces(self) -> np.ndarray:
+        """Contact force on the body from each contact pair, ``(n_pairs, d)``.
+
+        The sum of :meth:`contact_point_forces` over the stacked points of each pair
+        (``problem.pair_of_points()``); one row, the total contact force, for one pair.
+        """
+        f = self.contact_point_forces()
+        pairs = getattr(self.problem, "pairs", ())
+        owner = self.problem.pair_of_points() if len(pairs) > 1 else np.zeros(f.shape[0], dtype=np.int64)
+        out = np.zeros((max(len(pairs), 1), f.shape[1]))
+        np.add.at(out, owner, f)
+        return out
+
     def equilibrium(self, problem=None):
         """Global equilibrium of this state, :func:`alcontact.contact.solution._estimators.equilibrium`.
 
@@ -191,7 +204,7 @@ class ContactSolution:
 
         prob = self.problem if problem is None else problem
         model = prob.model
-        _, dofs = model.node_dofs(prob.contact_boundary)
+        _, dofs = prob.slave_nodes()
         fixed, _ = prob.dirichlet()
         fc = nodal_force_vector(model.ndofs, dofs, self.contact_point_forces())
         return equilibrium(model, self.u, fixed, prob.load_vector(), fc, length=self.extra.get("h"))

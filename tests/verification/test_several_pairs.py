@@ -1,0 +1,98 @@
+"""Several contact pairs on one body: a block squeezed between two rigid plates.
+
+Reference (closed form): a block of height ``H`` between two rigid planes that each
+approach it by ``d`` (frictionless, laterally free: sigma_xx = 0) is in uniform uniaxial
+stress along y. Plane strain: ``p = E / (1 - nu^2) * 2 d / H``; 3D (sigma_xx = sigma_zz = 0):
+``p = E * 2 d / H``. The augmented Lagrangian algorithms and the semi-smooth Newton
+reference reproduce it (3D: the plates squeeze along z) to 1e-10 relative on the direct path (1e-8 on the AMG/Krylov path,
+whose solves stop at a relative residual); the pure penalty (6.10) is off by its
+penalty error and is checked against the same number to 1e-6. The two pairs' forces
+balance (action = reaction through the body) to 1e-10 of their size.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from alcontact.contact import Boundary, ContactPair, ContactProblem, Support, obstacles, solve
+from alcontact.contact.masters._stacked import StackedMaster
+from alcontact.errors import InputError
+from alcontact.fem import LinearElasticity, Material, meshes
+
+E, NU, H, D = 1000.0, 0.3, 1.0, 0.01
+
+
+def _squeeze(dim: int, friction: float = 0.0) -> ContactProblem:
+    if dim == 2:
+        body = LinearElasticity(meshes.rectangle(0.0, 1.0, 0.0, H, 4, 4), Material(E=E, nu=NU, plane="strain"))
+        lo = obstacles.make("half-space", point=[0.0, D], normal=[0.0, 1.0])
+        hi = obstacles.make("half-space", point=[0.0, H - D], normal=[0.0, -1.0])
+        supports = [Support("left", components=[0])]
+    else:
+        body = LinearElasticity(meshes.box(0.0, 1.0, 0.0, 1.0, 0.0, H, 2, 2, 2), Material(E=E, nu=NU))
+        lo = obstacles.make("half-space", point=[0.0, 0.0, D], normal=[0.0, 0.0, 1.0])
+        hi = obstacles.make("half-space", point=[0.0, 0.0, H - D], normal=[0.0, 0.0, -1.0])
+        supports = [Support("left", components=[0]), Support("front", components=[1])]
+    pairs = [ContactPair(Boundary(body, "bottom"), lo, friction=friction),
+             ContactPair(Boundary(body, "top"), hi, friction=friction)]
+    return ContactProblem(bodies=[body], pairs=pairs, supports=supports, name="squeeze")
+
+
+def _exact(dim: int) -> float:
+    return (E / (1 - NU**2) if dim == 2 else E) * 2 * D / H
+
+
+@pytest.mark.parametrize("algorithm", ["simo-laursen", "family-p", "ssn", "penalty"])
+@pytest.mark.parametrize("linear_solver", ["direct", "amg"])
+def test_block_between_two_plates_is_in_uniaxial_stress(algorithm, linear_solver):
+    prob = _squeeze(2)
+    sol = solve(prob, algorithm=algorithm, options={"linear_solver": linear_solver})
+    assert sol.result.status > 0, sol.result.message
+    tol = 1e-6 if algorithm == "penalty" else (1e-10 if linear_solver == "direct" else 1e-8)
+    np.testing.assert_allclose(sol.pressure, _exact(2), rtol=tol)
+    owner = prob.pair_of_points()
+    assert set(owner.tolist()) == {0, 1} and np.all(sol.active)  # both pairs' points, all in contact
+    forces = sol.pair_contact_forces()
+    assert forces.shape == (2, 2)
+    np.testing.assert_allclose(forces[0], [0.0, _exact(2) * 1.0], rtol=tol, atol=1e-9 * _exact(2))
+    assert np.linalg.norm(forces[0] + forces[1]) <= 1e-10 * np.linalg.norm(forces[0])
+
+
+def test_block_between_two_plates_3d():
+    sol = solve(_squeeze(3), algorithm="simo-laursen")
+    assert sol.result.status > 0, sol.result.message
+    np.testing.assert_allclose(sol.pressure, _exact(3), rtol=1e-10)
+    f = sol.pair_contact_forces()
+    assert np.linalg.norm(f[0] + f[1]) <= 1e-10 * np.linalg.norm(f[0])
+
+
+def test_each_pair_is_measured_against_its_own_master():
+    prob = _squeeze(2)
+    pts, _ = prob.slave_nodes()
+    g = prob.obstacle.gap(pts)
+    owner = prob.pair_of_points()
+    np.testing.assert_allclose(g[owner == 0], D)  # bottom points penetrate the lower plate by d
+    np.testing.assert_allclose(g[owner == 1], D)  # top points the upper one
+    np.testing.assert_allclose(prob.slave_weights().sum(), 2.0)  # two unit-length faces
+
+
+@pytest.mark.parametrize("algorithm", ["simo-laursen", "family-p", "ssn"])
+def test_two_frictional_pairs_run_every_coulomb_algorithm(algorithm):
+    """Same coefficient on both pairs: the Coulomb paths run on the stacked points; the normal forces
+    balance and every algorithm gives the same state (to its tolerance)."""
+    ref = solve(_squeeze(2, friction=0.2), algorithm="ssn")
+    sol = solve(_squeeze(2, friction=0.2), algorithm=algorithm)
+    assert sol.result.status > 0 and ref.result.status > 0
+    f = sol.pair_contact_forces()
+    assert abs(f[0, 1] + f[1, 1]) <= 1e-10 * abs(f[0, 1])
+    assert f[0, 1] > _exact(2)  # friction holds the faces: stiffer than the free uniaxial state
+    np.testing.assert_allclose(f, ref.pair_contact_forces(), rtol=1e-6, atol=1e-8 * abs(f[0, 1]))
+
+
+def test_stacked_master_needs_the_points_of_every_pair():
+    prob = _squeeze(2)
+    pts, _ = prob.slave_nodes()
+    assert isinstance(prob.obstacle, StackedMaster)
+    with pytest.raises(InputError, match="stacked points of all pairs"):
+        prob.obstacle.gap(pts[:3])
