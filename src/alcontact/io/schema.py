@@ -236,7 +236,8 @@ def _build_schema() -> tuple[Table, ...]:
         Table("obstacle", "Rigid obstacle from the registry (`alcontact list obstacles`); every other key is a "
               "parameter of that obstacle, e.g. `center`, `radius`, `point`, `normal`, `vertices`.", (
             O("type", "str", REQUIRED, "Registered obstacle name, e.g. `circle`, `sphere`, `half-space`, "
-              "`convex-polygon`."),
+              "`convex-polygon`, `surface` (a meshed rigid surface, non-convex allowed: `file` = an STL or Gmsh "
+              "file relative to this file, optional `group` = a Gmsh physical group)."),
             OBSTACLE_PATH,
         ), open=True, required=True),
         Table("pair", "A further contact pair on the body (one table per pair): its own contact boundary "

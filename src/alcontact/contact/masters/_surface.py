@@ -51,6 +51,7 @@ an :class:`~alcontact.errors.InputError` naming the facets; so is a non-manifold
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -70,6 +71,7 @@ def _unit(v: FloatArray) -> FloatArray:
     return v / np.where(n > 0, n, 1.0)
 
 
+@dataclass(frozen=True, eq=False)
 class MeshedSurface(_ObstacleBase):
     r"""Rigid master given by a polyline (2D, segments) or a triangulated surface (3D, triangles).
 
@@ -92,10 +94,14 @@ class MeshedSurface(_ObstacleBase):
     array([-0.5])
     """
 
-    def __init__(self, vertices: ArrayLike, facets: ArrayLike, source: str = "") -> None:
+    vertices: Any
+    facets: Any
+    source: str = ""
+
+    def __post_init__(self) -> None:
         try:
-            v = np.array(vertices, dtype=float)
-            f = np.array(facets)
+            v = np.array(self.vertices, dtype=float)
+            f = np.array(self.facets)
         except (TypeError, ValueError, OverflowError) as exc:
             raise InputError(f"surface: vertices and facets must be arrays of numbers ({exc}).") from None
         if v.ndim != 2 or v.shape[1] not in (2, 3) or v.shape[0] < 2:
@@ -111,7 +117,9 @@ class MeshedSurface(_ObstacleBase):
         if f.min() < 0 or f.max() >= v.shape[0]:
             raise InputError(f"surface: facets use vertex {int(f.max()) if f.max() >= v.shape[0] else int(f.min())}, "
                              f"outside 0 .. {v.shape[0] - 1}.")
-        self.vertices, self.facets, self.source = v, f, source
+        set_ = object.__setattr__
+        set_(self, "vertices", v)
+        set_(self, "facets", f)
         a = v[f[:, 0]]
         if d == 2:
             t = v[f[:, 1]] - a
@@ -125,13 +133,16 @@ class MeshedSurface(_ObstacleBase):
             k = int(np.flatnonzero(size <= 1e-12 * max(float(np.ptp(v, axis=0).max()), 1e-300))[0])
             raise InputError(f"surface{self._where()}: facet {k} (vertices {f[k].tolist()}) is degenerate (zero "
                              "length or area); remove it from the surface mesh.")
-        self.normals = _unit(normals)
+        object.__setattr__(self, "normals", _unit(normals))
         self._check_orientation()
         self._pseudo()
-        self.centroids = v[f].mean(axis=1)
-        self.radius = float(np.max(np.linalg.norm(v[f] - self.centroids[:, None, :], axis=2)))
-        self.tree = cKDTree(self.centroids)
-        self.scale = float(np.ptp(v, axis=0).max())
+        object.__setattr__(self, "centroids", v[f].mean(axis=1))
+        object.__setattr__(self, "radius", float(np.max(np.linalg.norm(v[f] - self.centroids[:, None, :], axis=2))))
+        object.__setattr__(self, "tree", cKDTree(self.centroids))
+        object.__setattr__(self, "scale", float(np.ptp(v, axis=0).max()))
+        for key, value in vars(self).items():  # immutable, as every obstacle
+            if isinstance(value, np.ndarray):
+                value.flags.writeable = False
 
     # ------------------------------------------------------------ construction checks
     def _where(self) -> str:
@@ -182,23 +193,23 @@ class MeshedSurface(_ObstacleBase):
         if d == 2:
             np.add.at(vn, f[:, 0], n)
             np.add.at(vn, f[:, 1], n)
-            self.vertex_normals = _unit(vn)
+            object.__setattr__(self, "vertex_normals", _unit(vn))
             return
         for i in range(3):
             a, b, c = v[f[:, i]], v[f[:, (i + 1) % 3]], v[f[:, (i + 2) % 3]]
             e1, e2 = _unit(b - a), _unit(c - a)
             ang = np.arccos(np.clip(np.einsum("ij,ij->i", e1, e2), -1.0, 1.0))
             np.add.at(vn, f[:, i], ang[:, None] * n)
-        self.vertex_normals = _unit(vn)
+        object.__setattr__(self, "vertex_normals", _unit(vn))
         edges = np.concatenate([f[:, [0, 1]], f[:, [1, 2]], f[:, [2, 0]]])
         key = np.sort(edges, axis=1)
         uniq, inv = np.unique(key, axis=0, return_inverse=True)
         en = np.zeros((uniq.shape[0], 3))
         np.add.at(en, inv.ravel(), np.tile(n, (3, 1)))
-        self._edge_keys = uniq
-        self.edge_normals = _unit(en)
+        object.__setattr__(self, "_edge_keys", uniq)
+        object.__setattr__(self, "edge_normals", _unit(en))
         # edge index of (facet, local edge i: vertices i, i+1)
-        self._facet_edge = inv.ravel().reshape(3, -1).T
+        object.__setattr__(self, "_facet_edge", inv.ravel().reshape(3, -1).T)
 
     # ------------------------------------------------------------ the master protocol
     @property
@@ -231,6 +242,9 @@ class MeshedSurface(_ObstacleBase):
         edge from local vertex ``local`` to the next) or 2 (at a vertex; ``local`` its local index).
         """
         m = x.shape[0]
+        if m == 0:
+            e = np.zeros(0, dtype=np.int64)
+            return np.zeros((0, self.dim)), e, e, e, np.zeros(0)
         k = min(4, self.facets.shape[0])
         _, near = self.tree.query(x, k=k)
         near = np.asarray(near).reshape(m, k)
@@ -363,6 +377,7 @@ def _read(file: Any, group: Any) -> tuple[FloatArray, np.ndarray, str]:
     """Vertices, facets and a source label from an STL or Gmsh file (meshio)."""
     import contextlib
     import io
+    import warnings
 
     import meshio
 
@@ -373,7 +388,9 @@ def _read(file: Any, group: Any) -> tuple[FloatArray, np.ndarray, str]:
         raise InputError(f"surface: file = '{path}': no such file (a relative path is read from the problem "
                          "file's folder); check the name, or give an absolute path.")
     try:
-        with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):
+        with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()), \
+                warnings.catch_warnings():
+            warnings.simplefilter("ignore", RuntimeWarning)  # meshio's binary-size probe of an ASCII STL overflows
             mesh = meshio.read(str(path))
     except (Exception, SystemExit) as exc:  # meshio raises many kinds (ReadError, ValueError, struct.error, exit)
         raise InputError(f"surface: file = '{path}': could not be read as a surface mesh ({type(exc).__name__}: "
