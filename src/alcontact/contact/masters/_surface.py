@@ -90,8 +90,8 @@ class MeshedSurface(_ObstacleBase):
     A V-shaped groove (non-convex), free side above:
 
     >>> ob = MeshedSurface([[-2.0, 1.0], [0.0, 0.0], [2.0, 1.0]], [[2, 1], [1, 0]])
-    >>> ob.gap([[0.0, 0.5]])
-    array([-0.5])
+    >>> ob.gap([[0.0, 0.5], [0.0, -0.5]])  # above the bottom (closest: a wall), below it (the vertex)
+    array([-0.4472136,  0.5      ])
     """
 
     vertices: Any
