@@ -1,7 +1,7 @@
 """Several contact pairs and meshed surfaces from problem files and files on disk; their bad input.
 
 What is checked: ``[[pair]]`` tables add contact pairs that ran (the pair forces in
-summary.json, equal and opposite for the squeezed block of ``examples/squeezed_block.toml``,
+summary.json, equal and opposite for the squeezed block of ``tests/data/squeezed_block.toml``,
 whose closed form is p = E / (1 - nu^2) 2d / H); a ``surface`` obstacle read from an STL
 file or a Gmsh physical group is the surface that was written; and every bad input is an
 InputError (a ConfigError from a problem file) naming the key: a missing file, an
@@ -25,7 +25,7 @@ from alcontact.io import load_problem
 from alcontact.io.config import load_problem_text
 
 ROOT = Path(__file__).resolve().parents[2]
-EXAMPLE = ROOT / "examples" / "squeezed_block.toml"
+EXAMPLE = ROOT / "tests" / "data" / "squeezed_block.toml"
 
 
 def test_squeezed_block_example_reports_equal_and_opposite_pair_forces(tmp_path):
