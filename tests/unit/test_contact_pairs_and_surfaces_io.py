@@ -160,3 +160,23 @@ def test_a_surface_file_is_read_relative_to_the_problem_file(tmp_path):
     a, b = solve(setup.problem, "simo-laursen"), solve(ref.problem, "simo-laursen")
     assert a.result.status > 0
     np.testing.assert_allclose(a.u, b.u, rtol=0, atol=1e-12 * np.abs(b.u).max())
+
+
+def test_frictional_pairs_report_the_force_of_each_pair_at_every_step(tmp_path):
+    """[contact] friction applies to every pair: the Coulomb path runs over the load steps, and every
+    step's pair forces are in summary.json (normal parts equal and opposite) and on the frames."""
+    text = EXAMPLE.read_text().replace('[contact]\nboundary = "bottom"\n',
+                                       '[contact]\nboundary = "bottom"\nfriction = 0.2\n')
+    text += '\n[loading]\nsteps = 2\n'
+    (tmp_path / "p.toml").write_text(text)
+    setup = load_problem(tmp_path / "p.toml")
+    assert setup.friction == 0.2 and all(p.friction == 0.2 for p in setup.problem.pairs)
+    res = run_setup(setup, tmp_path / "res")
+    s = json.loads((tmp_path / "res" / "summary.json").read_text())
+    assert s["status"] == "converged"
+    steps = np.array(s["step_pair_contact_forces"])
+    assert steps.shape == (len(res.frames), 2, 2)
+    np.testing.assert_allclose(steps[-1], res.frames[-1].pair_contact_forces(), rtol=1e-12)
+    np.testing.assert_allclose(steps[-1], s_final := np.array([p["force"] for p in s["pair_contact_forces"]]),
+                               rtol=1e-12)
+    assert abs(s_final[0, 1] + s_final[1, 1]) <= 1e-10 * abs(s_final[0, 1])

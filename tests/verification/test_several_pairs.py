@@ -55,6 +55,7 @@ def test_block_between_two_plates_is_in_uniaxial_stress(algorithm, linear_solver
     assert set(owner.tolist()) == {0, 1} and np.all(sol.active)  # both pairs' points, all in contact
     forces = sol.pair_contact_forces()
     assert forces.shape == (2, 2)
+    np.testing.assert_array_equal(sol.frames[-1].pair_forces, forces)  # the same on the solution's frame
     np.testing.assert_allclose(forces[0], [0.0, _exact(2) * 1.0], rtol=tol, atol=1e-9 * _exact(2))
     assert np.linalg.norm(forces[0] + forces[1]) <= 1e-10 * np.linalg.norm(forces[0])
 

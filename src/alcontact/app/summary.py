@@ -392,6 +392,8 @@ def setup_summary(setup, solution, raw, options: dict, wall: float) -> dict[str,
         # |Q| = |sum of q_i| <= sum of |q_i| <= mu N: the two differ where the tangents turn over the zone
         q = np.linalg.norm(np.asarray(final.extra["shear"], dtype=float), axis=1)
         summary["tangential_force_magnitude_sum"] = float(np.sum(np.asarray(final.weights, dtype=float) * q))
+    if len(prob.pairs) > 1:  # the force of each pair at every step (the final ones: pair_contact_forces)
+        summary["step_pair_contact_forces"] = [f.pair_contact_forces().tolist() for f in frames]
     summary["units"] = setup.plot_units().as_dict(int(prob.model.dim))
     return summary
 

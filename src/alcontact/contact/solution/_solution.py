@@ -405,6 +405,12 @@ class ContactFrame:
     def success(self) -> bool:
         return self.status > 0
 
+    @property
+    def pair_forces(self) -> np.ndarray:
+        """Contact force on the body from each contact pair at this step, ``(n_pairs, d)``
+        (:meth:`ContactSolution.pair_contact_forces`)."""
+        return self.view.pair_contact_forces()
+
 
 def frame_of(sol: ContactSolution) -> ContactFrame:
     """The :class:`ContactFrame` of one state (the one place a frame is made).
