@@ -270,7 +270,7 @@ class MeshedSurface(_ObstacleBase):
             a, b = v[:, 0], v[:, 1]
             t = b - a
             s = np.einsum("ij,ij->i", p - a, t) / np.einsum("ij,ij->i", t, t)
-            feat = np.where((s > 0) & (s < 1), 0, 2)
+            feat = np.where((s >= 0) & (s <= 1), 0, 2)  # ties (a point on a prism's side) to the facet
             loc = np.where(s >= 1, 1, 0)
             s = np.clip(s, 0.0, 1.0)
             c = a + s[:, None] * t
@@ -356,16 +356,19 @@ def _closest_on_triangles(p: FloatArray, a: FloatArray, b: FloatArray, c: FloatA
         loc[sel] = i
         done[sel] = True
 
+    # strict inequalities: a point on the border of two regions goes to the higher-dimensional feature
+    # (the face before an edge, an edge before a vertex), so that a flat triangulation is a plane to the
+    # last bit (zero Hessian) also above its vertices and edges
     with np.errstate(divide="ignore", invalid="ignore"):
-        put((d1 <= 0) & (d2 <= 0), a, 2, 0)
-        put((d3 >= 0) & (d4 <= d3), b, 2, 1)
-        put((d6 >= 0) & (d5 <= d6), c, 2, 2)
+        put((d1 < 0) & (d2 < 0), a, 2, 0)
+        put((d3 > 0) & (d4 < d3), b, 2, 1)
+        put((d6 > 0) & (d5 < d6), c, 2, 2)
         v = d1 / (d1 - d3)
-        put((vc <= 0) & (d1 >= 0) & (d3 <= 0), a + v[:, None] * ab, 1, 0)
+        put((vc < 0) & (d1 >= 0) & (d3 <= 0), a + v[:, None] * ab, 1, 0)
         w = d2 / (d2 - d6)
-        put((vb <= 0) & (d2 >= 0) & (d6 <= 0), a + w[:, None] * ac, 1, 2)
+        put((vb < 0) & (d2 >= 0) & (d6 <= 0), a + w[:, None] * ac, 1, 2)
         w2 = (d4 - d3) / ((d4 - d3) + (d5 - d6))
-        put((va <= 0) & ((d4 - d3) >= 0) & ((d5 - d6) >= 0), b + w2[:, None] * (c - b), 1, 1)
+        put((va < 0) & ((d4 - d3) >= 0) & ((d5 - d6) >= 0), b + w2[:, None] * (c - b), 1, 1)
         denom = 1.0 / (va + vb + vc)
         v3, w3 = vb * denom, vc * denom
         put(np.ones(m, bool), a + v3[:, None] * ab + w3[:, None] * ac, 0, 0)
