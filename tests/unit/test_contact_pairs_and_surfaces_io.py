@@ -180,3 +180,20 @@ def test_frictional_pairs_report_the_force_of_each_pair_at_every_step(tmp_path):
     np.testing.assert_allclose(steps[-1], s_final := np.array([p["force"] for p in s["pair_contact_forces"]]),
                                rtol=1e-12)
     assert abs(s_final[0, 1] + s_final[1, 1]) <= 1e-10 * abs(s_final[0, 1])
+
+
+_UPPER = 'boundary = "top"\ntype = "half-space"\npoint = [0.0, 0.99]\nnormal = [0.0, -1.0]'
+
+
+@pytest.mark.parametrize("surface, key, text", [
+    ('file = "nope.stl"', "pair[1].file", "= 'nope.stl': no such file"),
+    ("file = 3", "pair[1].file", "= 3: expected the path"),
+    ("vertices = [[0, 1], [1, 1]]\nfacets = [[0, 5]]", "pair[1].facets", "vertex index 5 is outside 0 .. 1"),
+    ('vertices = "abc"\nfacets = [[0, 1]]', "pair[1].vertices", "= 'abc': expected the vertex coordinates"),
+    ("vertices = [[0, 1], [1, 1], [2, 1]]\nfacets = [[0, 1], [2, 1]]", "pair[1]", "inconsistent"),
+])
+def test_bad_surface_in_a_problem_file_is_keyed_by_its_parameter(surface, key, text):
+    with pytest.raises(ConfigError) as info:
+        load_problem_text(EXAMPLE.read_text().replace(_UPPER, f'boundary = "top"\ntype = "surface"\n{surface}'))
+    lines = [ln.strip() for ln in str(info.value).splitlines()]
+    assert any(ln.startswith(f"{key} ") and text in ln for ln in lines), str(info.value)

@@ -669,8 +669,15 @@ def build_obstacle(od: dict | None, dim: int | None, issues: list[Issue], *, key
     try:
         ob = obstacles.make(name, **params)
     except (InputError, TypeError, ValueError, ArithmeticError) as exc:
-        issues.append(Issue(key, f"{name}: {exc or type(exc).__name__}. Check the parameters "
-                                 f"({_known(accepted)}): finite numbers of a sensible size."))
+        text = str(exc) or type(exc).__name__
+        param = next((p for p in accepted if text.startswith(f"{name}: {p} = ")), None)
+        if param is not None:  # the factory named the parameter and the way out: key it by that parameter
+            issues.append(Issue(f"{key}.{param}", text[len(name) + len(param) + 3:]))
+        elif text.startswith(f"{name}"):  # the factory's own message, which names the obstacle and the way out
+            issues.append(Issue(key, text))
+        else:
+            issues.append(Issue(key, f"{name}: {text}. Check the parameters "
+                                     f"({_known(accepted)}): finite numbers of a sensible size."))
         return None
     if dim is not None:
         try:

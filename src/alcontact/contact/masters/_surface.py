@@ -59,6 +59,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 from scipy.spatial import cKDTree
 
+from ..._options import show
 from ...errors import InputError
 from . import obstacles
 from .obstacles import FloatArray, _ObstacleBase
@@ -99,24 +100,28 @@ class MeshedSurface(_ObstacleBase):
     source: str = ""
 
     def __post_init__(self) -> None:
+        want_v = "the vertex coordinates, an array of shape (n, 2) (a polyline) or (n, 3) (triangles), n >= 2"
         try:
             v = np.array(self.vertices, dtype=float)
-            f = np.array(self.facets)
-        except (TypeError, ValueError, OverflowError) as exc:
-            raise InputError(f"surface: vertices and facets must be arrays of numbers ({exc}).") from None
-        if v.ndim != 2 or v.shape[1] not in (2, 3) or v.shape[0] < 2:
-            raise InputError(f"surface: vertices must have shape (n, 2) or (n, 3) with n >= 2, got {v.shape}.")
-        if not np.all(np.isfinite(v)):
-            raise InputError("surface: vertices must be finite numbers.")
+        except (TypeError, ValueError, OverflowError):
+            raise InputError(f"surface: vertices = {show(self.vertices)}: expected {want_v}.") from None
+        if v.ndim != 2 or v.shape[1] not in (2, 3) or v.shape[0] < 2 or not np.all(np.isfinite(v)):
+            raise InputError(f"surface: vertices = {show(self.vertices)}: expected {want_v}, finite.")
         d = v.shape[1]
-        if f.ndim != 2 or f.shape[1] != d or f.shape[0] < 1 or not np.issubdtype(f.dtype, np.integer) and not (
-                np.issubdtype(f.dtype, np.floating) and np.all(f == np.round(f))):
-            raise InputError(f"surface: facets must be integer vertex indices of shape (k, {d}) "
-                             f"({'segments' if d == 2 else 'triangles'} of a {d}D surface), got shape {f.shape}.")
+        want_f = (f"integer vertex indices of shape (k, {d}): the {'segments' if d == 2 else 'triangles'} of a "
+                  f"{d}D surface, k >= 1")
+        try:
+            f = np.array(self.facets)
+        except (TypeError, ValueError, OverflowError):
+            raise InputError(f"surface: facets = {show(self.facets)}: expected {want_f}.") from None
+        if f.ndim != 2 or f.shape[1] != d or f.shape[0] < 1 or not (np.issubdtype(f.dtype, np.integer) or (
+                np.issubdtype(f.dtype, np.floating) and np.all(np.isfinite(f)) and np.all(f == np.round(f)))):
+            raise InputError(f"surface: facets = {show(self.facets)}: expected {want_f}.")
         f = f.astype(np.int64)
         if f.min() < 0 or f.max() >= v.shape[0]:
-            raise InputError(f"surface: facets use vertex {int(f.max()) if f.max() >= v.shape[0] else int(f.min())}, "
-                             f"outside 0 .. {v.shape[0] - 1}.")
+            bad = int(f.max()) if f.max() >= v.shape[0] else int(f.min())
+            raise InputError(f"surface: facets = {show(self.facets)}: vertex index {bad} is outside 0 .. "
+                             f"{v.shape[0] - 1} (the rows of vertices, numbered from 0).")
         set_ = object.__setattr__
         set_(self, "vertices", v)
         set_(self, "facets", f)
@@ -447,12 +452,13 @@ def surface(file: str | None = None, group: str | None = None, vertices: ArrayLi
     optional physical ``group``) or ``vertices`` and ``facets``."""
     if (file is None) == (vertices is None and facets is None):
         raise InputError("surface: give either file (an STL or Gmsh file, with an optional group) or vertices and "
-                         "facets, not both.")
+                         "facets (not both, not neither).")
     if file is not None:
         v, f, label = _read(file, group)
         return MeshedSurface(v, f, source=label)
     if group is not None:
-        raise InputError("surface: group selects a physical group of a Gmsh file; give file as well, or remove group.")
+        raise InputError(f"surface: group = {show(group)}: selects a physical group of a Gmsh file; give file as "
+                         "well, or remove group.")
     if vertices is None or facets is None:
         raise InputError("surface: vertices and facets go together: give both (facets: vertex indices of each "
                          "segment / triangle).")
