@@ -196,4 +196,4 @@ def test_bad_surface_in_a_problem_file_is_keyed_by_its_parameter(surface, key, t
     with pytest.raises(ConfigError) as info:
         load_problem_text(EXAMPLE.read_text().replace(_UPPER, f'boundary = "top"\ntype = "surface"\n{surface}'))
     lines = [ln.strip() for ln in str(info.value).splitlines()]
-    assert any(ln.startswith(f"{key} ") and text in ln for ln in lines), str(info.value)
+    assert any(ln.startswith((f"{key} ", f"{key}:")) and text in ln for ln in lines), str(info.value)
