@@ -144,6 +144,13 @@ def test_two_pairs_with_different_friction_coefficients_are_refused():
     assert "different friction coefficients (0, 0.3)" in msg and "same coefficient" in msg
 
 
+def test_shorthand_friction_with_two_pairs_is_refused():
+    body, pair, short = _parts()
+    second = ContactPair(Boundary(body, "bottom"), obstacles.make("half-space", point=[0, -20], normal=[0, 1]))
+    with pytest.raises(InputError, match="friction given with several pairs"):
+        ContactProblem(bodies=[body], pairs=[pair, second], supports=short.supports, friction=0.2)
+
+
 def test_two_pairs_at_finite_deformation_are_refused():
     body = Hyperelastic(meshes.rectangle(0.0, 1.0, 0.0, 1.0, 2, 2), Material(E=1000.0, nu=0.3, plane="strain"))
     pairs = [ContactPair(Boundary(body, "bottom"), obstacles.HalfSpace((0.0, 0.0), (0.0, 1.0))),
