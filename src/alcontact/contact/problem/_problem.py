@@ -259,9 +259,12 @@ class ContactProblem:
       loads=..., friction=mu)``, which builds that one body and that one pair.
 
     Both give the same problem (and the same solution, to the last bit). Today a problem has
-    exactly one body and one pair whose master is rigid; several bodies, several pairs or a
-    deformable master are refused with an :class:`~alcontact.errors.InputError` until
-    two-body contact lands (see ``docs/architecture.md``).
+    exactly one body; it may have several pairs on that body, each its own slave boundary and
+    rigid master (their contact points are stacked in the pairs' order, one constraint per
+    slave point and pair: :meth:`slave_nodes`), with one friction coefficient shared by the
+    pairs and at small deformation. Several bodies, a deformable master, a friction
+    coefficient per pair or several pairs at finite deformation are refused with an
+    :class:`~alcontact.errors.InputError` (see ``docs/architecture.md``).
 
     Parameters
     ----------
@@ -287,15 +290,16 @@ class ContactProblem:
     bodies : sequence, keyword-only
         Pair form: the discretized bodies (one today).
     pairs : sequence of ContactPair, keyword-only
-        Pair form: the contact pairs (one today).
+        Pair form: the contact pairs on the body (several at small deformation).
 
     Attributes
     ----------
     bodies : tuple
     pairs : tuple of ContactPair
     model, obstacle, contact_boundary, friction
-        Views of the one body and the one pair: ``bodies[0]``, ``pairs[0].master``,
-        ``pairs[0].slave.name``, ``pairs[0].friction``.
+        Views of the one body and the first pair: ``bodies[0]``, ``pairs[0].master`` (with
+        several pairs, the :class:`~alcontact.contact.masters.StackedMaster` of all of them),
+        ``pairs[0].slave.name``, ``pairs[0].friction`` (the same for every pair).
 
     Notes
     -----
@@ -487,7 +491,6 @@ class ContactProblem:
         """Values that need the mesh: boundary names, dimensions, supports."""
         for p in self.pairs:
             self.model.facets(p.slave.name)  # MeshError naming the known boundaries
-            p.master.check_dim(self.model.dim)
         if len(self.pairs) > 1 and self.kinematics != "small":
             raise InputError(f"ContactProblem: {len(self.pairs)} contact pairs with kinematics={self.kinematics!r}: "
                              "several contact pairs are supported at small deformation only so far; use "
@@ -497,6 +500,8 @@ class ContactProblem:
         for ld in self.loads:
             if hasattr(ld, "boundary"):
                 self.model.facets(ld.boundary)
+        for p in self.pairs:
+            p.master.check_dim(self.model.dim)
         self.dirichlet()  # InputError on two supports prescribing different values to one DOF
 
     def _check_types(self, raw: dict[str, Any]) -> None:
