@@ -37,6 +37,11 @@ distance to the feature elsewhere: :math:`H = -s\,(I - e e^T)/d` at a vertex,
 bisector of a concave corner), the gap has a kink and the normal is one of the one-sided
 gradients, chosen deterministically.
 
+An open surface (a polyline with two ends, a triangulation with a border) separates space
+only near itself: a point whose closest point is on the border takes the side of the border
+facets, and behind the border the sign flips across the facet's plane. Let the surface reach
+well beyond where the body can touch it.
+
 Orientation
 -----------
 The free side is the side the facet normals point to: the normal of a segment
