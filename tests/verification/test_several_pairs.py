@@ -97,3 +97,27 @@ def test_stacked_master_needs_the_points_of_every_pair():
     assert isinstance(prob.obstacle, StackedMaster)
     with pytest.raises(InputError, match="stacked points of all pairs"):
         prob.obstacle.gap(pts[:3])
+
+
+@pytest.mark.parametrize("algorithm", ["simo-laursen", "family-p", "ssn", "penalty"])
+def test_seal_pressed_by_a_cover_into_a_meshed_groove(algorithm):
+    """A block held only by its two pairs: a rigid cover 0.02 into its top face and a meshed non-convex
+    V-groove (obstacle ``surface``) under its bottom. No supports: the pair forces balance each other
+    (1e-10 of their size, the groove's horizontal component included), and the groove gives the
+    solution of the analytic V (the larger of the two wall gaps, exact where the body is) to 1e-10."""
+    body = LinearElasticity(meshes.rectangle(-1.0, 1.0, 0.0, 1.0, 8, 4), Material(E=E, nu=NU))
+    cover = obstacles.make("half-space", point=[0.0, 0.98], normal=[0.0, -1.0])
+    groove = obstacles.make("surface", vertices=[[2.0, 0.5], [0.0, -0.5], [-2.0, 0.5]], facets=[[0, 1], [1, 2]])
+    nl, nr = np.array([0.5, 1.0]) / np.sqrt(1.25), np.array([-0.5, 1.0]) / np.sqrt(1.25)
+    walls = obstacles.UserObstacle(
+        lambda x: np.maximum(-(x - [0.0, -0.5]) @ nl, -(x - [0.0, -0.5]) @ nr), dim=2,
+        normal=lambda x: np.where(((-(x - [0.0, -0.5]) @ nl) >= (-(x - [0.0, -0.5]) @ nr))[:, None], nl, nr))
+    sols = [solve(ContactProblem(bodies=[body], pairs=[ContactPair(Boundary(body, "bottom"), ob),
+                                                       ContactPair(Boundary(body, "top"), cover)]), algorithm)
+            for ob in (groove, walls)]
+    a, b = sols
+    assert a.result.status > 0 and b.result.status > 0, a.result.message
+    f = a.pair_contact_forces()
+    assert f[1, 1] < 0 < f[0, 1]  # the cover pushes down, the groove up
+    assert np.linalg.norm(f[0] + f[1]) <= 1e-10 * np.linalg.norm(f[0])
+    assert float(np.abs(a.u - b.u).max()) <= 1e-10 * float(np.abs(b.u).max())
