@@ -101,8 +101,8 @@ def search_cost(levels, m: int = 20000, band: float = 0.1) -> list[dict]:
             g, _ = ob.evaluate(x)
             best = min(best, time.perf_counter() - t0)
         err = float(np.abs(g - (1 - np.linalg.norm(x, axis=1))).max())  # distance to the faces vs to the sphere
-        rows.append({"band": band, "faces": int(F.shape[0]), "build_s": build, "evaluate_s": best, "us_per_point": 1e6 * best / m,
-                     "gap_vs_sphere_max_abs": err})
+        rows.append({"band": band, "faces": int(F.shape[0]), "build_s": build, "evaluate_s": best,
+                     "us_per_point": 1e6 * best / m, "gap_vs_sphere_max_abs": err})
     for r in rows:
         r["ratio_to_smallest"] = r["evaluate_s"] / rows[0]["evaluate_s"]
     return rows
@@ -124,10 +124,12 @@ def render(acc, ref_counts, cost) -> str:
             "(angle error O(1/N)); the contact force converges faster. Gap: the exact signed distance to the "
             "facets (no smoothing), so a meshed plane is the analytic plane exactly.", "",
             "## Search cost: triangulated unit sphere, 20,000 points within a band of the surface", "",
-            "| band | faces | build (s) | evaluate (s) | per point (us) | ratio to the smallest | max abs gap - sphere gap |",
+            "| band | faces | build (s) | evaluate (s) | per point (us) | ratio to the smallest "
+            "| max abs gap - sphere gap |",
             "|---|---|---|---|---|---|---|"]
     for r in cost:
-        out.append(f"| {r['band']:g} | {r['faces']} | {r['build_s']:.3f} | {r['evaluate_s']:.3f} | {r['us_per_point']:.1f} | "
+        out.append(f"| {r['band']:g} | {r['faces']} | {r['build_s']:.3f} | {r['evaluate_s']:.3f} | "
+                   f"{r['us_per_point']:.1f} | "
                    f"{r['ratio_to_smallest']:.2f} | {r['gap_vs_sphere_max_abs']:.2e} |")
     out += ["", "Candidate faces come from a cKDTree on face centroids (the 4 nearest, then every face whose "
             "centroid lies within the best distance d plus the largest face radius r): exact, and the candidates "

@@ -60,12 +60,21 @@ def test_a_pair_with_an_unknown_obstacle_parameter_is_named():
     assert "pair[1].radius" in str(info.value)
 
 
-def test_pairs_at_finite_kinematics_are_refused():
-    text = _text(kin='kinematics = "finite"\n').replace("[material]\nE = 1000.0\nnu = 0.3",
-                                                      '[material]\nE = 1000.0\nnu = 0.3\nmodel = "neo-hookean"')
+def _finite_text(extra_contact: str = "") -> str:
+    return _text(kin=f'kinematics = "finite"\n{extra_contact}').replace(
+        "[material]\nE = 1000.0\nnu = 0.3", '[material]\nE = 1000.0\nnu = 0.3\nmodel = "neo-hookean"')
+
+
+def test_pairs_at_finite_kinematics_load_frictionless():
+    setup = load_problem_text(_finite_text())
+    assert setup.finite and len(setup.problem.pairs) == 2
+
+
+def test_frictional_pairs_at_finite_kinematics_are_refused():
     with pytest.raises(ConfigError) as info:
-        load_problem_text(text)
-    assert "pair:" in str(info.value) and "small kinematics only" in str(info.value)
+        load_problem_text(_finite_text("friction = 0.2\n"))
+    msg = str(info.value)
+    assert "pair:" in msg and "contact.friction > 0" in msg and "kinematics = 'small'" in msg
 
 
 # ----------------------------------------------------------------------------------- files

@@ -121,3 +121,34 @@ def test_seal_pressed_by_a_cover_into_a_meshed_groove(algorithm):
     assert f[1, 1] < 0 < f[0, 1]  # the cover pushes down, the groove up
     assert np.linalg.norm(f[0] + f[1]) <= 1e-10 * np.linalg.norm(f[0])
     assert float(np.abs(a.u - b.u).max()) <= 1e-10 * float(np.abs(b.u).max())
+
+
+@pytest.mark.parametrize("algorithm", ["simo-laursen", "family-p", "ssn", "penalty"])
+def test_two_pairs_at_finite_deformation_match_the_supported_block(algorithm):
+    """Finite deformation (neo-Hookean, plane strain): a block clamped at its bottom, pressed 0.05 by a
+    plate on its top (pair 1) and bulging into a frictionless rigid wall on its right (pair 2; the top-right
+    node is in both pairs). Every right-face node presses the wall, so the reference is the same block with
+    the top pair only and u_x = 0 on its right face (a support): the same displacement (1e-7 relative: the
+    wall's gap is met to the solver's tolerance; family-p and ssn reach 2e-15) and top force, and the wall
+    pair's force is horizontal."""
+    from alcontact.fem import Hyperelastic
+
+    def body():
+        return Hyperelastic(meshes.rectangle(0.0, 1.0, 0.0, 1.0, 4, 4), Material(E=E, nu=NU, plane="strain"))
+
+    plate = obstacles.make("half-space", point=[0.0, 0.95], normal=[0.0, -1.0])
+    wall = obstacles.make("half-space", point=[1.0, 0.0], normal=[-1.0, 0.0])
+    b = body()
+    two = ContactProblem(bodies=[b], pairs=[ContactPair(Boundary(b, "top"), plate),
+                                            ContactPair(Boundary(b, "right"), wall)],
+                         supports=[Support("bottom")], kinematics="finite")
+    ref_body = body()
+    one = ContactProblem(ref_body, plate, "top", supports=[Support("bottom"), Support("right", components=[0])],
+                         kinematics="finite")
+    a, r = solve(two, algorithm, steps=4), solve(one, algorithm, steps=4)
+    assert a.result.status > 0 and r.result.status > 0, a.result.message
+    assert float(np.abs(a.u - r.u).max()) <= 1e-7 * float(np.abs(r.u).max())
+    f = a.pair_contact_forces()
+    np.testing.assert_allclose(f[0], r.pair_contact_forces()[0], rtol=1e-7)
+    assert f[1, 0] < 0 and abs(f[1, 1]) <= 1e-12 * abs(f[1, 0])
+    assert a.result.newton_iterations <= r.result.newton_iterations + 1

@@ -268,6 +268,10 @@ def _solve_any(problem, algorithm, penalty, options, *, steps, history, obstacle
     """:func:`solve` with the engine's own callbacks (``hooks``) for the deprecated wrappers."""
     hooks = hooks or {}
     kinematics, mu = _case(problem, friction)
+    if kinematics == "finite" and len(problem.pairs) > 1 and (mu != 0 or obstacle_path is not None):
+        raise InputError(f"{len(problem.pairs)} contact pairs at kinematics='finite' run frictionless with fixed "
+                         "masters so far; give friction 0 and no obstacle_path, or kinematics='small' (friction), "
+                         "or one pair.")
     max_cutbacks = None  # an option of the frictional engines (in overrides), an argument of the frictionless one
     if kinematics == "finite" and mu == 0:
         if "max_cutbacks" in overrides:

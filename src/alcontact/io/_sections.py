@@ -688,8 +688,7 @@ def build_obstacle(od: dict | None, dim: int | None, issues: list[Issue], *, key
     return ob
 
 
-def build_pairs(pds: list | None, mesh, dim: int | None, kinematics: str | None, base: Path | None,
-                issues: list[Issue]) -> list | None:
+def build_pairs(pds: list | None, mesh, dim: int | None, base: Path | None, issues: list[Issue]) -> list | None:
     """``[[pair]]``: ``(boundary, obstacle)`` of each further contact pair, or ``None`` when one failed."""
     if not pds:
         return []
@@ -705,12 +704,19 @@ def build_pairs(pds: list | None, mesh, dim: int | None, kinematics: str | None,
             out = None
         elif out is not None:
             out.append((pd["boundary"], ob))
-    if kinematics == "finite":
-        issues.append(Issue("pair", f"{len(pds)} [[pair]] table(s) with contact.kinematics = 'finite': several "
-                                    "contact pairs are supported at small kinematics only so far; use "
-                                    "kinematics = 'small' or one pair ([contact] and [obstacle])."))
-        return None
     return out
+
+
+def _pairs_issues(s: Sections, od: Any, issues: list[Issue]) -> None:
+    """Several pairs at finite kinematics run frictionless with fixed obstacles (``[obstacle] path`` moves one)."""
+    moving = isinstance(od, dict) and od.get("path") not in (None, BAD)
+    if s.pairs and s.kinematics == "finite" and (s.mu > 0 or moving):
+        what = "contact.friction > 0" if s.mu > 0 else "obstacle.path"
+        issues.append(Issue("pair", f"{len(s.pairs)} [[pair]] table(s) at contact.kinematics = 'finite' with {what}: "
+                                    "several contact pairs at finite kinematics run frictionless with fixed obstacles "
+                                    "so far; remove it, use kinematics = 'small' (friction), or one pair ([contact] "
+                                    "and [obstacle])."))
+        s.pairs = None
 
 
 # --------------------------------------------------------------------------- [solver]
@@ -913,8 +919,9 @@ def build_sections(data: dict, base: Path, issues: list[Issue]) -> Sections:
     s.cases = support_cases + load_cases
     s.times, s.friction_ramp = build_loading(data.get("loading"), issues)
     s.obstacle = build_obstacle(data.get("obstacle"), s.dim, issues, base=base)
-    s.pairs = build_pairs(data.get("pair"), s.mesh, s.dim, s.kinematics, base, issues)
+    s.pairs = build_pairs(data.get("pair"), s.mesh, s.dim, base, issues)
     s.mu = cd["friction"] if isinstance(cd, dict) and isinstance(cd.get("friction"), float) else 0.0
+    _pairs_issues(s, data.get("obstacle"), issues)
     s.solver = build_solver(data.get("solver"), s.mu, s.kinematics, issues)
     s.units = build_units(data.get("units"), issues)
     s.reference, s.mindlin = build_reference(data.get("reference"), s.dim, s.material, s.mu, issues)

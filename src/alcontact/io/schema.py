@@ -243,7 +243,8 @@ def _build_schema() -> tuple[Table, ...]:
         Table("pair", "A further contact pair on the body (one table per pair): its own contact boundary "
               "against its own rigid obstacle, e.g. a block squeezed between two plates. `type` and every "
               "other key are the obstacle's, as in `[obstacle]` (which is the obstacle of `[contact] boundary`); "
-              "`[contact] friction` and `kinematics` apply to every pair (small kinematics only).", (
+              "`[contact] friction` and `kinematics` apply to every pair (at finite kinematics: frictionless, no "
+              "`[obstacle] path`).", (
             O("boundary", "str", REQUIRED, "Boundary of the body that may touch this pair's obstacle."),
             O("type", "str", REQUIRED, "Registered obstacle name, as `[obstacle] type`."),
         ), array=True, open=True),

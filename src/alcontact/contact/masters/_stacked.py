@@ -47,16 +47,23 @@ class StackedMaster(_ObstacleBase):
     array([-0.1, -0.2])
     """
 
-    def __init__(self, masters: Any, sizes: Any) -> None:
+    def __init__(self, masters: Any, sizes: Any, *, owner: Any = None) -> None:
         self.masters = tuple(masters)
         self.sizes = tuple(int(s) for s in sizes)
         if len(self.masters) != len(self.sizes) or not self.masters:
             raise InputError(f"StackedMaster: {len(self.masters)} masters for {len(self.sizes)} point blocks; give "
                              "one master per pair and one size per pair.")
         self.bounds = np.concatenate([[0], np.cumsum(self.sizes)]).astype(np.int64)
-        self.owner = np.repeat(np.arange(len(self.sizes)), self.sizes)
+        self.owner = (np.repeat(np.arange(len(self.sizes)), self.sizes) if owner is None
+                      else np.asarray(owner, dtype=np.int64))
         dims = {m.dim for m in self.masters if m.dim is not None}
         self._dim = dims.pop() if len(dims) == 1 else None
+
+    def take(self, idx: Any) -> "StackedMaster":
+        """The master of the stacked points ``idx`` only (e.g. the contact candidates): point ``j`` of an
+        evaluation is measured against the master of the pair of stacked point ``idx[j]``."""
+        owner = self.owner[np.asarray(idx, dtype=np.int64)]
+        return StackedMaster(self.masters, np.bincount(owner, minlength=len(self.masters)), owner=owner)
 
     @property
     def dim(self) -> int | None:
@@ -79,17 +86,17 @@ class StackedMaster(_ObstacleBase):
             m.check_dim(d)
 
     def _blocks(self, x: FloatArray, what: str):
-        if x.shape[0] != self.bounds[-1]:
+        if x.shape[0] != self.owner.size:
             raise InputError(f"{what}: {x.shape[0]} points given to the master of {len(self.masters)} contact "
-                             f"pairs, which needs the {int(self.bounds[-1])} stacked points of all pairs "
-                             "(in the pairs' order).")
-        return [slice(int(a), int(b)) for a, b in zip(self.bounds[:-1], self.bounds[1:])]
+                             f"pairs, which needs the {self.owner.size} stacked points of all pairs "
+                             "(in the pairs' order), or take(idx) for some of them.")
+        return [np.flatnonzero(self.owner == k) for k in range(len(self.masters))]
 
     def _gap_normal(self, x: FloatArray) -> tuple[FloatArray, FloatArray]:
         g = np.empty(x.shape[0])
         n = np.empty_like(x)
         for m, s in zip(self.masters, self._blocks(x, "evaluate")):
-            if s.stop > s.start:
+            if s.size:
                 g[s], n[s] = m.evaluate(x[s])
         return g, n
 
@@ -97,7 +104,7 @@ class StackedMaster(_ObstacleBase):
         pts = _points(x, self.dim)
         out = np.empty_like(pts)
         for m, s in zip(self.masters, self._blocks(pts, "project")):
-            if s.stop > s.start:
+            if s.size:
                 out[s] = m.project(pts[s])
         return out
 
@@ -105,7 +112,7 @@ class StackedMaster(_ObstacleBase):
         d = x.shape[1]
         out = np.zeros((x.shape[0], d, d))
         for m, s in zip(self.masters, self._blocks(x, "gap_hessian")):
-            if s.stop > s.start:
+            if s.size:
                 out[s] = m.gap_hessian(x[s])
         return out
 
@@ -121,7 +128,7 @@ class StackedMaster(_ObstacleBase):
         slip = np.zeros_like(pts)
         jac = np.zeros((pts.shape[0], d, d)) if jacobian else None
         for m, s in zip(self.masters, self._blocks(pts, "surface_slip")):
-            if s.stop > s.start:
+            if s.size:
                 ds, dj = surface_slip(m, pts[s], prev[s], jacobian=jacobian)
                 slip[s] = ds
                 if jacobian:

@@ -262,9 +262,9 @@ class ContactProblem:
     exactly one body; it may have several pairs on that body, each its own slave boundary and
     rigid master (their contact points are stacked in the pairs' order, one constraint per
     slave point and pair: :meth:`slave_nodes`), with one friction coefficient shared by the
-    pairs and at small deformation. Several bodies, a deformable master, a friction
-    coefficient per pair or several pairs at finite deformation are refused with an
-    :class:`~alcontact.errors.InputError` (see ``docs/architecture.md``).
+    pairs (at finite deformation: frictionless, fixed masters). Several bodies, a deformable
+    master, a friction coefficient per pair or frictional pairs at finite deformation are
+    refused with an :class:`~alcontact.errors.InputError` (see ``docs/architecture.md``).
 
     Parameters
     ----------
@@ -290,7 +290,7 @@ class ContactProblem:
     bodies : sequence, keyword-only
         Pair form: the discretized bodies (one today).
     pairs : sequence of ContactPair, keyword-only
-        Pair form: the contact pairs on the body (several at small deformation).
+        Pair form: the contact pairs on the body.
 
     Attributes
     ----------
@@ -396,7 +396,8 @@ class ContactProblem:
                                  f"alcontact.contact.obstacles. See {ROADMAP}.")
         mus = [float(p.friction) for p in pairs]
         if len(set(mus)) > 1:
-            raise InputError(f"{kind}: the pairs have different friction coefficients ({', '.join(f'{m:g}' for m in mus)}"
+            listed = ", ".join(f"{m:g}" for m in mus)
+            raise InputError(f"{kind}: the pairs have different friction coefficients ({listed}"
                              "): a friction coefficient per pair is not supported yet; give every pair the same "
                              "coefficient (0 for frictionless contact).")
         pair = pairs[0]
@@ -491,10 +492,10 @@ class ContactProblem:
         """Values that need the mesh: boundary names, dimensions, supports."""
         for p in self.pairs:
             self.model.facets(p.slave.name)  # MeshError naming the known boundaries
-        if len(self.pairs) > 1 and self.kinematics != "small":
-            raise InputError(f"ContactProblem: {len(self.pairs)} contact pairs with kinematics={self.kinematics!r}: "
-                             "several contact pairs are supported at small deformation only so far; use "
-                             "kinematics='small' or one pair.")
+        if len(self.pairs) > 1 and self.kinematics != "small" and self.pairs[0].friction > 0:
+            raise InputError(f"ContactProblem: {len(self.pairs)} contact pairs with friction at kinematics="
+                             f"{self.kinematics!r}: several frictional pairs are supported at small deformation only "
+                             "so far; use kinematics='small', friction 0, or one pair.")
         for s in self.supports:
             self.model.facets(s.boundary)
         for ld in self.loads:

@@ -199,12 +199,20 @@ from ..algorithms._subproblem import (LineSearch, NewtonOutcome, NewtonResult, N
                                       newton, subproblem_outcome)
 from ..kinematics._points import ContactPoints
 from ..laws._coulomb import OPEN, SLIP, STICK, return_mapping
+from ..masters._stacked import StackedMaster
 from ..masters.obstacles import frame, surface_slip
 from ._krylov import _NEWTON_TOL_FLOOR
 from ._layout import NewtonLayout
 
 
 logger = logging.getLogger(__name__)
+
+
+def _at(master, idx: np.ndarray):
+    """``master`` for the contact points ``idx`` (a subset of the stacked points of several pairs: each
+    point against its own pair's master, :meth:`StackedMaster.take`); any other master as it is."""
+    return master.take(idx) if isinstance(master, StackedMaster) else master
+
 
 #: Armijo constant of the line search
 _ARMIJO = 1e-4
@@ -660,7 +668,7 @@ class FiniteContact(ContactPoints):
         u[self.free] = x
         u[self.fixed] = fv_old
         xc = self._current(u, pressed)
-        dg = obstacle.gap(xc) - ob_old.gap(xc)  # gap change from the obstacle motion alone
+        dg = _at(obstacle, pressed).gap(xc) - _at(ob_old, pressed).gap(xc)  # gap change from the obstacle motion alone
         if not (np.any(du_d) or np.any(df) or np.any(dg)):
             return x
         try:
@@ -702,12 +710,13 @@ class FiniteContact(ContactPoints):
 
     def gaps(self, x: np.ndarray) -> np.ndarray:
         """Gaps of the candidates for the free displacement ``x``."""
-        return self.obstacle.gap(self._current(self.expand(x), self.cand))
+        return _at(self.obstacle, self.cand).gap(self._current(self.expand(x), self.cand))
 
     def _kinematics(self, u: np.ndarray, idx: np.ndarray, hessian: bool):
         xc = self._current(u, idx)
-        g, nu = self.obstacle.evaluate(xc)
-        H = self.obstacle.gap_hessian(xc) if hessian else None
+        ob = _at(self.obstacle, idx)
+        g, nu = ob.evaluate(xc)
+        H = ob.gap_hessian(xc) if hessian else None
         return g, nu, H
 
     def _B(self, nu: np.ndarray, idx: np.ndarray) -> sp.csr_matrix:
@@ -855,7 +864,7 @@ class FiniteContact(ContactPoints):
     def jacobian(self, law, lam, x: np.ndarray) -> sp.csr_matrix:
         r"""Consistent tangent :math:`J(x) = \partial R/\partial x` with the curvature term (module doc)."""
         u = self.expand(x)
-        g = self.obstacle.gap(self._current(u, self.cand))
+        g = _at(self.obstacle, self.cand).gap(self._current(u, self.cand))
         return self._newton_matrix(u, law.traction(g, lam), law.stiffness(g, lam))
 
     def _newton_matrix(self, u, t, D) -> sp.csr_matrix:
