@@ -134,13 +134,42 @@ def test_two_bodies_without_a_pair_between_them_are_refused():
     assert "2 bodies" in msg and "no pair joins" in msg and "BodySurface" in msg and "docs/architecture.md" in msg
 
 
-def test_two_pairs_are_refused():
+def test_two_pairs_with_different_friction_coefficients_are_refused():
     body, pair, short = _parts()
-    second = ContactPair(Boundary(body, "bottom"), obstacles.make("half-space", point=[0, -20], normal=[0, 1]))
+    second = ContactPair(Boundary(body, "bottom"), obstacles.make("half-space", point=[0, -20], normal=[0, 1]),
+                         friction=0.3)
     with pytest.raises(InputError) as info:
         ContactProblem(bodies=[body], pairs=[pair, second], supports=short.supports)
     msg = str(info.value)
-    assert "2 contact pairs" in msg and "not supported yet" in msg and "docs/architecture.md" in msg
+    assert "different friction coefficients (0, 0.3)" in msg and "same coefficient" in msg
+
+
+def test_shorthand_friction_with_two_pairs_is_refused():
+    body, pair, short = _parts()
+    second = ContactPair(Boundary(body, "bottom"), obstacles.make("half-space", point=[0, -20], normal=[0, 1]))
+    with pytest.raises(InputError, match="friction given with several pairs"):
+        ContactProblem(bodies=[body], pairs=[pair, second], supports=short.supports, friction=0.2)
+
+
+def _two_finite_pairs(friction=0.0):
+    body = Hyperelastic(meshes.rectangle(0.0, 1.0, 0.0, 1.0, 2, 2), Material(E=1000.0, nu=0.3, plane="strain"))
+    pairs = [ContactPair(Boundary(body, "bottom"), obstacles.HalfSpace((0.0, 0.0), (0.0, 1.0)), friction=friction),
+             ContactPair(Boundary(body, "top"), obstacles.HalfSpace((0.0, 1.0), (0.0, -1.0)), friction=friction)]
+    return ContactProblem(bodies=[body], pairs=pairs, supports=[Support("left")], kinematics="finite")
+
+
+def test_two_frictional_pairs_at_finite_deformation_are_refused():
+    with pytest.raises(InputError) as info:
+        _two_finite_pairs(friction=0.2)
+    msg = str(info.value)
+    assert "2 contact pairs with friction" in msg and "kinematics='small'" in msg
+
+
+@pytest.mark.parametrize("kwargs, text", [(dict(friction=0.2), "friction 0"),
+                                          (dict(obstacle_path=lambda t: [0.0, -0.01 * t]), "no obstacle_path")])
+def test_two_pairs_at_finite_deformation_refuse_friction_and_a_moving_master_in_solve(kwargs, text):
+    with pytest.raises(InputError, match=text):
+        solve(_two_finite_pairs(), "simo-laursen", steps=2, **kwargs)
 
 
 def test_a_deformable_master_of_no_body_is_refused():

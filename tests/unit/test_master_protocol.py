@@ -19,6 +19,22 @@ from alcontact.errors import InputError
 
 CUBE = [[x, y, z] for x in (-1.0, 1.0) for y in (-1.0, 1.0) for z in (-1.5, 0.5)]
 
+def _wavy_surface() -> dict:
+    """A non-convex triangulated surface over [-3, 3]^2 (beyond the sampled box), free side up."""
+    n = 9
+    x = np.linspace(-3.0, 3.0, n)
+    X, Y = np.meshgrid(x, x, indexing="ij")
+    V = np.column_stack([X.ravel(), Y.ravel(), 0.4 * np.sin(X.ravel()) * np.cos(0.8 * Y.ravel())])
+    idx = np.arange(n * n).reshape(n, n)
+    a, b, c, d = idx[:-1, :-1].ravel(), idx[1:, :-1].ravel(), idx[1:, 1:].ravel(), idx[:-1, 1:].ravel()
+    F = np.concatenate([np.column_stack([a, b, c]), np.column_stack([a, c, d])])
+    return dict(vertices=V.tolist(), facets=F.tolist())
+
+
+#: a non-convex polyline (a W) from x = -3 to 3, free side up
+W_POLYLINE = dict(vertices=[[3.0, 1.0], [1.5, -0.5], [0.0, 0.3], [-1.5, -0.5], [-3.0, 1.0]],
+                  facets=[[0, 1], [1, 2], [2, 3], [3, 4]])
+
 #: name -> keyword parameters of :func:`obstacles.make` (surfaces pass within ~1 of the origin)
 SAMPLES = {
     "half-space": dict(point=[0.1, -0.2], normal=[0.3, 1.0]),
@@ -33,6 +49,7 @@ SAMPLES = {
     "convex-polygon-cavity": dict(vertices=[[-1.0, -1.5], [1.0, -1.0], [0.5, 0.5], [-0.8, 0.2]]),
     "convex-polyhedron-cavity": dict(vertices=CUBE),
     "user": dict(gap=lambda x: x[:, 1] - 0.3, dim=2),
+    "surface": _wavy_surface(),
 }
 
 
@@ -44,6 +61,7 @@ def _placed() -> dict:
         "moved sphere": obstacles.move(sphere, obstacles.RigidMotion.about([0.0, 0.0, 0.5], 0.4, [0.0, 1.0, 0.0])),
         "moved half-space": obstacles.move(obstacles.make("half-space", **SAMPLES["half-space"]),
                                            obstacles.RigidMotion.about([0.0, 0.0], -0.3)),
+        "surface (2D polyline)": obstacles.make("surface", **W_POLYLINE),
     }
 
 

@@ -48,6 +48,10 @@ EXAMPLES: dict[str, tuple[dict, list, list]] = {
     "convex-polygon-cavity": (dict(vertices=_PENTAGON), [[3.0, 3.0], [0.6, -1.0]], [[0.6, 0.6]]),
     "convex-polyhedron-cavity": (dict(A=_POLY_A, b=_POLY_B), [[1.0, 1.0, 1.0], [2.0, -1.0, 0.5], [0.5, 0.5, -0.3]],
                                  [[0.5, 0.5, 0.5]]),
+    # a closed, non-convex L-shaped polygon, counter-clockwise: a solid obstacle, the body outside
+    "surface": (dict(vertices=[[0, 0], [2, 0], [2, 1], [1, 1], [1, 2], [0, 2]],
+                     facets=[[0, 1], [1, 2], [2, 3], [3, 4], [4, 5], [5, 0]]),
+                [[0.5, 0.5], [1.5, 0.5], [0.5, 1.5]], [[1.5, 1.5], [-1.0, 1.0], [3.0, 3.0]]),
     "user": (dict(gap=_user_sphere_gap, dim=3, length_scale=0.8),
              [[0.2, -0.1, 0.5]], [[2.0, 2.0, 2.0]]),
 }

@@ -194,6 +194,7 @@ def summarize(problem, solution, *, problem_name: str | None = None, level: int 
         "model_contact_force": f_model,
         "contact_force_vector": np.asarray(solution.total_contact_force, dtype=float).tolist(),
         **{k: solution.extra[k] for k in TWO_BODY_KEYS if k in solution.extra},
+        "pair_contact_forces": _pair_forces(problem, solution),
         **equilibrium_keys(eq),
         "peak_pressure_nodal_max": p_max,
         "peak_pressure_nodal_max_error_pct": _error_pct(p_max, p_ex),
@@ -217,6 +218,14 @@ def summarize(problem, solution, *, problem_name: str | None = None, level: int 
         "created_utc": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
     }
     return summary
+
+
+def _pair_forces(problem, solution) -> list[dict[str, Any]]:
+    """Per contact pair: its slave boundary, its master and the contact force it puts on the body."""
+    pairs = getattr(problem, "pairs", ())
+    forces = solution.pair_contact_forces()
+    return [{"slave": p.slave.name, "master": p.master.describe(), "force": [float(x) for x in f]}
+            for p, f in zip(pairs, forces)]
 
 
 def _tolerances(options: dict) -> dict[str, float]:
@@ -388,6 +397,8 @@ def setup_summary(setup, solution, raw, options: dict, wall: float) -> dict[str,
         # |Q| = |sum of q_i| <= sum of |q_i| <= mu N: the two differ where the tangents turn over the zone
         q = np.linalg.norm(np.asarray(final.extra["shear"], dtype=float), axis=1)
         summary["tangential_force_magnitude_sum"] = float(np.sum(np.asarray(final.weights, dtype=float) * q))
+    if len(prob.pairs) > 1:  # the force of each pair at every step (the final ones: pair_contact_forces)
+        summary["step_pair_contact_forces"] = [f.pair_contact_forces().tolist() for f in frames]
     summary["units"] = setup.plot_units().as_dict(int(prob.model.dim))
     return summary
 

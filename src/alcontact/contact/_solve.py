@@ -129,7 +129,7 @@ def _solve_static(problem, algorithm: str = DEFAULT_ALGORITHM, penalty: str | No
     pressure = np.maximum(pressure, 0.0)
     force = np.sum(nodal[:, None] * dc.normals, axis=0)
     if np.any(pressure > 0):  # pressure field of the nodal forces (differs from lambda for 3D P2)
-        pressure = problem.model.boundary_pressure(problem.contact_boundary, nodal)
+        pressure = problem.slave_pressure(nodal)
     closed = g_all > -max(1e-6, 10 * opts.tol_penetration) * dc.h
     active = closed & (pressure > 1e-12 * max(float(pressure.max(initial=0.0)), 1e-300))
     # the printed invariants are the checked ones (of the applied pressures, not of the recovered field)
@@ -292,6 +292,10 @@ def _solve_any(problem, algorithm, penalty, options, *, steps, history, obstacle
     if mu != 0 and not all(getattr(p, "rigid", True) for p in getattr(problem, "pairs", ())):
         raise InputError(f"friction = {mu!r}: friction between two deformable bodies is not supported yet; solve "
                          "the two-body problem frictionless (friction=0).")
+    if kinematics == "finite" and len(problem.pairs) > 1 and (mu != 0 or obstacle_path is not None):
+        raise InputError(f"{len(problem.pairs)} contact pairs at kinematics='finite' run frictionless with fixed "
+                         "masters so far; give friction 0 and no obstacle_path, or kinematics='small' (friction), "
+                         "or one pair.")
     max_cutbacks = None  # an option of the frictional engines (in overrides), an argument of the frictionless one
     if kinematics == "finite" and mu == 0:
         if "max_cutbacks" in overrides:

@@ -14,6 +14,7 @@ section               builder                                     builds
 ``[[load]]``          :func:`build_loads`                         fixed and ramped loads
 ``[loading]``         :func:`build_loading`                       step times, friction ramp
 ``[obstacle]``        :func:`build_obstacle`                      the rigid obstacle
+``[[pair]]``          :func:`build_pairs`                         further contact pairs
 ``[solver]``          :func:`build_solver`                        algorithm, penalty, options
 ``[units]``           :func:`build_units`                         the unit labels
 ``[reference]``       :func:`build_reference`                     Hertz / Cattaneo-Mindlin
@@ -616,69 +617,113 @@ def build_loading(lo: dict | None, issues: list[Issue]) -> tuple[tuple[float, ..
     return times, friction_ramp
 
 
-def _obstacle_type_ok(name: str, issues: list[Issue]) -> bool:
+def _obstacle_type_ok(name: str, issues: list[Issue], key: str = "obstacle") -> bool:
     """``type`` names a registered obstacle that a problem file can build (not ``user``)."""
     from ..contact import obstacles
 
     if name == "user":
-        issues.append(Issue("obstacle.type", "= 'user': a user obstacle needs Python functions; problem files "
-                                             "hold data only. Use a registered shape, or build the problem in "
-                                             "Python with alcontact.contact.obstacles.UserObstacle."))
+        issues.append(Issue(f"{key}.type", "= 'user': a user obstacle needs Python functions; problem files "
+                                           "hold data only. Use a registered shape, or build the problem in "
+                                           "Python with alcontact.contact.obstacles.UserObstacle."))
         return False
     if name not in obstacles.available():
         known = [n for n in obstacles.available() if n != "user"]
-        issues.append(Issue("obstacle.type", f"= {name!r}: unknown obstacle.{_did_you_mean(name, known)} "
-                                             f"Known obstacles: {_known(known)}."))
+        issues.append(Issue(f"{key}.type", f"= {name!r}: unknown obstacle.{_did_you_mean(name, known)} "
+                                           f"Known obstacles: {_known(known)}."))
         return False
     return True
 
 
-def _obstacle_params_ok(name: str, params: dict, accepted: list[str], sig, issues: list[Issue]) -> bool:
+def _obstacle_params_ok(name: str, params: dict, accepted: list[str], sig, issues: list[Issue],
+                        key: str = "obstacle") -> bool:
     """Every parameter is one the factory accepts, and every required one is given."""
     import inspect
 
     ok = True
-    for key in params:
-        if key not in accepted:
-            issues.append(Issue(f"obstacle.{key}", f"unknown parameter of obstacle {name!r}."
-                                                   f"{_did_you_mean(key, accepted)} Accepted: {_known(accepted)}."))
+    for k in params:
+        if k not in accepted:
+            issues.append(Issue(f"{key}.{k}", f"unknown parameter of obstacle {name!r}."
+                                              f"{_did_you_mean(k, accepted)} Accepted: {_known(accepted)}."))
             ok = False
     for p in sig.parameters.values():
         if p.default is inspect.Parameter.empty and p.name not in params:
-            issues.append(Issue(f"obstacle.{p.name}", f"missing: obstacle {name!r} needs {p.name} "
-                                                      f"(parameters: {_known(accepted)})."))
+            issues.append(Issue(f"{key}.{p.name}", f"missing: obstacle {name!r} needs {p.name} "
+                                                   f"(parameters: {_known(accepted)})."))
             ok = False
     return ok
 
 
-def build_obstacle(od: dict | None, dim: int | None, issues: list[Issue]):
-    """``[obstacle]``: the registered obstacle built from its parameters (checked against the factory's
-    signature, :func:`alcontact.contact.obstacles.signature`), or ``None``."""
+def build_obstacle(od: dict | None, dim: int | None, issues: list[Issue], *, key: str = "obstacle",
+                   base: Path | None = None):
+    """``[obstacle]`` (or the obstacle of one ``[[pair]]``, ``key`` its path): the registered obstacle
+    built from its parameters (checked against the factory's signature,
+    :func:`alcontact.contact.obstacles.signature`), or ``None``. A relative ``file`` parameter (a
+    meshed surface) is read relative to ``base``, the problem file's folder."""
     from ..contact import obstacles
 
     if od is None or od is BAD:
         return None
     name = od["type"]
-    if name is BAD or not _obstacle_type_ok(name, issues):
+    if name is BAD or not _obstacle_type_ok(name, issues, key):
         return None
-    params = od["params"]
+    params = dict(od["params"])
     sig = obstacles.signature(name)
     accepted = [p for p in sig.parameters]
-    if not _obstacle_params_ok(name, params, accepted, sig, issues):
+    if not _obstacle_params_ok(name, params, accepted, sig, issues, key):
         return None
+    if base is not None and isinstance(params.get("file"), str) and not Path(params["file"]).is_absolute():
+        params["file"] = str(Path(base) / params["file"])
     try:
         ob = obstacles.make(name, **params)
     except (InputError, TypeError, ValueError, ArithmeticError) as exc:
-        issues.append(Issue("obstacle", f"{name}: {exc or type(exc).__name__}. Check the parameters "
-                                        f"({_known(accepted)}): finite numbers of a sensible size."))
+        text = str(exc) or type(exc).__name__
+        param = next((p for p in accepted if text.startswith(f"{name}: {p} = ")), None)
+        if param is not None:  # the factory named the parameter and the way out: key it by that parameter
+            issues.append(Issue(f"{key}.{param}", text[len(name) + len(param) + 3:]))
+        elif text.startswith(f"{name}"):  # the factory's own message, which names the obstacle and the way out
+            issues.append(Issue(key, text))
+        else:
+            issues.append(Issue(key, f"{name}: {text}. Check the parameters "
+                                     f"({_known(accepted)}): finite numbers of a sensible size."))
         return None
     if dim is not None:
         try:
             ob.check_dim(dim)
         except InputError as exc:
-            issues.append(Issue("obstacle.type", f"= {name!r}: {exc} (the mesh is {dim}D)."))
+            issues.append(Issue(f"{key}.type", f"= {name!r}: {exc} (the mesh is {dim}D)."))
             return None
     return ob
+
+
+def build_pairs(pds: list | None, mesh, dim: int | None, base: Path | None, issues: list[Issue]) -> list | None:
+    """``[[pair]]``: ``(boundary, obstacle)`` of each further contact pair, or ``None`` when one failed."""
+    if not pds:
+        return []
+    out: list = []
+    for i, pd in enumerate(pds):
+        key = f"pair[{i + 1}]"
+        if not _ok(pd):
+            out = None
+            continue
+        ok = mesh is None or boundary_ok(mesh, pd["boundary"], f"{key}.boundary", issues)
+        ob = build_obstacle(pd, dim, issues, key=key, base=base)
+        if ob is None or not ok:
+            out = None
+        elif out is not None:
+            out.append((pd["boundary"], ob))
+    return out
+
+
+def _pairs_issues(s: Sections, od: Any, issues: list[Issue]) -> None:
+    """Several pairs at finite kinematics run frictionless with fixed obstacles (``[obstacle] path`` moves one)."""
+    moving = isinstance(od, dict) and od.get("path") not in (None, BAD)
+    if s.pairs and s.kinematics == "finite" and (s.mu > 0 or moving):
+        what = "contact.friction > 0" if s.mu > 0 else "obstacle.path"
+        issues.append(Issue("pair", f"{len(s.pairs)} [[pair]] table(s) at contact.kinematics = 'finite' with {what}: "
+                                    "several contact pairs at finite kinematics run frictionless with fixed obstacles "
+                                    "so far; remove it, use kinematics = 'small' (friction), or one pair ([contact] "
+                                    "and [obstacle])."))
+        s.pairs = None
 
 
 # --------------------------------------------------------------------------- [solver]
@@ -856,6 +901,7 @@ class Sections:
     times: tuple[float, ...] | None = None
     friction_ramp: Any = None
     obstacle: Any = None
+    pairs: Any = field(default_factory=list)
     mu: float = 0.0
     solver: Solver = field(default_factory=Solver)
     units: tuple = (None, None, None)
@@ -865,7 +911,7 @@ class Sections:
     def complete(self) -> bool:
         """Every part a problem needs was built."""
         return not (self.mesh is None or self.material is None or self.obstacle is None or not self.contact_ok
-                    or self.times is None)
+                    or self.times is None or self.pairs is None)
 
 
 def build_sections(data: dict, base: Path, issues: list[Issue]) -> Sections:
@@ -882,8 +928,10 @@ def build_sections(data: dict, base: Path, issues: list[Issue]) -> Sections:
     s.loads, load_cases = build_loads(data.get("load"), s.mesh, s.dim, issues)
     s.cases = support_cases + load_cases
     s.times, s.friction_ramp = build_loading(data.get("loading"), issues)
-    s.obstacle = build_obstacle(data.get("obstacle"), s.dim, issues)
+    s.obstacle = build_obstacle(data.get("obstacle"), s.dim, issues, base=base)
+    s.pairs = build_pairs(data.get("pair"), s.mesh, s.dim, base, issues)
     s.mu = cd["friction"] if isinstance(cd, dict) and isinstance(cd.get("friction"), float) else 0.0
+    _pairs_issues(s, data.get("obstacle"), issues)
     s.solver = build_solver(data.get("solver"), s.mu, s.kinematics, issues)
     s.units = build_units(data.get("units"), issues)
     s.reference, s.mindlin = build_reference(data.get("reference"), s.dim, s.material, s.mu, issues)
@@ -944,9 +992,18 @@ def build_problem(data: dict, model, s: Sections, issues: list[Issue]) -> tuple[
     # the origin is only a default centre unless a reference or [reference] center names it (viz.contact_center)
     meta = {"symmetry_axis": int(rd["axis"]), "center": center,
             "center_declared": rd["center"] is not None or rd["kind"] != "none"}
-    problem = _num(issues, "", ContactProblem, model=model, obstacle=s.obstacle, contact_boundary=cd["boundary"],
-                   supports=tuple(s.fixed), loads=tuple(s.loads), friction=float(s.mu),
-                   name=data["problem"]["name"], reference=s.reference, meta=meta, kinematics=s.kinematics)
+    if s.pairs:  # [contact] + [obstacle] is the first pair, each [[pair]] one more
+        from ..contact import Boundary, ContactPair
+
+        pairs = [ContactPair(Boundary(model, b), ob, friction=float(s.mu))
+                 for b, ob in [(cd["boundary"], s.obstacle)] + list(s.pairs)]
+        problem = _num(issues, "pair", ContactProblem, bodies=[model], pairs=pairs, supports=tuple(s.fixed),
+                       loads=tuple(s.loads), name=data["problem"]["name"], reference=s.reference, meta=meta,
+                       kinematics=s.kinematics)
+    else:
+        problem = _num(issues, "", ContactProblem, model=model, obstacle=s.obstacle, contact_boundary=cd["boundary"],
+                       supports=tuple(s.fixed), loads=tuple(s.loads), friction=float(s.mu),
+                       name=data["problem"]["name"], reference=s.reference, meta=meta, kinematics=s.kinematics)
     cases = s.cases
     if s.kinematics == "finite" and not cases and problem is not None:
         fixed, cases = _proportional(s.fixed, s.loads)

@@ -230,9 +230,12 @@ class ProblemSetup:
         alg = self.algorithm + (f"/{self.penalty}" if self.penalty else "")
         n = len(self.times)
         kin = f", finite deformation ({m.law.name})" if self.finite else ""
+        where = f"obstacle {self.data['obstacle']['type']}, contact on {self.problem.contact_boundary!r}"
+        if len(self.problem.pairs) > 1:
+            where = f"{len(self.problem.pairs)} contact pairs (" + ", ".join(
+                f"{p.slave.name!r} on {p.master.name}" for p in self.problem.pairs) + ")"
         return (f"{self.name}: {m.dim}D P{m.order}{kin}, {m.ndofs} DOFs, {m.mesh.nelements} elements, "
-                f"obstacle {self.data['obstacle']['type']}, contact on {self.problem.contact_boundary!r}, "
-                f"{law}, {alg}, {n} load step{'s' if n != 1 else ''}")
+                f"{where}, {law}, {alg}, {n} load step{'s' if n != 1 else ''}")
 
 
 def _text_of(path: Path) -> str:

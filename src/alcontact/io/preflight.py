@@ -410,13 +410,13 @@ def _touching_points(setup, fixed: np.ndarray):
 
     prob = setup.problem
     model = prob.model
-    pts, dofs = model.node_dofs(prob.contact_boundary)
+    pts, dofs = prob.slave_nodes()
     gap0, nu = prob.obstacle.evaluate(pts)
     is_fixed = np.zeros(model.ndofs, dtype=bool)
     is_fixed[fixed] = True
     coef = np.where(is_fixed[dofs], 0.0, -nu)
     movable = np.linalg.norm(coef, axis=1) > 1e-12
-    h = contact_element_size(model, prob.contact_boundary, prob.obstacle)
+    h = min(contact_element_size(model, p.slave.name, p.master) for p in prob.pairs)
     g0 = np.where(movable, gap0, -np.inf)
     gmax = float(np.max(g0, initial=-np.inf))
     near = np.flatnonzero(movable & (g0 >= gmax - 0.5 * h)) if movable.any() else np.zeros(0, dtype=np.int64)
@@ -559,7 +559,7 @@ def _pinned_issues(setup) -> list[Issue]:
         return []
     model = prob.model
     fixed, values = prob.dirichlet()
-    pts, dofs = model.node_dofs(prob.contact_boundary)
+    pts, dofs = prob.slave_nodes()
     gap0, nu = prob.obstacle.evaluate(pts)
     u = np.zeros(model.ndofs)
     u[fixed] = values

@@ -240,9 +240,18 @@ def _build_schema() -> tuple[Table, ...]:
         Table("obstacle", "Rigid obstacle from the registry (`alcontact list obstacles`); every other key is a "
               "parameter of that obstacle, e.g. `center`, `radius`, `point`, `normal`, `vertices`.", (
             O("type", "str", REQUIRED, "Registered obstacle name, e.g. `circle`, `sphere`, `half-space`, "
-              "`convex-polygon`."),
+              "`convex-polygon`, `surface` (a meshed rigid surface, non-convex allowed: `file` = an STL or Gmsh "
+              "file relative to this file, optional `group` = a Gmsh physical group)."),
             OBSTACLE_PATH,
         ), open=True, required=True),
+        Table("pair", "A further contact pair on the body (one table per pair): its own contact boundary "
+              "against its own rigid obstacle, e.g. a block squeezed between two plates. `type` and every "
+              "other key are the obstacle's, as in `[obstacle]` (which is the obstacle of `[contact] boundary`); "
+              "`[contact] friction` and `kinematics` apply to every pair (at finite kinematics: frictionless, no "
+              "`[obstacle] path`).", (
+            O("boundary", "str", REQUIRED, "Boundary of the body that may touch this pair's obstacle."),
+            O("type", "str", REQUIRED, "Registered obstacle name, as `[obstacle] type`."),
+        ), array=True, open=True),
         Table("contact", "Contact boundary and friction.", (
             O("boundary", "str", REQUIRED, "Boundary of the body that may touch the obstacle."),
             O("friction", "float", 0.0, "Coulomb coefficient mu (0: frictionless; > 0 uses the frictional "

@@ -86,7 +86,7 @@ def _contact_scalar_dofs(solution) -> np.ndarray:
     """Scalar DOF index of each contact point of ``solution`` (same order as ``solution.points``)."""
     problem = solution.problem
     model = problem.model
-    pts, dofs = model.node_dofs(problem.contact_boundary)
+    pts, dofs = problem.slave_nodes()
     if pts.shape != solution.points.shape or not np.allclose(pts, solution.points):
         raise InputError(
             "the solution's contact points do not match the contact boundary "
@@ -217,14 +217,16 @@ def _bodies_point_data(solution, deformed):
     cell_type = None
     for i, (body, u) in enumerate(zip(model.bodies, model.split(solution.u))):
         if i == slave:
-            view = SimpleNamespace(problem=SimpleNamespace(model=body, contact_boundary=local, kinematics=kinematics),
+            view = SimpleNamespace(problem=SimpleNamespace(model=body, contact_boundary=local, kinematics=kinematics,
+                                                           slave_nodes=lambda b=body, n=local: b.node_dofs(n)),
                                    u=u, points=solution.points, pressure=solution.pressure, gap=solution.gap,
                                    active=solution.active, extra=extra)
         else:  # no contact field of its own: the first boundary, zero pressure, no gap
             name = body.boundary_names[0]
             pts, _ = body.node_dofs(name)
             m = pts.shape[0]
-            view = SimpleNamespace(problem=SimpleNamespace(model=body, contact_boundary=name, kinematics=kinematics),
+            view = SimpleNamespace(problem=SimpleNamespace(model=body, contact_boundary=name, kinematics=kinematics,
+                                                           slave_nodes=lambda b=body, n=name: b.node_dofs(n)),
                                    u=u, points=pts, pressure=np.zeros(m), gap=np.full(m, np.nan),
                                    active=np.zeros(m, dtype=bool), extra={})
         p, cells, data = solution_point_data(view, deformed)

@@ -52,6 +52,8 @@ from typing import Any, Protocol, runtime_checkable
 import numpy as np
 import scipy.sparse as sp
 
+from ..masters._stacked import StackedMaster
+
 
 def _rows(normals: np.ndarray, pos: np.ndarray, nfree: int) -> sp.csr_matrix:
     """Rows :math:`-\\nu_i^T` on the free DOFs ``pos`` (``(k, d)``, -1 on supported DOFs) of ``k`` points."""
@@ -198,6 +200,13 @@ class _PointKinematics:
             return self.points + u[self.dofs]
         return self.points[idx] + u[self.dofs[idx]]
 
+    def master_at(self, idx: np.ndarray | None = None):
+        """The master of the points ``idx``: with several pairs, the stacked master restricted to those
+        points (each against its own pair's master, :meth:`StackedMaster.take`); else the master."""
+        if idx is not None and isinstance(self.master, StackedMaster):
+            return self.master.take(idx)
+        return self.master
+
 
 class LinearizedGap(_PointKinematics):
     r"""The gap linearized at the reference configuration (6.15): :math:`g_i = g^0_i - \nu_i\cdot u_i`.
@@ -272,12 +281,13 @@ class CurrentGap(_PointKinematics):
     configuration = "current"
 
     def gaps(self, u: np.ndarray, idx: np.ndarray | None = None) -> np.ndarray:
-        return self.master.gap(self.current(u, idx))
+        return self.master_at(idx).gap(self.current(u, idx))
 
     def evaluate(self, u: np.ndarray, idx: np.ndarray | None = None, *, hessian: bool = False) -> GapEvaluation:
         xc = self.current(u, idx)
-        g, nu = self.master.evaluate(xc)
-        H = self.master.gap_hessian(xc) if hessian else None
+        master = self.master_at(idx)
+        g, nu = master.evaluate(xc)
+        H = master.gap_hessian(xc) if hessian else None
         if idx is None:
             return GapEvaluation(np.arange(self.points.shape[0]), g, nu, H, self.pos, self.nfree)
         idx = np.asarray(idx, dtype=np.int64)

@@ -161,7 +161,7 @@ class ContactPoints:
         one); ``movable``: the normal motion is not fully supported (the point may be a candidate).
         """
         model = problem.model
-        pts, dofs = model.node_dofs(problem.contact_boundary)
+        pts, dofs = problem.slave_nodes()  # every pair's slave points, stacked in the pairs' order
         self.mortar = mortar_of(problem)
         # position of each DOF in the free vector (-1 when fixed)
         free_pos = -np.ones(model.ndofs, dtype=np.int64)
@@ -171,7 +171,7 @@ class ContactPoints:
         #: (:class:`~alcontact.contact.kinematics.ContactKinematics`)
         if self.mortar is None:
             self.kinematics = kin = LinearizedGap(pts, dofs, pos, problem.obstacle, free.size)
-            w = model.boundary_weights(problem.contact_boundary)
+            w = problem.slave_weights()
         else:  # the weighted gaps couple both bodies (kinematics._mortar)
             self.kinematics = kin = MortarKinematics(self.mortar, pts, dofs, pos, problem.obstacle, free)
             w = self.mortar.weights
@@ -234,7 +234,8 @@ class ContactPoints:
         key = (self.model, self.problem.obstacle, self.problem.contact_boundary)
         cached = getattr(self, "_h_of", None)
         if cached is None or cached[0][0] is not key[0] or cached[0][1] is not key[1] or cached[0][2] != key[2]:
-            cached = self._h_of = (key, _element_size(key[0], key[2], key[1]))
+            cached = self._h_of = (key, min(_element_size(key[0], p.slave.name, p.master)
+                                            for p in self.problem.pairs))
         return cached[1]
 
     def all_gaps(self, u: np.ndarray) -> np.ndarray:

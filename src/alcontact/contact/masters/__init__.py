@@ -6,15 +6,21 @@ obstacle) and the outward unit normal :math:`\\nu(x)` at the projection; the gap
 contact point is (6.15) at small deformation and :math:`g(x + u)` at finite deformation.
 The rigid obstacles (:mod:`alcontact.contact.masters.obstacles`: planes, spheres,
 cylinders, polygons, convex hulls, rigid motions) implement it; they are also importable as
-:mod:`alcontact.contact.obstacles`.
+:mod:`alcontact.contact.obstacles`. :class:`MeshedSurface` is a meshed rigid surface (a
+polyline or a triangulation from an STL or Gmsh file, non-convex allowed), registered as
+the obstacle ``"surface"``; :class:`StackedMaster` the master of the stacked contact points
+of several contact pairs.
 
 Public names
 ------------
-Master, obstacles, BodySurface (a boundary of another body: the deformable master of two-body contact)
+Master, MeshedSurface, StackedMaster, obstacles, BodySurface (a boundary of another body: the deformable master of
+two-body contact)
 """
 
 from . import obstacles
 from ._master import Master
 from ._mortar import BodySurface
+from ._stacked import StackedMaster
+from ._surface import MeshedSurface  # registers the obstacle "surface"
 
-__all__ = ["BodySurface", "Master", "obstacles"]
+__all__ = ["BodySurface", "Master", "MeshedSurface", "StackedMaster", "obstacles"]

@@ -260,10 +260,15 @@ class ContactProblem:
       loads=..., friction=mu)``, which builds that one body and that one pair.
 
     Both give the same problem (and the same solution, to the last bit). A problem has one
-    pair: a rigid master (one body), or the :class:`~alcontact.contact.BodySurface` of a body
-    of ``bodies`` (two-body mortar contact at small deformation, frictionless, 2D P1/P2; the
-    model is then the bodies' :class:`~alcontact.fem.MultiBody` and boundary names are
-    ``"body0/top"``, ``"body1/bottom"``, ...). Several pairs are refused with an
+    body with one or several pairs, each its own slave boundary and rigid master (their
+    contact points are stacked in the pairs' order, one constraint per slave point and pair:
+    :meth:`slave_nodes`), with one friction coefficient shared by the pairs (at finite
+    deformation: frictionless, fixed masters); or two bodies joined by one pair whose master
+    is the :class:`~alcontact.contact.BodySurface` of a body of ``bodies`` (two-body mortar
+    contact at small deformation, frictionless, 2D P1/P2; the model is then the bodies'
+    :class:`~alcontact.fem.MultiBody` and boundary names are ``"body0/top"``,
+    ``"body1/bottom"``, ...). A friction coefficient per pair, frictional pairs at finite
+    deformation and a two-body pair beside other pairs are refused with an
     :class:`~alcontact.errors.InputError` (see ``docs/architecture.md``).
 
     Parameters
@@ -291,15 +296,16 @@ class ContactProblem:
         Pair form: the discretized bodies (one, or two or more joined by a pair with a
         :class:`~alcontact.contact.BodySurface` master).
     pairs : sequence of ContactPair, keyword-only
-        Pair form: the contact pairs (one today).
+        Pair form: the contact pairs on the body.
 
     Attributes
     ----------
     bodies : tuple
     pairs : tuple of ContactPair
     model, obstacle, contact_boundary, friction
-        Views of the one body and the one pair: ``bodies[0]``, ``pairs[0].master``,
-        ``pairs[0].slave.name``, ``pairs[0].friction``.
+        Views of the one body and the first pair: ``bodies[0]``, ``pairs[0].master`` (with
+        several pairs, the :class:`~alcontact.contact.masters.StackedMaster` of all of them),
+        ``pairs[0].slave.name``, ``pairs[0].friction`` (the same for every pair).
 
     Notes
     -----
@@ -356,6 +362,10 @@ class ContactProblem:
             pair = old  # nothing replaced: keep the caller's pair
         else:
             pair = ContactPair(Boundary(raw["model"], raw["contact_boundary"]), raw["obstacle"], raw["friction"])
+        others = tuple(base.get("others", ()))
+        if others and raw["friction"] is not base["friction"]:
+            raise InputError("ContactProblem: friction given with several pairs: set the coefficient of each "
+                             "ContactPair(..., friction=mu) instead.")
         if "bodies" in base:  # several bodies (a deformable master): the model is their stack
             if any(k in given for k in ("model", "contact_boundary")):
                 raise InputError("ContactProblem: model or contact_boundary given with several bodies; give the "
@@ -365,8 +375,9 @@ class ContactProblem:
             object.__setattr__(self, "bodies", base["bodies"])
         else:
             object.__setattr__(self, "bodies", (raw["model"],))
-        object.__setattr__(self, "pairs", (pair,))
+        object.__setattr__(self, "pairs", (pair,) + others)
         self._validate()
+        object.__setattr__(self, "_stacked", self._stack())
 
     @staticmethod
     def _from_pairs(bodies: Any, pairs: Any) -> dict[str, Any]:
@@ -390,17 +401,29 @@ class ContactProblem:
             raise InputError(f"{kind}: bodies has {len(bodies)} bodies but no pair joins two of them: give a pair "
                              "whose master is a boundary of another body, ContactPair(Boundary(a, 'bottom'), "
                              f"BodySurface(b, 'top')). See {ROADMAP}.")
-        if len(pairs) > 1:
-            raise InputError(f"{kind}: pairs has {len(pairs)} contact pairs: several contact pairs are not supported "
-                             f"yet; give one pair (one contact boundary against one rigid obstacle). See {ROADMAP}.")
+        if len(pairs) > 1 and not all(p.rigid for p in pairs):
+            raise InputError(f"{kind}: pairs has {len(pairs)} contact pairs and one joins two bodies: a pair between "
+                             "two bodies beside other pairs is not supported yet; give the two-body pair alone. "
+                             f"See {ROADMAP}.")
+        if len(bodies) > 1 or not pairs[0].rigid:
+            pair = pairs[0]
+            if not any(pair.slave.body is b for b in bodies):
+                raise InputError(f"{kind}: pairs[0].slave is the boundary {pair.slave.name!r} of a body that is not "
+                                 "in bodies; build it as Boundary(body, name) with a body of bodies.")
+            return _two_body(kind, bodies, pair)
+        for i, pair in enumerate(pairs):
+            if pair.slave.body is not bodies[0]:
+                raise InputError(f"{kind}: pairs[{i}].slave is the boundary {pair.slave.name!r} of a body that is not "
+                                 "in bodies; build it as Boundary(body, name) with a body of bodies.")
+        mus = [float(p.friction) for p in pairs]
+        if len(set(mus)) > 1:
+            listed = ", ".join(f"{m:g}" for m in mus)
+            raise InputError(f"{kind}: the pairs have different friction coefficients ({listed}"
+                             "): a friction coefficient per pair is not supported yet; give every pair the same "
+                             "coefficient (0 for frictionless contact).")
         pair = pairs[0]
-        if not any(pair.slave.body is b for b in bodies):
-            raise InputError(f"{kind}: pairs[0].slave is the boundary {pair.slave.name!r} of a body that is not in "
-                             "bodies; build it as Boundary(body, name) with a body of bodies.")
-        if pair.rigid:
-            return {"model": bodies[0], "obstacle": pair.master, "contact_boundary": pair.slave.name,
-                    "friction": pair.friction, "pair": pair}
-        return _two_body(kind, bodies, pair)
+        return {"model": bodies[0], "obstacle": pair.master, "contact_boundary": pair.slave.name,
+                "friction": pair.friction, "pair": pair, "others": pairs[1:]}
 
     # ------------------------------------------------------------ views of the one body and pair
     @property
@@ -410,8 +433,60 @@ class ContactProblem:
 
     @property
     def obstacle(self) -> Any:
-        """The rigid obstacle, master of the contact pair: ``pairs[0].master``."""
-        return self.pairs[0].master
+        """The rigid obstacle, master of the contact pair: ``pairs[0].master``.
+
+        With several pairs, the master of the stacked contact points
+        (:class:`~alcontact.contact.masters._stacked.StackedMaster`: each pair's block of
+        points against that pair's master).
+        """
+        if len(self.pairs) == 1:
+            return self.pairs[0].master
+        return self._stacked[2]
+
+    # ------------------------------------------------------------ the stacked contact points of all pairs
+    def _stack(self):
+        """Points, DOFs and weights of every pair's slave boundary, stacked in the pairs' order; their master."""
+        if len(self.pairs) == 1:
+            return None
+        from ..masters._stacked import StackedMaster
+
+        nodes = [self.model.node_dofs(p.slave.name) for p in self.pairs]
+        pts = np.concatenate([n[0] for n in nodes])
+        dofs = np.concatenate([n[1] for n in nodes])
+        sizes = [n[0].shape[0] for n in nodes]
+        return pts, dofs, StackedMaster([p.master for p in self.pairs], sizes)
+
+    def slave_nodes(self) -> tuple[np.ndarray, np.ndarray]:
+        """Contact points ``(points (m, d), dofs (m, d))`` of all pairs, stacked in the pairs' order.
+
+        One pair: ``model.node_dofs(contact_boundary)``. Several pairs: the points of
+        ``pairs[0].slave``, then those of ``pairs[1].slave``, ... (one constraint per slave
+        point and pair; :meth:`pair_of_points` gives the pair of each).
+        """
+        if len(self.pairs) == 1:
+            return self.model.node_dofs(self.contact_boundary)
+        return self._stacked[0].copy(), self._stacked[1].copy()
+
+    def slave_weights(self) -> np.ndarray:
+        """Tributary length/area of each stacked contact point (:meth:`slave_nodes` order)."""
+        if len(self.pairs) == 1:
+            return self.model.boundary_weights(self.contact_boundary)
+        return np.concatenate([self.model.boundary_weights(p.slave.name) for p in self.pairs])
+
+    def slave_pressure(self, forces: Any) -> np.ndarray:
+        """Pressure at the stacked contact points from their nodal normal forces (per pair's boundary)."""
+        if len(self.pairs) == 1:
+            return self.model.boundary_pressure(self.contact_boundary, forces)
+        forces = np.asarray(forces, dtype=float)
+        b = self._stacked[2].bounds
+        return np.concatenate([self.model.boundary_pressure(p.slave.name, forces[b[k]:b[k + 1]])
+                               for k, p in enumerate(self.pairs)])
+
+    def pair_of_points(self) -> np.ndarray:
+        """Index of the pair of each stacked contact point, shape ``(m,)`` (all 0 for one pair)."""
+        if len(self.pairs) == 1:
+            return np.zeros(self.model.node_dofs(self.contact_boundary)[0].shape[0], dtype=np.int64)
+        return self._stacked[2].owner.copy()
 
     @property
     def contact_boundary(self) -> str:
@@ -437,13 +512,21 @@ class ContactProblem:
 
     def _validate(self) -> None:
         """Values that need the mesh: boundary names, dimensions, supports."""
-        self.model.facets(self.contact_boundary)  # MeshError naming the known boundaries
+        # MeshError naming the known boundaries (one pair: the model's name of it, qualified by its body between
+        # two bodies; several pairs are on one body)
+        for name in [self.contact_boundary] if len(self.pairs) == 1 else [p.slave.name for p in self.pairs]:
+            self.model.facets(name)
+        if len(self.pairs) > 1 and self.kinematics != "small" and self.pairs[0].friction > 0:
+            raise InputError(f"ContactProblem: {len(self.pairs)} contact pairs with friction at kinematics="
+                             f"{self.kinematics!r}: several frictional pairs are supported at small deformation only "
+                             "so far; use kinematics='small', friction 0, or one pair.")
         for s in self.supports:
             self.model.facets(s.boundary)
         for ld in self.loads:
             if hasattr(ld, "boundary"):
                 self.model.facets(ld.boundary)
-        self.obstacle.check_dim(self.model.dim)
+        for p in self.pairs:
+            p.master.check_dim(self.model.dim)
         self.dirichlet()  # InputError on two supports prescribing different values to one DOF
 
     def _check_types(self, raw: dict[str, Any]) -> None:

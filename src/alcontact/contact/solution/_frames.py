@@ -58,7 +58,7 @@ def finite_solution(fs, problem, history, path) -> ContactSolution:
 
     base = fs.solution
     model = problem.model
-    _, dofs = model.node_dofs(problem.contact_boundary)
+    _, dofs = problem.slave_nodes()
     views = []
     steps = list(fs.steps)
     for step in steps[:-1]:

@@ -369,7 +369,7 @@ class FrictionSolution(StepRecords):
         st = self.final if step is None else step
         prob = self.problem if self.history is None else problem_at(self.problem, self.history, st.t)
         model = prob.model
-        _, dofs = model.node_dofs(prob.contact_boundary)
+        _, dofs = prob.slave_nodes()
         w = np.asarray(self.weights, dtype=float)[:, None]
         forces = w * (np.asarray(st.pressure, dtype=float)[:, None] * self.normals + np.asarray(st.shear, dtype=float))
         fixed, _ = prob.dirichlet()

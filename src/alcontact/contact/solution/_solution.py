@@ -183,6 +183,19 @@ class ContactSolution:
             f = f + self.weights[:, None] * np.asarray(shear, dtype=float)
         return f
 
+    def pair_contact_forces(self) -> np.ndarray:
+        """Contact force on the body from each contact pair, ``(n_pairs, d)``.
+
+        The sum of :meth:`contact_point_forces` over the stacked points of each pair
+        (``problem.pair_of_points()``); one row, the total contact force, for one pair.
+        """
+        f = self.contact_point_forces()
+        pairs = getattr(self.problem, "pairs", ())
+        owner = self.problem.pair_of_points() if len(pairs) > 1 else np.zeros(f.shape[0], dtype=np.int64)
+        out = np.zeros((max(len(pairs), 1), f.shape[1]))
+        np.add.at(out, owner, f)
+        return out
+
     def equilibrium(self, problem=None):
         """Global equilibrium of this state, :func:`alcontact.contact.solution._estimators.equilibrium`.
 
@@ -201,7 +214,7 @@ class ContactSolution:
             fc = nodal_force_vector(model.ndofs, dofs, forces)
             eq = equilibrium(model, self.u, fixed, prob.load_vector(), fc, length=self.extra.get("h"))
             return dataclasses.replace(eq, contact_force=np.asarray(self.extra["slave_contact_force"], dtype=float))
-        _, dofs = model.node_dofs(prob.contact_boundary)
+        _, dofs = prob.slave_nodes()
         fc = nodal_force_vector(model.ndofs, dofs, self.contact_point_forces())
         return equilibrium(model, self.u, fixed, prob.load_vector(), fc, length=self.extra.get("h"))
 
@@ -400,6 +413,12 @@ class ContactFrame:
     @property
     def success(self) -> bool:
         return self.status > 0
+
+    @property
+    def pair_forces(self) -> np.ndarray:
+        """Contact force on the body from each contact pair at this step, ``(n_pairs, d)``
+        (:meth:`ContactSolution.pair_contact_forces`)."""
+        return self.view.pair_contact_forces()
 
 
 def frame_of(sol: ContactSolution) -> ContactFrame:

@@ -316,7 +316,7 @@ def solve_friction(problem, history: LoadHistory | None, algorithm: str = "simo-
     y0 = fc.all_local(u0)
     state = _State(0.0, u0, y0, np.zeros(m), np.zeros((m, d - 1)), np.zeros((m, d)), np.zeros((m, d)))
     tangential = [c for c in history.cases if c.tangential]
-    contact_dofs = problem.model.node_dofs(problem.contact_boundary)[1]
+    contact_dofs = problem.slave_nodes()[1]
     records: list[FrictionStep] = []
     cur = {"state": state}
     t_solve = time.perf_counter()
@@ -705,7 +705,7 @@ def _record(dc, res, t, mu, opts, cut, newton, seconds, solves=0, *, fixed, load
     # equilibrium of the step's displacement with the forces it reports (normal and tangential)
     problem = dc.problem
     forces = (w * pressure)[:, None] * dc.normals - w[:, None] * traction_t
-    eq = state_equilibrium(problem.model, u, fixed, load, problem.model.node_dofs(problem.contact_boundary)[1],
+    eq = state_equilibrium(problem.model, u, fixed, load, problem.slave_nodes()[1],
                            forces, dc.h, pressure=pressure, weights=w)
     check = check_state(g_all, pressure, dc.h, tol_penetration=opts.tol_penetration,
                         tol_complementarity=opts.tol_complementarity, traction_t=traction_t,

@@ -208,6 +208,7 @@ from ._layout import NewtonLayout
 
 logger = logging.getLogger(__name__)
 
+
 #: Armijo constant of the line search
 _ARMIJO = 1e-4
 _EPS = float(np.finfo(float).eps)
@@ -402,9 +403,9 @@ class FiniteContact(ContactPoints):
         self.free = np.flatnonzero(mask)
         self.margin = float(margin)
         model.check_restrained(self.fixed)
-        pts, dofs = model.node_dofs(problem.contact_boundary)
+        pts, dofs = problem.slave_nodes()
         self.points, self.dofs = pts, dofs
-        self.weights = np.asarray(model.boundary_weights(problem.contact_boundary), dtype=float)
+        self.weights = np.asarray(problem.slave_weights(), dtype=float)
         free_pos = -np.ones(n, dtype=np.int64)
         free_pos[self.free] = np.arange(self.free.size)
         self.pos = free_pos[dofs]  # (m, d), -1 on fixed DOFs
