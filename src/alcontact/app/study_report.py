@@ -76,29 +76,42 @@ def tables(rows: list[dict]) -> dict:
     "robustness": [(method, converged, cells, median Newton, median time / linear solve)],
     "rules": [(method, rule, cells, converged, outer, newton)]}``.
     """
-    sweep: dict = OrderedDict()
-    problems = _order(r["problem"] for r in rows)
     method_order = _order(r["method"] for r in rows)
-    for p in problems:
+    return {"sweep": _sweep_table(rows, method_order), "robustness": _robustness_table(rows, method_order),
+            "rules": _rules_table(rows, method_order)}
+
+
+def _sweep_table(rows: list[dict], method_order: list[str]) -> dict:
+    """Per (problem, mesh) of the eps sweep (rule ``fixed`` or none): the Newton count or status of each cell."""
+    sweep: dict = OrderedDict()
+    for p in _order(r["problem"] for r in rows):
         prow = [r for r in rows if r["problem"] == p]
         for mesh in sorted(_order(r["mesh"] for r in prow), key=_mesh_key):
             mrows = [r for r in prow if r["mesh"] == mesh and r["rule"] in ("fixed", "-")]
             if not mrows:
                 continue
             scales = sorted(_order(r["eps_scale"] for r in mrows if r["eps_scale"] != "-"), key=_scale_key)
-            cells = {}
-            for r in mrows:
-                text = r["newton"] if r["status"] == "converged" else f"[{r['status']}]"
-                cells[(r["method"], r["eps_scale"])] = text
+            cells = {(r["method"], r["eps_scale"]): r["newton"] if r["status"] == "converged" else f"[{r['status']}]"
+                     for r in mrows}
             sweep[(p, mesh)] = {"dofs": mrows[0]["dofs"] or "-", "scales": scales,
                                 "methods": [m for m in method_order if any(r["method"] == m for r in mrows)],
                                 "cells": cells}
+    return sweep
+
+
+def _robustness_table(rows: list[dict], method_order: list[str]) -> list[tuple]:
+    """Per method over the eps sweep: converged cells, cells, median Newton and time / linear solve."""
     robustness = []
     for m in method_order:
         mrows = [r for r in rows if r["method"] == m and r["rule"] in ("fixed", "-")]
         ok = [r for r in mrows if r["status"] == "converged"]
         robustness.append((m, len(ok), len(mrows), _median([_num(r["newton"]) for r in ok]),
                            _median([_num(r["time_per_linear_solve"]) for r in ok])))
+    return robustness
+
+
+def _rules_table(rows: list[dict], method_order: list[str]) -> list[tuple]:
+    """Per method and update rule at eps scale 1: cells, converged, mean outer and Newton (converged cells)."""
     rules = []
     for m in method_order:
         for rule in _order(r["rule"] for r in rows if r["method"] == m and r["rule"] != "-"):
@@ -107,7 +120,7 @@ def tables(rows: list[dict]) -> dict:
             outer = sum(_num(r["outer"]) for r in ok) / len(ok) if ok else math.nan
             newton = sum(_num(r["newton"]) for r in ok) / len(ok) if ok else math.nan
             rules.append((m, rule, len(rr), len(ok), outer, newton))
-    return {"sweep": sweep, "robustness": robustness, "rules": rules}
+    return rules
 
 
 def identical_methods(rows: list[dict]) -> list[list[str]]:
@@ -266,20 +279,28 @@ def render(rows: list[dict], *, title: str = "alcontact study", images: dict | N
              "solver's status: every invariant it checks holds at the returned state (the pure penalty stops "
              "on its penetration tolerance, see the `eps_final` column).", ""]
     lines += _answers(rows)
-    lines += ["## Which method needs no tuning", "",
-              "Converged cells of the eps sweep, over every problem and mesh; the cost across the sweep as "
-              "medians over the converged cells (time / linear solve: CPU time of the solve over one sparse "
-              "factorization + solve of the same mesh's stiffness, measured in the same process).", "",
-              "| method | converged | cells | fraction | median Newton | median time / linear solve |",
-              "|---|---:|---:|---:|---:|---:|"]
-    for m, ok, n, newton, ratio in t["robustness"]:
+    lines += _robustness_section(t["robustness"], rows)
+    lines += _rules_section(t["rules"])
+    lines += _sweep_section(t["sweep"], images)
+    return "\n".join(lines)
+
+
+def _robustness_section(robustness: list[tuple], rows: list[dict]) -> list[str]:
+    """"Which method needs no tuning": converged cells of the eps sweep per method, and what they say."""
+    lines = ["## Which method needs no tuning", "",
+             "Converged cells of the eps sweep, over every problem and mesh; the cost across the sweep as "
+             "medians over the converged cells (time / linear solve: CPU time of the solve over one sparse "
+             "factorization + solve of the same mesh's stiffness, measured in the same process).", "",
+             "| method | converged | cells | fraction | median Newton | median time / linear solve |",
+             "|---|---:|---:|---:|---:|---:|"]
+    for m, ok, n, newton, ratio in robustness:
         frac = f"{100.0 * ok / n:.0f}%" if n else "-"
         lines.append(f"| {m} | {ok} | {n} | {frac} | {_fmt_mean(newton)} | {_fmt_mean(ratio)} |")
     lines.append("")
-    best = [m for m, ok, n, _, _ in t["robustness"] if n and ok == n]
+    best = [m for m, ok, n, _, _ in robustness if n and ok == n]
     if best:
         lines += ["Converged in every cell of the sweep: " + ", ".join(best) + ".", ""]
-    tuned = [(ok / n, m, ok, n) for m, ok, n, _, _ in t["robustness"] if n and m not in best]
+    tuned = [(ok / n, m, ok, n) for m, ok, n, _, _ in robustness if n and m not in best]
     if tuned:
         top = max(f for f, *_ in tuned)
         names = [f"{m} ({ok}/{n})" for f, m, ok, n in tuned if f == top]
@@ -289,24 +310,34 @@ def render(rows: list[dict], *, title: str = "alcontact study", images: dict | N
     if same:
         lines += ["Methods with the same status, outer and Newton iterations in every cell they share: "
                   + "; ".join(" = ".join(g) for g in same) + ".", ""]
-    lines += ["## Penalty update rules", "",
-              "At eps scale 1, frictionless problems; outer and Newton: means over the converged cells. "
-              "`alg54-printed`: Algorithm 5.4 as printed, eta <- 2 eta (eps_N halved) after every outer "
-              "iteration; `alg54-corrected`: eta <- eta / 2 (eps_N doubled); `infeasibility`: eps_N times 10 "
-              "when the penetration did not fall below 1/4 of its previous value.", "",
-              "| method | rule | cells | converged | outer | Newton |", "|---|---|---:|---:|---:|---:|"]
-    for m, rule, n, ok, outer, newton in t["rules"]:
+    return lines
+
+
+def _rules_section(rules: list[tuple]) -> list[str]:
+    """"Penalty update rules": the rules table at eps scale 1 and the rule with the fewest Newton iterations."""
+    lines = ["## Penalty update rules", "",
+             "At eps scale 1, frictionless problems; outer and Newton: means over the converged cells. "
+             "`alg54-printed`: Algorithm 5.4 as printed, eta <- 2 eta (eps_N halved) after every outer "
+             "iteration; `alg54-corrected`: eta <- eta / 2 (eps_N doubled); `infeasibility`: eps_N times 10 "
+             "when the penetration did not fall below 1/4 of its previous value.", "",
+             "| method | rule | cells | converged | outer | Newton |", "|---|---|---:|---:|---:|---:|"]
+    for m, rule, n, ok, outer, newton in rules:
         lines.append(f"| {m} | {rule} | {n} | {ok} | {_fmt_mean(outer)} | {_fmt_mean(newton)} |")
     lines.append("")
     fewest = OrderedDict()
-    for m, rule, n, ok, outer, newton in t["rules"]:
+    for m, rule, n, ok, outer, newton in rules:
         if n and ok == n and not math.isnan(newton) and (m not in fewest or newton < fewest[m][1]):
             fewest[m] = (rule, newton)
     if fewest:
         lines += ["Rule with the fewest Newton iterations (every cell converged): "
                   + ", ".join(f"{m}: {r}" for m, (r, _) in fewest.items()) + ".", ""]
-    lines += ["## Newton iterations per method and eps scale", ""]
-    for (p, mesh), tab in t["sweep"].items():
+    return lines
+
+
+def _sweep_section(sweep: dict, images: dict | None) -> list[str]:
+    """"Newton iterations per method and eps scale": one table per problem and mesh."""
+    lines = ["## Newton iterations per method and eps scale", ""]
+    for (p, mesh), tab in sweep.items():
         lines += [f"### {p}, mesh {mesh} ({tab['dofs']} DOFs)", ""]
         if images and (p, mesh) in images:
             lines += [f"![{p}]({images[(p, mesh)]})", ""]
@@ -314,15 +345,11 @@ def render(rows: list[dict], *, title: str = "alcontact study", images: dict | N
         lines.append("| method | " + " | ".join(f"eps x{s}" for s in scales) + " |")
         lines.append("|---|" + "---:|" * len(scales))
         for m in tab["methods"]:
-            vals = []
-            for s in scales:
-                v = tab["cells"].get((m, s))
-                if v is None:
-                    v = tab["cells"].get((m, "-"), "")  # ssn: no penalty parameter, the same in every column
-                vals.append(v)
+            # ssn: no penalty parameter, the same value in every column
+            vals = [tab["cells"].get((m, s), tab["cells"].get((m, "-"), "")) for s in scales]
             lines.append(f"| {m} | " + " | ".join(vals) + " |")
         lines.append("")
-    return "\n".join(lines)
+    return lines
 
 
 def heat_maps(rows: list[dict], out: Path) -> dict:
