@@ -13,8 +13,9 @@
   Algorithm 6.2 (Macaulay normal part), Algorithm 6.4 (family-P normal part) and an
   Alart-Curnier semi-smooth Newton reference, at small or finite deformation.
 
-:func:`solve_friction`, :func:`solve_finite` and :func:`solve_finite_friction` are kept for
-one release as thin wrappers over :func:`solve` returning the stepping engines' own records.
+:func:`solve_friction`, :func:`solve_finite` and :func:`solve_finite_friction` are deprecated
+(a :class:`DeprecationWarning` names the :func:`solve` call to use) and kept for one release as
+thin wrappers over :func:`solve` returning the stepping engines' own records.
 
 The package is organized by concept, one subpackage each: :mod:`~alcontact.contact.problem`
 (problem, pairs, supports, loads, load histories), :mod:`~alcontact.contact.masters` (the master

@@ -1,7 +1,7 @@
 r"""Verification of a returned contact state: the last word on ``converged``.
 
-Every solver path (frictionless :func:`~alcontact.contact.solve`, direct or
-AMG, and :func:`~alcontact.contact.solve_friction`) builds its result through
+Every solver path of :func:`~alcontact.contact.solve` (frictionless or Coulomb, direct or
+AMG) builds its result through
 :func:`verified_status`, which recomputes the physical measures from the state
 it is about to return (the full displacement's gaps, not the solver's last
 iterate) and turns a positive status into :attr:`ContactStatus.NOT_VERIFIED`

@@ -69,8 +69,7 @@ MAX_CUTBACKS = 50
 class ContactOptions:
     """Options of every contact solver, frictionless and frictional (every field has a default).
 
-    One options type for :func:`~alcontact.contact.solve`, :func:`~alcontact.contact.solve_friction`,
-    :func:`~alcontact.contact.solve_finite` and :func:`~alcontact.contact.solve_finite_friction`.
+    One options type for :func:`~alcontact.contact.solve` in every case (and its deprecated wrappers).
     A solver ignores the fields it has no use for: those marked *frictionless* below are
     read by the frictionless algorithms only, those marked *friction* (declared with
     ``only="friction"``) by the frictional ones only.
@@ -323,7 +322,7 @@ def options_with(options, cls, overrides: dict, kind: str, algorithm: "Algorithm
 
 
 def check_solve_args(problem, algorithm, penalty, known, kind: str) -> None:
-    """Entry checks of :func:`~alcontact.contact.solve` and ``solve_friction``.
+    """Entry checks of :func:`~alcontact.contact.solve`, frictionless and Coulomb.
 
     Raises
     ------
@@ -851,7 +850,7 @@ class Algorithm:
     doc : str
         One line, with the dissertation's algorithm or equation number.
     friction : bool
-        Coulomb friction (:func:`~alcontact.contact.solve_friction`) or frictionless.
+        Coulomb friction (:func:`~alcontact.contact.solve` with a friction coefficient) or frictionless.
     kinematics : {"small", "finite"}
         Linearized gap (6.15) or gap at the deformed position.
     linear_solvers : tuple of str

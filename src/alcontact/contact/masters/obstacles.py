@@ -1219,7 +1219,7 @@ class Translated(_PlacedObstacle):
         n(x) = n_O(x - c), \quad H(x) = H_O(x - c), \quad
         \bar x = \bar x_O(x - c) + c .
 
-    Used by finite-deformation load stepping (:func:`alcontact.contact.solve_finite`)
+    Used by finite-deformation load stepping (:func:`alcontact.contact.solve`)
     for an obstacle moving along a prescribed path; build it with :func:`translate`.
 
     Examples

@@ -290,7 +290,7 @@ class ContactProblem:
     meta : dict, optional
     kinematics : {"small", "finite"}
         ``"small"`` (default): linearized gap (6.15). ``"finite"``: gap at the current
-        position, solved in load steps by :func:`alcontact.contact.solve_finite`; needs a
+        position, solved in load steps by :func:`alcontact.contact.solve`; needs a
         geometrically nonlinear body (a hyperelastic one), a linear body is refused.
     bodies : sequence, keyword-only
         Pair form: the discretized bodies (one, or two or more joined by a pair with a
