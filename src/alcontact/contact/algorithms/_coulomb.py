@@ -254,6 +254,14 @@ class _ALSystem(Protocol):
     def forces(self, z, t) -> np.ndarray:
         """The local contact forces ``R`` ``(c, d)`` of the iterate ``z`` with tractions ``t``."""
 
+    def sensitivity(self, law, lamN, lamT, state, coupled: bool = False):
+        r"""``(M, T_y, Z)`` at the solution ``state`` of a subproblem: :math:`M = I - \partial t/\partial\lambda`
+        ``(c d, c d)`` of the multiplier map :math:`\lambda \mapsto t(\lambda)`, the sensitivity
+        :math:`T_y` of the tractions to the free kinematics of the tangent predictor (``None``: no
+        predictor) and the derivative :math:`Z = dz/d\lambda` of the subproblem's solution (``None``:
+        the next subproblem starts from ``z``), or ``None`` when singular. Asked only of a system
+        with :attr:`second_order`."""
+
 
 @dataclass
 class _Ctx:
@@ -314,6 +322,11 @@ class _Ctx:
 
     def inside_domain(self, law, lamN, R):
         return _inside_domain(self, law, lamN, R)
+
+    def sensitivity(self, law, lamN, lamT, state, coupled: bool = False):
+        """:func:`_sensitivity` at the subproblem's solution ``state`` (its ``aux`` gives ``y`` and ``t``)."""
+        sens = _sensitivity(self, law, lamN, lamT, state.aux[0], state.aux[1], coupled)
+        return None if sens is None else (*sens, None)
 
     def forces(self, R, t):
         return R
@@ -492,38 +505,50 @@ def _admissible(ctx: _Ctx, lam):
     return newN, newT
 
 
-def _second_order_update(ctx: _Ctx, law, lamN, lamT, y, t, coupled: bool = False):
+def _second_order_update(ctx: _ALSystem, law, lamN, lamT, state, z, coupled: bool = False):
     r"""Newton step on the multiplier fixed point :math:`G(\lambda) = \lambda - t(\lambda) = 0`.
 
     Solves :math:`(I - dt/d\lambda)\,\Delta = t - \lambda` with the derivatives of
-    :func:`_sensitivity` (the second-order multiplier iteration of Bertsekas); the
-    new multipliers are made admissible (:func:`_admissible`).
+    ``ctx.sensitivity`` at the subproblem's solution ``state`` (:func:`_sensitivity` on the
+    condensed path, :meth:`_FiniteALCtx.sensitivity` at finite deformation; the second-order
+    multiplier iteration of Bertsekas); the new multipliers are made admissible (:func:`_admissible`).
+    Where the system gives the derivative :math:`dz/d\lambda` of the subproblem's solution
+    (the third member of ``ctx.sensitivity``; finite deformation), the next subproblem starts
+    from its first-order change :math:`z + (dz/d\lambda)\,\Delta\lambda` instead of ``z``.
 
     Returns
     -------
-    (lamN, lamT) or None
-        ``None`` when a Newton matrix is singular or the step is not finite.
+    (lamN, lamT, z) or None
+        The new multipliers and the start of the next subproblem; ``None`` when a Newton matrix
+        is singular or the step is not finite.
     """
-    sens = _sensitivity(ctx, law, lamN, lamT, y, t, coupled)
+    sens = ctx.sensitivity(law, lamN, lamT, state, coupled)
     if sens is None:
         return None
+    t = state.aux[1]
     lam = np.concatenate([lamN[:, None], lamT], axis=1)
     try:
         step = _solve(sens[0], (t - lam).ravel()).reshape(lam.shape)
     except (sla.LinAlgError, ValueError):
         return None
     new = lam + step
-    return _admissible(ctx, new) if np.all(np.isfinite(new)) else None
+    if not np.all(np.isfinite(new)):
+        return None
+    newN, newT = _admissible(ctx, new)
+    if sens[2] is not None:
+        moved = z + sens[2] @ (np.concatenate([newN[:, None], newT], axis=1) - lam).ravel()
+        z = moved if np.all(np.isfinite(moved)) else z
+    return newN, newT, z
 
 
-def _tangent_predictor(ctx: _Ctx, law, lamN, lamT, y, t):
+def _tangent_predictor(ctx: _ALSystem, law, lamN, lamT, state):
     r"""Sensitivity :math:`d\lambda^*/dy_f = (I - \partial t/\partial\lambda)^{-1}\,\partial t/\partial y_f`
     of the converged multipliers to the free kinematics (implicit function theorem at
     the fixed point): the next load step starts from
     :math:`\lambda_n + (d\lambda^*/dy_f)\,\Delta y_f` (``None`` when singular).
     """
-    sens = _sensitivity(ctx, law, lamN, lamT, y, t)
-    if sens is None:
+    sens = ctx.sensitivity(law, lamN, lamT, state)
+    if sens is None or sens[1] is None:
         return None
     try:
         P = _solve(sens[0], sens[1])
@@ -609,10 +634,9 @@ def _step_al(ctx: _ALSystem, penalty_name: str) -> _StepOut:
         outer0 = 1 if ctx.full_predictor else 0
         if out.converged:
             z = ctx.iterate(out)
-            upd = (_second_order_update(ctx, macaulay, lamN, lamT, out.state.aux[0], out.state.aux[1], coupled)
-                   if second_order else None)
+            upd = _second_order_update(ctx, macaulay, lamN, lamT, out.state, z, coupled) if second_order else None
             if upd is not None:
-                lamN, lamT = upd
+                lamN, lamT, z = upd
                 outer0 = 1
             elif ctx.full_predictor:
                 lamN, lamT = out.state.aux[1][:, 0].copy(), out.state.aux[1][:, 1:].copy()
@@ -657,7 +681,7 @@ def _step_al(ctx: _ALSystem, penalty_name: str) -> _StepOut:
                      k, pen_k, compl, dlam, stick_slip, out.iterations, " (second-order)" if fallback else "")
         if (pen_k <= opts.tol_penetration and compl <= opts.tol_complementarity and dlam <= opts.tol_multiplier
                 and stick_slip <= opts.tol_slip):
-            pred = _tangent_predictor(ctx, law, lamN, lamT, y, t) if ctx.second_order else None
+            pred = _tangent_predictor(ctx, law, lamN, lamT, out.state) if ctx.second_order else None
             return _StepOut(True, "converged", ctx.forces(z, t), t, k + outer0, newton, predictor=pred, z=z,
                             last_state=out.state)
         if fallback is not None and not dlam <= 0.5 * dlam_prev:
@@ -666,10 +690,10 @@ def _step_al(ctx: _ALSystem, penalty_name: str) -> _StepOut:
             second_order = False
         dlam_prev = dlam
         # multiplier updates (6.2b)/(6.2c), resp. lambda_N <- p'(g/eta, lambda_N)
-        upd = _second_order_update(ctx, law, lamN, lamT, y, t, coupled) if second_order else None
+        upd = _second_order_update(ctx, law, lamN, lamT, out.state, z, coupled) if second_order else None
         coupled = False
         fallback = (t[:, 0].copy(), t[:, 1:].copy(), z.copy()) if upd is not None else None
-        lamN, lamT = upd if upd is not None else (t[:, 0].copy(), t[:, 1:].copy())
+        lamN, lamT, z = upd if upd is not None else (t[:, 0].copy(), t[:, 1:].copy(), z)
         if family_p:
             pref = max(float(np.max(lamN, initial=0.0)), 1e-300)
             lamN = np.maximum(lamN, opts.multiplier_floor * pref)
@@ -782,7 +806,6 @@ class _FiniteALCtx:
     opts: Any
 
     label: ClassVar[str] = "finite friction AL"
-    second_order: ClassVar[bool] = False
     full_predictor: ClassVar[bool] = True
     tfree: ClassVar[None] = None
 
@@ -800,6 +823,11 @@ class _FiniteALCtx:
         return self.fc.mu
 
     @property
+    def second_order(self) -> bool:
+        """The option ``multiplier_update``: ``"newton"`` takes the second-order update (:meth:`sensitivity`)."""
+        return self.opts.multiplier_update == "newton"
+
+    @property
     def uTn(self) -> np.ndarray:
         """Zero: the slip ``aux[0][:, 1:]`` is already measured from the previous surface point."""
         return np.zeros((self.c, self.fc.dim))
@@ -809,9 +837,15 @@ class _FiniteALCtx:
         return self.x0.copy()
 
     def subproblem(self, law, lamN, lamT, x, coupled: bool = False) -> NewtonResult:
-        """:meth:`FiniteFrictionContact.friction_subproblem` (``coupled`` is never asked: first-order updates)."""
-        return self.fc.friction_subproblem(law, lamN, lamT, x, tol=self.opts.newton_tol,
-                                           maxiter=self.opts.maxiter_newton)
+        """:meth:`FiniteFrictionContact.friction_subproblem` (``coupled``: with the coupled radius :math:`\mu t_N`)."""
+        dc = self.fc
+        saved = dc.coupled
+        dc.coupled = saved or coupled
+        try:
+            return dc.friction_subproblem(law, lamN, lamT, x, tol=self.opts.newton_tol,
+                                          maxiter=self.opts.maxiter_newton)
+        finally:
+            dc.coupled = saved
 
     def iterate(self, out: NewtonResult) -> np.ndarray:
         return out.x
@@ -840,6 +874,90 @@ class _FiniteALCtx:
                 return trial
             scale *= 2
         return x
+
+    def sensitivity(self, law, lamN, lamT, state, coupled: bool = False):
+        r"""``(M, None, Z)``: :math:`M = I - dt/d\lambda` of the multiplier map at the subproblem's solution ``state``
+        and :math:`Z = dx/d\lambda` ``(free DOFs, c (d + 1))``.
+
+        At the solution :math:`x(\lambda)` of the subproblem, :math:`R(x, \lambda) = 0` with
+        :math:`R = f_{int} - f_{ext} + \sum_i A_i^T w_i (t_{T,i} - t_{N,i}\nu_i)`, so
+        :math:`J\,dx = -A^T F_\lambda\,d\lambda` (:math:`J` the consistent Newton matrix
+        :meth:`~alcontact.contact.systems._full_space.FiniteFrictionContact.friction_jacobian`,
+        :math:`F_\lambda` the block-diagonal :math:`w_i(\partial t_T/\partial\lambda -
+        \nu\,\partial t_N/\partial\lambda)`) and
+
+        .. math::
+
+            \frac{dt}{d\lambda} = \frac{\partial t}{\partial\lambda}
+            - \frac{\partial t}{\partial x} A J^{-1} A^T F_\lambda,
+
+        with the local derivatives of the return mapping (6.47)-(6.50) in the current
+        configuration (those of the Jacobian, :meth:`FiniteFrictionContact._local`, plus the
+        radius :math:`\mu\lambda_N` (or :math:`\mu t_N` with ``coupled``) differentiated in
+        :math:`\lambda_N`). One assembly and factorization of :math:`J` and ``c d``
+        back-substitutions (counted as one linear solve); the multipliers are :math:`(\lambda_N,
+        \lambda_T)` with ambient :math:`\lambda_T`, ``c (d + 1)`` unknowns. No tangent predictor
+        (``T_y`` is ``None``: the slide predictor carries the multipliers instead).
+        """
+        dc = self.fc
+        cand = dc.cand
+        k, d = cand.size, dc.dim
+        nl = d + 1
+        w = dc.weights[cand]
+        u = state.u
+        lamN = np.asarray(lamN, dtype=float)
+        saved = dc.coupled
+        dc.coupled = saved or coupled
+        try:
+            xc = dc._current(u, cand)
+            g, nu = dc.obstacle.evaluate(xc)
+            tN = np.asarray(law.traction(g, lamN), dtype=float)
+            kN = np.asarray(law.stiffness(g, lamN), dtype=float)
+            pref = max(float(np.max(tN, initial=0.0)), 1e-300)
+            dN = _WithDlam(law, pref).dlam(g, lamN)  # dt_N / d lambda_N
+            z, _, dz_dx, _ = dc._trial(lamT, xc, nu, cand, blocks=True)
+            if dc.coupled:
+                rho, drho, drho_dx = dc.mu * tN, dc.mu * dN, dc.mu * kN
+            else:
+                rho, drho, drho_dx = dc.mu * np.maximum(lamN, 0.0), dc.mu * (lamN > 0), np.zeros(k)
+            _, _, _, slipping, n, Mp = return_mapping(z, rho)
+            P = np.eye(d)[None] - nu[:, :, None] * nu[:, None, :]
+            Dl = np.zeros((k, nl, nl))
+            Dl[:, 0, 0] = dN
+            Dl[:, 1:, 0] = np.where(slipping[:, None], drho[:, None] * n, 0.0)
+            Dl[:, 1:, 1:] = Mp @ P
+            Dx = np.zeros((k, nl, d))
+            Dx[:, 0, :] = -kN[:, None] * nu
+            Dx[:, 1:, :] = Mp @ dz_dx - np.where(slipping[:, None, None],
+                                                 drho_dx[:, None, None] * n[:, :, None] * nu[:, None, :], 0.0)
+            Fl = w[:, None, None] * (Dl[:, 1:, :] - nu[:, :, None] * Dl[:, :1, :])  # (k, d, nl)
+            J = dc.friction_jacobian(law, lamN, lamT, u)
+        finally:
+            dc.coupled = saved
+        pos = dc.pos[cand]  # (k, d), -1 at fixed DOFs
+        nf = dc.free.size
+        rows, cols, vals = [], [], []
+        for j in range(d):
+            keep = pos[:, j] >= 0
+            for q in range(nl):
+                rows.append(pos[keep, j])
+                cols.append(np.flatnonzero(keep) * nl + q)
+                vals.append(Fl[keep, j, q])
+        rhs = sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
+                            shape=(nf, k * nl)).toarray()
+        try:
+            X = dc.friction_solver.solve(J, rhs)
+        except (np.linalg.LinAlgError, ValueError):
+            return None
+        dc.linear_solves += 1
+        dxi = np.zeros((k, d, k * nl))  # d x_i / d lambda at the points
+        for j in range(d):
+            keep = pos[:, j] >= 0
+            dxi[keep, j] = -X[pos[keep, j]]
+        dt = np.einsum("ikj,ijm->ikm", Dx, dxi).reshape(k * nl, k * nl)
+        dt += block_diag(Dl)
+        M = np.eye(k * nl) - dt
+        return (M, None, -X) if np.all(np.isfinite(M)) else None
 
     def forces(self, x, t) -> np.ndarray:
         r"""Force of the obstacle on the body at each candidate, :math:`w_i (t_{N,i}\nu_i - t_{T,i})` ``(c, d)``."""
