@@ -804,6 +804,7 @@ class _FiniteALCtx:
     x0: np.ndarray  # free displacements the step starts from
     eps_n: float
     opts: Any
+    family_p: bool = False  # Algorithm 6.4 (a family-P normal law): first-order updates (see second_order)
 
     label: ClassVar[str] = "finite friction AL"
     full_predictor: ClassVar[bool] = True
@@ -824,8 +825,16 @@ class _FiniteALCtx:
 
     @property
     def second_order(self) -> bool:
-        """The option ``multiplier_update``: ``"newton"`` takes the second-order update (:meth:`sensitivity`)."""
-        return self.opts.multiplier_update == "newton"
+        """The option ``multiplier_update``: ``"newton"`` takes the second-order update (:meth:`sensitivity`),
+        Algorithm 6.2 only.
+
+        Algorithm 6.4 (:attr:`family_p`) keeps the first-order updates at finite deformation: with
+        the second-order update the block of ``tests/verification/test_finite_friction_log_barrier.py``
+        (``log-met1``, 4 x 4 elements) needed 3-4 cut-backs at its stick-to-slip transition, where its
+        Simo-Laursen predictor subproblem no longer converged from the updated state (none with
+        first-order updates).
+        """
+        return self.opts.multiplier_update == "newton" and not self.family_p
 
     @property
     def uTn(self) -> np.ndarray:
@@ -837,7 +846,7 @@ class _FiniteALCtx:
         return self.x0.copy()
 
     def subproblem(self, law, lamN, lamT, x, coupled: bool = False) -> NewtonResult:
-        """:meth:`FiniteFrictionContact.friction_subproblem` (``coupled``: with the coupled radius :math:`\mu t_N`)."""
+        """:meth:`FiniteFrictionContact.friction_subproblem` (``coupled``: with the coupled radius :math:`\\mu t_N`)."""
         dc = self.fc
         saved = dc.coupled
         dc.coupled = saved or coupled

@@ -26,6 +26,7 @@ from typing import Any, Callable, Sequence
 
 import numpy as np
 
+from ... import penalties as _pen
 from ..._options import MAX_STEPS, VALUE_RANGE, is_integer, is_real, show
 from ...errors import InputError, InvertedElementError
 from ...linalg import select_solver
@@ -34,6 +35,7 @@ from ..algorithms._coulomb import (_EQUILIBRIUM_TOL, FrictionOptions, _Ctx, _Fin
                                    _step_ssn, friction_algorithms)
 from ..algorithms._frictionless import check_solve_args, find_algorithm, options_with
 from ..laws._coulomb import OPEN, SLIP, STICK
+from ..laws._normal import freezes_at_zero
 from ..laws._stiffness import penalty_stiffness
 from ..masters.obstacles import transport_tangent
 from ..problem._loading import LoadHistory, problem_at
@@ -662,30 +664,20 @@ def _attempt(dc, data, step_fn, x, t, y_prev, nu_prev, lamN_all, lamT_all, mu, e
     The last tangential tractions (tangent to the obstacle at the normals ``nu_prev``) are
     transported into the tangent planes at the step's predictor
     (:func:`~alcontact.contact.obstacles.transport_tangent`) and start the step's multipliers.
-    After the slide predictor (an obstacle translating along the contact zone) the pressures,
-    tangential tractions and normals are first carried along with it
-    (:meth:`~alcontact.contact.systems._full_space.FiniteFrictionContact.carry`): on the 2D
-    ironing case (h = 0.1, 30 sliding steps of 0.05 R, Algorithm 6.2 with the second-order
-    update) 6.37 Newton per sliding step without the carry, 5.70 with it at ``penalty_scale``
-    10 (``docs/benchmarks/ironing_friction_2d.md``).
     """
+    # Algorithm 6.4: a family-P normal law (the reference ssn has no penalty)
+    family_p = pen_name in _pen.available() and freezes_at_zero(_pen.make(pen_name))
     try:
         fv, load, ob = data(t)
         dc.configure(fv, load, ob, x, predictor_stiffness=eps_n)
         dc.set_history(y_prev, mu, eps_t, opts.radius)
         nu_start = dc.obstacle.normal(dc.points + dc.expand(dc.x0)[dc.dofs])
-        if dc.predictor_used == "slide":
-            # the multipliers travel with the contact zone as the state does (FiniteFrictionContact.carry)
-            lamN_all = dc.start_pressure.copy()
-            lamT_all = dc.carry(lamT_all)
-            nu_prev = dc.carry(nu_prev)
-            nu_prev = nu_prev / np.maximum(np.linalg.norm(nu_prev, axis=1), 1e-300)[:, None]
         lamT_all = transport_tangent(lamT_all, nu_prev, nu_start)
         res = None
         for _ in range(8):
             cand = dc.cand
-            res = step_fn(_FiniteALCtx(dc, lamN_all[cand].copy(), lamT_all[cand].copy(), dc.x0, eps_n, opts),
-                          pen_name)
+            res = step_fn(_FiniteALCtx(dc, lamN_all[cand].copy(), lamT_all[cand].copy(), dc.x0, eps_n, opts,
+                                       family_p=family_p), pen_name)
             if not res.ok:
                 break
             added = dc.extend(dc.all_gaps(dc.expand(res.z)), opts.tol_penetration * dc.h)

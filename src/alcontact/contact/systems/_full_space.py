@@ -1518,34 +1518,6 @@ class FiniteFrictionContact(FiniteContact):
         self.eps_t = float(eps_t)
         self.coupled = radius == "traction"
 
-    def carry(self, field: np.ndarray) -> np.ndarray:
-        r"""A field on the contact points carried along with a sliding obstacle (after the slide predictor).
-
-        After the slide predictor of :meth:`configure` (:attr:`predictor_used` ``"slide"``) the
-        contact state travels with the obstacle (translation :math:`\Delta c`); a point field of
-        the last converged step (``(m,)`` or ``(m, k)``: tangential tractions, normals) is carried
-        the same way as the pressures, :math:`f(X_i) \leftarrow f_k(X_i - \Delta c)`, the
-        finite-element interpolant on the contact boundary; a point whose shifted position lies
-        outside the body keeps its value. Unchanged after any other predictor.
-        """
-        field = np.asarray(field, dtype=float)
-        if self.predictor_used != "slide":
-            return field.copy()
-        shift = (np.asarray(self.obstacle.offset, dtype=float)
-                 - np.asarray(self._accepted[2].offset, dtype=float))
-        P, inside = self.body.probe(self.points - shift)
-        dof_map = np.asarray(self.body.dof_map)
-        scalar_of = np.full(self.model.ndofs, -1, dtype=np.int64)
-        scalar_of[dof_map[:, 0]] = np.arange(dof_map.shape[0])
-        sp_idx = scalar_of[self.dofs[:, 0]]
-        cols = field.reshape(field.shape[0], -1)
-        out = cols.copy()
-        for j in range(cols.shape[1]):
-            nodal = np.zeros(dof_map.shape[0])
-            nodal[sp_idx] = cols[:, j]
-            out[inside, j] = P @ nodal
-        return out.reshape(field.shape)
-
     def place(self) -> None:
         """Read the placement :math:`x = Qy + b` of the current obstacle (:func:`~.obstacles.frame`)."""
         self.rotation, self.offset = frame(self.obstacle, self.dim)
