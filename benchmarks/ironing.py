@@ -67,7 +67,9 @@ FRICTION_VARIANTS = {
     "simo-laursen-coulomb-first-order": ("simo-laursen", None, {"multiplier_update": "first-order"}),
     # the same with a ten times softer penalty (the fixed point does not depend on it)
     "simo-laursen-coulomb-p10": ("simo-laursen", None, {"penalty_scale": 10.0}),
-    # Algorithm 6.4 (exp-met1; first-order updates at finite deformation)
+    # the same with the coupled Coulomb radius mu t_N in every subproblem (slip law exact in each)
+    "simo-laursen-coulomb-traction": ("simo-laursen", None, {"radius": "traction"}),
+    # Algorithm 6.4 with exp-met1 (second-order update; a log barrier keeps the first-order one)
     "exp-met1-coulomb": ("family-p", "exp-met1", {}),
 }
 MU = 0.3

@@ -196,8 +196,8 @@ class ContactOptions:
         change does not halve. It also starts every step from the tangent
         predictor :math:`\\lambda_n + (d\\lambda^*/dy_f)\\Delta y_f` of the last
         converged step. Same stopping test, same solution. At finite deformation
-        Algorithm 6.2 takes it with the sensitivity of the full-space subproblem (no
-        tangent predictor), Algorithm 6.4 the first-order update.
+        Algorithms 6.2 / 6.4 take it with the sensitivity of the full-space subproblem
+        (no tangent predictor), except with a barrier-type penalty (log MET 1/2).
     """
 
     #: word naming this class's fields in messages (``"contact option maxiter = ..."``)

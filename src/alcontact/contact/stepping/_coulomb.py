@@ -35,7 +35,6 @@ from ..algorithms._coulomb import (_EQUILIBRIUM_TOL, FrictionOptions, _Ctx, _Fin
                                    _step_ssn, friction_algorithms)
 from ..algorithms._frictionless import check_solve_args, find_algorithm, options_with
 from ..laws._coulomb import OPEN, SLIP, STICK
-from ..laws._normal import freezes_at_zero
 from ..laws._stiffness import penalty_stiffness
 from ..masters.obstacles import transport_tangent
 from ..problem._loading import LoadHistory, problem_at
@@ -665,8 +664,8 @@ def _attempt(dc, data, step_fn, x, t, y_prev, nu_prev, lamN_all, lamT_all, mu, e
     transported into the tangent planes at the step's predictor
     (:func:`~alcontact.contact.obstacles.transport_tangent`) and start the step's multipliers.
     """
-    # Algorithm 6.4: a family-P normal law (the reference ssn has no penalty)
-    family_p = pen_name in _pen.available() and freezes_at_zero(_pen.make(pen_name))
+    # a barrier-type normal law (bounded domain, log MET 1/2; the reference ssn has no penalty)
+    barrier = pen_name in _pen.available() and bool(np.isfinite(_pen.make(pen_name).domain_upper(1.0)))
     try:
         fv, load, ob = data(t)
         dc.configure(fv, load, ob, x, predictor_stiffness=eps_n)
@@ -677,7 +676,7 @@ def _attempt(dc, data, step_fn, x, t, y_prev, nu_prev, lamN_all, lamT_all, mu, e
         for _ in range(8):
             cand = dc.cand
             res = step_fn(_FiniteALCtx(dc, lamN_all[cand].copy(), lamT_all[cand].copy(), dc.x0, eps_n, opts,
-                                       family_p=family_p), pen_name)
+                                       barrier=barrier), pen_name)
             if not res.ok:
                 break
             added = dc.extend(dc.all_gaps(dc.expand(res.z)), opts.tol_penetration * dc.h)
