@@ -235,6 +235,11 @@ class _ALSystem(Protocol):
         from one factorization of its Newton matrix; not the AMG path)."""
 
     @property
+    def tangent_predictor(self) -> bool:
+        """Whether a converged step computes the tangent predictor :func:`_tangent_predictor` of the next
+        one (with :attr:`second_order`; a system whose :meth:`sensitivity` has no ``T_y`` declares false)."""
+
+    @property
     def full_predictor(self) -> bool:
         """Whether the family-P predictor of a first-order step is a full outer iteration of
         Algorithm 6.2: both multipliers are taken from it (else only :math:`\\lambda_N`) and it
@@ -284,6 +289,8 @@ class _Ctx:
     tfree: np.ndarray | None = None  # (c, d-1) tangent directions not held by a support
 
     label: ClassVar[str] = "friction AL"
+    #: the converged step gives the tangent predictor of the next one (second-order update)
+    tangent_predictor: ClassVar[bool] = True
     #: the family-P predictor of a first-order step gives lambda_N only and is not counted (_step_al)
     full_predictor: ClassVar[bool] = False
 
@@ -683,7 +690,8 @@ def _step_al(ctx: _ALSystem, penalty_name: str) -> _StepOut:
                      k, pen_k, compl, dlam, stick_slip, out.iterations, " (second-order)" if fallback else "")
         if (pen_k <= opts.tol_penetration and compl <= opts.tol_complementarity and dlam <= opts.tol_multiplier
                 and stick_slip <= opts.tol_slip):
-            pred = _tangent_predictor(ctx, law, lamN, lamT, out.state) if ctx.second_order else None
+            pred = (_tangent_predictor(ctx, law, lamN, lamT, out.state)
+                    if ctx.second_order and ctx.tangent_predictor else None)
             return _StepOut(True, "converged", ctx.forces(z, t), t, k + outer0, newton, predictor=pred, z=z,
                             last_state=out.state)
         if fallback is not None and not dlam <= 0.5 * dlam_prev:
@@ -816,6 +824,8 @@ class _FiniteALCtx:
     barrier: bool = False  # a normal law with a bounded domain (log MET 1/2): first-order updates (second_order)
 
     label: ClassVar[str] = "finite friction AL"
+    #: no tangent predictor of the multipliers (the sensitivity has no T_y: not factorized for it)
+    tangent_predictor: ClassVar[bool] = False
     full_predictor: ClassVar[bool] = True
     tfree: ClassVar[None] = None
 
