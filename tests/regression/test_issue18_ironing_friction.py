@@ -26,7 +26,7 @@ second-order multiplier update at finite deformation (before: first-order update
 only, 11-13 outer iterations and 33.4 Newton per sliding step, max 73; ``docs/benchmarks/
 ironing_friction_2d.md``):
 - with ``penalty_scale = 10``: <= 8 Newton per sliding step on average (the issue's target),
-  no cut-back [6.1 mean over these 30 steps, max 16]; with the default ``penalty_scale = 100``:
+  no cut-back [6.37 mean over these 30 steps, max 22]; with the default ``penalty_scale = 100``:
   <= 12 [9.8, max 61 at the stick-to-slip transition];
 - <= 4 outer iterations in every sliding step (the second-order update took effect) [3];
 - the Coulomb law at slipping and sticking points and equilibrium as above, and the forces and
