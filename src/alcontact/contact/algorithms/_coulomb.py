@@ -74,6 +74,7 @@ from typing import Any, ClassVar, Protocol, Sequence
 import numpy as np
 import scipy.linalg as sla
 import scipy.sparse as sp
+import scipy.sparse.linalg as spla
 
 from ... import penalties as _pen
 from ...errors import InvertedElementError
@@ -93,6 +94,8 @@ logger = logging.getLogger(__name__)
 
 #: Largest relative equilibrium residual of a step of a body held only by the obstacle.
 _EQUILIBRIUM_TOL = 1e-7
+#: Right-hand sides per back-substitution of the finite-deformation sensitivity (:meth:`_FiniteALCtx.sensitivity`).
+_SENSITIVITY_BLOCK = 512
 
 @dataclass(frozen=True)
 class FrictionOptions(ContactOptions):
@@ -924,10 +927,14 @@ class _FiniteALCtx:
         with the local derivatives of the return mapping (6.47)-(6.50) in the current
         configuration (those of the Jacobian, :meth:`FiniteFrictionContact._local`, plus the
         radius :math:`\mu\lambda_N` (or :math:`\mu t_N` with ``coupled``) differentiated in
-        :math:`\lambda_N`). One assembly and factorization of :math:`J` and ``c d``
-        back-substitutions (counted as one linear solve); the multipliers are :math:`(\lambda_N,
-        \lambda_T)` with ambient :math:`\lambda_T`, ``c (d + 1)`` unknowns. No tangent predictor
-        (``T_y`` is ``None``: the slide predictor carries the multipliers instead).
+        :math:`\lambda_N`). One assembly and factorization of :math:`J` and ``c (d + 1)``
+        back-substitutions in blocks of :data:`_SENSITIVITY_BLOCK` columns, of which only the rows
+        of the contact points are kept (counted as one linear solve); the multipliers are
+        :math:`(\lambda_N, \lambda_T)` with ambient :math:`\lambda_T`, ``c (d + 1)`` unknowns.
+        ``Z`` is the dense ``(free DOFs, c (d + 1))`` matrix when it fits one block, else an operator:
+        one more back-substitution with the same factor when applied (right after this call, by
+        :func:`_second_order_update`). No tangent predictor (``T_y`` is ``None``:
+        a step starts from the last step's multipliers).
         """
         dc = self.fc
         cand = dc.cand
@@ -973,21 +980,37 @@ class _FiniteALCtx:
                 rows.append(pos[keep, j])
                 cols.append(np.flatnonzero(keep) * nl + q)
                 vals.append(Fl[keep, j, q])
-        rhs = sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
-                            shape=(nf, k * nl)).toarray()
+        n = k * nl
+        rhs = sp.csc_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(nf, n))
+        solver = dc.friction_solver
+        dxi = np.zeros((k, d, n))  # d x_i / d lambda at the points
+        X = None
         try:
-            X = dc.friction_solver.solve(J, rhs)
+            # J^{-1} A^T F_lambda in column blocks, keeping only the rows of the points (memory: nf x block)
+            for c0 in range(0, n, _SENSITIVITY_BLOCK):
+                block = rhs[:, c0:c0 + _SENSITIVITY_BLOCK].toarray()
+                X = solver.solve(J, block) if c0 == 0 else solver.resolve(block)
+                if X is None:
+                    return None
+                for j in range(d):
+                    keep = pos[:, j] >= 0
+                    dxi[keep, j, c0:c0 + block.shape[1]] = -X[pos[keep, j]]
         except (np.linalg.LinAlgError, ValueError):
             return None
         dc.linear_solves += 1
-        dxi = np.zeros((k, d, k * nl))  # d x_i / d lambda at the points
-        for j in range(d):
-            keep = pos[:, j] >= 0
-            dxi[keep, j] = -X[pos[keep, j]]
-        dt = np.einsum("ikj,ijm->ikm", Dx, dxi).reshape(k * nl, k * nl)
+        dt = np.einsum("ikj,ijm->ikm", Dx, dxi).reshape(n, n)
         dt += block_diag(Dl)
-        M = np.eye(k * nl) - dt
-        return (M, None, -X) if np.all(np.isfinite(M)) else None
+        M = np.eye(n) - dt
+        if not np.all(np.isfinite(M)):
+            return None
+        if n <= _SENSITIVITY_BLOCK:  # one block: dx/dlambda at hand
+            return M, None, -X
+
+        def dx_dlam(v):  # dx/dlambda v = -J^{-1} A^T F_lambda v, one back-substitution with J's factor
+            out = solver.resolve(rhs @ np.ravel(v))
+            return np.zeros(nf) if out is None else -out
+
+        return M, None, spla.LinearOperator((nf, n), matvec=dx_dlam, dtype=float)
 
     def forces(self, x, t) -> np.ndarray:
         r"""Force of the obstacle on the body at each candidate, :math:`w_i (t_{N,i}\nu_i - t_{T,i})` ``(c, d)``."""
