@@ -5,8 +5,9 @@
 the subproblem's solution) and :math:`Z = dx/d\\lambda`. Reference: central differences of that map,
 each column from two subproblems solved to ``newton_tol`` at :math:`\\lambda \\pm h e_j`
 (h = 1e-6 of the largest pressure), at a sliding step of the 2D ironing case (h = 0.1, mu = 0.3).
-Tolerance 1e-5 of the largest entry (the difference quotient's error is O(h^2) where the stick/slip
-states do not change, and the subproblems are solved to 1e-11); the columns of the normal multipliers
+Tolerance 1e-4 of the largest entry: the quotient's truncation error is O(h^2) where the stick/slip
+states do not change, its noise about ``newton_tol / 2e-6`` = 5e-6 (subproblems solved to 1e-11 relative);
+measured 3.6e-6 [a wrong term of the sensitivity is off by 1e-1 or more]; the columns of the normal multipliers
 that are zero (the kink of the radius mu max(lambda_N, 0)) are left out. The blocked back-substitutions
 (``_SENSITIVITY_BLOCK`` smaller than the number of multipliers, ``Z`` an operator) give the same
 matrices to round-off.
@@ -86,7 +87,7 @@ def test_sensitivity_matches_central_differences(captured):
     assert kink.sum() < lamN.size  # most points are pressed
     assert np.max(np.abs(ref[:, ~kink])) > 1e-2  # a non-trivial map
     err = np.max(np.abs(dt - ref)[:, ~kink])
-    assert err <= 1e-5 * np.max(np.abs(ref)), err
+    assert err <= 1e-4 * np.max(np.abs(ref)), err
 
 
 def test_blocked_back_substitutions_give_the_same_matrices(captured):
