@@ -58,10 +58,19 @@ VARIANTS = {
     "quad-met1": ("family-p", "quad-met1"),
 }
 
-#: Coulomb friction, mu = MU: name -> algorithm of contact.solve(..., friction=MU)
+#: Coulomb friction, mu = MU: name -> (algorithm, penalty, options) of contact.solve(..., friction=MU)
 FRICTION_VARIANTS = {
-    "ssn-coulomb": "ssn",
-    "simo-laursen-coulomb": "simo-laursen",
+    "ssn-coulomb": ("ssn", None, {}),
+    # Algorithm 6.2 with its defaults (second-order multiplier update, penalty_scale 100)
+    "simo-laursen-coulomb": ("simo-laursen", None, {}),
+    # the same with the first-order updates (6.2b)/(6.2c): the finite-deformation path before issue 18's fix
+    "simo-laursen-coulomb-first-order": ("simo-laursen", None, {"multiplier_update": "first-order"}),
+    # the same with a ten times softer penalty (the fixed point does not depend on it)
+    "simo-laursen-coulomb-p10": ("simo-laursen", None, {"penalty_scale": 10.0}),
+    # the same with the coupled Coulomb radius mu t_N in every subproblem (slip law exact in each)
+    "simo-laursen-coulomb-traction": ("simo-laursen", None, {"radius": "traction"}),
+    # Algorithm 6.4 with exp-met1 (second-order update; a log barrier keeps the first-order one)
+    "exp-met1-coulomb": ("family-p", "exp-met1", {}),
 }
 MU = 0.3
 
@@ -78,7 +87,8 @@ CASES = {
 }
 DEFAULT_CASES = ["2d-s", "2d-m", "2d-l", "3d-s", "3d-m", "3d-l"]
 
-FIELDS = ["case", "variant", "step", "t", "newton_iterations", "cutbacks", "outer_iterations", "fx", "fy", "fz",
+FIELDS = ["case", "variant", "step", "t", "newton_iterations", "linear_solves", "cutbacks", "outer_iterations", "fx",
+          "fy", "fz",
           "equilibrium", "cpu_seconds", "ratio", "slip_law_error", "stick_ratio_max", "state_reversals"]
 
 
@@ -145,8 +155,9 @@ def run_case(case: str, variants, *, slide: float = 2.0, repeat: int = 3, log=lo
 
         t0 = time.perf_counter()
         if friction:
-            sol = solve(problem, FRICTION_VARIANTS[name], friction=MU, steps=times, obstacle_path=path,
-                        on_step=on_step)
+            algorithm, penalty, options = FRICTION_VARIANTS[name]
+            sol = solve(problem, algorithm, penalty, friction=MU, steps=times, obstacle_path=path, on_step=on_step,
+                        **options)
         else:
             algorithm, penalty = VARIANTS[name]
             sol = solve(problem, algorithm, penalty, steps=times, obstacle_path=path, on_step=on_step)
@@ -163,7 +174,7 @@ def run_case(case: str, variants, *, slide: float = 2.0, repeat: int = 3, log=lo
                 continue
             f = np.asarray(s.contact_force, dtype=float)
             row = {"case": case, "variant": name, "step": k + 1, "t": f"{s.t:.6g}",
-                   "newton_iterations": s.newton_iterations, "cutbacks": s.cutbacks,
+                   "newton_iterations": s.newton_iterations, "linear_solves": s.linear_solves, "cutbacks": s.cutbacks,
                    "outer_iterations": s.outer_iterations, "fx": f"{f[0]:.10g}", "fy": f"{f[1]:.10g}",
                    "fz": f"{f[2]:.10g}" if dim == 3 else "", "equilibrium": f"{eq[k]:.3e}",
                    "cpu_seconds": f"{secs[k]:.4f}", "ratio": f"{secs[k] / t_unit:.2f}"}
@@ -184,6 +195,8 @@ def run_case(case: str, variants, *, slide: float = 2.0, repeat: int = 3, log=lo
             "case": case, "variant": name, "dofs": int(problem.model.ndofs), "status": sol.status.label,
             "sliding_steps": len(slide_rows), "newton_mean": float(newton.mean()) if newton.size else None,
             "newton_max": int(newton.max()) if newton.size else None,
+            "linear_solves_mean": float(np.mean([s.linear_solves for s, *_ in slide_rows])) if slide_rows else None,
+            "outer_mean": float(np.mean([s.outer_iterations for s, *_ in slide_rows])) if slide_rows else None,
             "cutbacks": int(sum(s.cutbacks for s, *_ in slide_rows)),
             "equilibrium_max": float(max((e for *_, e, _ in slide_rows), default=np.nan)),
             "step_cpu_over_unit": float(np.mean([c for *_, c in slide_rows]) / t_unit) if slide_rows else None,
@@ -269,14 +282,16 @@ def report(summaries, cases, command: str) -> str:
                   "slipping point; *stick*: the largest abs(t_T) / (mu t_N) at a sticking point; *reversals*: points "
                   "whose stick/slip/open state went back to one it had left between the Newton iterates of an "
                   "accepted step (sum over the sliding steps, and the steps with any); *equilibrium* with the "
-                  "tangential tractions.", "",
-                  "| case | DOFs | variant | status | Newton / step (mean) | max | cut-backs | equilibrium "
-                  "| step / unit | max Fx/Fy | slip law | stick | reversals (steps) |",
-                  "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+                  "tangential tractions; *solves*: linear solves per sliding step (Newton systems, predictors and "
+                  "the sensitivity of the second-order multiplier update); *outer*: AL outer iterations per step.", "",
+                  "| case | DOFs | variant | status | Newton / step (mean) | max | solves / step | outer / step "
+                  "| cut-backs | equilibrium | step / unit | max Fx/Fy | slip law | stick | reversals (steps) |",
+                  "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
         for s in fric:
             rev = "-" if s["state_reversals"] is None else f"{s['state_reversals']} ({s['steps_with_reversals']})"
             lines.append(f"| {s['case']} | {s['dofs']} | {s['variant']} | {s['status']} "
-                         f"| {fmt(s['newton_mean'], '.2f')} | {s['newton_max']} | {s['cutbacks']} "
+                         f"| {fmt(s['newton_mean'], '.2f')} | {s['newton_max']} | {fmt(s['linear_solves_mean'], '.2f')} "
+                         f"| {fmt(s['outer_mean'], '.2f')} | {s['cutbacks']} "
                          f"| {fmt(s['equilibrium_max'], '.1e')} | {fmt(s['step_cpu_over_unit'], '.2f')} "
                          f"| {fmt(s['horizontal_over_vertical_max'], '.3f')} | {fmt(s['slip_law_error_max'], '.1e')} "
                          f"| {fmt(s['stick_ratio_max'], '.4f')} | {rev} |")

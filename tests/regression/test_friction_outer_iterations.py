@@ -82,7 +82,7 @@ def test_bad_second_order_update_falls_back_to_first_order(monkeypatch):
 
     def tripled(*args):
         upd = good(*args)
-        return None if upd is None else (3.0 * upd[0], 3.0 * upd[1])
+        return None if upd is None else (3.0 * upd[0], 3.0 * upd[1], *upd[2:])  # (lamN, lamT, start)
 
     prob, hist = fp.block_on_plane(dim=2, n=8, shear_ratio=1.5)
     ref = solve_friction(prob, hist, "ssn")

@@ -51,7 +51,8 @@ frictional problem is non-symmetric: there is no energy to descend).
 On the AMG path (:mod:`alcontact.contact.systems._krylov`) the same loop
 :func:`_step_al` drives the subproblems in the free displacements instead (the step's
 system, :class:`_ALSystem`, is the only difference; that path declares first-order
-multiplier updates), and the same load step (:class:`_StepPath`) adds candidates and
+multiplier updates; the finite-deformation path takes the second-order update of
+Algorithm 6.2 with its own sensitivity), and the same load step (:class:`_StepPath`) adds candidates and
 checks a held body's equilibrium.
 
 The steps are walked by :func:`~alcontact.contact.stepping._steps.step_through`: a step
@@ -73,6 +74,7 @@ from typing import Any, ClassVar, Protocol, Sequence
 import numpy as np
 import scipy.linalg as sla
 import scipy.sparse as sp
+import scipy.sparse.linalg as spla
 
 from ... import penalties as _pen
 from ...errors import InvertedElementError
@@ -92,6 +94,8 @@ logger = logging.getLogger(__name__)
 
 #: Largest relative equilibrium residual of a step of a body held only by the obstacle.
 _EQUILIBRIUM_TOL = 1e-7
+#: Right-hand sides per back-substitution of the finite-deformation sensitivity (:meth:`_FiniteALCtx.sensitivity`).
+_SENSITIVITY_BLOCK = 512
 
 @dataclass(frozen=True)
 class FrictionOptions(ContactOptions):
@@ -229,8 +233,14 @@ class _ALSystem(Protocol):
     @property
     def second_order(self) -> bool:
         """Whether the loop takes the second-order multiplier update (:func:`_second_order_update`,
-        :func:`_tangent_predictor`, :func:`_coupled_start`); only a system with the dense
-        condensed sensitivity can."""
+        :func:`_tangent_predictor`, :func:`_coupled_start`); only a system with the sensitivity
+        :meth:`sensitivity` can (the condensed path's dense one, the finite-deformation path's
+        from one factorization of its Newton matrix; not the AMG path)."""
+
+    @property
+    def tangent_predictor(self) -> bool:
+        """Whether a converged step computes the tangent predictor :func:`_tangent_predictor` of the next
+        one (with :attr:`second_order`; a system whose :meth:`sensitivity` has no ``T_y`` declares false)."""
 
     @property
     def full_predictor(self) -> bool:
@@ -254,6 +264,14 @@ class _ALSystem(Protocol):
     def forces(self, z, t) -> np.ndarray:
         """The local contact forces ``R`` ``(c, d)`` of the iterate ``z`` with tractions ``t``."""
 
+    def sensitivity(self, law, lamN, lamT, state, coupled: bool = False):
+        r"""``(M, T_y, Z)`` at the solution ``state`` of a subproblem: :math:`M = I - \partial t/\partial\lambda`
+        ``(c d, c d)`` of the multiplier map :math:`\lambda \mapsto t(\lambda)`, the sensitivity
+        :math:`T_y` of the tractions to the free kinematics of the tangent predictor (``None``: no
+        predictor) and the derivative :math:`Z = dz/d\lambda` of the subproblem's solution (``None``:
+        the next subproblem starts from ``z``), or ``None`` when singular. Asked only of a system
+        with :attr:`second_order`."""
+
 
 @dataclass
 class _Ctx:
@@ -274,6 +292,8 @@ class _Ctx:
     tfree: np.ndarray | None = None  # (c, d-1) tangent directions not held by a support
 
     label: ClassVar[str] = "friction AL"
+    #: the converged step gives the tangent predictor of the next one (second-order update)
+    tangent_predictor: ClassVar[bool] = True
     #: the family-P predictor of a first-order step gives lambda_N only and is not counted (_step_al)
     full_predictor: ClassVar[bool] = False
 
@@ -314,6 +334,11 @@ class _Ctx:
 
     def inside_domain(self, law, lamN, R):
         return _inside_domain(self, law, lamN, R)
+
+    def sensitivity(self, law, lamN, lamT, state, coupled: bool = False):
+        """:func:`_sensitivity` at the subproblem's solution ``state`` (its ``aux`` gives ``y`` and ``t``)."""
+        sens = _sensitivity(self, law, lamN, lamT, state.aux[0], state.aux[1], coupled)
+        return None if sens is None else (*sens, None)
 
     def forces(self, R, t):
         return R
@@ -492,38 +517,50 @@ def _admissible(ctx: _Ctx, lam):
     return newN, newT
 
 
-def _second_order_update(ctx: _Ctx, law, lamN, lamT, y, t, coupled: bool = False):
+def _second_order_update(ctx: _ALSystem, law, lamN, lamT, state, z, coupled: bool = False):
     r"""Newton step on the multiplier fixed point :math:`G(\lambda) = \lambda - t(\lambda) = 0`.
 
     Solves :math:`(I - dt/d\lambda)\,\Delta = t - \lambda` with the derivatives of
-    :func:`_sensitivity` (the second-order multiplier iteration of Bertsekas); the
-    new multipliers are made admissible (:func:`_admissible`).
+    ``ctx.sensitivity`` at the subproblem's solution ``state`` (:func:`_sensitivity` on the
+    condensed path, :meth:`_FiniteALCtx.sensitivity` at finite deformation; the second-order
+    multiplier iteration of Bertsekas); the new multipliers are made admissible (:func:`_admissible`).
+    Where the system gives the derivative :math:`dz/d\lambda` of the subproblem's solution
+    (the third member of ``ctx.sensitivity``; finite deformation), the next subproblem starts
+    from its first-order change :math:`z + (dz/d\lambda)\,\Delta\lambda` instead of ``z``.
 
     Returns
     -------
-    (lamN, lamT) or None
-        ``None`` when a Newton matrix is singular or the step is not finite.
+    (lamN, lamT, z) or None
+        The new multipliers and the start of the next subproblem; ``None`` when a Newton matrix
+        is singular or the step is not finite.
     """
-    sens = _sensitivity(ctx, law, lamN, lamT, y, t, coupled)
+    sens = ctx.sensitivity(law, lamN, lamT, state, coupled)
     if sens is None:
         return None
+    t = state.aux[1]
     lam = np.concatenate([lamN[:, None], lamT], axis=1)
     try:
         step = _solve(sens[0], (t - lam).ravel()).reshape(lam.shape)
     except (sla.LinAlgError, ValueError):
         return None
     new = lam + step
-    return _admissible(ctx, new) if np.all(np.isfinite(new)) else None
+    if not np.all(np.isfinite(new)):
+        return None
+    newN, newT = _admissible(ctx, new)
+    if sens[2] is not None:
+        moved = z + sens[2] @ (np.concatenate([newN[:, None], newT], axis=1) - lam).ravel()
+        z = moved if np.all(np.isfinite(moved)) else z
+    return newN, newT, z
 
 
-def _tangent_predictor(ctx: _Ctx, law, lamN, lamT, y, t):
+def _tangent_predictor(ctx: _ALSystem, law, lamN, lamT, state):
     r"""Sensitivity :math:`d\lambda^*/dy_f = (I - \partial t/\partial\lambda)^{-1}\,\partial t/\partial y_f`
     of the converged multipliers to the free kinematics (implicit function theorem at
     the fixed point): the next load step starts from
     :math:`\lambda_n + (d\lambda^*/dy_f)\,\Delta y_f` (``None`` when singular).
     """
-    sens = _sensitivity(ctx, law, lamN, lamT, y, t)
-    if sens is None:
+    sens = ctx.sensitivity(law, lamN, lamT, state)
+    if sens is None or sens[1] is None:
         return None
     try:
         P = _solve(sens[0], sens[1])
@@ -609,10 +646,9 @@ def _step_al(ctx: _ALSystem, penalty_name: str) -> _StepOut:
         outer0 = 1 if ctx.full_predictor else 0
         if out.converged:
             z = ctx.iterate(out)
-            upd = (_second_order_update(ctx, macaulay, lamN, lamT, out.state.aux[0], out.state.aux[1], coupled)
-                   if second_order else None)
+            upd = _second_order_update(ctx, macaulay, lamN, lamT, out.state, z, coupled) if second_order else None
             if upd is not None:
-                lamN, lamT = upd
+                lamN, lamT, z = upd
                 outer0 = 1
             elif ctx.full_predictor:
                 lamN, lamT = out.state.aux[1][:, 0].copy(), out.state.aux[1][:, 1:].copy()
@@ -657,7 +693,8 @@ def _step_al(ctx: _ALSystem, penalty_name: str) -> _StepOut:
                      k, pen_k, compl, dlam, stick_slip, out.iterations, " (second-order)" if fallback else "")
         if (pen_k <= opts.tol_penetration and compl <= opts.tol_complementarity and dlam <= opts.tol_multiplier
                 and stick_slip <= opts.tol_slip):
-            pred = _tangent_predictor(ctx, law, lamN, lamT, y, t) if ctx.second_order else None
+            pred = (_tangent_predictor(ctx, law, lamN, lamT, out.state)
+                    if ctx.second_order and ctx.tangent_predictor else None)
             return _StepOut(True, "converged", ctx.forces(z, t), t, k + outer0, newton, predictor=pred, z=z,
                             last_state=out.state)
         if fallback is not None and not dlam <= 0.5 * dlam_prev:
@@ -666,10 +703,10 @@ def _step_al(ctx: _ALSystem, penalty_name: str) -> _StepOut:
             second_order = False
         dlam_prev = dlam
         # multiplier updates (6.2b)/(6.2c), resp. lambda_N <- p'(g/eta, lambda_N)
-        upd = _second_order_update(ctx, law, lamN, lamT, y, t, coupled) if second_order else None
+        upd = _second_order_update(ctx, law, lamN, lamT, out.state, z, coupled) if second_order else None
         coupled = False
         fallback = (t[:, 0].copy(), t[:, 1:].copy(), z.copy()) if upd is not None else None
-        lamN, lamT = upd if upd is not None else (t[:, 0].copy(), t[:, 1:].copy())
+        lamN, lamT, z = upd if upd is not None else (t[:, 0].copy(), t[:, 1:].copy(), z)
         if family_p:
             pref = max(float(np.max(lamN, initial=0.0)), 1e-300)
             lamN = np.maximum(lamN, opts.multiplier_floor * pref)
@@ -762,10 +799,17 @@ class _FiniteALCtx:
       (``aux[0][:, 1:]``, :func:`~alcontact.contact.obstacles.surface_slip`), measured
       from the previous surface point: the reference :attr:`uTn` is zero, and no tangent
       direction is held by a support (:attr:`tfree` is ``None``);
-    - first-order multiplier updates only (:attr:`second_order` false: the second-order
-      update needs the dense sensitivity of the condensed small-deformation subproblem),
-      so the hybrid Coulomb radius of the first subproblem is not taken either; the radius
-      is the one :meth:`FiniteFrictionContact.set_history` set from ``radius``;
+    - the second-order multiplier update of Algorithm 6.2 (:attr:`second_order`, option
+      ``multiplier_update``) with the sensitivity of the full-space subproblem
+      (:meth:`sensitivity`: one factorization of its Newton matrix, ``c (d + 1)``
+      back-substitutions), the next subproblem started from the first-order change of its
+      solution, and the hybrid Coulomb radius of the first subproblem (:func:`_coupled_start`;
+      the radius of the others is the one :meth:`FiniteFrictionContact.set_history` set from
+      ``radius``); no tangent predictor. Before issue 18 this path took first-order updates
+      only: on the 2D ironing case (h = 0.1, mu = 0.3, 40 sliding steps of 0.05 R) 11-13 outer
+      iterations and 33.4 Newton per sliding step; with it 3 outer iterations and 12.1 Newton
+      (6.25 with ``penalty_scale`` 10, ``docs/benchmarks/ironing_friction_2d.md``). Algorithm
+      6.4 with a barrier-type penalty keeps the first-order updates (:attr:`second_order`);
     - the family-P predictor is a full Simo-Laursen outer iteration (:attr:`full_predictor`):
       both multipliers are taken from it and it is counted (its tangential traction, in the
       tangent planes of the predicted state, starts the family-P iterations);
@@ -780,9 +824,11 @@ class _FiniteALCtx:
     x0: np.ndarray  # free displacements the step starts from
     eps_n: float
     opts: Any
+    barrier: bool = False  # a normal law with a bounded domain (log MET 1/2): first-order updates (second_order)
 
     label: ClassVar[str] = "finite friction AL"
-    second_order: ClassVar[bool] = False
+    #: no tangent predictor of the multipliers (the sensitivity has no T_y: not factorized for it)
+    tangent_predictor: ClassVar[bool] = False
     full_predictor: ClassVar[bool] = True
     tfree: ClassVar[None] = None
 
@@ -800,6 +846,21 @@ class _FiniteALCtx:
         return self.fc.coulomb.mu
 
     @property
+    def second_order(self) -> bool:
+        """The option ``multiplier_update``: ``"newton"`` takes the second-order update (:meth:`sensitivity`),
+        except with a barrier-type normal law (:attr:`barrier`).
+
+        A penalty with a bounded domain (``log-met1``, ``log-met2``) keeps the first-order updates at
+        finite deformation: with the second-order update the block of
+        ``tests/verification/test_finite_friction_log_barrier.py`` (4 x 4 elements, 9 steps) needed
+        3-4 cut-backs at its stick-to-slip transition, where the Simo-Laursen predictor subproblem of
+        Algorithm 6.4 no longer converged from the updated state (none with first-order updates,
+        331 Newton). On the same block ``exp-met1`` takes 124 Newton instead of 320 with it,
+        ``quad-met1`` 114 instead of 268, no cut-back.
+        """
+        return self.opts.multiplier_update == "newton" and not self.barrier
+
+    @property
     def uTn(self) -> np.ndarray:
         """Zero: the slip ``aux[0][:, 1:]`` is already measured from the previous surface point."""
         return np.zeros((self.c, self.fc.dim))
@@ -809,9 +870,15 @@ class _FiniteALCtx:
         return self.x0.copy()
 
     def subproblem(self, law, lamN, lamT, x, coupled: bool = False) -> NewtonResult:
-        """:meth:`FiniteFrictionContact.friction_subproblem` (``coupled`` is never asked: first-order updates)."""
-        return self.fc.friction_subproblem(law, lamN, lamT, x, tol=self.opts.newton_tol,
-                                           maxiter=self.opts.maxiter_newton)
+        """:meth:`FiniteFrictionContact.friction_subproblem` (``coupled``: with the coupled radius :math:`\\mu t_N`)."""
+        dc = self.fc
+        saved = dc.coupled
+        dc.coupled = saved or coupled
+        try:
+            return dc.friction_subproblem(law, lamN, lamT, x, tol=self.opts.newton_tol,
+                                          maxiter=self.opts.maxiter_newton)
+        finally:
+            dc.coupled = saved
 
     def iterate(self, out: NewtonResult) -> np.ndarray:
         return out.x
@@ -840,6 +907,110 @@ class _FiniteALCtx:
                 return trial
             scale *= 2
         return x
+
+    def sensitivity(self, law, lamN, lamT, state, coupled: bool = False):
+        r"""``(M, None, Z)``: :math:`M = I - dt/d\lambda` of the multiplier map at the subproblem's solution ``state``
+        and :math:`Z = dx/d\lambda` ``(free DOFs, c (d + 1))``.
+
+        At the solution :math:`x(\lambda)` of the subproblem, :math:`R(x, \lambda) = 0` with
+        :math:`R = f_{int} - f_{ext} + \sum_i A_i^T w_i (t_{T,i} - t_{N,i}\nu_i)`, so
+        :math:`J\,dx = -A^T F_\lambda\,d\lambda` (:math:`J` the consistent Newton matrix
+        :meth:`~alcontact.contact.systems._full_space.FiniteFrictionContact.friction_jacobian`,
+        :math:`F_\lambda` the block-diagonal :math:`w_i(\partial t_T/\partial\lambda -
+        \nu\,\partial t_N/\partial\lambda)`) and
+
+        .. math::
+
+            \frac{dt}{d\lambda} = \frac{\partial t}{\partial\lambda}
+            - \frac{\partial t}{\partial x} A J^{-1} A^T F_\lambda,
+
+        with the local derivatives of the return mapping (6.47)-(6.50) in the current
+        configuration (those of the Jacobian, :meth:`FiniteFrictionContact._local`, plus the
+        radius :math:`\mu\lambda_N` (or :math:`\mu t_N` with ``coupled``) differentiated in
+        :math:`\lambda_N`). One assembly and factorization of :math:`J` and ``c (d + 1)``
+        back-substitutions in blocks of :data:`_SENSITIVITY_BLOCK` columns, of which only the rows
+        of the contact points are kept (counted as one linear solve); the multipliers are
+        :math:`(\lambda_N, \lambda_T)` with ambient :math:`\lambda_T`, ``c (d + 1)`` unknowns.
+        ``Z`` is the dense ``(free DOFs, c (d + 1))`` matrix when it fits one block, else an operator:
+        one more back-substitution with the same factor when applied (right after this call, by
+        :func:`_second_order_update`). No tangent predictor (``T_y`` is ``None``:
+        a step starts from the last step's multipliers).
+        """
+        dc = self.fc
+        cand = dc.cand
+        k, d = cand.size, dc.dim
+        nl = d + 1
+        w = dc.weights[cand]
+        u = state.u
+        lamN = np.asarray(lamN, dtype=float)
+        saved = dc.coupled
+        dc.coupled = saved or coupled
+        try:
+            xc = dc._current(u, cand)
+            g, nu = dc.obstacle.evaluate(xc)
+            tN = np.asarray(law.traction(g, lamN), dtype=float)
+            kN = np.asarray(law.stiffness(g, lamN), dtype=float)
+            pref = max(float(np.max(tN, initial=0.0)), 1e-300)
+            dN = _WithDlam(law, pref).dlam(g, lamN)  # dt_N / d lambda_N
+            z, _, dz_dx, _ = dc._trial(lamT, xc, nu, cand, blocks=True)
+            if dc.coupled:
+                rho, drho, drho_dx = dc.mu * tN, dc.mu * dN, dc.mu * kN
+            else:
+                rho, drho, drho_dx = dc.mu * np.maximum(lamN, 0.0), dc.mu * (lamN > 0), np.zeros(k)
+            _, _, _, slipping, n, Mp = return_mapping(z, rho)
+            P = np.eye(d)[None] - nu[:, :, None] * nu[:, None, :]
+            Dl = np.zeros((k, nl, nl))
+            Dl[:, 0, 0] = dN
+            Dl[:, 1:, 0] = np.where(slipping[:, None], drho[:, None] * n, 0.0)
+            Dl[:, 1:, 1:] = Mp @ P
+            Dx = np.zeros((k, nl, d))
+            Dx[:, 0, :] = -kN[:, None] * nu
+            Dx[:, 1:, :] = Mp @ dz_dx - np.where(slipping[:, None, None],
+                                                 drho_dx[:, None, None] * n[:, :, None] * nu[:, None, :], 0.0)
+            Fl = w[:, None, None] * (Dl[:, 1:, :] - nu[:, :, None] * Dl[:, :1, :])  # (k, d, nl)
+            J = dc.friction_jacobian(law, lamN, lamT, u)
+        finally:
+            dc.coupled = saved
+        pos = dc.pos[cand]  # (k, d), -1 at fixed DOFs
+        nf = dc.free.size
+        rows, cols, vals = [], [], []
+        for j in range(d):
+            keep = pos[:, j] >= 0
+            for q in range(nl):
+                rows.append(pos[keep, j])
+                cols.append(np.flatnonzero(keep) * nl + q)
+                vals.append(Fl[keep, j, q])
+        n = k * nl
+        rhs = sp.csc_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(nf, n))
+        solver = dc.friction_solver
+        dxi = np.zeros((k, d, n))  # d x_i / d lambda at the points
+        X = None
+        try:
+            # J^{-1} A^T F_lambda in column blocks, keeping only the rows of the points (memory: nf x block)
+            for c0 in range(0, n, _SENSITIVITY_BLOCK):
+                block = rhs[:, c0:c0 + _SENSITIVITY_BLOCK].toarray()
+                X = solver.solve(J, block) if c0 == 0 else solver.resolve(block)
+                if X is None:
+                    return None
+                for j in range(d):
+                    keep = pos[:, j] >= 0
+                    dxi[keep, j, c0:c0 + block.shape[1]] = -X[pos[keep, j]]
+        except (np.linalg.LinAlgError, ValueError):
+            return None
+        dc.linear_solves += 1
+        dt = np.einsum("ikj,ijm->ikm", Dx, dxi).reshape(n, n)
+        dt += block_diag(Dl)
+        M = np.eye(n) - dt
+        if not np.all(np.isfinite(M)):
+            return None
+        if n <= _SENSITIVITY_BLOCK:  # one block: dx/dlambda at hand
+            return M, None, -X
+
+        def dx_dlam(v):  # dx/dlambda v = -J^{-1} A^T F_lambda v, one back-substitution with J's factor
+            out = solver.resolve(rhs @ np.ravel(v))
+            return np.zeros(nf) if out is None else -out
+
+        return M, None, spla.LinearOperator((nf, n), matvec=dx_dlam, dtype=float)
 
     def forces(self, x, t) -> np.ndarray:
         r"""Force of the obstacle on the body at each candidate, :math:`w_i (t_{N,i}\nu_i - t_{T,i})` ``(c, d)``."""

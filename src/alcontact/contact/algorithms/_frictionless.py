@@ -195,7 +195,9 @@ class ContactOptions:
         first-order update for the rest of the step as soon as the multiplier
         change does not halve. It also starts every step from the tangent
         predictor :math:`\\lambda_n + (d\\lambda^*/dy_f)\\Delta y_f` of the last
-        converged step. Same stopping test, same solution.
+        converged step. Same stopping test, same solution. At finite deformation
+        Algorithms 6.2 / 6.4 take it with the sensitivity of the full-space subproblem
+        (no tangent predictor), except with a barrier-type penalty (log MET 1/2).
     """
 
     #: word naming this class's fields in messages (``"contact option maxiter = ..."``)

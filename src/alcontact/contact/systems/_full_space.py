@@ -1494,6 +1494,10 @@ class FiniteFrictionContact(FiniteContact):
     translation of the current step, :math:`\\mu` and :math:`\\varepsilon_T`.
     """
 
+    #: no contact springs: a finite-deformation body is held by its supports (the condensed path's
+    #: ``FrictionalContact.spring`` of a body held by the obstacle)
+    spring = None
+
     @property
     def friction_solver(self) -> SequenceSolver:
         """Solver of the non-symmetric Newton matrices of friction: the one of the symmetric systems

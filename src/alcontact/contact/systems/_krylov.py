@@ -1046,6 +1046,8 @@ class _FullCtx:
     #: first-order multiplier updates (6.2b)/(6.2c) only: the second-order update needs the dense
     #: sensitivity of the condensed subproblem (c d x c d, one solve per column); same fixed point
     second_order: ClassVar[bool] = False
+    #: no tangent predictor either (it comes from the second-order update's sensitivity)
+    tangent_predictor: ClassVar[bool] = False
     #: the family-P predictor gives lambda_N only and is not counted (_friction._step_al)
     full_predictor: ClassVar[bool] = False
 
@@ -1085,6 +1087,10 @@ class _FullCtx:
 
     def forces(self, x, t):
         return self.w[:, None] * t
+
+    def sensitivity(self, law, lamN, lamT, state, coupled: bool = False):
+        """Not available (``None``): first-order updates only (:attr:`second_order`), so never asked."""
+        return None
 
 
 class _FullSpaceFriction(_PointSystem):
