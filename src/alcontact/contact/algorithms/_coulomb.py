@@ -872,13 +872,14 @@ class _FiniteALCtx:
     def subproblem(self, law, lamN, lamT, x, coupled: bool = False) -> NewtonResult:
         """:meth:`FiniteFrictionContact.friction_subproblem` (``coupled``: with the coupled radius :math:`\\mu t_N`)."""
         dc = self.fc
-        saved = dc.coupled
-        dc.coupled = saved or coupled
+        saved = dc.coulomb
+        if coupled:  # the same law with the coupled radius mu t_N for this subproblem
+            dc.coulomb = saved.with_radius("traction")
         try:
             return dc.friction_subproblem(law, lamN, lamT, x, tol=self.opts.newton_tol,
                                           maxiter=self.opts.maxiter_newton)
         finally:
-            dc.coupled = saved
+            dc.coulomb = saved
 
     def iterate(self, out: NewtonResult) -> np.ndarray:
         return out.x
@@ -943,9 +944,11 @@ class _FiniteALCtx:
         w = dc.weights[cand]
         u = state.u
         lamN = np.asarray(lamN, dtype=float)
-        saved = dc.coupled
-        dc.coupled = saved or coupled
+        saved = dc.coulomb
+        if coupled:
+            dc.coulomb = saved.with_radius("traction")
         try:
+            mu = dc.coulomb.mu
             xc = dc._current(u, cand)
             g, nu = dc.obstacle.evaluate(xc)
             tN = np.asarray(law.traction(g, lamN), dtype=float)
@@ -953,10 +956,10 @@ class _FiniteALCtx:
             pref = max(float(np.max(tN, initial=0.0)), 1e-300)
             dN = _WithDlam(law, pref).dlam(g, lamN)  # dt_N / d lambda_N
             z, _, dz_dx, _ = dc._trial(lamT, xc, nu, cand, blocks=True)
-            if dc.coupled:
-                rho, drho, drho_dx = dc.mu * tN, dc.mu * dN, dc.mu * kN
+            if dc.coulomb.coupled:
+                rho, drho, drho_dx = mu * tN, mu * dN, mu * kN
             else:
-                rho, drho, drho_dx = dc.mu * np.maximum(lamN, 0.0), dc.mu * (lamN > 0), np.zeros(k)
+                rho, drho, drho_dx = mu * np.maximum(lamN, 0.0), mu * (lamN > 0), np.zeros(k)
             _, _, _, slipping, n, Mp = return_mapping(z, rho)
             P = np.eye(d)[None] - nu[:, :, None] * nu[:, None, :]
             Dl = np.zeros((k, nl, nl))
@@ -970,7 +973,7 @@ class _FiniteALCtx:
             Fl = w[:, None, None] * (Dl[:, 1:, :] - nu[:, :, None] * Dl[:, :1, :])  # (k, d, nl)
             J = dc.friction_jacobian(law, lamN, lamT, u)
         finally:
-            dc.coupled = saved
+            dc.coulomb = saved
         pos = dc.pos[cand]  # (k, d), -1 at fixed DOFs
         nf = dc.free.size
         rows, cols, vals = [], [], []
