@@ -153,6 +153,37 @@ def _pattern_interleaved(sdofs: np.ndarray, ns: int, d: int):
 
 
 
+def _deformation_gradient(u: np.ndarray, dof_map: np.ndarray, sdofs: np.ndarray, G: np.ndarray,
+                          hoop: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+    r"""``F`` and ``J = det F`` at the quadrature points of ``G`` for the displacement ``u``; raises if some ``J <= 0``.
+
+    :math:`F_{iJ} = \delta_{iJ} + u_{ai}\,\partial N_a/\partial X_J`, shape ``(nel, nqp, dim, dim)``
+    (``dof_map``: the vector DOFs of each scalar DOF, ``sdofs``: the scalar DOFs of each element).
+    Axisymmetric (``hoop``: :math:`N_a / r` at the points): the 3x3
+    :math:`F = [[F_{rr}, F_{rz}, 0], [F_{zr}, F_{zz}, 0], [0, 0, 1 + u_r/r]]`. Shared by the
+    displacement body and the mixed one (:mod:`alcontact.fem.mixed`).
+    """
+    uloc = np.swapaxes(u[dof_map[sdofs]], 1, 2)  # (nel, dim, nloc)
+    F = uloc[:, None] @ G  # F_iJ = u_ai dN_a/dX_J at every point: (nel, nqp, dim, dim)
+    F += np.eye(G.shape[-1])
+    if hoop is not None:
+        F3 = np.zeros(F.shape[:2] + (3, 3))
+        F3[..., :2, :2] = F
+        F3[..., 2, 2] = 1.0 + np.einsum("eqa,ea->eq", hoop, uloc[:, 0])
+        F = F3
+    J = det(F)
+    bad = ~(J > 0.0)
+    if bad.any():
+        elements, shown = _listed(bad)
+        raise InvertedElementError(
+            f"{elements.size} of {F.shape[0]} elements inverted (J = det F <= 0 at a quadrature "
+            f"point, min J = {float(np.nanmin(J)):.3g}): elements {shown}. The displacement is too "
+            "large for this mesh: reject the Newton step (line search) or cut the load step.",
+            elements=elements,
+        )
+    return F, J
+
+
 def _listed(flags: np.ndarray) -> tuple[np.ndarray, str]:
     """Elements with a flagged quadrature point (``flags``: (nel, nqp)) and the first 20 of them as text."""
     elements = np.flatnonzero(flags.any(axis=1))
@@ -326,24 +357,7 @@ class Hyperelastic(LinearElasticity):
         Axisymmetric (``hoop``: ``N_a / r`` at the points): the 3x3
         :math:`F = [[F_{rr}, F_{rz}, 0], [F_{zr}, F_{zz}, 0], [0, 0, 1 + u_r/r]]`.
         """
-        uloc = np.swapaxes(u[self.dof_map[sdofs]], 1, 2)  # (nel, dim, nloc)
-        F = uloc[:, None] @ G  # F_iJ = u_ai dN_a/dX_J at every point: (nel, nqp, dim, dim)
-        F += np.eye(self.dim)
-        if hoop is not None:
-            F3 = np.zeros(F.shape[:2] + (3, 3))
-            F3[..., :2, :2] = F
-            F3[..., 2, 2] = 1.0 + np.einsum("eqa,ea->eq", hoop, uloc[:, 0])
-            F = F3
-        J = det(F)
-        bad = ~(J > 0.0)
-        if bad.any():
-            elements, shown = _listed(bad)
-            raise InvertedElementError(
-                f"{elements.size} of {F.shape[0]} elements inverted (J = det F <= 0 at a quadrature "
-                f"point, min J = {float(np.nanmin(J)):.3g}): elements {shown}. The displacement is too "
-                "large for this mesh: reject the Newton step (line search) or cut the load step.",
-                elements=elements,
-            )
+        F, J = _deformation_gradient(u, self.dof_map, sdofs, G, hoop)
         out = self.law.domain_violation(F)
         if out is not None and out.any():
             elements, shown = _listed(out)

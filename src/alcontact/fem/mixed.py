@@ -73,11 +73,12 @@ from skfem import Basis, ElementTetP1, ElementTriP1
 from alcontact.errors import ConvergenceError, InputError, InvertedElementError, NonFiniteError
 from alcontact.fem._assembly import default_intorder
 from alcontact.fem._hyper_laws import InvariantLaw, _isochoric
-from alcontact.fem._hyper_materials import HyperelasticLaw, NeoHookean, det, inv, make_material
+from alcontact.fem._hyper_materials import HyperelasticLaw, NeoHookean, inv, make_material
 from alcontact.fem._material import Material, material_issues
 from alcontact.fem.elasticity import LinearElasticity
 from alcontact.fem._geometry import TWO_PI
-from alcontact.fem.hyperelastic import _AXI_USED, _axisymmetric_operators, _hoop_values, _listed, _scalar_gradients
+from alcontact.fem.hyperelastic import (_AXI_USED, _axisymmetric_operators, _deformation_gradient, _hoop_values,
+                                       _scalar_gradients)
 
 __all__ = ["FORMULATIONS", "IsochoricNeoHookean", "MixedHyperelastic"]
 
@@ -280,20 +281,7 @@ class MixedHyperelastic:
         G, sdofs, N, pdofs, hoop = (self._G, self._sdofs, self._N, self._pdofs, self._hoop) if where is None \
             else where
         u = x[: self.ndofs_u]
-        uloc = np.swapaxes(u[self.geometry.dof_map[sdofs]], 1, 2)  # (nel, dim, nloc)
-        F = uloc[:, None] @ G + np.eye(self.dim)
-        if hoop is not None:
-            F3 = np.zeros(F.shape[:2] + (3, 3))
-            F3[..., :2, :2] = F
-            F3[..., 2, 2] = 1.0 + np.einsum("eqa,ea->eq", hoop, uloc[:, 0])
-            F = F3
-        J = det(F)
-        bad = ~(J > 0.0)
-        if bad.any():
-            elements, shown = _listed(bad)
-            raise InvertedElementError(
-                f"{elements.size} of {F.shape[0]} elements inverted (J = det F <= 0 at a quadrature point, "
-                f"min J = {float(np.nanmin(J)):.3g}): elements {shown}. Cut the load step.", elements=elements)
+        F, J = _deformation_gradient(u, self.geometry.dof_map, sdofs, G, hoop)
         p = np.einsum("eqm,em->eq", N, x[pdofs])
         return F, J, p
 
