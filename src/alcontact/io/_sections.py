@@ -1012,3 +1012,172 @@ def build_problem(data: dict, model, s: Sections, issues: list[Issue]) -> tuple[
     if cases or s.friction_ramp is not None or s.mu > 0:
         history = _num(issues, "loading", LoadHistory, tuple(cases), s.times, s.friction_ramp)
     return problem, history
+
+
+# --------------------------------------------------------------------------- [[body]]: several bodies
+def _prefixed(found: list[Issue], prefix: str) -> list[Issue]:
+    """The issues of one body's ``[mesh]`` / ``[material]`` builders keyed under ``body[i].``."""
+    return [Issue(prefix + i.path if i.path else prefix.rstrip("."), i.message) for i in found]
+
+
+def _one_body(i: int, bd: dict, base: Path, issues: list[Issue]):
+    """``[[body]]`` number ``i + 1``: ``(LinearElasticity, dim)``, or ``(None, dim)`` with its issues.
+
+    The builders of ``[mesh]`` and ``[material]`` run on the body's ``mesh`` and ``material``
+    tables; their issues are keyed ``body[i].mesh.*`` / ``body[i].material.*``.
+    """
+    from ..fem import LinearElasticity, check_geometry
+
+    found: list[Issue] = []
+    md, mt = bd.get("mesh"), bd.get("material")
+    mesh, dim = build_mesh(md, base, found)
+    mat, _ = build_material(None if mt is None else {**mt, "region": None}, LINEAR_MODEL, mesh, found)
+    model = None
+    if mesh is not None and mat is not None and not found:
+        if dim != 2:
+            found.append(Issue("mesh", f"the mesh is {dim}D: several bodies ([[body]]) are 2D so far; use "
+                                       "generator = 'rectangle' or a 2D Gmsh file."))
+        elif md["geometry"] != "cartesian":
+            found.append(Issue("mesh.geometry", f"= {md['geometry']!r}: several bodies ([[body]]) are "
+                                                "Cartesian so far; remove geometry."))
+        elif _num(found, "mesh.geometry", check_geometry, md["geometry"], dim, mesh.p, plane=mat.plane) is not None:
+            model = _num(found, "mesh.order", LinearElasticity, mesh, mat, order=md["order"],
+                         volumetric=md["volumetric"], geometry=md["geometry"])
+    issues.extend(_prefixed(found, f"body[{i + 1}]."))
+    return model, dim
+
+
+def _boundary_names(models: list) -> dict[str, tuple[int, str]]:
+    """Every name a boundary of the bodies may be given by: ``"body<k>/<name>"``, and the bare name where
+    only one body has it (as :class:`alcontact.fem.MultiBody` resolves them)."""
+    names: dict[str, tuple[int, str]] = {}
+    bare: dict[str, list[int]] = {}
+    for k, m in enumerate(models):
+        for b in sorted((m.mesh.boundaries or {}).keys()):
+            names[f"body{k}/{b}"] = (k, b)
+            bare.setdefault(b, []).append(k)
+    names.update({b: (ks[0], b) for b, ks in bare.items() if len(ks) == 1})
+    return names
+
+
+def _surface(name: str, key: str, names: dict, n: int, issues: list[Issue]) -> tuple[int, str] | None:
+    """``(body index, boundary)`` named by ``[contact] boundary`` / ``master``, or ``None`` with an issue."""
+    if not name:
+        issues.append(Issue(key, "missing: with [[body]] the contact pair needs boundary = 'body1/bottom' (the "
+                                 "slave) and master = 'body0/top' (a boundary of another body)."))
+        return None
+    if name in names:
+        return names[name]
+    m = re.match(r"^(body\d+)/", name)
+    if m and not any(k.startswith(m.group(1) + "/") for k in names):
+        issues.append(Issue(key, f"= {name!r}: there is no body {m.group(1)!r}; the file has {n} [[body]] "
+                                 f"table(s), named {_known([f'body{k}' for k in range(n)])} in order."))
+    else:
+        known = sorted(names)
+        issues.append(Issue(key, f"= {name!r}: no body has the boundary {name!r}.{_did_you_mean(name, known)} "
+                                 f"Boundaries: {_known(known)} (a bare name only where one body has it)."))
+    return None
+
+
+def _bodies_table_issues(data: dict, issues: list[Issue]) -> None:
+    """Tables and options that do not go with ``[[body]]`` (what runs: small, frictionless, one pair)."""
+    for key, what in (("mesh", "each body has its own [body.mesh]"),
+                      ("material", "each body has its own [body.material]"),
+                      ("obstacle", "the master of the pair is [contact] master, a body's boundary")):
+        if data.get(key) is not None:
+            issues.append(Issue(key, f"given together with [[body]]: {what}; remove [{key}]."))
+    if data.get("pair"):
+        issues.append(Issue("pair", "[[pair]] (rigid obstacles) together with [[body]]: a two-body pair beside "
+                                    "other pairs is not supported yet; remove the [[pair]] tables."))
+    cd = data.get("contact")
+    if not isinstance(cd, dict):
+        return
+    if cd.get("kinematics") not in ("small", BAD):
+        issues.append(Issue("contact.kinematics", f"= {cd['kinematics']!r}: contact between bodies ([[body]]) is "
+                                                  "small deformation so far; set kinematics = 'small'."))
+    if isinstance(cd.get("friction"), float) and cd["friction"] > 0:
+        issues.append(Issue("contact.friction", f"= {cd['friction']:g}: contact between bodies ([[body]]) is "
+                                                "frictionless so far; set friction = 0.0."))
+
+
+def _two_body_reference(rd: dict | None, models: list, issues: list[Issue]):
+    """``[reference] kind = "hertz"`` between two bodies: Hertz with the effective modulus
+    :math:`1/E^* = (1-\\nu_1^2)/E_1 + (1-\\nu_2^2)/E_2` (plane strain) and ``radius`` the effective
+    :math:`R` (Johnson, Contact Mechanics, eq. 4.45-4.47)."""
+    if not _ok(rd) or rd["kind"] == "none":
+        return None
+    if rd["kind"] != "hertz" or len(models) != 2:
+        issues.append(Issue("reference.kind", f"= {rd['kind']!r}: with [[body]] the reference is 'hertz' between "
+                                              "two bodies (or 'none')."))
+        return None
+    if not _reference_ok(rd, 2, 0.0, issues):
+        return None
+    from ..problems.hertz import HertzReference
+
+    comp = sum(1.0 / m.material.E if m.material.plane == "stress" else 1.0 / m.material.plane_strain_modulus
+               for m in models)
+    return HertzReference("cylinder", rd["radius"], 1.0 / comp, rd["symmetry"])
+
+
+def build_bodies(data: dict, base: Path, issues: list[Issue]):
+    """``[[body]]`` tables, their supports and loads, and the two-body pair of ``[contact]``:
+    ``(ContactProblem, LoadHistory or None, Sections)``, or ``None`` (every problem in ``issues``).
+
+    The pair is mortar (:class:`~alcontact.contact.BodySurface`): ``[contact] boundary`` is the slave,
+    ``[contact] master`` a boundary of another body (or of the same body). Checked here: each body's
+    mesh and material, that the bodies have one dimension, that both boundaries exist, and that
+    slave and master are not the same boundary.
+    """
+    from types import SimpleNamespace
+
+    from ..contact import BodySurface, Boundary, ContactPair, ContactProblem, LoadHistory
+
+    _bodies_table_issues(data, issues)
+    built = [_one_body(i, bd, base, issues) for i, bd in enumerate(data["body"]) if _ok(bd)]
+    if len(built) != len(data["body"]):
+        return None
+    dims = [d for _, d in built]
+    if len({d for d in dims if d is not None}) > 1:
+        issues.append(Issue("body", f"the bodies have different dimensions ({', '.join(f'body{k}: {d}D' for k, d in enumerate(dims))}); "
+                                    "every body of a problem must be 2D (or every one 3D)."))
+        return None
+    models = [m for m, _ in built]
+    if any(m is None for m in models):
+        return None
+    s = Sections(dim=dims[0], material=models[0].material)
+    names = _boundary_names(models)
+    where = SimpleNamespace(boundaries=dict.fromkeys(names))  # boundary_ok checks the qualified names
+    cd = data["contact"]
+    pair = None
+    if _ok(cd):
+        slave = _surface(cd["boundary"], "contact.boundary", names, len(models), issues)
+        master = _surface(cd["master"], "contact.master", names, len(models), issues)
+        if slave is not None and master is not None:
+            if slave == master:
+                issues.append(Issue("contact.master", f"= {cd['master']!r}: the same boundary as the slave "
+                                                      f"(contact.boundary = {cd['boundary']!r}); a pair needs two "
+                                                      "surfaces: name a boundary of the other body."))
+            else:
+                pair = ContactPair(Boundary(models[slave[0]], slave[1]), BodySurface(models[master[0]], master[1]))
+    s.fixed, support_cases = build_supports(data.get("support"), where, s.dim, issues)
+    s.loads, load_cases = build_loads(data.get("load"), where, s.dim, issues)
+    s.cases = support_cases + load_cases
+    s.times, s.friction_ramp = build_loading(data.get("loading"), issues)
+    s.solver = build_solver(data.get("solver"), 0.0, "small", issues)
+    s.units = build_units(data.get("units"), issues)
+    rd = data.get("reference")
+    s.reference = _two_body_reference(rd, models, issues)
+    if issues or pair is None or s.times is None:
+        return None
+    rd = rd if _ok(rd) else {"center": None, "axis": 0, "kind": "none"}
+    center = tuple(rd["center"]) if rd["center"] is not None else (0.0,) * s.dim
+    meta = {"symmetry_axis": int(rd["axis"]), "center": center,
+            "center_declared": rd["center"] is not None or rd["kind"] != "none"}
+    problem = _num(issues, "body", ContactProblem, bodies=models, pairs=[pair], supports=tuple(s.fixed),
+                   loads=tuple(s.loads), name=data["problem"]["name"], reference=s.reference, meta=meta)
+    if problem is None:
+        return None
+    history = None
+    if s.cases or s.friction_ramp is not None:
+        history = _num(issues, "loading", LoadHistory, tuple(s.cases), s.times, s.friction_ramp)
+    return problem, history, s

@@ -32,7 +32,7 @@ from typing import Any
 
 from .._options import BAD, Option, check_value
 from ._issues import Issue, _did_you_mean, _known, _raise
-from ._sections import build_model, build_problem, build_sections
+from ._sections import build_bodies, build_model, build_problem, build_sections
 from .schema import Table, schema
 
 __all__ = ["Issue", "ProblemSetup", "load_problem", "load_problem_text", "parse_toml", "validate_data"]
@@ -108,6 +108,10 @@ def _check_node(tab: Table, value: Any, path: str, issues: list[Issue]):
     return _check_table(tab, value, path, issues)
 
 
+#: the tables that ``[[body]]`` replaces (each body has its own mesh and material; the master is a body's boundary)
+_PER_BODY = ("mesh", "material", "obstacle")
+
+
 def validate_data(data: dict) -> tuple[dict, list[Issue]]:
     """Schema pass over a parsed file: ``(normalized data with defaults, issues)``.
 
@@ -123,9 +127,12 @@ def validate_data(data: dict) -> tuple[dict, list[Issue]]:
         else:
             issues.append(Issue(key, f"unknown table [{key}].{_did_you_mean(key, roots)} "
                                      f"Known tables: {_known(roots)}."))
+    bodies = bool(data.get("body"))  # [[body]] tables replace [mesh], [material] and [obstacle]
     for key, tab in roots.items():
         if key not in out:
-            if tab.required:
+            if bodies and key in _PER_BODY:
+                out[key] = None
+            elif tab.required:
                 issues.append(Issue(key, f"missing table [{key}] (required): {tab.doc}"))
                 out[key] = None
             elif tab.array:
@@ -230,10 +237,15 @@ class ProblemSetup:
         alg = self.algorithm + (f"/{self.penalty}" if self.penalty else "")
         n = len(self.times)
         kin = f", finite deformation ({m.law.name})" if self.finite else ""
-        where = f"obstacle {self.data['obstacle']['type']}, contact on {self.problem.contact_boundary!r}"
-        if len(self.problem.pairs) > 1:
+        where = (f"obstacle {self.data['obstacle']['type']}, contact on {self.problem.contact_boundary!r}"
+                 if self.data.get("obstacle") else "")
+        if len(self.problem.pairs) > 1 or not where:
             where = f"{len(self.problem.pairs)} contact pairs (" + ", ".join(
                 f"{p.slave.name!r} on {p.master.name}" for p in self.problem.pairs) + ")"
+        if hasattr(m, "bodies"):  # [[body]]: several bodies
+            parts = [b.mesh.nelements for b in m.bodies]
+            return (f"{self.name}: {len(parts)} bodies, {m.dim}D, {m.ndofs} DOFs, {sum(parts)} elements, "
+                    f"{where}, {law}, {alg}, {n} load step{'s' if n != 1 else ''}")
         return (f"{self.name}: {m.dim}D P{m.order}{kin}, {m.ndofs} DOFs, {m.mesh.nelements} elements, "
                 f"{where}, {law}, {alg}, {n} load step{'s' if n != 1 else ''}")
 
@@ -309,6 +321,8 @@ def _build(data: dict, base: Path, issues: list[Issue], source) -> ProblemSetup 
     Each section is built by its own builder (:mod:`alcontact.io._sections`); the model and
     the problem are built only when every section was.
     """
+    if data.get("body"):
+        return _build_bodies(data, base, issues, source)
     parts = build_sections(data, base, issues)
     if issues or not parts.complete():
         if not issues:  # pragma: no cover - every failure above records an issue
@@ -329,5 +343,23 @@ def _build(data: dict, base: Path, issues: list[Issue], source) -> ProblemSetup 
         friction_options=sv.friction_options, reference=parts.reference, mindlin=parts.mindlin,
         output=dict(data["output"]), kinematics=parts.kinematics,
         obstacle_path=tuple(od["path"]) if od.get("path") is not None else None,
+        max_cutbacks=int(data["loading"]["max_cutbacks"]), units=parts.units, petsc_options=sv.petsc_options,
+    )
+
+
+def _build_bodies(data: dict, base: Path, issues: list[Issue], source) -> ProblemSetup | None:
+    """:func:`_build` of a file with ``[[body]]`` tables: several bodies and one two-body contact pair
+    (:func:`alcontact.io._sections.build_bodies`)."""
+    built = build_bodies(data, base, issues)
+    if built is None or issues:
+        if not issues:  # pragma: no cover - every failure records an issue
+            issues.append(Issue("body", "the bodies could not be built."))
+        return None
+    problem, history, parts = built
+    sv = parts.solver
+    return ProblemSetup(
+        source=Path(source) if source is not None else None, data=data, problem=problem, history=history,
+        times=parts.times, algorithm=sv.algorithm, penalty=sv.penalty, options=sv.options,
+        friction_options=sv.friction_options, reference=parts.reference, output=dict(data["output"]),
         max_cutbacks=int(data["loading"]["max_cutbacks"]), units=parts.units, petsc_options=sv.petsc_options,
     )

@@ -370,7 +370,9 @@ def exact_size(setup) -> SizeEstimate:
     # a mixed u-p body's unknowns are its displacement DOFs and one pressure per vertex: the cost model counts
     # the nodes of the displacement field, the size reported is every unknown
     nodes = getattr(model, "ndofs_u", model.ndofs) // model.dim
-    est = _cost(model.dim, model.order, nodes, model.mesh.nelements, solver, exact=True)
+    parts = getattr(model, "bodies", [model])  # [[body]]: several bodies, one system
+    est = _cost(model.dim, max(b.order for b in parts), nodes, sum(b.mesh.nelements for b in parts), solver,
+                exact=True)
     return _finite_cost(dataclasses.replace(est, key=key, value=value, ndofs=int(model.ndofs)), setup.data)
 
 
@@ -677,6 +679,8 @@ def _tangential_first_step_issues(setup) -> list[Issue]:
 
 def setup_issues(setup) -> list[Issue]:
     """Issues of a built problem: rigidity on the solver's path, ramped support conflicts, number ranges."""
+    if hasattr(setup.problem.model, "bodies"):  # [[body]]: the checks against a rigid obstacle do not apply
+        return _ramped_support_issues(setup)
     issues = _range_issues(setup)
     if issues:  # the rigidity test would report the overflow as a free motion
         return issues

@@ -143,7 +143,7 @@ def _build_schema() -> tuple[Table, ...]:
             O("name", "str", "contact", "Label in the summary, the plots and the report."),
             O("description", "str", "", "Free text copied into report.md."),
         )),
-        Table("mesh", "The body: a built-in generator or a Gmsh file.", (
+        Table("mesh", "The body: a built-in generator or a Gmsh file.", mesh_options := (
             O("generator", "str", "rectangle", "`rectangle` (2D triangles), `box` (3D tetrahedra) or `file`.",
               choices=("rectangle", "box", "file")),
             O("bounds", "floats", None, "Generators: `[x0, x1, y0, y1]` (rectangle) or `[x0, x1, y0, y1, z0, z1]` "
@@ -163,7 +163,7 @@ def _build_schema() -> tuple[Table, ...]:
               "`half-space` a plane normal to the axis or a cylinder). 2D only.", choices=_geometries()),
         ), required=True),
         Table("mesh.refine", "Optional grading of a generated mesh toward a point of its top face "
-              "(the contact zone).", (
+              "(the contact zone).", refine_options := (
             O("center", "floats", REQUIRED, "Point on the top face (`[x, y]` or `[x, y, z]`).", lengths=(2, 3)),
             O("h_min", "float", REQUIRED, "Element size in the fine zone.", low=0, low_open=True),
             O("width", "float", REQUIRED, "Half-width of the fine zone along the face.", low=0),
@@ -173,7 +173,7 @@ def _build_schema() -> tuple[Table, ...]:
               low=0, low_open=True),
         )),
         Table("material", "Isotropic elastic material of the whole body: linear elastic, or hyperelastic "
-              "(`model`) for finite kinematics.", (
+              "(`model`) for finite kinematics.", material_options := (
             O("E", "float", None, "Young's modulus (stress units, e.g. MPa). Required, except for a law whose "
               "parameters fix the shear modulus mu0 (`mooney-rivlin`, `yeoh`, `ogden`: default E = 2 mu0 (1 + nu), "
               "and a given E must equal it) and for `energy` (E and nu follow from it).", low=0, low_open=True),
@@ -207,6 +207,17 @@ def _build_schema() -> tuple[Table, ...]:
               low_open=True, high_open=True),
             O("plane", "str", "strain", "2D assumption of the region.", choices=("strain", "stress")),
         ), array=True),
+        Table("body", "One of several deformable bodies (one table per body; replaces `[mesh]`, `[material]` "
+              "and `[obstacle]`): the bodies are named `body0`, `body1`, ... in the order of the tables, and "
+              "their boundaries `\"body0/top\"`, `\"body1/bottom\"`, ... in `[[support]]`, `[[load]]` and "
+              "`[contact]` (a boundary name that only one body has may be given bare). `[contact] boundary` "
+              "(the slave) and `[contact] master` name the pair's two boundaries. Two-body contact is mortar "
+              "(dual multipliers), small deformation, frictionless, 2D, linear elastic bodies.", (), array=True),
+        Table("body.mesh", "The body's mesh: the keys of `[mesh]`.", mesh_options),
+        Table("body.mesh.refine", "Grading of the body's generated mesh: the keys of `[mesh.refine]`.",
+              refine_options),
+        Table("body.material", "The body's linear elastic material: `E`, `nu`, `plane` of `[material]`.",
+              material_options[:3]),
         Table("support", "Prescribed displacement on a named boundary (one table per support).", (
             O("boundary", "str", REQUIRED, "Boundary name of the mesh."),
             O("components", "ints", None, "Displacement components to prescribe, 0 = x, 1 = y, 2 = z "
@@ -253,7 +264,10 @@ def _build_schema() -> tuple[Table, ...]:
             O("type", "str", REQUIRED, "Registered obstacle name, as `[obstacle] type`."),
         ), array=True, open=True),
         Table("contact", "Contact boundary and friction.", (
-            O("boundary", "str", REQUIRED, "Boundary of the body that may touch the obstacle."),
+            O("boundary", "str", REQUIRED, "Boundary of the body that may touch the obstacle (with `[[body]]`: "
+              "the slave boundary of the two-body pair, e.g. `\"body1/bottom\"`)."),
+            O("master", "str", "", "With `[[body]]`: the master boundary of the pair, a boundary of another "
+              "body (or another boundary of the same body), e.g. `\"body0/top\"`; it replaces `[obstacle]`."),
             O("friction", "float", 0.0, "Coulomb coefficient mu (0: frictionless; > 0 uses the frictional "
               "solver over the load steps).", low=0),
             _kinematics_option(),
