@@ -1,0 +1,100 @@
+"""Issue 23 (problem files and outputs): a problem file with two ``[[body]]`` tables and a two-body pair.
+
+``tests/data/two_cylinders/two_cylinders.toml`` is the problem of ``examples/two_cylinders.py``,
+:func:`alcontact.problems.two_body.hertz_cylinders` at level 1, written as a problem file (its two
+meshes are those of the Python API, written as Gmsh files by ``make_meshes.py``). References:
+the Python API's solution of the same problem (1e-10 relative: the same equations, only the node
+numbering of the Gmsh files differs), and Hertz with the effective modulus and radius (Johnson,
+Contact Mechanics, eq. 4.45-4.47) within 2 %, the tolerance of
+``tests/verification/test_two_body_mortar.py``. ``alcontact check`` names the key of each
+bad pair, and bodies of different dimensions.
+"""
+
+from __future__ import annotations
+
+import shutil
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from alcontact.contact import solve
+from alcontact.errors import ConfigError
+from alcontact.io.config import load_problem_text
+from alcontact.io.preflight import check_problem
+from alcontact.problems.two_body import hertz_cylinders
+
+DATA = Path(__file__).resolve().parents[1] / "data" / "two_cylinders"
+sys.path.insert(0, str(DATA))
+from make_meshes import LEVEL, write  # noqa: E402
+
+TOML = (DATA / "two_cylinders.toml").read_text(encoding="utf-8")
+
+
+@pytest.fixture(scope="module")
+def folder(tmp_path_factory):
+    """The problem file and its two meshes in a fresh folder."""
+    out = tmp_path_factory.mktemp("two_cylinders")
+    lower, upper = hertz_cylinders(LEVEL).model.bodies
+    write(lower, out / "lower.msh")
+    write(upper, out / "upper.msh")
+    (out / "two_cylinders.toml").write_text(TOML, encoding="utf-8")
+    return out
+
+
+def test_two_cylinders_file_matches_python_api_and_hertz(folder):
+    setup = check_problem(folder / "two_cylinders.toml").setup
+    model = setup.problem.model
+    assert len(model.bodies) == 2 and [b.material.E for b in model.bodies] == [200e3, 70e3]
+    sol = solve(setup.problem, setup.algorithm)
+    api = hertz_cylinders(LEVEL)
+    ref_sol = solve(api, "ssn")
+    assert sol.result.success and ref_sol.result.success
+    assert abs(sol.normal_force - ref_sol.normal_force) <= 1e-10 * abs(ref_sol.normal_force)
+    assert abs(sol.peak_pressure_nodal_max - ref_sol.peak_pressure_nodal_max) <= 1e-10 * ref_sol.peak_pressure_nodal_max
+    a_file = sol.contact_half_width(axis=0, center=(0.0, 0.0))
+    assert abs(a_file - ref_sol.contact_half_width(axis=0, center=(0.0, 0.0))) <= 1e-10 * a_file
+    # the displacement of every node, matched by position (the Gmsh files keep the node order of the meshes)
+    for bf, ba, uf, ua in zip(model.bodies, api.model.bodies, model.split(sol.u), api.model.split(ref_sol.u)):
+        assert np.allclose(bf.mesh.p, ba.mesh.p, rtol=0, atol=1e-14)
+        assert np.max(np.abs(uf - ua)) <= 1e-10 * np.max(np.abs(ua))
+    # Hertz with E* of both bodies (the file's [reference]: radius 10 = 1 / (1/20 + 1/20))
+    ref = setup.reference
+    assert ref.e_star == pytest.approx(api.reference.e_star, rel=1e-14)
+    P = ref.load(sol.normal_force)
+    assert abs(a_file / ref.half_width(P) - 1) <= 0.02
+    assert abs(sol.peak_pressure_nodal_max / ref.peak_pressure(P) - 1) <= 0.02
+    assert sol.extra["contact_force_balance"] <= 1e-10
+
+
+def _issues(text: str, folder: Path) -> dict[str, str]:
+    with pytest.raises(ConfigError) as exc:
+        load_problem_text(text, base_dir=folder)
+    return {i.path: i.message for i in exc.value.issues}
+
+
+@pytest.mark.parametrize("key, old, new, says", [
+    ("contact.master", 'master = "body0/top"', 'master = "body0/topp"', "Did you mean 'body0/top'"),
+    ("contact.master", 'master = "body0/top"', 'master = "body2/top"', "there is no body 'body2'"),
+    ("contact.boundary", 'boundary = "body1/bottom"  # the slave', 'boundary = "body1/bot"', "no body has"),
+    ("contact.master", 'master = "body0/top"', 'master = "body1/bottom"', "the same boundary as the slave"),
+    ("contact.master", 'master = "body0/top"\n', '\n', "missing"),
+    ("support[1].boundary", 'boundary = "body0/bottom"', 'boundary = "body0/botom"', "body0/bottom"),
+    ("body[2].material.nu", "nu = 0.35", "nu = 0.7", "0.7"),
+    ("obstacle", "[contact]", '[obstacle]\ntype = "circle"\ncenter = [0.0, 0.0]\nradius = 1.0\n\n[contact]',
+     "given together with [[body]]"),
+])
+def test_two_body_pair_errors_name_the_key(folder, key, old, new, says):
+    assert old in TOML
+    issues = _issues(TOML.replace(old, new, 1), folder)
+    assert key in issues, issues
+    assert says in issues[key], issues[key]
+
+
+def test_bodies_of_different_dimensions_are_refused(folder):
+    text = TOML.replace('mesh = { generator = "file", file = "lower.msh" }',
+                        'mesh = { generator = "box", bounds = [0, 1, 0, 1, -1, 0], cells = [1, 1, 1] }')
+    issues = _issues(text, folder)
+    assert "body" in issues and "different dimensions" in issues["body"], issues
+    assert "body0: 3D" in issues["body"] and "body1: 2D" in issues["body"]
