@@ -98,3 +98,42 @@ def test_bodies_of_different_dimensions_are_refused(folder):
     issues = _issues(text, folder)
     assert "body" in issues and "different dimensions" in issues["body"], issues
     assert "body0: 3D" in issues["body"] and "body1: 2D" in issues["body"]
+
+
+PER_BODY = """
+[problem]
+name = "two-cylinders, supports per body"
+
+[[body]]
+mesh = { generator = "file", file = "lower.msh" }
+material = { E = 200e3, nu = 0.3 }
+support = [{ boundary = "bottom" }, { boundary = "left", components = [0] }]
+
+[[body]]
+mesh = { generator = "file", file = "upper.msh" }
+material = { E = 70e3, nu = 0.35 }
+support = [{ boundary = "left", components = [0] },
+           { boundary = "top", components = [1], value = -0.1894439727056968 }]
+
+[contact]
+boundary = "body1/bottom"
+master = "body0/top"
+
+[solver]
+algorithm = "ssn"
+"""
+
+
+def test_supports_given_per_body_are_the_same_problem(folder):
+    """``[[body.support]]`` names its body's boundaries bare: the same supports as ``"body<k>/<name>"``."""
+    a = load_problem_text(PER_BODY, base_dir=folder)
+    b = check_problem(folder / "two_cylinders.toml").setup
+    assert sorted(s.boundary for s in a.problem.supports) == sorted(s.boundary for s in b.problem.supports)
+    sa, sb = solve(a.problem, "ssn"), solve(b.problem, "ssn")
+    assert sa.normal_force == pytest.approx(sb.normal_force, rel=1e-12)
+    issues = _issues(PER_BODY.replace('{ boundary = "left", components = [0] }]',
+                                      '{ boundary = "lft", components = [0] }]'), folder)
+    assert "body[1].support[2].boundary" in issues and "Did you mean 'left'" in issues["body[1].support[2].boundary"]
+    issues = _issues(PER_BODY.replace('algorithm = "ssn"', 'algorithm = "ssn"\n\n[[body.load]]\ntype = "body-force"\n'
+                                                           'vector = [0.0, -1.0]'), folder)
+    assert "body[2].load[1].type" in issues, issues

@@ -18,6 +18,7 @@ section               builder                                     builds
 ``[solver]``          :func:`build_solver`                        algorithm, penalty, options
 ``[units]``           :func:`build_units`                         the unit labels
 ``[reference]``       :func:`build_reference`                     Hertz / Cattaneo-Mindlin
+``[[body]]``          :func:`build_bodies`                        several bodies, their pair
 (all)                 :func:`build_model`, :func:`build_problem`  model, problem, history
 ====================  ==========================================  =========================
 
@@ -1047,6 +1048,31 @@ def _one_body(i: int, bd: dict, base: Path, issues: list[Issue]):
     return model, dim
 
 
+def _qualified(item, k: int):
+    """A support or load of body ``k`` (or its :class:`~alcontact.contact.LoadCase`) on ``"body<k>/<boundary>"``."""
+    if hasattr(item, "item"):  # a ramped one
+        return dataclasses.replace(item, item=_qualified(item.item, k))
+    return dataclasses.replace(item, boundary=f"body{k}/{item.boundary}")
+
+
+def _body_actions(i: int, bd: dict, model, dim: int, issues: list[Issue]) -> tuple[list, list, list]:
+    """``[[body.support]]`` and ``[[body.load]]`` of body ``i``: ``(supports, loads, ramped cases)`` on its
+    boundaries (built by :func:`build_supports` and :func:`build_loads`, issues keyed ``body[i].*``)."""
+    found: list[Issue] = []
+    fixed, support_cases = build_supports(bd.get("support"), model.mesh, dim, found)
+    for j, ld in enumerate(bd.get("load") or []):
+        if _ok(ld) and ld["type"] == "body-force":
+            found.append(Issue(f"load[{j + 1}].type", "= 'body-force': a body force in [[body.load]] would act "
+                                                      "on every body; give it in the top-level [[load]] (or use "
+                                                      "a traction)."))
+    loads, load_cases = build_loads([ld for ld in bd.get("load") or [] if not (_ok(ld) and ld["type"] ==
+                                                                                "body-force")],
+                                    model.mesh, dim, found)
+    issues.extend(_prefixed(found, f"body[{i + 1}]."))
+    return ([_qualified(x, i) for x in fixed], [_qualified(x, i) for x in loads],
+            [_qualified(x, i) for x in support_cases + load_cases])
+
+
 def _boundary_names(models: list) -> dict[str, tuple[int, str]]:
     """Every name a boundary of the bodies may be given by: ``"body<k>/<name>"``, and the bare name where
     only one body has it (as :class:`alcontact.fem.MultiBody` resolves them)."""
@@ -1162,6 +1188,9 @@ def build_bodies(data: dict, base: Path, issues: list[Issue]):
     s.fixed, support_cases = build_supports(data.get("support"), where, s.dim, issues)
     s.loads, load_cases = build_loads(data.get("load"), where, s.dim, issues)
     s.cases = support_cases + load_cases
+    for k, (bd, m) in enumerate(zip(data["body"], models)):
+        more = _body_actions(k, bd, m, s.dim, issues)
+        s.fixed, s.loads, s.cases = s.fixed + more[0], s.loads + more[1], s.cases + more[2]
     s.times, s.friction_ramp = build_loading(data.get("loading"), issues)
     s.solver = build_solver(data.get("solver"), 0.0, "small", issues)
     s.units = build_units(data.get("units"), issues)

@@ -207,18 +207,7 @@ def _build_schema() -> tuple[Table, ...]:
               low_open=True, high_open=True),
             O("plane", "str", "strain", "2D assumption of the region.", choices=("strain", "stress")),
         ), array=True),
-        Table("body", "One of several deformable bodies (one table per body; replaces `[mesh]`, `[material]` "
-              "and `[obstacle]`): the bodies are named `body0`, `body1`, ... in the order of the tables, and "
-              "their boundaries `\"body0/top\"`, `\"body1/bottom\"`, ... in `[[support]]`, `[[load]]` and "
-              "`[contact]` (a boundary name that only one body has may be given bare). `[contact] boundary` "
-              "(the slave) and `[contact] master` name the pair's two boundaries. Two-body contact is mortar "
-              "(dual multipliers), small deformation, frictionless, 2D, linear elastic bodies.", (), array=True),
-        Table("body.mesh", "The body's mesh: the keys of `[mesh]`.", mesh_options),
-        Table("body.mesh.refine", "Grading of the body's generated mesh: the keys of `[mesh.refine]`.",
-              refine_options),
-        Table("body.material", "The body's linear elastic material: `E`, `nu`, `plane` of `[material]`.",
-              material_options[:3]),
-        Table("support", "Prescribed displacement on a named boundary (one table per support).", (
+        Table("support", "Prescribed displacement on a named boundary (one table per support).", support_options := (
             O("boundary", "str", REQUIRED, "Boundary name of the mesh."),
             O("components", "ints", None, "Displacement components to prescribe, 0 = x, 1 = y, 2 = z "
               "(default: all).", low=0, high=2),
@@ -228,7 +217,7 @@ def _build_schema() -> tuple[Table, ...]:
             O("tangential", "bool", False, "Friction: marks a tangential (shearing) action, applied only once "
               "contact exists."),
         ), array=True),
-        Table("load", "Surface or body load (one table per load).", (
+        Table("load", "Surface or body load (one table per load).", load_options := (
             O("type", "str", REQUIRED, "`traction` (vector per area), `pressure` (normal, positive into the "
               "body) or `body-force` (vector per volume).", choices=("traction", "pressure", "body-force")),
             O("boundary", "str", "", "Boundary name (traction, pressure)."),
@@ -238,6 +227,22 @@ def _build_schema() -> tuple[Table, ...]:
             O("ramp", "knots", None, f"Amplitude over pseudo-time: {knots} (default: full value at every step)."),
             O("tangential", "bool", False, "Friction: marks a tangential (shearing) load."),
         ), array=True),
+        Table("body", "One of several deformable bodies (one table per body; replaces `[mesh]`, `[material]` "
+              "and `[obstacle]`): the bodies are named `body0`, `body1`, ... in the order of the tables, and "
+              "their boundaries `\"body0/top\"`, `\"body1/bottom\"`, ... in `[[support]]`, `[[load]]` and "
+              "`[contact]` (a boundary name that only one body has may be given bare; `[[body.support]]` and "
+              "`[[body.load]]` name the body's own boundaries bare). `[contact] boundary` "
+              "(the slave) and `[contact] master` name the pair's two boundaries. Two-body contact is mortar "
+              "(dual multipliers), small deformation, frictionless, 2D, linear elastic bodies.", (), array=True),
+        Table("body.mesh", "The body's mesh: the keys of `[mesh]`.", mesh_options),
+        Table("body.mesh.refine", "Grading of the body's generated mesh: the keys of `[mesh.refine]`.",
+              refine_options),
+        Table("body.material", "The body's linear elastic material: `E`, `nu`, `plane` of `[material]`.",
+              material_options[:3]),
+        Table("body.support", "A support of the body: the keys of `[[support]]`, the boundary one of this body's "
+              "(bare name).", support_options, array=True),
+        Table("body.load", "A traction or pressure on a boundary of the body: the keys of `[[load]]` (a body force "
+              "goes in the top-level `[[load]]`, where it acts on every body).", load_options, array=True),
         Table("loading", "Load history: the pseudo-times of the load steps (supports and loads with a `ramp` "
               "are scaled by it).", (
             O("steps", "int", 1, "Number of equal load steps on (0, t_end] (ignored when `times` is given).",
