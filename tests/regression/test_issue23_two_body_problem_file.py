@@ -79,6 +79,7 @@ def _issues(text: str, folder: Path) -> dict[str, str]:
     ("contact.master", 'master = "body0/top"', 'master = "body2/top"', "there is no body 'body2'"),
     ("contact.boundary", 'boundary = "body1/bottom"  # the slave', 'boundary = "body1/bot"', "no body has"),
     ("contact.master", 'master = "body0/top"', 'master = "body1/bottom"', "the same boundary as the slave"),
+    ("contact.boundary", 'boundary = "body1/bottom"  # the slave', 'boundary = "bottom"', "ambiguous, body0 and body1"),
     ("contact.master", 'master = "body0/top"\n', '\n', "missing"),
     ("support[1].boundary", 'boundary = "body0/bottom"', 'boundary = "body0/botom"', "body0/bottom"),
     ("body[2].material.nu", "nu = 0.35", "nu = 0.7", "0.7"),

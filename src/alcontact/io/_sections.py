@@ -1095,7 +1095,11 @@ def _surface(name: str, key: str, names: dict, n: int, issues: list[Issue]) -> t
     if name in names:
         return names[name]
     m = re.match(r"^(body\d+)/", name)
-    if m and not any(k.startswith(m.group(1) + "/") for k in names):
+    owners = [k.split("/", 1)[0] for k in names if "/" in k and k.split("/", 1)[1] == name]
+    if len(owners) > 1:
+        issues.append(Issue(key, f"= {name!r}: ambiguous, {' and '.join(owners)} both have a boundary {name!r}; "
+                                 f"name the body, e.g. {owners[0] + '/' + name!r}."))
+    elif m and not any(k.startswith(m.group(1) + "/") for k in names):
         issues.append(Issue(key, f"= {name!r}: there is no body {m.group(1)!r}; the file has {n} [[body]] "
                                  f"table(s), named {_known([f'body{k}' for k in range(n)])} in order."))
     else:
