@@ -1168,8 +1168,9 @@ def build_bodies(data: dict, base: Path, issues: list[Issue]):
         return None
     dims = [d for _, d in built]
     if len({d for d in dims if d is not None}) > 1:
-        issues.append(Issue("body", f"the bodies have different dimensions ({', '.join(f'body{k}: {d}D' for k, d in enumerate(dims))}); "
-                                    "every body of a problem must be 2D (or every one 3D)."))
+        each = ", ".join(f"body{k}: {d}D" for k, d in enumerate(dims))
+        issues.append(Issue("body", f"the bodies have different dimensions ({each}); "
+                                    "every body of a problem has the same dimension, 2D (contact between bodies is 2D so far)."))
         return None
     models = [m for m, _ in built]
     if any(m is None for m in models):
