@@ -100,3 +100,10 @@ def test_problem_file_mixed_with_amg_is_refused_by_check_and_run(tmp_path):
         assert "solver.linear_solver = 'amg'" in out and "mixed u-p body" in out and "'direct'" in out, out
         assert "Traceback" not in out
     assert not (tmp_path / "out").exists() and not (tmp_path / "res").exists()  # no partial output
+
+
+def test_a_mixed_body_at_small_kinematics_is_refused_with_the_way_out():
+    """No small-deformation path has the mixed body's pressure unknowns: a clear error, not an AttributeError."""
+    base = half_cylinder(4, order=2, curved=False, nu=0.3, delta=0.2)
+    with pytest.raises(InputError, match="kinematics='finite'"):
+        dataclasses.replace(base, model=MixedHyperelastic(base.model.mesh, E=1000.0, nu=0.4999), kinematics="small")
