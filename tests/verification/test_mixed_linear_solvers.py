@@ -6,7 +6,7 @@ the pressure block is zero). Reference: the same problem on the default direct p
 
 - Every installed exact solver (``mkl-pardiso``, ``cholmod``, ``superlu``, ``direct``, ``auto``)
   gives the contact force and the displacement of the direct path to 1e-8 (relative; measured
-  <= 2e-15), and the solution reports the solver that ran.
+  <= 7e-16), and the solution reports the solver that ran.
 - An approximate solver (``amg``) is refused before any work with an ``InputError`` that names
   ``linear_solver`` and the way out (before this check, the AMG-preconditioned CG met negative
   curvature and fell back to a factorization in 5 of 6 Newton systems: a configured solver that
