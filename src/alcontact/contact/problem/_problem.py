@@ -13,6 +13,7 @@ from typing import Any, Callable, Sequence
 import numpy as np
 
 from ...errors import InputError, UnknownNameError
+from ...fem.mixed import MixedHyperelastic
 from ..masters._master import Master
 
 
@@ -508,6 +509,12 @@ class ContactProblem:
                 f"kinematics='finite' needs a geometrically nonlinear body; got {type(model).__name__} "
                 "(linear, small strains: a finite-deformation gap with it is not finite deformation). "
                 "Use a hyperelastic body (alcontact.fem.hyperelastic) or kinematics='small'."
+            )
+        if self.kinematics == "small" and isinstance(model, MixedHyperelastic):
+            raise InputError(
+                "kinematics='small' needs a body with a linear stiffness; a MixedHyperelastic (mixed u-p) body "
+                "has a nonlinear residual with its pressure unknowns and runs at finite deformation only: use "
+                "kinematics='finite' (or a LinearElasticity body for small deformation)."
             )
 
     def _validate(self) -> None:

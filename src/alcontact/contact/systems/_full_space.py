@@ -194,6 +194,7 @@ import scipy.sparse as sp
 from ... import linalg as _linalg
 from ...errors import InputError, InvertedElementError
 from ...fem.elasticity import rigid_body_modes
+from ...fem.mixed import MixedHyperelastic
 from ...linalg import SequenceSolver
 from ...status import Status
 from ..algorithms._subproblem import (LineSearch, NewtonOutcome, NewtonResult, NewtonSettings, NewtonSystem,
@@ -1456,9 +1457,22 @@ def finite_solver(linear_solver: str, entry, model, **options):
     (:class:`~alcontact.contact.systems._full_space.NewtonSolver`); an approximate one preconditions CG with an
     inexact-Newton forcing term (:class:`AMGNewtonSolver`) where the entry has a Krylov path, else
     GMRES around its factor of each matrix (:class:`~alcontact.linalg.SequenceSolver`).
+
+    A mixed u-p body (:class:`~alcontact.fem.MixedHyperelastic`) has saddle-point Newton matrices
+    (symmetric indefinite by construction, its pressure block ``-M_p / kappa <= 0``): CG
+    preconditioned by AMG cannot solve them (it meets negative curvature and would fall back to a
+    factorization in almost every Newton step), so ``"auto"`` chooses a direct solver for it and an
+    approximate solver named by ``linear_solver`` is refused with an :class:`~alcontact.errors.InputError`.
     """
+    saddle = isinstance(model, MixedHyperelastic)
     solver = _linalg.select_solver(linear_solver, dim=model.dim, ndofs=model.ndofs, matrix_type="symmetric-indefinite",
-                                   allow_iterative="amg" in entry.linear_solvers)
+                                   allow_iterative="amg" in entry.linear_solvers and not saddle)
+    if saddle and not solver.exact:
+        raise InputError(
+            f"contact option linear_solver = {linear_solver!r} (an approximate solver) cannot solve the Newton "
+            "systems of a mixed u-p body (material.formulation = 'mixed'): they are saddle-point matrices "
+            "(symmetric indefinite), on which AMG-preconditioned CG fails; use linear_solver='auto', 'direct' or a "
+            "direct solver (mkl-pardiso, superlu).")
     if solver.exact or "amg" not in entry.linear_solvers:
         return lambda fc: NewtonSolver(solver.name)
     return lambda fc: AMGNewtonSolver(fc, solver=solver, **options)
