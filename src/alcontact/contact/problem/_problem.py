@@ -516,6 +516,13 @@ class ContactProblem:
                 "has a nonlinear residual with its pressure unknowns and runs at finite deformation only: use "
                 "kinematics='finite' (or a LinearElasticity body for small deformation)."
             )
+        if self.kinematics == "small" and getattr(model, "linear", True) is False:
+            # the small-deformation solvers take the body's stiffness as constant: with a hyperelastic body
+            # the returned state would fail its equilibrium check (status NOT_VERIFIED) after the whole solve
+            raise InputError(
+                f"kinematics='small' needs a body with a linear stiffness; got {type(model).__name__} (geometrically "
+                "nonlinear). Use kinematics='finite' with it, or a LinearElasticity body for small deformation."
+            )
 
     def _validate(self) -> None:
         """Values that need the mesh: boundary names, dimensions, supports."""
