@@ -10,7 +10,7 @@ follows it (``eps_n = penalty_scale E'/h``).
 import pytest
 
 from alcontact.contact import ContactOptions, FrictionOptions, solve_finite_friction
-from alcontact.contact.algorithms import algorithms
+from alcontact.contact.algorithms import Algorithm, algorithms
 from alcontact.problems.ironing import ironing, ironing_schedule
 
 
@@ -28,6 +28,11 @@ def test_each_algorithm_resolves_its_default(entry):
     expected = 10.0 if (entry.friction, entry.kinematics, entry.name) == (True, "finite", "simo-laursen") else 100.0
     assert cls().resolved(entry).penalty_scale == expected
     assert cls(penalty_scale=3.0).resolved(entry).penalty_scale == 3.0  # a given value is kept
+
+
+def test_an_entry_without_defaults_gets_100():
+    entry = Algorithm("no-defaults", lambda *a: None, "registered without defaults")
+    assert ContactOptions().resolved(entry).penalty_scale == 100.0
 
 
 def test_finite_coulomb_al_runs_with_the_default_and_a_given_value():

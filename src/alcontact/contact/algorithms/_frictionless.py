@@ -285,8 +285,9 @@ class ContactOptions:
         return check_dataclass(self, self._KIND)
 
     def resolved(self, algorithm: "Algorithm") -> "ContactOptions":
-        """These options with every automatic (``None``) field of ``algorithm.defaults`` filled in."""
-        fill = {k: v for k, v in algorithm.defaults.items() if getattr(self, k) is None}
+        """These options with every automatic (``None``) field of ``algorithm.defaults`` (over
+        :data:`BASE_DEFAULTS`, which an entry without defaults gets) filled in."""
+        fill = {k: v for k, v in {**BASE_DEFAULTS, **algorithm.defaults}.items() if getattr(self, k) is None}
         return dataclasses.replace(self, **fill) if fill else self
 
 
@@ -824,9 +825,12 @@ def run_ssn(dc: ContactSystem, opts, eps0, penalty_name=None) -> _Run:
 
 # --------------------------------------------------------------------------- the algorithm registry
 #: Defaults of the automatic Newton options of the frictionless algorithms (:meth:`ContactOptions.resolved`).
-FRICTIONLESS_DEFAULTS = {"newton_tol": 1e-12, "maxiter_newton": 60, "penalty_scale": 100.0}
+FRICTIONLESS_DEFAULTS = {"newton_tol": 1e-12, "maxiter_newton": 60}
 #: Defaults of the automatic Newton options of the frictional algorithms.
-FRICTION_DEFAULTS = {"newton_tol": 1e-11, "maxiter_newton": 200, "penalty_scale": 100.0}
+FRICTION_DEFAULTS = {"newton_tol": 1e-11, "maxiter_newton": 200}
+#: Defaults of every entry, under its own ``defaults`` (:meth:`ContactOptions.resolved`): the automatic
+#: penalty stiffness is 100 E'/h unless the entry says otherwise (a registered entry without defaults included).
+BASE_DEFAULTS = {"penalty_scale": 100.0}
 #: Linear-solver paths an entry may declare: ``direct`` (sparse factorization; at small deformation the
 #: problem is condensed on the contact points), ``amg`` (factorization-free, PyAMG + CG), ``factor-gmres`` (the
 #: factors of an approximate solver precondition GMRES on each Newton system, :class:`~alcontact.linalg.SequenceSolver`).
