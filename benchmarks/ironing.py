@@ -61,8 +61,10 @@ VARIANTS = {
 #: Coulomb friction, mu = MU: name -> (algorithm, penalty, options) of contact.solve(..., friction=MU)
 FRICTION_VARIANTS = {
     "ssn-coulomb": ("ssn", None, {}),
-    # Algorithm 6.2 with its defaults (second-order multiplier update, penalty_scale 100)
+    # Algorithm 6.2 with its defaults (second-order multiplier update, penalty_scale 10 at finite deformation)
     "simo-laursen-coulomb": ("simo-laursen", None, {}),
+    # the same with the stiff penalty every other algorithm defaults to (Algorithm 6.2's default before issue 18)
+    "simo-laursen-coulomb-p100": ("simo-laursen", None, {"penalty_scale": 100.0}),
     # the same with the first-order updates (6.2b)/(6.2c): the finite-deformation path before issue 18's fix
     "simo-laursen-coulomb-first-order": ("simo-laursen", None, {"multiplier_update": "first-order"}),
     # the same with a ten times softer penalty (the fixed point does not depend on it)

@@ -204,6 +204,8 @@ def summarize(problem, solution, *, problem_name: str | None = None, level: int 
         "complementarity": float(res.complementarity),
         "residual": float(res.residual),
         "eps_n": float(res.eps_n),
+        # the multiplier of the automatic eps_n that ran, where the solver records it (it may be the algorithm's)
+        **({"penalty_scale": solution.extra["penalty_scale"]} if "penalty_scale" in solution.extra else {}),
         "factorizations": int(res.factorizations),
         "linear_solver": solution.extra.get("linear_solver"),
         "linear_solver_strategy": solution.extra.get("strategy"),

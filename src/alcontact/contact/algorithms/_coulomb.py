@@ -808,7 +808,8 @@ class _FiniteALCtx:
       ``radius``); no tangent predictor. Before issue 18 this path took first-order updates
       only: on the 2D ironing case (h = 0.1, mu = 0.3, 40 sliding steps of 0.05 R) 11-13 outer
       iterations and 33.4 Newton per sliding step; with it 3 outer iterations and 12.1 Newton
-      (6.25 with ``penalty_scale`` 10, ``docs/benchmarks/ironing_friction_2d.md``). Algorithm
+      with ``penalty_scale`` 100, 6.25 with 10, the default here since (:data:`FINITE_AL_DEFAULTS`,
+      ``docs/benchmarks/ironing.md``). Algorithm
       6.4 with a barrier-type penalty keeps the first-order updates (:attr:`second_order`);
     - the family-P predictor is a full Simo-Laursen outer iteration (:attr:`full_predictor`):
       both multipliers are taken from it and it is counted (its tangential traction, in the
@@ -1046,7 +1047,7 @@ def _ssn_parameter(dc) -> float:
 
     The solution does not depend on :math:`c` (the complementarity functions vanish at the same
     points for every :math:`c > 0`), its Newton path does. With the AL penalty
-    :math:`\varepsilon_N` (``penalty_scale`` = 100 times :math:`E'/h`) a sliding step at the
+    :math:`\varepsilon_N` (``penalty_scale`` = 100 times :math:`E'/h`, the algorithms' default) a sliding step at the
     stick-to-slip transition of the 2D ironing problem (h = 0.1, :math:`\mu` = 0.3) took 41-65
     Newton iterations and a cut-back: the first full Newton step opened every contact point
     (:math:`\lambda_N + c\,g < 0` for a small penetration error times a large :math:`c`) and the
@@ -1190,9 +1191,18 @@ def _step_ssn_finite(ctx: _FiniteALCtx, penalty_name: str = "none") -> _StepOut:
         dc.coulomb = saved
 
 
+#: Defaults of Algorithm 6.2 at finite deformation: a ten times softer automatic penalty
+#: (``penalty_scale`` 10). With the default 100 the first subproblem of each sliding step takes
+#: most of the step's Newton iterations (12.1 per sliding step on the 2D ironing case, 8.9 in
+#: 3D; 6.3 and 7.3 with 10, ``docs/benchmarks/ironing_friction_2d.md``); the converged step does
+#: not depend on the penalty (the fixed point of (6.2b)/(6.2c) is the discrete Coulomb problem).
+FINITE_AL_DEFAULTS = {**FRICTION_DEFAULTS, "penalty_scale": 10.0}
+
 register_family((
     ("simo-laursen", _step_al, "rockafellar", "Algorithm 6.2 at finite deformation: AL, Macaulay normal law (6.52), "
                                               "return mapping onto the Coulomb cone in the current configuration"),
+), friction=True, kinematics="finite", linear_solvers=("direct", "factor-gmres"), defaults=FINITE_AL_DEFAULTS)
+register_family((
     ("family-p", _step_al, None, "Algorithm 6.4 at finite deformation: Algorithm 6.2 with a family-P normal penalty"),
     ("ssn", _step_ssn_finite, "none",
      "reference: Alart-Curnier semi-smooth Newton on (u, lambda_N, lambda_T), exact (no penalty)"),

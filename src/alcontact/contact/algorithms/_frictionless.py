@@ -80,8 +80,12 @@ class ContactOptions:
         Penalty stiffness :math:`\\varepsilon_N` (pressure per length). ``None``:
         ``penalty_scale * E' / h`` with the contact-zone element size ``h`` and
         ``E' = E/(1-nu^2)`` (plane strain, 3D) or ``E`` (plane stress).
-    penalty_scale : float
-        Multiplier of the automatic :math:`\\varepsilon_N`.
+    penalty_scale : float or None
+        Multiplier of the automatic :math:`\\varepsilon_N`. ``None``: the algorithm's
+        default (:attr:`Algorithm.defaults`): 100, and 10 for Algorithm 6.2 with Coulomb
+        friction at finite deformation (:data:`~alcontact.contact.algorithms._coulomb.FINITE_AL_DEFAULTS`:
+        the stiff penalty costs Newton iterations in the first subproblem of every sliding
+        step; the converged solution does not depend on it).
     tol_penetration : float
         Max penetration over ``h`` (TOL1 of Algorithm 6.2, relative).
     tol_complementarity : float
@@ -205,8 +209,9 @@ class ContactOptions:
 
     eps_n: float | None = declared(
         "float", None, "Normal penalty stiffness (default: `penalty_scale` E'/h).", low=0, low_open=True)
-    penalty_scale: float = declared("float", 100.0, "Multiplier of the automatic stiffness E'/h.",
-                                    low=0, low_open=True)
+    penalty_scale: float | None = declared(
+        "float", None, "Multiplier of the automatic stiffness E'/h (default: the algorithm's, 100; 10 for "
+        "Algorithm 6.2 with friction at finite deformation).", low=0, low_open=True)
     tol_penetration: float = declared("float", 1e-8, "Stop: max penetration / h.", low=0, low_open=True)
     tol_complementarity: float = declared("float", 1e-8, "Stop: max |lambda g| / (p_max h).", low=0, low_open=True)
     tol_multiplier: float = declared("float", 1e-8, "Stop: max multiplier change / p_max.", low=0, low_open=True)
@@ -280,8 +285,9 @@ class ContactOptions:
         return check_dataclass(self, self._KIND)
 
     def resolved(self, algorithm: "Algorithm") -> "ContactOptions":
-        """These options with every automatic (``None``) field of ``algorithm.defaults`` filled in."""
-        fill = {k: v for k, v in algorithm.defaults.items() if getattr(self, k) is None}
+        """These options with every automatic (``None``) field of ``algorithm.defaults`` (over
+        :data:`BASE_DEFAULTS`, which an entry without defaults gets) filled in."""
+        fill = {k: v for k, v in {**BASE_DEFAULTS, **algorithm.defaults}.items() if getattr(self, k) is None}
         return dataclasses.replace(self, **fill) if fill else self
 
 
@@ -822,6 +828,9 @@ def run_ssn(dc: ContactSystem, opts, eps0, penalty_name=None) -> _Run:
 FRICTIONLESS_DEFAULTS = {"newton_tol": 1e-12, "maxiter_newton": 60}
 #: Defaults of the automatic Newton options of the frictional algorithms.
 FRICTION_DEFAULTS = {"newton_tol": 1e-11, "maxiter_newton": 200}
+#: Defaults of every entry, under its own ``defaults`` (:meth:`ContactOptions.resolved`): the automatic
+#: penalty stiffness is 100 E'/h unless the entry says otherwise (a registered entry without defaults included).
+BASE_DEFAULTS = {"penalty_scale": 100.0}
 #: Linear-solver paths an entry may declare: ``direct`` (sparse factorization; at small deformation the
 #: problem is condensed on the contact points), ``amg`` (factorization-free, PyAMG + CG), ``factor-gmres`` (the
 #: factors of an approximate solver precondition GMRES on each Newton system, :class:`~alcontact.linalg.SequenceSolver`).

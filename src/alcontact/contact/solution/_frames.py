@@ -170,7 +170,8 @@ def finite_friction_solution(fs, problem, history) -> ContactSolution:
                    "step_outer_iterations": int(st.outer_iterations), "slip": slip_total.copy(),
                    "slip_increment": st.slip, "state": st.states, "shear": -np.asarray(st.traction_t, dtype=float),
                    "tangential_force": np.asarray(st.tangential_force, dtype=float), "mu": float(ex["mu"]),
-                   "dissipation": float(st.dissipation), "h": h, "dofs": int(ex["dofs"])}))
+                   "dissipation": float(st.dissipation), "h": h, "dofs": int(ex["dofs"]),
+                   "penalty_scale": ex.get("penalty_scale")}))
     if not views:  # nothing converged: the undeformed start with the failure status
         z = np.zeros(m)
         result = ContactResult(status=fs.status, message=fs.message, algorithm=str(ex["algorithm"]),
@@ -185,5 +186,5 @@ def finite_friction_solution(fs, problem, history) -> ContactSolution:
             extra={"t": 0.0, "cutbacks": 0, "seconds": 0.0, "slip": np.zeros((m, d)),
                    "slip_increment": np.zeros((m, d)), "state": np.zeros(m, int), "shear": np.zeros((m, d)),
                    "tangential_force": np.zeros(d), "mu": float(ex["mu"]), "dissipation": 0.0, "h": h,
-                   "dofs": int(ex["dofs"])}))
+                   "dofs": int(ex["dofs"]), "penalty_scale": ex.get("penalty_scale")}))
     return _combine(views, fs)

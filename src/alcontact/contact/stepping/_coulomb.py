@@ -646,6 +646,8 @@ def solve_finite_friction(problem, mu: float, algorithm: str = "simo-laursen", p
         u=last["u"], steps=tuple(records), status=status, message=message, pressure=last["pressure"],
         gap=last["gap"], traction_t=last["traction_t"], normals=last["normals"],
         extra={"h": dc.h, "weights": dc.weights.copy(), "points": dc.points.copy(), "eps_n": float(eps_n),
+               # the automatic penalty's multiplier that ran (the algorithm's default or the user's; None: eps_n given)
+               "penalty_scale": None if opts.eps_n is not None else float(opts.penalty_scale),
                "eps_t": float(eps_t), "mu": float(mu), "algorithm": algorithm, "penalty": pen_name,
                "dofs": int(problem.model.ndofs), "residual_log": dc.residual_log,
                "newton_total": int(dc.newton_iterations), "linear_solves": int(dc.linear_solves),
