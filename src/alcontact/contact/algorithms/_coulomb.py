@@ -84,8 +84,9 @@ from ..laws._stiffness import penalty_stiffness
 from ..solution._solution import ContactStatus
 from ..systems._condensed import FrictionalContact
 from ..systems._full_space import _FRICTION_SSN_SETTINGS, FiniteFrictionContact, _Local
-from ._frictionless import (DEFAULT_PENALTY, FRICTION_DEFAULTS, ContactOptions, _first_push, algorithm_docs,
-                            algorithm_names, register_family)
+from ._frictionless import (DEFAULT_PENALTY, FRICTION_DEFAULTS, ContactOptions, algorithm_docs, algorithm_names,
+                            register_family)
+from ._frictionless import _inside_domain as _frictionless_start
 from ._subproblem import (LineSearch, NewtonResult, NewtonSettings, NewtonSystem, _Point, _PointSystem,
                           inner_failure, newton)
 
@@ -888,27 +889,13 @@ class _FiniteALCtx:
     def inside_domain(self, law, lamN, x) -> np.ndarray:
         """Start for barrier-type penalties: contact forces scaled up until every gap is inside ``g < eta b``.
 
-        The barrier start of the frictionless finite-deformation solver
-        (:func:`~alcontact.contact.algorithms._frictionless.run_al`): the forces are scaled to first order
-        (:meth:`~alcontact.contact.systems._full_space.FiniteContact.scale_forces`), first by the scale that
-        just closes the penetrations (:func:`~alcontact.contact.algorithms._frictionless._first_push`), doubled
-        while the start is still outside; ``x`` unchanged when it is inside or no force can be scaled.
+        The barrier start of the frictionless finite-deformation solver, the same function
+        (:func:`~alcontact.contact.algorithms._frictionless._inside_domain`): the forces are scaled to first
+        order (:meth:`~alcontact.contact.systems._full_space.FiniteContact.scale_forces`), first by the scale
+        that just closes the penetrations, doubled while the start is still outside; ``x`` unchanged when it
+        is inside or no force can be scaled.
         """
-        dc = self.fc
-        bound = law.gap_bound(lamN)
-        g = dc.gaps(x)
-        if not np.any(g >= 0.99 * bound):
-            return x
-        doubled = dc.scale_forces(x, 2.0)
-        if np.array_equal(doubled, x):  # no contact force to scale up
-            return x
-        scale = _first_push(g, dc.gaps(doubled), bound)
-        while scale < 1e6:
-            trial = dc.scale_forces(x, 1.0 + scale)
-            if not np.any(dc.gaps(trial) >= 0.99 * bound):
-                return trial
-            scale *= 2
-        return x
+        return _frictionless_start(self.fc, x, law.gap_bound(lamN))
 
     def sensitivity(self, law, lamN, lamT, state, coupled: bool = False):
         r"""``(M, None, Z)``: :math:`M = I - dt/d\lambda` of the multiplier map at the subproblem's solution ``state``
