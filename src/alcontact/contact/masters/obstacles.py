@@ -148,6 +148,13 @@ def _unit(value: Any, name: str, dims: tuple[int, ...] = (2, 3)) -> FloatArray:
     return _readonly(scaled / float(np.linalg.norm(scaled)))
 
 
+def _flag(value: Any, name: str) -> bool:
+    """``value`` as a bool; an :class:`InputError` naming ``name`` for anything but true or false."""
+    if not isinstance(value, (bool, np.bool_)):
+        raise InputError(f"{name} must be true or false, got {value!r}")
+    return bool(value)
+
+
 def _positive(value: Any, name: str) -> float:
     if isinstance(value, (bool, np.bool_)):
         raise InputError(f"{name} = {show(value)}: must be a positive number, not a bool")
@@ -378,9 +385,7 @@ class _Ball(_ObstacleBase):
     def __post_init__(self) -> None:
         object.__setattr__(self, "center", _vector(self.center, "center", self._dims))
         object.__setattr__(self, "radius", _positive(self.radius, "radius"))
-        if not isinstance(self.inside, (bool, np.bool_)):
-            raise InputError(f"inside must be true or false, got {self.inside!r}")
-        object.__setattr__(self, "inside", bool(self.inside))
+        object.__setattr__(self, "inside", _flag(self.inside, "inside"))
 
     @property
     def dim(self) -> int:
@@ -494,9 +499,7 @@ class Cylinder(_ObstacleBase):
         object.__setattr__(self, "center", _vector(self.center, "center", (3,)))
         object.__setattr__(self, "axis", _unit(self.axis, "axis", (3,)))
         object.__setattr__(self, "radius", _positive(self.radius, "radius"))
-        if not isinstance(self.inside, (bool, np.bool_)):
-            raise InputError(f"inside must be true or false, got {self.inside!r}")
-        object.__setattr__(self, "inside", bool(self.inside))
+        object.__setattr__(self, "inside", _flag(self.inside, "inside"))
 
     @property
     def dim(self) -> int:

@@ -264,6 +264,18 @@ def _minimize_on(f, lo: float, hi: float, tol: float) -> float:
     return float(res.x) if res.fun <= vals[k] else float(grid[k])
 
 
+def _loaded_extent(r: np.ndarray, p: np.ndarray):
+    """``(loaded, r_out, trivial)``: the points with a pressure, the largest radius among them, and the fit
+    when there is nothing to fit (no loaded point: zeros; all at r = 0: the peak only), else ``None``."""
+    loaded = p > 0
+    if not np.any(loaded):
+        return loaded, 0.0, HertzFit(0.0, 0.0, 0.0, 0)
+    r_out = float(r[loaded].max())
+    if r_out <= 0.0:
+        return loaded, r_out, HertzFit(float(p.max()), 0.0, 0.0, int(loaded.sum()))
+    return loaded, r_out, None
+
+
 def fit_hertz(r, p, w) -> HertzFit:
     r"""Fit :math:`p(r) = p_0\sqrt{1 - r^2/a^2}` to pressures ``p`` at radii ``r``.
 
@@ -282,12 +294,9 @@ def fit_hertz(r, p, w) -> HertzFit:
     r = np.asarray(r, dtype=float)
     p = np.asarray(p, dtype=float)
     w = np.asarray(w, dtype=float)
-    loaded = p > 0
-    if not np.any(loaded):
-        return HertzFit(0.0, 0.0, 0.0, 0)
-    r_out = float(r[loaded].max())
-    if r_out <= 0.0:
-        return HertzFit(float(p.max()), 0.0, 0.0, int(loaded.sum()))
+    _, r_out, trivial = _loaded_extent(r, p)
+    if trivial is not None:
+        return trivial
     use = r <= 2.0 * r_out
     r, p, w = r[use], np.maximum(p[use], 0.0), w[use]
     # a lies between the outermost loaded point's inner neighbour and twice its radius
@@ -346,12 +355,9 @@ def fit_hertz_field(r_q, dx, v, r_nodes, p_nodes, *, amplitude: str = "free") ->
     r_q, dx, v = (np.asarray(x, dtype=float) for x in (r_q, dx, v))
     r_nodes = np.asarray(r_nodes, dtype=float)
     p_nodes = np.asarray(p_nodes, dtype=float)
-    loaded = p_nodes > 0
-    if not np.any(loaded):
-        return HertzFit(0.0, 0.0, 0.0, 0)
-    r_out = float(r_nodes[loaded].max())
-    if r_out <= 0.0:
-        return HertzFit(float(p_nodes.max()), 0.0, 0.0, int(loaded.sum()))
+    loaded, r_out, trivial = _loaded_extent(r_nodes, p_nodes)
+    if trivial is not None:
+        return trivial
     inner = r_nodes[loaded & (r_nodes < r_out)]
     lo = 0.5 * float(inner.max()) if inner.size else 0.5 * r_out
     v2 = float(np.sum(dx * v * v))
