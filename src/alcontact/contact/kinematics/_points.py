@@ -27,7 +27,9 @@ import numpy as np
 
 from ...errors import InputError
 from ._gap import LinearizedGap
+from ..masters._rigid_body import RigidBody
 from ._mortar import MortarKinematics, mortar_gap
+from ._rigid_body import rigid_body_gap
 
 
 logger = logging.getLogger(__name__)
@@ -61,7 +63,11 @@ def mortar_of(problem):
     if problem.kinematics != "small":
         raise InputError("contact between two bodies is available at small deformation (kinematics='small'); "
                          "finite deformation is not supported yet.")
-    mg = mortar_gap(problem.model, pair.slave.body, pair.slave.name, pair.master)
+    if isinstance(pair.master, RigidBody):  # a rigid body whose pose is unknown (kinematics._rigid_body)
+        h = _element_size(pair.slave.body, pair.slave.name, pair.master)
+        mg = rigid_body_gap(problem.model, pair.slave.body, pair.slave.name, pair.master, h)
+    else:
+        mg = mortar_gap(problem.model, pair.slave.body, pair.slave.name, pair.master)
     where = f"contact pair {problem.contact_boundary!r} / {pair.master.describe()}"
     if not np.any(mg.covered):
         logger.warning("%s: no slave node has a master segment within the search distance, so the pair cannot "
@@ -186,13 +192,15 @@ class ContactPoints:
     def force_points(self, nodal: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         r"""``(dofs, forces)``, each ``(k, d)``: the contact force on the bodies of the normal nodal forces
         ``nodal`` (:math:`r = w\circ\lambda`), per node it acts on: :math:`r_i \nu_i` on the contact points
-        against a rigid master; on the slave and master nodes of a mortar pair (:math:`-B^T r`)."""
+        against a rigid master; with a master that moves with the unknowns (:math:`-B^T r`), on every DOF
+        of the gap operator ``B`` (slave and master nodes of a mortar pair, the rigid body's translation and
+        rotation DOFs), then ``(n,)`` each."""
         nodal = np.asarray(nodal, dtype=float)
         if self.mortar is None:
             return self.dofs, nodal[:, None] * self.normals
         fc = self.mortar.contact_force(nodal)
-        nodes = np.unique(np.vstack([self.dofs, self.mortar.master_dofs]), axis=0)
-        return nodes, fc[nodes]
+        cols = np.unique(self.mortar.B.indices).astype(np.int64)
+        return cols, fc[cols]
 
     def _setup_candidates(self, u_free: np.ndarray, margin: float) -> None:
         self.g_free = self.all_gaps(u_free)
