@@ -370,7 +370,7 @@ def exact_size(setup) -> SizeEstimate:
     # a mixed u-p body's unknowns are its displacement DOFs and one pressure per vertex: the cost model counts
     # the nodes of the displacement field, the size reported is every unknown
     nodes = getattr(model, "ndofs_u", model.ndofs) // model.dim
-    parts = getattr(model, "bodies", [model])  # [[body]]: several bodies, one system
+    parts = [b for b in getattr(model, "bodies", [model]) if b.mesh is not None]  # several bodies (a rigid one: none)
     est = _cost(model.dim, max(b.order for b in parts), nodes, sum(b.mesh.nelements for b in parts), solver,
                 exact=True)
     return _finite_cost(dataclasses.replace(est, key=key, value=value, ndofs=int(model.ndofs)), setup.data)

@@ -216,6 +216,8 @@ def _bodies_point_data(solution, deformed):
     points, conns, fields, index = [], [], [], []
     cell_type = None
     for i, (body, u) in enumerate(zip(model.bodies, model.split(solution.u))):
+        if body.mesh is None:  # a rigid body: its pose is in summary.json and steps.csv, it has no grid
+            continue
         if i == slave:
             view = SimpleNamespace(problem=SimpleNamespace(model=body, contact_boundary=local, kinematics=kinematics,
                                                            slave_nodes=lambda b=body, n=local: b.node_dofs(n)),

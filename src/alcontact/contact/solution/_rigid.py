@@ -47,7 +47,7 @@ def rigid_body_results(model, u: np.ndarray, contact_force: np.ndarray, load: np
         sl = slice(int(off), int(off) + body.ndofs)
         q, fc, f = np.asarray(u[sl], float), np.asarray(contact_force[sl], float), np.asarray(load[sl], float)
         held = np.array([int(off) + k in fixed for k in range(body.ndofs)])
-        reaction = np.where(held, -(fc + f), 0.0)
+        reaction = np.where(held, -(fc + f), 0.0) + 0.0  # (no negative zeros in the files)
         d = body.dim
         out[name] = {
             "reference": body.reference.tolist(),
@@ -60,23 +60,3 @@ def rigid_body_results(model, u: np.ndarray, contact_force: np.ndarray, load: np
         }
     return {"rigid_bodies": out} if out else {}
 
-
-def rigid_body_columns(states: dict) -> dict:
-    """Flat ``{column: value}`` of :func:`rigid_body_results`'s states: ``<body>_u_x``, ``<body>_rot_z``,
-    ``<body>_reaction_F_y``, ``<body>_reaction_M_z``, ... (the per-step rows of ``steps.csv`` and
-    ``reaction_force.csv``)."""
-    row = {}
-    for name, st in states.items():
-        d = len(st["displacement"])
-        rot = ["rot_z"] if d == 2 else ["rot_x", "rot_y", "rot_z"]
-        mom = [r.replace("rot_", "M_") for r in rot]
-        for c, v in zip("xyz", st["displacement"]):
-            row[f"{name}_u_{c}"] = float(v)
-        for r, v in zip(rot, st["rotation"]):
-            row[f"{name}_{r}"] = float(v)
-        for key, label in (("reaction", "reaction"), ("contact", "contact")):
-            for c, v in zip("xyz", st[f"{key}_force"]):
-                row[f"{name}_{label}_F_{c}"] = float(v)
-            for m, v in zip(mom, st[f"{key}_moment"]):
-                row[f"{name}_{label}_{m}"] = float(v)
-    return row
