@@ -153,6 +153,10 @@ def _build_schema() -> tuple[Table, ...]:
               "spacing when `[mesh.refine]` is given).", low=1, high=MAX_CELLS_PER_AXIS, lengths=(2, 3)),
             O("file", "str", "", "`file`: a Gmsh `.msh` (or `.geo` with the gmsh module), relative to the problem "
               "file; physical groups name the boundaries and regions."),
+            O("group", "str", "", "`file`: the body is the cells of this physical group of the file (a surface "
+              "in 2D, a volume in 3D), with the boundary groups that lie on it: several `[[body]]` tables read "
+              "one file with several bodies, each its own `group` (a boundary group shared by several bodies, "
+              "e.g. `top`, names each body's own part: `body0/top`, `body1/top`)."),
             O("order", "int", 1, "Polynomial order of the elements: 1 (P1) or 2 (P2).", low=1, high=2),
             O("volumetric", "str", "full", "Volumetric term of linear elasticity: `full` (standard element) or "
               "`p0` (order 2 only: the volumetric strain projected onto element-wise constants, the locking-free "
