@@ -44,6 +44,7 @@ import numpy as np
 
 from .._options import VALUE_RANGE
 from ..errors import ConfigError, InputError
+from ._bodies_check import bodies_issues
 from ._sections import low_dim_issue
 from .config import Issue, _raise, _text_of, load_problem, parse_toml, validate_data
 
@@ -698,8 +699,8 @@ def _mixed_solver_issues(setup) -> list[Issue]:
 
 def setup_issues(setup) -> list[Issue]:
     """Issues of a built problem: rigidity on the solver's path, ramped support conflicts, number ranges."""
-    if hasattr(setup.problem.model, "bodies"):  # [[body]]: the checks against a rigid obstacle do not apply
-        return _ramped_support_issues(setup)
+    if hasattr(setup.problem.model, "bodies"):  # several bodies: their own checks (io._bodies_check)
+        return _ramped_support_issues(setup) + bodies_issues(setup, _fixed_dofs(setup))
     issues = _range_issues(setup)
     if issues:  # the rigidity test would report the overflow as a free motion
         return issues

@@ -54,9 +54,10 @@ def _element_size(model, boundary: str, obstacle) -> float:
 OVERLAP_TOL = 1e-3
 
 
-def mortar_of(problem):
-    """The :class:`~alcontact.contact.kinematics._mortar.MortarGap` of a problem whose pair has a deformable
-    master (``None`` against a rigid one)."""
+def pair_gap(problem):
+    """The linear gap operator (a :class:`~alcontact.contact.kinematics._mortar.MortarGap`) of a problem whose pair
+    has a master that moves with the unknowns: a body's surface (mortar) or a rigid body (its pose); ``None``
+    against a rigid obstacle. Nothing logged (:func:`mortar_of` adds the warnings of a solve)."""
     pair = problem.pairs[0]
     if pair.rigid:
         return None
@@ -65,9 +66,18 @@ def mortar_of(problem):
                          "finite deformation is not supported yet.")
     if isinstance(pair.master, RigidBody):  # a rigid body whose pose is unknown (kinematics._rigid_body)
         h = _element_size(pair.slave.body, pair.slave.name, pair.master)
-        mg = rigid_body_gap(problem.model, pair.slave.body, pair.slave.name, pair.master, h)
-    else:
-        mg = mortar_gap(problem.model, pair.slave.body, pair.slave.name, pair.master)
+        return rigid_body_gap(problem.model, pair.slave.body, pair.slave.name, pair.master, h)
+    return mortar_gap(problem.model, pair.slave.body, pair.slave.name, pair.master)
+
+
+def mortar_of(problem):
+    """The :class:`~alcontact.contact.kinematics._mortar.MortarGap` of a problem whose pair has a deformable
+    master (``None`` against a rigid one), :func:`pair_gap`, with a warning when the pair cannot come into contact
+    or the bodies overlap at the start."""
+    mg = pair_gap(problem)
+    if mg is None:
+        return None
+    pair = problem.pairs[0]
     where = f"contact pair {problem.contact_boundary!r} / {pair.master.describe()}"
     if not np.any(mg.covered):
         logger.warning("%s: no slave node has a master segment within the search distance, so the pair cannot "
