@@ -335,6 +335,13 @@ def write_setup_results(folder: Path, setup, frames, summary: dict) -> list[str]
         save_pressure_plot(final, folder / "pressure.png", mindlin=setup.mindlin,
                            axis=int(meta.get("symmetry_axis", 0)), units=units)
         files.append("pressure.png")
+        if "master_side" in final.extra:  # a pair between two bodies: the pressure on both sides
+            from ..viz.interface import save_interface_pressure_plot
+
+            save_interface_pressure_plot(final, folder / "interface_pressure.png",
+                                         axis=int(meta.get("symmetry_axis", 0)), units=units,
+                                         title=f"{setup.name}: contact pressure on both sides")
+            files.append("interface_pressure.png")
         if friction:
             save_figure(steps_figure(rows, title=f"{setup.name}: {summary['status']}"), folder / "convergence.png")
         else:

@@ -54,7 +54,7 @@ def rigid_body_results(model, u: np.ndarray, contact_force: np.ndarray, load: np
             "displacement": q[:d].tolist(),
             "rotation": q[d:].tolist(),
             "prescribed": [n for n, h in zip(body.dof_names, held) if h],
-            "contact_force": fc[:d].tolist(), "contact_moment": fc[d:].tolist(),
+            "contact_force": (fc[:d] + 0.0).tolist(), "contact_moment": (fc[d:] + 0.0).tolist(),
             "applied_force": f[:d].tolist(), "applied_moment": f[d:].tolist(),
             "reaction_force": reaction[:d].tolist(), "reaction_moment": reaction[d:].tolist(),
         }
