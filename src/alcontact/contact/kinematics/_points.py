@@ -64,7 +64,14 @@ def pair_gap(problem):
     if problem.kinematics != "small":
         raise InputError("contact between two bodies is available at small deformation (kinematics='small'); "
                          "finite deformation is not supported yet.")
+    if isinstance(pair.slave.body, RigidBody):
+        raise InputError("the slave of a contact pair is a boundary of a deformable body; a rigid body "
+                         "(contact.RigidBody) is a master: ContactPair(Boundary(body, 'top'), rigid_body).")
     if isinstance(pair.master, RigidBody):  # a rigid body whose pose is unknown (kinematics._rigid_body)
+        if pair.friction > 0:
+            raise InputError(f"friction = {pair.friction:g} against a rigid body whose pose is solved for "
+                             "(contact.RigidBody): not supported yet; use friction = 0, or a rigid obstacle moved "
+                             "along a path (obstacles.move) for friction.")
         h = _element_size(pair.slave.body, pair.slave.name, pair.master)
         return rigid_body_gap(problem.model, pair.slave.body, pair.slave.name, pair.master, h)
     return mortar_gap(problem.model, pair.slave.body, pair.slave.name, pair.master)

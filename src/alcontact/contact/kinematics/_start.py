@@ -17,6 +17,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.spatial import cKDTree
 
+from ...errors import InputError
 from ..masters._mortar import BodySurface, boundary_segments
 from ..masters._rigid_body import RigidBody
 from ._points import OVERLAP_TOL, pair_gap
@@ -137,6 +138,10 @@ def pair_start(problem) -> PairStart | None:
     alcontact.errors.InputError
         What the gap operator refuses (finite kinematics, a 3D or curved mortar pair).
     """
+    from ..problem._problem import ContactProblem
+
+    if not isinstance(problem, ContactProblem):
+        raise InputError(f"pair_start: problem = {type(problem).__name__}: expected a ContactProblem.")
     mg = pair_gap(problem)
     if mg is None:
         return None

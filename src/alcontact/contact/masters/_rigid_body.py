@@ -113,7 +113,7 @@ class RigidBody:
                              "rigid obstacle (analytic or a meshed 'surface').")
         try:
             ref = np.asarray(reference, dtype=float)
-        except (TypeError, ValueError):
+        except (TypeError, ValueError, OverflowError):
             ref = np.array([np.nan])
         if ref.ndim != 1 or ref.size not in (2, 3) or not np.all(np.isfinite(ref)):
             raise InputError(f"RigidBody: reference = {reference!r:.60}: expected the reference point, 2 or 3 finite "
@@ -200,7 +200,7 @@ class RigidBody:
             raise InputError("a rigid body's prescribed motion is numbers (translation, rotation), not a callable.")
         try:
             arr = np.asarray(value, dtype=float)
-        except (TypeError, ValueError):
+        except (TypeError, ValueError, OverflowError):
             arr = np.array([np.nan])
         if arr.ndim == 0:
             vals = np.full(len(comps), float(arr))
@@ -224,7 +224,10 @@ class RigidBody:
         self._check_name(name)
         if callable(vector):
             raise InputError("the load on a rigid body is numbers (force, moment), not a callable.")
-        v = np.asarray(vector, dtype=float).ravel()
+        try:
+            v = np.asarray(vector, dtype=float).ravel()
+        except (TypeError, ValueError, OverflowError):
+            v = np.array([np.nan])
         if v.size != self.ndofs or not np.all(np.isfinite(v)):
             raise InputError(f"the load on a rigid body is {self.ndofs} finite numbers (force and moment: "
                              f"{', '.join(n.replace('u_', 'F_').replace('rot_', 'M_') for n in self.dof_names)}); "
