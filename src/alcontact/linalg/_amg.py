@@ -37,7 +37,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.linalg import LinearOperator
 
-__all__ = ["smoothed_aggregation", "updated_hierarchy", "reflected_hierarchy", "normal_reflections",
+__all__ = ["smoothed_aggregation", "plain_aggregation", "updated_hierarchy", "reflected_hierarchy", "normal_reflections",
            "add_on_pattern", "entry_positions", "row_slice", "SMOOTHER", "ROW_BLOCK_NNZ"]
 
 #: relaxation of every level: PyAMG's default for smoothed aggregation
@@ -274,6 +274,42 @@ def smoothed_aggregation(A, B=None, *, max_coarse: int = 500, coarse_solver: str
     ml = MultilevelSolver([first, *rest.levels], coarse_solver=coarse_solver)
     change_smoothers(ml, smoother, smoother)
     return ml
+
+
+def plain_aggregation(A, B=None, *, max_coarse: int = 500, coarse_solver: str = "splu"):
+    """PyAMG aggregation hierarchy with unsmoothed (tentative) prolongators: a cheap preconditioner.
+
+    ``pyamg.smoothed_aggregation_solver(A, B=B, smooth=None, improve_candidates=None, ...)``: the
+    same standard aggregation and near-null space fit as :func:`smoothed_aggregation`, without the
+    prolongator smoothing and the candidate improvement, whose products with ``A`` are most of the
+    setup. The V-cycle is a weaker preconditioner (more CG iterations per digit), so this hierarchy
+    serves rough solves (:func:`alcontact.linalg.krylov.approximate_solve`), where its setup, a few
+    per cent of a direct factorization of a 3D stiffness, is what counts.
+
+    Parameters
+    ----------
+    A : scipy.sparse matrix (n, n)
+        Symmetric positive definite.
+    B : ndarray (n, k) or None
+        Near-null space (the rigid-body modes for elasticity); None: constants.
+    max_coarse, coarse_solver
+        As :func:`smoothed_aggregation`.
+
+    Returns
+    -------
+    pyamg.multilevel.MultilevelSolver
+    """
+    import pyamg
+
+    A = sp.csr_matrix(A)
+    if not A.has_sorted_indices:
+        A.sort_indices()
+    A.symmetry = "hermitian"
+    n = A.shape[0]
+    B = np.ones((n, 1)) if B is None else np.asarray(B, dtype=float).reshape(n, -1)
+    return pyamg.smoothed_aggregation_solver(A, B=B, smooth=None, improve_candidates=None, max_coarse=max_coarse,
+                                             coarse_solver=coarse_solver, presmoother=SMOOTHER,
+                                             postsmoother=SMOOTHER)
 
 
 # ---------------------------------------------------------------------- reuse for K + a contact term

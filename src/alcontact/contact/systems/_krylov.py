@@ -76,7 +76,7 @@ Counters: ``linear_solves`` counts CG solves, ``cg_iterations`` their iterations
 ``amg_setups`` the hierarchies built from scratch, ``amg_updates`` the Galerkin
 updates of :func:`~alcontact.linalg._amg.updated_hierarchy`.
 
-Memory: ``K`` on the free DOFs is extracted in one pass (:func:`principal_submatrix`)
+Memory: ``K`` on the free DOFs is extracted in one pass (:func:`~alcontact.linalg.krylov.principal_submatrix`)
 and the model's stiffness is dropped again if the setup assembled it; every :math:`J`
 shares the index arrays of ``K`` (:func:`~alcontact.linalg.krylov.add_on_pattern`); the round-off bound of the residual
 reads :math:`|K|` in row chunks.
@@ -164,6 +164,7 @@ from ... import linalg as _linalg
 from ...errors import InputError
 from ...fem.elasticity import rigid_body_modes
 from ...linalg import MatrixHints, krylov
+from ...linalg.krylov import principal_submatrix
 from ..algorithms._subproblem import (LineSearch, NewtonOutcome, NewtonResult, NewtonSettings, NewtonSystem,
                                       _Point, _PointSystem, newton, subproblem_outcome)
 from ..kinematics._points import ContactPoints
@@ -672,29 +673,6 @@ def _abs_matvec(A, v: np.ndarray, rows: int = 1 << 16) -> np.ndarray:
         a, z = int(A.indptr[s]), int(A.indptr[e])
         blk = sp.csr_matrix((np.abs(A.data[a:z]), A.indices[a:z], A.indptr[s : e + 1] - a), shape=(e - s, A.shape[1]))
         out[s:e] = blk @ v
-    return out
-
-
-def principal_submatrix(A, keep: np.ndarray) -> sp.csr_matrix:
-    """``A[keep][:, keep]`` of a CSR matrix for a boolean mask, in one pass (sorted indices kept).
-
-    Peak memory: the result plus one boolean per entry of ``A`` (the two-step slicing
-    copies the kept rows first).
-    """
-    A = sp.csr_matrix(A)
-    newpos = np.cumsum(keep) - 1
-    rows = np.flatnonzero(keep)
-    lens = np.diff(A.indptr)
-    sel = np.repeat(keep, lens)
-    sel &= keep[A.indices]
-    counts = np.add.reduceat(sel, A.indptr[:-1]) if A.nnz else np.zeros(A.shape[0], dtype=np.int64)
-    counts[lens == 0] = 0  # reduceat returns the next row's first entry for empty rows
-    indptr = np.zeros(rows.size + 1, dtype=np.int64)
-    np.cumsum(counts[rows], out=indptr[1:])
-    idx_t = np.int32 if max(indptr[-1], rows.size) < np.iinfo(np.int32).max else np.int64
-    out = sp.csr_matrix((A.data[sel], newpos[A.indices[sel]].astype(idx_t), indptr.astype(idx_t)),
-                        shape=(rows.size, rows.size))
-    out.has_sorted_indices = A.has_sorted_indices
     return out
 
 
