@@ -116,7 +116,8 @@ FIELDS = ["case", "dofs", "candidates", "variant", "algorithm", "penalty", "stat
           "newton_iterations", "linear_solves", "factorizations", "cg_iterations", "wall_s", "linear_solve_s", "plain_linear_s",
           "ratio", "cpu_s", "plain_linear_cpu_s", "ratio_cpu", "repeats", "a_err_pct", "p0_err_pct",
           "penetration_over_h", "peak_rss_mb", "base_rss_mb", "plain_linear_peak_rss_mb",
-          "plain_linear_base_rss_mb", "model_rss_mb", "ratio_rss"]
+          "plain_linear_base_rss_mb", "model_rss_mb", "ratio_rss", "schur_prediction", "prediction_cg_iterations",
+          "prediction_s"]
 
 _CLEAR_REFS = Path("/proc/self/clear_refs")
 
@@ -257,6 +258,9 @@ def _row(case, label, prob, sol, plain: Timing, timing: Timing, repeats=1, model
         "plain_linear_peak_rss_mb": round(plain.rss_mb, 1), "plain_linear_base_rss_mb": round(plain.base_rss_mb, 1),
         "model_rss_mb": round(model_rss, 1),
         "ratio_rss": round(timing.rss_mb / plain.rss_mb, 3),
+        "schur_prediction": sol.extra.get("schur_prediction", ""),
+        "prediction_cg_iterations": sol.extra.get("prediction_cg_iterations", ""),
+        "prediction_s": round(t["prediction_s"], 4) if "prediction_s" in t else "",
     }
 
 
@@ -276,13 +280,16 @@ def _markdown(rows):
                 f"one linear solve: {sub[0]['plain_linear_cpu_s']} s CPU, {sub[0]['plain_linear_s']} s wall "
                 f"(fastest of {sub[0].get('repeats') or 1} before and {sub[0].get('repeats') or 1} after), "
                 f"peak RSS {sub[0].get('plain_linear_peak_rss_mb') or '-'} MiB", "",
-                "| variant | status | outer | Newton | solves | factorizations | CPU s | contact/linear (CPU) | wall s | "
-                "contact/linear (wall) | peak RSS MiB | a err % | p0 err % |",
-                "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+                "| variant | status | outer | Newton | solves | factorizations | Schur block from (CG its, wall s) | "
+                "CPU s | contact/linear (CPU) | wall s | contact/linear (wall) | peak RSS MiB | a err % | p0 err % |",
+                "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
         for r in sub:
+            pred = r.get("schur_prediction") or "-"
+            if pred == "rough solve":
+                pred += f" ({r.get('prediction_cg_iterations')}, {r.get('prediction_s')})"
             out.append(f"| {r['variant']} | {r['status']} | {r['outer_iterations']} | {r['newton_iterations']} | "
-                       f"{r['linear_solves']} | {r.get('factorizations') or '-'} | {r['cpu_s']} | {r['ratio_cpu']} | {r['wall_s']} | {r['ratio']} | "
-                       f"{r.get('peak_rss_mb') or '-'} | {r['a_err_pct']} | {r['p0_err_pct']} |")
+                       f"{r['linear_solves']} | {r.get('factorizations') or '-'} | {pred} | {r['cpu_s']} | {r['ratio_cpu']} | "
+                       f"{r['wall_s']} | {r['ratio']} | {r.get('peak_rss_mb') or '-'} | {r['a_err_pct']} | {r['p0_err_pct']} |")
         if any(r["cg_iterations"] not in ("", None) for r in sub):
             out += ["", "No factorization (linear_solver='amg'): solves are AMG-preconditioned CG solves, CG "
                     "iterations " + ", ".join(f"{r['variant']} {r['cg_iterations']}" for r in sub) + "; the "
