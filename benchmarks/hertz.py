@@ -63,6 +63,9 @@ CASES = {
     "3d-1M": (hertz.hertz_3d, dict(n_per_a=16, growth=1.04)),
     "3d-p2-78k-direct": (hertz.hertz_3d, dict(order=2, n_per_a=2.0, growth=1.3)),  # the peer's 3D P2 size
     "3d-243k-direct": (hertz.hertz_3d, dict(n_per_a=9, growth=1.07)),  # largest 3D P1 factor of a few GB
+    # issue 21: a P2 half disc on a plane (the peer's 2D benchmark geometry, our own mesh, 222,784 DOFs),
+    # driven by a platen or by the plane (NAME:platen, NAME:obstacle)
+    "2d-p2-disc-222k": (hertz.hertz_disc, dict(n=118)),
 }
 DEFAULT_CASES = ["2d-10k", "2d-100k", "2d-500k", "3d-100k"]
 #: the 2D ladder of issue 11 (10k to 1M DOFs)
@@ -100,7 +103,8 @@ REPEAT_BUDGET_S = 2.0
 def case_spec(case: str):
     """Builder and keyword arguments of ``case`` (``NAME`` of :data:`CASES` or ``NAME:DRIVE``), and its options."""
     name, _, drive = case.partition(":")
-    if name not in CASES or (drive and drive not in hertz.DRIVES):
+    drives = hertz.DISC_DRIVES if CASES.get(name, (None,))[0] is hertz.hertz_disc else hertz.DRIVES
+    if name not in CASES or (drive and drive not in drives):
         raise argparse.ArgumentTypeError(f"unknown case {case!r}: use NAME or NAME:DRIVE with NAME one of "
                                          f"{', '.join(CASES)} and DRIVE one of {', '.join(hertz.DRIVES)}")
     builder, kw = CASES[name]
