@@ -63,7 +63,7 @@ CASES = {
     "3d-1M": (hertz.hertz_3d, dict(n_per_a=16, growth=1.04)),
     "3d-p2-78k-direct": (hertz.hertz_3d, dict(order=2, n_per_a=2.0, growth=1.3)),  # the peer's 3D P2 size
     "3d-243k-direct": (hertz.hertz_3d, dict(n_per_a=9, growth=1.07)),  # largest 3D P1 factor of a few GB
-    # issue 21: a P2 half disc on a plane (the peer's 2D benchmark geometry, our own mesh, 222,784 DOFs),
+    # issue 21: a P2 half disc on a plane (the peer's 2D benchmark geometry, our own mesh, 224,202 DOFs),
     # driven by a platen or by the plane (NAME:platen, NAME:obstacle)
     "2d-p2-disc-222k": (hertz.hertz_disc, dict(n=118)),
 }

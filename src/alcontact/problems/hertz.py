@@ -303,7 +303,7 @@ def hertz_disc(n: int = 118, *, order: int = 2, E: float = 200e3, nu: float = 0.
     The half disc of radius :math:`R` lies with its flat face on top (:math:`y = R`) and its curved
     face on the plane :math:`y = 0`, touching it at the origin, meshed by the elliptical-grid map of
     :func:`alcontact.problems.half_cylinder.disc_mesh` (``2n`` by ``n`` cells of the rectangle
-    :math:`[-1, 1] \times [0, 1]`, uniform: about :math:`16 n^2` DOFs with P2, 222k at the default
+    :math:`[-1, 1] \times [0, 1]`, uniform: about :math:`16 n^2` DOFs with P2, 224k at the default
     ``n``; for P2 a second-order mesh whose boundary edges lie on the circle unless ``curved`` is
     False). ``drive`` (:data:`DISC_DRIVES`): a bonded platen, :math:`u = (0, -\delta)` on the flat face
     with the plane fixed, or the flat face fixed and the plane moved up by :math:`\delta`; both give
