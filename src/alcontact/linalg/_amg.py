@@ -44,6 +44,12 @@ __all__ = ["smoothed_aggregation", "plain_aggregation", "updated_hierarchy", "re
 
 #: relaxation of every level: PyAMG's default for smoothed aggregation
 SMOOTHER = ("block_gauss_seidel", {"sweep": "symmetric"})
+#: relaxation of the rough hierarchy (:func:`plain_aggregation`): one forward block Gauss-Seidel sweep
+#: before, one backward after (a symmetric V-cycle at half the sweeps of SMOOTHER: 3D Hertz under a body
+#: force, CG to 0.1: P2 78k DOFs 19 iterations in 0.68 s CPU against 15 in 0.92 s, P1 39k 16 in 0.13 s
+#: against 12 in 0.16 s, the same gap error, 0.003 and 0.015 h)
+_ROUGH_PRE = ("block_gauss_seidel", {"sweep": "forward"})
+_ROUGH_POST = ("block_gauss_seidel", {"sweep": "backward"})
 #: candidate improvement on the first level: PyAMG's default
 _IMPROVE = ("block_gauss_seidel", {"sweep": "symmetric", "iterations": 4})
 #: Jacobi weight of the prolongator smoother: PyAMG's default
@@ -319,7 +325,7 @@ def plain_aggregation(A, B=None, *, max_coarse: int = 500, coarse_solver: str = 
     ``pyamg.smoothed_aggregation_solver(A, B=B, smooth=None, improve_candidates=None, ...)``: the
     same standard aggregation and near-null space fit as :func:`smoothed_aggregation`, without the
     prolongator smoothing and the candidate improvement, whose products with ``A`` are most of the
-    setup. The V-cycle is a weaker preconditioner (more CG iterations per digit), so this hierarchy
+    setup, and with one Gauss-Seidel sweep before and after (:data:`_ROUGH_PRE`). The V-cycle is a weaker preconditioner (more CG iterations per digit), so this hierarchy
     serves rough solves (:func:`alcontact.linalg.krylov.approximate_solve`), where its setup, a few
     per cent of a direct factorization of a 3D stiffness, is what counts.
 
@@ -346,8 +352,8 @@ def plain_aggregation(A, B=None, *, max_coarse: int = 500, coarse_solver: str = 
     B = np.ones((n, 1)) if B is None else np.asarray(B, dtype=float).reshape(n, -1)
     with _fixed_random_state():
         return pyamg.smoothed_aggregation_solver(A, B=B, smooth=None, improve_candidates=None, max_coarse=max_coarse,
-                                                 coarse_solver=coarse_solver, presmoother=SMOOTHER,
-                                                 postsmoother=SMOOTHER)
+                                                 coarse_solver=coarse_solver, presmoother=_ROUGH_PRE,
+                                                 postsmoother=_ROUGH_POST)
 
 
 # ---------------------------------------------------------------------- reuse for K + a contact term
