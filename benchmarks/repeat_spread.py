@@ -5,7 +5,7 @@ variants in round robin so that they sample the same machine load) and records, 
 CPU seconds of the process (user + system), wall seconds, the load average of the machine,
 outer / Newton iterations, linear solves and the total contact force to all digits (a run
 that takes another path through the iterations shows up there). Writes
-``<out>/<name>.csv`` and ``<out>/<name>.md``.
+``<out>/<name>.csv`` and ``<out>/<name>.md`` (the text above ``<!-- tables -->`` kept).
 
 With ``--fresh`` every run is a process of its own (the mesh built, the stiffness assembled and the
 libraries loaded again; variants in round robin): the spread between processes, which includes
@@ -128,7 +128,10 @@ def main(argv=None) -> int:
     w.writeheader()
     w.writerows(rows)
     write_text_atomic(args.out / f"{args.name}.csv", buf.getvalue())
-    write_text_atomic(args.out / f"{args.name}.md", report(rows))
+    md = args.out / f"{args.name}.md"
+    text = md.read_text() if md.exists() else ""
+    head = text.split("<!-- tables -->")[0] + "<!-- tables -->\n\n" if "<!-- tables -->" in text else ""
+    write_text_atomic(md, head + report(rows))  # the text above <!-- tables --> is kept
     print(report(rows))
     return 0
 
