@@ -63,6 +63,10 @@ CASES = {
     "3d-1M": (hertz.hertz_3d, dict(n_per_a=16, growth=1.04)),
     "3d-p2-78k-direct": (hertz.hertz_3d, dict(order=2, n_per_a=2.0, growth=1.3)),  # the peer's 3D P2 size
     "3d-243k-direct": (hertz.hertz_3d, dict(n_per_a=9, growth=1.07)),  # largest 3D P1 factor of a few GB
+    "3d-187k-direct": (hertz.hertz_3d, dict(n_per_a=8, growth=1.07)),  # 186,591 DOFs, a factor below 3 GB
+    # issue 21: a P2 half disc on a plane (the peer's 2D benchmark geometry, our own mesh, 224,202 DOFs),
+    # driven by a platen or by the plane (NAME:platen, NAME:obstacle)
+    "2d-p2-disc-222k": (hertz.hertz_disc, dict(n=118)),
 }
 DEFAULT_CASES = ["2d-10k", "2d-100k", "2d-500k", "3d-100k"]
 #: the 2D ladder of issue 11 (10k to 1M DOFs)
@@ -72,7 +76,8 @@ LADDER_2D = ["2d-10k", "2d-28k", "2d-84k", "2d-100k", "2d-277k", "2d-500k", "2d-
 CASE_OPTIONS = {"3d-1M": {"linear_solver": "amg"},
                 "3d-100k-direct": {"linear_solver": "mkl-pardiso"},
                 "3d-p2-78k-direct": {"linear_solver": "mkl-pardiso"},
-                "3d-243k-direct": {"linear_solver": "mkl-pardiso"}}
+                "3d-243k-direct": {"linear_solver": "mkl-pardiso"},
+                "3d-187k-direct": {"linear_solver": "mkl-pardiso"}}
 
 #: (label, algorithm, penalty, extra options)
 VARIANTS = [
@@ -100,7 +105,8 @@ REPEAT_BUDGET_S = 2.0
 def case_spec(case: str):
     """Builder and keyword arguments of ``case`` (``NAME`` of :data:`CASES` or ``NAME:DRIVE``), and its options."""
     name, _, drive = case.partition(":")
-    if name not in CASES or (drive and drive not in hertz.DRIVES):
+    drives = hertz.DISC_DRIVES if CASES.get(name, (None,))[0] is hertz.hertz_disc else hertz.DRIVES
+    if name not in CASES or (drive and drive not in drives):
         raise argparse.ArgumentTypeError(f"unknown case {case!r}: use NAME or NAME:DRIVE with NAME one of "
                                          f"{', '.join(CASES)} and DRIVE one of {', '.join(hertz.DRIVES)}")
     builder, kw = CASES[name]
@@ -116,7 +122,8 @@ FIELDS = ["case", "dofs", "candidates", "variant", "algorithm", "penalty", "stat
           "newton_iterations", "linear_solves", "factorizations", "cg_iterations", "wall_s", "linear_solve_s", "plain_linear_s",
           "ratio", "cpu_s", "plain_linear_cpu_s", "ratio_cpu", "repeats", "a_err_pct", "p0_err_pct",
           "penetration_over_h", "peak_rss_mb", "base_rss_mb", "plain_linear_peak_rss_mb",
-          "plain_linear_base_rss_mb", "model_rss_mb", "ratio_rss"]
+          "plain_linear_base_rss_mb", "model_rss_mb", "ratio_rss", "schur_prediction", "prediction_cg_iterations",
+          "prediction_s"]
 
 _CLEAR_REFS = Path("/proc/self/clear_refs")
 
@@ -257,6 +264,9 @@ def _row(case, label, prob, sol, plain: Timing, timing: Timing, repeats=1, model
         "plain_linear_peak_rss_mb": round(plain.rss_mb, 1), "plain_linear_base_rss_mb": round(plain.base_rss_mb, 1),
         "model_rss_mb": round(model_rss, 1),
         "ratio_rss": round(timing.rss_mb / plain.rss_mb, 3),
+        "schur_prediction": sol.extra.get("schur_prediction", ""),
+        "prediction_cg_iterations": sol.extra.get("prediction_cg_iterations", ""),
+        "prediction_s": round(t["prediction_s"], 4) if "prediction_s" in t else "",
     }
 
 
@@ -276,13 +286,16 @@ def _markdown(rows):
                 f"one linear solve: {sub[0]['plain_linear_cpu_s']} s CPU, {sub[0]['plain_linear_s']} s wall "
                 f"(fastest of {sub[0].get('repeats') or 1} before and {sub[0].get('repeats') or 1} after), "
                 f"peak RSS {sub[0].get('plain_linear_peak_rss_mb') or '-'} MiB", "",
-                "| variant | status | outer | Newton | solves | factorizations | CPU s | contact/linear (CPU) | wall s | "
-                "contact/linear (wall) | peak RSS MiB | a err % | p0 err % |",
-                "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+                "| variant | status | outer | Newton | solves | factorizations | Schur block from (CG its, wall s) | "
+                "CPU s | contact/linear (CPU) | wall s | contact/linear (wall) | peak RSS MiB | a err % | p0 err % |",
+                "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
         for r in sub:
+            pred = r.get("schur_prediction") or "-"
+            if pred == "rough solve":
+                pred += f" ({r.get('prediction_cg_iterations')}, {r.get('prediction_s')})"
             out.append(f"| {r['variant']} | {r['status']} | {r['outer_iterations']} | {r['newton_iterations']} | "
-                       f"{r['linear_solves']} | {r.get('factorizations') or '-'} | {r['cpu_s']} | {r['ratio_cpu']} | {r['wall_s']} | {r['ratio']} | "
-                       f"{r.get('peak_rss_mb') or '-'} | {r['a_err_pct']} | {r['p0_err_pct']} |")
+                       f"{r['linear_solves']} | {r.get('factorizations') or '-'} | {pred} | {r['cpu_s']} | {r['ratio_cpu']} | "
+                       f"{r['wall_s']} | {r['ratio']} | {r.get('peak_rss_mb') or '-'} | {r['a_err_pct']} | {r['p0_err_pct']} |")
         if any(r["cg_iterations"] not in ("", None) for r in sub):
             out += ["", "No factorization (linear_solver='amg'): solves are AMG-preconditioned CG solves, CG "
                     "iterations " + ", ".join(f"{r['variant']} {r['cg_iterations']}" for r in sub) + "; the "
@@ -305,7 +318,7 @@ def _fit(xs, ys):
 
 
 #: the 3D cases of the direct path drawn next to the 2D ladder (P1 meshes; the P2 case is its own point)
-LADDER_3D = ["3d-100k-direct", "3d-p2-78k-direct", "3d-243k-direct"]
+LADDER_3D = ["3d-100k-direct", "3d-p2-78k-direct", "3d-187k-direct", "3d-243k-direct"]
 
 
 def _num(row, key):

@@ -220,6 +220,7 @@ def _entries() -> dict:
         "hertz.hertz_axisym": (hertz.hertz_axisym, lambda: ((0,), dict(n_per_a=2, size=4.0, growth=1.6)),
                                [0, "order", "radius", "n_per_a"]),
         "hertz.mesh_spec": (hertz.mesh_spec, lambda: ((2, 4), {}), [0, 1, "order"]),
+        "hertz.hertz_disc": (hertz.hertz_disc, lambda: ((4,), {}), [0, "order", "E", "nu", "radius", "delta", "drive"]),
         "blocks.patch_block": (blocks.patch_block, lambda: ((2, 1), dict(n=2)), [0, 1, "n", "E", "nu", "d"]),
         "blocks.signorini_block": (blocks.signorini_block, lambda: ((), dict(n=2)), ["order", "n", "gap"]),
         "friction.block_on_plane": (friction.block_on_plane, lambda: ((), dict(dim=2, n=2)), ["dim", "n", "mu"]),

@@ -14,7 +14,8 @@ import scipy.sparse as sp
 from skfem import Basis, BilinearForm, asm
 from skfem.helpers import ddot, sym_grad, trace
 
-from alcontact.contact.systems._krylov import _abs_matvec, principal_submatrix
+from alcontact.contact.systems._krylov import _abs_matvec
+from alcontact.linalg.krylov import principal_submatrix
 from alcontact.linalg import MatrixHints, krylov, make_solver
 from alcontact.linalg.krylov import add_on_pattern
 from alcontact.fem import LinearElasticity, Material, meshes

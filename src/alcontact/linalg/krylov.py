@@ -23,7 +23,10 @@ through the functions of this module, which read the optional facilities a facto
 :func:`add_on_pattern` forms :math:`A + \Delta` on the index arrays of ``A`` (the Newton matrices of the
 full-space contact paths). The Krylov loops count their iterations: :func:`cg` and :func:`gmres` (SciPy's methods) and
 :func:`pcg`, a preconditioned CG that reports negative curvature (an indefinite matrix)
-instead of iterating on.
+instead of iterating on. :func:`approximate_solve` is a rough solve at a small fraction of the
+cost of a factorization (CG with an unsmoothed aggregation V-cycle to a loose tolerance), for
+what only needs the shape of a solution (which contact points a load moves towards the obstacle);
+:func:`principal_submatrix` restricts a matrix to its free rows and columns in one pass.
 """
 
 from __future__ import annotations
@@ -33,11 +36,13 @@ from scipy.sparse.linalg import LinearOperator
 from scipy.sparse.linalg import cg as _scipy_cg
 from scipy.sparse.linalg import gmres as _scipy_gmres
 
-from ._amg import add_on_pattern
+import scipy.sparse as sp
+
+from ._amg import add_on_pattern, plain_aggregation
 from ._base import Factor, LinearSolver, MatrixHints
 
 __all__ = ["cg", "gmres", "pcg", "preconditioner", "updated_factor", "reflected_factor", "hierarchy_levels",
-           "add_on_pattern"]
+           "add_on_pattern", "approximate_solve", "principal_submatrix"]
 
 
 def cg(A, b: np.ndarray, M=None, *, rtol: float, atol: float = 0.0, x0=None, maxiter: int = 5000):
@@ -142,3 +147,50 @@ def hierarchy_levels(factor: Factor | None) -> int:
     if factor is None:
         return 0
     return int(getattr(factor, "levels", 1))
+
+
+def approximate_solve(A, b: np.ndarray, near_null=None, *, rtol: float, x0=None, maxiter: int = 200):
+    r"""A rough solution of the symmetric positive definite system :math:`A x = b`, without a factorization.
+
+    CG from ``x0`` (zero by default) preconditioned by one V-cycle of the unsmoothed aggregation
+    hierarchy of ``A`` (:func:`~alcontact.linalg._amg.plain_aggregation`, with the near-null
+    space ``near_null``, e.g. the rigid-body modes), until the residual falls by ``rtol``
+    relative to that of ``x0``: :math:`|b - A x| \le` ``rtol`` :math:`|b - A x_0|`.
+
+    Returns
+    -------
+    x : ndarray
+    iterations : int
+        CG iterations (``maxiter`` when the tolerance was not reached; ``x`` is the last iterate).
+    """
+    x0 = np.zeros_like(b) if x0 is None else np.asarray(x0, dtype=float)
+    r0 = b - A @ x0
+    if not np.any(r0):
+        return x0.copy(), 0
+    ml = plain_aggregation(A, near_null)
+    dx, iterations, _ = cg(A, r0, ml.aspreconditioner(cycle="V"), rtol=rtol, maxiter=maxiter)
+    return x0 + dx, iterations
+
+
+def principal_submatrix(A, keep: np.ndarray) -> sp.csr_matrix:
+    """``A[keep][:, keep]`` of a CSR matrix for a boolean mask, in one pass (sorted indices kept).
+
+    Peak memory: the result plus one boolean per entry of ``A`` (the two-step slicing
+    copies the kept rows first).
+    """
+    A = sp.csr_matrix(A)
+    newpos = np.cumsum(keep) - 1
+    rows = np.flatnonzero(keep)
+    lens = np.diff(A.indptr)
+    sel = np.repeat(keep, lens)
+    sel &= keep[A.indices]
+    # one padding entry: the start of trailing empty rows (== nnz) stays a valid reduceat index
+    counts = np.add.reduceat(np.append(sel, False), A.indptr[:-1]) if A.nnz else np.zeros(A.shape[0], dtype=np.int64)
+    counts[lens == 0] = 0  # reduceat returns the next row's first entry for empty rows
+    indptr = np.zeros(rows.size + 1, dtype=np.int64)
+    np.cumsum(counts[rows], out=indptr[1:])
+    idx_t = np.int32 if max(indptr[-1], rows.size) < np.iinfo(np.int32).max else np.int64
+    out = sp.csr_matrix((A.data[sel], newpos[A.indices[sel]].astype(idx_t), indptr.astype(idx_t)),
+                        shape=(rows.size, rows.size))
+    out.has_sorted_indices = A.has_sorted_indices
+    return out

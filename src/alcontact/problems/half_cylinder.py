@@ -32,6 +32,24 @@ from ..fem.hyperelastic import Hyperelastic
 __all__ = ["half_cylinder"]
 
 
+def disc_mesh(xi0: float, nx: int, ny: int, *, radius: float, second_order: bool):
+    r"""The elliptical-grid map (module doc) of the triangle mesh of ``[xi0, 1] x [0, 1]`` (``nx`` by ``ny`` cells).
+
+    ``xi0 = 0`` gives the quarter disc :math:`x \le 0` of the half-cylinder, ``xi0 = -1`` the
+    whole half disc; rotated by 180 degrees and shifted up by :math:`R`: the flat face on top
+    (:math:`y = R`), the curved face below, touching :math:`y = 0` at the origin. With
+    ``second_order`` a ``MeshTri2`` whose edge midpoints are mapped too (boundary edges on the circle).
+    """
+    sq = meshes.rectangle(xi0, 1.0, 0.0, 1.0, nx, ny)
+    if second_order:  # the map of the edge midpoints: the boundary ones land on the circle
+        sq = skfem.MeshTri2.from_mesh(sq)
+    xi, eta = sq.doflocs
+    X = radius * xi * np.sqrt(1.0 - eta**2 / 2.0)
+    Y = radius * eta * np.sqrt(1.0 - xi**2 / 2.0)
+    p = np.vstack([-X, radius - Y])  # rotation by 180 degrees keeps the orientation
+    return dataclasses.replace(sq, doflocs=p, _boundaries=None)
+
+
 def half_cylinder(n: int = 8, *, order: int = 1, radius: float = 1.0, delta: float = 0.4,
                   E: float = 1000.0, nu: float = 0.3, model: str = "neo-hookean",
                   curved: bool = True) -> ContactProblem:
@@ -53,14 +71,7 @@ def half_cylinder(n: int = 8, *, order: int = 1, radius: float = 1.0, delta: flo
         too, so that the boundary edges lie on the circle (isoparametric P2, default);
         ``False`` gives straight-sided P2 elements on the same vertices.
     """
-    sq = meshes.rectangle(0.0, 1.0, 0.0, 1.0, n, n)
-    if order == 2 and curved:  # the map of the edge midpoints: the boundary ones land on the circle
-        sq = skfem.MeshTri2.from_mesh(sq)
-    xi, eta = sq.doflocs
-    X = radius * xi * np.sqrt(1.0 - eta**2 / 2.0)
-    Y = radius * eta * np.sqrt(1.0 - xi**2 / 2.0)
-    p = np.vstack([-X, radius - Y])  # rotation by 180 degrees keeps the orientation
-    mesh = dataclasses.replace(sq, doflocs=p, _boundaries=None)
+    mesh = disc_mesh(0.0, n, n, radius=radius, second_order=order == 2 and curved)
     tol = 1e-9 * radius
     mesh = mesh.with_boundaries({
         "top": lambda x: x[1] > radius - tol,

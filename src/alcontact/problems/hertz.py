@@ -34,12 +34,13 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..contact import BodyForce, ContactProblem, Pressure, Support
-from ..contact.obstacles import Circle, Sphere
+from ..contact.obstacles import Circle, HalfSpace, Sphere
 from ..errors import UnknownNameError
 from ..fem import LinearElasticity, Material, meshes
+from .half_cylinder import disc_mesh
 
-__all__ = ["HertzReference", "hertz_2d", "hertz_3d", "hertz_axisym", "LEVELS_2D", "LEVELS_3D", "LEVELS_AXISYM",
-           "mesh_spec", "DRIVES"]
+__all__ = ["HertzReference", "hertz_2d", "hertz_3d", "hertz_axisym", "hertz_disc", "LEVELS_2D", "LEVELS_3D",
+           "LEVELS_AXISYM", "mesh_spec", "DRIVES", "DISC_DRIVES"]
 
 
 @dataclass(frozen=True)
@@ -101,8 +102,8 @@ def _drive(drive: str, dim: int, delta: float, e_prime: float, height: float, lo
     drive carries ``load`` (the model's share of the Hertz load of ``a_target``) on the
     bottom of side ``width``.
     """
-    if drive not in DRIVES:
-        raise UnknownNameError("drive", drive, list(DRIVES))
+    if not isinstance(drive, str) or drive not in DRIVES:
+        raise UnknownNameError("drive", str(drive), list(DRIVES))
     up = dim - 1
     tangential = tuple(range(up))
     sym = (Support("left", components=(0,)),) + ((Support("front", components=(1,)),) if dim == 3 else ())
@@ -285,4 +286,64 @@ def hertz_axisym(level: int = 1, *, order: int = 1, E: float = 200e3, nu: float 
         name=f"hertz-axisym (R={radius:g}, {n} elements per a, P{order})",
         reference=HertzReference("sphere", radius, e_star, symmetry=1.0),
         meta={"delta": delta, "h": a / n, "symmetry_axis": 0, "center": (0.0, 0.0), "drive": "obstacle"},
+    )
+
+
+#: what presses the half disc of :func:`hertz_disc` on the plane
+DISC_DRIVES = {
+    "platen": "the flat face bonded to a platen pushed down by delta, the plane fixed",
+    "obstacle": "the flat face fixed, the plane moved up by delta",
+}
+
+
+def hertz_disc(n: int = 118, *, order: int = 2, E: float = 200e3, nu: float = 0.3, radius: float = 10.0,
+               delta: float | None = None, drive: str = "platen", curved: bool = True) -> ContactProblem:
+    r"""An elastic half disc pressed on a rigid plane, plane strain, the whole half disc (no symmetry plane).
+
+    The half disc of radius :math:`R` lies with its flat face on top (:math:`y = R`) and its curved
+    face on the plane :math:`y = 0`, touching it at the origin, meshed by the elliptical-grid map of
+    :func:`alcontact.problems.half_cylinder.disc_mesh` (``2n`` by ``n`` cells of the rectangle
+    :math:`[-1, 1] \times [0, 1]`, uniform: about :math:`16 n^2` DOFs with P2, 224k at the default
+    ``n``; for P2 a second-order mesh whose boundary edges lie on the circle unless ``curved`` is
+    False). ``drive`` (:data:`DISC_DRIVES`): a bonded platen, :math:`u = (0, -\delta)` on the flat face
+    with the plane fixed, or the flat face fixed and the plane moved up by :math:`\delta`; both give
+    the same contact (the two differ by a rigid translation of everything).
+
+    Reference (Johnson, *Contact Mechanics*, 1985, eq. 4.45-4.47): a cylinder of radius :math:`R` on
+    a rigid plane under the load :math:`P` per unit thickness, :math:`a = \sqrt{4PR/(\pi E^*)}`,
+    :math:`E^* = E/(1-\nu^2)`, for :math:`a \ll R` (the load is the model's contact force, symmetry 1).
+    The default :math:`\delta = 0.02 R` gives :math:`a/R` about 0.1.
+    """
+    from .._options import VALUE_RANGE, Option, check_args
+
+    lo, hi = VALUE_RANGE
+    n, order, radius = check_args("hertz_disc", [
+        (Option("n", "int", 118, "Cells across the half disc's radius.", low=2, high=4096), n),
+        (Option("order", "int", 2, "Polynomial order.", low=1, high=2), order),
+        (Option("radius", "float", 10.0, "Radius.", low=lo, high=hi), radius)])
+    if not isinstance(drive, str) or drive not in DISC_DRIVES:
+        raise UnknownNameError("drive", str(drive), list(DISC_DRIVES))
+    delta = 0.02 * radius if delta is None else delta
+    (delta,) = check_args("hertz_disc", [(Option("delta", "float", 0.02 * radius, "Approach.", low=0.0,
+                                                  high=0.5 * radius, low_open=True), delta)])
+    mat = Material(E=E, nu=nu, plane="strain")
+    mesh = disc_mesh(-1.0, 2 * n, n, radius=radius, second_order=order == 2 and curved)
+    tol = 1e-9 * radius
+    mesh = mesh.with_boundaries({"top": lambda x: x[1] > radius - tol, "curved": lambda x: x[1] < radius - tol})
+    model = LinearElasticity(mesh, mat, order=order)
+    if drive == "platen":
+        supports = (Support("top", components=(0,)), Support("top", components=(1,), value=-delta))
+        plane = HalfSpace([0.0, 0.0], [0.0, 1.0])
+    else:
+        supports = (Support("top"),)
+        plane = HalfSpace([0.0, delta], [0.0, 1.0])
+    return ContactProblem(
+        model=model,
+        obstacle=plane,
+        contact_boundary="curved",
+        supports=supports,
+        name=f"hertz-disc (R={radius:g}, n={n}, P{order}, {drive})",
+        reference=HertzReference("cylinder", radius, mat.plane_strain_modulus, symmetry=1.0),
+        meta={"delta": delta, "h": radius / (np.sqrt(2.0) * n), "symmetry_axis": 0, "center": (0.0, 0.0),
+              "drive": drive},
     )

@@ -123,7 +123,9 @@ def friction_solution(fsol) -> ContactSolution:
                    "mu": float(fsol.friction) * float(fsol.history.friction_factor(st.t)),
                    "coulomb": float(st.coulomb), "cutbacks": int(st.cutbacks), "h": fsol.h,
                    "step_linear_solves": int(st.linear_solves),
-                   "candidates": fsol.extra.get("candidates"), "dofs": fsol.extra.get("dofs")}))
+                   "candidates": fsol.extra.get("candidates"), "dofs": fsol.extra.get("dofs"),
+                   **{k: fsol.extra[k] for k in ("linear_solver", "strategy", "schur_prediction", "prediction_cg_iterations")
+                      if k in fsol.extra}}))
     if not views:  # nothing converged: report the contact-free start
         z = np.zeros(m)
         result = ContactResult(status=fsol.status, message=fsol.message, algorithm=fsol.algorithm,

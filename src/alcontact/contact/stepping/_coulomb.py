@@ -417,6 +417,8 @@ def solve_friction(problem, history: LoadHistory | None, algorithm: str = "simo-
         normals=fc.normals, tangents=fc.tangents, weights=fc.weights, steps=tuple(records), status=status,
         message=message, outer_iterations=n_outer, newton_iterations=n_newton, cutbacks=n_cut,
         linear_solves=fc.linear_solves, eps_n=float(eps_n), eps_t=float(eps_t), h=fc.h,
+        # the direct path's factorizations (two when the Schur block was chosen again); none on the AMG path
+        factorizations=int(fc.factorizations),
         timings={"setup_s": fc.setup_seconds, "factor_s": fc.factor_seconds, "solve_s": t_end - t_solve,
                  "total_s": t_end - t_start},
         extra={"candidates": fc.ncand, "dofs": int(problem.model.ndofs), "linear_solver": solver.name,
@@ -494,7 +496,7 @@ class _FullSpacePath(_StepPath):
         x0 = prev.u[fc.free] if last is None else last.z
         return _FullCtx(fc, fc.rows(cand), fc.y_fix(t)[cand], fc.load(t), fc.weights[cand], prev.tN[cand].copy(),
                         prev.tT[cand].copy(), prev.y[cand, 1:].copy(), x0, fc.u_free(t)[fc.free], eps_n, eps_t,
-                        mu, opts, fc.tfree[cand]), 0
+                        mu, opts, fc.tfree[cand], load_scale=fc.load_scale(t)), 0
 
     def without_candidates(self, fc, t):
         d = fc.dim

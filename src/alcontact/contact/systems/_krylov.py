@@ -76,7 +76,7 @@ Counters: ``linear_solves`` counts CG solves, ``cg_iterations`` their iterations
 ``amg_setups`` the hierarchies built from scratch, ``amg_updates`` the Galerkin
 updates of :func:`~alcontact.linalg._amg.updated_hierarchy`.
 
-Memory: ``K`` on the free DOFs is extracted in one pass (:func:`principal_submatrix`)
+Memory: ``K`` on the free DOFs is extracted in one pass (:func:`~alcontact.linalg.krylov.principal_submatrix`)
 and the model's stiffness is dropped again if the setup assembled it; every :math:`J`
 shares the index arrays of ``K`` (:func:`~alcontact.linalg.krylov.add_on_pattern`); the round-off bound of the residual
 reads :math:`|K|` in row chunks.
@@ -164,6 +164,7 @@ from ... import linalg as _linalg
 from ...errors import InputError
 from ...fem.elasticity import rigid_body_modes
 from ...linalg import MatrixHints, krylov
+from ...linalg.krylov import principal_submatrix
 from ..algorithms._subproblem import (LineSearch, NewtonOutcome, NewtonResult, NewtonSettings, NewtonSystem,
                                       _Point, _PointSystem, newton, subproblem_outcome)
 from ..kinematics._points import ContactPoints
@@ -645,10 +646,27 @@ class _FullSpaceSubproblem(NewtonSystem):
         return float(np.max(np.abs(dx), initial=0.0)) <= 1e-14 * max(float(np.max(np.abs(x), initial=0.0)), 1e-300)
 
 
+#: line search of the frictionless full-space Newton: Armijo on the potential, or a decrease of
+#: :math:`\|R\|_2` where the potential rose by at most 1e-12 of itself (its round-off; :func:`full_newton`)
+_FULL_NEWTON = NewtonSettings(LineSearch(halvings=60, residual_decrease=True, residual_merit_slack=1e-12))
+
+
 def full_newton(ic, law, lam, x0, *, tol=1e-12, maxiter=60) -> NewtonOutcome:
-    """Solve :math:`R(x) = 0` (module doc) by inexact globalized Newton with AMG-CG (:func:`~._newton.newton`)."""
+    r"""Solve :math:`R(x) = 0` (module doc) by inexact globalized Newton with AMG-CG (:func:`~._newton.newton`).
+
+    The line search (:data:`_FULL_NEWTON`) accepts a step by Armijo on the potential :math:`\Pi`
+    or by a decrease of :math:`\|R\|_2` where :math:`\Pi` rose by at most 1e-12 of itself. In
+    the full space :math:`\Pi = 	frac12 x^TKx - b^Tx + \dots` is a sum of terms much larger than
+    the decrease a Newton step near the solution brings, so Armijo alone accepted only steps
+    of 2^-20 or so (the change of :math:`\Pi` within its round-off) and the residual stalled: 2D P1
+    Hertz 10k DOFs, Algorithm 6.1 on the AMG path, 37 and 49 Newton steps at a residual of 3.4e-6
+    and 7.7e-8 in two outer iterations (100 Newton in all, NEWTON_FAILED with other AMG
+    hierarchies; exp-met1 and log-met2 NEWTON_FAILED), against 15 on the direct path; with the
+    residual test 16 Newton (exp-met1 20, log-met2 22; direct 22 and 24), the direct path's
+    outer iterations, the 3D P2 counts unchanged.
+    """
     tol = max(tol, _NEWTON_TOL_FLOOR)
-    out = newton(_FullSpaceSubproblem(ic, law, lam, tol), x0, tol=tol, maxiter=maxiter)
+    out = newton(_FullSpaceSubproblem(ic, law, lam, tol), x0, tol=tol, maxiter=maxiter, settings=_FULL_NEWTON)
     return subproblem_outcome(out, out.state[0], out.state[1])
 
 
@@ -672,30 +690,6 @@ def _abs_matvec(A, v: np.ndarray, rows: int = 1 << 16) -> np.ndarray:
         a, z = int(A.indptr[s]), int(A.indptr[e])
         blk = sp.csr_matrix((np.abs(A.data[a:z]), A.indices[a:z], A.indptr[s : e + 1] - a), shape=(e - s, A.shape[1]))
         out[s:e] = blk @ v
-    return out
-
-
-def principal_submatrix(A, keep: np.ndarray) -> sp.csr_matrix:
-    """``A[keep][:, keep]`` of a CSR matrix for a boolean mask, in one pass (sorted indices kept).
-
-    Peak memory: the result plus one boolean per entry of ``A`` (the two-step slicing
-    copies the kept rows first).
-    """
-    A = sp.csr_matrix(A)
-    newpos = np.cumsum(keep) - 1
-    rows = np.flatnonzero(keep)
-    lens = np.diff(A.indptr)
-    sel = np.repeat(keep, lens)
-    sel &= keep[A.indices]
-    # one padding entry: the start of trailing empty rows (== nnz) stays a valid reduceat index
-    counts = np.add.reduceat(np.append(sel, False), A.indptr[:-1]) if A.nnz else np.zeros(A.shape[0], dtype=np.int64)
-    counts[lens == 0] = 0  # reduceat returns the next row's first entry for empty rows
-    indptr = np.zeros(rows.size + 1, dtype=np.int64)
-    np.cumsum(counts[rows], out=indptr[1:])
-    idx_t = np.int32 if max(indptr[-1], rows.size) < np.iinfo(np.int32).max else np.int64
-    out = sp.csr_matrix((A.data[sel], newpos[A.indices[sel]].astype(idx_t), indptr.astype(idx_t)),
-                        shape=(rows.size, rows.size))
-    out.has_sorted_indices = A.has_sorted_indices
     return out
 
 
@@ -850,6 +844,7 @@ class IterativeFrictionalContact(FrictionalContact):
         self.S = self.Z = self.ZSZ = None  # contact springs of a held body (_spring_matrix, _factor_of)
         # the setup of the direct path; its factorization hook builds the AMG hierarchy (_factor_of)
         super().__init__(problem, history, margin=margin, linear_solver=self.solver.name)
+        self.factorizations = 0  # an AMG hierarchy, no factorization (counted in amg_setups)
         model = self.model
         free = self.free = self._free
         self.K = self._K[free][:, free].tocsr()
@@ -870,7 +865,7 @@ class IterativeFrictionalContact(FrictionalContact):
         self.setup_seconds = time.perf_counter() - t0
 
     # ------------------------------------------------------------------ the hooks of the direct path's setup
-    def _schur_request(self, problem, margin: float) -> dict:
+    def _schur_request(self, problem, margin: float, matrix=None) -> dict:
         """No Schur block: nothing is factorized on this path."""
         return {}
 
@@ -935,6 +930,11 @@ class IterativeFrictionalContact(FrictionalContact):
     def load(self, t: float) -> np.ndarray:
         """Load :math:`b(t) = f_f - K_{fd} u_d` on the free DOFs."""
         return self.amplitudes(t) @ self.b_parts
+
+    def load_scale(self, t: float) -> float:
+        r"""Largest applied load :math:`\max|f_f(t)|` on the free DOFs: the force scale of the Newton residuals
+        (:class:`_FullSpaceFriction`), without the coupling :math:`-K_{fd} u_d` of the prescribed values."""
+        return float(np.max(np.abs((self.amplitudes(t) @ self.loads)[self.free]), initial=0.0))
 
     def y_fix(self, t: float) -> np.ndarray:
         """Local kinematics ``(m, d)`` of ``x = 0`` (reference gaps and prescribed displacements)."""
@@ -1042,6 +1042,8 @@ class _FullCtx:
     mu: float
     opts: object
     tfree: np.ndarray
+    #: largest applied load on the free DOFs at t (without the coupling -K_fd u_d of the prescribed values)
+    load_scale: float = 0.0
 
     label: ClassVar[str] = "friction AL (AMG)"
     #: first-order multiplier updates (6.2b)/(6.2c) only: the second-order update needs the dense
@@ -1098,8 +1100,11 @@ class _FullSpaceFriction(_PointSystem):
     r"""Subproblem (6.2a) in the free DOFs (module doc): :math:`F(x) = Kx - b + B^T(w \circ t(y(x)))`.
 
     The frictional counterpart of :class:`~alcontact.contact.systems._krylov._FullSpaceSubproblem`:
-    relative residual :math:`\max|F|` over the largest load or contact force (of the start,
-    or the current iterate where larger); tolerance raised to the round-off bound of
+    relative residual :math:`\max|F|` over the largest applied load or contact force (of the start,
+    or the current iterate where larger; not over :math:`\max|b|`, whose coupling :math:`-K_{fd} u_d`
+    of a platen stalled Algorithm 6.2 at ``tol_multiplier`` 1e-11: 3D P2 Hertz 9k DOFs, the first
+    step failed after 6 cut-backs; with this scale 12 outer iterations, as the obstacle-driven
+    problem); tolerance raised to the round-off bound of
     :math:`F`; each step an inexact Krylov solve (CG for a symmetric :math:`J`, else GMRES)
     with the AMG preconditioner, the forcing terms of :mod:`alcontact.contact.systems._krylov`
     (tightened after a damped step or a slow residual decrease) and its rebuild rule
@@ -1115,7 +1120,9 @@ class _FullSpaceFriction(_PointSystem):
         self.rho = ctx.mu * np.maximum(lamN, 0.0) if ctx.opts.radius == "multiplier" else None
         self.BcT = ctx.Bc.T.tocsr()
         self.Babs = abs(ctx.Bc).tocsr()
-        self.bscale = float(np.max(np.abs(ctx.b), initial=0.0))
+        # force scale: the applied loads, not max|b| (see _FullSpaceSubproblem: a platen's -K_fd u_d is no force)
+        self.bscale = ctx.load_scale
+        self.bscale_lifted = float(np.max(np.abs(ctx.b), initial=0.0))
         self.scale = None
         self.fscale = 1e-300
         self.forcing = _FORCING_START
@@ -1140,8 +1147,8 @@ class _FullSpaceFriction(_PointSystem):
 
     def measure(self, state):
         wt = float(np.max(np.abs(self.ctx.w[:, None] * state.aux[1]), initial=0.0))
-        if self.scale is None:
-            self.scale = max(wt, self.bscale)
+        if self.scale is None:  # neither contact forces nor loads: the right-hand side with the supports
+            self.scale = max(wt, self.bscale) or self.bscale_lifted
         self.fscale = max(self.scale, wt, 1e-300)
         return float(np.max(np.abs(state.F), initial=0.0)) / self.fscale
 
