@@ -73,6 +73,11 @@ FRICTION_VARIANTS = {
     "simo-laursen-coulomb-traction": ("simo-laursen", None, {"radius": "traction"}),
     # Algorithm 6.4 with exp-met1 (second-order update; a log barrier keeps the first-order one)
     "exp-met1-coulomb": ("family-p", "exp-met1", {}),
+    # the same with the softer penalty of Algorithm 6.2's finite-deformation default
+    "exp-met1-coulomb-p10": ("family-p", "exp-met1", {"penalty_scale": 10.0}),
+    # Algorithm 6.4 with the other MET 1 generators (log: first-order updates, a barrier)
+    "log-met1-coulomb": ("family-p", "log-met1", {}),
+    "quad-met1-coulomb": ("family-p", "quad-met1", {}),
 }
 MU = 0.3
 
@@ -91,7 +96,8 @@ DEFAULT_CASES = ["2d-s", "2d-m", "2d-l", "3d-s", "3d-m", "3d-l"]
 
 FIELDS = ["case", "variant", "step", "t", "newton_iterations", "linear_solves", "cutbacks", "outer_iterations", "fx",
           "fy", "fz",
-          "equilibrium", "cpu_seconds", "ratio", "slip_law_error", "stick_ratio_max", "state_reversals"]
+          "equilibrium", "cpu_seconds", "ratio", "slip_law_error", "stick_ratio_max", "state_reversals",
+          "stick_slip_reversals"]
 
 
 def unit_cost(problem, u: np.ndarray, repeat: int = 3) -> float:
@@ -182,9 +188,10 @@ def run_case(case: str, variants, *, slide: float = 2.0, repeat: int = 3, log=lo
                    "cpu_seconds": f"{secs[k]:.4f}", "ratio": f"{secs[k] / t_unit:.2f}"}
             if friction:
                 slip_err, stick_max = coulomb_check(s)
-                rev = _state_reversals(sol, k)
+                rev, ss_rev = _state_reversals(sol, k)
                 row.update(slip_law_error=f"{slip_err:.2e}", stick_ratio_max=f"{stick_max:.6f}",
-                           state_reversals="" if rev is None else rev)
+                           state_reversals="" if rev is None else rev,
+                           stick_slip_reversals="" if ss_rev is None else ss_rev)
             rows.append(row)
             slide_rows.append((s, f, eq[k], secs[k]))
             slide_ks.append(k)
@@ -208,12 +215,18 @@ def run_case(case: str, variants, *, slide: float = 2.0, repeat: int = 3, log=lo
         }
         if friction:
             law = [coulomb_check(s) for s, *_ in slide_rows]
-            rev = [_state_reversals(sol, k) for k in slide_ks]
+            both = [_state_reversals(sol, k) for k in slide_ks]
+            rev, ss_rev = [b[0] for b in both], [b[1] for b in both]
+            steady_ks = [k for k, (s, *_) in zip(slide_ks, slide_rows)
+                         if (s.t - npress) * problem.meta["slide_step"] > 0.25]
+            ss_steady = [_state_reversals(sol, k)[1] for k in steady_ks]
             summary.update(
                 mu=MU, slip_law_error_max=float(max((a for a, _ in law), default=np.nan)),
                 stick_ratio_max=float(max((b for _, b in law), default=np.nan)),
                 state_reversals=None if any(r is None for r in rev) else int(sum(rev)),
-                steps_with_reversals=None if any(r is None for r in rev) else int(sum(r > 0 for r in rev)))
+                steps_with_reversals=None if any(r is None for r in rev) else int(sum(r > 0 for r in rev)),
+                stick_slip_reversals=None if any(r is None for r in ss_rev) else int(sum(ss_rev)),
+                stick_slip_reversals_after_transition=None if any(r is None for r in ss_steady) else int(sum(ss_steady)))
         summaries.append(summary)
         mean, ratio = summary["newton_mean"], summary["step_cpu_over_unit"]
         log(f"ironing {case} {name}: {summary['status']}, Newton per sliding step "
@@ -241,9 +254,11 @@ def _step_cpu(marks, frames, friction: bool) -> list[float]:
 
 
 def _state_reversals(sol, k: int):
-    """Stick/slip reversals between the Newton iterates of accepted step ``k`` (a count the Coulomb engine's
-    record keeps per step; ``None`` when not counted)."""
-    return sol.record.steps[k].state_reversals
+    """``(state reversals, stick/slip reversals)`` between the Newton iterates of accepted step ``k`` (counts the
+    Coulomb engine's record keeps per step, ``FiniteFrictionStep.state_reversals`` / ``stick_slip_reversals``;
+    ``None`` when not counted)."""
+    st = sol.record.steps[k]
+    return st.state_reversals, st.stick_slip_reversals
 
 
 def coulomb_check(step) -> tuple[float, float]:

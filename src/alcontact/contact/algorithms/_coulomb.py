@@ -78,7 +78,7 @@ import scipy.sparse.linalg as spla
 
 from ... import penalties as _pen
 from ...errors import InvertedElementError
-from ..laws._coulomb import OPEN, STICK, Macaulay, block_diag, local_law, return_mapping, tangential_energy
+from ..laws._coulomb import OPEN, SLIP, STICK, Macaulay, block_diag, local_law, return_mapping, tangential_energy
 from ..laws._normal import eta_for_stiffness, freezes_at_zero, make_law
 from ..laws._stiffness import penalty_stiffness
 from ..solution._solution import ContactStatus
@@ -1030,17 +1030,23 @@ def _first_order_where_held(M: np.ndarray) -> None:
     M[held, held] = 1.0
 
 
-def state_reversals(history: Sequence[np.ndarray]) -> int:
+def state_reversals(history: Sequence[np.ndarray], among: tuple[int, ...] | None = None) -> int:
     """Points whose state returned to one it had left along ``history`` (a state per iterate).
 
     Consecutive repeats count once: a point with states ``STICK, SLIP, SLIP, STICK`` has one
-    reversal, ``STICK, SLIP, OPEN`` none.
+    reversal, ``STICK, SLIP, OPEN`` none. ``among``: only the iterates where a point is in one
+    of these states count, e.g. ``(STICK, SLIP)``: the stick/slip reversals of the points in contact
+    (``SLIP, OPEN, SLIP`` at the edge of the contact zone is none, ``STICK, OPEN, SLIP, STICK`` one).
     """
     if len(history) < 3:
         return 0
     H = np.asarray(history)  # (iterates, points)
     count = 0
     for col in H.T:
+        if among is not None:
+            col = col[np.isin(col, among)]
+            if col.size < 3:
+                continue
         seq = col[np.concatenate([[True], col[1:] != col[:-1]])]
         if seq.size >= 3 and np.any(seq[2:] == seq[:-2]):
             count += 1
@@ -1191,7 +1197,8 @@ def _step_ssn_finite(ctx: _FiniteALCtx, penalty_name: str = "none") -> _StepOut:
         u, g, nu, tN, tT, slip, state, rb, Rx, RL, _ = out.state
         final = np.where(L[:, 0] > 0, state, OPEN)
         loc = _Local(u, g, nu, L[:, 0].copy(), L[:, 1:].copy(), slip, final, Rx, rb,
-                     reversals=state_reversals(states + [final]))
+                     reversals=state_reversals(states + [final]),
+                     stick_slip_reversals=state_reversals(states + [final], among=(STICK, SLIP)))
         return _StepOut(True, "converged", ctx.forces(x, L), L.copy(), 1, out.iterations, z=x, last_state=loc)
     finally:
         dc.coulomb = saved

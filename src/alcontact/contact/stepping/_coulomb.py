@@ -32,7 +32,7 @@ from ...errors import InputError, InvertedElementError
 from ...linalg import select_solver
 from .._verify import check_state, equilibrium_tolerance, reach, state_equilibrium, verified_status
 from ..algorithms._coulomb import (_EQUILIBRIUM_TOL, FrictionOptions, _Ctx, _FiniteALCtx, _StepOut, _admissible,
-                                   _step_ssn, friction_algorithms)
+                                   _step_ssn, friction_algorithms, state_reversals)
 from ..algorithms._frictionless import check_solve_args, find_algorithm, options_with
 from ..laws._coulomb import OPEN, SLIP, STICK
 from ..laws._stiffness import penalty_stiffness
@@ -677,10 +677,17 @@ def _attempt(dc, data, step_fn, x, t, y_prev, nu_prev, lamN_all, lamT_all, mu, e
         res = None
         for _ in range(8):
             cand = dc.cand
+            dc.state_trace = []
             res = step_fn(_FiniteALCtx(dc, lamN_all[cand].copy(), lamT_all[cand].copy(), dc.x0, eps_n, opts,
                                        barrier=barrier), pen_name)
+            trace, dc.state_trace = dc.state_trace, None
             if not res.ok:
                 break
+            if res.last_state is not None and res.last_state.reversals is None:
+                # the AL algorithms: reversals over the Newton iterates of all the step's subproblems, and the result
+                trace.append(res.last_state.state)
+                res.last_state = dataclasses.replace(res.last_state, reversals=state_reversals(trace),
+                                                     stick_slip_reversals=state_reversals(trace, among=(STICK, SLIP)))
             added = dc.extend(dc.all_gaps(dc.expand(res.z)), opts.tol_penetration * dc.h)
             if added.size == 0:
                 break
@@ -728,7 +735,7 @@ def _record(dc, res, t, mu, opts, cut, newton, seconds, solves=0, *, fixed, load
         dissipation=dissipation, stored_energy=float(dc.body.energy(u)), offset=dc.offset.copy(), seconds=seconds,
         message=message, u=u, pressure=pressure, gap=g_all, traction_t=traction_t,
         slip=np.where(closed[:, None], slip, 0.0), normals=dc.normals.copy(), linear_solves=int(solves),
-        state_reversals=loc.reversals)
+        state_reversals=loc.reversals, stick_slip_reversals=loc.stick_slip_reversals)
     full = {"u": u, "pressure": pressure, "gap": g_all, "traction_t": traction_t, "normals": dc.normals.copy()}
     return rec, full
 
