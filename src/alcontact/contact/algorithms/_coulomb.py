@@ -250,6 +250,11 @@ class _ALSystem(Protocol):
         is counted as an outer iteration (else not; see :func:`_step_al`)."""
 
     @property
+    def final_coupled(self) -> bool:
+        """Whether the subproblem expected to be the last of a step takes the coupled Coulomb radius
+        (:func:`_final_coupled`; finite deformation)."""
+
+    @property
     def start(self) -> np.ndarray:
         """The first iterate ``z`` of the step."""
 
@@ -297,6 +302,8 @@ class _Ctx:
     tangent_predictor: ClassVar[bool] = True
     #: the family-P predictor of a first-order step gives lambda_N only and is not counted (_step_al)
     full_predictor: ClassVar[bool] = False
+    #: the last subproblem keeps the fixed radius (_final_coupled: measured at finite deformation only)
+    final_coupled: ClassVar[bool] = False
 
     @property
     def c(self):
@@ -591,6 +598,24 @@ def _coupled_start(ctx: _ALSystem) -> bool:
     return ctx.opts.radius == "multiplier" and ctx.second_order and ctx.fc.spring is None and ctx.mu > 0
 
 
+def _final_coupled(ctx: _ALSystem, dlam: float) -> bool:
+    r"""Whether the next subproblem takes the coupled Coulomb radius :math:`\mu t_N` because it is expected to be
+    the last: the multiplier change ``dlam`` of the one just solved is below :math:`\sqrt{tol_{multiplier}}`.
+
+    With the fixed radius :math:`\mu\lambda_N` of (6.2c) the converged tractions satisfy the slip law
+    :math:`|t_T| = \mu t_N` only up to the multiplier change, :math:`|\lambda_N - t_N| \le tol_{multiplier}\,p_{ref}`:
+    relative to :math:`t_N` that is large at the weakly pressed points of the contact edge (issue 18, 3D
+    ironing with Algorithm 6.2: 3.0e-8). In the last subproblem the coupled radius makes the returned
+    tractions satisfy it exactly (to round-off); there the iterate is at the fixed point to
+    :math:`\sqrt{tol_{multiplier}}`, where both radii differ by that much and Newton converges alike.
+    The fixed point, the update and the stopping test are unchanged; only with ``radius="multiplier"``
+    (``"traction"`` takes the coupled radius in every subproblem) and where :func:`_coupled_start`
+    applies (the hybrid start: the second-order update, a body held by its supports), on a system that
+    declares :attr:`_ALSystem.final_coupled` (finite deformation, :class:`_FiniteALCtx`).
+    """
+    return ctx.final_coupled and _coupled_start(ctx) and dlam <= float(np.sqrt(ctx.opts.tol_multiplier))
+
+
 def _first_subproblem(ctx: _ALSystem, law, lamN, lamT, z, coupled: bool):
     """The first subproblem of a step: coupled radius when ``coupled``, the fixed radius when that fails.
 
@@ -705,7 +730,9 @@ def _step_al(ctx: _ALSystem, penalty_name: str) -> _StepOut:
         dlam_prev = dlam
         # multiplier updates (6.2b)/(6.2c), resp. lambda_N <- p'(g/eta, lambda_N)
         upd = _second_order_update(ctx, law, lamN, lamT, out.state, z, coupled) if second_order else None
-        coupled = False
+        # the subproblem expected to be the last (a multiplier change below sqrt(tol_multiplier)) takes the
+        # coupled radius mu t_N (_final_coupled)
+        coupled = _final_coupled(ctx, dlam)
         fallback = (t[:, 0].copy(), t[:, 1:].copy(), z.copy()) if upd is not None else None
         lamN, lamT, z = upd if upd is not None else (t[:, 0].copy(), t[:, 1:].copy(), z)
         if family_p:
@@ -832,6 +859,8 @@ class _FiniteALCtx:
     #: no tangent predictor of the multipliers (the sensitivity has no T_y: not factorized for it)
     tangent_predictor: ClassVar[bool] = False
     full_predictor: ClassVar[bool] = True
+    #: the last subproblem of a step takes the coupled radius mu t_N (_final_coupled; issue 18)
+    final_coupled: ClassVar[bool] = True
     tfree: ClassVar[None] = None
 
     @property

@@ -41,7 +41,7 @@ from ..problem._loading import LoadHistory, problem_at
 from ..solution._records import FiniteFrictionSolution, FiniteFrictionStep, FrictionSolution, FrictionStep
 from ..solution._solution import ContactStatus
 from ..systems._condensed import FrictionalContact
-from ..systems._full_space import FiniteFrictionContact, finite_solver
+from ..systems._full_space import FiniteFrictionContact, contact_states, finite_solver
 from ..systems._krylov import IterativeFrictionalContact, _FullCtx
 from ._steps import Attempt, StepRecord, _StepData, _step_times, step_through
 
@@ -685,7 +685,7 @@ def _attempt(dc, data, step_fn, x, t, y_prev, nu_prev, lamN_all, lamT_all, mu, e
                 break
             if res.last_state is not None and res.last_state.reversals is None:
                 # the AL algorithms: reversals over the Newton iterates of all the step's subproblems, and the result
-                trace.append(res.last_state.state)
+                trace.append(contact_states(res.last_state))
                 res.last_state = dataclasses.replace(res.last_state, reversals=state_reversals(trace),
                                                      stick_slip_reversals=state_reversals(trace, among=(STICK, SLIP)))
             added = dc.extend(dc.all_gaps(dc.expand(res.z)), opts.tol_penetration * dc.h)

@@ -1535,6 +1535,23 @@ class _Local:
         return np.column_stack([self.g, self.slip]), np.column_stack([self.tN, self.tT]), None, self.state
 
 
+#: a point whose normal traction is at most this fraction of the largest counts as open in the state trace
+#: (:func:`contact_states`)
+_TRACE_FLOOR = 1e-14
+
+
+def contact_states(loc: "_Local") -> np.ndarray:
+    """The OPEN / STICK / SLIP flags of a state for the state trace (:attr:`FiniteFrictionContact.state_trace`):
+    its flags, OPEN where :math:`t_N` is at most :data:`_TRACE_FLOOR` of the largest.
+
+    A family-P law keeps a positive traction at every candidate (``exp-met1``: down to 1e-280 of the largest
+    at the open points of the 2D ironing case), whose return mapping flags stick or slip; such a point is
+    open to round-off, and its flags flip with the underflow, not with the contact.
+    """
+    tN = np.asarray(loc.tN, dtype=float)
+    return np.where(tN > _TRACE_FLOOR * float(np.max(tN, initial=0.0)), loc.state, OPEN)
+
+
 class FiniteFrictionContact(FiniteContact):
     """:class:`~alcontact.contact.systems._full_space.FiniteContact` with Coulomb friction (module doc).
 
@@ -1713,7 +1730,7 @@ class _FrictionSubproblem(NewtonSystem):
     def step(self, x, state, history):
         dc = self.dc
         if dc.state_trace is not None:  # the OPEN / STICK / SLIP flags of every iterate (state reversals)
-            dc.state_trace.append(state.state.copy())
+            dc.state_trace.append(contact_states(state))
         ta = time.perf_counter()
         J = dc.friction_jacobian(self.law, self.lamN, self.lamT, state.u)
         tb = time.perf_counter()
