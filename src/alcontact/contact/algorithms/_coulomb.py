@@ -837,8 +837,8 @@ class _FiniteALCtx:
       only: on the 2D ironing case (h = 0.1, mu = 0.3, 40 sliding steps of 0.05 R) 11-13 outer
       iterations and 33.4 Newton per sliding step; with it 3 outer iterations and 12.1 Newton
       with ``penalty_scale`` 100, 6.25 with 10, the default here since (:data:`FINITE_AL_DEFAULTS`,
-      ``docs/benchmarks/ironing.md``). Algorithm
-      6.4 with a barrier-type penalty keeps the first-order updates (:attr:`second_order`);
+      ``docs/benchmarks/ironing.md``). Algorithm 6.4 takes it with every penalty, a barrier-type one
+      (log MET 1/2) included (:attr:`second_order`);
     - the family-P predictor is a full Simo-Laursen outer iteration (:attr:`full_predictor`):
       both multipliers are taken from it and it is counted (its tangential traction, in the
       tangent planes of the predicted state, starts the family-P iterations);
@@ -853,7 +853,6 @@ class _FiniteALCtx:
     x0: np.ndarray  # free displacements the step starts from
     eps_n: float
     opts: Any
-    barrier: bool = False  # a normal law with a bounded domain (log MET 1/2): first-order updates (second_order)
 
     label: ClassVar[str] = "finite friction AL"
     #: no tangent predictor of the multipliers (the sensitivity has no T_y: not factorized for it)
@@ -878,18 +877,20 @@ class _FiniteALCtx:
 
     @property
     def second_order(self) -> bool:
-        """The option ``multiplier_update``: ``"newton"`` takes the second-order update (:meth:`sensitivity`),
-        except with a barrier-type normal law (:attr:`barrier`).
+        """The option ``multiplier_update``: ``"newton"`` takes the second-order update (:meth:`sensitivity`).
 
-        A penalty with a bounded domain (``log-met1``, ``log-met2``) keeps the first-order updates at
-        finite deformation: with the second-order update the block of
-        ``tests/verification/test_finite_friction_log_barrier.py`` (4 x 4 elements, 9 steps) needed
-        3-4 cut-backs at its stick-to-slip transition, where the Simo-Laursen predictor subproblem of
-        Algorithm 6.4 no longer converged from the updated state (none with first-order updates,
-        331 Newton). On the same block ``exp-met1`` takes 124 Newton instead of 320 with it,
-        ``quad-met1`` 114 instead of 268, no cut-back.
+        With every penalty. A barrier-type one (``log-met1``, ``log-met2``) kept the first-order updates
+        until issue 18: with the second-order update the block of
+        ``tests/verification/test_finite_friction_log_barrier.py`` (4 x 4 elements, 9 steps) had needed
+        3-4 cut-backs at its stick-to-slip transition (none with first-order updates, 331 Newton). With the
+        barrier start of the frictionless solver (:meth:`inside_domain`) it takes 115 Newton and no cut-back
+        (112 with the coupled radius of the last subproblem, :func:`_final_coupled`); the 2D ironing case
+        (h = 0.1, 20 sliding steps, ``penalty_scale`` 10) 7.35 Newton per sliding step instead of 32.4, and
+        the slip law holds to round-off instead of to the floored multiplier (1e-10 of the largest pressure
+        as the radius at open points). On the same block ``exp-met1`` takes 124 Newton instead of 320 with
+        it, ``quad-met1`` 114 instead of 268, no cut-back.
         """
-        return self.opts.multiplier_update == "newton" and not self.barrier
+        return self.opts.multiplier_update == "newton"
 
     @property
     def uTn(self) -> np.ndarray:
@@ -1233,19 +1234,21 @@ def _step_ssn_finite(ctx: _FiniteALCtx, penalty_name: str = "none") -> _StepOut:
         dc.coulomb = saved
 
 
-#: Defaults of Algorithm 6.2 at finite deformation: a ten times softer automatic penalty
+#: Defaults of Algorithms 6.2 and 6.4 at finite deformation: a ten times softer automatic penalty
 #: (``penalty_scale`` 10). With the default 100 the first subproblem of each sliding step takes
-#: most of the step's Newton iterations (12.1 per sliding step on the 2D ironing case, 8.9 in
-#: 3D; 6.3 and 7.3 with 10, ``docs/benchmarks/ironing_friction_2d.md``); the converged step does
-#: not depend on the penalty (the fixed point of (6.2b)/(6.2c) is the discrete Coulomb problem).
+#: most of the step's Newton iterations (Algorithm 6.2: 12.1 per sliding step on the 2D ironing case,
+#: 8.9 in 3D; 6.3 and 7.3 with 10, ``docs/benchmarks/ironing_friction_2d.md``; Algorithm 6.4, issue 18,
+#: 40 sliding steps: exp-met1 13.95 -> 7.30 (2D), 10.65 -> 6.97 (3D), quad-met1 12.12 -> 7.17 (2D)); the
+#: converged step does not depend on the penalty (the fixed point of (6.2b)/(6.2c) is the discrete
+#: Coulomb problem).
 FINITE_AL_DEFAULTS = {**FRICTION_DEFAULTS, "penalty_scale": 10.0}
 
 register_family((
     ("simo-laursen", _step_al, "rockafellar", "Algorithm 6.2 at finite deformation: AL, Macaulay normal law (6.52), "
                                               "return mapping onto the Coulomb cone in the current configuration"),
+    ("family-p", _step_al, None, "Algorithm 6.4 at finite deformation: Algorithm 6.2 with a family-P normal penalty"),
 ), friction=True, kinematics="finite", linear_solvers=("direct", "factor-gmres"), defaults=FINITE_AL_DEFAULTS)
 register_family((
-    ("family-p", _step_al, None, "Algorithm 6.4 at finite deformation: Algorithm 6.2 with a family-P normal penalty"),
     ("ssn", _step_ssn_finite, "none",
      "reference: Alart-Curnier semi-smooth Newton on (u, lambda_N, lambda_T), exact (no penalty)"),
 ), friction=True, kinematics="finite", linear_solvers=("direct", "factor-gmres"), defaults=FRICTION_DEFAULTS)

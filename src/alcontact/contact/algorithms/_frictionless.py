@@ -82,7 +82,7 @@ class ContactOptions:
         ``E' = E/(1-nu^2)`` (plane strain, 3D) or ``E`` (plane stress).
     penalty_scale : float or None
         Multiplier of the automatic :math:`\\varepsilon_N`. ``None``: the algorithm's
-        default (:attr:`Algorithm.defaults`): 100, and 10 for Algorithm 6.2 with Coulomb
+        default (:attr:`Algorithm.defaults`): 100, and 10 for Algorithms 6.2 / 6.4 with Coulomb
         friction at finite deformation (:data:`~alcontact.contact.algorithms._coulomb.FINITE_AL_DEFAULTS`:
         the stiff penalty costs Newton iterations in the first subproblem of every sliding
         step; the converged solution does not depend on it).
@@ -205,7 +205,7 @@ class ContactOptions:
         predictor :math:`\\lambda_n + (d\\lambda^*/dy_f)\\Delta y_f` of the last
         converged step. Same stopping test, same solution. At finite deformation
         Algorithms 6.2 / 6.4 take it with the sensitivity of the full-space subproblem
-        (no tangent predictor), except with a barrier-type penalty (log MET 1/2).
+        (no tangent predictor), with every penalty (a barrier-type one, log MET 1/2, since issue 18).
     """
 
     #: word naming this class's fields in messages (``"contact option maxiter = ..."``)
@@ -215,7 +215,7 @@ class ContactOptions:
         "float", None, "Normal penalty stiffness (default: `penalty_scale` E'/h).", low=0, low_open=True)
     penalty_scale: float | None = declared(
         "float", None, "Multiplier of the automatic stiffness E'/h (default: the algorithm's, 100; 10 for "
-        "Algorithm 6.2 with friction at finite deformation).", low=0, low_open=True)
+        "simo-laursen and family-p with friction at finite deformation).", low=0, low_open=True)
     tol_penetration: float = declared("float", 1e-8, "Stop: max penetration / h.", low=0, low_open=True)
     tol_complementarity: float = declared("float", 1e-8, "Stop: max |lambda g| / (p_max h).", low=0, low_open=True)
     tol_multiplier: float = declared("float", 1e-8, "Stop: max multiplier change / p_max.", low=0, low_open=True)
@@ -562,7 +562,8 @@ def _penalty_start(dc, opts, eps):
     is the larger of the square of the start's and the subproblem's residual, so the first one only
     has to be as accurate as the second dual step corrects (the second subproblem of the 3D ironing
     case starts at relative residual 3e-3 to 1.5e-2 whether the first is solved to 1e-4 or 1e-12).
-    Where no second subproblem follows (no point was shifted) it is solved on to ``newton_tol``.
+    Where no point is shifted it is solved to ``newton_tol`` (no second subproblem follows), and where
+    the shift changed no traction it is solved on to ``newton_tol``.
     """
     if not dc.warm_penalty_start:
         out = _penalty_solve(dc, opts, eps, dc.start())
@@ -573,12 +574,14 @@ def _penalty_start(dc, opts, eps):
     # at every open point), not contact: zero, so that the entry rule sees those points as not pressed
     lam0 = np.where(lam0 > opts.multiplier_floor * float(np.max(lam0, initial=0.0)), lam0, 0.0)
     dual = dc.start_multiplier_step
-    inexact = bool(dc.inexact_subproblems) and opts.subproblems == "inexact"
+    # the entry solve is inexact where a second subproblem follows it (the entry rule shifts a point)
+    loose = (bool(dc.inexact_subproblems) and opts.subproblems == "inexact"
+             and bool(np.any(np.asarray(dc.entry_multipliers(lam0, law, penalty_start=True)) != lam0)))
     out, lam_used = _entry_subproblem(dc, law, lam0, dc.start(),
-                                      tol=max(opts.newton_tol, _START_ENTRY_TOL) if inexact else opts.newton_tol,
+                                      tol=max(opts.newton_tol, _START_ENTRY_TOL) if loose else opts.newton_tol,
                                       maxiter=opts.maxiter_newton, finish=False, penalty_start=True)
-    if out.converged and lam_used is lam0 and out.residual > opts.newton_tol:
-        # no shifted point: no second subproblem follows, and the dual step needs (S) solved to newton_tol
+    if loose and out.converged and lam_used is lam0 and out.residual > opts.newton_tol:
+        # the shift changed no traction: no second subproblem follows, and the dual step needs (S) to newton_tol
         out = _solve_on(dc, law, lam0, out, dc.start(), tol=opts.newton_tol, maxiter=opts.maxiter_newton)
     better = dual(law, lam_used, out) if out.converged else None
     if isinstance(better, tuple) and lam_used is not lam0:

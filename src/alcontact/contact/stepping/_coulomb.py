@@ -26,7 +26,6 @@ from typing import Any, Callable, Sequence
 
 import numpy as np
 
-from ... import penalties as _pen
 from ..._options import MAX_STEPS, VALUE_RANGE, is_integer, is_real, show
 from ...errors import InputError, InvertedElementError
 from ...linalg import select_solver
@@ -666,8 +665,6 @@ def _attempt(dc, data, step_fn, x, t, y_prev, nu_prev, lamN_all, lamT_all, mu, e
     transported into the tangent planes at the step's predictor
     (:func:`~alcontact.contact.obstacles.transport_tangent`) and start the step's multipliers.
     """
-    # a barrier-type normal law (bounded domain, log MET 1/2; the reference ssn has no penalty)
-    barrier = pen_name in _pen.available() and bool(np.isfinite(_pen.make(pen_name).domain_upper(1.0)))
     try:
         fv, load, ob = data(t)
         dc.configure(fv, load, ob, x, predictor_stiffness=eps_n)
@@ -678,8 +675,8 @@ def _attempt(dc, data, step_fn, x, t, y_prev, nu_prev, lamN_all, lamT_all, mu, e
         for _ in range(8):
             cand = dc.cand
             dc.state_trace = []
-            res = step_fn(_FiniteALCtx(dc, lamN_all[cand].copy(), lamT_all[cand].copy(), dc.x0, eps_n, opts,
-                                       barrier=barrier), pen_name)
+            res = step_fn(_FiniteALCtx(dc, lamN_all[cand].copy(), lamT_all[cand].copy(), dc.x0, eps_n, opts),
+                          pen_name)
             trace, dc.state_trace = dc.state_trace, None
             if not res.ok:
                 break
