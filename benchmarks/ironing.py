@@ -71,11 +71,11 @@ FRICTION_VARIANTS = {
     "simo-laursen-coulomb-p10": ("simo-laursen", None, {"penalty_scale": 10.0}),
     # the same with the coupled Coulomb radius mu t_N in every subproblem (slip law exact in each)
     "simo-laursen-coulomb-traction": ("simo-laursen", None, {"radius": "traction"}),
-    # Algorithm 6.4 with exp-met1 (second-order update; a log barrier keeps the first-order one)
+    # Algorithm 6.4 with exp-met1 and its defaults (second-order update, penalty_scale 10 at finite deformation)
     "exp-met1-coulomb": ("family-p", "exp-met1", {}),
-    # the same with the softer penalty of Algorithm 6.2's finite-deformation default
-    "exp-met1-coulomb-p10": ("family-p", "exp-met1", {"penalty_scale": 10.0}),
-    # Algorithm 6.4 with the other MET 1 generators (log: first-order updates, a barrier)
+    # the same with the stiff penalty (Algorithm 6.4's default before issue 18's second wave)
+    "exp-met1-coulomb-p100": ("family-p", "exp-met1", {"penalty_scale": 100.0}),
+    # Algorithm 6.4 with the other MET 1 generators, defaults (log-met1, a barrier: second-order since issue 18)
     "log-met1-coulomb": ("family-p", "log-met1", {}),
     "quad-met1-coulomb": ("family-p", "quad-met1", {}),
 }
@@ -306,20 +306,25 @@ def report(summaries, cases, command: str) -> str:
         lines += ["", f"Coulomb friction, mu = {MU}: *slip law*: the largest | abs(t_T) - mu t_N | / (mu t_N) at a "
                   "slipping point; *stick*: the largest abs(t_T) / (mu t_N) at a sticking point; *reversals*: points "
                   "whose stick/slip/open state went back to one it had left between the Newton iterates of an "
-                  "accepted step (sum over the sliding steps, and the steps with any); *equilibrium* with the "
+                  "accepted step (sum over the sliding steps, and the steps with any); *stick/slip rev.*: the same "
+                  "between stick and slip only (a point's open iterates skipped), all sliding steps / after the "
+                  "first 0.25 R of travel (the stick-to-slip transition); *equilibrium* with the "
                   "tangential tractions; *solves*: linear solves per sliding step (Newton systems, predictors and "
                   "the sensitivity of the second-order multiplier update); *outer*: AL outer iterations per step.", "",
                   "| case | DOFs | variant | status | Newton / step (mean) | max | solves / step | outer / step "
-                  "| cut-backs | equilibrium | step / unit | max Fx/Fy | slip law | stick | reversals (steps) |",
-                  "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+                  "| cut-backs | equilibrium | step / unit | max Fx/Fy | slip law | stick | reversals (steps) "
+                  "| stick/slip rev. |",
+                  "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
         for s in fric:
             rev = "-" if s["state_reversals"] is None else f"{s['state_reversals']} ({s['steps_with_reversals']})"
+            ss = ("-" if s["stick_slip_reversals"] is None
+                  else f"{s['stick_slip_reversals']} / {s['stick_slip_reversals_after_transition']}")
             lines.append(f"| {s['case']} | {s['dofs']} | {s['variant']} | {s['status']} "
                          f"| {fmt(s['newton_mean'], '.2f')} | {s['newton_max']} | {fmt(s['linear_solves_mean'], '.2f')} "
                          f"| {fmt(s['outer_mean'], '.2f')} | {s['cutbacks']} "
                          f"| {fmt(s['equilibrium_max'], '.1e')} | {fmt(s['step_cpu_over_unit'], '.2f')} "
                          f"| {fmt(s['horizontal_over_vertical_max'], '.3f')} | {fmt(s['slip_law_error_max'], '.1e')} "
-                         f"| {fmt(s['stick_ratio_max'], '.4f')} | {rev} |")
+                         f"| {fmt(s['stick_ratio_max'], '.4f')} | {rev} | {ss} |")
     return "\n".join(lines) + "\n"
 
 
