@@ -403,6 +403,21 @@ def run(out_dir=None, cases=None, variants=None, log=print, repeat: int = 3, sli
     return out
 
 
+def merge(out: Path, name: str, parts) -> None:
+    """``out/name.json`` and ``out/name.csv``: the summaries and per-step rows of the runs ``parts``, in order."""
+    summaries, rows = [], []
+    for part in parts:
+        summaries += json.loads((out / f"{part}.json").read_text())
+        with open(out / f"{part}.csv", newline="") as fh:
+            rows += list(csv.DictReader(fh))
+    buf = io.StringIO()
+    w = csv.DictWriter(buf, fieldnames=FIELDS)
+    w.writeheader()
+    w.writerows(rows)
+    write_text_atomic(out / f"{name}.csv", buf.getvalue())
+    write_text_atomic(out / f"{name}.json", json.dumps(summaries, indent=1) + "\n")
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--out", default="docs/benchmarks")
@@ -414,7 +429,13 @@ def main(argv=None) -> int:
     ap.add_argument("--tables", type=Path, default=None,
                     help="regenerate the tables of this report (docs/benchmarks/ironing.md) from the summaries in "
                          "--out, and run nothing")
+    ap.add_argument("--merge", nargs="+", default=None, metavar=("NAME", "PART"),
+                    help="write NAME.json / NAME.csv in --out from the summaries and rows of the runs PART ... there "
+                         "(one run per case or variant, e.g. on a shared machine), and run nothing")
     args = ap.parse_args(argv)
+    if args.merge is not None:
+        merge(Path(args.out), args.merge[0], args.merge[1:])
+        return 0
     if args.tables is not None:
         write_text_atomic(args.tables, tables_into(args.tables, Path(args.out)))
         return 0
