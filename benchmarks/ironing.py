@@ -227,7 +227,8 @@ def run_case(case: str, variants, *, slide: float = 2.0, repeat: int = 3, log=lo
                 state_reversals=None if any(r is None for r in rev) else int(sum(rev)),
                 steps_with_reversals=None if any(r is None for r in rev) else int(sum(r > 0 for r in rev)),
                 stick_slip_reversals=None if any(r is None for r in ss_rev) else int(sum(ss_rev)),
-                stick_slip_reversals_after_transition=None if any(r is None for r in ss_steady) else int(sum(ss_steady)))
+                stick_slip_reversals_after_transition=(None if any(r is None for r in ss_steady)
+                                                       else int(sum(ss_steady))))
         summaries.append(summary)
         mean, ratio = summary["newton_mean"], summary["step_cpu_over_unit"]
         log(f"ironing {case} {name}: {summary['status']}, Newton per sliding step "
@@ -315,8 +316,8 @@ def frictionless_table(summaries) -> list[str]:
 def friction_table(summaries) -> list[str]:
     """Markdown rows of the frictional summaries (columns: :data:`FRICTION_COLUMNS`)."""
     lines = ["| case | DOFs | variant | status | sliding steps | Newton / step (mean) | max | solves / step "
-             "| outer / step | cut-backs | equilibrium | step / unit | max Fx/Fy | slip law | stick | reversals (steps) "
-             "| stick/slip rev. |",
+             "| outer / step | cut-backs | equilibrium | step / unit | max Fx/Fy | slip law | stick "
+             "| reversals (steps) | stick/slip rev. |",
              "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for s in (s for s in summaries if "mu" in s):
         rev = "-" if s["state_reversals"] is None else f"{s['state_reversals']} ({s['steps_with_reversals']})"

@@ -166,10 +166,10 @@ class ContactOptions:
         above the candidate margin (2) shifts every pressed point. Measured, Newton per sliding step of
         exp-met1 (mean / max, 40 steps) for every pressed point, 0, 0.02, 0.03, 0.05, 0.07, 0.1: ironing
         3d-s 9.85/14, 6.92/10, 6.33/10, 6.28/10, 5.58/10, 6.25/8, 6.25/8; 2d-s 6.55/10, 5.92/8, 5.25/8,
-        5.03/6, 5.00/6, 6.40/8, 6.55/10 (``docs/benchmarks/ironing.md``, issue 18, with the penalty start's entry solve to
-        ``newton_tol``, as then). The semi-smooth
-        Newton reference (``ssn``) starts with the same points active (those with carried pressure open
-        by at most this times ``h``, besides its rule :math:`\\lambda + c\\,g > 0`;
+        5.03/6, 5.00/6, 6.40/8, 6.55/10 (``docs/benchmarks/ironing.md``, issue 18, with the penalty
+        start's entry solve to ``newton_tol``, as then). The semi-smooth Newton reference (``ssn``)
+        starts with the same points active (those with carried pressure open by at most this times
+        ``h``, besides its rule :math:`\\lambda + c\\,g > 0`;
         :meth:`~alcontact.contact.systems._full_space.FiniteContact.initial_active`).
     eps_t : float or None
         Friction: tangential penalty stiffness :math:`\\varepsilon_T`; ``None``: ``tangential_scale * eps_n``.
