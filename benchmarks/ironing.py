@@ -349,6 +349,8 @@ def report(summaries, cases, command: str) -> str:
     return "\n".join(lines) + "\n"
 
 
+#: the ``--out DIR`` of a recorded command
+_OUT_ARG = re.compile(r" --out \S+")
 #: a generated block of a report: ``<!-- table FILE.json -->`` ... ``<!-- /table -->``
 _TABLE_BLOCK = re.compile(r"(<!-- table ([\w.-]+\.json) -->\n)(.*?)(<!-- /table -->)", re.S)
 
@@ -357,9 +359,12 @@ def tables_into(doc: Path, bench_dir: Path) -> str:
     """``doc`` with every generated block replaced by the table of its summary file in ``bench_dir``
     (frictionless or frictional rows, with the command that wrote the file where it recorded one)."""
     def block(m):
-        summaries = json.loads((bench_dir / m.group(2)).read_text())
-        cmd = next((s["command"] for s in summaries if s.get("command")), None)
-        lines = [f"From `{m.group(2)}`" + (f" (`{cmd}`)" if cmd else "") + ":", ""]
+        path = bench_dir / m.group(2)
+        if not path.is_file():
+            return m.group(1) + f"`{m.group(2)}`: not run.\n" + m.group(4)
+        summaries = json.loads(path.read_text())
+        cmds = list(dict.fromkeys(s["command"] for s in summaries if s.get("command")))
+        lines = [f"From `{m.group(2)}`" + (" (" + "; ".join(f"`{c}`" for c in cmds) + ")" if cmds else "") + ":", ""]
         lines += frictionless_table(summaries) if all("mu" not in s for s in summaries) else friction_table(summaries)
         return m.group(1) + "\n".join(lines) + "\n" + m.group(4)
 
@@ -408,7 +413,10 @@ def merge(out: Path, name: str, parts) -> None:
     """``out/name.json`` and ``out/name.csv``: the summaries and per-step rows of the runs ``parts``, in order."""
     summaries, rows = [], []
     for part in parts:
-        summaries += json.loads((out / f"{part}.json").read_text())
+        for summary in json.loads((out / f"{part}.json").read_text()):
+            if summary.get("command"):  # where the part was written is no part of how to run it
+                summary["command"] = _OUT_ARG.sub("", summary["command"])
+            summaries.append(summary)
         with open(out / f"{part}.csv", newline="") as fh:
             rows += list(csv.DictReader(fh))
     buf = io.StringIO()
