@@ -36,6 +36,7 @@ import csv
 import io
 import json
 import logging
+import re
 import sys
 import time
 from pathlib import Path
@@ -71,8 +72,13 @@ FRICTION_VARIANTS = {
     "simo-laursen-coulomb-p10": ("simo-laursen", None, {"penalty_scale": 10.0}),
     # the same with the coupled Coulomb radius mu t_N in every subproblem (slip law exact in each)
     "simo-laursen-coulomb-traction": ("simo-laursen", None, {"radius": "traction"}),
-    # Algorithm 6.4 with exp-met1 (second-order update; a log barrier keeps the first-order one)
+    # Algorithm 6.4 with exp-met1 and its defaults (second-order update, penalty_scale 10 at finite deformation)
     "exp-met1-coulomb": ("family-p", "exp-met1", {}),
+    # the same with the stiff penalty (Algorithm 6.4's default before issue 18's second wave)
+    "exp-met1-coulomb-p100": ("family-p", "exp-met1", {"penalty_scale": 100.0}),
+    # Algorithm 6.4 with the other MET 1 generators, defaults (log-met1, a barrier: second-order since issue 18)
+    "log-met1-coulomb": ("family-p", "log-met1", {}),
+    "quad-met1-coulomb": ("family-p", "quad-met1", {}),
 }
 MU = 0.3
 
@@ -91,7 +97,8 @@ DEFAULT_CASES = ["2d-s", "2d-m", "2d-l", "3d-s", "3d-m", "3d-l"]
 
 FIELDS = ["case", "variant", "step", "t", "newton_iterations", "linear_solves", "cutbacks", "outer_iterations", "fx",
           "fy", "fz",
-          "equilibrium", "cpu_seconds", "ratio", "slip_law_error", "stick_ratio_max", "state_reversals"]
+          "equilibrium", "cpu_seconds", "ratio", "slip_law_error", "stick_ratio_max", "state_reversals",
+          "stick_slip_reversals"]
 
 
 def unit_cost(problem, u: np.ndarray, repeat: int = 3) -> float:
@@ -182,9 +189,10 @@ def run_case(case: str, variants, *, slide: float = 2.0, repeat: int = 3, log=lo
                    "cpu_seconds": f"{secs[k]:.4f}", "ratio": f"{secs[k] / t_unit:.2f}"}
             if friction:
                 slip_err, stick_max = coulomb_check(s)
-                rev = _state_reversals(sol, k)
+                rev, ss_rev = _state_reversals(sol, k)
                 row.update(slip_law_error=f"{slip_err:.2e}", stick_ratio_max=f"{stick_max:.6f}",
-                           state_reversals="" if rev is None else rev)
+                           state_reversals="" if rev is None else rev,
+                           stick_slip_reversals="" if ss_rev is None else ss_rev)
             rows.append(row)
             slide_rows.append((s, f, eq[k], secs[k]))
             slide_ks.append(k)
@@ -208,12 +216,19 @@ def run_case(case: str, variants, *, slide: float = 2.0, repeat: int = 3, log=lo
         }
         if friction:
             law = [coulomb_check(s) for s, *_ in slide_rows]
-            rev = [_state_reversals(sol, k) for k in slide_ks]
+            both = [_state_reversals(sol, k) for k in slide_ks]
+            rev, ss_rev = [b[0] for b in both], [b[1] for b in both]
+            steady_ks = [k for k, (s, *_) in zip(slide_ks, slide_rows)
+                         if (s.t - npress) * problem.meta["slide_step"] > 0.25]
+            ss_steady = [_state_reversals(sol, k)[1] for k in steady_ks]
             summary.update(
                 mu=MU, slip_law_error_max=float(max((a for a, _ in law), default=np.nan)),
                 stick_ratio_max=float(max((b for _, b in law), default=np.nan)),
                 state_reversals=None if any(r is None for r in rev) else int(sum(rev)),
-                steps_with_reversals=None if any(r is None for r in rev) else int(sum(r > 0 for r in rev)))
+                steps_with_reversals=None if any(r is None for r in rev) else int(sum(r > 0 for r in rev)),
+                stick_slip_reversals=None if any(r is None for r in ss_rev) else int(sum(ss_rev)),
+                stick_slip_reversals_after_transition=(None if any(r is None for r in ss_steady)
+                                                       else int(sum(ss_steady))))
         summaries.append(summary)
         mean, ratio = summary["newton_mean"], summary["step_cpu_over_unit"]
         log(f"ironing {case} {name}: {summary['status']}, Newton per sliding step "
@@ -241,20 +256,80 @@ def _step_cpu(marks, frames, friction: bool) -> list[float]:
 
 
 def _state_reversals(sol, k: int):
-    """Stick/slip reversals between the Newton iterates of accepted step ``k`` (a count the Coulomb engine's
-    record keeps per step; ``None`` when not counted)."""
-    return sol.record.steps[k].state_reversals
+    """``(state reversals, stick/slip reversals)`` between the Newton iterates of accepted step ``k`` (counts the
+    Coulomb engine's record keeps per step, ``FiniteFrictionStep.state_reversals`` / ``stick_slip_reversals``;
+    ``None`` when not counted)."""
+    st = sol.record.steps[k]
+    return st.state_reversals, st.stick_slip_reversals
+
+
+#: slipping / sticking points whose pressure is at most this fraction of the largest are compared on the scale of
+#: mu times the largest pressure: a family-P law keeps a positive pressure at every candidate (exp-met1: down to
+#: 1e-280 of the largest at open points), where a relative error of the slip law is round-off over round-off
+PRESSURE_FLOOR = 1e-14
 
 
 def coulomb_check(step) -> tuple[float, float]:
     """``(largest | |t_T| - mu t_N | / (mu t_N) at slipping points, largest |t_T| / (mu t_N) at sticking points)``
-    of a :class:`~alcontact.contact.ContactFrame`."""
+    of a :class:`~alcontact.contact.ContactFrame` (at points pressed by at most :data:`PRESSURE_FLOOR` of the largest
+    pressure, over mu times the largest pressure instead)."""
     tt = np.linalg.norm(step.traction_t, axis=1)
     bound = MU * step.pressure
+    scale = np.maximum(bound, PRESSURE_FLOOR * MU * float(np.max(step.pressure, initial=0.0)))
     slip, stick = step.state == 2, step.state == 1  # SLIP, STICK (ContactFrame.state)
-    err = float(np.max(np.abs(tt[slip] - bound[slip]) / bound[slip], initial=0.0))
-    ratio = float(np.max(tt[stick] / bound[stick], initial=0.0))
+    err = float(np.max(np.abs(tt[slip] - bound[slip]) / scale[slip], initial=0.0))
+    ratio = float(np.max(tt[stick] / scale[stick], initial=0.0))
     return err, ratio
+
+
+def _fmt(v, spec):
+    return "-" if v is None else format(v, spec)
+
+
+#: the explanation of the frictional table's columns
+FRICTION_COLUMNS = (
+    f"Coulomb friction, mu = {MU}: *slip law*: the largest | abs(t_T) - mu t_N | / (mu t_N) at a slipping point "
+    f"(at points pressed by at most {PRESSURE_FLOOR:g} of the largest pressure, over mu times the largest pressure: "
+    "a family-P law keeps a round-off pressure at open points); *stick*: the largest abs(t_T) / (mu t_N) at a "
+    "sticking point; *reversals*: points whose stick/slip/open state went back to one it had left between the "
+    "Newton iterates of an accepted step (sum over the sliding steps, and the steps with any); *stick/slip rev.*: "
+    "the same between stick and slip only (a point's open iterates skipped), all sliding steps / after the first "
+    "0.25 R of travel (the stick-to-slip transition); *equilibrium* with the tangential tractions; *solves*: linear "
+    "solves per sliding step (Newton systems, predictors and the sensitivity of the second-order multiplier "
+    "update); *outer*: AL outer iterations per step.")
+
+
+def frictionless_table(summaries) -> list[str]:
+    """Markdown rows of the frictionless summaries."""
+    lines = ["| case | DOFs | variant | status | sliding steps | Newton / step (mean) | max | cut-backs | equilibrium "
+             "| step / unit | max abs(Fx)/Fy | max jump/Fy |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    for s in (s for s in summaries if "mu" not in s):
+        lines.append(f"| {s['case']} | {s['dofs']} | {s['variant']} | {s['status']} | {s['sliding_steps']} "
+                     f"| {_fmt(s['newton_mean'], '.2f')} | {s['newton_max']} | {s['cutbacks']} "
+                     f"| {_fmt(s['equilibrium_max'], '.1e')} | {_fmt(s['step_cpu_over_unit'], '.2f')} "
+                     f"| {_fmt(s['horizontal_over_vertical_max'], '.2e')} "
+                     f"| {_fmt(s['horizontal_jump_over_vertical_max'], '.2e')} |")
+    return lines
+
+
+def friction_table(summaries) -> list[str]:
+    """Markdown rows of the frictional summaries (columns: :data:`FRICTION_COLUMNS`)."""
+    lines = ["| case | DOFs | variant | status | sliding steps | Newton / step (mean) | max | solves / step "
+             "| outer / step | cut-backs | equilibrium | step / unit | max Fx/Fy | slip law | stick "
+             "| reversals (steps) | stick/slip rev. |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    for s in (s for s in summaries if "mu" in s):
+        rev = "-" if s["state_reversals"] is None else f"{s['state_reversals']} ({s['steps_with_reversals']})"
+        ss = ("-" if s.get("stick_slip_reversals") is None
+              else f"{s['stick_slip_reversals']} / {s['stick_slip_reversals_after_transition']}")
+        lines.append(f"| {s['case']} | {s['dofs']} | {s['variant']} | {s['status']} | {s['sliding_steps']} "
+                     f"| {_fmt(s['newton_mean'], '.2f')} | {s['newton_max']} | {_fmt(s['linear_solves_mean'], '.2f')} "
+                     f"| {_fmt(s['outer_mean'], '.2f')} | {s['cutbacks']} "
+                     f"| {_fmt(s['equilibrium_max'], '.1e')} | {_fmt(s['step_cpu_over_unit'], '.2f')} "
+                     f"| {_fmt(s['horizontal_over_vertical_max'], '.3f')} | {_fmt(s['slip_law_error_max'], '.1e')} "
+                     f"| {_fmt(s['stick_ratio_max'], '.4f')} | {rev} | {ss} |")
+    return lines
 
 
 def report(summaries, cases, command: str) -> str:
@@ -266,38 +341,34 @@ def report(summaries, cases, command: str) -> str:
              "over one tangent assembly + one direct solve reusing its analysis (same run, 1 thread); *|Fx|/Fy* "
              "and *jump*: steady sliding (after 1 R of travel), the horizontal force and its largest change "
              "between steps relative to the vertical force.",
-             "", f"Generated by `{command}`.", "",
-             "| case | DOFs | variant | status | Newton / step (mean) | max | cut-backs | equilibrium "
-             "| step / unit | max abs(Fx)/Fy | max jump/Fy |",
-             "|---|---|---|---|---|---|---|---|---|---|---|"]
-    def fmt(v, spec):
-        return "-" if v is None else format(v, spec)
-
-    for s in (s for s in summaries if "mu" not in s):
-        lines.append(f"| {s['case']} | {s['dofs']} | {s['variant']} | {s['status']} | {fmt(s['newton_mean'], '.2f')} "
-                     f"| {s['newton_max']} | {s['cutbacks']} | {fmt(s['equilibrium_max'], '.1e')} "
-                     f"| {fmt(s['step_cpu_over_unit'], '.2f')} | {fmt(s['horizontal_over_vertical_max'], '.2e')} "
-                     f"| {fmt(s['horizontal_jump_over_vertical_max'], '.2e')} |")
-    fric = [s for s in summaries if "mu" in s]
-    if fric:
-        lines += ["", f"Coulomb friction, mu = {MU}: *slip law*: the largest | abs(t_T) - mu t_N | / (mu t_N) at a "
-                  "slipping point; *stick*: the largest abs(t_T) / (mu t_N) at a sticking point; *reversals*: points "
-                  "whose stick/slip/open state went back to one it had left between the Newton iterates of an "
-                  "accepted step (sum over the sliding steps, and the steps with any); *equilibrium* with the "
-                  "tangential tractions; *solves*: linear solves per sliding step (Newton systems, predictors and "
-                  "the sensitivity of the second-order multiplier update); *outer*: AL outer iterations per step.", "",
-                  "| case | DOFs | variant | status | Newton / step (mean) | max | solves / step | outer / step "
-                  "| cut-backs | equilibrium | step / unit | max Fx/Fy | slip law | stick | reversals (steps) |",
-                  "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
-        for s in fric:
-            rev = "-" if s["state_reversals"] is None else f"{s['state_reversals']} ({s['steps_with_reversals']})"
-            lines.append(f"| {s['case']} | {s['dofs']} | {s['variant']} | {s['status']} "
-                         f"| {fmt(s['newton_mean'], '.2f')} | {s['newton_max']} | {fmt(s['linear_solves_mean'], '.2f')} "
-                         f"| {fmt(s['outer_mean'], '.2f')} | {s['cutbacks']} "
-                         f"| {fmt(s['equilibrium_max'], '.1e')} | {fmt(s['step_cpu_over_unit'], '.2f')} "
-                         f"| {fmt(s['horizontal_over_vertical_max'], '.3f')} | {fmt(s['slip_law_error_max'], '.1e')} "
-                         f"| {fmt(s['stick_ratio_max'], '.4f')} | {rev} |")
+             "", f"Generated by `{command}`.", ""]
+    if any("mu" not in s for s in summaries):
+        lines += frictionless_table(summaries)
+    if any("mu" in s for s in summaries):
+        lines += ["", FRICTION_COLUMNS, ""] + friction_table(summaries)
     return "\n".join(lines) + "\n"
+
+
+#: the ``--out DIR`` of a recorded command
+_OUT_ARG = re.compile(r" --out \S+")
+#: a generated block of a report: ``<!-- table FILE.json -->`` ... ``<!-- /table -->``
+_TABLE_BLOCK = re.compile(r"(<!-- table ([\w.-]+\.json) -->\n)(.*?)(<!-- /table -->)", re.S)
+
+
+def tables_into(doc: Path, bench_dir: Path) -> str:
+    """``doc`` with every generated block replaced by the table of its summary file in ``bench_dir``
+    (frictionless or frictional rows, with the command that wrote the file where it recorded one)."""
+    def block(m):
+        path = bench_dir / m.group(2)
+        if not path.is_file():
+            return m.group(1) + f"`{m.group(2)}`: not run.\n" + m.group(4)
+        summaries = json.loads(path.read_text())
+        cmds = list(dict.fromkeys(s["command"] for s in summaries if s.get("command")))
+        lines = [f"From `{m.group(2)}`" + (" (" + "; ".join(f"`{c}`" for c in cmds) + ")" if cmds else "") + ":", ""]
+        lines += frictionless_table(summaries) if all("mu" not in s for s in summaries) else friction_table(summaries)
+        return m.group(1) + "\n".join(lines) + "\n" + m.group(4)
+
+    return _TABLE_BLOCK.sub(block, doc.read_text())
 
 
 def run(out_dir=None, cases=None, variants=None, log=print, repeat: int = 3, slide: float = 2.0,
@@ -329,11 +400,31 @@ def run(out_dir=None, cases=None, variants=None, log=print, repeat: int = 3, sli
     w.writeheader()
     w.writerows(all_rows)
     write_text_atomic(out / f"{name}.csv", buf.getvalue())
-    write_text_atomic(out / f"{name}.json", json.dumps(all_summaries, indent=1) + "\n")
     cmd = command or ("alcontact bench --suite ironing" + "".join(f" --case {c}" for c in cases)
                       + "".join(f" --variant {v}" for v in variants))
+    for s in all_summaries:
+        s["command"] = cmd
+    write_text_atomic(out / f"{name}.json", json.dumps(all_summaries, indent=1) + "\n")
     write_text_atomic(out / f"{name}.md", report(all_summaries, cases, cmd))
     return out
+
+
+def merge(out: Path, name: str, parts) -> None:
+    """``out/name.json`` and ``out/name.csv``: the summaries and per-step rows of the runs ``parts``, in order."""
+    summaries, rows = [], []
+    for part in parts:
+        for summary in json.loads((out / f"{part}.json").read_text()):
+            if summary.get("command"):  # where the part was written is no part of how to run it
+                summary["command"] = _OUT_ARG.sub("", summary["command"])
+            summaries.append(summary)
+        with open(out / f"{part}.csv", newline="") as fh:
+            rows += list(csv.DictReader(fh))
+    buf = io.StringIO()
+    w = csv.DictWriter(buf, fieldnames=FIELDS)
+    w.writeheader()
+    w.writerows(rows)
+    write_text_atomic(out / f"{name}.csv", buf.getvalue())
+    write_text_atomic(out / f"{name}.json", json.dumps(summaries, indent=1) + "\n")
 
 
 def main(argv=None) -> int:
@@ -344,7 +435,19 @@ def main(argv=None) -> int:
     ap.add_argument("--slide", type=float, default=2.0, help="sliding distance in radii (default 2)")
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--name", default="ironing", help="base name of the output files")
+    ap.add_argument("--tables", type=Path, default=None,
+                    help="regenerate the tables of this report (docs/benchmarks/ironing.md) from the summaries in "
+                         "--out, and run nothing")
+    ap.add_argument("--merge", nargs="+", default=None, metavar=("NAME", "PART"),
+                    help="write NAME.json / NAME.csv in --out from the summaries and rows of the runs PART ... there "
+                         "(one run per case or variant, e.g. on a shared machine), and run nothing")
     args = ap.parse_args(argv)
+    if args.merge is not None:
+        merge(Path(args.out), args.merge[0], args.merge[1:])
+        return 0
+    if args.tables is not None:
+        write_text_atomic(args.tables, tables_into(args.tables, Path(args.out)))
+        return 0
     logging.basicConfig(level=logging.WARNING, format="%(message)s")
     run(args.out, args.case, args.variants, repeat=args.repeat, slide=args.slide, name=args.name,
         command="python benchmarks/ironing.py " + " ".join(argv if argv is not None else sys.argv[1:]))

@@ -25,6 +25,18 @@ coefficients (no refit); its time is normalized to the calibration's conditions 
 ``hertz_2d.toml`` timed in the same run (raw time x committed / same-run time of hertz_2d); the
 report lists it apart with the raw times.
 
+Finite deformation (issue 18): the solver model of a finite-deformation run is load steps x
+tangent assembly + solve *units* per step x one unit (:func:`alcontact.io.preflight._finite_cost`).
+Both come from real runs, the summaries of the ironing benchmark (``benchmarks/ironing.py``,
+:data:`IRONING_SOURCES` under ``docs/benchmarks/``): the CPU time of one unit at each mesh, fitted as
+:math:`a\\,n^p` per dimension, and the CPU time of a sliding step over one unit, averaged per
+algorithm with its default options, frictionless and with Coulomb friction (the ``finite`` section
+of ``time_calibration.json``). ``--refit`` recomputes that section and the fit above from the
+measured times already in the calibration (no example is run again). ``--validate FILE ...`` times
+problem files outside ``examples/`` (e.g. ``benchmarks/problems/ironing_friction_13k.toml``, the
+13k-DOF frictional ironing of issue 18) and reports their estimate against the measured time; they
+are not part of the fit.
+
 Writes ``src/alcontact/io/time_calibration.json`` (the coefficients and the machine they were
 measured on, read by :mod:`alcontact.io.preflight` and :func:`alcontact.runner.quick_bench_seconds`),
 ``docs/benchmarks/time_estimates.csv`` and ``docs/benchmarks/time_estimates.md`` (estimate
@@ -32,7 +44,7 @@ against measured per example, the ratio, and the machine).
 
 Usage::
 
-    python benchmarks/time_estimates.py [--repeats 2] [--bench] [--out docs/benchmarks]
+    python benchmarks/time_estimates.py [--repeats 2] [--bench] [--refit] [--validate FILE ...] [--out docs/benchmarks]
     python benchmarks/time_estimates.py --add examples/two_cylinders.toml
 """
 
@@ -45,6 +57,7 @@ import json
 import os
 import platform
 import re
+import resource
 import subprocess
 import sys
 import tempfile
@@ -59,6 +72,53 @@ ROOT = Path(__file__).resolve().parents[1]
 EXAMPLES = ROOT / "examples"
 CALIBRATION = ROOT / "src" / "alcontact" / "io" / "time_calibration.json"
 ENV = {**os.environ, "OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"}
+#: ironing benchmark summaries (``benchmarks/ironing.py``) the finite-deformation cost model is measured on
+IRONING_SOURCES = ("ironing_2d.json", "ironing_3d.json", "ironing_2d100k.json", "ironing_3d100k.json",
+                   "ironing_friction_default.json")
+#: benchmark variant -> (friction, algorithm) of the runs with default options (the others are left out)
+IRONING_DEFAULT_VARIANTS = {
+    "ssn": (False, "ssn"), "simo-laursen": (False, "simo-laursen"), "exp-met1": (False, "family-p"),
+    "log-met1": (False, "family-p"), "quad-met1": (False, "family-p"),
+    "ssn-coulomb": (True, "ssn"), "simo-laursen-coulomb": (True, "simo-laursen"),
+    "exp-met1-coulomb": (True, "family-p"), "log-met1-coulomb": (True, "family-p"),
+    "quad-met1-coulomb": (True, "family-p"),
+}
+
+
+def finite_model(bench_dir: Path) -> dict:
+    """The ``finite`` section of the calibration from the ironing benchmark's summaries in ``bench_dir``.
+
+    ``unit_s``: per dimension ``[a, p]`` of the least-squares fit of log(unit CPU) = log a + p log n over the
+    meshes; ``step_units``: per friction and algorithm the mean CPU time of a sliding step over one unit of
+    the runs with default options (``default``: the mean over all algorithms), and the files it was read from.
+    """
+    rows, used = [], []
+    for name in IRONING_SOURCES:
+        path = bench_dir / name
+        if path.is_file():
+            rows += json.loads(path.read_text())
+            used.append(name)
+    units: dict[tuple[int, int], float] = {}
+    steps: dict[bool, dict[str, list[float]]] = {False: {}, True: {}}
+    for r in rows:
+        if r.get("unit_cpu_seconds") and r.get("status") == "converged":
+            units[(int(r["case"][0]), int(r["dofs"]))] = float(r["unit_cpu_seconds"])
+        key = IRONING_DEFAULT_VARIANTS.get(r.get("variant"))
+        if key is not None and r.get("step_cpu_over_unit") and r.get("status") == "converged":
+            steps[key[0]].setdefault(key[1], []).append(float(r["step_cpu_over_unit"]))
+    unit_s = {}
+    for dim in (2, 3):
+        pts = sorted((n, t) for (d, n), t in units.items() if d == dim)
+        if len(pts) >= 2:
+            p, loga = np.polyfit(np.log([n for n, _ in pts]), np.log([t for _, t in pts]), 1)
+            unit_s[str(dim)] = [float(np.exp(loga)), float(p)]
+    step_units = {}
+    for fric, per in steps.items():
+        if per:
+            table = {alg: float(np.mean(v)) for alg, v in sorted(per.items())}
+            table["default"] = float(np.mean([x for v in per.values() for x in v]))
+            step_units["friction" if fric else "frictionless"] = table
+    return {"unit_s": unit_s, "step_units": step_units, "sources": used}
 
 
 def machine() -> dict:
@@ -81,16 +141,22 @@ def features(path: Path) -> dict:
     return {"file": path.name, **run_features(pre.setup, pre.size)}
 
 
-def time_run(path: Path, tmp: Path, repeats: int) -> float:
-    best = np.inf
+def time_run(path: Path, tmp: Path, repeats: int, *, cpu: bool = False):
+    """Best wall time of ``repeats`` runs (with ``cpu``: ``(wall, CPU)`` of the best run, the CPU time user +
+    system of the child process: on a shared machine the wall time counts the other jobs too)."""
+    best, best_cpu = np.inf, np.inf
     exe = Path(sys.executable).with_name("alcontact")
     for k in range(repeats):
         out = tmp / f"run-{path.stem}-{k}"
+        r0 = resource.getrusage(resource.RUSAGE_CHILDREN)
         t0 = time.perf_counter()
         subprocess.run([str(exe), "run", str(path), "--out", str(out), "--force", "-q"], env=ENV, check=False,
                        capture_output=True)
-        best = min(best, time.perf_counter() - t0)
-    return float(best)
+        wall = time.perf_counter() - t0
+        r1 = resource.getrusage(resource.RUSAGE_CHILDREN)
+        if wall < best:
+            best, best_cpu = wall, (r1.ru_utime - r0.ru_utime) + (r1.ru_stime - r0.ru_stime)
+    return (float(best), float(best_cpu)) if cpu else float(best)
 
 
 def add_file(path: Path, repeats: int, out: Path) -> int:
@@ -163,43 +229,73 @@ def time_bench(tmp: Path) -> dict:
     return {"total_s": total, "suites_s": suites}
 
 
+def _write_calibration(cal: dict) -> None:
+    CALIBRATION.write_text(json.dumps(cal, indent=1) + "\n")
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeats", type=int, default=2)
     ap.add_argument("--bench", action="store_true", help="also time `alcontact bench --quick`")
+    ap.add_argument("--refit", action="store_true",
+                    help="refit from the measured times in the calibration (no example is run again)")
+    ap.add_argument("--validate", type=Path, nargs="*", default=[],
+                    help="problem files outside examples/ to time against their estimate (not fitted)")
     ap.add_argument("--out", type=Path, default=ROOT / "docs" / "benchmarks")
     ap.add_argument("--add", type=Path, default=None, help="time one more problem file and add its row (committed "
                                                            "coefficients)")
+    ap.add_argument("--ironing", type=Path, default=ROOT / "docs" / "benchmarks",
+                    help="folder of the ironing benchmark's summaries (IRONING_SOURCES)")
     args = ap.parse_args(argv)
     if args.add is not None:
         return add_file(args.add, args.repeats, args.out)
 
     old = json.loads(CALIBRATION.read_text()) if CALIBRATION.is_file() else {}
+    # the finite-deformation cost model first: the solver model of every row below reads it
+    cal = {**old, "finite": finite_model(args.ironing)}
+    _write_calibration(cal)
     with tempfile.TemporaryDirectory() as td:
         tmp = Path(td)
         rows = []
-        for path in problem_files(tmp):
+        if args.refit:
+            measured = {r["file"]: r["measured_s"] for r in old.get("examples", [])}
+            files = [p for p in problem_files(tmp) if p.name in measured]
+        else:
+            files = problem_files(tmp)
+        for path in files:
             row = features(path)
-            row["measured_s"] = time_run(path, tmp, args.repeats)
+            row["measured_s"] = measured[path.name] if args.refit else time_run(path, tmp, args.repeats)
             rows.append(row)
             print(f"{row['file']:32s} {row['ndofs']:7d} DOFs {row['steps']:3d} steps  {row['measured_s']:6.2f} s",
                   flush=True)
         bench = time_bench(tmp) if args.bench else old.get("bench_quick")
+        checks = []
+        for path in args.validate:
+            row = features(path.resolve())
+            row["measured_s"], row["measured_cpu_s"] = time_run(path.resolve(), tmp, 1, cpu=True)
+            row["load"] = os.getloadavg()[0]
+            checks.append(row)
     coef = fit(rows)
     A = design(rows)
-    for r, a in zip(rows, A):
+    for r, a in zip(rows + checks, np.vstack([A, design(checks)]) if checks else A):
         r["estimate_s"] = float(a @ np.array(list(coef.values())) + r["solver_s"])
         r["ratio"] = r["estimate_s"] / r["measured_s"]
+    keys = ("file", "ndofs", "steps", "friction", "finite", "solver_s", "measured_s", "estimate_s")
     cal = {
         "about": "written by benchmarks/time_estimates.py; read by alcontact.io.preflight.run_seconds",
-        "date": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
-        "machine": machine(),
+        "date": (old.get("date") if args.refit else None)
+                or _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
+        "machine": old.get("machine") if args.refit else machine(),
         "run": coef,
+        "finite": cal["finite"],
         "bench_quick": bench,
-        "examples": [{k: r[k] for k in ("file", "ndofs", "steps", "friction", "finite", "solver_s", "measured_s",
-                                        "estimate_s")} for r in rows],
+        "examples": [{k: r[k] for k in keys} for r in rows],
+        "validation": [{k: r[k] for k in keys + ("measured_cpu_s", "load")} for r in checks]
+                      or old.get("validation", []),
     }
-    CALIBRATION.write_text(json.dumps(cal, indent=1) + "\n")
+    if args.refit:
+        cal["refit"] = _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds")
+    _write_calibration(cal)
     args.out.mkdir(parents=True, exist_ok=True)
     with open(args.out / "time_estimates.csv", "w", newline="") as fh:
         w = csv.DictWriter(fh, fieldnames=list(cal["examples"][0]) + ["ratio"])
@@ -210,7 +306,9 @@ def main(argv=None) -> int:
     lines = ["# Run-time estimates of `alcontact check` and `alcontact bench --quick`", "",
              f"Measured {cal['date']} on {m['cpu']}, {m['cores']} cores, Python {m['python']} "
              "(`python benchmarks/time_estimates.py`; each file run as `alcontact run FILE -q` in a fresh "
-             f"process, best of {args.repeats}; other jobs shared the machine).", "",
+             f"process, best of {args.repeats}; other jobs shared the machine"
+             + (f"; refitted {cal['refit']} from these measured times with `--refit`" if "refit" in cal else "")
+             + ").", "",
              "Model: t = a + S (b + b_f [friction] + b_F [finite]) + c n S + t_solver "
              "(t_solver: the solver cost model of `alcontact.io.preflight`). Fitted: "
              + ", ".join(f"{k} = {v:.3g}" for k, v in coef.items()) + ".", "",
@@ -222,6 +320,32 @@ def main(argv=None) -> int:
                      f"{r['ratio']:.2f} |")
     ratios = np.array([r["ratio"] for r in rows])
     lines += ["", f"Estimate / measured: {ratios.min():.2f} to {ratios.max():.2f} (target: within 0.5 to 2).", ""]
+    fin = cal["finite"]
+    lines += ["## Finite deformation", "",
+              "Solver model of a finite-deformation run: load steps x units per step x one unit (one tangent "
+              "assembly + one direct solve, CPU), both measured by the ironing benchmark (`benchmarks/ironing.py`; "
+              f"read from {', '.join(f'`{n}`' for n in fin['sources']) or 'no file'} in `docs/benchmarks/`): one unit "
+              + "; ".join(f"{d}D {a:.3g} n^{p:.3f} s" for d, (a, p) in sorted(fin["unit_s"].items()))
+              + "; units per sliding step (mean over the runs with default options):", "",
+              "| | " + " | ".join(sorted({k for t in fin["step_units"].values() for k in t})) + " |",
+              "|---|" + "---|" * len({k for t in fin["step_units"].values() for k in t})]
+    algs = sorted({k for t in fin["step_units"].values() for k in t})
+    for kind, table in fin["step_units"].items():
+        lines.append(f"| {kind} | " + " | ".join(f"{table[a]:.1f}" if a in table else "-" for a in algs) + " |")
+    lines.append("")
+    checks = cal["validation"]
+    if checks:
+        lines += ["Validation (problem files outside `examples/`, not fitted; each run once; *CPU*: user + system "
+                  "time of the run's process, which a shared machine does not inflate; *load*: the 1-minute load "
+                  "average at the end of the run, on 2 cores):", "",
+                  "| problem file | DOFs | steps | friction | finite | estimate (s) | measured wall (s) | CPU (s) "
+                  "| load | estimate / CPU |",
+                  "|---|---|---|---|---|---|---|---|---|---|"]
+        for r in checks:
+            lines.append(f"| {r['file']} | {r['ndofs']} | {r['steps']} | {'yes' if r['friction'] else ''} | "
+                         f"{'yes' if r['finite'] else ''} | {r['estimate_s']:.2f} | {r['measured_s']:.2f} | "
+                         f"{r['measured_cpu_s']:.2f} | {r['load']:.1f} | {r['estimate_s'] / r['measured_cpu_s']:.2f} |")
+        lines.append("")
     if bench:
         lines += ["## `alcontact bench --quick`", "",
                   f"Total {bench['total_s']:.1f} s; per suite: "

@@ -63,7 +63,6 @@ def runs():
 def test_same_counts_and_forces_run_to_run_and_across_thread_counts(runs, algorithm):
     ref = runs[0][algorithm]
     # converged; how many steps it took (a cut-back inserts one) is compared between the runs below
-    # (the slide predictor's cut-back of ssn on this coarse case: test_slide_predictor_coarse_large_step)
     assert ref["status"] > 0
     scale = float(np.max(np.abs(ref["forces"])))
     for other in runs[1:]:
@@ -72,11 +71,16 @@ def test_same_counts_and_forces_run_to_run_and_across_thread_counts(runs, algori
         assert np.max(np.abs(np.subtract(o["forces"], ref["forces"]))) <= 1e-12 * scale
 
 
-@pytest.mark.xfail(strict=True, reason=(
-    "known weakness (issue 18): on this coarse case (cylinder radius = 2 elements, slide steps of "
-    "0.44 R) the slide predictor sends ssn's first full sliding step to 54 Newton and a cut-back; "
-    "with the option predictor = 'tangent' every step takes 4-5. Strict: fix, then drop "
-    "the mark."))
 def test_slide_predictor_coarse_large_step(runs):
+    """Coarse case (cylinder radius = 2 elements, slide steps of 0.44 R): ssn takes every step without a cut-back.
+
+    It was a strict xfail (issue 18): the slide predictor sent ssn's first full sliding step to 54 Newton
+    and a cut-back (4-5 per step with ``predictor = "tangent"``). Cause: the carried displacement puts a
+    pressed point of the carried zone slightly off the cylinder (the deformed surface interpolated between
+    nodes), and the semi-smooth rule lambda + c g > 0 with c = 100 E'/h dropped two of the three pressed
+    points from the starting active set; the equality Newton then stalled at relative residual 1.0. With
+    the carried zone in the starting set (``FiniteContact.initial_active``, points with carried pressure
+    open by at most ``slide_start_reach`` h): 4, 4, 3, 3, 3, 4.
+    """
     ref = runs[0]["ssn"]
-    assert len(ref["newton"]) == 6 and max(ref["newton"]) <= 12
+    assert len(ref["newton"]) == 6 and max(ref["newton"]) <= 6  # no cut-back (it inserts a step); measured max 4

@@ -179,3 +179,51 @@ def test_algorithm_62_coulomb_law_equilibrium_and_reference(run, al_runs):
             assert np.max(np.abs(s.force - r.force)) <= 1e-9 * np.max(np.abs(r.force)), (name, s.t)
             assert np.max(np.abs(s.u - r.u)) <= 1e-9 * np.max(np.abs(r.u)), (name, s.t)
         assert slipping > 100, name
+
+
+def _travel(problem, s) -> float:
+    return (s.t - problem.meta["press_steps"]) * problem.meta["slide_step"]
+
+
+@pytest.mark.slow
+def test_algorithm_62_no_stick_slip_flip_flop(run, al_runs):
+    """The AL engine tracks the reversals over the Newton iterates of all the subproblems of a step: no
+    point goes back and forth between stick and slip once the zone slides as a whole (after 0.25 R)."""
+    problem = run[0]
+    for name, sol in al_runs.items():
+        steps = _sliding(problem, sol)
+        assert all(s.state_reversals is not None and s.stick_slip_reversals is not None for s in steps), name
+        late = [s.stick_slip_reversals for s in steps if _travel(problem, s) > 0.25]
+        assert late == [0] * len(late), (name, late)
+
+
+@pytest.fixture(scope="module")
+def p4_run(run):
+    problem, path, _ = run
+    times, _ = ironing_schedule(problem)
+    return solve_finite_friction(problem, MU, "family-p", steps=times, obstacle_path=path)
+
+
+@pytest.mark.slow
+def test_algorithm_64_default_newton_coulomb_law_and_reference(run, p4_run):
+    """Algorithm 6.4 (family-P, its default penalty exp-met1) with its finite-deformation defaults
+    (penalty_scale 10, second-order update): <= 8 Newton per sliding step on average, no cut-back, the slip law
+    to 1e-8 at every slipping point pressed above 1e-14 of the largest pressure (exp-met1 keeps t_N ~ 1e-280 at
+    open points, where |t_T| is compared on mu times the largest pressure), and the reference's forces."""
+    problem, path, ref = run
+    sol = p4_run
+    assert sol.status > 0, sol.message
+    assert sol.extra["penalty_scale"] == 10.0 and sol.extra["penalty"] == "exp-met1"
+    steps = _sliding(problem, sol)
+    assert len(steps) == 30 and all(s.cutbacks == 0 for s in sol.steps)
+    newton = np.array([s.newton_iterations for s in steps])
+    assert newton.mean() <= 8.0, newton
+    assert max(s.outer_iterations for s in steps) <= 4
+    for s, r in zip(sol.steps, ref.steps, strict=True):
+        tt = np.linalg.norm(s.traction_t, axis=1)
+        bound = MU * s.pressure
+        scale = np.maximum(bound, 1e-14 * MU * float(np.max(s.pressure)))
+        slip = s.states == SLIP
+        assert np.all(np.abs(tt[slip] - bound[slip]) <= 1e-8 * scale[slip]), s.t
+        assert _equilibrium_residual(problem, path, s) < 1e-9, s.t
+        assert np.max(np.abs(s.force - r.force)) <= 1e-9 * np.max(np.abs(r.force)), s.t

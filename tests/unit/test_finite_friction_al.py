@@ -101,6 +101,7 @@ class _Stub:
 
     label = "stub AL"
     second_order = False
+    final_coupled = False
     eps_n = 1e3
     mu = 0.5
     tfree = None

@@ -115,19 +115,36 @@ class SizeEstimate:
                 f"estimated peak memory {_gib(self.memory_bytes)}, solve time {_duration(self.seconds)}{note}")
 
 
-#: Newton iterations of one finite-deformation load step (measured 8-12 on the half-cylinder, all subproblems).
+#: Newton iterations of one finite-deformation load step where the calibration has no measured cost of the
+#: algorithm (measured 8-12 on the half-cylinder, all subproblems).
 NEWTON_PER_STEP = 10
 #: Seconds per element and quadrature point of one tangent + internal-force assembly (vectorized einsum/bincount).
 _T_TANGENT = 1e-6
 
 
+def _finite_algorithm(data: dict) -> tuple[str, bool]:
+    """``(algorithm, friction)`` of a problem file's data (the schema's default algorithm ``simo-laursen``)."""
+    sv, cd = data.get("solver"), data.get("contact")
+    name = sv.get("algorithm", "simo-laursen") if isinstance(sv, dict) else "simo-laursen"
+    mu = cd.get("friction", 0.0) if isinstance(cd, dict) else 0.0
+    return (name if isinstance(name, str) else "simo-laursen"), bool(isinstance(mu, (int, float)) and mu > 0)
+
+
 def _finite_cost(est: SizeEstimate, data: dict) -> SizeEstimate:
-    """``est`` of a finite-deformation run: steps x Newton iterations x (tangent assembly + factorization).
+    r"""``est`` of a finite-deformation run: load steps x (tangent assembly + solve) units per step x one unit.
 
     A small-deformation solve factorizes the stiffness once (``est.seconds`` counts about
-    3 factorizations); a finite one assembles and factorizes the tangent at every Newton
-    iteration of every load step (:data:`NEWTON_PER_STEP`). Memory is that of one
-    tangent and its factor, as before.
+    3 factorizations); a finite one assembles and solves a tangent at every Newton iteration of
+    every load step, and its steps also spend residual evaluations, line searches, return mappings
+    and (with friction) the sensitivity of the second-order multiplier update. With the calibration's
+    ``finite`` section (``benchmarks/time_estimates.py``, from the CPU times of the ironing benchmark's
+    steps, ``benchmarks/ironing.py``) a step costs ``step_units[friction][algorithm]`` times one unit,
+    the measured CPU time of one tangent assembly plus one direct solve at ``n`` DOFs,
+    :math:`a\,n^p` per dimension (P1; a P2 body counts its DOFs). Without it: :data:`NEWTON_PER_STEP`
+    Newton iterations of the solver model (``est.seconds / 3`` plus the assembly). Issue 18: a 13k-DOF
+    2D ironing with friction (40 steps) ran 12.9 min where the Newton-count model said 1.3 (39 Newton
+    iterations per step then, each frictional step also costing sensitivities and line searches).
+    Memory is that of one tangent and its factor, as before.
     """
     cd, lo = data.get("contact"), data.get("loading")
     if not (isinstance(cd, dict) and cd.get("kinematics") == "finite"):
@@ -136,6 +153,17 @@ def _finite_cost(est: SizeEstimate, data: dict) -> SizeEstimate:
     if isinstance(lo, dict):
         times, n = lo.get("times"), lo.get("steps")
         steps = len(times) if isinstance(times, list) else n if isinstance(n, int) else 1
+    algorithm, friction = _finite_algorithm(data)
+    fin = time_calibration().get("finite") or {}
+    units_of = (fin.get("step_units") or {}).get("friction" if friction else "frictionless") or {}
+    fit = (fin.get("unit_s") or {}).get(str(est.dim))
+    units = units_of.get(algorithm, units_of.get("default"))
+    if units is not None and fit is not None and est.linear_solver == "direct":
+        unit = float(fit[0]) * float(est.ndofs) ** float(fit[1])
+        kind = "frictional" if friction else "frictionless"
+        return dataclasses.replace(est, seconds=steps * float(units) * unit,
+                                   note=f"finite deformation: {steps} load steps x ~{float(units):.3g} tangent "
+                                        f"assembly + solve units per {kind} {algorithm} step (measured)")
     per_newton = est.seconds / 3.0 + _T_TANGENT * est.elements * _QUAD[(est.dim, est.order)]
     newton = steps * NEWTON_PER_STEP
     return dataclasses.replace(est, seconds=newton * per_newton,

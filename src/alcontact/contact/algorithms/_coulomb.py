@@ -78,7 +78,7 @@ import scipy.sparse.linalg as spla
 
 from ... import penalties as _pen
 from ...errors import InvertedElementError
-from ..laws._coulomb import OPEN, STICK, Macaulay, block_diag, local_law, return_mapping, tangential_energy
+from ..laws._coulomb import OPEN, SLIP, STICK, Macaulay, block_diag, local_law, return_mapping, tangential_energy
 from ..laws._normal import eta_for_stiffness, freezes_at_zero, make_law
 from ..laws._stiffness import penalty_stiffness
 from ..solution._solution import ContactStatus
@@ -250,6 +250,11 @@ class _ALSystem(Protocol):
         is counted as an outer iteration (else not; see :func:`_step_al`)."""
 
     @property
+    def final_coupled(self) -> bool:
+        """Whether the subproblem expected to be the last of a step takes the coupled Coulomb radius
+        (:func:`_final_coupled`; finite deformation)."""
+
+    @property
     def start(self) -> np.ndarray:
         """The first iterate ``z`` of the step."""
 
@@ -297,6 +302,8 @@ class _Ctx:
     tangent_predictor: ClassVar[bool] = True
     #: the family-P predictor of a first-order step gives lambda_N only and is not counted (_step_al)
     full_predictor: ClassVar[bool] = False
+    #: the last subproblem keeps the fixed radius (_final_coupled: measured at finite deformation only)
+    final_coupled: ClassVar[bool] = False
 
     @property
     def c(self):
@@ -591,6 +598,24 @@ def _coupled_start(ctx: _ALSystem) -> bool:
     return ctx.opts.radius == "multiplier" and ctx.second_order and ctx.fc.spring is None and ctx.mu > 0
 
 
+def _final_coupled(ctx: _ALSystem, dlam: float) -> bool:
+    r"""Whether the next subproblem takes the coupled Coulomb radius :math:`\mu t_N` because it is expected to be
+    the last: the multiplier change ``dlam`` of the one just solved is below :math:`\sqrt{tol_{multiplier}}`.
+
+    With the fixed radius :math:`\mu\lambda_N` of (6.2c) the converged tractions satisfy the slip law
+    :math:`|t_T| = \mu t_N` only up to the multiplier change, :math:`|\lambda_N - t_N| \le tol_{multiplier}\,p_{ref}`:
+    relative to :math:`t_N` that is large at the weakly pressed points of the contact edge (issue 18, 3D
+    ironing with Algorithm 6.2: 3.0e-8). In the last subproblem the coupled radius makes the returned
+    tractions satisfy it exactly (to round-off); there the iterate is at the fixed point to
+    :math:`\sqrt{tol_{multiplier}}`, where both radii differ by that much and Newton converges alike.
+    The fixed point, the update and the stopping test are unchanged; only with ``radius="multiplier"``
+    (``"traction"`` takes the coupled radius in every subproblem) and where :func:`_coupled_start`
+    applies (the hybrid start: the second-order update, a body held by its supports), on a system that
+    declares :attr:`_ALSystem.final_coupled` (finite deformation, :class:`_FiniteALCtx`).
+    """
+    return ctx.final_coupled and _coupled_start(ctx) and dlam <= float(np.sqrt(ctx.opts.tol_multiplier))
+
+
 def _first_subproblem(ctx: _ALSystem, law, lamN, lamT, z, coupled: bool):
     """The first subproblem of a step: coupled radius when ``coupled``, the fixed radius when that fails.
 
@@ -705,7 +730,9 @@ def _step_al(ctx: _ALSystem, penalty_name: str) -> _StepOut:
         dlam_prev = dlam
         # multiplier updates (6.2b)/(6.2c), resp. lambda_N <- p'(g/eta, lambda_N)
         upd = _second_order_update(ctx, law, lamN, lamT, out.state, z, coupled) if second_order else None
-        coupled = False
+        # the subproblem expected to be the last (a multiplier change below sqrt(tol_multiplier)) takes the
+        # coupled radius mu t_N (_final_coupled)
+        coupled = _final_coupled(ctx, dlam)
         fallback = (t[:, 0].copy(), t[:, 1:].copy(), z.copy()) if upd is not None else None
         lamN, lamT, z = upd if upd is not None else (t[:, 0].copy(), t[:, 1:].copy(), z)
         if family_p:
@@ -810,8 +837,8 @@ class _FiniteALCtx:
       only: on the 2D ironing case (h = 0.1, mu = 0.3, 40 sliding steps of 0.05 R) 11-13 outer
       iterations and 33.4 Newton per sliding step; with it 3 outer iterations and 12.1 Newton
       with ``penalty_scale`` 100, 6.25 with 10, the default here since (:data:`FINITE_AL_DEFAULTS`,
-      ``docs/benchmarks/ironing.md``). Algorithm
-      6.4 with a barrier-type penalty keeps the first-order updates (:attr:`second_order`);
+      ``docs/benchmarks/ironing.md``). Algorithm 6.4 takes it with every penalty, a barrier-type one
+      (log MET 1/2) included (:attr:`second_order`);
     - the family-P predictor is a full Simo-Laursen outer iteration (:attr:`full_predictor`):
       both multipliers are taken from it and it is counted (its tangential traction, in the
       tangent planes of the predicted state, starts the family-P iterations);
@@ -826,12 +853,13 @@ class _FiniteALCtx:
     x0: np.ndarray  # free displacements the step starts from
     eps_n: float
     opts: Any
-    barrier: bool = False  # a normal law with a bounded domain (log MET 1/2): first-order updates (second_order)
 
     label: ClassVar[str] = "finite friction AL"
     #: no tangent predictor of the multipliers (the sensitivity has no T_y: not factorized for it)
     tangent_predictor: ClassVar[bool] = False
     full_predictor: ClassVar[bool] = True
+    #: the last subproblem of a step takes the coupled radius mu t_N (_final_coupled; issue 18)
+    final_coupled: ClassVar[bool] = True
     tfree: ClassVar[None] = None
 
     @property
@@ -849,18 +877,20 @@ class _FiniteALCtx:
 
     @property
     def second_order(self) -> bool:
-        """The option ``multiplier_update``: ``"newton"`` takes the second-order update (:meth:`sensitivity`),
-        except with a barrier-type normal law (:attr:`barrier`).
+        """The option ``multiplier_update``: ``"newton"`` takes the second-order update (:meth:`sensitivity`).
 
-        A penalty with a bounded domain (``log-met1``, ``log-met2``) keeps the first-order updates at
-        finite deformation: with the second-order update the block of
-        ``tests/verification/test_finite_friction_log_barrier.py`` (4 x 4 elements, 9 steps) needed
-        3-4 cut-backs at its stick-to-slip transition, where the Simo-Laursen predictor subproblem of
-        Algorithm 6.4 no longer converged from the updated state (none with first-order updates,
-        331 Newton). On the same block ``exp-met1`` takes 124 Newton instead of 320 with it,
-        ``quad-met1`` 114 instead of 268, no cut-back.
+        With every penalty. A barrier-type one (``log-met1``, ``log-met2``) kept the first-order updates
+        until issue 18: with the second-order update the block of
+        ``tests/verification/test_finite_friction_log_barrier.py`` (4 x 4 elements, 9 steps) had needed
+        3-4 cut-backs at its stick-to-slip transition (none with first-order updates, 331 Newton). With the
+        barrier start of the frictionless solver (:meth:`inside_domain`) it takes 115 Newton and no cut-back
+        (112 with the coupled radius of the last subproblem, :func:`_final_coupled`); the 2D ironing case
+        (h = 0.1, 20 sliding steps, ``penalty_scale`` 10) 7.35 Newton per sliding step instead of 32.4, and
+        the slip law holds to round-off instead of to the floored multiplier (1e-10 of the largest pressure
+        as the radius at open points). On the same block ``exp-met1`` takes 124 Newton instead of 320 with
+        it, ``quad-met1`` 114 instead of 268, no cut-back.
         """
-        return self.opts.multiplier_update == "newton" and not self.barrier
+        return self.opts.multiplier_update == "newton"
 
     @property
     def uTn(self) -> np.ndarray:
@@ -994,6 +1024,7 @@ class _FiniteALCtx:
         M = np.eye(n) - dt
         if not np.all(np.isfinite(M)):
             return None
+        _first_order_where_held(M)
         if n <= _SENSITIVITY_BLOCK:  # one block: dx/dlambda at hand
             return M, None, -X
 
@@ -1011,17 +1042,41 @@ class _FiniteALCtx:
             return dc.weights[dc.cand][:, None] * (t[:, :1] * nu - t[:, 1:])
 
 
-def state_reversals(history: Sequence[np.ndarray]) -> int:
+def _first_order_where_held(M: np.ndarray) -> None:
+    r"""Make :math:`M = I - dt/d\lambda` of :meth:`_FiniteALCtx.sensitivity` regular where a multiplier component
+    is held (in place): the first-order update there.
+
+    A sticking point with a DOF held by a support along a tangent direction (the symmetry plane
+    :math:`y = 0` of the 3D ironing half model, where the sphere's normal has no :math:`y` part) has a
+    tangential multiplier component that moves nothing (its force acts on the held DOF) and that nothing
+    moves (:math:`\Delta s_{T,y} = 0`): :math:`dt_k/d\lambda_k = 1` with no coupling, so row and column
+    :math:`k` of :math:`M` vanish. Every :math:`\lambda_k` is a fixed point there (:math:`t_k - \lambda_k = 0`);
+    the Newton step takes :math:`M_{kk} = 1`, i.e. the first-order update, which keeps it. Before (issue 18),
+    the singular :math:`M` turned the second-order update off in every step with such a point in stick: the
+    pressing and stick-to-slip steps of the 3D ironing case took 10-12 first-order outer iterations
+    (20-29 Newton) instead of 3.
+    """
+    held = np.flatnonzero(~np.any(M != 0.0, axis=1) & ~np.any(M != 0.0, axis=0))
+    M[held, held] = 1.0
+
+
+def state_reversals(history: Sequence[np.ndarray], among: tuple[int, ...] | None = None) -> int:
     """Points whose state returned to one it had left along ``history`` (a state per iterate).
 
     Consecutive repeats count once: a point with states ``STICK, SLIP, SLIP, STICK`` has one
-    reversal, ``STICK, SLIP, OPEN`` none.
+    reversal, ``STICK, SLIP, OPEN`` none. ``among``: only the iterates where a point is in one
+    of these states count, e.g. ``(STICK, SLIP)``: the stick/slip reversals of the points in contact
+    (``SLIP, OPEN, SLIP`` at the edge of the contact zone is none, ``STICK, OPEN, SLIP, STICK`` one).
     """
     if len(history) < 3:
         return 0
     H = np.asarray(history)  # (iterates, points)
     count = 0
     for col in H.T:
+        if among is not None:
+            col = col[np.isin(col, among)]
+            if col.size < 3:
+                continue
         seq = col[np.concatenate([[True], col[1:] != col[:-1]])]
         if seq.size >= 3 and np.any(seq[2:] == seq[:-2]):
             count += 1
@@ -1172,25 +1227,28 @@ def _step_ssn_finite(ctx: _FiniteALCtx, penalty_name: str = "none") -> _StepOut:
         u, g, nu, tN, tT, slip, state, rb, Rx, RL, _ = out.state
         final = np.where(L[:, 0] > 0, state, OPEN)
         loc = _Local(u, g, nu, L[:, 0].copy(), L[:, 1:].copy(), slip, final, Rx, rb,
-                     reversals=state_reversals(states + [final]))
+                     reversals=state_reversals(states + [final]),
+                     stick_slip_reversals=state_reversals(states + [final], among=(STICK, SLIP)))
         return _StepOut(True, "converged", ctx.forces(x, L), L.copy(), 1, out.iterations, z=x, last_state=loc)
     finally:
         dc.coulomb = saved
 
 
-#: Defaults of Algorithm 6.2 at finite deformation: a ten times softer automatic penalty
+#: Defaults of Algorithms 6.2 and 6.4 at finite deformation: a ten times softer automatic penalty
 #: (``penalty_scale`` 10). With the default 100 the first subproblem of each sliding step takes
-#: most of the step's Newton iterations (12.1 per sliding step on the 2D ironing case, 8.9 in
-#: 3D; 6.3 and 7.3 with 10, ``docs/benchmarks/ironing_friction_2d.md``); the converged step does
-#: not depend on the penalty (the fixed point of (6.2b)/(6.2c) is the discrete Coulomb problem).
+#: most of the step's Newton iterations (Algorithm 6.2: 12.1 per sliding step on the 2D ironing case,
+#: 8.9 in 3D; 6.3 and 7.3 with 10, ``docs/benchmarks/ironing_friction_2d.md``; Algorithm 6.4, issue 18,
+#: 40 sliding steps: exp-met1 13.95 -> 7.30 (2D), 10.65 -> 6.97 (3D), quad-met1 12.12 -> 7.17 (2D)); the
+#: converged step does not depend on the penalty (the fixed point of (6.2b)/(6.2c) is the discrete
+#: Coulomb problem).
 FINITE_AL_DEFAULTS = {**FRICTION_DEFAULTS, "penalty_scale": 10.0}
 
 register_family((
     ("simo-laursen", _step_al, "rockafellar", "Algorithm 6.2 at finite deformation: AL, Macaulay normal law (6.52), "
                                               "return mapping onto the Coulomb cone in the current configuration"),
+    ("family-p", _step_al, None, "Algorithm 6.4 at finite deformation: Algorithm 6.2 with a family-P normal penalty"),
 ), friction=True, kinematics="finite", linear_solvers=("direct", "factor-gmres"), defaults=FINITE_AL_DEFAULTS)
 register_family((
-    ("family-p", _step_al, None, "Algorithm 6.4 at finite deformation: Algorithm 6.2 with a family-P normal penalty"),
     ("ssn", _step_ssn_finite, "none",
      "reference: Alart-Curnier semi-smooth Newton on (u, lambda_N, lambda_T), exact (no penalty)"),
 ), friction=True, kinematics="finite", linear_solvers=("direct", "factor-gmres"), defaults=FRICTION_DEFAULTS)

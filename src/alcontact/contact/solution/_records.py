@@ -424,7 +424,11 @@ class FiniteFrictionStep:
     state_reversals : int or None
         Contact points whose OPEN / STICK / SLIP state went back to a state it had left, between
         the Newton iterates (start included) of the step's accepted solve: ``A -> B -> A``
-        (:func:`state_reversals`); ``None`` where not tracked (only ``ssn`` tracks it).
+        (:func:`state_reversals`; the AL algorithms: over the Newton iterates of all the subproblems of
+        the accepted try, whose multipliers change between them); ``None`` where not tracked.
+    stick_slip_reversals : int or None
+        The same between STICK and SLIP only (the iterates where a point is open are skipped:
+        a point at the edge of the contact zone that opens for one iterate is no stick/slip reversal).
     """
 
     t: float
@@ -450,6 +454,7 @@ class FiniteFrictionStep:
     linear_solves: int = 0
     requested: bool = True
     state_reversals: int | None = None
+    stick_slip_reversals: int | None = None
 
     @property
     def state(self) -> np.ndarray:

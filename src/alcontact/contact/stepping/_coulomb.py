@@ -26,13 +26,12 @@ from typing import Any, Callable, Sequence
 
 import numpy as np
 
-from ... import penalties as _pen
 from ..._options import MAX_STEPS, VALUE_RANGE, is_integer, is_real, show
 from ...errors import InputError, InvertedElementError
 from ...linalg import select_solver
 from .._verify import check_state, equilibrium_tolerance, reach, state_equilibrium, verified_status
 from ..algorithms._coulomb import (_EQUILIBRIUM_TOL, FrictionOptions, _Ctx, _FiniteALCtx, _StepOut, _admissible,
-                                   _step_ssn, friction_algorithms)
+                                   _step_ssn, friction_algorithms, state_reversals)
 from ..algorithms._frictionless import check_solve_args, find_algorithm, options_with
 from ..laws._coulomb import OPEN, SLIP, STICK
 from ..laws._stiffness import penalty_stiffness
@@ -41,7 +40,7 @@ from ..problem._loading import LoadHistory, problem_at
 from ..solution._records import FiniteFrictionSolution, FiniteFrictionStep, FrictionSolution, FrictionStep
 from ..solution._solution import ContactStatus
 from ..systems._condensed import FrictionalContact
-from ..systems._full_space import FiniteFrictionContact, finite_solver
+from ..systems._full_space import FiniteFrictionContact, contact_states, finite_solver
 from ..systems._krylov import IterativeFrictionalContact, _FullCtx
 from ._steps import Attempt, StepRecord, _StepData, _step_times, step_through
 
@@ -668,8 +667,6 @@ def _attempt(dc, data, step_fn, x, t, y_prev, nu_prev, lamN_all, lamT_all, mu, e
     transported into the tangent planes at the step's predictor
     (:func:`~alcontact.contact.obstacles.transport_tangent`) and start the step's multipliers.
     """
-    # a barrier-type normal law (bounded domain, log MET 1/2; the reference ssn has no penalty)
-    barrier = pen_name in _pen.available() and bool(np.isfinite(_pen.make(pen_name).domain_upper(1.0)))
     try:
         fv, load, ob = data(t)
         dc.configure(fv, load, ob, x, predictor_stiffness=eps_n)
@@ -679,10 +676,17 @@ def _attempt(dc, data, step_fn, x, t, y_prev, nu_prev, lamN_all, lamT_all, mu, e
         res = None
         for _ in range(8):
             cand = dc.cand
-            res = step_fn(_FiniteALCtx(dc, lamN_all[cand].copy(), lamT_all[cand].copy(), dc.x0, eps_n, opts,
-                                       barrier=barrier), pen_name)
+            dc.state_trace = []
+            res = step_fn(_FiniteALCtx(dc, lamN_all[cand].copy(), lamT_all[cand].copy(), dc.x0, eps_n, opts),
+                          pen_name)
+            trace, dc.state_trace = dc.state_trace, None
             if not res.ok:
                 break
+            if res.last_state is not None and res.last_state.reversals is None:
+                # the AL algorithms: reversals over the Newton iterates of all the step's subproblems, and the result
+                trace.append(contact_states(res.last_state))
+                res.last_state = dataclasses.replace(res.last_state, reversals=state_reversals(trace),
+                                                     stick_slip_reversals=state_reversals(trace, among=(STICK, SLIP)))
             added = dc.extend(dc.all_gaps(dc.expand(res.z)), opts.tol_penetration * dc.h)
             if added.size == 0:
                 break
@@ -730,7 +734,7 @@ def _record(dc, res, t, mu, opts, cut, newton, seconds, solves=0, *, fixed, load
         dissipation=dissipation, stored_energy=float(dc.body.energy(u)), offset=dc.offset.copy(), seconds=seconds,
         message=message, u=u, pressure=pressure, gap=g_all, traction_t=traction_t,
         slip=np.where(closed[:, None], slip, 0.0), normals=dc.normals.copy(), linear_solves=int(solves),
-        state_reversals=loc.reversals)
+        state_reversals=loc.reversals, stick_slip_reversals=loc.stick_slip_reversals)
     full = {"u": u, "pressure": pressure, "gap": g_all, "traction_t": traction_t, "normals": dc.normals.copy()}
     return rec, full
 

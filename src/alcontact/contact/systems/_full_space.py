@@ -231,6 +231,9 @@ _SECANT_RTOL = 1e-8
 _CHORD_LEVEL = 1e-9
 #: chord steps of one subproblem at most
 _MAX_CHORDS = 3
+#: a contact spring below this fraction of the largest one counts as absent when a chord step compares the
+#: springs of the factor at hand with the current ones (:func:`_springs_on`)
+_CHORD_SPRING = 1e-8
 #: relative tolerance of iterative back-substitutions in the dual step of Algorithm 6.3's start
 #: (:meth:`FiniteContact.start_multiplier_step`)
 _START_RESOLVE_RTOL = 1e-8
@@ -1035,10 +1038,23 @@ class FiniteContact(ContactPoints):
         (the contact zone flattens as it grows); the active-set iteration releases wrongly
         active points one per Newton step (the edge point pulls, its neighbour takes over),
         but takes in all penetrating points at once.
+
+        After the slide predictor a point with carried pressure also starts active where it is open by at
+        most :attr:`slide_start_reach` :math:`h` at the predicted state (as in :meth:`entry_multipliers`): the
+        carried displacement interpolates the deformed surface between nodes, so a pressed point of the
+        carried zone can sit slightly off the obstacle, and with :math:`c = \varepsilon_N` (100 E'/h) the
+        rule drops it for a gap of 1e-3 h. On a coarse case (cylinder radius 2 elements, slid 0.44 R per
+        step; ``tests/regression/test_determinism_finite_sliding.py``) the rule started a step with one of
+        three pressed points active: 54 Newton iterations and a cut-back (4-5 with ``predictor = "tangent"``);
+        with the carried zone 3-4. Ironing 2d-s (40 sliding steps of 0.05 R): 3.65 / 5 -> 3.00 / 3 Newton
+        per step (mean / max). Every carried point (any gap) made the coarse case fail.
         """
         lam = np.asarray(lam, dtype=float)
         g = np.asarray(g, dtype=float)
         rule = (lam + c * g) > 0
+        if self.predictor_used == "slide":
+            # the carried contact zone: a point with carried pressure open by at most slide_start_reach h
+            return rule | ((lam > 0) & (g > -self.slide_start_reach * self.h))
         if self.predicted_approach is None:
             return rule
         dg = np.maximum(self.predicted_approach[self.cand], 0.0)
@@ -1184,6 +1200,23 @@ _EQUALITY_SETTINGS = NewtonSettings(LineSearch(halvings=_MAX_HALVINGS, armijo=_A
                                     stall_from=3)
 
 
+def _springs_on(D: np.ndarray) -> np.ndarray:
+    r"""The candidates whose contact spring :math:`\partial t_N/\partial g` counts in a chord step's comparison
+    (:meth:`_Subproblem._chord`): above :data:`_CHORD_SPRING` of the largest.
+
+    A barrier-type law (log MET 1/2) keeps a spring at every open candidate (its floored multiplier,
+    ``multiplier_floor``): on the 3D ironing case at most 3e-22 of the largest spring; the factor of the
+    Macaulay law that Algorithm 6.3's penalty start leaves has none there. A chord step with that factor
+    misses springs that change the Newton matrix by less than 1e-8 of its contact part: it contracts as a
+    new tangent would. Compared by sign (``D > 0``),
+    as before issue 18, the last MET subproblem of every sliding step of the 3D ironing case took a new
+    tangent for a residual of 3e-12 (log-met1 3d-s 6.55 Newton per step, 5.58 with this comparison, as
+    exp-met1 and quad-met1, whose springs underflow to zero there).
+    """
+    D = np.asarray(D, dtype=float)
+    return D > _CHORD_SPRING * float(np.max(D, initial=0.0))
+
+
 @dataclass
 class _SubState:
     """State of :class:`_Subproblem` at one iterate."""
@@ -1272,7 +1305,8 @@ class _Subproblem(NewtonSystem):
         if not (self.tol < res <= _CHORD_LEVEL):
             return False
         cand, d = rec
-        return cand.shape == fc.cand.shape and np.array_equal(cand, fc.cand) and np.array_equal(d > 0, D > 0)
+        return (cand.shape == fc.cand.shape and np.array_equal(cand, fc.cand)
+                and np.array_equal(_springs_on(d), _springs_on(D)))
 
     def step(self, x, state, history):
         fc = self.fc
@@ -1492,12 +1526,30 @@ class _Local:
     R: np.ndarray
     r_body: np.ndarray
     reversals: int | None = None  # see FiniteFrictionStep.state_reversals
+    stick_slip_reversals: int | None = None  # see FiniteFrictionStep.stick_slip_reversals
 
     @property
     def aux(self) -> tuple:
         """``(y, t, Dy, state)`` of the AL loop (:class:`_FiniteALCtx`): ``y = [g, slip]``,
         ``t = [t_N, t_T]`` (``(c, 1 + d)`` each), no tangent ``Dy`` (first-order updates only)."""
         return np.column_stack([self.g, self.slip]), np.column_stack([self.tN, self.tT]), None, self.state
+
+
+#: a point whose normal traction is at most this fraction of the largest counts as open in the state trace
+#: (:func:`contact_states`)
+_TRACE_FLOOR = 1e-14
+
+
+def contact_states(loc: "_Local") -> np.ndarray:
+    """The OPEN / STICK / SLIP flags of a state for the state trace (:attr:`FiniteFrictionContact.state_trace`):
+    its flags, OPEN where :math:`t_N` is at most :data:`_TRACE_FLOOR` of the largest.
+
+    A family-P law keeps a positive traction at every candidate (``exp-met1``: down to 1e-280 of the largest
+    at the open points of the 2D ironing case), whose return mapping flags stick or slip; such a point is
+    open to round-off, and its flags flip with the underflow, not with the contact.
+    """
+    tN = np.asarray(loc.tN, dtype=float)
+    return np.where(tN > _TRACE_FLOOR * float(np.max(tN, initial=0.0)), loc.state, OPEN)
 
 
 class FiniteFrictionContact(FiniteContact):
@@ -1511,6 +1563,10 @@ class FiniteFrictionContact(FiniteContact):
     #: no contact springs: a finite-deformation body is held by its supports (the condensed path's
     #: ``FrictionalContact.spring`` of a body held by the obstacle)
     spring = None
+    #: the OPEN / STICK / SLIP flags of the candidates at every Newton iterate of the frictional subproblems
+    #: since the caller set it to a list (``None``: not recorded); the stepping engine counts the state
+    #: reversals of an accepted AL step from it (:func:`~alcontact.contact.algorithms._coulomb.state_reversals`)
+    state_trace: list | None = None
 
     @property
     def friction_solver(self) -> SequenceSolver:
@@ -1673,6 +1729,8 @@ class _FrictionSubproblem(NewtonSystem):
 
     def step(self, x, state, history):
         dc = self.dc
+        if dc.state_trace is not None:  # the OPEN / STICK / SLIP flags of every iterate (state reversals)
+            dc.state_trace.append(contact_states(state))
         ta = time.perf_counter()
         J = dc.friction_jacobian(self.law, self.lamN, self.lamT, state.u)
         tb = time.perf_counter()

@@ -1053,6 +1053,8 @@ class _FullCtx:
     tangent_predictor: ClassVar[bool] = False
     #: the family-P predictor gives lambda_N only and is not counted (_friction._step_al)
     full_predictor: ClassVar[bool] = False
+    #: the last subproblem keeps the fixed radius (its coupled radius needs the second-order update)
+    final_coupled: ClassVar[bool] = False
 
     @property
     def c(self):
