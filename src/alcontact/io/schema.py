@@ -203,8 +203,9 @@ def _build_schema() -> tuple[Table, ...]:
               "supports several materials.", (
             O("name", "str", REQUIRED, "Physical name of the region in the mesh file."),
             O("E", "float", REQUIRED, "Young's modulus of the region.", low=0, low_open=True),
-            O("nu", "float", REQUIRED, "Poisson's ratio of the region.", low=-1, high=0.5,
-              low_open=True, high_open=True),
+            O("nu", "float", REQUIRED, "Poisson's ratio of the region; `0.5` (exactly incompressible) where "
+              "`[material]` says it too (the mixed body only, as `material.nu`).", low=-1, high=0.5,
+              low_open=True),
             O("plane", "str", "strain", "2D assumption of the region.", choices=("strain", "stress")),
         ), array=True),
         Table("support", "Prescribed displacement on a named boundary (one table per support).", support_options := (
