@@ -160,7 +160,8 @@ def _build_schema() -> tuple[Table, ...]:
               "(x = r >= 0, y = z the axis) as a body of revolution, with the hoop strain u_r/r and 2 pi r in "
               "every integral; u_r = 0 on the axis is imposed, forces are totals over the revolution (the summary "
               "adds them per radian). Obstacles are then surfaces of revolution (a `circle` is a sphere, a "
-              "`half-space` a plane normal to the axis or a cylinder). 2D only.", choices=_geometries()),
+              "`half-space` a plane normal to the axis, a cylinder, or, with an inclined normal, a cone with its apex "
+              "on the axis; a `convex-polygon` a cylinder end or a groove). 2D only.", choices=_geometries()),
         ), required=True),
         Table("mesh.refine", "Optional grading of a generated mesh toward a point of its top face "
               "(the contact zone).", refine_options := (
