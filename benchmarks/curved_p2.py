@@ -17,6 +17,11 @@ path independent, so the steps sample the force-approach curve). Per ``n``:
   ``tests/verification/test_curved_p2.py``: mid-node deviation from the cubic spline through the vertex
   values, over the peak, away from the contact edge).
 
+Part 1b, the same problem on a shape-regular nested mesh (:func:`fan_mesh`): the elliptical-grid mesh of
+:func:`half_cylinder` flattens its elements near the image of the square's corner (smallest angle 13.4, 6.9,
+3.5, 1.8 deg at n = 8 ... 64), inside the contact zone at delta/R = 0.4; the fan mesh says whether that limits
+the rate. Reference-free rates from the differences of consecutive meshes.
+
 Part 2, small-deformation Hertz P2 (:func:`alcontact.problems.hertz.hertz_2d` and ``hertz_axisym``, order 2,
 ``n_per_a`` elements per contact half-width, a/R = 0.1, the block of 20 a): the peak nodal pressure and the
 contact half-width against Johnson's closed forms (at the model's own load), and the self-convergence of the
@@ -27,7 +32,7 @@ Writes ``<out>/curved_p2.json`` and ``curved_p2.md``.
 
 Usage::
 
-    python benchmarks/curved_p2.py [--out docs/benchmarks] [--n 8 16 32 64] [--hertz 2 4 8 16 32]
+    python benchmarks/curved_p2.py [--out docs/benchmarks] [--n 8 16 32 64] [--hertz 2 4 8 16 32] [--fan 3 4 5 6]
 """
 
 from __future__ import annotations
@@ -81,6 +86,90 @@ def half_cylinder_runs(ns, curved_flags=(True, False)) -> list[dict]:
     return rows
 
 
+def fan_mesh(levels: int, sectors: int = 3, radius: float = 1.0):
+    """A shape-regular curved P2 mesh of the half-cylinder's quarter disc: a fan of ``sectors`` triangles about
+    ``(0, R)`` refined ``levels`` times (each triangle into 4, new arc vertices moved onto the circle), then
+    second order with the arc's edge nodes on the circle. Nested, every angle bounded away from 0 and 180 deg
+    (unlike the elliptical-grid map of :func:`half_cylinder`, whose elements near the image of the square's
+    corner, on the arc at 45 deg, flatten under refinement)."""
+    import dataclasses
+
+    import skfem
+
+    c = np.array([0.0, radius])
+    th = np.linspace(-np.pi / 2, -np.pi, sectors + 1)  # from the bottom (0, 0) to (-R, R)
+    pts = np.vstack([c] + [c + radius * np.array([np.cos(t), np.sin(t)]) for t in th]).T
+    m = skfem.MeshTri(pts, np.array([[0, k + 1, k + 2] for k in range(sectors)]).T)
+    tol = 1e-9 * radius
+
+    def on_arc(x):
+        return (x[0] < -tol) & (x[1] < radius - tol)
+
+    for _ in range(levels):
+        m = m.refined()
+        p = m.p.copy()
+        bnd = m.boundary_nodes()
+        arc = bnd[on_arc(p[:, bnd])]
+        d = p[:, arc] - c[:, None]
+        p[:, arc] = c[:, None] + radius * d / np.linalg.norm(d, axis=0)
+        m = skfem.MeshTri(p, m.t)
+    m2 = skfem.MeshTri2.from_mesh(m)
+    x = np.array(m2.doflocs, dtype=float)
+    bf = m.boundary_facets()
+    arc = bf[on_arc(m.p[:, m.facets[:, bf]].mean(axis=1))]
+    d = x[:, m.nvertices + arc] - c[:, None]
+    x[:, m.nvertices + arc] = c[:, None] + radius * d / np.linalg.norm(d, axis=0)
+    m2 = dataclasses.replace(m2, doflocs=x)
+    return m2.with_boundaries({"top": lambda x: x[1] > radius - tol, "symmetry": lambda x: x[0] > -tol,
+                               "curved": on_arc})
+
+
+def min_angle(mesh) -> float:
+    """Smallest angle (degrees) of the triangles of ``mesh``'s vertices."""
+    p, t = mesh.p, mesh.t
+    out = []
+    for i in range(3):
+        a, b, c = p[:, t[i]], p[:, t[(i + 1) % 3]], p[:, t[(i + 2) % 3]]
+        u, v = b - a, c - a
+        out.append(np.degrees(np.arccos(np.sum(u * v, 0) / np.linalg.norm(u, axis=0) / np.linalg.norm(v, axis=0))))
+    return float(np.min(out))
+
+
+def fan_runs(levels) -> list[dict]:
+    from alcontact.contact import ContactProblem, Support
+    from alcontact.contact.obstacles import HalfSpace
+    from alcontact.fem import Hyperelastic, Material
+
+    rows = []
+    for L in levels:
+        mesh = fan_mesh(L)
+        body = Hyperelastic(mesh, Material(E=1000.0, nu=0.3, plane="strain"), order=2, model="neo-hookean")
+        pb = ContactProblem(model=body, obstacle=HalfSpace([0.0, 0.0], [0.0, 1.0]), contact_boundary="curved",
+                            supports=(Support("symmetry", components=(0,)), Support("top", components=(1,), value=-0.4)),
+                            kinematics="finite")
+        sol = solve(pb, "ssn", steps=STEPS)
+        assert sol.result.success, sol.result.message
+        rows.append({"mesh": "fan", "level": L, "ndofs": int(body.ndofs), "min_angle": min_angle(mesh),
+                     "delta": [float(0.4 * f.t) for f in sol.frames], "force": [float(f.contact_force[1]) for f in sol.frames]})
+        print(json.dumps({k: v for k, v in rows[-1].items() if k not in ("delta", "force")}), flush=True)
+    return rows
+
+
+def consecutive(curves) -> list[dict]:
+    """Reference-free: differences of consecutive meshes, at the last step and RMS over delta in [0.2, 0.4]."""
+    out = []
+    for a, b in zip(curves, curves[1:]):
+        d = np.array(a["delta"])
+        e = np.array(a["force"]) - np.array(b["force"])
+        half = d >= 0.5 * d[-1]
+        out.append({"from": a.get("n", a.get("level")), "to": b.get("n", b.get("level")), "final": float(e[-1]),
+                    "rms": float(np.sqrt(np.mean(e[half] ** 2)))})
+    for x, y in zip(out, out[1:]):
+        y["rate_final"] = float(np.log2(abs(x["final"]) / abs(y["final"])))
+        y["rate_rms"] = float(np.log2(x["rms"] / y["rms"]))
+    return out
+
+
 def edge_signature(rows) -> list[dict]:
     """Per curved flag and n: final error vs the finest curved mesh, observed rates, smooth / residual split."""
     out = []
@@ -122,7 +211,7 @@ def hertz_runs(ns) -> list[dict]:
     return rows
 
 
-def report(hc, sig, hz, load: str) -> str:
+def report(hc, sig, hz, load: str, fan=None) -> str:
     lines = ["# Curved P2: force convergence of the half-cylinder, contact-edge signature, Hertz P2 peak pressure", "",
              f"`python benchmarks/curved_p2.py` on {platform.processor() or platform.machine()}, {os.cpu_count()} cores "
              f"shared with other jobs ({load}).", "",
@@ -139,6 +228,21 @@ def report(hc, sig, hz, load: str) -> str:
         lines.append(f"| {'curved' if s['curved'] else 'straight'} | {s['n']}{tag} | {s['ndofs']:,} | "
                      f"{s['final_error']:+.3e} | {s['final_rel_error']:+.2e} | {rate} | {s['smooth_rms']:.2e} | "
                      f"{s['edge_rms']:.2e} | {s['alternation']:.1e} |")
+    if fan:
+        lines += ["", "## Reference-free: differences of consecutive meshes (curved P2)", "",
+                  "`F_n - F_next` at the last step and its RMS over delta in [0.2, 0.4]; rates from successive "
+                  "differences (each halving h). `elliptical`: the built-in mesh of `half_cylinder(n)` (its smallest "
+                  "angle halves with n, near the arc at 45 deg, inside the contact zone at delta/R = 0.4); `fan`: "
+                  "the shape-regular nested mesh of `fan_mesh(level)`.", "",
+                  "| mesh | from | to | DOFs (to) | smallest angle (to) | difference, last step | rate | RMS over delta | rate |",
+                  "|---|---|---|---|---|---|---|---|---|"]
+        for label, curves, diffs in fan:
+            for c in diffs:
+                to = next(x for x in curves if x.get("n", x.get("level")) == c["to"])
+                rf = f"{c['rate_final']:.2f}" if "rate_final" in c else "-"
+                rr = f"{c['rate_rms']:.2f}" if "rate_rms" in c else "-"
+                lines.append(f"| {label} | {c['from']} | {c['to']} | {to['ndofs']:,} | {to.get('min_angle', float('nan')):.2f} | "
+                             f"{c['final']:+.3e} | {rf} | {c['rms']:.3e} | {rr} |")
     lines += ["", "## Hertz, small deformation, P2 (Johnson's closed forms at the model's load)", "",
               "| problem | elements per a | DOFs | p0 | p0 error | a error | p0 change from the previous mesh |",
               "|---|---|---|---|---|---|---|"]
@@ -156,15 +260,22 @@ def main() -> None:
     ap.add_argument("--out", type=Path, default=Path("docs/benchmarks"))
     ap.add_argument("--n", type=int, nargs="*", default=[8, 16, 32, 64])
     ap.add_argument("--hertz", type=int, nargs="*", default=[2, 4, 8, 16, 32])
+    ap.add_argument("--fan", type=int, nargs="*", default=[3, 4, 5, 6])
     args = ap.parse_args()
     hc = half_cylinder_runs(args.n)
     sig = edge_signature(hc)
+    for r in hc:
+        r["min_angle"] = min_angle(half_cylinder(r["n"], order=1).model.mesh)
+    fr = fan_runs(args.fan)
+    ell = sorted((r for r in hc if r["curved"]), key=lambda r: r["n"])
+    fan = [("elliptical", ell, consecutive(ell)), ("fan", fr, consecutive(fr))]
     hz = hertz_runs(args.hertz)
     load = "load average %.1f %.1f %.1f at the end" % os.getloadavg()
     args.out.mkdir(parents=True, exist_ok=True)
-    (args.out / "curved_p2.json").write_text(json.dumps({"half_cylinder": hc, "signature": sig, "hertz": hz,
+    (args.out / "curved_p2.json").write_text(json.dumps({"half_cylinder": hc, "signature": sig, "fan": fr,
+                                                         "consecutive": {k: d for k, _, d in fan}, "hertz": hz,
                                                          "load": load}, indent=1))
-    (args.out / "curved_p2.md").write_text(report(hc, sig, hz, load))
+    (args.out / "curved_p2.md").write_text(report(hc, sig, hz, load, fan))
 
 
 if __name__ == "__main__":
