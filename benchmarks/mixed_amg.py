@@ -268,6 +268,14 @@ def report(rows, diag, theta, load: str) -> str:
             d = by[(case, n, "direct")]
             lines.append(f"- {case} n = {n} ({r['ndofs']:,} DOFs): {r['cpu_per_newton_s'] / d['cpu_per_newton_s']:.2f}"
                          f" (whole solve {r['cpu_s'] / d['cpu_s']:.2f})")
+    lines += ["", "MINRES iterations per Newton step under refinement (DOFs in parentheses):", ""]
+    for case in CASES:
+        amg = sorted((r for r in rows if r["case"] == case and r["path"] == "amg"), key=lambda r: r["ndofs"])
+        if amg:
+            lines.append(f"- {case}: " + ", ".join(f"{r['minres_per_newton']:.0f} ({r['ndofs']:,})" for r in amg)
+                         + "; Newton steps amg / direct: " + ", ".join(
+                             f"{r['newton']} / {by[(case, r['n'], 'direct')]['newton']}" for r in amg
+                             if (case, r["n"], "direct") in by))
     if diag:
         lines += ["", "## MINRES on the Newton matrices of a direct run (half-cylinder, every 6th matrix)", "",
                   "MINRES iterations to 1e-8 (preconditioner norm) from the Newton right-hand sides, mean (max) over the "
@@ -322,7 +330,7 @@ def main() -> None:
         rows = sorted((r for p in parts for r in p["rows"]),
                       key=lambda r: (list(CASES).index(r["case"]), r["n"], r["path"] != "direct"))
         _write(args.out, rows, [d for p in parts for d in p["diagnostics"]], [t for p in parts for t in p["theta"]],
-               "; ".join(p["load"] for p in parts))
+               "; ".join(p.get("load", "load not recorded") for p in parts))
         return
     rows = run("half-cylinder", args.n2d) + run("half-cylinder-fan", args.fan) + run("hemisphere", args.n3d)
     diag = diagnostics(args.diag)
