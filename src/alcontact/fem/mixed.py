@@ -431,8 +431,8 @@ class MixedHyperelastic:
         r"""The blocks of the Newton matrices on the DOFs ``free`` (:class:`~alcontact.linalg.SaddlePoint`).
 
         The Newton matrix :math:`[K_{uu}, K_{up}; K_{up}^T, -M_p/\kappa]` restricted to ``free`` (a boolean
-        mask of length :attr:`ndofs` or the sorted free DOFs; default all) has its displacement rows first, since the pressure
-        DOFs are numbered last and never prescribed. The Schur complement
+        mask of length :attr:`ndofs` or the sorted free DOFs; default all) has its displacement rows first,
+        since the pressure DOFs are numbered last and never prescribed. The Schur complement
         :math:`S = M_p/\kappa + K_{up}^T K_{uu}^{-1} K_{up}` is approximated by the lumped pressure mass
         scaled by :math:`1/\mu + 1/\kappa` (Elman, Silvester and Wathen 2014, section 9.3 for nearly
         incompressible elasticity; :math:`K_{uu} \approx \mu\,\nabla:\nabla` on the displacements and

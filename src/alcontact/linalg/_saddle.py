@@ -109,7 +109,8 @@ class _BlockFactor:
         return None if m is None else int(m) + self._sinv.nbytes
 
     def preconditioner(self) -> LinearOperator:
-        """:math:`\\operatorname{diag}(\\tilde A^{-1}, \\tilde S^{-1})` as a linear operator (one V-cycle on the primal rows)."""
+        """:math:`\\operatorname{diag}(\\tilde A^{-1}, \\tilde S^{-1})` as a linear operator (one V-cycle on the
+        primal rows)."""
         from . import krylov
 
         m = int(self.saddle.primal)
