@@ -62,12 +62,19 @@ class SaddlePoint:
     label: str = "diagonal Schur approximation"
 
     def __post_init__(self):
-        s = np.asarray(self.schur, dtype=float)
-        if s.ndim != 1 or not np.all(np.isfinite(s)) or not np.all(s > 0.0):
-            raise InputError("SaddlePoint.schur must be a 1-D array of finite positive numbers (the diagonal of the "
-                             "Schur complement approximation).")
         if isinstance(self.primal, bool) or not isinstance(self.primal, (int, np.integer)) or self.primal < 0:
-            raise InputError(f"SaddlePoint.primal={self.primal!r} must be an integer >= 0 (rows of the primal block).")
+            raise InputError(f"SaddlePoint.primal={self.primal!r:.60} must be an integer >= 0 (rows of the primal "
+                             "block).")
+        try:
+            s = np.asarray(self.schur, dtype=float)
+        except (TypeError, ValueError, OverflowError):
+            s = None
+        if s is None or s.ndim != 1 or not s.size or not np.all(np.isfinite(s)) or not np.all(s > 0.0):
+            raise InputError("SaddlePoint.schur must be a non-empty 1-D array of finite positive numbers (the diagonal "
+                             "of the Schur complement approximation).")
+        if not isinstance(self.label, str):
+            raise InputError(f"SaddlePoint.label={self.label!r:.60} must be a string.")
+        object.__setattr__(self, "primal", int(self.primal))
         object.__setattr__(self, "schur", s)
 
     @property
