@@ -15,7 +15,8 @@ forms in ``test_mixed_incompressible.py`` and ``test_mixed_contact.py``.
   Newton tolerance floor of inexact solves is 1e-11; measured force <= 7e-11, displacement
   <= 1.5e-8 at n = 8..32). The option took effect: ``linear_solver`` is ``"amg"``, the Krylov method
   ``"minres"``, and no registry factorization ran (the direct solvers' ``factorize`` is counted: 0 calls;
-  no direct fallback).
+  no direct fallback). The same at ``nu = 0.5`` on the 3D quarter hemisphere (curved tetra10) and the
+  hemisphere of revolution (axisymmetric mixed body).
 - Coulomb friction (the ``factor-gmres`` path: GMRES with the block-triangular variant around each
   matrix) gives the direct path's forces to 1e-8 with no fallback factorization.
 - The reference ``ssn`` has no AMG path: ``amg`` is refused with the way out, as for any body.
@@ -109,6 +110,27 @@ def test_amg_on_a_mixed_body_gives_the_direct_answer_without_a_factorization(alg
     assert ex["direct_fallbacks"] == 0 and ex["amg_setups"] >= 1 and ex["cg_iterations"] > 0
     f0 = ref.total_contact_force[1]
     assert abs(sol.total_contact_force[1] - f0) <= 1e-9 * f0, (sol.total_contact_force, f0)
+    assert np.max(np.abs(sol.u - ref.u)) <= 1e-7 * np.max(np.abs(ref.u))
+
+
+@pytest.mark.parametrize("geometry", ["3d", "axisymmetric"])
+def test_amg_on_an_incompressible_3d_and_axisymmetric_body_gives_the_direct_answer(geometry, factorizations):
+    """nu = 0.5, the neo-Hookean hemisphere pressed to delta/R = 0.25: the 3D quarter (curved tetra10, n = 3) and
+    the body of revolution (n = 8); measured force 9.8e-12 / 1.4e-10, displacement 6.9e-10 / 1.3e-9."""
+    from alcontact.problems.hemisphere import hemisphere, hemisphere_axisym
+
+    def problem():
+        base = hemisphere(3, order=2, delta=0.25) if geometry == "3d" else hemisphere_axisym(8, order=2, delta=0.25)
+        return dataclasses.replace(base, model=MixedHyperelastic(
+            base.model.mesh, E=1000.0, nu=0.5, geometry="cartesian" if geometry == "3d" else "axisymmetric"))
+
+    ref = contact.solve(problem(), "simo-laursen", steps=5, options={"linear_solver": "direct"})
+    factorizations.clear()
+    sol = contact.solve(problem(), "simo-laursen", steps=5, options={"linear_solver": "amg"})
+    assert int(ref.result.status) > 0 and int(sol.result.status) > 0, (ref.result.message, sol.result.message)
+    assert factorizations == [] and sol.extra["krylov"] == "minres" and sol.extra["direct_fallbacks"] == 0
+    f0 = ref.total_contact_force[1]
+    assert f0 > 0 and abs(sol.total_contact_force[1] - f0) <= 1e-9 * f0
     assert np.max(np.abs(sol.u - ref.u)) <= 1e-7 * np.max(np.abs(ref.u))
 
 
