@@ -300,6 +300,7 @@ def _entries() -> dict:
         "linalg.SuperLUSolver": (linalg.SuperLUSolver, lambda: ((), {}), ["permc_spec", "use_ordering"]),
         "linalg.SequenceSolver": (linalg.SequenceSolver, lambda: ((), {}), ["name", "matrix_type", "keep", "fallback"]),
         "linalg.PardisoSymmetricFactor": (linalg.PardisoSymmetricFactor, lambda: ((_spd(),), {}), [0, "matrix_type"]),
+        "linalg.SaddlePoint": (linalg.SaddlePoint, lambda: ((3, [1.0, 2.0]), {}), [0, 1, "label"]),
         "linalg.MatrixHints": (linalg.MatrixHints, lambda: ((), dict(dim=2)),
                                ["dim", "ordering", "near_null", "ordering_name", "schur", "matrix_type"]),
         "linalg.choose_solver": (linalg.choose_solver, lambda: ((2, 100), {}),

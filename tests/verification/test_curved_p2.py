@@ -18,10 +18,14 @@ straight P2 at ``n = 64`` is 366.5580, 0.021 below the reference):
 32      0.0156         0.0660         4.2
 ======  =============  =============  =======
 
-Observed rates (16 -> 32): curved 2.17, straight 2.13. **The rate 3 of issue 25 is not
-reached**: the curved geometry removes the geometric error (the error is 4x smaller at every
-level), but what remains converges at about 2, set by the contact edge (nodal contact,
-the pressure's square-root fall at the edge of the contact zone), not by the geometry.
+Observed rates (16 -> 32) against that reference: curved 2.17, straight 2.13 (a fine-mesh
+reference biases the rate of the next-finer pair). **The rate 3 of issue 25 is not reached**:
+the curved geometry removes the geometric error (the error is 4x smaller at every level), but
+what remains converges at about 2.3 (reference-free, consecutive-mesh differences along the
+force-approach curve: 2.31, 2.33 up to n = 64; ``docs/benchmarks/curved_p2.md``). Neither the
+reference, the (plane) obstacle nor the shape regularity of the mesh sets it (a shape-regular fan
+mesh converges no faster: 1.90, 1.14); about half of the error is the jump of the nodal contact
+edge across nodes. The nodal contact discretization itself is the suspect left (not tested).
 
 Nodal pressure (nominal, at the last step; interior of the contact zone, the 4 active nodes
 nearest the contact edge left out): the deviation of the mid-node values from the cubic

@@ -297,7 +297,7 @@ def _finite_friction_summary(setup, fs, frames) -> dict[str, Any]:
 
 
 #: keys of ``solution.extra`` of a finite-deformation run copied to ``summary.json``
-_FINITE_SOLVER_KEYS = ("amg_setups", "cg_iterations", "cg_per_newton",
+_FINITE_SOLVER_KEYS = ("amg_setups", "krylov", "cg_iterations", "cg_per_newton",
                        "direct_fallbacks")
 
 

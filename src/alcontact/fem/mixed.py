@@ -43,7 +43,9 @@ pressure DOFs (one per vertex): Dirichlet data, node DOFs, boundary weights and 
 vectors of the displacement part keep their numbers. Each Newton system is solved by
 a direct factorization of symmetric indefinite matrices
 (:class:`~alcontact.linalg.SequenceSolver`, MKL PARDISO with Bunch-Kaufman pivoting
-when installed, SuperLU otherwise).
+when installed, SuperLU otherwise), or, with ``linear_solver = "amg"``, by a Krylov method
+preconditioned block-diagonally (:meth:`saddle_point`: AMG on the displacement block, the
+lumped pressure mass on the pressure rows; :mod:`alcontact.linalg._saddle`).
 
 Examples
 --------
@@ -152,8 +154,10 @@ class MixedHyperelastic:
         mesh and geometry (2 on straight-sided meshes, exact for the linearized Taylor-Hood matrices;
         4 or 5 on curved ones; at least 4 for a body of revolution, whose hoop terms are rational in r).
     linear_solver : str, optional
-        Registry name of a direct solver for symmetric indefinite matrices
-        (:class:`~alcontact.linalg.SequenceSolver`); default: the preferred installed one.
+        Registry name of the solver of its own Newton systems (:meth:`solve`,
+        :class:`~alcontact.linalg.SequenceSolver`): a direct solver for symmetric indefinite matrices
+        (default: the preferred installed one), or ``"amg"`` (GMRES with the block-diagonal
+        preconditioner of :meth:`saddle_point`).
     geometry : {"cartesian", "axisymmetric"}
         ``"axisymmetric"``: a body of revolution in the r-z half-plane
         (:mod:`alcontact.fem._geometry`). :math:`F` is then 3x3 with the hoop stretch
@@ -172,7 +176,7 @@ class MixedHyperelastic:
     linear_solves : int
         Saddle-point factorizations of the last :meth:`solve`.
     linear_solver_used : str or None
-        Registry name of the direct solver of the last :meth:`solve`.
+        Registry name of the linear solver of the last :meth:`solve`.
     """
 
     #: the internal force is nonlinear in x
@@ -415,6 +419,57 @@ class MixedHyperelastic:
         Kup = np.einsum("eqas,eqs,eqm->eam", B, a, self._N)
         return Kuu, Kup
 
+    # ------------------------------------------------------------- saddle point
+    @cached_property
+    def lumped_pressure_mass(self) -> np.ndarray:
+        r"""Row sums of the P1 pressure mass matrix :math:`M_p = \int N_m N_n\,dV` (:math:`2\pi r` in
+        :math:`dV` for a body of revolution), one per pressure DOF, all positive."""
+        w = (self._dx[..., None] * self._N).sum(axis=1)  # (nel, m): int N_m over each element
+        return np.bincount((self._pdofs - self.ndofs_u).ravel(), weights=w.ravel(), minlength=self.npressure)
+
+    def saddle_point(self, free=None):
+        r"""The blocks of the Newton matrices on the DOFs ``free`` (:class:`~alcontact.linalg.SaddlePoint`).
+
+        The Newton matrix :math:`[K_{uu}, K_{up}; K_{up}^T, -M_p/\kappa]` restricted to ``free`` (a boolean
+        mask of length :attr:`ndofs` or the sorted free DOFs; default all) has its displacement rows first,
+        since the pressure DOFs are numbered last and never prescribed. The Schur complement
+        :math:`S = M_p/\kappa + K_{up}^T K_{uu}^{-1} K_{up}` is approximated by the lumped pressure mass
+        scaled by :math:`1/\mu + 1/\kappa` (Elman, Silvester and Wathen 2014, section 9.3 for nearly
+        incompressible elasticity; :math:`K_{uu} \approx \mu\,\nabla:\nabla` on the displacements and
+        :math:`K_{up}` the divergence at :math:`F = I`): spectrally equivalent to :math:`S` uniformly in the
+        mesh size and in :math:`\kappa`, including :math:`\kappa = \infty` (:mod:`alcontact.linalg._saddle`).
+        The factor of :math:`1/\mu` was measured at 0.5, 1 and 2 (MINRES iterations within 5 %:
+        ``docs/benchmarks/mixed_amg.md``).
+        """
+        from alcontact.linalg import SaddlePoint
+
+        free = np.ones(self.ndofs, dtype=bool) if free is None else np.asarray(free)
+        if free.dtype != bool:  # sorted indices of the free DOFs
+            idx = free.astype(np.int64)
+            if idx.ndim != 1 or np.any(np.diff(idx) <= 0) or (idx.size and (idx[0] < 0 or idx[-1] >= self.ndofs)):
+                raise InputError(f"free must be a boolean mask of shape ({self.ndofs},) or sorted DOF indices.")
+            free = np.zeros(self.ndofs, dtype=bool)
+            free[idx] = True
+        if free.shape != (self.ndofs,):
+            raise InputError(f"free must be a boolean mask of shape ({self.ndofs},); got {free.shape}.")
+        if not np.all(free[self.ndofs_u:]):
+            raise InputError("MixedHyperelastic.saddle_point: a pressure DOF is not free (the pressure is never "
+                             "prescribed); pass the mask of the free displacement DOFs plus every pressure DOF.")
+        scale = 1.0 / self.mu + self._inv_kappa()
+        return SaddlePoint(int(np.count_nonzero(free[: self.ndofs_u])), self.lumped_pressure_mass * scale,
+                           label="lumped pressure mass x (1/mu + 1/kappa)")
+
+    def near_null(self) -> np.ndarray:
+        """Rigid-body modes of the reference configuration on every DOF of ``x`` (zero on the pressure rows),
+        shape ``(ndofs, k)``: the near-null space of the displacement block for algebraic multigrid."""
+        from alcontact.fem.elasticity import rigid_body_modes
+
+        pts, dofs = self.geometry.all_node_dofs()
+        modes, _ = rigid_body_modes(pts)
+        out = np.zeros((self.ndofs, modes.shape[-1]))
+        out[np.asarray(dofs).ravel()] = modes.reshape(-1, modes.shape[-1])
+        return out
+
     # ------------------------------------------------------------------ solving
     def solve(self, load, dirichlet=(), *, steps: int = 1, rtol: float = 1e-10, max_iter: int = 25) -> np.ndarray:
         r"""Solve :math:`R(x) = 0` by Newton's method on the saddle-point system, with load steps.
@@ -452,7 +507,9 @@ class MixedHyperelastic:
         self.geometry.check_restrained(dofs)
         free = np.ones(self.ndofs, dtype=bool)
         free[dofs] = False
-        solver = SequenceSolver(self._linear_solver, matrix_type="symmetric-indefinite")
+        # an approximate solver (AMG) preconditions GMRES block-diagonally on the saddle-point systems
+        solver = SequenceSolver(self._linear_solver, matrix_type="symmetric-indefinite",
+                                saddle=self.saddle_point(free), near_null=lambda: self.near_null()[free])
         self.newton_iterations, self.linear_solves = [], 0
         self.linear_solver_used = solver.backend
         x = np.zeros(self.ndofs)

@@ -425,8 +425,12 @@ def material_law(mt: dict, law: str, issues: list[Issue]):
     return (obj, *_fixed_moduli(obj, law, E, nu, issues))
 
 
-def _region_issues(mt: dict, mesh, mat, issues: list[Issue]) -> None:
-    """``[[material.region]]``: a region of the mesh, with the constants of ``[material]`` (one material)."""
+def _region_issues(mt: dict, mesh, mat, nu, issues: list[Issue]) -> None:
+    """``[[material.region]]``: a region of the mesh, with the constants of ``[material]`` (one material).
+
+    ``nu`` is ``[material]``'s Poisson's ratio as given (``0.5`` stays 0.5: the exactly incompressible mixed
+    body, whose :class:`~alcontact.fem.Material` holds ``0.5 - 1e-9``); a region may say ``nu = 0.5`` where
+    ``[material]`` does, and the body's check of ``nu = 0.5`` (``material.nu``, mixed only) then applies."""
     for i, reg in enumerate(mt["region"] or []):
         rp = f"material.region[{i + 1}]"
         if not _ok(reg):
@@ -438,7 +442,7 @@ def _region_issues(mt: dict, mesh, mat, issues: list[Issue]) -> None:
                                                   f"{_did_you_mean(reg['name'], regions)} Mesh regions: "
                                                   f"{_known(regions)} (Gmsh physical groups of cells)."))
                 continue
-        if mat is not None and (reg["E"], reg["nu"], reg["plane"]) != (mat.E, mat.nu, mat.plane):
+        if mat is not None and (reg["E"], reg["nu"], reg["plane"]) != (mat.E, nu, mat.plane):
             issues.append(Issue(rp, f"region {reg['name']!r} has E={reg['E']:g}, nu={reg['nu']:g}, "
                                     f"plane={reg['plane']!r}, different from [material]: several materials "
                                     "in one body are not supported yet (the FEM layer takes one material); "
@@ -461,7 +465,7 @@ def build_material(mt: dict | None, law: str, mesh, issues: list[Issue]) -> tupl
     if not bad and E is not None and nu is not None:
         mat = _num(issues, "material", Material, E=E, nu=INCOMPRESSIBLE_NU - 1e-9 if exact else nu,
                    plane=mt["plane"])
-    _region_issues(mt, mesh, mat, issues)
+    _region_issues(mt, mesh, mat, nu, issues)
     return mat, law_obj
 
 

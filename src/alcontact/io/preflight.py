@@ -706,25 +706,6 @@ def _tangential_first_step_issues(setup) -> list[Issue]:
                              "that put a step before it.")]
 
 
-def _mixed_solver_issues(setup) -> list[Issue]:
-    """An approximate ``linear_solver`` (``"amg"``) for a mixed u-p body: its Newton matrices are saddle-point
-    systems (symmetric indefinite) that AMG-preconditioned CG cannot solve, and the solve refuses it
-    (``alcontact.contact.solve`` raises the same): known without solving."""
-    from ..fem import MixedHyperelastic
-
-    model = setup.problem.model
-    sv = setup.data.get("solver") or {}
-    name = setup.options.get("linear_solver") or (sv.get("linear_solver", "auto") if isinstance(sv, dict) else "auto")
-    if not isinstance(model, MixedHyperelastic) or name in ("auto", "direct"):
-        return []
-    if _solver_path(name, model.dim, model.ndofs) == "direct":
-        return []
-    return [Issue("solver.linear_solver", f"= {name!r}: an approximate solver cannot solve the Newton systems of a "
-                                          "mixed u-p body (material.formulation = 'mixed'): they are saddle-point "
-                                          "matrices (symmetric indefinite), on which AMG-preconditioned CG fails; use "
-                                          "linear_solver = 'auto', 'direct' or a direct solver (mkl-pardiso, superlu).")]
-
-
 def setup_issues(setup) -> list[Issue]:
     """Issues of a built problem: rigidity on the solver's path, ramped support conflicts, number ranges."""
     if hasattr(setup.problem.model, "bodies"):  # several bodies: their own checks (io._bodies_check)
@@ -733,7 +714,7 @@ def setup_issues(setup) -> list[Issue]:
     if issues:  # the rigidity test would report the overflow as a free motion
         return issues
     return (_ramped_support_issues(setup) + _pinned_issues(setup) + _tangential_first_step_issues(setup)
-            + _piece_issues(setup) + _mixed_solver_issues(setup) + _rigidity_issues(setup))
+            + _piece_issues(setup) + _rigidity_issues(setup))
 
 
 # --------------------------------------------------------------------------- run time

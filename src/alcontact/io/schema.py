@@ -165,7 +165,8 @@ def _build_schema() -> tuple[Table, ...]:
               "(x = r >= 0, y = z the axis) as a body of revolution, with the hoop strain u_r/r and 2 pi r in "
               "every integral; u_r = 0 on the axis is imposed, forces are totals over the revolution (the summary "
               "adds them per radian). Obstacles are then surfaces of revolution (a `circle` is a sphere, a "
-              "`half-space` a plane normal to the axis or a cylinder). 2D only.", choices=_geometries()),
+              "`half-space` a plane normal to the axis, a cylinder, or, with an inclined normal, a cone with its apex "
+              "on the axis; a `convex-polygon` a cylinder end or a groove). 2D only.", choices=_geometries()),
         ), required=True),
         Table("mesh.refine", "Optional grading of a generated mesh toward a point of its top face "
               "(the contact zone).", refine_options := (
@@ -208,8 +209,9 @@ def _build_schema() -> tuple[Table, ...]:
               "supports several materials.", (
             O("name", "str", REQUIRED, "Physical name of the region in the mesh file."),
             O("E", "float", REQUIRED, "Young's modulus of the region.", low=0, low_open=True),
-            O("nu", "float", REQUIRED, "Poisson's ratio of the region.", low=-1, high=0.5,
-              low_open=True, high_open=True),
+            O("nu", "float", REQUIRED, "Poisson's ratio of the region; `0.5` (exactly incompressible) where "
+              "`[material]` says it too (the mixed body only, as `material.nu`).", low=-1, high=0.5,
+              low_open=True),
             O("plane", "str", "strain", "2D assumption of the region.", choices=("strain", "stress")),
         ), array=True),
         Table("support", "Prescribed displacement on a named boundary (one table per support).", support_options := (

@@ -17,7 +17,10 @@ Built-in names: ``"mkl-pardiso"`` (Intel MKL PARDISO via ``pypardiso``),
 passed through: :func:`backend_options`) and ``"petsc-direct"`` (MUMPS); petsc4py is imported only when one of
 these is built (:func:`petsc`), never by ``import alcontact``. :class:`SequenceSolver` solves a
 sequence of symmetric (possibly indefinite) systems with one of them, keeping the
-analysis of each recent sparsity pattern (the Newton solves of the finite path).
+analysis of each recent sparsity pattern (the Newton solves of the finite path). A
+:class:`SaddlePoint` in :attr:`MatrixHints.saddle` marks a symmetric saddle-point matrix (a mixed
+u-p body): ``"amg"`` then builds the block-diagonal preconditioner of :mod:`._saddle` (its hierarchy
+on the displacement block) for MINRES (:func:`krylov.minres`) instead of a hierarchy of the whole matrix.
 
 Examples
 --------
@@ -60,6 +63,7 @@ from ._petsc import (
 )
 from ._pardiso import PardisoSolver, PardisoSymmetricFactor
 from ._sequence import SequenceSolver
+from ._saddle import SaddlePoint
 from ._newton_krylov import NewtonKrylovSolver
 from ._solvers import AMGSolver, CholmodSolver, SuperLUSolver
 from . import krylov
@@ -79,6 +83,7 @@ __all__ = [
     "PardisoSymmetricFactor",
     "PetscDirectSolver",
     "PetscKrylovSolver",
+    "SaddlePoint",
     "SequenceSolver",
     "SolverChoice",
     "SuperLUSolver",

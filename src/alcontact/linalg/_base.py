@@ -42,6 +42,14 @@ class MatrixHints:
         and SuperLU use partial pivoting; ``"unsymmetric"`` (the consistent Newton matrices
         of friction) makes PARDISO factorize the whole matrix (LU, ``mtype=11``); solvers registered for SPD matrices only
         (CHOLMOD, AMG) are not chosen for it (:func:`~alcontact.linalg.choose_solver`).
+    saddle : SaddlePoint or None
+        The matrix is a symmetric saddle-point matrix with these blocks (the Newton matrices of a
+        mixed u-p body: :class:`~alcontact.linalg.SaddlePoint`, the displacement rows first). An
+        approximate solver (AMG) then returns the block-diagonal preconditioner of
+        :mod:`alcontact.linalg._saddle` (its hierarchy on the displacement block, the given
+        Schur diagonal on the pressure rows) for MINRES, instead of a hierarchy of the whole
+        indefinite matrix; ``near_null`` then has a row per row of the whole matrix. Direct
+        solvers ignore it.
     """
 
     dim: int | None = None
@@ -50,6 +58,7 @@ class MatrixHints:
     ordering_name: str | None = None
     schur: np.ndarray | None = None
     matrix_type: str = "spd"
+    saddle: object | None = None
 
 
 @runtime_checkable

@@ -18,6 +18,11 @@ of a nonlinear solve (and a few more with the same matrix) without a factorizati
   :math:`\eta_k = \min\bigl(\eta_{max},\ \max(\gamma (\|F_k\|/\|F_{k-1}\|)^2,\ \gamma\eta_{k-1}^2),\
   \|F_k\|_{rel}\bigr)` (Eisenstat-Walker choice 2 with its safeguard, capped by the relative
   residual so that the local convergence stays quadratic);
+* **saddle-point** :math:`J` (a mixed u-p body, ``saddle``: :class:`~alcontact.linalg.SaddlePoint`):
+  MINRES (:func:`~alcontact.linalg.krylov.minres`) instead of CG, preconditioned by the
+  block-diagonal factor of :mod:`alcontact.linalg._saddle` (the approximate solver's hierarchy of the
+  displacement block, the Schur diagonal on the pressure rows); its tolerances are relative residuals in
+  the preconditioner's norm, the rest (reuse, forcing, dual step) as for CG;
 * **indefinite** :math:`J`: CG detects negative curvature :math:`p^T J p \le 0`; that system is
   then solved by a symmetric-indefinite factorization (:class:`~alcontact.linalg.SequenceSolver`,
   a logged warning that names ``linear_solver = "direct"``, counted in ``direct_fallbacks``), or
@@ -76,6 +81,9 @@ _FORCING_MIN = 1e-12
 _REBUILD_FACTOR = 1.0
 #: CG iteration limit of one solve (the hierarchy is rebuilt and the solve repeated once)
 _MAXITER = 1000
+#: MINRES iteration limit of one solve of a saddle-point system (several times CG's count on the
+#: displacement block alone: ``docs/benchmarks/mixed_amg.md``)
+_MAXITER_SADDLE = 4000
 
 
 
@@ -105,6 +113,9 @@ class NewtonKrylovSolver:
     fallback : bool
         Solve a system with negative curvature by the direct factorization (True) or fail the
         Newton step (False: the load step is cut back).
+    saddle : alcontact.linalg.SaddlePoint, optional
+        The Newton matrices are saddle-point matrices with these blocks (module doc): MINRES with the
+        block-diagonal preconditioner instead of CG.
 
     Attributes
     ----------
@@ -117,11 +128,15 @@ class NewtonKrylovSolver:
     path = "amg"
 
     def __init__(self, solver: SolverChoice, *, near_null=None, dim: int | None = None, rtol: float = _RTOL,
-                 forcing_max: float = _FORCING_MAX, rebuild_factor: float | None = None, fallback: bool = True):
+                 forcing_max: float = _FORCING_MAX, rebuild_factor: float | None = None, fallback: bool = True,
+                 saddle=None):
         rebuild_factor = _REBUILD_FACTOR if rebuild_factor is None else rebuild_factor
         self.solver = solver
         self.backend = solver.name
-        self._hints = MatrixHints(dim=dim, near_null=near_null)
+        self._hints = MatrixHints(dim=dim, near_null=near_null, saddle=saddle)
+        #: the Krylov method: ``"minres"`` on saddle-point matrices, ``"cg"`` otherwise
+        self.krylov = "cg" if saddle is None else "minres"
+        self._maxiter = _MAXITER if saddle is None else _MAXITER_SADDLE
         self.rtol = float(rtol)
         self.resolve_rtol = _RESOLVE_RTOL
         self.forcing_max = float(forcing_max)
@@ -165,18 +180,24 @@ class NewtonKrylovSolver:
             self._stale = True
 
     # ------------------------------------------------------------------ solves
+    def _krylov(self, A, rhs: np.ndarray, rtol: float):
+        """``(x, iterations, why)`` of the Krylov method (:attr:`krylov`) with the current preconditioner."""
+        method = krylov.minres if self.krylov == "minres" else krylov.pcg
+        return method(A, rhs, self._M, rtol, self._maxiter)
+
     def _cg(self, A, rhs: np.ndarray, rtol: float) -> np.ndarray:
         A = A.tocsr()
         if self._stale or self._factor is None or self._factor.n != A.shape[0]:
             self._build(A)
         for attempt in range(2):
             t0 = time.perf_counter()
-            x, nit, why = krylov.pcg(A, rhs, self._M, rtol, _MAXITER)
+            x, nit, why = self._krylov(A, rhs, rtol)
             self.cg_seconds += time.perf_counter() - t0
             self.cg_iterations += nit
             self.cg_solves += 1
             if why == "maxiter" and attempt == 0:
-                logger.debug("CG reached %d iterations (rtol %.1e); rebuilding the AMG hierarchy", nit, rtol)
+                logger.debug("%s reached %d iterations (rtol %.1e); rebuilding the AMG hierarchy", self.krylov, nit,
+                             rtol)
                 self._build(A)
                 continue
             break
@@ -184,23 +205,25 @@ class NewtonKrylovSolver:
         self._last_direct = False
         if why in ("", "maxiter"):
             if why:
-                logger.warning("CG stopped after %d iterations at relative residual above %.1e on a fresh AMG "
+                logger.warning("%s stopped after %d iterations at relative residual above %.1e on a fresh AMG "
                                "hierarchy; the Newton step is inexact (use linear_solver = 'direct' if Newton "
-                               "stalls)", nit, rtol)
+                               "stalls)", self.krylov, nit, rtol)
             self._record(nit, rtol)
             return x
         return self._indefinite(A, rhs, why)
 
     def _indefinite(self, A, rhs, why: str) -> np.ndarray:
-        """A system CG cannot solve (``why``): the direct factorization, or a failed Newton step."""
+        """A system the Krylov method cannot solve (``why``): the direct factorization, or a failed Newton step."""
         advice = "use linear_solver = 'direct' (a symmetric-indefinite factorization) for this problem"
+        what = ("Newton matrix not positive definite" if self.krylov == "cg"
+                else "preconditioner of the saddle-point Newton matrix not positive definite")
         if not self.fallback:
-            logger.warning("Newton matrix not positive definite (CG: %s); the Newton step fails and the load "
-                           "step is cut back; %s", why, advice)
-            raise np.linalg.LinAlgError(f"Newton matrix not positive definite (CG: {why}); {advice}")
+            logger.warning("%s (%s: %s); the Newton step fails and the load step is cut back; %s", what,
+                           self.krylov, why, advice)
+            raise np.linalg.LinAlgError(f"{what} ({self.krylov}: {why}); {advice}")
         if not self._warned:
-            logger.warning("Newton matrix not positive definite (CG: %s): solved by a direct factorization "
-                           "(counted in direct_fallbacks); if this repeats, %s", why, advice)
+            logger.warning("%s (%s: %s): solved by a direct factorization (counted in direct_fallbacks); if this "
+                           "repeats, %s", what, self.krylov, why, advice)
             self._warned = True
         if self._direct is None:  # the registry's symmetric-indefinite factorization
             self._direct = SequenceSolver(matrix_type="symmetric-indefinite")
@@ -211,7 +234,8 @@ class NewtonKrylovSolver:
         return x
 
     def solve(self, A, rhs: np.ndarray) -> np.ndarray:
-        """Solve ``A x = rhs`` by CG to :attr:`rtol` (AMG hierarchy reused while it stays good)."""
+        """Solve ``A x = rhs`` by CG (MINRES on a saddle-point matrix) to :attr:`rtol` (AMG hierarchy reused while it
+        stays good)."""
         return self._cg(A, np.asarray(rhs, dtype=float), self.rtol)
 
     def forcing(self, history) -> float:
@@ -261,7 +285,7 @@ class NewtonKrylovSolver:
         if self._A is None or self._A.shape[0] != b.shape[0]:
             return None
         t0 = time.perf_counter()
-        x, nit, why = krylov.pcg(self._A, b, self._M, self.resolve_rtol, _MAXITER)
+        x, nit, why = self._krylov(self._A, b, self.resolve_rtol)
         self.cg_seconds += time.perf_counter() - t0
         self.cg_iterations += nit
         self.cg_solves += 1
@@ -274,7 +298,7 @@ class NewtonKrylovSolver:
 
     def info(self) -> dict:
         """Counters for ``solution.extra``: ``linear_solver`` (registry name of the solver), setups, CG iterations."""
-        return {"linear_solver": self.backend, "amg_setups": int(self.amg_setups),
+        return {"linear_solver": self.backend, "krylov": self.krylov, "amg_setups": int(self.amg_setups),
                 "analyses": int(self.amg_setups),
                 "cg_iterations": int(self.cg_iterations), "cg_solves": int(self.cg_solves),
                 "newton_cg_iterations": int(self.newton_cg),

@@ -44,7 +44,7 @@ class _KrylovFactor:
 
     def __init__(self, A, factor):
         self.name, self.n, self.A, self.factor = factor.name, A.shape[0], A, factor
-        self._M = krylov.preconditioner(factor)
+        self._M = krylov.gmres_preconditioner(factor)
         self.iterations = 0
 
     def solve(self, rhs: np.ndarray) -> np.ndarray:
@@ -74,6 +74,12 @@ class SequenceSolver:
     fallback : str
         Registry solver used when the first one refuses a matrix or its solution's
         residual exceeds ``1e-8 (max|A| max|x| + max|b|)``.
+    near_null : callable, optional
+        ``near_null() -> (n, k)``: the near-null space handed to an approximate solver
+        (:attr:`MatrixHints.near_null <alcontact.linalg.MatrixHints>`; the rigid-body modes).
+    saddle : alcontact.linalg.SaddlePoint, optional
+        The matrices are saddle-point matrices with these blocks (a mixed u-p body): an
+        approximate solver then preconditions GMRES block-diagonally (:mod:`alcontact.linalg._saddle`).
 
     Attributes
     ----------
@@ -93,7 +99,7 @@ class SequenceSolver:
     """
 
     def __init__(self, name: str | None = None, *, matrix_type: str = "symmetric-indefinite", keep: int = 3,
-                 fallback: str = "superlu"):
+                 fallback: str = "superlu", near_null=None, saddle=None):
         from alcontact._options import is_integer, require
 
         if not isinstance(matrix_type, str) or matrix_type not in MATRIX_TYPES:
@@ -103,7 +109,7 @@ class SequenceSolver:
         self.requested = "auto" if name is None else name
         if name is None or (isinstance(name, str) and name in ("auto", "direct")):
             name = choose_solver(2, 0, allow_iterative=False, matrix_type=matrix_type)
-        self.hints = MatrixHints(matrix_type=matrix_type)
+        self.hints = MatrixHints(matrix_type=matrix_type, near_null=near_null, saddle=saddle)
         self.backend = name
         self._solver = make_solver(name)
         self.exact = solver_kind(name) == "direct"

@@ -244,6 +244,11 @@ class AMGSolver:
     An approximate "factorization": the setup builds the hierarchy, each solve runs
     preconditioned CG until the residual drops by ``rtol``.
 
+    On a saddle-point matrix (``hints.saddle``, :class:`~alcontact.linalg.SaddlePoint`: the Newton
+    matrices of a mixed u-p body) the hierarchy is built on the displacement block only and
+    :meth:`factorize` returns the block-diagonal preconditioner of :mod:`alcontact.linalg._saddle`
+    (a V-cycle on the displacements, the Schur diagonal on the pressures), whose solves run MINRES.
+
     Parameters
     ----------
     rtol : float
@@ -264,9 +269,13 @@ class AMGSolver:
                 "an integer >= 1 (rows of the coarsest level)")
         self.rtol, self.maxiter, self.max_coarse = rtol, maxiter, int(max_coarse)
 
-    def factorize(self, matrix, hints: MatrixHints | None = None) -> _AMGFactor:
+    def factorize(self, matrix, hints: MatrixHints | None = None):
         from ._amg import smoothed_aggregation
 
+        if hints is not None and hints.saddle is not None:
+            from ._saddle import block_factor
+
+            return block_factor(self, matrix, hints, rtol=self.rtol, maxiter=self.maxiter)
         A = sp.csr_matrix(matrix)
         B = hints.near_null() if (hints is not None and hints.near_null is not None) else None
         t0 = time.perf_counter()

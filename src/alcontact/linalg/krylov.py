@@ -9,6 +9,9 @@ through the functions of this module, which read the optional facilities a facto
 ``preconditioner()``
     the operator to apply inside the Krylov loop (the AMG factor: one V-cycle); without it,
     :meth:`~alcontact.linalg.Factor.solve` itself (an inner solve to the solver's own tolerance);
+``gmres_preconditioner()``
+    the operator to apply inside GMRES when it differs from ``preconditioner()`` (the block-triangular
+    preconditioner of a saddle-point matrix, where ``preconditioner()`` is the block-diagonal one MINRES needs);
 ``updated(J, delta)``
     the factor of :math:`J = A + \Delta` for a small symmetric term :math:`\Delta`, reusing the
     setup of :math:`A` (the AMG factor: :func:`~alcontact.linalg._amg.updated_hierarchy`); without
@@ -21,28 +24,29 @@ through the functions of this module, which read the optional facilities a facto
     levels of a multigrid hierarchy (reported in ``solution.extra``).
 
 :func:`add_on_pattern` forms :math:`A + \Delta` on the index arrays of ``A`` (the Newton matrices of the
-full-space contact paths). The Krylov loops count their iterations: :func:`cg` and :func:`gmres` (SciPy's methods) and
+full-space contact paths). The Krylov loops count their iterations: :func:`cg` and :func:`gmres` (SciPy's methods),
 :func:`pcg`, a preconditioned CG that reports negative curvature (an indefinite matrix)
-instead of iterating on. :func:`approximate_solve` is a rough solve at a small fraction of the
-cost of a factorization (CG with an unsmoothed aggregation V-cycle to a loose tolerance), for
-what only needs the shape of a solution (which contact points a load moves towards the obstacle);
-:func:`principal_submatrix` restricts a matrix to its free rows and columns in one pass.
+instead of iterating on, and :func:`minres`, preconditioned MINRES for symmetric indefinite
+(saddle-point) matrices with a symmetric positive definite preconditioner. :func:`approximate_solve`
+is a rough solve at a small fraction of the cost of a factorization (CG with an unsmoothed
+aggregation V-cycle to a loose tolerance), for what only needs the shape of a solution (which
+contact points a load moves towards the obstacle); :func:`principal_submatrix` restricts a matrix
+to its free rows and columns in one pass.
 """
 
 from __future__ import annotations
 
 import numpy as np
+import scipy.sparse as sp
 from scipy.sparse.linalg import LinearOperator
 from scipy.sparse.linalg import cg as _scipy_cg
 from scipy.sparse.linalg import gmres as _scipy_gmres
 
-import scipy.sparse as sp
-
 from ._amg import add_on_pattern, plain_aggregation
 from ._base import Factor, LinearSolver, MatrixHints
 
-__all__ = ["cg", "gmres", "pcg", "preconditioner", "updated_factor", "reflected_factor", "hierarchy_levels",
-           "add_on_pattern", "approximate_solve", "principal_submatrix"]
+__all__ = ["cg", "gmres", "pcg", "minres", "preconditioner", "gmres_preconditioner", "updated_factor",
+           "reflected_factor", "hierarchy_levels", "add_on_pattern", "approximate_solve", "principal_submatrix"]
 
 
 def cg(A, b: np.ndarray, M=None, *, rtol: float, atol: float = 0.0, x0=None, maxiter: int = 5000):
@@ -112,6 +116,71 @@ def pcg(A, b: np.ndarray, M, rtol: float, maxiter: int):
     return x, maxiter, "maxiter"
 
 
+def minres(A, b: np.ndarray, M, rtol: float, maxiter: int):
+    r"""Preconditioned MINRES for the symmetric (indefinite) ``A x = b`` with the SPD preconditioner ``M``.
+
+    The Lanczos process of :math:`M^{-1/2} A M^{-1/2}` (Paige and Saunders 1975; Elman,
+    Silvester and Wathen, *Finite Elements and Fast Iterative Solvers*, 2nd ed. 2014,
+    Algorithm 4.1), ``M`` applied as ``M @ r`` (the approximate inverse: one block-diagonal
+    preconditioner application per iteration). Each iteration minimizes the residual in the
+    norm of the preconditioner, :math:`\|r\|_{M} = (r^T M r)^{1/2}`, which MINRES gets for free;
+    it stops when :math:`\|r_k\|_M \le rtol\,\|b\|_M`. That norm weighs each block of a
+    saddle-point system by its own scale (the force rows by the inverse stiffness, the
+    constraint rows by the inverse Schur complement), where the Euclidean norm would see only
+    the block with the larger numbers.
+
+    Returns ``(x, iterations, why)`` with ``why`` ``""`` (converged), ``"indefinite
+    preconditioner"`` (:math:`r^T M r < 0`: ``M`` is not positive definite) or ``"maxiter"``.
+    """
+    b = np.asarray(b, dtype=float)
+    x = np.zeros_like(b)
+    r1 = b.copy()
+    y = np.asarray(M @ r1, dtype=float)
+    bb = float(r1 @ y)
+    if bb == 0.0 and not np.any(b):
+        return x, 0, ""
+    if not bb > 0.0:
+        return x, 0, "indefinite preconditioner"
+    beta1 = beta = float(np.sqrt(bb))
+    r2 = r1.copy()
+    w = np.zeros_like(b)
+    w2 = np.zeros_like(b)
+    old_beta = eps = dbar = 0.0
+    phibar, cs, sn = beta1, -1.0, 0.0
+    for k in range(1, maxiter + 1):
+        v = y / beta
+        y = np.asarray(A @ v, dtype=float)
+        if k > 1:
+            y -= (beta / old_beta) * r1
+        alpha = float(v @ y)
+        y -= (alpha / beta) * r2
+        r1, r2 = r2, y
+        y = np.asarray(M @ r2, dtype=float)
+        old_beta = beta
+        bb = float(r2 @ y)
+        if bb < 0.0:
+            return x, k, "indefinite preconditioner"
+        beta = float(np.sqrt(bb))
+        # the QR factorization of the Lanczos tridiagonal by Givens rotations
+        old_eps = eps
+        delta = cs * dbar + sn * alpha
+        gbar = sn * dbar - cs * alpha
+        eps = sn * beta
+        dbar = -cs * beta
+        gamma = float(np.hypot(gbar, beta))
+        if gamma == 0.0:  # an exact breakdown with a singular tridiagonal: no further progress
+            return x, k, "maxiter"
+        cs, sn = gbar / gamma, beta / gamma
+        phi = cs * phibar
+        phibar = sn * phibar
+        w1, w2 = w2, w
+        w = (v - old_eps * w1 - delta * w2) / gamma
+        x += phi * w
+        if phibar <= rtol * beta1 or beta == 0.0:
+            return x, k, ""
+    return x, maxiter, "maxiter"
+
+
 def preconditioner(factor: Factor):
     """The operator applying ``factor`` inside a Krylov loop (module doc)."""
     own = getattr(factor, "preconditioner", None)
@@ -119,6 +188,14 @@ def preconditioner(factor: Factor):
         return own()
     n = factor.n
     return LinearOperator((n, n), matvec=factor.solve, matmat=factor.solve, dtype=float)
+
+
+def gmres_preconditioner(factor: Factor):
+    """The operator applying ``factor`` inside GMRES: its ``gmres_preconditioner()`` where it offers one (the
+    block-triangular preconditioner of a saddle-point matrix, :mod:`alcontact.linalg._saddle`), else
+    :func:`preconditioner`."""
+    own = getattr(factor, "gmres_preconditioner", None)
+    return own() if own is not None else preconditioner(factor)
 
 
 def updated_factor(solver: LinearSolver, factor: Factor, J, delta, hints: MatrixHints | None = None):

@@ -268,13 +268,18 @@ class NewtonSolver(SequenceSolver):
         False: SuperLU only (no analysis kept).
     keep : int
         Sparsity patterns whose analyses are kept.
+    saddle, near_null : optional
+        The blocks of a mixed u-p body's saddle-point matrices and the near-null space, for an
+        approximate solver (:class:`~alcontact.linalg.SequenceSolver`).
     """
 
     #: lowest Newton tolerance its solves reach (exact solves: none)
     tol_floor = 0.0
 
-    def __init__(self, name: str | None = None, *, use_pardiso: bool = True, keep: int = 3):
-        super().__init__(name if use_pardiso else "superlu", matrix_type="symmetric-indefinite", keep=keep)
+    def __init__(self, name: str | None = None, *, use_pardiso: bool = True, keep: int = 3, saddle=None,
+                 near_null=None):
+        super().__init__(name if use_pardiso else "superlu", matrix_type="symmetric-indefinite", keep=keep,
+                         saddle=saddle, near_null=near_null)
 
     def newton_step(self, A, rhs: np.ndarray, history) -> np.ndarray:
         """The Newton correction ``A dx = rhs`` (exact; ``history`` serves inexact solvers'
@@ -1493,21 +1498,25 @@ def finite_solver(linear_solver: str, entry, model, **options):
     GMRES around its factor of each matrix (:class:`~alcontact.linalg.SequenceSolver`).
 
     A mixed u-p body (:class:`~alcontact.fem.MixedHyperelastic`) has saddle-point Newton matrices
-    (symmetric indefinite by construction, its pressure block ``-M_p / kappa <= 0``): CG
-    preconditioned by AMG cannot solve them (it meets negative curvature and would fall back to a
-    factorization in almost every Newton step), so ``"auto"`` chooses a direct solver for it and an
-    approximate solver named by ``linear_solver`` is refused with an :class:`~alcontact.errors.InputError`.
+    (symmetric indefinite by construction, its pressure block ``-M_p / kappa <= 0``), on which CG
+    fails. An approximate solver then runs MINRES with the block-diagonal preconditioner of
+    :mod:`alcontact.linalg._saddle` (its hierarchy on the displacement block, the scaled lumped pressure
+    mass on the pressure rows: :meth:`MixedHyperelastic.saddle_point
+    <alcontact.fem.MixedHyperelastic.saddle_point>`) where the entry has a Krylov path, and GMRES with the
+    same preconditioner around each matrix otherwise (``factor-gmres``). ``"auto"`` chooses a direct
+    solver for it (measured faster up to 100k DOFs: ``docs/benchmarks/mixed_amg.md``).
     """
     saddle = isinstance(model, MixedHyperelastic)
     solver = _linalg.select_solver(linear_solver, dim=model.dim, ndofs=model.ndofs, matrix_type="symmetric-indefinite",
                                    allow_iterative="amg" in entry.linear_solvers and not saddle)
-    if saddle and not solver.exact:
-        raise InputError(
-            f"contact option linear_solver = {linear_solver!r} (an approximate solver) cannot solve the Newton "
-            "systems of a mixed u-p body (material.formulation = 'mixed'): they are saddle-point matrices "
-            "(symmetric indefinite), on which AMG-preconditioned CG fails; use linear_solver='auto', 'direct' or a "
-            "direct solver (mkl-pardiso, superlu).")
-    if solver.exact or "amg" not in entry.linear_solvers:
+    if solver.exact:
+        return lambda fc: NewtonSolver(solver.name)
+    if saddle and "amg" in entry.linear_solvers:
+        return lambda fc: AMGNewtonSolver(fc, solver=solver, saddle=model.saddle_point(fc.free), **options)
+    if saddle:
+        return lambda fc: NewtonSolver(solver.name, saddle=model.saddle_point(fc.free),
+                                       near_null=lambda: model.near_null()[fc.free])
+    if "amg" not in entry.linear_solvers:
         return lambda fc: NewtonSolver(solver.name)
     return lambda fc: AMGNewtonSolver(fc, solver=solver, **options)
 
@@ -1574,7 +1583,10 @@ class FiniteFrictionContact(FiniteContact):
         (:attr:`solver`, the ``linear_solver`` option), analyses kept by pattern."""
         solver = getattr(self, "_friction_solver", None)
         if solver is None:
-            solver = self._friction_solver = SequenceSolver(self.solver.backend, matrix_type="unsymmetric")
+            hints = getattr(self.solver, "hints", None)  # the saddle blocks of a mixed body's matrices
+            solver = self._friction_solver = SequenceSolver(
+                self.solver.backend, matrix_type="unsymmetric", saddle=None if hints is None else hints.saddle,
+                near_null=None if hints is None else hints.near_null)
         return solver
 
     def set_history(self, y_prev: np.ndarray, mu: float, eps_t: float, radius: str) -> None:
