@@ -90,6 +90,10 @@ def _check(results: dict, dim: int, ranks: int):
         assert got["extra"]["ranks"] == ranks and got["extra"]["strategy"] == "distributed"
         # the KSP named is the one that ran
         assert got["extra"]["linear_solver"] == _solver
+        if _solver == "petsc":  # one GAMG hierarchy for the whole solve, updated (Galerkin) for every Newton matrix
+            assert got["extra"]["gamg_setups"] == 1, case
+            assert got["extra"]["gamg_updates"] == got["linear_solves"] - 1 > 0, case
+            assert got["extra"]["fine_smoother"] == "pbjacobi", case
 
 
 @pytest.mark.parametrize("ranks,partition", [(1, "metis"), (2, "metis"), (3, "zone")])
@@ -184,3 +188,20 @@ def test_every_family_p_penalty_runs_on_the_distributed_path(penalty):
     u = np.empty_like(ref.u[dmap])
     u[dist.global_nodes] = dist.u.reshape(-1, 2)
     assert _rel(u, ref.u[dmap]) <= TOL
+
+
+def test_gamg_hierarchy_rebuilt_when_reuse_is_switched_off():
+    """The counter of GAMG hierarchies sees what PETSc built: with ``pc_gamg_reuse_interpolation = false`` (a PETSc
+    option passed through) every KSP set-up builds new prolongators, so ``gamg_setups`` equals the linear solves,
+    and the answer is the one with reuse to 1e-8 (the serial reference of the tests above)."""
+    from alcontact.contact import solve_distributed
+    from alcontact.distributed import world
+    from alcontact.problems import hertz
+
+    reuse = solve_distributed(hertz.hertz_2d(n_per_a=4), comm=world())
+    fresh = solve_distributed(hertz.hertz_2d(n_per_a=4), petsc_options={"pc_gamg_reuse_interpolation": "false"},
+                              comm=world())
+    assert reuse.result.status > 0 and fresh.result.status > 0
+    assert reuse.extra["gamg_setups"] == 1 and reuse.extra["gamg_updates"] == reuse.result.linear_solves - 1
+    assert fresh.extra["gamg_setups"] == fresh.result.linear_solves and fresh.extra["gamg_updates"] == 0
+    assert fresh.model_contact_force == pytest.approx(reuse.model_contact_force, rel=TOL)

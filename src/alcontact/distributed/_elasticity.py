@@ -217,6 +217,10 @@ class DistributedElasticity:
         if setv(A.handle, vals.ctypes.data, int(PETSc.InsertMode.ADD_VALUES)) != 0:
             raise InputError("MatSetValuesCOO failed (see PETSc's message above).")
         A.assemble()
+        if comm.size > 1:
+            # MatSetPreallocationCOO (PETSc 3.18) builds the rank's diagonal block with block size 1: point-block
+            # Jacobi (MatInvertBlockDiagonal of that block) then inverted the wrong blocks, with NaN results
+            A.getDiagonalBlock().setBlockSize(dim)
         A.setOption(PETSc.Mat.Option.SPD, True)
         f = A.createVecRight()
         f.setValues(gdof, f_loc, addv=PETSc.InsertMode.ADD_VALUES)

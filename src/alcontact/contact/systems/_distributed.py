@@ -11,9 +11,26 @@ with the displacement a distributed vector and every linear solve a PETSc KSP on
     J = K + B^T \operatorname{diag}(w \circ dt_N/dg)\, B ,
 
 with Dirichlet rows and columns of ``K`` and ``J`` eliminated (``MatZeroRowsColumns``,
-the prescribed values held in ``u``). The contact term of ``J`` is one ``d x d`` block
+the prescribed values held in ``u``; every Newton step is set to 0 on those rows, where a
+preconditioned Krylov iterate is not exactly 0). The contact term of ``J`` is one ``d x d`` block
 per contact point at its own node, so every rank adds the blocks of the points it owns
 to rows it owns: no communication.
+
+The Newton matrices, as on the serial Krylov path (:mod:`~alcontact.contact.systems._krylov`): one
+``MPIAIJ`` matrix ``J`` with the pattern of ``K`` and of every contact block, whose values are
+rewritten for each Newton step, and one KSP on it, so that PCGAMG keeps the prolongators of
+its first hierarchy and recomputes only the Galerkin coarse operators
+(``pc_gamg_reuse_interpolation``, :data:`GAMG_DEFAULTS`; ``extra["gamg_setups"]`` counts the
+hierarchies built, ``"gamg_updates"`` the Galerkin updates). The Chebyshev smoothers
+estimate the spectrum of their own operator at each update (``pc_gamg_use_sa_esteig
+false``: GAMG's estimates are those of the first matrix, with which CG met an indefinite
+preconditioner once the springs were stiff), and the finest level's smoother is point-block
+Jacobi (:data:`FINE_SMOOTHER`): each contact spring :math:`k_i \nu_i \nu_i^T` lies in its
+node's ``d x d`` diagonal block, which point-block Jacobi inverts exactly, the role the
+Householder reflections of stiff springs play on the serial path. The Newton steps are
+inexact with the serial path's forcing terms (1e-3 down to 1e-6, tightened in the last step
+to reach the Newton tolerance); the direct KSP (MUMPS) refactorizes the same pattern
+numerically.
 
 Ownership: the mesh is read and partitioned on rank 0
 (:class:`alcontact.distributed.DistributedElasticity`: METIS, each rank assembles its
@@ -50,6 +67,7 @@ from ...errors import InputError
 from ...optim import LineSearch, NewtonSettings, NewtonSystem, newton
 from ..algorithms._subproblem import NewtonOutcome, subproblem_outcome
 from ..kinematics._points import _element_size
+from ._krylov import _FORCING_MAX, _FORCING_MIN, _FORCING_SLOW, _FORCING_START
 
 __all__ = ["DistributedContact"]
 
@@ -64,6 +82,15 @@ _SETTINGS = NewtonSettings(line_search=LineSearch(full_step=False))
 _UZAWA_TOL = 1e-10
 #: relative (true) residual of the CG + GAMG solves of the Newton systems
 _KSP_RTOL = 1e-10
+#: GAMG options of the Newton solves (the problem file's ``petsc_options`` override them; module doc): keep the
+#: prolongators of the first hierarchy and recompute only the Galerkin coarse operators when the values of the
+#: Newton matrix change, and let every Chebyshev smoother estimate the spectrum of its own operator (the estimates
+#: GAMG hands over from its prolongator smoothing are those of the first matrix: with them CG met an indefinite
+#: preconditioner as soon as the contact springs were stiff)
+GAMG_DEFAULTS = {"pc_gamg_reuse_interpolation": "true", "pc_gamg_use_sa_esteig": "false"}
+#: PC of the finest level's Chebyshev smoother, unless ``petsc_options`` name ``mg_levels_pc_type``: point-block
+#: Jacobi inverts each node's ``d x d`` block, where each contact spring lives (module doc)
+FINE_SMOOTHER = "pbjacobi"
 _UZAWA_MAXITER = 200
 
 
@@ -119,9 +146,10 @@ class DistributedContact:
     warm_penalty_start = False
     penalty_continuation = False
     factorizations = 0
+    gamg_setups = 0
 
     def __init__(self, problem, *, comm, parts=None, ksp: str = "gamg", options: dict | None = None,
-                 margin: float = 0.25):
+                 margin: float = 0.25, forcing: bool = True):
         from mpi4py import MPI
 
         from ...distributed import DistributedElasticity, collective
@@ -133,6 +161,8 @@ class DistributedContact:
         if ksp not in ("gamg", "direct"):
             raise InputError(f"ksp={ksp!r}; allowed: 'gamg', 'direct'.")
         self.ksp_kind, self.options = ksp, dict(options or {})
+        #: inexact Newton (forcing terms) on the iterative KSP; the direct one solves exactly
+        self.forcing = ksp == "gamg" and forcing
         self.carried_stiffness = None
         self.active_converged = True
         self.active_residual = float("nan")
@@ -262,6 +292,10 @@ class DistributedContact:
         self.Kc.setOption(PETSc.Mat.Option.NEW_NONZERO_ALLOCATION_ERR, True)
         self.Kc.zeroRowsColumns(self._rows(self.fixed), diag=1.0)
         self.Kc.setOption(PETSc.Mat.Option.SPD, True)
+        # the one Newton matrix: the values of every J are written into it (same nonzero pattern), so the KSP's
+        # preconditioner sees one operator whose values change and GAMG keeps its prolongators (module doc)
+        self.J = self.Kc.duplicate(copy=True)
+        self.J.setOption(PETSc.Mat.Option.SPD, True)
         self.assembly_seconds = time.perf_counter() - t0
         n = self.comm.allreduce(int(self.fixed.size), op=self.MPI.SUM)
         if n == 0:
@@ -270,11 +304,18 @@ class DistributedContact:
         t1 = time.perf_counter()
         self.null = near_null_space(self.body.rigid_modes(), comm=K.getComm()) if self.ksp_kind == "gamg" else None
         if self.ksp_kind == "gamg":
-            self.ksp = configure_ksp(self.Kc, ksp_type="cg", pc_type="gamg", rtol=1e-10, options=self.options,
-                                     near_null=self.null, defer_check=True)
+            self.J.setNearNullSpace(self.null)
+            self.ksp = configure_ksp(self.J, ksp_type="cg", pc_type="gamg", rtol=1e-10,
+                                     options={**GAMG_DEFAULTS, **self.options}, near_null=self.null, defer_check=True)
+            pc = self.ksp.getPC()
+            levels = pc.getMGLevels()
+            if levels > 1 and "mg_levels_pc_type" not in self.options:
+                pc.getMGSmoother(levels - 1).getPC().setType(FINE_SMOOTHER)
+            self._hierarchy = self.hierarchy()
+            self.gamg_setups = 1
         else:
             pkg = direct_package()
-            self.ksp = configure_ksp(self.Kc, ksp_type="preonly", pc_type="cholesky" if pkg == "mumps" else "lu",
+            self.ksp = configure_ksp(self.J, ksp_type="preonly", pc_type="cholesky" if pkg == "mumps" else "lu",
                                      rtol=1e-12, options=self.options, factor_solver=pkg, defer_check=True)
         self.ksp_setups += 1
         self.factor_seconds = time.perf_counter() - t1
@@ -291,15 +332,33 @@ class DistributedContact:
         its, reason = int(ksp.getIterationNumber()), int(ksp.getConvergedReason())
         self.linear_solves += 1
         self.ksp_iterations += its
+        if self.ksp_kind == "gamg":  # a hierarchy with other prolongators: GAMG built it from scratch
+            now = self.hierarchy()
+            if now != self._hierarchy:
+                self.gamg_setups += 1
+                self._hierarchy = now
         if self.linear_solves == 1:
             from ...linalg import report_unused_options
 
-            report_unused_options(ksp.getOptionsPrefix() or "", self.options,
-                                  reported=None if self.comm.rank == 0 else set(self.options))
+            given = {**GAMG_DEFAULTS, **self.options} if self.ksp_kind == "gamg" else self.options
+            report_unused_options(ksp.getOptionsPrefix() or "", given,
+                                  reported=None if self.comm.rank == 0 else set(given))
         if reason < 0:
             raise np.linalg.LinAlgError(f"PETSc KSP {ksp.getType()} / PC {ksp.getPC().getType()} did not converge "
                                         f"(reason {reason}, {its} iterations)")
         return self._vx.array.copy()
+
+    def hierarchy(self) -> tuple:
+        """Ids of the GAMG prolongators (:func:`alcontact.linalg.mg_hierarchy`; ``()`` without GAMG)."""
+        from ...linalg import mg_hierarchy
+
+        return mg_hierarchy(self.ksp) if self.ksp_kind == "gamg" else ()
+
+    def smoothers(self) -> list[str]:
+        """PC type of the smoother of each GAMG level, coarsest first (``[]`` without GAMG)."""
+        from ...linalg import mg_smoothers
+
+        return mg_smoothers(self.ksp) if self.ksp_kind == "gamg" else []
 
     def matvec(self, x: np.ndarray) -> np.ndarray:
         """``K x`` (owned rows) for the owned part ``x`` of a distributed vector."""
@@ -314,8 +373,7 @@ class DistributedContact:
         b = self.f - self.matvec(ud)
         b[self.fixed] = self.fixed_values
         t0 = time.perf_counter()
-        self.ksp.setOperators(self.Kc)
-        x = self._ksp_solve(b, 1e-12)
+        x = self._ksp_solve(b, 1e-12)  # the KSP's operator holds the values of Kc
         x[self.fixed] = self.fixed_values
         self.reference_seconds = time.perf_counter() - t0 + self.factor_seconds
         self.b_lifted = self.allmax(np.abs(b[self.free]))
@@ -398,9 +456,11 @@ class DistributedContact:
         return out
 
     def newton_matrix(self, k_cand: np.ndarray):
-        r""":math:`J = K + B^T \operatorname{diag}(k) B`, supported rows and columns eliminated (a new ``MPIAIJ``)."""
+        r""":math:`J = K + B^T \operatorname{diag}(k) B`, supported rows and columns eliminated, written into the
+        one Newton matrix ``self.J`` (the pattern of ``Kc``: only its values change)."""
         PETSc = self.PETSc
-        J = self.Kc.duplicate(copy=True)
+        J = self.J
+        self.Kc.copy(J, structure=PETSc.Mat.Structure.SAME_NONZERO_PATTERN)
         pts = self._my_pt
         k = k_cand[self._my_pos]
         c = self.coef[pts]
@@ -409,12 +469,14 @@ class DistributedContact:
             rows = self._rows(self.point_dofs[pts[i]])
             J.setValues(rows, rows, blocks[i].ravel(), addv=PETSc.InsertMode.ADD_VALUES)
         J.assemble()
-        if self.null is not None:
-            J.setNearNullSpace(self.null)
+
         return J
 
     def solve_newton(self, J, rhs: np.ndarray, rtol: float) -> np.ndarray:
+        """``J dx = rhs`` with the KSP, whose preconditioner is updated for the new values of ``J``."""
         t0 = time.perf_counter()
+        # the same operator again: KSPSolve updates its preconditioner only after KSPSetOperators, and with the
+        # same matrix object PCGAMG sees SAME_NONZERO_PATTERN (it keeps the prolongators with reuse_interpolation)
         self.ksp.setOperators(J)
         self.ksp_setups += 1
         try:
@@ -490,7 +552,9 @@ class DistributedContact:
     def extra(self) -> dict:
         return {"linear_solver": "petsc" if self.ksp_kind == "gamg" else "petsc-direct", "strategy": "distributed",
                 "ranks": int(self.comm.size), "ksp_iterations": int(self.ksp_iterations),
-                "ksp_setups": int(self.ksp_setups)}
+                "ksp_setups": int(self.ksp_setups), "gamg_setups": int(self.gamg_setups),
+                "gamg_updates": int(self.ksp_setups - self.gamg_setups) if self.ksp_kind == "gamg" else 0,
+                "fine_smoother": (self.smoothers() or [""])[-1]}
 
 
 class _Subproblem(NewtonSystem):
@@ -506,6 +570,8 @@ class _Subproblem(NewtonSystem):
         self.w = dc.replicate(dc.weights[dc._my_pt])
         self.scale = None
         self.fscale = 1e-300
+        self.forcing = _FORCING_START
+        self.tol_k = _NEWTON_TOL_FLOOR
 
     def evaluate(self, x):
         dc = self.dc
@@ -538,17 +604,28 @@ class _Subproblem(NewtonSystem):
         self.fscale = max(self.scale, wt, 1e-300)
         return dc.allmax(np.abs(state[2])) / self.fscale
 
+    def tolerance(self, state, tol):
+        self.tol_k = tol
+        return tol
+
     def step(self, x, state, history):
         dc = self.dc
-        # tight Krylov solves: a loose CG step (forcing 1e-3) on the stiff contact directions was no descent
-        # direction of the merit (2D Hertz, 1144 DOFs, Algorithm 6.1: 60 damped Newton steps in outer iteration 3)
         rtol = _KSP_RTOL
+        if dc.forcing:  # inexact Newton with the serial Krylov path's forcing terms (its module doc)
+            res = history[-1].residual
+            if len(history) > 1:
+                last = history[-2]
+                if last.step < 1.0 or last.full_step or res > 0.5 * last.residual:
+                    self.forcing = max(_FORCING_SLOW * self.forcing, _FORCING_MIN)
+            rtol = float(np.clip(max(min(self.forcing, res), 0.1 * self.tol_k / max(res, 1e-300)), 1e-14,
+                                 _FORCING_MAX))
         k = self.w * np.asarray(self.law.stiffness(state[0], self.lam), dtype=float)
         J = dc.newton_matrix(k)
-        try:
-            dx = dc.solve_newton(J, -state[2], rtol)
-        finally:
-            J.destroy()
+        dx = dc.solve_newton(J, -state[2], rtol)
+        # the supported rows of J are the identity and their right-hand side is 0, but a Krylov iterate preconditioned
+        # by GAMG is not exactly 0 there: the prescribed values would drift by the solve's error (an inexact step
+        # moved them by 1e-3 relative and converged to another problem's solution)
+        dx[dc.fixed] = 0.0
         if not dc.allbool(bool(np.all(np.isfinite(dx)))):
             dx = np.full_like(dx, np.nan)
         return dx
