@@ -115,93 +115,160 @@ def worker_petsc(k: int, out: Path) -> None:
     run_ranks(main)
 
 
-def _hertz(n: float):
+GROWTH = 1.04  # the graded quarter block of benchmarks/hertz_3d_large.py (nearly uniform near the contact zone)
+
+
+def _hertz(n: float, growth: float):
     from alcontact.problems import hertz
 
-    return hertz.hertz_3d(n_per_a=n)
+    return hertz.hertz_3d(n_per_a=n, growth=growth)
 
 
-def worker_contact_serial(n: float, out: Path) -> None:
+def _cpu_s() -> float:
+    return time.process_time()
+
+
+def worker_contact_serial(n: float, growth: float, out: Path) -> None:
     from alcontact.contact import solve
 
     t0 = time.perf_counter()
-    problem = _hertz(n)
-    t1 = time.perf_counter()
+    problem = _hertz(n, growth)
+    t1, c1 = time.perf_counter(), _cpu_s()
     sol = solve(problem, "simo-laursen", options={"linear_solver": "amg"})
-    t2 = time.perf_counter()
+    t2, c2 = time.perf_counter(), _cpu_s()
     r = sol.result
     out.write_text(json.dumps({"path": "serial amg (pyamg + cg)", "ranks": 1, "ndofs": int(problem.model.ndofs),
                                "status": r.status.label, "outer": r.outer_iterations, "newton": r.newton_iterations,
                                "linear_solves": r.linear_solves, "krylov_iterations": sol.extra.get("cg_iterations"),
-                               "build_s": t1 - t0, "solve_s": t2 - t1, "force": float(sol.total_contact_force[-1]),
-                               "peak_mb_per_rank": _peak_mb()}))
+                               "setups": sol.extra.get("amg_setups"), "updates": sol.extra.get("amg_updates"),
+                               "build_s": t1 - t0, "solve_s": t2 - t1, "solve_cpu_s": c2 - c1,
+                               "linear_solve_s": sol.timings.get("linear_solve_s"),
+                               "force": float(sol.total_contact_force[-1]), "peak_mb_per_rank": _peak_mb(),
+                               "peak_mb_ranks": [_peak_mb()]}))
 
 
-def worker_contact_petsc(n: float, out: Path) -> None:
+def worker_contact_petsc(n: float, growth: float, out: Path, petsc_options: dict | None = None) -> None:
     from alcontact.contact import solve_distributed
     from alcontact.distributed import run_ranks, world
 
     def main():
         comm = world()
         t0 = time.perf_counter()
-        problem = _hertz(n) if comm.rank == 0 else None
-        t1 = time.perf_counter()
-        sol = solve_distributed(problem, "simo-laursen", options={"linear_solver": "petsc"}, comm=comm)
-        t2 = time.perf_counter()
-        peaks = comm.gather(_peak_mb(), root=0)
+        comm.Barrier()
+        t1, c1 = time.perf_counter(), _cpu_s()
+        # the problem is built on rank 0 inside the solve and released there once distributed
+        built = {"s": 0.0, "cpu": 0.0}
+
+        def build():
+            b0, bc = time.perf_counter(), _cpu_s()
+            problem = _hertz(n, growth)
+            built["s"], built["cpu"] = time.perf_counter() - b0, _cpu_s() - bc
+            return problem
+
+        sol = solve_distributed(build if comm.rank == 0 else None, "simo-laursen",
+                                options={"linear_solver": "petsc"}, comm=comm, petsc_options=petsc_options)
+        t2, c2 = time.perf_counter(), _cpu_s() - built["cpu"]
+        t1 += comm.bcast(built["s"], root=0)  # the solve without building the problem (as the serial row)
+        piece = sol.piece
+        n_own = piece.node_range[1] - piece.node_range[0]
+        mine = {"peak_mb": _peak_mb(), "cpu_s": c2 - c1, "owned_dofs": 3 * n_own,
+                "ghost_dofs": 3 * (int(piece.global_nodes.size) - n_own), "elements": int(piece.elements.shape[1]),
+                "timings": sol.timings}
+        ranks = comm.gather(mine, root=0)
         if comm.rank == 0:
             r = sol.result
-            out.write_text(json.dumps({"path": "distributed (petsc cg + gamg)", "ranks": comm.size,
-                                       "ndofs": int(sol.extra["dofs"]), "status": r.status.label,
-                                       "outer": r.outer_iterations, "newton": r.newton_iterations,
-                                       "linear_solves": r.linear_solves,
-                                       "krylov_iterations": sol.extra["ksp_iterations"],
-                                       "build_s": t1 - t0, "solve_s": t2 - t1,
-                                       "force": float(sol.total_contact_force[-1]), "peak_mb_per_rank": max(peaks),
-                                       "peak_mb_ranks": peaks}))
+            phases = {k: max(x["timings"].get(k, 0.0) for x in ranks) for k in sol.timings}
+            out.write_text(json.dumps({
+                "path": "distributed (petsc cg + gamg)", "ranks": comm.size, "ndofs": int(sol.extra["dofs"]),
+                "status": r.status.label, "outer": r.outer_iterations, "newton": r.newton_iterations,
+                "linear_solves": r.linear_solves, "krylov_iterations": sol.extra["ksp_iterations"],
+                "setups": sol.extra["gamg_setups"], "updates": sol.extra["gamg_updates"],
+                "build_s": t1 - t0, "solve_s": t2 - t1,
+                "solve_cpu_s": max(x["cpu_s"] for x in ranks),
+                "linear_solve_s": phases.get("linear_solve_s"), "phases_s": phases,
+                "force": float(sol.total_contact_force[-1]),
+                "peak_mb_per_rank": max(x["peak_mb"] for x in ranks), "peak_mb_ranks": [x["peak_mb"] for x in ranks],
+                "owned_dofs_ranks": [x["owned_dofs"] for x in ranks],
+                "ghost_dofs_ranks": [x["ghost_dofs"] for x in ranks],
+                "elements_ranks": [x["elements"] for x in ranks]}))
 
     run_ranks(main)
 
 
+def _size(text: str) -> int:
+    """``"250k"`` -> 250000, ``"1M"`` -> 1000000."""
+    t = text.strip().lower()
+    mult = {"k": 10**3, "m": 10**6}.get(t[-1:], 1)
+    return int(float(t[:-1] if mult > 1 else t) * mult)
+
+
+def _n_per_a(dofs: int, growth: float) -> float:
+    """Elements per contact radius of the 3D Hertz mesh with at least ``dofs`` DOFs (benchmarks/hertz_3d_large.py)."""
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("hertz_3d_large", Path(__file__).with_name("hertz_3d_large.py"))
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod.n_per_a_for(dofs, growth)
+
+
 def contact_main(a, me) -> int:
+    """The contact benchmark: every size and path in its own process, one row each; CSV, JSON and Markdown."""
     rows = []
-    for n in [float(s) for s in a.sizes.split(",")]:
-        runs = [("serial", me + ["--worker", "contact-serial"])] + \
+    ranks = [int(r) for r in a.ranks.split(",")]
+    sizes = [_size(s) for s in a.dofs] if a.dofs else None
+    targets = sizes or [float(s) for s in a.sizes.split(",")]
+    env_load = os.getloadavg()
+    for target in targets:
+        n = _n_per_a(target, a.growth) if sizes else target
+        runs = ([] if a.skip_serial else [("serial", me + ["--worker", "contact-serial"])]) + \
             [(f"petsc{r}", ["mpirun", "-n", str(r), "--oversubscribe"] + me + ["--worker", "contact-petsc"])
-             for r in (1, 2)]
+             for r in ranks]
         res = {}
         for tag, cmd in runs:
             f = a.out / f"distributed_contact_{n:g}_{tag}.json"
             t0 = time.perf_counter()
-            _run(cmd + ["--k", f"{n:g}", "--file", str(f)], a.timeout)
+            extra = ["--petsc-options", a.petsc_options] if tag != "serial" else []
+            _run(cmd + ["--k", f"{n:g}", "--growth", f"{a.growth:g}", "--file", str(f)] + extra, a.timeout)
             res[tag] = json.loads(f.read_text())
             res[tag]["process_wall_s"] = time.perf_counter() - t0
-        ref = res["serial"]["force"]
+            res[tag]["load"] = os.getloadavg()[0]
+            r = res[tag]
+            print(f"n={n:g} {tag}: {r['ndofs']} DOFs, {r['outer']} outer, {r['newton']} Newton, "
+                  f"{r['krylov_iterations']} Krylov its, solve {r['solve_s']:.1f} s (cpu {r['solve_cpu_s']:.1f} s), "
+                  f"{r['peak_mb_per_rank']:.0f} MB/rank {r['peak_mb_ranks']}", flush=True)
+        ref_tag = "serial" if "serial" in res else next(iter(res))
+        ref = res[ref_tag]["force"]
+        one = res.get("petsc1")
         for tag, r in res.items():
             r["n_per_a"] = n
+            r["growth"] = a.growth
             r["rel_diff_force"] = abs(r["force"] - ref) / abs(ref)
-            r.pop("peak_mb_ranks", None)
+            r["peak_ratio_to_1rank"] = r["peak_mb_per_rank"] / one["peak_mb_per_rank"] if one else None
+            r["speedup_to_1rank"] = one["solve_s"] / r["solve_s"] if one else None
             rows.append(r)
-            print(f"n={n:g} {tag}: {r['ndofs']} DOFs, {r['outer']} outer, {r['newton']} Newton, "
-                  f"{r['krylov_iterations']} Krylov its, solve {r['solve_s']:.2f} s, "
-                  f"{r['peak_mb_per_rank']:.0f} MB/rank",
-                  flush=True)
     keys = ["n_per_a", "ndofs", "path", "ranks", "status", "outer", "newton", "linear_solves", "krylov_iterations",
-            "build_s", "solve_s", "process_wall_s", "peak_mb_per_rank", "force", "rel_diff_force"]
+            "setups", "updates", "build_s", "solve_s", "solve_cpu_s", "linear_solve_s", "process_wall_s",
+            "peak_mb_per_rank", "peak_ratio_to_1rank", "speedup_to_1rank", "force", "rel_diff_force", "load"]
     with open(a.out / "distributed_contact.csv", "w", newline="") as fh:
         w = csv.DictWriter(fh, fieldnames=keys, extrasaction="ignore")
         w.writeheader()
         w.writerows(rows)
-    meta = {"machine": platform.platform(), "cpus": os.cpu_count(), "rows": rows}
+    meta = {"machine": platform.platform(), "cpus": os.cpu_count(), "load_at_start": env_load,
+            "petsc_options": json.loads(a.petsc_options), "rows": rows}
     (a.out / "distributed_contact.json").write_text(json.dumps(meta, indent=1))
-    lines = ["| DOFs | path | ranks | outer | Newton | linear solves | Krylov its | solve s | ratio to serial | "
-             "peak MB/rank | force rel. diff. |", "|" + "---|" * 11]
+    lines = ["| DOFs | path | ranks | outer | Newton | linear solves | Krylov its | hierarchies built / updated | "
+             "solve s | solve CPU s | ratio to serial | speed-up to 1 rank | peak MB/rank | peak / 1-rank peak | "
+             "force rel. diff. |", "|" + "---|" * 15]
     for r in rows:
-        base = next(x for x in rows if x["n_per_a"] == r["n_per_a"] and x["ranks"] == 1 and "serial" in x["path"])
+        base = next((x for x in rows if x["n_per_a"] == r["n_per_a"] and "serial" in x["path"]), None)
+        ratio = f"{r['solve_s'] / base['solve_s']:.2f}" if base else "-"
+        sp = f"{r['speedup_to_1rank']:.2f}" if r["speedup_to_1rank"] and "serial" not in r["path"] else "-"
+        pk = f"{r['peak_ratio_to_1rank']:.2f}" if r["peak_ratio_to_1rank"] and "serial" not in r["path"] else "-"
         lines.append(f"| {r['ndofs']:,} | {r['path']} | {r['ranks']} | {r['outer']} | {r['newton']} | "
-                     f"{r['linear_solves']} | {r['krylov_iterations']} | {r['solve_s']:.2f} | "
-                     f"{r['solve_s'] / base['solve_s']:.2f} | {r['peak_mb_per_rank']:.0f} | "
-                     f"{r['rel_diff_force']:.1e} |")
+                     f"{r['linear_solves']} | {r['krylov_iterations']} | {r['setups']} / {r['updates']} | "
+                     f"{r['solve_s']:.2f} | {r['solve_cpu_s']:.2f} | {ratio} | {sp} | "
+                     f"{', '.join(f'{p:.0f}' for p in r['peak_mb_ranks'])} | {pk} | {r['rel_diff_force']:.1e} |")
     (a.out / "distributed_contact.md").write_text("\n".join(lines) + "\n")
     print("\n".join(lines))
     return 0
@@ -221,7 +288,14 @@ def main(argv=None) -> int:
     ap.add_argument("--sizes", default="6,12,18", help="k: the mesh is 4k x k x k cubes of 6 tetrahedra")
     ap.add_argument("--timeout", type=float, default=900)
     ap.add_argument("--contact", action="store_true", help="the distributed contact solve (3D Hertz; sizes: elements "
-                    "per contact half-width)")
+                    "per contact half-width, or --dofs)")
+    ap.add_argument("--dofs", nargs="*", help="contact: target sizes, e.g. 250k 1M 4M (the mesh with at least that many "
+                    "DOFs)")
+    ap.add_argument("--ranks", default="1,2", help="contact: MPI rank counts, e.g. 1,2")
+    ap.add_argument("--growth", type=float, default=GROWTH, help="contact: mesh grading of hertz_3d")
+    ap.add_argument("--skip-serial", action="store_true", help="contact: leave out the serial PyAMG run")
+    ap.add_argument("--petsc-options", default="{}", help="contact: PETSc options of the distributed runs as JSON, "
+                    "e.g. '{\"pc_gamg_threshold\": 0.01}'")
     ap.add_argument("--worker", choices=["serial", "petsc", "contact-serial", "contact-petsc"], help=argparse.SUPPRESS)
     ap.add_argument("--k", type=float, help=argparse.SUPPRESS)
     ap.add_argument("--file", type=Path, help=argparse.SUPPRESS)
@@ -233,10 +307,10 @@ def main(argv=None) -> int:
         worker_petsc(int(a.k), a.file)
         return 0
     if a.worker == "contact-serial":
-        worker_contact_serial(a.k, a.file)
+        worker_contact_serial(a.k, a.growth, a.file)
         return 0
     if a.worker == "contact-petsc":
-        worker_contact_petsc(a.k, a.file)
+        worker_contact_petsc(a.k, a.growth, a.file, json.loads(a.petsc_options))
         return 0
     a.out.mkdir(parents=True, exist_ok=True)
     rows = []

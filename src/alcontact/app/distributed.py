@@ -75,8 +75,11 @@ def run_distributed(problem_file, out=None, force: bool = False, *, algorithm: s
             pen = penalty if penalty is not None else (setup.penalty if find_algorithm(alg).penalty is None else None)
             head = (alg, pen, {**setup.options, **(overrides or {})}, dict(setup.petsc_options), str(out), setup.name)
     alg, pen, options, petsc_options, out, name = comm.bcast(head, root=0)
-    sol = solve_distributed(setup.problem if comm.rank == 0 else None, alg, pen, options, comm=comm,
-                            petsc_options=petsc_options)
+    build = None
+    if comm.rank == 0:  # handed over as a builder: rank 0 releases the whole mesh once it is distributed
+        build = [setup.problem].pop
+        setup = None
+    sol = solve_distributed(build, alg, pen, options, comm=comm, petsc_options=petsc_options)
     summary = _summary(sol, name, alg, options, petsc_options, problem_file, comm)
     staging = folder = None
     with collective(comm, "creating the results folder"):

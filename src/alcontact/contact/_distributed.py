@@ -107,8 +107,10 @@ def solve_distributed(problem, algorithm: str = "simo-laursen", penalty: str | N
 
     Parameters
     ----------
-    problem : ContactProblem or None
-        On rank 0.
+    problem : ContactProblem, callable or None
+        On rank 0: the problem, or a function without arguments that builds it; a problem built
+        so is released on rank 0 once it is distributed (rank 0 then holds no array over the whole
+        mesh while the ranks solve).
     algorithm, penalty, options
         As :func:`alcontact.contact.solve` (rank 0's are used); ``options["linear_solver"]`` picks
         the KSP: ``"petsc"`` (CG + GAMG with the rigid-body near-null space, the default) or
@@ -158,11 +160,8 @@ def solve_distributed(problem, algorithm: str = "simo-laursen", penalty: str | N
     entry = find_algorithm(algorithm)
     dc = DistributedContact(problem, comm=comm, parts=parts, ksp=_ksp_kind(opts.linear_solver),
                             options=petsc_options)
-    eps0 = None
-    with collective(comm, "computing the penalty stiffness"):
-        if comm.rank == 0:
-            eps0 = opts.eps_n if opts.eps_n is not None else penalty_stiffness(problem.model, dc.h, opts.penalty_scale)
-    eps0 = float(comm.bcast(eps0, root=0))
+    # the body's material and dimension are all the automatic stiffness reads: the same on every rank
+    eps0 = float(opts.eps_n if opts.eps_n is not None else penalty_stiffness(dc.body, dc.h, opts.penalty_scale))
     t_solve = time.perf_counter()
     if dc.cand.size == 0:
         out = _Run(dc.start(), np.zeros(0), np.zeros(0), ContactStatus.NO_CONTACT,
@@ -233,7 +232,7 @@ def _build(dc, out, opts, algorithm, pen_name) -> DistributedContactSolution:
                        out.message)
     body = dc.body
     return DistributedContactSolution(
-        result=result, u=u, nodes=body.owned_points(), global_nodes=_owned_mesh_nodes(body),
+        result=result, u=u, nodes=body.owned_points(), global_nodes=body.owned_mesh_nodes(),
         points=dc.points, gap=g, pressure=pressure, weights=dc.weights, normals=dc.normals, active=active,
         total_contact_force=force, model_contact_force=dc.allsum(float(np.sum(nodal))), peak_pressure=pmax,
         contact_extent=extent,
@@ -248,14 +247,3 @@ def _reduce(comm, a, op) -> np.ndarray:
     out = np.empty_like(a)
     comm.Allreduce(a, out, op=op)
     return out
-
-
-def _owned_mesh_nodes(body) -> np.ndarray:
-    """Mesh node number (rank 0's numbering) of each owned node: scattered from rank 0's ``numbering``."""
-    comm = body.comm
-    ranges = comm.allgather(body.piece.node_range)
-    chunks = None
-    if comm.rank == 0:
-        old = np.argsort(body.numbering)  # old[new] = mesh node
-        chunks = [old[a:b] for a, b in ranges]
-    return comm.scatter(chunks, root=0)

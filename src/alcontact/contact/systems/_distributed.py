@@ -118,9 +118,11 @@ class DistributedContact:
 
     Parameters
     ----------
-    problem : ContactProblem or None
+    problem : ContactProblem, callable or None
         The problem on rank 0 (one linear elastic body with a P1 triangle or tetrahedron
-        mesh, one rigid master, small kinematics); ``None`` on the other ranks.
+        mesh, one rigid master, small kinematics), or a function without arguments that builds
+        it there (then released once its loads, supports and contact points are distributed,
+        before the assembly); ``None`` on the other ranks.
     comm : mpi4py communicator
     parts : ndarray of int, optional
         Rank of each element (on rank 0) instead of METIS (e.g. to force a cut through the contact zone).
@@ -174,6 +176,8 @@ class DistributedContact:
         head = None
         with collective(comm, "checking the problem for the distributed path"):
             if comm.rank == 0:
+                if callable(problem) and not hasattr(problem, "model"):
+                    problem = problem()
                 head = pickle.dumps(self._check(problem))  # an obstacle that cannot be sent fails here
         head = comm.bcast(head, root=0)
         with collective(comm, "receiving the material and the obstacle"):
@@ -193,6 +197,8 @@ class DistributedContact:
                 h = _element_size(problem.model, problem.contact_boundary, problem.obstacle)
         mine = comm.scatter(pieces, root=0)
         del pieces
+        problem = None  # rank 0 holds nothing of the whole mesh from here on (when the caller holds no reference)
+        self.body.forget_numbering()
         self.h = float(comm.bcast(h, root=0))
         self.f = mine["f"]
         self.fixed = mine["fixed"]  # local DOF numbers
@@ -274,28 +280,54 @@ class DistributedContact:
         return (self.dof_start + np.asarray(local, dtype=np.int64)).astype(self.PETSc.IntType)
 
     def _setup_matrices(self) -> None:
-        """``K`` (``MPIAIJ``), ``K`` with the supported rows and columns eliminated, the KSP and the near-null space."""
+        r"""The one matrix ``J`` (``MPIAIJ``: ``K`` with the supported rows and columns eliminated, then the contact
+        blocks of each Newton step), the supported rows of ``K`` (:meth:`matvec`), the KSP and the near-null space.
+
+        ``J`` differs from the eliminated stiffness :math:`K_c` only in the ``d x d`` blocks of the
+        contact points, whose :math:`K_c` values are kept (``blocks0``): no second copy of the
+        stiffness is held. ``Kfix``: the rows of ``K`` of the supported DOFs (a surface of rows), so
+        that :math:`Kx` is :math:`K_c x` plus the coupling of the supported DOFs (:meth:`matvec`).
+        """
         from ...linalg import configure_ksp, direct_package, near_null_space
 
         PETSc = self.PETSc
         t0 = time.perf_counter()
         K, _ = self.body.assemble(np.zeros(self.dim))
-        self.K = K
-        self.Kc = K.duplicate(copy=True)
         # the d x d block of every contact point in the pattern (an entry of K that cancels exactly, e.g. the
         # x-y coupling of a node of a structured tetrahedral mesh, is not stored by the assembly)
-        self.Kc.setOption(PETSc.Mat.Option.NEW_NONZERO_ALLOCATION_ERR, False)
+        K.setOption(PETSc.Mat.Option.NEW_NONZERO_ALLOCATION_ERR, False)
         for dofs in self.point_dofs:
             rows = self._rows(dofs)
-            self.Kc.setValues(rows, rows, np.zeros(rows.size * rows.size), addv=PETSc.InsertMode.ADD_VALUES)
-        self.Kc.assemble()
-        self.Kc.setOption(PETSc.Mat.Option.NEW_NONZERO_ALLOCATION_ERR, True)
-        self.Kc.zeroRowsColumns(self._rows(self.fixed), diag=1.0)
-        self.Kc.setOption(PETSc.Mat.Option.SPD, True)
+            K.setValues(rows, rows, np.zeros(rows.size * rows.size), addv=PETSc.InsertMode.ADD_VALUES)
+        K.assemble()
+        K.setOption(PETSc.Mat.Option.NEW_NONZERO_ALLOCATION_ERR, True)
+        comm = K.getComm()
+        fixed_rows = self._rows(self.fixed)
+        iscol = PETSc.IS().createStride(self.dim * self.n_own, first=self.dof_start, step=1, comm=comm)
+        isrow = PETSc.IS().createGeneral(fixed_rows, comm=comm)
+        self.Kfix = K.createSubMatrix(isrow, iscol)  # rows of the supported DOFs, in the order of self.fixed
+        for obj in (isrow, iscol):
+            obj.destroy()
+        self._fx, self._fy = self.Kfix.createVecs()  # (columns: the DOF layout, rows: the supported DOFs)
+        K.zeroRowsColumns(fixed_rows, diag=1.0)
+        K.setOption(PETSc.Mat.Option.SPD, True)
+        # the rows of the contact points' DOFs of K_c: J x on those rows would hold the contact springs, whose
+        # subtraction cancels digits (k |c x| is 1e3 times the forces at the default penalty)
+        iscol = PETSc.IS().createStride(self.dim * self.n_own, first=self.dof_start, step=1, comm=comm)
+        isrow = PETSc.IS().createGeneral(self._rows(self.point_dofs.ravel()), comm=comm)
+        self.Kpts = K.createSubMatrix(isrow, iscol)
+        for obj in (isrow, iscol):
+            obj.destroy()
+        self._py = self.Kpts.createVecLeft()
         # the one Newton matrix: the values of every J are written into it (same nonzero pattern), so the KSP's
         # preconditioner sees one operator whose values change and GAMG keeps its prolongators (module doc)
-        self.J = self.Kc.duplicate(copy=True)
-        self.J.setOption(PETSc.Mat.Option.SPD, True)
+        self.J = K
+        d = self.dim
+        self.blocks0 = np.empty((self.points.shape[0], d, d))
+        for i, dofs in enumerate(self.point_dofs):
+            rows = self._rows(dofs)
+            self.blocks0[i] = K.getValues(rows, rows).reshape(d, d)
+        self._k_in_J = np.zeros(self.points.shape[0])  # the contact stiffness of each owned point now in J
         self.assembly_seconds = time.perf_counter() - t0
         n = self.comm.allreduce(int(self.fixed.size), op=self.MPI.SUM)
         if n == 0:
@@ -320,6 +352,9 @@ class DistributedContact:
         self.ksp_setups += 1
         self.factor_seconds = time.perf_counter() - t1
         self._vx, self._vy = K.createVecRight(), K.createVecRight()
+        if np.unique(self.point_node).size != self.point_node.size:
+            raise InputError("two contact points of one rank share a node: the distributed path takes one contact "
+                             "boundary (one point per node); run this problem as one process.")
 
     def _ksp_solve(self, rhs: np.ndarray, rtol: float) -> np.ndarray:
         """Solve with the current operator of the KSP; counted; a failed solve raises (collectively)."""
@@ -361,10 +396,26 @@ class DistributedContact:
         return mg_smoothers(self.ksp) if self.ksp_kind == "gamg" else []
 
     def matvec(self, x: np.ndarray) -> np.ndarray:
-        """``K x`` (owned rows) for the owned part ``x`` of a distributed vector."""
+        r""":math:`K x` (owned rows) for the owned part ``x`` of a distributed vector.
+
+        From ``J``: :math:`K_c x` is :math:`J x` on the rows without contact points and ``Kpts x`` on theirs
+        (the rows of :math:`K_c` at the contact points, a surface of rows); on the free rows
+        :math:`K x = K_c x + K_{fd} x_d` (:math:`K_{fd} = K_{df}^T`, the transpose of the supported rows),
+        on the supported rows :math:`K x` is those rows times ``x``.
+        """
         self._vx.array[:] = x
-        self.K.mult(self._vx, self._vy)
-        return self._vy.array.copy()
+        self.J.mult(self._vx, self._vy)
+        y = self._vy.array.copy()
+        self.Kpts.mult(self._vx, self._py)  # the contact points' rows of K_c x, without the springs in J
+        y[self.point_dofs.ravel()] = self._py.array
+        self._fx.array[:] = x
+        self.Kfix.mult(self._fx, self._fy)  # the supported rows of K x
+        fixed_rows = self._fy.array.copy()
+        self._fy.array[:] = x[self.fixed]
+        self.Kfix.multTranspose(self._fy, self._fx)  # K_fd x_d on the free rows
+        y[self.free] += self._fx.array[self.free]
+        y[self.fixed] = fixed_rows
+        return y
 
     def _solve_free(self) -> np.ndarray:
         """The contact-free displacement (owned part), prescribed values included."""
@@ -457,19 +508,19 @@ class DistributedContact:
 
     def newton_matrix(self, k_cand: np.ndarray):
         r""":math:`J = K + B^T \operatorname{diag}(k) B`, supported rows and columns eliminated, written into the
-        one Newton matrix ``self.J`` (the pattern of ``Kc``: only its values change)."""
+        one Newton matrix ``self.J``: the block of each owned contact point whose stiffness changed is set to its
+        :math:`K_c` block plus :math:`k_i c_i c_i^T` (``c_i`` the row :math:`-\nu_i^T` on the free DOFs)."""
         PETSc = self.PETSc
         J = self.J
-        self.Kc.copy(J, structure=PETSc.Mat.Structure.SAME_NONZERO_PATTERN)
-        pts = self._my_pt
-        k = k_cand[self._my_pos]
-        c = self.coef[pts]
-        blocks = k[:, None, None] * c[:, :, None] * c[:, None, :]
-        for i in np.flatnonzero(k != 0.0):
-            rows = self._rows(self.point_dofs[pts[i]])
-            J.setValues(rows, rows, blocks[i].ravel(), addv=PETSc.InsertMode.ADD_VALUES)
+        k = np.zeros(self.points.shape[0])
+        k[self._my_pt] = np.asarray(k_cand, dtype=float)[self._my_pos]
+        c = self.coef
+        for i in np.flatnonzero(k != self._k_in_J):
+            rows = self._rows(self.point_dofs[i])
+            J.setValues(rows, rows, (self.blocks0[i] + k[i] * np.outer(c[i], c[i])).ravel(),
+                        addv=PETSc.InsertMode.INSERT_VALUES)
         J.assemble()
-
+        self._k_in_J = k
         return J
 
     def solve_newton(self, J, rhs: np.ndarray, rtol: float) -> np.ndarray:
