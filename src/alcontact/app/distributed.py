@@ -1,13 +1,14 @@
 """``mpirun -n N alcontact run problem.toml``: a problem file solved by the distributed contact path.
 
 Rank 0 reads and checks the file (as ``alcontact check``), refuses what is not distributed
-yet with one message (finite deformation, friction, load steps, bodies other than linear
-elastic P1), and holds the mesh while it is partitioned; every rank then solves its part
-(:func:`alcontact.contact.solve_distributed`) and writes its piece of the VTU. The results
-folder is staged and moved into place by rank 0 (:class:`alcontact.io.ResultsFolder`, as
-the serial run): ``solution.pvtu`` (ParaView opens the pieces ``solution_<rank>.vtu`` as
-one), ``solution.pvd``, ``summary.json`` and ``report.md``. No rank builds an array of the
-mesh's size except rank 0 while it reads and partitions the mesh.
+yet with one message (finite deformation, friction), and holds the mesh while it is
+partitioned (handed to the solve as a builder, so that rank 0 releases it once distributed);
+every rank then solves its part (:func:`alcontact.contact.solve_distributed`, over the file's
+load steps) and writes its piece of the VTU. The results folder is staged and moved into
+place by rank 0 (:class:`alcontact.io.ResultsFolder`, as the serial run): ``solution.pvtu``
+(ParaView opens the pieces ``solution_<rank>.vtu`` as one), ``solution.pvd`` (with load
+steps: over ``steps/solution_NNNN.pvtu`` and their pieces ``steps/solution_NNNN_<rank>.vtu``),
+``summary.json`` (one entry per step in ``steps``) and ``report.md``.
 """
 
 from __future__ import annotations
@@ -36,12 +37,10 @@ def refusal(setup) -> str | None:
         what.append("finite deformation (kinematics = \"finite\")")
     if float(getattr(setup.problem, "friction", 0.0) or 0.0) > 0:
         what.append("friction")
-    if len(setup.times) > 1:
-        what.append(f"load steps ({len(setup.times)} step times)")
     if not what:
         return None
-    return ("the distributed (MPI) contact path solves frictionless small-deformation problems in one load step; "
-            f"this problem has {' and '.join(what)}: run it as one process (without mpirun).")
+    return ("the distributed (MPI) contact path solves frictionless small-deformation problems (one or more load "
+            f"steps); this problem has {' and '.join(what)}: run it as one process (without mpirun).")
 
 
 def run_distributed(problem_file, out=None, force: bool = False, *, algorithm: str | None = None,
@@ -75,11 +74,12 @@ def run_distributed(problem_file, out=None, force: bool = False, *, algorithm: s
             pen = penalty if penalty is not None else (setup.penalty if find_algorithm(alg).penalty is None else None)
             head = (alg, pen, {**setup.options, **(overrides or {})}, dict(setup.petsc_options), str(out), setup.name)
     alg, pen, options, petsc_options, out, name = comm.bcast(head, root=0)
-    build = None
+    build = history = times = None
     if comm.rank == 0:  # handed over as a builder: rank 0 releases the whole mesh once it is distributed
-        build = [setup.problem].pop
+        build, history, times = [setup.problem].pop, setup.history, list(setup.times)
         setup = None
-    sol = solve_distributed(build, alg, pen, options, comm=comm, petsc_options=petsc_options)
+    sol = solve_distributed(build, alg, pen, options, comm=comm, petsc_options=petsc_options, steps=times,
+                            history=history)
     summary = _summary(sol, name, alg, options, petsc_options, problem_file, comm)
     staging = folder = None
     with collective(comm, "creating the results folder"):
@@ -88,13 +88,28 @@ def run_distributed(problem_file, out=None, force: bool = False, *, algorithm: s
             staging = str(folder.__enter__().path)
     staging = Path(comm.bcast(staging, root=0))
     failed = None
+    stepped = _stepped(sol)
     try:
-        values = _piece_values(sol, comm)  # collective: the ghost nodes' values from their owners
+        entries = []
+        if stepped:
+            with collective(comm, "creating the steps folder"):
+                if comm.rank == 0:
+                    (staging / "steps").mkdir()
+        for k, step in enumerate(sol.steps if stepped else []):
+            values = _piece_values(step, comm)  # collective: the ghost nodes' values from their owners
+            stem = f"steps/solution_{k + 1:04d}"
+            with collective(comm, "writing the VTU pieces of the steps"):
+                _write_piece(staging, step, values, f"{stem}_{comm.rank}.vtu")
+                if comm.rank == 0:
+                    _write_pvtu(staging / f"{stem}.pvtu", [f"solution_{k + 1:04d}_{r}.vtu" for r in range(comm.size)])
+            entries.append((step.extra["t"], f"{stem}.pvtu"))
+        values = _piece_values(sol, comm)
         with collective(comm, "writing the VTU pieces"):
-            _write_piece(staging, sol, values, comm.rank)
+            _write_piece(staging, sol, values, f"solution_{comm.rank}.vtu")
         with collective(comm, "writing summary.json and report.md"):
             if comm.rank == 0:
-                _write_master(staging, [f"solution_{k}.vtu" for k in range(comm.size)], summary)
+                _write_master(staging, [f"solution_{k}.vtu" for k in range(comm.size)], summary,
+                              entries or [(1.0, "solution.pvtu")])
     except BaseException as exc:  # noqa: BLE001 - rank 0 discards the staging folder, then re-raises
         failed = exc
     if comm.rank == 0:
@@ -109,7 +124,7 @@ def run_distributed(problem_file, out=None, force: bool = False, *, algorithm: s
 def _summary(sol, name, algorithm, options, petsc_options, problem_file, comm) -> dict:
     r = sol.result
     files = ["summary.json", "report.md", "solution.pvtu", "solution.pvd"] + \
-        [f"solution_{k}.vtu" for k in range(comm.size)]
+        [f"solution_{k}.vtu" for k in range(comm.size)] + (["steps/"] if _stepped(sol) else [])
     return {
         "problem": name, "source": str(problem_file), "status": r.status.label, "status_code": int(r.status),
         "message": r.message, "algorithm": r.algorithm, "penalty": r.penalty, "ranks": int(comm.size),
@@ -123,7 +138,16 @@ def _summary(sol, name, algorithm, options, petsc_options, problem_file, comm) -
         "contact_extent": sol.contact_extent.tolist(),
         "equilibrium": {"residual": sol.equilibrium["residual"], "balance": sol.equilibrium["balance"]},
         "options": options, "petsc_options": petsc_options, "timings": sol.timings, "files": files,
+        "steps": [{"t": st.extra["t"], "status": st.result.status.label, "model_contact_force": st.model_contact_force,
+                   "contact_force_vector": st.total_contact_force.tolist(), "peak_pressure_nodal_max": st.peak_pressure,
+                   "outer_iterations": st.result.outer_iterations, "newton_iterations": st.result.newton_iterations}
+                  for st in sol.steps],
     }
+
+
+def _stepped(sol) -> bool:
+    """Whether the run had load steps (more than one, or one at a time other than 1): then ``steps/`` is written."""
+    return len(sol.steps) > 1 or sol.steps[0].extra["t"] != 1.0
 
 
 def _piece_values(sol, comm) -> np.ndarray:
@@ -154,8 +178,8 @@ def _piece_values(sol, comm) -> np.ndarray:
     return out
 
 
-def _write_piece(staging: Path, sol, got: np.ndarray, rank: int) -> None:
-    """This rank's ``solution_<rank>.vtu``: its elements and their nodes."""
+def _write_piece(staging: Path, sol, got: np.ndarray, name: str) -> None:
+    """This rank's piece ``name`` (``solution_<rank>.vtu``): its elements and their nodes."""
     import meshio
 
     piece = sol.piece
@@ -167,15 +191,13 @@ def _write_piece(staging: Path, sol, got: np.ndarray, rank: int) -> None:
     cell = "triangle" if dim == 2 else "tetra"
     data = {"displacement": disp, "contact_pressure": got[:, dim].copy(), "gap": got[:, dim + 1].copy(),
             "rank": got[:, dim + 2].copy()}
-    meshio.write(os.fspath(staging / f"solution_{rank}.vtu"),
+    meshio.write(os.fspath(staging / name),
                  meshio.Mesh(pts, [(cell, piece.elements.T.astype(np.int64))], point_data=data))
 
 
-def _write_master(staging: Path, pieces: list[str], summary: dict) -> None:
-    """``solution.pvtu`` over the pieces, ``solution.pvd``, ``summary.json`` and ``report.md`` (rank 0)."""
-    from ..io import write_json
+def _write_pvtu(path: Path, pieces: list[str]) -> None:
+    """A ``.pvtu`` over the VTU ``pieces`` (names relative to its folder)."""
     from ..io.results import write_text_atomic
-    from ..io.vtu import write_pvd
 
     lines = ['<?xml version="1.0"?>',
              '<VTKFile type="PUnstructuredGrid" version="0.1" byte_order="LittleEndian">',
@@ -187,8 +209,18 @@ def _write_master(staging: Path, pieces: list[str], summary: dict) -> None:
     lines.append('    </PPointData>')
     lines += [f'    <Piece Source="{p}"/>' for p in pieces]
     lines += ['  </PUnstructuredGrid>', '</VTKFile>', '']
-    write_text_atomic(staging / "solution.pvtu", "\n".join(lines))
-    write_pvd(staging / "solution.pvd", [(1.0, "solution.pvtu")])
+    write_text_atomic(path, "\n".join(lines))
+
+
+def _write_master(staging: Path, pieces: list[str], summary: dict, entries: list) -> None:
+    """``solution.pvtu`` over the pieces, ``solution.pvd`` over the steps' ``entries`` (time, file), ``summary.json``
+    and ``report.md`` (rank 0)."""
+    from ..io import write_json
+    from ..io.results import write_text_atomic
+    from ..io.vtu import write_pvd
+
+    _write_pvtu(staging / "solution.pvtu", pieces)
+    write_pvd(staging / "solution.pvd", entries)
     write_json(staging / "summary.json", summary)
     s = summary
     report = [f"# {s['problem']}: distributed contact solve", "",

@@ -19,6 +19,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import InputError
+from ._solve import _times
 from ._verify import check_state, equilibrium_tolerance, verified_status
 from .algorithms._frictionless import ContactOptions, _Run, available_algorithms, find_algorithm, options_with
 from .laws._stiffness import penalty_stiffness
@@ -68,6 +69,8 @@ class DistributedContactSolution:
         This rank's elements and their nodes (for output).
     point_nodes : ndarray of int (m_r,)
         Owned node (index into ``u.reshape(-1, dim)``) of each contact point of this rank.
+    steps : list of DistributedContactSolution
+        Every load step solved, in order (the last is this solution; ``extra["t"]`` the step time).
     """
 
     result: ContactResult
@@ -89,6 +92,7 @@ class DistributedContactSolution:
     extra: dict = field(default_factory=dict)
     piece: object = None
     point_nodes: np.ndarray | None = None
+    steps: list = field(default_factory=list)
 
 
 def _ksp_kind(linear_solver: str) -> str:
@@ -99,7 +103,8 @@ def _ksp_kind(linear_solver: str) -> str:
 
 
 def solve_distributed(problem, algorithm: str = "simo-laursen", penalty: str | None = None, options=None, *,
-                      comm=None, parts=None, petsc_options: dict | None = None) -> DistributedContactSolution:
+                      comm=None, parts=None, petsc_options: dict | None = None, steps=None, history=None,
+                      on_step=None) -> DistributedContactSolution:
     """Solve a frictionless small-deformation contact problem over the ranks of ``comm`` (module doc).
 
     Call it on every rank (``mpirun -n N``): the problem and the arguments are read on rank 0
@@ -121,11 +126,20 @@ def solve_distributed(problem, algorithm: str = "simo-laursen", penalty: str | N
         Rank of each element (on rank 0) instead of METIS.
     petsc_options : dict, optional
         PETSc options passed through (names without the dash; unused ones are reported).
+    steps, history
+        Load steps, as :func:`alcontact.contact.solve` takes them at small deformation without
+        friction (on rank 0): ``history`` a :class:`~alcontact.contact.LoadHistory` (ramped
+        supports and loads), ``steps`` a number of equal steps or the step times (default: the
+        history's times, else one step). Every step is an independent solve (the problem is path
+        independent); the run stops at the first step that fails.
+    on_step : callable, optional
+        ``on_step(k, n, t)`` on every rank before step ``k`` of ``n`` and ``on_step(k + 1, n, t)`` after it.
 
     Returns
     -------
     DistributedContactSolution
-        On every rank: its own part of the fields, the global measures and the one status.
+        On every rank: its own part of the fields, the global measures and the one status, of
+        the last step solved; ``steps`` holds the solution of every step (``extra["t"]`` its time).
 
     Raises
     ------
@@ -155,14 +169,37 @@ def solve_distributed(problem, algorithm: str = "simo-laursen", penalty: str | N
             pen_name = entry.penalty_for(penalty)
             opts = options_with(options, ContactOptions, {}, "contact", entry)
             _ksp_kind(opts.linear_solver)
-            head = (algorithm, pen_name, opts, dict(petsc_options or {}))
-    algorithm, pen_name, opts, petsc_options = comm.bcast(head, root=0)
+            times = (1.0,) if steps is None and history is None else _times(steps, history)
+            head = (algorithm, pen_name, opts, dict(petsc_options or {}), tuple(times))
+    algorithm, pen_name, opts, petsc_options, times = comm.bcast(head, root=0)
     entry = find_algorithm(algorithm)
     dc = DistributedContact(problem, comm=comm, parts=parts, ksp=_ksp_kind(opts.linear_solver),
-                            options=petsc_options)
+                            options=petsc_options, margin=opts.margin, history=history if comm.rank == 0 else None,
+                            t=times[0])
     # the body's material and dimension are all the automatic stiffness reads: the same on every rank
     eps0 = float(opts.eps_n if opts.eps_n is not None else penalty_stiffness(dc.body, dc.h, opts.penalty_scale))
-    t_solve = time.perf_counter()
+    solved = []
+    for k, t in enumerate(times):
+        if on_step is not None:
+            on_step(k, len(times), t)
+        t_solve = time.perf_counter()
+        if k > 0:
+            dc.at_time(t)
+        solution = _solve_step(dc, entry, opts, eps0, pen_name, algorithm)
+        t_end = time.perf_counter()
+        solution.timings = dict(dc.timings(), solve_s=t_end - t_solve, total_s=t_end - t_start)
+        solution.extra["t"] = float(t)
+        solved.append(solution)
+        if on_step is not None:
+            on_step(k + 1, len(times), t)
+        if solution.result.status < 0:
+            break
+    solution.steps = solved
+    return solution
+
+
+def _solve_step(dc, entry, opts, eps0, pen_name, algorithm) -> DistributedContactSolution:
+    """One step from the contact-free state of ``dc``: the outer loop, the candidates added while any penetrate."""
     if dc.cand.size == 0:
         out = _Run(dc.start(), np.zeros(0), np.zeros(0), ContactStatus.NO_CONTACT,
                    f"the body never reaches the obstacle (smallest clearance {-dc.max_free_penetration:.4g}); move "
@@ -172,10 +209,7 @@ def solve_distributed(problem, algorithm: str = "simo-laursen", penalty: str | N
             out = entry.run(dc, opts, eps0, pen_name)
             if out.status < 0 or dc.extend(out.r, opts.tol_penetration * dc.h) == 0:
                 break
-    solution = _build(dc, out, opts, algorithm, pen_name)
-    t_end = time.perf_counter()
-    solution.timings = dict(dc.timings(), solve_s=t_end - t_solve, total_s=t_end - t_start)
-    return solution
+    return _build(dc, out, opts, algorithm, pen_name)
 
 
 def _build(dc, out, opts, algorithm, pen_name) -> DistributedContactSolution:

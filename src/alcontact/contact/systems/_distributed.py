@@ -67,6 +67,7 @@ from ...errors import InputError
 from ...optim import LineSearch, NewtonSettings, NewtonSystem, newton
 from ..algorithms._subproblem import NewtonOutcome, subproblem_outcome
 from ..kinematics._points import _element_size
+from ..problem._loading import component_fields
 from ._krylov import _FORCING_MAX, _FORCING_MIN, _FORCING_SLOW, _FORCING_START
 
 __all__ = ["DistributedContact"]
@@ -76,8 +77,12 @@ logger = logging.getLogger(__name__)
 #: Newton tolerance floor of the distributed subproblems (KSP solves and round-off of :math:`Ku`, as on
 #: the serial Krylov path)
 _NEWTON_TOL_FLOOR = 1e-11
-#: the Newton settings: no full step on a flat merit (it compares local maxima of the residual)
-_SETTINGS = NewtonSettings(line_search=LineSearch(full_step=False))
+#: the Newton settings: a trial whose relative residual (``measure``, reduced over the ranks) decreases is
+#: accepted, the rank-independent form of the serial "full step on a flat merit" (which compares local maxima of
+#: the residual and is off here); without it the merit, flat to round-off near the solution of a
+#: displacement-driven problem, accepted steps of 1e-5 and the Newton stalled (flat punch, semi-smooth Newton:
+#: relative residual 1.2e-7 after 20 iterations)
+_SETTINGS = NewtonSettings(line_search=LineSearch(full_step=False, measure_decrease=True))
 #: the inner augmented Lagrangian of the semi-smooth Newton reference: relative update and budget
 _UZAWA_TOL = 1e-10
 #: relative (true) residual of the CG + GAMG solves of the Newton systems
@@ -132,6 +137,14 @@ class DistributedContact:
         PETSc options passed through (names without the dash).
     margin : float
         Candidate rule of :class:`~alcontact.contact.kinematics._points.ContactPoints`.
+    forcing : bool
+        Inexact Newton steps (forcing terms) with the iterative KSP.
+    history : LoadHistory, optional
+        On rank 0: ramped supports and loads (sent to every rank); each rank keeps its part of
+        every load component (:func:`~alcontact.contact.problem._loading.component_fields`) and
+        :meth:`at_time` sets a step's loads and prescribed values.
+    t : float
+        Step time of the first state (1: the problem as given).
 
     Attributes
     ----------
@@ -151,7 +164,7 @@ class DistributedContact:
     gamg_setups = 0
 
     def __init__(self, problem, *, comm, parts=None, ksp: str = "gamg", options: dict | None = None,
-                 margin: float = 0.25, forcing: bool = True):
+                 margin: float = 0.25, forcing: bool = True, history=None, t: float = 1.0):
         from mpi4py import MPI
 
         from ...distributed import DistributedElasticity, collective
@@ -178,10 +191,12 @@ class DistributedContact:
             if comm.rank == 0:
                 if callable(problem) and not hasattr(problem, "model"):
                     problem = problem()
-                head = pickle.dumps(self._check(problem))  # an obstacle that cannot be sent fails here
+                # an obstacle or a load history that cannot be sent fails here
+                head = pickle.dumps((*self._check(problem), self._check_history(history)))
         head = comm.bcast(head, root=0)
         with collective(comm, "receiving the material and the obstacle"):
-            material, obstacle = pickle.loads(head)
+            material, obstacle, history = pickle.loads(head)
+        self.history = history
         self.body = DistributedElasticity(problem.model.mesh if comm.rank == 0 else None, material, comm=comm,
                                           parts=parts)
         self.dim = dim = self.body.dim
@@ -193,16 +208,18 @@ class DistributedContact:
         pieces = h = None
         with collective(comm, "distributing loads, supports and contact points"):
             if comm.rank == 0:
-                pieces = self._pieces(problem, ranges)
+                pieces = self._pieces(problem, history, ranges)
                 h = _element_size(problem.model, problem.contact_boundary, problem.obstacle)
         mine = comm.scatter(pieces, root=0)
         del pieces
         problem = None  # rank 0 holds nothing of the whole mesh from here on (when the caller holds no reference)
         self.body.forget_numbering()
         self.h = float(comm.bcast(h, root=0))
-        self.f = mine["f"]
+        self.f_parts = mine["f"]  # (ncomp, dim * n_own): the load of each component at amplitude 1
         self.fixed = mine["fixed"]  # local DOF numbers
-        self.fixed_values = mine["values"]
+        self.value_parts = mine["values"]  # (ncomp, nfixed): the prescribed values of each component
+        self.f = self.f_parts[0].copy()
+        self.fixed_values = self.value_parts[0].copy()
         self.point_node = mine["node"]  # local node of each owned contact point
         self.points = mine["points"]  # (m_r, dim) coordinates
         self.weights = mine["weights"]
@@ -220,9 +237,10 @@ class DistributedContact:
         self.point_offset = int(np.sum(counts[:comm.rank]))
         self.n_points = int(counts.sum())
         self._setup_matrices()
-        self.u_free = self._solve_free()
-        self.x_free = self.u_free
-        self._select_candidates(self.local_gaps(self.u_free), margin)
+        self.margin = margin
+        self.cand = np.empty(0, dtype=np.int64)
+        self._my_pos = self._my_pt = np.empty(0, dtype=np.int64)
+        self.at_time(t)
         self.setup_seconds = time.perf_counter() - t0
 
     # ------------------------------------------------------------ set-up (rank 0 reads, all ranks own)
@@ -249,19 +267,37 @@ class DistributedContact:
                              "problem as one process (without mpirun).")
         return model.material, problem.obstacle
 
-    def _pieces(self, problem, ranges):
-        """On rank 0: the loads, supports and contact points of every rank, in its local numbering."""
+    @staticmethod
+    def _check_history(history):
+        from ..problem import LoadHistory
+
+        if history is not None and not isinstance(history, LoadHistory):
+            raise InputError(f"history must be a LoadHistory or None; got {type(history).__name__}.")
+        return history
+
+    def _pieces(self, problem, history, ranges):
+        """On rank 0: the loads and prescribed values (per component of the history, rows ``(ncomp, ...)``), the
+        supports and the contact points of every rank, in its local numbering."""
         model, dim = problem.model, self.body.dim
         new = self.body.numbering
         _, dmap = model.all_node_dofs()  # (n_nodes, dim) model DOFs of the mesh's nodes
         dist = np.empty(model.ndofs, dtype=np.int64)
         for c in range(dim):
             dist[dmap[:, c]] = dim * new + c
-        f = np.zeros(model.ndofs)
-        f[dist] = problem.load_vector()
-        fixed, values = problem.dirichlet()
-        fixed = np.asarray(fixed, dtype=np.int64)
-        values = np.zeros(fixed.size) if values is None else np.broadcast_to(np.asarray(values, float), fixed.shape)
+        if history is None:  # the problem's own supports and loads (one component, amplitude 1)
+            fixed, values = problem.dirichlet()
+            fixed = np.asarray(fixed, dtype=np.int64)
+            values = np.zeros(fixed.size) if values is None else \
+                np.broadcast_to(np.asarray(values, float), fixed.shape)
+            parts = [(values, problem.load_vector())]
+        else:  # the base and every case of the history at amplitude 1 (component_fields, as the serial steps)
+            fixed, parts = component_fields(problem, history)
+            fixed = np.asarray(fixed, dtype=np.int64)
+        f = np.zeros((len(parts), model.ndofs))
+        for k, (_, load) in enumerate(parts):
+            f[k, dist] = load
+        values = np.stack([np.broadcast_to(np.asarray(fv, float), fixed.shape) for fv, _ in parts])
+        del parts
         fixed_d = dist[fixed]
         pts, cdofs = model.node_dofs(problem.contact_boundary)
         w = model.boundary_weights(problem.contact_boundary)
@@ -271,8 +307,8 @@ class DistributedContact:
         for (a, b) in ranges:
             sel = (fixed_d >= dim * a) & (fixed_d < dim * b)
             on = order[(cnode[order] >= a) & (cnode[order] < b)]
-            pieces.append({"f": f[dim * a:dim * b].copy(), "fixed": fixed_d[sel] - dim * a,
-                           "values": np.array(values[sel], dtype=float), "node": cnode[on] - a,
+            pieces.append({"f": f[:, dim * a:dim * b].copy(), "fixed": fixed_d[sel] - dim * a,
+                           "values": np.array(values[:, sel], dtype=float), "node": cnode[on] - a,
                            "points": np.ascontiguousarray(pts[on], dtype=float), "weights": np.asarray(w[on], float)})
         return pieces
 
@@ -355,6 +391,22 @@ class DistributedContact:
         if np.unique(self.point_node).size != self.point_node.size:
             raise InputError("two contact points of one rank share a node: the distributed path takes one contact "
                              "boundary (one point per node); run this problem as one process.")
+
+    def amplitudes(self, t: float) -> np.ndarray:
+        """Amplitude of each load component at ``t``: 1 for the problem's own, then the history's cases."""
+        return np.concatenate([[1.0], self.history.amplitudes(t)]) if self.history is not None else np.ones(1)
+
+    def at_time(self, t: float) -> None:
+        """Loads and prescribed values at the step time ``t``, its contact-free solution and candidates (as a
+        serial step: each frictionless small-deformation step is an independent solve)."""
+        a = self.amplitudes(t)
+        self.t = float(t)
+        self.f = a @ self.f_parts
+        self.fixed_values = a @ self.value_parts
+        self.newton_matrix(np.zeros(self.cand.size))  # J = K_c again: no contact springs
+        self.u_free = self._solve_free()
+        self.x_free = self.u_free
+        self._select_candidates(self.local_gaps(self.u_free), self.margin)
 
     def _ksp_solve(self, rhs: np.ndarray, rtol: float) -> np.ndarray:
         """Solve with the current operator of the KSP; counted; a failed solve raises (collectively)."""
