@@ -70,7 +70,7 @@ from ..kinematics._points import _element_size
 from ..problem._loading import component_fields
 from ._krylov import _FORCING_MAX, _FORCING_MIN, _FORCING_SLOW, _FORCING_START
 
-__all__ = ["DistributedContact"]
+__all__ = ["DistributedContact", "DistributedFrictionalContact"]
 
 logger = logging.getLogger(__name__)
 
@@ -164,7 +164,7 @@ class DistributedContact:
     gamg_setups = 0
 
     def __init__(self, problem, *, comm, parts=None, ksp: str = "gamg", options: dict | None = None,
-                 margin: float = 0.25, forcing: bool = True, history=None, t: float = 1.0):
+                 margin: float = 0.25, forcing: bool = True, history=None, t: float = 1.0, frictional: bool = False):
         from mpi4py import MPI
 
         from ...distributed import DistributedElasticity, collective
@@ -192,7 +192,7 @@ class DistributedContact:
                 if callable(problem) and not hasattr(problem, "model"):
                     problem = problem()
                 # an obstacle or a load history that cannot be sent fails here
-                head = pickle.dumps((*self._check(problem), self._check_history(history)))
+                head = pickle.dumps((*self._check(problem, frictional), self._check_history(history)))
         head = comm.bcast(head, root=0)
         with collective(comm, "receiving the material and the obstacle"):
             material, obstacle, history = pickle.loads(head)
@@ -245,7 +245,7 @@ class DistributedContact:
 
     # ------------------------------------------------------------ set-up (rank 0 reads, all ranks own)
     @staticmethod
-    def _check(problem):
+    def _check(problem, frictional: bool = False):
         from ...fem import LinearElasticity
         from ..problem import ContactProblem
 
@@ -260,8 +260,10 @@ class DistributedContact:
                         "body)")
         if getattr(problem, "kinematics", "small") != "small":
             what.append("small deformation (kinematics = 'small')")
-        if float(problem.friction or 0.0) > 0:
-            what.append("frictionless contact (friction = 0)")
+        if float(problem.friction or 0.0) > 0 and not frictional:
+            what.append("frictionless contact (friction = 0; Coulomb friction: solve_distributed_friction)")
+        if len(problem.pairs) != 1 or not problem.pairs[0].master.rigid:
+            what.append("one contact pair against a rigid obstacle")
         if what:
             raise InputError("the distributed (MPI) contact path solves " + "; ".join(what) + " so far; run this "
                              "problem as one process (without mpirun).")
@@ -736,3 +738,202 @@ class _Subproblem(NewtonSystem):
     def negligible(self, x, state, dx):
         dc = self.dc
         return dc.allmax(np.abs(dx)) <= 1e-14 * max(dc.allmax(np.abs(x)), 1e-300)
+
+
+class DistributedFrictionalContact:
+    r"""The condensed frictional problem of section 6.2 at small deformation, distributed over the ranks.
+
+    What :class:`~alcontact.contact.systems._condensed.FrictionalContact` offers the steps of the
+    frictional algorithms (Algorithms 6.2 / 6.4 and the Alart-Curnier reference, driven by
+    :class:`~alcontact.contact.stepping._coulomb._CondensedPath`), on a :class:`DistributedContact`
+    (``dc``: the body, the one KSP, the owned contact points) instead of a factorization:
+
+    * the arrays over the ``m`` contact-boundary points (``points``, ``weights``, ``normals``,
+      ``tangents``, ``tfree``, ``movable``, the local kinematics ``y = (g, u_T)``) are replicated
+      on every rank (one ``Allgatherv`` each: a surface), in the rank-major order of the owned
+      points;
+    * the condensed compliance on the candidates, :math:`A = E^T P K^{-1} P^T E` (``(c d, c d)``,
+      replicated), is built column by column: one KSP solve per candidate and component, the
+      force :math:`E_j e_l` on candidate ``j``'s free DOFs, each column read at every
+      candidate's DOFs by its owner and gathered (symmetrized as on the serial path);
+    * the contact-free solution of every load component (base and cases, amplitude 1) is one
+      solve each; :meth:`u_free` and :meth:`y_free` combine them with the history's
+      amplitudes; :meth:`displacement` is one solve for the candidates' forces.
+
+    A body held by the obstacle alone (springs, ``spring`` of the serial path) is refused by
+    :class:`DistributedContact`; ``spring`` is ``None``.
+    """
+
+    spring = None
+    strategy = "distributed"
+
+    def __init__(self, problem, history, *, comm, parts=None, ksp: str = "gamg", options: dict | None = None,
+                 margin: float = 0.25):
+        from ..kinematics._points import tangent_bases
+
+        t0 = time.perf_counter()
+        dc = DistributedContact(problem, comm=comm, parts=parts, ksp=ksp, options=options, margin=margin,
+                                history=history, t=0.0, forcing=False, frictional=True)
+        self.dc, self.comm, self.dim, self.h = dc, comm, dc.dim, dc.h
+        self.history = dc.history
+        d = self.dim
+        off, mr = dc.point_offset, dc.points.shape[0]
+        self._own = slice(off, off + mr)
+        gather = dc.allgather_points
+        self.points = gather(dc.points).reshape(-1, d)
+        self.weights = gather(dc.weights)
+        self.normals = gather(dc.normals).reshape(-1, d)
+        self.gap0 = gather(dc.gap0)
+        self.movable = gather(dc.movable).astype(bool)
+        held_own = ~dc.free[dc.point_dofs]  # (m_r, d) supported axes of each owned point
+        held = gather(held_own.astype(np.int8)).reshape(-1, d).astype(bool)
+        self.tangents = tangent_bases(self.normals, held)  # one basis rule over all points, as the serial path
+        self.E = np.concatenate([self.normals[:, :, None], -self.tangents], axis=2)  # (m, d, d)
+        free_part = np.linalg.norm(np.where(held[:, :, None], 0.0, self.E), axis=1)
+        self.tfree = free_part[:, 1:] > 1e-12
+        self._E_own = self.E[self._own]
+        self._held_own = held_own
+        # the contact-free solution of every load component (amplitude 1), and its local kinematics
+        t1 = time.perf_counter()
+        dc.newton_matrix(np.zeros(dc.cand.size))
+        self.u_parts = []
+        for k in range(dc.f_parts.shape[0]):
+            dc.f, dc.fixed_values = dc.f_parts[k].copy(), dc.value_parts[k].copy()
+            self.u_parts.append(dc._solve_free())
+        self.u_parts = np.stack(self.u_parts)
+        self.solve_seconds = (time.perf_counter() - t1) / len(self.u_parts)
+        self.y_parts = np.stack([self._local_all(u) for u in self.u_parts])  # (ncomp, m, d), without the gap0
+        times = self.history.times if self.history is not None else (1.0,)
+        self.gmax_t = np.max(np.stack([self.y_free(t)[:, 0] for t in times]), axis=0)
+        # candidates: the serial rule on the largest contact-free gap over the steps (owned points, then gathered)
+        dc.cand = np.empty(0, dtype=np.int64)
+        dc._add_candidates(np.empty(0, dtype=np.int64))
+        dc.margin = margin
+        dc._select_candidates(self.gmax_t[self._own], margin)
+        chosen = dc.cand.copy()
+        dc.cand = np.empty(0, dtype=np.int64)
+        dc._add_candidates(np.empty(0, dtype=np.int64))
+        self.A = np.zeros((0, 0))
+        self.add(chosen)
+        self.setup_seconds = time.perf_counter() - t0
+        self.factor_seconds = dc.factor_seconds
+
+    # ------------------------------------------------------------------ replicated kinematics
+    def _local_own(self, u: np.ndarray) -> np.ndarray:
+        """``(m_r, d)``: :math:`(-\\nu\\cdot u_i, T_i^T u_i)` of the owned points (no gap offset)."""
+        dc = self.dc
+        ui = u[dc.point_dofs]
+        yn = -np.einsum("ij,ij->i", dc.normals, ui)
+        yt = np.einsum("ijk,ij->ik", self.tangents[self._own], ui)
+        return np.concatenate([yn[:, None], yt], axis=1)
+
+    def _local_all(self, u: np.ndarray) -> np.ndarray:
+        return self.dc.allgather_points(self._local_own(u)).reshape(-1, self.dim)
+
+    def all_local(self, u: np.ndarray) -> np.ndarray:
+        """Local kinematics ``(m, d)`` (gap, u_T) of every contact-boundary point (replicated)."""
+        y = self._local_all(u)
+        y[:, 0] += self.gap0
+        return y
+
+    def amplitudes(self, t: float) -> np.ndarray:
+        return self.dc.amplitudes(t)
+
+    def u_free(self, t: float) -> np.ndarray:
+        return self.amplitudes(t) @ self.u_parts
+
+    def y_free(self, t: float) -> np.ndarray:
+        """Contact-free local kinematics ``(m, d)`` (replicated): column 0 the gap, then ``u_T``."""
+        y = np.tensordot(self.amplitudes(t), self.y_parts, axes=1)
+        y[:, 0] += self.gap0
+        return y
+
+    def load(self, t: float) -> np.ndarray:
+        """The load vector at ``t`` (owned rows)."""
+        return self.amplitudes(t) @ self.dc.f_parts
+
+    def prescribed(self, t: float) -> np.ndarray:
+        """The prescribed values at ``t`` (this rank's supported DOFs)."""
+        return self.amplitudes(t) @ self.dc.value_parts
+
+    # ------------------------------------------------------------------ candidates and compliance
+    @property
+    def cand(self) -> np.ndarray:
+        return self.dc.cand
+
+    @property
+    def ncand(self) -> int:
+        return int(self.dc.cand.size)
+
+    @property
+    def linear_solves(self) -> int:
+        return self.dc.linear_solves
+
+    def _solve_forces(self, F_own: np.ndarray) -> np.ndarray:
+        """:math:`K_c^{-1} P^T F` for the forces ``F_own`` ``(m_r, d)`` at the owned points (free DOFs only)."""
+        dc = self.dc
+        rhs = np.zeros(dc.dim * dc.n_own)
+        np.add.at(rhs, dc.point_dofs.ravel(), np.where(self._held_own, 0.0, F_own).ravel())
+        x = dc._ksp_solve(rhs, 1e-13)
+        x[dc.fixed] = 0.0
+        return x
+
+    def add(self, new: np.ndarray) -> np.ndarray:
+        """Add the movable points ``new`` (global numbers, the same on every rank) that are not candidates yet;
+        returns them. One KSP solve per added point and component gives the compliance columns."""
+        dc, d = self.dc, self.dim
+        new = np.setdiff1d(np.asarray(new, dtype=np.int64), dc.cand)
+        new = new[self.movable[new]]
+        if new.size == 0:
+            return new
+        c_old = dc.cand.size
+        off, mr = dc.point_offset, dc.points.shape[0]
+        mine = new[(new >= off) & (new < off + mr)] - off
+        dc._add_candidates(mine)
+        added = dc.cand[c_old:]
+        c = dc.cand.size
+        dc.newton_matrix(np.zeros(c))  # J = K_c
+        A = np.zeros((c * d, c * d))
+        A[:c_old * d, :c_old * d] = self.A
+        E_own = self._E_own
+        for jj, j in enumerate(added):
+            for l in range(d):
+                F = np.zeros((mr, d))
+                if off <= j < off + mr:
+                    F[j - off] = E_own[j - off][:, l]
+                x = self._solve_forces(F)
+                col = np.einsum("iak,ia->ik", E_own[dc._my_pt], x[dc.point_dofs[dc._my_pt]])  # (c_r, d)
+                full = np.empty((c, d))
+                full[dc._perm] = dc.allgather_points(col).reshape(-1, d)
+                A[:, (c_old + jj) * d + l] = full.ravel()
+        A[c_old * d:, :c_old * d] = A[:c_old * d, c_old * d:].T  # the new rows by symmetry
+        self.A = 0.5 * (A + A.T)
+        return np.asarray(added, dtype=np.int64)
+
+    def displacement(self, t: float, R: np.ndarray) -> np.ndarray:
+        """Owned displacement for local forces ``R`` ``(c, d)`` on the candidates (one KSP solve)."""
+        dc = self.dc
+        u = self.u_free(t)
+        if dc.cand.size == 0:
+            return u
+        F = np.zeros((dc.points.shape[0], self.dim))
+        F[dc._my_pt] = np.einsum("ijk,ik->ij", self._E_own[dc._my_pt], np.asarray(R)[dc._my_pos])
+        return u + self._solve_forces(F)
+
+    # no contact springs (``spring`` is None): the spring terms of the serial condensed problem are zero
+    def spring_traction(self, y: np.ndarray) -> np.ndarray:
+        return np.zeros_like(y)
+
+    def spring_tangent(self) -> np.ndarray:
+        return np.zeros((self.ncand, self.dim, self.dim))
+
+    def spring_energy(self, y: np.ndarray) -> np.ndarray:
+        return np.zeros(y.shape[0])
+
+    def slides_away(self, t: float, mu: float) -> None:
+        """Only a body held by the obstacle can slide away (none here: ``spring`` is ``None``)."""
+        return None
+
+    def stats(self) -> dict:
+        return {"ksp_iterations": int(self.dc.ksp_iterations), "ranks": int(self.comm.size),
+                **{k: v for k, v in self.dc.extra().items() if k in ("gamg_setups", "gamg_updates", "fine_smoother")}}
