@@ -22,7 +22,7 @@ import numpy as np
 
 from ..errors import InputError
 
-__all__ = ["run_distributed", "refusal"]
+__all__ = ["headline", "run_distributed", "refusal"]
 
 logger = logging.getLogger(__name__)
 
@@ -32,15 +32,11 @@ _FIELDS = {"displacement": 3, "contact_pressure": None, "gap": None, "rank": Non
 
 def refusal(setup) -> str | None:
     """Why the problem file ``setup`` cannot run on the distributed path yet (``None``: it can)."""
-    what = []
     if setup.finite:
-        what.append("finite deformation (kinematics = \"finite\")")
-    if float(getattr(setup.problem, "friction", 0.0) or 0.0) > 0:
-        what.append("friction")
-    if not what:
-        return None
-    return ("the distributed (MPI) contact path solves frictionless small-deformation problems (one or more load "
-            f"steps); this problem has {' and '.join(what)}: run it as one process (without mpirun).")
+        return ("the distributed (MPI) contact path solves small-deformation problems (frictionless or Coulomb, one "
+                "or more load steps); this problem has finite deformation (kinematics = \"finite\"): run it as one "
+                "process (without mpirun).")
+    return None
 
 
 def run_distributed(problem_file, out=None, force: bool = False, *, algorithm: str | None = None,
@@ -52,7 +48,7 @@ def run_distributed(problem_file, out=None, force: bool = False, *, algorithm: s
     alcontact.distributed.DistributedError
         On every rank, with the message of the rank that failed (bad input, a refused problem).
     """
-    from ..contact import available_algorithms, find_algorithm, solve_distributed
+    from ..contact import available_algorithms, find_algorithm, solve_distributed, solve_distributed_friction
     from ..distributed import collective, world
     from ..io import ResultsFolder, check_output_dir
     from ..io.preflight import check_problem
@@ -68,19 +64,32 @@ def run_distributed(problem_file, out=None, force: bool = False, *, algorithm: s
                 raise InputError(why)
             out = Path(out if out is not None else setup.output["folder"])
             check_output_dir(out, force)
+            frictional = setup.friction > 0
             alg = algorithm or setup.algorithm
             if alg not in available_algorithms():
                 find_algorithm(alg)
-            pen = penalty if penalty is not None else (setup.penalty if find_algorithm(alg).penalty is None else None)
-            head = (alg, pen, {**setup.options, **(overrides or {})}, dict(setup.petsc_options), str(out), setup.name)
-    alg, pen, options, petsc_options, out, name = comm.bcast(head, root=0)
-    build = history = times = None
+            entry = find_algorithm(alg, friction=True) if frictional else find_algorithm(alg)
+            pen = penalty if penalty is not None else (setup.penalty if entry.penalty is None else None)
+            given = setup.friction_options if frictional else setup.options
+            head = (alg, pen, {**given, **(overrides or {})}, dict(setup.petsc_options), str(out), setup.name,
+                    frictional)
+    alg, pen, options, petsc_options, out, name, frictional = comm.bcast(head, root=0)
+    build = problem = history = times = None
     if comm.rank == 0:  # handed over as a builder: rank 0 releases the whole mesh once it is distributed
         build, history, times = [setup.problem].pop, setup.history, list(setup.times)
+        problem = setup.problem if frictional else None
         setup = None
-    sol = solve_distributed(build, alg, pen, options, comm=comm, petsc_options=petsc_options, steps=times,
-                            history=history)
-    summary = _summary(sol, name, alg, options, petsc_options, problem_file, comm)
+    if frictional:
+        fsol = solve_distributed_friction(problem, history, alg, pen, options, comm=comm,
+                                          petsc_options=petsc_options)
+        problem = None
+        with collective(comm, "collecting the accepted load steps"):
+            sol = _friction_views(fsol)
+        summary = _friction_summary(fsol, name, options, petsc_options, problem_file, comm)
+    else:
+        sol = solve_distributed(build, alg, pen, options, comm=comm, petsc_options=petsc_options, steps=times,
+                                history=history)
+        summary = _summary(sol, name, alg, options, petsc_options, problem_file, comm)
     staging = folder = None
     with collective(comm, "creating the results folder"):
         if comm.rank == 0:
@@ -119,6 +128,54 @@ def run_distributed(problem_file, out=None, force: bool = False, *, algorithm: s
     summary["wall_s"] = time.perf_counter() - t0
     summary["out"] = out
     return summary
+
+
+def headline(summary: dict) -> str:
+    """The one line the command line prints for a distributed run (rank 0)."""
+    s = summary
+    head = f"{s['problem']}: {s['status']} on {s['ranks']} MPI ranks ({s['dofs']} DOFs); "
+    if "friction" in s:
+        return (head + f"{len(s['steps'])} load steps, normal force {s['normal_force']:.10g}, tangential force "
+                f"{s['tangential_force']}; results in {s['out']}")
+    return (head + f"contact force {s['model_contact_force']:.10g}, largest nodal pressure "
+            f"{s['peak_pressure_nodal_max']:.10g}; results in {s['out']}")
+
+
+def _friction_views(fsol):
+    """The steps of a frictional solve as the views the VTU writer reads (``u``, ``pressure``, ``gap``, ``piece``,
+    ``point_nodes``, ``extra["t"]``); the last one carries ``steps`` (all of them)."""
+    from types import SimpleNamespace
+
+    views = [SimpleNamespace(u=st.u, pressure=st.pressure, gap=st.gap, piece=fsol.piece,
+                             point_nodes=fsol.point_nodes, extra={"t": st.t}) for st in fsol.steps]
+    if not views:  # no accepted step: the contact-free start is not written; an empty final view for the writer
+        raise InputError(f"distributed frictional solve: no load step was accepted ({fsol.message}).")
+    last = views[-1]
+    last.steps = views
+    return last
+
+
+def _friction_summary(fsol, name, options, petsc_options, problem_file, comm) -> dict:
+    last = fsol.steps[-1] if fsol.steps else None
+    files = ["summary.json", "report.md", "solution.pvtu", "solution.pvd", "steps/"] + \
+        [f"solution_{k}.vtu" for k in range(comm.size)]
+    return {
+        "problem": name, "source": str(problem_file), "status": fsol.status.label, "status_code": int(fsol.status),
+        "message": fsol.message, "algorithm": fsol.algorithm, "penalty": fsol.penalty, "friction": fsol.friction,
+        "ranks": int(comm.size), "dofs": fsol.extra["dofs"], "candidates": fsol.extra["candidates"],
+        "linear_solver": fsol.extra["linear_solver"], "strategy": fsol.extra["strategy"],
+        "outer_iterations": fsol.outer_iterations, "newton_iterations": fsol.newton_iterations,
+        "cutbacks": fsol.cutbacks, "linear_solves": fsol.linear_solves,
+        "ksp_iterations": fsol.extra.get("ksp_iterations"),
+        "contact_force_vector": last.contact_force.tolist() if last else None,
+        "normal_force": last.normal_force if last else None,
+        "tangential_force": last.tangential_force.tolist() if last else None,
+        "options": options, "petsc_options": petsc_options, "timings": fsol.timings, "files": files,
+        "steps": [{"t": st.t, "normal_force": st.normal_force, "tangential_force": st.tangential_force.tolist(),
+                   "contact_force_vector": st.contact_force.tolist(), "outer_iterations": st.outer_iterations,
+                   "newton_iterations": st.newton_iterations, "cutbacks": st.cutbacks,
+                   "equilibrium": st.equilibrium} for st in fsol.steps],
+    }
 
 
 def _summary(sol, name, algorithm, options, petsc_options, problem_file, comm) -> dict:
@@ -223,6 +280,21 @@ def _write_master(staging: Path, pieces: list[str], summary: dict, entries: list
     write_pvd(staging / "solution.pvd", entries)
     write_json(staging / "summary.json", summary)
     s = summary
+    if "friction" in s:
+        report = [f"# {s['problem']}: distributed frictional contact solve", "",
+                  f"- status: **{s['status']}** ({s['message']})",
+                  f"- {s['ranks']} MPI ranks, {s['dofs']} DOFs, {s['candidates']} contact candidates, friction "
+                  f"{s['friction']:g}",
+                  f"- algorithm {s['algorithm']} (penalty {s['penalty']}), linear solver {s['linear_solver']}",
+                  f"- {len(s['steps'])} load steps ({s['cutbacks']} cut-backs), outer iterations "
+                  f"{s['outer_iterations']}, Newton iterations {s['newton_iterations']}, KSP solves "
+                  f"{s['linear_solves']}", "", "| t | normal force | tangential force | equilibrium |",
+                  "|---|---|---|---|"]
+        report += [f"| {st['t']:g} | {st['normal_force']:.10g} | {st['tangential_force']} | {st['equilibrium']:.1e} |"
+                   for st in s["steps"]]
+        report += ["", "Open `solution.pvd` in ParaView: one piece per rank and step.", ""]
+        write_text_atomic(staging / "report.md", "\n".join(report))
+        return
     report = [f"# {s['problem']}: distributed contact solve", "",
               f"- status: **{s['status']}** ({s['message']})",
               f"- {s['ranks']} MPI ranks, {s['dofs']} DOFs, {s['candidates']} contact candidates",
