@@ -73,3 +73,18 @@ def test_sliding_block_same_on_every_rank_count_as_serial(tmp_path, ranks):
             assert g["equilibrium"] <= TOL, (case, t)
         for g in got["steps"][-2:]:  # sliding: |T| = mu N (Coulomb)
             assert np.linalg.norm(g["tangential"]) == pytest.approx(MU * g["normal"], rel=TOL), case
+
+
+def test_bad_frictional_input_is_refused_with_the_way_out():
+    """On one rank of this process: a linear solver the distributed path does not have and a history that is not
+    a LoadHistory are each one DistributedError naming the value and the choices."""
+    from alcontact.contact import solve_distributed_friction
+    from alcontact.distributed import DistributedError, world
+    from alcontact.io import load_problem
+
+    setup = load_problem(BLOCK)
+    with pytest.raises(DistributedError, match="'amg' does not run on the distributed path; use 'petsc' or "
+                                               "'petsc-direct'"):
+        solve_distributed_friction(setup.problem, setup.history, options={"linear_solver": "amg"}, comm=world())
+    with pytest.raises(DistributedError, match="history must be a LoadHistory"):
+        solve_distributed_friction(setup.problem, [0.5, 1.0], comm=world())
