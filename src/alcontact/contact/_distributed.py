@@ -1,13 +1,17 @@
-r"""The distributed contact solve: :func:`solve_distributed`, the MPI counterpart of :func:`~alcontact.contact.solve`.
+r"""The distributed contact solves: :func:`solve_distributed` and :func:`solve_distributed_friction`, the MPI
+counterparts of :func:`~alcontact.contact.solve` at small deformation.
 
-Frictionless contact at small deformation of one linear elastic P1 body against a rigid
-master, over the ranks of an MPI communicator, by the serial outer loops (the pure
+Contact of one linear elastic P1 body against a rigid master, over the ranks of an MPI
+communicator. Frictionless (:func:`solve_distributed`): the serial outer loops (the pure
 penalty (6.10), Algorithm 6.1, Algorithm 6.3 with any registered family-P penalty, the
 semi-smooth Newton reference) on :class:`~alcontact.contact.systems._distributed.DistributedContact`
-(PETSc ``MPIAIJ`` matrices and KSP solves). The candidate extension, the verification of
-the returned state (:func:`~alcontact.contact._verify.check_state`: penetration,
-complementarity, equilibrium) and the status are those of the serial small-deformation
-solve, with every measure reduced over the ranks.
+(PETSc ``MPIAIJ`` matrices and KSP solves), one independent solve per load step (the
+problem is path independent). The candidate extension, the verification of the returned
+state (:func:`~alcontact.contact._verify.check_state`: penetration, complementarity,
+equilibrium) and the status are those of the serial small-deformation solve, with every
+measure reduced over the ranks. Coulomb friction (:func:`solve_distributed_friction`):
+Algorithms 6.2 / 6.4 and the Alart-Curnier reference, the serial direct path's load steps
+(with cut-backs) on :class:`~alcontact.contact.systems._distributed.DistributedFrictionalContact`.
 """
 
 from __future__ import annotations
