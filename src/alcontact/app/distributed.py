@@ -241,7 +241,9 @@ def _write_piece(staging: Path, sol, got: np.ndarray, name: str) -> None:
 
     piece = sol.piece
     dim = piece.points.shape[0]
-    pts = np.zeros((piece.points.shape[1], 3))
+    nv = piece.points.shape[1]  # the vertices (a P2 piece's nodes are its vertices, then its edge nodes)
+    got = got[:nv]
+    pts = np.zeros((nv, 3))
     pts[:, :dim] = piece.points.T
     disp = np.zeros((pts.shape[0], 3))
     disp[:, :dim] = got[:, :dim]

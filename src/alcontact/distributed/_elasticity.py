@@ -22,6 +22,7 @@ wants for its aggregates). Dirichlet rows and columns are eliminated with
 
 from __future__ import annotations
 
+import dataclasses
 import logging
 import time
 from collections.abc import Callable
@@ -55,15 +56,28 @@ class LocalPiece:
     n_nodes : int
         Number of nodes of the whole mesh.
     mesh_nodes : numpy.ndarray of int, shape (n_local_nodes,), optional
-        Number of each local node in the mesh rank 0 read (``mesh.p`` columns), for output.
+        Number of each local node in the numbering of rank 0's model (P1: ``mesh.p`` columns; P2:
+        its scalar DOFs, vertices then edge nodes), for output.
+    order : int
+        1 (the nodes are the vertices) or 2 (the nodes are the scalar P2 DOFs of the local mesh:
+        its vertices, then its edge nodes, in scikit-fem's numbering).
+    node_points : numpy.ndarray, shape (dim, n_local_nodes), optional
+        Coordinates of the local nodes (P2: with the edge nodes; ``None`` for P1: ``points``).
+    elem_nodes, elem_mesh_nodes : numpy.ndarray, optional
+        P2 in transit: the distributed and the model's number of every node of every element (the
+        receiving rank turns them into ``global_nodes`` and ``mesh_nodes`` of its own numbering).
     """
 
     points: np.ndarray
     elements: np.ndarray
-    global_nodes: np.ndarray
+    global_nodes: np.ndarray | None
     node_range: tuple[int, int]
     n_nodes: int
     mesh_nodes: np.ndarray | None = None
+    order: int = 1
+    node_points: np.ndarray | None = None
+    elem_nodes: np.ndarray | None = None
+    elem_mesh_nodes: np.ndarray | None = None
 
 
 @dataclass
@@ -115,19 +129,48 @@ class DistributedElasticity:
         sol = model.solve(body_force=[0, 0, -1], clamped=lambda x: x[0] < 1e-12)
     """
 
-    def __init__(self, mesh, material, *, comm=None, parts: np.ndarray | None = None):
+    def __init__(self, mesh, material, *, comm=None, parts: np.ndarray | None = None, order: int = 1,
+                 element_nodes: np.ndarray | None = None):
         from ..fem import Material
 
         self.comm = comm if comm is not None else world()
         if not isinstance(material, Material):
             raise InputError(f"material must be an alcontact.fem.Material; got {type(material).__name__}.")
+        if order not in (1, 2):
+            raise InputError(f"order = {order!r}: the distributed elasticity has P1 and P2 elements (1 or 2).")
         self.material = material
+        self.order = int(order)
         t0 = time.perf_counter()
-        #: on rank 0: ``numbering[old]`` is the distributed number of the mesh's node ``old`` (None elsewhere)
+        #: on rank 0: ``numbering[old]`` is the distributed number of the model's node ``old`` (None elsewhere)
         self.numbering: np.ndarray | None = None
+        self._element_nodes = element_nodes
         self.piece, self._mesh_type = self._distribute(mesh, parts)
+        self._element_nodes = None
         self.dim = int(self.piece.points.shape[0])
+        self._local = None
+        if self.order == 2:  # the P2 nodes of the piece in the local model's numbering
+            self._local = self._local_model()
+            led = np.asarray(self._local.scalar_dofs.element_dofs)
+            n = int(self._local.scalar_dofs.N)
+            g, mn = np.empty(n, dtype=np.int64), np.empty(n, dtype=np.int64)
+            g[led] = self.piece.elem_nodes
+            mn[led] = self.piece.elem_mesh_nodes
+            self.piece = dataclasses.replace(self.piece, global_nodes=g, mesh_nodes=mn, elem_nodes=None,
+                                             elem_mesh_nodes=None,
+                                             node_points=np.asarray(self._local.scalar_doflocs, dtype=float))
         self.seconds = {"distribute": time.perf_counter() - t0}
+
+    def _local_model(self):
+        """The piece as an :class:`alcontact.fem.LinearElasticity` of this rank (P1 or P2)."""
+        from ..fem import LinearElasticity
+
+        piece = self.piece
+        return LinearElasticity(self._mesh_type(piece.points, piece.elements), self.material, order=self.order)
+
+    @property
+    def node_points(self) -> np.ndarray:
+        """``(dim, n_local_nodes)`` coordinates of the local nodes (P2: the edge nodes too)."""
+        return self.piece.points if self.piece.node_points is None else self.piece.node_points
 
     # ---------------------------------------------------------------- mesh
     def _distribute(self, mesh, parts):
@@ -136,7 +179,8 @@ class DistributedElasticity:
         plan = mesh_type = None
         with collective(comm, "partitioning the mesh"):
             if rank == 0:
-                plan, mesh_type, self.numbering = self._split(mesh, parts, size)
+                plan, mesh_type, self.numbering = self._split(mesh, parts, size, self.order, self._element_nodes,
+                                                              self.material)
         mesh_type = comm.bcast(mesh_type, root=0)
         # rank 0 builds and sends one piece at a time (never every piece at once: a second copy of the mesh)
         if rank == 0:
@@ -148,15 +192,21 @@ class DistributedElasticity:
     @staticmethod
     def _piece_of(plan, r: int) -> LocalPiece:
         """Rank ``r``'s elements and their nodes from the partition ``plan`` of :meth:`_split`."""
-        p, t, parts, new, starts = plan
-        tr = t[:, parts == r]
+        p, t, parts, new, starts, T = plan
+        sel = parts == r
+        tr = t[:, sel]
         nodes = np.unique(tr)
-        local = np.searchsorted(nodes, tr)
-        return LocalPiece(np.ascontiguousarray(p[:, nodes]), np.ascontiguousarray(local), new[nodes],
-                          (int(starts[r]), int(starts[r + 1])), int(p.shape[1]), mesh_nodes=nodes)
+        local = np.searchsorted(nodes, tr)  # monotonic: each element keeps its vertex order
+        rng = (int(starts[r]), int(starts[r + 1]))
+        if T is None:
+            return LocalPiece(np.ascontiguousarray(p[:, nodes]), np.ascontiguousarray(local), new[nodes], rng,
+                              int(new.size), mesh_nodes=nodes)
+        Tr = T[:, sel]
+        return LocalPiece(np.ascontiguousarray(p[:, nodes]), np.ascontiguousarray(local), None, rng, int(new.size),
+                          order=2, elem_nodes=np.ascontiguousarray(new[Tr]), elem_mesh_nodes=np.ascontiguousarray(Tr))
 
     @staticmethod
-    def _split(mesh, parts, size):
+    def _split(mesh, parts, size, order: int = 1, element_nodes=None, material=None):
         import skfem
 
         if not isinstance(mesh, (skfem.MeshTri1, skfem.MeshTet1)):
@@ -172,10 +222,18 @@ class DistributedElasticity:
                                  f"shape {parts.shape} with values {parts.min()}..{parts.max()}.")
             if np.unique(parts).size != size:
                 raise InputError(f"parts leaves a rank without elements ({np.unique(parts).size} of {size} used).")
-        owner, new = owner_numbering(t, parts, p.shape[1])
+        T = None  # P2: the scalar DOFs of every element (vertices, then edge nodes), the nodes that are distributed
+        if order == 2:
+            if element_nodes is None:
+                from ..fem import LinearElasticity
+
+                element_nodes = LinearElasticity(mesh, material, order=2).scalar_dofs.element_dofs
+            T = np.asarray(element_nodes, dtype=np.int64)
+        nodes_of, n_nodes = (t, p.shape[1]) if T is None else (T, int(T.max()) + 1)
+        owner, new = owner_numbering(nodes_of, parts, n_nodes)
         counts = np.bincount(owner, minlength=size)
         starts = np.concatenate([[0], np.cumsum(counts)])
-        return (p, t, parts, new, starts), type(mesh), new
+        return (p, t, parts, new, starts, T), type(mesh), new
 
     # ------------------------------------------------------------ assembly
     def assemble(self, body_force):
@@ -191,14 +249,14 @@ class DistributedElasticity:
         K : petsc4py.PETSc.Mat
         f : petsc4py.PETSc.Vec
         """
-        from ..fem import LinearElasticity
         from ..linalg import petsc
 
         PETSc = petsc()
         comm, dim, piece = self.comm, self.dim, self.piece
         t0 = time.perf_counter()
         with collective(comm, "assembling the local stiffness"):
-            local = LinearElasticity(self._mesh_type(piece.points, piece.elements), self.material)
+            local = self._local if self._local is not None else self._local_model()
+            self._local = None
             K = local.stiffness().tocsr()
             force = np.asarray(body_force, dtype=float)
             # no body force: no load assembly (it builds the vector basis at every quadrature point of the piece)
@@ -294,7 +352,7 @@ class DistributedElasticity:
         i = piece.global_nodes - piece.node_range[0]
         mine = (i >= 0) & (i < piece.node_range[1] - piece.node_range[0])
         out = np.empty((piece.node_range[1] - piece.node_range[0], self.dim))
-        out[i[mine]] = piece.points[:, mine].T
+        out[i[mine]] = self.node_points[:, mine].T
         return out
 
     def rigid_modes(self) -> np.ndarray:

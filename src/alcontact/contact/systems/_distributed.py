@@ -197,8 +197,11 @@ class DistributedContact:
         with collective(comm, "receiving the material and the obstacle"):
             material, obstacle, history = pickle.loads(head)
         self.history = history
+        order = comm.bcast(int(getattr(problem.model, "order", 1)) if comm.rank == 0 else None, root=0)
         self.body = DistributedElasticity(problem.model.mesh if comm.rank == 0 else None, material, comm=comm,
-                                          parts=parts)
+                                          parts=parts, order=order,
+                                          element_nodes=problem.model.scalar_dofs.element_dofs
+                                          if comm.rank == 0 and order == 2 else None)
         self.dim = dim = self.body.dim
         piece = self.body.piece
         self.n_own = piece.node_range[1] - piece.node_range[0]
@@ -254,9 +257,9 @@ class DistributedContact:
                              f"{type(problem).__name__}.")
         model = problem.model
         what = []
-        if not isinstance(model, LinearElasticity) or getattr(model, "order", 1) != 1 or \
+        if not isinstance(model, LinearElasticity) or getattr(model, "order", 1) not in (1, 2) or \
                 getattr(model, "axisymmetric", False) or getattr(model, "volumetric", "full") != "full":
-            what.append("a linear elastic body with P1 elements (no P2, mixed, axisymmetric or hyperelastic "
+            what.append("a linear elastic body with P1 or P2 elements (no mixed, axisymmetric or hyperelastic "
                         "body)")
         if getattr(problem, "kinematics", "small") != "small":
             what.append("small deformation (kinematics = 'small')")
