@@ -274,6 +274,89 @@ def contact_main(a, me) -> int:
     return 0
 
 
+#: machine constants of the model (a commodity InfiniBand cluster; override with --model-net): latency of one
+#: small allreduce per log2(P) stage, of one neighbour message, and the bandwidth of one rank's link
+NET = {"allreduce_stage_s": 5e-6, "message_s": 2e-6, "bandwidth_Bps": 5e9}
+#: halo exchanges per CG + GAMG iteration: CG's matvec, Chebyshev(2) pre- and post-smoothing (4 matvecs) and the
+#: residual on the finest level, times 1.4 for the coarser levels (their halos shrink with the grid)
+HALOS_PER_ITERATION = 6 * 1.4
+#: global reductions per iteration (CG's two dot products) and neighbours of a rank in a 3D partition
+ALLREDUCES_PER_ITERATION, NEIGHBOURS = 2, 14
+BASELINE_MB = 150.0  # a rank's interpreter, NumPy, scikit-fem, petsc4py and MPI before any problem data
+
+
+def model_main(a) -> int:
+    """The weak-scaling model of docs/benchmarks/distributed.md from the rows of a ``--contact`` run."""
+    meta = json.loads(Path(a.model).read_text())
+    rows = [r for r in meta["rows"] if "distributed" in r["path"]]
+    one = [r for r in rows if r["ranks"] == 1]
+    two = [r for r in rows if r["ranks"] == 2]
+    if not one or not two:
+        raise SystemExit("--model needs 1- and 2-rank rows of a --contact run (--ranks 1,2)")
+    ref = max(one, key=lambda r: r["ndofs"])
+    N1 = ref["ndofs"]
+    cpu = ref["solve_cpu_s"]
+    wall = ref["solve_s"]
+    f = cpu / wall  # the run's wall phases scaled to CPU time (the machine was shared)
+    ph = {k: v * f for k, v in ref["phases_s"].items()}
+    its = ref["krylov_iterations"]
+    newton = ref["newton"]
+    c_asm = ph["assembly_s"] / N1  # per DOF: local assembly into the MPIAIJ matrix
+    c_gamg = ph["factor_s"] / N1  # per DOF: the one GAMG hierarchy
+    c_rank0 = max(ph["setup_s"] - ph["assembly_s"] - ph["factor_s"] - ph["linear_solve_s"], 0.0) / N1  # partition
+    c_build = ref["build_s"] * f / N1  # rank 0 builds the whole problem (mesh, model, loads)
+    c_it = max(cpu - ph["setup_s"], 1e-12) / (its * N1)  # per Krylov iteration and DOF, updates and Newton included
+    # iteration growth from the 1-rank sizes: its = i0 (1 + g log2(N / N0))
+    pts = sorted((r["ndofs"], r["krylov_iterations"] / max(r["newton"], 1)) for r in one)
+    g = 0.0
+    if len(pts) > 1 and pts[-1][0] > pts[0][0]:
+        g = max((pts[-1][1] / pts[0][1] - 1.0) / np.log2(pts[-1][0] / pts[0][0]), 0.0)
+    # ghost DOFs per rank: kappa n^(2/3) from the 2-rank runs
+    r2 = max(two, key=lambda r: r["ndofs"])
+    n2 = r2["ndofs"] / 2
+    kappa = float(np.mean(r2["ghost_dofs_ranks"])) / n2 ** (2 / 3)
+    # memory: the 2-rank rank without the problem (rank 1) gives bytes per owned DOF of the solve; rank 0's extra over
+    # rank 1 is the whole problem it built (bytes per DOF of the mesh)
+    peaks = r2["peak_mb_ranks"]
+    mb_solve = (peaks[-1] - BASELINE_MB) / n2
+    mb_build = max(peaks[0] - peaks[-1], 0.0) / r2["ndofs"]
+    per_it = its / max(newton, 1)
+    net = dict(NET, **json.loads(a.model_net))
+    out = []
+    for N in (10e6, 100e6, 1e9):
+        for P in (8, 64, 512, 1024):
+            n = N / P
+            if n < 2e4 or n > 2e7:
+                continue
+            its_N = per_it * (1.0 + g * np.log2(N / N1)) * newton
+            halo = HALOS_PER_ITERATION * (NEIGHBOURS * net["message_s"] + 8.0 * kappa * n ** (2 / 3)
+                                          / net["bandwidth_Bps"])
+            red = ALLREDUCES_PER_ITERATION * net["allreduce_stage_s"] * max(np.log2(P), 1.0)
+            t_par = n * (c_asm + c_gamg) + its_N * (c_it * n + halo + red)
+            t0 = N * (c_build + c_rank0)
+            out.append({"dofs": N, "ranks": P, "dofs_per_rank": n, "krylov_iterations": its_N,
+                        "parallel_s": t_par, "comm_share": its_N * (halo + red) / t_par, "rank0_serial_s": t0,
+                        "total_s": t_par + t0, "mb_per_rank": BASELINE_MB + mb_solve * n,
+                        "rank0_extra_gb": mb_build * N / 1024})
+    consts = {"from_dofs": N1, "cpu_over_wall": f, "assembly_s_per_dof": c_asm, "gamg_setup_s_per_dof": c_gamg,
+              "rank0_partition_s_per_dof": c_rank0, "rank0_build_s_per_dof": c_build,
+              "krylov_iteration_s_per_dof": c_it, "iterations_per_newton": per_it, "iteration_growth": g,
+              "newton": newton, "ghost_kappa": kappa, "mb_per_owned_dof": mb_solve, "rank0_mb_per_dof": mb_build,
+              "net": net}
+    lines = ["| DOFs | ranks | DOFs/rank | Krylov its | parallel part s | of it communication | rank-0 serial "
+             "set-up s | total s | MB/rank | rank 0 extra GB |", "|" + "---|" * 10]
+    for r in out:
+        lines.append(f"| {r['dofs']:.0e} | {r['ranks']} | {r['dofs_per_rank']:,.0f} | {r['krylov_iterations']:.0f} | "
+                     f"{r['parallel_s']:.0f} | {100 * r['comm_share']:.0f} % | {r['rank0_serial_s']:.0f} | "
+                     f"{r['total_s']:.0f} | {r['mb_per_rank']:.0f} | {r['rank0_extra_gb']:.0f} |")
+    Path(a.out).mkdir(parents=True, exist_ok=True)
+    (Path(a.out) / "distributed_model.json").write_text(json.dumps({"constants": consts, "rows": out}, indent=1))
+    (Path(a.out) / "distributed_model.md").write_text("\n".join(lines) + "\n")
+    print(json.dumps(consts, indent=1))
+    print("\n".join(lines))
+    return 0
+
+
 def _run(cmd, timeout):
     env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1", OMP_NUM_THREADS="1",
                OPENBLAS_NUM_THREADS="1")
@@ -296,10 +379,15 @@ def main(argv=None) -> int:
     ap.add_argument("--skip-serial", action="store_true", help="contact: leave out the serial PyAMG run")
     ap.add_argument("--petsc-options", default="{}", help="contact: PETSc options of the distributed runs as JSON, "
                     "e.g. '{\"pc_gamg_threshold\": 0.01}'")
+    ap.add_argument("--model", help="the weak-scaling model from a --contact run's distributed_contact.json")
+    ap.add_argument("--model-net", default="{}", help="machine constants of the model as JSON (allreduce_stage_s, "
+                    "message_s, bandwidth_Bps)")
     ap.add_argument("--worker", choices=["serial", "petsc", "contact-serial", "contact-petsc"], help=argparse.SUPPRESS)
     ap.add_argument("--k", type=float, help=argparse.SUPPRESS)
     ap.add_argument("--file", type=Path, help=argparse.SUPPRESS)
     a = ap.parse_args(argv)
+    if a.model:
+        return model_main(a)
     if a.worker == "serial":
         worker_serial(int(a.k), a.file)
         return 0
