@@ -225,7 +225,8 @@ def serial_p2(dim: int):
 
 
 @pytest.mark.parametrize("dim,ranks,partition,solver", [
-    (2, 1, "metis", "petsc-direct"), (2, 2, "zone", "petsc"), (2, 3, "metis", "petsc"),
+    (2, 1, "metis", "petsc-direct"), (2, 2, "zone", "petsc"),
+    pytest.param(2, 3, "metis", "petsc", marks=pytest.mark.slow),
     pytest.param(3, 2, "metis", "petsc", marks=pytest.mark.slow)])
 def test_p2_hertz_same_on_every_rank_count(tmp_path, dim, ranks, partition, solver):
     """P2 elements (edge nodes distributed with their owner rank, the contact points at every P2 node of the

@@ -52,7 +52,7 @@ def _rel(a, b) -> float:
     return float(np.max(np.abs(a - b)) / max(float(np.max(np.abs(b))), 1e-300))
 
 
-@pytest.mark.parametrize("ranks", [1, 2, 3])
+@pytest.mark.parametrize("ranks", [1, 2, pytest.param(3, marks=pytest.mark.slow)])
 def test_sliding_block_same_on_every_rank_count_as_serial(tmp_path, ranks):
     out = tmp_path / "friction.json"
     proc = mpirun(ranks, SCRIPT, str(out), BLOCK, CELLS, *CASES[ranks], timeout=300)
