@@ -97,28 +97,8 @@ def run_distributed(problem_file, out=None, force: bool = False, *, algorithm: s
             staging = str(folder.__enter__().path)
     staging = Path(comm.bcast(staging, root=0))
     failed = None
-    stepped = _stepped(sol)
     try:
-        entries = []
-        if stepped:
-            with collective(comm, "creating the steps folder"):
-                if comm.rank == 0:
-                    (staging / "steps").mkdir()
-        for k, step in enumerate(sol.steps if stepped else []):
-            values = _piece_values(step, comm)  # collective: the ghost nodes' values from their owners
-            stem = f"steps/solution_{k + 1:04d}"
-            with collective(comm, "writing the VTU pieces of the steps"):
-                _write_piece(staging, step, values, f"{stem}_{comm.rank}.vtu")
-                if comm.rank == 0:
-                    _write_pvtu(staging / f"{stem}.pvtu", [f"solution_{k + 1:04d}_{r}.vtu" for r in range(comm.size)])
-            entries.append((step.extra["t"], f"{stem}.pvtu"))
-        values = _piece_values(sol, comm)
-        with collective(comm, "writing the VTU pieces"):
-            _write_piece(staging, sol, values, f"solution_{comm.rank}.vtu")
-        with collective(comm, "writing summary.json and report.md"):
-            if comm.rank == 0:
-                _write_master(staging, [f"solution_{k}.vtu" for k in range(comm.size)], summary,
-                              entries or [(1.0, "solution.pvtu")])
+        _write_results(staging, sol, summary, comm)
     except BaseException as exc:  # noqa: BLE001 - rank 0 discards the staging folder, then re-raises
         failed = exc
     if comm.rank == 0:
@@ -128,6 +108,33 @@ def run_distributed(problem_file, out=None, force: bool = False, *, algorithm: s
     summary["wall_s"] = time.perf_counter() - t0
     summary["out"] = out
     return summary
+
+
+def _write_results(staging: Path, sol, summary: dict, comm) -> None:
+    """Every rank's VTU pieces (of every load step when there are several) and rank 0's files, into ``staging``."""
+    from ..distributed import collective
+
+    entries = []
+    stepped = _stepped(sol)
+    if stepped:
+        with collective(comm, "creating the steps folder"):
+            if comm.rank == 0:
+                (staging / "steps").mkdir()
+    for k, step in enumerate(sol.steps if stepped else []):
+        values = _piece_values(step, comm)  # collective: the ghost nodes' values from their owners
+        stem = f"steps/solution_{k + 1:04d}"
+        with collective(comm, "writing the VTU pieces of the steps"):
+            _write_piece(staging, step, values, f"{stem}_{comm.rank}.vtu")
+            if comm.rank == 0:
+                _write_pvtu(staging / f"{stem}.pvtu", [f"solution_{k + 1:04d}_{r}.vtu" for r in range(comm.size)])
+        entries.append((step.extra["t"], f"{stem}.pvtu"))
+    values = _piece_values(sol, comm)
+    with collective(comm, "writing the VTU pieces"):
+        _write_piece(staging, sol, values, f"solution_{comm.rank}.vtu")
+    with collective(comm, "writing summary.json and report.md"):
+        if comm.rank == 0:
+            _write_master(staging, [f"solution_{k}.vtu" for k in range(comm.size)], summary,
+                          entries or [(1.0, "solution.pvtu")])
 
 
 def headline(summary: dict) -> str:
