@@ -27,7 +27,16 @@ e.g. ``--sizes 2,3``) it measures the distributed contact solve instead: 3D Hert
 PyAMG + CG) and with :func:`alcontact.contact.solve_distributed` (CG + GAMG, ``"petsc"``) under
 ``mpirun -n 1`` and ``-n 2``: outer and Newton iterations, linear solves and Krylov iterations,
 solve time, peak memory per rank, and the contact force against the serial one; written to
-``distributed_contact.csv``, ``.json`` and ``.md``.
+``distributed_contact.csv``, ``.json`` and ``.md``. ``--dofs 1M 4M 8M`` picks the meshes by size
+(the graded block of ``benchmarks/hertz_3d_large.py``, growth 1.04); sizes above ``--max-serial`` /
+``--max-one-rank`` (default 4M) run on 2 ranks only. The quiet-machine command of
+``docs/benchmarks/distributed.md``::
+
+    OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1 .venv-mpi/bin/python benchmarks/distributed.py --contact \
+        --dofs 1M 4M 8M --ranks 1,2 --out benchmarks/out --timeout 14400
+
+``--model benchmarks/out/distributed_contact.json`` then writes the weak-scaling projection
+(``distributed_model.md`` / ``.json``) from the measured per-rank constants.
 """
 
 from __future__ import annotations
@@ -221,9 +230,11 @@ def contact_main(a, me) -> int:
     env_load = os.getloadavg()
     for target in targets:
         n = _n_per_a(target, a.growth) if sizes else target
-        runs = ([] if a.skip_serial else [("serial", me + ["--worker", "contact-serial"])]) + \
+        big = sizes is not None and target > _size(a.max_one_rank)
+        runs = ([] if a.skip_serial or (sizes is not None and target > _size(a.max_serial)) else
+                [("serial", me + ["--worker", "contact-serial"])]) + \
             [(f"petsc{r}", ["mpirun", "-n", str(r), "--oversubscribe"] + me + ["--worker", "contact-petsc"])
-             for r in ranks]
+             for r in ranks if not (big and r == 1)]
         res = {}
         for tag, cmd in runs:
             f = a.out / f"distributed_contact_{n:g}_{tag}.json"
@@ -245,11 +256,13 @@ def contact_main(a, me) -> int:
             r["growth"] = a.growth
             r["rel_diff_force"] = abs(r["force"] - ref) / abs(ref)
             r["peak_ratio_to_1rank"] = r["peak_mb_per_rank"] / one["peak_mb_per_rank"] if one else None
+            r["peak_gb_total"] = sum(r["peak_mb_ranks"]) / 1024
             r["speedup_to_1rank"] = one["solve_s"] / r["solve_s"] if one else None
             rows.append(r)
     keys = ["n_per_a", "ndofs", "path", "ranks", "status", "outer", "newton", "linear_solves", "krylov_iterations",
             "setups", "updates", "build_s", "solve_s", "solve_cpu_s", "linear_solve_s", "process_wall_s",
-            "peak_mb_per_rank", "peak_ratio_to_1rank", "speedup_to_1rank", "force", "rel_diff_force", "load"]
+            "peak_mb_per_rank", "peak_gb_total", "peak_ratio_to_1rank", "speedup_to_1rank", "force", "rel_diff_force",
+            "load"]
     with open(a.out / "distributed_contact.csv", "w", newline="") as fh:
         w = csv.DictWriter(fh, fieldnames=keys, extrasaction="ignore")
         w.writeheader()
@@ -259,7 +272,7 @@ def contact_main(a, me) -> int:
     (a.out / "distributed_contact.json").write_text(json.dumps(meta, indent=1))
     lines = ["| DOFs | path | ranks | outer | Newton | linear solves | Krylov its | hierarchies built / updated | "
              "solve s | solve CPU s | ratio to serial | speed-up to 1 rank | peak MB/rank | peak / 1-rank peak | "
-             "force rel. diff. |", "|" + "---|" * 15]
+             "peak GB, all ranks | force rel. diff. |", "|" + "---|" * 16]
     for r in rows:
         base = next((x for x in rows if x["n_per_a"] == r["n_per_a"] and "serial" in x["path"]), None)
         ratio = f"{r['solve_s'] / base['solve_s']:.2f}" if base else "-"
@@ -268,7 +281,8 @@ def contact_main(a, me) -> int:
         lines.append(f"| {r['ndofs']:,} | {r['path']} | {r['ranks']} | {r['outer']} | {r['newton']} | "
                      f"{r['linear_solves']} | {r['krylov_iterations']} | {r['setups']} / {r['updates']} | "
                      f"{r['solve_s']:.2f} | {r['solve_cpu_s']:.2f} | {ratio} | {sp} | "
-                     f"{', '.join(f'{p:.0f}' for p in r['peak_mb_ranks'])} | {pk} | {r['rel_diff_force']:.1e} |")
+                     f"{', '.join(f'{p:.0f}' for p in r['peak_mb_ranks'])} | {pk} | {r['peak_gb_total']:.2f} | "
+                     f"{r['rel_diff_force']:.1e} |")
     (a.out / "distributed_contact.md").write_text("\n".join(lines) + "\n")
     print("\n".join(lines))
     return 0
@@ -377,6 +391,8 @@ def main(argv=None) -> int:
     ap.add_argument("--ranks", default="1,2", help="contact: MPI rank counts, e.g. 1,2")
     ap.add_argument("--growth", type=float, default=GROWTH, help="contact: mesh grading of hertz_3d")
     ap.add_argument("--skip-serial", action="store_true", help="contact: leave out the serial PyAMG run")
+    ap.add_argument("--max-serial", default="4M", help="contact: no serial run above this size (e.g. 4M)")
+    ap.add_argument("--max-one-rank", default="4M", help="contact: no 1-rank run above this size (e.g. 4M)")
     ap.add_argument("--petsc-options", default="{}", help="contact: PETSc options of the distributed runs as JSON, "
                     "e.g. '{\"pc_gamg_threshold\": 0.01}'")
     ap.add_argument("--model", help="the weak-scaling model from a --contact run's distributed_contact.json")
