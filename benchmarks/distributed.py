@@ -259,17 +259,25 @@ def contact_main(a, me) -> int:
             r["peak_gb_total"] = sum(r["peak_mb_ranks"]) / 1024
             r["speedup_to_1rank"] = one["solve_s"] / r["solve_s"] if one else None
             rows.append(r)
+    meta = {"machine": platform.platform(), "cpus": os.cpu_count(), "load_at_start": env_load,
+            "petsc_options": json.loads(a.petsc_options), "rows": rows}
+    return _write_contact(a.out, meta)
+
+
+def _write_contact(out: Path, meta: dict) -> int:
+    """``distributed_contact.csv``, ``.json`` and ``.md`` of the rows of ``meta``."""
+    rows = meta["rows"]
+    for r in rows:
+        r.setdefault("peak_gb_total", sum(r["peak_mb_ranks"]) / 1024)
     keys = ["n_per_a", "ndofs", "path", "ranks", "status", "outer", "newton", "linear_solves", "krylov_iterations",
             "setups", "updates", "build_s", "solve_s", "solve_cpu_s", "linear_solve_s", "process_wall_s",
             "peak_mb_per_rank", "peak_gb_total", "peak_ratio_to_1rank", "speedup_to_1rank", "force", "rel_diff_force",
             "load"]
-    with open(a.out / "distributed_contact.csv", "w", newline="") as fh:
+    with open(out / "distributed_contact.csv", "w", newline="") as fh:
         w = csv.DictWriter(fh, fieldnames=keys, extrasaction="ignore")
         w.writeheader()
         w.writerows(rows)
-    meta = {"machine": platform.platform(), "cpus": os.cpu_count(), "load_at_start": env_load,
-            "petsc_options": json.loads(a.petsc_options), "rows": rows}
-    (a.out / "distributed_contact.json").write_text(json.dumps(meta, indent=1))
+    (out / "distributed_contact.json").write_text(json.dumps(meta, indent=1))
     lines = ["| DOFs | path | ranks | outer | Newton | linear solves | Krylov its | hierarchies built / updated | "
              "solve s | solve CPU s | ratio to serial | speed-up to 1 rank | peak MB/rank | peak / 1-rank peak | "
              "peak GB, all ranks | force rel. diff. |", "|" + "---|" * 16]
@@ -283,7 +291,7 @@ def contact_main(a, me) -> int:
                      f"{r['solve_s']:.2f} | {r['solve_cpu_s']:.2f} | {ratio} | {sp} | "
                      f"{', '.join(f'{p:.0f}' for p in r['peak_mb_ranks'])} | {pk} | {r['peak_gb_total']:.2f} | "
                      f"{r['rel_diff_force']:.1e} |")
-    (a.out / "distributed_contact.md").write_text("\n".join(lines) + "\n")
+    (out / "distributed_contact.md").write_text("\n".join(lines) + "\n")
     print("\n".join(lines))
     return 0
 
@@ -297,6 +305,17 @@ HALOS_PER_ITERATION = 6 * 1.4
 #: global reductions per iteration (CG's two dot products) and neighbours of a rank in a 3D partition
 ALLREDUCES_PER_ITERATION, NEIGHBOURS = 2, 14
 BASELINE_MB = 150.0  # a rank's interpreter, NumPy, scikit-fem, petsc4py and MPI before any problem data
+
+
+def merge_main(a) -> int:
+    """One table from several ``--contact`` runs (their ``distributed_contact.json``, sizes in the order given)."""
+    metas = [json.loads(Path(f).read_text()) for f in a.merge]
+    rows = [r for m in metas for r in m["rows"]]
+    meta = {"machine": metas[0]["machine"], "cpus": metas[0]["cpus"], "runs": [
+        {"load_at_start": m.get("load_at_start"), "petsc_options": m.get("petsc_options"),
+         "dofs": sorted({r["ndofs"] for r in m["rows"]})} for m in metas], "rows": rows}
+    a.out.mkdir(parents=True, exist_ok=True)
+    return _write_contact(a.out, meta)
 
 
 def model_main(a) -> int:
@@ -395,6 +414,8 @@ def main(argv=None) -> int:
     ap.add_argument("--max-one-rank", default="4M", help="contact: no 1-rank run above this size (e.g. 4M)")
     ap.add_argument("--petsc-options", default="{}", help="contact: PETSc options of the distributed runs as JSON, "
                     "e.g. '{\"pc_gamg_threshold\": 0.01}'")
+    ap.add_argument("--merge", nargs="*", help="contact: write one table (CSV, JSON, Markdown) from these runs' "
+                    "distributed_contact.json")
     ap.add_argument("--model", help="the weak-scaling model from a --contact run's distributed_contact.json")
     ap.add_argument("--model-net", default="{}", help="machine constants of the model as JSON (allreduce_stage_s, "
                     "message_s, bandwidth_Bps)")
@@ -404,6 +425,8 @@ def main(argv=None) -> int:
     a = ap.parse_args(argv)
     if a.model:
         return model_main(a)
+    if a.merge:
+        return merge_main(a)
     if a.worker == "serial":
         worker_serial(int(a.k), a.file)
         return 0
