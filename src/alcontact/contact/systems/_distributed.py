@@ -167,7 +167,7 @@ class DistributedContact:
                  margin: float = 0.25, forcing: bool = True, history=None, t: float = 1.0, frictional: bool = False):
         from mpi4py import MPI
 
-        from ...distributed import DistributedElasticity, collective
+        from ...distributed import DistributedElasticity, collective, release_memory
         from ...linalg import petsc
 
         PETSc = petsc()
@@ -217,6 +217,8 @@ class DistributedContact:
         del pieces
         problem = None  # rank 0 holds nothing of the whole mesh from here on (when the caller holds no reference)
         self.body.forget_numbering()
+        if comm.rank == 0:
+            release_memory()
         self.h = float(comm.bcast(h, root=0))
         self.f_parts = mine["f"]  # (ncomp, dim * n_own): the load of each component at amplitude 1
         self.fixed = mine["fixed"]  # local DOF numbers
