@@ -68,7 +68,7 @@ from ...optim import LineSearch, NewtonSettings, NewtonSystem, newton
 from ..algorithms._subproblem import NewtonOutcome, subproblem_outcome
 from ..kinematics._points import _element_size
 from ..problem._loading import component_fields
-from ._krylov import _FORCING_MAX, _FORCING_MIN, _FORCING_SLOW, _FORCING_START
+from ._krylov import _FORCING_MAX, _FORCING_MIN, _FORCING_SLOW, _FORCING_START, INEXACT_DOFS
 
 __all__ = ["DistributedContact", "DistributedFrictionalContact"]
 
@@ -156,7 +156,6 @@ class DistributedContact:
     """
 
     # ---- ContactSystem: declared capabilities ("not available" values, as ContactPoints declares them)
-    inexact_subproblems = False
     physical_stopping = False
     warm_penalty_start = False
     penalty_continuation = False
@@ -231,6 +230,7 @@ class DistributedContact:
         free = np.ones(dim * self.n_own, dtype=bool)
         free[self.fixed] = False
         self.free = free
+        self.n_free_global = int(comm.allreduce(int(free.sum()), op=MPI.SUM))
         with collective(comm, "evaluating the obstacle at the contact points"):
             gap0, nu = obstacle.evaluate(self.points) if self.points.shape[0] else (np.zeros(0), np.zeros((0, dim)))
             self.gap0 = np.asarray(gap0, dtype=float).reshape(-1)
@@ -414,6 +414,14 @@ class DistributedContact:
         self.u_free = self._solve_free()
         self.x_free = self.u_free
         self._select_candidates(self.local_gaps(self.u_free), self.margin)
+
+    @property
+    def inexact_subproblems(self) -> bool:
+        """Solve (S) of Algorithms 6.1 / 6.3 inexactly above the serial Krylov path's size
+        (:data:`~alcontact.contact.systems._krylov.INEXACT_DOFS`, the same rule and the same outer loop:
+        the Newton tolerance of a subproblem follows the last multiplier change, the last one is solved to
+        ``newton_tol``); with the iterative KSP only (MUMPS solves each Newton step exactly)."""
+        return self.ksp_kind == "gamg" and self.n_free_global > INEXACT_DOFS
 
     def _ksp_solve(self, rhs: np.ndarray, rtol: float) -> np.ndarray:
         """Solve with the current operator of the KSP; counted; a failed solve raises (collectively)."""
