@@ -66,11 +66,13 @@ test-serial: $(VENV)/.installed
 	$(TEST_ENV) $(BIN)/python -m pytest -q -n 2 --dist loadfile -m "not slow" --ignore=tests/mpi
 
 test-mpi: $(MPI_VENV)/.installed
-	$(TEST_ENV) $(MPI_RUN_ENV) $(MPI_VENV)/bin/python -m pytest -q -p no:cacheprovider tests/mpi \
+	$(TEST_ENV) $(MPI_RUN_ENV) $(MPI_VENV)/bin/python -m pytest -q -p no:cacheprovider -m "not slow" tests/mpi \
 		tests/unit/test_linalg.py tests/unit/test_linalg_petsc_missing.py
 
-test-slow: $(VENV)/.installed
+# the slow tests of both environments (the MPI ones: 3-rank and 3D P2 runs of the distributed path)
+test-slow: $(VENV)/.installed $(MPI_VENV)/.installed
 	$(TEST_ENV) $(BIN)/python -m pytest -q -n 2 --dist loadfile -m slow --ignore=tests/mpi
+	$(TEST_ENV) $(MPI_RUN_ENV) $(MPI_VENV)/bin/python -m pytest -q -p no:cacheprovider -m slow tests/mpi
 
 # Fuzzing (profile "fuzz" in tests/conftest.py): problem files 3 x 40,000 Hypothesis examples, Gmsh files
 # 40,000, Python-API calls 40,000; the algorithm differential test 200 random problems.

@@ -84,7 +84,7 @@ def _run_mpi(problem_file: Path, out, console: Console, err: Console, level: int
              algorithm, penalty, overrides) -> None:
     """``mpirun -n N alcontact run PROBLEM.toml``: the distributed contact path; rank 0 prints, every rank exits
     with the one status (:func:`alcontact.app.distributed.run_distributed`)."""
-    from .app.distributed import run_distributed
+    from .app.distributed import headline, run_distributed
     from .distributed import DistributedError, world
 
     comm = world()
@@ -105,10 +105,7 @@ def _run_mpi(problem_file: Path, out, console: Console, err: Console, level: int
         comm.Abort(EXIT_FAILED)
         raise
     if comm.rank == 0 and not quiet:
-        console.print(f"{summary['problem']}: {summary['status']} on {summary['ranks']} MPI ranks "
-                      f"({summary['dofs']} DOFs); contact force {summary['model_contact_force']:.10g}, largest nodal "
-                      f"pressure {summary['peak_pressure_nodal_max']:.10g}; results in {summary['out']}",
-                      highlight=False)
+        console.print(headline(summary), highlight=False)
     if summary["status_code"] < 0:
         raise typer.Exit(EXIT_FAILED)
 

@@ -90,6 +90,10 @@ def _check(results: dict, dim: int, ranks: int):
         assert got["extra"]["ranks"] == ranks and got["extra"]["strategy"] == "distributed"
         # the KSP named is the one that ran
         assert got["extra"]["linear_solver"] == _solver
+        if _solver == "petsc":  # one GAMG hierarchy for the whole solve, updated (Galerkin) for every Newton matrix
+            assert got["extra"]["gamg_setups"] == 1, case
+            assert got["extra"]["gamg_updates"] == got["linear_solves"] - 1 > 0, case
+            assert got["extra"]["fine_smoother"] == "pbjacobi", case
 
 
 @pytest.mark.parametrize("ranks,partition", [(1, "metis"), (2, "metis"), (3, "zone")])
@@ -184,3 +188,56 @@ def test_every_family_p_penalty_runs_on_the_distributed_path(penalty):
     u = np.empty_like(ref.u[dmap])
     u[dist.global_nodes] = dist.u.reshape(-1, 2)
     assert _rel(u, ref.u[dmap]) <= TOL
+
+
+def test_gamg_hierarchy_rebuilt_when_reuse_is_switched_off():
+    """The counter of GAMG hierarchies sees what PETSc built: with ``pc_gamg_reuse_interpolation = false`` (a PETSc
+    option passed through) every KSP set-up builds new prolongators, so ``gamg_setups`` equals the linear solves,
+    and the answer is the one with reuse to 1e-8 (the serial reference of the tests above)."""
+    from alcontact.contact import solve_distributed
+    from alcontact.distributed import world
+    from alcontact.problems import hertz
+
+    reuse = solve_distributed(hertz.hertz_2d(n_per_a=4), comm=world())
+    fresh = solve_distributed(hertz.hertz_2d(n_per_a=4), petsc_options={"pc_gamg_reuse_interpolation": "false"},
+                              comm=world())
+    assert reuse.result.status > 0 and fresh.result.status > 0
+    assert reuse.extra["gamg_setups"] == 1 and reuse.extra["gamg_updates"] == reuse.result.linear_solves - 1
+    assert fresh.extra["gamg_setups"] == fresh.result.linear_solves and fresh.extra["gamg_updates"] == 0
+    assert fresh.model_contact_force == pytest.approx(reuse.model_contact_force, rel=TOL)
+
+
+@functools.cache
+def serial_p2(dim: int):
+    """The serial P2 solution (Algorithm 6.1, default solver): force, largest nodal pressure (the multipliers, as
+    the distributed path reports them: ``peak_pressure_nodal_max``), u at the scalar DOFs of the model."""
+    import importlib.util
+
+    from alcontact.contact import solve
+
+    spec = importlib.util.spec_from_file_location("contact_script", SCRIPT)
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    sol = solve(mod.problem(dim, order=2), "simo-laursen")
+    assert sol.result.status > 0, sol.result.message
+    _, dmap = sol.problem.model.all_node_dofs()
+    return sol.total_contact_force, float(sol.peak_pressure_nodal_max), sol.u[dmap]
+
+
+@pytest.mark.parametrize("dim,ranks,partition,solver", [
+    (2, 1, "metis", "petsc-direct"), (2, 2, "zone", "petsc"),
+    pytest.param(2, 3, "metis", "petsc", marks=pytest.mark.slow),
+    pytest.param(3, 2, "metis", "petsc", marks=pytest.mark.slow)])
+def test_p2_hertz_same_on_every_rank_count(tmp_path, dim, ranks, partition, solver):
+    """P2 elements (edge nodes distributed with their owner rank, the contact points at every P2 node of the
+    surface): the serial P2 solve's contact force, largest nodal pressure and displacement at every scalar DOF
+    to 1e-8 (references and tolerance as the module doc); equilibrium to 1e-8."""
+    results = _run(tmp_path, ranks, f"{dim}p2", partition, [f"simo-laursen:{solver}"])
+    got = results[f"simo-laursen:{solver}"]
+    assert got["status"] > 0, got["message"]
+    force, peak, u = serial_p2(dim)
+    assert np.linalg.norm(np.subtract(got["force"], force)) <= TOL * np.linalg.norm(force)
+    assert got["peak"] == pytest.approx(peak, rel=TOL)
+    assert _rel(got["u"], u) <= TOL
+    assert got["residual"] <= TOL and got["balance"] <= TOL
+    assert got["extra"]["linear_solver"] == solver and got["extra"]["dofs"] == u.size

@@ -91,3 +91,61 @@ def test_what_is_not_distributed_is_refused_once(tmp_path, args, expect):
     assert expect in " ".join(text.split())
     assert "Traceback" not in text
     assert not (tmp_path / "r").exists()
+
+
+def test_mpirun_alcontact_run_with_load_steps(tmp_path):
+    """The flat punch of examples/flat_punch.toml (four load steps, semi-smooth Newton) on 2 ranks: one entry per
+    step in summary.json, each step's contact force the serial run's to 1e-8 (reference: the serial ``alcontact
+    run`` of the same file, its ``steps.csv``), and a ``.pvd`` over the four steps' ``.pvtu`` files, each listing
+    one piece per rank."""
+    import csv
+
+    punch = str(ROOT / "examples" / "flat_punch.toml")
+    serial = subprocess.run([CLI, "run", punch, "--out", "serial", "-q"], capture_output=True, text=True, timeout=240,
+                            cwd=tmp_path)
+    assert serial.returncode == 0, serial.stderr
+    proc = _mpirun(2, "run", punch, "--out", "dist", cwd=tmp_path)
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    b = json.loads((tmp_path / "dist" / "summary.json").read_text())
+    assert b["status"] == "converged" and b["ranks"] == 2 and len(b["steps"]) == 4
+    with open(tmp_path / "serial" / "steps.csv") as fh:
+        rows = list(csv.DictReader(fh))
+    assert len(rows) == 4
+    key = "force_y"
+    for row, step in zip(rows, b["steps"]):
+        assert step["status"] == "converged"
+        assert float(row["t"]) == pytest.approx(step["t"], rel=1e-12)
+        assert step["contact_force_vector"][1] == pytest.approx(float(row[key]), rel=1e-8)
+    pvd = (tmp_path / "dist" / "solution.pvd").read_text()
+    for k in range(1, 5):
+        assert f"steps/solution_{k:04d}.pvtu" in pvd
+        pvtu = (tmp_path / "dist" / "steps" / f"solution_{k:04d}.pvtu").read_text()
+        assert f'Source="solution_{k:04d}_0.vtu"' in pvtu and f'Source="solution_{k:04d}_1.vtu"' in pvtu
+        assert (tmp_path / "dist" / "steps" / f"solution_{k:04d}_1.vtu").is_file()
+
+
+def test_mpirun_alcontact_run_with_friction(tmp_path):
+    """The sliding block of examples/sliding_block.toml (Coulomb, mu = 0.3, eight steps) on 2 ranks: every step's
+    normal force and tangential force magnitude equal the serial run's (its ``steps.csv``) to 1e-8, the last two
+    steps slide (|T| = mu N, Coulomb), and each step has one VTU piece per rank."""
+    import csv
+
+    block = str(ROOT / "examples" / "sliding_block.toml")
+    serial = subprocess.run([CLI, "run", block, "--out", "serial", "-q"], capture_output=True, text=True, timeout=240,
+                            cwd=tmp_path)
+    assert serial.returncode == 0, serial.stderr
+    proc = _mpirun(2, "run", block, "--out", "dist", cwd=tmp_path)
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    b = json.loads((tmp_path / "dist" / "summary.json").read_text())
+    assert b["status"] == "converged" and b["ranks"] == 2 and b["friction"] == 0.3 and len(b["steps"]) == 8
+    with open(tmp_path / "serial" / "steps.csv") as fh:
+        rows = list(csv.DictReader(fh))
+    for row, step in zip(rows, b["steps"], strict=True):
+        assert float(row["t"]) == pytest.approx(step["t"], rel=1e-12)
+        assert step["normal_force"] == pytest.approx(float(row["normal_force"]), rel=1e-8)
+        n = float(row["normal_force"])
+        assert abs(np.linalg.norm(step["tangential_force"]) - float(row["tangential_force"])) <= 1e-8 * n
+    for step in b["steps"][-2:]:
+        assert np.linalg.norm(step["tangential_force"]) == pytest.approx(0.3 * step["normal_force"], rel=1e-8)
+    for k in range(1, 9):
+        assert (tmp_path / "dist" / "steps" / f"solution_{k:04d}_1.vtu").is_file()

@@ -16,6 +16,8 @@ from alcontact import linalg
 from alcontact.app import run_setup
 from alcontact.io.config import load_problem_text
 
+ROOT = Path(__file__).resolve().parents[2]
+
 from ._mpi import mpirun
 
 EXAMPLE = Path(__file__).resolve().parents[2] / "examples" / "hertz_2d.toml"
@@ -110,7 +112,7 @@ if "--no-extras" in sys.argv:
     sys.argv.remove("--no-extras")
     sys.modules["mpi4py"] = sys.modules["petsc4py"] = None  # an environment without the MPI extras
 from alcontact.cli import main
-sys.argv = ["alcontact", "run", "--out", sys.argv[1]]
+sys.argv = ["alcontact", "run", "--out", sys.argv[1]] + sys.argv[2:]
 main()
 """
 
@@ -163,3 +165,18 @@ def test_distributed_solve_options_take_effect_and_a_typo_is_reported_once(tmp_p
     capped = mpirun(2, str(script), str(tmp_path / "capped.json"), "3", timeout=120)
     assert capped.returncode != 0 and "3 iterations" in capped.stderr
     assert not (tmp_path / "capped.json").exists()
+
+
+def test_mpirun_with_a_problem_file_but_no_mpi_extras_gives_the_make_mpi_command(tmp_path):
+    """`mpirun -n 2 alcontact run problem.toml` where mpi4py and petsc4py do not load: the distributed path cannot
+    run, so every rank refuses with one message (rank 0) that gives the `make mpi` command; no results folder."""
+    script = tmp_path / "cli.py"
+    script.write_text(CLI_UNDER_MPIRUN)
+    proc = mpirun(2, str(script), str(tmp_path / "r"), "--no-extras", str(ROOT / "examples" / "hertz_2d.toml"),
+                  timeout=120)
+    text = " ".join((proc.stdout + proc.stderr).split())
+    assert proc.returncode != 0
+    assert text.count("error:") == 1, text
+    assert "make mpi" in text and "2 processes" in text
+    assert "Traceback" not in text
+    assert not (tmp_path / "r").exists()

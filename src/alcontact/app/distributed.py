@@ -1,13 +1,14 @@
 """``mpirun -n N alcontact run problem.toml``: a problem file solved by the distributed contact path.
 
 Rank 0 reads and checks the file (as ``alcontact check``), refuses what is not distributed
-yet with one message (finite deformation, friction, load steps, bodies other than linear
-elastic P1), and holds the mesh while it is partitioned; every rank then solves its part
-(:func:`alcontact.contact.solve_distributed`) and writes its piece of the VTU. The results
-folder is staged and moved into place by rank 0 (:class:`alcontact.io.ResultsFolder`, as
-the serial run): ``solution.pvtu`` (ParaView opens the pieces ``solution_<rank>.vtu`` as
-one), ``solution.pvd``, ``summary.json`` and ``report.md``. No rank builds an array of the
-mesh's size except rank 0 while it reads and partitions the mesh.
+yet with one message (finite deformation, friction), and holds the mesh while it is
+partitioned (handed to the solve as a builder, so that rank 0 releases it once distributed);
+every rank then solves its part (:func:`alcontact.contact.solve_distributed`, over the file's
+load steps) and writes its piece of the VTU. The results folder is staged and moved into
+place by rank 0 (:class:`alcontact.io.ResultsFolder`, as the serial run): ``solution.pvtu``
+(ParaView opens the pieces ``solution_<rank>.vtu`` as one), ``solution.pvd`` (with load
+steps: over ``steps/solution_NNNN.pvtu`` and their pieces ``steps/solution_NNNN_<rank>.vtu``),
+``summary.json`` (one entry per step in ``steps``) and ``report.md``.
 """
 
 from __future__ import annotations
@@ -21,7 +22,7 @@ import numpy as np
 
 from ..errors import InputError
 
-__all__ = ["run_distributed", "refusal"]
+__all__ = ["headline", "run_distributed", "refusal"]
 
 logger = logging.getLogger(__name__)
 
@@ -31,17 +32,11 @@ _FIELDS = {"displacement": 3, "contact_pressure": None, "gap": None, "rank": Non
 
 def refusal(setup) -> str | None:
     """Why the problem file ``setup`` cannot run on the distributed path yet (``None``: it can)."""
-    what = []
     if setup.finite:
-        what.append("finite deformation (kinematics = \"finite\")")
-    if float(getattr(setup.problem, "friction", 0.0) or 0.0) > 0:
-        what.append("friction")
-    if len(setup.times) > 1:
-        what.append(f"load steps ({len(setup.times)} step times)")
-    if not what:
-        return None
-    return ("the distributed (MPI) contact path solves frictionless small-deformation problems in one load step; "
-            f"this problem has {' and '.join(what)}: run it as one process (without mpirun).")
+        return ("the distributed (MPI) contact path solves small-deformation problems (frictionless or Coulomb, one "
+                "or more load steps); this problem has finite deformation (kinematics = \"finite\"): run it as one "
+                "process (without mpirun).")
+    return None
 
 
 def run_distributed(problem_file, out=None, force: bool = False, *, algorithm: str | None = None,
@@ -53,7 +48,7 @@ def run_distributed(problem_file, out=None, force: bool = False, *, algorithm: s
     alcontact.distributed.DistributedError
         On every rank, with the message of the rank that failed (bad input, a refused problem).
     """
-    from ..contact import available_algorithms, find_algorithm, solve_distributed
+    from ..contact import available_algorithms, find_algorithm, solve_distributed, solve_distributed_friction
     from ..distributed import collective, world
     from ..io import ResultsFolder, check_output_dir
     from ..io.preflight import check_problem
@@ -69,15 +64,32 @@ def run_distributed(problem_file, out=None, force: bool = False, *, algorithm: s
                 raise InputError(why)
             out = Path(out if out is not None else setup.output["folder"])
             check_output_dir(out, force)
+            frictional = setup.friction > 0
             alg = algorithm or setup.algorithm
             if alg not in available_algorithms():
                 find_algorithm(alg)
-            pen = penalty if penalty is not None else (setup.penalty if find_algorithm(alg).penalty is None else None)
-            head = (alg, pen, {**setup.options, **(overrides or {})}, dict(setup.petsc_options), str(out), setup.name)
-    alg, pen, options, petsc_options, out, name = comm.bcast(head, root=0)
-    sol = solve_distributed(setup.problem if comm.rank == 0 else None, alg, pen, options, comm=comm,
-                            petsc_options=petsc_options)
-    summary = _summary(sol, name, alg, options, petsc_options, problem_file, comm)
+            entry = find_algorithm(alg, friction=True) if frictional else find_algorithm(alg)
+            pen = penalty if penalty is not None else (setup.penalty if entry.penalty is None else None)
+            given = setup.friction_options if frictional else setup.options
+            head = (alg, pen, {**given, **(overrides or {})}, dict(setup.petsc_options), str(out), setup.name,
+                    frictional)
+    alg, pen, options, petsc_options, out, name, frictional = comm.bcast(head, root=0)
+    build = problem = history = times = None
+    if comm.rank == 0:  # handed over as a builder: rank 0 releases the whole mesh once it is distributed
+        build, history, times = [setup.problem].pop, setup.history, list(setup.times)
+        problem = setup.problem if frictional else None
+        setup = None
+    if frictional:
+        fsol = solve_distributed_friction(problem, history, alg, pen, options, comm=comm,
+                                          petsc_options=petsc_options)
+        problem = None
+        with collective(comm, "collecting the accepted load steps"):
+            sol = _friction_views(fsol)
+        summary = _friction_summary(fsol, name, options, petsc_options, problem_file, comm)
+    else:
+        sol = solve_distributed(build, alg, pen, options, comm=comm, petsc_options=petsc_options, steps=times,
+                                history=history)
+        summary = _summary(sol, name, alg, options, petsc_options, problem_file, comm)
     staging = folder = None
     with collective(comm, "creating the results folder"):
         if comm.rank == 0:
@@ -86,12 +98,7 @@ def run_distributed(problem_file, out=None, force: bool = False, *, algorithm: s
     staging = Path(comm.bcast(staging, root=0))
     failed = None
     try:
-        values = _piece_values(sol, comm)  # collective: the ghost nodes' values from their owners
-        with collective(comm, "writing the VTU pieces"):
-            _write_piece(staging, sol, values, comm.rank)
-        with collective(comm, "writing summary.json and report.md"):
-            if comm.rank == 0:
-                _write_master(staging, [f"solution_{k}.vtu" for k in range(comm.size)], summary)
+        _write_results(staging, sol, summary, comm)
     except BaseException as exc:  # noqa: BLE001 - rank 0 discards the staging folder, then re-raises
         failed = exc
     if comm.rank == 0:
@@ -103,10 +110,85 @@ def run_distributed(problem_file, out=None, force: bool = False, *, algorithm: s
     return summary
 
 
+def _write_results(staging: Path, sol, summary: dict, comm) -> None:
+    """Every rank's VTU pieces (of every load step when there are several) and rank 0's files, into ``staging``."""
+    from ..distributed import collective
+
+    entries = []
+    stepped = _stepped(sol)
+    if stepped:
+        with collective(comm, "creating the steps folder"):
+            if comm.rank == 0:
+                (staging / "steps").mkdir()
+    for k, step in enumerate(sol.steps if stepped else []):
+        values = _piece_values(step, comm)  # collective: the ghost nodes' values from their owners
+        stem = f"steps/solution_{k + 1:04d}"
+        with collective(comm, "writing the VTU pieces of the steps"):
+            _write_piece(staging, step, values, f"{stem}_{comm.rank}.vtu")
+            if comm.rank == 0:
+                _write_pvtu(staging / f"{stem}.pvtu", [f"solution_{k + 1:04d}_{r}.vtu" for r in range(comm.size)])
+        entries.append((step.extra["t"], f"{stem}.pvtu"))
+    values = _piece_values(sol, comm)
+    with collective(comm, "writing the VTU pieces"):
+        _write_piece(staging, sol, values, f"solution_{comm.rank}.vtu")
+    with collective(comm, "writing summary.json and report.md"):
+        if comm.rank == 0:
+            _write_master(staging, [f"solution_{k}.vtu" for k in range(comm.size)], summary,
+                          entries or [(1.0, "solution.pvtu")])
+
+
+def headline(summary: dict) -> str:
+    """The one line the command line prints for a distributed run (rank 0)."""
+    s = summary
+    head = f"{s['problem']}: {s['status']} on {s['ranks']} MPI ranks ({s['dofs']} DOFs); "
+    if "friction" in s:
+        return (head + f"{len(s['steps'])} load steps, normal force {s['normal_force']:.10g}, tangential force "
+                f"{s['tangential_force']}; results in {s['out']}")
+    return (head + f"contact force {s['model_contact_force']:.10g}, largest nodal pressure "
+            f"{s['peak_pressure_nodal_max']:.10g}; results in {s['out']}")
+
+
+def _friction_views(fsol):
+    """The steps of a frictional solve as the views the VTU writer reads (``u``, ``pressure``, ``gap``, ``piece``,
+    ``point_nodes``, ``extra["t"]``); the last one carries ``steps`` (all of them)."""
+    from types import SimpleNamespace
+
+    views = [SimpleNamespace(u=st.u, pressure=st.pressure, gap=st.gap, piece=fsol.piece,
+                             point_nodes=fsol.point_nodes, extra={"t": st.t}) for st in fsol.steps]
+    if not views:  # no accepted step: the contact-free start is not written; an empty final view for the writer
+        raise InputError(f"distributed frictional solve: no load step was accepted ({fsol.message}).")
+    last = views[-1]
+    last.steps = views
+    return last
+
+
+def _friction_summary(fsol, name, options, petsc_options, problem_file, comm) -> dict:
+    last = fsol.steps[-1] if fsol.steps else None
+    files = ["summary.json", "report.md", "solution.pvtu", "solution.pvd", "steps/"] + \
+        [f"solution_{k}.vtu" for k in range(comm.size)]
+    return {
+        "problem": name, "source": str(problem_file), "status": fsol.status.label, "status_code": int(fsol.status),
+        "message": fsol.message, "algorithm": fsol.algorithm, "penalty": fsol.penalty, "friction": fsol.friction,
+        "ranks": int(comm.size), "dofs": fsol.extra["dofs"], "candidates": fsol.extra["candidates"],
+        "linear_solver": fsol.extra["linear_solver"], "strategy": fsol.extra["strategy"],
+        "outer_iterations": fsol.outer_iterations, "newton_iterations": fsol.newton_iterations,
+        "cutbacks": fsol.cutbacks, "linear_solves": fsol.linear_solves,
+        "ksp_iterations": fsol.extra.get("ksp_iterations"),
+        "contact_force_vector": last.contact_force.tolist() if last else None,
+        "normal_force": last.normal_force if last else None,
+        "tangential_force": last.tangential_force.tolist() if last else None,
+        "options": options, "petsc_options": petsc_options, "timings": fsol.timings, "files": files,
+        "steps": [{"t": st.t, "normal_force": st.normal_force, "tangential_force": st.tangential_force.tolist(),
+                   "contact_force_vector": st.contact_force.tolist(), "outer_iterations": st.outer_iterations,
+                   "newton_iterations": st.newton_iterations, "cutbacks": st.cutbacks,
+                   "equilibrium": st.equilibrium} for st in fsol.steps],
+    }
+
+
 def _summary(sol, name, algorithm, options, petsc_options, problem_file, comm) -> dict:
     r = sol.result
     files = ["summary.json", "report.md", "solution.pvtu", "solution.pvd"] + \
-        [f"solution_{k}.vtu" for k in range(comm.size)]
+        [f"solution_{k}.vtu" for k in range(comm.size)] + (["steps/"] if _stepped(sol) else [])
     return {
         "problem": name, "source": str(problem_file), "status": r.status.label, "status_code": int(r.status),
         "message": r.message, "algorithm": r.algorithm, "penalty": r.penalty, "ranks": int(comm.size),
@@ -120,7 +202,16 @@ def _summary(sol, name, algorithm, options, petsc_options, problem_file, comm) -
         "contact_extent": sol.contact_extent.tolist(),
         "equilibrium": {"residual": sol.equilibrium["residual"], "balance": sol.equilibrium["balance"]},
         "options": options, "petsc_options": petsc_options, "timings": sol.timings, "files": files,
+        "steps": [{"t": st.extra["t"], "status": st.result.status.label, "model_contact_force": st.model_contact_force,
+                   "contact_force_vector": st.total_contact_force.tolist(), "peak_pressure_nodal_max": st.peak_pressure,
+                   "outer_iterations": st.result.outer_iterations, "newton_iterations": st.result.newton_iterations}
+                  for st in sol.steps],
     }
+
+
+def _stepped(sol) -> bool:
+    """Whether the run had load steps (more than one, or one at a time other than 1): then ``steps/`` is written."""
+    return len(sol.steps) > 1 or sol.steps[0].extra["t"] != 1.0
 
 
 def _piece_values(sol, comm) -> np.ndarray:
@@ -151,28 +242,28 @@ def _piece_values(sol, comm) -> np.ndarray:
     return out
 
 
-def _write_piece(staging: Path, sol, got: np.ndarray, rank: int) -> None:
-    """This rank's ``solution_<rank>.vtu``: its elements and their nodes."""
+def _write_piece(staging: Path, sol, got: np.ndarray, name: str) -> None:
+    """This rank's piece ``name`` (``solution_<rank>.vtu``): its elements and their nodes."""
     import meshio
 
     piece = sol.piece
     dim = piece.points.shape[0]
-    pts = np.zeros((piece.points.shape[1], 3))
+    nv = piece.points.shape[1]  # the vertices (a P2 piece's nodes are its vertices, then its edge nodes)
+    got = got[:nv]
+    pts = np.zeros((nv, 3))
     pts[:, :dim] = piece.points.T
     disp = np.zeros((pts.shape[0], 3))
     disp[:, :dim] = got[:, :dim]
     cell = "triangle" if dim == 2 else "tetra"
     data = {"displacement": disp, "contact_pressure": got[:, dim].copy(), "gap": got[:, dim + 1].copy(),
             "rank": got[:, dim + 2].copy()}
-    meshio.write(os.fspath(staging / f"solution_{rank}.vtu"),
+    meshio.write(os.fspath(staging / name),
                  meshio.Mesh(pts, [(cell, piece.elements.T.astype(np.int64))], point_data=data))
 
 
-def _write_master(staging: Path, pieces: list[str], summary: dict) -> None:
-    """``solution.pvtu`` over the pieces, ``solution.pvd``, ``summary.json`` and ``report.md`` (rank 0)."""
-    from ..io import write_json
+def _write_pvtu(path: Path, pieces: list[str]) -> None:
+    """A ``.pvtu`` over the VTU ``pieces`` (names relative to its folder)."""
     from ..io.results import write_text_atomic
-    from ..io.vtu import write_pvd
 
     lines = ['<?xml version="1.0"?>',
              '<VTKFile type="PUnstructuredGrid" version="0.1" byte_order="LittleEndian">',
@@ -184,10 +275,35 @@ def _write_master(staging: Path, pieces: list[str], summary: dict) -> None:
     lines.append('    </PPointData>')
     lines += [f'    <Piece Source="{p}"/>' for p in pieces]
     lines += ['  </PUnstructuredGrid>', '</VTKFile>', '']
-    write_text_atomic(staging / "solution.pvtu", "\n".join(lines))
-    write_pvd(staging / "solution.pvd", [(1.0, "solution.pvtu")])
+    write_text_atomic(path, "\n".join(lines))
+
+
+def _write_master(staging: Path, pieces: list[str], summary: dict, entries: list) -> None:
+    """``solution.pvtu`` over the pieces, ``solution.pvd`` over the steps' ``entries`` (time, file), ``summary.json``
+    and ``report.md`` (rank 0)."""
+    from ..io import write_json
+    from ..io.results import write_text_atomic
+    from ..io.vtu import write_pvd
+
+    _write_pvtu(staging / "solution.pvtu", pieces)
+    write_pvd(staging / "solution.pvd", entries)
     write_json(staging / "summary.json", summary)
     s = summary
+    if "friction" in s:
+        report = [f"# {s['problem']}: distributed frictional contact solve", "",
+                  f"- status: **{s['status']}** ({s['message']})",
+                  f"- {s['ranks']} MPI ranks, {s['dofs']} DOFs, {s['candidates']} contact candidates, friction "
+                  f"{s['friction']:g}",
+                  f"- algorithm {s['algorithm']} (penalty {s['penalty']}), linear solver {s['linear_solver']}",
+                  f"- {len(s['steps'])} load steps ({s['cutbacks']} cut-backs), outer iterations "
+                  f"{s['outer_iterations']}, Newton iterations {s['newton_iterations']}, KSP solves "
+                  f"{s['linear_solves']}", "", "| t | normal force | tangential force | equilibrium |",
+                  "|---|---|---|---|"]
+        report += [f"| {st['t']:g} | {st['normal_force']:.10g} | {st['tangential_force']} | {st['equilibrium']:.1e} |"
+                   for st in s["steps"]]
+        report += ["", "Open `solution.pvd` in ParaView: one piece per rank and step.", ""]
+        write_text_atomic(staging / "report.md", "\n".join(report))
+        return
     report = [f"# {s['problem']}: distributed contact solve", "",
               f"- status: **{s['status']}** ({s['message']})",
               f"- {s['ranks']} MPI ranks, {s['dofs']} DOFs, {s['candidates']} contact candidates",

@@ -46,7 +46,8 @@ from .problem import (KINEMATICS, BodyForce, Boundary, ContactPair, ContactProbl
 from .solution import (ContactFrame, ContactIteration, ContactResult, ContactSolution, ContactStatus,
                        FiniteFrictionSolution, FiniteFrictionStep, FiniteSolution, FiniteStep, FrictionSolution,
                        FrictionStep)
-from ._distributed import DistributedContactSolution, solve_distributed
+from ._distributed import (DistributedContactSolution, DistributedFrictionSolution, solve_distributed,
+                           solve_distributed_friction)
 from ._solve import DEFAULT_ALGORITHM, solve, solve_finite, solve_finite_friction, solve_friction
 from ._verify import check_state
 
@@ -71,7 +72,9 @@ __all__ = [
     "ContactFrame",
     "solve",
     "solve_distributed",
+    "solve_distributed_friction",
     "DistributedContactSolution",
+    "DistributedFrictionSolution",
     "available_algorithms",
     "algorithm_docs",
     "contact_penalties",

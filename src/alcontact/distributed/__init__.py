@@ -15,7 +15,7 @@ The distributed contact solve built on these pieces is :func:`alcontact.contact.
 (``mpirun -n N alcontact run problem.toml``).
 """
 
-from ._comm import DistributedError, collective, run_ranks, world
+from ._comm import DistributedError, collective, release_memory, run_ranks, world
 from ._elasticity import DistributedElasticity, DistributedSolution, LocalPiece
 from ._launch import check_launch, launch_rank, launch_size, mpi_extras_missing
 from ._partition import dual_graph, owner_numbering, partition_elements
@@ -33,6 +33,7 @@ __all__ = [
     "mpi_extras_missing",
     "owner_numbering",
     "partition_elements",
+    "release_memory",
     "run_ranks",
     "world",
 ]

@@ -12,7 +12,7 @@ import traceback
 
 from ..errors import AlcontactError, InputError
 
-__all__ = ["DistributedError", "collective", "run_ranks", "world"]
+__all__ = ["DistributedError", "collective", "release_memory", "run_ranks", "world"]
 
 logger = logging.getLogger(__name__)
 
@@ -105,3 +105,22 @@ def run_ranks(fn, *args, comm=None, **kwargs):
         sys.stderr.write(f"error on rank {comm.rank}: {type(exc).__name__}: {exc}\n")
         sys.stderr.flush()
         comm.Abort(1)
+
+
+def release_memory() -> None:
+    """Collect garbage and hand the freed heap back to the operating system (glibc's ``malloc_trim``; nothing
+    elsewhere).
+
+    Rank 0 calls it once the whole mesh it read is distributed and released: without it the
+    freed heap stays resident and the rank's later arrays (mapped, not taken from the heap) come
+    on top of it; 3D Hertz, 128.6k DOFs, 2 ranks: rank 0 ended 117 MB above rank 1, the size
+    of the problem it had built.
+    """
+    import ctypes
+    import gc
+
+    gc.collect()
+    try:
+        ctypes.CDLL(None).malloc_trim(0)
+    except (AttributeError, OSError):  # not glibc
+        pass

@@ -5,8 +5,13 @@ Rank 0 holds the mesh (as the serial path reads it), partitions its elements
 its elements and their nodes. Each rank assembles the stiffness of its own elements with
 scikit-fem (:class:`alcontact.fem.LinearElasticity` on the local piece of the mesh,
 the bilinear form of the equilibrium (6.18)-(6.20) without contact, :math:`a(u, v) = \int_\Omega \sigma(u):\varepsilon(v)\,dx`)
-and passes the element entries as COO triplets to ``MatSetPreallocationCOO`` /
-``MatSetValuesCOO``, which send the entries of rows owned elsewhere to their owner.
+into its local CSR matrix (rows and columns of its own nodes), and inserts it in one
+``MatSetValuesIJV`` call with the global row of each local row: rows owned by another rank
+(nodes on the interface) travel through PETSc's stash to their owner at assembly. The
+preallocation is exact on the rows only this rank assembles and an upper bound (the sum of
+the ranks' counts) on interface rows (:meth:`DistributedElasticity._preallocation`); a
+preallocation with COO triplets (``MatSetPreallocationCOO``) kept about 30 bytes per stored
+entry beyond the matrix (its maps and the triplets) and held the rank's block at block size 1.
 No rank but rank 0 (while it scatters the mesh) holds an array of the global size.
 
 Numbering: a node belongs to the lowest rank among its elements; each rank owns a
@@ -17,7 +22,7 @@ wants for its aggregates). Dirichlet rows and columns are eliminated with
 
 from __future__ import annotations
 
-import ctypes
+import dataclasses
 import logging
 import time
 from collections.abc import Callable
@@ -50,13 +55,29 @@ class LocalPiece:
         ``[start, stop)`` of the distributed node numbers this rank owns.
     n_nodes : int
         Number of nodes of the whole mesh.
+    mesh_nodes : numpy.ndarray of int, shape (n_local_nodes,), optional
+        Number of each local node in the numbering of rank 0's model (P1: ``mesh.p`` columns; P2:
+        its scalar DOFs, vertices then edge nodes), for output.
+    order : int
+        1 (the nodes are the vertices) or 2 (the nodes are the scalar P2 DOFs of the local mesh:
+        its vertices, then its edge nodes, in scikit-fem's numbering).
+    node_points : numpy.ndarray, shape (dim, n_local_nodes), optional
+        Coordinates of the local nodes (P2: with the edge nodes; ``None`` for P1: ``points``).
+    elem_nodes, elem_mesh_nodes : numpy.ndarray, optional
+        P2 in transit: the distributed and the model's number of every node of every element (the
+        receiving rank turns them into ``global_nodes`` and ``mesh_nodes`` of its own numbering).
     """
 
     points: np.ndarray
     elements: np.ndarray
-    global_nodes: np.ndarray
+    global_nodes: np.ndarray | None
     node_range: tuple[int, int]
     n_nodes: int
+    mesh_nodes: np.ndarray | None = None
+    order: int = 1
+    node_points: np.ndarray | None = None
+    elem_nodes: np.ndarray | None = None
+    elem_mesh_nodes: np.ndarray | None = None
 
 
 @dataclass
@@ -87,18 +108,6 @@ class DistributedSolution:
     seconds: dict = field(default_factory=dict)
 
 
-def _coo_calls(PETSc):
-    """``MatSetPreallocationCOO`` / ``MatSetValuesCOO`` from libpetsc (petsc4py 3.18 does not wrap them)."""
-    lib = ctypes.CDLL(PETSc.__file__, mode=ctypes.RTLD_GLOBAL)
-    pre = lib.MatSetPreallocationCOO
-    pre.argtypes = [ctypes.c_void_p, ctypes.c_int64, ctypes.c_void_p, ctypes.c_void_p]  # PetscCount n
-    pre.restype = ctypes.c_int
-    val = lib.MatSetValuesCOO
-    val.argtypes = [ctypes.c_void_p, ctypes.c_void_p, ctypes.c_int]
-    val.restype = ctypes.c_int
-    return pre, val
-
-
 class DistributedElasticity:
     """Small-strain linear elasticity on P1 triangles/tetrahedra, distributed over the ranks of ``comm``.
 
@@ -120,34 +129,84 @@ class DistributedElasticity:
         sol = model.solve(body_force=[0, 0, -1], clamped=lambda x: x[0] < 1e-12)
     """
 
-    def __init__(self, mesh, material, *, comm=None, parts: np.ndarray | None = None):
+    def __init__(self, mesh, material, *, comm=None, parts: np.ndarray | None = None, order: int = 1,
+                 element_nodes: np.ndarray | None = None):
         from ..fem import Material
 
         self.comm = comm if comm is not None else world()
         if not isinstance(material, Material):
             raise InputError(f"material must be an alcontact.fem.Material; got {type(material).__name__}.")
+        if order not in (1, 2):
+            raise InputError(f"order = {order!r}: the distributed elasticity has P1 and P2 elements (1 or 2).")
         self.material = material
+        self.order = int(order)
         t0 = time.perf_counter()
-        #: on rank 0: ``numbering[old]`` is the distributed number of the mesh's node ``old`` (None elsewhere)
+        #: on rank 0: ``numbering[old]`` is the distributed number of the model's node ``old`` (None elsewhere)
         self.numbering: np.ndarray | None = None
+        self._element_nodes = element_nodes
         self.piece, self._mesh_type = self._distribute(mesh, parts)
+        self._element_nodes = None
         self.dim = int(self.piece.points.shape[0])
+        self._local = None
+        if self.order == 2:  # the P2 nodes of the piece in the local model's numbering
+            self._local = self._local_model()
+            led = np.asarray(self._local.scalar_dofs.element_dofs)
+            n = int(self._local.scalar_dofs.N)
+            g, mn = np.empty(n, dtype=np.int64), np.empty(n, dtype=np.int64)
+            g[led] = self.piece.elem_nodes
+            mn[led] = self.piece.elem_mesh_nodes
+            self.piece = dataclasses.replace(self.piece, global_nodes=g, mesh_nodes=mn, elem_nodes=None,
+                                             elem_mesh_nodes=None,
+                                             node_points=np.asarray(self._local.scalar_doflocs, dtype=float))
         self.seconds = {"distribute": time.perf_counter() - t0}
+
+    def _local_model(self):
+        """The piece as an :class:`alcontact.fem.LinearElasticity` of this rank (P1 or P2)."""
+        from ..fem import LinearElasticity
+
+        piece = self.piece
+        return LinearElasticity(self._mesh_type(piece.points, piece.elements), self.material, order=self.order)
+
+    @property
+    def node_points(self) -> np.ndarray:
+        """``(dim, n_local_nodes)`` coordinates of the local nodes (P2: the edge nodes too)."""
+        return self.piece.points if self.piece.node_points is None else self.piece.node_points
 
     # ---------------------------------------------------------------- mesh
     def _distribute(self, mesh, parts):
         comm = self.comm
         size, rank = comm.size, comm.rank
-        pieces = mesh_type = None
+        plan = mesh_type = None
         with collective(comm, "partitioning the mesh"):
             if rank == 0:
-                pieces, mesh_type, self.numbering = self._split(mesh, parts, size)
+                plan, mesh_type, self.numbering = self._split(mesh, parts, size, self.order, self._element_nodes,
+                                                              self.material)
         mesh_type = comm.bcast(mesh_type, root=0)
-        piece = comm.scatter(pieces, root=0)  # rank 0 sends each rank its piece only
-        return piece, mesh_type
+        # rank 0 builds and sends one piece at a time (never every piece at once: a second copy of the mesh)
+        if rank == 0:
+            for r in range(1, size):
+                comm.send(self._piece_of(plan, r), dest=r, tag=71)
+            return self._piece_of(plan, 0), mesh_type
+        return comm.recv(source=0, tag=71), mesh_type
 
     @staticmethod
-    def _split(mesh, parts, size):
+    def _piece_of(plan, r: int) -> LocalPiece:
+        """Rank ``r``'s elements and their nodes from the partition ``plan`` of :meth:`_split`."""
+        p, t, parts, new, starts, T = plan
+        sel = parts == r
+        tr = t[:, sel]
+        nodes = np.unique(tr)
+        local = np.searchsorted(nodes, tr)  # monotonic: each element keeps its vertex order
+        rng = (int(starts[r]), int(starts[r + 1]))
+        if T is None:
+            return LocalPiece(np.ascontiguousarray(p[:, nodes]), np.ascontiguousarray(local), new[nodes], rng,
+                              int(new.size), mesh_nodes=nodes)
+        Tr = T[:, sel]
+        return LocalPiece(np.ascontiguousarray(p[:, nodes]), np.ascontiguousarray(local), None, rng, int(new.size),
+                          order=2, elem_nodes=np.ascontiguousarray(new[Tr]), elem_mesh_nodes=np.ascontiguousarray(Tr))
+
+    @staticmethod
+    def _split(mesh, parts, size, order: int = 1, element_nodes=None, material=None):
         import skfem
 
         if not isinstance(mesh, (skfem.MeshTri1, skfem.MeshTet1)):
@@ -163,17 +222,18 @@ class DistributedElasticity:
                                  f"shape {parts.shape} with values {parts.min()}..{parts.max()}.")
             if np.unique(parts).size != size:
                 raise InputError(f"parts leaves a rank without elements ({np.unique(parts).size} of {size} used).")
-        owner, new = owner_numbering(t, parts, p.shape[1])
+        T = None  # P2: the scalar DOFs of every element (vertices, then edge nodes), the nodes that are distributed
+        if order == 2:
+            if element_nodes is None:
+                from ..fem import LinearElasticity
+
+                element_nodes = LinearElasticity(mesh, material, order=2).scalar_dofs.element_dofs
+            T = np.asarray(element_nodes, dtype=np.int64)
+        nodes_of, n_nodes = (t, p.shape[1]) if T is None else (T, int(T.max()) + 1)
+        owner, new = owner_numbering(nodes_of, parts, n_nodes)
         counts = np.bincount(owner, minlength=size)
         starts = np.concatenate([[0], np.cumsum(counts)])
-        pieces = []
-        for r in range(size):
-            tr = t[:, parts == r]
-            nodes = np.unique(tr)
-            local = np.searchsorted(nodes, tr)
-            pieces.append(LocalPiece(np.ascontiguousarray(p[:, nodes]), np.ascontiguousarray(local),
-                                     new[nodes], (int(starts[r]), int(starts[r + 1])), int(p.shape[1])))
-        return pieces, type(mesh), new
+        return (p, t, parts, new, starts, T), type(mesh), new
 
     # ------------------------------------------------------------ assembly
     def assemble(self, body_force):
@@ -189,34 +249,39 @@ class DistributedElasticity:
         K : petsc4py.PETSc.Mat
         f : petsc4py.PETSc.Vec
         """
-        from ..fem import LinearElasticity
         from ..linalg import petsc
 
         PETSc = petsc()
         comm, dim, piece = self.comm, self.dim, self.piece
         t0 = time.perf_counter()
         with collective(comm, "assembling the local stiffness"):
-            local = LinearElasticity(self._mesh_type(piece.points, piece.elements), self.material)
-            K = local.stiffness().tocoo()
-            f_loc = local.body_load(np.asarray(body_force, dtype=float))
+            local = self._local if self._local is not None else self._local_model()
+            self._local = None
+            K = local.stiffness().tocsr()
+            force = np.asarray(body_force, dtype=float)
+            # no body force: no load assembly (it builds the vector basis at every quadrature point of the piece)
+            f_loc = local.body_load(force) if np.any(force != 0.0) else np.zeros(local.ndofs)
             _, dmap = local.all_node_dofs()  # (n_local_nodes, dim) local vector DOFs
             gdof = np.empty(local.ndofs, dtype=PETSc.IntType)
             for c in range(dim):
                 gdof[dmap[:, c]] = dim * piece.global_nodes + c
+            del local
+            cols = gdof[K.indices].astype(PETSc.IntType)  # global column of every stored entry
         n_own = dim * (piece.node_range[1] - piece.node_range[0])
         N = dim * piece.n_nodes
+        d_nnz, o_nnz = self._preallocation(K, gdof, cols, n_own)
         A = PETSc.Mat().create(comm=comm)
         A.setSizes(((n_own, N), (n_own, N)), bsize=dim)
         A.setType(PETSc.Mat.Type.AIJ)
-        rows = np.ascontiguousarray(gdof[K.row], dtype=PETSc.IntType)
-        cols = np.ascontiguousarray(gdof[K.col], dtype=PETSc.IntType)
-        vals = np.ascontiguousarray(K.data, dtype=PETSc.ScalarType)
-        pre, setv = _coo_calls(PETSc)
-        if pre(A.handle, rows.size, rows.ctypes.data, cols.ctypes.data) != 0:
-            raise InputError("MatSetPreallocationCOO failed (see PETSc's message above).")
-        if setv(A.handle, vals.ctypes.data, int(PETSc.InsertMode.ADD_VALUES)) != 0:
-            raise InputError("MatSetValuesCOO failed (see PETSc's message above).")
+        A.setPreallocationNNZ((d_nnz, o_nnz))
+        del d_nnz, o_nnz
+        # every local row at once, rows owned by another rank through PETSc's stash to their owner
+        A.setValuesIJV(K.indptr.astype(PETSc.IntType), cols, K.data, addv=PETSc.InsertMode.ADD_VALUES, rowmap=gdof)
+        del K, cols
         A.assemble()
+        if comm.size > 1 and A.getDiagonalBlock().getBlockSize() != dim:
+            # point-block Jacobi (MatInvertBlockDiagonal of the rank's diagonal block) needs the node blocks there
+            A.getDiagonalBlock().setBlockSize(dim)
         A.setOption(PETSc.Mat.Option.SPD, True)
         f = A.createVecRight()
         f.setValues(gdof, f_loc, addv=PETSc.InsertMode.ADD_VALUES)
@@ -225,13 +290,69 @@ class DistributedElasticity:
         self.seconds["assemble"] = time.perf_counter() - t0
         return A, f
 
+    def _preallocation(self, K, gdof: np.ndarray, cols: np.ndarray, n_own: int) -> tuple[np.ndarray, np.ndarray]:
+        """Entries per owned row in the diagonal and off-diagonal blocks (``MatMPIAIJSetPreallocation``).
+
+        The rows of this rank's elements count their own entries; a row owned by another rank
+        (a node on the interface, in this rank's elements) is counted by the rank that
+        assembles it and the counts are sent to its owner, which adds them. Entries two
+        ranks both add are counted twice: an upper bound on the interface rows only.
+        """
+        comm, dim = self.comm, self.dim
+        ranges = np.array(comm.allgather(self.piece.node_range), dtype=np.int64) * dim  # DOF range of each rank
+        lo, hi = ranges[comm.rank]
+        grow = gdof.astype(np.int64)
+        owner = np.searchsorted(ranges[:, 1], grow, side="right")  # rank owning each local row
+        # entries of each local row in this rank's column range (right for the rows it owns) ...
+        d_row = np.add.reduceat((cols >= lo) & (cols < hi), K.indptr[:-1], dtype=np.int64)
+        ghost = np.flatnonzero(owner != comm.rank)
+        if ghost.size:  # ... and, for the rows of other ranks, in the column range of their owner
+            G = K[ghost]
+            gcols = gdof[G.indices].astype(np.int64)
+            r_of = np.repeat(owner[ghost], np.diff(G.indptr))
+            d_row[ghost] = np.add.reduceat((gcols >= ranges[r_of, 0]) & (gcols < ranges[r_of, 1]), G.indptr[:-1],
+                                           dtype=np.int64)
+        o_row = np.diff(K.indptr) - d_row
+        d_nnz = np.zeros(n_own, dtype=np.int64)
+        o_nnz = np.zeros(n_own, dtype=np.int64)
+        mine = owner == comm.rank
+        d_nnz[grow[mine] - lo] += d_row[mine]
+        o_nnz[grow[mine] - lo] += o_row[mine]
+        send = [None] * comm.size
+        for r in range(comm.size):
+            sel = owner == r
+            if r != comm.rank and np.any(sel):
+                send[r] = (grow[sel], d_row[sel], o_row[sel])
+        for got in comm.alltoall(send):
+            if got is not None:
+                rows, d, o = got
+                np.add.at(d_nnz, rows - lo, d)
+                np.add.at(o_nnz, rows - lo, o)
+        N = int(ranges[-1, 1])
+        PETSc_int = gdof.dtype
+        return np.minimum(d_nnz, hi - lo).astype(PETSc_int), np.minimum(o_nnz, N - (hi - lo)).astype(PETSc_int)
+
+    def forget_numbering(self) -> None:
+        """Drop rank 0's ``numbering`` (an array over the whole mesh) once nothing needs it (the pieces carry
+        their mesh node numbers, :attr:`LocalPiece.mesh_nodes`)."""
+        self.numbering = None
+
+    def owned_mesh_nodes(self) -> np.ndarray:
+        """Mesh node number (rank 0's numbering) of each owned node, in distributed order (no communication)."""
+        piece = self.piece
+        i = piece.global_nodes - piece.node_range[0]
+        mine = (i >= 0) & (i < piece.node_range[1] - piece.node_range[0])
+        out = np.empty(piece.node_range[1] - piece.node_range[0], dtype=np.int64)
+        out[i[mine]] = piece.mesh_nodes[mine]
+        return out
+
     def owned_points(self) -> np.ndarray:
         """``(n_owned_nodes, dim)`` coordinates of the nodes this rank owns, in distributed order."""
         piece = self.piece
         i = piece.global_nodes - piece.node_range[0]
         mine = (i >= 0) & (i < piece.node_range[1] - piece.node_range[0])
         out = np.empty((piece.node_range[1] - piece.node_range[0], self.dim))
-        out[i[mine]] = piece.points[:, mine].T
+        out[i[mine]] = self.node_points[:, mine].T
         return out
 
     def rigid_modes(self) -> np.ndarray:

@@ -30,7 +30,8 @@ from ..errors import InputError
 from ._base import MatrixHints
 
 __all__ = ["MPI_SETUP_HINT", "PetscDirectSolver", "PetscKrylovSolver", "apply_options", "checked_options", "configure_ksp",
-           "direct_package", "near_null_space", "petsc", "petsc_matrix", "report_unused_options", "unused_options"]
+           "direct_package", "mg_hierarchy", "mg_smoothers", "near_null_space", "object_id", "petsc", "petsc_matrix",
+           "report_unused_options", "unused_options"]
 
 logger = logging.getLogger(__name__)
 
@@ -164,6 +165,38 @@ def report_unused_options(prefix: str, options: dict | None, *, reported: set | 
         if reported is not None:
             reported.update(new)
     return unused
+
+
+def object_id(obj) -> int:
+    """PETSc's unique id of a PETSc object (``PetscObjectGetId``; petsc4py 3.18 does not wrap it)."""
+    lib = _libpetsc()
+    lib.PetscObjectGetId.argtypes = [ctypes.c_void_p, ctypes.POINTER(ctypes.c_int64)]
+    lib.PetscObjectGetId.restype = ctypes.c_int
+    out = ctypes.c_int64(0)
+    if lib.PetscObjectGetId(ctypes.c_void_p(obj.handle), ctypes.byref(out)) != 0:
+        raise InputError("PETSc could not give the id of an object.")
+    return int(out.value)
+
+
+def mg_hierarchy(ksp) -> tuple[int, ...]:
+    """Ids of the prolongators of the multigrid preconditioner of ``ksp``, finest last (``()`` for another PC).
+
+    Two solves ran with the same hierarchy when they give the same tuple: PCGAMG with
+    ``pc_gamg_reuse_interpolation`` keeps these objects and recomputes only the Galerkin
+    coarse operators; a hierarchy built from scratch has new prolongators.
+    """
+    pc = ksp.getPC()
+    if pc.getType() not in ("gamg", "mg"):
+        return ()
+    return tuple(object_id(pc.getMGInterpolation(level)) for level in range(1, pc.getMGLevels()))
+
+
+def mg_smoothers(ksp) -> list[str]:
+    """PC type of each level's smoother of the multigrid preconditioner of ``ksp``, coarsest first."""
+    pc = ksp.getPC()
+    if pc.getType() not in ("gamg", "mg"):
+        return []
+    return [pc.getMGSmoother(level).getPC().getType() for level in range(pc.getMGLevels())]
 
 
 def petsc_matrix(matrix, comm=None):

@@ -1,7 +1,8 @@
 """Distributed Hertz contact (run under mpirun by tests/mpi/test_distributed_contact.py).
 
 Usage: python contact.py OUT.json DIM PARTITION CASE [CASE ...]
-  DIM 2 or 3 (the Hertz problems of alcontact.problems.hertz at a coarse mesh, see ``problem``);
+  DIM 2 or 3 (the Hertz problems of alcontact.problems.hertz at a coarse mesh, see ``problem``), or "2p2", "3p2"
+  (the same with P2 elements);
   PARTITION "metis", or "zone" (element slabs along x - y by centroid, cutting the contact zone:
   a partition forced through it, :func:`zone_parts`); CASE "ALGORITHM:SOLVER[:PENALTY]"
   (SOLVER "petsc" or "petsc-direct"), or a failure: "fail:rank1" (the obstacle raises on rank 1
@@ -21,9 +22,9 @@ from alcontact.distributed import run_ranks, world
 from alcontact.problems import hertz
 
 
-def problem(dim):
+def problem(dim, order: int = 1):
     """The coarse Hertz problems of the tests (also built by the test for the serial reference)."""
-    return hertz.hertz_2d(n_per_a=4) if dim == 2 else hertz.hertz_3d(n_per_a=1)
+    return hertz.hertz_2d(n_per_a=4, order=order) if dim == 2 else hertz.hertz_3d(n_per_a=1, order=order)
 
 
 class FailingCircle(Circle):
@@ -46,13 +47,13 @@ def zone_parts(mesh, size):
 
 def main(out, dim, partition, *cases):
     comm = world()
-    dim = int(dim)
+    dim, order = (int(dim[0]), 2) if str(dim).endswith("p2") else (int(dim), 1)  # "2p2", "3p2": P2 elements
     results = {}
     for case in cases:
         algorithm, solver, *rest = case.split(":")
         prob = parts = None
         if comm.rank == 0:
-            prob = problem(dim)
+            prob = problem(dim, order)
             if case == "fail:rank1":
                 from alcontact.contact import ContactProblem
 
@@ -77,7 +78,7 @@ def main(out, dim, partition, *cases):
         us = comm.gather(sol.u.reshape(-1, dim), root=0)
         nodes = comm.gather(sol.global_nodes, root=0)
         if comm.rank == 0:
-            u = np.empty((prob.model.mesh.p.shape[1], dim))
+            u = np.empty((prob.model.all_node_dofs()[0].shape[0], dim))
             u[np.concatenate(nodes)] = np.concatenate(us)
             r = sol.result
             results[case] = {

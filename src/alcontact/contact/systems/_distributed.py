@@ -11,9 +11,26 @@ with the displacement a distributed vector and every linear solve a PETSc KSP on
     J = K + B^T \operatorname{diag}(w \circ dt_N/dg)\, B ,
 
 with Dirichlet rows and columns of ``K`` and ``J`` eliminated (``MatZeroRowsColumns``,
-the prescribed values held in ``u``). The contact term of ``J`` is one ``d x d`` block
+the prescribed values held in ``u``; every Newton step is set to 0 on those rows, where a
+preconditioned Krylov iterate is not exactly 0). The contact term of ``J`` is one ``d x d`` block
 per contact point at its own node, so every rank adds the blocks of the points it owns
 to rows it owns: no communication.
+
+The Newton matrices, as on the serial Krylov path (:mod:`~alcontact.contact.systems._krylov`): one
+``MPIAIJ`` matrix ``J`` with the pattern of ``K`` and of every contact block, whose values are
+rewritten for each Newton step, and one KSP on it, so that PCGAMG keeps the prolongators of
+its first hierarchy and recomputes only the Galerkin coarse operators
+(``pc_gamg_reuse_interpolation``, :data:`GAMG_DEFAULTS`; ``extra["gamg_setups"]`` counts the
+hierarchies built, ``"gamg_updates"`` the Galerkin updates). The Chebyshev smoothers
+estimate the spectrum of their own operator at each update (``pc_gamg_use_sa_esteig
+false``: GAMG's estimates are those of the first matrix, with which CG met an indefinite
+preconditioner once the springs were stiff), and the finest level's smoother is point-block
+Jacobi (:data:`FINE_SMOOTHER`): each contact spring :math:`k_i \nu_i \nu_i^T` lies in its
+node's ``d x d`` diagonal block, which point-block Jacobi inverts exactly, the role the
+Householder reflections of stiff springs play on the serial path. The Newton steps are
+inexact with the serial path's forcing terms (1e-3 down to 1e-6, tightened in the last step
+to reach the Newton tolerance); the direct KSP (MUMPS) refactorizes the same pattern
+numerically.
 
 Ownership: the mesh is read and partitioned on rank 0
 (:class:`alcontact.distributed.DistributedElasticity`: METIS, each rank assembles its
@@ -50,20 +67,35 @@ from ...errors import InputError
 from ...optim import LineSearch, NewtonSettings, NewtonSystem, newton
 from ..algorithms._subproblem import NewtonOutcome, subproblem_outcome
 from ..kinematics._points import _element_size
+from ..problem._loading import component_fields
+from ._krylov import _FORCING_MAX, _FORCING_MIN, _FORCING_SLOW, _FORCING_START, INEXACT_DOFS
 
-__all__ = ["DistributedContact"]
+__all__ = ["DistributedContact", "DistributedFrictionalContact"]
 
 logger = logging.getLogger(__name__)
 
 #: Newton tolerance floor of the distributed subproblems (KSP solves and round-off of :math:`Ku`, as on
 #: the serial Krylov path)
 _NEWTON_TOL_FLOOR = 1e-11
-#: the Newton settings: no full step on a flat merit (it compares local maxima of the residual)
-_SETTINGS = NewtonSettings(line_search=LineSearch(full_step=False))
+#: the Newton settings: a trial whose relative residual (``measure``, reduced over the ranks) decreases is
+#: accepted, the rank-independent form of the serial "full step on a flat merit" (which compares local maxima of
+#: the residual and is off here); without it the merit, flat to round-off near the solution of a
+#: displacement-driven problem, accepted steps of 1e-5 and the Newton stalled (flat punch, semi-smooth Newton:
+#: relative residual 1.2e-7 after 20 iterations)
+_SETTINGS = NewtonSettings(line_search=LineSearch(full_step=False, measure_decrease=True))
 #: the inner augmented Lagrangian of the semi-smooth Newton reference: relative update and budget
 _UZAWA_TOL = 1e-10
 #: relative (true) residual of the CG + GAMG solves of the Newton systems
 _KSP_RTOL = 1e-10
+#: GAMG options of the Newton solves (the problem file's ``petsc_options`` override them; module doc): keep the
+#: prolongators of the first hierarchy and recompute only the Galerkin coarse operators when the values of the
+#: Newton matrix change, and let every Chebyshev smoother estimate the spectrum of its own operator (the estimates
+#: GAMG hands over from its prolongator smoothing are those of the first matrix: with them CG met an indefinite
+#: preconditioner as soon as the contact springs were stiff)
+GAMG_DEFAULTS = {"pc_gamg_reuse_interpolation": "true", "pc_gamg_use_sa_esteig": "false"}
+#: PC of the finest level's Chebyshev smoother, unless ``petsc_options`` name ``mg_levels_pc_type``: point-block
+#: Jacobi inverts each node's ``d x d`` block, where each contact spring lives (module doc)
+FINE_SMOOTHER = "pbjacobi"
 _UZAWA_MAXITER = 200
 
 
@@ -91,9 +123,11 @@ class DistributedContact:
 
     Parameters
     ----------
-    problem : ContactProblem or None
+    problem : ContactProblem, callable or None
         The problem on rank 0 (one linear elastic body with a P1 triangle or tetrahedron
-        mesh, one rigid master, small kinematics); ``None`` on the other ranks.
+        mesh, one rigid master, small kinematics), or a function without arguments that builds
+        it there (then released once its loads, supports and contact points are distributed,
+        before the assembly); ``None`` on the other ranks.
     comm : mpi4py communicator
     parts : ndarray of int, optional
         Rank of each element (on rank 0) instead of METIS (e.g. to force a cut through the contact zone).
@@ -103,6 +137,14 @@ class DistributedContact:
         PETSc options passed through (names without the dash).
     margin : float
         Candidate rule of :class:`~alcontact.contact.kinematics._points.ContactPoints`.
+    forcing : bool
+        Inexact Newton steps (forcing terms) with the iterative KSP.
+    history : LoadHistory, optional
+        On rank 0: ramped supports and loads (sent to every rank); each rank keeps its part of
+        every load component (:func:`~alcontact.contact.problem._loading.component_fields`) and
+        :meth:`at_time` sets a step's loads and prescribed values.
+    t : float
+        Step time of the first state (1: the problem as given).
 
     Attributes
     ----------
@@ -114,17 +156,17 @@ class DistributedContact:
     """
 
     # ---- ContactSystem: declared capabilities ("not available" values, as ContactPoints declares them)
-    inexact_subproblems = False
     physical_stopping = False
     warm_penalty_start = False
     penalty_continuation = False
     factorizations = 0
+    gamg_setups = 0
 
     def __init__(self, problem, *, comm, parts=None, ksp: str = "gamg", options: dict | None = None,
-                 margin: float = 0.25):
+                 margin: float = 0.25, forcing: bool = True, history=None, t: float = 1.0, frictional: bool = False):
         from mpi4py import MPI
 
-        from ...distributed import DistributedElasticity, collective
+        from ...distributed import DistributedElasticity, collective, release_memory
         from ...linalg import petsc
 
         PETSc = petsc()
@@ -133,6 +175,8 @@ class DistributedContact:
         if ksp not in ("gamg", "direct"):
             raise InputError(f"ksp={ksp!r}; allowed: 'gamg', 'direct'.")
         self.ksp_kind, self.options = ksp, dict(options or {})
+        #: inexact Newton (forcing terms) on the iterative KSP; the direct one solves exactly
+        self.forcing = ksp == "gamg" and forcing
         self.carried_stiffness = None
         self.active_converged = True
         self.active_residual = float("nan")
@@ -144,12 +188,19 @@ class DistributedContact:
         head = None
         with collective(comm, "checking the problem for the distributed path"):
             if comm.rank == 0:
-                head = pickle.dumps(self._check(problem))  # an obstacle that cannot be sent fails here
+                if callable(problem) and not hasattr(problem, "model"):
+                    problem = problem()
+                # an obstacle or a load history that cannot be sent fails here
+                head = pickle.dumps((*self._check(problem, frictional), self._check_history(history)))
         head = comm.bcast(head, root=0)
         with collective(comm, "receiving the material and the obstacle"):
-            material, obstacle = pickle.loads(head)
+            material, obstacle, history = pickle.loads(head)
+        self.history = history
+        order = comm.bcast(int(getattr(problem.model, "order", 1)) if comm.rank == 0 else None, root=0)
         self.body = DistributedElasticity(problem.model.mesh if comm.rank == 0 else None, material, comm=comm,
-                                          parts=parts)
+                                          parts=parts, order=order,
+                                          element_nodes=problem.model.scalar_dofs.element_dofs
+                                          if comm.rank == 0 and order == 2 else None)
         self.dim = dim = self.body.dim
         piece = self.body.piece
         self.n_own = piece.node_range[1] - piece.node_range[0]
@@ -159,20 +210,27 @@ class DistributedContact:
         pieces = h = None
         with collective(comm, "distributing loads, supports and contact points"):
             if comm.rank == 0:
-                pieces = self._pieces(problem, ranges)
+                pieces = self._pieces(problem, history, ranges)
                 h = _element_size(problem.model, problem.contact_boundary, problem.obstacle)
         mine = comm.scatter(pieces, root=0)
         del pieces
+        problem = None  # rank 0 holds nothing of the whole mesh from here on (when the caller holds no reference)
+        self.body.forget_numbering()
+        if comm.rank == 0:
+            release_memory()
         self.h = float(comm.bcast(h, root=0))
-        self.f = mine["f"]
+        self.f_parts = mine["f"]  # (ncomp, dim * n_own): the load of each component at amplitude 1
         self.fixed = mine["fixed"]  # local DOF numbers
-        self.fixed_values = mine["values"]
+        self.value_parts = mine["values"]  # (ncomp, nfixed): the prescribed values of each component
+        self.f = self.f_parts[0].copy()
+        self.fixed_values = self.value_parts[0].copy()
         self.point_node = mine["node"]  # local node of each owned contact point
         self.points = mine["points"]  # (m_r, dim) coordinates
         self.weights = mine["weights"]
         free = np.ones(dim * self.n_own, dtype=bool)
         free[self.fixed] = False
         self.free = free
+        self.n_free_global = int(comm.allreduce(int(free.sum()), op=MPI.SUM))
         with collective(comm, "evaluating the obstacle at the contact points"):
             gap0, nu = obstacle.evaluate(self.points) if self.points.shape[0] else (np.zeros(0), np.zeros((0, dim)))
             self.gap0 = np.asarray(gap0, dtype=float).reshape(-1)
@@ -184,14 +242,15 @@ class DistributedContact:
         self.point_offset = int(np.sum(counts[:comm.rank]))
         self.n_points = int(counts.sum())
         self._setup_matrices()
-        self.u_free = self._solve_free()
-        self.x_free = self.u_free
-        self._select_candidates(self.local_gaps(self.u_free), margin)
+        self.margin = margin
+        self.cand = np.empty(0, dtype=np.int64)
+        self._my_pos = self._my_pt = np.empty(0, dtype=np.int64)
+        self.at_time(t)
         self.setup_seconds = time.perf_counter() - t0
 
     # ------------------------------------------------------------ set-up (rank 0 reads, all ranks own)
     @staticmethod
-    def _check(problem):
+    def _check(problem, frictional: bool = False):
         from ...fem import LinearElasticity
         from ..problem import ContactProblem
 
@@ -200,32 +259,52 @@ class DistributedContact:
                              f"{type(problem).__name__}.")
         model = problem.model
         what = []
-        if not isinstance(model, LinearElasticity) or getattr(model, "order", 1) != 1 or \
+        if not isinstance(model, LinearElasticity) or getattr(model, "order", 1) not in (1, 2) or \
                 getattr(model, "axisymmetric", False) or getattr(model, "volumetric", "full") != "full":
-            what.append("a linear elastic body with P1 elements (no P2, mixed, axisymmetric or hyperelastic "
+            what.append("a linear elastic body with P1 or P2 elements (no mixed, axisymmetric or hyperelastic "
                         "body)")
         if getattr(problem, "kinematics", "small") != "small":
             what.append("small deformation (kinematics = 'small')")
-        if float(problem.friction or 0.0) > 0:
-            what.append("frictionless contact (friction = 0)")
+        if float(problem.friction or 0.0) > 0 and not frictional:
+            what.append("frictionless contact (friction = 0; Coulomb friction: solve_distributed_friction)")
+        if len(problem.pairs) != 1 or not problem.pairs[0].master.rigid:
+            what.append("one contact pair against a rigid obstacle")
         if what:
             raise InputError("the distributed (MPI) contact path solves " + "; ".join(what) + " so far; run this "
                              "problem as one process (without mpirun).")
         return model.material, problem.obstacle
 
-    def _pieces(self, problem, ranges):
-        """On rank 0: the loads, supports and contact points of every rank, in its local numbering."""
+    @staticmethod
+    def _check_history(history):
+        from ..problem import LoadHistory
+
+        if history is not None and not isinstance(history, LoadHistory):
+            raise InputError(f"history must be a LoadHistory or None; got {type(history).__name__}.")
+        return history
+
+    def _pieces(self, problem, history, ranges):
+        """On rank 0: the loads and prescribed values (per component of the history, rows ``(ncomp, ...)``), the
+        supports and the contact points of every rank, in its local numbering."""
         model, dim = problem.model, self.body.dim
         new = self.body.numbering
         _, dmap = model.all_node_dofs()  # (n_nodes, dim) model DOFs of the mesh's nodes
         dist = np.empty(model.ndofs, dtype=np.int64)
         for c in range(dim):
             dist[dmap[:, c]] = dim * new + c
-        f = np.zeros(model.ndofs)
-        f[dist] = problem.load_vector()
-        fixed, values = problem.dirichlet()
-        fixed = np.asarray(fixed, dtype=np.int64)
-        values = np.zeros(fixed.size) if values is None else np.broadcast_to(np.asarray(values, float), fixed.shape)
+        if history is None:  # the problem's own supports and loads (one component, amplitude 1)
+            fixed, values = problem.dirichlet()
+            fixed = np.asarray(fixed, dtype=np.int64)
+            values = np.zeros(fixed.size) if values is None else \
+                np.broadcast_to(np.asarray(values, float), fixed.shape)
+            parts = [(values, problem.load_vector())]
+        else:  # the base and every case of the history at amplitude 1 (component_fields, as the serial steps)
+            fixed, parts = component_fields(problem, history)
+            fixed = np.asarray(fixed, dtype=np.int64)
+        f = np.zeros((len(parts), model.ndofs))
+        for k, (_, load) in enumerate(parts):
+            f[k, dist] = load
+        values = np.stack([np.broadcast_to(np.asarray(fv, float), fixed.shape) for fv, _ in parts])
+        del parts
         fixed_d = dist[fixed]
         pts, cdofs = model.node_dofs(problem.contact_boundary)
         w = model.boundary_weights(problem.contact_boundary)
@@ -235,8 +314,8 @@ class DistributedContact:
         for (a, b) in ranges:
             sel = (fixed_d >= dim * a) & (fixed_d < dim * b)
             on = order[(cnode[order] >= a) & (cnode[order] < b)]
-            pieces.append({"f": f[dim * a:dim * b].copy(), "fixed": fixed_d[sel] - dim * a,
-                           "values": np.array(values[sel], dtype=float), "node": cnode[on] - a,
+            pieces.append({"f": f[:, dim * a:dim * b].copy(), "fixed": fixed_d[sel] - dim * a,
+                           "values": np.array(values[:, sel], dtype=float), "node": cnode[on] - a,
                            "points": np.ascontiguousarray(pts[on], dtype=float), "weights": np.asarray(w[on], float)})
         return pieces
 
@@ -244,24 +323,54 @@ class DistributedContact:
         return (self.dof_start + np.asarray(local, dtype=np.int64)).astype(self.PETSc.IntType)
 
     def _setup_matrices(self) -> None:
-        """``K`` (``MPIAIJ``), ``K`` with the supported rows and columns eliminated, the KSP and the near-null space."""
+        r"""The one matrix ``J`` (``MPIAIJ``: ``K`` with the supported rows and columns eliminated, then the contact
+        blocks of each Newton step), the supported rows of ``K`` (:meth:`matvec`), the KSP and the near-null space.
+
+        ``J`` differs from the eliminated stiffness :math:`K_c` only in the ``d x d`` blocks of the
+        contact points, whose :math:`K_c` values are kept (``blocks0``): no second copy of the
+        stiffness is held. ``Kfix``: the rows of ``K`` of the supported DOFs (a surface of rows), so
+        that :math:`Kx` is :math:`K_c x` plus the coupling of the supported DOFs (:meth:`matvec`).
+        """
         from ...linalg import configure_ksp, direct_package, near_null_space
 
         PETSc = self.PETSc
         t0 = time.perf_counter()
         K, _ = self.body.assemble(np.zeros(self.dim))
-        self.K = K
-        self.Kc = K.duplicate(copy=True)
         # the d x d block of every contact point in the pattern (an entry of K that cancels exactly, e.g. the
         # x-y coupling of a node of a structured tetrahedral mesh, is not stored by the assembly)
-        self.Kc.setOption(PETSc.Mat.Option.NEW_NONZERO_ALLOCATION_ERR, False)
+        K.setOption(PETSc.Mat.Option.NEW_NONZERO_ALLOCATION_ERR, False)
         for dofs in self.point_dofs:
             rows = self._rows(dofs)
-            self.Kc.setValues(rows, rows, np.zeros(rows.size * rows.size), addv=PETSc.InsertMode.ADD_VALUES)
-        self.Kc.assemble()
-        self.Kc.setOption(PETSc.Mat.Option.NEW_NONZERO_ALLOCATION_ERR, True)
-        self.Kc.zeroRowsColumns(self._rows(self.fixed), diag=1.0)
-        self.Kc.setOption(PETSc.Mat.Option.SPD, True)
+            K.setValues(rows, rows, np.zeros(rows.size * rows.size), addv=PETSc.InsertMode.ADD_VALUES)
+        K.assemble()
+        K.setOption(PETSc.Mat.Option.NEW_NONZERO_ALLOCATION_ERR, True)
+        comm = K.getComm()
+        fixed_rows = self._rows(self.fixed)
+        iscol = PETSc.IS().createStride(self.dim * self.n_own, first=self.dof_start, step=1, comm=comm)
+        isrow = PETSc.IS().createGeneral(fixed_rows, comm=comm)
+        self.Kfix = K.createSubMatrix(isrow, iscol)  # rows of the supported DOFs, in the order of self.fixed
+        for obj in (isrow, iscol):
+            obj.destroy()
+        self._fx, self._fy = self.Kfix.createVecs()  # (columns: the DOF layout, rows: the supported DOFs)
+        K.zeroRowsColumns(fixed_rows, diag=1.0)
+        K.setOption(PETSc.Mat.Option.SPD, True)
+        # the rows of the contact points' DOFs of K_c: J x on those rows would hold the contact springs, whose
+        # subtraction cancels digits (k |c x| is 1e3 times the forces at the default penalty)
+        iscol = PETSc.IS().createStride(self.dim * self.n_own, first=self.dof_start, step=1, comm=comm)
+        isrow = PETSc.IS().createGeneral(self._rows(self.point_dofs.ravel()), comm=comm)
+        self.Kpts = K.createSubMatrix(isrow, iscol)
+        for obj in (isrow, iscol):
+            obj.destroy()
+        self._py = self.Kpts.createVecLeft()
+        # the one Newton matrix: the values of every J are written into it (same nonzero pattern), so the KSP's
+        # preconditioner sees one operator whose values change and GAMG keeps its prolongators (module doc)
+        self.J = K
+        d = self.dim
+        self.blocks0 = np.empty((self.points.shape[0], d, d))
+        for i, dofs in enumerate(self.point_dofs):
+            rows = self._rows(dofs)
+            self.blocks0[i] = K.getValues(rows, rows).reshape(d, d)
+        self._k_in_J = np.zeros(self.points.shape[0])  # the contact stiffness of each owned point now in J
         self.assembly_seconds = time.perf_counter() - t0
         n = self.comm.allreduce(int(self.fixed.size), op=self.MPI.SUM)
         if n == 0:
@@ -270,15 +379,49 @@ class DistributedContact:
         t1 = time.perf_counter()
         self.null = near_null_space(self.body.rigid_modes(), comm=K.getComm()) if self.ksp_kind == "gamg" else None
         if self.ksp_kind == "gamg":
-            self.ksp = configure_ksp(self.Kc, ksp_type="cg", pc_type="gamg", rtol=1e-10, options=self.options,
-                                     near_null=self.null, defer_check=True)
+            self.J.setNearNullSpace(self.null)
+            self.ksp = configure_ksp(self.J, ksp_type="cg", pc_type="gamg", rtol=1e-10,
+                                     options={**GAMG_DEFAULTS, **self.options}, near_null=self.null, defer_check=True)
+            pc = self.ksp.getPC()
+            levels = pc.getMGLevels()
+            if levels > 1 and "mg_levels_pc_type" not in self.options:
+                pc.getMGSmoother(levels - 1).getPC().setType(FINE_SMOOTHER)
+            self._hierarchy = self.hierarchy()
+            self.gamg_setups = 1
         else:
             pkg = direct_package()
-            self.ksp = configure_ksp(self.Kc, ksp_type="preonly", pc_type="cholesky" if pkg == "mumps" else "lu",
+            self.ksp = configure_ksp(self.J, ksp_type="preonly", pc_type="cholesky" if pkg == "mumps" else "lu",
                                      rtol=1e-12, options=self.options, factor_solver=pkg, defer_check=True)
         self.ksp_setups += 1
         self.factor_seconds = time.perf_counter() - t1
         self._vx, self._vy = K.createVecRight(), K.createVecRight()
+        if np.unique(self.point_node).size != self.point_node.size:
+            raise InputError("two contact points of one rank share a node: the distributed path takes one contact "
+                             "boundary (one point per node); run this problem as one process.")
+
+    def amplitudes(self, t: float) -> np.ndarray:
+        """Amplitude of each load component at ``t``: 1 for the problem's own, then the history's cases."""
+        return np.concatenate([[1.0], self.history.amplitudes(t)]) if self.history is not None else np.ones(1)
+
+    def at_time(self, t: float) -> None:
+        """Loads and prescribed values at the step time ``t``, its contact-free solution and candidates (as a
+        serial step: each frictionless small-deformation step is an independent solve)."""
+        a = self.amplitudes(t)
+        self.t = float(t)
+        self.f = a @ self.f_parts
+        self.fixed_values = a @ self.value_parts
+        self.newton_matrix(np.zeros(self.cand.size))  # J = K_c again: no contact springs
+        self.u_free = self._solve_free()
+        self.x_free = self.u_free
+        self._select_candidates(self.local_gaps(self.u_free), self.margin)
+
+    @property
+    def inexact_subproblems(self) -> bool:
+        """Solve (S) of Algorithms 6.1 / 6.3 inexactly above the serial Krylov path's size
+        (:data:`~alcontact.contact.systems._krylov.INEXACT_DOFS`, the same rule and the same outer loop:
+        the Newton tolerance of a subproblem follows the last multiplier change, the last one is solved to
+        ``newton_tol``); with the iterative KSP only (MUMPS solves each Newton step exactly)."""
+        return self.ksp_kind == "gamg" and self.n_free_global > INEXACT_DOFS
 
     def _ksp_solve(self, rhs: np.ndarray, rtol: float) -> np.ndarray:
         """Solve with the current operator of the KSP; counted; a failed solve raises (collectively)."""
@@ -291,21 +434,55 @@ class DistributedContact:
         its, reason = int(ksp.getIterationNumber()), int(ksp.getConvergedReason())
         self.linear_solves += 1
         self.ksp_iterations += its
+        if self.ksp_kind == "gamg":  # a hierarchy with other prolongators: GAMG built it from scratch
+            now = self.hierarchy()
+            if now != self._hierarchy:
+                self.gamg_setups += 1
+                self._hierarchy = now
         if self.linear_solves == 1:
             from ...linalg import report_unused_options
 
-            report_unused_options(ksp.getOptionsPrefix() or "", self.options,
-                                  reported=None if self.comm.rank == 0 else set(self.options))
+            given = {**GAMG_DEFAULTS, **self.options} if self.ksp_kind == "gamg" else self.options
+            report_unused_options(ksp.getOptionsPrefix() or "", given,
+                                  reported=None if self.comm.rank == 0 else set(given))
         if reason < 0:
             raise np.linalg.LinAlgError(f"PETSc KSP {ksp.getType()} / PC {ksp.getPC().getType()} did not converge "
                                         f"(reason {reason}, {its} iterations)")
         return self._vx.array.copy()
 
+    def hierarchy(self) -> tuple:
+        """Ids of the GAMG prolongators (:func:`alcontact.linalg.mg_hierarchy`; ``()`` without GAMG)."""
+        from ...linalg import mg_hierarchy
+
+        return mg_hierarchy(self.ksp) if self.ksp_kind == "gamg" else ()
+
+    def smoothers(self) -> list[str]:
+        """PC type of the smoother of each GAMG level, coarsest first (``[]`` without GAMG)."""
+        from ...linalg import mg_smoothers
+
+        return mg_smoothers(self.ksp) if self.ksp_kind == "gamg" else []
+
     def matvec(self, x: np.ndarray) -> np.ndarray:
-        """``K x`` (owned rows) for the owned part ``x`` of a distributed vector."""
+        r""":math:`K x` (owned rows) for the owned part ``x`` of a distributed vector.
+
+        From ``J``: :math:`K_c x` is :math:`J x` on the rows without contact points and ``Kpts x`` on theirs
+        (the rows of :math:`K_c` at the contact points, a surface of rows); on the free rows
+        :math:`K x = K_c x + K_{fd} x_d` (:math:`K_{fd} = K_{df}^T`, the transpose of the supported rows),
+        on the supported rows :math:`K x` is those rows times ``x``.
+        """
         self._vx.array[:] = x
-        self.K.mult(self._vx, self._vy)
-        return self._vy.array.copy()
+        self.J.mult(self._vx, self._vy)
+        y = self._vy.array.copy()
+        self.Kpts.mult(self._vx, self._py)  # the contact points' rows of K_c x, without the springs in J
+        y[self.point_dofs.ravel()] = self._py.array
+        self._fx.array[:] = x
+        self.Kfix.mult(self._fx, self._fy)  # the supported rows of K x
+        fixed_rows = self._fy.array.copy()
+        self._fy.array[:] = x[self.fixed]
+        self.Kfix.multTranspose(self._fy, self._fx)  # K_fd x_d on the free rows
+        y[self.free] += self._fx.array[self.free]
+        y[self.fixed] = fixed_rows
+        return y
 
     def _solve_free(self) -> np.ndarray:
         """The contact-free displacement (owned part), prescribed values included."""
@@ -314,8 +491,7 @@ class DistributedContact:
         b = self.f - self.matvec(ud)
         b[self.fixed] = self.fixed_values
         t0 = time.perf_counter()
-        self.ksp.setOperators(self.Kc)
-        x = self._ksp_solve(b, 1e-12)
+        x = self._ksp_solve(b, 1e-12)  # the KSP's operator holds the values of Kc
         x[self.fixed] = self.fixed_values
         self.reference_seconds = time.perf_counter() - t0 + self.factor_seconds
         self.b_lifted = self.allmax(np.abs(b[self.free]))
@@ -398,23 +574,27 @@ class DistributedContact:
         return out
 
     def newton_matrix(self, k_cand: np.ndarray):
-        r""":math:`J = K + B^T \operatorname{diag}(k) B`, supported rows and columns eliminated (a new ``MPIAIJ``)."""
+        r""":math:`J = K + B^T \operatorname{diag}(k) B`, supported rows and columns eliminated, written into the
+        one Newton matrix ``self.J``: the block of each owned contact point whose stiffness changed is set to its
+        :math:`K_c` block plus :math:`k_i c_i c_i^T` (``c_i`` the row :math:`-\nu_i^T` on the free DOFs)."""
         PETSc = self.PETSc
-        J = self.Kc.duplicate(copy=True)
-        pts = self._my_pt
-        k = k_cand[self._my_pos]
-        c = self.coef[pts]
-        blocks = k[:, None, None] * c[:, :, None] * c[:, None, :]
-        for i in np.flatnonzero(k != 0.0):
-            rows = self._rows(self.point_dofs[pts[i]])
-            J.setValues(rows, rows, blocks[i].ravel(), addv=PETSc.InsertMode.ADD_VALUES)
+        J = self.J
+        k = np.zeros(self.points.shape[0])
+        k[self._my_pt] = np.asarray(k_cand, dtype=float)[self._my_pos]
+        c = self.coef
+        for i in np.flatnonzero(k != self._k_in_J):
+            rows = self._rows(self.point_dofs[i])
+            J.setValues(rows, rows, (self.blocks0[i] + k[i] * np.outer(c[i], c[i])).ravel(),
+                        addv=PETSc.InsertMode.INSERT_VALUES)
         J.assemble()
-        if self.null is not None:
-            J.setNearNullSpace(self.null)
+        self._k_in_J = k
         return J
 
     def solve_newton(self, J, rhs: np.ndarray, rtol: float) -> np.ndarray:
+        """``J dx = rhs`` with the KSP, whose preconditioner is updated for the new values of ``J``."""
         t0 = time.perf_counter()
+        # the same operator again: KSPSolve updates its preconditioner only after KSPSetOperators, and with the
+        # same matrix object PCGAMG sees SAME_NONZERO_PATTERN (it keeps the prolongators with reuse_interpolation)
         self.ksp.setOperators(J)
         self.ksp_setups += 1
         try:
@@ -484,13 +664,18 @@ class DistributedContact:
 
     # ------------------------------------------------------------ reporting
     def timings(self) -> dict:
+        """Wall seconds of the set-up (``setup_s``: all of it; ``distribute_s``: partitioning and sending the mesh,
+        rank 0's serial part; ``assembly_s``, ``factor_s``: the KSP set-up; ``linear_solve_s``: the reference
+        solve)."""
         return {"setup_s": self.setup_seconds, "factor_s": self.factor_seconds, "assembly_s": self.assembly_seconds,
-                "linear_solve_s": self.reference_seconds}
+                "linear_solve_s": self.reference_seconds, "distribute_s": self.body.seconds.get("distribute", 0.0)}
 
     def extra(self) -> dict:
         return {"linear_solver": "petsc" if self.ksp_kind == "gamg" else "petsc-direct", "strategy": "distributed",
                 "ranks": int(self.comm.size), "ksp_iterations": int(self.ksp_iterations),
-                "ksp_setups": int(self.ksp_setups)}
+                "ksp_setups": int(self.ksp_setups), "gamg_setups": int(self.gamg_setups),
+                "gamg_updates": int(self.ksp_setups - self.gamg_setups) if self.ksp_kind == "gamg" else 0,
+                "fine_smoother": (self.smoothers() or [""])[-1]}
 
 
 class _Subproblem(NewtonSystem):
@@ -506,6 +691,8 @@ class _Subproblem(NewtonSystem):
         self.w = dc.replicate(dc.weights[dc._my_pt])
         self.scale = None
         self.fscale = 1e-300
+        self.forcing = _FORCING_START
+        self.tol_k = _NEWTON_TOL_FLOOR
 
     def evaluate(self, x):
         dc = self.dc
@@ -538,17 +725,28 @@ class _Subproblem(NewtonSystem):
         self.fscale = max(self.scale, wt, 1e-300)
         return dc.allmax(np.abs(state[2])) / self.fscale
 
+    def tolerance(self, state, tol):
+        self.tol_k = tol
+        return tol
+
     def step(self, x, state, history):
         dc = self.dc
-        # tight Krylov solves: a loose CG step (forcing 1e-3) on the stiff contact directions was no descent
-        # direction of the merit (2D Hertz, 1144 DOFs, Algorithm 6.1: 60 damped Newton steps in outer iteration 3)
         rtol = _KSP_RTOL
+        if dc.forcing:  # inexact Newton with the serial Krylov path's forcing terms (its module doc)
+            res = history[-1].residual
+            if len(history) > 1:
+                last = history[-2]
+                if last.step < 1.0 or last.full_step or res > 0.5 * last.residual:
+                    self.forcing = max(_FORCING_SLOW * self.forcing, _FORCING_MIN)
+            rtol = float(np.clip(max(min(self.forcing, res), 0.1 * self.tol_k / max(res, 1e-300)), 1e-14,
+                                 _FORCING_MAX))
         k = self.w * np.asarray(self.law.stiffness(state[0], self.lam), dtype=float)
         J = dc.newton_matrix(k)
-        try:
-            dx = dc.solve_newton(J, -state[2], rtol)
-        finally:
-            J.destroy()
+        dx = dc.solve_newton(J, -state[2], rtol)
+        # the supported rows of J are the identity and their right-hand side is 0, but a Krylov iterate preconditioned
+        # by GAMG is not exactly 0 there: the prescribed values would drift by the solve's error (an inexact step
+        # moved them by 1e-3 relative and converged to another problem's solution)
+        dx[dc.fixed] = 0.0
         if not dc.allbool(bool(np.all(np.isfinite(dx)))):
             dx = np.full_like(dx, np.nan)
         return dx
@@ -556,3 +754,202 @@ class _Subproblem(NewtonSystem):
     def negligible(self, x, state, dx):
         dc = self.dc
         return dc.allmax(np.abs(dx)) <= 1e-14 * max(dc.allmax(np.abs(x)), 1e-300)
+
+
+class DistributedFrictionalContact:
+    r"""The condensed frictional problem of section 6.2 at small deformation, distributed over the ranks.
+
+    What :class:`~alcontact.contact.systems._condensed.FrictionalContact` offers the steps of the
+    frictional algorithms (Algorithms 6.2 / 6.4 and the Alart-Curnier reference, driven by
+    :class:`~alcontact.contact.stepping._coulomb._CondensedPath`), on a :class:`DistributedContact`
+    (``dc``: the body, the one KSP, the owned contact points) instead of a factorization:
+
+    * the arrays over the ``m`` contact-boundary points (``points``, ``weights``, ``normals``,
+      ``tangents``, ``tfree``, ``movable``, the local kinematics ``y = (g, u_T)``) are replicated
+      on every rank (one ``Allgatherv`` each: a surface), in the rank-major order of the owned
+      points;
+    * the condensed compliance on the candidates, :math:`A = E^T P K^{-1} P^T E` (``(c d, c d)``,
+      replicated), is built column by column: one KSP solve per candidate and component, the
+      force :math:`E_j e_l` on candidate ``j``'s free DOFs, each column read at every
+      candidate's DOFs by its owner and gathered (symmetrized as on the serial path);
+    * the contact-free solution of every load component (base and cases, amplitude 1) is one
+      solve each; :meth:`u_free` and :meth:`y_free` combine them with the history's
+      amplitudes; :meth:`displacement` is one solve for the candidates' forces.
+
+    A body held by the obstacle alone (springs, ``spring`` of the serial path) is refused by
+    :class:`DistributedContact`; ``spring`` is ``None``.
+    """
+
+    spring = None
+    strategy = "distributed"
+
+    def __init__(self, problem, history, *, comm, parts=None, ksp: str = "gamg", options: dict | None = None,
+                 margin: float = 0.25):
+        from ..kinematics._points import tangent_bases
+
+        t0 = time.perf_counter()
+        dc = DistributedContact(problem, comm=comm, parts=parts, ksp=ksp, options=options, margin=margin,
+                                history=history, t=0.0, forcing=False, frictional=True)
+        self.dc, self.comm, self.dim, self.h = dc, comm, dc.dim, dc.h
+        self.history = dc.history
+        d = self.dim
+        off, mr = dc.point_offset, dc.points.shape[0]
+        self._own = slice(off, off + mr)
+        gather = dc.allgather_points
+        self.points = gather(dc.points).reshape(-1, d)
+        self.weights = gather(dc.weights)
+        self.normals = gather(dc.normals).reshape(-1, d)
+        self.gap0 = gather(dc.gap0)
+        self.movable = gather(dc.movable).astype(bool)
+        held_own = ~dc.free[dc.point_dofs]  # (m_r, d) supported axes of each owned point
+        held = gather(held_own.astype(np.int8)).reshape(-1, d).astype(bool)
+        self.tangents = tangent_bases(self.normals, held)  # one basis rule over all points, as the serial path
+        self.E = np.concatenate([self.normals[:, :, None], -self.tangents], axis=2)  # (m, d, d)
+        free_part = np.linalg.norm(np.where(held[:, :, None], 0.0, self.E), axis=1)
+        self.tfree = free_part[:, 1:] > 1e-12
+        self._E_own = self.E[self._own]
+        self._held_own = held_own
+        # the contact-free solution of every load component (amplitude 1), and its local kinematics
+        t1 = time.perf_counter()
+        dc.newton_matrix(np.zeros(dc.cand.size))
+        self.u_parts = []
+        for k in range(dc.f_parts.shape[0]):
+            dc.f, dc.fixed_values = dc.f_parts[k].copy(), dc.value_parts[k].copy()
+            self.u_parts.append(dc._solve_free())
+        self.u_parts = np.stack(self.u_parts)
+        self.solve_seconds = (time.perf_counter() - t1) / len(self.u_parts)
+        self.y_parts = np.stack([self._local_all(u) for u in self.u_parts])  # (ncomp, m, d), without the gap0
+        times = self.history.times if self.history is not None else (1.0,)
+        self.gmax_t = np.max(np.stack([self.y_free(t)[:, 0] for t in times]), axis=0)
+        # candidates: the serial rule on the largest contact-free gap over the steps (owned points, then gathered)
+        dc.cand = np.empty(0, dtype=np.int64)
+        dc._add_candidates(np.empty(0, dtype=np.int64))
+        dc.margin = margin
+        dc._select_candidates(self.gmax_t[self._own], margin)
+        chosen = dc.cand.copy()
+        dc.cand = np.empty(0, dtype=np.int64)
+        dc._add_candidates(np.empty(0, dtype=np.int64))
+        self.A = np.zeros((0, 0))
+        self.add(chosen)
+        self.setup_seconds = time.perf_counter() - t0
+        self.factor_seconds = dc.factor_seconds
+
+    # ------------------------------------------------------------------ replicated kinematics
+    def _local_own(self, u: np.ndarray) -> np.ndarray:
+        """``(m_r, d)``: :math:`(-\\nu\\cdot u_i, T_i^T u_i)` of the owned points (no gap offset)."""
+        dc = self.dc
+        ui = u[dc.point_dofs]
+        yn = -np.einsum("ij,ij->i", dc.normals, ui)
+        yt = np.einsum("ijk,ij->ik", self.tangents[self._own], ui)
+        return np.concatenate([yn[:, None], yt], axis=1)
+
+    def _local_all(self, u: np.ndarray) -> np.ndarray:
+        return self.dc.allgather_points(self._local_own(u)).reshape(-1, self.dim)
+
+    def all_local(self, u: np.ndarray) -> np.ndarray:
+        """Local kinematics ``(m, d)`` (gap, u_T) of every contact-boundary point (replicated)."""
+        y = self._local_all(u)
+        y[:, 0] += self.gap0
+        return y
+
+    def amplitudes(self, t: float) -> np.ndarray:
+        return self.dc.amplitudes(t)
+
+    def u_free(self, t: float) -> np.ndarray:
+        return self.amplitudes(t) @ self.u_parts
+
+    def y_free(self, t: float) -> np.ndarray:
+        """Contact-free local kinematics ``(m, d)`` (replicated): column 0 the gap, then ``u_T``."""
+        y = np.tensordot(self.amplitudes(t), self.y_parts, axes=1)
+        y[:, 0] += self.gap0
+        return y
+
+    def load(self, t: float) -> np.ndarray:
+        """The load vector at ``t`` (owned rows)."""
+        return self.amplitudes(t) @ self.dc.f_parts
+
+    def prescribed(self, t: float) -> np.ndarray:
+        """The prescribed values at ``t`` (this rank's supported DOFs)."""
+        return self.amplitudes(t) @ self.dc.value_parts
+
+    # ------------------------------------------------------------------ candidates and compliance
+    @property
+    def cand(self) -> np.ndarray:
+        return self.dc.cand
+
+    @property
+    def ncand(self) -> int:
+        return int(self.dc.cand.size)
+
+    @property
+    def linear_solves(self) -> int:
+        return self.dc.linear_solves
+
+    def _solve_forces(self, F_own: np.ndarray) -> np.ndarray:
+        """:math:`K_c^{-1} P^T F` for the forces ``F_own`` ``(m_r, d)`` at the owned points (free DOFs only)."""
+        dc = self.dc
+        rhs = np.zeros(dc.dim * dc.n_own)
+        np.add.at(rhs, dc.point_dofs.ravel(), np.where(self._held_own, 0.0, F_own).ravel())
+        x = dc._ksp_solve(rhs, 1e-13)
+        x[dc.fixed] = 0.0
+        return x
+
+    def add(self, new: np.ndarray) -> np.ndarray:
+        """Add the movable points ``new`` (global numbers, the same on every rank) that are not candidates yet;
+        returns them. One KSP solve per added point and component gives the compliance columns."""
+        dc, d = self.dc, self.dim
+        new = np.setdiff1d(np.asarray(new, dtype=np.int64), dc.cand)
+        new = new[self.movable[new]]
+        if new.size == 0:
+            return new
+        c_old = dc.cand.size
+        off, mr = dc.point_offset, dc.points.shape[0]
+        mine = new[(new >= off) & (new < off + mr)] - off
+        dc._add_candidates(mine)
+        added = dc.cand[c_old:]
+        c = dc.cand.size
+        dc.newton_matrix(np.zeros(c))  # J = K_c
+        A = np.zeros((c * d, c * d))
+        A[:c_old * d, :c_old * d] = self.A
+        E_own = self._E_own
+        for jj, j in enumerate(added):
+            for l in range(d):
+                F = np.zeros((mr, d))
+                if off <= j < off + mr:
+                    F[j - off] = E_own[j - off][:, l]
+                x = self._solve_forces(F)
+                col = np.einsum("iak,ia->ik", E_own[dc._my_pt], x[dc.point_dofs[dc._my_pt]])  # (c_r, d)
+                full = np.empty((c, d))
+                full[dc._perm] = dc.allgather_points(col).reshape(-1, d)
+                A[:, (c_old + jj) * d + l] = full.ravel()
+        A[c_old * d:, :c_old * d] = A[:c_old * d, c_old * d:].T  # the new rows by symmetry
+        self.A = 0.5 * (A + A.T)
+        return np.asarray(added, dtype=np.int64)
+
+    def displacement(self, t: float, R: np.ndarray) -> np.ndarray:
+        """Owned displacement for local forces ``R`` ``(c, d)`` on the candidates (one KSP solve)."""
+        dc = self.dc
+        u = self.u_free(t)
+        if dc.cand.size == 0:
+            return u
+        F = np.zeros((dc.points.shape[0], self.dim))
+        F[dc._my_pt] = np.einsum("ijk,ik->ij", self._E_own[dc._my_pt], np.asarray(R)[dc._my_pos])
+        return u + self._solve_forces(F)
+
+    # no contact springs (``spring`` is None): the spring terms of the serial condensed problem are zero
+    def spring_traction(self, y: np.ndarray) -> np.ndarray:
+        return np.zeros_like(y)
+
+    def spring_tangent(self) -> np.ndarray:
+        return np.zeros((self.ncand, self.dim, self.dim))
+
+    def spring_energy(self, y: np.ndarray) -> np.ndarray:
+        return np.zeros(y.shape[0])
+
+    def slides_away(self, t: float, mu: float) -> None:
+        """Only a body held by the obstacle can slide away (none here: ``spring`` is ``None``)."""
+        return None
+
+    def stats(self) -> dict:
+        return {"ksp_iterations": int(self.dc.ksp_iterations), "ranks": int(self.comm.size),
+                **{k: v for k, v in self.dc.extra().items() if k in ("gamg_setups", "gamg_updates", "fine_smoother")}}
