@@ -588,7 +588,7 @@ def _coupled_start(ctx: _ALSystem) -> bool:
     Only with ``radius="multiplier"``, the second-order update (``ctx.second_order``), and
     a body held by its supports (a body held by the obstacle starts sticking, :func:`_advance`).
     """
-    return ctx.opts.radius == "multiplier" and ctx.second_order and ctx.fc.spring is None and ctx.mu > 0
+    return ctx.opts.radius == "multiplier" and ctx.second_order and ctx.fc.spring is None and bool(np.any(np.asarray(ctx.mu) > 0))
 
 
 def _first_subproblem(ctx: _ALSystem, law, lamN, lamT, z, coupled: bool):

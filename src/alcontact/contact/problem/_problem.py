@@ -261,16 +261,16 @@ class ContactProblem:
       loads=..., friction=mu)``, which builds that one body and that one pair.
 
     Both give the same problem (and the same solution, to the last bit). A problem has one
-    body with one or several pairs, each its own slave boundary and rigid master (their
-    contact points are stacked in the pairs' order, one constraint per slave point and pair:
-    :meth:`slave_nodes`), with one friction coefficient shared by the pairs (at finite
-    deformation: frictionless, fixed masters); or two bodies joined by one pair whose master
-    is the :class:`~alcontact.contact.BodySurface` of a body of ``bodies`` (two-body mortar
-    contact at small deformation, frictionless, 2D P1/P2; the model is then the bodies'
-    :class:`~alcontact.fem.MultiBody` and boundary names are ``"body0/top"``,
-    ``"body1/bottom"``, ...). A friction coefficient per pair, frictional pairs at finite
-    deformation and a two-body pair beside other pairs are refused with an
-    :class:`~alcontact.errors.InputError` (see ``docs/architecture.md``).
+    body with one or several pairs, each its own slave boundary, rigid master and Coulomb
+    coefficient (their contact points are stacked in the pairs' order, one constraint per
+    slave point and pair: :meth:`slave_nodes`; at finite deformation: frictionless, fixed
+    masters); or two bodies joined by one pair whose master is the
+    :class:`~alcontact.contact.BodySurface` of a body of ``bodies`` (two-body mortar contact
+    at small deformation, frictionless or with Coulomb friction, 2D P1/P2; the model is then
+    the bodies' :class:`~alcontact.fem.MultiBody` and boundary names are ``"body0/top"``,
+    ``"body1/bottom"``, ...). Frictional pairs at finite deformation and a two-body pair
+    beside other pairs are refused with an :class:`~alcontact.errors.InputError` (see
+    ``docs/architecture.md``).
 
     Parameters
     ----------
@@ -306,7 +306,7 @@ class ContactProblem:
     model, obstacle, contact_boundary, friction
         Views of the one body and the first pair: ``bodies[0]``, ``pairs[0].master`` (with
         several pairs, the :class:`~alcontact.contact.masters.StackedMaster` of all of them),
-        ``pairs[0].slave.name``, ``pairs[0].friction`` (the same for every pair).
+        ``pairs[0].slave.name``, ``pairs[0].friction`` (each pair has its own: :meth:`point_friction`).
 
     Notes
     -----
@@ -416,12 +416,6 @@ class ContactProblem:
             if pair.slave.body is not bodies[0]:
                 raise InputError(f"{kind}: pairs[{i}].slave is the boundary {pair.slave.name!r} of a body that is not "
                                  "in bodies; build it as Boundary(body, name) with a body of bodies.")
-        mus = [float(p.friction) for p in pairs]
-        if len(set(mus)) > 1:
-            listed = ", ".join(f"{m:g}" for m in mus)
-            raise InputError(f"{kind}: the pairs have different friction coefficients ({listed}"
-                             "): a friction coefficient per pair is not supported yet; give every pair the same "
-                             "coefficient (0 for frictionless contact).")
         pair = pairs[0]
         return {"model": bodies[0], "obstacle": pair.master, "contact_boundary": pair.slave.name,
                 "friction": pair.friction, "pair": pair, "others": pairs[1:]}
@@ -489,6 +483,10 @@ class ContactProblem:
             return np.zeros(self.model.node_dofs(self.contact_boundary)[0].shape[0], dtype=np.int64)
         return self._stacked[2].owner.copy()
 
+    def point_friction(self) -> np.ndarray:
+        """Coulomb coefficient of each stacked contact point: its pair's ``friction``, shape ``(m,)``."""
+        return np.asarray([float(p.friction) for p in self.pairs])[self.pair_of_points()]
+
     @property
     def contact_boundary(self) -> str:
         """Name of the candidate contact boundary of the body, slave of the pair: ``pairs[0].slave.name``
@@ -497,7 +495,7 @@ class ContactProblem:
 
     @property
     def friction(self) -> float:
-        """Coulomb coefficient of the contact pair: ``pairs[0].friction``."""
+        """Coulomb coefficient of the contact pair: ``pairs[0].friction`` (several pairs: :meth:`point_friction`)."""
         return self.pairs[0].friction
 
     def _check_kinematics(self, model: Any) -> None:
@@ -530,7 +528,7 @@ class ContactProblem:
         # two bodies; several pairs are on one body)
         for name in [self.contact_boundary] if len(self.pairs) == 1 else [p.slave.name for p in self.pairs]:
             self.model.facets(name)
-        if len(self.pairs) > 1 and self.kinematics != "small" and self.pairs[0].friction > 0:
+        if len(self.pairs) > 1 and self.kinematics != "small" and any(p.friction > 0 for p in self.pairs):
             raise InputError(f"ContactProblem: {len(self.pairs)} contact pairs with friction at kinematics="
                              f"{self.kinematics!r}: several frictional pairs are supported at small deformation only "
                              "so far; use kinematics='small', friction 0, or one pair.")
@@ -621,9 +619,6 @@ def _two_body(kind: str, bodies: tuple, pair: ContactPair) -> dict[str, Any]:
     if master_body is pair.slave.body and getattr(pair.master, "boundary", None) == pair.slave.name:
         raise InputError(f"{kind}: pairs[0] uses the boundary {pair.slave.name!r} as both slave and master; give "
                          "the master another boundary (of another body).")
-    if pair.friction > 0:
-        raise InputError(f"{kind}: pairs[0].friction = {pair.friction!r}: friction between two deformable bodies "
-                         "is not supported yet; use friction = 0.")
     if len(bodies) == 1:
         model, slave = bodies[0], pair.slave.name
     else:

@@ -123,7 +123,8 @@ def friction_solution(fsol) -> ContactSolution:
                    "mu": float(fsol.friction) * float(fsol.history.friction_factor(st.t)),
                    "coulomb": float(st.coulomb), "cutbacks": int(st.cutbacks), "h": fsol.h,
                    "step_linear_solves": int(st.linear_solves),
-                   "candidates": fsol.extra.get("candidates"), "dofs": fsol.extra.get("dofs")}))
+                   "candidates": fsol.extra.get("candidates"), "dofs": fsol.extra.get("dofs"),
+                   **st.two_body}))
     if not views:  # nothing converged: report the contact-free start
         z = np.zeros(m)
         result = ContactResult(status=fsol.status, message=fsol.message, algorithm=fsol.algorithm,

@@ -853,15 +853,18 @@ class IterativeFrictionalContact(FrictionalContact):
         free = self.free = self._free
         self.K = self._K[free][:, free].tocsr()
         self.K_abs = abs(self.K).tocsr()  # round-off bound of the residual
-        self.R = model._free_rigid_modes(free)  # near-null space of the hierarchies (that of ``factor``)
+        # near-null space of the hierarchies (that of ``factor``); several bodies: each body's own rigid modes
+        self.R = model._free_rigid_modes(free) if hasattr(model, "_free_rigid_modes") else \
+            np.ascontiguousarray(_rigid_modes(model)[free])
         self.hints = _linalg.MatrixHints(dim=model.dim, near_null=lambda: self.R)
         self.factor_K = self.factor.factor
         self.cg_iterations = 0
         self.amg_setups = 1
         self.amg_seconds = self.factor_seconds
         self.b_parts = np.stack([self.factor.rhs(load, fv) for fv, load in zip(self.fv_parts, self.loads)])
-        # y = y_fix(t) + Bl x: rows -E_i^T P_i (P_i: the free DOFs of point i, the row operator of the direct path)
-        self.Bl = (_block_matrix(-np.transpose(self.E, (0, 2, 1))) @ self._G).tocsr()
+        # y = y_fix(t) + Bl x: rows -E_i^T P_i (P_i: the free DOFs of point i, the row operator of the direct path),
+        # between two bodies the mortar rows of the weighted gap and the relative tangential displacement
+        self.Bl = self.local_rows()
         self.Bl.eliminate_zeros()
         self.yfix_parts = np.stack([self._local(self.factor.expand(np.zeros(free.size), fv))
                                     for fv in self.fv_parts])
