@@ -336,7 +336,10 @@ def solve_friction(problem, history: LoadHistory | None, algorithm: str = "simo-
 
     solver = select_solver(opts.linear_solver, dim=problem.model.dim, ndofs=problem.model.ndofs)
     fc, advance = _FRICTION_PATHS[solver.exact](problem, history, opts, solver)
-    eps_n = opts.eps_n if opts.eps_n is not None else penalty_stiffness(problem.model, fc.h, opts.penalty_scale)
+    # between two bodies the two surface layers in series (a master E x 1e6 gets the rigid obstacle's penalty)
+    pair = problem.pairs[0] if fc.mortar is not None else None
+    eps_n = opts.eps_n if opts.eps_n is not None else penalty_stiffness(problem.model, fc.h, opts.penalty_scale,
+                                                                        pair=pair)
     eps_t = opts.eps_t if opts.eps_t is not None else opts.tangential_scale * eps_n
     m, d = fc.points.shape
     u0 = fc.u_free(0.0)
