@@ -399,7 +399,7 @@ def solve_friction(problem, history: LoadHistory | None, algorithm: str = "simo-
         nT = np.linalg.norm(tT, axis=1)
         pref = max(float(np.max(tN, initial=0.0)), 1e-300)
         mu_t = mu * history.friction_factor(t)
-        saturated = nT >= mu_t * tN - 1e-6 * max(mu_t, 1e-300) * pref
+        saturated = nT >= mu_t * tN - 1e-6 * np.maximum(mu_t, 1e-300) * pref
         st = np.where(~closed, OPEN, np.where(saturated, SLIP, STICK))
         shear = -np.einsum("ijk,ik->ij", fc.tangents, tT)
         w = fc.weights
