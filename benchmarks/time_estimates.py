@@ -28,6 +28,11 @@ against measured per example, the ratio, and the machine).
 Usage::
 
     python benchmarks/time_estimates.py [--repeats 2] [--bench] [--out docs/benchmarks]
+    python benchmarks/time_estimates.py --add examples/NEW.toml   # time a new example on the committed fit
+
+``--add FILE`` times only the given problem files and adds (or replaces) their rows, each
+estimated with the committed coefficients (no refit, so the other rows and ``alcontact check``'s
+estimates do not change); a later full run refits on every example.
 """
 
 from __future__ import annotations
@@ -121,9 +126,13 @@ def main(argv=None) -> int:
     ap.add_argument("--repeats", type=int, default=2)
     ap.add_argument("--bench", action="store_true", help="also time `alcontact bench --quick`")
     ap.add_argument("--out", type=Path, default=ROOT / "docs" / "benchmarks")
+    ap.add_argument("--add", type=Path, nargs="+", default=None,
+                    help="time only these problem files and add their rows on the committed fit (no refit)")
     args = ap.parse_args(argv)
 
     old = json.loads(CALIBRATION.read_text()) if CALIBRATION.is_file() else {}
+    if args.add:
+        return add_rows(old, args.add, args.repeats, args.out)
     with tempfile.TemporaryDirectory() as td:
         tmp = Path(td)
         rows = []
@@ -148,9 +157,40 @@ def main(argv=None) -> int:
         "examples": [{k: r[k] for k in ("file", "ndofs", "steps", "friction", "finite", "solver_s", "measured_s",
                                         "estimate_s")} for r in rows],
     }
+    write(cal, rows, args.repeats, args.out)
+    return 0
+
+
+def add_rows(cal: dict, paths: list[Path], repeats: int, out: Path) -> int:
+    """``--add``: time ``paths`` and add (or replace) their rows, estimated with the committed coefficients."""
+    coef = cal["run"]
+    rows = [dict(r, ratio=r["estimate_s"] / r["measured_s"]) for r in cal["examples"]]
+    with tempfile.TemporaryDirectory() as td:
+        for path in paths:
+            row = features(Path(path))
+            row["measured_s"] = time_run(Path(path), Path(td), repeats)
+            row["estimate_s"] = float(design([row])[0] @ np.array(list(coef.values())) + row["solver_s"])
+            row["ratio"] = row["estimate_s"] / row["measured_s"]
+            rows = [r for r in rows if r["file"] != row["file"]] + [row]
+            print(f"{row['file']:32s} {row['ndofs']:7d} DOFs {row['steps']:3d} steps  {row['measured_s']:6.2f} s "
+                  f"(estimate {row['estimate_s']:.2f} s)", flush=True)
+    cal = dict(cal, examples=[{k: r[k] for k in ("file", "ndofs", "steps", "friction", "finite", "solver_s",
+                                                 "measured_s", "estimate_s")} for r in rows])
+    added = ", ".join(Path(p).name for p in paths)
+    write(cal, rows, repeats, out, note=f"Rows added with `--add` on the committed fit ({_now()}): {added}.")
+    return 0
+
+
+def _now() -> str:
+    return _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds")
+
+
+def write(cal: dict, rows: list[dict], repeats: int, out: Path, note: str | None = None) -> None:
+    """``time_calibration.json``, ``time_estimates.csv`` and ``time_estimates.md`` of the calibration ``cal``."""
+    coef, bench = cal["run"], cal.get("bench_quick")
     CALIBRATION.write_text(json.dumps(cal, indent=1) + "\n")
-    args.out.mkdir(parents=True, exist_ok=True)
-    with open(args.out / "time_estimates.csv", "w", newline="") as fh:
+    out.mkdir(parents=True, exist_ok=True)
+    with open(out / "time_estimates.csv", "w", newline="") as fh:
         w = csv.DictWriter(fh, fieldnames=list(cal["examples"][0]) + ["ratio"])
         w.writeheader()
         for r in rows:
@@ -159,7 +199,7 @@ def main(argv=None) -> int:
     lines = ["# Run-time estimates of `alcontact check` and `alcontact bench --quick`", "",
              f"Measured {cal['date']} on {m['cpu']}, {m['cores']} cores, Python {m['python']} "
              "(`python benchmarks/time_estimates.py`; each file run as `alcontact run FILE -q` in a fresh "
-             f"process, best of {args.repeats}; other jobs shared the machine).", "",
+             f"process, best of {repeats}; other jobs shared the machine).", ""] + ([note, ""] if note else []) + [
              "Model: t = a + S (b + b_f [friction] + b_F [finite]) + c n S + t_solver "
              "(t_solver: the solver cost model of `alcontact.io.preflight`). Fitted: "
              + ", ".join(f"{k} = {v:.3g}" for k, v in coef.items()) + ".", "",
@@ -175,9 +215,8 @@ def main(argv=None) -> int:
         lines += ["## `alcontact bench --quick`", "",
                   f"Total {bench['total_s']:.1f} s; per suite: "
                   + ", ".join(f"{k} {v:.1f} s" for k, v in bench["suites_s"].items()) + ".", ""]
-    (args.out / "time_estimates.md").write_text("\n".join(lines))
+    (out / "time_estimates.md").write_text("\n".join(lines))
     print("\n".join(lines))
-    return 0
 
 
 if __name__ == "__main__":

@@ -16,7 +16,7 @@ from alcontact.runner import run_setup
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 NAMES = ["hertz_2d", "hertz_3d", "flat_punch", "signorini_liftoff", "sliding_block", "cattaneo_mindlin",
          "finite_half_cylinder", "finite_ironing", "finite_ironing_friction", "finite_mooney_rivlin",
-         "rubber_ball_axisym", "seal_oring"]
+         "rubber_ball_axisym", "seal_oring", "two_body_friction"]
 
 
 def _run(name):
@@ -267,3 +267,12 @@ def test_seal_oring_mixed_axisymmetric_squeeze_without_cutback():
     assert np.all(np.diff(fz) < 0) and fz[0] < 0  # the cover pushes down (-z), more at every step
     fr, fz_end = s["final_contact_force"]
     assert fr < -0.01 * abs(fz_end)  # the outer wall pushes the ring inwards
+
+
+def test_two_body_friction_slides_with_q_equal_mu_n():
+    """Two bodies, Coulomb mu = 0.3: the dragged block slides, its tangential force is mu N (1e-8); the forces on
+    the two bodies balance (1e-10). (tests/regression/test_issue23_two_body_friction_problem_file.py: the rest.)"""
+    _, res = _run("two_body_friction")
+    s = res.summary
+    assert s["tangential_force"] == pytest.approx(s["coulomb_limit"], rel=1e-8)
+    assert s["contact_force_balance"] <= 1e-10

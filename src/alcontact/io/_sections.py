@@ -697,7 +697,8 @@ def build_obstacle(od: dict | None, dim: int | None, issues: list[Issue], *, key
 
 
 def build_pairs(pds: list | None, mesh, dim: int | None, base: Path | None, issues: list[Issue]) -> list | None:
-    """``[[pair]]``: ``(boundary, obstacle)`` of each further contact pair, or ``None`` when one failed."""
+    """``[[pair]]``: ``(boundary, obstacle, friction)`` of each further contact pair (``friction`` ``None``: that of
+    ``[contact]``), or ``None`` when one failed."""
     if not pds:
         return []
     out: list = []
@@ -711,15 +712,16 @@ def build_pairs(pds: list | None, mesh, dim: int | None, base: Path | None, issu
         if ob is None or not ok:
             out = None
         elif out is not None:
-            out.append((pd["boundary"], ob))
+            out.append((pd["boundary"], ob, pd["friction"]))
     return out
 
 
 def _pairs_issues(s: Sections, od: Any, issues: list[Issue]) -> None:
     """Several pairs at finite kinematics run frictionless with fixed obstacles (``[obstacle] path`` moves one)."""
     moving = isinstance(od, dict) and od.get("path") not in (None, BAD)
-    if s.pairs and s.kinematics == "finite" and (s.mu > 0 or moving):
-        what = "contact.friction > 0" if s.mu > 0 else "obstacle.path"
+    if s.pairs and s.kinematics == "finite" and (s.mu_max > 0 or moving):
+        rough = [f"pair[{k + 1}].friction > 0" for k, (_, _, m) in enumerate(s.pairs) if isinstance(m, float) and m > 0]
+        what = "contact.friction > 0" if s.mu > 0 else (rough[0] if rough else "obstacle.path")
         issues.append(Issue("pair", f"{len(s.pairs)} [[pair]] table(s) at contact.kinematics = 'finite' with {what}: "
                                     "several contact pairs at finite kinematics run frictionless with fixed obstacles "
                                     "so far; remove it, use kinematics = 'small' (friction), or one pair ([contact] "
@@ -904,6 +906,8 @@ class Sections:
     obstacle: Any = None
     pairs: Any = field(default_factory=list)
     mu: float = 0.0
+    #: the largest Coulomb coefficient of the pairs (``[contact]`` and ``[[pair]]``): frictional when positive
+    mu_max: float = 0.0
     solver: Solver = field(default_factory=Solver)
     units: tuple = (None, None, None)
     reference: Any = None
@@ -932,8 +936,9 @@ def build_sections(data: dict, base: Path, issues: list[Issue]) -> Sections:
     s.obstacle = build_obstacle(data.get("obstacle"), s.dim, issues, base=base)
     s.pairs = build_pairs(data.get("pair"), s.mesh, s.dim, base, issues)
     s.mu = cd["friction"] if isinstance(cd, dict) and isinstance(cd.get("friction"), float) else 0.0
+    s.mu_max = max([s.mu] + [m for _, _, m in (s.pairs or ()) if isinstance(m, float)])
     _pairs_issues(s, data.get("obstacle"), issues)
-    s.solver = build_solver(data.get("solver"), s.mu, s.kinematics, issues)
+    s.solver = build_solver(data.get("solver"), s.mu_max, s.kinematics, issues)
     s.units = build_units(data.get("units"), issues)
     s.reference, s.mindlin = build_reference(data.get("reference"), s.dim, s.material, s.mu, issues)
     return s
@@ -996,8 +1001,8 @@ def build_problem(data: dict, model, s: Sections, issues: list[Issue]) -> tuple[
     if s.pairs:  # [contact] + [obstacle] is the first pair, each [[pair]] one more
         from ..contact import Boundary, ContactPair
 
-        pairs = [ContactPair(Boundary(model, b), ob, friction=float(s.mu))
-                 for b, ob in [(cd["boundary"], s.obstacle)] + list(s.pairs)]
+        pairs = [ContactPair(Boundary(model, b), ob, friction=float(s.mu if mu is None else mu))
+                 for b, ob, mu in [(cd["boundary"], s.obstacle, None)] + list(s.pairs)]
         problem = _num(issues, "pair", ContactProblem, bodies=[model], pairs=pairs, supports=tuple(s.fixed),
                        loads=tuple(s.loads), name=data["problem"]["name"], reference=s.reference, meta=meta,
                        kinematics=s.kinematics)
@@ -1010,7 +1015,7 @@ def build_problem(data: dict, model, s: Sections, issues: list[Issue]) -> tuple[
         fixed, cases = _proportional(s.fixed, s.loads)
         problem = dataclasses.replace(problem, supports=tuple(fixed), loads=())
     history = None
-    if cases or s.friction_ramp is not None or s.mu > 0:
+    if cases or s.friction_ramp is not None or s.mu_max > 0:
         history = _num(issues, "loading", LoadHistory, tuple(cases), s.times, s.friction_ramp)
     return problem, history
 
@@ -1110,7 +1115,7 @@ def _surface(name: str, key: str, names: dict, n: int, issues: list[Issue]) -> t
 
 
 def _bodies_table_issues(data: dict, issues: list[Issue]) -> None:
-    """Tables and options that do not go with ``[[body]]`` (what runs: small, frictionless, one pair)."""
+    """Tables and options that do not go with ``[[body]]`` (what runs: small deformation, one pair)."""
     for key, what in (("mesh", "each body has its own [body.mesh]"),
                       ("material", "each body has its own [body.material]"),
                       ("obstacle", "the master of the pair is [contact] master, a body's boundary")):
@@ -1125,9 +1130,6 @@ def _bodies_table_issues(data: dict, issues: list[Issue]) -> None:
     if cd.get("kinematics") not in ("small", BAD):
         issues.append(Issue("contact.kinematics", f"= {cd['kinematics']!r}: contact between bodies ([[body]]) is "
                                                   "small deformation so far; set kinematics = 'small'."))
-    if isinstance(cd.get("friction"), float) and cd["friction"] > 0:
-        issues.append(Issue("contact.friction", f"= {cd['friction']:g}: contact between bodies ([[body]]) is "
-                                                "frictionless so far; set friction = 0.0."))
 
 
 def _two_body_reference(rd: dict | None, models: list, issues: list[Issue]):
@@ -1189,7 +1191,9 @@ def build_bodies(data: dict, base: Path, issues: list[Issue]):
                                                       f"(contact.boundary = {cd['boundary']!r}); a pair needs two "
                                                       "surfaces: name a boundary of the other body."))
             else:
-                pair = ContactPair(Boundary(models[slave[0]], slave[1]), BodySurface(models[master[0]], master[1]))
+                mu = cd["friction"] if isinstance(cd.get("friction"), float) else 0.0
+                pair = ContactPair(Boundary(models[slave[0]], slave[1]), BodySurface(models[master[0]], master[1]),
+                                   friction=mu)
     s.fixed, support_cases = build_supports(data.get("support"), where, s.dim, issues)
     s.loads, load_cases = build_loads(data.get("load"), where, s.dim, issues)
     s.cases = support_cases + load_cases
@@ -1197,7 +1201,8 @@ def build_bodies(data: dict, base: Path, issues: list[Issue]):
         more = _body_actions(k, bd, m, s.dim, issues)
         s.fixed, s.loads, s.cases = s.fixed + more[0], s.loads + more[1], s.cases + more[2]
     s.times, s.friction_ramp = build_loading(data.get("loading"), issues)
-    s.solver = build_solver(data.get("solver"), 0.0, "small", issues)
+    s.mu = s.mu_max = cd["friction"] if _ok(cd) and isinstance(cd.get("friction"), float) else 0.0
+    s.solver = build_solver(data.get("solver"), s.mu, "small", issues)
     s.units = build_units(data.get("units"), issues)
     rd = data.get("reference")
     s.reference = _two_body_reference(rd, models, issues)
@@ -1212,6 +1217,6 @@ def build_bodies(data: dict, base: Path, issues: list[Issue]):
     if problem is None:
         return None
     history = None
-    if s.cases or s.friction_ramp is not None:
+    if s.cases or s.friction_ramp is not None or s.mu > 0:
         history = _num(issues, "loading", LoadHistory, tuple(s.cases), s.times, s.friction_ramp)
     return problem, history, s

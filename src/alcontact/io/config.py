@@ -225,7 +225,13 @@ class ProblemSetup:
 
     @property
     def friction(self) -> float:
-        return float(self.problem.friction)
+        """The largest Coulomb coefficient of the pairs (the run is frictional when it is positive)."""
+        return max(float(p.friction) for p in self.problem.pairs)
+
+    @property
+    def pair_friction(self) -> list[float]:
+        """The Coulomb coefficient of every pair, in the order of ``problem.pairs``."""
+        return [float(p.friction) for p in self.problem.pairs]
 
     @property
     def stepped(self) -> bool:
@@ -233,7 +239,9 @@ class ProblemSetup:
 
     def summary_line(self) -> str:
         m = self.problem.model
-        law = f"Coulomb mu={self.friction:g}" if self.friction > 0 else "frictionless"
+        mus = self.pair_friction
+        law = "frictionless" if self.friction == 0 else (
+            f"Coulomb mu={self.friction:g}" if len(set(mus)) == 1 else "Coulomb mu=" + "/".join(f"{m:g}" for m in mus))
         alg = self.algorithm + (f"/{self.penalty}" if self.penalty else "")
         n = len(self.times)
         kin = f", finite deformation ({m.law.name})" if self.finite else ""
@@ -334,7 +342,7 @@ def _build(data: dict, base: Path, issues: list[Issue], source) -> ProblemSetup 
     problem, history = build_problem(data, model, parts, issues)
     if problem is None or issues:
         return None
-    if parts.mu == 0 and parts.friction_ramp is not None:
+    if parts.mu_max == 0 and parts.friction_ramp is not None:
         logger.warning("loading.friction_ramp is ignored: contact.friction = 0")
     od, sv = data["obstacle"], parts.solver
     return ProblemSetup(

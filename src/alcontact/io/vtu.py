@@ -212,7 +212,7 @@ def _bodies_point_data(solution, deformed):
     model = problem.model
     slave, local = model.locate(problem.contact_boundary)
     kinematics = getattr(problem, "kinematics", "small")
-    extra = {k: v for k, v in (getattr(solution, "extra", None) or {}).items() if k != "state"}
+    extra = dict(getattr(solution, "extra", None) or {})
     points, conns, fields, index = [], [], [], []
     cell_type = None
     for i, (body, u) in enumerate(zip(model.bodies, model.split(solution.u))):
@@ -225,10 +225,13 @@ def _bodies_point_data(solution, deformed):
             name = body.boundary_names[0]
             pts, _ = body.node_dofs(name)
             m = pts.shape[0]
+            # with friction: no slip and contact_state -1 (not a contact point) on the other bodies
+            none = {"state": np.full(m, -1.0), "slip": np.zeros((m, 1)), "slip_increment": np.zeros((m, 1))} \
+                if "state" in extra else {}
             view = SimpleNamespace(problem=SimpleNamespace(model=body, contact_boundary=name, kinematics=kinematics,
                                                            slave_nodes=lambda b=body, n=name: b.node_dofs(n)),
                                    u=u, points=pts, pressure=np.zeros(m), gap=np.full(m, np.nan),
-                                   active=np.zeros(m, dtype=bool), extra={})
+                                   active=np.zeros(m, dtype=bool), extra=none)
         p, cells, data = solution_point_data(view, deformed)
         if cell_type not in (None, cells[0][0]):
             raise InputError(f"VTU output of several bodies needs one cell type; got {cell_type} and {cells[0][0]}.")
