@@ -249,7 +249,9 @@ def _load(text: str, tmp: Path):
     except AlcontactError:
         return None
     assert isinstance(setup, ProblemSetup)
-    assert setup.problem.model.mesh.nvertices <= meshes.MAX_VERTICES
+    model = setup.problem.model
+    for body in getattr(model, "bodies", (model,)):  # the bodies of a [[body]] file each have their own mesh
+        assert body.mesh.nvertices <= meshes.MAX_VERTICES
     return setup
 
 

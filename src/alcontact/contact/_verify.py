@@ -223,7 +223,7 @@ def _checked_args(gap, pressure, h, tol_penetration, tol_complementarity, tracti
         raise fail("h", h, "the element size, a number > 0")
     tol_penetration = number("tol_penetration", tol_penetration, low=0.0)
     tol_complementarity = number("tol_complementarity", tol_complementarity, low=0.0)
-    if np.ndim(mu) == 0:
+    if is_real(mu) or mu is None:
         mu = number("mu", mu, low=0.0)
     else:  # one coefficient per point (contact pairs with their own)
         mu = array("mu", mu, (1,), f"a number or {g.size} coefficients >= 0")

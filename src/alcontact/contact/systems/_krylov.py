@@ -783,6 +783,13 @@ def _rigid_modes(model) -> np.ndarray:
     return R
 
 
+def _near_null(model, free: np.ndarray) -> np.ndarray:
+    """Rigid-body modes on the free DOFs ``(free.size, k)``: the body's own (of its geometry, as its factorization
+    takes them) or, for several bodies (:class:`~alcontact.fem.MultiBody`), each body's (:func:`_rigid_modes`)."""
+    own = getattr(model, "_free_rigid_modes", None)
+    return own(free) if own is not None else np.ascontiguousarray(_rigid_modes(model)[free])
+
+
 def free_rigid_motions(model, fixed: np.ndarray, free: np.ndarray) -> np.ndarray:
     """Rigid motions ``(free.size, k)`` on the free DOFs that vanish on every fixed DOF (``k`` may be 0)."""
     R = _rigid_modes(model)
@@ -853,9 +860,7 @@ class IterativeFrictionalContact(FrictionalContact):
         free = self.free = self._free
         self.K = self._K[free][:, free].tocsr()
         self.K_abs = abs(self.K).tocsr()  # round-off bound of the residual
-        # near-null space of the hierarchies (that of ``factor``); several bodies: each body's own rigid modes
-        self.R = model._free_rigid_modes(free) if hasattr(model, "_free_rigid_modes") else \
-            np.ascontiguousarray(_rigid_modes(model)[free])
+        self.R = _near_null(model, free)  # near-null space of the hierarchies (that of ``factor``)
         self.hints = _linalg.MatrixHints(dim=model.dim, near_null=lambda: self.R)
         self.factor_K = self.factor.factor
         self.cg_iterations = 0
