@@ -22,6 +22,7 @@ from ..linalg import select_solver
 from ._verify import check_state, equilibrium_tolerance, reach, state_equilibrium, verified_status
 from .algorithms._frictionless import (ContactOptions, _Run, available_algorithms, check_solve_args,
                                        find_algorithm, options_with)
+from .kinematics._stacked_gap import pair_balance
 from .laws._stiffness import penalty_stiffness
 from .problem._loading import LoadHistory, problem_at
 from .solution._frames import finite_friction_solution, finite_solution, friction_solution, stepped_solution
@@ -181,6 +182,9 @@ def _force_balance(dc, nodal: np.ndarray) -> dict:
     :meth:`ContactSolution.equilibrium` balances); ``contact_force_balance`` :math:`|F_s + F_m| / |F_s|` (action = reaction: zero to round-off, since
     the master weights of every slave node sum to its own, :mod:`alcontact.contact.kinematics._mortar`).
     """
+    if len(dc.problem.pairs) > 1:  # a two-body pair beside other pairs: each pair's sides (kinematics._stacked_gap)
+        return {**pair_balance(dc.problem, dc.mortar.B, nodal[:, None], dc.dofs),
+                "contact_force_points": dc.force_points(nodal)}
     fc = dc.mortar.contact_force(nodal)
     d = dc.dim
     slave = fc[dc.dofs].sum(axis=0)

@@ -203,35 +203,44 @@ def solution_point_data(solution, deformed: bool | None = None
 def _bodies_point_data(solution, deformed):
     """:func:`solution_point_data` of a solution of several bodies (:class:`alcontact.fem.MultiBody`).
 
-    Each body's grid and fields as for one body (the contact fields on the slave boundary; ``0`` /
-    NaN on the other bodies), stacked into one grid with the point field ``body`` (the body's index).
+    Each body's grid and fields as for one body (the contact fields at the stacked contact points on
+    that body, the slave boundaries of its pairs; ``0`` / NaN, and with friction ``contact_state = -1``,
+    on a body with none), stacked into one grid with the point field ``body`` (the body's index).
     """
     from types import SimpleNamespace
 
     problem = solution.problem
     model = problem.model
-    slave, local = model.locate(problem.contact_boundary)
     kinematics = getattr(problem, "kinematics", "small")
     extra = dict(getattr(solution, "extra", None) or {})
+    _, dofs = problem.slave_nodes()
+    m = dofs.shape[0]
+    per_point = {k: v for k, v in extra.items() if k in ("state", "slip", "slip_increment")}
     points, conns, fields, index = [], [], [], []
     cell_type = None
     for i, (body, u) in enumerate(zip(model.bodies, model.split(solution.u))):
-        if i == slave:
-            view = SimpleNamespace(problem=SimpleNamespace(model=body, contact_boundary=local, kinematics=kinematics,
-                                                           slave_nodes=lambda b=body, n=local: b.node_dofs(n)),
-                                   u=u, points=solution.points, pressure=solution.pressure, gap=solution.gap,
-                                   active=solution.active, extra=extra)
-        else:  # no contact field of its own: the first boundary, zero pressure, no gap
+        lo, hi = model.offsets[i], model.offsets[i + 1]
+        mine = np.flatnonzero((dofs[:, 0] >= lo) & (dofs[:, 0] < hi))  # the contact points on this body
+        if mine.size:
+            pts, local = solution.points[mine], dofs[mine] - lo
+            view = SimpleNamespace(problem=SimpleNamespace(model=body, contact_boundary=problem.contact_boundary,
+                                                           kinematics=kinematics,
+                                                           slave_nodes=lambda p=pts, q=local: (p, q)),
+                                   u=u, points=pts, pressure=solution.pressure[mine], gap=solution.gap[mine],
+                                   active=solution.active[mine],
+                                   extra={k: np.asarray(v)[mine] for k, v in per_point.items()
+                                          if np.shape(v)[:1] == (m,)})
+        else:  # no contact point of its own: the first boundary, zero pressure, no gap
             name = body.boundary_names[0]
             pts, _ = body.node_dofs(name)
-            m = pts.shape[0]
+            n = pts.shape[0]
             # with friction: no slip and contact_state -1 (not a contact point) on the other bodies
-            none = {"state": np.full(m, -1.0), "slip": np.zeros((m, 1)), "slip_increment": np.zeros((m, 1))} \
+            none = {"state": np.full(n, -1.0), "slip": np.zeros((n, 1)), "slip_increment": np.zeros((n, 1))} \
                 if "state" in extra else {}
             view = SimpleNamespace(problem=SimpleNamespace(model=body, contact_boundary=name, kinematics=kinematics,
                                                            slave_nodes=lambda b=body, n=name: b.node_dofs(n)),
-                                   u=u, points=pts, pressure=np.zeros(m), gap=np.full(m, np.nan),
-                                   active=np.zeros(m, dtype=bool), extra=none)
+                                   u=u, points=pts, pressure=np.zeros(n), gap=np.full(n, np.nan),
+                                   active=np.zeros(n, dtype=bool), extra=none)
         p, cells, data = solution_point_data(view, deformed)
         if cell_type not in (None, cells[0][0]):
             raise InputError(f"VTU output of several bodies needs one cell type; got {cell_type} and {cells[0][0]}.")

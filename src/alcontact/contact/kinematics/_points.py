@@ -28,6 +28,7 @@ import numpy as np
 from ...errors import InputError
 from ._gap import LinearizedGap
 from ._mortar import MortarKinematics, mortar_gap
+from ._stacked_gap import stacked_gap
 
 
 logger = logging.getLogger(__name__)
@@ -54,15 +55,25 @@ OVERLAP_TOL = 1e-3
 
 def mortar_of(problem):
     """The :class:`~alcontact.contact.kinematics._mortar.MortarGap` of a problem whose pair has a deformable
-    master (``None`` against a rigid one)."""
-    pair = problem.pairs[0]
-    if pair.rigid:
+    master (``None`` against a rigid one); with several pairs of which one has a deformable master, the
+    gaps of all of them stacked into one (:func:`~alcontact.contact.kinematics._stacked_gap.stacked_gap`)."""
+    if all(p.rigid for p in problem.pairs):
         return None
     if problem.kinematics != "small":
         raise InputError("contact between two bodies is available at small deformation (kinematics='small'); "
                          "finite deformation is not supported yet.")
+    if len(problem.pairs) > 1:
+        return stacked_gap(problem, lambda p: _element_size(p.slave.body, p.slave.name, p.master),
+                           lambda name, pair, mg: _check_mortar(problem, name, pair, mg))
+    pair = problem.pairs[0]
     mg = mortar_gap(problem.model, pair.slave.body, pair.slave.name, pair.master)
-    where = f"contact pair {problem.contact_boundary!r} / {pair.master.describe()}"
+    return _check_mortar(problem, problem.contact_boundary, pair, mg)
+
+
+def _check_mortar(problem, name: str, pair, mg):
+    """``mg``, the weighted gaps of ``pair`` (slave boundary ``name`` of the model), after the warnings of a pair
+    that cannot come into contact or whose bodies overlap at the start."""
+    where = f"contact pair {name!r} / {pair.master.describe()}"
     if not np.any(mg.covered):
         logger.warning("%s: no slave node has a master segment within the search distance, so the pair cannot "
                        "come into contact; check the boundaries, or give BodySurface(..., search_distance=...)", where)
@@ -70,7 +81,7 @@ def mortar_of(problem):
         g = np.where(mg.covered, mg.gap0, -np.inf)
         i = int(np.argmax(g))
         if g[i] > OVERLAP_TOL * mg.h:
-            pts, _ = problem.model.node_dofs(problem.contact_boundary)
+            pts, _ = problem.model.node_dofs(name)
             logger.warning("%s: the bodies overlap at the start by %.3g at slave node %s (%.2g element sizes); "
                            "check the geometry, or expect the contact to push them apart", where, g[i],
                            np.round(pts[i], 6).tolist(), g[i] / mg.h)

@@ -35,6 +35,7 @@ from ..algorithms._coulomb import (_EQUILIBRIUM_TOL, FrictionOptions, _Ctx, _Fin
                                    _step_ssn, friction_algorithms)
 from ..algorithms._frictionless import check_solve_args, find_algorithm, options_with
 from ..laws._coulomb import OPEN, SLIP, STICK
+from ..kinematics._stacked_gap import pair_balance
 from ..laws._stiffness import penalty_stiffness
 from ..masters.obstacles import transport_tangent
 from ..problem._loading import LoadHistory, problem_at
@@ -337,9 +338,9 @@ def solve_friction(problem, history: LoadHistory | None, algorithm: str = "simo-
     solver = select_solver(opts.linear_solver, dim=problem.model.dim, ndofs=problem.model.ndofs)
     fc, advance = _FRICTION_PATHS[solver.exact](problem, history, opts, solver)
     # between two bodies the two surface layers in series (a master E x 1e6 gets the rigid obstacle's penalty)
-    pair = problem.pairs[0] if fc.mortar is not None else None
+    pairs = problem.pairs if fc.mortar is not None else None
     eps_n = opts.eps_n if opts.eps_n is not None else penalty_stiffness(problem.model, fc.h, opts.penalty_scale,
-                                                                        pair=pair)
+                                                                        pairs=pairs)
     eps_t = opts.eps_t if opts.eps_t is not None else opts.tangential_scale * eps_n
     m, d = fc.points.shape
     u0 = fc.u_free(0.0)
@@ -460,6 +461,10 @@ def _two_body_forces(fc, tN, tT) -> dict:
     tangential forces :math:`-L^T R` too (:mod:`alcontact.contact.kinematics._mortar_tangent`)."""
     if fc.mortar is None:
         return {}
+    if len(fc.problem.pairs) > 1:  # a two-body pair beside other pairs: each pair's sides (kinematics._stacked_gap)
+        R = fc.weights[:, None] * np.concatenate([tN[:, None], tT], axis=1)
+        return {**pair_balance(fc.problem, fc._mortar_rows(), R, fc.dofs),
+                "contact_force_points": fc.contact_force_points(tN, tT)}
     nodes, forces = fc.contact_force_points(tN, tT)
     slave_rows = np.isin(nodes[:, 0], fc.dofs[:, 0])
     master_rows = np.isin(nodes[:, 0], fc.mortar.master_dofs[:, 0])
