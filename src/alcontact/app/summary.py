@@ -234,7 +234,7 @@ def _pair_forces(problem, solution) -> list[dict[str, Any]]:
     tang = np.zeros((len(pairs), solution.points.shape[1]))
     if shear is not None:
         np.add.at(tang, owner, np.asarray(solution.weights, dtype=float)[:, None] * np.asarray(shear, dtype=float))
-    return [{"slave": p.slave.name, "master": p.master.describe(), "friction": float(p.friction),
+    return [{"slave": problem.slave_name(p), "master": p.master.describe(), "friction": float(p.friction),
              "force": [float(x) for x in f], "normal_force": float(np.sum(nodal[owner == k])),
              "tangential_force": [float(x) for x in tang[k]]}
             for k, (p, f) in enumerate(zip(pairs, forces))]

@@ -704,7 +704,7 @@ def build_pairs(pds: list | None, mesh, dim: int | None, base: Path | None, issu
     out: list = []
     for i, pd in enumerate(pds):
         key = f"pair[{i + 1}]"
-        if not _ok(pd):
+        if not _ok(pd) or not _pair_kind_ok(pd, key, issues, bodies=False):
             out = None
             continue
         ok = mesh is None or boundary_ok(mesh, pd["boundary"], f"{key}.boundary", issues)
@@ -714,6 +714,26 @@ def build_pairs(pds: list | None, mesh, dim: int | None, base: Path | None, issu
         elif out is not None:
             out.append((pd["boundary"], ob, pd["friction"]))
     return out
+
+
+def _pair_kind_ok(pd: dict, key: str, issues: list[Issue], *, bodies: bool) -> bool:
+    """A ``[[pair]]`` names its master once: an obstacle ``type`` (with its parameters) or, with ``[[body]]``
+    tables (``bodies``), the ``master`` boundary of another body."""
+    if pd["master"] and not bodies:
+        issues.append(Issue(f"{key}.master", f"= {pd['master']!r}: a pair between two bodies needs [[body]] tables; "
+                                             "against a rigid obstacle give its type (and parameters) instead."))
+        return False
+    if pd["master"] and (pd["type"] or pd["params"]):
+        extra = _known((["type"] if pd["type"] else []) + sorted(pd["params"]))
+        issues.append(Issue(key, f"master = {pd['master']!r} and obstacle keys ({extra}): a pair has one master, "
+                                 "a boundary of another body or a rigid obstacle; remove one."))
+        return False
+    if not pd["master"] and not pd["type"]:
+        issues.append(Issue(f"{key}.type", "missing (required): Registered obstacle name, as `[obstacle] type`"
+                                           + (" (or master = 'body0/top', a boundary of another body)." if bodies
+                                              else ".")))
+        return False
+    return True
 
 
 def _pairs_issues(s: Sections, od: Any, issues: list[Issue]) -> None:
@@ -1121,9 +1141,6 @@ def _bodies_table_issues(data: dict, issues: list[Issue]) -> None:
                       ("obstacle", "the master of the pair is [contact] master, a body's boundary")):
         if data.get(key) is not None:
             issues.append(Issue(key, f"given together with [[body]]: {what}; remove [{key}]."))
-    if data.get("pair"):
-        issues.append(Issue("pair", "[[pair]] (rigid obstacles) together with [[body]]: a two-body pair beside "
-                                    "other pairs is not supported yet; remove the [[pair]] tables."))
     cd = data.get("contact")
     if not isinstance(cd, dict):
         return
@@ -1194,6 +1211,7 @@ def build_bodies(data: dict, base: Path, issues: list[Issue]):
                 mu = cd["friction"] if isinstance(cd.get("friction"), float) else 0.0
                 pair = ContactPair(Boundary(models[slave[0]], slave[1]), BodySurface(models[master[0]], master[1]),
                                    friction=mu)
+    others = _body_pairs(data.get("pair") or [], models, names, s.dim, base, cd, issues)
     s.fixed, support_cases = build_supports(data.get("support"), where, s.dim, issues)
     s.loads, load_cases = build_loads(data.get("load"), where, s.dim, issues)
     s.cases = support_cases + load_cases
@@ -1201,22 +1219,54 @@ def build_bodies(data: dict, base: Path, issues: list[Issue]):
         more = _body_actions(k, bd, m, s.dim, issues)
         s.fixed, s.loads, s.cases = s.fixed + more[0], s.loads + more[1], s.cases + more[2]
     s.times, s.friction_ramp = build_loading(data.get("loading"), issues)
-    s.mu = s.mu_max = cd["friction"] if _ok(cd) and isinstance(cd.get("friction"), float) else 0.0
-    s.solver = build_solver(data.get("solver"), s.mu, "small", issues)
+    s.mu = cd["friction"] if _ok(cd) and isinstance(cd.get("friction"), float) else 0.0
+    s.mu_max = max([s.mu] + [p.friction for p in others or ()])
+    s.solver = build_solver(data.get("solver"), s.mu_max, "small", issues)
     s.units = build_units(data.get("units"), issues)
     rd = data.get("reference")
     s.reference = _two_body_reference(rd, models, issues)
-    if issues or pair is None or s.times is None:
+    if issues or pair is None or s.times is None or others is None:
         return None
     rd = rd if _ok(rd) else {"center": None, "axis": 0, "kind": "none"}
     center = tuple(rd["center"]) if rd["center"] is not None else (0.0,) * s.dim
     meta = {"symmetry_axis": int(rd["axis"]), "center": center,
             "center_declared": rd["center"] is not None or rd["kind"] != "none"}
-    problem = _num(issues, "body", ContactProblem, bodies=models, pairs=[pair], supports=tuple(s.fixed),
+    problem = _num(issues, "body", ContactProblem, bodies=models, pairs=[pair] + others, supports=tuple(s.fixed),
                    loads=tuple(s.loads), name=data["problem"]["name"], reference=s.reference, meta=meta)
     if problem is None:
         return None
     history = None
-    if s.cases or s.friction_ramp is not None or s.mu > 0:
+    if s.cases or s.friction_ramp is not None or s.mu_max > 0:
         history = _num(issues, "loading", LoadHistory, tuple(s.cases), s.times, s.friction_ramp)
     return problem, history, s
+
+
+def _body_pairs(pds: list, models: list, names: dict, dim, base: Path, cd: Any, issues: list[Issue]) -> list | None:
+    """The ``[[pair]]`` tables of a file with ``[[body]]``: each a pair between two bodies (``master``) or
+    against a rigid obstacle (``type``) on the body of its ``boundary``; ``None`` when one failed."""
+    from ..contact import BodySurface, Boundary, ContactPair
+
+    out: list | None = []
+    mu0 = cd["friction"] if _ok(cd) and isinstance(cd.get("friction"), float) else 0.0
+    for i, pd in enumerate(pds):
+        key = f"pair[{i + 1}]"
+        if not _ok(pd) or not _pair_kind_ok(pd, key, issues, bodies=True):
+            out = None
+            continue
+        slave = _surface(pd["boundary"], f"{key}.boundary", names, len(models), issues)
+        if pd["master"]:
+            other = _surface(pd["master"], f"{key}.master", names, len(models), issues)
+            if other is not None and other == slave:
+                issues.append(Issue(f"{key}.master", f"= {pd['master']!r}: the same boundary as the slave "
+                                                     f"({key}.boundary = {pd['boundary']!r}); a pair needs two "
+                                                     "surfaces: name a boundary of the other body."))
+                other = None
+            master = None if other is None else BodySurface(models[other[0]], other[1])
+        else:
+            master = build_obstacle(pd, dim, issues, key=key, base=base)
+        if slave is None or master is None:
+            out = None
+        elif out is not None:
+            mu = mu0 if pd["friction"] is None else pd["friction"]
+            out.append(ContactPair(Boundary(models[slave[0]], slave[1]), master, friction=mu))
+    return out

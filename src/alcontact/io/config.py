@@ -249,7 +249,7 @@ class ProblemSetup:
                  if self.data.get("obstacle") else "")
         if len(self.problem.pairs) > 1 or not where:
             where = f"{len(self.problem.pairs)} contact pairs (" + ", ".join(
-                f"{p.slave.name!r} on {p.master.name}" for p in self.problem.pairs) + ")"
+                f"{self.problem.slave_name(p)!r} on {p.master.name}" for p in self.problem.pairs) + ")"
         if hasattr(m, "bodies"):  # [[body]]: several bodies
             parts = [b.mesh.nelements for b in m.bodies]
             return (f"{self.name}: {len(parts)} bodies, {m.dim}D, {m.ndofs} DOFs, {sum(parts)} elements, "

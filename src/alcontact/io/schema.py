@@ -262,13 +262,18 @@ def _build_schema() -> tuple[Table, ...]:
               "file relative to this file, optional `group` = a Gmsh physical group)."),
             OBSTACLE_PATH,
         ), open=True, required=True),
-        Table("pair", "A further contact pair on the body (one table per pair): its own contact boundary "
-              "against its own rigid obstacle, e.g. a block squeezed between two plates. `type` and every "
-              "other key are the obstacle's, as in `[obstacle]` (which is the obstacle of `[contact] boundary`); "
-              "each pair has its own Coulomb coefficient (`friction`, default `[contact] friction`), "
-              "`kinematics` applies to every pair (at finite kinematics: frictionless, no `[obstacle] path`).", (
-            O("boundary", "str", REQUIRED, "Boundary of the body that may touch this pair's obstacle."),
-            O("type", "str", REQUIRED, "Registered obstacle name, as `[obstacle] type`."),
+        Table("pair", "A further contact pair (one table per pair): its own contact boundary against its own "
+              "rigid obstacle, e.g. a block squeezed between two plates. `type` and every other key are the "
+              "obstacle's, as in `[obstacle]` (which is the obstacle of `[contact] boundary`); with `[[body]]` "
+              "tables a pair may instead join two bodies (`master`, a boundary of another body, as `[contact] "
+              "master`), and a rigid pair acts on the body of its `boundary` (e.g. `\"body1/top\"`). Each pair has "
+              "its own Coulomb coefficient (`friction`, default `[contact] friction`), `kinematics` applies to "
+              "every pair (at finite kinematics: frictionless, no `[obstacle] path`).", (
+            O("boundary", "str", REQUIRED, "Boundary of the body that may touch this pair's obstacle (the slave)."),
+            O("type", "str", "", "Registered obstacle name, as `[obstacle] type` (required unless `master` is "
+              "given)."),
+            O("master", "str", "", "With `[[body]]`: the master boundary of a pair between two bodies, a boundary "
+              "of another body (instead of `type`)."),
             O("friction", "float", None, "Coulomb coefficient mu of this pair (default: `[contact] friction`; 0: "
               "frictionless).", low=0, high=VALUE_RANGE[1]),
         ), array=True, open=True),
