@@ -12,6 +12,7 @@ and a bad coefficient is a ConfigError naming the key.
 from __future__ import annotations
 
 import json
+import sys
 from pathlib import Path
 
 import meshio
@@ -26,6 +27,7 @@ from alcontact.io.config import load_problem_text
 from alcontact.problems import two_body_friction as tbf
 
 EXAMPLE = Path(__file__).resolve().parents[2] / "examples" / "two_body_friction.toml"
+DATA = Path(__file__).resolve().parents[1] / "data" / "two_cylinders"
 
 
 def test_two_body_friction_file_equals_the_api_and_slides_with_q_equal_mu_n(tmp_path):
@@ -56,3 +58,72 @@ def test_a_negative_two_body_friction_is_named():
     with pytest.raises(ConfigError) as info:
         load_problem_text(EXAMPLE.read_text().replace("friction = 0.3", "friction = -0.3"), base_dir=EXAMPLE.parent)
     assert "contact.friction" in str(info.value)
+
+
+def test_cattaneo_mindlin_between_two_bodies_from_a_problem_file(tmp_path):
+    """``[reference] kind = "cattaneo-mindlin"`` with ``[[body]]``: the two identical cylinders of
+    :func:`~alcontact.problems.two_body_friction.cattaneo_mindlin_cylinders` (32 elements per a; its meshes written
+    as Gmsh files) as a problem file: summary.json's stick half-width against Johnson's c = a sqrt(1 - Q/(mu P))
+    with the pair's E*, R is that of tests/verification/test_two_body_friction.py on the same meshes (-1.48 %;
+    the reference's tolerance 2 %)."""
+    sys.path.insert(0, str(DATA))
+    from make_meshes import write  # the Gmsh writer of the two-cylinder test file
+
+    prob, _ = tbf.cattaneo_mindlin_cylinders(n_per_a=32)
+    lower, upper = prob.model.bodies
+    write(lower, tmp_path / "lower.msh")
+    write(upper, tmp_path / "upper.msh")
+    delta, s = prob.meta["delta"], prob.meta["s"]
+    text = f'''[problem]
+name = "two-body-mindlin"
+description = "Two identical cylinders pressed, then sheared into partial slip."
+
+[[body]]
+mesh = {{ generator = "file", file = "lower.msh" }}
+material = {{ E = 200e3, nu = 0.3, plane = "strain" }}
+
+[[body]]
+mesh = {{ generator = "file", file = "upper.msh" }}
+material = {{ E = 200e3, nu = 0.3, plane = "strain" }}
+
+[contact]
+boundary = "body1/bottom"
+master = "body0/top"
+friction = 0.3
+
+[[support]]
+boundary = "body0/bottom"
+
+[[support]]
+boundary = "body1/top"
+components = [1]
+value = {-delta!r}
+ramp = [[0.0, 0.0], [0.5, 1.0]]
+
+[[support]]
+boundary = "body1/top"
+components = [0]
+value = {s!r}
+ramp = [[0.5, 0.0], [1.0, 1.0]]
+tangential = true
+
+[loading]
+steps = 4
+friction_ramp = [[0.5, 0.0], [0.500000001, 1.0]]
+
+[solver]
+algorithm = "ssn"
+
+[reference]
+kind = "cattaneo-mindlin"
+radius = 10.0
+center = [0.0, 0.0]
+'''
+    (tmp_path / "cm.toml").write_text(text)
+    setup = load_problem(tmp_path / "cm.toml")
+    assert setup.mindlin is not None and setup.mindlin.hertz.e_star == pytest.approx(prob.reference.hertz.e_star)
+    res = run_setup(setup)  # the summary only (no results folder)
+    summary = res.summary
+    assert summary["status"] == "converged", summary["message"]
+    assert abs(summary["stick_half_width_error_pct"]) <= 2.0
+    assert summary["stick_half_width_error_pct"] == pytest.approx(-1.48, abs=0.1)

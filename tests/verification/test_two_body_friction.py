@@ -52,6 +52,18 @@ def test_dragged_block_slides_with_q_equal_mu_n(algorithm, linear_solver):
     assert sol.equilibrium().residual <= 1e-8
 
 
+@pytest.mark.parametrize("linear_solver", ["direct", "amg"])
+def test_dragged_p2_block_slides_with_q_equal_mu_n(linear_solver):
+    """The same with P2 elements in both bodies (the dual basis of P2 segments; mid-side nodes in the mortar
+    rows): every slave node slides, Q = mu N to 1e-8, balance 1e-10."""
+    prob, hist = tbf.dragged_block(n=4, order=2)
+    sol = solve(prob, "simo-laursen", history=hist, options={"linear_solver": linear_solver})
+    assert sol.result.success, sol.result.message
+    assert np.all(sol.extra["state"] == SLIP) and sol.points.shape[0] == 11  # 5 segments: 6 ends, 5 midpoints
+    assert abs(_tangential(sol)[0]) == pytest.approx(prob.friction * sol.normal_force, rel=1e-8)
+    assert sol.extra["contact_force_balance"] <= 1e-10
+
+
 def test_dragged_block_frames_balance_at_every_step():
     """Action = reaction at every accepted step (press, then drag: sticking, then sliding), 1e-10."""
     prob, hist = tbf.dragged_block(n=8, slide_ratio=3.0, steps=6)

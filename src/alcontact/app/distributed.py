@@ -34,7 +34,7 @@ def refusal(setup) -> str | None:
     what = []
     if setup.finite:
         what.append("finite deformation (kinematics = \"finite\")")
-    if float(getattr(setup.problem, "friction", 0.0) or 0.0) > 0:
+    if setup.friction > 0:  # the largest coefficient of the pairs
         what.append("friction")
     if len(setup.times) > 1:
         what.append(f"load steps ({len(setup.times)} step times)")

@@ -239,7 +239,7 @@ def solve(problem, algorithm: str = DEFAULT_ALGORITHM, penalty: str | None = Non
     obstacle_path : callable ``t -> (d,)`` or ``t -> RigidMotion``, optional
         Finite deformation: the obstacle's translation (or rigid placement) at pseudo-time ``t``.
     friction : float, optional
-        Coulomb coefficient; overrides ``problem.friction``.
+        Coulomb coefficient of every pair; overrides the pairs' own (``ContactPair.friction``).
     on_step : callable ``(done, total, t) -> None``, optional
         Progress of a stepped run: ``done`` requested steps of ``total`` reached at pseudo-time
         ``t`` (``done = 0`` before the first).

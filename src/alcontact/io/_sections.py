@@ -1149,23 +1149,27 @@ def _bodies_table_issues(data: dict, issues: list[Issue]) -> None:
                                                   "small deformation so far; set kinematics = 'small'."))
 
 
-def _two_body_reference(rd: dict | None, models: list, issues: list[Issue]):
+def _two_body_reference(rd: dict | None, models: list, mu: float, issues: list[Issue]):
     """``[reference] kind = "hertz"`` between two bodies: Hertz with the effective modulus
     :math:`1/E^* = (1-\\nu_1^2)/E_1 + (1-\\nu_2^2)/E_2` (plane strain) and ``radius`` the effective
-    :math:`R` (Johnson, Contact Mechanics, eq. 4.45-4.47)."""
+    :math:`R` (Johnson, Contact Mechanics, eq. 4.45-4.47); ``"cattaneo-mindlin"``: the partial slip of that
+    contact under a tangential load, :math:`c/a = \\sqrt{1 - Q/(\\mu P)}` (Johnson, section 7.1; exact for two
+    bodies of the same material, which decouple the normal and tangential problems). ``(hertz, mindlin)``."""
     if not _ok(rd) or rd["kind"] == "none":
-        return None
-    if rd["kind"] != "hertz" or len(models) != 2:
-        issues.append(Issue("reference.kind", f"= {rd['kind']!r}: with [[body]] the reference is 'hertz' between "
-                                              "two bodies (or 'none')."))
-        return None
-    if not _reference_ok(rd, 2, 0.0, issues):
-        return None
+        return None, None
+    if rd["kind"] not in ("hertz", "cattaneo-mindlin") or len(models) != 2:
+        issues.append(Issue("reference.kind", f"= {rd['kind']!r}: with [[body]] the reference is 'hertz' or "
+                                              "'cattaneo-mindlin' between two bodies (or 'none')."))
+        return None, None
+    if not _reference_ok(rd, 2, mu, issues):
+        return None, None
+    from ..problems.friction import MindlinReference
     from ..problems.hertz import HertzReference
 
     comp = sum(1.0 / m.material.E if m.material.plane == "stress" else 1.0 / m.material.plane_strain_modulus
                for m in models)
-    return HertzReference("cylinder", rd["radius"], 1.0 / comp, rd["symmetry"])
+    ref = HertzReference("cylinder", rd["radius"], 1.0 / comp, rd["symmetry"])
+    return ref, (MindlinReference(ref, float(mu)) if rd["kind"] == "cattaneo-mindlin" else None)
 
 
 def build_bodies(data: dict, base: Path, issues: list[Issue]):
@@ -1224,7 +1228,7 @@ def build_bodies(data: dict, base: Path, issues: list[Issue]):
     s.solver = build_solver(data.get("solver"), s.mu_max, "small", issues)
     s.units = build_units(data.get("units"), issues)
     rd = data.get("reference")
-    s.reference = _two_body_reference(rd, models, issues)
+    s.reference, s.mindlin = _two_body_reference(rd, models, s.mu, issues)
     if issues or pair is None or s.times is None or others is None:
         return None
     rd = rd if _ok(rd) else {"center": None, "axis": 0, "kind": "none"}

@@ -368,6 +368,7 @@ def _build_bodies(data: dict, base: Path, issues: list[Issue], source) -> Proble
     return ProblemSetup(
         source=Path(source) if source is not None else None, data=data, problem=problem, history=history,
         times=parts.times, algorithm=sv.algorithm, penalty=sv.penalty, options=sv.options,
-        friction_options=sv.friction_options, reference=parts.reference, output=dict(data["output"]),
-        max_cutbacks=int(data["loading"]["max_cutbacks"]), units=parts.units, petsc_options=sv.petsc_options,
+        friction_options=sv.friction_options, reference=parts.reference, mindlin=parts.mindlin,
+        output=dict(data["output"]), max_cutbacks=int(data["loading"]["max_cutbacks"]), units=parts.units,
+        petsc_options=sv.petsc_options,
     )

@@ -76,18 +76,18 @@ def _check(where: str, **values):
                               for k, v in values.items()])
 
 
-def _drag_blocks(n: int, E, nu, base_width: float):
+def _drag_blocks(n: int, E, nu, base_width: float, order: int = 1):
     """Base ``[-w/2, w/2] x [0, 1/2]`` (``n`` cells per unit) and block ``[-1/2, 1/2] x [1/2, 1]`` (``n + 1``)."""
     half = 0.5 * base_width
     base = LinearElasticity(meshes.rectangle(-half, half, 0.0, 0.5, int(round(n * base_width)), max(2, n // 2)),
-                            Material(E=E[0], nu=nu[0], plane="strain"))
+                            Material(E=E[0], nu=nu[0], plane="strain"), order=order)
     top = LinearElasticity(meshes.rectangle(-0.5, 0.5, 0.5, 1.0, n + 1, max(2, (n + 1) // 2)),
-                           Material(E=E[1], nu=nu[1], plane="strain"))
+                           Material(E=E[1], nu=nu[1], plane="strain"), order=order)
     return base, top
 
 
 def dragged_block(n: int = 8, *, E=(1000.0, 1000.0), nu=(0.3, 0.3), mu: float = 0.3, strain: float = 0.01,
-                  slide_ratio: float = 3.0, steps: int = 4, base_width: float = 2.0):
+                  slide_ratio: float = 3.0, steps: int = 4, base_width: float = 2.0, order: int = 1):
     r"""A block dragged over a deformable base (module doc): ``(problem, history)``.
 
     Parameters
@@ -107,10 +107,16 @@ def dragged_block(n: int = 8, *, E=(1000.0, 1000.0), nu=(0.3, 0.3), mu: float = 
         Equal load steps (half of them press, half drag).
     base_width : float
         Width of the base (the block is 1 wide, centred): wider, so that every slave node stays covered.
+    order : {1, 2}
+        P1 or P2 elements in both bodies.
     """
     n, mu, strain, slide_ratio, steps = _check("dragged_block", n=n, mu=mu, strain=strain, slide_ratio=slide_ratio,
                                                steps=steps)
-    base, top = _drag_blocks(n, E, nu, base_width)
+    if order not in (1, 2):
+        from ..errors import InputError
+
+        raise InputError(f"dragged_block: order = {order!r}: expected 1 or 2.")
+    base, top = _drag_blocks(n, E, nu, base_width, order)
     pair = ContactPair(Boundary(top, "bottom"), BodySurface(base, "top"), friction=mu)
     d = 0.5 * strain
     s = slide_ratio * 2.0 * mu * d * (1.0 + nu[1])

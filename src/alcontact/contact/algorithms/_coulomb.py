@@ -288,7 +288,7 @@ class _Ctx:
     R0: np.ndarray
     eps_n: float
     eps_t: float
-    mu: float
+    mu: float | np.ndarray  # one coefficient, or one per candidate (pairs with their own)
     opts: FrictionOptions
     tfree: np.ndarray | None = None  # (c, d-1) tangent directions not held by a support
 

@@ -252,8 +252,9 @@ def solve_friction(problem, history: LoadHistory | None, algorithm: str = "simo-
     Parameters
     ----------
     problem : ContactProblem
-        Body, obstacle, contact boundary; its own supports and loads act at full
-        value at every step; ``problem.friction`` is the Coulomb coefficient :math:`\mu`.
+        Bodies and contact pairs; its own supports and loads act at full value at
+        every step; each pair's ``friction`` is its Coulomb coefficient :math:`\mu` (of
+        the pair's stacked points, :meth:`ContactProblem.point_friction`).
     history : LoadHistory
         Scaled supports/loads and the step times.
     algorithm : {"simo-laursen", "family-p", "ssn"}
@@ -265,7 +266,7 @@ def solve_friction(problem, history: LoadHistory | None, algorithm: str = "simo-
     steps : int or sequence of float, optional
         Overrides ``history.times`` (an int: that many equal steps).
     friction : float, optional
-        Overrides ``problem.friction``.
+        Overrides the coefficient of every pair.
     on_step : callable, optional
         ``on_step(k, t, n)`` is called before requested step ``k`` (0-based) of ``n``,
         at pseudo-time ``t`` (for progress bars).

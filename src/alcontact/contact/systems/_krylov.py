@@ -1046,7 +1046,7 @@ class _FullCtx:
     x_free: np.ndarray  # contact-free solution at t (with the springs of a held body)
     eps_n: float
     eps_t: float
-    mu: float
+    mu: float | np.ndarray  # one coefficient, or one per candidate (pairs with their own)
     opts: object
     tfree: np.ndarray
 
