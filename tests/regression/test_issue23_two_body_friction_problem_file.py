@@ -48,6 +48,7 @@ def test_two_body_friction_file_equals_the_api_and_slides_with_q_equal_mu_n(tmp_
     assert s["equilibrium_residual"] <= 1e-8
     pair = s["pair_contact_forces"][0]
     assert pair["friction"] == 0.3 and pair["tangential_force"][0] == pytest.approx(slave[0], rel=1e-12)
+    assert pair["master_force"] == s["master_contact_force"] and pair["force_balance"] <= 1e-10
     grid = meshio.read(tmp_path / "res" / "solution.vtu")
     state, body = grid.point_data["contact_state"], grid.point_data["body"]
     assert np.all(state[body == 0] == -1) and set(np.unique(state[body == 1]).tolist()) == {-1.0, 2.0}

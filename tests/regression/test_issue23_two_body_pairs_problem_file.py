@@ -40,6 +40,9 @@ def test_block_on_a_base_pressed_by_a_plate_from_a_problem_file(tmp_path):
     assert np.linalg.norm(f[0] + f[1]) <= 1e-10 * EXACT
     assert [p["slave"] for p in s["pair_contact_forces"]] == ["body1/bottom", "body1/top"]
     assert s["contact_force_balance"] <= 1e-10
+    first, plate = s["pair_contact_forces"]  # the base's side of the mortar pair; none for the rigid plate
+    np.testing.assert_allclose(first["master_force"], -f[0], atol=1e-10 * EXACT)
+    assert first["force_balance"] <= 1e-10 and "master_force" not in plate
 
 
 def _three_blocks(extra: str = "") -> str:

@@ -225,7 +225,8 @@ def summarize(problem, solution, *, problem_name: str | None = None, level: int 
 def _pair_forces(problem, solution) -> list[dict[str, Any]]:
     """Per contact pair: its slave boundary, its master, its Coulomb coefficient and the contact force it puts on the
     (slave) body, with its normal part (the sum of the normal nodal forces) and its tangential part (of the
-    tangential tractions; zero without friction)."""
+    tangential tractions; zero without friction); between two bodies also the force on the master side
+    (``master_force``) and ``force_balance`` = |F_slave + F_master| / |F_slave|."""
     pairs = getattr(problem, "pairs", ())
     forces = solution.pair_contact_forces()
     owner = problem.pair_of_points() if len(pairs) > 1 else np.zeros(solution.points.shape[0], dtype=np.int64)
@@ -234,10 +235,20 @@ def _pair_forces(problem, solution) -> list[dict[str, Any]]:
     tang = np.zeros((len(pairs), solution.points.shape[1]))
     if shear is not None:
         np.add.at(tang, owner, np.asarray(solution.weights, dtype=float)[:, None] * np.asarray(shear, dtype=float))
-    return [{"slave": problem.slave_name(p), "master": p.master.describe(), "friction": float(p.friction),
-             "force": [float(x) for x in f], "normal_force": float(np.sum(nodal[owner == k])),
-             "tangential_force": [float(x) for x in tang[k]]}
-            for k, (p, f) in enumerate(zip(pairs, forces))]
+    out = [{"slave": problem.slave_name(p), "master": p.master.describe(), "friction": float(p.friction),
+            "force": [float(x) for x in f], "normal_force": float(np.sum(nodal[owner == k])),
+            "tangential_force": [float(x) for x in tang[k]]}
+           for k, (p, f) in enumerate(zip(pairs, forces))]
+    # a pair between two bodies: the force on its master side and |F_slave + F_master| / |F_slave|
+    sides = solution.extra.get("pair_balance")
+    if sides is None and "master_contact_force" in solution.extra and len(out) == 1:
+        sides = [{"master_force": solution.extra["master_contact_force"],
+                  "balance": solution.extra["contact_force_balance"]}]
+    for entry, side in zip(out, sides or ()):
+        if side is not None:
+            entry["master_force"] = [float(x) for x in side["master_force"]]
+            entry["force_balance"] = float(side["balance"])
+    return out
 
 
 def _tolerances(options: dict) -> dict[str, float]:
