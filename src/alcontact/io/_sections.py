@@ -1183,7 +1183,7 @@ def build_bodies(data: dict, base: Path, issues: list[Issue]):
     """
     from types import SimpleNamespace
 
-    from ..contact import BodySurface, Boundary, ContactPair, ContactProblem, LoadHistory
+    from ..contact import ContactProblem, LoadHistory
 
     _bodies_table_issues(data, issues)
     built = [_one_body(i, bd, base, issues) for i, bd in enumerate(data["body"]) if _ok(bd)]
@@ -1202,19 +1202,7 @@ def build_bodies(data: dict, base: Path, issues: list[Issue]):
     names = _boundary_names(models)
     where = SimpleNamespace(boundaries=dict.fromkeys(names))  # boundary_ok checks the qualified names
     cd = data["contact"]
-    pair = None
-    if _ok(cd):
-        slave = _surface(cd["boundary"], "contact.boundary", names, len(models), issues)
-        master = _surface(cd["master"], "contact.master", names, len(models), issues)
-        if slave is not None and master is not None:
-            if slave == master:
-                issues.append(Issue("contact.master", f"= {cd['master']!r}: the same boundary as the slave "
-                                                      f"(contact.boundary = {cd['boundary']!r}); a pair needs two "
-                                                      "surfaces: name a boundary of the other body."))
-            else:
-                mu = cd["friction"] if isinstance(cd.get("friction"), float) else 0.0
-                pair = ContactPair(Boundary(models[slave[0]], slave[1]), BodySurface(models[master[0]], master[1]),
-                                   friction=mu)
+    pair = _contact_pair(cd, models, names, issues)
     others = _body_pairs(data.get("pair") or [], models, names, s.dim, base, cd, issues)
     s.fixed, support_cases = build_supports(data.get("support"), where, s.dim, issues)
     s.loads, load_cases = build_loads(data.get("load"), where, s.dim, issues)
@@ -1243,6 +1231,26 @@ def build_bodies(data: dict, base: Path, issues: list[Issue]):
     if s.cases or s.friction_ramp is not None or s.mu_max > 0:
         history = _num(issues, "loading", LoadHistory, tuple(s.cases), s.times, s.friction_ramp)
     return problem, history, s
+
+
+def _contact_pair(cd: Any, models: list, names: dict, issues: list[Issue]):
+    """The two-body pair of ``[contact]`` (``boundary`` the slave, ``master`` a boundary of another body, its
+    ``friction``), or ``None`` with the issues."""
+    from ..contact import BodySurface, Boundary, ContactPair
+
+    if not _ok(cd):
+        return None
+    slave = _surface(cd["boundary"], "contact.boundary", names, len(models), issues)
+    master = _surface(cd["master"], "contact.master", names, len(models), issues)
+    if slave is None or master is None:
+        return None
+    if slave == master:
+        issues.append(Issue("contact.master", f"= {cd['master']!r}: the same boundary as the slave "
+                                              f"(contact.boundary = {cd['boundary']!r}); a pair needs two "
+                                              "surfaces: name a boundary of the other body."))
+        return None
+    mu = cd["friction"] if isinstance(cd.get("friction"), float) else 0.0
+    return ContactPair(Boundary(models[slave[0]], slave[1]), BodySurface(models[master[0]], master[1]), friction=mu)
 
 
 def _body_pairs(pds: list, models: list, names: dict, dim, base: Path, cd: Any, issues: list[Issue]) -> list | None:
