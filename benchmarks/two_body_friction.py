@@ -126,11 +126,14 @@ def _report(path: Path, rows: list[dict], meta: dict) -> None:
                      f"{r['newton']} | {r['linear_solves']} | {r['ratio_to_linear']} | {r['stick_error_pct']} % | "
                      f"{r['contact_force_balance']:.1e} |")
     direct = [r for r in rows if r["path"] == "direct"]
-    lines += ["", f"Direct path: {min(r['linear_solves'] for r in direct)} to "
-                  f"{max(r['linear_solves'] for r in direct)} linear solves for the whole history (the stiffness "
-                  "is factorized once; one solve per load case and one per accepted step), CPU "
+    lines += ["", "Direct path: the stiffness is factorized once for the whole history. From 10,000 DOFs the "
+                  "factorization returns the Schur complement of the contact DOFs (slave and master nodes), so "
+                  "the compliance costs no solve: 7 linear solves (the contact-free solution of each load case "
+                  "and one displacement per step); below it one triangular solve pair per candidate DOF. CPU "
                   f"{min(r['ratio_to_linear'] for r in direct)} to {max(r['ratio_to_linear'] for r in direct)} "
-                  "linear solves.", ""]
+                  "linear solves for the whole history of 4 steps, most of it the dense Newton iterations of "
+                  "the condensed subproblems (about 50-80 per step at 64 elements per a). The AMG path is "
+                  "there for large (3D) models; at 8.8k DOFs its CG iterations cost 130-270 direct solves.", ""]
     path.write_text("\n".join(lines))
 
 
