@@ -27,7 +27,6 @@ from alcontact.io.config import load_problem_text
 from alcontact.problems import two_body_friction as tbf
 
 EXAMPLE = Path(__file__).resolve().parents[2] / "examples" / "two_body_friction.toml"
-DATA = Path(__file__).resolve().parents[1] / "data" / "two_cylinders"
 
 
 def test_two_body_friction_file_equals_the_api_and_slides_with_q_equal_mu_n(tmp_path):
@@ -64,27 +63,25 @@ def test_a_negative_two_body_friction_is_named():
 def test_cattaneo_mindlin_between_two_bodies_from_a_problem_file(tmp_path):
     """``[reference] kind = "cattaneo-mindlin"`` with ``[[body]]``: the two identical cylinders of
     :func:`~alcontact.problems.two_body_friction.cattaneo_mindlin_cylinders` (32 elements per a; its meshes written
-    as Gmsh files) as a problem file: summary.json's stick half-width against Johnson's c = a sqrt(1 - Q/(mu P))
+    as one Gmsh file, a physical group per body) as a problem file: summary.json's stick half-width against Johnson's c = a sqrt(1 - Q/(mu P))
     with the pair's E*, R is that of tests/verification/test_two_body_friction.py on the same meshes (-1.48 %;
     the reference's tolerance 2 %)."""
-    sys.path.insert(0, str(DATA))
-    from make_meshes import write  # the Gmsh writer of the two-cylinder test file
+    sys.path.insert(0, str(EXAMPLE.parent))
+    from two_cylinders_mesh import write_bodies  # the Gmsh writer of examples/two_cylinders.toml's mesh
 
     prob, _ = tbf.cattaneo_mindlin_cylinders(n_per_a=32)
-    lower, upper = prob.model.bodies
-    write(lower, tmp_path / "lower.msh")
-    write(upper, tmp_path / "upper.msh")
+    write_bodies(list(prob.model.bodies), ["lower", "upper"], tmp_path / "cm.msh")
     delta, s = prob.meta["delta"], prob.meta["s"]
     text = f'''[problem]
 name = "two-body-mindlin"
 description = "Two identical cylinders pressed, then sheared into partial slip."
 
 [[body]]
-mesh = {{ generator = "file", file = "lower.msh" }}
+mesh = {{ generator = "file", file = "cm.msh", group = "lower" }}
 material = {{ E = 200e3, nu = 0.3, plane = "strain" }}
 
 [[body]]
-mesh = {{ generator = "file", file = "upper.msh" }}
+mesh = {{ generator = "file", file = "cm.msh", group = "upper" }}
 material = {{ E = 200e3, nu = 0.3, plane = "strain" }}
 
 [contact]

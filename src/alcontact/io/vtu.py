@@ -33,8 +33,10 @@ Point fields (:data:`POINT_FIELDS`):
 
 Several bodies (a :class:`~alcontact.fem.MultiBody`, two-body contact) are written as one grid with
 the point field ``body`` (the index of the body each point belongs to; filter by it in ParaView
-with "Threshold"); the contact fields are those of the slave boundary, ``0`` / NaN on the other
-bodies.
+with "Threshold"); the contact fields are those of the slave boundary and, on the master body's
+boundary, the master-side pressure and gap of the mortar pair (the slave nodal forces and gaps
+carried by the mortar weights, :mod:`alcontact.contact.solution._sides`); ``0`` / NaN on the other
+bodies. A rigid body has no grid (its pose and forces are in ``summary.json``, ``rigid_bodies``).
 
 Frictional runs add (:data:`FRICTION_FIELDS`, from ``solution.extra``):
 
@@ -204,8 +206,10 @@ def _bodies_point_data(solution, deformed):
     """:func:`solution_point_data` of a solution of several bodies (:class:`alcontact.fem.MultiBody`).
 
     Each body's grid and fields as for one body (the contact fields at the stacked contact points on
-    that body, the slave boundaries of its pairs; ``0`` / NaN, and with friction ``contact_state = -1``,
-    on a body with none), stacked into one grid with the point field ``body`` (the body's index).
+    that body, the slave boundaries of its pairs; on the master body of one pair between two bodies its
+    master-side pressure and gap, :mod:`alcontact.contact.solution._sides`; ``0`` / NaN, and with
+    friction ``contact_state = -1``, on a body with none), stacked into one grid with the point field
+    ``body`` (the body's index). A rigid body has no grid.
     """
     from types import SimpleNamespace
 
@@ -213,12 +217,16 @@ def _bodies_point_data(solution, deformed):
     model = problem.model
     kinematics = getattr(problem, "kinematics", "small")
     extra = dict(getattr(solution, "extra", None) or {})
+    side = extra.get("master_side")  # the master body's pressure and gap (contact.solution._sides)
+    master = getattr(problem.pairs[0].master, "body", None) if side is not None else None
     _, dofs = problem.slave_nodes()
     m = dofs.shape[0]
     per_point = {k: v for k, v in extra.items() if k in ("state", "slip", "slip_increment")}
     points, conns, fields, index = [], [], [], []
     cell_type = None
     for i, (body, u) in enumerate(zip(model.bodies, model.split(solution.u))):
+        if body.mesh is None:  # a rigid body: its pose is in summary.json and steps.csv, it has no grid
+            continue
         lo, hi = model.offsets[i], model.offsets[i + 1]
         mine = np.flatnonzero((dofs[:, 0] >= lo) & (dofs[:, 0] < hi))  # the contact points on this body
         if mine.size:
@@ -230,7 +238,18 @@ def _bodies_point_data(solution, deformed):
                                    active=solution.active[mine],
                                    extra={k: np.asarray(v)[mine] for k, v in per_point.items()
                                           if np.shape(v)[:1] == (m,)})
-        else:  # no contact point of its own: the first boundary, zero pressure, no gap
+        elif body is master:  # the master side of the pair: pressure and gap carried by the mortar weights
+            p_m, g_m = np.asarray(side["pressure"], dtype=float), np.asarray(side["gap"], dtype=float)
+            n = p_m.shape[0]
+            none = {"state": np.full(n, -1.0), "slip": np.zeros((n, 1)), "slip_increment": np.zeros((n, 1))} \
+                if "state" in extra else {}
+            view = SimpleNamespace(problem=SimpleNamespace(model=body, contact_boundary=side["boundary"],
+                                                           kinematics=kinematics,
+                                                           slave_nodes=lambda b=body, n=side["boundary"]:
+                                                           b.node_dofs(n)),
+                                   u=u, points=side["points"], pressure=p_m, gap=g_m,
+                                   active=np.isfinite(g_m) & (p_m > 0), extra=none)
+        else:  # no contact field of its own: the first boundary, zero pressure, no gap
             name = body.boundary_names[0]
             pts, _ = body.node_dofs(name)
             n = pts.shape[0]

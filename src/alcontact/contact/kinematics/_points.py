@@ -27,7 +27,9 @@ import numpy as np
 
 from ...errors import InputError
 from ._gap import LinearizedGap
+from ..masters._rigid_body import RigidBody
 from ._mortar import MortarKinematics, mortar_gap
+from ._rigid_body import rigid_body_gap
 from ._stacked_gap import stacked_gap
 
 
@@ -53,10 +55,28 @@ def _element_size(model, boundary: str, obstacle) -> float:
 OVERLAP_TOL = 1e-3
 
 
-def mortar_of(problem):
-    """The :class:`~alcontact.contact.kinematics._mortar.MortarGap` of a problem whose pair has a deformable
-    master (``None`` against a rigid one); with several pairs of which one has a deformable master, the
-    gaps of all of them stacked into one (:func:`~alcontact.contact.kinematics._stacked_gap.stacked_gap`)."""
+def _one_pair_gap(problem, pair):
+    """The linear gap operator of one pair whose master moves with the unknowns: a body's surface (mortar) or a
+    rigid body (its pose)."""
+    if isinstance(pair.slave.body, RigidBody):
+        raise InputError("the slave of a contact pair is a boundary of a deformable body; a rigid body "
+                         "(contact.RigidBody) is a master: ContactPair(Boundary(body, 'top'), rigid_body).")
+    if isinstance(pair.master, RigidBody):  # a rigid body whose pose is unknown (kinematics._rigid_body)
+        if pair.friction > 0:
+            raise InputError(f"friction = {pair.friction:g} against a rigid body whose pose is solved for "
+                             "(contact.RigidBody): not supported yet; use friction = 0, or a rigid obstacle moved "
+                             "along a path (obstacles.move) for friction.")
+        h = _element_size(pair.slave.body, pair.slave.name, pair.master)
+        return rigid_body_gap(problem.model, pair.slave.body, pair.slave.name, pair.master, h)
+    return mortar_gap(problem.model, pair.slave.body, pair.slave.name, pair.master)
+
+
+def pair_gap(problem, check=None):
+    """The linear gap operator (a :class:`~alcontact.contact.kinematics._mortar.MortarGap`) of a problem whose pair
+    has a master that moves with the unknowns: a body's surface (mortar) or a rigid body (its pose); ``None``
+    against a rigid obstacle. With several pairs of which one moves, the gaps of all of them stacked into one
+    (:func:`~alcontact.contact.kinematics._stacked_gap.stacked_gap`; ``check(name, pair, gap)`` is called with
+    each moving pair's own). Nothing logged (:func:`mortar_of` adds the warnings of a solve)."""
     if all(p.rigid for p in problem.pairs):
         return None
     if problem.kinematics != "small":
@@ -64,10 +84,20 @@ def mortar_of(problem):
                          "finite deformation is not supported yet.")
     if len(problem.pairs) > 1:
         return stacked_gap(problem, lambda p: _element_size(p.slave.body, p.slave.name, p.master),
-                           lambda name, pair, mg: _check_mortar(problem, name, pair, mg))
-    pair = problem.pairs[0]
-    mg = mortar_gap(problem.model, pair.slave.body, pair.slave.name, pair.master)
-    return _check_mortar(problem, problem.contact_boundary, pair, mg)
+                           lambda p: _one_pair_gap(problem, p), check)
+    return _one_pair_gap(problem, problem.pairs[0])
+
+
+def mortar_of(problem):
+    """The :class:`~alcontact.contact.kinematics._mortar.MortarGap` of a problem whose pair has a deformable
+    master (``None`` against a rigid one), :func:`pair_gap`, with a warning when a pair cannot come into contact
+    or the bodies overlap at the start."""
+    if len(problem.pairs) > 1:
+        return pair_gap(problem, lambda name, pair, mg: _check_mortar(problem, name, pair, mg))
+    mg = pair_gap(problem)
+    if mg is None:
+        return None
+    return _check_mortar(problem, problem.contact_boundary, problem.pairs[0], mg)
 
 
 def _check_mortar(problem, name: str, pair, mg):
@@ -197,13 +227,15 @@ class ContactPoints:
     def force_points(self, nodal: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         r"""``(dofs, forces)``, each ``(k, d)``: the contact force on the bodies of the normal nodal forces
         ``nodal`` (:math:`r = w\circ\lambda`), per node it acts on: :math:`r_i \nu_i` on the contact points
-        against a rigid master; on the slave and master nodes of a mortar pair (:math:`-B^T r`)."""
+        against a rigid master; with a master that moves with the unknowns (:math:`-B^T r`), on every DOF
+        of the gap operator ``B`` (slave and master nodes of a mortar pair, the rigid body's translation and
+        rotation DOFs), then ``(n,)`` each."""
         nodal = np.asarray(nodal, dtype=float)
         if self.mortar is None:
             return self.dofs, nodal[:, None] * self.normals
         fc = self.mortar.contact_force(nodal)
-        nodes = np.unique(np.vstack([self.dofs, self.mortar.master_dofs]), axis=0)
-        return nodes, fc[nodes]
+        cols = np.unique(self.mortar.B.indices).astype(np.int64)
+        return cols, fc[cols]
 
     def _setup_candidates(self, u_free: np.ndarray, margin: float) -> None:
         self.g_free = self.all_gaps(u_free)

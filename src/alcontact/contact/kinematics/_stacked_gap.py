@@ -6,7 +6,8 @@ contact points are stacked in the pairs' order (:meth:`~alcontact.contact.Contac
 at small deformation each pair's block of rows is linear, :math:`g = g^0 + B u`:
 
 - a pair with a deformable master: its mortar weighted gap (:func:`~alcontact.contact.kinematics._mortar.mortar_gap`,
-  rows on the slave node and the master segment nodes, weights :math:`D_j`);
+  rows on the slave node and the master segment nodes, weights :math:`D_j`), or against a rigid body whose
+  pose is unknown its gap rows on the pose (:mod:`alcontact.contact.kinematics._rigid_body`);
 - a pair with a rigid master: the linearized gap (6.15), :math:`g^0_i = g(X_i)`, rows :math:`-\nu_i^T` on the
   DOFs of point :math:`i`, the tributary weights of its boundary (the rows a mortar gap has against a flat
   rigid master).
@@ -28,7 +29,8 @@ import scipy.sparse as sp
 from ._mortar import MortarGap, mortar_gap
 
 
-def stacked_gap(problem, element_size: Callable, check: Callable | None = None) -> MortarGap:
+def stacked_gap(problem, element_size: Callable, gap_of: Callable | None = None,
+                check: Callable | None = None) -> MortarGap:
     """The gaps of all pairs of ``problem`` (module doc) as one :class:`MortarGap`, rows in the stacked order.
 
     Parameters
@@ -37,6 +39,8 @@ def stacked_gap(problem, element_size: Callable, check: Callable | None = None) 
         Several pairs, at least one with a :class:`~alcontact.contact.BodySurface` master.
     element_size : callable ``pair -> float``
         Contact-zone element size of the slave boundary of a pair with a rigid master.
+    gap_of : callable ``pair -> MortarGap``, optional
+        The gap operator of a pair whose master moves with the unknowns (default: its mortar weighted gap).
     check : callable ``(name, pair, gap) -> None``, optional
         Called with each two-body pair's own :class:`MortarGap` (warnings: no coverage, an overlap).
     """
@@ -58,7 +62,8 @@ def stacked_gap(problem, element_size: Callable, check: Callable | None = None) 
             covered.append(np.ones(m, dtype=bool))
             hs.append(element_size(pair))
         else:
-            mg = mortar_gap(model, pair.slave.body, pair.slave.name, pair.master)
+            mg = gap_of(pair) if gap_of is not None else mortar_gap(model, pair.slave.body, pair.slave.name,
+                                                                    pair.master)
             if check is not None:
                 check(name, pair, mg)
             rows = mg.B

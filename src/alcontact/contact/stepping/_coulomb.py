@@ -36,6 +36,7 @@ from ..algorithms._coulomb import (_EQUILIBRIUM_TOL, FrictionOptions, _Ctx, _Fin
 from ..algorithms._frictionless import check_solve_args, find_algorithm, options_with
 from ..laws._coulomb import OPEN, SLIP, STICK
 from ..kinematics._stacked_gap import pair_balance
+from ..solution._sides import two_body_sides
 from ..laws._stiffness import penalty_stiffness
 from ..masters.obstacles import transport_tangent
 from ..problem._loading import LoadHistory, problem_at
@@ -415,7 +416,7 @@ def solve_friction(problem, history: LoadHistory | None, algorithm: str = "simo-
             outer_iterations=int(out.outer), newton_iterations=int(out.newton), cutbacks=rec.step_cutbacks,
             penetration=float(np.max(y_all[:, 0], initial=0.0)) / fc.h,
             coulomb=float(np.max(np.maximum(nT - mu_t * tN, 0.0), initial=0.0)) / pref, seconds=rec.seconds,
-            linear_solves=int(rec.linear_solves), two_body=_two_body_forces(fc, tN, tT),
+            linear_solves=int(rec.linear_solves), two_body=_two_body_forces(fc, tN, tT, y_all[:, 0]),
         )
         records.append(step)
         cur["state"] = _State(float(t), u, y_all, tN, tT, R, slip_total, pred)
@@ -456,17 +457,19 @@ def solve_friction(problem, history: LoadHistory | None, algorithm: str = "simo-
     )
 
 
-def _two_body_forces(fc, tN, tT) -> dict:
+def _two_body_forces(fc, tN, tT, gaps) -> dict:
     r"""Contact forces on the slave and master sides of a two-body pair and their balance (``{}`` against a rigid
     master): the keys of the frictionless solve (:func:`alcontact.contact._solve._force_balance`), here with the
     tangential forces :math:`-L^T R` too (:mod:`alcontact.contact.kinematics._mortar_tangent`)."""
     if fc.mortar is None:
         return {}
+    points = fc.contact_force_points(tN, tT)
     if len(fc.problem.pairs) > 1:  # a two-body pair beside other pairs: each pair's sides (kinematics._stacked_gap)
         R = fc.weights[:, None] * np.concatenate([tN[:, None], tT], axis=1)
-        return {**pair_balance(fc.problem, fc._mortar_rows(), R, fc.dofs),
-                "contact_force_points": fc.contact_force_points(tN, tT)}
-    nodes, forces = fc.contact_force_points(tN, tT)
+        balance = pair_balance(fc.problem, fc._mortar_rows(), R, fc.dofs)
+        return {**balance, "contact_force_points": points,
+                **two_body_sides(fc.problem, fc.mortar, fc.weights * tN, gaps, points=points, balance=balance)}
+    nodes, forces = points
     slave_rows = np.isin(nodes[:, 0], fc.dofs[:, 0])
     master_rows = np.isin(nodes[:, 0], fc.mortar.master_dofs[:, 0])
     slave = forces[slave_rows].sum(axis=0)
@@ -474,7 +477,8 @@ def _two_body_forces(fc, tN, tT) -> dict:
     norm = float(np.linalg.norm(slave))
     balance = float(np.linalg.norm(slave + master)) / norm if norm > 0 else 0.0
     return {"slave_contact_force": slave.tolist(), "master_contact_force": master.tolist(),
-            "contact_force_balance": balance, "contact_force_points": (nodes, forces)}
+            "contact_force_balance": balance, "contact_force_points": (nodes, forces),
+            **two_body_sides(fc.problem, fc.mortar, fc.weights * tN, gaps, points=points)}
 
 
 def finite_friction_steps(history, steps):
