@@ -95,3 +95,20 @@ def test_top_block_slides_on_the_pair_of_smaller_friction(algorithm, linear_solv
     assert abs(f[1, 0]) == pytest.approx(mus[1] * f[1, 1], rel=1e-8)
     assert f[0, 0] == pytest.approx(f[1, 0], rel=1e-8) and abs(f[0, 0]) < mus[0] * f[0, 1]  # the middle in equilibrium
     assert sol.extra["contact_force_balance"] <= 1e-10
+
+
+def test_a_rigid_body_with_unknown_pose_beside_other_pairs_is_refused():
+    """Not supported yet (a RigidBody master is a pair on its own): an InputError that says so, not a state that
+    fails its equilibrium check."""
+    from alcontact.contact import RigidBody
+    from alcontact.errors import InputError
+
+    block = _block(1, 2, 4, 500.0, 0.2)
+    plate = RigidBody(obstacles.make("half-space", point=[0.0, 2.0], normal=[0.0, -1.0]), [0.5, 2.0])
+    floor = obstacles.make("half-space", point=[0.0, 1.0], normal=[0.0, 1.0])
+    prob = ContactProblem(bodies=[block, plate], pairs=[ContactPair(Boundary(block, "bottom"), floor),
+                                                        ContactPair(Boundary(block, "top"), plate)],
+                          supports=[Support("body0/left", components=[0]),
+                                    Support("body1", components=[0, 1, 2], value=(0.0, -0.01, 0.0))])
+    with pytest.raises(InputError, match="on its own so far"):
+        solve(prob, "ssn")

@@ -83,6 +83,10 @@ def pair_gap(problem, check=None):
         raise InputError("contact between two bodies is available at small deformation (kinematics='small'); "
                          "finite deformation is not supported yet.")
     if len(problem.pairs) > 1:
+        if any(isinstance(p.master, RigidBody) for p in problem.pairs):
+            raise InputError("a rigid body whose pose is solved for (contact.RigidBody) is the master of a pair on "
+                             "its own so far; beside other pairs give it as a rigid obstacle moved by the load "
+                             "steps, or solve its pair alone.")
         return stacked_gap(problem, lambda p: _element_size(p.slave.body, p.slave.name, p.master),
                            lambda p: _one_pair_gap(problem, p), check)
     return _one_pair_gap(problem, problem.pairs[0])

@@ -6,8 +6,7 @@ contact points are stacked in the pairs' order (:meth:`~alcontact.contact.Contac
 at small deformation each pair's block of rows is linear, :math:`g = g^0 + B u`:
 
 - a pair with a deformable master: its mortar weighted gap (:func:`~alcontact.contact.kinematics._mortar.mortar_gap`,
-  rows on the slave node and the master segment nodes, weights :math:`D_j`), or against a rigid body whose
-  pose is unknown its gap rows on the pose (:mod:`alcontact.contact.kinematics._rigid_body`);
+  rows on the slave node and the master segment nodes, weights :math:`D_j`);
 - a pair with a rigid master: the linearized gap (6.15), :math:`g^0_i = g(X_i)`, rows :math:`-\nu_i^T` on the
   DOFs of point :math:`i`, the tributary weights of its boundary (the rows a mortar gap has against a flat
   rigid master).
