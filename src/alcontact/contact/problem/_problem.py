@@ -660,6 +660,7 @@ def _two_body(kind: str, bodies: tuple, pairs: tuple) -> dict[str, Any]:
     """The model (the bodies' :class:`~alcontact.fem.MultiBody`) and names of pairs of which one (or more) has a
     deformable master (the others rigid ones, each on a boundary of any of the bodies)."""
     from ...fem import MultiBody
+    from ..masters._rigid_body import RigidBody
 
     for i, pair in enumerate(pairs):
         if pair.rigid:
@@ -672,6 +673,10 @@ def _two_body(kind: str, bodies: tuple, pairs: tuple) -> dict[str, Any]:
         if master_body is pair.slave.body and getattr(pair.master, "boundary", None) == pair.slave.name:
             raise InputError(f"{kind}: pairs[{i}] uses the boundary {pair.slave.name!r} as both slave and master; "
                              "give the master another boundary (of another body).")
+        if pair.friction > 0 and isinstance(pair.master, RigidBody):
+            raise InputError(f"{kind}: pairs[{i}].friction = {pair.friction!r} against a rigid body whose pose is "
+                             "solved for (contact.RigidBody): not supported yet; use friction = 0, or a rigid "
+                             "obstacle moved along a path (obstacles.move) for friction.")
     pair = pairs[0]
     if len(bodies) == 1:
         model, slave = bodies[0], pair.slave.name
