@@ -16,7 +16,7 @@ from alcontact.runner import run_setup
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 NAMES = ["hertz_2d", "hertz_3d", "flat_punch", "signorini_liftoff", "sliding_block", "cattaneo_mindlin",
          "finite_half_cylinder", "finite_ironing", "finite_ironing_friction", "finite_mooney_rivlin",
-         "rubber_ball_axisym", "seal_oring", "two_cylinders"]
+         "rubber_ball_axisym", "seal_oring", "two_cylinders", "two_body_friction"]
 
 
 def _run(name):
@@ -276,4 +276,13 @@ def test_two_cylinders_from_one_gmsh_file_match_hertz():
     s = res.summary
     assert s["contact_half_width"] == pytest.approx(s["contact_half_width_exact"], rel=0.02)
     assert s["peak_pressure"] == pytest.approx(s["peak_pressure_exact"], rel=0.02)
+    assert s["contact_force_balance"] <= 1e-10
+
+
+def test_two_body_friction_slides_with_q_equal_mu_n():
+    """Two bodies, Coulomb mu = 0.3: the dragged block slides, its tangential force is mu N (1e-8); the forces on
+    the two bodies balance (1e-10). (tests/regression/test_issue23_two_body_friction_problem_file.py: the rest.)"""
+    _, res = _run("two_body_friction")
+    s = res.summary
+    assert s["tangential_force"] == pytest.approx(s["coulomb_limit"], rel=1e-8)
     assert s["contact_force_balance"] <= 1e-10

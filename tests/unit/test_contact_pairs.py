@@ -134,14 +134,13 @@ def test_two_bodies_without_a_pair_between_them_are_refused():
     assert "2 bodies" in msg and "no pair joins" in msg and "BodySurface" in msg and "docs/architecture.md" in msg
 
 
-def test_two_pairs_with_different_friction_coefficients_are_refused():
+def test_two_pairs_keep_their_own_friction_coefficients():
     body, pair, short = _parts()
     second = ContactPair(Boundary(body, "bottom"), obstacles.make("half-space", point=[0, -20], normal=[0, 1]),
                          friction=0.3)
-    with pytest.raises(InputError) as info:
-        ContactProblem(bodies=[body], pairs=[pair, second], supports=short.supports)
-    msg = str(info.value)
-    assert "different friction coefficients (0, 0.3)" in msg and "same coefficient" in msg
+    prob = ContactProblem(bodies=[body], pairs=[pair, second], supports=short.supports)
+    owner = prob.pair_of_points()
+    np.testing.assert_array_equal(prob.point_friction(), np.where(owner == 0, 0.0, 0.3))
 
 
 def test_shorthand_friction_with_two_pairs_is_refused():

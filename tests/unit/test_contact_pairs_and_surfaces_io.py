@@ -206,3 +206,44 @@ def test_bad_surface_in_a_problem_file_is_keyed_by_its_parameter(surface, key, t
         load_problem_text(EXAMPLE.read_text().replace(_UPPER, f'boundary = "top"\ntype = "surface"\n{surface}'))
     lines = [ln.strip() for ln in str(info.value).splitlines()]
     assert any(ln.startswith((f"{key} ", f"{key}:")) and text in ln for ln in lines), str(info.value)
+
+
+def test_each_pair_takes_its_own_friction_coefficient(tmp_path):
+    """``[[pair]] friction`` is that pair's coefficient (the others keep ``[contact] friction``); the run is frictional
+    when one pair is, the check line names both coefficients, and summary.json reports each pair's coefficient,
+    normal force and tangential force, the tangential force within the pair's Coulomb limit mu N."""
+    text = EXAMPLE.read_text().replace('[contact]\nboundary = "bottom"\n',
+                                       '[contact]\nboundary = "bottom"\nfriction = 0.1\n')
+    text = text.replace(_UPPER, _UPPER + "\nfriction = 0.4")
+    text = text.replace('[[support]]\nboundary = "left"                      # holds the block sideways; the plates '
+                        'hold it vertically\ncomponents = [0]\n',
+                        '[[support]]\nboundary = "left"\ncomponents = [0]\nvalue = 0.05\n'
+                        'ramp = [[0.5, 0.0], [1.0, 1.0]]\ntangential = true\n')
+    text += '\n[loading]\nsteps = 4\n'
+    (tmp_path / "p.toml").write_text(text)
+    setup = load_problem(tmp_path / "p.toml")
+    assert [p.friction for p in setup.problem.pairs] == [0.1, 0.4] and setup.friction == 0.4
+    assert "Coulomb mu=0.1/0.4" in setup.summary_line()
+    run_setup(setup, tmp_path / "res")
+    s = json.loads((tmp_path / "res" / "summary.json").read_text())
+    assert s["status"] == "converged" and s["pair_friction"] == [0.1, 0.4]
+    pairs = s["pair_contact_forces"]
+    assert [p["friction"] for p in pairs] == [0.1, 0.4]
+    for p in pairs:  # both faces slide: each pair's tangential force is near (below: the held corners) mu N
+        q = abs(p["tangential_force"][0])
+        assert 0.7 * p["friction"] * p["normal_force"] < q <= p["friction"] * p["normal_force"] * (1 + 1e-9)
+        np.testing.assert_allclose(p["force"][0], p["tangential_force"][0], rtol=1e-12)
+    assert s["coulomb_limit"] == pytest.approx(sum(p["friction"] * p["normal_force"] for p in pairs), rel=1e-12)
+
+
+def test_a_negative_pair_friction_is_named():
+    with pytest.raises(ConfigError) as info:
+        load_problem_text(_text().replace(_UPPER, _UPPER + "\nfriction = -0.1"))
+    assert "pair[1].friction" in str(info.value)
+
+
+def test_a_frictional_pair_at_finite_kinematics_is_refused():
+    with pytest.raises(ConfigError) as info:
+        load_problem_text(_finite_text().replace(_UPPER, _UPPER + "\nfriction = 0.2"))
+    msg = str(info.value)
+    assert "pair[1].friction > 0" in msg and "kinematics = 'small'" in msg

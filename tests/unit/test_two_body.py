@@ -122,12 +122,12 @@ def test_master_body_missing_from_bodies_is_refused():
                        supports=[Support("top")])
 
 
-def test_friction_between_bodies_is_refused():
+def test_friction_between_bodies_is_the_pairs_coefficient():
     base, top = _blocks()
-    with pytest.raises(InputError, match="friction between two deformable bodies is not supported yet"):
-        ContactProblem(bodies=[base, top], pairs=[ContactPair(Boundary(top, "bottom"), BodySurface(base, "top"),
-                                                              friction=0.2)],
-                       supports=[Support("body0/bottom"), Support("body1/top")])
+    prob = ContactProblem(bodies=[base, top], pairs=[ContactPair(Boundary(top, "bottom"), BodySurface(base, "top"),
+                                                                 friction=0.2)],
+                          supports=[Support("body0/bottom"), Support("body1/top")])
+    assert prob.friction == 0.2 and np.all(prob.point_friction() == 0.2)
 
 
 def test_finite_deformation_between_bodies_is_refused():
@@ -209,10 +209,14 @@ def test_load_steps_reuse_the_stack_and_its_factorization():
     assert prob.model.factorization_count == 1  # one factorization for the three steps, as for one body
 
 
-def test_friction_override_between_bodies_is_refused():
+def test_friction_override_between_bodies_runs_coulomb():
+    """``friction=`` makes the two-body solve frictional (the Coulomb engine ran: its frames carry the slip state
+    and the coefficient), the top block held by the contact only (springs on the mortar rows)."""
     prob = two_body.stacked_blocks(2, 3)
-    with pytest.raises(InputError, match="friction between two deformable bodies is not supported yet"):
-        solve(prob, "simo-laursen", friction=0.3)
+    sol = solve(prob, "simo-laursen", friction=0.3)
+    assert sol.result.success, sol.result.message
+    assert sol.extra["mu"] == 0.3 and "state" in sol.extra and "shear" in sol.extra
+    assert sol.extra["contact_force_balance"] <= 1e-12
 
 
 def test_mortar_gap_is_a_contact_kinematics_and_gives_the_constraint_rows():

@@ -7,7 +7,8 @@ stress along y. Plane strain: ``p = E / (1 - nu^2) * 2 d / H``; 3D (sigma_xx = s
 reference reproduce it (3D: the plates squeeze along z) to 1e-10 relative on the direct path (1e-8 on the AMG/Krylov path,
 whose solves stop at a relative residual); the pure penalty (6.10) is off by its
 penalty error and is checked against the same number to 1e-6. The two pairs' forces
-balance (action = reaction through the body) to 1e-10 of their size.
+balance (action = reaction through the body) to 1e-10 of their size. Each pair keeps its own Coulomb coefficient:
+at full slip each pair's tangential force is its own mu times its normal force (1e-8).
 """
 
 from __future__ import annotations
@@ -15,7 +16,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from alcontact.contact import Boundary, ContactPair, ContactProblem, Support, obstacles, solve
+from alcontact.contact import (Boundary, ContactPair, ContactProblem, LoadCase, LoadHistory, Ramp, Support, obstacles,
+                               solve)
+from alcontact.contact.laws import SLIP
 from alcontact.contact.masters._stacked import StackedMaster
 from alcontact.errors import InputError
 from alcontact.fem import LinearElasticity, Material, meshes
@@ -152,3 +155,32 @@ def test_two_pairs_at_finite_deformation_match_the_supported_block(algorithm):
     np.testing.assert_allclose(f[0], r.pair_contact_forces()[0], rtol=1e-7)
     assert f[1, 0] < 0 and abs(f[1, 1]) <= 1e-12 * abs(f[1, 0])
     assert a.result.newton_iterations <= r.result.newton_iterations + 1
+
+
+@pytest.mark.parametrize("linear_solver", ["direct", "amg"])
+@pytest.mark.parametrize("algorithm", ["simo-laursen", "family-p", "ssn"])
+def test_each_pair_slides_with_its_own_friction_coefficient(algorithm, linear_solver):
+    """A block squeezed between two plates (bottom pair mu = 0.1, top pair mu = 0.4), then pulled sideways by its
+    left face until both faces slide. Reference (Coulomb's law at full slip): every sliding point carries
+    |t_T| = mu t_N of its own pair, so each pair's tangential force is mu_pair times the normal force of its
+    sliding points, to 1e-8 (the two left corners are held in x by the pull: their friction goes into the
+    support reaction, and they are the only points that do not slide)."""
+    prob = _squeeze(2)
+    body = prob.model
+    lo, hi = (p.master for p in prob.pairs)
+    mus = (0.1, 0.4)
+    prob = ContactProblem(bodies=[body], pairs=[ContactPair(Boundary(body, "bottom"), lo, friction=mus[0]),
+                                                ContactPair(Boundary(body, "top"), hi, friction=mus[1])])
+    pull = LoadCase(Support("left", components=(0,), value=0.05), Ramp((0.5, 1.0), (0.0, 1.0)), tangential=True)
+    sol = solve(prob, algorithm, history=LoadHistory((pull,), LoadHistory.uniform(4)),
+                options={"linear_solver": linear_solver})
+    assert sol.result.success, sol.result.message
+    owner, state = prob.pair_of_points(), sol.extra["state"]
+    on_left = np.isclose(sol.points[:, 0], 0.0)
+    assert np.all(state[~on_left] == SLIP)
+    forces = sol.pair_contact_forces()
+    for k, mu in enumerate(mus):
+        sliding = (owner == k) & (state == SLIP)
+        N = float(np.sum(sol.normal_nodal_forces[sliding]))
+        assert abs(forces[k, 0]) == pytest.approx(mu * N, rel=1e-8)
+    assert abs(forces[0, 0]) < abs(forces[1, 0])  # the rougher plate holds more

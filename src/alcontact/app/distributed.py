@@ -36,6 +36,11 @@ def refusal(setup) -> str | None:
         return ("the distributed (MPI) contact path solves small-deformation problems (frictionless or Coulomb, one "
                 "or more load steps); this problem has finite deformation (kinematics = \"finite\"): run it as one "
                 "process (without mpirun).")
+    mus = sorted(set(setup.pair_friction))
+    if len(mus) > 1:
+        return ("the distributed (MPI) contact path takes one Coulomb coefficient for all contact pairs; this "
+                f"problem's pairs have mu = {'/'.join(f'{m:g}' for m in mus)}: give every pair the same friction, or run "
+                "it as one process (without mpirun).")
     return None
 
 

@@ -225,11 +225,32 @@ def summarize(problem, solution, *, problem_name: str | None = None, level: int 
 
 
 def _pair_forces(problem, solution) -> list[dict[str, Any]]:
-    """Per contact pair: its slave boundary, its master and the contact force it puts on the body."""
+    """Per contact pair: its slave boundary, its master, its Coulomb coefficient and the contact force it puts on the
+    (slave) body, with its normal part (the sum of the normal nodal forces) and its tangential part (of the
+    tangential tractions; zero without friction); between two bodies also the force on the master side
+    (``master_force``) and ``force_balance`` = |F_slave + F_master| / |F_slave|."""
     pairs = getattr(problem, "pairs", ())
     forces = solution.pair_contact_forces()
-    return [{"slave": p.slave.name, "master": p.master.describe(), "force": [float(x) for x in f]}
-            for p, f in zip(pairs, forces)]
+    owner = problem.pair_of_points() if len(pairs) > 1 else np.zeros(solution.points.shape[0], dtype=np.int64)
+    nodal = solution.normal_nodal_forces
+    shear = solution.extra.get("shear")
+    tang = np.zeros((len(pairs), solution.points.shape[1]))
+    if shear is not None:
+        np.add.at(tang, owner, np.asarray(solution.weights, dtype=float)[:, None] * np.asarray(shear, dtype=float))
+    out = [{"slave": problem.slave_name(p), "master": p.master.describe(), "friction": float(p.friction),
+            "force": [float(x) for x in f], "normal_force": float(np.sum(nodal[owner == k])),
+            "tangential_force": [float(x) for x in tang[k]]}
+           for k, (p, f) in enumerate(zip(pairs, forces))]
+    # a pair between two bodies: the force on its master side and |F_slave + F_master| / |F_slave|
+    sides = solution.extra.get("pair_balance")
+    if sides is None and "master_contact_force" in solution.extra and len(out) == 1:
+        sides = [{"master_force": solution.extra["master_contact_force"],
+                  "balance": solution.extra["contact_force_balance"]}]
+    for entry, side in zip(out, sides or ()):
+        if side is not None:
+            entry["master_force"] = [float(x) for x in side["master_force"]]
+            entry["force_balance"] = float(side["balance"])
+    return out
 
 
 def _tolerances(options: dict) -> dict[str, float]:
@@ -385,7 +406,9 @@ def setup_summary(setup, solution, raw, options: dict, wall: float) -> dict[str,
     summary["load_steps"] = len(setup.times)
     summary["converged_steps"] = sum(1 for f in frames if f.result.success)
     summary["wall_time_total_s"] = wall
-    summary["friction"] = setup.friction
+    summary["friction"] = setup.friction  # the largest coefficient of the pairs
+    if len(prob.pairs) > 1:
+        summary["pair_friction"] = setup.pair_friction
     if setup.finite:
         summary.update(_finite_summary(setup, raw, frames, wall))
         if setup.friction > 0:
@@ -418,7 +441,7 @@ def _small_friction_summary(setup, raw, final, wall: float) -> dict[str, Any]:
     tf = np.asarray(final.extra["tangential_force"], dtype=float)
     st = np.asarray(final.extra["state"])
     out.update(tangential_force=float(np.linalg.norm(tf)), tangential_force_vector=tf.tolist(),
-               coulomb_limit=float(setup.friction * final.normal_force),
+               coulomb_limit=_coulomb_limit(setup, final),
                stick_points=int(np.sum(st == 1)), slip_points=int(np.sum(st == 2)),
                open_points=int(np.sum(st == 0)), eps_t=float(raw.eps_t))
     meta = setup.problem.meta
@@ -431,6 +454,15 @@ def _small_friction_summary(setup, raw, final, wall: float) -> dict[str, Any]:
         out["stick_half_width_exact"] = c_ex
         out["stick_half_width_error_pct"] = _error_pct(c_num, c_ex)
     return out
+
+
+def _coulomb_limit(setup, final) -> float:
+    """:math:`\\sum_i \\mu_i r_i`, the largest tangential force the normal forces of the state allow (``mu N`` with
+    one coefficient for every pair)."""
+    mus = setup.pair_friction
+    if len(set(mus)) == 1:
+        return float(setup.friction * final.normal_force)
+    return float(np.sum(setup.problem.point_friction() * final.normal_nodal_forces))
 
 
 def _stepped_summary(summary: dict, frames, n: int) -> dict[str, Any]:

@@ -22,6 +22,7 @@ from ..linalg import select_solver
 from ._verify import check_state, equilibrium_tolerance, reach, state_equilibrium, verified_status
 from .algorithms._frictionless import (ContactOptions, _Run, available_algorithms, check_solve_args,
                                        find_algorithm, options_with)
+from .kinematics._stacked_gap import pair_balance
 from .laws._stiffness import penalty_stiffness
 from .problem._loading import LoadHistory, problem_at
 from .solution._frames import finite_friction_solution, finite_solution, friction_solution, stepped_solution
@@ -156,9 +157,11 @@ def _solve_static(problem, algorithm: str = DEFAULT_ALGORITHM, penalty: str | No
         logger.warning("contact solve %s/%s failed (%s): %s", algorithm, pen_name, out.status.label, out.message)
     t_end = time.perf_counter()
     timings = dict(dc.timings(), solve_s=t_end - t_solve, total_s=t_end - t_start)
+    balance = {} if dc.mortar is None else _force_balance(dc, nodal)
     two_body = {} if dc.mortar is None else {
-        **_force_balance(dc, nodal),
-        **two_body_sides(problem, dc.mortar, nodal, g_all),
+        **balance,
+        **two_body_sides(problem, dc.mortar, nodal, g_all,
+                         balance=balance if len(problem.pairs) > 1 else None),
         **rigid_body_results(problem.model, u, dc.mortar.contact_force(nodal), problem.load_vector(), fixed)}
     return ContactSolution(
         problem=problem,
@@ -186,6 +189,9 @@ def _force_balance(dc, nodal: np.ndarray) -> dict:
     :meth:`ContactSolution.equilibrium` balances); ``contact_force_balance`` :math:`|F_s + F_m| / |F_s|` (action = reaction: zero to round-off, since
     the master weights of every slave node sum to its own, :mod:`alcontact.contact.kinematics._mortar`).
     """
+    if len(dc.problem.pairs) > 1:  # a two-body pair beside other pairs: each pair's sides (kinematics._stacked_gap)
+        return {**pair_balance(dc.problem, dc.mortar.B, nodal[:, None], dc.dofs),
+                "contact_force_points": dc.force_points(nodal)}
     fc = dc.mortar.contact_force(nodal)
     d = dc.dim
     slave = fc[dc.dofs].sum(axis=0)
@@ -240,7 +246,7 @@ def solve(problem, algorithm: str = DEFAULT_ALGORITHM, penalty: str | None = Non
     obstacle_path : callable ``t -> (d,)`` or ``t -> RigidMotion``, optional
         Finite deformation: the obstacle's translation (or rigid placement) at pseudo-time ``t``.
     friction : float, optional
-        Coulomb coefficient; overrides ``problem.friction``.
+        Coulomb coefficient of every pair; overrides the pairs' own (``ContactPair.friction``).
     on_step : callable ``(done, total, t) -> None``, optional
         Progress of a stepped run: ``done`` requested steps of ``total`` reached at pseudo-time
         ``t`` (``done = 0`` before the first).
@@ -279,9 +285,15 @@ def solve(problem, algorithm: str = DEFAULT_ALGORITHM, penalty: str | None = Non
 
 
 def _case(problem, friction) -> tuple[str, float]:
-    """``(kinematics, mu)`` of a problem: the one decision of what runs."""
+    """``(kinematics, mu)`` of a problem: the one decision of what runs (``mu``: ``friction`` when given, else the
+    largest coefficient of the pairs; frictional when positive)."""
     kinematics = getattr(problem, "kinematics", "small")
     mu = getattr(problem, "friction", 0.0) if friction is None else friction
+    if friction is None and len(getattr(problem, "pairs", ())) > 1:
+        try:
+            mu = max(problem.pairs, key=lambda p: float(p.friction)).friction
+        except (TypeError, ValueError):
+            pass  # the frictional engine names the bad value
     try:
         frictional = float(mu) > 0
     except (TypeError, ValueError):
@@ -294,9 +306,9 @@ def _solve_any(problem, algorithm, penalty, options, *, steps, history, obstacle
     """:func:`solve` with the engine's own callbacks (``hooks``) for the deprecated wrappers."""
     hooks = hooks or {}
     kinematics, mu = _case(problem, friction)
-    if mu != 0 and not all(getattr(p, "rigid", True) for p in getattr(problem, "pairs", ())):
-        raise InputError(f"friction = {mu!r}: friction between two deformable bodies is not supported yet; solve "
-                         "the two-body problem frictionless (friction=0).")
+    if mu != 0 and kinematics == "finite" and not all(getattr(p, "rigid", True) for p in getattr(problem, "pairs", ())):
+        raise InputError(f"friction = {mu!r}: friction between two deformable bodies is available at small "
+                         "deformation (kinematics='small'); finite deformation is not supported yet.")
     if kinematics == "finite" and len(problem.pairs) > 1 and (mu != 0 or obstacle_path is not None):
         raise InputError(f"{len(problem.pairs)} contact pairs at kinematics='finite' run frictionless with fixed "
                          "masters so far; give friction 0 and no obstacle_path, or kinematics='small' (friction), "
@@ -315,9 +327,9 @@ def _solve_any(problem, algorithm, penalty, options, *, steps, history, obstacle
         raise InputError("obstacle_path: a moving obstacle needs kinematics='finite' (ContactProblem(..., "
                          "kinematics='finite') with a hyperelastic body); at small kinematics move the body with "
                          "a ramped support instead.")
-    if mu != 0:
-        return _small_friction(problem, mu, algorithm, penalty, options, steps, history, max_cutbacks, progress,
-                               overrides, hooks)
+    if mu != 0:  # each pair's own coefficient unless ``friction`` overrides them all
+        return _small_friction(problem, friction, algorithm, penalty, options, steps, history, max_cutbacks,
+                               progress, overrides, hooks)
     if steps is None and history is None:
         return _solve_static(problem, algorithm, penalty, options, **overrides)
     return _small_stepped(problem, algorithm, penalty, options, steps, history, progress, overrides)
@@ -360,16 +372,17 @@ def _engine_progress(given, progress):
     return lambda k, t, n: progress(k, n, t)
 
 
-def _small_friction(problem, mu, algorithm, penalty, options, steps, history, max_cutbacks, progress, overrides,
-                    hooks):
+def _small_friction(problem, friction, algorithm, penalty, options, steps, history, max_cutbacks, progress,
+                    overrides, hooks):
+    """Coulomb friction at small deformation: ``friction`` (a number) for every pair, or ``None``: each pair's own."""
     if history is None:  # the problem's own loads at every step time
         history = LoadHistory((), _times(steps, None) if steps is not None else (1.0,))
         steps = None
     if max_cutbacks is not None:
         overrides = dict(overrides, max_cutbacks=max_cutbacks)
     cb = _engine_progress(hooks.get("on_step"), progress)
-    fsol = _friction_engine(problem, history, algorithm, penalty, options, steps=steps, friction=mu, on_step=cb,
-                            **overrides)
+    fsol = _friction_engine(problem, history, algorithm, penalty, options, steps=steps, friction=friction,
+                            on_step=cb, **overrides)
     if progress is not None:
         times = fsol.history.times
         progress(len(times), len(times), times[-1])
@@ -457,7 +470,7 @@ def solve_friction(problem, history: LoadHistory | None, algorithm: str = "simo-
             raise InputError("obstacle_path: a moving obstacle needs kinematics='finite' (ContactProblem(..., "
                              "kinematics='finite') with a hyperelastic body); at small kinematics move the body "
                              "with a ramped support instead.")
-        return _small_friction(problem, mu, algorithm, penalty, options, steps, history, None, None,
+        return _small_friction(problem, friction, algorithm, penalty, options, steps, history, None, None,
                                option_overrides, {"on_step": on_step}).record
     return _finite_friction(problem, mu, algorithm, penalty, options, steps, history, obstacle_path, None, None,
                             option_overrides, {"progress": on_step}).record

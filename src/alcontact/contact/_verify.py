@@ -112,7 +112,7 @@ class Check:
 
 
 def check_state(gap, pressure, h: float, *, tol_penetration: float, tol_complementarity: float,
-                traction_t=None, slip=None, mu: float = 0.0, tol_friction: float | None = None,
+                traction_t=None, slip=None, mu=0.0, tol_friction: float | None = None,
                 equilibrium: float | None = None, tol_equilibrium: float | None = None,
                 reach: float | None = None) -> Check:
     """Measure a contact state (see the module docstring).
@@ -131,8 +131,8 @@ def check_state(gap, pressure, h: float, *, tol_penetration: float, tol_compleme
     slip : ndarray (m, d-1), optional
         Tangential displacement increment :math:`\\Delta u_T` of the step in the same
         local frame (held directions zero); default no slip.
-    mu : float
-        Coulomb coefficient at that state.
+    mu : float or ndarray (m,)
+        Coulomb coefficient at that state (one per point when the contact pairs have their own).
     equilibrium, tol_equilibrium : float, optional
         Relative equilibrium residual of the state (:func:`state_equilibrium`) and its
         tolerance (:func:`equilibrium_tolerance`); checked when given.
@@ -223,7 +223,12 @@ def _checked_args(gap, pressure, h, tol_penetration, tol_complementarity, tracti
         raise fail("h", h, "the element size, a number > 0")
     tol_penetration = number("tol_penetration", tol_penetration, low=0.0)
     tol_complementarity = number("tol_complementarity", tol_complementarity, low=0.0)
-    mu = number("mu", mu, low=0.0)
+    if is_real(mu) or mu is None:
+        mu = number("mu", mu, low=0.0)
+    else:  # one coefficient per point (contact pairs with their own)
+        mu = array("mu", mu, (1,), f"a number or {g.size} coefficients >= 0")
+        if mu.shape != g.shape or not np.all(np.isfinite(mu) & (mu >= 0)):
+            raise fail("mu", mu, f"a number or {g.size} finite coefficients >= 0")
     tol_friction = number("tol_friction", tol_friction, low=0.0, optional=True)
     equilibrium = number("equilibrium", equilibrium, optional=True, finite=False)
     tol_equilibrium = number("tol_equilibrium", tol_equilibrium, low=0.0, optional=equilibrium is None)

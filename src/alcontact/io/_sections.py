@@ -709,13 +709,14 @@ def build_obstacle(od: dict | None, dim: int | None, issues: list[Issue], *, key
 
 
 def build_pairs(pds: list | None, mesh, dim: int | None, base: Path | None, issues: list[Issue]) -> list | None:
-    """``[[pair]]``: ``(boundary, obstacle)`` of each further contact pair, or ``None`` when one failed."""
+    """``[[pair]]``: ``(boundary, obstacle, friction)`` of each further contact pair (``friction`` ``None``: that of
+    ``[contact]``), or ``None`` when one failed."""
     if not pds:
         return []
     out: list = []
     for i, pd in enumerate(pds):
         key = f"pair[{i + 1}]"
-        if not _ok(pd):
+        if not _ok(pd) or not _pair_kind_ok(pd, key, issues, bodies=False):
             out = None
             continue
         ok = mesh is None or boundary_ok(mesh, pd["boundary"], f"{key}.boundary", issues)
@@ -723,15 +724,36 @@ def build_pairs(pds: list | None, mesh, dim: int | None, base: Path | None, issu
         if ob is None or not ok:
             out = None
         elif out is not None:
-            out.append((pd["boundary"], ob))
+            out.append((pd["boundary"], ob, pd["friction"]))
     return out
+
+
+def _pair_kind_ok(pd: dict, key: str, issues: list[Issue], *, bodies: bool) -> bool:
+    """A ``[[pair]]`` names its master once: an obstacle ``type`` (with its parameters) or, with ``[[body]]``
+    tables (``bodies``), the ``master`` boundary of another body."""
+    if pd["master"] and not bodies:
+        issues.append(Issue(f"{key}.master", f"= {pd['master']!r}: a pair between two bodies needs [[body]] tables; "
+                                             "against a rigid obstacle give its type (and parameters) instead."))
+        return False
+    if pd["master"] and (pd["type"] or pd["params"]):
+        extra = _known((["type"] if pd["type"] else []) + sorted(pd["params"]))
+        issues.append(Issue(key, f"master = {pd['master']!r} and obstacle keys ({extra}): a pair has one master, "
+                                 "a boundary of another body or a rigid obstacle; remove one."))
+        return False
+    if not pd["master"] and not pd["type"]:
+        issues.append(Issue(f"{key}.type", "missing (required): Registered obstacle name, as `[obstacle] type`"
+                                           + (" (or master = 'body0/top', a boundary of another body)." if bodies
+                                              else ".")))
+        return False
+    return True
 
 
 def _pairs_issues(s: Sections, od: Any, issues: list[Issue]) -> None:
     """Several pairs at finite kinematics run frictionless with fixed obstacles (``[obstacle] path`` moves one)."""
     moving = isinstance(od, dict) and od.get("path") not in (None, BAD)
-    if s.pairs and s.kinematics == "finite" and (s.mu > 0 or moving):
-        what = "contact.friction > 0" if s.mu > 0 else "obstacle.path"
+    if s.pairs and s.kinematics == "finite" and (s.mu_max > 0 or moving):
+        rough = [f"pair[{k + 1}].friction > 0" for k, (_, _, m) in enumerate(s.pairs) if isinstance(m, float) and m > 0]
+        what = "contact.friction > 0" if s.mu > 0 else (rough[0] if rough else "obstacle.path")
         issues.append(Issue("pair", f"{len(s.pairs)} [[pair]] table(s) at contact.kinematics = 'finite' with {what}: "
                                     "several contact pairs at finite kinematics run frictionless with fixed obstacles "
                                     "so far; remove it, use kinematics = 'small' (friction), or one pair ([contact] "
@@ -916,6 +938,8 @@ class Sections:
     obstacle: Any = None
     pairs: Any = field(default_factory=list)
     mu: float = 0.0
+    #: the largest Coulomb coefficient of the pairs (``[contact]`` and ``[[pair]]``): frictional when positive
+    mu_max: float = 0.0
     solver: Solver = field(default_factory=Solver)
     units: tuple = (None, None, None)
     reference: Any = None
@@ -944,8 +968,9 @@ def build_sections(data: dict, base: Path, issues: list[Issue]) -> Sections:
     s.obstacle = build_obstacle(data.get("obstacle"), s.dim, issues, base=base)
     s.pairs = build_pairs(data.get("pair"), s.mesh, s.dim, base, issues)
     s.mu = cd["friction"] if isinstance(cd, dict) and isinstance(cd.get("friction"), float) else 0.0
+    s.mu_max = max([s.mu] + [m for _, _, m in (s.pairs or ()) if isinstance(m, float)])
     _pairs_issues(s, data.get("obstacle"), issues)
-    s.solver = build_solver(data.get("solver"), s.mu, s.kinematics, issues)
+    s.solver = build_solver(data.get("solver"), s.mu_max, s.kinematics, issues)
     s.units = build_units(data.get("units"), issues)
     s.reference, s.mindlin = build_reference(data.get("reference"), s.dim, s.material, s.mu, issues)
     return s
@@ -1008,8 +1033,8 @@ def build_problem(data: dict, model, s: Sections, issues: list[Issue]) -> tuple[
     if s.pairs:  # [contact] + [obstacle] is the first pair, each [[pair]] one more
         from ..contact import Boundary, ContactPair
 
-        pairs = [ContactPair(Boundary(model, b), ob, friction=float(s.mu))
-                 for b, ob in [(cd["boundary"], s.obstacle)] + list(s.pairs)]
+        pairs = [ContactPair(Boundary(model, b), ob, friction=float(s.mu if mu is None else mu))
+                 for b, ob, mu in [(cd["boundary"], s.obstacle, None)] + list(s.pairs)]
         problem = _num(issues, "pair", ContactProblem, bodies=[model], pairs=pairs, supports=tuple(s.fixed),
                        loads=tuple(s.loads), name=data["problem"]["name"], reference=s.reference, meta=meta,
                        kinematics=s.kinematics)
@@ -1022,7 +1047,7 @@ def build_problem(data: dict, model, s: Sections, issues: list[Issue]) -> tuple[
         fixed, cases = _proportional(s.fixed, s.loads)
         problem = dataclasses.replace(problem, supports=tuple(fixed), loads=())
     history = None
-    if cases or s.friction_ramp is not None or s.mu > 0:
+    if cases or s.friction_ramp is not None or s.mu_max > 0:
         history = _num(issues, "loading", LoadHistory, tuple(cases), s.times, s.friction_ramp)
     return problem, history
 
@@ -1122,43 +1147,41 @@ def _surface(name: str, key: str, names: dict, n: int, issues: list[Issue]) -> t
 
 
 def _bodies_table_issues(data: dict, issues: list[Issue]) -> None:
-    """Tables and options that do not go with ``[[body]]`` (what runs: small, frictionless, one pair)."""
+    """Tables and options that do not go with ``[[body]]`` (what runs: small deformation, one pair)."""
     for key, what in (("mesh", "each body has its own [body.mesh]"),
                       ("material", "each body has its own [body.material]"),
                       ("obstacle", "the master of the pair is [contact] master, a body's boundary")):
         if data.get(key) is not None:
             issues.append(Issue(key, f"given together with [[body]]: {what}; remove [{key}]."))
-    if data.get("pair"):
-        issues.append(Issue("pair", "[[pair]] (rigid obstacles) together with [[body]]: a two-body pair beside "
-                                    "other pairs is not supported yet; remove the [[pair]] tables."))
     cd = data.get("contact")
     if not isinstance(cd, dict):
         return
     if cd.get("kinematics") not in ("small", BAD):
         issues.append(Issue("contact.kinematics", f"= {cd['kinematics']!r}: contact between bodies ([[body]]) is "
                                                   "small deformation so far; set kinematics = 'small'."))
-    if isinstance(cd.get("friction"), float) and cd["friction"] > 0:
-        issues.append(Issue("contact.friction", f"= {cd['friction']:g}: contact between bodies ([[body]]) is "
-                                                "frictionless so far; set friction = 0.0."))
 
 
-def _two_body_reference(rd: dict | None, models: list, issues: list[Issue]):
+def _two_body_reference(rd: dict | None, models: list, mu: float, issues: list[Issue]):
     """``[reference] kind = "hertz"`` between two bodies: Hertz with the effective modulus
     :math:`1/E^* = (1-\\nu_1^2)/E_1 + (1-\\nu_2^2)/E_2` (plane strain) and ``radius`` the effective
-    :math:`R` (Johnson, Contact Mechanics, eq. 4.45-4.47)."""
+    :math:`R` (Johnson, Contact Mechanics, eq. 4.45-4.47); ``"cattaneo-mindlin"``: the partial slip of that
+    contact under a tangential load, :math:`c/a = \\sqrt{1 - Q/(\\mu P)}` (Johnson, section 7.1; exact for two
+    bodies of the same material, which decouple the normal and tangential problems). ``(hertz, mindlin)``."""
     if not _ok(rd) or rd["kind"] == "none":
-        return None
-    if rd["kind"] != "hertz" or len(models) != 2:
-        issues.append(Issue("reference.kind", f"= {rd['kind']!r}: with [[body]] the reference is 'hertz' between "
-                                              "two bodies (or 'none')."))
-        return None
-    if not _reference_ok(rd, 2, 0.0, issues):
-        return None
+        return None, None
+    if rd["kind"] not in ("hertz", "cattaneo-mindlin") or len(models) != 2:
+        issues.append(Issue("reference.kind", f"= {rd['kind']!r}: with [[body]] the reference is 'hertz' or "
+                                              "'cattaneo-mindlin' between two bodies (or 'none')."))
+        return None, None
+    if not _reference_ok(rd, 2, mu, issues):
+        return None, None
+    from ..problems.friction import MindlinReference
     from ..problems.hertz import HertzReference
 
     comp = sum(1.0 / m.material.E if m.material.plane == "stress" else 1.0 / m.material.plane_strain_modulus
                for m in models)
-    return HertzReference("cylinder", rd["radius"], 1.0 / comp, rd["symmetry"])
+    ref = HertzReference("cylinder", rd["radius"], 1.0 / comp, rd["symmetry"])
+    return ref, (MindlinReference(ref, float(mu)) if rd["kind"] == "cattaneo-mindlin" else None)
 
 
 def build_bodies(data: dict, base: Path, issues: list[Issue]):
@@ -1172,7 +1195,7 @@ def build_bodies(data: dict, base: Path, issues: list[Issue]):
     """
     from types import SimpleNamespace
 
-    from ..contact import BodySurface, Boundary, ContactPair, ContactProblem, LoadHistory
+    from ..contact import ContactProblem, LoadHistory
 
     _bodies_table_issues(data, issues)
     built = [_one_body(i, bd, base, issues) for i, bd in enumerate(data["body"]) if _ok(bd)]
@@ -1191,17 +1214,8 @@ def build_bodies(data: dict, base: Path, issues: list[Issue]):
     names = _boundary_names(models)
     where = SimpleNamespace(boundaries=dict.fromkeys(names))  # boundary_ok checks the qualified names
     cd = data["contact"]
-    pair = None
-    if _ok(cd):
-        slave = _surface(cd["boundary"], "contact.boundary", names, len(models), issues)
-        master = _surface(cd["master"], "contact.master", names, len(models), issues)
-        if slave is not None and master is not None:
-            if slave == master:
-                issues.append(Issue("contact.master", f"= {cd['master']!r}: the same boundary as the slave "
-                                                      f"(contact.boundary = {cd['boundary']!r}); a pair needs two "
-                                                      "surfaces: name a boundary of the other body."))
-            else:
-                pair = ContactPair(Boundary(models[slave[0]], slave[1]), BodySurface(models[master[0]], master[1]))
+    pair = _contact_pair(cd, models, names, issues)
+    others = _body_pairs(data.get("pair") or [], models, names, s.dim, base, cd, issues)
     s.fixed, support_cases = build_supports(data.get("support"), where, s.dim, issues)
     s.loads, load_cases = build_loads(data.get("load"), where, s.dim, issues)
     s.cases = support_cases + load_cases
@@ -1209,21 +1223,74 @@ def build_bodies(data: dict, base: Path, issues: list[Issue]):
         more = _body_actions(k, bd, m, s.dim, issues)
         s.fixed, s.loads, s.cases = s.fixed + more[0], s.loads + more[1], s.cases + more[2]
     s.times, s.friction_ramp = build_loading(data.get("loading"), issues)
-    s.solver = build_solver(data.get("solver"), 0.0, "small", issues)
+    s.mu = cd["friction"] if _ok(cd) and isinstance(cd.get("friction"), float) else 0.0
+    s.mu_max = max([s.mu] + [p.friction for p in others or ()])
+    s.solver = build_solver(data.get("solver"), s.mu_max, "small", issues)
     s.units = build_units(data.get("units"), issues)
     rd = data.get("reference")
-    s.reference = _two_body_reference(rd, models, issues)
-    if issues or pair is None or s.times is None:
+    s.reference, s.mindlin = _two_body_reference(rd, models, s.mu, issues)
+    if issues or pair is None or s.times is None or others is None:
         return None
     rd = rd if _ok(rd) else {"center": None, "axis": 0, "kind": "none"}
     center = tuple(rd["center"]) if rd["center"] is not None else (0.0,) * s.dim
     meta = {"symmetry_axis": int(rd["axis"]), "center": center,
             "center_declared": rd["center"] is not None or rd["kind"] != "none"}
-    problem = _num(issues, "body", ContactProblem, bodies=models, pairs=[pair], supports=tuple(s.fixed),
+    problem = _num(issues, "body", ContactProblem, bodies=models, pairs=[pair] + others, supports=tuple(s.fixed),
                    loads=tuple(s.loads), name=data["problem"]["name"], reference=s.reference, meta=meta)
     if problem is None:
         return None
     history = None
-    if s.cases or s.friction_ramp is not None:
+    if s.cases or s.friction_ramp is not None or s.mu_max > 0:
         history = _num(issues, "loading", LoadHistory, tuple(s.cases), s.times, s.friction_ramp)
     return problem, history, s
+
+
+def _contact_pair(cd: Any, models: list, names: dict, issues: list[Issue]):
+    """The two-body pair of ``[contact]`` (``boundary`` the slave, ``master`` a boundary of another body, its
+    ``friction``), or ``None`` with the issues."""
+    from ..contact import BodySurface, Boundary, ContactPair
+
+    if not _ok(cd):
+        return None
+    slave = _surface(cd["boundary"], "contact.boundary", names, len(models), issues)
+    master = _surface(cd["master"], "contact.master", names, len(models), issues)
+    if slave is None or master is None:
+        return None
+    if slave == master:
+        issues.append(Issue("contact.master", f"= {cd['master']!r}: the same boundary as the slave "
+                                              f"(contact.boundary = {cd['boundary']!r}); a pair needs two "
+                                              "surfaces: name a boundary of the other body."))
+        return None
+    mu = cd["friction"] if isinstance(cd.get("friction"), float) else 0.0
+    return ContactPair(Boundary(models[slave[0]], slave[1]), BodySurface(models[master[0]], master[1]), friction=mu)
+
+
+def _body_pairs(pds: list, models: list, names: dict, dim, base: Path, cd: Any, issues: list[Issue]) -> list | None:
+    """The ``[[pair]]`` tables of a file with ``[[body]]``: each a pair between two bodies (``master``) or
+    against a rigid obstacle (``type``) on the body of its ``boundary``; ``None`` when one failed."""
+    from ..contact import BodySurface, Boundary, ContactPair
+
+    out: list | None = []
+    mu0 = cd["friction"] if _ok(cd) and isinstance(cd.get("friction"), float) else 0.0
+    for i, pd in enumerate(pds):
+        key = f"pair[{i + 1}]"
+        if not _ok(pd) or not _pair_kind_ok(pd, key, issues, bodies=True):
+            out = None
+            continue
+        slave = _surface(pd["boundary"], f"{key}.boundary", names, len(models), issues)
+        if pd["master"]:
+            other = _surface(pd["master"], f"{key}.master", names, len(models), issues)
+            if other is not None and other == slave:
+                issues.append(Issue(f"{key}.master", f"= {pd['master']!r}: the same boundary as the slave "
+                                                     f"({key}.boundary = {pd['boundary']!r}); a pair needs two "
+                                                     "surfaces: name a boundary of the other body."))
+                other = None
+            master = None if other is None else BodySurface(models[other[0]], other[1])
+        else:
+            master = build_obstacle(pd, dim, issues, key=key, base=base)
+        if slave is None or master is None:
+            out = None
+        elif out is not None:
+            mu = mu0 if pd["friction"] is None else pd["friction"]
+            out.append(ContactPair(Boundary(models[slave[0]], slave[1]), master, friction=mu))
+    return out

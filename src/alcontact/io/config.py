@@ -226,7 +226,13 @@ class ProblemSetup:
 
     @property
     def friction(self) -> float:
-        return float(self.problem.friction)
+        """The largest Coulomb coefficient of the pairs (the run is frictional when it is positive)."""
+        return max(float(p.friction) for p in self.problem.pairs)
+
+    @property
+    def pair_friction(self) -> list[float]:
+        """The Coulomb coefficient of every pair, in the order of ``problem.pairs``."""
+        return [float(p.friction) for p in self.problem.pairs]
 
     @property
     def stepped(self) -> bool:
@@ -234,7 +240,9 @@ class ProblemSetup:
 
     def summary_line(self) -> str:
         m = self.problem.model
-        law = f"Coulomb mu={self.friction:g}" if self.friction > 0 else "frictionless"
+        mus = self.pair_friction
+        law = "frictionless" if self.friction == 0 else (
+            f"Coulomb mu={self.friction:g}" if len(set(mus)) == 1 else "Coulomb mu=" + "/".join(f"{m:g}" for m in mus))
         alg = self.algorithm + (f"/{self.penalty}" if self.penalty else "")
         n = len(self.times)
         kin = f", finite deformation ({m.law.name})" if self.finite else ""
@@ -242,7 +250,7 @@ class ProblemSetup:
                  if self.data.get("obstacle") else "")
         if len(self.problem.pairs) > 1 or not where:
             where = f"{len(self.problem.pairs)} contact pairs (" + ", ".join(
-                f"{p.slave.name!r} on {p.master.name}" for p in self.problem.pairs) + ")"
+                f"{self.problem.slave_name(p)!r} on {p.master.name}" for p in self.problem.pairs) + ")"
         if hasattr(m, "bodies"):  # [[body]]: several bodies
             parts = [b.mesh.nelements for b in m.bodies if b.mesh is not None]  # a rigid body has no mesh
             rigid = len(m.bodies) - len(parts)
@@ -340,7 +348,7 @@ def _build(data: dict, base: Path, issues: list[Issue], source) -> ProblemSetup 
     problem, history = rigid_problem(data, problem, history, parts.times, issues)  # [obstacle] reference
     if problem is None or issues:
         return None
-    if parts.mu == 0 and parts.friction_ramp is not None:
+    if parts.mu_max == 0 and parts.friction_ramp is not None:
         logger.warning("loading.friction_ramp is ignored: contact.friction = 0")
     od, sv = data["obstacle"], parts.solver
     return ProblemSetup(
@@ -366,6 +374,7 @@ def _build_bodies(data: dict, base: Path, issues: list[Issue], source) -> Proble
     return ProblemSetup(
         source=Path(source) if source is not None else None, data=data, problem=problem, history=history,
         times=parts.times, algorithm=sv.algorithm, penalty=sv.penalty, options=sv.options,
-        friction_options=sv.friction_options, reference=parts.reference, output=dict(data["output"]),
-        max_cutbacks=int(data["loading"]["max_cutbacks"]), units=parts.units, petsc_options=sv.petsc_options,
+        friction_options=sv.friction_options, reference=parts.reference, mindlin=parts.mindlin,
+        output=dict(data["output"]), max_cutbacks=int(data["loading"]["max_cutbacks"]), units=parts.units,
+        petsc_options=sv.petsc_options,
     )

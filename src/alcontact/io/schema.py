@@ -240,7 +240,9 @@ def _build_schema() -> tuple[Table, ...]:
               "`[contact]` (a boundary name that only one body has may be given bare; `[[body.support]]` and "
               "`[[body.load]]` name the body's own boundaries bare). `[contact] boundary` "
               "(the slave) and `[contact] master` name the pair's two boundaries. Two-body contact is mortar "
-              "(dual multipliers), small deformation, frictionless, 2D, linear elastic bodies.", (), array=True),
+              "(dual multipliers), small deformation, 2D, linear elastic bodies, frictionless or with Coulomb "
+              "friction (`[contact] friction`: the slip is the relative tangential displacement of the two "
+              "surfaces).", (), array=True),
         Table("body.mesh", "The body's mesh: the keys of `[mesh]`.", mesh_options),
         Table("body.mesh.refine", "Grading of the body's generated mesh: the keys of `[mesh.refine]`.",
               refine_options),
@@ -273,21 +275,28 @@ def _build_schema() -> tuple[Table, ...]:
             OBSTACLE_PATH,
             *RIGID_OPTIONS,
         ), open=True, required=True),
-        Table("pair", "A further contact pair on the body (one table per pair): its own contact boundary "
-              "against its own rigid obstacle, e.g. a block squeezed between two plates. `type` and every "
-              "other key are the obstacle's, as in `[obstacle]` (which is the obstacle of `[contact] boundary`); "
-              "`[contact] friction` and `kinematics` apply to every pair (at finite kinematics: frictionless, no "
-              "`[obstacle] path`).", (
-            O("boundary", "str", REQUIRED, "Boundary of the body that may touch this pair's obstacle."),
-            O("type", "str", REQUIRED, "Registered obstacle name, as `[obstacle] type`."),
+        Table("pair", "A further contact pair (one table per pair): its own contact boundary against its own "
+              "rigid obstacle, e.g. a block squeezed between two plates. `type` and every other key are the "
+              "obstacle's, as in `[obstacle]` (which is the obstacle of `[contact] boundary`); with `[[body]]` "
+              "tables a pair may instead join two bodies (`master`, a boundary of another body, as `[contact] "
+              "master`), and a rigid pair acts on the body of its `boundary` (e.g. `\"body1/top\"`). Each pair has "
+              "its own Coulomb coefficient (`friction`, default `[contact] friction`), `kinematics` applies to "
+              "every pair (at finite kinematics: frictionless, no `[obstacle] path`).", (
+            O("boundary", "str", REQUIRED, "Boundary of the body that may touch this pair's obstacle (the slave)."),
+            O("type", "str", "", "Registered obstacle name, as `[obstacle] type` (required unless `master` is "
+              "given)."),
+            O("master", "str", "", "With `[[body]]`: the master boundary of a pair between two bodies, a boundary "
+              "of another body (instead of `type`)."),
+            O("friction", "float", None, "Coulomb coefficient mu of this pair (default: `[contact] friction`; 0: "
+              "frictionless).", low=0, high=VALUE_RANGE[1]),
         ), array=True, open=True),
         Table("contact", "Contact boundary and friction.", (
             O("boundary", "str", REQUIRED, "Boundary of the body that may touch the obstacle (with `[[body]]`: "
               "the slave boundary of the two-body pair, e.g. `\"body1/bottom\"`)."),
             O("master", "str", "", "With `[[body]]`: the master boundary of the pair, a boundary of another "
               "body (or another boundary of the same body), e.g. `\"body0/top\"`; it replaces `[obstacle]`."),
-            O("friction", "float", 0.0, "Coulomb coefficient mu (0: frictionless; > 0 uses the frictional "
-              "solver over the load steps).", low=0),
+            O("friction", "float", 0.0, "Coulomb coefficient mu of the pair of `boundary` (0: frictionless; > 0 "
+              "uses the frictional solver over the load steps; `[[pair]]` tables may give their own).", low=0),
             _kinematics_option(),
         ), required=True),
         Table("solver", "Contact algorithm, penalty and their parameters.", (

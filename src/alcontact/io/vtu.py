@@ -205,44 +205,61 @@ def solution_point_data(solution, deformed: bool | None = None
 def _bodies_point_data(solution, deformed):
     """:func:`solution_point_data` of a solution of several bodies (:class:`alcontact.fem.MultiBody`).
 
-    Each body's grid and fields as for one body (the contact fields on the slave boundary; ``0`` /
-    NaN on the other bodies), stacked into one grid with the point field ``body`` (the body's index).
+    Each body's grid and fields as for one body (the contact fields at the stacked contact points on
+    that body, the slave boundaries of its pairs; on the master body of one pair between two bodies its
+    master-side pressure and gap, :mod:`alcontact.contact.solution._sides`; ``0`` / NaN, and with
+    friction ``contact_state = -1``, on a body with none), stacked into one grid with the point field
+    ``body`` (the body's index). A rigid body has no grid.
     """
     from types import SimpleNamespace
 
     problem = solution.problem
     model = problem.model
-    slave, local = model.locate(problem.contact_boundary)
     kinematics = getattr(problem, "kinematics", "small")
-    extra = {k: v for k, v in (getattr(solution, "extra", None) or {}).items() if k != "state"}
+    extra = dict(getattr(solution, "extra", None) or {})
     side = extra.get("master_side")  # the master body's pressure and gap (contact.solution._sides)
     master = getattr(problem.pairs[0].master, "body", None) if side is not None else None
+    _, dofs = problem.slave_nodes()
+    m = dofs.shape[0]
+    per_point = {k: v for k, v in extra.items() if k in ("state", "slip", "slip_increment")}
     points, conns, fields, index = [], [], [], []
     cell_type = None
     for i, (body, u) in enumerate(zip(model.bodies, model.split(solution.u))):
         if body.mesh is None:  # a rigid body: its pose is in summary.json and steps.csv, it has no grid
             continue
-        if i == slave:
-            view = SimpleNamespace(problem=SimpleNamespace(model=body, contact_boundary=local, kinematics=kinematics,
-                                                           slave_nodes=lambda b=body, n=local: b.node_dofs(n)),
-                                   u=u, points=solution.points, pressure=solution.pressure, gap=solution.gap,
-                                   active=solution.active, extra=extra)
+        lo, hi = model.offsets[i], model.offsets[i + 1]
+        mine = np.flatnonzero((dofs[:, 0] >= lo) & (dofs[:, 0] < hi))  # the contact points on this body
+        if mine.size:
+            pts, local = solution.points[mine], dofs[mine] - lo
+            view = SimpleNamespace(problem=SimpleNamespace(model=body, contact_boundary=problem.contact_boundary,
+                                                           kinematics=kinematics,
+                                                           slave_nodes=lambda p=pts, q=local: (p, q)),
+                                   u=u, points=pts, pressure=solution.pressure[mine], gap=solution.gap[mine],
+                                   active=solution.active[mine],
+                                   extra={k: np.asarray(v)[mine] for k, v in per_point.items()
+                                          if np.shape(v)[:1] == (m,)})
         elif body is master:  # the master side of the pair: pressure and gap carried by the mortar weights
             p_m, g_m = np.asarray(side["pressure"], dtype=float), np.asarray(side["gap"], dtype=float)
+            n = p_m.shape[0]
+            none = {"state": np.full(n, -1.0), "slip": np.zeros((n, 1)), "slip_increment": np.zeros((n, 1))} \
+                if "state" in extra else {}
             view = SimpleNamespace(problem=SimpleNamespace(model=body, contact_boundary=side["boundary"],
                                                            kinematics=kinematics,
                                                            slave_nodes=lambda b=body, n=side["boundary"]:
                                                            b.node_dofs(n)),
                                    u=u, points=side["points"], pressure=p_m, gap=g_m,
-                                   active=np.isfinite(g_m) & (p_m > 0), extra={})
+                                   active=np.isfinite(g_m) & (p_m > 0), extra=none)
         else:  # no contact field of its own: the first boundary, zero pressure, no gap
             name = body.boundary_names[0]
             pts, _ = body.node_dofs(name)
-            m = pts.shape[0]
+            n = pts.shape[0]
+            # with friction: no slip and contact_state -1 (not a contact point) on the other bodies
+            none = {"state": np.full(n, -1.0), "slip": np.zeros((n, 1)), "slip_increment": np.zeros((n, 1))} \
+                if "state" in extra else {}
             view = SimpleNamespace(problem=SimpleNamespace(model=body, contact_boundary=name, kinematics=kinematics,
                                                            slave_nodes=lambda b=body, n=name: b.node_dofs(n)),
-                                   u=u, points=pts, pressure=np.zeros(m), gap=np.full(m, np.nan),
-                                   active=np.zeros(m, dtype=bool), extra={})
+                                   u=u, points=pts, pressure=np.zeros(n), gap=np.full(n, np.nan),
+                                   active=np.zeros(n, dtype=bool), extra=none)
         p, cells, data = solution_point_data(view, deformed)
         if cell_type not in (None, cells[0][0]):
             raise InputError(f"VTU output of several bodies needs one cell type; got {cell_type} and {cells[0][0]}.")

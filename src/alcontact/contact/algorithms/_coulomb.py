@@ -141,12 +141,21 @@ class _CondensedSystem(_PointSystem):
     ``fun(x) -> (F, aux)``, ``jac(x, aux) -> J`` (dense, possibly unsymmetric), ``scale(x, aux) > 0``
     the force unit of the relative residual. Globalization: Armijo on ``energy(x)`` (with
     ``grad(x, F)`` its gradient) when the problem has a potential, else a decrease of the
-    residual norm (:data:`_POTENTIAL`, :data:`_NO_POTENTIAL`).
+    residual norm (:data:`_POTENTIAL`, :data:`_NO_POTENTIAL`). ``floor(x, aux)``, when given, bounds
+    the round-off of ``F`` (in force units): the tolerance is raised to it (:meth:`tolerance`), as the
+    AMG path's does (:class:`~alcontact.contact.systems._krylov._FullSpaceFriction`).
     """
 
-    def __init__(self, fun, jac, scale, energy=None, grad=None):
-        self.fun, self.jac, self.scale, self.energy, self.grad = fun, jac, scale, energy, grad
+    def __init__(self, fun, jac, scale, energy=None, grad=None, floor=None):
+        self.fun, self.jac, self.scale, self.energy, self.grad, self.floor = fun, jac, scale, energy, grad, floor
         self.fs = 1e-300
+
+    def tolerance(self, state, tol):
+        """``tol``, or the round-off floor of the residual where it is higher (a large contact zone with a stiff
+        penalty: :math:`F = R - W t(y_f - A R)` cancels terms of size :math:`\\varepsilon_N |y_f|`)."""
+        if self.floor is None:
+            return tol
+        return max(tol, float(self.floor(state.x, state.aux)) / self.fs)
 
     def evaluate(self, x):
         F, aux = self.fun(x)
@@ -174,9 +183,9 @@ _NO_POTENTIAL = NewtonSettings(LineSearch(halvings=50, merit=False, residual_dec
                                stall=0.0, negligible_tol=1e3)
 
 
-def _newton(fun, jac, x0, scale, *, tol, maxiter, energy=None, grad=None) -> NewtonResult:
+def _newton(fun, jac, x0, scale, *, tol, maxiter, energy=None, grad=None, floor=None) -> NewtonResult:
     """Solve ``F(x) = 0`` by :func:`~._newton.newton` on a :class:`_CondensedSystem`."""
-    system = _CondensedSystem(fun, jac, scale, energy, grad)
+    system = _CondensedSystem(fun, jac, scale, energy, grad, floor)
     return newton(system, x0, tol=tol, maxiter=maxiter, settings=_POTENTIAL if energy is not None else _NO_POTENTIAL)
 
 
@@ -293,7 +302,7 @@ class _Ctx:
     R0: np.ndarray
     eps_n: float
     eps_t: float
-    mu: float
+    mu: float | np.ndarray  # one coefficient, or one per candidate (pairs with their own)
     opts: FrictionOptions
     tfree: np.ndarray | None = None  # (c, d-1) tangent directions not held by a support
 
@@ -408,7 +417,22 @@ def _al_subproblem(ctx: _Ctx, law, lamN, lamT, R0, coupled: bool = False) -> New
         return max(xs, float(np.max(np.abs(w[:, None] * aux[1]), initial=0.0)))
 
     return _newton(fun, jac, R0.ravel(), scale, tol=ctx.opts.newton_tol, maxiter=ctx.opts.maxiter_newton,
-                   energy=energy, grad=grad)
+                   energy=energy, grad=grad, floor=_roundoff_floor(ctx))
+
+
+def _roundoff_floor(ctx: _Ctx):
+    r"""``floor(x, aux)`` of :class:`_CondensedSystem`: a bound of the round-off of :math:`R - W t(y)`,
+    :math:`y = y_f - A R`: :math:`10\,\epsilon\,\max(|R| + W(|t| + |D_y t|(|y_f| + |A||R|)))`."""
+    absA = np.abs(ctx.fc.A)
+    c, d, w = ctx.c, ctx.d, ctx.w
+
+    def floor(x, aux):
+        t, Dy = aux[1], aux[2]
+        yerr = np.abs(ctx.yf) + (absA @ np.abs(x)).reshape(c, d)
+        terr = np.abs(t) + np.einsum("cij,cj->ci", np.abs(Dy), yerr)
+        return 10.0 * np.finfo(float).eps * float(np.max(np.abs(x) + (w[:, None] * terr).ravel(), initial=0.0))
+
+    return floor
 
 
 def _measures(ctx: _ALSystem, t, y, st, lamN_old, lamT_old):
@@ -595,7 +619,7 @@ def _coupled_start(ctx: _ALSystem) -> bool:
     Only with ``radius="multiplier"``, the second-order update (``ctx.second_order``), and
     a body held by its supports (a body held by the obstacle starts sticking, :func:`_advance`).
     """
-    return ctx.opts.radius == "multiplier" and ctx.second_order and ctx.fc.spring is None and ctx.mu > 0
+    return ctx.opts.radius == "multiplier" and ctx.second_order and ctx.fc.spring is None and bool(np.any(np.asarray(ctx.mu) > 0))
 
 
 def _final_coupled(ctx: _ALSystem, dlam: float) -> bool:

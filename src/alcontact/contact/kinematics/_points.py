@@ -30,6 +30,7 @@ from ._gap import LinearizedGap
 from ..masters._rigid_body import RigidBody
 from ._mortar import MortarKinematics, mortar_gap
 from ._rigid_body import rigid_body_gap
+from ._stacked_gap import stacked_gap
 
 
 logger = logging.getLogger(__name__)
@@ -54,16 +55,9 @@ def _element_size(model, boundary: str, obstacle) -> float:
 OVERLAP_TOL = 1e-3
 
 
-def pair_gap(problem):
-    """The linear gap operator (a :class:`~alcontact.contact.kinematics._mortar.MortarGap`) of a problem whose pair
-    has a master that moves with the unknowns: a body's surface (mortar) or a rigid body (its pose); ``None``
-    against a rigid obstacle. Nothing logged (:func:`mortar_of` adds the warnings of a solve)."""
-    pair = problem.pairs[0]
-    if pair.rigid:
-        return None
-    if problem.kinematics != "small":
-        raise InputError("contact between two bodies is available at small deformation (kinematics='small'); "
-                         "finite deformation is not supported yet.")
+def _one_pair_gap(problem, pair):
+    """The linear gap operator of one pair whose master moves with the unknowns: a body's surface (mortar) or a
+    rigid body (its pose)."""
     if isinstance(pair.slave.body, RigidBody):
         raise InputError("the slave of a contact pair is a boundary of a deformable body; a rigid body "
                          "(contact.RigidBody) is a master: ContactPair(Boundary(body, 'top'), rigid_body).")
@@ -77,15 +71,43 @@ def pair_gap(problem):
     return mortar_gap(problem.model, pair.slave.body, pair.slave.name, pair.master)
 
 
+def pair_gap(problem, check=None):
+    """The linear gap operator (a :class:`~alcontact.contact.kinematics._mortar.MortarGap`) of a problem whose pair
+    has a master that moves with the unknowns: a body's surface (mortar) or a rigid body (its pose); ``None``
+    against a rigid obstacle. With several pairs of which one moves, the gaps of all of them stacked into one
+    (:func:`~alcontact.contact.kinematics._stacked_gap.stacked_gap`; ``check(name, pair, gap)`` is called with
+    each moving pair's own). Nothing logged (:func:`mortar_of` adds the warnings of a solve)."""
+    if all(p.rigid for p in problem.pairs):
+        return None
+    if problem.kinematics != "small":
+        raise InputError("contact between two bodies is available at small deformation (kinematics='small'); "
+                         "finite deformation is not supported yet.")
+    if len(problem.pairs) > 1:
+        if any(isinstance(p.master, RigidBody) for p in problem.pairs):
+            raise InputError("a rigid body whose pose is solved for (contact.RigidBody) is the master of a pair on "
+                             "its own so far; beside other pairs give it as a rigid obstacle moved by the load "
+                             "steps, or solve its pair alone.")
+        return stacked_gap(problem, lambda p: _element_size(p.slave.body, p.slave.name, p.master),
+                           lambda p: _one_pair_gap(problem, p), check)
+    return _one_pair_gap(problem, problem.pairs[0])
+
+
 def mortar_of(problem):
     """The :class:`~alcontact.contact.kinematics._mortar.MortarGap` of a problem whose pair has a deformable
-    master (``None`` against a rigid one), :func:`pair_gap`, with a warning when the pair cannot come into contact
+    master (``None`` against a rigid one), :func:`pair_gap`, with a warning when a pair cannot come into contact
     or the bodies overlap at the start."""
+    if len(problem.pairs) > 1:
+        return pair_gap(problem, lambda name, pair, mg: _check_mortar(problem, name, pair, mg))
     mg = pair_gap(problem)
     if mg is None:
         return None
-    pair = problem.pairs[0]
-    where = f"contact pair {problem.contact_boundary!r} / {pair.master.describe()}"
+    return _check_mortar(problem, problem.contact_boundary, problem.pairs[0], mg)
+
+
+def _check_mortar(problem, name: str, pair, mg):
+    """``mg``, the weighted gaps of ``pair`` (slave boundary ``name`` of the model), after the warnings of a pair
+    that cannot come into contact or whose bodies overlap at the start."""
+    where = f"contact pair {name!r} / {pair.master.describe()}"
     if not np.any(mg.covered):
         logger.warning("%s: no slave node has a master segment within the search distance, so the pair cannot "
                        "come into contact; check the boundaries, or give BodySurface(..., search_distance=...)", where)
@@ -93,7 +115,7 @@ def mortar_of(problem):
         g = np.where(mg.covered, mg.gap0, -np.inf)
         i = int(np.argmax(g))
         if g[i] > OVERLAP_TOL * mg.h:
-            pts, _ = problem.model.node_dofs(problem.contact_boundary)
+            pts, _ = problem.model.node_dofs(name)
             logger.warning("%s: the bodies overlap at the start by %.3g at slave node %s (%.2g element sizes); "
                            "check the geometry, or expect the contact to push them apart", where, g[i],
                            np.round(pts[i], 6).tolist(), g[i] / mg.h)

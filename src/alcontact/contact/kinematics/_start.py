@@ -48,6 +48,10 @@ class PairStart:
         normals point away from the slave's): the master is the wrong side of its body.
     overlap_tol : float
         Overlap (length) below which the bodies count as touching.
+    between : ndarray of bool (m,) or None
+        With several pairs (the points of all pairs, stacked): the points of the pairs between two bodies, whose
+        overlap :attr:`deepest` measures (a rigid obstacle's initial penetration prescribes an approach);
+        ``None``: every point.
     """
 
     label: str
@@ -58,13 +62,15 @@ class PairStart:
     B: sp.csr_matrix
     facing_away: bool
     overlap_tol: float
+    between: np.ndarray | None = None
 
     @property
     def deepest(self) -> tuple[float, np.ndarray] | None:
         """``(overlap, slave point)`` of the deepest reference overlap, ``None`` when nothing is covered."""
-        if not np.any(self.covered):
+        covered = self.covered if self.between is None else self.covered & self.between
+        if not np.any(covered):
             return None
-        i = int(np.argmax(np.where(self.covered, self.gaps, -np.inf)))
+        i = int(np.argmax(np.where(covered, self.gaps, -np.inf)))
         return float(self.gaps[i]), self.points[i]
 
     def touching(self) -> np.ndarray:
@@ -145,6 +151,8 @@ def pair_start(problem) -> PairStart | None:
     mg = pair_gap(problem)
     if mg is None:
         return None
+    if len(problem.pairs) > 1:  # the stacked gaps of all pairs (kinematics._stacked_gap)
+        return _several_pairs_start(problem, mg)
     pair = problem.pairs[0]
     pts, _ = pair.slave.body.node_dofs(pair.slave.name)
     facing_away = False
@@ -155,3 +163,22 @@ def pair_start(problem) -> PairStart | None:
     return PairStart(label=f"{problem.contact_boundary!r} on {pair.master.describe()}", points=pts,
                      gaps=np.where(mg.covered, mg.gap0, -np.inf), covered=mg.covered, h=mg.h, B=mg.B,
                      facing_away=facing_away, overlap_tol=OVERLAP_TOL * mg.h)
+
+
+def _several_pairs_start(problem, mg) -> PairStart:
+    """:class:`PairStart` of several pairs: the stacked points and gaps of all of them; the overlap and the facing
+    of the pairs between two bodies (their blocks of rows)."""
+    pts, _ = problem.slave_nodes()
+    owner = problem.pair_of_points()
+    between = np.zeros(pts.shape[0], dtype=bool)
+    facing_away = False
+    for k, pair in enumerate(problem.pairs):
+        rows = owner == k
+        between[rows] = not pair.rigid
+        if isinstance(pair.master, BodySurface) and not np.any(mg.covered[rows]):
+            ext = max(float(np.ptp(pts[rows], axis=0).max()), float(np.ptp(pair.master.segments.points, axis=0).max()))
+            search = pair.master.search_distance if pair.master.search_distance is not None else 0.25 * ext
+            facing_away = facing_away or _faces_away(pair, search)
+    label = ", ".join(f"{problem.slave_name(p)!r} on {p.master.describe()}" for p in problem.pairs)
+    return PairStart(label=label, points=pts, gaps=np.where(mg.covered, mg.gap0, -np.inf), covered=mg.covered,
+                     h=mg.h, B=mg.B, facing_away=facing_away, overlap_tol=OVERLAP_TOL * mg.h, between=between)

@@ -159,7 +159,9 @@ def local_law(normal, lamN, lamT, y, uTn, eps_t, mu, *, with_lam=False, rho=None
         Local kinematics, column 0 the gap, then :math:`u_T`.
     uTn : (c, d-1)
         Tangential displacement at the previous step.
-    eps_t, mu : float
+    eps_t : float
+    mu : float or (c,)
+        Coulomb coefficient (one per point when the contact pairs have their own).
     rho : (c,), optional
         Fixed radius of the Coulomb disc (e.g. :math:`\\mu\\lambda_N`); default
         :math:`\\mu t_N(g)`, coupled to the normal traction.
@@ -199,7 +201,7 @@ def local_law(normal, lamN, lamT, y, uTn, eps_t, mu, *, with_lam=False, rho=None
     Dy[:, 0, 0] = kN
     Dy[:, 1:, 1:] = eps_t * dz
     if coupled:
-        Dy[:, 1:, 0] = np.where(slip[:, None], mu * kN[:, None] * nvec, 0.0)
+        Dy[:, 1:, 0] = np.where(slip[:, None], (mu * kN)[:, None] * nvec, 0.0)
     Dl = None
     if with_lam:
         kl = np.asarray(normal.dlam(g, lamN), dtype=float)
@@ -207,7 +209,7 @@ def local_law(normal, lamN, lamT, y, uTn, eps_t, mu, *, with_lam=False, rho=None
         Dl[:, 0, 0] = kl
         Dl[:, 1:, 1:] = dz
         if coupled:
-            Dl[:, 1:, 0] = np.where(slip[:, None], mu * kl[:, None] * nvec, 0.0)
+            Dl[:, 1:, 0] = np.where(slip[:, None], (mu * kl)[:, None] * nvec, 0.0)
         elif drho is not None:
             Dl[:, 1:, 0] = np.where(slip[:, None], np.asarray(drho, dtype=float)[:, None] * nvec, 0.0)
     state = np.where(opened, OPEN, np.where(stick, STICK, SLIP))

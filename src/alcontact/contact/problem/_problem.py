@@ -306,16 +306,17 @@ class ContactProblem:
       loads=..., friction=mu)``, which builds that one body and that one pair.
 
     Both give the same problem (and the same solution, to the last bit). A problem has one
-    body with one or several pairs, each its own slave boundary and rigid master (their
-    contact points are stacked in the pairs' order, one constraint per slave point and pair:
-    :meth:`slave_nodes`), with one friction coefficient shared by the pairs (at finite
-    deformation: frictionless, fixed masters); or two bodies joined by one pair whose master
-    is the :class:`~alcontact.contact.BodySurface` of a body of ``bodies`` (two-body mortar
-    contact at small deformation, frictionless, 2D P1/P2; the model is then the bodies'
+    body with one or several pairs, each its own slave boundary, rigid master and Coulomb
+    coefficient (their contact points are stacked in the pairs' order, one constraint per
+    slave point and pair: :meth:`slave_nodes`; at finite deformation: frictionless, fixed
+    masters); or several bodies joined by pairs whose master is the
+    :class:`~alcontact.contact.BodySurface` of a body of ``bodies`` (two-body mortar contact
+    at small deformation, frictionless or with Coulomb friction, 2D P1/P2), beside which
+    pairs with rigid masters may act on any of the bodies; the model is then the bodies'
     :class:`~alcontact.fem.MultiBody` and boundary names are ``"body0/top"``,
-    ``"body1/bottom"``, ...). A friction coefficient per pair, frictional pairs at finite
-    deformation and a two-body pair beside other pairs are refused with an
-    :class:`~alcontact.errors.InputError` (see ``docs/architecture.md``).
+    ``"body1/bottom"``, ... Frictional pairs at finite deformation and two-body pairs at
+    finite deformation are refused with an :class:`~alcontact.errors.InputError` (see
+    ``docs/architecture.md``).
 
     Parameters
     ----------
@@ -351,7 +352,7 @@ class ContactProblem:
     model, obstacle, contact_boundary, friction
         Views of the one body and the first pair: ``bodies[0]``, ``pairs[0].master`` (with
         several pairs, the :class:`~alcontact.contact.masters.StackedMaster` of all of them),
-        ``pairs[0].slave.name``, ``pairs[0].friction`` (the same for every pair).
+        ``pairs[0].slave.name``, ``pairs[0].friction`` (each pair has its own: :meth:`point_friction`).
 
     Notes
     -----
@@ -447,26 +448,16 @@ class ContactProblem:
             raise InputError(f"{kind}: bodies has {len(bodies)} bodies but no pair joins two of them: give a pair "
                              "whose master is a boundary of another body, ContactPair(Boundary(a, 'bottom'), "
                              f"BodySurface(b, 'top')). See {ROADMAP}.")
-        if len(pairs) > 1 and not all(p.rigid for p in pairs):
-            raise InputError(f"{kind}: pairs has {len(pairs)} contact pairs and one joins two bodies: a pair between "
-                             "two bodies beside other pairs is not supported yet; give the two-body pair alone. "
-                             f"See {ROADMAP}.")
-        if len(bodies) > 1 or not pairs[0].rigid:
-            pair = pairs[0]
-            if not any(pair.slave.body is b for b in bodies):
-                raise InputError(f"{kind}: pairs[0].slave is the boundary {pair.slave.name!r} of a body that is not "
-                                 "in bodies; build it as Boundary(body, name) with a body of bodies.")
-            return _two_body(kind, bodies, pair)
+        if len(bodies) > 1 or not all(p.rigid for p in pairs):
+            for i, pair in enumerate(pairs):
+                if not any(pair.slave.body is b for b in bodies):
+                    raise InputError(f"{kind}: pairs[{i}].slave is the boundary {pair.slave.name!r} of a body that is "
+                                     "not in bodies; build it as Boundary(body, name) with a body of bodies.")
+            return _two_body(kind, bodies, pairs)
         for i, pair in enumerate(pairs):
             if pair.slave.body is not bodies[0]:
                 raise InputError(f"{kind}: pairs[{i}].slave is the boundary {pair.slave.name!r} of a body that is not "
                                  "in bodies; build it as Boundary(body, name) with a body of bodies.")
-        mus = [float(p.friction) for p in pairs]
-        if len(set(mus)) > 1:
-            listed = ", ".join(f"{m:g}" for m in mus)
-            raise InputError(f"{kind}: the pairs have different friction coefficients ({listed}"
-                             "): a friction coefficient per pair is not supported yet; give every pair the same "
-                             "coefficient (0 for frictionless contact).")
         pair = pairs[0]
         return {"model": bodies[0], "obstacle": pair.master, "contact_boundary": pair.slave.name,
                 "friction": pair.friction, "pair": pair, "others": pairs[1:]}
@@ -496,7 +487,7 @@ class ContactProblem:
             return None
         from ..masters._stacked import StackedMaster
 
-        nodes = [self.model.node_dofs(p.slave.name) for p in self.pairs]
+        nodes = [self.model.node_dofs(self.slave_name(p)) for p in self.pairs]
         pts = np.concatenate([n[0] for n in nodes])
         dofs = np.concatenate([n[1] for n in nodes])
         sizes = [n[0].shape[0] for n in nodes]
@@ -517,7 +508,7 @@ class ContactProblem:
         """Tributary length/area of each stacked contact point (:meth:`slave_nodes` order)."""
         if len(self.pairs) == 1:
             return self.model.boundary_weights(self.contact_boundary)
-        return np.concatenate([self.model.boundary_weights(p.slave.name) for p in self.pairs])
+        return np.concatenate([self.model.boundary_weights(self.slave_name(p)) for p in self.pairs])
 
     def slave_pressure(self, forces: Any) -> np.ndarray:
         """Pressure at the stacked contact points from their nodal normal forces (per pair's boundary)."""
@@ -525,14 +516,25 @@ class ContactProblem:
             return self.model.boundary_pressure(self.contact_boundary, forces)
         forces = np.asarray(forces, dtype=float)
         b = self._stacked[2].bounds
-        return np.concatenate([self.model.boundary_pressure(p.slave.name, forces[b[k]:b[k + 1]])
+        return np.concatenate([self.model.boundary_pressure(self.slave_name(p), forces[b[k]:b[k + 1]])
                                for k, p in enumerate(self.pairs)])
+
+    def slave_name(self, pair: ContactPair) -> str:
+        """The name of ``pair``'s slave boundary in :attr:`model` (qualified by its body's name between several
+        bodies: ``"body1/bottom"``)."""
+        if len(self.bodies) > 1:
+            return self.model.qualify(pair.slave.body, pair.slave.name)
+        return pair.slave.name
 
     def pair_of_points(self) -> np.ndarray:
         """Index of the pair of each stacked contact point, shape ``(m,)`` (all 0 for one pair)."""
         if len(self.pairs) == 1:
             return np.zeros(self.model.node_dofs(self.contact_boundary)[0].shape[0], dtype=np.int64)
         return self._stacked[2].owner.copy()
+
+    def point_friction(self) -> np.ndarray:
+        """Coulomb coefficient of each stacked contact point: its pair's ``friction``, shape ``(m,)``."""
+        return np.asarray([float(p.friction) for p in self.pairs])[self.pair_of_points()]
 
     @property
     def contact_boundary(self) -> str:
@@ -542,7 +544,7 @@ class ContactProblem:
 
     @property
     def friction(self) -> float:
-        """Coulomb coefficient of the contact pair: ``pairs[0].friction``."""
+        """Coulomb coefficient of the contact pair: ``pairs[0].friction`` (several pairs: :meth:`point_friction`)."""
         return self.pairs[0].friction
 
     def _check_kinematics(self, model: Any) -> None:
@@ -573,9 +575,9 @@ class ContactProblem:
         """Values that need the mesh: boundary names, dimensions, supports."""
         # MeshError naming the known boundaries (one pair: the model's name of it, qualified by its body between
         # two bodies; several pairs are on one body)
-        for name in [self.contact_boundary] if len(self.pairs) == 1 else [p.slave.name for p in self.pairs]:
+        for name in [self.contact_boundary] if len(self.pairs) == 1 else [self.slave_name(p) for p in self.pairs]:
             self.model.facets(name)
-        if len(self.pairs) > 1 and self.kinematics != "small" and self.pairs[0].friction > 0:
+        if len(self.pairs) > 1 and self.kinematics != "small" and any(p.friction > 0 for p in self.pairs):
             raise InputError(f"ContactProblem: {len(self.pairs)} contact pairs with friction at kinematics="
                              f"{self.kinematics!r}: several frictional pairs are supported at small deformation only "
                              "so far; use kinematics='small', friction 0, or one pair.")
@@ -654,21 +656,28 @@ class ContactProblem:
 _STACKS: weakref.WeakValueDictionary = weakref.WeakValueDictionary()
 
 
-def _two_body(kind: str, bodies: tuple, pair: ContactPair) -> dict[str, Any]:
-    """The model (the bodies' :class:`~alcontact.fem.MultiBody`) and names of a pair with a deformable master."""
+def _two_body(kind: str, bodies: tuple, pairs: tuple) -> dict[str, Any]:
+    """The model (the bodies' :class:`~alcontact.fem.MultiBody`) and names of pairs of which one (or more) has a
+    deformable master (the others rigid ones, each on a boundary of any of the bodies)."""
     from ...fem import MultiBody
+    from ..masters._rigid_body import RigidBody
 
-    master_body = getattr(pair.master, "body", None)
-    if not any(master_body is b for b in bodies):
-        raise InputError(f"{kind}: pairs[0].master = {pair.master.describe()} is not rigid and is not the surface "
-                         "of a body in bodies: a deformable master is alcontact.contact.BodySurface(body, "
-                         f"boundary) with that body in bodies. See {ROADMAP}.")
-    if master_body is pair.slave.body and getattr(pair.master, "boundary", None) == pair.slave.name:
-        raise InputError(f"{kind}: pairs[0] uses the boundary {pair.slave.name!r} as both slave and master; give "
-                         "the master another boundary (of another body).")
-    if pair.friction > 0:
-        raise InputError(f"{kind}: pairs[0].friction = {pair.friction!r}: friction between two deformable bodies "
-                         "is not supported yet; use friction = 0.")
+    for i, pair in enumerate(pairs):
+        if pair.rigid:
+            continue
+        master_body = getattr(pair.master, "body", None)
+        if not any(master_body is b for b in bodies):
+            raise InputError(f"{kind}: pairs[{i}].master = {pair.master.describe()} is not rigid and is not the "
+                             "surface of a body in bodies: a deformable master is alcontact.contact.BodySurface(body, "
+                             f"boundary) with that body in bodies. See {ROADMAP}.")
+        if master_body is pair.slave.body and getattr(pair.master, "boundary", None) == pair.slave.name:
+            raise InputError(f"{kind}: pairs[{i}] uses the boundary {pair.slave.name!r} as both slave and master; "
+                             "give the master another boundary (of another body).")
+        if pair.friction > 0 and isinstance(pair.master, RigidBody):
+            raise InputError(f"{kind}: pairs[{i}].friction = {pair.friction!r} against a rigid body whose pose is "
+                             "solved for (contact.RigidBody): not supported yet; use friction = 0, or a rigid "
+                             "obstacle moved along a path (obstacles.move) for friction.")
+    pair = pairs[0]
     if len(bodies) == 1:
         model, slave = bodies[0], pair.slave.name
     else:
@@ -679,7 +688,7 @@ def _two_body(kind: str, bodies: tuple, pair: ContactPair) -> dict[str, Any]:
             _STACKS[key] = model
         slave = model.qualify(pair.slave.body, pair.slave.name)
     return {"model": model, "obstacle": pair.master, "contact_boundary": slave, "friction": pair.friction,
-            "pair": pair, "bodies": bodies}
+            "pair": pair, "others": pairs[1:], "bodies": bodies}
 
 
 _AXES = "xyz"

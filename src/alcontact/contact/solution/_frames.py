@@ -125,7 +125,8 @@ def friction_solution(fsol) -> ContactSolution:
                    "step_linear_solves": int(st.linear_solves),
                    "candidates": fsol.extra.get("candidates"), "dofs": fsol.extra.get("dofs"),
                    **{k: fsol.extra[k] for k in ("linear_solver", "strategy", "schur_prediction", "prediction_cg_iterations")
-                      if k in fsol.extra}}))
+                      if k in fsol.extra},
+                   **st.two_body}))
     if not views:  # nothing converged: report the contact-free start
         z = np.zeros(m)
         result = ContactResult(status=fsol.status, message=fsol.message, algorithm=fsol.algorithm,

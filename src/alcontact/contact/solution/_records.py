@@ -265,6 +265,11 @@ class FrictionStep:
         Wall time of the tries since the last accepted step (failed ones included).
     linear_solves : int
         Linear solves of the tries since the last accepted step (failed ones included).
+    two_body : dict
+        Between two bodies (a mortar pair): ``slave_contact_force`` and ``master_contact_force`` (the
+        resultants of the normal and tangential contact forces on each side), ``contact_force_balance``
+        :math:`|F_s + F_m| / |F_s|` and ``contact_force_points`` (``(dofs, forces)`` of every node the
+        contact forces act on); empty against a rigid master.
     """
 
     t: float
@@ -287,6 +292,7 @@ class FrictionStep:
     coulomb: float
     seconds: float = float("nan")
     linear_solves: int = 0
+    two_body: dict = field(default_factory=dict)
 
     @property
     def force(self) -> np.ndarray:
@@ -372,6 +378,8 @@ class FrictionSolution(StepRecords):
         _, dofs = prob.slave_nodes()
         w = np.asarray(self.weights, dtype=float)[:, None]
         forces = w * (np.asarray(st.pressure, dtype=float)[:, None] * self.normals + np.asarray(st.shear, dtype=float))
+        if "contact_force_points" in st.two_body:  # two bodies: the forces on the slave and the master nodes
+            dofs, forces = st.two_body["contact_force_points"]
         fixed, _ = prob.dirichlet()
         return equilibrium(model, st.u, fixed, prob.load_vector(), nodal_force_vector(model.ndofs, dofs, forces),
                            length=self.h)

@@ -64,22 +64,39 @@ def body_forces(model, dofs: np.ndarray, forces: np.ndarray) -> dict:
     return out
 
 
-def two_body_sides(problem, mortar, nodal: np.ndarray, gaps: np.ndarray) -> dict:
+def two_body_sides(problem, mortar, nodal: np.ndarray, gaps: np.ndarray, *, points=None, balance=None) -> dict:
     """What ``solution.extra`` holds of both sides of a pair between two bodies: ``body_contact_forces``
     (:func:`body_forces`), ``contact_pairs`` (one entry per pair: its slave and master, the contact force on each
     side and ``contact_force_balance`` = |F_s + F_m| / |F_s|) and, for a body's surface as the master,
-    ``master_side`` (:func:`master_side`)."""
+    ``master_side`` (:func:`master_side`).
+
+    ``points`` (``(dofs, forces)``, optional): the contact forces on the bodies when they are not the normal
+    ones :math:`-B^T r` (with friction: the tangential forces too). ``balance`` (optional): the sides of every
+    pair of a problem with several (:func:`~alcontact.contact.kinematics._stacked_gap.pair_balance`), which
+    gives ``contact_pairs`` then (no ``master_side``: the stacked gap operator has no one master boundary).
+    """
     from ..masters._mortar import BodySurface
 
     model = problem.model
-    cols = np.unique(mortar.B.indices).astype(np.int64)
-    fc = mortar.contact_force(nodal)
-    forces = body_forces(model, cols, fc[cols])
+    if points is None:
+        cols = np.unique(mortar.B.indices).astype(np.int64)
+        fc = mortar.contact_force(nodal)
+        points = (cols, fc[cols])
+    forces = body_forces(model, *points)
+    if balance is not None:
+        pairs = []
+        for pair, side in zip(problem.pairs, balance["pair_balance"]):
+            if side is None:  # a rigid master: its reaction is not in the model
+                continue
+            pairs.append({"slave": problem.slave_name(pair), "master": _label(model, pair.master),
+                          "slave_force": side["slave_force"], "master_force": side["master_force"],
+                          "contact_force_balance": side["balance"]})
+        return {"body_contact_forces": forces, "contact_pairs": pairs}
     pair = problem.pairs[0]
     slave = problem.contact_boundary
     master = pair.master
     m_name = model.names[next(i for i, b in enumerate(model.bodies) if b is master.body)]
-    master_label = f"{m_name}/{master.boundary}" if isinstance(master, BodySurface) else m_name
+    master_label = _label(model, master)
     s_name = slave.split("/", 1)[0]
     fs, fm = np.asarray(forces[s_name]), np.asarray(forces[m_name])
     norm = float(np.linalg.norm(fs))
@@ -90,3 +107,11 @@ def two_body_sides(problem, mortar, nodal: np.ndarray, gaps: np.ndarray) -> dict
     if isinstance(master, BodySurface):
         out["master_side"] = master_side(mortar, master, nodal, gaps)
     return out
+
+
+def _label(model, master) -> str:
+    """``"body0/top"`` for a body's surface as the master, the body's name for a rigid body."""
+    from ..masters._mortar import BodySurface
+
+    m_name = model.names[next(i for i, b in enumerate(model.bodies) if b is master.body)]
+    return f"{m_name}/{master.boundary}" if isinstance(master, BodySurface) else m_name

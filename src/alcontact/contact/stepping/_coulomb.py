@@ -34,6 +34,8 @@ from ..algorithms._coulomb import (_EQUILIBRIUM_TOL, FrictionOptions, _Ctx, _Fin
                                    _step_ssn, friction_algorithms, state_reversals)
 from ..algorithms._frictionless import check_solve_args, find_algorithm, options_with
 from ..laws._coulomb import OPEN, SLIP, STICK
+from ..kinematics._stacked_gap import pair_balance
+from ..solution._sides import two_body_sides
 from ..laws._stiffness import penalty_stiffness
 from ..masters.obstacles import transport_tangent
 from ..problem._loading import LoadHistory, problem_at
@@ -84,6 +86,36 @@ class _State:
     R: np.ndarray  # (m, d)
     slip_total: np.ndarray  # (m, d)
     predictor: tuple | None = None  # (candidates, d lambda*/d y_free) of the last step, for the next start
+
+
+def _on(mu, cand):
+    """The Coulomb coefficient of the candidates ``cand``: ``mu`` itself when it is one number, else its entries
+    (one per contact point: contact pairs with their own coefficient)."""
+    return mu[cand] if np.ndim(mu) else mu
+
+
+def _coefficients(problem, friction):
+    """The Coulomb coefficient of a solve: one number when every contact point has the same, else one per point.
+
+    ``friction`` (given) applies to every pair; otherwise each pair's own ``ContactPair.friction``
+    applies to its stacked points (``problem.pair_of_points()``).
+
+    Raises
+    ------
+    InputError
+        A coefficient that is not a finite number >= 0.
+    """
+    pairs = getattr(problem, "pairs", ())
+    given = [friction] if friction is not None else ([p.friction for p in pairs] or [problem.friction])
+    for i, mu in enumerate(given):
+        if not (is_real(mu) and 0 <= mu <= VALUE_RANGE[1]):  # comparisons, not isfinite: a huge int is no float
+            where = "friction" if friction is not None or len(pairs) <= 1 else f"pairs[{i}].friction"
+            raise InputError(f"{where} = {show(mu)}: the friction coefficient must be a finite number >= 0 (at most "
+                             f"{VALUE_RANGE[1]:g}). Use 0 for frictionless contact.")
+    values = [float(mu) for mu in given]
+    if len(set(values)) == 1:
+        return values[0]
+    return np.asarray(values)[problem.pair_of_points()]
 
 
 def _closed(fc, tN, g, opts):
@@ -177,8 +209,8 @@ class _CondensedPath(_StepPath):
         c, d = cand.size, fc.dim
         newton = 0
         ctx = _Ctx(fc, fc.y_free(t)[cand], fc.weights[cand], fc.A.reshape(c, d, c, d), prev.tN[cand].copy(),
-                   prev.tT[cand].copy(), prev.y[cand, 1:].copy(), prev.R[cand].copy(), eps_n, eps_t, mu, opts,
-                   fc.tfree[cand])
+                   prev.tT[cand].copy(), prev.y[cand, 1:].copy(), prev.R[cand].copy(), eps_n, eps_t, _on(mu, cand),
+                   opts, fc.tfree[cand])
         if fc.spring is not None:  # held by the obstacle only
             closed = prev.tN[cand] > 0
             if np.any(closed):  # start sticking (FrictionalContact.frozen_start)
@@ -220,8 +252,9 @@ def solve_friction(problem, history: LoadHistory | None, algorithm: str = "simo-
     Parameters
     ----------
     problem : ContactProblem
-        Body, obstacle, contact boundary; its own supports and loads act at full
-        value at every step; ``problem.friction`` is the Coulomb coefficient :math:`\mu`.
+        Bodies and contact pairs; its own supports and loads act at full value at
+        every step; each pair's ``friction`` is its Coulomb coefficient :math:`\mu` (of
+        the pair's stacked points, :meth:`ContactProblem.point_friction`).
     history : LoadHistory
         Scaled supports/loads and the step times.
     algorithm : {"simo-laursen", "family-p", "ssn"}
@@ -233,7 +266,7 @@ def solve_friction(problem, history: LoadHistory | None, algorithm: str = "simo-
     steps : int or sequence of float, optional
         Overrides ``history.times`` (an int: that many equal steps).
     friction : float, optional
-        Overrides ``problem.friction``.
+        Overrides the coefficient of every pair.
     on_step : callable, optional
         ``on_step(k, t, n)`` is called before requested step ``k`` (0-based) of ``n``,
         at pseudo-time ``t`` (for progress bars).
@@ -301,22 +334,20 @@ def solve_friction(problem, history: LoadHistory | None, algorithm: str = "simo-
                          "a ramped support instead.")
     if steps is not None:
         history = history.with_times(_checked_steps(steps))
-    mu = problem.friction if friction is None else friction
-    if not (is_real(mu) and 0 <= mu <= VALUE_RANGE[1]):  # comparisons, not isfinite: a huge int is no float
-        raise InputError(f"friction = {show(mu)}: the friction coefficient must be a finite number >= 0 (at most "
-                         f"{VALUE_RANGE[1]:g}). Use 0 for frictionless contact.")
-    mu = float(mu)
+    mu = _coefficients(problem, friction)  # one number, or one per contact point (pairs with their own)
 
     solver = select_solver(opts.linear_solver, dim=problem.model.dim, ndofs=problem.model.ndofs)
     fc, advance = _FRICTION_PATHS[solver.exact](problem, history, opts, solver)
-    eps_n = opts.eps_n if opts.eps_n is not None else penalty_stiffness(problem.model, fc.h, opts.penalty_scale)
+    # between two bodies the two surface layers in series (a master E x 1e6 gets the rigid obstacle's penalty)
+    pairs = problem.pairs if fc.mortar is not None else None
+    eps_n = opts.eps_n if opts.eps_n is not None else penalty_stiffness(problem.model, fc.h, opts.penalty_scale,
+                                                                        pairs=pairs)
     eps_t = opts.eps_t if opts.eps_t is not None else opts.tangential_scale * eps_n
     m, d = fc.points.shape
     u0 = fc.u_free(0.0)
     y0 = fc.all_local(u0)
     state = _State(0.0, u0, y0, np.zeros(m), np.zeros((m, d - 1)), np.zeros((m, d)), np.zeros((m, d)))
     tangential = [c for c in history.cases if c.tangential]
-    contact_dofs = problem.slave_nodes()[1]
     records: list[FrictionStep] = []
     cur = {"state": state}
     t_solve = time.perf_counter()
@@ -330,7 +361,7 @@ def solve_friction(problem, history: LoadHistory | None, algorithm: str = "simo-
                     f"tangential load {', '.join(active)} is applied at t={t:g} but no point is in contact at "
                     f"the start of that step (t={prev.t:g}); apply the normal load first (start the tangential "
                     "amplitude at 0 until contact exists).")
-        away = fc.slides_away(t, mu * history.friction_factor(t))  # body held by the obstacle only
+        away = fc.slides_away(t, float(np.max(mu)) * history.friction_factor(t))  # body held by the obstacle only
         if away is not None:
             return Attempt(False, ContactStatus.UNBOUNDED, away, final=True)
         solves0 = fc.linear_solves
@@ -350,11 +381,11 @@ def solve_friction(problem, history: LoadHistory | None, algorithm: str = "simo-
         closed = _closed(fc, tN, y_all[:, 0], opts)
         duT = y_all[:, 1:] - prev.y[:, 1:]
         w = fc.weights
-        shear = -np.einsum("ijk,ik->ij", fc.tangents, tT)
-        # equilibrium of the step's displacement with the forces it reports (loads and supports at t)
+        # equilibrium of the step's displacement with the forces it reports (loads and supports at t; on both
+        # bodies of a two-body pair)
         p_t = problem_at(problem, history, t)
-        eq = state_equilibrium(problem.model, u, p_t.dirichlet()[0], p_t.load_vector(), contact_dofs,
-                               w[:, None] * (tN[:, None] * fc.normals + shear), fc.h, pressure=tN, weights=w)
+        eq = state_equilibrium(problem.model, u, p_t.dirichlet()[0], p_t.load_vector(),
+                               *fc.contact_force_points(tN, tT), fc.h, pressure=tN, weights=w)
         return check_state(y_all[:, 0], tN, fc.h, tol_penetration=opts.tol_penetration,
                            tol_complementarity=opts.tol_complementarity, traction_t=tT,
                            slip=np.where(closed[:, None] & fc.tfree, duT, 0.0), mu=mu * history.friction_factor(t),
@@ -370,7 +401,7 @@ def solve_friction(problem, history: LoadHistory | None, algorithm: str = "simo-
         nT = np.linalg.norm(tT, axis=1)
         pref = max(float(np.max(tN, initial=0.0)), 1e-300)
         mu_t = mu * history.friction_factor(t)
-        saturated = nT >= mu_t * tN - 1e-6 * max(mu_t, 1e-300) * pref
+        saturated = nT >= mu_t * tN - 1e-6 * np.maximum(mu_t, 1e-300) * pref
         st = np.where(~closed, OPEN, np.where(saturated, SLIP, STICK))
         shear = -np.einsum("ijk,ik->ij", fc.tangents, tT)
         w = fc.weights
@@ -384,7 +415,7 @@ def solve_friction(problem, history: LoadHistory | None, algorithm: str = "simo-
             outer_iterations=int(out.outer), newton_iterations=int(out.newton), cutbacks=rec.step_cutbacks,
             penetration=float(np.max(y_all[:, 0], initial=0.0)) / fc.h,
             coulomb=float(np.max(np.maximum(nT - mu_t * tN, 0.0), initial=0.0)) / pref, seconds=rec.seconds,
-            linear_solves=int(rec.linear_solves),
+            linear_solves=int(rec.linear_solves), two_body=_two_body_forces(fc, tN, tT, y_all[:, 0]),
         )
         records.append(step)
         cur["state"] = _State(float(t), u, y_all, tN, tT, R, slip_total, pred)
@@ -412,7 +443,8 @@ def solve_friction(problem, history: LoadHistory | None, algorithm: str = "simo-
         logger.warning("frictional contact %s failed (%s): %s", algorithm, status.label, message)
     t_end = time.perf_counter()
     return FrictionSolution(
-        problem=problem, history=history, algorithm=algorithm, penalty=pen_name, friction=mu, points=fc.points,
+        problem=problem, history=history, algorithm=algorithm, penalty=pen_name, friction=float(np.max(mu)),
+        points=fc.points,
         normals=fc.normals, tangents=fc.tangents, weights=fc.weights, steps=tuple(records), status=status,
         message=message, outer_iterations=n_outer, newton_iterations=n_newton, cutbacks=n_cut,
         linear_solves=fc.linear_solves, eps_n=float(eps_n), eps_t=float(eps_t), h=fc.h,
@@ -421,8 +453,33 @@ def solve_friction(problem, history: LoadHistory | None, algorithm: str = "simo-
         timings={"setup_s": fc.setup_seconds, "factor_s": fc.factor_seconds, "solve_s": t_end - t_solve,
                  "total_s": t_end - t_start},
         extra={"candidates": fc.ncand, "dofs": int(problem.model.ndofs), "linear_solver": solver.name,
-               "strategy": fc.strategy, **fc.stats()},
+               "strategy": fc.strategy, **fc.stats(),
+               **({"point_friction": mu} if np.ndim(mu) else {})},
     )
+
+
+def _two_body_forces(fc, tN, tT, gaps) -> dict:
+    r"""Contact forces on the slave and master sides of a two-body pair and their balance (``{}`` against a rigid
+    master): the keys of the frictionless solve (:func:`alcontact.contact._solve._force_balance`), here with the
+    tangential forces :math:`-L^T R` too (:mod:`alcontact.contact.kinematics._mortar_tangent`)."""
+    if fc.mortar is None:
+        return {}
+    points = fc.contact_force_points(tN, tT)
+    if len(fc.problem.pairs) > 1:  # a two-body pair beside other pairs: each pair's sides (kinematics._stacked_gap)
+        R = fc.weights[:, None] * np.concatenate([tN[:, None], tT], axis=1)
+        balance = pair_balance(fc.problem, fc._mortar_rows(), R, fc.dofs)
+        return {**balance, "contact_force_points": points,
+                **two_body_sides(fc.problem, fc.mortar, fc.weights * tN, gaps, points=points, balance=balance)}
+    nodes, forces = points
+    slave_rows = np.isin(nodes[:, 0], fc.dofs[:, 0])
+    master_rows = np.isin(nodes[:, 0], fc.mortar.master_dofs[:, 0])
+    slave = forces[slave_rows].sum(axis=0)
+    master = forces[master_rows & ~slave_rows].sum(axis=0)
+    norm = float(np.linalg.norm(slave))
+    balance = float(np.linalg.norm(slave + master)) / norm if norm > 0 else 0.0
+    return {"slave_contact_force": slave.tolist(), "master_contact_force": master.tolist(),
+            "contact_force_balance": balance, "contact_force_points": (nodes, forces),
+            **two_body_sides(fc.problem, fc.mortar, fc.weights * tN, gaps, points=points)}
 
 
 def finite_friction_steps(history, steps):
@@ -495,7 +552,7 @@ class _FullSpacePath(_StepPath):
         x0 = prev.u[fc.free] if last is None else last.z
         return _FullCtx(fc, fc.rows(cand), fc.y_fix(t)[cand], fc.load(t), fc.weights[cand], prev.tN[cand].copy(),
                         prev.tT[cand].copy(), prev.y[cand, 1:].copy(), x0, fc.u_free(t)[fc.free], eps_n, eps_t,
-                        mu, opts, fc.tfree[cand], load_scale=fc.load_scale(t)), 0
+                        _on(mu, cand), opts, fc.tfree[cand], load_scale=fc.load_scale(t)), 0
 
     def without_candidates(self, fc, t):
         d = fc.dim

@@ -114,6 +114,7 @@ from ...errors import InputError
 from ...fem.elasticity import rigid_body_modes
 from ...linalg import krylov
 from ..algorithms._subproblem import solve_subproblem
+from ..kinematics._mortar_tangent import mortar_local_rows
 from ..kinematics._points import ContactPoints, _point_rows, tangent_bases
 from ..problem._loading import LoadHistory, component_fields
 
@@ -725,6 +726,15 @@ class DiscreteContact(CondensedContact):
         return self.u_free - du
 
 
+def _block_diagonal(D: np.ndarray) -> sp.csr_matrix:
+    """Sparse block-diagonal matrix of ``(c, d, d)`` blocks (point-major)."""
+    c, d, _ = D.shape
+    base = np.arange(c)[:, None, None] * d
+    r = np.broadcast_to(base + np.arange(d)[None, :, None], D.shape)
+    k = np.broadcast_to(base + np.arange(d)[None, None, :], D.shape)
+    return sp.csr_matrix((D.ravel(), (r.ravel(), k.ravel())), shape=(c * d, c * d))
+
+
 def _expand_free(A_free, free: np.ndarray, n: int) -> sp.csr_matrix:
     """Embed a matrix on the free DOFs into the full ``n x n`` numbering."""
     A = A_free.tocoo()
@@ -812,8 +822,12 @@ class FrictionalContact(CondensedContact):
         held = self.pos < 0
         self.tangents = tangent_bases(self.normals, held)
         self.E = np.concatenate([self.normals[:, :, None], -self.tangents], axis=2)  # (m, d, d)
-        # free part of each tangent direction (E^T restricted to the free DOFs; column 0 gives ``movable``)
-        free_part = np.linalg.norm(np.where(held[:, :, None], 0.0, self.E), axis=1)  # (m, d)
+        if self.mortar is None:
+            # free part of each tangent direction (E^T restricted to the free DOFs; column 0 gives ``movable``)
+            free_part = np.linalg.norm(np.where(held[:, :, None], 0.0, self.E), axis=1)  # (m, d)
+        else:  # two bodies: the relative slip is held only where no DOF of its row is free
+            Lf = self._mortar_rows()[:, self._free]
+            free_part = np.sqrt(np.asarray(Lf.multiply(Lf).sum(axis=1)).ravel()).reshape(self.points.shape)
         self.tfree = free_part[:, 1:] > 1e-12
         # local kinematics of each load component: y_k = (-nu.u_k, T^T u_k)
         self.y_parts = np.stack([self._local(u) for u in self.u_parts])  # (ncomp, m, d)
@@ -836,8 +850,34 @@ class FrictionalContact(CondensedContact):
         """``d``: the row operator :math:`P` has one row per displacement component of a point."""
         return self.dim
 
+    def _mortar_rows(self) -> sp.csr_matrix:
+        r"""Rows :math:`L` ``(m d, ndofs)`` of the local kinematics :math:`y = y^0 + L u` of a two-body pair.
+
+        The weighted gap and the relative tangential displacement of each slave node and its mortar
+        master point (:func:`~alcontact.contact.kinematics._mortar_tangent.mortar_local_rows`, on the
+        tangent bases :attr:`tangents`); built once, when first asked (the springs of a body held by
+        the contact ask before the tangents are set).
+        """
+        if getattr(self, "_L", None) is None:
+            tangents = tangent_bases(self.normals, self.pos < 0)  # the bases __init__ keeps as ``tangents``
+            self._L = mortar_local_rows(self.mortar.B, self.mortar.normals, tangents,
+                                        np.vstack([self.dofs, self.mortar.master_dofs]))
+        return self._L
+
+    def local_rows(self) -> sp.csr_matrix:
+        r"""The rows of :math:`y = y^{fix} + L_f x` on the free DOFs ``x`` (``(m d, n_free)``, point-major, row
+        ``i d`` the gap): :math:`-E_i^T P_i` against a rigid master, the mortar rows :meth:`_mortar_rows` between
+        two bodies. The contact force on the free DOFs is :math:`-L_f^T R`."""
+        if self.mortar is not None:
+            return self._mortar_rows()[:, self._free].tocsr()
+        return (_block_diagonal(-np.transpose(self.E, (0, 2, 1))) @ self._row_operator()).tocsr()
+
     def _row_operator(self) -> sp.csr_matrix:
-        """:math:`P`: row ``i*d + k`` selects free DOF ``k`` of point ``i`` (a zero row when it is supported)."""
+        """:math:`P`: row ``i*d + k`` selects free DOF ``k`` of point ``i`` (a zero row when it is supported).
+
+        Between two bodies the local rows themselves (:meth:`local_rows`): their compliance is ``A``."""
+        if self.mortar is not None:
+            return self.local_rows()
         m, d = self.pos.shape
         pos = self.pos.ravel()
         keep = pos >= 0
@@ -874,7 +914,14 @@ class FrictionalContact(CondensedContact):
         super()._stabilize(exc)
 
     def _spring_matrix(self, near: np.ndarray, kappa: float) -> sp.csr_matrix:
-        r"""Springs :math:`\kappa w_i` on every free component of the points ``near`` (full numbering)."""
+        r"""Springs :math:`\kappa w_i` on every free component of the points ``near`` (full numbering).
+
+        Between two bodies the springs act on the local kinematics, :math:`\kappa L_s^T W_s L_s` (the rows of
+        the points ``near``): the same exact rewriting :math:`\tilde t = t - \kappa (y - y^0)`."""
+        if self.mortar is not None:
+            Ls = self._mortar_rows()[_point_rows(near, self.dim)][:, self._free]
+            add = (Ls.T @ sp.diags(np.repeat(kappa * self.weights[near], self.dim)) @ Ls).tocsr()
+            return _expand_free(add, self._free, self.model.ndofs)
         ndofs = self.model.ndofs
         dofs = self.dofs[near].ravel()
         keep = self.pos[near].ravel() >= 0
@@ -949,7 +996,10 @@ class FrictionalContact(CondensedContact):
         """
         f = self.amplitudes(t) @ self.loads
         fc = np.zeros(self.model.ndofs)
-        np.add.at(fc, self.dofs.ravel(), np.einsum("ijk,ik->ij", self.E, R).ravel())
+        if self.mortar is None:
+            np.add.at(fc, self.dofs.ravel(), np.einsum("ijk,ik->ij", self.E, R).ravel())
+        else:
+            fc = -(self._mortar_rows().T @ np.asarray(R, dtype=float).ravel())
         res = self._K @ u - f - fc
         free = np.ones(self.model.ndofs, dtype=bool)
         free[self.fixed] = False
@@ -968,7 +1018,7 @@ class FrictionalContact(CondensedContact):
         :math:`\sum_i w_i |t_{T,i}| \le \mu \sum_i w_i t_{N,i}`). Otherwise the
         body slides (or lifts) away: a static problem has no solution.
         """
-        if self.spring is None:
+        if self.spring is None or self.mortar is not None:  # (against a flat rigid obstacle only)
             return None
         nu = self.normals[self.spring[0]]
         nbar = nu.mean(axis=0)
@@ -1001,7 +1051,23 @@ class FrictionalContact(CondensedContact):
         return None
 
     # ------------------------------------------------------------------
+    def contact_force_points(self, tN: np.ndarray, tT: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        r"""``(dofs, forces)``, each ``(k, d)``: the contact force on the bodies of the tractions ``tN`` ``(m,)``,
+        ``tT`` ``(m, d-1)`` per node it acts on: :math:`w_i (t_{N,i}\nu_i - T_i t_{T,i})` on the contact points
+        against a rigid master; :math:`-L^T R`, :math:`R = w\,(t_N, t_T)`, on the slave and master nodes of a
+        two-body pair."""
+        w = self.weights
+        if self.mortar is None:
+            shear = -np.einsum("ijk,ik->ij", self.tangents, tT)
+            return self.dofs, w[:, None] * (tN[:, None] * self.normals + shear)
+        R = w[:, None] * np.concatenate([tN[:, None], tT], axis=1)
+        fc = -(self._mortar_rows().T @ R.ravel())
+        nodes = np.unique(np.vstack([self.dofs, self.mortar.master_dofs]), axis=0)
+        return nodes, fc[nodes]
+
     def _local(self, u: np.ndarray) -> np.ndarray:
+        if self.mortar is not None:  # the weighted gap (without g0) and the relative tangential displacement
+            return (self._mortar_rows() @ u).reshape(self.points.shape)
         ui = u[self.dofs]  # (m, d)
         yn = -np.einsum("ij,ij->i", self.normals, ui)
         yt = np.einsum("ijk,ij->ik", self.tangents, ui)
@@ -1033,6 +1099,9 @@ class FrictionalContact(CondensedContact):
             return new
         self.cand = np.concatenate([self.cand, new])
         self.C = self._condensed(self.C, new)  # P K^-1 P^T (CondensedContact)
+        if self.mortar is not None:  # the row operator is the local one (L K^-1 L^T)
+            self.A = 0.5 * (self.C + self.C.T)
+            return new
         c, d = self.cand.size, self.dim
         E = self.E[self.cand]
         C4 = self.C.reshape(c, d, c, d)
@@ -1044,6 +1113,11 @@ class FrictionalContact(CondensedContact):
         """Full displacement for local forces ``R`` (c, d) on the candidates (one solve)."""
         u = self.u_free(t)
         if self.ncand == 0:
+            return u
+        if self.mortar is not None:  # -L^T R on both bodies
+            rhs = -(self._G[_point_rows(self.cand, self.dim)].T @ np.asarray(R, dtype=float).ravel())
+            u = u + self.factor.expand(self.factor.solve(rhs))
+            self.linear_solves += 1
             return u
         F = np.einsum("ijk,ik->ij", self.E[self.cand], R)  # global forces on the body
         rhs = np.zeros(self.factor.free.size)

@@ -778,6 +778,13 @@ def _rigid_modes(model) -> np.ndarray:
     return R
 
 
+def _near_null(model, free: np.ndarray) -> np.ndarray:
+    """Rigid-body modes on the free DOFs ``(free.size, k)``: the body's own (of its geometry, as its factorization
+    takes them) or, for several bodies (:class:`~alcontact.fem.MultiBody`), each body's (:func:`_rigid_modes`)."""
+    own = getattr(model, "_free_rigid_modes", None)
+    return own(free) if own is not None else np.ascontiguousarray(_rigid_modes(model)[free])
+
+
 def free_rigid_motions(model, fixed: np.ndarray, free: np.ndarray) -> np.ndarray:
     """Rigid motions ``(free.size, k)`` on the free DOFs that vanish on every fixed DOF (``k`` may be 0)."""
     R = _rigid_modes(model)
@@ -849,15 +856,16 @@ class IterativeFrictionalContact(FrictionalContact):
         free = self.free = self._free
         self.K = self._K[free][:, free].tocsr()
         self.K_abs = abs(self.K).tocsr()  # round-off bound of the residual
-        self.R = model._free_rigid_modes(free)  # near-null space of the hierarchies (that of ``factor``)
+        self.R = _near_null(model, free)  # near-null space of the hierarchies (that of ``factor``)
         self.hints = _linalg.MatrixHints(dim=model.dim, near_null=lambda: self.R)
         self.factor_K = self.factor.factor
         self.cg_iterations = 0
         self.amg_setups = 1
         self.amg_seconds = self.factor_seconds
         self.b_parts = np.stack([self.factor.rhs(load, fv) for fv, load in zip(self.fv_parts, self.loads)])
-        # y = y_fix(t) + Bl x: rows -E_i^T P_i (P_i: the free DOFs of point i, the row operator of the direct path)
-        self.Bl = (_block_matrix(-np.transpose(self.E, (0, 2, 1))) @ self._G).tocsr()
+        # y = y_fix(t) + Bl x: rows -E_i^T P_i (P_i: the free DOFs of point i, the row operator of the direct path),
+        # between two bodies the mortar rows of the weighted gap and the relative tangential displacement
+        self.Bl = self.local_rows()
         self.Bl.eliminate_zeros()
         self.yfix_parts = np.stack([self._local(self.factor.expand(np.zeros(free.size), fv))
                                     for fv in self.fv_parts])
@@ -1039,7 +1047,7 @@ class _FullCtx:
     x_free: np.ndarray  # contact-free solution at t (with the springs of a held body)
     eps_n: float
     eps_t: float
-    mu: float
+    mu: float | np.ndarray  # one coefficient, or one per candidate (pairs with their own)
     opts: object
     tfree: np.ndarray
     #: largest applied load on the free DOFs at t (without the coupling -K_fd u_d of the prescribed values)
