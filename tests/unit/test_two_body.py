@@ -85,8 +85,11 @@ def test_body_surface_of_p2_and_3d_bodies():
     assert seg.nodes.shape == (2, 3)  # two edges: their ends and midpoints
     np.testing.assert_allclose(seg.points[seg.nodes[:, 2], 0], [0.25, 0.75])
     cube = LinearElasticity(meshes.box(0, 1, 0, 1, 0, 1, 1, 1, 1), Material(E=1.0, nu=0.3))
-    with pytest.raises(InputError, match="2D"):
-        BodySurface(cube, "top")
+    faces = BodySurface(cube, "top").faces  # 3D P1: the boundary triangles (tests/unit/test_mortar3d.py)
+    assert faces.nodes.shape[1] == 3 and np.allclose(faces.normals, [0.0, 0.0, 1.0])
+    cube2 = LinearElasticity(meshes.box(0, 1, 0, 1, 0, 1, 1, 1, 1), Material(E=1.0, nu=0.3), order=2)
+    with pytest.raises(InputError, match="order=1"):
+        BodySurface(cube2, "top")
 
 
 # ------------------------------------------------------------------------------------------ mortar gap

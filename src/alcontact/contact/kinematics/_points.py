@@ -28,6 +28,7 @@ import numpy as np
 from ...errors import InputError
 from ._gap import LinearizedGap
 from ._mortar import MortarKinematics, mortar_gap
+from ._mortar3d import mortar_gap_3d
 
 
 logger = logging.getLogger(__name__)
@@ -54,14 +55,15 @@ OVERLAP_TOL = 1e-3
 
 def mortar_of(problem):
     """The :class:`~alcontact.contact.kinematics._mortar.MortarGap` of a problem whose pair has a deformable
-    master (``None`` against a rigid one)."""
+    master (``None`` against a rigid one): segment-to-segment in 2D, face-to-face in 3D (:mod:`._mortar3d`)."""
     pair = problem.pairs[0]
     if pair.rigid:
         return None
     if problem.kinematics != "small":
         raise InputError("contact between two bodies is available at small deformation (kinematics='small'); "
                          "finite deformation is not supported yet.")
-    mg = mortar_gap(problem.model, pair.slave.body, pair.slave.name, pair.master)
+    weighted = mortar_gap_3d if pair.master.dim == 3 else mortar_gap
+    mg = weighted(problem.model, pair.slave.body, pair.slave.name, pair.master)
     where = f"contact pair {problem.contact_boundary!r} / {pair.master.describe()}"
     if not np.any(mg.covered):
         logger.warning("%s: no slave node has a master segment within the search distance, so the pair cannot "

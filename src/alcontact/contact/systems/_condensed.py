@@ -274,14 +274,15 @@ class CondensedContact(ContactPoints):
         otherwise (supports that deform the body) :math:`g^0`. With several states (load
         steps, :meth:`_prescribed_states`) the largest gap over them. Loads are not in the
         prediction; the block is checked against the contact-free solution once it is
-        known (:meth:`_start_candidates`).
+        known (:meth:`_start_candidates`). Two bodies (a mortar pair): each body's own rigid
+        motion (:meth:`_predicted_mortar_gaps`).
         """
         g0 = self.gap0
-        if self.mortar is not None:  # two bodies: a rigid motion of the supports is not one of the pair
-            return g0
         states = [v for v in self._prescribed_states() if v.size]
         if not states or not any(np.any(v) for v in states):
             return g0
+        if self.mortar is not None:
+            return self._predicted_mortar_gaps(states)
         pts, dmap = self.model.all_node_dofs()
         where = np.empty(self.model.ndofs, dtype=np.int64)
         where[dmap.ravel()] = np.arange(dmap.size)
@@ -298,6 +299,38 @@ class CondensedContact(ContactPoints):
             rigid = np.linalg.norm(Rf @ a - v) <= RIGID_FIT_TOL * max(np.linalg.norm(v), 1e-300)
             g = g0 - np.einsum("ij,ij->i", self.normals, (Rc @ a).reshape(g0.size, self.dim)) if rigid else g0
             out = np.maximum(out, g)
+        return out
+
+    def _predicted_mortar_gaps(self, states: list[np.ndarray]) -> np.ndarray:
+        r"""Predicted gaps of a two-body (mortar) pair: :math:`g^0 + B \sum_b R_b a_b`.
+
+        :math:`a_b` fits the rigid modes :math:`R_b` of body ``b`` to the values its supported DOFs
+        take (as :meth:`_predicted_gaps` does for one body; a sphere pushed by its top onto a fixed
+        block moves as a whole, the block not at all). :math:`g^0` when a body has no supports (held
+        by the contact only), its supports are not one rigid motion, or both sides are one body.
+        """
+        g0 = self.gap0
+        model = self.model
+        if not hasattr(model, "bodies"):
+            return g0
+        offsets = np.asarray(model.offsets)
+        R = model.rigid_modes()  # block by block: the columns of body b vanish outside it
+        owner = np.searchsorted(offsets[1:], self.fixed, side="right")
+        out = np.full(g0.shape, -np.inf)
+        for v in states:
+            u = np.zeros(model.ndofs)
+            for b in range(len(model.bodies)):
+                mine = owner == b
+                rows = slice(int(offsets[b]), int(offsets[b + 1]))
+                cols = np.flatnonzero(np.any(R[rows] != 0.0, axis=0))
+                if not np.any(mine):
+                    return g0
+                Rf = R[self.fixed[mine]][:, cols]
+                a = np.linalg.lstsq(Rf, v[mine], rcond=None)[0]
+                if np.linalg.norm(Rf @ a - v[mine]) > RIGID_FIT_TOL * max(np.linalg.norm(v), 1e-300):
+                    return g0
+                u[rows] = R[rows][:, cols] @ a
+            out = np.maximum(out, g0 + self.mortar.B @ u)
         return out
 
     def _schur_request(self, problem, margin: float) -> dict:
