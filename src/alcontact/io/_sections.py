@@ -1035,9 +1035,9 @@ def _one_body(i: int, bd: dict, base: Path, issues: list[Issue]):
     mat, _ = build_material(None if mt is None else {**mt, "region": None}, LINEAR_MODEL, mesh, found)
     model = None
     if mesh is not None and mat is not None and not found:
-        if dim != 2:
-            found.append(Issue("mesh", f"the mesh is {dim}D: several bodies ([[body]]) are 2D so far; use "
-                                       "generator = 'rectangle' or a 2D Gmsh file."))
+        if dim == 3 and md["order"] != 1:
+            found.append(Issue("mesh.order", f"= {md['order']}: contact between 3D bodies ([[body]]) is available "
+                                             "for linear tetrahedra; set order = 1 (refine the mesh instead)."))
         elif md["geometry"] != "cartesian":
             found.append(Issue("mesh.geometry", f"= {md['geometry']!r}: several bodies ([[body]]) are "
                                                 "Cartesian so far; remove geometry."))
@@ -1132,21 +1132,23 @@ def _bodies_table_issues(data: dict, issues: list[Issue]) -> None:
 
 def _two_body_reference(rd: dict | None, models: list, issues: list[Issue]):
     """``[reference] kind = "hertz"`` between two bodies: Hertz with the effective modulus
-    :math:`1/E^* = (1-\\nu_1^2)/E_1 + (1-\\nu_2^2)/E_2` (plane strain) and ``radius`` the effective
-    :math:`R` (Johnson, Contact Mechanics, eq. 4.45-4.47)."""
+    :math:`1/E^* = (1-\\nu_1^2)/E_1 + (1-\\nu_2^2)/E_2` (plane strain; in 3D always) and ``radius`` the
+    effective :math:`R` (Johnson, Contact Mechanics, eq. 4.45-4.47 for two cylinders, 4.22-4.23 for two
+    spheres or a sphere on a flat)."""
     if not _ok(rd) or rd["kind"] == "none":
         return None
     if rd["kind"] != "hertz" or len(models) != 2:
         issues.append(Issue("reference.kind", f"= {rd['kind']!r}: with [[body]] the reference is 'hertz' between "
                                               "two bodies (or 'none')."))
         return None
-    if not _reference_ok(rd, 2, 0.0, issues):
+    dim = int(models[0].dim)
+    if not _reference_ok(rd, dim, 0.0, issues):
         return None
     from ..problems.hertz import HertzReference
 
-    comp = sum(1.0 / m.material.E if m.material.plane == "stress" else 1.0 / m.material.plane_strain_modulus
-               for m in models)
-    return HertzReference("cylinder", rd["radius"], 1.0 / comp, rd["symmetry"])
+    comp = sum(1.0 / m.material.E if dim == 2 and m.material.plane == "stress" else
+               1.0 / m.material.plane_strain_modulus for m in models)
+    return HertzReference("cylinder" if dim == 2 else "sphere", rd["radius"], 1.0 / comp, rd["symmetry"])
 
 
 def build_bodies(data: dict, base: Path, issues: list[Issue]):
@@ -1170,7 +1172,7 @@ def build_bodies(data: dict, base: Path, issues: list[Issue]):
     if len({d for d in dims if d is not None}) > 1:
         each = ", ".join(f"body{k}: {d}D" for k, d in enumerate(dims))
         issues.append(Issue("body", f"the bodies have different dimensions ({each}); "
-                                    "every body of a problem has the same dimension, 2D (contact between bodies is 2D so far)."))
+                                    "every body of a problem has the same dimension, 2D or 3D."))
         return None
     models = [m for m, _ in built]
     if any(m is None for m in models):
