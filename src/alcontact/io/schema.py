@@ -233,7 +233,8 @@ def _build_schema() -> tuple[Table, ...]:
               "`[contact]` (a boundary name that only one body has may be given bare; `[[body.support]]` and "
               "`[[body.load]]` name the body's own boundaries bare). `[contact] boundary` "
               "(the slave) and `[contact] master` name the pair's two boundaries. Two-body contact is mortar "
-              "(dual multipliers), small deformation, frictionless, 2D, linear elastic bodies.", (), array=True),
+              "(dual multipliers), small deformation, frictionless, linear elastic bodies: 2D (P1, P2 with straight edges) "
+              "or 3D (linear tetrahedra, `order = 1`).", (), array=True),
         Table("body.mesh", "The body's mesh: the keys of `[mesh]`.", mesh_options),
         Table("body.mesh.refine", "Grading of the body's generated mesh: the keys of `[mesh.refine]`.",
               refine_options),

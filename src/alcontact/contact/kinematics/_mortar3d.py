@@ -122,9 +122,16 @@ def face_pairs(ss: Faces, ms: Faces, search: float) -> tuple[np.ndarray, np.ndar
         s, m = s_idx[lo:lo + CHUNK], m_idx[lo:lo + CHUNK]
         _, _, _, slave, master = _in_slave_plane(ss, ms, s, m)
         tol = 1e-9 * ss.radii[s][:, None]
-        keep[lo:lo + CHUNK] = np.all((master.max(axis=1) >= slave.min(axis=1) - tol)
-                                     & (master.min(axis=1) <= slave.max(axis=1) + tol), axis=1)
+        lo_s, hi_s = _box(slave)
+        lo_m, hi_m = _box(master)
+        keep[lo:lo + CHUNK] = np.all((hi_m >= lo_s - tol) & (lo_m <= hi_s + tol), axis=1)
     return s_idx[keep], m_idx[keep]
+
+
+def _box(tri: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Lower and upper corners ``(p, 2)`` of the plane triangles ``tri`` ``(p, 3, 2)``."""
+    return (np.minimum(np.minimum(tri[:, 0], tri[:, 1]), tri[:, 2]),
+            np.maximum(np.maximum(tri[:, 0], tri[:, 1]), tri[:, 2]))
 
 
 def _in_slave_plane(ss: Faces, ms: Faces, s_idx: np.ndarray, m_idx: np.ndarray):

@@ -18,6 +18,7 @@ which is not implemented.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 from typing import Any
 
 import numpy as np
@@ -49,12 +50,12 @@ class Faces:
     normals: np.ndarray
     areas: np.ndarray
 
-    @property
+    @cached_property
     def centroids(self) -> np.ndarray:
         """Face centroids ``(s, 3)``."""
         return self.points[self.nodes].mean(axis=1)
 
-    @property
+    @cached_property
     def radii(self) -> np.ndarray:
         """Distance from each face's centroid to its farthest vertex ``(s,)``."""
         return np.linalg.norm(self.points[self.nodes] - self.centroids[:, None, :], axis=2).max(axis=1)
