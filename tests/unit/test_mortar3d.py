@@ -187,3 +187,33 @@ def test_3d_refusals_name_the_way_out():
     with pytest.raises(InputError, match="dimension"):
         ContactProblem(bodies=[block, flat], pairs=[ContactPair(Boundary(flat, "bottom"), BodySurface(block, "top"))],
                        supports=[Support("body0/bottom")])
+
+
+def test_bodies_out_of_reach_warn_naming_the_pair(caplog):
+    """A pair whose surfaces never come within the search distance: a warning naming it, not a silent no-contact."""
+    from alcontact.contact import BodySurface, solve
+
+    prob = two_body_3d.stacked_blocks_3d(2, 3)
+    base, top = prob.model.bodies
+    far = LinearElasticity(dataclasses.replace(top.mesh, doflocs=top.mesh.p + np.array([[0.0], [0.0], [5.0]])),
+                           top.material)
+    pair = ContactPair(Boundary(far, "bottom"), BodySurface(base, "top", search_distance=0.5))
+    lifted = ContactProblem(bodies=[base, far], pairs=[pair], supports=list(prob.supports)
+                            + [Support("body1/top", components=[2])])
+    with caplog.at_level("WARNING"):
+        sol = solve(lifted, "ssn")
+    assert "no slave node has a master segment or face within the search distance" in caplog.text
+    assert "'body1/bottom'" in caplog.text
+    assert sol.result.status.label == "no-contact" and not sol.result.success  # never silent
+
+
+def test_contact_plane_of_a_curved_boundary_comes_from_the_loaded_points():
+    from alcontact.contact.solution._estimators import normal_coordinate
+
+    rng = np.random.default_rng(0)
+    xy = rng.uniform(0.0, 10.0, (400, 2))
+    z = 10.0 - np.sqrt(np.maximum(100.0 - (xy ** 2).sum(axis=1), 0.0))  # a sphere's lower cap: every coordinate spreads
+    pts = np.column_stack([xy, z])
+    assert normal_coordinate(pts, np.hypot(xy[:, 0], xy[:, 1]) < 1.0) == 2
+    flat = np.column_stack([xy, np.zeros(400)])
+    assert normal_coordinate(flat, np.zeros(400, bool)) == 2  # nothing loaded: the flat direction of all points

@@ -66,7 +66,7 @@ def mortar_of(problem):
     mg = weighted(problem.model, pair.slave.body, pair.slave.name, pair.master)
     where = f"contact pair {problem.contact_boundary!r} / {pair.master.describe()}"
     if not np.any(mg.covered):
-        logger.warning("%s: no slave node has a master segment within the search distance, so the pair cannot "
+        logger.warning("%s: no slave node has a master segment or face within the search distance, so the pair cannot "
                        "come into contact; check the boundaries, or give BodySurface(..., search_distance=...)", where)
     else:
         g = np.where(mg.covered, mg.gap0, -np.inf)
