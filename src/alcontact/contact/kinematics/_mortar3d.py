@@ -120,7 +120,7 @@ def face_pairs(ss: Faces, ms: Faces, search: float) -> tuple[np.ndarray, np.ndar
     keep = np.zeros(s_idx.size, dtype=bool)
     for lo in range(0, s_idx.size, CHUNK):  # the boxes of the two faces in the slave plane overlap
         s, m = s_idx[lo:lo + CHUNK], m_idx[lo:lo + CHUNK]
-        _, _, _, slave, master = _in_slave_plane(ss, ms, s, m)
+        slave, master = _in_slave_plane(ss, ms, s, m)
         tol = 1e-9 * ss.radii[s][:, None]
         lo_s, hi_s = _box(slave)
         lo_m, hi_m = _box(master)
@@ -137,9 +137,9 @@ def _box(tri: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 def _in_slave_plane(ss: Faces, ms: Faces, s_idx: np.ndarray, m_idx: np.ndarray):
     """The slave faces ``s_idx`` and the master faces ``m_idx`` projected onto the slave faces' planes.
 
-    Returns the origin and in-plane axes of each slave face's frame (``(p, 3)`` each) and the plane
-    coordinates ``(p, 3, 2)`` of the slave face (counter-clockwise) and of the master face (its node
-    order, so clockwise when the faces face each other).
+    Returns the plane coordinates ``(p, 3, 2)`` of the slave face (counter-clockwise; origin at its first
+    node, first axis along its first edge) and of the master face (its node order, so clockwise when the
+    faces face each other).
     """
     x = ss.points[ss.nodes[s_idx]]  # (p, 3, 3)
     o = x[:, 0]
@@ -151,14 +151,13 @@ def _in_slave_plane(ss: Faces, ms: Faces, s_idx: np.ndarray, m_idx: np.ndarray):
         rel = y - o[:, None, :]
         return np.stack([np.einsum("pkj,pj->pk", rel, e1), np.einsum("pkj,pj->pk", rel, e2)], axis=-1)
 
-    return o, e1, e2, plane(x), plane(ms.points[ms.nodes[m_idx]])
+    return plane(x), plane(ms.points[ms.nodes[m_idx]])
 
 
 def _barycentric(tri: np.ndarray, x: np.ndarray) -> np.ndarray:
     """Barycentric coordinates ``(p, q, 3)`` of the plane points ``x`` ``(p, q, 2)`` in the triangles ``tri`` ``(p, 3, 2)``."""
     T = np.stack([tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]], axis=-1)  # (p, 2, 2)
-    rel = x - tri[:, None, 0, :]
-    lam = np.linalg.solve(T[:, None, :, :], rel[..., None])[..., 0]  # (p, q, 2)
+    lam = np.einsum("pij,pqj->pqi", np.linalg.inv(T), x - tri[:, None, 0, :])  # (p, q, 2)
     return np.concatenate([1.0 - lam.sum(axis=-1, keepdims=True), lam], axis=-1)
 
 
@@ -171,7 +170,7 @@ def pair_integrals(ss: Faces, ms: Faces, s_idx: np.ndarray, m_idx: np.ndarray) -
     out = np.zeros((s_idx.size, 3, 3))
     for lo in range(0, s_idx.size, CHUNK):
         s, m = s_idx[lo:lo + CHUNK], m_idx[lo:lo + CHUNK]
-        _, _, _, slave, master = _in_slave_plane(ss, ms, s, m)
+        slave, master = _in_slave_plane(ss, ms, s, m)
         # seen along the slave normal the facing master face turns clockwise: reverse it for the clipping
         rev = master[:, ::-1]
         poly, valid = clip_convex(slave, rev)
