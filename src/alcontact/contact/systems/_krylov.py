@@ -408,7 +408,7 @@ class IterativeContact(ContactPoints):
         self.amg_seconds += self.factor_seconds
         has_load = float(np.linalg.norm(self.b)) > 0
         rhs = self.b if has_load else self.B.T @ w
-        x_ref, _ = self.pcg(Kt, rhs, krylov.preconditioner(self.factor_K), rtol=_REF_RTOL)
+        x_ref, self.reference_cg_iterations = self.pcg(Kt, rhs, krylov.preconditioner(self.factor_K), rtol=_REF_RTOL)
         self.reference_seconds = time.perf_counter() - t_ref
         self.solve_seconds = self.reference_seconds - self.factor_seconds
         self.x_free = x_ref if has_load else np.zeros(self.free.size)
@@ -557,7 +557,8 @@ class IterativeContact(ContactPoints):
     def extra(self) -> dict:
         return {"linear_solver": self.solver.name, "strategy": self.strategy, "cg_iterations": int(self.cg_iterations),
                 "amg_setups": int(self.amg_setups),
-                "amg_updates": int(self.amg_updates)}
+                "amg_updates": int(self.amg_updates),
+                "reference_cg_iterations": int(self.reference_cg_iterations)}
 
 
 # ----------------------------------------------------------------------
