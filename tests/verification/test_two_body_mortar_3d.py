@@ -7,7 +7,7 @@ References and tolerances:
   slave face's nodes moved at random in its plane) under a uniform pressure p on the top: the
   stress is uniaxial and the interface pressure equals p at every slave node. The mortar
   weighted gap passes it exactly, so the tolerance is 1e-8 relative for the penalty-free
-  algorithms (6.1, 6.3 exp-met1, ssn). The pure penalty (6.10) gets the same pressure (the top
+  algorithms (6.1, 6.3 with every registered contact penalty, ssn). The pure penalty (6.10) gets the same pressure (the top
   block is held by the contact only, so the pressure is statically determined); what a penalty
   cannot give is zero penetration: its gap is p / eps_N at every node (1e-8 relative);
 - action = reaction: the contact forces on the slave and master bodies sum to zero (1e-10
@@ -28,7 +28,7 @@ import math
 import numpy as np
 import pytest
 
-from alcontact.contact import solve
+from alcontact.contact import contact_penalties, solve
 from alcontact.problems import two_body_3d
 
 PATCH_ALGORITHMS = [("simo-laursen", None), ("family-p", "exp-met1"), ("ssn", None)]
@@ -45,6 +45,16 @@ def test_patch_test_non_matching_3d(ratio, distort, algorithm, penalty):
     assert sol.pressure.size == (ratio[1] + 1) ** 2  # every node of the slave (top block's bottom)
     np.testing.assert_allclose(sol.pressure, prob.meta["pressure_exact"], rtol=1e-8, atol=0.0)
     assert sol.extra["contact_force_balance"] <= 1e-10
+
+
+@pytest.mark.parametrize("penalty", contact_penalties())
+def test_patch_test_every_family_p_penalty_3d(penalty):
+    """Algorithm 6.3 with every registered penalty usable for contact, on the 3:7 meshes."""
+    prob = two_body_3d.stacked_blocks_3d(3, 7, pressure=10.0)
+    sol = solve(prob, "family-p", penalty)
+    assert sol.result.success, sol.result.message
+    assert sol.result.penalty == penalty
+    np.testing.assert_allclose(sol.pressure, prob.meta["pressure_exact"], rtol=1e-8, atol=0.0)
 
 
 @pytest.mark.parametrize("ratio", [(2, 3), (3, 7)])
