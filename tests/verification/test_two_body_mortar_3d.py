@@ -7,9 +7,10 @@ References and tolerances:
   slave face's nodes moved at random in its plane) under a uniform pressure p on the top: the
   stress is uniaxial and the interface pressure equals p at every slave node. The mortar
   weighted gap passes it exactly, so the tolerance is 1e-8 relative for the penalty-free
-  algorithms (6.1, 6.3 with every registered contact penalty, ssn). The pure penalty (6.10) gets the same pressure (the top
-  block is held by the contact only, so the pressure is statically determined); what a penalty
-  cannot give is zero penetration: its gap is p / eps_N at every node (1e-8 relative);
+  algorithms (6.1, 6.3 with every registered contact penalty, ssn). The pure penalty (6.10) gets
+  the same pressure (the top block is held by the contact only, so the pressure is statically
+  determined); what a penalty cannot give is zero penetration: its gap is p / eps_N at every node
+  (1e-8 relative);
 - action = reaction: the contact forces on the slave and master bodies sum to zero (1e-10
   relative), and the slave's equals the applied load p * area (1e-10);
 - Hertz (Johnson, Contact Mechanics, 1985, eq. 4.22-4.23 with 1/E* = (1-nu1^2)/E1 +
