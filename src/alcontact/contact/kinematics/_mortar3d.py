@@ -155,7 +155,7 @@ def _in_slave_plane(ss: Faces, ms: Faces, s_idx: np.ndarray, m_idx: np.ndarray):
 
 
 def _barycentric(tri: np.ndarray, x: np.ndarray) -> np.ndarray:
-    """Barycentric coordinates ``(p, q, 3)`` of the plane points ``x`` ``(p, q, 2)`` in the triangles ``tri`` ``(p, 3, 2)``."""
+    """Barycentric coordinates ``(p, q, 3)`` of plane points ``x`` ``(p, q, 2)`` in triangles ``tri`` ``(p, 3, 2)``."""
     T = np.stack([tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]], axis=-1)  # (p, 2, 2)
     lam = np.einsum("pij,pqj->pqi", np.linalg.inv(T), x - tri[:, None, 0, :])  # (p, q, 2)
     return np.concatenate([1.0 - lam.sum(axis=-1, keepdims=True), lam], axis=-1)

@@ -226,8 +226,9 @@ class BodySurface:
         return y[rows, best], s.normals[near[rows, best]]
 
     def evaluate(self, x):
-        """``(gap, normal)``: :math:`g = -(x - \\bar x)\\cdot\\nu` and the outward normal :math:`\\nu` of the closest segment
-        (3D: the signed distance to the reference triangles and its normal, as :class:`~alcontact.contact.MeshedSurface`)."""
+        """``(gap, normal)``: :math:`g = -(x - \\bar x)\\cdot\\nu` and the outward normal :math:`\\nu` of the closest
+        segment (3D: the signed distance to the reference triangles and its normal, as a
+        :class:`~alcontact.contact.MeshedSurface`)."""
         if self.faces is not None:
             return self._surface.evaluate(x)
         x = np.atleast_2d(np.asarray(x, dtype=float))
