@@ -2,8 +2,8 @@
 
 References and tolerances:
 
-- contact patch test (Taylor & Papadopoulos, 1991; in 3D for mortar: Puso & Laursen, 2004,
-  sec. 5.1): two stacked blocks with non-matching meshes (1:1, 2:3, 3:7, 7:3, and 3:7 with the
+- contact patch test (Taylor & Papadopoulos, 1991; in 3D for mortar: Puso & Laursen, 2004):
+  two stacked blocks with non-matching meshes (1:1, 2:3, 3:7, 7:3, and 3:7 with the
   slave face's nodes moved at random in its plane) under a uniform pressure p on the top: the
   stress is uniaxial and the interface pressure equals p at every slave node. The mortar
   weighted gap passes it exactly, so the tolerance is 1e-8 relative for the penalty-free

@@ -8,7 +8,7 @@ boundaries ``"body0/top"``, ``"body1/bottom"``, ...
 - :func:`stacked_blocks_3d`: the contact patch test. Two blocks with non-matching meshes
   under a uniform pressure ``p`` on the top: the stress is uniaxial in both blocks and the
   interface pressure is ``p`` at every slave node (Taylor & Papadopoulos, 1991; Puso &
-  Laursen, 2004, sec. 5.1, for 3D mortar).
+  Laursen, 2004, for 3D mortar).
 - :func:`sphere_on_block`: an elastic sphere of radius :math:`R` pressed on an elastic
   block (Johnson, *Contact Mechanics*, 1985, eq. 4.22-4.23 with the effective modulus)
 

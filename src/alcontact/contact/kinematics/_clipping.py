@@ -3,8 +3,8 @@ r"""Plane geometry of 3D mortar integrals: the intersection of two convex polygo
 The mortar integrals over a pair of slave and master faces (:mod:`._mortar3d`) run over the
 part of the slave face that the master face covers once both are projected onto a common
 plane (the slave face's own plane, for a flat slave face): the intersection of two convex
-polygons in that plane (Puso & Laursen, 2004, Comput. Methods Appl. Mech. Engrg. 193:601-629,
-sec. 3; Popp, Gee & Wall, 2009, Int. J. Numer. Meth. Engng 79:1354-1391, sec. 4.2).
+polygons in that plane (Puso & Laursen, 2004, Comput. Methods Appl. Mech. Engrg. 193:601-629;
+Popp, Gee & Wall, 2009, Int. J. Numer. Meth. Engng 79:1354-1391).
 
 :func:`clip_convex` computes it for many pairs at once (vectorized over the pairs): the
 intersection of two convex polygons is the convex polygon whose vertices are the vertices of

@@ -9,7 +9,7 @@ The weighted gap of slave node ``j`` is that of :mod:`._mortar` on surfaces:
     D_j = \int N_j\,dA, \quad M_{jk} = \int \Phi_j\, N^m_k\circ\chi \, dA,
 
 with the dual (biorthogonal) basis of the three-node slave triangle (Wohlmuth, 2000, SIAM J.
-Numer. Anal. 38:989-1012; Popp, Gee & Wall, 2009, eq. 22)
+Numer. Anal. 38:989-1012; Popp, Gee & Wall, 2009, Int. J. Numer. Meth. Engng 79:1354-1391)
 
 .. math::
 

@@ -10,8 +10,8 @@ distance) use the same triangles as a :class:`~alcontact.contact.MeshedSurface`.
 Quadratic faces (P2 tetrahedra: six-node triangles) are refused: the dual (biorthogonal)
 basis of the six-node triangle has vertex functions whose integrals vanish
 (:math:`\int N_{vertex} = 0`), so the diagonal mortar matrix ``D`` would be singular; a dual
-quadratic mortar needs a modified basis (Popp, Gee & Wall, 2012, Int. J. Numer. Meth. Engng
-91:1-? "Dual quadratic mortar finite element methods for 3D finite deformation contact"),
+quadratic mortar needs a modified basis (Popp, Wohlmuth, Gee & Wall, "Dual quadratic mortar
+finite element methods for 3D finite deformation contact", SIAM J. Sci. Comput. 34, 2012),
 which is not implemented.
 """
 
