@@ -1,9 +1,7 @@
-"""tests/data/sphere_on_block/sphere_on_block.toml: an elastic sphere on an elastic block, 3D mortar contact.
+"""examples/sphere_on_block.toml: an elastic sphere on an elastic block, 3D mortar contact (issue 23).
 
-The problem file of issue 23's ``sphere_on_block`` example (it lives beside the 2D
-``two_cylinders`` file in ``tests/data/`` until the run-time calibration of ``examples/`` is rerun
-on a quiet machine). The sphere is the lower quarter of a hemisphere (R = 10 mm) meshed by Gmsh
-from ``sphere_on_block.geo`` beside it, the block a generated graded box; the meshes do not match.
+The sphere is the lower quarter of a hemisphere (R = 10 mm) meshed by Gmsh from
+``examples/sphere_on_block.geo``, the block a generated graded box; the meshes do not match.
 References: Hertz with the effective modulus (Johnson, Contact Mechanics, 1985, eq. 4.22-4.23,
 1/E* = (1-nu1^2)/E1 + (1-nu2^2)/E2) for the load the model carries: contact radius and peak
 pressure within 2 % (measured -1.1 % and +1.3 %, free fit of the pressure field; a/R = 0.1, so
@@ -27,8 +25,8 @@ from alcontact.errors import ConfigError
 from alcontact.io.config import load_problem_text
 from alcontact.io.preflight import check_problem
 
-DATA = Path(__file__).resolve().parents[1] / "data" / "sphere_on_block"
-FILE = DATA / "sphere_on_block.toml"
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
+FILE = EXAMPLES / "sphere_on_block.toml"
 
 
 @pytest.fixture(scope="module")
@@ -93,8 +91,9 @@ def test_run_writes_the_results_folder(tmp_path):
 
 
 def test_p2_bodies_in_3d_are_refused_naming_the_key():
-    text = FILE.read_text(encoding="utf-8").replace("cells = [4, 4, 4],", "cells = [4, 4, 4], order = 2,")
+    text = FILE.read_text(encoding="utf-8").replace('generator = "box"\n', 'generator = "box"\norder = 2\n')
+    assert "order = 2" in text
     with pytest.raises(ConfigError) as exc:
-        load_problem_text(text, base_dir=DATA)
+        load_problem_text(text, base_dir=EXAMPLES)
     issues = {i.path: i.message for i in exc.value.issues}
     assert "body[1].mesh.order" in issues and "order = 1" in issues["body[1].mesh.order"], issues

@@ -1,5 +1,5 @@
 // The lower quarter of an elastic hemisphere of radius R = 10 mm resting on the plane z = 0 at the origin
-// (quarter model x, y >= 0): the sphere of sphere_on_block.toml. Mesh size 0.25 mm (4 elements
+// (quarter model x, y >= 0): the sphere of examples/sphere_on_block.toml. Mesh size 0.25 mm (4 elements
 // per contact radius a = 1 mm) within 1.5 mm of the origin, growing by 0.15 mm per mm to 2.5 mm.
 SetFactory("OpenCASCADE");
 R = 10;
