@@ -331,7 +331,8 @@ def _report_2d(rows: list[dict]) -> list[str]:
         "per row on one machine (`load`: its load averages then, 2 cores). Ratios are CPU seconds of the",
         "contact solve over one linear solve (factorization + solve) of the same system and solver, measured",
         "in the same run; the rigid columns are the rigid-cylinder Hertz problem of the same mesh (`hertz_2d`),",
-        "one body. Linear solves and iterations are machine independent.",
+        "one body. Linear solves and iterations are machine independent. Rows without a load were measured",
+        "by an earlier run of this script (kept when a run measures other rows).",
         "",
         "| level | growth | DOFs | algorithm | status | outer / Newton | linear solves | ratio | rigid: solves / ratio "
         "| a err % | p0 err % | force balance | mortar setup (us/segment) | load |",
