@@ -85,8 +85,11 @@ def test_body_surface_of_p2_and_3d_bodies():
     assert seg.nodes.shape == (2, 3)  # two edges: their ends and midpoints
     np.testing.assert_allclose(seg.points[seg.nodes[:, 2], 0], [0.25, 0.75])
     cube = LinearElasticity(meshes.box(0, 1, 0, 1, 0, 1, 1, 1, 1), Material(E=1.0, nu=0.3))
-    with pytest.raises(InputError, match="2D"):
-        BodySurface(cube, "top")
+    faces = BodySurface(cube, "top").faces  # 3D P1: the boundary triangles (tests/unit/test_mortar3d.py)
+    assert faces.nodes.shape[1] == 3 and np.allclose(faces.normals, [0.0, 0.0, 1.0])
+    cube2 = LinearElasticity(meshes.box(0, 1, 0, 1, 0, 1, 1, 1, 1), Material(E=1.0, nu=0.3), order=2)
+    with pytest.raises(InputError, match="order=1"):
+        BodySurface(cube2, "top")
 
 
 # ------------------------------------------------------------------------------------------ mortar gap
@@ -187,7 +190,7 @@ def test_pair_out_of_reach_and_overlap_are_named(caplog):
                           supports=[Support("body0/bottom"), Support("body1/top")])
     with caplog.at_level(logging.WARNING):
         sol = solve(prob, "ssn")
-    assert "no slave node has a master segment within the search distance" in caplog.text
+    assert "no slave node has a master segment or face within the search distance" in caplog.text
     assert sol.result.status.label == "no-contact"  # not a silent success
     caplog.clear()
     inside = LinearElasticity(meshes.rectangle(0, 1, 0.9, 1.9, 3, 3), Material(E=500.0, nu=0.2))

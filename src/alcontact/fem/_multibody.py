@@ -198,6 +198,12 @@ class MultiBody:
         i, local = self.locate(name)
         return self.bodies[i].boundary_pressure(local, forces)
 
+    def boundary_field_at_quadrature(self, name: str, values, **kw):
+        """A scalar boundary field at the quadrature points of boundary ``name`` (its body's
+        ``boundary_field_at_quadrature``: the Hertz fits of the contact pressure use it)."""
+        i, local = self.locate(name)
+        return self.bodies[i].boundary_field_at_quadrature(local, values, **kw)
+
     # ------------------------------------------------------------ supports and loads
     def _pad(self, i: int, vec: np.ndarray) -> np.ndarray:
         out = np.zeros(self.ndofs)

@@ -1072,9 +1072,9 @@ def _one_body(i: int, bd: dict, base: Path, issues: list[Issue]):
     mat, _ = build_material(None if mt is None else {**mt, "region": None}, LINEAR_MODEL, mesh, found)
     model = None
     if mesh is not None and mat is not None and not found:
-        if dim != 2:
-            found.append(Issue("mesh", f"the mesh is {dim}D: several bodies ([[body]]) are 2D so far; use "
-                                       "generator = 'rectangle' or a 2D Gmsh file."))
+        if dim == 3 and md["order"] != 1:
+            found.append(Issue("mesh.order", f"= {md['order']}: contact between 3D bodies ([[body]]) is available "
+                                             "for linear tetrahedra; set order = 1 (refine the mesh instead)."))
         elif md["geometry"] != "cartesian":
             found.append(Issue("mesh.geometry", f"= {md['geometry']!r}: several bodies ([[body]]) are "
                                                 "Cartesian so far; remove geometry."))
@@ -1163,24 +1163,28 @@ def _bodies_table_issues(data: dict, issues: list[Issue]) -> None:
 
 def _two_body_reference(rd: dict | None, models: list, mu: float, issues: list[Issue]):
     """``[reference] kind = "hertz"`` between two bodies: Hertz with the effective modulus
-    :math:`1/E^* = (1-\\nu_1^2)/E_1 + (1-\\nu_2^2)/E_2` (plane strain) and ``radius`` the effective
-    :math:`R` (Johnson, Contact Mechanics, eq. 4.45-4.47); ``"cattaneo-mindlin"``: the partial slip of that
-    contact under a tangential load, :math:`c/a = \\sqrt{1 - Q/(\\mu P)}` (Johnson, section 7.1; exact for two
-    bodies of the same material, which decouple the normal and tangential problems). ``(hertz, mindlin)``."""
+    :math:`1/E^* = (1-\\nu_1^2)/E_1 + (1-\\nu_2^2)/E_2` (plane strain; in 3D always) and ``radius`` the
+    effective :math:`R` (Johnson, Contact Mechanics, eq. 4.45-4.47 for two cylinders, 4.22-4.23 for two
+    spheres or a sphere on a flat); ``"cattaneo-mindlin"`` (2D): the partial slip of that contact under a
+    tangential load, :math:`c/a = \\sqrt{1 - Q/(\\mu P)}` (Johnson, section 7.1; exact for two bodies of the
+    same material, which decouple the normal and tangential problems). ``(hertz, mindlin)``."""
     if not _ok(rd) or rd["kind"] == "none":
         return None, None
-    if rd["kind"] not in ("hertz", "cattaneo-mindlin") or len(models) != 2:
-        issues.append(Issue("reference.kind", f"= {rd['kind']!r}: with [[body]] the reference is 'hertz' or "
-                                              "'cattaneo-mindlin' between two bodies (or 'none')."))
+    dim = int(models[0].dim)
+    kinds = ("hertz", "cattaneo-mindlin") if dim == 2 else ("hertz",)
+    if rd["kind"] not in kinds or len(models) != 2:
+        issues.append(Issue("reference.kind", f"= {rd['kind']!r}: with [[body]] the reference is "
+                                              f"{' or '.join(repr(k) for k in kinds)} between two bodies "
+                                              f"{'in 2D ' if dim == 2 else 'in 3D '}(or 'none')."))
         return None, None
-    if not _reference_ok(rd, 2, mu, issues):
+    if not _reference_ok(rd, dim, mu, issues):
         return None, None
     from ..problems.friction import MindlinReference
     from ..problems.hertz import HertzReference
 
-    comp = sum(1.0 / m.material.E if m.material.plane == "stress" else 1.0 / m.material.plane_strain_modulus
-               for m in models)
-    ref = HertzReference("cylinder", rd["radius"], 1.0 / comp, rd["symmetry"])
+    comp = sum(1.0 / m.material.E if dim == 2 and m.material.plane == "stress" else
+               1.0 / m.material.plane_strain_modulus for m in models)
+    ref = HertzReference("cylinder" if dim == 2 else "sphere", rd["radius"], 1.0 / comp, rd["symmetry"])
     return ref, (MindlinReference(ref, float(mu)) if rd["kind"] == "cattaneo-mindlin" else None)
 
 
@@ -1205,7 +1209,7 @@ def build_bodies(data: dict, base: Path, issues: list[Issue]):
     if len({d for d in dims if d is not None}) > 1:
         each = ", ".join(f"body{k}: {d}D" for k, d in enumerate(dims))
         issues.append(Issue("body", f"the bodies have different dimensions ({each}); "
-                                    "every body of a problem has the same dimension, 2D (contact between bodies is 2D so far)."))
+                                    "every body of a problem has the same dimension, 2D or 3D."))
         return None
     models = [m for m, _ in built]
     if any(m is None for m in models):
@@ -1216,6 +1220,9 @@ def build_bodies(data: dict, base: Path, issues: list[Issue]):
     cd = data["contact"]
     pair = _contact_pair(cd, models, names, issues)
     others = _body_pairs(data.get("pair") or [], models, names, s.dim, base, cd, issues)
+    if s.dim == 3 and _ok(cd) and isinstance(cd.get("friction"), float) and cd["friction"] > 0:
+        issues.append(Issue("contact.friction", f"= {cd['friction']:g}: contact between 3D bodies is frictionless "
+                                                "so far (two-body Coulomb friction is 2D); set friction = 0.0."))
     s.fixed, support_cases = build_supports(data.get("support"), where, s.dim, issues)
     s.loads, load_cases = build_loads(data.get("load"), where, s.dim, issues)
     s.cases = support_cases + load_cases

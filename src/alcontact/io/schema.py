@@ -240,9 +240,10 @@ def _build_schema() -> tuple[Table, ...]:
               "`[contact]` (a boundary name that only one body has may be given bare; `[[body.support]]` and "
               "`[[body.load]]` name the body's own boundaries bare). `[contact] boundary` "
               "(the slave) and `[contact] master` name the pair's two boundaries. Two-body contact is mortar "
-              "(dual multipliers), small deformation, 2D, linear elastic bodies, frictionless or with Coulomb "
-              "friction (`[contact] friction`: the slip is the relative tangential displacement of the two "
-              "surfaces).", (), array=True),
+              "(dual multipliers), small deformation, linear elastic bodies: 2D (P1, P2 with straight edges), "
+              "frictionless or with Coulomb friction (`[contact] friction`: the slip is the relative tangential "
+              "displacement of the two surfaces), or 3D (linear tetrahedra, `order = 1`), frictionless.", (),
+              array=True),
         Table("body.mesh", "The body's mesh: the keys of `[mesh]`.", mesh_options),
         Table("body.mesh.refine", "Grading of the body's generated mesh: the keys of `[mesh.refine]`.",
               refine_options),

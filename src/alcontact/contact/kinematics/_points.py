@@ -29,6 +29,7 @@ from ...errors import InputError
 from ._gap import LinearizedGap
 from ..masters._rigid_body import RigidBody
 from ._mortar import MortarKinematics, mortar_gap
+from ._mortar3d import mortar_gap_3d
 from ._rigid_body import rigid_body_gap
 from ._stacked_gap import stacked_gap
 
@@ -68,12 +69,17 @@ def _one_pair_gap(problem, pair):
                              "along a path (obstacles.move) for friction.")
         h = _element_size(pair.slave.body, pair.slave.name, pair.master)
         return rigid_body_gap(problem.model, pair.slave.body, pair.slave.name, pair.master, h)
-    return mortar_gap(problem.model, pair.slave.body, pair.slave.name, pair.master)
+    if pair.master.dim == 3 and pair.friction > 0:
+        raise InputError(f"friction = {pair.friction:g} between two 3D bodies: two-body Coulomb friction is 2D so far; "
+                         "use friction = 0 in 3D.")
+    weighted = mortar_gap_3d if pair.master.dim == 3 else mortar_gap
+    return weighted(problem.model, pair.slave.body, pair.slave.name, pair.master)
 
 
 def pair_gap(problem, check=None):
     """The linear gap operator (a :class:`~alcontact.contact.kinematics._mortar.MortarGap`) of a problem whose pair
-    has a master that moves with the unknowns: a body's surface (mortar) or a rigid body (its pose); ``None``
+    has a master that moves with the unknowns: a body's surface (mortar: segment-to-segment in 2D, face-to-face in
+    3D, :mod:`._mortar3d`) or a rigid body (its pose); ``None``
     against a rigid obstacle. With several pairs of which one moves, the gaps of all of them stacked into one
     (:func:`~alcontact.contact.kinematics._stacked_gap.stacked_gap`; ``check(name, pair, gap)`` is called with
     each moving pair's own). Nothing logged (:func:`mortar_of` adds the warnings of a solve)."""
@@ -109,7 +115,7 @@ def _check_mortar(problem, name: str, pair, mg):
     that cannot come into contact or whose bodies overlap at the start."""
     where = f"contact pair {name!r} / {pair.master.describe()}"
     if not np.any(mg.covered):
-        logger.warning("%s: no slave node has a master segment within the search distance, so the pair cannot "
+        logger.warning("%s: no slave node has a master segment or face within the search distance, so the pair cannot "
                        "come into contact; check the boundaries, or give BodySurface(..., search_distance=...)", where)
     else:
         g = np.where(mg.covered, mg.gap0, -np.inf)

@@ -1,13 +1,15 @@
-r"""A deformable master: a boundary of a discretized body (two-body contact, 2D, P1 or P2 straight edges).
+r"""A deformable master: a boundary of a discretized body (two-body contact; 2D P1 or P2 straight edges, 3D P1).
 
 :class:`BodySurface` is the master side of a :class:`~alcontact.contact.ContactPair` between
 two bodies: its position moves with that body's displacement (``rigid = False``), so the gap
 of a slave point depends on both bodies' degrees of freedom. The contact constraints are the
-mortar weighted gaps of :mod:`alcontact.contact.kinematics._mortar` (one per slave node, dual
-multipliers); this module holds the master's geometry: its segments in the reference
-configuration with their outward unit normals, and the members of the
-:class:`~alcontact.contact.Master` protocol evaluated on that polyline (closest point, signed
-distance), which the checks before a solve and the reports use.
+mortar weighted gaps of :mod:`alcontact.contact.kinematics._mortar` (2D) and
+:mod:`alcontact.contact.kinematics._mortar3d` (3D) (one per slave node, dual multipliers); this
+module holds the master's geometry: its segments (2D) or triangles (3D,
+:mod:`alcontact.contact.masters._faces`) in the reference configuration with their outward unit
+normals, and the members of the :class:`~alcontact.contact.Master` protocol evaluated on that
+polyline or triangulation (closest point, signed distance), which the checks before a solve and
+the reports use.
 
 Sign convention (6.15): :math:`g \le 0` is feasible; the normal :math:`\nu` points out of the
 master body into the region the slave may occupy.
@@ -24,6 +26,8 @@ from scipy.spatial import cKDTree
 from ..._options import VALUE_RANGE, Option, check_args
 from ...errors import InputError, UnknownNameError
 from ...fem.quality import is_curved
+from ._faces import boundary_faces
+from ._surface import MeshedSurface
 
 
 #: discretizations of the gap between two bodies (``BodySurface(method=...)``)
@@ -127,7 +131,7 @@ class BodySurface:
     Parameters
     ----------
     body : alcontact.fem.LinearElasticity
-        A 2D P1 or P2 body with straight edges (the master body).
+        A 2D P1 or P2 body with straight edges, or a 3D body of linear tetrahedra (the master body).
     name : str
         One of its boundary names.
     search_distance : float, optional
@@ -138,14 +142,15 @@ class BodySurface:
     method : {"mortar", "node-to-segment"}
         The discretization of the gap (:data:`METHODS`): the mortar weighted gap with dual
         multipliers (default), or collocation at the slave nodes (each node's closest master point),
-        the simpler one that fails the contact patch test on non-matching meshes.
+        the simpler one that fails the contact patch test on non-matching meshes (2D only).
 
     Notes
     -----
     The protocol's point queries (:meth:`evaluate`, :meth:`gap`, :meth:`project`) use the
     reference polyline: closest point on the segments, :math:`g = -(x - \bar x)\cdot\nu`,
-    :math:`\nu` the outward normal of the closest segment. The contact constraints themselves
-    are the mortar weighted gaps, which also move with the master body.
+    :math:`\nu` the outward normal of the closest segment; in 3D the reference triangles as a
+    :class:`~alcontact.contact.MeshedSurface` (signed distance, facet normals). The contact
+    constraints themselves are the mortar weighted gaps, which also move with the master body.
 
     Examples
     --------
@@ -174,21 +179,32 @@ class BodySurface:
         self.boundary = name
         self.search_distance = None if search_distance is None else float(search_distance)
         self.method = method
-        self.segments = boundary_segments(body, name)
-        self._tree = cKDTree(0.5 * (self.segments.points[self.segments.ends[:, 0]]
-                                    + self.segments.points[self.segments.ends[:, 1]]))
+        #: the reference segments (2D) or triangles (3D, :class:`~alcontact.contact.masters._faces.Faces`)
+        self.segments = self.faces = None
+        if getattr(body, "dim", None) == 3:
+            if method != "mortar":
+                raise InputError(f"BodySurface: method = {method!r} is available in 2D; between 3D bodies the gap "
+                                 "is the mortar one: use method='mortar'.")
+            self.faces = boundary_faces(body, name)
+            self._surface = MeshedSurface(self.faces.points, self.faces.nodes, source=f"boundary {name!r}")
+        else:
+            self.segments = boundary_segments(body, name)
+            self._tree = cKDTree(0.5 * (self.segments.points[self.segments.ends[:, 0]]
+                                        + self.segments.points[self.segments.ends[:, 1]]))
 
     @property
     def dim(self) -> int:
-        return 2
+        return 3 if self.faces is not None else 2
 
     def describe(self) -> str:
         how = "" if self.method == "mortar" else f", {self.method}"
-        return f"the boundary {self.boundary!r} of a deformable body ({self.segments.ends.shape[0]} segments{how})"
+        count = (f"{self.faces.nodes.shape[0]} triangles" if self.faces is not None
+                 else f"{self.segments.ends.shape[0]} segments")
+        return f"the boundary {self.boundary!r} of a deformable body ({count}{how})"
 
     def check_dim(self, d: int) -> None:
-        if d != 2:
-            raise InputError(f"BodySurface: the master {self.boundary!r} is 2D; the slave body is {d}D.")
+        if d != self.dim:
+            raise InputError(f"BodySurface: the master {self.boundary!r} is {self.dim}D; the slave body is {d}D.")
 
     # ------------------------------------------------------------ point queries on the reference polyline
     def _closest(self, x) -> tuple[np.ndarray, np.ndarray]:
@@ -210,7 +226,11 @@ class BodySurface:
         return y[rows, best], s.normals[near[rows, best]]
 
     def evaluate(self, x):
-        """``(gap, normal)``: :math:`g = -(x - \\bar x)\\cdot\\nu` and the outward normal :math:`\\nu` of the closest segment."""
+        """``(gap, normal)``: :math:`g = -(x - \\bar x)\\cdot\\nu` and the outward normal :math:`\\nu` of the closest
+        segment (3D: the signed distance to the reference triangles and its normal, as a
+        :class:`~alcontact.contact.MeshedSurface`)."""
+        if self.faces is not None:
+            return self._surface.evaluate(x)
         x = np.atleast_2d(np.asarray(x, dtype=float))
         y, nu = self._closest(x)
         return -np.einsum("ij,ij->i", x - y, nu), nu
@@ -222,19 +242,21 @@ class BodySurface:
         return self.evaluate(x)[1]
 
     def project(self, x):
+        if self.faces is not None:
+            return self._surface.project(x)
         return self._closest(x)[0]
 
     def gap_hessian(self, x):
-        """Zero: the reference polyline is straight between its nodes."""
-        return np.zeros((np.atleast_2d(x).shape[0], 2, 2))
+        """Zero: the reference polyline (triangulation) is flat between its nodes."""
+        return np.zeros((np.atleast_2d(x).shape[0], self.dim, self.dim))
 
     def surface_slip(self, x, y_prev, *, jacobian: bool = True):
         """Slip from ``y_prev`` to the projection of ``x`` (straight segments); Jacobian the tangent projector."""
         y = self.project(x)
         nu = self.normal(x)
-        jac = (np.eye(2)[None] - nu[:, :, None] * nu[:, None, :]) if jacobian else None
+        jac = (np.eye(self.dim)[None] - nu[:, :, None] * nu[:, None, :]) if jacobian else None
         return y - np.asarray(y_prev, dtype=float), jac
 
     def bounding_box(self, d: int):
-        p = self.segments.points
+        p = (self.faces if self.faces is not None else self.segments).points
         return p.min(axis=0), p.max(axis=0)

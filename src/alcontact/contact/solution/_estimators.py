@@ -212,12 +212,28 @@ def stiffness_scale(body, length: float | None) -> float:
     return e * float(length) ** (d - 2)
 
 
-def radial_coordinate(points: np.ndarray, center=None, axis: int | None = None) -> np.ndarray:
+def normal_coordinate(points: np.ndarray, loaded: np.ndarray) -> int:
+    """The coordinate normal to the contact plane of a 3D contact boundary: the one in which the loaded points
+    spread least when they cover a patch (three or more, the least spread below half the next), else the one in
+    which all ``points`` spread least (a flat boundary). A curved boundary (a sphere's surface) spreads in every
+    coordinate; its contact zone does not."""
+    pts = np.asarray(points, dtype=float)
+    sel = pts[np.asarray(loaded, dtype=bool)]
+    if sel.shape[0] >= 3:
+        s = np.sort(np.ptp(sel, axis=0))
+        if s[0] < 0.5 * s[1]:
+            return int(np.argmin(np.ptp(sel, axis=0)))
+    return int(np.argmin(np.ptp(pts, axis=0))) if pts.shape[0] else pts.shape[1] - 1
+
+
+def radial_coordinate(points: np.ndarray, center=None, axis: int | None = None, *,
+                      flat: int | None = None) -> np.ndarray:
     """Distance of contact-boundary points from ``center`` within the contact plane.
 
     2D: :math:`|x_{axis} - c_{axis}|` (``axis`` defaults to the coordinate of
     largest spread). 3D: the in-plane distance, the out-of-plane direction being
-    the coordinate in which the (flat) contact boundary spreads least.
+    ``flat`` (default: the coordinate in which the (flat) contact boundary spreads least;
+    :func:`normal_coordinate`).
     """
     pts = np.asarray(points, dtype=float)
     m, d = pts.shape
@@ -228,7 +244,7 @@ def radial_coordinate(points: np.ndarray, center=None, axis: int | None = None) 
     if d == 2:
         k = int(np.argmax(spread)) if axis is None else int(axis)
         return np.abs(pts[:, k] - c[k])
-    flat = int(np.argmin(spread))
+    flat = int(np.argmin(spread)) if flat is None else int(flat)
     keep = [k for k in range(d) if k != flat]
     return np.linalg.norm(pts[:, keep] - c[keep], axis=1)
 

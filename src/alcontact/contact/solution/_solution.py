@@ -256,12 +256,13 @@ class ContactSolution:
         key = ("data", None if center is None else tuple(np.ravel(center).tolist()), int(axis))
         if key in self._fits:
             return self._fits[key]
-        from ._estimators import load_center, radial_coordinate
+        from ._estimators import load_center, normal_coordinate, radial_coordinate
 
         p = np.where(self.active, self.pressure, 0.0)
         center = load_center(self.points, np.where(self.active, self.normal_nodal_forces, 0.0), center)
         ax = axis if self.points.shape[1] == 2 else None
-        r = radial_coordinate(self.points, center, ax)
+        flat = normal_coordinate(self.points, p > 0) if self.points.shape[1] == 3 else None
+        r = radial_coordinate(self.points, center, ax, flat=flat)
         model = getattr(self.problem, "model", None)
         if not hasattr(model, "boundary_field_at_quadrature"):
             data = ("points", r, p, self.weights)
@@ -270,7 +271,7 @@ class ContactSolution:
             near = r <= 2.0 * float(r[loaded].max()) if np.any(loaded) else None
             x, dx, v = model.boundary_field_at_quadrature(self.problem.contact_boundary, p, near=near)
             # the same in-plane radius at the quadrature points (flat direction from the nodes)
-            data = ("field", _radius_like(self.points, x, center, ax), dx, v, r, p)
+            data = ("field", _radius_like(self.points, x, center, ax, flat), dx, v, r, p)
         self._fits[key] = data
         return data
 
@@ -457,11 +458,11 @@ def frame_of(sol: ContactSolution) -> ContactFrame:
         seconds=float(ex.get("seconds", sol.timings.get("total_s", float("nan")))), view=sol)
 
 
-def _radius_like(points, x, center, axis):
+def _radius_like(points, x, center, axis, flat=None):
     """In-plane radius of ``x`` measured as :func:`radial_coordinate` measures ``points``."""
     from ._estimators import radial_coordinate
 
     pts = np.asarray(points, dtype=float)
     # append the nodes so that the flat direction is decided by the same point cloud
-    r = radial_coordinate(np.vstack([x, pts]), center, axis)
+    r = radial_coordinate(np.vstack([x, pts]), center, axis, flat=flat)
     return r[: x.shape[0]]

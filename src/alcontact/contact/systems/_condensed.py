@@ -316,13 +316,20 @@ class CondensedContact(ContactPoints):
         ``prediction_seconds``), ``"whole boundary"`` (the block holds every movable point),
         ``"rigid part"`` (the rough solve was skipped: a body held by the obstacle before its
         springs are known). The block is checked against the contact-free solution once it is
-        known (:meth:`_reorder_for`).
+        known (:meth:`_reorder_for`). Two bodies (a mortar pair) without loads: each body's own
+        rigid motion (:meth:`_predicted_mortar_gaps`, ``"rigid motions"``); with loads, or supports
+        that deform a body, the gaps of the reference configuration (``"reference"``).
         """
         g0 = self.gap0
-        if self.mortar is not None:  # two bodies: a rigid motion of the supports is not one of the pair
-            self.prediction = "reference"
-            return g0
         values, loads, amps = self._prediction_parts()
+        if self.mortar is not None:
+            states = [a @ values for a in amps] if values.size else []
+            if np.any(loads) or not any(np.any(v) for v in states):
+                self.prediction = "reference"
+                return g0
+            g = self._predicted_mortar_gaps(states)
+            self.prediction = "reference" if g is g0 else "rigid motions"
+            return g
         if not np.any(values) and not np.any(loads):
             self.prediction = "exact"
             return g0
@@ -373,6 +380,38 @@ class CondensedContact(ContactPoints):
         self.prediction_seconds += time.perf_counter() - t0
         self._prediction_cpu += time.process_time() - c0
         return np.max(g0 - amps @ un, axis=0)
+
+    def _predicted_mortar_gaps(self, states: list[np.ndarray]) -> np.ndarray:
+        r"""Predicted gaps of a two-body (mortar) pair: :math:`g^0 + B \sum_b R_b a_b`.
+
+        :math:`a_b` fits the rigid modes :math:`R_b` of body ``b`` to the values its supported DOFs
+        take (as :meth:`_predicted_gaps` does for one body; a sphere pushed by its top onto a fixed
+        block moves as a whole, the block not at all). :math:`g^0` when a body has no supports (held
+        by the contact only), its supports are not one rigid motion, or both sides are one body.
+        """
+        g0 = self.gap0
+        model = self.model
+        if not hasattr(model, "bodies"):
+            return g0
+        offsets = np.asarray(model.offsets)
+        R = model.rigid_modes()  # block by block: the columns of body b vanish outside it
+        owner = np.searchsorted(offsets[1:], self.fixed, side="right")
+        out = np.full(g0.shape, -np.inf)
+        for v in states:
+            u = np.zeros(model.ndofs)
+            for b in range(len(model.bodies)):
+                mine = owner == b
+                rows = slice(int(offsets[b]), int(offsets[b + 1]))
+                cols = np.flatnonzero(np.any(R[rows] != 0.0, axis=0))
+                if not np.any(mine):
+                    return g0
+                Rf = R[self.fixed[mine]][:, cols]
+                a = np.linalg.lstsq(Rf, v[mine], rcond=None)[0]
+                if np.linalg.norm(Rf @ a - v[mine]) > RIGID_FIT_TOL * max(np.linalg.norm(v), 1e-300):
+                    return g0
+                u[rows] = R[rows][:, cols] @ a
+            out = np.maximum(out, g0 + self.mortar.B @ u)
+        return out
 
     def _schur_request(self, problem, margin: float, matrix=None) -> dict:
         r"""``schur=`` keyword for ``model.factorize``: the free DOFs of the points that can become candidates.
