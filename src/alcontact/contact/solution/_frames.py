@@ -66,7 +66,10 @@ def finite_solution(fs, problem, history, path) -> ContactSolution:
         off = None if path is None else path(step.t)
         ob = problem.obstacle if off is None else (move(problem.obstacle, off) if isinstance(off, RigidMotion)
                                                    else translate(problem.obstacle, off))
-        gap, normals = ob.evaluate(base.points + u[dofs])
+        if getattr(step, "normals", None) is not None:  # a deformable master: the step's own gaps and normals
+            gap, normals = step.gap, step.normals
+        else:
+            gap, normals = ob.evaluate(base.points + u[dofs])
         nodal = base.weights * pressure
         res = dataclasses.replace(base.result, status=step.status, message=step.message,
                                   outer_iterations=int(step.outer_iterations),

@@ -199,12 +199,14 @@ from ...linalg import SequenceSolver
 from ...status import Status
 from ..algorithms._subproblem import (LineSearch, NewtonOutcome, NewtonResult, NewtonSettings, NewtonSystem,
                                       newton, subproblem_outcome)
-from ..kinematics._gap import CurrentGap, point_blocks
+from ..kinematics._gap import point_blocks
+from ..kinematics._mortar_current import current_kinematics
 from ..kinematics._points import ContactPoints
 from ..laws._coulomb import OPEN, SLIP, STICK, CoulombLaw, return_mapping
 from ..masters.obstacles import frame, surface_slip
 from ._krylov import _NEWTON_TOL_FLOOR
 from ._layout import NewtonLayout
+from ._two_body import body_slide
 
 
 logger = logging.getLogger(__name__)
@@ -330,7 +332,8 @@ class FiniteContact(ContactPoints):
     kinematics : callable, optional
         ``kinematics(points, dofs, pos, master, n_free)`` returns the
         :class:`~alcontact.contact.kinematics.ContactKinematics` of the contact points (default
-        :class:`~alcontact.contact.kinematics.CurrentGap`; with
+        :class:`~alcontact.contact.kinematics.CurrentGap` against a rigid master, the mortar gap at the
+        current configuration, :class:`~alcontact.contact.kinematics.CurrentMortarGap`, between two bodies; with
         :class:`~alcontact.contact.kinematics.LinearizedGap` the same Newton solves the
         small-deformation contact problem).
 
@@ -383,7 +386,7 @@ class FiniteContact(ContactPoints):
     penalty_continuation = True
 
     def __init__(self, problem, *, margin: float = 2.0, fixed=None, solver=None, predictor: str = "auto",
-                 slide_start_reach: float = 0.05, kinematics=CurrentGap):
+                 slide_start_reach: float = 0.05, kinematics=None):
         t0 = time.perf_counter()
         if predictor not in PREDICTORS:
             raise InputError(f"predictor = {predictor!r:.40}: expected one of {', '.join(PREDICTORS)}.")
@@ -412,9 +415,13 @@ class FiniteContact(ContactPoints):
         self.pos = free_pos[dofs]  # (m, d), -1 on fixed DOFs
         self.movable = np.any(self.pos >= 0, axis=1)
         self._movable_pts = np.flatnonzero(self.movable)
+        if kinematics is None:  # the current gap against a rigid master, the current mortar gap between two bodies
+            kinematics = current_kinematics(problem, self.free)
         #: the gap in the current configuration against the master (:attr:`obstacle`, moved by :meth:`configure`)
         self.kinematics = kinematics(pts, dofs, self.pos, problem.obstacle, self.free.size)
-        self.h = self._element_size()
+        # a kinematics with its own multiplier weights and contact element size (the mortar gap) gives them
+        self.weights = np.asarray(getattr(self.kinematics, "weights", self.weights), dtype=float)
+        self.h = getattr(self.kinematics, "h", None) or self._element_size()
         self.linear_solves = 0
         self.newton_iterations = 0
         self.chord_steps = 0
@@ -475,6 +482,12 @@ class FiniteContact(ContactPoints):
         self._factor_stiffness = None  # the factor at hand is no subproblem's of this step
         self.predictor_used = "none"
         self.predicted_approach = None
+        if predictor_stiffness is not None and self.predictor == "auto":
+            slid = body_slide(self, x_start, fixed_values, load)  # a two-body pair sliding (systems._two_body)
+            if slid is not None:  # the step's data change is the carried translation: no tangent predictor
+                x_start, self.start_pressure = slid
+                self.predictor_used = "slide"
+                predictor_stiffness = None
         if predictor_stiffness is not None:
             pred_obstacle = self._predictor_obstacle(obstacle)
             # a sliding obstacle moves the contact zone: no extrapolation of its pressures and gaps
