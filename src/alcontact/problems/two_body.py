@@ -45,8 +45,8 @@ from ..errors import InputError
 from ..fem import Hyperelastic, LinearElasticity, Material, meshes
 from .hertz import LEVELS_2D, HertzReference, mesh_spec
 
-__all__ = ["stacked_blocks", "compressed_blocks", "hertz_cylinders", "rigid_limit_pair", "ironing_two_body",
-           "ironing_two_body_history"]
+__all__ = ["stacked_blocks", "compressed_blocks", "hertz_cylinders", "rigid_limit_pair", "rigid_limit_punch",
+           "ironing_two_body", "ironing_two_body_history"]
 
 
 def _block(x: np.ndarray, y: np.ndarray) -> skfem.MeshTri:
@@ -202,7 +202,7 @@ def rigid_limit_pair(level: int = 0, *, E: float = 200e3, nu: float = 0.3, radiu
 
 
 def compressed_blocks(n_base: int = 2, n_top: int = 3, *, strain: float = 0.1, E: float = 1000.0, nu: float = 0.3,
-                      width: float = 1.0, height: float = 1.0) -> ContactProblem:
+                      width: float = 1.0, height: float = 1.0, kinematics: str = "finite") -> ContactProblem:
     r"""Contact patch test at finite deformation (module doc): two neo-Hookean blocks compressed together.
 
     The base ``[0, width] x [0, height]`` stands on rollers (``u_y = 0`` on its bottom), the upper block
@@ -211,13 +211,15 @@ def compressed_blocks(n_base: int = 2, n_top: int = 3, *, strain: float = 0.1, E
     lateral stretches are equal and the interface stays covered end to end. Slave: the upper block's bottom
     (``n_top`` segments), master: the base's top (``n_base`` segments). ``meta["stretch"]`` is the vertical
     stretch :math:`\lambda_2 = 1 - \text{strain}` of each block; the run is load-stepped
-    (:func:`alcontact.contact.solve` with ``steps=``).
+    (:func:`alcontact.contact.solve` with ``steps=``). ``kinematics="small"``: the same blocks linear
+    elastic, the gap linearized at the reference configuration (the small-strain limit).
     """
     mat = Material(E=E, nu=nu, plane="strain")
-    base = Hyperelastic(_block(np.linspace(0, width, n_base + 1), np.linspace(0, height, n_base + 1)), mat)
-    top = Hyperelastic(_block(np.linspace(0, width, n_top + 1), np.linspace(height, 2 * height, n_top + 1)), mat)
+    body = _body_class(kinematics)
+    base = body(_block(np.linspace(0, width, n_base + 1), np.linspace(0, height, n_base + 1)), mat)
+    top = body(_block(np.linspace(0, width, n_top + 1), np.linspace(height, 2 * height, n_top + 1)), mat)
     pair = ContactPair(Boundary(top, "bottom"), BodySurface(base, "top"))
-    return ContactProblem(bodies=[base, top], pairs=[pair], kinematics="finite",
+    return ContactProblem(bodies=[base, top], pairs=[pair], kinematics=kinematics,
                           supports=[Support("body0/bottom", components=[1]), Support("body0/left", components=[0]),
                                     Support("body1/left", components=[0]),
                                     Support("body1/top", components=[1], value=-2.0 * strain * height)],
@@ -289,3 +291,37 @@ def ironing_two_body_history(problem: ContactProblem):
                      Ramp((0.0, float(npress), end), (0.0, 0.0, 1.0)), name="slide")
     times = tuple(float(k) for k in range(1, npress + nslide + 1))
     return LoadHistory((press, slide), times=times), times
+
+
+def rigid_limit_punch(n: int = 10, *, radius: float = 1.0, depth: float = 0.2, E: float = 1000.0, nu: float = 0.3,
+                      stiffening: float = 1e6, punch_ratio: float = 1.4):
+    """The rounded punch of :func:`ironing_two_body` pressed by ``depth`` at finite deformation: on a rigid
+    flat, and on an elastic base ``stiffening`` times stiffer. Returns ``(rigid, elastic)``.
+
+    ``rigid``: the punch alone against the half-space ``y <= 0`` (node-to-surface gap at the current
+    configuration); ``elastic``: the punch (``body1``, slave) on the neo-Hookean block
+    ``[-2R, 2R] x [-R, 0]`` (``body0``, master, clamped at its bottom) of modulus ``stiffening * E``. The
+    punch's top is pushed down by ``depth`` (lateral motion free) over the load steps of
+    :func:`alcontact.contact.solve`. Against a flat master the mortar gap is the distance to its line, so
+    the two tend to each other as ``stiffening`` grows (the difference is the base's compliance).
+    """
+    from ..contact import obstacles
+
+    mat = Material(E=E, nu=nu, plane="strain")
+    mesh = _rounded_punch(radius, max(1, int(round(radius * n * punch_ratio))), 0.0)
+    drive = [Support("top", components=[1], value=-depth), Support("top", components=[0])]
+    rigid = ContactProblem(model=Hyperelastic(mesh, mat),
+                           obstacle=obstacles.make("half-space", point=[0.0, 0.0], normal=[0.0, 1.0]),
+                           contact_boundary="bottom", supports=drive, kinematics="finite",
+                           name="rounded punch on a rigid flat")
+    cells = max(1, int(round(radius * n)))
+    base = Hyperelastic(_block(np.linspace(-2 * radius, 2 * radius, 4 * cells + 1),
+                               np.linspace(-radius, 0.0, cells + 1)),
+                        Material(E=stiffening * E, nu=nu, plane="strain"))
+    punch = Hyperelastic(mesh, mat)
+    pair = ContactPair(Boundary(punch, "bottom"), BodySurface(base, "top", search_distance=0.5 * radius))
+    elastic = ContactProblem(bodies=[base, punch], pairs=[pair], kinematics="finite",
+                             supports=[Support("body0/bottom"), Support("body1/top", components=[1], value=-depth),
+                                       Support("body1/top", components=[0])],
+                             name=f"rounded punch on a flat base {stiffening:g} times stiffer")
+    return rigid, elastic

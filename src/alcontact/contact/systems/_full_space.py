@@ -1114,16 +1114,22 @@ class FiniteContact(ContactPoints):
         Whether the last Newton solve converged is left in :attr:`active_converged` (with its
         relative residual in :attr:`active_residual`): a solve that stopped at its budget or
         stalled is a failure of the step (``run_ssn`` returns ``NEWTON_FAILED`` and the load
-        step is cut back), never a state to accept because its active set settled.
+        step is cut back), never a state to accept because its active set settled. A switch into
+        a set entered before (single Newton steps whose predicted sets cycle: a point of the
+        contact zone released after one step penetrates, taken back, its neighbour released, ...;
+        two-body ironing, 4-cycles until the budget ran out) solves that set to convergence before
+        the next switch, from gaps that are no longer a single Newton step's.
         """
         active = np.asarray(active, dtype=bool).copy()
         lam_all = np.where(active, np.maximum(np.asarray(lam, dtype=float), 0.0), 0.0)
         x = np.array(x, dtype=float)
         budget = int(maxiter)
         converged_sets = set()
+        entered = {active.tobytes()}
+        switch = True
         ok = False
         while budget > 0:
-            x, lam_all, ok, used = self._equality_newton(active, lam_all, x, c, tol, budget)
+            x, lam_all, ok, used = self._equality_newton(active, lam_all, x, c, tol, budget, switch=switch)
             budget -= used
             new_active = (lam_all + c * self.gaps(x)) > 0
             if ok:
@@ -1133,6 +1139,9 @@ class FiniteContact(ContactPoints):
                 converged_sets.add(key)  # converged on a set that changes: the outer loop goes on from here
             elif np.array_equal(new_active, active):
                 break  # the equality Newton failed on a settled set (logged there)
+            # a set entered before (the switches after single Newton steps cycle): solve it before switching again
+            switch = new_active.tobytes() not in entered
+            entered.add(new_active.tobytes())
             lam_all = np.where(new_active, lam_all, 0.0)
             active = new_active
         self.active_converged = bool(ok)
@@ -1167,9 +1176,9 @@ class FiniteContact(ContactPoints):
         D = sp.csr_matrix(((~on).astype(float), np.arange(nc), np.arange(nc + 1)), shape=(nc, nc))
         return sp.bmat([[Kt, Bc.T], [Bc, D]], format="csc")
 
-    def _equality_newton(self, active, lam_all, x, c, tol, maxiter):
+    def _equality_newton(self, active, lam_all, x, c, tol, maxiter, *, switch: bool = True):
         """Newton on :math:`g_A = 0` (saddle point, :class:`_EqualityNewton`); stops early when the
-        predicted active set changes.
+        predicted active set changes (unless ``switch`` is false: then it solves on ``active``).
 
         Returns ``(x, lam_all, converged, newton_steps)``. An inverted element at the start
         propagates (the load step is cut back).
@@ -1177,6 +1186,7 @@ class FiniteContact(ContactPoints):
         log: list[float] = []
         self.residual_log.append(log)
         system = _EqualityNewton(self, active, lam_all, c, tol)
+        system.switch = switch
         z0 = np.concatenate([np.asarray(x, dtype=float), system.r0])
         out = newton(system, z0, tol=tol, maxiter=maxiter, settings=_EQUALITY_SETTINGS, log=log)
         x_new, r = system.split(out.x)
@@ -1336,6 +1346,8 @@ class _EqualityNewton(NewtonSystem):
         self.scale_run = 0.0  # running force unit: a free rigid motion has no forces left to scale by
         self.last = np.inf
         self.switched = False
+        #: stop at a change of the predicted active set (off: solve this set first, :meth:`FiniteContact.solve_active`)
+        self.switch = True
 
     def split(self, z):
         return z[:self.nf], z[self.nf:]
@@ -1385,7 +1397,7 @@ class _EqualityNewton(NewtonSystem):
         return np.concatenate([step[:self.nf], step[self.nf:][self.rows]])
 
     def interrupt(self, z, state, alpha):
-        if alpha == 1.0 and self.last > self.tol:
+        if self.switch and alpha == 1.0 and self.last > self.tol:
             # semi-smooth Newton: switch as soon as the predicted active set changes
             x, r = self.split(z)
             predicted = (self.lam_of(r) + self.c * self.fc.gaps(x)) > 0
