@@ -1021,18 +1021,26 @@ def _prefixed(found: list[Issue], prefix: str) -> list[Issue]:
     return [Issue(prefix + i.path if i.path else prefix.rstrip("."), i.message) for i in found]
 
 
-def _one_body(i: int, bd: dict, base: Path, issues: list[Issue]):
-    """``[[body]]`` number ``i + 1``: ``(LinearElasticity, dim)``, or ``(None, dim)`` with its issues.
+def _one_body(i: int, bd: dict, base: Path, issues: list[Issue], kinematics: str = "small"):
+    """``[[body]]`` number ``i + 1``: ``(body, dim)``, or ``(None, dim)`` with its issues.
 
     The builders of ``[mesh]`` and ``[material]`` run on the body's ``mesh`` and ``material``
-    tables; their issues are keyed ``body[i].mesh.*`` / ``body[i].material.*``.
+    tables; their issues are keyed ``body[i].mesh.*`` / ``body[i].material.*``. At ``kinematics =
+    "finite"`` the body is hyperelastic (``material.model``, default ``"neo-hookean"``; P1, the
+    displacement formulation), else linear elastic.
     """
     from ..fem import LinearElasticity, check_geometry
+    from ..fem.hyperelastic import Hyperelastic
 
     found: list[Issue] = []
     md, mt = bd.get("mesh"), bd.get("material")
     mesh, dim = build_mesh(md, base, found)
-    mat, _ = build_material(None if mt is None else {**mt, "region": None}, LINEAR_MODEL, mesh, found)
+    kin_found: list[Issue] = []
+    _, law = build_kinematics(mt, {"kinematics": kinematics}, dim, {}, kin_found)
+    # the law that does not go with [contact] kinematics is this body's material.model
+    found += [Issue("material.model", f"= {mt.get('model')!r}: " + i.message.split(": ", 1)[-1])
+              if i.path == "contact.kinematics" else i for i in kin_found]
+    mat, law_obj = build_material(None if mt is None else {**mt, "region": None}, law, mesh, found)
     model = None
     if mesh is not None and mat is not None and not found:
         if dim != 2:
@@ -1041,9 +1049,20 @@ def _one_body(i: int, bd: dict, base: Path, issues: list[Issue]):
         elif md["geometry"] != "cartesian":
             found.append(Issue("mesh.geometry", f"= {md['geometry']!r}: several bodies ([[body]]) are "
                                                 "Cartesian so far; remove geometry."))
-        elif _num(found, "mesh.geometry", check_geometry, md["geometry"], dim, mesh.p, plane=mat.plane) is not None:
+        elif kinematics == "finite" and md["order"] != 1:
+            found.append(Issue("mesh.order", f"= {md['order']}: contact between bodies at kinematics = 'finite' "
+                                             "is available for P1 bodies (segments that stay straight); set "
+                                             "order = 1."))
+        elif kinematics == "finite" and isinstance(mt, dict) and mt.get("formulation") == "mixed":
+            found.append(Issue("material.formulation", "= 'mixed': several bodies ([[body]]) use the displacement "
+                                                       "formulation; remove formulation."))
+        elif _num(found, "mesh.geometry", check_geometry, md["geometry"], dim, mesh.p, plane=mat.plane) is None:
+            pass
+        elif law == LINEAR_MODEL:
             model = _num(found, "mesh.order", LinearElasticity, mesh, mat, order=md["order"],
                          volumetric=md["volumetric"], geometry=md["geometry"])
+        elif law_obj is not None:
+            model = _num(found, "mesh.order", Hyperelastic, mesh, mat, order=md["order"], model=law_obj)
     issues.extend(_prefixed(found, f"body[{i + 1}]."))
     return model, dim
 
@@ -1109,6 +1128,10 @@ def _surface(name: str, key: str, names: dict, n: int, issues: list[Issue]) -> t
     return None
 
 
+#: the kinematics of contact between bodies ([[body]] tables)
+KINEMATICS_OF_BODIES = ("small", "finite")
+
+
 def _bodies_table_issues(data: dict, issues: list[Issue]) -> None:
     """Tables and options that do not go with ``[[body]]`` (what runs: small, frictionless, one pair)."""
     for key, what in (("mesh", "each body has its own [body.mesh]"),
@@ -1122,9 +1145,6 @@ def _bodies_table_issues(data: dict, issues: list[Issue]) -> None:
     cd = data.get("contact")
     if not isinstance(cd, dict):
         return
-    if cd.get("kinematics") not in ("small", BAD):
-        issues.append(Issue("contact.kinematics", f"= {cd['kinematics']!r}: contact between bodies ([[body]]) is "
-                                                  "small deformation so far; set kinematics = 'small'."))
     if isinstance(cd.get("friction"), float) and cd["friction"] > 0:
         issues.append(Issue("contact.friction", f"= {cd['friction']:g}: contact between bodies ([[body]]) is "
                                                 "frictionless so far; set friction = 0.0."))
@@ -1163,7 +1183,9 @@ def build_bodies(data: dict, base: Path, issues: list[Issue]):
     from ..contact import BodySurface, Boundary, ContactPair, ContactProblem, LoadHistory
 
     _bodies_table_issues(data, issues)
-    built = [_one_body(i, bd, base, issues) for i, bd in enumerate(data["body"]) if _ok(bd)]
+    cd = data["contact"]
+    kinematics = cd["kinematics"] if _ok(cd) and cd.get("kinematics") in KINEMATICS_OF_BODIES else "small"
+    built = [_one_body(i, bd, base, issues, kinematics) for i, bd in enumerate(data["body"]) if _ok(bd)]
     if len(built) != len(data["body"]):
         return None
     dims = [d for _, d in built]
@@ -1178,7 +1200,6 @@ def build_bodies(data: dict, base: Path, issues: list[Issue]):
     s = Sections(dim=dims[0], material=models[0].material)
     names = _boundary_names(models)
     where = SimpleNamespace(boundaries=dict.fromkeys(names))  # boundary_ok checks the qualified names
-    cd = data["contact"]
     pair = None
     if _ok(cd):
         slave = _surface(cd["boundary"], "contact.boundary", names, len(models), issues)
@@ -1197,7 +1218,7 @@ def build_bodies(data: dict, base: Path, issues: list[Issue]):
         more = _body_actions(k, bd, m, s.dim, issues)
         s.fixed, s.loads, s.cases = s.fixed + more[0], s.loads + more[1], s.cases + more[2]
     s.times, s.friction_ramp = build_loading(data.get("loading"), issues)
-    s.solver = build_solver(data.get("solver"), 0.0, "small", issues)
+    s.solver = build_solver(data.get("solver"), 0.0, kinematics, issues)
     s.units = build_units(data.get("units"), issues)
     rd = data.get("reference")
     s.reference = _two_body_reference(rd, models, issues)
@@ -1207,8 +1228,12 @@ def build_bodies(data: dict, base: Path, issues: list[Issue]):
     center = tuple(rd["center"]) if rd["center"] is not None else (0.0,) * s.dim
     meta = {"symmetry_axis": int(rd["axis"]), "center": center,
             "center_declared": rd["center"] is not None or rd["kind"] != "none"}
+    if kinematics == "finite" and not s.cases:  # finite kinematics without a ramp: proportional loading
+        s.fixed, s.cases = _proportional(s.fixed, s.loads)
+        s.loads = []
     problem = _num(issues, "body", ContactProblem, bodies=models, pairs=[pair], supports=tuple(s.fixed),
-                   loads=tuple(s.loads), name=data["problem"]["name"], reference=s.reference, meta=meta)
+                   loads=tuple(s.loads), name=data["problem"]["name"], reference=s.reference, meta=meta,
+                   kinematics=kinematics)
     if problem is None:
         return None
     history = None

@@ -233,12 +233,17 @@ def _build_schema() -> tuple[Table, ...]:
               "`[contact]` (a boundary name that only one body has may be given bare; `[[body.support]]` and "
               "`[[body.load]]` name the body's own boundaries bare). `[contact] boundary` "
               "(the slave) and `[contact] master` name the pair's two boundaries. Two-body contact is mortar "
-              "(dual multipliers), small deformation, frictionless, 2D, linear elastic bodies.", (), array=True),
+              "(dual multipliers), frictionless, 2D: linear elastic bodies at small kinematics (P1 or P2), "
+              "hyperelastic P1 bodies at `kinematics = \"finite\"` (the gap at the current configuration, large "
+              "sliding).", (), array=True),
         Table("body.mesh", "The body's mesh: the keys of `[mesh]`.", mesh_options),
         Table("body.mesh.refine", "Grading of the body's generated mesh: the keys of `[mesh.refine]`.",
               refine_options),
-        Table("body.material", "The body's linear elastic material: `E`, `nu`, `plane` of `[material]`.",
-              material_options[:3]),
+        Table("body.material", "The body's material: `E`, `nu`, `plane` and `model` of `[material]` (`model` a "
+              "hyperelastic law with `[contact] kinematics = \"finite\"`, default `neo-hookean` there, `linear` "
+              "for small kinematics).", material_options[:4]),
+        Table("body.material.parameters", "Parameters of the body's hyperelastic law: the keys of "
+              "`[material.parameters]`.", (), open=True),
         Table("body.support", "A support of the body: the keys of `[[support]]`, the boundary one of this body's "
               "(bare name).", support_options, array=True),
         Table("body.load", "A traction or pressure on a boundary of the body: the keys of `[[load]]` (a body force "

@@ -48,6 +48,20 @@ def stepped_solution(views) -> ContactSolution:
     return _combine(list(views))
 
 
+#: keys of a two-body run's ``extra`` that belong to its final state only
+_FINAL_TWO_BODY = ("master_contact_force", "contact_force_balance", "contact_force_points")
+
+
+def _step_extra(extra: dict, step) -> dict:
+    """The run's ``extra`` for the frame of an earlier ``step``: a two-body pair's slave force is the step's
+    own (:attr:`FiniteStep.force`), the final state's master force and balance are left out."""
+    if extra.get("slave_contact_force") is None:
+        return extra
+    out = {k: v for k, v in extra.items() if k not in _FINAL_TWO_BODY}
+    out["slave_contact_force"] = np.asarray(step.force, dtype=float).tolist()
+    return out
+
+
 def finite_solution(fs, problem, history, path) -> ContactSolution:
     """Frames of a frictionless finite-deformation run (:class:`~alcontact.contact.FiniteSolution`).
 
@@ -81,7 +95,8 @@ def finite_solution(fs, problem, history, path) -> ContactSolution:
             gap=np.asarray(gap, dtype=float), weights=base.weights, active=pressure > 0,
             normals=np.asarray(normals, dtype=float), total_contact_force=np.asarray(step.force, dtype=float),
             result=res, nodal_forces=nodal, timings={"total_s": float(step.seconds)},
-            extra={**base.extra, "t": float(step.t), "cutbacks": int(step.cutbacks), "seconds": float(step.seconds),
+            extra={**_step_extra(base.extra, step), "t": float(step.t), "cutbacks": int(step.cutbacks),
+                   "seconds": float(step.seconds),
                    "requested": bool(getattr(step, "requested", True)),
                    "step_newton_iterations": int(step.newton_iterations),
                    "step_outer_iterations": int(step.outer_iterations),
