@@ -1169,6 +1169,18 @@ def _two_body_reference(rd: dict | None, models: list, issues: list[Issue]):
     return HertzReference("cylinder", rd["radius"], 1.0 / comp, rd["symmetry"])
 
 
+def _bodies_kinematics(cd) -> str:
+    """``[contact] kinematics`` of a file with ``[[body]]`` tables (``"small"`` where the table is invalid)."""
+    return cd["kinematics"] if _ok(cd) and cd.get("kinematics") in KINEMATICS_OF_BODIES else "small"
+
+
+def _finite_loading(kinematics: str, s: Sections) -> None:
+    """Finite kinematics without a ramp: proportional loading (:func:`_proportional`), in place."""
+    if kinematics == "finite" and not s.cases:
+        s.fixed, s.cases = _proportional(s.fixed, s.loads)
+        s.loads = []
+
+
 def build_bodies(data: dict, base: Path, issues: list[Issue]):
     """``[[body]]`` tables, their supports and loads, and the two-body pair of ``[contact]``:
     ``(ContactProblem, LoadHistory or None, Sections)``, or ``None`` (every problem in ``issues``).
@@ -1184,7 +1196,7 @@ def build_bodies(data: dict, base: Path, issues: list[Issue]):
 
     _bodies_table_issues(data, issues)
     cd = data["contact"]
-    kinematics = cd["kinematics"] if _ok(cd) and cd.get("kinematics") in KINEMATICS_OF_BODIES else "small"
+    kinematics = _bodies_kinematics(cd)
     built = [_one_body(i, bd, base, issues, kinematics) for i, bd in enumerate(data["body"]) if _ok(bd)]
     if len(built) != len(data["body"]):
         return None
@@ -1198,6 +1210,7 @@ def build_bodies(data: dict, base: Path, issues: list[Issue]):
     if any(m is None for m in models):
         return None
     s = Sections(dim=dims[0], material=models[0].material)
+    s.kinematics = kinematics
     names = _boundary_names(models)
     where = SimpleNamespace(boundaries=dict.fromkeys(names))  # boundary_ok checks the qualified names
     pair = None
@@ -1228,9 +1241,7 @@ def build_bodies(data: dict, base: Path, issues: list[Issue]):
     center = tuple(rd["center"]) if rd["center"] is not None else (0.0,) * s.dim
     meta = {"symmetry_axis": int(rd["axis"]), "center": center,
             "center_declared": rd["center"] is not None or rd["kind"] != "none"}
-    if kinematics == "finite" and not s.cases:  # finite kinematics without a ramp: proportional loading
-        s.fixed, s.cases = _proportional(s.fixed, s.loads)
-        s.loads = []
+    _finite_loading(kinematics, s)
     problem = _num(issues, "body", ContactProblem, bodies=models, pairs=[pair], supports=tuple(s.fixed),
                    loads=tuple(s.loads), name=data["problem"]["name"], reference=s.reference, meta=meta,
                    kinematics=kinematics)
