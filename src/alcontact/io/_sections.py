@@ -706,6 +706,17 @@ def build_pairs(pds: list | None, mesh, dim: int | None, base: Path | None, issu
         if not _ok(pd):
             out = None
             continue
+        if pd.get("master"):
+            issues.append(Issue(f"{key}.master", f"= {pd['master']!r}: a master boundary is for pairs between "
+                                                 "bodies ([[body]] tables); on one body give the pair's rigid "
+                                                 "obstacle, e.g. type = 'half-space'."))
+            out = None
+            continue
+        if not pd["type"]:
+            issues.append(Issue(f"{key}.type", "missing: the pair's rigid obstacle, a registered obstacle name, "
+                                               "e.g. type = 'half-space' (as [obstacle] type)."))
+            out = None
+            continue
         ok = mesh is None or boundary_ok(mesh, pd["boundary"], f"{key}.boundary", issues)
         ob = build_obstacle(pd, dim, issues, key=key, base=base)
         if ob is None or not ok:
@@ -1139,9 +1150,11 @@ def _bodies_table_issues(data: dict, issues: list[Issue]) -> None:
                       ("obstacle", "the master of the pair is [contact] master, a body's boundary")):
         if data.get(key) is not None:
             issues.append(Issue(key, f"given together with [[body]]: {what}; remove [{key}]."))
-    if data.get("pair"):
-        issues.append(Issue("pair", "[[pair]] (rigid obstacles) together with [[body]]: a two-body pair beside "
-                                    "other pairs is not supported yet; remove the [[pair]] tables."))
+    for i, pd in enumerate(data.get("pair") or []):
+        if _ok(pd) and pd["type"]:
+            issues.append(Issue(f"pair[{i + 1}].type", f"= {pd['type']!r}: a rigid obstacle together with [[body]] "
+                                                       "tables: a two-body pair beside pairs with rigid obstacles is "
+                                                       "not supported yet; give master = a boundary of another body."))
     cd = data.get("contact")
     if not isinstance(cd, dict):
         return
@@ -1169,6 +1182,30 @@ def _two_body_reference(rd: dict | None, models: list, issues: list[Issue]):
     return HertzReference("cylinder", rd["radius"], 1.0 / comp, rd["symmetry"])
 
 
+def _body_pair(cd: dict, key: str, names: dict, models: list, issues: list[Issue]):
+    """The pair of ``[contact]`` or of one ``[[pair]]`` table (``key``) between two bodies, or ``None``."""
+    from ..contact import BodySurface, Boundary, ContactPair
+
+    slave = _surface(cd["boundary"], f"{key}.boundary", names, len(models), issues)
+    master = _surface(cd["master"], f"{key}.master", names, len(models), issues)
+    if slave is None or master is None:
+        return None
+    if slave == master:
+        issues.append(Issue(f"{key}.master", f"= {cd['master']!r}: the same boundary as the slave ({key}.boundary "
+                                             f"= {cd['boundary']!r}); a pair needs two surfaces: name a boundary "
+                                             "of the other body."))
+        return None
+    return ContactPair(Boundary(models[slave[0]], slave[1]), BodySurface(models[master[0]], master[1]))
+
+
+def _bodies_meta(rd, dim: int) -> dict:
+    """The problem's ``meta`` of a file with ``[[body]]`` tables: the reference's symmetry axis and centre."""
+    rd = rd if _ok(rd) else {"center": None, "axis": 0, "kind": "none"}
+    center = tuple(rd["center"]) if rd["center"] is not None else (0.0,) * dim
+    return {"symmetry_axis": int(rd["axis"]), "center": center,
+            "center_declared": rd["center"] is not None or rd["kind"] != "none"}
+
+
 def _bodies_kinematics(cd) -> str:
     """``[contact] kinematics`` of a file with ``[[body]]`` tables (``"small"`` where the table is invalid)."""
     return cd["kinematics"] if _ok(cd) and cd.get("kinematics") in KINEMATICS_OF_BODIES else "small"
@@ -1182,17 +1219,17 @@ def _finite_loading(kinematics: str, s: Sections) -> None:
 
 
 def build_bodies(data: dict, base: Path, issues: list[Issue]):
-    """``[[body]]`` tables, their supports and loads, and the two-body pair of ``[contact]``:
+    """``[[body]]`` tables, their supports and loads, and the two-body pairs of ``[contact]`` and ``[[pair]]``:
     ``(ContactProblem, LoadHistory or None, Sections)``, or ``None`` (every problem in ``issues``).
 
-    The pair is mortar (:class:`~alcontact.contact.BodySurface`): ``[contact] boundary`` is the slave,
-    ``[contact] master`` a boundary of another body (or of the same body). Checked here: each body's
-    mesh and material, that the bodies have one dimension, that both boundaries exist, and that
-    slave and master are not the same boundary.
+    The pairs are mortar (:class:`~alcontact.contact.BodySurface`): ``boundary`` is the slave,
+    ``master`` a boundary of another body (or of the same body). Checked here: each body's
+    mesh and material, that the bodies have one dimension, that both boundaries of every pair exist,
+    and that slave and master are not the same boundary.
     """
     from types import SimpleNamespace
 
-    from ..contact import BodySurface, Boundary, ContactPair, ContactProblem, LoadHistory
+    from ..contact import ContactProblem, LoadHistory
 
     _bodies_table_issues(data, issues)
     cd = data["contact"]
@@ -1213,17 +1250,9 @@ def build_bodies(data: dict, base: Path, issues: list[Issue]):
     s.kinematics = kinematics
     names = _boundary_names(models)
     where = SimpleNamespace(boundaries=dict.fromkeys(names))  # boundary_ok checks the qualified names
-    pair = None
-    if _ok(cd):
-        slave = _surface(cd["boundary"], "contact.boundary", names, len(models), issues)
-        master = _surface(cd["master"], "contact.master", names, len(models), issues)
-        if slave is not None and master is not None:
-            if slave == master:
-                issues.append(Issue("contact.master", f"= {cd['master']!r}: the same boundary as the slave "
-                                                      f"(contact.boundary = {cd['boundary']!r}); a pair needs two "
-                                                      "surfaces: name a boundary of the other body."))
-            else:
-                pair = ContactPair(Boundary(models[slave[0]], slave[1]), BodySurface(models[master[0]], master[1]))
+    pair = _body_pair(cd, "contact", names, models, issues) if _ok(cd) else None
+    others = [_body_pair(pd, f"pair[{i + 1}]", names, models, issues) if _ok(pd) and not pd["type"] else None
+              for i, pd in enumerate(data.get("pair") or [])]
     s.fixed, support_cases = build_supports(data.get("support"), where, s.dim, issues)
     s.loads, load_cases = build_loads(data.get("load"), where, s.dim, issues)
     s.cases = support_cases + load_cases
@@ -1235,14 +1264,11 @@ def build_bodies(data: dict, base: Path, issues: list[Issue]):
     s.units = build_units(data.get("units"), issues)
     rd = data.get("reference")
     s.reference = _two_body_reference(rd, models, issues)
-    if issues or pair is None or s.times is None:
+    if issues or pair is None or s.times is None or any(p is None for p in others):
         return None
-    rd = rd if _ok(rd) else {"center": None, "axis": 0, "kind": "none"}
-    center = tuple(rd["center"]) if rd["center"] is not None else (0.0,) * s.dim
-    meta = {"symmetry_axis": int(rd["axis"]), "center": center,
-            "center_declared": rd["center"] is not None or rd["kind"] != "none"}
+    meta = _bodies_meta(rd, s.dim)
     _finite_loading(kinematics, s)
-    problem = _num(issues, "body", ContactProblem, bodies=models, pairs=[pair], supports=tuple(s.fixed),
+    problem = _num(issues, "body", ContactProblem, bodies=models, pairs=[pair] + others, supports=tuple(s.fixed),
                    loads=tuple(s.loads), name=data["problem"]["name"], reference=s.reference, meta=meta,
                    kinematics=kinematics)
     if problem is None:

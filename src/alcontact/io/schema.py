@@ -265,13 +265,19 @@ def _build_schema() -> tuple[Table, ...]:
               "file relative to this file, optional `group` = a Gmsh physical group)."),
             OBSTACLE_PATH,
         ), open=True, required=True),
-        Table("pair", "A further contact pair on the body (one table per pair): its own contact boundary "
-              "against its own rigid obstacle, e.g. a block squeezed between two plates. `type` and every "
-              "other key are the obstacle's, as in `[obstacle]` (which is the obstacle of `[contact] boundary`); "
-              "`[contact] friction` and `kinematics` apply to every pair (at finite kinematics: frictionless, no "
-              "`[obstacle] path`).", (
-            O("boundary", "str", REQUIRED, "Boundary of the body that may touch this pair's obstacle."),
-            O("type", "str", REQUIRED, "Registered obstacle name, as `[obstacle] type`."),
+        Table("pair", "A further contact pair (one table per pair): its own contact boundary against its own "
+              "master. On one body, a rigid obstacle, e.g. a block squeezed between two plates: `type` and every "
+              "other key are the obstacle's, as in `[obstacle]` (which is the obstacle of `[contact] boundary`). "
+              "With `[[body]]` tables, a boundary of another body: `boundary` (the slave) and `master`, as in "
+              "`[contact]`, e.g. a ring squeezed between two plates (several two-body pairs: `kinematics = "
+              "\"finite\"`). `[contact] friction` and `kinematics` apply to every pair (at finite kinematics: "
+              "frictionless, no `[obstacle] path`).", (
+            O("boundary", "str", REQUIRED, "Boundary that may touch this pair's master (with `[[body]]`: the slave, "
+              "e.g. `\"body0/upper\"`)."),
+            O("type", "str", "", "Registered obstacle name, as `[obstacle] type` (required on one body; not with "
+              "`[[body]]`)."),
+            O("master", "str", "", "With `[[body]]`: the master boundary of the pair, a boundary of another body, "
+              "e.g. `\"body2/bottom\"`."),
         ), array=True, open=True),
         Table("contact", "Contact boundary and friction.", (
             O("boundary", "str", REQUIRED, "Boundary of the body that may touch the obstacle (with `[[body]]`: "

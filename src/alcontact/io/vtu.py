@@ -210,17 +210,29 @@ def _bodies_point_data(solution, deformed):
 
     problem = solution.problem
     model = problem.model
-    slave, local = model.locate(problem.contact_boundary)
+    pairs = getattr(problem, "pairs", ())
+    # the slave boundaries of each body (several two-body pairs may have slaves on one body, e.g. a seal)
+    names = [problem.slave_name(p) for p in pairs] if len(pairs) > 1 else [problem.contact_boundary]
+    located = [model.locate(n) for n in names]
+    owner = problem.pair_of_points() if len(pairs) > 1 else np.zeros(solution.points.shape[0], dtype=np.int64)
     kinematics = getattr(problem, "kinematics", "small")
     extra = {k: v for k, v in (getattr(solution, "extra", None) or {}).items() if k != "state"}
     points, conns, fields, index = [], [], [], []
     cell_type = None
     for i, (body, u) in enumerate(zip(model.bodies, model.split(solution.u))):
-        if i == slave:
-            view = SimpleNamespace(problem=SimpleNamespace(model=body, contact_boundary=local, kinematics=kinematics,
-                                                           slave_nodes=lambda b=body, n=local: b.node_dofs(n)),
-                                   u=u, points=solution.points, pressure=solution.pressure, gap=solution.gap,
-                                   active=solution.active, extra=extra)
+        mine = [k for k, (b, _) in enumerate(located) if b == i]
+        if mine:
+            sel = np.isin(owner, mine)
+            local = [located[k][1] for k in mine]
+
+            def nodes(b=body, ns=tuple(local)):
+                got = [b.node_dofs(n) for n in ns]
+                return np.vstack([g[0] for g in got]), np.vstack([g[1] for g in got])
+
+            view = SimpleNamespace(problem=SimpleNamespace(model=body, contact_boundary=local[0], kinematics=kinematics,
+                                                           slave_nodes=nodes),
+                                   u=u, points=solution.points[sel], pressure=solution.pressure[sel],
+                                   gap=solution.gap[sel], active=solution.active[sel], extra=extra)
         else:  # no contact field of its own: the first boundary, zero pressure, no gap
             name = body.boundary_names[0]
             pts, _ = body.node_dofs(name)

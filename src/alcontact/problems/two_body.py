@@ -16,6 +16,8 @@ is the lower body's top) and a :class:`~alcontact.fem.MultiBody` of the two bodi
   expansion.
 - :func:`ironing_two_body`: a neo-Hookean rounded punch pressed into a neo-Hookean block and
   slid along it (large sliding between two deformable bodies; the punch is the slave).
+- :func:`seal`: a neo-Hookean cord (a disc in plane strain) squeezed between two deformable
+  plates: two two-body pairs, the cord the slave of both.
 - :func:`hertz_cylinders`: two elastic cylinders of radii :math:`R_1`, :math:`R_2` and
   different :math:`E`, :math:`\nu`, pressed together (Johnson, *Contact Mechanics*, 1985,
   sec. 4.3, eq. 4.45-4.47 with the effective radius and modulus)
@@ -46,7 +48,7 @@ from ..fem import Hyperelastic, LinearElasticity, Material, meshes
 from .hertz import LEVELS_2D, HertzReference, mesh_spec
 
 __all__ = ["stacked_blocks", "compressed_blocks", "hertz_cylinders", "rigid_limit_pair", "rigid_limit_punch",
-           "ironing_two_body", "ironing_two_body_history"]
+           "ironing_two_body", "ironing_two_body_history", "seal"]
 
 
 def _block(x: np.ndarray, y: np.ndarray) -> skfem.MeshTri:
@@ -325,3 +327,60 @@ def rigid_limit_punch(n: int = 10, *, radius: float = 1.0, depth: float = 0.2, E
                                        Support("body1/top", components=[0])],
                              name=f"rounded punch on a flat base {stiffening:g} times stiffer")
     return rigid, elastic
+
+
+def _disc(radius: float, n: int) -> skfem.MeshTri:
+    r"""The disc of ``radius`` about the origin: the elliptical-grid map of the square :math:`[-1, 1]^2` with
+    ``2n x 2n`` cells, :math:`(\xi, \eta) \mapsto R(\xi\sqrt{1 - \eta^2/2}, \eta\sqrt{1 - \xi^2/2})`.
+
+    Boundaries ``"lower"`` and ``"upper"`` (the half circles below and above ``y = 0``) and two lines of
+    interior facets, ``"vertical"`` (``x = 0``) and ``"horizontal"`` (``y = 0``), the images of the square's
+    middle lines (the symmetry lines of a symmetric squeeze).
+    """
+    sq = skfem.MeshTri.init_tensor(np.linspace(-1.0, 1.0, 2 * n + 1), np.linspace(-1.0, 1.0, 2 * n + 1))
+    xi, eta = sq.doflocs
+    p = radius * np.vstack([xi * np.sqrt(1.0 - eta ** 2 / 2.0), eta * np.sqrt(1.0 - xi ** 2 / 2.0)])
+    m = dataclasses.replace(sq, doflocs=p)
+    bf = m.boundary_facets()
+    mid = m.p[:, m.facets].mean(axis=1)
+    ends = m.p[:, m.facets]  # (2, 2, nf)
+    tol = 1e-9 * radius
+    on_x = np.all(np.abs(ends[0]) <= tol, axis=0)
+    on_y = np.all(np.abs(ends[1]) <= tol, axis=0)
+    return m.with_boundaries({"lower": bf[mid[1, bf] < 0.0], "upper": bf[mid[1, bf] > 0.0],
+                              "vertical": np.flatnonzero(on_x), "horizontal": np.flatnonzero(on_y)})
+
+
+def seal(n: int = 8, *, radius: float = 1.0, squeeze: float = 0.2, E=(10.0, 1000.0), nu=(0.45, 0.3),
+         plate_width: float = 1.5, plate_height: float = 0.5, plate_ratio: float = 0.6,
+         model: str = "neo-hookean") -> ContactProblem:
+    """A neo-Hookean cord squeezed between two deformable plates (plane strain, finite deformation, frictionless).
+
+    The cord (``body0``, :func:`_disc`: radius ``radius``, ``2n x 2n`` mapped cells, ``E[0]``, ``nu[0]``) lies
+    between a lower plate ``[-w, w] x [-R - t, -R]`` (``body1``) and an upper one ``[-w, w] x [R, R + t]``
+    (``body2``; ``w = plate_width R``, ``t = plate_height R``, ``E[1]``, ``nu[1]``, ``plate_ratio`` times the
+    cord's boundary element density: non-matching meshes), touching both at ``t = 0``. The plates' outer faces
+    are moved towards each other by ``squeeze R`` each (the cord's diameter shortened by ``2 squeeze R``),
+    proportionally over the load steps of :func:`alcontact.contact.solve`. Two pairs: the cord's ``lower``
+    boundary against the lower plate's ``top``, its ``upper`` boundary against the upper plate's ``bottom``
+    (the cord is the slave of both). The squeeze is symmetric about both axes, which holds the cord without
+    supports of its own: ``u_x = 0`` on its vertical diameter and ``u_y = 0`` on its horizontal one (the
+    symmetry lines, interior facets; exact for this loading).
+    """
+    cord = Hyperelastic(_disc(radius, n), Material(E=E[0], nu=nu[0], plane="strain"), model=model)
+    w, t = plate_width * radius, plate_height * radius
+    cells = max(2, int(round(plate_ratio * 2 * n * w / radius)))
+    rows = max(1, int(round(cells * t / (2 * w))))
+    mat = Material(E=E[1], nu=nu[1], plane="strain")
+    lower = Hyperelastic(_block(np.linspace(-w, w, cells + 1), np.linspace(-radius - t, -radius, rows + 1)), mat,
+                         model=model)
+    upper = Hyperelastic(_block(np.linspace(-w, w, cells + 1), np.linspace(radius, radius + t, rows + 1)), mat,
+                         model=model)
+    d = float(squeeze) * radius
+    pairs = [ContactPair(Boundary(cord, "lower"), BodySurface(lower, "top", search_distance=0.5 * radius)),
+             ContactPair(Boundary(cord, "upper"), BodySurface(upper, "bottom", search_distance=0.5 * radius))]
+    supports = [Support("body0/vertical", components=[0]), Support("body0/horizontal", components=[1]),
+                Support("body1/bottom", value=(0.0, d)), Support("body2/top", value=(0.0, -d))]
+    return ContactProblem(bodies=[cord, lower, upper], pairs=pairs, supports=supports, kinematics="finite",
+                          name=f"cord squeezed between two plates (R={radius:g}, squeeze {2 * squeeze:g} D/2, n={n})",
+                          meta={"radius": radius, "squeeze": float(squeeze), "n": n})

@@ -491,17 +491,127 @@ class _Evaluation:
         return self._kin._curvature(self._state, c_full)
 
 
+class _StackedEvaluation:
+    """:class:`_Evaluation` of several pairs' points (:class:`StackedMortarGap`)."""
+
+    hessian = None
+
+    def __init__(self, parts, idx: np.ndarray, bounds: np.ndarray):
+        self._parts, self.idx, self._bounds = parts, idx, bounds
+        self.g = np.concatenate([p.g for p in parts])[idx]
+        self.normals = np.concatenate([p.normals for p in parts])[idx]
+        self._gradient = None
+
+    def gradient(self, mask: np.ndarray | None = None) -> sp.csr_matrix:
+        if self._gradient is None:
+            self._gradient = sp.vstack([p.gradient() for p in self._parts]).tocsr()[self.idx]
+        if mask is None:
+            return self._gradient
+        return (sp.diags(np.asarray(mask, dtype=float)) @ self._gradient).tocsr()
+
+    def curvature(self, c: np.ndarray) -> sp.csr_matrix:
+        c_full = np.zeros(int(self._bounds[-1]))
+        np.add.at(c_full, self.idx, np.asarray(c, dtype=float))
+        out = None
+        for k, p in enumerate(self._parts):
+            ck = c_full[self._bounds[k]:self._bounds[k + 1]]
+            term = p.curvature(ck)
+            out = term if out is None else out + term
+        return out.tocsr()
+
+
+class StackedMortarGap:
+    r"""The mortar gaps of several two-body pairs at the current configuration, stacked in the pairs' order.
+
+    A ring squeezed between two plates: one :class:`CurrentMortarGap` per pair (its slave boundary against its
+    master surface), the points of pair 0 first (the order of
+    :meth:`~alcontact.contact.ContactProblem.slave_nodes`). Gaps, normals and weights are the pairs' own
+    concatenated, the constraint rows stacked, the curvature the sum of the pairs' (a
+    :class:`~alcontact.contact.kinematics.ContactKinematics`, ``configuration = "current"``).
+
+    Parameters
+    ----------
+    gaps : sequence of CurrentMortarGap
+        One per pair, in the pairs' order.
+    master : StackedMaster
+        The problem's master of the stacked points.
+    """
+
+    configuration = "current"
+    pointwise = False
+
+    def __init__(self, gaps, master):
+        self.parts = tuple(gaps)
+        self.master = master
+        self.points = np.vstack([g.points for g in self.parts])
+        self.dofs = np.vstack([g.dofs for g in self.parts])
+        self.pos = np.vstack([g.pos for g in self.parts])
+        self.weights = np.concatenate([g.weights for g in self.parts])
+        self.h = float(min(g.h for g in self.parts))
+        self.bounds = np.concatenate([[0], np.cumsum([g.points.shape[0] for g in self.parts])]).astype(np.int64)
+        self.slave_dofs = np.unique(np.vstack([g.slave_dofs for g in self.parts]), axis=0)
+        self.master_dofs = np.unique(np.vstack([g.master_dofs for g in self.parts]), axis=0)
+
+    def _split(self, v: np.ndarray):
+        v = np.asarray(v, dtype=float)
+        return [v[self.bounds[k]:self.bounds[k + 1]] for k in range(len(self.parts))]
+
+    def gaps(self, u: np.ndarray, idx: np.ndarray | None = None) -> np.ndarray:
+        g = np.concatenate([p.gaps(u) for p in self.parts])
+        return g if idx is None else g[np.asarray(idx, dtype=np.int64)]
+
+    def evaluate(self, u: np.ndarray, idx: np.ndarray | None = None, *, hessian: bool = False):
+        idx = np.arange(self.points.shape[0]) if idx is None else np.asarray(idx, dtype=np.int64)
+        return _StackedEvaluation([p.evaluate(u, hessian=hessian) for p in self.parts], idx, self.bounds)
+
+    def current(self, u: np.ndarray, idx: np.ndarray | None = None) -> np.ndarray:
+        if idx is None:
+            return self.points + u[self.dofs]
+        return self.points[idx] + u[self.dofs[idx]]
+
+    def against(self, master):
+        """These gaps for their own masters (the masters of two-body pairs do not move by themselves)."""
+        if master is self.master:
+            return self
+        raise ValueError("mortar gaps belong to their master surfaces; build the pairs again for other masters")
+
+    def contact_force(self, u: np.ndarray, nodal: np.ndarray) -> np.ndarray:
+        r"""Contact force :math:`-G^T r` of all pairs on every DOF of the model."""
+        return sum(p.contact_force(u, r) for p, r in zip(self.parts, self._split(nodal)))
+
+    def force_points(self, u: np.ndarray, nodal: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """``(dofs, forces)`` of :meth:`contact_force` on the slave and master nodes of every pair."""
+        fc = self.contact_force(u, nodal)
+        nodes = np.unique(np.vstack([self.slave_dofs, self.master_dofs]), axis=0)
+        return nodes, fc[nodes]
+
+    def side_forces(self, u: np.ndarray, nodal: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Resultants ``(on the slave sides, on the master sides)`` summed over the pairs."""
+        per = self.pair_forces(u, nodal)
+        return per[:, 0].sum(axis=0), per[:, 1].sum(axis=0)
+
+    def pair_forces(self, u: np.ndarray, nodal: np.ndarray) -> np.ndarray:
+        """``(n_pairs, 2, d)``: each pair's resultant contact force on its slave and on its master side."""
+        return np.array([np.stack(p.side_forces(u, r)) for p, r in zip(self.parts, self._split(nodal))])
+
+
 def current_kinematics(problem, free: np.ndarray):
     """The factory ``(points, dofs, pos, master, n_free) -> ContactKinematics`` of a problem at the current
     configuration (what :class:`~alcontact.contact.systems.FiniteContact` builds its kinematics with):
     :class:`~alcontact.contact.kinematics.CurrentGap` against rigid masters, :class:`CurrentMortarGap` for a
-    pair between two bodies (its columns the ``free`` DOFs)."""
-    pair = problem.pairs[0]
+    pair between two bodies (its columns the ``free`` DOFs), :class:`StackedMortarGap` for several."""
     if all(p.rigid for p in problem.pairs):
         return CurrentGap
     model = problem.model
+    pairs = problem.pairs
 
     def build(points, dofs, pos, master, nfree):
-        return CurrentMortarGap(model, pair.slave.body, pair.slave.name, master, points, dofs, pos, free)
+        if len(pairs) == 1:
+            pair = pairs[0]
+            return CurrentMortarGap(model, pair.slave.body, pair.slave.name, master, points, dofs, pos, free)
+        owner = problem.pair_of_points()
+        parts = [CurrentMortarGap(model, p.slave.body, p.slave.name, p.master, points[owner == k], dofs[owner == k],
+                                  pos[owner == k], free) for k, p in enumerate(pairs)]
+        return StackedMortarGap(parts, master)
 
     return build

@@ -58,6 +58,9 @@ def mortar_of(problem):
     pair = problem.pairs[0]
     if pair.rigid:
         return None
+    if len(problem.pairs) > 1:
+        raise InputError(f"{len(problem.pairs)} contact pairs between bodies: several two-body pairs are available at "
+                         "kinematics='finite' (hyperelastic bodies) so far; at small deformation give one pair.")
     if problem.kinematics != "small":
         raise InputError("contact between two bodies is available at small deformation (kinematics='small'); "
                          "finite deformation is not supported yet.")

@@ -402,16 +402,16 @@ class ContactProblem:
             raise InputError(f"{kind}: bodies has {len(bodies)} bodies but no pair joins two of them: give a pair "
                              "whose master is a boundary of another body, ContactPair(Boundary(a, 'bottom'), "
                              f"BodySurface(b, 'top')). See {ROADMAP}.")
-        if len(pairs) > 1 and not all(p.rigid for p in pairs):
+        if len(pairs) > 1 and not all(p.rigid for p in pairs) and any(p.rigid for p in pairs):
             raise InputError(f"{kind}: pairs has {len(pairs)} contact pairs and one joins two bodies: a pair between "
-                             "two bodies beside other pairs is not supported yet; give the two-body pair alone. "
-                             f"See {ROADMAP}.")
+                             "two bodies beside pairs with rigid obstacles is not supported yet; give pairs between "
+                             f"bodies only (several are fine at kinematics='finite'). See {ROADMAP}.")
         if len(bodies) > 1 or not pairs[0].rigid:
-            pair = pairs[0]
-            if not any(pair.slave.body is b for b in bodies):
-                raise InputError(f"{kind}: pairs[0].slave is the boundary {pair.slave.name!r} of a body that is not "
-                                 "in bodies; build it as Boundary(body, name) with a body of bodies.")
-            return _two_body(kind, bodies, pair)
+            for i, pair in enumerate(pairs):
+                if not any(pair.slave.body is b for b in bodies):
+                    raise InputError(f"{kind}: pairs[{i}].slave is the boundary {pair.slave.name!r} of a body that is "
+                                     "not in bodies; build it as Boundary(body, name) with a body of bodies.")
+            return _two_body(kind, bodies, pairs)
         for i, pair in enumerate(pairs):
             if pair.slave.body is not bodies[0]:
                 raise InputError(f"{kind}: pairs[{i}].slave is the boundary {pair.slave.name!r} of a body that is not "
@@ -451,7 +451,7 @@ class ContactProblem:
             return None
         from ..masters._stacked import StackedMaster
 
-        nodes = [self.model.node_dofs(p.slave.name) for p in self.pairs]
+        nodes = [self.model.node_dofs(self.slave_name(p)) for p in self.pairs]
         pts = np.concatenate([n[0] for n in nodes])
         dofs = np.concatenate([n[1] for n in nodes])
         sizes = [n[0].shape[0] for n in nodes]
@@ -472,7 +472,7 @@ class ContactProblem:
         """Tributary length/area of each stacked contact point (:meth:`slave_nodes` order)."""
         if len(self.pairs) == 1:
             return self.model.boundary_weights(self.contact_boundary)
-        return np.concatenate([self.model.boundary_weights(p.slave.name) for p in self.pairs])
+        return np.concatenate([self.model.boundary_weights(self.slave_name(p)) for p in self.pairs])
 
     def slave_pressure(self, forces: Any) -> np.ndarray:
         """Pressure at the stacked contact points from their nodal normal forces (per pair's boundary)."""
@@ -480,8 +480,13 @@ class ContactProblem:
             return self.model.boundary_pressure(self.contact_boundary, forces)
         forces = np.asarray(forces, dtype=float)
         b = self._stacked[2].bounds
-        return np.concatenate([self.model.boundary_pressure(p.slave.name, forces[b[k]:b[k + 1]])
+        return np.concatenate([self.model.boundary_pressure(self.slave_name(p), forces[b[k]:b[k + 1]])
                                for k, p in enumerate(self.pairs)])
+
+    def slave_name(self, pair: "ContactPair") -> str:
+        """The name of ``pair``'s slave boundary in :attr:`model` (``"body1/bottom"`` with several bodies)."""
+        qualify = getattr(self.model, "qualify", None)
+        return pair.slave.name if qualify is None else qualify(pair.slave.body, pair.slave.name)
 
     def pair_of_points(self) -> np.ndarray:
         """Index of the pair of each stacked contact point, shape ``(m,)`` (all 0 for one pair)."""
@@ -528,8 +533,12 @@ class ContactProblem:
         """Values that need the mesh: boundary names, dimensions, supports."""
         # MeshError naming the known boundaries (one pair: the model's name of it, qualified by its body between
         # two bodies; several pairs are on one body)
-        for name in [self.contact_boundary] if len(self.pairs) == 1 else [p.slave.name for p in self.pairs]:
+        for name in [self.contact_boundary] if len(self.pairs) == 1 else [self.slave_name(p) for p in self.pairs]:
             self.model.facets(name)
+        if len(self.pairs) > 1 and not self.pairs[0].rigid and self.kinematics == "small":
+            raise InputError(f"ContactProblem: {len(self.pairs)} contact pairs between bodies at kinematics='small': "
+                             "several two-body pairs are available at kinematics='finite' (hyperelastic bodies) so "
+                             "far; give one pair, or hyperelastic bodies with kinematics='finite'.")
         if len(self.pairs) > 1 and self.kinematics != "small" and self.pairs[0].friction > 0:
             raise InputError(f"ContactProblem: {len(self.pairs)} contact pairs with friction at kinematics="
                              f"{self.kinematics!r}: several frictional pairs are supported at small deformation only "
@@ -609,21 +618,23 @@ class ContactProblem:
 _STACKS: weakref.WeakValueDictionary = weakref.WeakValueDictionary()
 
 
-def _two_body(kind: str, bodies: tuple, pair: ContactPair) -> dict[str, Any]:
-    """The model (the bodies' :class:`~alcontact.fem.MultiBody`) and names of a pair with a deformable master."""
+def _two_body(kind: str, bodies: tuple, pairs: tuple) -> dict[str, Any]:
+    """The model (the bodies' :class:`~alcontact.fem.MultiBody`) and names of pairs with deformable masters."""
     from ...fem import MultiBody
 
-    master_body = getattr(pair.master, "body", None)
-    if not any(master_body is b for b in bodies):
-        raise InputError(f"{kind}: pairs[0].master = {pair.master.describe()} is not rigid and is not the surface "
-                         "of a body in bodies: a deformable master is alcontact.contact.BodySurface(body, "
-                         f"boundary) with that body in bodies. See {ROADMAP}.")
-    if master_body is pair.slave.body and getattr(pair.master, "boundary", None) == pair.slave.name:
-        raise InputError(f"{kind}: pairs[0] uses the boundary {pair.slave.name!r} as both slave and master; give "
-                         "the master another boundary (of another body).")
-    if pair.friction > 0:
-        raise InputError(f"{kind}: pairs[0].friction = {pair.friction!r}: friction between two deformable bodies "
-                         "is not supported yet; use friction = 0.")
+    for i, pair in enumerate(pairs):
+        master_body = getattr(pair.master, "body", None)
+        if not any(master_body is b for b in bodies):
+            raise InputError(f"{kind}: pairs[{i}].master = {pair.master.describe()} is not rigid and is not the "
+                             "surface of a body in bodies: a deformable master is alcontact.contact.BodySurface(body, "
+                             f"boundary) with that body in bodies. See {ROADMAP}.")
+        if master_body is pair.slave.body and getattr(pair.master, "boundary", None) == pair.slave.name:
+            raise InputError(f"{kind}: pairs[{i}] uses the boundary {pair.slave.name!r} as both slave and master; "
+                             "give the master another boundary (of another body).")
+        if pair.friction > 0:
+            raise InputError(f"{kind}: pairs[{i}].friction = {pair.friction!r}: friction between two deformable "
+                             "bodies is not supported yet; use friction = 0.")
+    pair = pairs[0]
     if len(bodies) == 1:
         model, slave = bodies[0], pair.slave.name
     else:
@@ -634,7 +645,7 @@ def _two_body(kind: str, bodies: tuple, pair: ContactPair) -> dict[str, Any]:
             _STACKS[key] = model
         slave = model.qualify(pair.slave.body, pair.slave.name)
     return {"model": model, "obstacle": pair.master, "contact_boundary": slave, "friction": pair.friction,
-            "pair": pair, "bodies": bodies}
+            "pair": pair, "bodies": bodies, "others": tuple(pairs[1:])}
 
 
 _AXES = "xyz"

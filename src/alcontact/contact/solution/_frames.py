@@ -49,7 +49,8 @@ def stepped_solution(views) -> ContactSolution:
 
 
 #: keys of a two-body run's ``extra`` that belong to its final state only
-_FINAL_TWO_BODY = ("master_contact_force", "contact_force_balance", "contact_force_points")
+_FINAL_TWO_BODY = ("master_contact_force", "contact_force_balance", "contact_force_points",
+                   "pair_slave_contact_forces")
 
 
 def _step_extra(extra: dict, step) -> dict:

@@ -195,6 +195,8 @@ class ContactSolution:
         pairs = getattr(self.problem, "pairs", ())
         if len(pairs) == 1 and self.extra.get("slave_contact_force") is not None:
             return np.asarray([self.extra["slave_contact_force"]], dtype=float)
+        if self.extra.get("pair_slave_contact_forces") is not None:  # several two-body pairs
+            return np.asarray(self.extra["pair_slave_contact_forces"], dtype=float)
         owner = self.problem.pair_of_points() if len(pairs) > 1 else np.zeros(f.shape[0], dtype=np.int64)
         out = np.zeros((max(len(pairs), 1), f.shape[1]))
         np.add.at(out, owner, f)

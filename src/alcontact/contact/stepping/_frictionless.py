@@ -311,6 +311,12 @@ def _solution(problem, dc, out, u, algorithm, pen_name, opts, status, message, r
         two_body = {"slave_contact_force": force.tolist(), "master_contact_force": master.tolist(),
                     "contact_force_balance": float(np.linalg.norm(force + master)) / norm if norm > 0 else 0.0,
                     "contact_force_points": own.force_points(u, nodal)}
+        if hasattr(own, "pair_forces"):  # several two-body pairs: each pair's slave force, the worst pair's balance
+            per = own.pair_forces(u, nodal)
+            two_body["pair_slave_contact_forces"] = per[:, 0].tolist()
+            norms = np.linalg.norm(per[:, 0], axis=1)
+            two_body["contact_force_balance"] = float(np.max(np.where(
+                norms > 0, np.linalg.norm(per[:, 0] + per[:, 1], axis=1) / np.where(norms > 0, norms, 1.0), 0.0)))
     closed = g_all > -max(1e-6, 10 * opts.tol_penetration) * dc.h
     active = closed & (pressure > 1e-12 * max(float(pressure.max(initial=0.0)), 1e-300))
     pen_final = check.value("penetration")

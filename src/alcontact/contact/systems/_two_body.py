@@ -79,7 +79,7 @@ def body_slide(fc, x: np.ndarray, fixed_values: np.ndarray, load: np.ndarray):
     point is pressed, or where the prediction inverts an element.
     """
     kin = fc.kinematics
-    if not hasattr(kin, "force_points") or not np.any(fc.last_pressure > 0):
+    if not hasattr(kin, "force_points") or len(fc.problem.pairs) != 1 or not np.any(fc.last_pressure > 0):
         return None
     pair = fc.problem.pairs[0]
     model = fc.model
