@@ -874,8 +874,9 @@ class FiniteContact(ContactPoints):
         g = self.kinematics.gaps(u, self.cand)
         return self._newton_matrix(u, law.traction(g, lam), law.stiffness(g, lam))
 
-    def _newton_matrix(self, u, t, D) -> sp.csr_matrix:
-        r""":math:`K_T + B^T \operatorname{diag}(w D) B + \sum_i w_i t_i H_i` at ``u`` (candidates)."""
+    def _newton_matrix(self, u, t, D, *, curvature: bool = True) -> sp.csr_matrix:
+        r""":math:`K_T + B^T \operatorname{diag}(w D) B + \sum_i w_i t_i H_i` at ``u`` (candidates); without the
+        last (curvature) term for ``curvature=False`` (a kinematics that is not pointwise only)."""
         cand = self.cand
         w = self.weights[cand]
         ev = self.kinematics.evaluate(u, cand, hessian=True)
@@ -885,7 +886,8 @@ class FiniteContact(ContactPoints):
             # the gap's gradient and curvature as sparse matrices (a kinematics coupling several points)
             Bm = ev.gradient()
             K = data if layout is None else layout.matrix(data)
-            return (K + Bm.T @ sp.diags(w * D) @ Bm + ev.curvature(w * t)).tocsr()
+            J = K + Bm.T @ sp.diags(w * D) @ Bm
+            return (J + ev.curvature(w * t) if curvature else J).tocsr()
         # B^T diag(w D) B is the block (-nu_i w_i D_i)(-nu_i)^T of every point (the products of the sparse
         # product, in its order), added before the curvature blocks as the sparse sum did
         layout.add_blocks(data, cand, ((-nu) * (w * D)[:, None])[:, :, None] * (-nu)[:, None, :])
@@ -968,7 +970,12 @@ class FiniteContact(ContactPoints):
         dx = self.solver.resolve(-(Bm.T @ (w * (new[act] - lam_a))))
         if dx is None or not np.all(np.isfinite(dx)):
             return new
-        return new, np.asarray(out.state, dtype=float) + dx
+        x_new = np.asarray(out.state, dtype=float) + dx
+        try:  # a primal change that inverts an element is no start for the next subproblem: the multipliers only
+            self._body_state(self.expand(x_new), False)
+        except InvertedElementError:
+            return new
+        return new, x_new
 
     def start_multiplier_step(self, law, lam, out):
         r"""Initial multipliers of Algorithm 6.3 from its penalty start (:attr:`warm_penalty_start`), or ``None``.
@@ -1241,6 +1248,8 @@ class _Subproblem(NewtonSystem):
         self.floor = 0.0
         self.tol = 0.0
         self.chords = 0
+        #: Newton steps taken without the gap curvature (an indefinite Newton matrix, :meth:`step`)
+        self.descent_steps = 0
 
     def evaluate(self, x):
         fc, cand, w = self.fc, self.fc.cand, self.w
@@ -1317,8 +1326,15 @@ class _Subproblem(NewtonSystem):
         fc.assembly_seconds += tb - ta
         fc._factor_stiffness = (fc.cand, D)  # the contact springs in the factor (chord steps, _Subproblem._chord)
         dx = fc.solver.newton_step(J, -state.R, history)
-        fc.solve_seconds += time.perf_counter() - tb
         fc.linear_solves += 1
+        if self.use_energy and not fc.kinematics.pointwise and float(state.R @ dx) >= 0.0:
+            # an ascent direction: the curvature of a mortar gap (of order w t / h under the large tractions
+            # of a subproblem's start) made the Newton matrix indefinite; the step without it descends
+            J = fc._newton_matrix(state.u, state.t, D, curvature=False)
+            dx = fc.solver.newton_step(J, -state.R, history)
+            fc.linear_solves += 1
+            self.descent_steps += 1
+        fc.solve_seconds += time.perf_counter() - tb
         fc.newton_iterations += 1
         return dx
 
