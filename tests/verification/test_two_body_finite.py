@@ -147,3 +147,14 @@ def test_newton_converges_quadratically(monkeypatch):
     frozen = solve(prob, "ssn", history=history, steps=times[:2], max_cutbacks=0)
     tested, bad = _quadratic_violations(frozen.record.extra["residual_log"])
     assert bad >= 3, (tested, bad)
+
+
+def test_amg_path_at_finite_deformation():
+    """The AMG + CG path (``linear_solver = "amg"``, each body's rigid modes at the current configuration as
+    the near-null space) on the patch test: the closed form within 1e-6 (the inexact Newton floor)."""
+    prob = two_body.compressed_blocks(7, 3, strain=0.1)
+    sol = solve(prob, "simo-laursen", steps=4, linear_solver="amg")
+    assert sol.result.success, sol.result.message
+    assert sol.extra["linear_solver"] == "amg" and sol.extra["strategy"] == "full-space-newton"
+    _, p_exact = _homogeneous(prob.meta["E"], prob.meta["nu"], prob.meta["stretch"])
+    np.testing.assert_allclose(sol.pressure, p_exact, rtol=1e-6, atol=0.0)

@@ -1478,10 +1478,19 @@ class AMGNewtonSolver(_linalg.NewtonKrylovSolver):
             u = getattr(self.fc, "u_free", None)
             if u is not None:
                 pts = pts + np.asarray(u, dtype=float)[self._dofs]
-        modes, _ = rigid_body_modes(pts)
-        R = np.zeros((self.fc.model.ndofs, modes.shape[-1]))
-        R[self._dofs.ravel()] = modes.reshape(-1, modes.shape[-1])
-        return np.ascontiguousarray(R[self.fc.free])
+        model = self.fc.model
+        # several bodies (a MultiBody): each body's own rigid modes, zero on the others (the kernel of the
+        # block-diagonal tangent; the modes of all nodes together are only its common part)
+        owner = model.body_of_dofs()[self._dofs[:, 0]] if hasattr(model, "body_of_dofs") else \
+            np.zeros(pts.shape[0], dtype=np.int64)
+        blocks = []
+        for b in np.unique(owner):
+            rows = owner == b
+            modes, _ = rigid_body_modes(pts[rows])
+            R = np.zeros((model.ndofs, modes.shape[-1]))
+            R[self._dofs[rows].ravel()] = modes.reshape(-1, modes.shape[-1])
+            blocks.append(R)
+        return np.ascontiguousarray(np.hstack(blocks)[self.fc.free])
 
     def info(self) -> dict:
         """:meth:`alcontact.linalg.NewtonKrylovSolver.info` and the near-null configuration."""
