@@ -3,7 +3,8 @@ r"""The mortar gap between two bodies at the current configuration (finite defor
 References: the definitions of :mod:`alcontact.contact.kinematics._mortar_current`.
 
 - At :math:`u = 0` the gap and the multiplier weights are those of the small-deformation mortar gap
-  (:class:`~alcontact.contact.kinematics.MortarKinematics`), to round-off (1e-13).
+  (:class:`~alcontact.contact.kinematics.MortarKinematics`), to round-off (1e-13), at the slave nodes
+  within 5 element sizes of the master (the search of the current gap reaches 10).
 - The constraint rows are the derivative of the gaps and the curvature term
   :math:`\sum_j c_j \partial^2 g_j/\partial x^2` the derivative of :math:`G^T c`: central differences
   (step 1e-6), relative 1e-6 and 1e-5 of the largest entry, at a state of large deformation and large
@@ -65,10 +66,15 @@ def test_protocol_and_the_small_deformation_gap_at_the_reference(pair):
     mg = mortar_gap(prob.model, p.slave.body, p.slave.name, p.master)
     small = MortarKinematics(mg, kin.points, kin.dofs, kin.pos, p.master, free)
     zero = np.zeros(prob.model.ndofs)
-    np.testing.assert_allclose(kin.gaps(zero), small.gaps(zero), rtol=0, atol=1e-13 * kin.h)
+    # within the search's reach (10 slave element sizes; the small-deformation gap searches a quarter of the
+    # boundaries' extent once): the nodes that may come into contact
+    near = small.gaps(zero) > -5.0 * kin.h
+    assert near.sum() >= 10
+    np.testing.assert_allclose(kin.gaps(zero)[near], small.gaps(zero)[near], rtol=0, atol=1e-13 * kin.h)
     np.testing.assert_array_equal(kin.weights, mg.weights)
     ev = kin.evaluate(zero, hessian=True)
-    np.testing.assert_allclose(ev.normals[mg.covered], mg.normals[mg.covered], rtol=0, atol=1e-13)
+    both = near & mg.covered
+    np.testing.assert_allclose(ev.normals[both], mg.normals[both], rtol=0, atol=1e-13)
     assert ev.gradient().shape == (kin.points.shape[0], free.size)
 
 

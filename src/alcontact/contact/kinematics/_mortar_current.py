@@ -60,8 +60,8 @@ to round-off, on curved interfaces too (:meth:`CurrentMortarGap.contact_force`).
 
 Large sliding: the candidate master segments of every slave segment come from a
 :class:`scipy.spatial.cKDTree` on the current master segment midpoints, rebuilt at every
-evaluation (every Newton iteration and line-search trial); only facing segments
-(:math:`n_s\cdot n_m < 0`) are paired. A slave node whose support the current master covers
+evaluation (every Newton iteration and line-search trial), within the search distance and
+:data:`_REACH` slave element sizes; only facing segments (:math:`n_s\cdot n_m < 0`) are paired. A slave node whose support the current master covers
 for less than :data:`~alcontact.contact.kinematics._mortar.COVER_MIN` of its current length
 is open: its gap is the search distance below zero and its row is empty.
 """
@@ -83,6 +83,10 @@ _GAUSS_X = np.array([0.5 - 0.5 / np.sqrt(3.0), 0.5 + 0.5 / np.sqrt(3.0)])
 _GAUSS_W = np.array([0.5, 0.5])
 #: integrated quantities of a slave node: S, Y (2), V (2), then its own position x (2)
 _NZ = 7
+#: candidate master segments lie within this many slave element sizes of a slave segment (and within the
+#: search distance): the search is redone at every evaluation, so it only has to reach as far as the
+#: contact zone moves in one Newton iteration, and the pairs stay O(n) on long interfaces
+_REACH = 10.0
 
 
 def _rot(t0, t1):
@@ -289,9 +293,11 @@ class CurrentMortarGap:
         self.evaluations = 0
         self._state: _State | None = None
         self._key: bytes | None = None
+        self.h = float(np.median(ss.lengths))  # the search's reach until the contact zone's own size is known
         covered = self._state_at(np.zeros(self.ndofs), gradient=False).covered
         near = covered if np.any(covered) else np.ones(m, bool)
         self.h = float(np.median(ss.lengths[near[ss.ends].any(axis=1)]))
+        self._state = self._key = None
 
     # ------------------------------------------------------------------ ContactKinematics
     def gaps(self, u: np.ndarray, idx: np.ndarray | None = None) -> np.ndarray:
@@ -350,7 +356,7 @@ class CurrentMortarGap:
         xa, xb = x[ss.ends[:, 0]], x[ss.ends[:, 1]]
         yc, yd = y[ms.ends[:, 0]], y[ms.ends[:, 1]]
         ls, lm = np.linalg.norm(xb - xa, axis=1), np.linalg.norm(yd - yc, axis=1)
-        radius = self.search + 0.5 * (float(ls.max()) + float(lm.max()))
+        radius = min(self.search, _REACH * self.h) + 0.5 * (float(ls.max()) + float(lm.max()))
         cands = cKDTree(0.5 * (yc + yd)).query_ball_point(0.5 * (xa + xb), r=radius)
         s_idx = np.repeat(np.arange(len(cands)), [len(c) for c in cands])
         m_idx = np.concatenate([np.asarray(c, dtype=np.int64) for c in cands]) if s_idx.size else \
