@@ -10,7 +10,6 @@ the same equations). ``alcontact check`` names the key of each combination that 
 
 from __future__ import annotations
 
-import shutil
 import sys
 from pathlib import Path
 
@@ -19,7 +18,6 @@ import pytest
 
 from alcontact.contact import solve
 from alcontact.errors import ConfigError
-from alcontact.io.config import load_problem_text
 from alcontact.io.preflight import check_problem
 from alcontact.problems.two_body import ironing_two_body_history
 

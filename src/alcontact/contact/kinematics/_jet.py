@@ -126,7 +126,3 @@ class Jet:
         m = np.asarray(mask, dtype=bool)
         h = None if a.h is None else np.where(m[:, None, None], a.h, b.h)
         return Jet(np.where(m, a.v, b.v), np.where(m[:, None], a.g, b.g), h)
-
-    def take(self, idx: np.ndarray) -> "Jet":
-        """The evaluations ``idx``."""
-        return Jet(self.v[idx], self.g[idx], None if self.h is None else self.h[idx])
