@@ -2,7 +2,7 @@
 
 ``tests/data/ironing_two_body/ironing_two_body.toml`` is :func:`alcontact.problems.two_body.ironing_two_body`
 (``n = 10``, slid by one radius in 20 steps after 4 pressing steps) as a problem file (its meshes are
-those of the Python API, written as Gmsh files by ``write_meshes.py``; the two ramps of the punch's top
+those of the Python API, written as Gmsh files by ``write_ironing_meshes.py``; the two ramps of the punch's top
 are the API's :func:`~alcontact.problems.two_body.ironing_two_body_history`). Reference: the Python API's
 solution of the same problem (1e-10 relative on the forces, the pressures and every nodal displacement:
 the same equations). ``alcontact check`` names the key of each combination that cannot run.
@@ -23,7 +23,7 @@ from alcontact.problems.two_body import ironing_two_body_history
 
 DATA = Path(__file__).resolve().parents[1] / "data" / "ironing_two_body"
 sys.path.insert(0, str(DATA))
-from write_meshes import PARAMETERS, write_meshes  # noqa: E402
+from write_ironing_meshes import PARAMETERS, write_meshes  # noqa: E402
 
 TOML = (DATA / "ironing_two_body.toml").read_text(encoding="utf-8")
 

@@ -1,7 +1,7 @@
 """Issue 23: a problem file with three ``[[body]]`` tables and two two-body pairs (``[contact]`` and ``[[pair]]``).
 
 ``tests/data/seal/seal.toml`` is :func:`alcontact.problems.two_body.seal` (``n = 8``) as a problem file
-(its meshes are the Python API's, written as Gmsh 4.1 files by ``write_meshes.py``, whose physical line
+(its meshes are the Python API's, written as Gmsh 4.1 files by ``write_seal_meshes.py``, whose physical line
 groups keep the cord's interior symmetry lines). Reference: the Python API's solution of the same
 problem (1e-10 relative on the pair forces, the pressures and every nodal displacement: the same
 equations). ``alcontact check`` names the key of a ``[[pair]]`` that cannot run.
@@ -22,8 +22,8 @@ from alcontact.problems.two_body import seal
 
 DATA = Path(__file__).resolve().parents[1] / "data" / "seal"
 sys.path.insert(0, str(DATA))
-from write_meshes import PARAMETERS  # noqa: E402
-from write_meshes import write_meshes as write_seal_meshes  # noqa: E402
+from write_seal_meshes import PARAMETERS  # noqa: E402
+from write_seal_meshes import write_meshes as write_seal_meshes  # noqa: E402
 
 TOML = (DATA / "seal.toml").read_text(encoding="utf-8")
 

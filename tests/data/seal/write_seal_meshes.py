@@ -4,7 +4,7 @@ The problem file ``seal.toml`` beside this script reads them (``cord.msh``, ``lo
 ``tests/regression/test_issue23_seal_problem_file.py`` compares its run with the Python API's. Run from
 the repository root::
 
-    python tests/data/seal/write_meshes.py
+    python tests/data/seal/write_seal_meshes.py
 """
 
 from __future__ import annotations

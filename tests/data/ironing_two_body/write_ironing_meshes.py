@@ -4,7 +4,7 @@ The problem file ``ironing_two_body.toml`` beside this script reads them (``bloc
 ``tests/regression/test_issue23_finite_two_body_problem_file.py`` compares its run with the Python
 API's. Run from the repository root::
 
-    python tests/data/ironing_two_body/write_meshes.py
+    python tests/data/ironing_two_body/write_ironing_meshes.py
 """
 
 from __future__ import annotations
