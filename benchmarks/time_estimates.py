@@ -20,6 +20,11 @@ in a fresh process, the best of ``--repeats`` runs (the machines are shared).
 
 ``--bench`` also times ``alcontact bench --quick`` per suite (read from ``bench.md``).
 
+``--add FILE`` times one more problem file and adds (or replaces) its row with the committed
+coefficients (no refit); its time is normalized to the calibration's conditions by
+``hertz_2d.toml`` timed in the same run (raw time x committed / same-run time of hertz_2d); the
+report lists it apart with the raw times.
+
 Writes ``src/alcontact/io/time_calibration.json`` (the coefficients and the machine they were
 measured on, read by :mod:`alcontact.io.preflight` and :func:`alcontact.runner.quick_bench_seconds`),
 ``docs/benchmarks/time_estimates.csv`` and ``docs/benchmarks/time_estimates.md`` (estimate
@@ -28,6 +33,7 @@ against measured per example, the ratio, and the machine).
 Usage::
 
     python benchmarks/time_estimates.py [--repeats 2] [--bench] [--out docs/benchmarks]
+    python benchmarks/time_estimates.py --add examples/two_cylinders.toml
 """
 
 from __future__ import annotations
@@ -87,6 +93,47 @@ def time_run(path: Path, tmp: Path, repeats: int) -> float:
     return float(best)
 
 
+def add_file(path: Path, repeats: int, out: Path) -> int:
+    """``--add``: time ``path`` and add its row to the committed calibration with the committed coefficients.
+
+    The wall time of ``alcontact run FILE`` as for the other rows (best of ``repeats``), normalized to the
+    calibration's conditions by ``hertz_2d.toml`` timed in the same run: ``measured_s = raw * committed /
+    now`` of hertz_2d (the machine's load changes both alike); the row keeps ``measured_raw_s``."""
+    from alcontact.io.preflight import check_problem
+
+    cal = json.loads(CALIBRATION.read_text())
+    ref = EXAMPLES / "hertz_2d.toml"
+    with tempfile.TemporaryDirectory() as td:
+        row = features(path)
+        times = [(time_run(path, Path(td), 1), time_run(ref, Path(td), 1)) for _ in range(repeats)]  # interleaved
+        row["measured_s"] = min(t for t, _ in times)
+        ref_s = min(t for _, t in times)
+    row["estimate_s"] = float(check_problem(path).run_seconds)  # the committed coefficients
+    ref_old = next(r["measured_s"] for r in cal["examples"] if r["file"] == ref.name)
+    row["measured_raw_s"] = row["measured_s"]
+    row["measured_s"] = row["measured_raw_s"] * ref_old / ref_s
+    cal["examples"] = [r for r in cal["examples"] if r["file"] != row["file"]] + [row]
+    CALIBRATION.write_text(json.dumps(cal, indent=1) + "\n")
+    ratio = row["estimate_s"] / row["measured_s"]
+    line = (f"| {row['file']} | {row['ndofs']} | {row['steps']} | {'yes' if row['friction'] else ''} | "
+            f"{'yes' if row['finite'] else ''} | {row['estimate_s']:.2f} | {row['measured_s']:.2f} | {ratio:.2f} | "
+            f"{row['measured_raw_s']:.2f} | {ref_s:.2f} (committed {ref_old:.2f}) |")
+    md = out / "time_estimates.md"
+    text = md.read_text() if md.is_file() else ""
+    head = "## Added with `--add` (committed coefficients, not refitted)"
+    lines = [x for x in text.splitlines() if not x.startswith(f"| {row['file']} |")]
+    if head not in lines:
+        lines += ["", head, "", "measured = raw x (committed / same-run time of hertz_2d.toml, runs interleaved, "
+                  "best of each): the run in the calibration's conditions.", "",
+                  "| problem file | DOFs | steps | friction | finite | estimate (s) | measured (s) | "
+                  "estimate / measured | measured, raw (s) | hertz_2d.toml in the same run (s) |",
+                  "|---|---|---|---|---|---|---|---|---|---|"]
+    lines.append(line)
+    md.write_text("\n".join(lines) + "\n")
+    print(line)
+    return 0
+
+
 def design(rows: list[dict]) -> np.ndarray:
     """Columns of the fitted terms: 1, S, S [friction], S [finite], n S."""
     return np.array([[1.0, r["steps"], r["steps"] * r["friction"], r["steps"] * r["finite"],
@@ -121,7 +168,11 @@ def main(argv=None) -> int:
     ap.add_argument("--repeats", type=int, default=2)
     ap.add_argument("--bench", action="store_true", help="also time `alcontact bench --quick`")
     ap.add_argument("--out", type=Path, default=ROOT / "docs" / "benchmarks")
+    ap.add_argument("--add", type=Path, default=None, help="time one more problem file and add its row (committed "
+                                                           "coefficients)")
     args = ap.parse_args(argv)
+    if args.add is not None:
+        return add_file(args.add, args.repeats, args.out)
 
     old = json.loads(CALIBRATION.read_text()) if CALIBRATION.is_file() else {}
     with tempfile.TemporaryDirectory() as td:

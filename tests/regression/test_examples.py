@@ -16,7 +16,7 @@ from alcontact.runner import run_setup
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 NAMES = ["hertz_2d", "hertz_3d", "flat_punch", "signorini_liftoff", "sliding_block", "cattaneo_mindlin",
          "finite_half_cylinder", "finite_ironing", "finite_ironing_friction", "finite_mooney_rivlin",
-         "rubber_ball_axisym", "seal_oring"]
+         "rubber_ball_axisym", "seal_oring", "two_cylinders"]
 
 
 def _run(name):
@@ -267,3 +267,13 @@ def test_seal_oring_mixed_axisymmetric_squeeze_without_cutback():
     assert np.all(np.diff(fz) < 0) and fz[0] < 0  # the cover pushes down (-z), more at every step
     fr, fz_end = s["final_contact_force"]
     assert fr < -0.01 * abs(fz_end)  # the outer wall pushes the ring inwards
+
+
+def test_two_cylinders_from_one_gmsh_file_match_hertz():
+    """Two bodies read from one Gmsh file (a physical group each): Hertz with E* within 2 %, action = reaction."""
+    setup, res = _run("two_cylinders")
+    assert len(setup.problem.model.bodies) == 2
+    s = res.summary
+    assert s["contact_half_width"] == pytest.approx(s["contact_half_width_exact"], rel=0.02)
+    assert s["peak_pressure"] == pytest.approx(s["peak_pressure_exact"], rel=0.02)
+    assert s["contact_force_balance"] <= 1e-10

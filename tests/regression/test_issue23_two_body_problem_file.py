@@ -1,10 +1,11 @@
 """Issue 23 (problem files and outputs): a problem file with two ``[[body]]`` tables and a two-body pair.
 
-``tests/data/two_cylinders/two_cylinders.toml`` is the problem of ``examples/two_cylinders.py``,
-:func:`alcontact.problems.two_body.hertz_cylinders` at level 1, written as a problem file (its two
-meshes are those of the Python API, written as Gmsh files by ``make_meshes.py``). References:
-the Python API's solution of the same problem (1e-10 relative: the same equations, only the node
-numbering of the Gmsh files differs), and Hertz with the effective modulus and radius (Johnson,
+``examples/two_cylinders.toml`` is the problem of ``examples/two_cylinders.py``,
+:func:`alcontact.problems.two_body.hertz_cylinders` at level 0, written as a problem file: both
+bodies are read from one Gmsh file, ``examples/two_cylinders.msh`` (one physical group of
+triangles per body, ``[body.mesh] group``; written by ``examples/two_cylinders_mesh.py`` from the
+Python API's meshes). References: the Python API's solution of the same problem (1e-10 relative:
+the same equations and node order), and Hertz with the effective modulus and radius (Johnson,
 Contact Mechanics, eq. 4.45-4.47) within 2 %, the tolerance of
 ``tests/verification/test_two_body_mortar.py``. ``alcontact check`` names the key of each
 bad pair, and bodies of different dimensions.
@@ -12,8 +13,7 @@ bad pair, and bodies of different dimensions.
 
 from __future__ import annotations
 
-import shutil
-import sys
+import runpy
 from pathlib import Path
 
 import numpy as np
@@ -25,22 +25,41 @@ from alcontact.io.config import load_problem_text
 from alcontact.io.preflight import check_problem
 from alcontact.problems.two_body import hertz_cylinders
 
-DATA = Path(__file__).resolve().parents[1] / "data" / "two_cylinders"
-sys.path.insert(0, str(DATA))
-from make_meshes import LEVEL, write  # noqa: E402
-
-TOML = (DATA / "two_cylinders.toml").read_text(encoding="utf-8")
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
+LEVEL = runpy.run_path(str(EXAMPLES / "two_cylinders_mesh.py"))["LEVEL"]
+TOML = (EXAMPLES / "two_cylinders.toml").read_text(encoding="utf-8")
+LOWER = 'mesh = { generator = "file", file = "two_cylinders.msh", group = "lower" }'
+UPPER = 'mesh = { generator = "file", file = "two_cylinders.msh", group = "upper" }'
 
 
 @pytest.fixture(scope="module")
-def folder(tmp_path_factory):
-    """The problem file and its two meshes in a fresh folder."""
-    out = tmp_path_factory.mktemp("two_cylinders")
-    lower, upper = hertz_cylinders(LEVEL).model.bodies
-    write(lower, out / "lower.msh")
-    write(upper, out / "upper.msh")
-    (out / "two_cylinders.toml").write_text(TOML, encoding="utf-8")
-    return out
+def folder():
+    """The folder of the problem file and its mesh."""
+    return EXAMPLES
+
+
+def test_committed_mesh_is_what_the_script_writes(tmp_path):
+    from alcontact.fem import meshes
+
+    ns = runpy.run_path(str(EXAMPLES / "two_cylinders_mesh.py"))
+    fresh, committed = meshes.read(ns["main"](tmp_path / "m.msh")), meshes.read(EXAMPLES / "two_cylinders.msh")
+    assert np.array_equal(fresh.p, committed.p) and np.array_equal(fresh.t, committed.t)
+    assert sorted(committed.subdomains) == ["lower", "upper"]
+
+
+def test_each_group_is_one_body_with_its_own_boundaries(folder):
+    """``select_group``: the cells of one physical group, with the part of every boundary group on it."""
+    from alcontact.fem import meshes
+
+    whole = meshes.read(folder / "two_cylinders.msh")
+    api = hertz_cylinders(LEVEL).model.bodies
+    for name, body in zip(("lower", "upper"), api):
+        part = meshes.select_group(whole, name)
+        assert np.array_equal(part.p, body.mesh.p) and np.array_equal(part.t, body.mesh.t)
+        for b in ("top", "bottom", "left", "right"):
+            got = {tuple(sorted(f)) for f in part.facets[:, part.boundaries[b]].T}
+            want = {tuple(sorted(f)) for f in body.mesh.facets[:, body.mesh.boundaries[b]].T}
+            assert got == want, (name, b)
 
 
 def test_two_cylinders_file_matches_python_api_and_hertz(folder):
@@ -93,9 +112,19 @@ def test_two_body_pair_errors_name_the_key(folder, key, old, new, says):
     assert says in issues[key], issues[key]
 
 
+@pytest.mark.parametrize("key, old, new, says", [
+    ("body[1].mesh.group", 'group = "lower"', 'group = "lowr"', "its physical groups of surfaces: lower, upper"),
+    ("body[1].mesh.group", LOWER, 'mesh = { generator = "rectangle", bounds = [0, 1, -1, 0], cells = [2, 2], '
+                                  'group = "lower" }', "not used with generator = 'rectangle'"),
+])
+def test_bad_mesh_group_is_named(folder, key, old, new, says):
+    issues = _issues(TOML.replace(old, new, 1), folder)
+    assert key in issues, issues
+    assert says in issues[key], issues[key]
+
+
 def test_bodies_of_different_dimensions_are_refused(folder):
-    text = TOML.replace('mesh = { generator = "file", file = "lower.msh" }',
-                        'mesh = { generator = "box", bounds = [0, 1, 0, 1, -1, 0], cells = [1, 1, 1] }')
+    text = TOML.replace(LOWER, 'mesh = { generator = "box", bounds = [0, 1, 0, 1, -1, 0], cells = [1, 1, 1] }')
     issues = _issues(text, folder)
     assert "body" in issues and "different dimensions" in issues["body"], issues
     assert "body0: 3D" in issues["body"] and "body1: 2D" in issues["body"]
@@ -106,12 +135,12 @@ PER_BODY = """
 name = "two-cylinders, supports per body"
 
 [[body]]
-mesh = { generator = "file", file = "lower.msh" }
+mesh = { generator = "file", file = "two_cylinders.msh", group = "lower" }
 material = { E = 200e3, nu = 0.3 }
 support = [{ boundary = "bottom" }, { boundary = "left", components = [0] }]
 
 [[body]]
-mesh = { generator = "file", file = "upper.msh" }
+mesh = { generator = "file", file = "two_cylinders.msh", group = "upper" }
 material = { E = 70e3, nu = 0.35 }
 support = [{ boundary = "left", components = [0] },
            { boundary = "top", components = [1], value = -0.1894439727056968 }]

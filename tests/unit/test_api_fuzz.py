@@ -116,6 +116,17 @@ def _finite_problem():
                           supports=[Support("top", (1,), -0.01), Support("left", (0,))], kinematics="finite")
 
 
+def _rigid_problem():
+    """A block under a rigid flat punch (a ``RigidBody``), its pose held: the problem of ``pair_start``."""
+    from alcontact.contact import Boundary, ContactPair, ContactProblem, RigidBody, Support
+    from alcontact.contact.obstacles import HalfSpace
+
+    body = _model()
+    punch = RigidBody(HalfSpace((0.0, 1.0), (0.0, -1.0)), [0.5, 1.0])
+    return ContactProblem(bodies=[body, punch], pairs=[ContactPair(Boundary(body, "top"), punch)],
+                          supports=[Support("body0/bottom"), Support("body1")])
+
+
 def _pair_form():
     """Arguments of the pair form of ``ContactProblem`` (one body, one pair against a plane)."""
     from alcontact.contact import Boundary, ContactPair, Support
@@ -166,6 +177,11 @@ def _entries() -> dict:
         "contact.Boundary": (contact.Boundary, lambda: ((_model(), "bottom"), {}), [0, 1]),
         "contact.BodySurface": (contact.BodySurface, lambda: ((_model(), "top"), {}), [0, 1, "search_distance"]),
         "fem.MultiBody": (fem.MultiBody, lambda: (([_model(), _model()],), {}), [0, "names"]),
+        "contact.RigidBody": (contact.RigidBody, lambda: ((contact.obstacles.HalfSpace((0.0, 1.0), (0.0, -1.0)),
+                                                           [0.5, 1.0]), {}), [0, 1]),
+        "contact.RigidLoad": (contact.RigidLoad, lambda: (("body1",), {"force": [0.0, -1.0], "moment": 0.0}),
+                              [0, "force", "moment"]),
+        "contact.pair_start": (contact.pair_start, lambda: ((_rigid_problem(),), {}), [0]),
         "contact.ContactPair": (contact.ContactPair, lambda: ((contact.Boundary(_model(), "bottom"), half()), {}),
                                 [0, 1, "friction"]),
         "contact.ContactProblem(bodies, pairs)": (contact.ContactProblem, _pair_form, ["bodies", "pairs", "supports",
@@ -318,7 +334,7 @@ NOT_CALLED = {
                      "FrictionSolution",
                      "FrictionStep", "FiniteSolution", "FiniteStep", "FiniteFrictionSolution", "FiniteFrictionStep",
                      "ALResult", "IterationRecord", "Status", "PenaltyFacts", "ProblemSetup", "HertzReference",
-                     "MindlinReference"], "a result or record the solvers build, not an input"),
+                     "MindlinReference", "PairStart"], "a result or record the solvers build, not an input"),
     **dict.fromkeys(["Body", "HyperelasticLaw", "Obstacle", "Penalty", "PenaltyBase", "Generator",
                      "Master"],
                     "a protocol or abstract base class"),

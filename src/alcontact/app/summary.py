@@ -15,8 +15,10 @@ from .. import __version__
 __all__ = ["summarize", "setup_summary", "equilibrium_keys", "what_to_try", "ADVICE"]
 
 #: keys of ``solution.extra`` of a two-body (mortar) pair copied to ``summary.json``: the contact force on each
-#: side and ``contact_force_balance`` = |F_slave + F_master| / |F_slave| (action = reaction)
-TWO_BODY_KEYS = ("slave_contact_force", "master_contact_force", "contact_force_balance")
+#: side and ``contact_force_balance`` = |F_slave + F_master| / |F_slave| (action = reaction); ``rigid_bodies``: the pose,
+#: contact force and moment, applied load and reaction of every rigid body (:class:`alcontact.contact.RigidBody`)
+TWO_BODY_KEYS = ("slave_contact_force", "master_contact_force", "contact_force_balance", "rigid_bodies",
+                 "body_contact_forces", "contact_pairs")
 
 
 def _finite_or_none(x) -> float | None:

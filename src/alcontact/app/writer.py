@@ -125,7 +125,9 @@ def _prescribed(setup, t: float) -> dict[str, float]:
             comps = range(dim) if item.components is None else item.components
             for c in comps:
                 v = item.value if np.ndim(item.value) == 0 else item.value[c]
-                key = f"prescribed_u_{item.boundary}_{'xyz'[c]}"
+                # components past the dimension are a rigid body's rotations (contact.RigidBody)
+                axis = "xyz"[c] if c < dim else ("rot_z" if dim == 2 else f"rot_{'xyz'[c - dim]}")
+                key = f"prescribed_u_{item.boundary}_{axis}"
                 out[key] = out.get(key, 0.0) + float(v) * a
         else:
             out["load_factor_" + re.sub(r"\W+", "_", str(case.name or case.label)).strip("_")] = a
@@ -170,6 +172,22 @@ def _prescribed_quantities(setup, rows, final) -> list[tuple[str, str, bool]]:
     return out
 
 
+def _rigid_columns(states: dict) -> dict[str, float]:
+    """Columns of the rigid bodies' states of one frame (``extra["rigid_bodies"]``): ``rigid_<body>_u_x``,
+    ``rigid_<body>_rot_z``, ``rigid_<body>_reaction_F_y``, ``rigid_<body>_reaction_M_z``, ``rigid_<body>_contact_F_y``,
+    ... (the reaction: what the prescribed components' drive applies; the contact force and moment on the body)."""
+    row: dict[str, float] = {}
+    for name, st in states.items():
+        rot = ["z"] if len(st["displacement"]) == 2 else ["x", "y", "z"]
+        head = f"rigid_{name}_"
+        row.update({f"{head}u_{c}": float(v) for c, v in zip("xyz", st["displacement"])})
+        row.update({f"{head}rot_{c}": float(v) for c, v in zip(rot, st["rotation"])})
+        for key in ("reaction", "contact"):
+            row.update({f"{head}{key}_F_{c}": float(v) for c, v in zip("xyz", st[f"{key}_force"])})
+            row.update({f"{head}{key}_M_{c}": float(v) for c, v in zip(rot, st[f"{key}_moment"])})
+    return row
+
+
 def _step_rows(setup, frames, controls) -> list[dict[str, Any]]:
     from ..viz.plots import contact_half_width
 
@@ -210,6 +228,7 @@ def _step_rows(setup, frames, controls) -> list[dict[str, Any]]:
             _, dofs = model.node_dofs(boundary)
             row[f"u_{label}"] = float(np.mean(np.asarray(fr.u)[dofs[:, comp]]))
         row.update(_prescribed(setup, row["t"]))
+        row.update(_rigid_columns(fr.extra.get("rigid_bodies", {})))
         rows.append(row)
     return rows
 
@@ -244,7 +263,7 @@ def _reaction_rows(rows, controls) -> list[dict[str, Any]]:
     keep = ("step", "t", "requested") + tuple(f"u_{c[0]}" for c in controls)
     lead = ("prescribed_u_", "load_factor_", "obstacle_")
     return [{**{k: v for k, v in r.items() if k in keep or k.startswith(lead)},
-             **{k: v for k, v in r.items() if k.startswith(("reaction_", "force_"))}} for r in rows]
+             **{k: v for k, v in r.items() if k.startswith(("reaction_", "force_", "rigid_"))}} for r in rows]
 
 
 def _write_rows_csv(path, rows) -> Path:
@@ -305,7 +324,7 @@ def write_setup_results(folder: Path, setup, frames, summary: dict) -> list[str]
             files.append("history.csv")
         _write_rows_csv(folder / "steps.csv", rows)
         files.append("steps.csv")
-        if setup.finite:
+        if setup.finite or any(fr.extra.get("rigid_bodies") for fr in frames):  # per step: supports' or rigid bodies' reactions
             _write_rows_csv(folder / "reaction_force.csv", _reaction_rows(rows, controls))
             files.append("reaction_force.csv")
     if o["plots"]:
@@ -316,6 +335,13 @@ def write_setup_results(folder: Path, setup, frames, summary: dict) -> list[str]
         save_pressure_plot(final, folder / "pressure.png", mindlin=setup.mindlin,
                            axis=int(meta.get("symmetry_axis", 0)), units=units)
         files.append("pressure.png")
+        if "master_side" in final.extra:  # a pair between two bodies: the pressure on both sides
+            from ..viz.interface import save_interface_pressure_plot
+
+            save_interface_pressure_plot(final, folder / "interface_pressure.png",
+                                         axis=int(meta.get("symmetry_axis", 0)), units=units,
+                                         title=f"{setup.name}: contact pressure on both sides")
+            files.append("interface_pressure.png")
         if friction:
             save_figure(steps_figure(rows, title=f"{setup.name}: {summary['status']}"), folder / "convergence.png")
         else:

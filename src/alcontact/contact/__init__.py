@@ -39,9 +39,10 @@ from .algorithms import (DEFAULT_PENALTY, ContactOptions, FrictionOptions, algor
                          contact_penalties, describe_algorithms, find_algorithm, finite_friction_algorithms,
                          friction_algorithm_docs, friction_algorithms, friction_only_options)
 from .kinematics._points import _element_size as contact_element_size
-from .masters import BodySurface, Master, obstacles
+from .kinematics._start import PairStart, pair_start
+from .masters import BodySurface, Master, RigidBody, obstacles
 from .problem import (KINEMATICS, BodyForce, Boundary, ContactPair, ContactProblem, LoadCase, LoadHistory, Pressure,
-                      Ramp, Support, Traction, merge_supports, problem_at)
+                      Ramp, RigidLoad, Support, Traction, merge_supports, problem_at)
 from .solution import (ContactFrame, ContactIteration, ContactResult, ContactSolution, ContactStatus,
                        FiniteFrictionSolution, FiniteFrictionStep, FiniteSolution, FiniteStep, FrictionSolution,
                        FrictionStep)
@@ -56,6 +57,8 @@ __all__ = [
     "Boundary",
     "Master",
     "BodySurface",
+    "RigidBody",
+    "RigidLoad",
     "Support",
     "Traction",
     "Pressure",
@@ -97,5 +100,7 @@ __all__ = [
     "find_algorithm",
     "friction_only_options",
     "contact_element_size",
+    "pair_start",
+    "PairStart",
     "merge_supports",
 ]

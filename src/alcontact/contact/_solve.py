@@ -25,6 +25,8 @@ from .algorithms._frictionless import (ContactOptions, _Run, available_algorithm
 from .laws._stiffness import penalty_stiffness
 from .problem._loading import LoadHistory, problem_at
 from .solution._frames import finite_friction_solution, finite_solution, friction_solution, stepped_solution
+from .solution._rigid import rigid_body_results
+from .solution._sides import two_body_sides
 from .solution._solution import ContactResult, ContactSolution, ContactStatus
 from .stepping._coulomb import finite_friction_steps, solve_finite_friction as _finite_friction_engine, \
     solve_friction as _friction_engine
@@ -154,7 +156,10 @@ def _solve_static(problem, algorithm: str = DEFAULT_ALGORITHM, penalty: str | No
         logger.warning("contact solve %s/%s failed (%s): %s", algorithm, pen_name, out.status.label, out.message)
     t_end = time.perf_counter()
     timings = dict(dc.timings(), solve_s=t_end - t_solve, total_s=t_end - t_start)
-    two_body = {} if dc.mortar is None else _force_balance(dc, nodal)
+    two_body = {} if dc.mortar is None else {
+        **_force_balance(dc, nodal),
+        **two_body_sides(problem, dc.mortar, nodal, g_all),
+        **rigid_body_results(problem.model, u, dc.mortar.contact_force(nodal), problem.load_vector(), fixed)}
     return ContactSolution(
         problem=problem,
         u=u,

@@ -97,9 +97,9 @@ class MultiBody:
                                  "finite deformation).")
         kinds = {bool(b.linear) for b in bodies}
         if len(kinds) != 1:
-            raise InputError("MultiBody: some bodies are linear elastic and others hyperelastic: give bodies of one "
-                             "kind (all LinearElasticity for kinematics='small', all Hyperelastic for "
-                             "kinematics='finite').")
+            raise InputError("MultiBody: some bodies are linear (linear elastic or rigid) and others hyperelastic: "
+                             "give bodies of one kind (LinearElasticity and rigid bodies for kinematics='small', "
+                             "all Hyperelastic for kinematics='finite').")
         self.linear = kinds.pop()
         dims = {int(b.dim) for b in bodies}
         if len(dims) != 1:
@@ -133,8 +133,10 @@ class MultiBody:
     # ------------------------------------------------------------ names and DOFs
     @property
     def material(self):
-        """The material of the stiffest body (largest plane-strain modulus): the scale of penalty stiffnesses."""
-        return max((b.material for b in self.bodies), key=lambda m: m.plane_strain_modulus)
+        """The material of the stiffest body (largest plane-strain modulus): the scale of penalty stiffnesses.
+
+        Bodies without a material (a rigid body, :class:`alcontact.contact.RigidBody`) do not count."""
+        return max((b.material for b in self.bodies if b.material is not None), key=lambda m: m.plane_strain_modulus)
 
     @property
     def boundary_names(self) -> list[str]:
@@ -158,6 +160,9 @@ class MultiBody:
         """
         if not isinstance(name, str):
             raise MeshError(f"boundary {name!r} is not a name; known: {', '.join(self.boundary_names)}.")
+        if name in self.names and len(self.bodies[self.names.index(name)].boundary_names) == 1:
+            i = self.names.index(name)  # a body of one boundary (a rigid body's reference point) by its name
+            return i, self.bodies[i].boundary_names[0]
         if SEP in name:
             head, tail = name.split(SEP, 1)
             if head in self.names:
@@ -319,9 +324,16 @@ class MultiBody:
                 raise InputError(f"body {self.names[i]!r}: {exc}") from None
 
     def rigid_modes(self) -> np.ndarray:
-        """``(ndofs, k)`` rigid-body modes of every body, each zero on the other bodies (block by block)."""
+        """``(ndofs, k)`` rigid-body modes of every body, each zero on the other bodies (block by block).
+
+        A body that gives its own modes (``rigid_modes()``: a rigid body's DOFs are all rigid motions) gives them."""
         blocks = []
         for b, off in zip(self.bodies, self.offsets[:-1]):
+            if hasattr(b, "rigid_modes"):
+                R = np.zeros((self.ndofs, b.ndofs))
+                R[off: off + b.ndofs] = b.rigid_modes()
+                blocks.append(R)
+                continue
             pts, dofs = b.all_node_dofs()
             modes, _ = b._rigid_modes(pts) if hasattr(b, "_rigid_modes") else rigid_body_modes(pts)
             R = np.zeros((self.ndofs, modes.shape[-1]))

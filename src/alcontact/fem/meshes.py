@@ -732,3 +732,47 @@ def read(path: str | os.PathLike[str]):
         sorted(mesh.boundaries or {}), sorted(mesh.subdomains or {}),
     )
     return mesh
+
+
+def select_group(mesh, group: str):
+    """The part of ``mesh`` made of the cells of its physical group ``group``: one body of a mesh of several.
+
+    A Gmsh file may hold several bodies, each a physical group of cells (surfaces in 2D, volumes
+    in 3D) with its own boundary groups; two bodies that touch share the nodes of their common
+    boundary in the file and get their own copies here (the contact pair between them starts
+    closed, gap zero). The part keeps the facet groups (``mesh.boundaries``) that lie on its
+    boundary, restricted to its facets; groups with none of them are dropped, so a boundary name
+    used by several bodies (``"top"``) names each body's own part of it.
+
+    Parameters
+    ----------
+    mesh : skfem.Mesh
+        A mesh read by :func:`read` (first order).
+    group : str
+        The physical name of a cell group (``mesh.subdomains``).
+
+    Raises
+    ------
+    alcontact.errors.MeshError
+        No cell group of that name (the message lists the mesh's cell groups), or a second-order mesh.
+
+    Examples
+    --------
+    >>> m = skfem.MeshTri.init_tensor(np.linspace(0, 2, 3), np.linspace(0, 1, 2))
+    >>> m = m.with_subdomains({"left": lambda x: x[0] < 1}).with_boundaries({"bottom": lambda x: x[1] == 0})
+    >>> part = select_group(m, "left")
+    >>> part.nelements, sorted(part.boundaries)
+    (2, ['bottom'])
+    """
+    cells = dict(mesh.subdomains or {})
+    if group not in cells:
+        raise MeshError(f"the mesh has no cell group {group!r}; its physical groups of "
+                        f"{'surfaces' if mesh.dim() == 2 else 'volumes'}: {', '.join(sorted(cells)) or '(none)'}.")
+    if isinstance(mesh, (skfem.MeshTri2, skfem.MeshTet2)):
+        raise MeshError(f"group = {group!r} on a second-order (curved) mesh: selecting one body of it is not "
+                        "supported; write each body to its own file, or mesh with first-order cells.")
+    part = mesh.restrict(cells[group])
+    outer = np.asarray(part.boundary_facets())
+    boundaries = {k: np.intersect1d(v, outer) for k, v in (part.boundaries or {}).items()}
+    return dataclasses.replace(part, _boundaries={k: v for k, v in boundaries.items() if v.size} or None,
+                               _subdomains={group: np.arange(part.nelements)})

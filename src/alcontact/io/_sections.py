@@ -72,22 +72,30 @@ def _read_mesh_file(d: dict, base: Path, issues: list[Issue]):
     p = p if p.is_absolute() else base / p
     try:
         with _quiet():  # meshio prints and calls sys.exit(1) on some unreadable files
-            return meshes.read(p)
+            mesh = meshes.read(p)
     except MeshError as exc:
         issues.append(Issue("mesh.file", f"= {d['file']!r}: {exc}"))
     except SystemExit:
         issues.append(Issue("mesh.file", f"= {d['file']!r}: cannot read mesh file {str(p)!r} (meshio gave up). "
                                          "Export it from Gmsh as .msh (format 2.2 or 4.1)."))
+    else:
+        if not d.get("group"):
+            return mesh
+        try:  # one body of a file of several (fem.meshes.select_group)
+            return meshes.select_group(mesh, d["group"])
+        except MeshError as exc:
+            issues.append(Issue("mesh.group", f"= {d['group']!r}: {d['file']!r}: {exc}"))
     return None
 
 
 def _grid_ok(d: dict, gen: str, dim: int, issues: list[Issue]) -> bool:
     """``bounds`` and ``cells`` of a generated mesh: present, of the right length, non-empty ranges."""
     ok = True
-    if d["file"]:
-        issues.append(Issue("mesh.file", f"not used with generator = {gen!r}; remove it or set "
-                                         "generator = 'file'."))
-        ok = False
+    for key in ("file", "group"):
+        if d.get(key):
+            issues.append(Issue(f"mesh.{key}", f"not used with generator = {gen!r}; remove it or set "
+                                               "generator = 'file'."))
+            ok = False
     for key, n, example in (("bounds", 2 * dim, "[0.0, 1.0, 0.0, 1.0]" if dim == 2 else "[0, 1, 0, 1, 0, 1]"),
                             ("cells", dim, "[8, 8]" if dim == 2 else "[4, 4, 4]")):
         v = d[key]

@@ -32,6 +32,7 @@ from typing import Any
 
 from .._options import BAD, Option, check_value
 from ._issues import Issue, _did_you_mean, _known, _raise
+from ._rigid import rigid_issues, rigid_problem
 from ._sections import build_bodies, build_model, build_problem, build_sections
 from .schema import Table, schema
 
@@ -243,8 +244,11 @@ class ProblemSetup:
             where = f"{len(self.problem.pairs)} contact pairs (" + ", ".join(
                 f"{p.slave.name!r} on {p.master.name}" for p in self.problem.pairs) + ")"
         if hasattr(m, "bodies"):  # [[body]]: several bodies
-            parts = [b.mesh.nelements for b in m.bodies]
-            return (f"{self.name}: {len(parts)} bodies, {m.dim}D, {m.ndofs} DOFs, {sum(parts)} elements, "
+            parts = [b.mesh.nelements for b in m.bodies if b.mesh is not None]  # a rigid body has no mesh
+            rigid = len(m.bodies) - len(parts)
+            count = f"{len(parts)} bodies" if not rigid else \
+                f"{len(parts)} bod{'y' if len(parts) == 1 else 'ies'} and {rigid} rigid bod{'y' if rigid == 1 else 'ies'}"
+            return (f"{self.name}: {count}, {m.dim}D, {m.ndofs} DOFs, {sum(parts)} elements, "
                     f"{where}, {law}, {alg}, {n} load step{'s' if n != 1 else ''}")
         return (f"{self.name}: {m.dim}D P{m.order}{kin}, {m.ndofs} DOFs, {m.mesh.nelements} elements, "
                 f"{where}, {law}, {alg}, {n} load step{'s' if n != 1 else ''}")
@@ -324,6 +328,7 @@ def _build(data: dict, base: Path, issues: list[Issue], source) -> ProblemSetup 
     if data.get("body"):
         return _build_bodies(data, base, issues, source)
     parts = build_sections(data, base, issues)
+    rigid_issues(data, parts.dim, parts.kinematics, parts.mu, issues)
     if issues or not parts.complete():
         if not issues:  # pragma: no cover - every failure above records an issue
             issues.append(Issue("", "the problem could not be built."))
@@ -332,6 +337,7 @@ def _build(data: dict, base: Path, issues: list[Issue], source) -> ProblemSetup 
     if model is None:
         return None
     problem, history = build_problem(data, model, parts, issues)
+    problem, history = rigid_problem(data, problem, history, parts.times, issues)  # [obstacle] reference
     if problem is None or issues:
         return None
     if parts.mu == 0 and parts.friction_ramp is not None:

@@ -44,6 +44,7 @@ import numpy as np
 
 from .._options import VALUE_RANGE
 from ..errors import ConfigError, InputError
+from ._bodies_check import bodies_issues
 from ._sections import low_dim_issue
 from .config import Issue, _raise, _text_of, load_problem, parse_toml, validate_data
 
@@ -370,7 +371,7 @@ def exact_size(setup) -> SizeEstimate:
     # a mixed u-p body's unknowns are its displacement DOFs and one pressure per vertex: the cost model counts
     # the nodes of the displacement field, the size reported is every unknown
     nodes = getattr(model, "ndofs_u", model.ndofs) // model.dim
-    parts = getattr(model, "bodies", [model])  # [[body]]: several bodies, one system
+    parts = [b for b in getattr(model, "bodies", [model]) if b.mesh is not None]  # several bodies (a rigid one: none)
     est = _cost(model.dim, max(b.order for b in parts), nodes, sum(b.mesh.nelements for b in parts), solver,
                 exact=True)
     return _finite_cost(dataclasses.replace(est, key=key, value=value, ndofs=int(model.ndofs)), setup.data)
@@ -698,8 +699,8 @@ def _mixed_solver_issues(setup) -> list[Issue]:
 
 def setup_issues(setup) -> list[Issue]:
     """Issues of a built problem: rigidity on the solver's path, ramped support conflicts, number ranges."""
-    if hasattr(setup.problem.model, "bodies"):  # [[body]]: the checks against a rigid obstacle do not apply
-        return _ramped_support_issues(setup)
+    if hasattr(setup.problem.model, "bodies"):  # several bodies: their own checks (io._bodies_check)
+        return _ramped_support_issues(setup) + bodies_issues(setup, _fixed_dofs(setup))
     issues = _range_issues(setup)
     if issues:  # the rigidity test would report the overflow as a free motion
         return issues

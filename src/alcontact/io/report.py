@@ -29,7 +29,11 @@ _FILE_DOCS = {
     "steps/": "one VTU per load step (referenced by solution.pvd)",
     "reaction_force.csv": "finite deformation: per step the prescribed quantities (support displacements "
                           "prescribed_u_*, obstacle position obstacle_* and its travel along the path, load "
-                          "factors), the support reaction and the contact force",
+                          "factors), the support reaction and the contact force; a rigid body: its pose "
+                          "(rigid_<body>_u_*, _rot_*), the reaction of its prescribed components and the contact "
+                          "force and moment on it, per step",
+    "interface_pressure.png": "a pair between two bodies: the contact pressure along the interface on both sides "
+                              "(slave: solved; master: the slave nodal forces carried by the mortar weights)",
     "reaction_force.png": "reaction and contact force against what was prescribed, one panel per phase of the "
                           "path (press, then slide)",
     "body_pressure.png": "picture of the deformed body coloured by contact pressure",
@@ -167,10 +171,46 @@ def _cost_rows(s: dict) -> list[str]:
     ] + _linear_solve_rows(s)
 
 
+def _vec(v) -> str:
+    return "(" + ", ".join(format(float(x), ".5g") for x in v) + ")"
+
+
+def _pair_lines(s: dict, F: str) -> list[str]:
+    """Pairs between bodies (the contact force on each side, action = reaction) and rigid bodies (pose, forces)."""
+    lines = []
+    pairs = s.get("contact_pairs") or []
+    if pairs:
+        lines += ["## Contact pairs", "",
+                  f"| slave | master | force on the slave ({F}) | force on the master ({F}) | "
+                  "abs(F_s + F_m) / abs(F_s) |", "|---|---|---|---|---|"]
+        lines += [f"| `{p['slave']}` | `{p['master']}` | {_vec(p['slave_force'])} | {_vec(p['master_force'])} | "
+                  f"{_f(p['contact_force_balance'], '.2e')} |" for p in pairs]
+        forces = s.get("body_contact_forces") or {}
+        if forces:
+            lines += ["", "Contact force on each body: " + ", ".join(f"`{k}` {_vec(v)}" for k, v in forces.items())
+                      + f" ({F}).", ""]
+    rigid = s.get("rigid_bodies") or {}
+    if rigid:
+        lines += ["## Rigid bodies", "",
+                  "The pose of the reference point (translation, rotation in radians), the contact force and moment "
+                  "on the body (about its reference point), and the reaction of its prescribed components (what "
+                  "the drive applies; zero on the force-driven ones, which are in equilibrium).", "",
+                  "| body | prescribed | translation | rotation | contact force | contact moment | applied force "
+                  "| applied moment | reaction force | reaction moment |", "|---|---|---|---|---|---|---|---|---|---|"]
+        for name, st in rigid.items():
+            lines.append(f"| `{name}` | {', '.join(st['prescribed']) or 'none'} | {_vec(st['displacement'])} | "
+                         f"{_vec(st['rotation'])} | {_vec(st['contact_force'])} | {_vec(st['contact_moment'])} | "
+                         f"{_vec(st['applied_force'])} | {_vec(st['applied_moment'])} | "
+                         f"{_vec(st['reaction_force'])} | {_vec(st['reaction_moment'])} |")
+        lines.append("")
+    return lines
+
+
 def _figure_lines(files: list[str]) -> list[str]:
     """The plots present in the folder, then the pictures of the body in their own section."""
     lines = []
-    for png, caption in (("pressure.png", "Contact pressure"), ("convergence.png", "Convergence"),
+    for png, caption in (("pressure.png", "Contact pressure"), ("interface_pressure.png", "Pressure on both sides"),
+                         ("convergence.png", "Convergence"),
                          ("load_displacement.png", "Load-displacement curve"),
                          ("reaction_force.png", "Reaction-force curve")):
         if png in files:
@@ -220,6 +260,7 @@ def render_report(summary: dict, files: list[str], *, description: str = "", sou
     lines = (_header_lines(s, description, source) + _reference_rows(s, L, S, F) + _finite_rows(s, notes)
              + _friction_rows(s, L, F, notes) + _cost_rows(s))
     lines += [""] + [line for note in notes for line in (note, "")]
+    lines += _pair_lines(s, F)
     lines += _figure_lines(files) + _file_lines(files, s.get("kinematics") == "finite")
     return "\n".join(lines)
 

@@ -102,7 +102,8 @@ SUMMARY_KEYS: tuple[str, ...] = (
 RESULT_NAMES: frozenset[str] = frozenset({
     "solution.vtu", "solution.pvd", "steps/", "history.csv", "steps.csv", "pressure.png",
     "convergence.png", "load_displacement.png", "report.md", "summary.json",
-    "reaction_force.csv", "reaction_force.png",  # finite-deformation runs
+    "reaction_force.csv", "reaction_force.png",  # finite-deformation runs (reaction_force.csv: rigid bodies too)
+    "interface_pressure.png",  # a pair between two bodies: the pressure on both sides
     "body_pressure.png", "body_von_mises.png",  # pictures of the body (alcontact.viz.pictures)
 })
 

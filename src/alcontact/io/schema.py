@@ -30,6 +30,7 @@ from pathlib import Path
 
 from .._options import (LINEAR_MODEL, MAX_CUTBACKS, MAX_STEPS, OBSTACLE_PATH, REQUIRED, TYPES, UNITS_OPTIONS,
                         VALUE_RANGE, Option, declarations)
+from ._rigid import RIGID_OPTIONS
 
 __all__ = [
     "REQUIRED",
@@ -152,6 +153,10 @@ def _build_schema() -> tuple[Table, ...]:
               "spacing when `[mesh.refine]` is given).", low=1, high=MAX_CELLS_PER_AXIS, lengths=(2, 3)),
             O("file", "str", "", "`file`: a Gmsh `.msh` (or `.geo` with the gmsh module), relative to the problem "
               "file; physical groups name the boundaries and regions."),
+            O("group", "str", "", "`file`: the body is the cells of this physical group of the file (a surface "
+              "in 2D, a volume in 3D), with the boundary groups that lie on it: several `[[body]]` tables read "
+              "one file with several bodies, each its own `group` (a boundary group shared by several bodies, "
+              "e.g. `top`, names each body's own part: `body0/top`, `body1/top`)."),
             O("order", "int", 1, "Polynomial order of the elements: 1 (P1) or 2 (P2).", low=1, high=2),
             O("volumetric", "str", "full", "Volumetric term of linear elasticity: `full` (standard element) or "
               "`p0` (order 2 only: the volumetric strain projected onto element-wise constants, the locking-free "
@@ -259,11 +264,17 @@ def _build_schema() -> tuple[Table, ...]:
             MAX_CUTBACKS,
         )),
         Table("obstacle", "Rigid obstacle from the registry (`alcontact list obstacles`); every other key is a "
-              "parameter of that obstacle, e.g. `center`, `radius`, `point`, `normal`, `vertices`.", (
+              "parameter of that obstacle, e.g. `center`, `radius`, `point`, `normal`, `vertices`. With "
+              "`reference` the obstacle is a rigid body: each component of its pose (translation of the reference "
+              "point, rotation about it) is prescribed (`displacement_x`, ..., `rotation`), force driven and solved "
+              "for (`force_x`, ..., `moment`) or, given neither, held at zero; its pose, contact force and moment "
+              "and reaction are in `summary.json` (`rigid_bodies`), `steps.csv` and `reaction_force.csv` "
+              "(`rigid_body1_*` columns). The body is then `body0`, the rigid body `body1`.", (
             O("type", "str", REQUIRED, "Registered obstacle name, e.g. `circle`, `sphere`, `half-space`, "
               "`convex-polygon`, `surface` (a meshed rigid surface, non-convex allowed: `file` = an STL or Gmsh "
               "file relative to this file, optional `group` = a Gmsh physical group)."),
             OBSTACLE_PATH,
+            *RIGID_OPTIONS,
         ), open=True, required=True),
         Table("pair", "A further contact pair (one table per pair): its own contact boundary against its own "
               "master. On one body, a rigid obstacle, e.g. a block squeezed between two plates: `type` and every "

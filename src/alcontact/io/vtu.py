@@ -33,8 +33,10 @@ Point fields (:data:`POINT_FIELDS`):
 
 Several bodies (a :class:`~alcontact.fem.MultiBody`, two-body contact) are written as one grid with
 the point field ``body`` (the index of the body each point belongs to; filter by it in ParaView
-with "Threshold"); the contact fields are those of the slave boundary, ``0`` / NaN on the other
-bodies.
+with "Threshold"); the contact fields are those of the slave boundary and, on the master body's
+boundary, the master-side pressure and gap of the mortar pair (the slave nodal forces and gaps
+carried by the mortar weights, :mod:`alcontact.contact.solution._sides`); ``0`` / NaN on the other
+bodies. A rigid body has no grid (its pose and forces are in ``summary.json``, ``rigid_bodies``).
 
 Frictional runs add (:data:`FRICTION_FIELDS`, from ``solution.extra``):
 
@@ -217,11 +219,15 @@ def _bodies_point_data(solution, deformed):
     owner = problem.pair_of_points() if len(pairs) > 1 else np.zeros(solution.points.shape[0], dtype=np.int64)
     kinematics = getattr(problem, "kinematics", "small")
     extra = {k: v for k, v in (getattr(solution, "extra", None) or {}).items() if k != "state"}
+    side = extra.get("master_side")  # the master body's pressure and gap (contact.solution._sides)
+    master = getattr(problem.pairs[0].master, "body", None) if side is not None else None
     points, conns, fields, index = [], [], [], []
     cell_type = None
     for i, (body, u) in enumerate(zip(model.bodies, model.split(solution.u))):
+        if body.mesh is None:  # a rigid body: its pose is in summary.json and steps.csv, it has no grid
+            continue
         mine = [k for k, (b, _) in enumerate(located) if b == i]
-        if mine:
+        if mine:  # the slave boundaries of this body (a seal's cord is the slave of two pairs)
             sel = np.isin(owner, mine)
             local = [located[k][1] for k in mine]
 
@@ -233,6 +239,14 @@ def _bodies_point_data(solution, deformed):
                                                            slave_nodes=nodes),
                                    u=u, points=solution.points[sel], pressure=solution.pressure[sel],
                                    gap=solution.gap[sel], active=solution.active[sel], extra=extra)
+        elif body is master:  # the master side of the pair: pressure and gap carried by the mortar weights
+            p_m, g_m = np.asarray(side["pressure"], dtype=float), np.asarray(side["gap"], dtype=float)
+            view = SimpleNamespace(problem=SimpleNamespace(model=body, contact_boundary=side["boundary"],
+                                                           kinematics=kinematics,
+                                                           slave_nodes=lambda b=body, n=side["boundary"]:
+                                                           b.node_dofs(n)),
+                                   u=u, points=side["points"], pressure=p_m, gap=g_m,
+                                   active=np.isfinite(g_m) & (p_m > 0), extra={})
         else:  # no contact field of its own: the first boundary, zero pressure, no gap
             name = body.boundary_names[0]
             pts, _ = body.node_dofs(name)

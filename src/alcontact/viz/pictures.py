@@ -94,7 +94,7 @@ def _body_data(solution):
     if hasattr(model, "bodies") and hasattr(model, "locate"):  # several bodies, stacked body after body
         i, cb = model.locate(cb)
         mesh = model.bodies[i].mesh
-        shift = sum(b.mesh.nvertices for b in model.bodies[:i])
+        shift = sum(b.mesh.nvertices for b in model.bodies[:i] if b.mesh is not None)  # a rigid body: no mesh
     else:
         mesh, shift = model.mesh, 0
     names = mesh.boundaries or {}

@@ -27,7 +27,9 @@ import numpy as np
 
 from ...errors import InputError
 from ._gap import LinearizedGap
+from ..masters._rigid_body import RigidBody
 from ._mortar import MortarKinematics, mortar_gap
+from ._rigid_body import rigid_body_gap
 
 
 logger = logging.getLogger(__name__)
@@ -52,19 +54,40 @@ def _element_size(model, boundary: str, obstacle) -> float:
 OVERLAP_TOL = 1e-3
 
 
-def mortar_of(problem):
-    """The :class:`~alcontact.contact.kinematics._mortar.MortarGap` of a problem whose pair has a deformable
-    master (``None`` against a rigid one)."""
+def pair_gap(problem):
+    """The linear gap operator (a :class:`~alcontact.contact.kinematics._mortar.MortarGap`) of a problem whose pair
+    has a master that moves with the unknowns: a body's surface (mortar) or a rigid body (its pose); ``None``
+    against a rigid obstacle. Nothing logged (:func:`mortar_of` adds the warnings of a solve). At finite
+    deformation: the gap of the reference configuration (what ``alcontact check`` reads) of the first pair."""
     pair = problem.pairs[0]
     if pair.rigid:
         return None
-    if len(problem.pairs) > 1:
+    if len(problem.pairs) > 1 and problem.kinematics == "small":
         raise InputError(f"{len(problem.pairs)} contact pairs between bodies: several two-body pairs are available at "
                          "kinematics='finite' (hyperelastic bodies) so far; at small deformation give one pair.")
-    if problem.kinematics != "small":
-        raise InputError("contact between two bodies is available at small deformation (kinematics='small'); "
-                         "finite deformation is not supported yet.")
-    mg = mortar_gap(problem.model, pair.slave.body, pair.slave.name, pair.master)
+    # at kinematics='finite' this is the gap of the reference configuration (the start of a finite run, whose
+    # current gap equals it at u = 0), of the first pair
+    if isinstance(pair.slave.body, RigidBody):
+        raise InputError("the slave of a contact pair is a boundary of a deformable body; a rigid body "
+                         "(contact.RigidBody) is a master: ContactPair(Boundary(body, 'top'), rigid_body).")
+    if isinstance(pair.master, RigidBody):  # a rigid body whose pose is unknown (kinematics._rigid_body)
+        if pair.friction > 0:
+            raise InputError(f"friction = {pair.friction:g} against a rigid body whose pose is solved for "
+                             "(contact.RigidBody): not supported yet; use friction = 0, or a rigid obstacle moved "
+                             "along a path (obstacles.move) for friction.")
+        h = _element_size(pair.slave.body, pair.slave.name, pair.master)
+        return rigid_body_gap(problem.model, pair.slave.body, pair.slave.name, pair.master, h)
+    return mortar_gap(problem.model, pair.slave.body, pair.slave.name, pair.master)
+
+
+def mortar_of(problem):
+    """The :class:`~alcontact.contact.kinematics._mortar.MortarGap` of a problem whose pair has a deformable
+    master (``None`` against a rigid one), :func:`pair_gap`, with a warning when the pair cannot come into contact
+    or the bodies overlap at the start."""
+    mg = pair_gap(problem)
+    if mg is None:
+        return None
+    pair = problem.pairs[0]
     where = f"contact pair {problem.contact_boundary!r} / {pair.master.describe()}"
     if not np.any(mg.covered):
         logger.warning("%s: no slave node has a master segment within the search distance, so the pair cannot "
@@ -189,13 +212,15 @@ class ContactPoints:
     def force_points(self, nodal: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         r"""``(dofs, forces)``, each ``(k, d)``: the contact force on the bodies of the normal nodal forces
         ``nodal`` (:math:`r = w\circ\lambda`), per node it acts on: :math:`r_i \nu_i` on the contact points
-        against a rigid master; on the slave and master nodes of a mortar pair (:math:`-B^T r`)."""
+        against a rigid master; with a master that moves with the unknowns (:math:`-B^T r`), on every DOF
+        of the gap operator ``B`` (slave and master nodes of a mortar pair, the rigid body's translation and
+        rotation DOFs), then ``(n,)`` each."""
         nodal = np.asarray(nodal, dtype=float)
         if self.mortar is None:
             return self.dofs, nodal[:, None] * self.normals
         fc = self.mortar.contact_force(nodal)
-        nodes = np.unique(np.vstack([self.dofs, self.mortar.master_dofs]), axis=0)
-        return nodes, fc[nodes]
+        cols = np.unique(self.mortar.B.indices).astype(np.int64)
+        return cols, fc[cols]
 
     def _setup_candidates(self, u_free: np.ndarray, margin: float) -> None:
         self.g_free = self.all_gaps(u_free)

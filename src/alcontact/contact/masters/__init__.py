@@ -14,13 +14,14 @@ of several contact pairs.
 Public names
 ------------
 Master, MeshedSurface, StackedMaster, obstacles, BodySurface (a boundary of another body: the deformable master of
-two-body contact)
+two-body contact), RigidBody (a rigid shape with a reference point whose pose is prescribed or solved for)
 """
 
 from . import obstacles
 from ._master import Master
 from ._mortar import BodySurface
+from ._rigid_body import RigidBody
 from ._stacked import StackedMaster
 from ._surface import MeshedSurface  # registers the obstacle "surface"
 
-__all__ = ["BodySurface", "Master", "MeshedSurface", "StackedMaster", "obstacles"]
+__all__ = ["BodySurface", "Master", "MeshedSurface", "RigidBody", "StackedMaster", "obstacles"]

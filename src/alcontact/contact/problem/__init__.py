@@ -10,13 +10,14 @@ each step time (:func:`problem_at`) for the incremental solves of section 6.2.
 
 Public names
 ------------
-ContactProblem, ContactPair, Boundary, Support, Traction, Pressure, BodyForce, KINEMATICS,
+ContactProblem, ContactPair, Boundary, Support, Traction, RigidLoad (force and moment on a rigid body), Pressure,
+BodyForce, KINEMATICS,
 merge_supports, LoadHistory, LoadCase, Ramp, problem_at
 """
 
 from ._loading import LoadCase, LoadHistory, Ramp, problem_at
-from ._problem import (KINEMATICS, BodyForce, Boundary, ContactPair, ContactProblem, Pressure, Support, Traction,
-                       merge_supports)
+from ._problem import (KINEMATICS, BodyForce, Boundary, ContactPair, ContactProblem, Pressure, RigidLoad, Support,
+                       Traction, merge_supports)
 
-__all__ = ["ContactProblem", "ContactPair", "Boundary", "Support", "Traction", "Pressure", "BodyForce", "KINEMATICS",
-           "merge_supports", "LoadHistory", "LoadCase", "Ramp", "problem_at"]
+__all__ = ["ContactProblem", "ContactPair", "Boundary", "Support", "Traction", "RigidLoad", "Pressure", "BodyForce",
+           "KINEMATICS", "merge_supports", "LoadHistory", "LoadCase", "Ramp", "problem_at"]

@@ -62,7 +62,9 @@ class Support:
     boundary : str
         Boundary name of the mesh.
     components : sequence of int, optional
-        Displacement components (0 = x, 1 = y, 2 = z); ``None`` = all.
+        Displacement components (0 = x, 1 = y, 2 = z); ``None`` = all. On a rigid body
+        (:class:`~alcontact.contact.RigidBody`) the components of its pose: the translation
+        ``0 .. d-1``, then the rotation (2D: 2; 3D: 3, 4, 5 about x, y, z).
     value : float or callable
         Prescribed value, or ``x -> (dim, m)`` array.
     """
@@ -75,8 +77,9 @@ class Support:
         _check_boundary("Support", self.boundary)
         comps = self.components
         if comps is not None and (isinstance(comps, (str, bytes, bool)) or not np.iterable(comps) or not all(
-                isinstance(c, (int, np.integer)) and not isinstance(c, bool) and 0 <= c <= 2 for c in comps)):
-            raise _bad("Support", "components", comps, "None (all) or a list of components 0, 1, 2, e.g. [0]")
+                isinstance(c, (int, np.integer)) and not isinstance(c, bool) and 0 <= c <= 5 for c in comps)):
+            raise _bad("Support", "components", comps, "None (all) or a list of components 0, 1, 2 (a rigid body: "
+                                                        "0 .. 5, translation then rotation), e.g. [0]")
         if not (callable(self.value) or _numbers(self.value)):
             raise _bad("Support", "value", self.value, "a finite number, a list of them (one per component) or "
                                                       "a callable x -> (dim, m) array")
@@ -94,6 +97,48 @@ class Traction:
         if not (callable(self.vector) or (_numbers(self.vector) and np.ndim(self.vector) == 1)):
             raise _bad("Traction", "vector", self.vector, "a list of finite numbers (one per direction) or a "
                                                           "callable x -> (dim, m) array")
+
+
+@dataclass(frozen=True, init=False)
+class RigidLoad(Traction):
+    r"""A force and a moment on the reference point of a rigid body (:class:`~alcontact.contact.RigidBody`).
+
+    The rigid body's pose components that no :class:`Support` prescribes are unknowns of the
+    contact problem; this load is what drives them. ``vector`` is the generalized force
+    :math:`(F, M)`: 2D :math:`(F_x, F_y, M_z)`, 3D :math:`(F_x, F_y, F_z, M_x, M_y, M_z)`, the
+    moment about the reference point (counter-clockwise positive in 2D).
+
+    Parameters
+    ----------
+    boundary : str
+        The rigid body's name in the bodies (``"body1"``, or ``"body1/reference"``).
+    vector : sequence of float, optional
+        :math:`(F, M)` at once; or give ``force`` (d numbers) and ``moment`` (2D: a number,
+        3D: 3 numbers, default zero).
+
+    Examples
+    --------
+    >>> RigidLoad("body1", force=[0.0, -100.0], moment=2.5).vector
+    (0.0, -100.0, 2.5)
+    """
+
+    def __init__(self, boundary: str, vector: Any = None, *, force: Any = None, moment: Any = None) -> None:
+        if vector is None:
+            if force is None or not _numbers(force) or np.ndim(force) != 1 or np.size(force) not in (2, 3):
+                raise _bad("RigidLoad", "force", force, "the force on the reference point, 2 or 3 numbers")
+            d = int(np.size(force))
+            mom = np.zeros(1 if d == 2 else 3) if moment is None else moment
+            if not _numbers(mom) or np.size(mom) != (1 if d == 2 else 3):
+                raise _bad("RigidLoad", "moment", moment, "a number (2D) or 3 numbers (3D): the moment about the "
+                                                          "reference point")
+            vector = tuple(float(x) for x in np.concatenate([np.ravel(force), np.ravel(mom)]))
+        elif force is not None or moment is not None:
+            raise InputError("RigidLoad: give vector = (F, M) or force= and moment=, not both.")
+        elif not callable(vector) and _numbers(vector):
+            vector = tuple(float(x) for x in np.ravel(vector))
+        object.__setattr__(self, "boundary", boundary)
+        object.__setattr__(self, "vector", vector)
+        self.__post_init__()
 
 
 @dataclass(frozen=True)

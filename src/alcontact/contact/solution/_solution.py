@@ -407,6 +407,12 @@ class ContactFrame:
     view: Any = field(repr=False, compare=False)
 
     @property
+    def rigid_bodies(self) -> dict:
+        """Pose, contact force and moment, applied load and reaction of every rigid body at this step,
+        ``{name: state}`` (:func:`~alcontact.contact.solution._rigid.rigid_body_results`; empty without one)."""
+        return dict(self.view.extra.get("rigid_bodies", {})) if self.view is not None else {}
+
+    @property
     def force(self) -> np.ndarray:
         """``contact_force`` (the name of the step records)."""
         return self.contact_force

@@ -687,7 +687,8 @@ def principal_submatrix(A, keep: np.ndarray) -> sp.csr_matrix:
     lens = np.diff(A.indptr)
     sel = np.repeat(keep, lens)
     sel &= keep[A.indices]
-    counts = np.add.reduceat(sel, A.indptr[:-1]) if A.nnz else np.zeros(A.shape[0], dtype=np.int64)
+    # one padding entry: the start of trailing empty rows (== nnz) stays a valid reduceat index
+    counts = np.add.reduceat(np.append(sel, False), A.indptr[:-1]) if A.nnz else np.zeros(A.shape[0], dtype=np.int64)
     counts[lens == 0] = 0  # reduceat returns the next row's first entry for empty rows
     indptr = np.zeros(rows.size + 1, dtype=np.int64)
     np.cumsum(counts[rows], out=indptr[1:])
