@@ -234,6 +234,11 @@ def test_bench_runs_scripts_and_writes_report(tmp_path):
         "def run(out_dir=None, cases=None, variants=None, log=print):\n"
         "    Path(out_dir, 'ironing.md').write_text(f'# Ironing\\n\\ncases={cases} variants={variants}\\n')\n"
         "    return Path(out_dir)\n")
+    (bench / "two_body_ironing.py").write_text(
+        "from pathlib import Path\n"
+        "def run(out_dir=None, cases=None, variants=None, log=print):\n"
+        "    Path(out_dir, 'two_body_ironing.md').write_text(f'# Two-body ironing\\n\\ncases={cases}\\n')\n"
+        "    return Path(out_dir)\n")
     out = tmp_path / "out"
     result = runner.invoke(app, ["bench", "--out", str(out), "--quick", "--benchmarks-dir", str(bench)])
     assert result.exit_code == 0, result.output
@@ -242,6 +247,7 @@ def test_bench_runs_scripts_and_writes_report(tmp_path):
     assert "## Friction benchmark" in report and "cases=['mindlin-2d']" in report
     assert "## Finite deformation" in report and "cases=['2d-5k']" in report
     assert "## Ironing" in report and "cases=['2d-s']" in report
+    assert "## Two-body ironing" in report and "cases=['tiny']" in report
     result = runner.invoke(app, ["bench", "--out", str(out), "--suite", "nlp", "--variant", "exp-met1",
                                  "--benchmarks-dir", str(bench)])
     assert result.exit_code == 0 and "variants=['exp-met1']" in (out / "bench.md").read_text()

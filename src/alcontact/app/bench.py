@@ -38,6 +38,8 @@ BENCH_SUITES: dict[str, BenchSuite] = {
                          {"cases": ["2d-5k"], "variants": ["ssn", "simo-laursen", "quad-met1"]}),
     "ironing": BenchSuite("ironing.py", "ironing.md", True,
                           {"cases": ["2d-s"], "variants": ["ssn", "simo-laursen", "exp-met1"]}),
+    "two-body-ironing": BenchSuite("two_body_ironing.py", "two_body_ironing.md", True,
+                                   {"cases": ["tiny"], "variants": ["ssn"]}),
 }
 
 
@@ -63,7 +65,8 @@ def run_benchmarks(out: str | os.PathLike, *, suites=None, quick: bool = False, 
     """``alcontact bench``: run benchmark scripts of ``benchmarks/`` and write ``bench.md``.
 
     Each suite's script is loaded with :func:`runpy.run_path` and its ``run``
-    function called (``hertz.py``, ``friction.py``, ``finite.py``, ``ironing.py``: ``run(out_dir, cases, variants)``,
+    function called (``hertz.py``, ``friction.py``, ``finite.py``, ``ironing.py``, ``two_body_ironing.py``:
+    ``run(out_dir, cases, variants)``,
     ``nlp_hs.py``: ``run(out_dir, variants)``); each writes its CSV and
     markdown into ``out``; ``bench.md`` joins the markdown reports.
 

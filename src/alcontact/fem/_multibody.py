@@ -1,4 +1,4 @@
-r"""Several linear elastic bodies as one discretized body: stacked DOFs, block-diagonal stiffness.
+r"""Several bodies as one discretized body: stacked DOFs, block-diagonal stiffness (or tangent).
 
 Two bodies in contact share no element: without contact their equilibrium equations
 are independent, so the discrete system of several bodies is block diagonal,
@@ -7,7 +7,10 @@ are independent, so the discrete system of several bodies is block diagonal,
 
     K = \operatorname{diag}(K_1, \dots, K_n), \qquad u = (u_1, \dots, u_n),
 
-with body ``b``'s DOFs at the offset ``offsets[b]``. :class:`MultiBody` offers what one
+with body ``b``'s DOFs at the offset ``offsets[b]``; for hyperelastic bodies (finite
+deformation) the internal force is each body's :math:`f_{int}(u_b)` stacked and the tangent
+:math:`\operatorname{diag}(K_{T,1}(u_1), \dots, K_{T,n}(u_n))` on one fixed block-diagonal
+pattern (:attr:`MultiBody.tangent_pattern`). :class:`MultiBody` offers what one
 :class:`~alcontact.fem.LinearElasticity` offers to the contact layer (boundaries, node DOFs,
 boundary weights, supports, loads, the stiffness and its factorization), so that the contact
 systems see one set of free DOFs and every algorithm runs unchanged; a contact constraint
@@ -37,13 +40,21 @@ logger = logging.getLogger(__name__)
 SEP = "/"
 
 
+def _csr_pattern(K) -> tuple[np.ndarray, np.ndarray]:
+    """``(indptr, indices)`` of a canonical (sorted, no duplicates) CSR matrix."""
+    K = K.tocsr()
+    K.sum_duplicates()
+    K.sort_indices()
+    return K.indptr, K.indices
+
+
 class MultiBody:
-    r"""Several linear elastic bodies solved together: DOFs stacked body after body.
+    r"""Several bodies solved together: DOFs stacked body after body.
 
     Parameters
     ----------
-    bodies : sequence of alcontact.fem.LinearElasticity
-        The bodies (same dimension, linear: their stiffness is constant).
+    bodies : sequence of alcontact.fem.LinearElasticity or alcontact.fem.Hyperelastic
+        The bodies (same dimension; all linear, their stiffness constant, or all hyperelastic).
     names : sequence of str, optional
         One name per body (default ``body0``, ``body1``, ...); boundaries are named
         ``"<name>/<boundary>"``.
@@ -66,7 +77,8 @@ class MultiBody:
     (True, ['base/bottom', 'base/left'])
     """
 
-    #: the internal force is linear in u (every body is linear): the condensed contact path applies
+    #: the internal force is linear in u when every body is linear (the condensed contact path applies);
+    #: ``False`` for geometrically nonlinear (hyperelastic) bodies, solved at finite deformation
     linear = True
 
     def __init__(self, bodies: Sequence[Any], names: Sequence[str] | None = None):
@@ -77,10 +89,18 @@ class MultiBody:
         if len(bodies) < 1:
             raise InputError("MultiBody: bodies = []: give at least one body.")
         for i, b in enumerate(bodies):
-            if getattr(b, "linear", False) is not True or not hasattr(b, "stiffness") or not hasattr(b, "dim"):
+            if getattr(b, "linear", None) not in (True, False) or not hasattr(b, "stiffness") or not hasattr(b, "dim") \
+                    or hasattr(b, "npressure") or not hasattr(b, "internal_force"):
                 raise InputError(f"MultiBody: bodies[{i}] is a {type(b).__name__}: several bodies are solved "
-                                 "together at small deformation with linear elastic bodies "
-                                 "(alcontact.fem.LinearElasticity); finite deformation is not supported yet.")
+                                 "together with linear elastic bodies (alcontact.fem.LinearElasticity, small "
+                                 "deformation) or displacement-based hyperelastic ones (alcontact.fem.Hyperelastic, "
+                                 "finite deformation).")
+        kinds = {bool(b.linear) for b in bodies}
+        if len(kinds) != 1:
+            raise InputError("MultiBody: some bodies are linear (linear elastic or rigid) and others hyperelastic: "
+                             "give bodies of one kind (LinearElasticity and rigid bodies for kinematics='small', "
+                             "all Hyperelastic for kinematics='finite').")
+        self.linear = kinds.pop()
         dims = {int(b.dim) for b in bodies}
         if len(dims) != 1:
             raise InputError(f"MultiBody: the bodies have different dimensions {sorted(dims)}: give bodies of "
@@ -246,17 +266,49 @@ class MultiBody:
             b.clear_stiffness()
 
     def internal_force(self, u) -> np.ndarray:
-        """Internal force :math:`K u`."""
-        return self.stiffness() @ np.asarray(u, dtype=float)
+        r"""Internal force: :math:`K u` (linear bodies), else every body's :math:`f_{int}(u_b)` stacked."""
+        u = np.asarray(u, dtype=float)
+        if self.linear:
+            return self.stiffness() @ u
+        return np.concatenate([np.asarray(b.internal_force(ub), dtype=float)
+                               for b, ub in zip(self.bodies, self.split(u))])
 
     def tangent(self, u=None) -> sp.csr_matrix:
-        """The (constant) stiffness."""
-        return self.stiffness()
+        r"""The (constant) stiffness of linear bodies, else :math:`\operatorname{diag}(K_{T,b}(u_b))`."""
+        if self.linear:
+            return self.stiffness()
+        indptr, indices = self.tangent_pattern
+        K = sp.csr_matrix((self.tangent_data(u), indices.copy(), indptr.copy()), shape=(self.ndofs, self.ndofs))
+        K.has_sorted_indices = True
+        return K
+
+    @property
+    def tangent_pattern(self) -> tuple[np.ndarray, np.ndarray]:
+        """``(indptr, indices)`` of the block-diagonal CSR pattern of every :meth:`tangent` (the bodies' own, stacked)."""
+        cached = getattr(self, "_pattern", None)
+        if cached is None:
+            indptr, indices, nnz = [np.zeros(1, dtype=np.int64)], [], 0
+            for b, off in zip(self.bodies, self.offsets[:-1]):
+                bp, bi = b.tangent_pattern if hasattr(b, "tangent_pattern") else _csr_pattern(b.stiffness())
+                indptr.append(np.asarray(bp[1:], dtype=np.int64) + nnz)
+                indices.append(np.asarray(bi, dtype=np.int64) + off)
+                nnz += int(bp[-1])
+            cached = self._pattern = (np.concatenate(indptr), np.concatenate(indices))
+            for a in cached:
+                a.flags.writeable = False
+        return cached
+
+    def tangent_data(self, u) -> np.ndarray:
+        """Values of :meth:`tangent` at ``u`` in the order of :attr:`tangent_pattern`."""
+        return np.concatenate([np.asarray(b.tangent_data(ub), dtype=float) if hasattr(b, "tangent_data")
+                               else b.stiffness().data for b, ub in zip(self.bodies, self.split(u))])
 
     def energy(self, u) -> float:
-        r"""Strain energy :math:`\tfrac12 u^T K u` of all bodies."""
+        r"""Strain energy of all bodies (:math:`\tfrac12 u^T K u` for linear ones)."""
         u = np.asarray(u, dtype=float)
-        return 0.5 * float(u @ (self.stiffness() @ u))
+        if self.linear:
+            return 0.5 * float(u @ (self.stiffness() @ u))
+        return float(sum(b.energy(ub) for b, ub in zip(self.bodies, self.split(u))))
 
     strain_energy = energy
 

@@ -719,6 +719,17 @@ def build_pairs(pds: list | None, mesh, dim: int | None, base: Path | None, issu
         if not _ok(pd) or not _pair_kind_ok(pd, key, issues, bodies=False):
             out = None
             continue
+        if pd.get("master"):
+            issues.append(Issue(f"{key}.master", f"= {pd['master']!r}: a master boundary is for pairs between "
+                                                 "bodies ([[body]] tables); on one body give the pair's rigid "
+                                                 "obstacle, e.g. type = 'half-space'."))
+            out = None
+            continue
+        if not pd["type"]:
+            issues.append(Issue(f"{key}.type", "missing: the pair's rigid obstacle, a registered obstacle name, "
+                                               "e.g. type = 'half-space' (as [obstacle] type)."))
+            out = None
+            continue
         ok = mesh is None or boundary_ok(mesh, pd["boundary"], f"{key}.boundary", issues)
         ob = build_obstacle(pd, dim, issues, key=key, base=base)
         if ob is None or not ok:
@@ -1058,18 +1069,26 @@ def _prefixed(found: list[Issue], prefix: str) -> list[Issue]:
     return [Issue(prefix + i.path if i.path else prefix.rstrip("."), i.message) for i in found]
 
 
-def _one_body(i: int, bd: dict, base: Path, issues: list[Issue]):
-    """``[[body]]`` number ``i + 1``: ``(LinearElasticity, dim)``, or ``(None, dim)`` with its issues.
+def _one_body(i: int, bd: dict, base: Path, issues: list[Issue], kinematics: str = "small"):
+    """``[[body]]`` number ``i + 1``: ``(body, dim)``, or ``(None, dim)`` with its issues.
 
     The builders of ``[mesh]`` and ``[material]`` run on the body's ``mesh`` and ``material``
-    tables; their issues are keyed ``body[i].mesh.*`` / ``body[i].material.*``.
+    tables; their issues are keyed ``body[i].mesh.*`` / ``body[i].material.*``. At ``kinematics =
+    "finite"`` the body is hyperelastic (``material.model``, default ``"neo-hookean"``; P1, the
+    displacement formulation), else linear elastic.
     """
     from ..fem import LinearElasticity, check_geometry
+    from ..fem.hyperelastic import Hyperelastic
 
     found: list[Issue] = []
     md, mt = bd.get("mesh"), bd.get("material")
     mesh, dim = build_mesh(md, base, found)
-    mat, _ = build_material(None if mt is None else {**mt, "region": None}, LINEAR_MODEL, mesh, found)
+    kin_found: list[Issue] = []
+    _, law = build_kinematics(mt, {"kinematics": kinematics}, dim, {}, kin_found)
+    # the law that does not go with [contact] kinematics is this body's material.model
+    found += [Issue("material.model", f"= {mt.get('model')!r}: " + i.message.split(": ", 1)[-1])
+              if i.path == "contact.kinematics" else i for i in kin_found]
+    mat, law_obj = build_material(None if mt is None else {**mt, "region": None}, law, mesh, found)
     model = None
     if mesh is not None and mat is not None and not found:
         if dim == 3 and md["order"] != 1:
@@ -1078,9 +1097,20 @@ def _one_body(i: int, bd: dict, base: Path, issues: list[Issue]):
         elif md["geometry"] != "cartesian":
             found.append(Issue("mesh.geometry", f"= {md['geometry']!r}: several bodies ([[body]]) are "
                                                 "Cartesian so far; remove geometry."))
-        elif _num(found, "mesh.geometry", check_geometry, md["geometry"], dim, mesh.p, plane=mat.plane) is not None:
+        elif kinematics == "finite" and md["order"] != 1:
+            found.append(Issue("mesh.order", f"= {md['order']}: contact between bodies at kinematics = 'finite' "
+                                             "is available for P1 bodies (segments that stay straight); set "
+                                             "order = 1."))
+        elif kinematics == "finite" and isinstance(mt, dict) and mt.get("formulation") == "mixed":
+            found.append(Issue("material.formulation", "= 'mixed': several bodies ([[body]]) use the displacement "
+                                                       "formulation; remove formulation."))
+        elif _num(found, "mesh.geometry", check_geometry, md["geometry"], dim, mesh.p, plane=mat.plane) is None:
+            pass
+        elif law == LINEAR_MODEL:
             model = _num(found, "mesh.order", LinearElasticity, mesh, mat, order=md["order"],
                          volumetric=md["volumetric"], geometry=md["geometry"])
+        elif law_obj is not None:
+            model = _num(found, "mesh.order", Hyperelastic, mesh, mat, order=md["order"], model=law_obj)
     issues.extend(_prefixed(found, f"body[{i + 1}]."))
     return model, dim
 
@@ -1146,6 +1176,10 @@ def _surface(name: str, key: str, names: dict, n: int, issues: list[Issue]) -> t
     return None
 
 
+#: the kinematics of contact between bodies ([[body]] tables)
+KINEMATICS_OF_BODIES = ("small", "finite")
+
+
 def _bodies_table_issues(data: dict, issues: list[Issue]) -> None:
     """Tables and options that do not go with ``[[body]]`` (what runs: small deformation, one pair)."""
     for key, what in (("mesh", "each body has its own [body.mesh]"),
@@ -1154,11 +1188,21 @@ def _bodies_table_issues(data: dict, issues: list[Issue]) -> None:
         if data.get(key) is not None:
             issues.append(Issue(key, f"given together with [[body]]: {what}; remove [{key}]."))
     cd = data.get("contact")
-    if not isinstance(cd, dict):
+    if not isinstance(cd, dict) or cd.get("kinematics") != "finite":
         return
-    if cd.get("kinematics") not in ("small", BAD):
-        issues.append(Issue("contact.kinematics", f"= {cd['kinematics']!r}: contact between bodies ([[body]]) is "
-                                                  "small deformation so far; set kinematics = 'small'."))
+    for i, pd in enumerate(data.get("pair") or []):  # what the finite two-body path does not take yet
+        if _ok(pd) and pd["type"]:
+            issues.append(Issue(f"pair[{i + 1}].type", f"= {pd['type']!r}: a rigid obstacle beside two-body pairs at "
+                                                       "kinematics = 'finite' is not supported yet; give master = a "
+                                                       "boundary of another body, or kinematics = 'small'."))
+        if _ok(pd) and isinstance(pd.get("friction"), float) and pd["friction"] > 0:
+            issues.append(Issue(f"pair[{i + 1}].friction", f"= {pd['friction']:g}: contact between bodies at "
+                                                           "kinematics = 'finite' is frictionless so far; set "
+                                                           "friction = 0.0, or kinematics = 'small'."))
+    if isinstance(cd.get("friction"), float) and cd["friction"] > 0:
+        issues.append(Issue("contact.friction", f"= {cd['friction']:g}: contact between bodies at kinematics = "
+                                                "'finite' is frictionless so far; set friction = 0.0, or "
+                                                "kinematics = 'small' (linear elastic bodies)."))
 
 
 def _two_body_reference(rd: dict | None, models: list, mu: float, issues: list[Issue]):
@@ -1188,21 +1232,43 @@ def _two_body_reference(rd: dict | None, models: list, mu: float, issues: list[I
     return ref, (MindlinReference(ref, float(mu)) if rd["kind"] == "cattaneo-mindlin" else None)
 
 
+def _bodies_meta(rd, dim: int) -> dict:
+    """The problem's ``meta`` of a file with ``[[body]]`` tables: the reference's symmetry axis and centre."""
+    rd = rd if _ok(rd) else {"center": None, "axis": 0, "kind": "none"}
+    center = tuple(rd["center"]) if rd["center"] is not None else (0.0,) * dim
+    return {"symmetry_axis": int(rd["axis"]), "center": center,
+            "center_declared": rd["center"] is not None or rd["kind"] != "none"}
+
+
+def _bodies_kinematics(cd) -> str:
+    """``[contact] kinematics`` of a file with ``[[body]]`` tables (``"small"`` where the table is invalid)."""
+    return cd["kinematics"] if _ok(cd) and cd.get("kinematics") in KINEMATICS_OF_BODIES else "small"
+
+
+def _finite_loading(kinematics: str, s: Sections) -> None:
+    """Finite kinematics without a ramp: proportional loading (:func:`_proportional`), in place."""
+    if kinematics == "finite" and not s.cases:
+        s.fixed, s.cases = _proportional(s.fixed, s.loads)
+        s.loads = []
+
+
 def build_bodies(data: dict, base: Path, issues: list[Issue]):
-    """``[[body]]`` tables, their supports and loads, and the two-body pair of ``[contact]``:
+    """``[[body]]`` tables, their supports and loads, and the two-body pairs of ``[contact]`` and ``[[pair]]``:
     ``(ContactProblem, LoadHistory or None, Sections)``, or ``None`` (every problem in ``issues``).
 
-    The pair is mortar (:class:`~alcontact.contact.BodySurface`): ``[contact] boundary`` is the slave,
-    ``[contact] master`` a boundary of another body (or of the same body). Checked here: each body's
-    mesh and material, that the bodies have one dimension, that both boundaries exist, and that
-    slave and master are not the same boundary.
+    The pairs are mortar (:class:`~alcontact.contact.BodySurface`): ``boundary`` is the slave,
+    ``master`` a boundary of another body (or of the same body). Checked here: each body's
+    mesh and material, that the bodies have one dimension, that both boundaries of every pair exist,
+    and that slave and master are not the same boundary.
     """
     from types import SimpleNamespace
 
     from ..contact import ContactProblem, LoadHistory
 
     _bodies_table_issues(data, issues)
-    built = [_one_body(i, bd, base, issues) for i, bd in enumerate(data["body"]) if _ok(bd)]
+    cd = data["contact"]
+    kinematics = _bodies_kinematics(cd)
+    built = [_one_body(i, bd, base, issues, kinematics) for i, bd in enumerate(data["body"]) if _ok(bd)]
     if len(built) != len(data["body"]):
         return None
     dims = [d for _, d in built]
@@ -1215,11 +1281,14 @@ def build_bodies(data: dict, base: Path, issues: list[Issue]):
     if any(m is None for m in models):
         return None
     s = Sections(dim=dims[0], material=models[0].material)
+    s.kinematics = kinematics
     names = _boundary_names(models)
     where = SimpleNamespace(boundaries=dict.fromkeys(names))  # boundary_ok checks the qualified names
-    cd = data["contact"]
     pair = _contact_pair(cd, models, names, issues)
     others = _body_pairs(data.get("pair") or [], models, names, s.dim, base, cd, issues)
+    if s.dim == 3 and kinematics == "finite":
+        issues.append(Issue("contact.kinematics", "= 'finite': contact between 3D bodies is small deformation so far "
+                                                  "(the finite two-body gap is 2D); set kinematics = 'small'."))
     if s.dim == 3 and _ok(cd) and isinstance(cd.get("friction"), float) and cd["friction"] > 0:
         issues.append(Issue("contact.friction", f"= {cd['friction']:g}: contact between 3D bodies is frictionless "
                                                 "so far (two-body Coulomb friction is 2D); set friction = 0.0."))
@@ -1232,18 +1301,17 @@ def build_bodies(data: dict, base: Path, issues: list[Issue]):
     s.times, s.friction_ramp = build_loading(data.get("loading"), issues)
     s.mu = cd["friction"] if _ok(cd) and isinstance(cd.get("friction"), float) else 0.0
     s.mu_max = max([s.mu] + [p.friction for p in others or ()])
-    s.solver = build_solver(data.get("solver"), s.mu_max, "small", issues)
+    s.solver = build_solver(data.get("solver"), s.mu_max, kinematics, issues)
     s.units = build_units(data.get("units"), issues)
     rd = data.get("reference")
     s.reference, s.mindlin = _two_body_reference(rd, models, s.mu, issues)
     if issues or pair is None or s.times is None or others is None:
         return None
-    rd = rd if _ok(rd) else {"center": None, "axis": 0, "kind": "none"}
-    center = tuple(rd["center"]) if rd["center"] is not None else (0.0,) * s.dim
-    meta = {"symmetry_axis": int(rd["axis"]), "center": center,
-            "center_declared": rd["center"] is not None or rd["kind"] != "none"}
+    meta = _bodies_meta(rd, s.dim)
+    _finite_loading(kinematics, s)
     problem = _num(issues, "body", ContactProblem, bodies=models, pairs=[pair] + others, supports=tuple(s.fixed),
-                   loads=tuple(s.loads), name=data["problem"]["name"], reference=s.reference, meta=meta)
+                   loads=tuple(s.loads), name=data["problem"]["name"], reference=s.reference, meta=meta,
+                   kinematics=kinematics)
     if problem is None:
         return None
     history = None

@@ -240,15 +240,19 @@ def _build_schema() -> tuple[Table, ...]:
               "`[contact]` (a boundary name that only one body has may be given bare; `[[body.support]]` and "
               "`[[body.load]]` name the body's own boundaries bare). `[contact] boundary` "
               "(the slave) and `[contact] master` name the pair's two boundaries. Two-body contact is mortar "
-              "(dual multipliers), small deformation, linear elastic bodies: 2D (P1, P2 with straight edges), "
-              "frictionless or with Coulomb friction (`[contact] friction`: the slip is the relative tangential "
-              "displacement of the two surfaces), or 3D (linear tetrahedra, `order = 1`), frictionless.", (),
-              array=True),
+              "(dual multipliers): at small kinematics linear elastic bodies, 2D (P1, P2 with straight edges; "
+              "frictionless or with Coulomb friction, `[contact] friction`: the slip is the relative tangential "
+              "displacement of the two surfaces) or 3D (linear tetrahedra, `order = 1`; frictionless); at "
+              "`kinematics = \"finite\"` hyperelastic 2D P1 bodies, frictionless (the gap at the current "
+              "configuration, large sliding).", (), array=True),
         Table("body.mesh", "The body's mesh: the keys of `[mesh]`.", mesh_options),
         Table("body.mesh.refine", "Grading of the body's generated mesh: the keys of `[mesh.refine]`.",
               refine_options),
-        Table("body.material", "The body's linear elastic material: `E`, `nu`, `plane` of `[material]`.",
-              material_options[:3]),
+        Table("body.material", "The body's material: `E`, `nu`, `plane` and `model` of `[material]` (`model` a "
+              "hyperelastic law with `[contact] kinematics = \"finite\"`, default `neo-hookean` there, `linear` "
+              "for small kinematics).", material_options[:4]),
+        Table("body.material.parameters", "Parameters of the body's hyperelastic law: the keys of "
+              "`[material.parameters]`.", (), open=True),
         Table("body.support", "A support of the body: the keys of `[[support]]`, the boundary one of this body's "
               "(bare name).", support_options, array=True),
         Table("body.load", "A traction or pressure on a boundary of the body: the keys of `[[load]]` (a body force "
@@ -282,7 +286,8 @@ def _build_schema() -> tuple[Table, ...]:
               "tables a pair may instead join two bodies (`master`, a boundary of another body, as `[contact] "
               "master`), and a rigid pair acts on the body of its `boundary` (e.g. `\"body1/top\"`). Each pair has "
               "its own Coulomb coefficient (`friction`, default `[contact] friction`), `kinematics` applies to "
-              "every pair (at finite kinematics: frictionless, no `[obstacle] path`).", (
+              "every pair (at finite kinematics: frictionless, no `[obstacle] path`; with `[[body]]` tables only "
+              "pairs between bodies, e.g. a ring squeezed between two plates).", (
             O("boundary", "str", REQUIRED, "Boundary of the body that may touch this pair's obstacle (the slave)."),
             O("type", "str", "", "Registered obstacle name, as `[obstacle] type` (required unless `master` is "
               "given)."),

@@ -22,12 +22,14 @@ directions of the Coulomb law (section 6.2).
 
 Public names
 ------------
-ContactKinematics, LinearizedGap, CurrentGap, MortarKinematics, GapEvaluation, ContactPoints, tangent_bases
+ContactKinematics, LinearizedGap, CurrentGap, MortarKinematics, CurrentMortarGap, GapEvaluation, ContactPoints,
+tangent_bases
 """
 
 from ._gap import ContactKinematics, CurrentGap, GapEvaluation, LinearizedGap
 from ._mortar import MortarKinematics
+from ._mortar_current import CurrentMortarGap
 from ._points import ContactPoints, tangent_bases
 
-__all__ = ["ContactKinematics", "LinearizedGap", "CurrentGap", "MortarKinematics", "GapEvaluation", "ContactPoints",
-           "tangent_bases"]
+__all__ = ["ContactKinematics", "LinearizedGap", "CurrentGap", "MortarKinematics", "CurrentMortarGap", "GapEvaluation",
+           "ContactPoints", "tangent_bases"]

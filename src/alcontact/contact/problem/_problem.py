@@ -577,6 +577,14 @@ class ContactProblem:
         # two bodies; several pairs are on one body)
         for name in [self.contact_boundary] if len(self.pairs) == 1 else [self.slave_name(p) for p in self.pairs]:
             self.model.facets(name)
+        if self.kinematics != "small" and not all(p.rigid for p in self.pairs):
+            if any(p.rigid for p in self.pairs):
+                raise InputError(f"ContactProblem: {len(self.pairs)} contact pairs at kinematics={self.kinematics!r}, one "
+                                 "between two bodies beside pairs with rigid obstacles: not supported yet at finite "
+                                 "deformation; give pairs between bodies only, or kinematics='small'.")
+            if any(p.friction > 0 for p in self.pairs):
+                raise InputError(f"ContactProblem: friction between two deformable bodies at kinematics="
+                                 f"{self.kinematics!r} is not supported yet; use friction = 0, or kinematics='small'.")
         if len(self.pairs) > 1 and self.kinematics != "small" and any(p.friction > 0 for p in self.pairs):
             raise InputError(f"ContactProblem: {len(self.pairs)} contact pairs with friction at kinematics="
                              f"{self.kinematics!r}: several frictional pairs are supported at small deformation only "
@@ -688,7 +696,7 @@ def _two_body(kind: str, bodies: tuple, pairs: tuple) -> dict[str, Any]:
             _STACKS[key] = model
         slave = model.qualify(pair.slave.body, pair.slave.name)
     return {"model": model, "obstacle": pair.master, "contact_boundary": slave, "friction": pair.friction,
-            "pair": pair, "others": pairs[1:], "bodies": bodies}
+            "pair": pair, "bodies": bodies, "others": tuple(pairs[1:])}
 
 
 _AXES = "xyz"

@@ -48,6 +48,21 @@ def stepped_solution(views) -> ContactSolution:
     return _combine(list(views))
 
 
+#: keys of a two-body run's ``extra`` that belong to its final state only
+_FINAL_TWO_BODY = ("master_contact_force", "contact_force_balance", "contact_force_points",
+                   "pair_slave_contact_forces")
+
+
+def _step_extra(extra: dict, step) -> dict:
+    """The run's ``extra`` for the frame of an earlier ``step``: a two-body pair's slave force is the step's
+    own (:attr:`FiniteStep.force`), the final state's master force and balance are left out."""
+    if extra.get("slave_contact_force") is None:
+        return extra
+    out = {k: v for k, v in extra.items() if k not in _FINAL_TWO_BODY}
+    out["slave_contact_force"] = np.asarray(step.force, dtype=float).tolist()
+    return out
+
+
 def finite_solution(fs, problem, history, path) -> ContactSolution:
     """Frames of a frictionless finite-deformation run (:class:`~alcontact.contact.FiniteSolution`).
 
@@ -66,7 +81,10 @@ def finite_solution(fs, problem, history, path) -> ContactSolution:
         off = None if path is None else path(step.t)
         ob = problem.obstacle if off is None else (move(problem.obstacle, off) if isinstance(off, RigidMotion)
                                                    else translate(problem.obstacle, off))
-        gap, normals = ob.evaluate(base.points + u[dofs])
+        if getattr(step, "normals", None) is not None:  # a deformable master: the step's own gaps and normals
+            gap, normals = step.gap, step.normals
+        else:
+            gap, normals = ob.evaluate(base.points + u[dofs])
         nodal = base.weights * pressure
         res = dataclasses.replace(base.result, status=step.status, message=step.message,
                                   outer_iterations=int(step.outer_iterations),
@@ -78,7 +96,8 @@ def finite_solution(fs, problem, history, path) -> ContactSolution:
             gap=np.asarray(gap, dtype=float), weights=base.weights, active=pressure > 0,
             normals=np.asarray(normals, dtype=float), total_contact_force=np.asarray(step.force, dtype=float),
             result=res, nodal_forces=nodal, timings={"total_s": float(step.seconds)},
-            extra={**base.extra, "t": float(step.t), "cutbacks": int(step.cutbacks), "seconds": float(step.seconds),
+            extra={**_step_extra(base.extra, step), "t": float(step.t), "cutbacks": int(step.cutbacks),
+                   "seconds": float(step.seconds),
                    "requested": bool(getattr(step, "requested", True)),
                    "step_newton_iterations": int(step.newton_iterations),
                    "step_outer_iterations": int(step.outer_iterations),

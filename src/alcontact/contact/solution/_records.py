@@ -52,6 +52,10 @@ class FiniteStep:
     requested : bool
         ``t`` is a requested step time; ``False`` for a sub-step a cut-back inserted
         (the increment halved after a failed try).
+    normals : ndarray (m, d) or None
+        Master normals at the contact points at the end of the step, kept where the master
+        deforms (two-body pairs); ``None`` against a rigid master (its normals follow from its
+        placement at ``t``).
     """
 
     t: float
@@ -68,6 +72,7 @@ class FiniteStep:
     gap: np.ndarray | None = None
     normal_force: float = float("nan")
     requested: bool = True
+    normals: np.ndarray | None = None
 
 
 @dataclass(frozen=True)

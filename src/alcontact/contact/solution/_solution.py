@@ -187,10 +187,16 @@ class ContactSolution:
         """Contact force on the body from each contact pair, ``(n_pairs, d)``.
 
         The sum of :meth:`contact_point_forces` over the stacked points of each pair
-        (``problem.pair_of_points()``); one row, the total contact force, for one pair.
+        (``problem.pair_of_points()``); one row, the total contact force, for one pair. A pair between
+        two bodies reports the force on its slave body (``extra["slave_contact_force"]``: at finite
+        deformation the mortar rows put part of it on the slave nodes' neighbours).
         """
         f = self.contact_point_forces()
         pairs = getattr(self.problem, "pairs", ())
+        if len(pairs) == 1 and self.extra.get("slave_contact_force") is not None:
+            return np.asarray([self.extra["slave_contact_force"]], dtype=float)
+        if self.extra.get("pair_slave_contact_forces") is not None:  # several two-body pairs
+            return np.asarray(self.extra["pair_slave_contact_forces"], dtype=float)
         owner = self.problem.pair_of_points() if len(pairs) > 1 else np.zeros(f.shape[0], dtype=np.int64)
         out = np.zeros((max(len(pairs), 1), f.shape[1]))
         np.add.at(out, owner, f)

@@ -120,9 +120,10 @@ def solve_finite(problem, algorithm: str = "simo-laursen", penalty: str | None =
         force, pressure = _force(dc, out, u, balanced=True)
         step = FiniteStep(t, out.status, rec.newton_iterations, int(out.outer), rec.linear_solves, force,
                           rec.cutbacks, rec.seconds, out.message, u=u.copy(), pressure=pressure.copy(),
-                          gap=gap, normal_force=float(np.sum(dc.weights * pressure)), requested=rec.requested)
+                          gap=gap, normal_force=float(np.sum(dc.weights * pressure)), requested=rec.requested,
+                          normals=None if _own_forces(dc) is None else dc.normals.copy())
         records.append(step)
-        state["last"] = (out, u)
+        state["last"] = (out, u, dc.cand.copy())
         return step
 
     hook = None if on_step is None else (lambda st: on_step(st, st.u.copy(), st.pressure.copy()))
@@ -132,8 +133,8 @@ def solve_finite(problem, algorithm: str = "simo-laursen", penalty: str | None =
     status, message, last, x = run_.status, run_.message, state["last"], state["x"]
     if last is None:
         out, u = _Run(x, np.zeros(dc.cand.size), dc.gaps(x), status, message, 0, 0, eps0, np.inf, []), dc.expand(x)
-    else:
-        out, u = last
+    else:  # the last accepted state, with the candidates its multipliers belong to (a failed step changed them)
+        out, u, dc.cand = last
     t_last = records[-1].t if (records and last is not None) else 0.0
     sol = _solution(problem, dc, out, u, algorithm, pen_name, opts, status, message, records, t_start,
                     fixed=data.fixed, load=data(t_last)[1])
@@ -174,13 +175,32 @@ def _free_solve(dc, opts) -> _Run:
                 0, out.iterations, 0.0, out.residual, [])
 
 
+def _own_forces(dc):
+    """The kinematics of ``dc`` when it gives the contact forces itself (a two-body pair: they act on the slave
+    and master nodes, :meth:`~alcontact.contact.kinematics.CurrentMortarGap.force_points`), else ``None``
+    (a rigid master: the force on point ``i`` is :math:`w_i t_{N,i} \nu_i`)."""
+    kin = dc.kinematics
+    return kin if hasattr(kin, "force_points") else None
+
+
+def _contact_points(dc, u, nodal):
+    """``(dofs, forces)`` of the contact forces on the bodies for the nodal normal forces ``nodal``."""
+    own = _own_forces(dc)
+    if own is None:
+        return dc.dofs, nodal[:, None] * dc.normals
+    return own.force_points(u, nodal)
+
+
 def _force(dc, out, u, *, balanced: bool = False) -> tuple[np.ndarray, np.ndarray]:
-    """Resultant contact force and pressures (all points) of a converged step (``balanced``: the
-    pressures of :func:`_applied_pressure`, else the algorithm's tractions)."""
+    """Resultant contact force (on the slave body) and pressures (all points) of a converged step
+    (``balanced``: the pressures of :func:`_applied_pressure`, else the algorithm's tractions)."""
     dc.all_gaps(u)  # the normals at the current configuration
     p = np.zeros(dc.points.shape[0])
     if out.lam.size:
         p[dc.cand] = np.maximum(_applied_pressure(dc, out.lam, u) if balanced else out.lam, 0.0)
+    own = _own_forces(dc)
+    if own is not None:
+        return own.side_forces(u, dc.weights * p)[0], p
     return np.sum((dc.weights * p)[:, None] * dc.normals, axis=0), p
 
 
@@ -207,6 +227,8 @@ def _applied_pressure(dc, lam, u) -> np.ndarray:
     cand = dc.cand
     if lam.size != cand.size or not np.any(lam > 0):
         return lam
+    if _own_forces(dc) is not None:
+        return _applied_mortar_pressure(dc, lam, u)
     rb, _ = dc._body_state(u, False)
     rb_free = rb[dc.free]
     pos = dc.pos[cand]
@@ -220,6 +242,31 @@ def _applied_pressure(dc, lam, u) -> np.ndarray:
     return np.where(keep, p, lam)
 
 
+def _applied_mortar_pressure(dc, lam, u) -> np.ndarray:
+    r""":func:`_applied_pressure` of a two-body pair: the pressures of the pressed candidates whose forces
+    :math:`-G_A^T (w_A p_A)` balance the body residual best, :math:`\min_p |f_{int} - f_{ext} + G_A^T (w_A p_A)|`
+    on the free DOFs (normal equations :math:`G_A G_A^T y = -G_A (f_{int} - f_{ext})`, :math:`y = w_A p_A`): a
+    mortar row couples a slave node with its neighbours and the master nodes, so the force of one point is
+    not read off its own DOFs. ``lam`` where that system is singular."""
+    import scipy.sparse.linalg as spla
+
+    act = np.flatnonzero(lam > 0)
+    rb, _ = dc._body_state(u, False)
+    Ga = dc.kinematics.evaluate(u, dc.cand[act]).gradient()
+    A = (Ga @ Ga.T).tocsc()
+    try:
+        with np.errstate(all="raise"):
+            y = spla.spsolve(A, -(Ga @ rb[dc.free]))
+    except (RuntimeError, FloatingPointError, ValueError):
+        return lam
+    y = np.atleast_1d(np.asarray(y, dtype=float))
+    if not np.all(np.isfinite(y)):
+        return lam
+    p = lam.copy()
+    p[act] = y / dc.weights[dc.cand[act]]
+    return p
+
+
 def _check(problem, dc, out, u, opts, *, fixed, load):
     """``(check, pressures, gaps)`` of a returned state (all contact points): every measure of
     :mod:`alcontact.contact._verify`, equilibrium of ``u`` with the reported forces (loads ``load``) included."""
@@ -229,7 +276,7 @@ def _check(problem, dc, out, u, opts, *, fixed, load):
         if out.lam.size:
             pressure[dc.cand] = _applied_pressure(dc, out.lam, u)
         nodal = dc.weights * np.maximum(pressure, 0.0)
-        residual = state_equilibrium(problem.model, u, fixed, load, dc.dofs, nodal[:, None] * dc.normals,
+        residual = state_equilibrium(problem.model, u, fixed, load, *_contact_points(dc, u, nodal),
                                      dc.h, pressure=pressure, weights=dc.weights).largest
     except InvertedElementError:  # the state of a failed run (its status already says so): no equilibrium
         if out.lam.size:
@@ -256,6 +303,20 @@ def _solution(problem, dc, out, u, algorithm, pen_name, opts, status, message, r
                                       what=f"finite-deformation contact solve {algorithm}")
     pressure = np.maximum(pressure, 0.0)
     force = np.sum(nodal[:, None] * dc.normals, axis=0)
+    two_body = {}
+    own = _own_forces(dc)
+    if own is not None:  # the forces on both bodies (action = reaction), as at small deformation
+        force, master = own.side_forces(u, nodal)
+        norm = float(np.linalg.norm(force))
+        two_body = {"slave_contact_force": force.tolist(), "master_contact_force": master.tolist(),
+                    "contact_force_balance": float(np.linalg.norm(force + master)) / norm if norm > 0 else 0.0,
+                    "contact_force_points": own.force_points(u, nodal)}
+        if hasattr(own, "pair_forces"):  # several two-body pairs: each pair's slave force, the worst pair's balance
+            per = own.pair_forces(u, nodal)
+            two_body["pair_slave_contact_forces"] = per[:, 0].tolist()
+            norms = np.linalg.norm(per[:, 0], axis=1)
+            two_body["contact_force_balance"] = float(np.max(np.where(
+                norms > 0, np.linalg.norm(per[:, 0] + per[:, 1], axis=1) / np.where(norms > 0, norms, 1.0), 0.0)))
     closed = g_all > -max(1e-6, 10 * opts.tol_penetration) * dc.h
     active = closed & (pressure > 1e-12 * max(float(pressure.max(initial=0.0)), 1e-300))
     pen_final = check.value("penetration")
@@ -281,5 +342,5 @@ def _solution(problem, dc, out, u, algorithm, pen_name, opts, status, message, r
         active=active, normals=dc.normals.copy(), total_contact_force=force, result=result, nodal_forces=nodal,
         timings=dict(dc.timings(), total_s=t_end - t_start),
         extra={"h": dc.h, "candidates": int(dc.cand.size), "dofs": int(problem.model.ndofs),
-               "steps": len(records), **dc.extra()},
+               "steps": len(records), **dc.extra(), **two_body},
     )

@@ -199,12 +199,14 @@ from ...linalg import SequenceSolver
 from ...status import Status
 from ..algorithms._subproblem import (LineSearch, NewtonOutcome, NewtonResult, NewtonSettings, NewtonSystem,
                                       newton, subproblem_outcome)
-from ..kinematics._gap import CurrentGap, point_blocks
+from ..kinematics._gap import point_blocks
+from ..kinematics._mortar_current import current_kinematics
 from ..kinematics._points import ContactPoints
 from ..laws._coulomb import OPEN, SLIP, STICK, CoulombLaw, return_mapping
 from ..masters.obstacles import frame, surface_slip
 from ._krylov import _NEWTON_TOL_FLOOR
 from ._layout import NewtonLayout
+from ._two_body import body_slide
 
 
 logger = logging.getLogger(__name__)
@@ -338,7 +340,8 @@ class FiniteContact(ContactPoints):
     kinematics : callable, optional
         ``kinematics(points, dofs, pos, master, n_free)`` returns the
         :class:`~alcontact.contact.kinematics.ContactKinematics` of the contact points (default
-        :class:`~alcontact.contact.kinematics.CurrentGap`; with
+        :class:`~alcontact.contact.kinematics.CurrentGap` against a rigid master, the mortar gap at the
+        current configuration, :class:`~alcontact.contact.kinematics.CurrentMortarGap`, between two bodies; with
         :class:`~alcontact.contact.kinematics.LinearizedGap` the same Newton solves the
         small-deformation contact problem).
 
@@ -391,7 +394,7 @@ class FiniteContact(ContactPoints):
     penalty_continuation = True
 
     def __init__(self, problem, *, margin: float = 2.0, fixed=None, solver=None, predictor: str = "auto",
-                 slide_start_reach: float = 0.05, kinematics=CurrentGap):
+                 slide_start_reach: float = 0.05, kinematics=None):
         t0 = time.perf_counter()
         if predictor not in PREDICTORS:
             raise InputError(f"predictor = {predictor!r:.40}: expected one of {', '.join(PREDICTORS)}.")
@@ -420,9 +423,13 @@ class FiniteContact(ContactPoints):
         self.pos = free_pos[dofs]  # (m, d), -1 on fixed DOFs
         self.movable = np.any(self.pos >= 0, axis=1)
         self._movable_pts = np.flatnonzero(self.movable)
+        if kinematics is None:  # the current gap against a rigid master, the current mortar gap between two bodies
+            kinematics = current_kinematics(problem, self.free)
         #: the gap in the current configuration against the master (:attr:`obstacle`, moved by :meth:`configure`)
         self.kinematics = kinematics(pts, dofs, self.pos, problem.obstacle, self.free.size)
-        self.h = self._element_size()
+        # a kinematics with its own multiplier weights and contact element size (the mortar gap) gives them
+        self.weights = np.asarray(getattr(self.kinematics, "weights", self.weights), dtype=float)
+        self.h = getattr(self.kinematics, "h", None) or self._element_size()
         self.linear_solves = 0
         self.newton_iterations = 0
         self.chord_steps = 0
@@ -483,6 +490,12 @@ class FiniteContact(ContactPoints):
         self._factor_stiffness = None  # the factor at hand is no subproblem's of this step
         self.predictor_used = "none"
         self.predicted_approach = None
+        if predictor_stiffness is not None and self.predictor == "auto":
+            slid = body_slide(self, x_start, fixed_values, load)  # a two-body pair sliding (systems._two_body)
+            if slid is not None:  # the step's data change is the carried translation: no tangent predictor
+                x_start, self.start_pressure = slid
+                self.predictor_used = "slide"
+                predictor_stiffness = None
         if predictor_stiffness is not None:
             pred_obstacle = self._predictor_obstacle(obstacle)
             # a sliding obstacle moves the contact zone: no extrapolation of its pressures and gaps
@@ -869,8 +882,9 @@ class FiniteContact(ContactPoints):
         g = self.kinematics.gaps(u, self.cand)
         return self._newton_matrix(u, law.traction(g, lam), law.stiffness(g, lam))
 
-    def _newton_matrix(self, u, t, D) -> sp.csr_matrix:
-        r""":math:`K_T + B^T \operatorname{diag}(w D) B + \sum_i w_i t_i H_i` at ``u`` (candidates)."""
+    def _newton_matrix(self, u, t, D, *, curvature: bool = True) -> sp.csr_matrix:
+        r""":math:`K_T + B^T \operatorname{diag}(w D) B + \sum_i w_i t_i H_i` at ``u`` (candidates); without the
+        last (curvature) term for ``curvature=False`` (a kinematics that is not pointwise only)."""
         cand = self.cand
         w = self.weights[cand]
         ev = self.kinematics.evaluate(u, cand, hessian=True)
@@ -880,7 +894,8 @@ class FiniteContact(ContactPoints):
             # the gap's gradient and curvature as sparse matrices (a kinematics coupling several points)
             Bm = ev.gradient()
             K = data if layout is None else layout.matrix(data)
-            return (K + Bm.T @ sp.diags(w * D) @ Bm + ev.curvature(w * t)).tocsr()
+            J = K + Bm.T @ sp.diags(w * D) @ Bm
+            return (J + ev.curvature(w * t) if curvature else J).tocsr()
         # B^T diag(w D) B is the block (-nu_i w_i D_i)(-nu_i)^T of every point (the products of the sparse
         # product, in its order), added before the curvature blocks as the sparse sum did
         layout.add_blocks(data, cand, ((-nu) * (w * D)[:, None])[:, :, None] * (-nu)[:, None, :])
@@ -963,7 +978,12 @@ class FiniteContact(ContactPoints):
         dx = self.solver.resolve(-(Bm.T @ (w * (new[act] - lam_a))))
         if dx is None or not np.all(np.isfinite(dx)):
             return new
-        return new, np.asarray(out.state, dtype=float) + dx
+        x_new = np.asarray(out.state, dtype=float) + dx
+        try:  # a primal change that inverts an element is no start for the next subproblem: the multipliers only
+            self._body_state(self.expand(x_new), False)
+        except InvertedElementError:
+            return new
+        return new, x_new
 
     def start_multiplier_step(self, law, lam, out):
         r"""Initial multipliers of Algorithm 6.3 from its penalty start (:attr:`warm_penalty_start`), or ``None``.
@@ -1122,16 +1142,22 @@ class FiniteContact(ContactPoints):
         Whether the last Newton solve converged is left in :attr:`active_converged` (with its
         relative residual in :attr:`active_residual`): a solve that stopped at its budget or
         stalled is a failure of the step (``run_ssn`` returns ``NEWTON_FAILED`` and the load
-        step is cut back), never a state to accept because its active set settled.
+        step is cut back), never a state to accept because its active set settled. A switch into
+        a set entered before (single Newton steps whose predicted sets cycle: a point of the
+        contact zone released after one step penetrates, taken back, its neighbour released, ...;
+        two-body ironing, 4-cycles until the budget ran out) solves that set to convergence before
+        the next switch, from gaps that are no longer a single Newton step's.
         """
         active = np.asarray(active, dtype=bool).copy()
         lam_all = np.where(active, np.maximum(np.asarray(lam, dtype=float), 0.0), 0.0)
         x = np.array(x, dtype=float)
         budget = int(maxiter)
         converged_sets = set()
+        entered = {active.tobytes()}
+        switch = True
         ok = False
         while budget > 0:
-            x, lam_all, ok, used = self._equality_newton(active, lam_all, x, c, tol, budget)
+            x, lam_all, ok, used = self._equality_newton(active, lam_all, x, c, tol, budget, switch=switch)
             budget -= used
             new_active = (lam_all + c * self.gaps(x)) > 0
             if ok:
@@ -1141,6 +1167,9 @@ class FiniteContact(ContactPoints):
                 converged_sets.add(key)  # converged on a set that changes: the outer loop goes on from here
             elif np.array_equal(new_active, active):
                 break  # the equality Newton failed on a settled set (logged there)
+            # a set entered before (the switches after single Newton steps cycle): solve it before switching again
+            switch = new_active.tobytes() not in entered
+            entered.add(new_active.tobytes())
             lam_all = np.where(new_active, lam_all, 0.0)
             active = new_active
         self.active_converged = bool(ok)
@@ -1175,9 +1204,9 @@ class FiniteContact(ContactPoints):
         D = sp.csr_matrix(((~on).astype(float), np.arange(nc), np.arange(nc + 1)), shape=(nc, nc))
         return sp.bmat([[Kt, Bc.T], [Bc, D]], format="csc")
 
-    def _equality_newton(self, active, lam_all, x, c, tol, maxiter):
+    def _equality_newton(self, active, lam_all, x, c, tol, maxiter, *, switch: bool = True):
         """Newton on :math:`g_A = 0` (saddle point, :class:`_EqualityNewton`); stops early when the
-        predicted active set changes.
+        predicted active set changes (unless ``switch`` is false: then it solves on ``active``).
 
         Returns ``(x, lam_all, converged, newton_steps)``. An inverted element at the start
         propagates (the load step is cut back).
@@ -1185,6 +1214,7 @@ class FiniteContact(ContactPoints):
         log: list[float] = []
         self.residual_log.append(log)
         system = _EqualityNewton(self, active, lam_all, c, tol)
+        system.switch = switch
         z0 = np.concatenate([np.asarray(x, dtype=float), system.r0])
         out = newton(system, z0, tol=tol, maxiter=maxiter, settings=_EQUALITY_SETTINGS, log=log)
         x_new, r = system.split(out.x)
@@ -1256,6 +1286,8 @@ class _Subproblem(NewtonSystem):
         self.floor = 0.0
         self.tol = 0.0
         self.chords = 0
+        #: Newton steps taken without the gap curvature (an indefinite Newton matrix, :meth:`step`)
+        self.descent_steps = 0
 
     def evaluate(self, x):
         fc, cand, w = self.fc, self.fc.cand, self.w
@@ -1333,8 +1365,15 @@ class _Subproblem(NewtonSystem):
         fc.assembly_seconds += tb - ta
         fc._factor_stiffness = (fc.cand, D)  # the contact springs in the factor (chord steps, _Subproblem._chord)
         dx = fc.solver.newton_step(J, -state.R, history)
-        fc.solve_seconds += time.perf_counter() - tb
         fc.linear_solves += 1
+        if self.use_energy and not fc.kinematics.pointwise and float(state.R @ dx) >= 0.0:
+            # an ascent direction: the curvature of a mortar gap (of order w t / h under the large tractions
+            # of a subproblem's start) made the Newton matrix indefinite; the step without it descends
+            J = fc._newton_matrix(state.u, state.t, D, curvature=False)
+            dx = fc.solver.newton_step(J, -state.R, history)
+            fc.linear_solves += 1
+            self.descent_steps += 1
+        fc.solve_seconds += time.perf_counter() - tb
         fc.newton_iterations += 1
         return dx
 
@@ -1362,6 +1401,8 @@ class _EqualityNewton(NewtonSystem):
         self.scale_run = 0.0  # running force unit: a free rigid motion has no forces left to scale by
         self.last = np.inf
         self.switched = False
+        #: stop at a change of the predicted active set (off: solve this set first, :meth:`FiniteContact.solve_active`)
+        self.switch = True
 
     def split(self, z):
         return z[:self.nf], z[self.nf:]
@@ -1411,7 +1452,7 @@ class _EqualityNewton(NewtonSystem):
         return np.concatenate([step[:self.nf], step[self.nf:][self.rows]])
 
     def interrupt(self, z, state, alpha):
-        if alpha == 1.0 and self.last > self.tol:
+        if self.switch and alpha == 1.0 and self.last > self.tol:
             # semi-smooth Newton: switch as soon as the predicted active set changes
             x, r = self.split(z)
             predicted = (self.lam_of(r) + self.c * self.fc.gaps(x)) > 0
@@ -1476,10 +1517,19 @@ class AMGNewtonSolver(_linalg.NewtonKrylovSolver):
             u = getattr(self.fc, "u_free", None)
             if u is not None:
                 pts = pts + np.asarray(u, dtype=float)[self._dofs]
-        modes, _ = rigid_body_modes(pts)
-        R = np.zeros((self.fc.model.ndofs, modes.shape[-1]))
-        R[self._dofs.ravel()] = modes.reshape(-1, modes.shape[-1])
-        return np.ascontiguousarray(R[self.fc.free])
+        model = self.fc.model
+        # several bodies (a MultiBody): each body's own rigid modes, zero on the others (the kernel of the
+        # block-diagonal tangent; the modes of all nodes together are only its common part)
+        owner = model.body_of_dofs()[self._dofs[:, 0]] if hasattr(model, "body_of_dofs") else \
+            np.zeros(pts.shape[0], dtype=np.int64)
+        blocks = []
+        for b in np.unique(owner):
+            rows = owner == b
+            modes, _ = rigid_body_modes(pts[rows])
+            R = np.zeros((model.ndofs, modes.shape[-1]))
+            R[self._dofs[rows].ravel()] = modes.reshape(-1, modes.shape[-1])
+            blocks.append(R)
+        return np.ascontiguousarray(np.hstack(blocks)[self.fc.free])
 
     def info(self) -> dict:
         """:meth:`alcontact.linalg.NewtonKrylovSolver.info` and the near-null configuration."""
