@@ -138,7 +138,9 @@ def test_newton_converges_quadratically(monkeypatch):
     assert sol.result.success, sol.result.message
     assert len(sol.frames) == 8  # 4 pressing and 4 sliding steps, no cut-back
     tested, bad = _quadratic_violations(sol.record.extra["residual_log"])
-    assert tested >= 10 and bad == 0, (tested, bad)
+    # one tested pair per step at least (8 here: since the slide predictor of issue 18 starts the carried
+    # contact zone active, the sliding steps need fewer Newton iterations, so fewer pairs are tested)
+    assert tested >= len(sol.frames) and bad == 0, (tested, bad)
     # the pressing steps without the curvature of the gap in the Newton matrix: only linear convergence
     from alcontact.contact.kinematics import _mortar_current
 

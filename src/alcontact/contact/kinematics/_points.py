@@ -83,13 +83,10 @@ def pair_gap(problem, check=None):
     against a rigid obstacle. With several pairs of which one moves, the gaps of all of them stacked into one
     (:func:`~alcontact.contact.kinematics._stacked_gap.stacked_gap`; ``check(name, pair, gap)`` is called with
     each moving pair's own). Nothing logged (:func:`mortar_of` adds the warnings of a solve). At finite
-    deformation: the gap of the reference configuration of the first pair."""
+    deformation: the gaps of the reference configuration (the start of a finite run, whose current gap
+    equals it at u = 0; what ``alcontact check`` reads)."""
     if all(p.rigid for p in problem.pairs):
         return None
-    if problem.kinematics != "small":
-        # the gap of the reference configuration (the start of a finite run, whose current gap equals it at
-        # u = 0) of the first pair: what ``alcontact check`` reads
-        return _one_pair_gap(problem, problem.pairs[0])
     if len(problem.pairs) > 1:
         if any(isinstance(p.master, RigidBody) for p in problem.pairs):
             raise InputError("a rigid body whose pose is solved for (contact.RigidBody) is the master of a pair on "
