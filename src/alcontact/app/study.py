@@ -62,6 +62,7 @@ __all__ = [
     "PROBLEMS",
     "FULL_SCALES",
     "QUICK_SCALES",
+    "REFERENCES",
     "StudyProblem",
     "StudyRun",
     "Method",
@@ -75,21 +76,24 @@ __all__ = [
 
 log = logging.getLogger(__name__)
 
-#: Version of the matrix and of the CSV layout; a results folder of another version is refused.
-STUDY_VERSION = 1
+#: Version of the matrix and of the CSV layout; a results folder of another version is refused. Version 2:
+#: every update rule at every eps scale, the two-body problem, the barrier anchor with friction, the counts
+#: summed over the load steps, the columns ``steps`` and ``cutbacks``.
+STUDY_VERSION = 2
 
 #: Columns of ``results.csv`` (one row per cell).
 COLUMNS = (
     "key", "study_version", "problem", "mesh", "dofs", "method", "algorithm", "penalty", "met", "family_p",
-    "eps_scale", "rule", "status", "outer", "newton", "linear_solves", "wall_s", "cpu_s", "linear_solve_s",
-    "time_per_linear_solve", "eps_final", "error", "error_reference", "penetration", "complementarity", "message",
+    "eps_scale", "rule", "status", "outer", "newton", "linear_solves", "steps", "cutbacks", "wall_s", "cpu_s",
+    "linear_solve_s", "time_per_linear_solve", "eps_final", "error", "error_reference", "penetration",
+    "complementarity", "message",
 )
 
 #: :math:`\\varepsilon_N` scales of the full run: six decades around the automatic value.
 FULL_SCALES = (1e-3, 1e-2, 1e-1, 1.0, 1e1, 1e2, 1e3)
 #: Scales of ``--quick``.
 QUICK_SCALES = (1e-2, 1.0, 1e2)
-#: The rule swept at every scale (the others run at scale 1).
+#: The rule of the per-problem sweep tables and heat maps (every rule runs at every scale).
 BASE_RULE = "fixed"
 #: Rules of ``--quick`` (the full run takes every registered rule): the base rule, the infeasibility rule and
 #: Algorithm 5.4's rule as printed and as corrected.
@@ -98,11 +102,21 @@ QUICK_RULES = ("fixed", "infeasibility", "alg54-printed", "alg54-corrected")
 IRONING_MU = 0.3
 
 
+#: What a problem's error is measured against (:attr:`StudyProblem.reference`): Hertz's peak pressure of the
+#: load the model carries (``problem.reference``, a :class:`~alcontact.problems.hertz.HertzReference`), or the
+#: displacement of the converged ``ssn`` solve of the same mesh.
+REFERENCES = ("hertz", "ssn")
+
+
 @dataclass(frozen=True)
 class StudyProblem:
     """A problem of the study: a builder per mesh size and what its error is measured against.
 
-    ``build(mesh)`` returns ``(problem, solve_kwargs)`` for :func:`alcontact.contact.solve`.
+    ``build(mesh)`` returns ``(problem, solve_kwargs)`` for :func:`alcontact.contact.solve`; the mesh
+    values are what the CSV's ``mesh`` column shows (elements per contact half-width, cells across, ...,
+    said in ``doc``). ``reference`` is one of :data:`REFERENCES`; ``frictional`` and ``kinematics`` select
+    the methods the solver registers for the problem (:func:`plan`). A new problem (a two-body case, a
+    3D mortar case, ...) is one entry of :data:`PROBLEMS` with its builder.
     """
 
     name: str
@@ -110,9 +124,18 @@ class StudyProblem:
     build: Callable[[Any], tuple[Any, dict]]
     quick_meshes: tuple
     full_meshes: tuple
-    analytical: bool
-    frictional: bool
+    reference: str = "ssn"
+    frictional: bool = False
     kinematics: str = "small"
+
+    def __post_init__(self):
+        if self.reference not in REFERENCES:
+            raise ValueError(f"StudyProblem {self.name!r}: reference {self.reference!r} is not one of {REFERENCES}")
+
+    @property
+    def analytical(self) -> bool:
+        """Whether the error is measured against a closed form (else against the ``ssn`` solution)."""
+        return self.reference != "ssn"
 
 
 def _hertz_2d(n):
@@ -160,22 +183,32 @@ def _ironing(n):
     return problem, {"steps": times, "obstacle_path": path, "friction": IRONING_MU}
 
 
-#: The problems of the study, by name.
+def _two_cylinders(n):
+    from ..problems.hertz import LEVELS_2D
+    from ..problems.two_body import hertz_cylinders
+
+    return hertz_cylinders(level=LEVELS_2D.index(int(n))), {}
+
+
+#: The problems of the study, by name (mesh sizes: ``quick_meshes`` in ``--quick``, ``full_meshes`` otherwise).
 PROBLEMS: dict[str, StudyProblem] = {p.name: p for p in (
     StudyProblem("hertz-2d", "rigid cylinder on a block, plane strain, small deformation (elements per a)",
-                 _hertz_2d, (2, 4), (2, 4, 8, 16), True, False),
+                 _hertz_2d, (2, 4), (2, 4, 8, 16), reference="hertz"),
     StudyProblem("hertz-3d", "rigid sphere on a block, small deformation (elements per a)",
-                 _hertz_3d, (1, 2), (1, 2, 3, 4), True, False),
+                 _hertz_3d, (1, 2), (1, 2, 3, 4), reference="hertz"),
     StudyProblem("signorini", "cantilever block pressed onto a plane: contact with lift-off (cells across)",
-                 _signorini, (2, 4), (2, 4, 8, 16), False, False),
+                 _signorini, (2, 4), (2, 4, 8, 16)),
     StudyProblem("half-cylinder", "neo-Hookean half-cylinder pressed to delta/R = 0.4, 8 load steps (n)",
-                 _half_cylinder, (4, 6), (4, 6, 8, 12), False, False, "finite"),
+                 _half_cylinder, (4, 6), (4, 6, 8, 12), kinematics="finite"),
     StudyProblem("hemisphere", "neo-Hookean quarter hemisphere to delta/R = 0.2, 5 load steps (n)",
-                 _hemisphere, (2, 3), (2, 3, 4, 6), False, False, "finite"),
+                 _hemisphere, (2, 3), (2, 3, 4, 6), kinematics="finite"),
     StudyProblem("cattaneo-mindlin", "Cattaneo-Mindlin: Hertz load then shear, Coulomb mu = 0.3 (elements per a)",
-                 _mindlin, (2, 4), (2, 4, 8, 16), False, True),
+                 _mindlin, (2, 4), (2, 4, 8, 16), frictional=True),
     StudyProblem("ironing", "finite-deformation frictional ironing, mu = 0.3, press then slide 0.5 (elements "
-                 "per unit length)", _ironing, (4, 6), (4, 6, 8, 12), False, True, "finite"),
+                 "per unit length)", _ironing, (4, 6), (4, 6, 8, 12), frictional=True, kinematics="finite"),
+    StudyProblem("hertz-2body", "two elastic cylinders (steel on aluminium), mortar, plane strain, small "
+                 "deformation; Hertz with the effective radius and modulus (elements per a on the slave)",
+                 _two_cylinders, (8, 16), (8, 16, 32, 64), reference="hertz"),
 )}
 
 
@@ -271,7 +304,9 @@ def plan(*, quick: bool = False, only: Iterable[str] | None = None) -> list[Cell
 
     problems, chosen = _select(only)
     scales = QUICK_SCALES if quick else FULL_SCALES
-    rules = [r for r in (QUICK_RULES if quick else available_strategies()) if r in available_strategies()]
+    registered = available_strategies()
+    rules = [r for r in (QUICK_RULES if quick else registered) if r in registered]
+    rules = [r for r in rules if r == BASE_RULE] + [r for r in rules if r != BASE_RULE]  # the base rule first
     first, rest = [], []
     for p in problems:
         # the ssn reference of the error always runs for a problem without an analytical solution
@@ -284,10 +319,9 @@ def plan(*, quick: bool = False, only: Iterable[str] | None = None) -> list[Cell
                 if not m.has_penalty_parameter:
                     first.append(Cell(p.name, mesh, m, None, "-"))
                     continue
-                own_rules = rules if (m.has_update_rule and not p.frictional) else []
-                base = BASE_RULE if own_rules else "-"
-                rest += [Cell(p.name, mesh, m, s, base) for s in scales]
-                rest += [Cell(p.name, mesh, m, 1.0, r) for r in own_rules if r != BASE_RULE]
+                # every rule at every scale: which rule makes the method robust to the starting eps_N
+                own_rules = rules if (m.has_update_rule and not p.frictional) else ["-"]
+                rest += [Cell(p.name, mesh, m, s, r) for r in own_rules for s in scales]
     return first + rest
 
 
@@ -313,6 +347,21 @@ def _linear_solve_seconds(model) -> float:
         splu(K).solve(rhs)
         best = min(best, time.process_time() - t0)
     return max(best, 1e-6)
+
+
+def _unit_seconds(out: Path, cell: Cell, model) -> float:
+    """:func:`_linear_solve_seconds` of the cell's mesh, measured once per mesh in the run (``units/``)."""
+    path = out / "units" / f"{cell.problem}-{cell.mesh}.txt"
+    try:
+        return float(path.read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        pass
+    seconds = _linear_solve_seconds(model)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_name(f"{path.name}.{os.getpid()}.tmp")
+    tmp.write_text(f"{seconds!r}\n", encoding="utf-8")
+    os.replace(tmp, path)  # atomic: a cell running at the same time reads the whole number or measures itself
+    return seconds
 
 
 def _ref_path(out: Path, cell: Cell) -> Path:
@@ -348,15 +397,21 @@ def solve_cell(cell: Cell, out: Path) -> dict:
         options["penalty_scale"] = float(cell.eps_scale)
     if cell.rule not in ("-",):
         options["strategy"] = cell.rule
-    t_lin = _linear_solve_seconds(problem.model)
+    t_lin = _unit_seconds(out, cell, problem.model)
     w0, c0 = time.perf_counter(), time.process_time()
     sol = solve(problem, cell.method.algorithm, cell.method.penalty, options or None, **kwargs)
     wall, cpu = time.perf_counter() - w0, time.process_time() - c0
     res = sol.result
+    # the whole solve: the sums over the accepted load steps (the last frame's result of a frictional run
+    # holds that step's counts only); the work of attempts that were cut back is in the CPU time
+    frames = sol.frames or ()
+    outer = sum(int(f.outer_iterations) for f in frames) if frames else int(res.outer_iterations)
+    newton = sum(int(f.newton_iterations) for f in frames) if frames else int(res.newton_iterations)
+    solves = sum(int(f.linear_solves) for f in frames) if frames else int(res.linear_solves)
     row = _row_base(cell)
     row.update(dofs=int(problem.model.ndofs), penalty=res.penalty or row["penalty"], status=res.status.label,
-               outer=int(res.outer_iterations), newton=int(res.newton_iterations),
-               linear_solves=int(res.linear_solves), wall_s=f"{wall:.4g}", cpu_s=f"{cpu:.4g}",
+               outer=outer, newton=newton, linear_solves=solves, steps=len(frames) or 1,
+               cutbacks=sum(int(f.cutbacks) for f in frames), wall_s=f"{wall:.4g}", cpu_s=f"{cpu:.4g}",
                linear_solve_s=f"{t_lin:.4g}", time_per_linear_solve=f"{cpu / t_lin:.4g}",
                eps_final=f"{float(res.eps_n):.4g}", penetration=f"{float(res.penetration):.3e}",
                complementarity=f"{float(res.complementarity):.3e}",
@@ -487,12 +542,37 @@ def run_study(out: str | os.PathLike, *, quick: bool = False, only: Iterable[str
             if progress is not None:
                 progress(run.skipped + run.solved, len(cells), row)
 
+        if todo:
+            _warm_up({c.problem for c in todo})
         refs = [c for c in todo if c.method.algorithm == "ssn"]
         _run_cells(refs, out, int(jobs), limit, record)  # the references of the error first
         _run_cells([c for c in todo if c.method.algorithm != "ssn"], out, int(jobs), limit, record)
     if report:
         run.report = write_report(out, title=f"alcontact study (version {STUDY_VERSION}{', quick' if quick else ''})")
     return run
+
+
+def _warm_up(problems: set[str]) -> None:
+    """Solve each problem's smallest mesh once in this process, before the cells are forked from it.
+
+    The first solve of a process imports the linear-solver backends and the solver modules it reaches
+    (measured: 0.15 s of CPU inside the solve of a 4664-DOF 2D Hertz cell whose later solves take 0.05 s);
+    forked from a warmed-up parent, every cell's CPU time is that of its solve.
+    """
+    from ..contact import solve
+
+    level = logging.getLogger("alcontact").level
+    logging.getLogger("alcontact").setLevel(logging.ERROR)
+    try:
+        for name in sorted(problems):
+            spec = PROBLEMS[name]
+            try:
+                problem, kwargs = spec.build(spec.quick_meshes[0])
+                solve(problem, "simo-laursen", None, None, **kwargs)
+            except Exception:  # a warm-up only: the cells record their own failures
+                log.debug("warm-up of %s failed", name, exc_info=True)
+    finally:
+        logging.getLogger("alcontact").setLevel(level)
 
 
 def _run_cells(cells: list[Cell], out: Path, jobs: int, limit: float, record: Callable[[dict], None]) -> None:

@@ -8,13 +8,15 @@ CSV gives the same text. Tables:
   (``fixed``; friction solvers: none), a failure shown as its status in brackets;
 - per method: converged cells of the :math:`\\varepsilon` sweep over all problems and meshes, as
   ``converged/cells`` and a percentage ("which method needs no tuning");
-- per method and update rule (scale 1, frictionless problems): cells, converged, and the mean outer
-  and Newton iterations of the converged cells.
+- per method and update rule (frictionless problems): converged cells per eps scale and over the sweep,
+  and the mean outer and Newton iterations of the converged cells ("which rule makes which method
+  robust to eps").
 
 An "Answers" section states the findings in sentences, each figure computed from the same rows: the
-convergence of the sweep per eps scale (:func:`scale_totals`), MET 1
-against MET 2 (:func:`met_pairs`), the update rules over all methods (:func:`rule_totals`, Algorithm 5.4
-as printed and as corrected), the barrier anchor against the family-P methods (:func:`barrier_vs_al`).
+convergence of the sweep per eps scale (:func:`scale_totals`), MET 1 against MET 2
+(:func:`met_pairs`), the update rules over all methods and scales (:func:`rule_totals`, Algorithm
+5.4 as printed and as corrected) and the most robust rule of each method (:func:`robust_rules`),
+the barrier anchor against the family-P methods (:func:`barrier_vs_al`).
 """
 
 from __future__ import annotations
@@ -26,7 +28,7 @@ from collections import OrderedDict
 from pathlib import Path
 
 __all__ = ["CSV_NAME", "read_rows", "tables", "render", "write_report", "heat_maps", "met_pairs", "rule_totals",
-           "barrier_vs_al", "scale_totals"]
+           "barrier_vs_al", "scale_totals", "robust_rules"]
 
 #: The CSV of a study folder.
 CSV_NAME = "results.csv"
@@ -74,7 +76,7 @@ def tables(rows: list[dict]) -> dict:
 
     Returns ``{"sweep": {(problem, mesh): {"dofs", "scales", "methods", "cells": {(method, scale): text}}},
     "robustness": [(method, converged, cells, median Newton, median time / linear solve)],
-    "rules": [(method, rule, cells, converged, outer, newton)]}``.
+    "rules": [(method, rule, [(scale, cells, converged)], cells, converged, outer, newton)]}``.
     """
     method_order = _order(r["method"] for r in rows)
     return {"sweep": _sweep_table(rows, method_order), "robustness": _robustness_table(rows, method_order),
@@ -110,16 +112,31 @@ def _robustness_table(rows: list[dict], method_order: list[str]) -> list[tuple]:
     return robustness
 
 
+def _per_scale(sel: list[dict], scales: list[str]) -> list[tuple[str, int, int]]:
+    """``(scale, cells, converged)`` of ``sel`` at each of ``scales``."""
+    out = []
+    for sc in scales:
+        at = [r for r in sel if r["eps_scale"] == sc]
+        out.append((sc, len(at), sum(r["status"] == "converged" for r in at)))
+    return out
+
+
+def _rule_scales(rows: list[dict]) -> list[str]:
+    """The eps scales of the rows with an update rule, ascending."""
+    return sorted(_order(r["eps_scale"] for r in rows if r["rule"] != "-" and r["eps_scale"] != "-"), key=_scale_key)
+
+
 def _rules_table(rows: list[dict], method_order: list[str]) -> list[tuple]:
-    """Per method and update rule at eps scale 1: cells, converged, mean outer and Newton (converged cells)."""
+    """Per method and update rule over the eps sweep (every problem and mesh with a rule): ``(method, rule,
+    [(scale, cells, converged)], cells, converged, mean outer, mean Newton)``, means over the converged cells."""
+    scales = _rule_scales(rows)
     rules = []
     for m in method_order:
         for rule in _order(r["rule"] for r in rows if r["method"] == m and r["rule"] != "-"):
-            rr = [r for r in rows if r["method"] == m and r["rule"] == rule and _num(r["eps_scale"]) == 1.0]
+            rr = [r for r in rows if r["method"] == m and r["rule"] == rule]
             ok = [r for r in rr if r["status"] == "converged"]
-            outer = sum(_num(r["outer"]) for r in ok) / len(ok) if ok else math.nan
-            newton = sum(_num(r["newton"]) for r in ok) / len(ok) if ok else math.nan
-            rules.append((m, rule, len(rr), len(ok), outer, newton))
+            rules.append((m, rule, _per_scale(rr, scales), len(rr), len(ok), _mean([_num(r["outer"]) for r in ok]),
+                          _mean([_num(r["newton"]) for r in ok])))
     return rules
 
 
@@ -174,15 +191,31 @@ def scale_totals(rows: list[dict]) -> list[tuple[str, int, int]]:
     return out
 
 
-def rule_totals(rows: list[dict]) -> list[tuple[str, int, int, float, float]]:
-    """Per update rule, over every method with a rule at eps scale 1: ``(rule, cells, converged, mean outer,
-    mean Newton)`` (means over the converged cells)."""
+def rule_totals(rows: list[dict]) -> list[tuple[str, list[tuple[str, int, int]], int, int, float, float]]:
+    """Per update rule, over every method with a rule and the whole eps sweep: ``(rule, [(scale, cells,
+    converged)], cells, converged, mean outer, mean Newton)`` (means over the converged cells)."""
+    scales = _rule_scales(rows)
     out = []
     for rule in _order(r["rule"] for r in rows if r["rule"] != "-"):
-        sel = [r for r in rows if r["rule"] == rule and _num(r["eps_scale"]) == 1.0]
+        sel = [r for r in rows if r["rule"] == rule]
         ok = [r for r in sel if r["status"] == "converged"]
-        out.append((rule, len(sel), len(ok), _mean([_num(r["outer"]) for r in ok]),
+        out.append((rule, _per_scale(sel, scales), len(sel), len(ok), _mean([_num(r["outer"]) for r in ok]),
                     _mean([_num(r["newton"]) for r in ok])))
+    return out
+
+
+def robust_rules(rows: list[dict], base: str = "fixed") -> list[tuple[str, list[str], int, int, int]]:
+    """Per method with update rules: ``(method, rules, converged, cells, base converged)``: the rules that
+    converge in the most cells of the eps sweep (ties: all of them, fewest mean Newton first), their count,
+    and the count of the ``base`` rule on the same cells (``-1`` without it)."""
+    t = _rules_table(rows, _order(r["method"] for r in rows))
+    out = []
+    for m in _order(x[0] for x in t):
+        mine = [x for x in t if x[0] == m]
+        top = max(x[4] for x in mine)
+        best = sorted((x for x in mine if x[4] == top), key=lambda x: (math.isnan(x[6]), x[6]))
+        fixed = next((x[4] for x in mine if x[1] == base), -1)
+        out.append((m, [x[1] for x in best], top, best[0][3], fixed))
     return out
 
 
@@ -240,15 +273,23 @@ def _answers(rows: list[dict]) -> list[str]:
                                                                            f"; and {len(differ) - 8} more") + "."
     rules = rule_totals(rows)
     if rules:
-        lines += ["- **Penalty update rules** (eps scale 1, every method with a rule): "
-                  + "; ".join(f"`{rule}` converged {ok} of {n}, mean {_fmt_mean(outer)} outer / "
-                              f"{_fmt_mean(newton)} Newton" for rule, n, ok, outer, newton in rules) + "."]
-        named = {rule: (n, ok) for rule, n, ok, _, _ in rules}
+        lines += ["- **Penalty update rules across the eps sweep** (every method with a rule, every problem and mesh "
+                  "with one; converged of cells per eps scale): "
+                  + "; ".join(f"`{rule}` " + ", ".join(f"x{sc} {ok} of {n}" for sc, n, ok in per)
+                              + f" (all: {ok} of {n}, mean {_fmt_mean(outer)} outer / {_fmt_mean(newton)} Newton)"
+                              for rule, per, n, ok, outer, newton in rules) + "."]
+        named = {rule: (n, ok) for rule, _, n, ok, _, _ in rules}
         if "alg54-printed" in named and "alg54-corrected" in named:
             (n1, ok1), (n2, ok2) = named["alg54-printed"], named["alg54-corrected"]
             lines += ["  Algorithm 5.4 as printed (eta <- 2 eta, i.e. eps_N halved every outer iteration) "
                       f"converged in {ok1} of {n1} cells, as corrected (eps_N doubled) in {ok2} of {n2}: a larger "
                       "eta weakens the penalty, since eta divides g in (5.28)."]
+        robust = robust_rules(rows)
+        if robust:
+            lines += ["  Which rule makes which method robust to eps (the rules converging in the most cells of the "
+                      "sweep, fewest Newton iterations first; in brackets the rule `fixed`): "
+                      + "; ".join(f"{m}: " + ", ".join(f"`{r}`" for r in best) + f" {ok} of {n}"
+                                  + (f" (fixed {fx})" if fx >= 0 else "") for m, best, ok, n, fx in robust) + "."]
         lines.append("")
     bar = barrier_vs_al(rows)
     if bar:
@@ -314,22 +355,26 @@ def _robustness_section(robustness: list[tuple], rows: list[dict]) -> list[str]:
 
 
 def _rules_section(rules: list[tuple]) -> list[str]:
-    """"Penalty update rules": the rules table at eps scale 1 and the rule with the fewest Newton iterations."""
+    """"Penalty update rules": converged cells per method, rule and eps scale, and the mean cost."""
+    scales = [sc for sc, _, _ in rules[0][2]] if rules else []
     lines = ["## Penalty update rules", "",
-             "At eps scale 1, frictionless problems; outer and Newton: means over the converged cells. "
+             "Frictionless problems (the friction solvers have no rule), every problem and mesh; per eps scale "
+             "converged / cells; outer and Newton: means over the converged cells of the whole sweep. "
              "`alg54-printed`: Algorithm 5.4 as printed, eta <- 2 eta (eps_N halved) after every outer "
              "iteration; `alg54-corrected`: eta <- eta / 2 (eps_N doubled); `infeasibility`: eps_N times 10 "
              "when the penetration did not fall below 1/4 of its previous value.", "",
-             "| method | rule | cells | converged | outer | Newton |", "|---|---|---:|---:|---:|---:|"]
-    for m, rule, n, ok, outer, newton in rules:
-        lines.append(f"| {m} | {rule} | {n} | {ok} | {_fmt_mean(outer)} | {_fmt_mean(newton)} |")
+             "| method | rule | " + " | ".join(f"eps x{sc}" for sc in scales) + " | converged | cells | outer | Newton |",
+             "|---|---|" + "---:|" * (len(scales) + 4)]
+    for m, rule, per, n, ok, outer, newton in rules:
+        lines.append(f"| {m} | {rule} | " + " | ".join(f"{k}/{c}" for _, c, k in per)
+                     + f" | {ok} | {n} | {_fmt_mean(outer)} | {_fmt_mean(newton)} |")
     lines.append("")
     fewest = OrderedDict()
-    for m, rule, n, ok, outer, newton in rules:
+    for m, rule, per, n, ok, outer, newton in rules:
         if n and ok == n and not math.isnan(newton) and (m not in fewest or newton < fewest[m][1]):
             fewest[m] = (rule, newton)
     if fewest:
-        lines += ["Rule with the fewest Newton iterations (every cell converged): "
+        lines += ["Rule with the fewest Newton iterations among those converging in every cell of the sweep: "
                   + ", ".join(f"{m}: {r}" for m, (r, _) in fewest.items()) + ".", ""]
     return lines
 
