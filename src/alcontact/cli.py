@@ -679,7 +679,7 @@ def bench_command(
 def study_command(
     out: Annotated[Path, typer.Option("--out", "-o", help="Study folder (resumed if it holds a study).")]
     = Path("study"),
-    quick: Annotated[bool, typer.Option("--quick", help="Two meshes per problem, three eps scales, two update "
+    quick: Annotated[bool, typer.Option("--quick", help="Two meshes per problem, three eps scales, four update "
                                                         "rules (about 10 min on 2 cores with --jobs 2).")] = False,
     only: Annotated[
         Optional[list[str]],
@@ -689,6 +689,9 @@ def study_command(
     jobs: Annotated[int, typer.Option("--jobs", "-j", help="Cells solved at once, each in its own process.")] = 1,
     timeout: Annotated[
         Optional[float], typer.Option("--timeout", help="Seconds per cell (default 60 with --quick, else 600).")
+    ] = None,
+    meshes: Annotated[
+        Optional[int], typer.Option("--meshes", help="Keep the N smallest mesh sizes of each problem (default: all).")
     ] = None,
 ) -> None:
     """Run the study: problems x methods x eps scales x update rules; results.csv, report.md, heat maps.
@@ -719,7 +722,8 @@ def study_command(
     try:
         with _cli_logging(err, logging.WARNING), _signals_raise():
             try:
-                run = run_study(out, quick=quick, only=only, jobs=jobs, timeout=timeout, progress=progress)
+                run = run_study(out, quick=quick, only=only, jobs=jobs, timeout=timeout, progress=progress,
+                                meshes=meshes)
             finally:
                 bar.stop()
     except KeyboardInterrupt as exc:

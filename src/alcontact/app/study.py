@@ -44,8 +44,10 @@ import logging
 import math
 import multiprocessing as mp
 import os
+import signal
 import time
 from collections.abc import Callable, Iterable
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -285,23 +287,30 @@ def _select(only: Iterable[str] | None) -> tuple[list[StudyProblem], list[Method
         if n in PROBLEMS:
             continue
         if n not in labels:
-            raise UnknownNameError("problem or method of --only", n, sorted(set(PROBLEMS) | labels))
+            raise UnknownNameError("--only name", n, sorted(set(PROBLEMS) | labels))
         meths.append(n)
     problems = [PROBLEMS[n] for n in PROBLEMS if not probs or n in probs]
     chosen = [m for m in all_methods if not meths or m.label in meths or m.algorithm in meths]
     return problems, chosen
 
 
-def plan(*, quick: bool = False, only: Iterable[str] | None = None) -> list[Cell]:
+def plan(*, quick: bool = False, only: Iterable[str] | None = None, meshes: int | None = None) -> list[Cell]:
     """The cells of a study, reference (``ssn``) cells first.
+
+    ``meshes`` keeps the ``meshes`` smallest mesh sizes of each problem (default: all of them).
 
     Raises
     ------
     UnknownNameError
         A name in ``only`` that is neither a problem nor a method (the closest match is named).
+    InputError
+        ``meshes`` below 1.
     """
     from ..optim import available_strategies
 
+    if meshes is not None and not (isinstance(meshes, int) and meshes >= 1):
+        raise InputError(f"--meshes must be a whole number of at least 1 (the smallest mesh sizes of each problem "
+                         f"to keep); got {meshes!r}.")
     problems, chosen = _select(only)
     scales = QUICK_SCALES if quick else FULL_SCALES
     registered = available_strategies()
@@ -312,7 +321,7 @@ def plan(*, quick: bool = False, only: Iterable[str] | None = None) -> list[Cell
         # the ssn reference of the error always runs for a problem without an analytical solution
         need_ref = not p.analytical and not any(m.algorithm == "ssn" for m in chosen)
         pm = list(chosen) + ([m for m in methods() if m.algorithm == "ssn"] if need_ref else [])
-        for mesh in (p.quick_meshes if quick else p.full_meshes):
+        for mesh in (p.quick_meshes if quick else p.full_meshes)[:meshes]:
             for m in pm:
                 if not _applicable(p, m):
                     continue
@@ -435,7 +444,45 @@ def _row_base(cell: Cell) -> dict:
     return row
 
 
+#: Signals that stop a study (Ctrl-C, kill): handled by the parent only.
+_STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM)
+
+
+@contextmanager
+def _stop_signals_deferred():
+    """Defer Ctrl-C / SIGTERM while a cell's process is forked: their handler runs after the fork, not inside it.
+
+    A signal arriving while the parent forks runs its Python handler inside the interpreter's at-fork
+    callbacks (the logging module's), where the exception it raises is printed and dropped ("Exception
+    ignored"): the study went on. Here the handler only notes the signal; the original one runs after.
+    """
+    import threading
+
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    caught: list[int] = []
+    old = {sig: signal.signal(sig, lambda signum, frame: caught.append(signum)) for sig in _STOP_SIGNALS}
+    try:
+        yield
+    finally:
+        for sig, handler in old.items():
+            signal.signal(sig, handler)
+        if caught:
+            handler = old[caught[0]]
+            if callable(handler):
+                handler(caught[0], None)
+            elif handler == signal.SIG_DFL and caught[0] == signal.SIGINT:
+                raise KeyboardInterrupt
+            elif handler == signal.SIG_DFL:
+                signal.raise_signal(caught[0])
+
+
 def _child(cell: Cell, out: str, conn) -> None:
+    # Ctrl-C reaches the whole process group: only the parent handles it (it kills the running cells and keeps
+    # every finished row); a cell interrupted here would otherwise be recorded as crashed, or print a traceback
+    for sig in _STOP_SIGNALS:
+        signal.signal(sig, signal.SIG_IGN)
     logging.getLogger("alcontact").setLevel(logging.ERROR)  # the row carries the status; no warnings per cell
     try:
         row = solve_cell(cell, Path(out))
@@ -449,6 +496,14 @@ def _child(cell: Cell, out: str, conn) -> None:
 # ----------------------------------------------------------------------------------- the folder
 
 _MARKER = "study.json"
+
+
+def _csv_header(path: Path) -> list[str] | None:
+    """The first row of ``path`` (``None`` without a file or an empty one)."""
+    if not path.is_file():
+        return None
+    with path.open(newline="", encoding="utf-8") as fh:
+        return next(csv.reader(fh), None)
 
 
 def _open_folder(out: Path) -> None:
@@ -465,6 +520,11 @@ def _open_folder(out: Path) -> None:
             raise InputError(f"results folder {str(out)!r} holds a study of version {meta.get('study_version')!r}, "
                              f"this is version {STUDY_VERSION}: its cells cannot be resumed. Pass a new --out "
                              "folder (or delete that one to start over).")
+        header = _csv_header(out / CSV_NAME)
+        if header is not None and header != list(COLUMNS):
+            raise InputError(f"{str(out / CSV_NAME)!r} does not have the columns of a version {STUDY_VERSION} study "
+                             f"(first line {','.join(header)[:120]!r}): it was written by another version or edited. "
+                             "Pass a new --out folder (or delete that one to start over).")
         return
     if out.is_dir() and any(out.iterdir()):
         raise InputError(f"--out {str(out)!r} is not empty and holds no study ({_MARKER} missing); pass a new or "
@@ -472,6 +532,18 @@ def _open_folder(out: Path) -> None:
     out.mkdir(parents=True, exist_ok=True)
     marker.write_text(json.dumps({"study_version": STUDY_VERSION, "alcontact": __version__}, indent=1) + "\n",
                       encoding="utf-8")
+
+
+def _complete_rows_only(csv_path: Path) -> None:
+    """Drop a last line without its end of line (a run killed while writing it): every row left is whole."""
+    if not csv_path.is_file():
+        return
+    data = csv_path.read_bytes()
+    if data and not data.endswith(b"\n"):
+        keep = data.rfind(b"\n") + 1
+        log.warning("%s: dropping an unfinished last row (%d bytes) of an interrupted run", csv_path, len(data) - keep)
+        with csv_path.open("r+b") as fh:
+            fh.truncate(keep)
 
 
 @dataclass
@@ -488,7 +560,7 @@ class StudyRun:
 
 def run_study(out: str | os.PathLike, *, quick: bool = False, only: Iterable[str] | None = None, jobs: int = 1,
               timeout: float | None = None, progress: Callable[[int, int, dict], None] | None = None,
-              report: bool = True) -> StudyRun:
+              report: bool = True, meshes: int | None = None) -> StudyRun:
     """Run (or resume) the study into ``out`` and write ``report.md`` and the heat maps.
 
     Parameters
@@ -499,6 +571,8 @@ def run_study(out: str | os.PathLike, *, quick: bool = False, only: Iterable[str
         Two meshes per problem, :data:`QUICK_SCALES`, :data:`QUICK_RULES`.
     only : iterable of str
         Problem names, method labels or algorithm names; each given kind restricts the matrix.
+    meshes : int, optional
+        Keep the ``meshes`` smallest mesh sizes of each problem.
     jobs : int
         Cells solved at once, each in its own process.
     timeout : float, optional
@@ -510,15 +584,16 @@ def run_study(out: str | os.PathLike, *, quick: bool = False, only: Iterable[str
     Raises
     ------
     InputError
-        ``jobs < 1``, an unknown name in ``only`` (:class:`UnknownNameError`), ``out`` from another
-        study version or not a study folder.
+        ``jobs < 1``, ``meshes < 1``, an unknown name in ``only`` (:class:`UnknownNameError`), ``out`` from
+        another study version, not a study folder, or a ``results.csv`` whose columns are not :data:`COLUMNS`.
     """
     if int(jobs) < 1:
         raise InputError(f"--jobs must be at least 1; got {jobs}.")
-    cells = plan(quick=quick, only=only)
+    cells = plan(quick=quick, only=only, meshes=meshes)
     out = Path(out)
     _open_folder(out)
     csv_path = out / CSV_NAME
+    _complete_rows_only(csv_path)
     done_keys = {r.get("key") for r in read_rows(csv_path)}
     todo = [c for c in cells if c.key not in done_keys]
     run = StudyRun(out, len(cells), len(cells) - len(todo), 0)
@@ -527,7 +602,7 @@ def run_study(out: str | os.PathLike, *, quick: bool = False, only: Iterable[str
              csv_path, len(todo))
     if progress is not None:
         progress(run.skipped, len(cells), {})
-    new = not csv_path.is_file()
+    new = not csv_path.is_file() or csv_path.stat().st_size == 0
     with csv_path.open("a", newline="", encoding="utf-8") as fh:
         writer = csv.DictWriter(fh, fieldnames=COLUMNS)
         if new:
@@ -586,7 +661,8 @@ def _run_cells(cells: list[Cell], out: Path, jobs: int, limit: float, record: Ca
                 cell = queue.pop(0)
                 recv, send = ctx.Pipe(duplex=False)
                 proc = ctx.Process(target=_child, args=(cell, str(out), send), daemon=True)
-                proc.start()
+                with _stop_signals_deferred():
+                    proc.start()
                 send.close()
                 running.append((cell, proc, recv, time.perf_counter()))
             still = []

@@ -16,7 +16,7 @@ An "Answers" section states the findings in sentences, each figure computed from
 convergence of the sweep per eps scale (:func:`scale_totals`), MET 1 against MET 2
 (:func:`met_pairs`), the update rules over all methods and scales (:func:`rule_totals`, Algorithm
 5.4 as printed and as corrected) and the most robust rule of each method (:func:`robust_rules`),
-the barrier anchor against the family-P methods (:func:`barrier_vs_al`).
+the barrier anchor against the family-P methods, without and with friction (:func:`barrier_vs_al`).
 """
 
 from __future__ import annotations
@@ -28,7 +28,8 @@ from collections import OrderedDict
 from pathlib import Path
 
 __all__ = ["CSV_NAME", "read_rows", "tables", "render", "write_report", "heat_maps", "met_pairs", "rule_totals",
-           "barrier_vs_al", "scale_totals", "robust_rules"]
+           "barrier_vs_al", "scale_totals", "robust_rules", "rules_heat_map",
+           "frictional_problems"]
 
 #: The CSV of a study folder.
 CSV_NAME = "results.csv"
@@ -219,13 +220,22 @@ def robust_rules(rows: list[dict], base: str = "fixed") -> list[tuple[str, list[
     return out
 
 
-def barrier_vs_al(rows: list[dict], barrier: str = "log-barrier") -> dict | None:
+def frictional_problems(rows: list[dict]) -> set[str]:
+    """The problems solved with friction: those whose family-P cells have no update rule (``-``)."""
+    return {r["problem"] for r in rows if r["family_p"] == "1" and r["rule"] == "-"}
+
+
+def barrier_vs_al(rows: list[dict], barrier: str = "log-barrier", friction: bool | None = None) -> dict | None:
     """The barrier anchor against the family-P AL methods on the same sweep cells (problem, mesh, eps scale).
 
     ``{"cells", "converged", "outer", "newton"}`` for the barrier and ``{"al_cells", "al_converged",
     "al_outer", "al_newton"}`` for the family-P methods (medians over the converged cells); ``None`` without
-    barrier rows.
+    barrier rows. ``friction``: only the frictional (``True``) or frictionless (``False``) problems
+    (:func:`frictional_problems`).
     """
+    if friction is not None:
+        fr = frictional_problems(rows)
+        rows = [r for r in rows if (r["problem"] in fr) == friction]
     bar = [r for r in rows if r["method"] == barrier]
     if not bar:
         return None
@@ -291,14 +301,18 @@ def _answers(rows: list[dict]) -> list[str]:
                       + "; ".join(f"{m}: " + ", ".join(f"`{r}`" for r in best) + f" {ok} of {n}"
                                   + (f" (fixed {fx})" if fx >= 0 else "") for m, best, ok, n, fx in robust) + "."]
         lines.append("")
-    bar = barrier_vs_al(rows)
-    if bar:
-        lines += ["- **Barrier anchor** (`log-barrier`: modified log barrier with fixed multipliers, eta -> 0, no "
-                  f"multiplier update): converged in {bar['converged']} of {bar['cells']} cells of the eps sweep, "
-                  f"median {_fmt_mean(bar['outer'])} outer / {_fmt_mean(bar['newton'])} Newton iterations; on "
-                  f"the same cells the family-P augmented Lagrangian methods converged in {bar['al_converged']} of "
-                  f"{bar['al_cells']}, median {_fmt_mean(bar['al_outer'])} outer / {_fmt_mean(bar['al_newton'])} "
-                  "Newton.", ""]
+    for friction, what in ((False, "frictionless problems: modified log barrier with fixed multipliers, eta -> 0, "
+                                   "no multiplier update"),
+                           (True, "frictional problems: the same barrier on the normal part per load step, the "
+                                  "tangential part of Algorithm 6.2")):
+        bar = barrier_vs_al(rows, friction=friction)
+        if bar:
+            lines += [f"- **Barrier anchor, {what.split(':')[0]}** (`log-barrier`, {what.split(': ')[1]}): converged "
+                      f"in {bar['converged']} of {bar['cells']} cells of the eps sweep, median "
+                      f"{_fmt_mean(bar['outer'])} outer / {_fmt_mean(bar['newton'])} Newton iterations; on the same "
+                      f"cells the family-P augmented Lagrangian methods converged in {bar['al_converged']} of "
+                      f"{bar['al_cells']}, median {_fmt_mean(bar['al_outer'])} outer / {_fmt_mean(bar['al_newton'])} "
+                      "Newton.", ""]
     return lines if len(lines) > 2 else []
 
 
@@ -314,14 +328,16 @@ def render(rows: list[dict], *, title: str = "alcontact study", images: dict | N
         status[r["status"]] = status.get(r["status"], 0) + 1
     lines = [f"# {title}", "",
              f"{len(rows)} cells; status: " + ", ".join(f"{k} {v}" for k, v in status.items()) + ".", "",
-             "Every number below is read from `results.csv` of this folder. Newton: Newton iterations of the "
-             "whole solve (all load steps); `[status]`: the cell did not converge. eps scale: multiplier of the "
-             "automatic penalty parameter. Update rule `fixed` (friction solvers: none). `converged` is the "
-             "solver's status: every invariant it checks holds at the returned state (the pure penalty stops "
-             "on its penetration tolerance, see the `eps_final` column).", ""]
+             "Every number below is read from `results.csv` of this folder. Newton (outer): Newton (outer) "
+             "iterations of the whole solve, summed over the accepted load steps (the work of a step that was "
+             "cut back is in the CPU time; `cutbacks` column); `[status]`: the cell did not converge. eps scale: "
+             "the cell's `penalty_scale`, eps_N = scale x E'/h at the start (the solvers' own default is a "
+             "scale of 100). Tables per problem: update rule `fixed` (friction solvers: none). `converged` is the "
+             "solver's status: every invariant it checks holds at the returned state (the pure penalty and the "
+             "barrier stop on their penetration tolerance, see the `eps_final` column).", ""]
     lines += _answers(rows)
     lines += _robustness_section(t["robustness"], rows)
-    lines += _rules_section(t["rules"])
+    lines += _rules_section(t["rules"], (images or {}).get("rules"))
     lines += _sweep_section(t["sweep"], images)
     return "\n".join(lines)
 
@@ -331,7 +347,7 @@ def _robustness_section(robustness: list[tuple], rows: list[dict]) -> list[str]:
     lines = ["## Which method needs no tuning", "",
              "Converged cells of the eps sweep, over every problem and mesh; the cost across the sweep as "
              "medians over the converged cells (time / linear solve: CPU time of the solve over one sparse "
-             "factorization + solve of the same mesh's stiffness, measured in the same process).", "",
+             "factorization + solve of the same mesh's stiffness, measured once per mesh in the same run).", "",
              "| method | converged | cells | fraction | median Newton | median time / linear solve |",
              "|---|---:|---:|---:|---:|---:|"]
     for m, ok, n, newton, ratio in robustness:
@@ -354,10 +370,10 @@ def _robustness_section(robustness: list[tuple], rows: list[dict]) -> list[str]:
     return lines
 
 
-def _rules_section(rules: list[tuple]) -> list[str]:
+def _rules_section(rules: list[tuple], image: str | None = None) -> list[str]:
     """"Penalty update rules": converged cells per method, rule and eps scale, and the mean cost."""
     scales = [sc for sc, _, _ in rules[0][2]] if rules else []
-    lines = ["## Penalty update rules", "",
+    lines = ["## Penalty update rules", ""] + ([f"![update rules]({image})", ""] if image else []) + [
              "Frictionless problems (the friction solvers have no rule), every problem and mesh; per eps scale "
              "converged / cells; outer and Newton: means over the converged cells of the whole sweep. "
              "`alg54-printed`: Algorithm 5.4 as printed, eta <- 2 eta (eps_N halved) after every outer "
@@ -447,6 +463,37 @@ def heat_maps(rows: list[dict], out: Path) -> dict:
     return images
 
 
+def rules_heat_map(rows: list[dict], out: Path) -> str | None:
+    """One PNG: update rule x eps scale -> fraction of the cells converged (every method with a rule), annotated
+    ``converged/cells``; ``None`` without rows with a rule."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    import numpy as np
+
+    totals = rule_totals(rows)
+    if not totals:
+        return None
+    scales = [sc for sc, _, _ in totals[0][1]]
+    z = np.array([[ok / n if n else np.nan for _, n, ok in per] for _, per, *_ in totals])
+    fig, ax = plt.subplots(figsize=(1.6 + 0.9 * len(scales), 0.9 + 0.4 * len(totals)))
+    im = ax.imshow(z, aspect="auto", cmap="RdYlGn", vmin=0.0, vmax=1.0)
+    for i, (_, per, *_) in enumerate(totals):
+        for j, (_, n, ok) in enumerate(per):
+            ax.text(j, i, f"{ok}/{n}", ha="center", va="center", fontsize=7)
+    ax.set_xticks(range(len(scales)), [f"x{s}" for s in scales])
+    ax.set_yticks(range(len(totals)), [t[0] for t in totals])
+    ax.set_xlabel("eps scale")
+    ax.set_title("update rules: converged cells / cells (every method with a rule)", fontsize=9)
+    fig.colorbar(im, ax=ax)
+    fig.tight_layout()
+    name = "heatmap-rules.png"
+    fig.savefig(out / name, dpi=90)
+    plt.close(fig)
+    return name
+
+
 def write_report(out: str | os.PathLike, *, title: str = "alcontact study") -> Path:
     """Write ``report.md`` and the heat maps of the study folder ``out`` from its ``results.csv``."""
     from ..io import write_text_atomic
@@ -454,6 +501,9 @@ def write_report(out: str | os.PathLike, *, title: str = "alcontact study") -> P
     out = Path(out)
     rows = read_rows(out / CSV_NAME)
     images = heat_maps(rows, out) if rows else {}
+    rules_png = rules_heat_map(rows, out) if rows else None
+    if rules_png:
+        images["rules"] = rules_png
     path = out / "report.md"
     write_text_atomic(path, render(rows, title=title, images=images) + "\n")
     return path
