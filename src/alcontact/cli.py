@@ -693,6 +693,10 @@ def study_command(
     meshes: Annotated[
         Optional[int], typer.Option("--meshes", help="Keep the N smallest mesh sizes of each problem (default: all).")
     ] = None,
+    publish: Annotated[
+        Optional[Path], typer.Option("--publish", help="Also write the report as this file (e.g. docs/study.md), its "
+                                                       "CSV and heat maps in the folder of the same name.")
+    ] = None,
 ) -> None:
     """Run the study: problems x methods x eps scales x update rules; results.csv, report.md, heat maps.
 
@@ -720,6 +724,10 @@ def study_command(
                    description=f"{row.get('problem')} {row.get('method')} {row.get('status')}")
 
     try:
+        if publish is not None:  # refused before hours of cells, not after
+            from .app.study_report import check_publish_target
+
+            check_publish_target(publish)
         with _cli_logging(err, logging.WARNING), _signals_raise():
             try:
                 run = run_study(out, quick=quick, only=only, jobs=jobs, timeout=timeout, progress=progress,
@@ -736,6 +744,18 @@ def study_command(
         raise _fail(err, exc, EXIT_FAILED) from None
     console.print(f"{run.planned} cells: {run.skipped} already done, {run.solved} solved; report written to "
                   f"[bold]{run.report}[/]", highlight=False)
+    if publish is not None:
+        from .app.study import STUDY_VERSION
+        from .app.study_report import publish_report
+
+        words = ["alcontact study"] + (["--quick"] if quick else []) + [f"--only {n}" for n in only or ()] + \
+            ([f"--meshes {meshes}"] if meshes is not None else [])
+        try:
+            path = publish_report(out, publish, command=" ".join(words),
+                                  title=f"alcontact study (version {STUDY_VERSION}{', quick' if quick else ''})")
+        except InputError as exc:
+            raise _fail(err, exc, EXIT_USAGE) from None
+        console.print(f"published [bold]{path}[/] (data in {path.with_suffix('')})", highlight=False)
 
 
 @app.command("docs")
