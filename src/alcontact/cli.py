@@ -676,7 +676,7 @@ def bench_command(
 def study_command(
     out: Annotated[Path, typer.Option("--out", "-o", help="Study folder (resumed if it holds a study).")]
     = Path("study"),
-    quick: Annotated[bool, typer.Option("--quick", help="Two meshes per problem, three eps scales, two update "
+    quick: Annotated[bool, typer.Option("--quick", help="Two meshes per problem, three eps scales, four update "
                                                         "rules (about 10 min on 2 cores with --jobs 2).")] = False,
     only: Annotated[
         Optional[list[str]],
@@ -686,6 +686,13 @@ def study_command(
     jobs: Annotated[int, typer.Option("--jobs", "-j", help="Cells solved at once, each in its own process.")] = 1,
     timeout: Annotated[
         Optional[float], typer.Option("--timeout", help="Seconds per cell (default 60 with --quick, else 600).")
+    ] = None,
+    meshes: Annotated[
+        Optional[int], typer.Option("--meshes", help="Keep the N smallest mesh sizes of each problem (default: all).")
+    ] = None,
+    publish: Annotated[
+        Optional[Path], typer.Option("--publish", help="Also write the report as this file (e.g. docs/study.md), its "
+                                                       "CSV and heat maps in the folder of the same name.")
     ] = None,
 ) -> None:
     """Run the study: problems x methods x eps scales x update rules; results.csv, report.md, heat maps.
@@ -714,9 +721,14 @@ def study_command(
                    description=f"{row.get('problem')} {row.get('method')} {row.get('status')}")
 
     try:
+        if publish is not None:  # refused before hours of cells, not after
+            from .app.study_report import check_publish_target
+
+            check_publish_target(publish)
         with _cli_logging(err, logging.WARNING), _signals_raise():
             try:
-                run = run_study(out, quick=quick, only=only, jobs=jobs, timeout=timeout, progress=progress)
+                run = run_study(out, quick=quick, only=only, jobs=jobs, timeout=timeout, progress=progress,
+                                meshes=meshes)
             finally:
                 bar.stop()
     except KeyboardInterrupt as exc:
@@ -729,6 +741,18 @@ def study_command(
         raise _fail(err, exc, EXIT_FAILED) from None
     console.print(f"{run.planned} cells: {run.skipped} already done, {run.solved} solved; report written to "
                   f"[bold]{run.report}[/]", highlight=False)
+    if publish is not None:
+        from .app.study import STUDY_VERSION
+        from .app.study_report import publish_report
+
+        words = ["alcontact study"] + (["--quick"] if quick else []) + [f"--only {n}" for n in only or ()] + \
+            ([f"--meshes {meshes}"] if meshes is not None else [])
+        try:
+            path = publish_report(out, publish, command=" ".join(words),
+                                  title=f"alcontact study (version {STUDY_VERSION}{', quick' if quick else ''})")
+        except InputError as exc:
+            raise _fail(err, exc, EXIT_USAGE) from None
+        console.print(f"published [bold]{path}[/] (data in {path.with_suffix('')})", highlight=False)
 
 
 @app.command("docs")

@@ -92,7 +92,7 @@ def test_registry_holds_every_family_and_what_it_supports():
 
 def test_registry_lookup_names_the_family():
     with pytest.raises(UnknownNameError, match="unknown friction algorithm 'penalty'.*Known friction algorithms: "
-                                               "family-p, simo-laursen, ssn"):
+                                               "family-p, log-barrier, simo-laursen, ssn"):
         find_algorithm("penalty", friction=True)
     with pytest.raises(UnknownNameError, match="finite-deformation friction algorithm 'simo-laursn'"):
         find_algorithm("simo-laursn", friction=True, kinematics="finite")

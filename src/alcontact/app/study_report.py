@@ -8,13 +8,15 @@ CSV gives the same text. Tables:
   (``fixed``; friction solvers: none), a failure shown as its status in brackets;
 - per method: converged cells of the :math:`\\varepsilon` sweep over all problems and meshes, as
   ``converged/cells`` and a percentage ("which method needs no tuning");
-- per method and update rule (scale 1, frictionless problems): cells, converged, and the mean outer
-  and Newton iterations of the converged cells.
+- per method and update rule (frictionless problems): converged cells per eps scale and over the sweep,
+  and the mean outer and Newton iterations of the converged cells ("which rule makes which method
+  robust to eps").
 
 An "Answers" section states the findings in sentences, each figure computed from the same rows: the
-convergence of the sweep per eps scale (:func:`scale_totals`), MET 1
-against MET 2 (:func:`met_pairs`), the update rules over all methods (:func:`rule_totals`, Algorithm 5.4
-as printed and as corrected), the barrier anchor against the family-P methods (:func:`barrier_vs_al`).
+convergence of the sweep per eps scale (:func:`scale_totals`), MET 1 against MET 2
+(:func:`met_pairs`), the update rules over all methods and scales (:func:`rule_totals`, Algorithm
+5.4 as printed and as corrected) and the most robust rule of each method (:func:`robust_rules`),
+the barrier anchor against the family-P methods, without and with friction (:func:`barrier_vs_al`).
 """
 
 from __future__ import annotations
@@ -26,7 +28,8 @@ from collections import OrderedDict
 from pathlib import Path
 
 __all__ = ["CSV_NAME", "read_rows", "tables", "render", "write_report", "heat_maps", "met_pairs", "rule_totals",
-           "barrier_vs_al", "scale_totals"]
+           "barrier_vs_al", "scale_totals", "robust_rules", "rules_heat_map",
+           "frictional_problems", "publish_report", "check_publish_target", "PUBLISHED_MARKER"]
 
 #: The CSV of a study folder.
 CSV_NAME = "results.csv"
@@ -74,7 +77,7 @@ def tables(rows: list[dict]) -> dict:
 
     Returns ``{"sweep": {(problem, mesh): {"dofs", "scales", "methods", "cells": {(method, scale): text}}},
     "robustness": [(method, converged, cells, median Newton, median time / linear solve)],
-    "rules": [(method, rule, cells, converged, outer, newton)]}``.
+    "rules": [(method, rule, [(scale, cells, converged)], cells, converged, outer, newton)]}``.
     """
     method_order = _order(r["method"] for r in rows)
     return {"sweep": _sweep_table(rows, method_order), "robustness": _robustness_table(rows, method_order),
@@ -110,16 +113,31 @@ def _robustness_table(rows: list[dict], method_order: list[str]) -> list[tuple]:
     return robustness
 
 
+def _per_scale(sel: list[dict], scales: list[str]) -> list[tuple[str, int, int]]:
+    """``(scale, cells, converged)`` of ``sel`` at each of ``scales``."""
+    out = []
+    for sc in scales:
+        at = [r for r in sel if r["eps_scale"] == sc]
+        out.append((sc, len(at), sum(r["status"] == "converged" for r in at)))
+    return out
+
+
+def _rule_scales(rows: list[dict]) -> list[str]:
+    """The eps scales of the rows with an update rule, ascending."""
+    return sorted(_order(r["eps_scale"] for r in rows if r["rule"] != "-" and r["eps_scale"] != "-"), key=_scale_key)
+
+
 def _rules_table(rows: list[dict], method_order: list[str]) -> list[tuple]:
-    """Per method and update rule at eps scale 1: cells, converged, mean outer and Newton (converged cells)."""
+    """Per method and update rule over the eps sweep (every problem and mesh with a rule): ``(method, rule,
+    [(scale, cells, converged)], cells, converged, mean outer, mean Newton)``, means over the converged cells."""
+    scales = _rule_scales(rows)
     rules = []
     for m in method_order:
         for rule in _order(r["rule"] for r in rows if r["method"] == m and r["rule"] != "-"):
-            rr = [r for r in rows if r["method"] == m and r["rule"] == rule and _num(r["eps_scale"]) == 1.0]
+            rr = [r for r in rows if r["method"] == m and r["rule"] == rule]
             ok = [r for r in rr if r["status"] == "converged"]
-            outer = sum(_num(r["outer"]) for r in ok) / len(ok) if ok else math.nan
-            newton = sum(_num(r["newton"]) for r in ok) / len(ok) if ok else math.nan
-            rules.append((m, rule, len(rr), len(ok), outer, newton))
+            rules.append((m, rule, _per_scale(rr, scales), len(rr), len(ok), _mean([_num(r["outer"]) for r in ok]),
+                          _mean([_num(r["newton"]) for r in ok])))
     return rules
 
 
@@ -174,25 +192,50 @@ def scale_totals(rows: list[dict]) -> list[tuple[str, int, int]]:
     return out
 
 
-def rule_totals(rows: list[dict]) -> list[tuple[str, int, int, float, float]]:
-    """Per update rule, over every method with a rule at eps scale 1: ``(rule, cells, converged, mean outer,
-    mean Newton)`` (means over the converged cells)."""
+def rule_totals(rows: list[dict]) -> list[tuple[str, list[tuple[str, int, int]], int, int, float, float]]:
+    """Per update rule, over every method with a rule and the whole eps sweep: ``(rule, [(scale, cells,
+    converged)], cells, converged, mean outer, mean Newton)`` (means over the converged cells)."""
+    scales = _rule_scales(rows)
     out = []
     for rule in _order(r["rule"] for r in rows if r["rule"] != "-"):
-        sel = [r for r in rows if r["rule"] == rule and _num(r["eps_scale"]) == 1.0]
+        sel = [r for r in rows if r["rule"] == rule]
         ok = [r for r in sel if r["status"] == "converged"]
-        out.append((rule, len(sel), len(ok), _mean([_num(r["outer"]) for r in ok]),
+        out.append((rule, _per_scale(sel, scales), len(sel), len(ok), _mean([_num(r["outer"]) for r in ok]),
                     _mean([_num(r["newton"]) for r in ok])))
     return out
 
 
-def barrier_vs_al(rows: list[dict], barrier: str = "log-barrier") -> dict | None:
+def robust_rules(rows: list[dict], base: str = "fixed") -> list[tuple[str, list[str], int, int, int]]:
+    """Per method with update rules: ``(method, rules, converged, cells, base converged)``: the rules that
+    converge in the most cells of the eps sweep (ties: all of them, fewest mean Newton first), their count,
+    and the count of the ``base`` rule on the same cells (``-1`` without it)."""
+    t = _rules_table(rows, _order(r["method"] for r in rows))
+    out = []
+    for m in _order(x[0] for x in t):
+        mine = [x for x in t if x[0] == m]
+        top = max(x[4] for x in mine)
+        best = sorted((x for x in mine if x[4] == top), key=lambda x: (math.isnan(x[6]), x[6]))
+        fixed = next((x[4] for x in mine if x[1] == base), -1)
+        out.append((m, [x[1] for x in best], top, best[0][3], fixed))
+    return out
+
+
+def frictional_problems(rows: list[dict]) -> set[str]:
+    """The problems solved with friction: those whose family-P cells have no update rule (``-``)."""
+    return {r["problem"] for r in rows if r["family_p"] == "1" and r["rule"] == "-"}
+
+
+def barrier_vs_al(rows: list[dict], barrier: str = "log-barrier", friction: bool | None = None) -> dict | None:
     """The barrier anchor against the family-P AL methods on the same sweep cells (problem, mesh, eps scale).
 
     ``{"cells", "converged", "outer", "newton"}`` for the barrier and ``{"al_cells", "al_converged",
     "al_outer", "al_newton"}`` for the family-P methods (medians over the converged cells); ``None`` without
-    barrier rows.
+    barrier rows. ``friction``: only the frictional (``True``) or frictionless (``False``) problems
+    (:func:`frictional_problems`).
     """
+    if friction is not None:
+        fr = frictional_problems(rows)
+        rows = [r for r in rows if (r["problem"] in fr) == friction]
     bar = [r for r in rows if r["method"] == barrier]
     if not bar:
         return None
@@ -240,24 +283,36 @@ def _answers(rows: list[dict]) -> list[str]:
                                                                            f"; and {len(differ) - 8} more") + "."
     rules = rule_totals(rows)
     if rules:
-        lines += ["- **Penalty update rules** (eps scale 1, every method with a rule): "
-                  + "; ".join(f"`{rule}` converged {ok} of {n}, mean {_fmt_mean(outer)} outer / "
-                              f"{_fmt_mean(newton)} Newton" for rule, n, ok, outer, newton in rules) + "."]
-        named = {rule: (n, ok) for rule, n, ok, _, _ in rules}
+        lines += ["- **Penalty update rules across the eps sweep** (every method with a rule, every problem and mesh "
+                  "with one; converged of cells per eps scale): "
+                  + "; ".join(f"`{rule}` " + ", ".join(f"x{sc} {ok} of {n}" for sc, n, ok in per)
+                              + f" (all: {ok} of {n}, mean {_fmt_mean(outer)} outer / {_fmt_mean(newton)} Newton)"
+                              for rule, per, n, ok, outer, newton in rules) + "."]
+        named = {rule: (n, ok) for rule, _, n, ok, _, _ in rules}
         if "alg54-printed" in named and "alg54-corrected" in named:
             (n1, ok1), (n2, ok2) = named["alg54-printed"], named["alg54-corrected"]
             lines += ["  Algorithm 5.4 as printed (eta <- 2 eta, i.e. eps_N halved every outer iteration) "
                       f"converged in {ok1} of {n1} cells, as corrected (eps_N doubled) in {ok2} of {n2}: a larger "
                       "eta weakens the penalty, since eta divides g in (5.28)."]
+        robust = robust_rules(rows)
+        if robust:
+            lines += ["  Which rule makes which method robust to eps (the rules converging in the most cells of the "
+                      "sweep, fewest Newton iterations first; in brackets the rule `fixed`): "
+                      + "; ".join(f"{m}: " + ", ".join(f"`{r}`" for r in best) + f" {ok} of {n}"
+                                  + (f" (fixed {fx})" if fx >= 0 else "") for m, best, ok, n, fx in robust) + "."]
         lines.append("")
-    bar = barrier_vs_al(rows)
-    if bar:
-        lines += ["- **Barrier anchor** (`log-barrier`: modified log barrier with fixed multipliers, eta -> 0, no "
-                  f"multiplier update): converged in {bar['converged']} of {bar['cells']} cells of the eps sweep, "
-                  f"median {_fmt_mean(bar['outer'])} outer / {_fmt_mean(bar['newton'])} Newton iterations; on "
-                  f"the same cells the family-P augmented Lagrangian methods converged in {bar['al_converged']} of "
-                  f"{bar['al_cells']}, median {_fmt_mean(bar['al_outer'])} outer / {_fmt_mean(bar['al_newton'])} "
-                  "Newton.", ""]
+    for friction, what in ((False, "frictionless problems: modified log barrier with fixed multipliers, eta -> 0, "
+                                   "no multiplier update"),
+                           (True, "frictional problems: the same barrier on the normal part per load step, the "
+                                  "tangential part of Algorithm 6.2")):
+        bar = barrier_vs_al(rows, friction=friction)
+        if bar:
+            lines += [f"- **Barrier anchor, {what.split(':')[0]}** (`log-barrier`, {what.split(': ')[1]}): converged "
+                      f"in {bar['converged']} of {bar['cells']} cells of the eps sweep, median "
+                      f"{_fmt_mean(bar['outer'])} outer / {_fmt_mean(bar['newton'])} Newton iterations; on the same "
+                      f"cells the family-P augmented Lagrangian methods converged in {bar['al_converged']} of "
+                      f"{bar['al_cells']}, median {_fmt_mean(bar['al_outer'])} outer / {_fmt_mean(bar['al_newton'])} "
+                      "Newton.", ""]
     return lines if len(lines) > 2 else []
 
 
@@ -273,14 +328,16 @@ def render(rows: list[dict], *, title: str = "alcontact study", images: dict | N
         status[r["status"]] = status.get(r["status"], 0) + 1
     lines = [f"# {title}", "",
              f"{len(rows)} cells; status: " + ", ".join(f"{k} {v}" for k, v in status.items()) + ".", "",
-             "Every number below is read from `results.csv` of this folder. Newton: Newton iterations of the "
-             "whole solve (all load steps); `[status]`: the cell did not converge. eps scale: multiplier of the "
-             "automatic penalty parameter. Update rule `fixed` (friction solvers: none). `converged` is the "
-             "solver's status: every invariant it checks holds at the returned state (the pure penalty stops "
-             "on its penetration tolerance, see the `eps_final` column).", ""]
+             "Every number below is read from `results.csv` of this folder. Newton (outer): Newton (outer) "
+             "iterations of the whole solve, summed over the accepted load steps (the work of a step that was "
+             "cut back is in the CPU time; `cutbacks` column); `[status]`: the cell did not converge. eps scale: "
+             "the cell's `penalty_scale`, eps_N = scale x E'/h at the start (the solvers' own default is a "
+             "scale of 100). Tables per problem: update rule `fixed` (friction solvers: none). `converged` is the "
+             "solver's status: every invariant it checks holds at the returned state (the pure penalty and the "
+             "barrier stop on their penetration tolerance, see the `eps_final` column).", ""]
     lines += _answers(rows)
     lines += _robustness_section(t["robustness"], rows)
-    lines += _rules_section(t["rules"])
+    lines += _rules_section(t["rules"], (images or {}).get("rules"))
     lines += _sweep_section(t["sweep"], images)
     return "\n".join(lines)
 
@@ -290,7 +347,7 @@ def _robustness_section(robustness: list[tuple], rows: list[dict]) -> list[str]:
     lines = ["## Which method needs no tuning", "",
              "Converged cells of the eps sweep, over every problem and mesh; the cost across the sweep as "
              "medians over the converged cells (time / linear solve: CPU time of the solve over one sparse "
-             "factorization + solve of the same mesh's stiffness, measured in the same process).", "",
+             "factorization + solve of the same mesh's stiffness, measured once per mesh in the same run).", "",
              "| method | converged | cells | fraction | median Newton | median time / linear solve |",
              "|---|---:|---:|---:|---:|---:|"]
     for m, ok, n, newton, ratio in robustness:
@@ -313,23 +370,27 @@ def _robustness_section(robustness: list[tuple], rows: list[dict]) -> list[str]:
     return lines
 
 
-def _rules_section(rules: list[tuple]) -> list[str]:
-    """"Penalty update rules": the rules table at eps scale 1 and the rule with the fewest Newton iterations."""
-    lines = ["## Penalty update rules", "",
-             "At eps scale 1, frictionless problems; outer and Newton: means over the converged cells. "
+def _rules_section(rules: list[tuple], image: str | None = None) -> list[str]:
+    """"Penalty update rules": converged cells per method, rule and eps scale, and the mean cost."""
+    scales = [sc for sc, _, _ in rules[0][2]] if rules else []
+    lines = ["## Penalty update rules", ""] + ([f"![update rules]({image})", ""] if image else []) + [
+             "Frictionless problems (the friction solvers have no rule), every problem and mesh; per eps scale "
+             "converged / cells; outer and Newton: means over the converged cells of the whole sweep. "
              "`alg54-printed`: Algorithm 5.4 as printed, eta <- 2 eta (eps_N halved) after every outer "
              "iteration; `alg54-corrected`: eta <- eta / 2 (eps_N doubled); `infeasibility`: eps_N times 10 "
              "when the penetration did not fall below 1/4 of its previous value.", "",
-             "| method | rule | cells | converged | outer | Newton |", "|---|---|---:|---:|---:|---:|"]
-    for m, rule, n, ok, outer, newton in rules:
-        lines.append(f"| {m} | {rule} | {n} | {ok} | {_fmt_mean(outer)} | {_fmt_mean(newton)} |")
+             "| method | rule | " + " | ".join(f"eps x{sc}" for sc in scales) + " | converged | cells | outer | Newton |",
+             "|---|---|" + "---:|" * (len(scales) + 4)]
+    for m, rule, per, n, ok, outer, newton in rules:
+        lines.append(f"| {m} | {rule} | " + " | ".join(f"{k}/{c}" for _, c, k in per)
+                     + f" | {ok} | {n} | {_fmt_mean(outer)} | {_fmt_mean(newton)} |")
     lines.append("")
     fewest = OrderedDict()
-    for m, rule, n, ok, outer, newton in rules:
+    for m, rule, per, n, ok, outer, newton in rules:
         if n and ok == n and not math.isnan(newton) and (m not in fewest or newton < fewest[m][1]):
             fewest[m] = (rule, newton)
     if fewest:
-        lines += ["Rule with the fewest Newton iterations (every cell converged): "
+        lines += ["Rule with the fewest Newton iterations among those converging in every cell of the sweep: "
                   + ", ".join(f"{m}: {r}" for m, (r, _) in fewest.items()) + ".", ""]
     return lines
 
@@ -402,6 +463,37 @@ def heat_maps(rows: list[dict], out: Path) -> dict:
     return images
 
 
+def rules_heat_map(rows: list[dict], out: Path) -> str | None:
+    """One PNG: update rule x eps scale -> fraction of the cells converged (every method with a rule), annotated
+    ``converged/cells``; ``None`` without rows with a rule."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    import numpy as np
+
+    totals = rule_totals(rows)
+    if not totals:
+        return None
+    scales = [sc for sc, _, _ in totals[0][1]]
+    z = np.array([[ok / n if n else np.nan for _, n, ok in per] for _, per, *_ in totals])
+    fig, ax = plt.subplots(figsize=(1.6 + 0.9 * len(scales), 0.9 + 0.4 * len(totals)))
+    im = ax.imshow(z, aspect="auto", cmap="RdYlGn", vmin=0.0, vmax=1.0)
+    for i, (_, per, *_) in enumerate(totals):
+        for j, (_, n, ok) in enumerate(per):
+            ax.text(j, i, f"{ok}/{n}", ha="center", va="center", fontsize=7)
+    ax.set_xticks(range(len(scales)), [f"x{s}" for s in scales])
+    ax.set_yticks(range(len(totals)), [t[0] for t in totals])
+    ax.set_xlabel("eps scale")
+    ax.set_title("update rules: converged cells / cells (every method with a rule)", fontsize=9)
+    fig.colorbar(im, ax=ax)
+    fig.tight_layout()
+    name = "heatmap-rules.png"
+    fig.savefig(out / name, dpi=90)
+    plt.close(fig)
+    return name
+
+
 def write_report(out: str | os.PathLike, *, title: str = "alcontact study") -> Path:
     """Write ``report.md`` and the heat maps of the study folder ``out`` from its ``results.csv``."""
     from ..io import write_text_atomic
@@ -409,6 +501,80 @@ def write_report(out: str | os.PathLike, *, title: str = "alcontact study") -> P
     out = Path(out)
     rows = read_rows(out / CSV_NAME)
     images = heat_maps(rows, out) if rows else {}
+    rules_png = rules_heat_map(rows, out) if rows else None
+    if rules_png:
+        images["rules"] = rules_png
     path = out / "report.md"
     write_text_atomic(path, render(rows, title=title, images=images) + "\n")
     return path
+
+
+#: First characters of a published report (:func:`publish_report` overwrites only a file that starts with them).
+PUBLISHED_MARKER = "<!-- generated by `alcontact study"
+
+
+def check_publish_target(target: str | os.PathLike) -> Path:
+    """``target`` as a path, if :func:`publish_report` may write it (new, or published before).
+
+    Raises
+    ------
+    InputError
+        It exists and is not a published study report (its first line is not :data:`PUBLISHED_MARKER`'s).
+    """
+    from ..errors import InputError
+
+    target = Path(target)
+    if target.exists() and not (target.is_file() and _first_line(target).startswith(PUBLISHED_MARKER)):
+        raise InputError(f"--publish {str(target)!r} exists and is not a report published by `alcontact study`; "
+                         "pass another path (or delete that file).")
+    return target
+
+
+def _first_line(path: Path) -> str:
+    try:
+        with path.open(encoding="utf-8") as fh:
+            return fh.readline()
+    except (OSError, UnicodeDecodeError):
+        return ""
+
+
+def publish_report(out: str | os.PathLike, target: str | os.PathLike, *, title: str = "alcontact study",
+                   command: str = "alcontact study") -> Path:
+    """Publish the study folder ``out`` as ``target`` (e.g. ``docs/study.md``) with its data beside it.
+
+    ``target``'s folder of the same stem (``docs/study/``) receives ``results.csv``, ``study.json`` and the
+    heat maps; ``target`` is the report of that CSV with the images linked there, after a first line that
+    names ``command`` and the CSV. Nothing but a file published before (it starts with
+    :data:`PUBLISHED_MARKER`) is overwritten.
+
+    Raises
+    ------
+    InputError
+        ``target`` exists and is not a published study report, or ``out`` holds no results.
+    """
+    import shutil
+
+    from ..errors import InputError
+    from ..io import write_text_atomic
+
+    out, target = Path(out), check_publish_target(target)
+    rows = read_rows(out / CSV_NAME)
+    if not rows:
+        raise InputError(f"--publish: {str(out / CSV_NAME)!r} holds no cells to publish.")
+    assets = target.with_suffix("")
+    assets.mkdir(parents=True, exist_ok=True)
+    images = heat_maps(rows, assets)
+    rules_png = rules_heat_map(rows, assets)
+    if rules_png:
+        images["rules"] = rules_png
+    for name in (CSV_NAME, "study.json"):
+        if (out / name).is_file():
+            shutil.copyfile(out / name, assets / name)
+    linked = {k: f"{assets.name}/{v}" for k, v in images.items()}
+    if not command.startswith("alcontact study"):
+        raise ValueError(f"publish_report: command {command!r} must start with 'alcontact study'")
+    head = (f"<!-- generated by `{command} --out DIR --publish {target.name}` from `{assets.name}/{CSV_NAME}`, the "
+            "CSV of the same run; regenerate it with that command, never edit it by hand -->")
+    assert head.startswith(PUBLISHED_MARKER)
+    write_text_atomic(target, head + "\n\n" + render(rows, title=title, images=linked) + "\n")
+    return target

@@ -1252,6 +1252,16 @@ def _finite_loading(kinematics: str, s: Sections) -> None:
         s.loads = []
 
 
+def _bodies_3d_issues(cd, kinematics: str, issues: list[Issue]) -> None:
+    """What contact between 3D bodies does not take yet: finite deformation, friction."""
+    if kinematics == "finite":
+        issues.append(Issue("contact.kinematics", "= 'finite': contact between 3D bodies is small deformation so far "
+                                                  "(the finite two-body gap is 2D); set kinematics = 'small'."))
+    if _ok(cd) and isinstance(cd.get("friction"), float) and cd["friction"] > 0:
+        issues.append(Issue("contact.friction", f"= {cd['friction']:g}: contact between 3D bodies is frictionless "
+                                                "so far (two-body Coulomb friction is 2D); set friction = 0.0."))
+
+
 def build_bodies(data: dict, base: Path, issues: list[Issue]):
     """``[[body]]`` tables, their supports and loads, and the two-body pairs of ``[contact]`` and ``[[pair]]``:
     ``(ContactProblem, LoadHistory or None, Sections)``, or ``None`` (every problem in ``issues``).
@@ -1286,12 +1296,8 @@ def build_bodies(data: dict, base: Path, issues: list[Issue]):
     where = SimpleNamespace(boundaries=dict.fromkeys(names))  # boundary_ok checks the qualified names
     pair = _contact_pair(cd, models, names, issues)
     others = _body_pairs(data.get("pair") or [], models, names, s.dim, base, cd, issues)
-    if s.dim == 3 and kinematics == "finite":
-        issues.append(Issue("contact.kinematics", "= 'finite': contact between 3D bodies is small deformation so far "
-                                                  "(the finite two-body gap is 2D); set kinematics = 'small'."))
-    if s.dim == 3 and _ok(cd) and isinstance(cd.get("friction"), float) and cd["friction"] > 0:
-        issues.append(Issue("contact.friction", f"= {cd['friction']:g}: contact between 3D bodies is frictionless "
-                                                "so far (two-body Coulomb friction is 2D); set friction = 0.0."))
+    if s.dim == 3:
+        _bodies_3d_issues(cd, kinematics, issues)
     s.fixed, support_cases = build_supports(data.get("support"), where, s.dim, issues)
     s.loads, load_cases = build_loads(data.get("load"), where, s.dim, issues)
     s.cases = support_cases + load_cases

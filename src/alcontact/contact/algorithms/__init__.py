@@ -6,8 +6,9 @@ penalties), a semi-smooth Newton / primal-dual active-set reference and the barr
 (:mod:`~alcontact.contact.algorithms._barrier`: Polyak's modified log barrier with fixed
 multipliers, the barrier parameter driven to zero). Coulomb friction
 (:mod:`~alcontact.contact.algorithms._coulomb`, section 6.2): Algorithm 6.2 (Macaulay
-normal part), Algorithm 6.4 (family-P normal part) and the Alart-Curnier semi-smooth Newton
-reference. Each algorithm is written once against the
+normal part), Algorithm 6.4 (family-P normal part), the Alart-Curnier semi-smooth Newton
+reference and the barrier anchor per load step (:func:`step_barrier`: held normal
+multipliers, the tangential part of Algorithm 6.2). Each algorithm is written once against the
 :class:`~alcontact.contact.systems.ContactSystem` protocol and registered
 (:class:`Algorithm`, :func:`register_family`) for the kinematics and linear solvers it
 runs with; the subproblem (S) of a multiplier step is solved by the Newton method of
@@ -19,7 +20,7 @@ ContactOptions, FrictionOptions, Algorithm, register, register_family, find_algo
 algorithms, algorithm_names, available_algorithms, algorithm_docs, describe_algorithms,
 friction_algorithms, friction_algorithm_docs, finite_friction_algorithms, friction_only_options,
 contact_penalties, DEFAULT_PENALTY, run_penalty, run_al, run_ssn, solve_subproblem,
-BARRIER_PENALTY, run_barrier
+BARRIER_PENALTY, run_barrier, step_barrier
 """
 
 from ._coulomb import FrictionOptions, finite_friction_algorithms, friction_algorithm_docs, friction_algorithms
@@ -27,10 +28,10 @@ from ._frictionless import (DEFAULT_PENALTY, Algorithm, ContactOptions, algorith
                             available_algorithms, contact_penalties, describe_algorithms, find_algorithm,
                             friction_only_options, register, register_family, run_al, run_penalty, run_ssn)
 from ._subproblem import solve_subproblem
-from ._barrier import BARRIER_PENALTY, run_barrier  # registers "log-barrier"
+from ._barrier import BARRIER_PENALTY, run_barrier, step_barrier  # registers "log-barrier"
 
 __all__ = ["ContactOptions", "FrictionOptions", "Algorithm", "register", "register_family", "find_algorithm",
            "algorithms", "algorithm_names", "available_algorithms", "algorithm_docs", "describe_algorithms",
            "friction_algorithms", "friction_algorithm_docs", "finite_friction_algorithms", "friction_only_options",
            "contact_penalties", "DEFAULT_PENALTY", "run_penalty", "run_al", "run_ssn", "solve_subproblem",
-           "BARRIER_PENALTY", "run_barrier"]
+           "BARRIER_PENALTY", "run_barrier", "step_barrier"]
