@@ -12,7 +12,8 @@ sets them):
   updated multipliers, which differ from those the displacement balances by the last multiplier
   change, so ``max(newton_tol, tol_multiplier)`` = 1e-8.
 
-Every combination converges on the examples' own (coarse) meshes; the whole file takes about 30 s.
+Every combination converges on the examples' own (coarse) meshes but those of :data:`KNOWN_FAILURES`
+(each with its reason); the whole file takes about 30 s.
 """
 
 from __future__ import annotations
@@ -32,12 +33,24 @@ TOL = 1e-8
 NEWTON_TOL = 1e-11  # max(newton_tol 1e-12, round-off floor 1e-11)
 
 
+#: combinations known not to converge, with the reason; strict: one that starts converging fails here
+#: until it is removed (its invariants are then checked like the others')
+KNOWN_FAILURES = {
+    ("finite_ironing_friction", "log-barrier"):
+        "the barrier anchor with friction at finite deformation (issue 26) cuts the first sliding steps back to "
+        "the smallest increment (line search failed at a relative residual of 2.6e-10); it is verified on the "
+        "frictional block of tests/verification/test_friction_log_barrier.py, not on ironing",
+}
+
+
 def _cases():
     out = []
     for path in sorted(EXAMPLES.glob("*.toml")):
         friction = float(tomllib.loads(path.read_text()).get("contact", {}).get("friction", 0.0)) > 0
         for alg in (friction_algorithms() if friction else available_algorithms()):
-            out.append(pytest.param(path.stem, alg, friction, id=f"{path.stem}-{alg}"))
+            why = KNOWN_FAILURES.get((path.stem, alg))
+            marks = [pytest.mark.xfail(strict=True, reason=why)] if why else []
+            out.append(pytest.param(path.stem, alg, friction, id=f"{path.stem}-{alg}", marks=marks))
     return out
 
 

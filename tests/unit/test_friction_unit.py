@@ -124,7 +124,7 @@ def test_input_errors():
         solve_friction(prob, hist, algorithm="simo-laursen", penalty="exp-met1")
     with pytest.raises(InputError, match="cutback_factor"):
         FrictionOptions(cutback_factor=1.5).validate()
-    assert set(friction_algorithms()) == {"family-p", "simo-laursen", "ssn"}
+    assert set(friction_algorithms()) == {"family-p", "simo-laursen", "ssn", "log-barrier"}
 
 
 def test_failed_step_is_cut_back_then_reported():
