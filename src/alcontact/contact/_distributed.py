@@ -62,7 +62,10 @@ class DistributedContactSolution:
     model_contact_force : float
         :math:`\\sum_i w_i \\lambda_i` over all ranks (``model_contact_force`` of the serial summary).
     peak_pressure : float
-        The largest nodal pressure (``peak_pressure_nodal_max`` of the serial summary).
+        The largest multiplier :math:`\\lambda_i` (nodal pressure). It is ``peak_pressure_nodal_max`` of the
+        serial summary except for 3D P2 bodies, whose serial pressure is recovered from the nodal forces by
+        the boundary mass matrix (the vertex weights of a P2 triangle vanish); that recovery is not
+        distributed yet, so there the two differ while the forces and displacements agree.
     contact_extent : ndarray (dim, 2)
         Smallest and largest coordinate of the active points along each axis (all ranks).
     equilibrium : dict
