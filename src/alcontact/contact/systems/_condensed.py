@@ -28,7 +28,8 @@ factorization eliminates last the DOFs ``c`` of the contact-boundary points that
 become candidates (predicted gap within SCHUR_WINDOW element sizes of the candidate
 threshold, chosen before the factorization from the gaps under the predicted contact-free
 displacement, :meth:`CondensedContact._predicted_gaps`: the rigid motion the supports
-prescribe, plus a rough solve, a few per cent of a factorization, of what the loads add) and returns
+prescribe, plus a rough solve, a few per cent of a factorization, of what the loads add; in 2D
+under loads also the points closest to the obstacle) and returns
 :math:`S_c = K_{cc} - K_{ci} K_{ii}^{-1} K_{ic}`, and since :math:`B` lives on those
 DOFs, :math:`S = B_c (K^{-1})_{cc} B_c^T = B_c S_c^{-1} B_c^T` costs one dense Cholesky
 of :math:`S_c` instead of one triangular solve pair per candidate. Other solvers build
@@ -135,6 +136,18 @@ SCHUR_MIN_DOFS = 10_000
 #: element keeps a margin for loads that widen the contact zone (a candidate outside the block costs
 #: one triangular solve pair); in 2D the block is the candidates' DOFs (+-2) for any window.
 SCHUR_WINDOW = 0.5
+#: in 2D the contact boundary is a line and a Schur block of its points costs the factorization next to
+#: nothing (2D P1 Hertz, CPU s of factorization + solve: 120k DOFs 0.61 without a block, 0.66 with all
+#: 265 top points; 277k 1.60 / 1.60 with 265 of 457): where loads (or supports that deform the body) act,
+#: the block also takes the movable points closest to the obstacle up to this many DOFs, and when that is
+#: every movable point the rough solve of the prediction is skipped (in 2D it costs 1.3-4 linear solves:
+#: 2D Hertz under a body force, 100k-984k DOFs, 2.4-5.7 linear solves per contact solve with it against
+#: 1.2-1.4 with this block). Not where the prediction is exact (no load, the supports one rigid motion):
+#: there it only enlarges the dense block (2D P2 half disc, 224k DOFs: 1,888 block DOFs for 149
+#: candidates, 1.25-1.38 linear solves with it, 1.03-1.18 without; ``docs/benchmarks/hertz_disc``).
+#: 1200 left 247 of the 847 candidates of the 984k-DOF Hertz mesh under a body force outside (a second
+#: factorization: 2.37 linear solves), so the whole cap.
+SCHUR_2D_DOFS = SCHUR_MAX_DOFS
 #: time of one right-hand side in a batch of triangular solves over the time of a single solve
 #: (MKL PARDISO, 64 columns, measured: 2D P1 120k DOFs 0.60, 3D P1 39k DOFs 0.23)
 SOLVE_COLUMN_COST = 0.5
@@ -294,7 +307,8 @@ class CondensedContact(ContactPoints):
           (:func:`~alcontact.linalg.krylov.approximate_solve`: CG with an unsmoothed aggregation
           V-cycle to :data:`PREDICTION_RTOL`; ``matrix``: the stiffness with the contact springs of a
           body held by the obstacle, :meth:`_stabilize`). Skipped when the block of the rigid
-          prediction holds every movable point already, and when the supports alone leave a rigid motion free (the springs
+          prediction holds every movable point already (a 2D contact line within
+          :data:`SCHUR_2D_DOFS`), and when the supports alone leave a rigid motion free (the springs
           are not known yet: :meth:`_stabilize` predicts again with them).
 
         .. math::
@@ -343,6 +357,7 @@ class CondensedContact(ContactPoints):
         if not rough:
             self.prediction = "exact"
             return g
+        self.prediction = "rigid part"  # not exact: the 2D block takes the closest points (_block_points)
         if self._block_points(g, self._margin).size == np.count_nonzero(self.pos.max(axis=1) >= 0):
             self.prediction = "whole boundary"  # the block holds every movable point: nothing to choose
             return g
@@ -417,10 +432,8 @@ class CondensedContact(ContactPoints):
 
         ``h`` the element size at the contact zone and :math:`c` = :data:`SCHUR_WINDOW`, i.e.
         the candidate threshold of :meth:`_select_candidates` widened by :data:`SCHUR_WINDOW` element sizes
-        for the error of the prediction. (A former 2D rule also took the movable points closest to the
-        obstacle up to 3000 DOFs, for loads the prediction did not see; with the loads predicted it only
-        enlarged the dense block: 2D P2 half disc 224k DOFs, 1,888 block DOFs for 149 candidates, 1.25-1.38
-        linear solves with it, 1.03-1.18 without, ``docs/benchmarks/hertz_disc``.) Candidates found later outside the block get triangular
+        for the error of the prediction; in 2D, unless the prediction is exact, also the movable points
+        closest to the obstacle up to :data:`SCHUR_2D_DOFS` DOFs. Candidates found later outside the block get triangular
         solves (:meth:`_condensed`) or a new factorization (:meth:`_reorder_for`). At most
         :data:`SCHUR_MAX_DOFS` DOFs (the points
         closest to the obstacle). Empty when the model's ``factorize`` takes no Schur block
@@ -439,6 +452,10 @@ class CondensedContact(ContactPoints):
         gtop = float(np.max(g0[movable]))
         thr = min(gtop, 0.0) - margin * max(gtop, 0.0) - SCHUR_WINDOW * self._element_size()
         near = np.flatnonzero(movable & (g0 >= thr))
+        if self.dim == 2 and self.prediction != "exact" and near.size < SCHUR_2D_DOFS // 2:  # loads: the closest too
+            closest = np.flatnonzero(movable)
+            closest = closest[np.argsort(-g0[closest], kind="stable")[: SCHUR_2D_DOFS // 2]]
+            near = np.union1d(near, closest)
         npts = SCHUR_MAX_DOFS // self.dim
         if near.size > npts:
             near = np.sort(near[np.argsort(-g0[near], kind="stable")[:npts]])
