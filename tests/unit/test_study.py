@@ -306,7 +306,8 @@ def test_a_cell_past_its_timeout_is_recorded_as_timeout(tmp_path):
     run = run_study(tmp_path / "t", quick=True, only=["signorini", "ssn"], timeout=1e-3, report=False)
     rows = read_rows(tmp_path / "t" / CSV_NAME)
     assert run.solved == 2 and [r["status"] for r in rows] == ["timeout", "timeout"]
-    assert all("killed after" in r["message"] for r in rows)
+    # killed by the parent, or finished between two of its polls (a tiny cell forks with every module loaded)
+    assert all("killed after" in r["message"] or "past the 0.001 s limit" in r["message"] for r in rows)
 
 
 @pytest.mark.parametrize("name, closest", [("hertz2d", "hertz-2d"), ("exp-mte1", "exp-met1"),

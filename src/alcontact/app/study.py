@@ -667,6 +667,18 @@ def _warm_up(problems: set[str]) -> None:
         logging.getLogger("alcontact").setLevel(level)
 
 
+def _past_limit(row: dict, limit: float) -> dict:
+    """``row`` of a cell that finished, as a ``timeout`` when its solve took longer than ``limit`` seconds (it
+    finished between two polls of the parent, which would otherwise have killed it)."""
+    try:
+        wall = float(row.get("wall_s") or 0.0)
+    except ValueError:
+        return row
+    if wall > limit and row.get("status") != "timeout":
+        row = dict(row, status="timeout", message=f"finished after {wall:.3g} s, past the {limit:g} s limit")
+    return row
+
+
 def _run_cells(cells: list[Cell], out: Path, jobs: int, limit: float, record: Callable[[dict], None]) -> None:
     """Solve ``cells``, at most ``jobs`` processes at once, each killed after ``limit`` seconds."""
     ctx = mp.get_context("fork") if "fork" in mp.get_all_start_methods() else mp.get_context()
@@ -687,7 +699,7 @@ def _run_cells(cells: list[Cell], out: Path, jobs: int, limit: float, record: Ca
                 row = None
                 if recv.poll():
                     try:
-                        row = recv.recv()
+                        row = _past_limit(recv.recv(), limit)
                     except EOFError:
                         row = _row_base(cell)
                         row.update(status="crashed", message=f"process exited with code {proc.exitcode}")
