@@ -603,13 +603,6 @@ def _penalty_start(dc, opts, eps):
 #: inexact subproblems: Newton tolerance of (S) = min(forcing * dlam, dlam**2), dlam the last
 #: relative multiplier change (the quadratic term tightens the solves where Newton is quadratic)
 _INEXACT_FORCING = 1e-3
-#: inexact subproblems: Newton tolerance of the first subproblem of a solve. 1e-2 left the first multiplier
-#: update (and the dual step built on it) too far off: issue 21, AMG path, outer iterations against the
-#: direct path's 5, 2D P1 Hertz 984k DOFs Algorithm 6.1 8 (1.6x); with the inexact subproblems forced on
-#: 2D 120k, 1e-2 -> 1e-4: Algorithm 6.1 8 -> 6 outer, 456 -> 392 CG iterations, 15.1 -> 9.4 s CPU; exp-met1,
-#: log-met2, quad-met2 6 -> 5 (CG within 3 %); 2D 59k 6.1 7 -> 6, exp-met1 7 -> 5; 3D P1 39k 6.1 6 / 6 (254
-#: -> 201 CG), log-met2 and quad-met2 6 -> 5
-_INEXACT_FIRST = 1e-4
 #: inexact subproblems: Newton tolerance of the entry-shifted first solve of Algorithm 6.3's warm penalty start
 #: (:func:`_penalty_start`), which a second subproblem and a second dual step correct. Issue 18, ironing
 #: (sliding steps of 0.05 R), Newton per sliding step exp-met1 / log-met1, 1e-12 (newton_tol) -> 1e-8, 1e-6,
@@ -759,7 +752,7 @@ def run_al(dc: ContactSystem, opts, eps0, penalty_name="rockafellar") -> _Run:
     # tractions t = p'(g/eta, lambda) balance the state to newton_tol, so penetration and
     # complementarity are the KKT conditions
     physical = bool(dc.physical_stopping) and not needs_positive
-    inner_tol = max(opts.newton_tol, _INEXACT_FIRST) if inexact else opts.newton_tol
+    inner_tol = max(opts.newton_tol, float(dc.inexact_first_tol)) if inexact else opts.newton_tol
     for k in range(1, opts.maxiter + 1):
         out = dc.subproblem(law, lam, r, tol=inner_tol, maxiter=opts.maxiter_newton)
         newton += out.iterations

@@ -149,6 +149,8 @@ class ContactPoints:
 
     # ---- ContactSystem: declared capabilities, "not available" on a model without them
     inexact_subproblems = False
+    #: Newton tolerance of the first inexact subproblem (finite deformation's, tuned on the ironing of issue 18)
+    inexact_first_tol = 1e-2
     #: the weighted gaps of a pair with a deformable master (:func:`mortar_of`); None against a rigid one
     mortar = None
     physical_stopping = False

@@ -415,6 +415,9 @@ class DistributedContact:
         self.x_free = self.u_free
         self._select_candidates(self.local_gaps(self.u_free), self.margin)
 
+    #: the first inexact subproblem's tolerance of the serial Krylov path (IterativeContact)
+    inexact_first_tol = 1e-4
+
     @property
     def inexact_subproblems(self) -> bool:
         """Solve (S) of Algorithms 6.1 / 6.3 inexactly above the serial Krylov path's size

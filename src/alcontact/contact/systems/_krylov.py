@@ -495,6 +495,14 @@ class IterativeContact(ContactPoints):
     # (see DiscreteContact; the state here is the free displacement x)
     factorizations = 0
 
+    #: the first inexact subproblem to 1e-4, not finite deformation's 1e-2, which left the first multiplier
+    #: update (and the dual step on it) too far off: 2D P1 Hertz 984k DOFs, Algorithm 6.1 took 8 outer
+    #: iterations against the direct path's 5; with the inexact mode forced on 2D 120k, 1e-2 -> 1e-4:
+    #: Algorithm 6.1 8 -> 6 outer, 456 -> 392 CG iterations, 15.1 -> 9.4 s CPU; exp-met1, log-met2,
+    #: quad-met2 6 -> 5 (CG within 3 %); 2D 59k 6.1 7 -> 6, exp-met1 7 -> 5; 3D P1 39k 6.1 6 / 6 (254 -> 201
+    #: CG), log-met2 and quad-met2 6 -> 5 (docs/benchmarks/amg_paths.md)
+    inexact_first_tol = 1e-4
+
     @property
     def inexact_subproblems(self) -> bool:
         """Solve (S) of Algorithms 6.1 / 6.3 inexactly: above :data:`INEXACT_DOFS` free DOFs.
