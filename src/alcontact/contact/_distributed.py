@@ -409,7 +409,7 @@ def solve_distributed_friction(problem, history=None, algorithm: str = "simo-lau
     from .algorithms._coulomb import FrictionOptions, friction_algorithms
     from .algorithms._frictionless import check_solve_args
     from .problem._loading import LoadHistory
-    from .stepping._coulomb import _checked_steps, _closed, _CondensedPath, _resolve, _State
+    from .stepping._coulomb import _check_tangential_start, _checked_steps, _closed, _CondensedPath, _resolve, _State
     from .stepping._steps import Attempt, step_through
     from .systems._distributed import DistributedFrictionalContact
 
@@ -468,13 +468,7 @@ def solve_distributed_friction(problem, history=None, algorithm: str = "simo-lau
 
     def attempt(t: float) -> Attempt:
         prev = cur["state"]
-        if tangential and not np.any(_closed(fc, prev.tN, prev.y[:, 0], opts)):
-            active = [c.label for c in tangential if c.value(t) != 0.0]
-            if active:
-                raise InputError(
-                    f"tangential load {', '.join(active)} is applied at t={t:g} but no point is in contact at "
-                    f"the start of that step (t={prev.t:g}); apply the normal load first (start the tangential "
-                    "amplitude at 0 until contact exists).")
+        _check_tangential_start(fc, prev, t, tangential, opts)
         solves0 = fc.linear_solves
         mu_t = mu * history.friction_factor(t)
         res, out, o, nw = advance(fc, prev, t, step_fn, pen_name, eps_n, eps_t, mu_t, opts)

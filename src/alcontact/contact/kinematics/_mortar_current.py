@@ -200,6 +200,14 @@ def _node_kernel(z: np.ndarray, *, hessian: bool) -> Jet:
 _OUTPUTS = ((0, 0), (1, 0), (0, 1), (0, 2), (1, 1), (1, 2), (0, 3), (0, 4), (1, 3), (1, 4))
 
 
+def _current_points(gap, u: np.ndarray, idx: np.ndarray | None = None) -> np.ndarray:
+    """Current positions ``X + u`` of the slave points of ``gap`` (all, or those of ``idx``): the ``current``
+    member of :class:`CurrentMortarGap` and :class:`StackedMortarGap`."""
+    if idx is None:
+        return gap.points + u[gap.dofs]
+    return gap.points[idx] + u[gap.dofs[idx]]
+
+
 class _State:
     """Everything :class:`CurrentMortarGap` computed at one displacement."""
 
@@ -311,10 +319,7 @@ class CurrentMortarGap:
         idx = np.arange(self.points.shape[0]) if idx is None else np.asarray(idx, dtype=np.int64)
         return _Evaluation(self, self._state_at(u, gradient=True, hessian=hessian), idx)
 
-    def current(self, u: np.ndarray, idx: np.ndarray | None = None) -> np.ndarray:
-        if idx is None:
-            return self.points + u[self.dofs]
-        return self.points[idx] + u[self.dofs[idx]]
+    current = _current_points
 
     def against(self, master):
         """This gap for its own master surface (the master of a two-body pair does not move by itself)."""
@@ -573,10 +578,7 @@ class StackedMortarGap:
         idx = np.arange(self.points.shape[0]) if idx is None else np.asarray(idx, dtype=np.int64)
         return _StackedEvaluation([p.evaluate(u, hessian=hessian) for p in self.parts], idx, self.bounds)
 
-    def current(self, u: np.ndarray, idx: np.ndarray | None = None) -> np.ndarray:
-        if idx is None:
-            return self.points + u[self.dofs]
-        return self.points[idx] + u[self.dofs[idx]]
+    current = _current_points
 
     def against(self, master):
         """These gaps for their own masters (the masters of two-body pairs do not move by themselves)."""

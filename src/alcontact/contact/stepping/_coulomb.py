@@ -118,6 +118,18 @@ def _coefficients(problem, friction):
     return np.asarray(values)[problem.pair_of_points()]
 
 
+def _check_tangential_start(fc, prev, t: float, tangential: list, opts) -> None:
+    """An :class:`InputError` when a tangential load case acts at ``t`` while no point of the step's start
+    state ``prev`` is in contact (the tangential problem would have no support)."""
+    if tangential and not np.any(_closed(fc, prev.tN, prev.y[:, 0], opts)):
+        active = [c.label for c in tangential if c.value(t) != 0.0]
+        if active:
+            raise InputError(
+                f"tangential load {', '.join(active)} is applied at t={t:g} but no point is in contact at "
+                f"the start of that step (t={prev.t:g}); apply the normal load first (start the tangential "
+                "amplitude at 0 until contact exists).")
+
+
 def _closed(fc, tN, g, opts):
     return (tN > 0) & (g >= -max(1e-6, 10 * opts.tol_penetration) * fc.h)
 
@@ -354,13 +366,7 @@ def solve_friction(problem, history: LoadHistory | None, algorithm: str = "simo-
 
     def attempt(t: float) -> Attempt:
         prev = cur["state"]
-        if tangential and not np.any(_closed(fc, prev.tN, prev.y[:, 0], opts)):
-            active = [c.label for c in tangential if c.value(t) != 0.0]
-            if active:
-                raise InputError(
-                    f"tangential load {', '.join(active)} is applied at t={t:g} but no point is in contact at "
-                    f"the start of that step (t={prev.t:g}); apply the normal load first (start the tangential "
-                    "amplitude at 0 until contact exists).")
+        _check_tangential_start(fc, prev, t, tangential, opts)
         away = fc.slides_away(t, float(np.max(mu)) * history.friction_factor(t))  # body held by the obstacle only
         if away is not None:
             return Attempt(False, ContactStatus.UNBOUNDED, away, final=True)
