@@ -12,8 +12,10 @@ sets them):
   updated multipliers, which differ from those the displacement balances by the last multiplier
   change, so ``max(newton_tol, tol_multiplier)`` = 1e-8.
 
-Every combination converges on the examples' own (coarse) meshes but those of :data:`KNOWN_FAILURES`
-(each with its reason); the whole file takes about 30 s.
+Every combination converges on the examples' own (coarse) meshes (:data:`KNOWN_FAILURES` would list those
+that do not, each with its reason: none since the frictional barrier anchor on ``finite_ironing_friction``
+stopped failing at its round-off floor, ``tests/regression/test_friction_roundoff_line_search.py``); the whole
+file takes about 30 s.
 """
 
 from __future__ import annotations
@@ -35,12 +37,7 @@ NEWTON_TOL = 1e-11  # max(newton_tol 1e-12, round-off floor 1e-11)
 
 #: combinations known not to converge, with the reason; strict: one that starts converging fails here
 #: until it is removed (its invariants are then checked like the others')
-KNOWN_FAILURES = {
-    ("finite_ironing_friction", "log-barrier"):
-        "the barrier anchor with friction at finite deformation (issue 26) cuts the first sliding steps back to "
-        "the smallest increment (line search failed at a relative residual of 2.6e-10); it is verified on the "
-        "frictional block of tests/verification/test_friction_log_barrier.py, not on ironing",
-}
+KNOWN_FAILURES: dict[tuple[str, str], str] = {}
 
 
 def _cases():

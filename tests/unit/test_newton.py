@@ -90,6 +90,33 @@ def test_line_search_failure_status():
     np.testing.assert_array_equal(out.x, x0)
 
 
+class _Floored(_Cubic):
+    """The cubic with a residual floor: ``F`` is the cubic's plus a constant ``1e-10`` that no step removes,
+    so every step length leaves ``|F|`` at or above its value at the root (a residual made of round-off)."""
+
+    def evaluate(self, x):
+        x_, F, pi = super().evaluate(x)
+        return x_, F + 1e-10, pi
+
+    def step(self, x, state, history):
+        return np.zeros_like(x) + 1e-3  # a step that raises |F| wherever it starts near the root
+
+
+@pytest.mark.parametrize("level, on, converged", [(1e-9, True, True), (1e-9, False, False), (1e-11, True, False)])
+def test_failed_line_search_at_the_stall_level(level, on, converged):
+    """``stall_on_failed_search``: a line search that fails at a residual below the stall level (here 1e-10
+    against the level 1e-9) ends the iteration as converged, at the start already, the iterate unchanged;
+    off, or with the residual above the level (1e-11), the failure is reported."""
+    ls = LineSearch(halvings=4, merit=False, residual_decrease=True, full_step=False)
+    settings = NewtonSettings(ls, stall=level, stall_on_failed_search=on)
+    out = newton(_Floored(), X_STAR.copy(), tol=1e-14, maxiter=5, settings=settings)
+    assert out.converged == converged, out.message
+    assert out.status == (Status.CONVERGED if converged else Status.LINE_SEARCH_FAILED)
+    np.testing.assert_array_equal(out.x, X_STAR)
+    if converged:
+        assert out.iterations == 0 and "round-off" in out.message
+
+
 class _NaNAt(_Cubic):
     def evaluate(self, x):
         x_, F, pi = super().evaluate(x)

@@ -33,6 +33,9 @@ The line search (:class:`LineSearch`) halves the step until a trial is accepted 
 one of its tests: Armijo on the merit, :math:`|F_{try}| \le (1 - c\alpha)|F|`, a
 decrease of the measured residual, or a step below ``accept_below``; when the merit
 is flat to round-off, the full step is taken if it reduces :math:`\max|F|`.
+Where :attr:`NewtonSettings.stall_on_failed_search` is set, a line search that fails at a
+residual below the stall level (the round-off floor the system declares) ends the
+iteration as converged, as the stall test does: no step lowers a residual made of round-off.
 
 Every outcome carries a :class:`~alcontact.status.Status` (``CONVERGED``,
 ``MAXITER``, ``LINE_SEARCH_FAILED``, ``NONFINITE``, ``NEWTON_FAILED``) and a message
@@ -114,12 +117,17 @@ class NewtonSettings:
     negligible_tol : float
         A correction at round-off level (:meth:`NewtonSystem.negligible`) ends the iteration;
         converged when the residual is below ``negligible_tol`` times the tolerance.
+    stall_on_failed_search : bool
+        A failed line search at a residual below the stall level counts as converged (from any
+        iterate, the start included): no trial step, the full one included, lowers a residual
+        that is round-off. Off: the failure is reported (the caller cuts back).
     """
 
     line_search: LineSearch = LineSearch()
     stall: float = 1e-8
     stall_from: int = 2
     negligible_tol: float = np.inf
+    stall_on_failed_search: bool = False
 
 
 class NewtonSystem:
@@ -309,6 +317,9 @@ def newton(system: NewtonSystem, x0, *, tol: float, maxiter: int, settings: Newt
             return done(Status.NEWTON_FAILED, f"step at round-off level with residual {res:.2e}", it + 1, res)
         trial, alpha, full, why = _line_search(system, ls, x, state, F, merit, res, dx)
         if trial is None:
+            if settings.stall_on_failed_search and res <= system.stall_level(state, settings.stall):
+                # no trial step decreases a residual already at the round-off level (the stall test's)
+                return done(Status.CONVERGED, f"converged (residual at round-off level; {why})", it, res)
             return done(Status.LINE_SEARCH_FAILED, why, it + 1, res)
         history[-1].step = alpha
         history[-1].full_step = full

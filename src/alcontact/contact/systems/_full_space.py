@@ -1757,9 +1757,12 @@ class FiniteFrictionContact(FiniteContact):
                                 f"inverted element at the starting state ({exc})", 0, np.inf)
 
 
-#: a frictional step has no potential: backtracking on the residual norm, inverted elements halve the step
+#: a frictional step has no potential: backtracking on the residual norm, inverted elements halve the step;
+#: below the stall level 1e-9 a failed line search is round-off (the barrier anchor's stiff subproblems, eps_N
+#: 4.4e7 on examples/finite_ironing_friction.toml, start at 2.6e-10 after a tangential update that no step
+#: lowers: every load step cut back to the smallest increment before)
 _FRICTION_SETTINGS = NewtonSettings(LineSearch(halvings=_MAX_HALVINGS, armijo=_ARMIJO, merit=False, residual_decrease=True,
-                                      full_step=False), stall=1e-9)
+                                      full_step=False), stall=1e-9, stall_on_failed_search=True)
 #: the semi-smooth reference: the same, the stall test from the third iterate on
 _FRICTION_SSN_SETTINGS = dataclasses.replace(_FRICTION_SETTINGS, stall_from=3)
 
