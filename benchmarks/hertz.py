@@ -62,8 +62,9 @@ CASES = {
     "3d-100k-direct": (hertz.hertz_3d, dict(n_per_a=6, growth=1.07)),  # condensed path, Schur build
     "3d-1M": (hertz.hertz_3d, dict(n_per_a=16, growth=1.04)),
     "3d-p2-78k-direct": (hertz.hertz_3d, dict(order=2, n_per_a=2.0, growth=1.3)),  # the peer's 3D P2 size
-    "3d-243k-direct": (hertz.hertz_3d, dict(n_per_a=9, growth=1.07)),  # largest 3D P1 factor of a few GB
+    "3d-243k-direct": (hertz.hertz_3d, dict(n_per_a=9, growth=1.07)),  # 243,000 DOFs, a factor of a few GB
     "3d-187k-direct": (hertz.hertz_3d, dict(n_per_a=8, growth=1.07)),  # 186,591 DOFs, a factor below 3 GB
+    "3d-304k-direct": (hertz.hertz_3d, dict(n_per_a=10.5, growth=1.07)),  # 304,128 DOFs: issue 21's "to 300k in 3D"
     # issue 21: a P2 half disc on a plane (the peer's 2D benchmark geometry, our own mesh, 224,202 DOFs),
     # driven by a platen or by the plane (NAME:platen, NAME:obstacle)
     "2d-p2-disc-222k": (hertz.hertz_disc, dict(n=118)),
@@ -77,7 +78,8 @@ CASE_OPTIONS = {"3d-1M": {"linear_solver": "amg"},
                 "3d-100k-direct": {"linear_solver": "mkl-pardiso"},
                 "3d-p2-78k-direct": {"linear_solver": "mkl-pardiso"},
                 "3d-243k-direct": {"linear_solver": "mkl-pardiso"},
-                "3d-187k-direct": {"linear_solver": "mkl-pardiso"}}
+                "3d-187k-direct": {"linear_solver": "mkl-pardiso"},
+                "3d-304k-direct": {"linear_solver": "mkl-pardiso"}}
 
 #: (label, algorithm, penalty, extra options)
 VARIANTS = [
@@ -318,7 +320,7 @@ def _fit(xs, ys):
 
 
 #: the 3D cases of the direct path drawn next to the 2D ladder (P1 meshes; the P2 case is its own point)
-LADDER_3D = ["3d-100k-direct", "3d-p2-78k-direct", "3d-187k-direct", "3d-243k-direct"]
+LADDER_3D = ["3d-100k-direct", "3d-p2-78k-direct", "3d-187k-direct", "3d-243k-direct", "3d-304k-direct"]
 
 
 def _num(row, key):
