@@ -68,7 +68,7 @@ from ...optim import LineSearch, NewtonSettings, NewtonSystem, newton
 from ..algorithms._subproblem import NewtonOutcome, subproblem_outcome
 from ..kinematics._points import _element_size
 from ..problem._loading import component_fields
-from ._krylov import _FORCING_MAX, _FORCING_MIN, _FORCING_SLOW, _FORCING_START, INEXACT_DOFS
+from ._krylov import _FORCING_MAX, _FORCING_MIN, _FORCING_SLOW, _FORCING_START, INEXACT_DOFS, INEXACT_FIRST_TOL
 
 __all__ = ["DistributedContact", "DistributedFrictionalContact"]
 
@@ -415,8 +415,8 @@ class DistributedContact:
         self.x_free = self.u_free
         self._select_candidates(self.local_gaps(self.u_free), self.margin)
 
-    #: the first inexact subproblem's tolerance of the serial Krylov path (IterativeContact)
-    inexact_first_tol = 1e-4
+    #: the first inexact subproblem's Newton tolerance, the serial Krylov path's
+    inexact_first_tol = INEXACT_FIRST_TOL
 
     @property
     def inexact_subproblems(self) -> bool:

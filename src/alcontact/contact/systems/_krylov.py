@@ -204,6 +204,14 @@ _REBUILD_STIFFNESS = 5.0
 #: above this many free DOFs the subproblems of Algorithms 6.1 / 6.3 are solved inexactly
 #: (:attr:`IterativeContact.inexact_subproblems`): where ``linear_solver="auto"`` picks this path
 INEXACT_DOFS = AUTO_AMG_DOFS
+#: Newton tolerance of the first inexact subproblem of a solve on the factorization-free paths (serial and
+#: distributed), not finite deformation's 1e-2, which left the first multiplier update (and the dual step on
+#: it) too far off: 2D P1 Hertz 984k DOFs, Algorithm 6.1 took 8 outer iterations against the direct path's 5
+#: (6 with this value); with the inexact mode forced on 2D 120k, 1e-2 -> 1e-4: Algorithm 6.1 8 -> 6 outer,
+#: 456 -> 392 CG iterations, 15.1 -> 9.4 s CPU; exp-met1, log-met2, quad-met2 6 -> 5 (CG within 3 %); 2D 59k
+#: 6.1 7 -> 6, exp-met1 7 -> 5; 3D P1 39k 6.1 6 / 6 (254 -> 201 CG), log-met2 and quad-met2 6 -> 5
+#: (docs/benchmarks/amg_paths.md)
+INEXACT_FIRST_TOL = 1e-4
 
 
 #: a contact point whose spring :math:`k_i` exceeds this many times the normal stiffness of its
@@ -495,13 +503,8 @@ class IterativeContact(ContactPoints):
     # (see DiscreteContact; the state here is the free displacement x)
     factorizations = 0
 
-    #: the first inexact subproblem to 1e-4, not finite deformation's 1e-2, which left the first multiplier
-    #: update (and the dual step on it) too far off: 2D P1 Hertz 984k DOFs, Algorithm 6.1 took 8 outer
-    #: iterations against the direct path's 5; with the inexact mode forced on 2D 120k, 1e-2 -> 1e-4:
-    #: Algorithm 6.1 8 -> 6 outer, 456 -> 392 CG iterations, 15.1 -> 9.4 s CPU; exp-met1, log-met2,
-    #: quad-met2 6 -> 5 (CG within 3 %); 2D 59k 6.1 7 -> 6, exp-met1 7 -> 5; 3D P1 39k 6.1 6 / 6 (254 -> 201
-    #: CG), log-met2 and quad-met2 6 -> 5 (docs/benchmarks/amg_paths.md)
-    inexact_first_tol = 1e-4
+    #: the first inexact subproblem's Newton tolerance (:data:`INEXACT_FIRST_TOL`)
+    inexact_first_tol = INEXACT_FIRST_TOL
 
     @property
     def inexact_subproblems(self) -> bool:
