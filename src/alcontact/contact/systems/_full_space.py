@@ -1758,9 +1758,10 @@ class FiniteFrictionContact(FiniteContact):
 
 
 #: a frictional step has no potential: backtracking on the residual norm, inverted elements halve the step;
-#: below the stall level 1e-9 a failed line search is round-off (the barrier anchor's stiff subproblems, eps_N
-#: 4.4e7 on examples/finite_ironing_friction.toml, start at 2.6e-10 after a tangential update that no step
-#: lowers: every load step cut back to the smallest increment before)
+#: below the stall level (1e-9, or the subproblem's round-off floor where larger: _FrictionSubproblem.stall_level)
+#: a failed line search is round-off (the barrier anchor's stiff subproblems, eps_N 4.4e7 on
+#: examples/finite_ironing_friction.toml, start at 2.6e-10 after a tangential update that no step lowers: every
+#: load step cut back to the smallest increment before)
 _FRICTION_SETTINGS = NewtonSettings(LineSearch(halvings=_MAX_HALVINGS, armijo=_ARMIJO, merit=False, residual_decrease=True,
                                       full_step=False), stall=1e-9, stall_on_failed_search=True)
 #: the semi-smooth reference: the same, the stall test from the third iterate on
@@ -1772,6 +1773,9 @@ class _FrictionSubproblem(NewtonSystem):
 
     State: :class:`_Local`. Relative residual :math:`\\max|R|` over the running force unit
     (:meth:`~alcontact.contact.systems._full_space.FiniteContact.force_scale` with the contact tractions).
+    A stall (or a failed line search) counts as converged below ``max(1e-9, floor)``, ``floor`` the
+    round-off of the contact forces as in :class:`_Subproblem`: gaps and slips from absolute coordinates
+    times the largest contact stiffness, the normal one :math:`\\partial t_N/\\partial g` or :math:`\\varepsilon_T`.
     """
 
     domain_errors = (InvertedElementError,)
@@ -1780,6 +1784,11 @@ class _FrictionSubproblem(NewtonSystem):
         self.dc, self.law, self.lamN, self.lamT = dc, law, lamN, lamT
         self.w = dc.weights[dc.cand]
         self.scale = 0.0
+        self.coord = float(np.max(np.abs(dc._current(dc.expand(dc.x0), dc.cand)), initial=1.0))
+        self.floor = 0.0
+
+    def stall_level(self, state, level):
+        return max(level, self.floor)
 
     def evaluate(self, x):
         return self.dc.evaluate(self.law, self.lamN, self.lamT, x)
@@ -1797,6 +1806,9 @@ class _FrictionSubproblem(NewtonSystem):
         if dc.state_trace is not None:  # the OPEN / STICK / SLIP flags of every iterate (state reversals)
             dc.state_trace.append(contact_states(state))
         ta = time.perf_counter()
+        # round-off floor of the residual: gaps and slips from absolute coordinates, times the contact stiffness
+        stiff = np.maximum(np.abs(self.law.stiffness(state.g, self.lamN)), dc.coulomb.eps_t)
+        self.floor = 1e3 * _EPS * self.coord * float(np.max(self.w * stiff, initial=0.0)) / max(self.scale, 1e-300)
         J = dc.friction_jacobian(self.law, self.lamN, self.lamT, state.u)
         tb = time.perf_counter()
         dc.assembly_seconds += tb - ta
