@@ -1265,6 +1265,13 @@ class _SubState:
     inside: bool
 
 
+def _contact_roundoff_floor(coord: float, w: np.ndarray, stiffness: np.ndarray, scale: float) -> float:
+    """Round-off floor of a subproblem's relative residual: gaps (and slips) computed from absolute
+    coordinates of size ``coord`` carry an error of a few ulps, times the contact ``stiffness`` and the
+    weights ``w`` of the points, over the force ``scale`` (1e3 ulps: the sums of the assembly)."""
+    return 1e3 * _EPS * coord * float(np.max(w * stiffness, initial=0.0)) / max(scale, 1e-300)
+
+
 class _Subproblem(NewtonSystem):
     """Subproblem (S) of :class:`FiniteContact` (module doc) for :func:`~._newton.newton`.
 
@@ -1358,8 +1365,7 @@ class _Subproblem(NewtonSystem):
                 fc.chord_steps += 1
                 self.chords += 1
                 return dx
-        # round-off floor of the residual: gaps from absolute coordinates, times the contact stiffness
-        self.floor = 1e3 * _EPS * self.coord * float(np.max(self.w * np.abs(D), initial=0.0)) / self.scale
+        self.floor = _contact_roundoff_floor(self.coord, self.w, np.abs(D), self.scale)
         J = fc._newton_matrix(state.u, state.t, D)
         tb = time.perf_counter()
         fc.assembly_seconds += tb - ta
@@ -1806,9 +1812,8 @@ class _FrictionSubproblem(NewtonSystem):
         if dc.state_trace is not None:  # the OPEN / STICK / SLIP flags of every iterate (state reversals)
             dc.state_trace.append(contact_states(state))
         ta = time.perf_counter()
-        # round-off floor of the residual: gaps and slips from absolute coordinates, times the contact stiffness
         stiff = np.maximum(np.abs(self.law.stiffness(state.g, self.lamN)), dc.coulomb.eps_t)
-        self.floor = 1e3 * _EPS * self.coord * float(np.max(self.w * stiff, initial=0.0)) / max(self.scale, 1e-300)
+        self.floor = _contact_roundoff_floor(self.coord, self.w, stiff, self.scale)
         J = dc.friction_jacobian(self.law, self.lamN, self.lamT, state.u)
         tb = time.perf_counter()
         dc.assembly_seconds += tb - ta
