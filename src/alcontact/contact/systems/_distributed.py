@@ -23,9 +23,9 @@ its first hierarchy and recomputes only the Galerkin coarse operators
 (``pc_gamg_reuse_interpolation``, :data:`GAMG_DEFAULTS`; ``extra["gamg_setups"]`` counts the
 hierarchies built, ``"gamg_updates"`` the Galerkin updates). A Newton matrix equal to the last
 one (no contact stiffness changed: the same active set under Algorithm 6.1's piecewise-linear law)
-is not assembled again and keeps its preconditioner (``"pc_reused"``): on 3D Hertz at 92k DOFs, one
-rank, Algorithm 6.1, the Galerkin updates were 9.2 s of the 12.6 s of the Newton phase, 13 of 14
-of them for an unchanged matrix. The Chebyshev smoothers
+is not assembled again and keeps its preconditioner (``"pc_reused"``): the Galerkin update of an
+identical matrix would rebuild the same preconditioner (``docs/benchmarks/distributed.md`` measures
+what it saves). The Chebyshev smoothers
 estimate the spectrum of their own operator at each update (``pc_gamg_use_sa_esteig
 false``: GAMG's estimates are those of the first matrix, with which CG met an indefinite
 preconditioner once the springs were stiff), and the finest level's smoother is point-block
