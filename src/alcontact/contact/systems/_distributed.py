@@ -598,7 +598,7 @@ class DistributedContact:
                         addv=PETSc.InsertMode.INSERT_VALUES)
         # an unchanged J (the same active set under a piecewise-linear law: most Newton steps) keeps its
         # preconditioner; assembling it would mark it changed and GAMG would redo its Galerkin products
-        if self.comm.allreduce(int(changed.size), op=self.MPI.MAX) > 0:
+        if not self.allbool(changed.size == 0):
             J.assemble()
             self._pc_stale = True
         self._k_in_J = k
