@@ -39,7 +39,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.linalg import LinearOperator
 
-__all__ = ["smoothed_aggregation", "plain_aggregation", "updated_hierarchy", "reflected_hierarchy", "normal_reflections",
+__all__ = ["smoothed_aggregation", "AGGREGATIONS", "STRENGTH_THETA", "plain_aggregation", "updated_hierarchy", "reflected_hierarchy", "normal_reflections",
            "add_on_pattern", "entry_positions", "row_slice", "SMOOTHER", "ROW_BLOCK_NNZ"]
 
 #: relaxation of every level: PyAMG's default for smoothed aggregation
@@ -54,6 +54,16 @@ _ROUGH_POST = ("block_gauss_seidel", {"sweep": "backward"})
 _IMPROVE = ("block_gauss_seidel", {"sweep": "symmetric", "iterations": 4})
 #: Jacobi weight of the prolongator smoother: PyAMG's default
 _OMEGA = 4.0 / 3.0
+#: how the first aggregates are formed (:func:`smoothed_aggregation`): ``"pattern"`` every entry of ``A``
+#: connects (strength threshold 0, Jacobi-smoothed prolongator, the memory-lean first level below);
+#: ``"strength"`` only entries above :data:`STRENGTH_THETA` of the geometric mean of their diagonals
+#: connect, with an energy-minimizing prolongator (PyAMG's ``smooth="energy"``)
+AGGREGATIONS = ("pattern", "strength")
+#: threshold of the symmetric strength of connection of ``aggregation="strength"``: on the graded 2D
+#: Hertz meshes (elements up to 30 and 1,429 times longer than wide at 120k and 984k DOFs) threshold 0
+#: aggregates across the thin direction of the slivers, and CG to 1e-10 on the stiffness took 101 and
+#: 1,399 iterations; 0.1 with the energy-minimizing prolongator 17 and 15 (``docs/benchmarks/amg_paths.md``)
+STRENGTH_THETA = 0.1
 #: entries of ``A`` per block of rows in the prolongator smoothing and the Galerkin product
 #: (the block of ``A P`` has about 3 times as many: ~25 MB of temporaries at 2**20)
 ROW_BLOCK_NNZ = 1 << 20
@@ -239,14 +249,41 @@ def _fixed_random_state(seed: int = RANDOM_SEED):
 
 
 def smoothed_aggregation(A, B=None, *, max_coarse: int = 500, coarse_solver: str = "splu",
-                         smoother=SMOOTHER, nnz_block: int = ROW_BLOCK_NNZ):
-    """PyAMG smoothed-aggregation hierarchy of the SPD CSR matrix ``A`` with a memory-lean first level.
+                         smoother=SMOOTHER, nnz_block: int = ROW_BLOCK_NNZ, aggregation: str = "pattern"):
+    """PyAMG smoothed-aggregation hierarchy of the SPD CSR matrix ``A``.
 
-    The same hierarchy in every run (:func:`_fixed_random_state`); see :func:`_smoothed_aggregation`.
+    The same hierarchy in every run (:func:`_fixed_random_state`). ``aggregation``
+    (:data:`AGGREGATIONS`): ``"pattern"`` builds the memory-lean first level of
+    :func:`_smoothed_aggregation` (PyAMG's defaults); ``"strength"`` is
+    ``pyamg.smoothed_aggregation_solver`` with the symmetric strength of connection at
+    :data:`STRENGTH_THETA` and the energy-minimizing prolongator, for meshes of
+    stretched elements (the graded 2D meshes), where the first aggregates must follow the
+    strong couplings. Its operator complexity is higher (2.6 against 1.9 on the 2D 984k
+    mesh), and on 3D meshes it is far higher (19 on the 3D P1 Hertz 105k stiffness) for no
+    fewer iterations, which is why it is not the default there.
     """
+    if aggregation not in AGGREGATIONS:
+        raise ValueError(f"aggregation {aggregation!r}: expected one of {', '.join(AGGREGATIONS)}")
     with _fixed_random_state():
+        if aggregation == "strength":
+            return _strength_aggregation(A, B, max_coarse=max_coarse, coarse_solver=coarse_solver, smoother=smoother)
         return _smoothed_aggregation(A, B, max_coarse=max_coarse, coarse_solver=coarse_solver, smoother=smoother,
                                      nnz_block=nnz_block)
+
+
+def _strength_aggregation(A, B=None, *, max_coarse: int, coarse_solver: str, smoother):
+    """``pyamg.smoothed_aggregation_solver`` with strength threshold :data:`STRENGTH_THETA` and energy smoothing."""
+    import pyamg
+
+    A = sp.csr_matrix(A)
+    if not A.has_sorted_indices:
+        A.sort_indices()
+    A.symmetry = "hermitian"
+    n = A.shape[0]
+    B = np.ones((n, 1)) if B is None else np.asarray(B, dtype=float).reshape(n, -1)
+    return pyamg.smoothed_aggregation_solver(A, B=B, strength=("symmetric", {"theta": STRENGTH_THETA}),
+                                             smooth="energy", max_coarse=max_coarse, coarse_solver=coarse_solver,
+                                             presmoother=smoother, postsmoother=smoother)
 
 
 def _smoothed_aggregation(A, B=None, *, max_coarse: int = 500, coarse_solver: str = "splu",

@@ -572,7 +572,8 @@ class IterativeContact(ContactPoints):
         return {"linear_solver": self.solver.name, "strategy": self.strategy, "cg_iterations": int(self.cg_iterations),
                 "amg_setups": int(self.amg_setups),
                 "amg_updates": int(self.amg_updates),
-                "reference_cg_iterations": int(self.reference_cg_iterations)}
+                "reference_cg_iterations": int(self.reference_cg_iterations),
+                "amg_aggregation": getattr(self.factor_K, "aggregation", None)}
 
 
 # ----------------------------------------------------------------------
@@ -988,7 +989,8 @@ class IterativeFrictionalContact(FrictionalContact):
         inner = int(getattr(self.factor.factor, "iterations", 0))
         return {"linear_solver": self.solver.name, "strategy": self.strategy,
                 "cg_iterations": int(self.cg_iterations + inner),
-                "amg_setups": int(self.amg_setups), "krylov_solves": int(self.linear_solves)}
+                "amg_setups": int(self.amg_setups), "krylov_solves": int(self.linear_solves),
+                "amg_aggregation": getattr(self.factor.factor, "aggregation", None)}
 
 
 class _AmortizedPreconditioner(_Preconditioner):
