@@ -120,6 +120,10 @@ class DistributedElasticity:
         Default ``MPI.COMM_WORLD``.
     parts : numpy.ndarray of int, optional
         Rank of each element (on rank 0), instead of METIS (e.g. to force a cut).
+    checked_mesh : bool
+        The whole mesh's element quality was checked already (the contact path's model on rank 0
+        did it): each rank's piece is not checked again. Default False: every rank checks its
+        piece.
 
     Examples
     --------
@@ -130,7 +134,7 @@ class DistributedElasticity:
     """
 
     def __init__(self, mesh, material, *, comm=None, parts: np.ndarray | None = None, order: int = 1,
-                 element_nodes: np.ndarray | None = None):
+                 element_nodes: np.ndarray | None = None, checked_mesh: bool = False):
         from ..fem import Material
 
         self.comm = comm if comm is not None else world()
@@ -140,6 +144,7 @@ class DistributedElasticity:
             raise InputError(f"order = {order!r}: the distributed elasticity has P1 and P2 elements (1 or 2).")
         self.material = material
         self.order = int(order)
+        self.checked_mesh = bool(checked_mesh)
         t0 = time.perf_counter()
         #: on rank 0: ``numbering[old]`` is the distributed number of the model's node ``old`` (None elsewhere)
         self.numbering: np.ndarray | None = None
@@ -165,7 +170,8 @@ class DistributedElasticity:
         from ..fem import LinearElasticity
 
         piece = self.piece
-        return LinearElasticity(self._mesh_type(piece.points, piece.elements), self.material, order=self.order)
+        return LinearElasticity(self._mesh_type(piece.points, piece.elements), self.material, order=self.order,
+                                checked_mesh=self.checked_mesh)
 
     @property
     def node_points(self) -> np.ndarray:
@@ -236,13 +242,20 @@ class DistributedElasticity:
         return (p, t, parts, new, starts, T), type(mesh), new
 
     # ------------------------------------------------------------ assembly
-    def assemble(self, body_force):
+    def assemble(self, body_force, *, node_blocks: np.ndarray | None = None):
         """Global stiffness (``MPIAIJ``, block size ``dim``) and body-load vector.
 
         Parameters
         ----------
         body_force : array_like, shape (dim,)
             Constant force per unit volume.
+        node_blocks : numpy.ndarray of int, optional
+            Owned nodes (numbered from this rank's first node) whose whole ``dim x dim``
+            diagonal block must be in the pattern, explicit zeros where the stiffness cancels
+            (e.g. the x-y coupling of a node of a structured tetrahedral mesh): the contact
+            points, whose Newton matrices write their springs there. Preallocated and inserted
+            before the first assembly (an entry added to an assembled matrix reallocates its
+            rows: 2,209 contact blocks took 2.0 s at 250k DOFs that way).
 
         Returns
         -------
@@ -270,6 +283,9 @@ class DistributedElasticity:
         n_own = dim * (piece.node_range[1] - piece.node_range[0])
         N = dim * piece.n_nodes
         d_nnz, o_nnz = self._preallocation(K, gdof, cols, n_own)
+        if node_blocks is not None:
+            block_rows = (dim * np.asarray(node_blocks, dtype=np.int64)[:, None] + np.arange(dim)).ravel()
+            d_nnz[block_rows] = np.minimum(d_nnz[block_rows] + dim, n_own)  # room for the block, an upper bound
         A = PETSc.Mat().create(comm=comm)
         A.setSizes(((n_own, N), (n_own, N)), bsize=dim)
         A.setType(PETSc.Mat.Type.AIJ)
@@ -278,6 +294,11 @@ class DistributedElasticity:
         # every local row at once, rows owned by another rank through PETSc's stash to their owner
         A.setValuesIJV(K.indptr.astype(PETSc.IntType), cols, K.data, addv=PETSc.InsertMode.ADD_VALUES, rowmap=gdof)
         del K, cols
+        if node_blocks is not None and block_rows.size:
+            grows = (dim * piece.node_range[0] + block_rows).astype(PETSc.IntType)
+            bcols = np.repeat(grows.reshape(-1, dim), dim, axis=0).ravel().astype(PETSc.IntType)
+            A.setValuesIJV(np.arange(0, bcols.size + 1, dim, dtype=PETSc.IntType), bcols, np.zeros(bcols.size),
+                           addv=PETSc.InsertMode.ADD_VALUES, rowmap=grows)
         A.assemble()
         if comm.size > 1 and A.getDiagonalBlock().getBlockSize() != dim:
             # point-block Jacobi (MatInvertBlockDiagonal of the rank's diagonal block) needs the node blocks there

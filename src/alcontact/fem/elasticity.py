@@ -353,6 +353,10 @@ class LinearElasticity:
         revolution (:mod:`alcontact.fem._geometry`): the hoop strain :math:`u_r/r` enters the
         energy, every integral carries :math:`2\pi r` (stiffness, loads, boundary weights: forces
         are totals over the revolution), and :math:`u_r = 0` on the axis (:attr:`axis_dofs`).
+    checked_mesh : bool
+        The mesh is a piece of a mesh whose quality was checked already (a rank's elements of
+        the distributed path): the element-quality check (inverted or degenerate elements)
+        is not run again. Default False.
 
     Examples
     --------
@@ -365,7 +369,7 @@ class LinearElasticity:
     """
 
     def __init__(self, mesh, material: Material, order: int = 1, volumetric: str = "full",
-                 geometry: str = "cartesian"):
+                 geometry: str = "cartesian", *, checked_mesh: bool = False):
         if not isinstance(material, Material):
             raise InputError(f"material must be an alcontact.fem.Material; got {type(material).__name__}.")
         if not (isinstance(order, (int, np.integer)) and not isinstance(order, bool) and order in (1, 2)):
@@ -387,7 +391,8 @@ class LinearElasticity:
                 f"mesh; got {type(mesh).__name__}. Build it with alcontact.fem.meshes or read a Gmsh file "
                 "with triangles/tetrahedra (first or second order)."
             )
-        check_mesh_quality(mesh)  # MeshError naming inverted or degenerate elements
+        if not checked_mesh:
+            check_mesh_quality(mesh)  # MeshError naming inverted or degenerate elements
         self.geometry = check_geometry(geometry, mesh.dim(), mesh.p, plane=material.plane)
         if self.geometry == AXISYMMETRIC and volumetric != "full":
             raise InputError(f"volumetric={volumetric!r} is not available with geometry='axisymmetric'; use "

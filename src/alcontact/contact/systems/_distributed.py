@@ -203,7 +203,7 @@ class DistributedContact:
         self.history = history
         order = comm.bcast(int(getattr(problem.model, "order", 1)) if comm.rank == 0 else None, root=0)
         self.body = DistributedElasticity(problem.model.mesh if comm.rank == 0 else None, material, comm=comm,
-                                          parts=parts, order=order,
+                                          parts=parts, order=order, checked_mesh=True,  # by problem.model
                                           element_nodes=problem.model.scalar_dofs.element_dofs
                                           if comm.rank == 0 and order == 2 else None)
         self.dim = dim = self.body.dim
@@ -340,14 +340,9 @@ class DistributedContact:
 
         PETSc = self.PETSc
         t0 = time.perf_counter()
-        K, _ = self.body.assemble(np.zeros(self.dim))
         # the d x d block of every contact point in the pattern (an entry of K that cancels exactly, e.g. the
         # x-y coupling of a node of a structured tetrahedral mesh, is not stored by the assembly)
-        K.setOption(PETSc.Mat.Option.NEW_NONZERO_ALLOCATION_ERR, False)
-        for dofs in self.point_dofs:
-            rows = self._rows(dofs)
-            K.setValues(rows, rows, np.zeros(rows.size * rows.size), addv=PETSc.InsertMode.ADD_VALUES)
-        K.assemble()
+        K, _ = self.body.assemble(np.zeros(self.dim), node_blocks=self.point_node)
         K.setOption(PETSc.Mat.Option.NEW_NONZERO_ALLOCATION_ERR, True)
         comm = K.getComm()
         fixed_rows = self._rows(self.fixed)
