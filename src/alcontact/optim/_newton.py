@@ -160,6 +160,12 @@ class NewtonSystem:
         """Merit of the Armijo test (``+inf`` outside a barrier's domain)."""
         return 0.5 * float(np.dot(self.residual(state), self.residual(state)))
 
+    def merit_change(self, state, trial, merit: float, trial_merit: float) -> float:
+        """:meth:`merit` at ``trial`` minus at ``state`` (default: the difference of the two values). A
+        merit summed from large terms that cancel can give the change in a form that does not subtract
+        them (the round-off of each value can exceed the change a Newton step brings)."""
+        return trial_merit - merit
+
     def slope(self, x: np.ndarray, state, dx: np.ndarray) -> float:
         """Directional derivative of :meth:`merit` at ``x`` along ``dx`` (default: that of ``|F|^2/2``
         along a Newton direction)."""
@@ -345,7 +351,7 @@ def _line_search(system, ls: LineSearch, x, state, F, merit, res, dx):
         except system.domain_errors:
             alpha *= 0.5
             continue
-        if _accepts(system, ls, trial, alpha, res, merit, slope, nF):
+        if _accepts(system, ls, state, trial, alpha, res, merit, slope, nF):
             return trial, alpha, False, ""
         alpha *= 0.5
     why = f"line search failed (relative residual {res:.2e})"
@@ -362,7 +368,7 @@ def _line_search(system, ls: LineSearch, x, state, F, merit, res, dx):
     return None, 0.0, False, why
 
 
-def _accepts(system, ls: LineSearch, trial, alpha, res, merit, slope, nF) -> bool:
+def _accepts(system, ls: LineSearch, state, trial, alpha, res, merit, slope, nF) -> bool:
     """Whether one test of :class:`LineSearch` accepts the trial state at step length ``alpha``."""
     if ls.measure_decrease and system.measure(trial) < (1 - ls.armijo * alpha) * res:
         return True
@@ -374,9 +380,10 @@ def _accepts(system, ls: LineSearch, trial, alpha, res, merit, slope, nF) -> boo
     m_try = system.merit(trial) if ls.merit else 0.0
     if not np.isfinite(m_try):
         return False
-    if ls.merit and m_try <= merit + ls.armijo * alpha * slope + 1e-14 * abs(merit):
+    rise = system.merit_change(state, trial, merit, m_try) if ls.merit else 0.0
+    if ls.merit and rise <= ls.armijo * alpha * slope + 1e-14 * abs(merit):
         return True
-    if ls.merit and np.isfinite(ls.residual_merit_slack) and not m_try <= merit + ls.residual_merit_slack * abs(merit):
+    if ls.merit and np.isfinite(ls.residual_merit_slack) and not rise <= ls.residual_merit_slack * abs(merit):
         return False
     return ls.residual_decrease and _norm(F_try) <= (1 - ls.armijo * alpha) * nF
 
