@@ -39,8 +39,9 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.linalg import LinearOperator
 
-__all__ = ["smoothed_aggregation", "AGGREGATIONS", "STRENGTH_THETA", "plain_aggregation", "updated_hierarchy", "reflected_hierarchy", "normal_reflections",
-           "add_on_pattern", "entry_positions", "row_slice", "SMOOTHER", "ROW_BLOCK_NNZ"]
+__all__ = ["smoothed_aggregation", "AGGREGATIONS", "STRENGTH_THETA", "plain_aggregation", "updated_hierarchy",
+           "reflected_hierarchy", "normal_reflections", "add_on_pattern", "entry_positions", "row_slice", "SMOOTHER",
+           "ROW_BLOCK_NNZ"]
 
 #: relaxation of every level: PyAMG's default for smoothed aggregation
 SMOOTHER = ("block_gauss_seidel", {"sweep": "symmetric"})

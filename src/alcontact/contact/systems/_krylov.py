@@ -625,8 +625,8 @@ class _FullSpaceSubproblem(NewtonSystem):
         return float(state[3] @ dx)
 
     def merit_change(self, state, trial, merit, trial_merit):
-        r""":math:`\Pi(x_t) - \Pi(x) = \Delta^T(Kx - b) + \tfrac12 \Delta^T(Kx_t - Kx) + \sum_j w_j (p(g_{t,j}) - p(g_j))`,
-        :math:`\Delta = x_t - x`: no difference of the large terms of :math:`\Pi`. On the 2D P1 Hertz mesh of
+        r""":math:`\Pi(x_t) - \Pi(x) = \Delta^T(Kx - b) + \tfrac12 \Delta^T(Kx_t - Kx)
+        + \sum_j w_j (p(g_{t,j}) - p(g_j))`, :math:`\Delta = x_t - x`: no difference of the large terms of :math:`\Pi`. On the 2D P1 Hertz mesh of
         984k DOFs the difference of the two values of :math:`\Pi` read +7e-9 for a log-met1 Newton step that
         lowered the residual 57-fold (its quadratic model: -1e-11), so every step was cut back to a
         round-off-sized length and the subproblem stopped at its budget (NEWTON_FAILED)."""
