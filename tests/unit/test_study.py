@@ -285,7 +285,10 @@ def test_an_interrupted_run_keeps_every_finished_cell_and_resumes(tmp_path):
     cmd = [sys.executable, "-m", "alcontact.cli", "study", "--quick", "--out", str(out), "--jobs", "1",
            "--meshes", "1", "--timeout", "900"] + [x for n in only for x in ("--only", n)]
     env = {**os.environ, "OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"}
-    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env=env)
+    # SIGINT at its default in the study, as from a terminal: a pytest-xdist worker may ignore SIGINT, the
+    # child would inherit that, and the CLI keeps an ignored SIGINT ignored (every cell then ran to the end)
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env=env,
+                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     total = len(plan(quick=True, only=only, meshes=1))
     deadline = time.monotonic() + 300
     while len(read_rows(out / CSV_NAME)) < 3 and proc.poll() is None and time.monotonic() < deadline:
