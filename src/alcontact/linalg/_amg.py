@@ -272,16 +272,23 @@ def smoothed_aggregation(A, B=None, *, max_coarse: int = 500, coarse_solver: str
                                      nnz_block=nnz_block)
 
 
-def _strength_aggregation(A, B=None, *, max_coarse: int, coarse_solver: str, smoother):
-    """``pyamg.smoothed_aggregation_solver`` with strength threshold :data:`STRENGTH_THETA` and energy smoothing."""
-    import pyamg
-
+def _prepared(A, B):
+    """``A`` as CSR with sorted indices, marked Hermitian for PyAMG, and the near-null space ``B`` as an
+    ``(n, k)`` float array (constants when None)."""
     A = sp.csr_matrix(A)
     if not A.has_sorted_indices:
         A.sort_indices()
     A.symmetry = "hermitian"
     n = A.shape[0]
     B = np.ones((n, 1)) if B is None else np.asarray(B, dtype=float).reshape(n, -1)
+    return A, B
+
+
+def _strength_aggregation(A, B=None, *, max_coarse: int, coarse_solver: str, smoother):
+    """``pyamg.smoothed_aggregation_solver`` with strength threshold :data:`STRENGTH_THETA` and energy smoothing."""
+    import pyamg
+
+    A, B = _prepared(A, B)
     return pyamg.smoothed_aggregation_solver(A, B=B, strength=("symmetric", {"theta": STRENGTH_THETA}),
                                              smooth="energy", max_coarse=max_coarse, coarse_solver=coarse_solver,
                                              presmoother=smoother, postsmoother=smoother)
@@ -323,12 +330,8 @@ def _smoothed_aggregation(A, B=None, *, max_coarse: int = 500, coarse_solver: st
     from pyamg.relaxation.utils import relaxation_as_linear_operator
     from pyamg.util.linalg import approximate_spectral_radius
 
-    A = sp.csr_matrix(A)
-    if not A.has_sorted_indices:
-        A.sort_indices()
-    A.symmetry = "hermitian"
+    A, B = _prepared(A, B)
     n = A.shape[0]
-    B = np.ones((n, 1)) if B is None else np.asarray(B, dtype=float).reshape(n, -1)
     opts = dict(max_coarse=max_coarse, coarse_solver=coarse_solver, presmoother=smoother, postsmoother=smoother)
     if n <= max_coarse:
         return pyamg.smoothed_aggregation_solver(A, B=B, **opts)
@@ -382,12 +385,7 @@ def plain_aggregation(A, B=None, *, max_coarse: int = 500, coarse_solver: str = 
     """
     import pyamg
 
-    A = sp.csr_matrix(A)
-    if not A.has_sorted_indices:
-        A.sort_indices()
-    A.symmetry = "hermitian"
-    n = A.shape[0]
-    B = np.ones((n, 1)) if B is None else np.asarray(B, dtype=float).reshape(n, -1)
+    A, B = _prepared(A, B)
     with _fixed_random_state():
         return pyamg.smoothed_aggregation_solver(A, B=B, smooth=None, improve_candidates=None, max_coarse=max_coarse,
                                                  coarse_solver=coarse_solver, presmoother=_ROUGH_PRE,
