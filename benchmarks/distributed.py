@@ -192,6 +192,7 @@ def worker_contact_petsc(n: float, growth: float, out: Path, petsc_options: dict
                 "status": r.status.label, "outer": r.outer_iterations, "newton": r.newton_iterations,
                 "linear_solves": r.linear_solves, "krylov_iterations": sol.extra["ksp_iterations"],
                 "setups": sol.extra["gamg_setups"], "updates": sol.extra["gamg_updates"],
+                "lagged": sol.extra["pc_lagged"], "lag_failures": sol.extra["lag_failures"],
                 "build_s": t1 - t0, "solve_s": t2 - t1,
                 "solve_cpu_s": max(x["cpu_s"] for x in ranks),
                 "linear_solve_s": phases.get("linear_solve_s"), "phases_s": phases,
@@ -264,13 +265,21 @@ def contact_main(a, me) -> int:
     return _write_contact(a.out, meta)
 
 
+def _lagged(row: dict) -> str:
+    """`` / lagged (failed)`` of a distributed row that counted them (rows measured before the lag: nothing)."""
+    if row.get("lagged") is None:
+        return ""
+    return f" / {row['lagged']} ({row['lag_failures']})"
+
+
 def _write_contact(out: Path, meta: dict) -> int:
     """``distributed_contact.csv``, ``.json`` and ``.md`` of the rows of ``meta``."""
     rows = meta["rows"]
     for r in rows:
         r.setdefault("peak_gb_total", sum(r["peak_mb_ranks"]) / 1024)
     keys = ["n_per_a", "ndofs", "path", "ranks", "status", "outer", "newton", "linear_solves", "krylov_iterations",
-            "setups", "updates", "build_s", "solve_s", "solve_cpu_s", "linear_solve_s", "process_wall_s",
+            "setups", "updates", "lagged", "lag_failures", "build_s", "solve_s", "solve_cpu_s", "linear_solve_s",
+            "process_wall_s",
             "peak_mb_per_rank", "peak_gb_total", "peak_ratio_to_1rank", "speedup_to_1rank", "force", "rel_diff_force",
             "load"]
     with open(out / "distributed_contact.csv", "w", newline="") as fh:
@@ -278,7 +287,8 @@ def _write_contact(out: Path, meta: dict) -> int:
         w.writeheader()
         w.writerows(rows)
     (out / "distributed_contact.json").write_text(json.dumps(meta, indent=1))
-    lines = ["| DOFs | path | ranks | outer | Newton | linear solves | Krylov its | hierarchies built / updated | "
+    lines = ["| DOFs | path | ranks | outer | Newton | linear solves | Krylov its | hierarchies built / updated "
+             "(/ lagged solves, of which failed) | "
              "solve s | solve CPU s | ratio to serial (wall / CPU) | speed-up to 1 rank | peak MB/rank | "
              "peak / 1-rank peak | peak GB, all ranks | force rel. diff. |", "|" + "---|" * 16]
     for r in rows:
@@ -287,7 +297,8 @@ def _write_contact(out: Path, meta: dict) -> int:
         sp = f"{r['speedup_to_1rank']:.2f}" if r["speedup_to_1rank"] and "serial" not in r["path"] else "-"
         pk = f"{r['peak_ratio_to_1rank']:.2f}" if r["peak_ratio_to_1rank"] and "serial" not in r["path"] else "-"
         lines.append(f"| {r['ndofs']:,} | {r['path']} | {r['ranks']} | {r['outer']} | {r['newton']} | "
-                     f"{r['linear_solves']} | {r['krylov_iterations']} | {r['setups']} / {r['updates']} | "
+                     f"{r['linear_solves']} | {r['krylov_iterations']} | {r['setups']} / {r['updates']}"
+                     f"{_lagged(r)} | "
                      f"{r['solve_s']:.2f} | {r['solve_cpu_s']:.2f} | {ratio} | {sp} | "
                      f"{', '.join(f'{p:.0f}' for p in r['peak_mb_ranks'])} | {pk} | {r['peak_gb_total']:.2f} | "
                      f"{r['rel_diff_force']:.1e} |")

@@ -112,7 +112,7 @@ def _ksp_kind(linear_solver: str) -> str:
 
 def solve_distributed(problem, algorithm: str = "simo-laursen", penalty: str | None = None, options=None, *,
                       comm=None, parts=None, petsc_options: dict | None = None, steps=None, history=None,
-                      on_step=None) -> DistributedContactSolution:
+                      on_step=None, lag_preconditioner: bool = True) -> DistributedContactSolution:
     """Solve a frictionless small-deformation contact problem over the ranks of ``comm`` (module doc).
 
     Call it on every rank (``mpirun -n N``): the problem and the arguments are read on rank 0
@@ -142,6 +142,13 @@ def solve_distributed(problem, algorithm: str = "simo-laursen", penalty: str | N
         independent); the run stops at the first step that fails.
     on_step : callable, optional
         ``on_step(k, n, t)`` on every rank before step ``k`` of ``n`` and ``on_step(k + 1, n, t)`` after it.
+    lag_preconditioner : bool
+        With ``"petsc"``: a Newton matrix whose values changed is solved by CG with the preconditioner
+        of the last GAMG update while CG's iterations per decade stay within
+        :data:`~alcontact.contact.systems._distributed.LAG_GROWTH` times those after that update
+        (``extra["pc_lagged"]`` counts those solves, ``extra["gamg_updates"]`` the Galerkin updates); ``False``
+        updates it for every changed matrix. At 1M DOFs (3D Hertz, 1 rank) the updates took about
+        three quarters of the Newton phase (``docs/benchmarks/distributed.md``).
 
     Returns
     -------
@@ -178,12 +185,12 @@ def solve_distributed(problem, algorithm: str = "simo-laursen", penalty: str | N
             opts = options_with(options, ContactOptions, {}, "contact", entry)
             _ksp_kind(opts.linear_solver)
             times = (1.0,) if steps is None and history is None else _times(steps, history)
-            head = (algorithm, pen_name, opts, dict(petsc_options or {}), tuple(times))
-    algorithm, pen_name, opts, petsc_options, times = comm.bcast(head, root=0)
+            head = (algorithm, pen_name, opts, dict(petsc_options or {}), tuple(times), bool(lag_preconditioner))
+    algorithm, pen_name, opts, petsc_options, times, lag = comm.bcast(head, root=0)
     entry = find_algorithm(algorithm)
     dc = DistributedContact(problem, comm=comm, parts=parts, ksp=_ksp_kind(opts.linear_solver),
                             options=petsc_options, margin=opts.margin, history=history if comm.rank == 0 else None,
-                            t=times[0])
+                            t=times[0], lag=lag)
     # the body's material and dimension are all the automatic stiffness reads: the same on every rank
     eps0 = float(opts.eps_n if opts.eps_n is not None else penalty_stiffness(dc.body, dc.h, opts.penalty_scale))
     solved = []
