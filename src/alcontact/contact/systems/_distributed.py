@@ -481,7 +481,7 @@ class DistributedContact:
             rate = its / decades  # CG iterations per decade
             if lagged:
                 self._lag_rate = rate
-            elif self._fresh_rate is None:
+            elif self._fresh_rate is None and its > 0:  # (a zero right-hand side takes no iteration: no rate)
                 self._fresh_rate, self._lag_rate = rate, None
         return self._vx.array.copy()
 
